@@ -1,0 +1,230 @@
+"""Result of a run: time series of every joint, mesh, bearing and body, keyed by model names.
+
+A Result is plain arrays (float64, SI units) plus names, so that ``simulate`` and ``read_log``
+build exactly the same object. Accessors return small views with named fields:
+
+    res.joint("sun").speed           # (n,) rad/s
+    res.mesh("sun_planet1").normal   # (n,) N
+    res.bearing("carrier").force     # (n, 3) N, world frame
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from pinwind.errors import UnknownElement
+
+
+@dataclass(frozen=True)
+class JointSeries:
+    """Time series of one bearing (joint).
+
+    Attributes:
+        angle: joint angle [rad], unwrapped, (n,).
+        speed: joint speed [rad/s] (relative to the parent body), (n,).
+        acceleration: joint acceleration [rad/s²] over the step that starts at each sample, (n,).
+        torque: applied torque plus speed-driver or lock torque on the joint [N·m], (n,).
+    """
+
+    angle: np.ndarray
+    speed: np.ndarray
+    acceleration: np.ndarray
+    torque: np.ndarray
+
+
+@dataclass(frozen=True)
+class MeshSeries:
+    """Time series of one gear mesh A–B (sign convention: docs/model_format.md).
+
+    Attributes:
+        normal: tooth normal force F_n ≥ 0 [N], (n,).
+        tangential: F_t = F_n cos α_w [N], (n,).
+        radial: F_r = F_n sin α_w [N], (n,).
+        axial: F_a = F_t tan β [N], (n,).
+        flank: loaded flank s = ±1, (n,): +1 when A turning positively drives B.
+        transmission_error: position mismatch along the line of action [m], (n,).
+        force_on_b: tooth force on gear B in world [N], (n, 3).
+        pitch_point: pitch point in world [m], (n, 3).
+    """
+
+    normal: np.ndarray
+    tangential: np.ndarray
+    radial: np.ndarray
+    axial: np.ndarray
+    flank: np.ndarray
+    transmission_error: np.ndarray
+    force_on_b: np.ndarray
+    pitch_point: np.ndarray
+
+
+@dataclass(frozen=True)
+class BearingSeries:
+    """Reaction transmitted by one bearing from its parent body to its child body.
+
+    Force and moment are taken at the bearing centre (the joint origin). The moment about the
+    shaft axis is the shaft torque that the joint passes on.
+
+    Attributes:
+        force: force on the child [N] in world axes, (n, 3).
+        moment: moment on the child about the bearing centre [N·m] in world axes, (n, 3).
+        force_local: the same force in the joint frame [N], (n, 3).
+        moment_local: the same moment in the joint frame [N·m], (n, 3).
+    """
+
+    force: np.ndarray
+    moment: np.ndarray
+    force_local: np.ndarray
+    moment_local: np.ndarray
+
+
+@dataclass(frozen=True)
+class BodySeries:
+    """World pose of one link.
+
+    Attributes:
+        position: link frame origin in world [m], (n, 3).
+        quaternion: link orientation in world, (n, 4), scalar last (x, y, z, w).
+    """
+
+    position: np.ndarray
+    quaternion: np.ndarray
+
+
+@dataclass
+class Result:
+    """All time series of a run (SI units, float64), sample k at ``time[k]``.
+
+    Arrays are indexed ``[sample, element, ...]`` with elements in the order of the name lists.
+
+    Attributes:
+        time: sample times [s], (n,).
+        joint_names, mesh_names, bearing_names, body_names: element names from the model file.
+        angle, speed, acceleration, torque: (n, joints).
+        mesh_normal, mesh_tangential, mesh_radial, mesh_axial, mesh_flank,
+        transmission_error: (n, meshes).
+        mesh_force_on_b, pitch_point: (n, meshes, 3).
+        bearing_force, bearing_moment, bearing_force_local, bearing_moment_local:
+            (n, bearings, 3).
+        body_position: (n, bodies, 3); body_quaternion: (n, bodies, 4) xyzw.
+        constraint_residual: max |J v − target| after each step [m/s or rad/s], (n,).
+        energy: energy ledger [J], name → (n,): ``kinetic``, ``potential_gravity``,
+            ``potential_spring``, ``work_applied`` (applied torques and gravity-free inputs),
+            ``work_drivers`` (speed drivers and locks), ``dissipated`` (dampers).
+        metadata: model name, file hash, dt, solver settings, loads and status.
+        status: ``"completed"``, or why the run stopped early.
+    """
+
+    time: np.ndarray
+    joint_names: list[str]
+    mesh_names: list[str]
+    bearing_names: list[str]
+    body_names: list[str]
+    angle: np.ndarray
+    speed: np.ndarray
+    acceleration: np.ndarray
+    torque: np.ndarray
+    mesh_normal: np.ndarray
+    mesh_tangential: np.ndarray
+    mesh_radial: np.ndarray
+    mesh_axial: np.ndarray
+    mesh_flank: np.ndarray
+    transmission_error: np.ndarray
+    mesh_force_on_b: np.ndarray
+    pitch_point: np.ndarray
+    bearing_force: np.ndarray
+    bearing_moment: np.ndarray
+    bearing_force_local: np.ndarray
+    bearing_moment_local: np.ndarray
+    body_position: np.ndarray
+    body_quaternion: np.ndarray
+    constraint_residual: np.ndarray
+    energy: dict[str, np.ndarray] = field(default_factory=dict)
+    metadata: dict[str, Any] = field(default_factory=dict)
+    status: str = "completed"
+
+    #: Names of the array attributes, for writers, readers and comparisons.
+    ARRAYS = (
+        "time",
+        "angle",
+        "speed",
+        "acceleration",
+        "torque",
+        "mesh_normal",
+        "mesh_tangential",
+        "mesh_radial",
+        "mesh_axial",
+        "mesh_flank",
+        "transmission_error",
+        "mesh_force_on_b",
+        "pitch_point",
+        "bearing_force",
+        "bearing_moment",
+        "bearing_force_local",
+        "bearing_moment_local",
+        "body_position",
+        "body_quaternion",
+        "constraint_residual",
+    )
+
+    def __len__(self) -> int:
+        return len(self.time)
+
+    @staticmethod
+    def _index(kind: str, names: list[str], name: str) -> int:
+        try:
+            return names.index(name)
+        except ValueError:
+            raise UnknownElement(kind, name, names) from None
+
+    def joint(self, name: str) -> JointSeries:
+        """Time series of a bearing's angle, speed, acceleration and torque."""
+        i = self._index("joint", self.joint_names, name)
+        return JointSeries(
+            self.angle[:, i], self.speed[:, i], self.acceleration[:, i], self.torque[:, i]
+        )
+
+    def mesh(self, name: str) -> MeshSeries:
+        """Time series of a gear mesh's forces and transmission error."""
+        i = self._index("mesh", self.mesh_names, name)
+        return MeshSeries(
+            normal=self.mesh_normal[:, i],
+            tangential=self.mesh_tangential[:, i],
+            radial=self.mesh_radial[:, i],
+            axial=self.mesh_axial[:, i],
+            flank=self.mesh_flank[:, i],
+            transmission_error=self.transmission_error[:, i],
+            force_on_b=self.mesh_force_on_b[:, i],
+            pitch_point=self.pitch_point[:, i],
+        )
+
+    def bearing(self, name: str) -> BearingSeries:
+        """Time series of a bearing's reaction force and moment (world and joint frame)."""
+        i = self._index("bearing", self.bearing_names, name)
+        return BearingSeries(
+            self.bearing_force[:, i],
+            self.bearing_moment[:, i],
+            self.bearing_force_local[:, i],
+            self.bearing_moment_local[:, i],
+        )
+
+    def body(self, name: str) -> BodySeries:
+        """Time series of a link's world pose."""
+        i = self._index("body", self.body_names, name)
+        return BodySeries(self.body_position[:, i], self.body_quaternion[:, i])
+
+    def truncated(self, n: int) -> Result:
+        """The first ``n`` samples (used when a run stops early)."""
+        kwargs = {name: getattr(self, name)[:n] for name in self.ARRAYS}
+        return Result(
+            joint_names=self.joint_names,
+            mesh_names=self.mesh_names,
+            bearing_names=self.bearing_names,
+            body_names=self.body_names,
+            energy={k: v[:n] for k, v in self.energy.items()},
+            metadata=dict(self.metadata),
+            status=self.status,
+            **kwargs,
+        )

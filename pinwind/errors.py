@@ -1,0 +1,153 @@
+"""Errors and warnings raised by pinwind.
+
+Every error keeps the offending values as attributes and its message says what is wrong and how to
+fix it. Library errors (XML parser, Pinocchio, proxsuite, mcap, rerun) are wrapped in these with
+``raise ... from err`` so that users never have to read a traceback from deep inside a dependency.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class PinwindError(Exception):
+    """Base class of every error pinwind raises on purpose."""
+
+
+class PinwindWarning(UserWarning):
+    """Base class of pinwind's warnings."""
+
+
+# --- model files -------------------------------------------------------------------------------
+
+
+class ModelError(PinwindError):
+    """A model file is malformed or physically inconsistent.
+
+    Attributes:
+        path: the model file (or ``"<string>"``).
+        element: the XML element at fault, e.g. ``'<gear name="sun">'``.
+    """
+
+    def __init__(self, path: str, element: str, message: str):
+        self.path = str(path)
+        self.element = element
+        super().__init__(f"{self.path}: {element}: {message}")
+
+
+class MalformedModel(ModelError):
+    """The file is not well-formed XML or misses a required element or attribute."""
+
+
+class UnknownName(ModelError):
+    """An element refers to a link, joint or gear that the model does not define."""
+
+    def __init__(self, path: str, element: str, kind: str, name: str, known: Iterable[str]):
+        self.kind = kind
+        self.name = name
+        self.known = sorted(known)
+        super().__init__(
+            path,
+            element,
+            f'unknown {kind} "{name}"; {kind}s in this model are: {", ".join(self.known) or "none"}',
+        )
+
+
+class InvalidGearGeometry(ModelError):
+    """Teeth, module, face width or pressure angle out of range, or a mesh that cannot exist."""
+
+
+class InconsistentCentreDistance(ModelError):
+    """The centre distance in the model differs from the one the gear data give."""
+
+    def __init__(
+        self, path: str, element: str, actual: float, expected: float, tolerance: float, hint: str
+    ):
+        self.actual = actual
+        self.expected = expected
+        self.tolerance = tolerance
+        super().__init__(
+            path,
+            element,
+            f"centre distance in the model is {actual * 1e3:.4f} mm but teeth, module and profile "
+            f"shifts give {expected * 1e3:.4f} mm (difference {abs(actual - expected) * 1e6:.1f} µm,"
+            f" tolerance {tolerance * 1e6:.1f} µm); {hint}",
+        )
+
+
+class NonParallelAxes(ModelError):
+    """Two meshing gears (or two sprung joints) whose axes are not parallel."""
+
+
+class InvalidInertia(ModelError):
+    """Non-positive mass, or an inertia tensor that is not physically possible."""
+
+
+# --- run inputs --------------------------------------------------------------------------------
+
+
+class InputError(PinwindError):
+    """An argument of a run (torques, speeds, dt, duration, ...) is invalid."""
+
+
+class UnknownJoint(InputError):
+    """A torque or speed names a joint the gearbox does not have."""
+
+    def __init__(self, name: str, where: str, known: Iterable[str]):
+        self.name = name
+        self.where = where
+        self.known = list(known)
+        super().__init__(
+            f'unknown joint "{name}" in {where}; joints are: {", ".join(self.known)}'
+        )
+
+
+class UnknownElement(InputError):
+    """A result accessor was asked for a mesh, bearing or joint the run does not have."""
+
+    def __init__(self, kind: str, name: str, known: Iterable[str]):
+        self.kind = kind
+        self.name = name
+        self.known = list(known)
+        super().__init__(f'no {kind} named "{name}"; {kind}s are: {", ".join(self.known)}')
+
+
+class NonFiniteInput(InputError):
+    """A run input is NaN or infinite."""
+
+
+# --- running -----------------------------------------------------------------------------------
+
+
+class SolverFailed(PinwindError):
+    """proxsuite did not solve the constrained-dynamics QP of a step."""
+
+    def __init__(self, step: int, time: float, status: str, detail: str = ""):
+        self.step = step
+        self.time = time
+        self.status = status
+        super().__init__(
+            f"the constrained-dynamics QP failed at step {step} (t = {time:.6g} s): {status}. "
+            f"{detail}".strip()
+        )
+
+
+class Diverged(PinwindError):
+    """The state became NaN or infinite during a run."""
+
+    def __init__(self, step: int, time: float, what: str):
+        self.step = step
+        self.time = time
+        self.what = what
+        super().__init__(
+            f"the run diverged at step {step} (t = {time:.6g} s): {what}. Reduce dt, check the "
+            "torques and spring stiffnesses for values that are far too large, or add damping."
+        )
+
+
+class LogError(PinwindError):
+    """A log file is missing, truncated, corrupted or not a pinwind log."""
+
+    def __init__(self, path: str, message: str):
+        self.path = str(path)
+        super().__init__(f"{self.path}: {message}")

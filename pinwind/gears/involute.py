@@ -1,0 +1,103 @@
+"""Involute spur and helical gear geometry (ISO 21771 / ISO 53 basic rack).
+
+Internal gears follow the ISO sign convention inside the formulas: the tooth number of an internal
+gear counts as negative, so one formula serves external and internal pairs. Every length is in
+metres and every angle in radians.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+
+def involute(angle: float) -> float:
+    """inv α = tan α − α [rad]."""
+    return float(np.tan(angle) - angle)
+
+
+def inverse_involute(value: float) -> float:
+    """The angle α in (0, π/2) whose involute is ``value`` [rad]."""
+    return float(brentq(lambda a: involute(a) - value, 1e-9, np.pi / 2 - 1e-9, xtol=1e-15))
+
+
+def transverse_pressure_angle(pressure_angle: float, helix_angle: float) -> float:
+    """α_t = atan(tan α_n / cos β) [rad] (ISO 21771 eq. 4)."""
+    return float(np.arctan(np.tan(pressure_angle) / np.cos(helix_angle)))
+
+
+def pitch_radius(teeth: int, module: float, helix_angle: float = 0.0) -> float:
+    """Reference pitch radius r = z m_n / (2 cos β) [m]."""
+    return teeth * module / (2.0 * np.cos(helix_angle))
+
+
+def base_radius(teeth: int, module: float, pressure_angle: float, helix_angle: float = 0.0) -> float:
+    """Base circle radius r_b = r cos α_t [m]."""
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    return pitch_radius(teeth, module, helix_angle) * float(np.cos(alpha_t))
+
+
+@dataclass(frozen=True)
+class PairGeometry:
+    """Working geometry of a gear pair.
+
+    Attributes:
+        centre_distance: working centre distance a_w [m] (positive).
+        working_pressure_angle: transverse working pressure angle α_wt [rad].
+        working_radius_1: working pitch radius of gear 1 [m].
+        working_radius_2: working pitch radius of gear 2 [m].
+        base_radius_1: base radius of gear 1 [m].
+        base_radius_2: base radius of gear 2 [m].
+    """
+
+    centre_distance: float
+    working_pressure_angle: float
+    working_radius_1: float
+    working_radius_2: float
+    base_radius_1: float
+    base_radius_2: float
+
+
+def pair_geometry(
+    teeth_1: int,
+    teeth_2: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    profile_shift_1: float = 0.0,
+    profile_shift_2: float = 0.0,
+    helix_angle: float = 0.0,
+    internal_1: bool = False,
+    internal_2: bool = False,
+) -> PairGeometry:
+    """Working centre distance and pressure angle of a pair with profile shift.
+
+    ISO 21771 eqs. for a pair with signed tooth numbers (internal gear negative):
+
+        inv α_wt = inv α_t + 2 tan α_n (x1 + x2) / (z1 + z2)
+        a_w = m_t (z1 + z2) / 2 · cos α_t / cos α_wt
+
+    Without profile shift this is the reference centre distance m (z1 ± z2)/2 of
+    000_3b7c4a8fe52a6eee.txt eq. 38 (r3 = r2 + r5).
+    """
+    z1 = -teeth_1 if internal_1 else teeth_1
+    z2 = -teeth_2 if internal_2 else teeth_2
+    if z1 + z2 == 0:
+        raise ValueError("a gear pair with equal internal and external tooth numbers cannot mesh")
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    inv_w = involute(alpha_t) + 2.0 * np.tan(pressure_angle) * (
+        profile_shift_1 + profile_shift_2
+    ) / (z1 + z2)
+    alpha_wt = inverse_involute(inv_w)
+    m_t = module / np.cos(helix_angle)
+    a_w = abs(m_t * (z1 + z2) / 2.0 * np.cos(alpha_t) / np.cos(alpha_wt))
+    return PairGeometry(
+        centre_distance=float(a_w),
+        working_pressure_angle=alpha_wt,
+        working_radius_1=float(a_w * teeth_1 / abs(z1 + z2)),
+        working_radius_2=float(a_w * teeth_2 / abs(z1 + z2)),
+        base_radius_1=base_radius(teeth_1, module, pressure_angle, helix_angle),
+        base_radius_2=base_radius(teeth_2, module, pressure_angle, helix_angle),
+    )

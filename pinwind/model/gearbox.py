@@ -1,0 +1,367 @@
+"""The Gearbox: a Pinocchio model of the bodies and bearings plus the gears and meshes on them.
+
+``load(path)`` reads a model file (``model/urdf.py``), hands the URDF to Pinocchio and checks the
+gear geometry in the reference pose. Everything downstream (simulate, logs, replay) starts here.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from pinwind.errors import (
+    InconsistentCentreDistance,
+    InvalidGearGeometry,
+    MalformedModel,
+    NonParallelAxes,
+)
+from pinwind.gears.involute import pair_geometry
+from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
+
+#: Relative tolerance between the centre distance in the file and the one the gear data give.
+CENTRE_DISTANCE_RTOL = 1e-4
+#: Largest angle between two meshing gears' axes [rad].
+AXIS_PARALLEL_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Gear:
+    """A gear attached to a Pinocchio joint.
+
+    Attributes:
+        spec: the file's data (teeth, module, ...), SI units.
+        joint_id: Pinocchio joint that carries the gear.
+        centre_in_joint: gear centre in that joint's frame [m].
+        axis_in_joint: unit gear axis in that joint's frame.
+    """
+
+    spec: GearSpec
+    joint_id: int
+    centre_in_joint: np.ndarray
+    axis_in_joint: np.ndarray
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """A gear mesh A–B and its working geometry (docs/model_format.md "Mesh sign convention").
+
+    Attributes:
+        name: mesh name from the file.
+        gear_a, gear_b: the two gears (A is ``gear1``).
+        working_pressure_angle: α_wt [rad].
+        centre_distance: working centre distance a_w [m].
+        pitch_fraction: μ with pitch point P = C_A + μ d⊥, d⊥ the centre offset B − A normal
+            to the axis (negative when B is internal: P lies beyond A, away from B's centre).
+        line_sign: σ, r̂ = σ d⊥/|d⊥| points from A's centre to P.
+        radial_sign: ε, +1 unless A is internal: the radial force separates the gears.
+        working_radius_a, working_radius_b: working pitch radii [m].
+        base_radius_a, base_radius_b: base radii [m].
+        helix_angle: helix angle β of gear A [rad] (signed; right hand positive).
+    """
+
+    name: str
+    gear_a: Gear
+    gear_b: Gear
+    working_pressure_angle: float
+    centre_distance: float
+    pitch_fraction: float
+    line_sign: float
+    radial_sign: float
+    working_radius_a: float
+    working_radius_b: float
+    base_radius_a: float
+    base_radius_b: float
+    helix_angle: float
+
+
+@dataclass(frozen=True)
+class TorsionalSpring:
+    """Torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and its opposite on joint 2."""
+
+    name: str
+    joint_1: str
+    joint_2: str
+    v_index_1: int
+    v_index_2: int
+    stiffness: float
+    damping: float
+    preload_angle: float
+
+
+class Gearbox:
+    """A gearbox model ready to simulate.
+
+    Attributes:
+        path: the model file.
+        name: the URDF robot name.
+        model: the ``pinocchio.Model`` (gb.model).
+        gears: gear name → Gear.
+        meshes: the meshes, in file order.
+        springs: torsional spring-dampers.
+        joint_names: the bearings, in the order of the velocity vector (one DoF each).
+        locked_joints: bearings held at zero speed (gears on fixed mounts, e.g. the ring).
+        gravity: gravity in world [m/s²].
+        source_text: the model file as read (logged with every run).
+    """
+
+    def __init__(self, source: ModelFile):
+        self.path = source.path
+        self.name = source.robot_name
+        self.source_text = source.text
+        self.source = source
+        pin_xml, self.locked_joints = _pinocchio_urdf(source)
+        try:
+            self.model = pin.buildModelFromXML(pin_xml)
+        except Exception as err:  # Pinocchio raises plain RuntimeError/ValueError here
+            raise MalformedModel(
+                source.path, "<robot>", f"Pinocchio cannot build the model: {err}"
+            ) from err
+        for jid in range(1, self.model.njoints):
+            if self.model.joints[jid].nv != 1:
+                raise MalformedModel(source.path, "<robot>", "only 1-DoF bearings are supported")
+        self.joint_names = [self.model.names[j] for j in range(1, self.model.njoints)]
+        self.gears = {name: self._attach(spec) for name, spec in source.gears.items()}
+        self.gravity = (
+            source.gravity.copy() if source.gravity is not None else self._default_gravity()
+        )
+        self.model.gravity = pin.Motion(self.gravity, np.zeros(3))
+        self.meshes = [self._mesh(m.name, m.gear_a, m.gear_b) for m in source.meshes]
+        self.springs = [self._spring(s) for s in source.springs]
+
+    # --- lookups ---------------------------------------------------------------------------------
+
+    @property
+    def sha256(self) -> str:
+        """SHA-256 of the model file text."""
+        return hashlib.sha256(self.source_text.encode("utf-8")).hexdigest()
+
+    def v_index(self, joint: str) -> int:
+        """Index of a bearing in the velocity vector."""
+        return self.model.joints[self.model.getJointId(joint)].idx_v
+
+    def mesh(self, name: str) -> Mesh:
+        """The mesh of that name."""
+        for m in self.meshes:
+            if m.name == name:
+                return m
+        raise KeyError(name)
+
+    def neutral(self) -> np.ndarray:
+        """Reference configuration q (all bearing angles zero)."""
+        return pin.neutral(self.model)
+
+    def __repr__(self) -> str:
+        return (
+            f"Gearbox({self.name!r}, {len(self.joint_names)} bearings, {len(self.gears)} gears, "
+            f"{len(self.meshes)} meshes, from {self.path})"
+        )
+
+    # --- construction ----------------------------------------------------------------------------
+
+    def _default_gravity(self) -> np.ndarray:
+        """9.81 m/s² perpendicular to the shafts: along −y unless the shafts lie along y."""
+        data = self.model.createData()
+        pin.forwardKinematics(self.model, data, pin.neutral(self.model))
+        axes = [data.oMi[g.joint_id].rotation @ g.axis_in_joint for g in self.gears.values()]
+        shaft = axes[0] if axes else np.array([0.0, 0.0, 1.0])
+        down = np.array([0.0, -1.0, 0.0])
+        if abs(shaft @ down) > 0.9:
+            down = np.array([0.0, 0.0, -1.0])
+        down = down - (down @ shaft) * shaft
+        return 9.81 * down / np.linalg.norm(down)
+
+    def _attach(self, spec: GearSpec) -> Gear:
+        where = f'<gear name="{spec.name}">'
+        if spec.link == self.source.root_link:
+            raise InvalidGearGeometry(
+                self.path,
+                where,
+                f'the gear sits on the root link "{spec.link}" (the ground); put it on its own '
+                "link with a fixed joint to the ground so that its mount reaction is reported",
+            )
+        frame = self.model.frames[self.model.getFrameId(spec.link, pin.BODY)]
+        joint_id = frame.parentJoint
+        joint_from_link = frame.placement
+        centre = joint_from_link.act(spec.centre_in_link)
+        joint_axis = self._joint_axis(joint_id)
+        if spec.axis_in_link is None:
+            axis = joint_axis
+        else:
+            axis = joint_from_link.rotation @ spec.axis_in_link
+        if np.linalg.norm(np.cross(axis, joint_axis)) > AXIS_PARALLEL_TOL:
+            raise NonParallelAxes(
+                self.path,
+                where,
+                f"gear axis {np.round(axis, 6)} is not parallel to the axis "
+                f"{np.round(joint_axis, 6)} of its bearing \"{self.model.names[joint_id]}\"",
+            )
+        off_axis = centre - (centre @ joint_axis) * joint_axis
+        if np.linalg.norm(off_axis) > 1e-9:
+            raise InvalidGearGeometry(
+                self.path,
+                where,
+                f"gear centre is {np.linalg.norm(off_axis) * 1e3:.4f} mm off the axis of its "
+                f'bearing "{self.model.names[joint_id]}"; a gear turns about its own centre',
+            )
+        axis = np.sign(axis @ joint_axis) * joint_axis
+        return Gear(spec=spec, joint_id=joint_id, centre_in_joint=centre, axis_in_joint=axis)
+
+    def _joint_axis(self, joint_id: int) -> np.ndarray:
+        data = self.model.createData()
+        q = pin.neutral(self.model)
+        pin.computeJointJacobians(self.model, data, q)
+        jac = pin.getJointJacobian(self.model, data, joint_id, pin.LOCAL)
+        col = jac[:, self.model.joints[joint_id].idx_v]
+        return col[3:] / np.linalg.norm(col[3:])
+
+    def _mesh(self, name: str, gear_a: str, gear_b: str) -> Mesh:
+        where = f'<mesh name="{name}">'
+        a, b = self.gears[gear_a], self.gears[gear_b]
+        data = self.model.createData()
+        pin.forwardKinematics(self.model, data, pin.neutral(self.model))
+        centre_a = data.oMi[a.joint_id].act(a.centre_in_joint)
+        centre_b = data.oMi[b.joint_id].act(b.centre_in_joint)
+        axis_a = data.oMi[a.joint_id].rotation @ a.axis_in_joint
+        axis_b = data.oMi[b.joint_id].rotation @ b.axis_in_joint
+        angle = math.asin(min(1.0, float(np.linalg.norm(np.cross(axis_a, axis_b)))))
+        if angle > AXIS_PARALLEL_TOL:
+            raise NonParallelAxes(
+                self.path,
+                where,
+                f'axes of "{gear_a}" {np.round(axis_a, 6)} and "{gear_b}" {np.round(axis_b, 6)} '
+                f"are {math.degrees(angle):.4g}° apart; pinwind meshes parallel-axis gears only",
+            )
+        d = centre_b - centre_a
+        d_perp = d - (d @ axis_a) * axis_a
+        actual = float(np.linalg.norm(d_perp))
+        sa, sb = a.spec, b.spec
+        geo = pair_geometry(
+            sa.teeth,
+            sb.teeth,
+            module=sa.module,
+            pressure_angle=sa.pressure_angle,
+            profile_shift_1=sa.profile_shift,
+            profile_shift_2=sb.profile_shift,
+            helix_angle=abs(sa.helix_angle),
+            internal_1=sa.internal,
+            internal_2=sb.internal,
+        )
+        tol = CENTRE_DISTANCE_RTOL * geo.centre_distance
+        if abs(actual - geo.centre_distance) > tol:
+            kind = "internal" if (sa.internal or sb.internal) else "external"
+            raise InconsistentCentreDistance(
+                self.path,
+                where,
+                actual,
+                geo.centre_distance,
+                tol,
+                f"an {kind} pair of {sa.teeth} and {sb.teeth} teeth, module "
+                f"{sa.module * 1e3:g} mm, profile shifts {sa.profile_shift:g} and "
+                f"{sb.profile_shift:g}; move the bearings or correct the gear data",
+            )
+        if sb.internal:
+            pitch_fraction = -sa.teeth / (sb.teeth - sa.teeth)
+            line_sign = -1.0
+        elif sa.internal:
+            pitch_fraction = sa.teeth / (sa.teeth - sb.teeth)
+            line_sign = 1.0
+        else:
+            pitch_fraction = sa.teeth / (sa.teeth + sb.teeth)
+            line_sign = 1.0
+        return Mesh(
+            name=name,
+            gear_a=a,
+            gear_b=b,
+            working_pressure_angle=geo.working_pressure_angle,
+            centre_distance=geo.centre_distance,
+            pitch_fraction=pitch_fraction,
+            line_sign=line_sign,
+            radial_sign=-1.0 if sa.internal else 1.0,
+            working_radius_a=geo.working_radius_1,
+            working_radius_b=geo.working_radius_2,
+            base_radius_a=geo.base_radius_1,
+            base_radius_b=geo.base_radius_2,
+            helix_angle=sa.helix_angle,
+        )
+
+    def _spring(self, spec) -> TorsionalSpring:
+        where = f'<torsional_spring name="{spec.name}">'
+        ids = []
+        for j in (spec.joint_1, spec.joint_2):
+            if not self.model.existJointName(j):
+                raise MalformedModel(self.path, where, f'joint "{j}" is fixed; it cannot twist')
+            ids.append(self.model.getJointId(j))
+        data = self.model.createData()
+        pin.forwardKinematics(self.model, data, pin.neutral(self.model))
+        axes = [data.oMi[j].rotation @ self._joint_axis(j) for j in ids]
+        if np.linalg.norm(np.cross(axes[0], axes[1])) > AXIS_PARALLEL_TOL:
+            raise NonParallelAxes(
+                self.path, where, f"joint axes {axes[0]} and {axes[1]} are not parallel"
+            )
+        return TorsionalSpring(
+            name=spec.name,
+            joint_1=spec.joint_1,
+            joint_2=spec.joint_2,
+            v_index_1=self.model.joints[ids[0]].idx_v,
+            v_index_2=self.model.joints[ids[1]].idx_v,
+            stiffness=spec.stiffness,
+            damping=spec.damping,
+            preload_angle=spec.preload_angle,
+        )
+
+
+def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:
+    """The URDF text Pinocchio builds from, and the joints to lock.
+
+    Continuous joints become revolute (one angle coordinate, unwrapped, instead of cos/sin), and a
+    fixed joint whose child carries a gear becomes a revolute joint about the gear axis that the
+    simulation locks, so the mount reaction of a ring gear is a bearing reaction like any other.
+    """
+    root = ET.fromstring(source.text)
+    geared_links = {g.link: g for g in source.gears.values()}
+    locked = []
+    for joint in root.findall("joint"):
+        jtype = joint.get("type")
+        child = joint.find("child").get("link")
+        if jtype == "fixed" and child in geared_links:
+            gear = geared_links[child]
+            axis = gear.axis_in_link if gear.axis_in_link is not None else np.array([0, 0, 1.0])
+            joint.set("type", "revolute")
+            for old in joint.findall("axis"):
+                joint.remove(old)
+            ET.SubElement(joint, "axis", xyz=" ".join(repr(float(x)) for x in axis))
+            locked.append(joint.get("name"))
+            jtype = "revolute"
+        if jtype in ("revolute", "continuous"):
+            joint.set("type", "revolute")
+            for old in joint.findall("limit"):
+                joint.remove(old)
+            ET.SubElement(joint, "limit", lower="-1e30", upper="1e30", effort="0", velocity="0")
+    for box in root.findall("gearbox"):
+        root.remove(box)
+    return ET.tostring(root, encoding="unicode"), locked
+
+
+def load(path: str | Path) -> Gearbox:
+    """Load a gearbox model file (URDF with a ``<gearbox>`` extension; docs/model_format.md).
+
+    Raises:
+        ModelError: malformed file or inconsistent gear data; the message names the file, the
+            element and the numbers.
+    """
+    return Gearbox(read_model_file(str(path)))
+
+
+def loads(text: str, path: str = "<string>") -> Gearbox:
+    """Build a gearbox from model-file text (``path`` only names it in messages)."""
+    return Gearbox(read_model_file(path, text))

@@ -1,0 +1,332 @@
+"""Read a pinwind model file: a URDF with a ``<gearbox>`` extension (docs/model_format.md).
+
+This module only reads and checks the file text; ``model/gearbox.py`` builds the Pinocchio model
+and the mesh geometry from what it returns. Attribute units are converted to SI here (the file
+edge), so ``module_mm="15"`` becomes ``module=0.015``.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pinwind.errors import InvalidGearGeometry, InvalidInertia, MalformedModel, UnknownName
+
+
+@dataclass(frozen=True)
+class GearSpec:
+    """One gear of the model file, in SI units."""
+
+    name: str
+    link: str
+    teeth: int
+    module: float
+    pressure_angle: float
+    face_width: float
+    profile_shift: float
+    helix_angle: float
+    internal: bool
+    centre_in_link: np.ndarray
+    axis_in_link: np.ndarray | None
+
+
+@dataclass(frozen=True)
+class MeshSpec:
+    """One gear mesh of the model file: gear1 is A, gear2 is B."""
+
+    name: str
+    gear_a: str
+    gear_b: str
+
+
+@dataclass(frozen=True)
+class SpringSpec:
+    """A torsional spring-damper between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA")."""
+
+    name: str
+    joint_1: str
+    joint_2: str
+    stiffness: float
+    damping: float
+    preload_angle: float
+
+
+@dataclass
+class ModelFile:
+    """Everything read from a model file, before Pinocchio sees it."""
+
+    path: str
+    text: str
+    robot_name: str
+    links: dict[str, dict] = field(default_factory=dict)
+    joints: dict[str, dict] = field(default_factory=dict)
+    gears: dict[str, GearSpec] = field(default_factory=dict)
+    meshes: list[MeshSpec] = field(default_factory=list)
+    springs: list[SpringSpec] = field(default_factory=list)
+    gravity: np.ndarray | None = None
+    root_link: str = ""
+
+
+def _describe(el: ET.Element) -> str:
+    name = el.get("name")
+    return f'<{el.tag} name="{name}">' if name is not None else f"<{el.tag}>"
+
+
+def _number(path: str, el: ET.Element, attr: str, default: float | None = None) -> float:
+    raw = el.get(attr)
+    if raw is None:
+        if default is None:
+            raise MalformedModel(path, _describe(el), f'missing attribute "{attr}"')
+        return default
+    try:
+        value = float(raw)
+    except ValueError as err:
+        raise MalformedModel(
+            path, _describe(el), f'attribute {attr}="{raw}" is not a number'
+        ) from err
+    if not math.isfinite(value):
+        raise MalformedModel(path, _describe(el), f'attribute {attr}="{raw}" is not finite')
+    return value
+
+
+def _vector(path: str, el: ET.Element | None, attr: str, default: str) -> np.ndarray:
+    raw = default if el is None else el.get(attr, default)
+    try:
+        vec = np.array([float(x) for x in raw.split()], dtype=float)
+    except ValueError as err:
+        raise MalformedModel(
+            path, _describe(el), f'attribute {attr}="{raw}" is not three numbers'
+        ) from err
+    if vec.shape != (3,) or not np.all(np.isfinite(vec)):
+        raise MalformedModel(path, _describe(el), f'attribute {attr}="{raw}" is not three numbers')
+    return vec
+
+
+def _bool(path: str, el: ET.Element, attr: str) -> bool:
+    raw = el.get(attr, "false").strip().lower()
+    if raw not in ("true", "false", "1", "0"):
+        raise MalformedModel(path, _describe(el), f'attribute {attr}="{raw}" must be true or false')
+    return raw in ("true", "1")
+
+
+def _required(path: str, el: ET.Element, attr: str) -> str:
+    value = el.get(attr)
+    if value is None or not value.strip():
+        raise MalformedModel(path, _describe(el), f'missing attribute "{attr}"')
+    return value.strip()
+
+
+def _check_inertia(path: str, link: ET.Element) -> dict:
+    inertial = link.find("inertial")
+    if inertial is None:
+        return {"mass": 0.0}
+    mass_el = inertial.find("mass")
+    if mass_el is None:
+        raise MalformedModel(path, _describe(link), "<inertial> has no <mass>")
+    mass = _number(path, mass_el, "value")
+    where = _describe(link)
+    if mass <= 0.0:
+        raise InvalidInertia(path, where, f"mass is {mass} kg; a body's mass must be positive")
+    inertia_el = inertial.find("inertia")
+    if inertia_el is None:
+        raise MalformedModel(path, where, "<inertial> has no <inertia>")
+    names = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
+    ixx, iyy, izz, ixy, ixz, iyz = (_number(path, inertia_el, n, 0.0) for n in names)
+    tensor = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+    principal = np.linalg.eigvalsh(tensor)
+    scale = max(abs(principal).max(), 1e-300)
+    if principal.min() < -1e-12 * scale:
+        raise InvalidInertia(
+            path, where, f"inertia tensor is not positive (principal moments {principal} kg·m²)"
+        )
+    a, b, c = principal
+    # Triangle inequality of principal moments: each is at most the sum of the other two.
+    if c > a + b + 1e-9 * scale:
+        raise InvalidInertia(
+            path,
+            where,
+            f"principal moments {a:.6g}, {b:.6g}, {c:.6g} kg·m² violate the triangle inequality "
+            f"({c:.6g} > {a:.6g} + {b:.6g}); no real body has them — check the values and units",
+        )
+    return {"mass": mass}
+
+
+def read_model_file(path: str, text: str | None = None) -> ModelFile:
+    """Parse and check a model file; raise a ``ModelError`` naming the element at fault."""
+    if text is None:
+        try:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        except OSError as err:
+            raise MalformedModel(path, "<file>", f"cannot read the file: {err.strerror}") from err
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as err:
+        line, col = err.position
+        raise MalformedModel(
+            path, "<file>", f"not well-formed XML at line {line}, column {col}: {err}"
+        ) from err
+    if root.tag != "robot":
+        raise MalformedModel(path, f"<{root.tag}>", "the root element must be <robot> (a URDF)")
+
+    out = ModelFile(path=path, text=text, robot_name=root.get("name", "gearbox"))
+    for link in root.findall("link"):
+        name = _required(path, link, "name")
+        out.links[name] = _check_inertia(path, link)
+    if not out.links:
+        raise MalformedModel(path, "<robot>", "the model has no <link>")
+    children = set()
+    for joint in root.findall("joint"):
+        name = _required(path, joint, "name")
+        jtype = _required(path, joint, "type")
+        parent_el, child_el = joint.find("parent"), joint.find("child")
+        if parent_el is None or child_el is None:
+            raise MalformedModel(path, _describe(joint), "a joint needs <parent> and <child>")
+        parent, child = _required(path, parent_el, "link"), _required(path, child_el, "link")
+        for link_name in (parent, child):
+            if link_name not in out.links:
+                raise UnknownName(path, _describe(joint), "link", link_name, out.links)
+        if jtype not in ("revolute", "continuous", "fixed"):
+            raise MalformedModel(
+                path,
+                _describe(joint),
+                f'joint type "{jtype}" is not supported; bearings are revolute, continuous or fixed',
+            )
+        out.joints[name] = {
+            "type": jtype,
+            "parent": parent,
+            "child": child,
+            "axis": _vector(path, joint.find("axis"), "xyz", "1 0 0"),
+        }
+        children.add(child)
+    roots = [name for name in out.links if name not in children]
+    if len(roots) != 1:
+        raise MalformedModel(
+            path, "<robot>", f"the links must form one tree with one root; roots found: {roots}"
+        )
+    out.root_link = roots[0]
+
+    boxes = root.findall("gearbox")
+    if len(boxes) > 1:
+        raise MalformedModel(path, "<gearbox>", "a model has at most one <gearbox> element")
+    if boxes:
+        _read_gearbox(path, boxes[0], out)
+    return out
+
+
+def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
+    if box.get("gravity") is not None:
+        out.gravity = _vector(path, box, "gravity", "0 0 0")
+    for el in box.findall("gear"):
+        name = _required(path, el, "name")
+        where = _describe(el)
+        if name in out.gears:
+            raise MalformedModel(path, where, f'a gear named "{name}" is defined twice')
+        link = _required(path, el, "link")
+        if link not in out.links:
+            raise UnknownName(path, where, "link", link, out.links)
+        teeth = _number(path, el, "teeth")
+        if teeth <= 0 or teeth != int(teeth):
+            raise InvalidGearGeometry(
+                path, where, f"teeth = {teeth:g}; the tooth count must be a positive whole number"
+            )
+        module_mm = _number(path, el, "module_mm")
+        if module_mm <= 0:
+            raise InvalidGearGeometry(path, where, f"module_mm = {module_mm:g}; must be positive")
+        face_mm = _number(path, el, "face_width_mm")
+        if face_mm <= 0:
+            raise InvalidGearGeometry(path, where, f"face_width_mm = {face_mm:g}; must be positive")
+        alpha_deg = _number(path, el, "pressure_angle_deg", 20.0)
+        if not 0.0 < alpha_deg < 45.0:
+            raise InvalidGearGeometry(
+                path, where, f"pressure_angle_deg = {alpha_deg:g}; must lie in (0, 45) degrees"
+            )
+        beta_deg = _number(path, el, "helix_angle_deg", 0.0)
+        if not -45.0 < beta_deg < 45.0:
+            raise InvalidGearGeometry(
+                path, where, f"helix_angle_deg = {beta_deg:g}; must lie in (-45, 45) degrees"
+            )
+        axis = None
+        if el.get("axis") is not None:
+            axis = _vector(path, el, "axis", "0 0 1")
+            if np.linalg.norm(axis) < 1e-12:
+                raise InvalidGearGeometry(path, where, "axis is the zero vector")
+            axis = axis / np.linalg.norm(axis)
+        out.gears[name] = GearSpec(
+            name=name,
+            link=link,
+            teeth=int(teeth),
+            module=module_mm * 1e-3,
+            pressure_angle=math.radians(alpha_deg),
+            face_width=face_mm * 1e-3,
+            profile_shift=_number(path, el, "profile_shift", 0.0),
+            helix_angle=math.radians(beta_deg),
+            internal=_bool(path, el, "internal"),
+            centre_in_link=_vector(path, el, "xyz", "0 0 0"),
+            axis_in_link=axis,
+        )
+    names = set()
+    for el in box.findall("mesh"):
+        name = _required(path, el, "name")
+        where = _describe(el)
+        if name in names:
+            raise MalformedModel(path, where, f'a mesh named "{name}" is defined twice')
+        names.add(name)
+        gear_a, gear_b = _required(path, el, "gear1"), _required(path, el, "gear2")
+        for g in (gear_a, gear_b):
+            if g not in out.gears:
+                raise UnknownName(path, where, "gear", g, out.gears)
+        if gear_a == gear_b:
+            raise InvalidGearGeometry(path, where, f'gear "{gear_a}" cannot mesh with itself')
+        a, b = out.gears[gear_a], out.gears[gear_b]
+        if a.link == b.link:
+            raise InvalidGearGeometry(
+                path, where, f'gears "{gear_a}" and "{gear_b}" sit on the same link "{a.link}"'
+            )
+        if a.internal and b.internal:
+            raise InvalidGearGeometry(
+                path, where, f'gears "{gear_a}" and "{gear_b}" are both internal; they cannot mesh'
+            )
+        if not math.isclose(a.module, b.module, rel_tol=1e-9):
+            raise InvalidGearGeometry(
+                path,
+                where,
+                f'modules differ: "{gear_a}" {a.module * 1e3:g} mm, "{gear_b}" '
+                f"{b.module * 1e3:g} mm; meshing gears need the same module",
+            )
+        if not math.isclose(a.pressure_angle, b.pressure_angle, rel_tol=1e-9):
+            raise InvalidGearGeometry(
+                path,
+                where,
+                f'pressure angles differ: "{gear_a}" {math.degrees(a.pressure_angle):g}°, '
+                f'"{gear_b}" {math.degrees(b.pressure_angle):g}°',
+            )
+        expected_b = a.helix_angle if (a.internal or b.internal) else -a.helix_angle
+        if not math.isclose(b.helix_angle, expected_b, abs_tol=1e-12):
+            raise InvalidGearGeometry(
+                path,
+                where,
+                f'helix angles {math.degrees(a.helix_angle):g}° and '
+                f"{math.degrees(b.helix_angle):g}° do not mesh: an external pair needs opposite "
+                "hands (β2 = −β1), an internal pair the same hand",
+            )
+        out.meshes.append(MeshSpec(name=name, gear_a=gear_a, gear_b=gear_b))
+    for el in box.findall("torsional_spring"):
+        name = _required(path, el, "name")
+        where = _describe(el)
+        j1, j2 = _required(path, el, "joint1"), _required(path, el, "joint2")
+        for j in (j1, j2):
+            if j not in out.joints:
+                raise UnknownName(path, where, "joint", j, out.joints)
+        k = _number(path, el, "stiffness")
+        c = _number(path, el, "damping", 0.0)
+        if k < 0 or c < 0:
+            raise MalformedModel(
+                path, where, f"stiffness {k:g} N·m/rad and damping {c:g} N·m·s/rad must be ≥ 0"
+            )
+        out.springs.append(
+            SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0))
+        )
