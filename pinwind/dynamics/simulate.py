@@ -8,9 +8,12 @@ Each step k, at state (q_k, v_k) and time t_k = k·dt:
    [N] and driver torques [N·m] read from the duals through the name → row map;
 3. bearing reactions by RNEA with the tooth forces at the pitch points (``dynamics/reactions.py``);
 4. semi-implicit Euler: v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ v_{k+1} dt. The rows ask for
-   J a = γ + (target(t_{k+1}) − J v_k)/dt, so the constraints hold at velocity level after the
-   step; if J changed during the step, v_{k+1} is projected back onto J v = target in the metric of
-   M (post-stabilisation, 000_3b7c4a8fe52a6eee.txt §2.1.3).
+   J a = γ + (target(t_{k+1}) − target(t_k))/dt: the acceleration the constraints demand, with the
+   speed drivers' change over the step. When J v drifts from the target (J changed during the
+   step, or rounding) by more than ``PROJECTION_TOL``, v is projected back onto J v = target in the
+   metric of M before the next solve (post-stabilisation, 000_3b7c4a8fe52a6eee.txt §2.1.3).
+   The drift is not fed back into the QP's right-hand side: redundant rows (several planets) must
+   get a consistent right-hand side, or the multipliers of the redundant directions drift.
 
 The energy ledger uses the mid-step speed (v_k + v_{k+1})/2, with which the kinetic-energy change
 of a step equals the work of the step's forces exactly when M is constant.
@@ -37,7 +40,7 @@ from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.model.gearbox import Gearbox
 
 #: Constraint residual |J v − target| above which velocities are projected [m/s or rad/s].
-PROJECTION_TOL = 1e-13
+PROJECTION_TOL = 1e-14
 
 
 class RunObserver(Protocol):
@@ -236,8 +239,12 @@ class _Stepper:
         tau_spring = self.elements.elastic_torque(q)
         tau_damp = self.elements.damping_torque(v)
         force = tau_applied + tau_spring + tau_damp - nle
-        rhs = -bias + (target_next - jac @ v) / self.dt
+        rhs = -bias + (target_next - target_now) / self.dt
+        if not (np.all(np.isfinite(force)) and np.all(np.isfinite(rhs))):
+            raise Diverged(k, t, "the joint forces or constraint terms are not finite")
         sol = self.solver.solve(mass, force, jac, rhs)
+        if not (math.isfinite(sol.primal_residual) and math.isfinite(sol.dual_residual)):
+            raise Diverged(k, t, "the constrained-dynamics QP returned non-finite values")
         if not sol.solved:
             raise SolverFailed(
                 k,
@@ -259,7 +266,7 @@ class _Stepper:
                     lam[: self.nm][negative] *= -1.0
                 else:
                     jac, bias = self.constraint_matrix(mesh_rows)
-                    rhs = -bias + (target_next - jac @ v) / self.dt
+                    rhs = -bias + (target_next - target_now) / self.dt
                     sol = self.solver.solve(mass, force, jac, rhs)
                     lam = sol.multipliers
         return _Dynamics(

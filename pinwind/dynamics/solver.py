@@ -13,9 +13,10 @@ stage. Two settings keep that property:
 
 - no preconditioner: proxsuite's Ruiz equilibration rescales the rows, and the multipliers it
   returns are then minimum-norm in the scaled rows, not in newtons;
-- the first solve starts from y = 0 and later solves warm-start from the previous solution, whose
-  null-space component is zero and stays zero under the dual updates. Warm starting also brings a
-  step down to one or two proximal iterations.
+- a fresh solve starts from proxsuite's equality-constrained initial guess, the solution of the
+  regularised KKT system, which lies in range(J M⁻¹ Jᵀ); later solves warm-start from the
+  previous solution. Neither has a null-space component, and the dual updates add none. Warm
+  starting also brings a step down to zero to two proximal iterations.
 """
 
 from __future__ import annotations
@@ -26,18 +27,24 @@ import numpy as np
 import proxsuite
 
 
+def _power_of_two(x: float) -> float:
+    """The power of two nearest above x (x > 0)."""
+    return float(2.0 ** np.ceil(np.log2(x)))
+
+
 @dataclass(frozen=True)
 class SolverSettings:
     """proxsuite settings used for every step.
 
     Attributes:
-        eps_abs: absolute tolerance on primal and dual residuals.
+        eps_abs: absolute tolerance on the primal and dual residuals of the QP scaled to unit
+            size (see ``solve``): a relative accuracy of the accelerations and forces.
         eps_rel: relative tolerance (proxsuite's scaled residuals).
         max_iter: iteration cap of the outer loop.
     """
 
-    eps_abs: float = 1e-9
-    eps_rel: float = 1e-14
+    eps_abs: float = 1e-13
+    eps_rel: float = 0.0
     max_iter: int = 1000
 
     def as_dict(self) -> dict:
@@ -82,18 +89,46 @@ class ConstrainedDynamicsSolver:
         self.nv = nv
         self.rows = rows
         self._qp = None
+        self._data_scale = 0.0
+        self._jac_cache: np.ndarray | None = None
+        self._range = np.zeros((0, 0))
+        self._full_rank = True
 
     def _new_qp(self, m, g, jac, rhs):
         qp = proxsuite.proxqp.dense.QP(self.nv, self.rows, 0)
         qp.settings.eps_abs = self.settings.eps_abs
         qp.settings.eps_rel = self.settings.eps_rel
         qp.settings.max_iter = self.settings.max_iter
-        qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.NO_INITIAL_GUESS
+        qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.EQUALITY_CONSTRAINED_INITIAL_GUESS
         qp.settings.verbose = False
         qp.init(m, g, jac, rhs, None, None, None, compute_preconditioner=False)
         qp.solve()
         qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
         return qp
+
+    def _rows_changed(self, jac: np.ndarray) -> bool:
+        """Whether J differs from the previous step's (to 1e-12); refreshes the range projector.
+
+        Redundant rows have right-hand sides that agree only up to rounding; left as they are,
+        the system is inconsistent at the 1e-12 level, the proximal iterations cannot converge
+        and the multipliers of the redundant directions drift. So the right-hand side is
+        projected onto range(J). The projector is kept while J stays the same, which it does
+        for gears on fixed or carrier-borne axes.
+        """
+        cached = self._jac_cache
+        if (
+            cached is not None
+            and cached.shape == jac.shape
+            and np.max(np.abs(jac - cached), initial=0.0)
+            <= 1e-12 * np.max(np.abs(jac), initial=0.0)
+        ):
+            return False
+        u, sv, _ = np.linalg.svd(jac, full_matrices=False)
+        basis = u[:, sv > 1e-10 * sv[0]] if sv.size and sv[0] > 0 else u[:, :0]
+        self._range = basis @ basis.T
+        self._full_rank = basis.shape[1] == jac.shape[0]
+        self._jac_cache = jac.copy()
+        return True
 
     def solve(
         self, mass: np.ndarray, force: np.ndarray, jac: np.ndarray, rhs: np.ndarray
@@ -106,19 +141,34 @@ class ConstrainedDynamicsSolver:
             jac: constraint rows J (rows, nv).
             rhs: right-hand side r (rows,).
         """
-        g = -force
         if self.rows == 0:
             acc = np.linalg.solve(mass, force)
             return Solution(acc, np.zeros(0), 0.0, 0.0, 0, True, "unconstrained")
-        if self._qp is None:
-            self._qp = self._new_qp(mass, g, jac, rhs)
+        rows_changed = self._rows_changed(jac)
+        if not self._full_rank:
+            rhs = self._range @ rhs
+        # Scale the QP to unit size with powers of two, which are exact in floating point:
+        # the cost by the largest inertia (so the dual residual is in rad/s² like the primal
+        # one), the unknowns by the size of the data. One absolute tolerance then means the
+        # same relative accuracy in every run, and a uniform scaling keeps the multipliers
+        # minimum-norm. A change of the data scale restarts the solve like new rows do.
+        mass_scale = _power_of_two(float(np.max(np.abs(mass))))
+        h, g = mass / mass_scale, -force / mass_scale
+        size = max(float(np.max(np.abs(g), initial=0.0)), float(np.max(np.abs(rhs), initial=0.0)))
+        data_scale = _power_of_two(size) if size > 0.0 else 1.0
+        restart = rows_changed or data_scale != self._data_scale or self._qp is None
+        self._data_scale = data_scale
+        g, b = g / data_scale, rhs / data_scale
+        if restart:
+            self._qp = self._new_qp(h, g, jac, b)
         else:
-            self._qp.update(H=mass, g=g, A=jac, b=rhs, update_preconditioner=False)
+            self._qp.update(H=h, g=g, A=jac, b=b, update_preconditioner=False)
             self._qp.solve()
-        qp = self._qp
-        res = qp.results
-        acc = np.array(res.x)
-        lam = -np.array(res.y)
+            if self._qp.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+                self._qp = self._new_qp(h, g, jac, b)
+        res = self._qp.results
+        acc = data_scale * np.array(res.x)
+        lam = -(mass_scale * data_scale) * np.array(res.y)
         status = str(res.info.status).split(".")[-1]
         primal = float(np.max(np.abs(jac @ acc - rhs)))
         dual = float(np.max(np.abs(mass @ acc - force - jac.T @ lam)))

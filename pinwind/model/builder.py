@@ -516,6 +516,8 @@ def planetary_urdf(
     module = _positive("module", module, "m")
     alpha = _pressure_angle(pressure_angle)
     face_width = _positive("face_width", face_width, "m")
+    if len(profile_shift) != 3:
+        raise InvalidGearTrain(f"profile_shift = {profile_shift!r}; give (x_sun, x_planet, x_ring)")
     x_sun, x_planet, x_ring = (float(x) for x in profile_shift)
     stages = list(parallel)
     allowed = ["sun", "planet", "ring", "carrier", "pin"]

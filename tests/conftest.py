@@ -1,0 +1,67 @@
+"""Shared small models for the test suite."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import pytest
+
+from pathlib import Path
+
+#: The shipped models folder.
+MODELS = Path(__file__).resolve().parent.parent / "models"
+
+
+def two_gear_urdf(
+    *,
+    teeth: tuple[str, str] = ("20", "40"),
+    module_mm: tuple[str, str] = ("2", "2"),
+    internal: tuple[str, str] = ("false", "false"),
+    centre_distance: float = 0.060,
+    axis_b: str = "0 0 1",
+    mass_a: str = "1.0",
+    inertia_a: tuple[str, str, str] = ("0.001", "0.001", "0.0015"),
+    gear_link_a: str = "a",
+    mesh: tuple[str, str] = ("g1", "g2"),
+) -> str:
+    """A housing with two parallel shafts ``a`` and ``b`` carrying gears ``g1`` and ``g2``.
+
+    With the defaults: an external 20/40 pair of module 2 mm at its reference centre distance
+    m (z1 + z2)/2 = 60 mm, which loads. Each argument is written into the file as given, so a
+    test can break exactly one thing.
+    """
+    ixx, iyy, izz = inertia_a
+    return f"""<?xml version="1.0"?>
+<robot name="pair">
+  <link name="housing"/>
+  <link name="a">
+    <inertial><mass value="{mass_a}"/>
+      <inertia ixx="{ixx}" iyy="{iyy}" izz="{izz}" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <link name="b">
+    <inertial><mass value="2.0"/>
+      <inertia ixx="0.004" iyy="0.004" izz="0.006" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <joint name="a" type="continuous">
+    <parent link="housing"/><child link="a"/>
+    <origin xyz="0 0 0"/><axis xyz="0 0 1"/>
+  </joint>
+  <joint name="b" type="continuous">
+    <parent link="housing"/><child link="b"/>
+    <origin xyz="{centre_distance!r} 0 0"/><axis xyz="{axis_b}"/>
+  </joint>
+  <gearbox>
+    <gear name="g1" link="{gear_link_a}" teeth="{teeth[0]}" module_mm="{module_mm[0]}"
+          face_width_mm="20" internal="{internal[0]}"/>
+    <gear name="g2" link="b" teeth="{teeth[1]}" module_mm="{module_mm[1]}"
+          face_width_mm="20" internal="{internal[1]}"/>
+    <mesh name="m" gear1="{mesh[0]}" gear2="{mesh[1]}"/>
+  </gearbox>
+</robot>
+"""
+
+
+@pytest.fixture
+def pair_urdf() -> Callable[..., str]:
+    """Builder of a small two-gear model file text (see ``two_gear_urdf``)."""
+    return two_gear_urdf

@@ -1,0 +1,70 @@
+"""Invariants of every run: the constraints hold, and energy is accounted for."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.testing import assert_allclose
+
+import pinwind
+from pinwind.model.gearbox import loads
+from tests.conftest import MODELS
+
+
+def _balance(res):
+    e = res.energy
+    supplied = e["work_applied"] + e["work_drivers"] + e["work_springs"] + e["work_gravity"]
+    return e["kinetic"] - e["kinetic"][0], supplied - e["dissipated"]
+
+
+def test_constraints_hold_to_1e_10_after_ten_thousand_steps():
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    res = pinwind.simulate(
+        gb, duration=10.0, dt=1e-3, torques={"carrier": 1.1e6, "sun": -1e6 / 6}
+    )
+    assert len(res) == 10_001
+    assert res.constraint_residual.max() < 1e-10
+    # Transmission error: the rigid meshes do not drift apart along their lines of action.
+    assert np.abs(res.transmission_error).max() < 1e-10
+
+
+def test_work_of_torques_equals_kinetic_energy_plus_damper_losses():
+    text = (MODELS / "saleh2017_planetary.urdf").read_text()
+    # Viscous bearing damping on the carrier and the sun [N·m·s/rad].
+    text = text.replace(
+        '<joint name="carrier" type="continuous">',
+        '<joint name="carrier" type="continuous"><dynamics damping="2000"/>',
+    ).replace(
+        '<joint name="sun" type="continuous">',
+        '<joint name="sun" type="continuous"><dynamics damping="50"/>',
+    )
+    gb = loads(text, path="saleh_damped.urdf")
+    res = pinwind.simulate(
+        gb,
+        duration=3.0,
+        dt=1e-3,
+        torques={"carrier": lambda t: 1e6 * (1 + 0.3 * math.sin(3 * t)), "sun": -1e5},
+    )
+    assert res.energy["dissipated"][-1] > 0.01 * res.energy["work_applied"][-1]
+    change, supplied = _balance(res)
+    scale = np.abs(res.energy["work_applied"]).max()
+    assert_allclose(change, supplied, rtol=0, atol=1e-6 * scale)
+    # Constraint forces do no work.
+    assert_allclose(res.energy["work_constraints"], 0.0, atol=1e-9 * scale)
+
+
+def test_energy_balance_holds_with_springs_and_a_speed_driver():
+    gb = pinwind.load(MODELS / "cai_spur_pair.urdf")
+    omega = 200 * 2 * math.pi / 60  # 002_bb0c67d52fe8a188.txt: 200 rpm driver, 49 N·m brake
+    res = pinwind.simulate(
+        gb,
+        duration=1.0,
+        dt=1e-4,
+        speeds={"input_shaft": lambda t: omega * min(1.0, t / 0.2)},
+        torques={"output_shaft": -49.0},
+    )
+    change, supplied = _balance(res)
+    scale = np.abs(res.energy["work_drivers"]).max()
+    assert_allclose(change, supplied, rtol=0, atol=1e-6 * scale)
+    assert res.constraint_residual.max() < 1e-10
