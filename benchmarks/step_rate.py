@@ -177,7 +177,9 @@ def closed_form(path: Path) -> ClosedForm:
         )
     meshes = [(m.get("name"), m.get("gear1"), m.get("gear2")) for m in box.findall("mesh")]
 
-    ring = next(n for n, g in gears.items() if g["internal"] and g["joint"] is None)
+    ring = next((n for n, g in gears.items() if g["internal"] and g["joint"] is None), None)
+    if ring is None:
+        raise ValueError(f"{path}: the closed form needs a planetary stage with a fixed ring gear")
     planet_meshes = {}
     for name, a, b in meshes:
         if ring in (a, b):
@@ -512,7 +514,7 @@ def bench_model(path: Path, steps: int, dt: float, profile: bool) -> list[dict]:
     gb = pinwind.load(path)
     cf = closed_form(path)
     names = [m.name for m in gb.meshes]
-    pw_torques = {j: t for j, t in cf.torques.items()}
+    pw_torques = dict(cf.torques)
 
     pinwind.simulate(gb, duration=10 * dt, dt=dt, torques=pw_torques, progress=False)  # warm-up
     started = time.perf_counter()
@@ -635,7 +637,9 @@ def print_tables(rows: list[dict], steps: int, dt: float) -> None:
     print(
         "\npinwind µs/step is the whole simulate() call over steps (set-up, recording, bearing "
         "reactions, poses);\nstep loop only: "
-        + ", ".join(f"{r['model']} {r['pw_loop_us']:.1f}" for r in rows[::3])
+        + ", ".join(
+            f"{m} {us:.1f}" for m, us in {r["model"]: r["pw_loop_us"] for r in rows}.items()
+        )
         + ".\nMuJoCo µs/step includes setting qfrc_applied, mj_step, and reading efc_force and "
         "qvel every step (best of 3);\nMJ step only: setting qfrc_applied and mj_step."
     )
@@ -665,7 +669,12 @@ def main(argv: list[str] | None = None) -> int:
     )
     rows = []
     for model in args.models:
-        rows += bench_model(resolve(model), args.steps, args.dt, args.profile)
+        path = resolve(model)
+        try:
+            closed_form(path)
+        except ValueError as err:
+            raise SystemExit(f"model {model!r}: {err}") from err
+        rows += bench_model(path, args.steps, args.dt, args.profile)
     print_tables(rows, args.steps, args.dt)
     return 0
 

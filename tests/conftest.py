@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
-
-from pathlib import Path
 
 #: The shipped models folder.
 MODELS = Path(__file__).resolve().parent.parent / "models"

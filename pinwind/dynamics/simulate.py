@@ -389,6 +389,9 @@ def simulate(
     written = 0
     k = 0
     started = wallclock.perf_counter()
+    # Overflow in a diverging run is reported by the finiteness checks below, by step and time.
+    errstate = np.errstate(over="ignore", invalid="ignore")
+    errstate.__enter__()
     try:
         ledger = res.energy
         for k in range(steps + 1):
@@ -469,6 +472,7 @@ def simulate(
         status = f"failed at step {k} (t = {k * dt:.6g} s): {err}"
         raise
     finally:
+        errstate.__exit__(None, None, None)
         if bar is not None:
             bar.close()
         done = steps + 1 if status == "completed" else k

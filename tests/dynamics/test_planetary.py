@@ -138,3 +138,22 @@ def test_redundant_planet_rows_give_minimum_norm_multipliers(saleh):
     assert rank == 4  # 6 mesh rows of a 3-planet stage with a fixed ring
     null = u[:, rank:]
     assert_allclose(null.T @ lam, 0.0, atol=1e-6 * np.abs(lam).max())
+
+
+def test_sinusoidal_speed_driver_torque_is_equivalent_inertia_times_acceleration(saleh):
+    # 002_bb0c67d52fe8a188.txt eq. 2-1: Ω = A sin(2π f t) + X. The driver row asks for the
+    # speed change over each step, so its torque is J_eq ΔΩ/dt minus the reflected sun torque.
+    rpm = 2 * math.pi / 60
+    mean, amp, freq, dt, t_sun = 14.2 * rpm, 1.1 * rpm, 0.5, 1e-3, -1e5
+
+    def omega(t):
+        return mean + amp * math.sin(2 * math.pi * freq * t)
+
+    res = pinwind.simulate(
+        saleh, duration=1.0, dt=dt, speeds={"carrier": omega}, torques={"sun": t_sun}
+    )
+    t = res.time
+    expected_speed = np.array([omega(x) for x in t])
+    assert_allclose(res.joint("carrier").speed, expected_speed, rtol=1e-10)
+    delta = (np.array([omega(x + dt) for x in t]) - expected_speed) / dt
+    assert_allclose(res.joint("carrier").torque, J_EQ * delta - 6 * t_sun, rtol=1e-9)

@@ -1,0 +1,5 @@
+"""``python -m pinwind`` runs the command-line interface."""
+
+from pinwind.cli import main
+
+main()

@@ -1,0 +1,85 @@
+"""The command line: the main job prints a summary, bad input gives one clear line."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import pytest
+
+import pinwind
+from tests.conftest import MODELS
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "pinwind", *args], capture_output=True, text=True, timeout=300
+    )
+
+
+def test_simulate_prints_speeds_ratios_mesh_forces_and_bearings():
+    out = run(
+        "simulate", str(MODELS / "saleh2017_planetary.urdf"), "--torque", "carrier=1e6",
+        "--torque", "sun=-166666.6666666667", "--duration", "0.05", "--dt", "1e-3",
+    )
+    assert out.returncode == 0, out.stderr
+    text = out.stdout
+    for name in ("sun_planet1", "planet3_ring", "carrier", "ring"):
+        assert name in text
+    # Balanced torques: the sun mesh carries T_s/(3 r_s cos α) = 339.1814 kN.
+    expected_kn = 1e6 / 6 / (3 * 0.18 * math.cos(math.radians(24.5))) / 1e3
+    assert f"{expected_kn:.4f}" in text
+    assert "ratio to carrier" in text
+
+
+def test_speed_option_is_in_rpm():
+    out = run(
+        "simulate", str(MODELS / "saleh2017_planetary.urdf"), "--speed", "carrier=14.2",
+        "--duration", "0.01", "--dt", "1e-3",
+    )
+    assert out.returncode == 0, out.stderr
+    assert "85.2000" in out.stdout  # sun speed [rpm] = 6 × 14.2 (000_3b7c4a8fe52a6eee.txt)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--torque", "sunn=1"], 'unknown joint "sunn" in torques; joints are: carrier'),
+        (["--torque", "sun"], "must look like JOINT=VALUE"),
+        (["--torque", "sun=abc"], '"abc" is not a number'),
+        (["--dt", "0"], "dt is 0 s; it must be positive"),
+    ],
+)
+def test_bad_options_exit_2_with_one_line(args, message):
+    out = run("simulate", str(MODELS / "saleh2017_planetary.urdf"), *args)
+    assert out.returncode == 2
+    assert message in out.stderr
+    assert "Traceback" not in out.stderr
+
+
+def test_missing_model_file_is_named():
+    out = run("simulate", "models/nope.urdf")
+    assert out.returncode == 2
+    assert "models/nope.urdf" in out.stderr and "cannot read" in out.stderr
+
+
+def test_build_planetary_writes_a_model_with_the_requested_geometry(tmp_path):
+    target = tmp_path / "out.urdf"
+    out = run(
+        "build", "planetary", "--sun", "24", "--planet", "48", "--ring", "120", "--planets", "3",
+        "--module", "15", "--pressure-angle", "24.5", "--face-width", "380",
+        "--parallel", "83/23", "-o", str(target),
+    )
+    assert out.returncode == 0, out.stderr
+    gb = pinwind.load(target)
+    assert sorted(gb.joint_names) == sorted(
+        ["carrier", "sun", "planet1", "planet2", "planet3", "ring", "stage1_pinion"]
+    )
+    # Centre distance m (z_s + z_p) / 2 = 15 mm × 72 / 2.
+    assert math.isclose(gb.mesh("sun_planet1").centre_distance, 0.540, rel_tol=1e-12)
+    assert math.isclose(
+        gb.mesh("stage1").centre_distance,
+        gb.gears["stage1_wheel"].spec.module * (83 + 23) / 2,
+        rel_tol=1e-12,
+    )
