@@ -1,14 +1,16 @@
 """pinwind: loads inside wind-turbine gearboxes.
 
 Tooth force at every gear mesh and reaction at every bearing, over time, from a URDF gearbox model
-(Pinocchio) whose gear meshes are velocity-constraint rows solved with proxsuite.
+(Pinocchio) whose gear meshes are velocity-constraint rows solved with proxsuite. Every run can be
+logged to one self-contained MCAP file (``simulate(..., log="run.mcap")``, ``read_log``).
 """
 
 from pinwind.dynamics.result import Result
-from pinwind.dynamics.simulate import simulate
 from pinwind.errors import PinwindError
+from pinwind.io.mcap_log import read_log
+from pinwind.io.run import simulate
 from pinwind.model.gearbox import Gearbox, load
 
 __version__ = "0.1.0"
 
-__all__ = ["Gearbox", "PinwindError", "Result", "__version__", "load", "simulate"]
+__all__ = ["Gearbox", "PinwindError", "Result", "__version__", "load", "read_log", "simulate"]

@@ -151,3 +151,18 @@ class LogError(PinwindError):
     def __init__(self, path: str, message: str):
         self.path = str(path)
         super().__init__(f"{self.path}: {message}")
+
+
+class LogExists(LogError):
+    """The log file to write already exists (pinwind never overwrites a log silently)."""
+
+    def __init__(self, path: str):
+        super().__init__(
+            path,
+            "the file already exists; choose another name, or pass --force (CLI) / "
+            "overwrite=True (Python) to replace it",
+        )
+
+
+class LogRecovered(PinwindWarning):
+    """A log was cut short (crash, kill, full disk); the samples before the cut were recovered."""

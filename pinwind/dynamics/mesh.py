@@ -28,17 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from pinwind.dynamics import kernels
 from pinwind.model.gearbox import Gearbox
-
-
-_LEVI_CIVITA = np.zeros((3, 3, 3))
-_LEVI_CIVITA[0, 1, 2] = _LEVI_CIVITA[1, 2, 0] = _LEVI_CIVITA[2, 0, 1] = 1.0
-_LEVI_CIVITA[0, 2, 1] = _LEVI_CIVITA[2, 1, 0] = _LEVI_CIVITA[1, 0, 2] = -1.0
-
-
-def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of (..., 3) arrays (np.cross is ten times slower on small arrays)."""
-    return np.einsum("ijk,...j,...k->...i", _LEVI_CIVITA, a, b)
 
 
 @dataclass
@@ -53,6 +44,7 @@ class MeshRows:
         tangent, radial_dir: (m, 3) unit t and r̂ in world.
         pitch_point: (m, 3) P in world [m].
         lever_a, lever_b: (m, 3) P − O_A and P − O_B (joint origins) in world [m].
+        axis: (m, 3) unit axis k of gear A in world.
     """
 
     jac_t: np.ndarray
@@ -64,6 +56,7 @@ class MeshRows:
     pitch_point: np.ndarray
     lever_a: np.ndarray
     lever_b: np.ndarray
+    axis: np.ndarray
 
 
 class MeshSet:
@@ -106,87 +99,39 @@ class MeshSet:
         Needs ``computeJointJacobiansTimeVariation(q, v)`` to have run on ``data``: it gives the
         placements, the world-frame Jacobian J and its time variation J̇ (whose product with v is
         the spatial acceleration at q̈ = 0). Velocities here are spatial, taken at the world origin
-        and in world axes, so a point x of body X moves with v_o + ω × x.
+        and in world axes, so a point x of body X moves with v_o + ω × x. The arithmetic is in
+        ``kernels.mesh_rows``.
         """
-        origin = np.empty((len(self.joint_ids), 3))
-        rot = np.empty((len(self.joint_ids), 3, 3))
+        nj, m, nv = len(self.joint_ids), self.count, model.nv
+        origin = np.empty((nj, 3))
+        rot = np.empty((nj, 3, 3))
         for i, j in enumerate(self.joint_ids):
             placement = data.oMi[j]
             origin[i] = placement.translation
             rot[i] = placement.rotation
-        # (joints, 6, nv) world Jacobians of each gear-carrying body, and their spatial
-        # velocities and accelerations (at q̈ = 0) at the world origin.
-        jac = data.J[None, :, :] * self.support[:, None, :]
-        twist = jac @ self._v
-        accel = (data.dJ[None, :, :] * self.support[:, None, :]) @ self._v
-        sa, sb = self.slot_a, self.slot_b
-        c_a = origin[sa] + np.einsum("mij,mj->mi", rot[sa], self.centre_a)
-        c_b = origin[sb] + np.einsum("mij,mj->mi", rot[sb], self.centre_b)
-        k = np.einsum("mij,mj->mi", rot[sa], self.axis_a)
-        v_a, w_a = twist[sa, :3], twist[sa, 3:]
-        v_b, w_b = twist[sb, :3], twist[sb, 3:]
-
-        d = c_b - c_a
-        dk = np.einsum("mi,mi->m", d, k)[:, None]
-        d_perp = d - dk * k
-        rho = np.linalg.norm(d_perp, axis=1)[:, None]
-        u = d_perp / rho
-        r_hat = self.sigma[:, None] * u
-        t = cross(k, r_hat)
-        p = c_a + self.mu[:, None] * d_perp
-
-        # n·v(P) = n·v_o + (P × n)·ω for each body, in joint space.
-        both = np.stack([t, r_hat])  # (2, m, 3)
-        moment = cross(np.broadcast_to(p, both.shape), both)
-        jl_b, ja_b = jac[sb, :3], jac[sb, 3:]
-        jl_a, ja_a = jac[sa, :3], jac[sa, 3:]
-        rows = (
-            np.einsum("dmi,min->dmn", both, jl_b - jl_a)
-            + np.einsum("dmi,min->dmn", moment, ja_b)
-            - np.einsum("dmi,min->dmn", moment, ja_a)
+        twist, accel = np.empty((nj, 6)), np.empty((nj, 6))
+        kernels.body_motion(data.J, data.dJ, self.support, self._v, twist, accel)
+        rows = MeshRows(
+            jac_t=np.empty((m, nv)),
+            jac_r=np.empty((m, nv)),
+            bias_t=np.empty(m),
+            bias_r=np.empty(m),
+            tangent=np.empty((m, 3)),
+            radial_dir=np.empty((m, 3)),
+            pitch_point=np.empty((m, 3)),
+            lever_a=np.empty((m, 3)),
+            lever_b=np.empty((m, 3)),
+            axis=np.empty((m, 3)),
         )
-
-        w_all = np.concatenate([w_a, w_b, w_a, w_b, w_a])
-        x_all = np.concatenate([p, p, c_a, c_b, k])
-        crossed = cross(w_all, x_all)
-        m = self.count
-        dv = (v_b + crossed[m : 2 * m]) - (v_a + crossed[:m])
-        v_ca = v_a + crossed[2 * m : 3 * m]
-        v_cb = v_b + crossed[3 * m : 4 * m]
-        k_dot = crossed[4 * m :]
-        d_dot = v_cb - v_ca
-        d_perp_dot = (
-            d_dot
-            - np.einsum("mi,mi->m", d_dot, k)[:, None] * k
-            - np.einsum("mi,mi->m", d, k_dot)[:, None] * k
-            - dk * k_dot
+        kernels.mesh_rows(
+            data.J, self.support, origin, rot, twist, accel, self.slot_a, self.slot_b,
+            self.centre_a, self.centre_b, self.axis_a, self.mu, self.sigma,
+            rows.jac_t, rows.jac_r, rows.bias_t, rows.bias_r, rows.tangent, rows.radial_dir,
+            rows.pitch_point, rows.axis,
         )
-        u_dot = (d_perp_dot - np.einsum("mi,mi->m", u, d_perp_dot)[:, None] * u) / rho
-        r_hat_dot = self.sigma[:, None] * u_dot
-        p_dot = v_ca + self.mu[:, None] * d_perp_dot
-        more = cross(
-            np.concatenate([k_dot, k, accel[sb, 3:], accel[sa, 3:], w_b - w_a]),
-            np.concatenate([r_hat, r_hat_dot, p, p, p_dot]),
-        )
-        t_dot = more[:m] + more[m : 2 * m]
-        da = (accel[sb, :3] + more[2 * m : 3 * m]) - (accel[sa, :3] + more[3 * m : 4 * m])
-        spin = more[4 * m :]
-        dirs_dot = np.stack([t_dot, r_hat_dot])
-        bias = (
-            np.einsum("dmi,mi->dm", dirs_dot, dv)
-            + np.einsum("dmi,mi->dm", both, da + spin)
-        )
-        return MeshRows(
-            jac_t=rows[0],
-            jac_r=rows[1],
-            bias_t=bias[0],
-            bias_r=bias[1],
-            tangent=t,
-            radial_dir=r_hat,
-            pitch_point=p,
-            lever_a=p - origin[sa],
-            lever_b=p - origin[sb],
-        )
+        rows.lever_a[:] = rows.pitch_point - origin[self.slot_a]
+        rows.lever_b[:] = rows.pitch_point - origin[self.slot_b]
+        return rows
 
     def set_velocity(self, v: np.ndarray) -> None:
         """Joint velocity the next ``evaluate`` uses."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from pinwind.dynamics.mesh import cross
+from pinwind.dynamics import kernels
 
 
 class BearingReactions:
@@ -22,33 +22,33 @@ class BearingReactions:
         self.joint_a = joint_a
         self.joint_b = joint_b
         self.njoints = model.njoints
+        self._wrench = np.zeros((model.njoints, 6))
+        self._origin = np.zeros((model.njoints, 3))
+        self._rot = np.zeros((model.njoints, 3, 3))
         self._touched = sorted({int(j) for j in joint_a} | {int(j) for j in joint_b})
         self._fext = pin.StdVec_Force()
         for _ in range(model.njoints):
             self._fext.append(pin.Force.Zero())
 
     def external_forces(
-        self,
-        data: pin.Data,
-        force_on_b: np.ndarray,
-        lever_a: np.ndarray,
-        lever_b: np.ndarray,
+        self, data: pin.Data, force_on_b: np.ndarray, pitch_point: np.ndarray
     ) -> pin.StdVec_Force:
         """Tooth forces as Pinocchio external forces, in each joint's frame about its origin.
 
         Args:
             force_on_b: (m, 3) tooth force on gear B in world [N]; gear A gets the opposite.
-            lever_a, lever_b: (m, 3) pitch point minus the joint origin of A and of B, world [m].
+            pitch_point: (m, 3) where the tooth forces act, world [m].
         """
-        wrench = np.zeros((self.njoints, 6))
-        moments = cross(np.stack([lever_b, lever_a]), np.broadcast_to(force_on_b, (2,) + force_on_b.shape))
-        np.add.at(wrench[:, :3], self.joint_b, force_on_b)
-        np.add.at(wrench[:, 3:], self.joint_b, moments[0])
-        np.add.at(wrench[:, :3], self.joint_a, -force_on_b)
-        np.add.at(wrench[:, 3:], self.joint_a, -moments[1])
         for j in self._touched:
-            rot_t = data.oMi[j].rotation.T
-            self._fext[j] = pin.Force(rot_t @ wrench[j, :3], rot_t @ wrench[j, 3:])
+            placement = data.oMi[j]
+            self._origin[j] = placement.translation
+            self._rot[j] = placement.rotation
+        kernels.tooth_wrenches(
+            self.joint_a, self.joint_b, force_on_b, pitch_point, self._origin, self._rot,
+            self._wrench,
+        )
+        for j in self._touched:
+            self._fext[j] = pin.Force(self._wrench[j])
         return self._fext
 
     def evaluate(
@@ -66,9 +66,10 @@ class BearingReactions:
         The world version keeps the moment about the bearing centre and only rotates the axes.
         """
         pin.rnea(self.model, data, q, v, a, fext)
+        rot = self._rot
         for j in range(1, self.njoints):
-            f = data.f[j].vector
-            rot = data.oMi[j].rotation
-            out_local[j - 1] = f
-            out_world[j - 1, :3] = rot @ f[:3]
-            out_world[j - 1, 3:] = rot @ f[3:]
+            out_local[j - 1] = data.f[j].vector
+            rot[j] = data.oMi[j].rotation
+        r = rot[1:]
+        out_world[:, :3] = np.einsum("jab,jb->ja", r, out_local[:, :3])
+        out_world[:, 3:] = np.einsum("jab,jb->ja", r, out_local[:, 3:])

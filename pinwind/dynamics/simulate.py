@@ -29,9 +29,10 @@ from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
+from scipy.spatial.transform import Rotation
 
 from pinwind.dynamics.elements import ForceElements
-from pinwind.dynamics.mesh import MeshRows, MeshSet, cross
+from pinwind.dynamics.mesh import MeshRows, MeshSet
 from pinwind.dynamics.reactions import BearingReactions
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import ConstrainedDynamicsSolver, SolverSettings
@@ -172,6 +173,15 @@ class _Stepper:
         self.wrench_local = np.zeros((self.model.njoints - 1, 6))
         self.wrench_world = np.zeros((self.model.njoints - 1, 6))
         self.te = np.zeros(self.nm)
+        self._upper = np.triu(np.ones((nv, nv), dtype=bool))
+        self.ledger_forces = np.zeros((len(_WORK_KEYS), nv))
+
+    def driver_torque(self, lam: np.ndarray) -> np.ndarray:
+        """Joint torques of the speed drivers and locks: their rows' multipliers [N·m]."""
+        torque = np.zeros(self.model.nv)
+        if len(self.drivers):
+            np.add.at(torque, self.driver_index, lam[self.nm :])
+        return torque
 
     # --- assembly ----------------------------------------------------------------------------
 
@@ -206,7 +216,8 @@ class _Stepper:
 
     def mass(self, q: np.ndarray) -> np.ndarray:
         m = pin.crba(self.model, self.data, q)
-        return np.triu(m) + np.triu(m, 1).T
+        # CRBA fills the upper triangle only.
+        return np.where(self._upper, m, m.T)
 
     # --- one step ----------------------------------------------------------------------------
 
@@ -243,6 +254,31 @@ class _Stepper:
         if not (np.all(np.isfinite(force)) and np.all(np.isfinite(rhs))):
             raise Diverged(k, t, "the joint forces or constraint terms are not finite")
         sol = self.solver.solve(mass, force, jac, rhs)
+        self._check(k, t, sol)
+        lam = sol.multipliers
+        if self.nm:
+            negative = lam[: self.nm] < 0.0
+            if negative.any():
+                # The other flank carries the load: switch those rows to it.
+                free = self.meshes.flank_flip_is_free(mesh_rows)
+                self.flank[negative] *= -1.0
+                jac, bias = self.constraint_matrix(mesh_rows)
+                if np.all(free[negative]):
+                    # Fixed axes: the other flank's row is the opposite row, λ just flips.
+                    lam = lam.copy()
+                    lam[: self.nm][negative] *= -1.0
+                else:
+                    rhs = -bias + (target_next - target_now) / self.dt
+                    sol = self.solver.solve(mass, force, jac, rhs)
+                    self._check(k, t, sol)
+                    lam = sol.multipliers
+        return _Dynamics(
+            v, residual, mesh_rows, mass, jac, sol.acceleration, lam, tau_applied, tau_spring,
+            tau_damp, gravity,
+        )
+
+    @staticmethod
+    def _check(k: int, t: float, sol) -> None:
         if not (math.isfinite(sol.primal_residual) and math.isfinite(sol.dual_residual)):
             raise Diverged(k, t, "the constrained-dynamics QP returned non-finite values")
         if not sol.solved:
@@ -255,35 +291,14 @@ class _Stepper:
                 "conflicting speed drivers (two drivers on joints that the gears couple) or "
                 "a driver on a locked bearing.",
             )
-        lam = sol.multipliers
-        if self.nm:
-            negative = lam[: self.nm] < 0.0
-            if negative.any():
-                free = self.meshes.flank_flip_is_free(mesh_rows)
-                self.flank[negative] *= -1.0
-                if np.all(free[negative]):
-                    lam = lam.copy()
-                    lam[: self.nm][negative] *= -1.0
-                else:
-                    jac, bias = self.constraint_matrix(mesh_rows)
-                    rhs = -bias + (target_next - target_now) / self.dt
-                    sol = self.solver.solve(mass, force, jac, rhs)
-                    lam = sol.multipliers
-        return _Dynamics(
-            v, residual, mesh_rows, mass, jac, sol.acceleration, lam, tau_applied, tau_spring,
-            tau_damp, gravity,
-        )
 
     def reactions_of(self, q, v, a, mesh_rows, lam):
         normal = lam[: self.nm]
         n = self.meshes.line_of_action(mesh_rows, self.flank)
-        k_axis = cross(mesh_rows.radial_dir, mesh_rows.tangent)
         tangential = normal * self.meshes.cos_a
         axial = tangential * self.meshes.tan_beta
-        force_on_b = normal[:, None] * n + (self.flank * axial)[:, None] * k_axis
-        fext = self.reactions.external_forces(
-            self.data, force_on_b, mesh_rows.lever_a, mesh_rows.lever_b
-        )
+        force_on_b = normal[:, None] * n + (self.flank * axial)[:, None] * mesh_rows.axis
+        fext = self.reactions.external_forces(self.data, force_on_b, mesh_rows.pitch_point)
         self.reactions.evaluate(self.data, q, v, a, fext, self.wrench_local, self.wrench_world)
         return normal, tangential, axial, force_on_b
 
@@ -340,6 +355,7 @@ def simulate(
                               probe_times=probe)
     init = joint_loads(initial_speeds, where="initial_speeds", joint_index=free, unit="rad/s")
     model = gearbox.model
+    saved_gravity = pin.Motion(model.gravity)
     if gravity is not None:
         g = np.asarray(gravity, dtype=float)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -392,8 +408,9 @@ def simulate(
     # Overflow in a diverging run is reported by the finiteness checks below, by step and time.
     errstate = np.errstate(over="ignore", invalid="ignore")
     errstate.__enter__()
+    kinetic = res.energy["kinetic"]
+    work = np.zeros((steps + 1, len(_WORK_KEYS)))
     try:
-        ledger = res.energy
         for k in range(steps + 1):
             t = k * dt
             dyn = st.solve(k, t, q, v)
@@ -401,7 +418,7 @@ def simulate(
             tau_applied, tau_spring, tau_damp, grav = (
                 dyn.tau_applied, dyn.tau_spring, dyn.tau_damp, dyn.gravity
             )
-            if not (np.all(np.isfinite(a)) and np.all(np.isfinite(lam))):
+            if not math.isfinite(float(a @ a) + float(lam @ lam)):
                 raise Diverged(k, t, "the accelerations or constraint forces are not finite")
             normal, tangential, axial, force_on_b = st.reactions_of(q, v, a, mesh_rows, lam)
 
@@ -409,10 +426,8 @@ def simulate(
             res.angle[k] = q
             res.speed[k] = v
             res.acceleration[k] = a
-            torque = tau_applied.copy()
-            if len(st.drivers):
-                np.add.at(torque, st.driver_index, lam[st.nm :])
-            res.torque[k] = torque
+            driver_torque = st.driver_torque(lam)
+            res.torque[k] = tau_applied + driver_torque
             if st.nm:
                 res.mesh_normal[k] = normal
                 res.mesh_tangential[k] = tangential
@@ -427,40 +442,31 @@ def simulate(
             res.bearing_force[k] = st.wrench_world[:, :3]
             res.bearing_moment[k] = st.wrench_world[:, 3:]
             res.constraint_residual[k] = dyn.residual
-            ledger["kinetic"][k] = 0.5 * v @ mass @ v
-            ledger["potential_spring"][k] = st.elements.spring_energy(q)
+            kinetic[k] = 0.5 * v @ mass @ v
             if k == steps:
                 break
 
             v_next = v + a * dt
-            if not np.all(np.isfinite(v_next)):
-                raise Diverged(k, t, "the joint speeds are not finite")
-            mean = 0.5 * (v + v_next)
-            driver_torque = np.zeros(model.nv)
-            if len(st.drivers):
-                np.add.at(driver_torque, st.driver_index, lam[st.nm :])
-            step_work = dt * mean
-            for key, value in (
-                ("work_applied", tau_applied @ step_work),
-                ("work_drivers", driver_torque @ step_work),
-                ("work_springs", tau_spring @ step_work),
-                ("work_gravity", -grav @ step_work),
-                ("work_constraints", lam[: st.nm] @ (jac[: st.nm] @ step_work)),
-                ("dissipated", -tau_damp @ step_work),
-            ):
-                ledger[key][k + 1] = ledger[key][k] + value
+            # Work of each force over the step, at the mid-step speed (module docstring).
+            forces = st.ledger_forces
+            forces[0] = tau_applied
+            forces[1] = driver_torque
+            forces[2] = tau_spring
+            forces[3] = -grav
+            forces[4] = lam[: st.nm] @ jac[: st.nm]
+            forces[5] = -tau_damp
+            work[k + 1] = forces @ ((0.5 * dt) * (v + v_next))
             if st.nm:
-                plus = st.meshes.cos_a[:, None] * mesh_rows.jac_t + (
+                st.te = st.te + (st.meshes.cos_a[:, None] * mesh_rows.jac_t + (
                     st.meshes.sin_a * st.meshes.eps
-                )[:, None] * mesh_rows.jac_r
-                st.te = st.te + plus @ (v_next * dt)
+                )[:, None] * mesh_rows.jac_r) @ (v_next * dt)
             q = pin.integrate(model, q, v_next * dt)
             v = v_next
-            if not np.all(np.isfinite(q)):
-                raise Diverged(k + 1, t + dt, "the joint angles are not finite")
+            if not math.isfinite(float(q @ q) + float(v @ v)):
+                raise Diverged(k + 1, t + dt, "the joint angles or speeds are not finite")
 
             if observer is not None and (k + 1) % chunk == 0:
-                _poses(model, st.data, res, body_frames, written, k + 1)
+                _finish_samples(model, st, res, work, kinetic, body_frames, written, k + 1)
                 observer.samples(res, written, k + 1)
                 written = k + 1
             if bar is not None:
@@ -473,6 +479,7 @@ def simulate(
         raise
     finally:
         errstate.__exit__(None, None, None)
+        model.gravity = saved_gravity
         if bar is not None:
             bar.close()
         done = steps + 1 if status == "completed" else k
@@ -483,7 +490,7 @@ def simulate(
             final = res.truncated(done)
         else:
             final = res
-        _poses(model, st.data, final, body_frames, written, done)
+        _finish_samples(model, st, final, work, kinetic, body_frames, written, done)
         if observer is not None:
             if done > written:
                 observer.samples(final, written, done)
@@ -492,14 +499,45 @@ def simulate(
     return _finished
 
 
-def _poses(model, data, res: Result, frames: list[int], start: int, stop: int) -> None:
-    """World poses of the link frames for samples start:stop, from the recorded angles."""
+_WORK_KEYS = (
+    "work_applied",
+    "work_drivers",
+    "work_springs",
+    "work_gravity",
+    "work_constraints",
+    "dissipated",
+)
+
+
+def _finish_samples(model, st, res: Result, work, kinetic, frames, start: int, stop: int) -> None:
+    """Fill what is computed per chunk for samples start:stop: energy sums, spring energy, poses."""
+    if stop <= start:
+        return
+    for i, key in enumerate(_WORK_KEYS):
+        before = res.energy[key][start - 1] if start > 0 else 0.0
+        res.energy[key][start:stop] = before + np.cumsum(work[start:stop, i])
     for k in range(start, stop):
-        pin.framesForwardKinematics(model, data, res.angle[k])
-        for i, f in enumerate(frames):
-            placement = data.oMf[f]
-            res.body_position[k, i] = placement.translation
-            res.body_quaternion[k, i] = pin.Quaternion(placement.rotation).coeffs()
+        res.energy["potential_spring"][k] = st.elements.spring_energy(res.angle[k])
+    _poses(model, st.data, res, frames, start, stop)
+
+
+def _poses(model, data, res: Result, frames: list[int], start: int, stop: int) -> None:
+    """World poses of the link frames for samples start:stop, from the recorded angles.
+
+    Each link is rigid on a joint: its pose is the joint's placement times a constant one.
+    """
+    parents = np.array([model.frames[f].parentJoint for f in frames], dtype=int)
+    local = np.array([model.frames[f].placement.homogeneous for f in frames]).reshape(-1, 4, 4)
+    joints = np.empty((stop - start, model.njoints, 4, 4))
+    for k in range(start, stop):
+        pin.forwardKinematics(model, data, res.angle[k])
+        for j in range(model.njoints):
+            joints[k - start, j] = data.oMi[j].homogeneous
+    world = np.einsum("kjab,jbc->kjac", joints[:, parents], local)
+    res.body_position[start:stop] = world[:, :, :3, 3]
+    rotations = world[:, :, :3, :3].reshape(-1, 3, 3)
+    quaternions = Rotation.from_matrix(rotations).as_quat()  # x, y, z, w
+    res.body_quaternion[start:stop] = quaternions.reshape(stop - start, len(frames), 4)
 
 
 class _progress_bar:

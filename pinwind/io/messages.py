@@ -1,0 +1,385 @@
+"""Message payloads of a pinwind log, encoded and decoded a block of samples at a time.
+
+A log holds one message per sample and topic (docs/log_format.md). Encoding each message with a
+Python serialiser would cost more than the step it records, so every codec here turns a block of
+samples into payloads with numpy. Each topic has a fixed byte layout, so decoding is a view of the
+stored bytes: float64 values come back bit for bit.
+
+Payload formats, chosen for what readers understand without pinwind:
+
+- ``Float64ArrayCodec``: ROS 2 ``std_msgs/msg/Float64MultiArray`` (``ros2msg`` schema, CDR
+  payload). Rerun turns it into ``Scalars`` (time-series plots) on opening the file.
+- ``JointStateCodec``: ROS 2 ``sensor_msgs/msg/JointState``; Rerun plots position, velocity and
+  effort with one named series per joint.
+- ``FrameTransformsCodec``: ``foxglove.FrameTransforms`` (protobuf); Rerun and Foxglove move
+  link frames with it.
+- ``encode_string``: ROS 2 ``std_msgs/msg/String``, for the model on ``/robot_description``.
+
+CDR (OMG XCDR1, little endian): a 4-byte encapsulation header, then fields aligned to their size
+counted from the end of that header; strings are a uint32 length (with the NUL) and the bytes;
+sequences a uint32 count and the elements.
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+
+import numpy as np
+
+#: CDR encapsulation header: plain CDR, little endian, no options.
+CDR_LE = b"\x00\x01\x00\x00"
+
+_RULE = "=" * 80
+
+#: ROS 2 message definitions (``ros2msg`` schema encoding: the message, then its dependencies).
+FLOAT64_MULTI_ARRAY_MSG = f"""\
+# Float64MultiArray: a float64 array with its layout (dimension labels and sizes).
+std_msgs/MultiArrayLayout layout
+float64[] data
+{_RULE}
+MSG: std_msgs/MultiArrayLayout
+MultiArrayDimension[] dim
+uint32 data_offset
+{_RULE}
+MSG: std_msgs/MultiArrayDimension
+string label
+uint32 size
+uint32 stride
+"""
+
+JOINT_STATE_MSG = f"""\
+std_msgs/Header header
+string[] name
+float64[] position
+float64[] velocity
+float64[] effort
+{_RULE}
+MSG: std_msgs/Header
+builtin_interfaces/Time stamp
+string frame_id
+{_RULE}
+MSG: builtin_interfaces/Time
+int32 sec
+uint32 nanosec
+"""
+
+STRING_MSG = "string data\n"
+
+
+@dataclass(frozen=True)
+class Schema:
+    """An MCAP schema: name, encoding and definition."""
+
+    name: str
+    encoding: str
+    data: bytes
+
+
+FLOAT64_MULTI_ARRAY = Schema(
+    "std_msgs/msg/Float64MultiArray", "ros2msg", FLOAT64_MULTI_ARRAY_MSG.encode()
+)
+JOINT_STATE = Schema("sensor_msgs/msg/JointState", "ros2msg", JOINT_STATE_MSG.encode())
+STRING = Schema("std_msgs/msg/String", "ros2msg", STRING_MSG.encode())
+
+
+def frame_transforms_schema() -> Schema:
+    """foxglove.FrameTransforms as an MCAP protobuf schema (a FileDescriptorSet)."""
+    from foxglove_schemas_protobuf.FrameTransforms_pb2 import FrameTransforms
+    from mcap_protobuf.schema import build_file_descriptor_set
+
+    fds = build_file_descriptor_set(FrameTransforms)
+    return Schema("foxglove.FrameTransforms", "protobuf", fds.SerializeToString())
+
+
+class PayloadError(ValueError):
+    """A payload does not have the layout its topic's codec expects."""
+
+
+class _CdrLayout:
+    """Builds a CDR payload template and remembers where the variable parts go."""
+
+    def __init__(self) -> None:
+        self.buf = bytearray(CDR_LE)
+
+    def _align(self, size: int) -> None:
+        self.buf += b"\0" * ((-(len(self.buf) - len(CDR_LE))) % size)
+
+    def u32(self, value: int) -> int:
+        self._align(4)
+        at = len(self.buf)
+        self.buf += struct.pack("<I", value)
+        return at
+
+    def string(self, text: str) -> None:
+        data = text.encode("utf-8") + b"\0"
+        self.u32(len(data))
+        self.buf += data
+
+    def f64_sequence(self, count: int) -> int:
+        """A float64[] of ``count`` zeros; returns the byte offset of the first element."""
+        self.u32(count)
+        if count:
+            self._align(8)
+        at = len(self.buf)
+        self.buf += bytes(8 * count)
+        return at
+
+    def template(self) -> np.ndarray:
+        return np.frombuffer(bytes(self.buf), dtype=np.uint8)
+
+
+def _stamp_columns(log_time_ns: np.ndarray) -> np.ndarray:
+    """builtin_interfaces/Time (int32 sec, uint32 nanosec) as (n, 8) bytes."""
+    ns = np.asarray(log_time_ns, dtype=np.uint64)
+    out = np.empty(len(ns), dtype=[("sec", "<i4"), ("nanosec", "<u4")])
+    out["sec"] = ns // np.uint64(1_000_000_000)
+    out["nanosec"] = ns % np.uint64(1_000_000_000)
+    return out.view(np.uint8).reshape(len(ns), 8)
+
+
+def _rows(payloads: list[bytes] | np.ndarray, template: np.ndarray, topic: str) -> np.ndarray:
+    """Stack equal-length payloads into (n, L) bytes, checking the length."""
+    if isinstance(payloads, np.ndarray):
+        rows = payloads
+    else:
+        lengths = {len(p) for p in payloads}
+        if lengths and lengths != {len(template)}:
+            raise PayloadError(
+                f"{topic}: payloads of {sorted(lengths)} bytes, expected {len(template)}"
+            )
+        rows = np.frombuffer(b"".join(payloads), dtype=np.uint8)
+    return rows.reshape(-1, len(template))
+
+
+class Float64ArrayCodec:
+    """std_msgs/msg/Float64MultiArray of a fixed shape, e.g. ``[("bearing", 8), ("axis", 3)]``.
+
+    ``layout.dim`` carries the dimension labels and sizes (stride = product of the sizes from that
+    dimension on, as in ROS); the element names go in the channel metadata.
+    """
+
+    def __init__(self, dims: list[tuple[str, int]]):
+        self.shape = tuple(size for _, size in dims)
+        self.count = int(np.prod(self.shape, dtype=int))
+        layout = _CdrLayout()
+        layout.u32(len(dims))
+        for i, (label, size) in enumerate(dims):
+            layout.string(label)
+            layout.u32(size)
+            layout.u32(int(np.prod(self.shape[i:], dtype=int)))
+        layout.u32(0)  # data_offset
+        self.data_at = layout.f64_sequence(self.count)
+        self.template = layout.template()
+
+    @property
+    def size(self) -> int:
+        """Payload length [bytes]."""
+        return len(self.template)
+
+    def encode(self, values: np.ndarray) -> np.ndarray:
+        """(n, *shape) float64 → (n, size) payload bytes."""
+        values = np.ascontiguousarray(values, dtype="<f8").reshape(-1, self.count)
+        out = np.empty((len(values), self.size), dtype=np.uint8)
+        out[:, : self.data_at] = self.template[: self.data_at]
+        out[:, self.data_at :] = values.view(np.uint8)
+        return out
+
+    def decode(self, payloads: list[bytes] | np.ndarray, topic: str = "") -> np.ndarray:
+        """Payloads written by ``encode`` → (n, *shape) float64 (a copy)."""
+        rows = _rows(payloads, self.template, topic)
+        if not np.array_equal(rows[:, : self.data_at], np.broadcast_to(
+            self.template[: self.data_at], (len(rows), self.data_at)
+        )):
+            raise PayloadError(f"{topic}: array layout differs from the one the log declares")
+        data = np.ascontiguousarray(rows[:, self.data_at :])
+        return data.view("<f8").astype(np.float64).reshape(len(rows), *self.shape)
+
+
+class JointStateCodec:
+    """sensor_msgs/msg/JointState with fixed joint names; the header stamp is the sample time."""
+
+    def __init__(self, names: list[str], frame_id: str = "world"):
+        self.names = list(names)
+        layout = _CdrLayout()
+        self.stamp_at = len(layout.buf)
+        layout.buf += bytes(8)  # builtin_interfaces/Time: int32 sec, uint32 nanosec
+        layout.string(frame_id)
+        layout.u32(len(self.names))
+        for name in self.names:
+            layout.string(name)
+        n = len(self.names)
+        self.fields_at = [layout.f64_sequence(n) for _ in range(3)]
+        self.template = layout.template()
+
+    @property
+    def size(self) -> int:
+        """Payload length [bytes]."""
+        return len(self.template)
+
+    def encode(
+        self,
+        log_time_ns: np.ndarray,
+        position: np.ndarray,
+        velocity: np.ndarray,
+        effort: np.ndarray,
+    ) -> np.ndarray:
+        """Stamps (n,) [ns] and three (n, joints) arrays → (n, size) payload bytes."""
+        n, nj = len(log_time_ns), len(self.names)
+        out = np.empty((n, self.size), dtype=np.uint8)
+        out[:] = self.template
+        out[:, self.stamp_at : self.stamp_at + 8] = _stamp_columns(log_time_ns)
+        for at, values in zip(self.fields_at, (position, velocity, effort), strict=True):
+            block = np.ascontiguousarray(values, dtype="<f8").reshape(n, nj)
+            out[:, at : at + 8 * nj] = block.view(np.uint8)
+        return out
+
+    def decode(
+        self, payloads: list[bytes] | np.ndarray, topic: str = ""
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Payloads written by ``encode`` → (position, velocity, effort), each (n, joints)."""
+        rows = _rows(payloads, self.template, topic)
+        fixed = np.ones(self.size, dtype=bool)
+        fixed[self.stamp_at : self.stamp_at + 8] = False
+        for at in self.fields_at:
+            fixed[at : at + 8 * len(self.names)] = False
+        if not np.array_equal(rows[:, fixed], np.broadcast_to(
+            self.template[fixed], (len(rows), int(fixed.sum()))
+        )):
+            raise PayloadError(f"{topic}: joint names or layout differ from the log's")
+        nj = len(self.names)
+        return tuple(  # type: ignore[return-value]
+            np.ascontiguousarray(rows[:, at : at + 8 * nj]).view("<f8").astype(np.float64)
+            for at in self.fields_at
+        )
+
+
+def encode_string(text: str) -> bytes:
+    """std_msgs/msg/String payload."""
+    layout = _CdrLayout()
+    layout.string(text)
+    return bytes(layout.buf)
+
+
+def decode_string(payload: bytes) -> str:
+    """Inverse of ``encode_string``."""
+    (length,) = struct.unpack_from("<I", payload, len(CDR_LE))
+    start = len(CDR_LE) + 4
+    return bytes(payload[start : start + length - 1]).decode("utf-8")
+
+
+def _varint(value: int) -> bytes:
+    out = bytearray()
+    while True:
+        byte = value & 0x7F
+        value >>= 7
+        if value:
+            out.append(byte | 0x80)
+        else:
+            out.append(byte)
+            return bytes(out)
+
+
+def _field(number: int, payload: bytes) -> bytes:
+    """A length-delimited protobuf field."""
+    return _varint(number << 3 | 2) + _varint(len(payload)) + payload
+
+
+def _timestamp(ns: int) -> bytes:
+    """google.protobuf.Timestamp (seconds, nanos), zero fields omitted as proto3 does."""
+    seconds, nanos = divmod(int(ns), 1_000_000_000)
+    out = b""
+    if seconds:
+        out += b"\x08" + _varint(seconds)
+    if nanos:
+        out += b"\x10" + _varint(nanos)
+    return out
+
+
+#: Per link: translation (foxglove.Vector3, tag 4) and rotation (foxglove.Quaternion, tag 5), every
+#: double written with its tag (x = 1, y = 2, z = 3, w = 4), zeros included.
+_POSE_DTYPE = np.dtype(
+    [
+        ("t_tag", "u1"), ("t_len", "u1"),
+        ("x_tag", "u1"), ("x", "<f8"), ("y_tag", "u1"), ("y", "<f8"),
+        ("z_tag", "u1"), ("z", "<f8"),
+        ("r_tag", "u1"), ("r_len", "u1"),
+        ("qx_tag", "u1"), ("qx", "<f8"), ("qy_tag", "u1"), ("qy", "<f8"),
+        ("qz_tag", "u1"), ("qz", "<f8"), ("qw_tag", "u1"), ("qw", "<f8"),
+    ]
+)  # fmt: skip
+
+
+class FrameTransformsCodec:
+    """foxglove.FrameTransforms: one transform parent → child per link, stamped with the sample time.
+
+    The protobuf bytes are assembled here (the fixed pose part with numpy) and read back with the
+    protobuf library; doubles are stored as their 8 IEEE bytes, so poses round-trip exactly.
+    """
+
+    def __init__(self, parent: str, children: list[str]):
+        self.parent = parent
+        self.children = list(children)
+        self._names = [_field(2, parent.encode()) + _field(3, c.encode()) for c in self.children]
+
+    def encode(
+        self, log_time_ns: np.ndarray, position: np.ndarray, quaternion: np.ndarray
+    ) -> list[bytes]:
+        """Stamps (n,) [ns], positions (n, links, 3), quaternions xyzw (n, links, 4) → payloads."""
+        n, nl = len(log_time_ns), len(self.children)
+        poses = np.zeros((n, nl), dtype=_POSE_DTYPE)
+        poses["t_tag"], poses["t_len"] = 0x22, 27
+        poses["r_tag"], poses["r_len"] = 0x2A, 36
+        for i, key in enumerate("xyz"):
+            poses[f"{key}_tag"] = 0x09 + 8 * i
+            poses[key] = position[..., i]
+        for i, key in enumerate(("qx", "qy", "qz", "qw")):
+            poses[f"{key}_tag"] = 0x09 + 8 * i
+            poses[key] = quaternion[..., i]
+        pose_bytes = poses.view(np.uint8).reshape(n, nl, _POSE_DTYPE.itemsize)
+        heads: dict[int, list[bytes]] = {}
+        out = []
+        for k in range(n):
+            stamp = _field(1, _timestamp(int(log_time_ns[k])))
+            head = heads.get(len(stamp))
+            if head is None:
+                head = [
+                    b"\x0a" + _varint(len(stamp) + len(names) + _POSE_DTYPE.itemsize)
+                    for names in self._names
+                ]
+                heads[len(stamp)] = head
+            row = pose_bytes[k]
+            out.append(
+                b"".join(
+                    h + stamp + names + row[i].tobytes()
+                    for i, (h, names) in enumerate(zip(head, self._names, strict=True))
+                )
+            )
+        return out
+
+    def decode(self, payloads: list[bytes], topic: str = "") -> tuple[np.ndarray, np.ndarray]:
+        """Payloads → positions (n, links, 3) and quaternions (n, links, 4), links by child name."""
+        from foxglove_schemas_protobuf.FrameTransforms_pb2 import FrameTransforms
+        from google.protobuf.message import DecodeError
+
+        index = {name: i for i, name in enumerate(self.children)}
+        n, nl = len(payloads), len(self.children)
+        position = np.full((n, nl, 3), np.nan)
+        quaternion = np.full((n, nl, 4), np.nan)
+        msg = FrameTransforms()
+        for k, payload in enumerate(payloads):
+            try:
+                msg.ParseFromString(bytes(payload))
+            except DecodeError as err:
+                raise PayloadError(f"{topic}: message {k} is not a FrameTransforms: {err}") from err
+            for tf in msg.transforms:
+                i = index.get(tf.child_frame_id)
+                if i is None:
+                    continue
+                t, r = tf.translation, tf.rotation
+                position[k, i] = (t.x, t.y, t.z)
+                quaternion[k, i] = (r.x, r.y, r.z, r.w)
+        missing = [c for c, i in index.items() if np.isnan(position[:, i]).any()]
+        if missing:
+            raise PayloadError(f"{topic}: no transform for link(s) {', '.join(missing)}")
+        return position, quaternion

@@ -1,0 +1,90 @@
+"""``pinwind.simulate`` with a log: run a gearbox and write the run to an MCAP file as it goes.
+
+This thin layer builds the ``McapLogger`` (``io/mcap_log.py``) and hands it to
+``pinwind.dynamics.simulate.simulate`` as its observer, so the physics stays unaware of files.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+from pinwind.dynamics.result import Result
+from pinwind.dynamics.simulate import simulate as _simulate
+from pinwind.io.mcap_log import McapLogger
+from pinwind.model.gearbox import Gearbox
+
+#: Folder of logs given without one (``log=True`` or a bare file name).
+DEFAULT_LOG_FOLDER = Path("logs")
+
+
+def log_path(log: str | os.PathLike | bool, model_name: str) -> Path:
+    """Where a log goes: ``True`` → ``logs/<model>_<UTC time>.mcap``; a bare file name →
+    ``logs/<name>``; a path with a folder → as given."""
+    if log is True:
+        stamp = datetime.now(timezone.utc).strftime("%Y%m%dT%H%M%SZ")
+        return DEFAULT_LOG_FOLDER / f"{model_name}_{stamp}.mcap"
+    path = Path(log)
+    if path.parent == Path("."):
+        return DEFAULT_LOG_FOLDER / path
+    return path
+
+
+def describe_call(gearbox: Gearbox, kwargs: Mapping[str, Any]) -> str:
+    """The call as text, for the log's metadata (callables by their description or name)."""
+
+    def show(value: Any) -> str:
+        if callable(value):
+            return getattr(value, "description", None) or getattr(value, "__name__", repr(value))
+        if isinstance(value, Mapping):
+            return "{" + ", ".join(f"{k!r}: {show(v)}" for k, v in value.items()) + "}"
+        return repr(value)
+
+    args = ", ".join(f"{key}={show(value)}" for key, value in kwargs.items())
+    return f"pinwind.simulate(pinwind.load({str(gearbox.path)!r}), {args})"
+
+
+def simulate(
+    gearbox: Gearbox,
+    *,
+    log: str | os.PathLike | bool | None = None,
+    log_rate: float | None = None,
+    overwrite: bool = False,
+    command: str | None = None,
+    **kwargs: Any,
+) -> Result:
+    """Simulate a gearbox (``pinwind.dynamics.simulate.simulate``) and log it to an MCAP file.
+
+    Args:
+        gearbox: the model (``pinwind.load``).
+        log: MCAP file to write: a path, a bare file name (written in ``logs/``), ``True`` for
+            ``logs/<model>_<UTC time>.mcap``, or ``None`` for no log.
+        log_rate: logged samples per simulated second [Hz]; default every sample.
+        overwrite: replace an existing log file; otherwise ``LogExists`` is raised before the run.
+        command: the command line to record in the log (default: this call, as text).
+        **kwargs: ``duration``, ``dt``, ``torques``, ``speeds``, ... as for
+            ``pinwind.dynamics.simulate.simulate``.
+
+    Returns:
+        The Result; ``result.metadata["log_path"]`` names the log when one was written.
+
+    Raises:
+        LogExists: the log file exists and ``overwrite`` is false.
+        InputError, SolverFailed, Diverged: as for the simulation; the log is still complete up
+            to the failure, with an end-status record saying why the run stopped.
+    """
+    if log is None or log is False:
+        return _simulate(gearbox, **kwargs)
+    path = log_path(log, gearbox.name)
+    logger = McapLogger(
+        path,
+        log_rate=log_rate,
+        overwrite=overwrite,
+        command=command or describe_call(gearbox, {**kwargs, "log": str(path), "log_rate": log_rate}),
+    )
+    result = _simulate(gearbox, observer=logger, **kwargs)
+    result.metadata["log_path"] = str(path)
+    return result
