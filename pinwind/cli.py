@@ -1,12 +1,15 @@
-"""Command-line interface: ``pinwind simulate``, ``pinwind build``, ``pinwind info``.
+"""Command-line interface: ``pinwind simulate``, ``replay``, ``report``, ``build``, ``info``.
 
 Units at this edge are the ones drivetrain engineers type: rpm, mm, degrees; everything is turned
-into SI before it reaches the library.
+into SI before it reaches the library. ``simulate`` logs every run to an MCAP file (``logs/`` by
+default) that ``replay`` and ``report`` read back on their own.
 """
 
 from __future__ import annotations
 
 import math
+import shlex
+import signal
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -14,7 +17,7 @@ from typing import Annotated
 import typer
 from rich.console import Console
 
-from pinwind.errors import InputError, PinwindError
+from pinwind.errors import InputError, LogExists, PinwindError
 
 app = typer.Typer(
     name="pinwind",
@@ -31,6 +34,14 @@ console = Console() if Console().is_terminal else Console(width=130)
 err_console = Console(stderr=True)
 
 RPM_TO_RAD_PER_S = 2.0 * math.pi / 60.0
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like Ctrl-C so that the run stops cleanly and its log is finished."""
+
+
+def _raise_terminated(signum, frame) -> None:
+    raise Terminated(f"received {signal.Signals(signum).name}")
 
 
 def _pairs(items: list[str] | None, option: str) -> dict[str, str]:
@@ -66,6 +77,7 @@ class SineSpeed:
         )
 
     def __call__(self, t: float) -> float:
+        """Ω(t) [rad/s]."""
         return self.mean + self.amplitude * math.sin(2.0 * math.pi * self.frequency * t)
 
 
@@ -111,16 +123,43 @@ def simulate(
     progress: Annotated[
         bool | None, typer.Option("--progress/--no-progress", help="Progress bar.")
     ] = None,
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out",
+            "-o",
+            help="MCAP log to write (a bare file name goes in logs/). Default: "
+            "logs/<model>_<UTC time>.mcap.",
+        ),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing log.")] = False,
+    log_rate: Annotated[
+        float | None,
+        typer.Option("--log-rate", help="Logged samples per simulated second [Hz]; default all."),
+    ] = None,
+    no_log: Annotated[bool, typer.Option("--no-log", help="Do not write a log.")] = False,
 ) -> None:
-    """Simulate a gearbox model and print speeds, mesh forces and bearing reactions."""
+    """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
     import pinwind
     from pinwind.analysis.summary import summary_tables
+    from pinwind.io.run import log_path
 
     torques, speeds = parse_loads(torque, speed, speed_sine)
     gearbox = pinwind.load(model)
-    res = pinwind.simulate(
-        gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds, progress=progress
-    )
+    log = None if no_log else log_path(out if out is not None else True, gearbox.name)
+    command = shlex.join(["pinwind", *sys.argv[1:]])
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        res = pinwind.simulate(
+            gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
+            progress=progress, log=log, log_rate=log_rate, overwrite=force, command=command,
+        )  # fmt: skip
+    except (KeyboardInterrupt, PinwindError) as err:
+        if log is not None and log.exists() and not isinstance(err, LogExists):
+            err_console.print(f"the run stopped early; its log up to that point is in {log}")
+        raise
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     console.print(
         f"[bold]{gearbox.name}[/bold] from {model}: {len(res) - 1} steps of {dt:g} s "
         f"in {res.metadata['wall_time_s']:.2f} s "
@@ -128,6 +167,58 @@ def simulate(
         f"max |J v| = {res.constraint_residual.max():.2e}"
     )
     for table in summary_tables(res):
+        console.print(table)
+    if log is not None:
+        console.print(f"log: {log} ({log.stat().st_size / 1e6:.2f} MB)")
+
+
+@app.command()
+def replay(
+    log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
+    save: Annotated[
+        Path | None, typer.Option("--save", help="Write a Rerun .rrd file instead of viewing.")
+    ] = None,
+    serve: Annotated[
+        bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
+    ] = False,
+    web_port: Annotated[int | None, typer.Option(help="Web viewer port (with --serve).")] = None,
+) -> None:
+    """Show a log in Rerun: gears turning, force arrows and plots, from the file alone."""
+    from pinwind.io.replay import replay as run_replay
+
+    out = run_replay(log, save=save, serve=serve, web_port=web_port, announce=console.print)
+    if out is not None:
+        console.print(f"wrote {out}")
+
+
+@app.command()
+def report(
+    log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+    start: Annotated[
+        float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
+    ] = None,
+    stop: Annotated[
+        float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
+    ] = None,
+) -> None:
+    """Min, max, mean, RMS and final value of every quantity in a log."""
+    import json
+
+    from pinwind.io.mcap_log import open_log
+    from pinwind.io.report import report_dict, report_tables
+
+    data = open_log(log)
+    res = data.result
+    if as_json:
+        print(json.dumps(report_dict(res, start, stop), indent=1))
+        return
+    console.print(
+        f"[bold]{res.metadata.get('model_name')}[/bold] — {log}: {res.status}; "
+        f"dt = {res.metadata.get('dt'):g} s, logged every {res.metadata['log']['stride']} "
+        f"sample(s); model sha256 {str(res.metadata.get('model_sha256'))[:12]}…"
+    )
+    for table in report_tables(res, start, stop):
         console.print(table)
 
 
@@ -202,6 +293,9 @@ def main() -> None:
     except PinwindError as err:
         err_console.print(f"[bold red]error:[/bold red] {err}", highlight=False)
         sys.exit(2)
+    except Terminated as err:
+        err_console.print(f"terminated ({err})")
+        sys.exit(143)
     except KeyboardInterrupt:
         err_console.print("interrupted")
         sys.exit(130)

@@ -49,7 +49,8 @@ class UnknownName(ModelError):
         super().__init__(
             path,
             element,
-            f'unknown {kind} "{name}"; {kind}s in this model are: {", ".join(self.known) or "none"}',
+            f'unknown {kind} "{name}"; {kind}s in this model are: '
+            f"{', '.join(self.known) or 'none'}",
         )
 
 
@@ -70,7 +71,8 @@ class InconsistentCentreDistance(ModelError):
             path,
             element,
             f"centre distance in the model is {actual * 1e3:.4f} mm but teeth, module and profile "
-            f"shifts give {expected * 1e3:.4f} mm (difference {abs(actual - expected) * 1e6:.1f} µm,"
+            f"shifts give {expected * 1e3:.4f} mm (difference "
+            f"{abs(actual - expected) * 1e6:.1f} µm,"
             f" tolerance {tolerance * 1e6:.1f} µm); {hint}",
         )
 
@@ -97,9 +99,7 @@ class UnknownJoint(InputError):
         self.name = name
         self.where = where
         self.known = list(known)
-        super().__init__(
-            f'unknown joint "{name}" in {where}; joints are: {", ".join(self.known)}'
-        )
+        super().__init__(f'unknown joint "{name}" in {where}; joints are: {", ".join(self.known)}')
 
 
 class UnknownElement(InputError):
@@ -114,6 +114,24 @@ class UnknownElement(InputError):
 
 class NonFiniteInput(InputError):
     """A run input is NaN or infinite."""
+
+
+class InvalidGearTrain(InputError):
+    """Builder arguments describe a gear train that cannot exist (teeth, module, layout)."""
+
+
+class PlanetsCollide(InvalidGearTrain):
+    """Neighbouring planets' tip circles overlap."""
+
+    def __init__(self, tip_radius: float, chord: float, planets: int, centre_distance: float):
+        self.tip_radius = tip_radius
+        self.chord = chord
+        super().__init__(
+            f"{planets} planets of tip diameter {2 * tip_radius * 1e3:.2f} mm on a "
+            f"{centre_distance * 1e3:.2f} mm centre distance collide: the chord between "
+            f"neighbouring planet centres is only {chord * 1e3:.2f} mm; use fewer or smaller "
+            "planets"
+        )
 
 
 # --- running -----------------------------------------------------------------------------------

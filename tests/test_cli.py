@@ -20,8 +20,16 @@ def run(*args: str) -> subprocess.CompletedProcess:
 
 def test_simulate_prints_speeds_ratios_mesh_forces_and_bearings():
     out = run(
-        "simulate", str(MODELS / "saleh2017_planetary.urdf"), "--torque", "carrier=1e6",
-        "--torque", "sun=-166666.6666666667", "--duration", "0.05", "--dt", "1e-3",
+        "simulate",
+        str(MODELS / "saleh2017_planetary.urdf"),
+        "--torque",
+        "carrier=1e6",
+        "--torque",
+        "sun=-166666.6666666667",
+        "--duration",
+        "0.05",
+        "--dt",
+        "1e-3",
     )
     assert out.returncode == 0, out.stderr
     text = out.stdout
@@ -35,8 +43,14 @@ def test_simulate_prints_speeds_ratios_mesh_forces_and_bearings():
 
 def test_speed_option_is_in_rpm():
     out = run(
-        "simulate", str(MODELS / "saleh2017_planetary.urdf"), "--speed", "carrier=14.2",
-        "--duration", "0.01", "--dt", "1e-3",
+        "simulate",
+        str(MODELS / "saleh2017_planetary.urdf"),
+        "--speed",
+        "carrier=14.2",
+        "--duration",
+        "0.01",
+        "--dt",
+        "1e-3",
     )
     assert out.returncode == 0, out.stderr
     assert "85.2000" in out.stdout  # sun speed [rpm] = 6 × 14.2 (000_3b7c4a8fe52a6eee.txt)
@@ -67,9 +81,26 @@ def test_missing_model_file_is_named():
 def test_build_planetary_writes_a_model_with_the_requested_geometry(tmp_path):
     target = tmp_path / "out.urdf"
     out = run(
-        "build", "planetary", "--sun", "24", "--planet", "48", "--ring", "120", "--planets", "3",
-        "--module", "15", "--pressure-angle", "24.5", "--face-width", "380",
-        "--parallel", "83/23", "-o", str(target),
+        "build",
+        "planetary",
+        "--sun",
+        "24",
+        "--planet",
+        "48",
+        "--ring",
+        "120",
+        "--planets",
+        "3",
+        "--module",
+        "15",
+        "--pressure-angle",
+        "24.5",
+        "--face-width",
+        "380",
+        "--parallel",
+        "83/23",
+        "-o",
+        str(target),
     )
     assert out.returncode == 0, out.stderr
     gb = pinwind.load(target)

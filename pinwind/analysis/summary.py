@@ -62,8 +62,17 @@ def summary_tables(res: Result) -> list[Table]:
 
     if res.mesh_names:
         meshes = Table(title="Gear meshes: tooth forces [kN] (final; min / max / RMS of normal)")
-        for col in ("mesh", "normal", "tangential", "radial", "flank", "min", "max", "RMS",
-                    "TE [µm]"):
+        for col in (
+            "mesh",
+            "normal",
+            "tangential",
+            "radial",
+            "flank",
+            "min",
+            "max",
+            "RMS",
+            "TE [µm]",
+        ):
             meshes.add_column(col, justify="right" if col != "mesh" else "left")
         for name in res.mesh_names:
             ms = res.mesh(name)
@@ -84,8 +93,16 @@ def summary_tables(res: Result) -> list[Table]:
     bearings = Table(
         title="Bearing reactions on the child body, world frame (final; min / max / RMS of |F|)"
     )
-    for col in ("bearing", "Fx [kN]", "Fy [kN]", "Fz [kN]", "|F| min", "|F| max", "|F| RMS",
-                "|M| [kN·m]"):
+    for col in (
+        "bearing",
+        "Fx [kN]",
+        "Fy [kN]",
+        "Fz [kN]",
+        "|F| min",
+        "|F| max",
+        "|F| RMS",
+        "|M| [kN·m]",
+    ):
         bearings.add_column(col, justify="right" if col != "bearing" else "left")
     for name in res.bearing_names:
         b = res.bearing(name)
@@ -104,4 +121,3 @@ def summary_tables(res: Result) -> list[Table]:
         )
     tables.append(bearings)
     return tables
-

@@ -105,12 +105,8 @@ def mesh_rows(
                 continue
             lin0, lin1, lin2 = jac[0, c] * w, jac[1, c] * w, jac[2, c] * w
             ang0, ang1, ang2 = jac[3, c] * w, jac[4, c] * w, jac[5, c] * w
-            jac_t[m, c] = (
-                t0 * lin0 + t1 * lin1 + t2 * lin2 + mt0 * ang0 + mt1 * ang1 + mt2 * ang2
-            )
-            jac_r[m, c] = (
-                r0 * lin0 + r1 * lin1 + r2 * lin2 + mr0 * ang0 + mr1 * ang1 + mr2 * ang2
-            )
+            jac_t[m, c] = t0 * lin0 + t1 * lin1 + t2 * lin2 + mt0 * ang0 + mt1 * ang1 + mt2 * ang2
+            jac_r[m, c] = r0 * lin0 + r1 * lin1 + r2 * lin2 + mr0 * ang0 + mr1 * ang1 + mr2 * ang2
 
         # Bias ċ − J q̈ = ṅ·Δv + n·Δa_s(P) + n·((ω_B − ω_A) × Ṗ).
         va0, va1, va2 = twist[a, 0], twist[a, 1], twist[a, 2]

@@ -32,6 +32,14 @@ from pinwind.dynamics import kernels
 from pinwind.model.gearbox import Gearbox
 
 
+def joint_placements(model: pin.Model, data: pin.Data) -> np.ndarray:
+    """World placements of all joints (njoints, 4, 4) from ``data.oMi``."""
+    out = np.empty((model.njoints, 4, 4))
+    for j in range(model.njoints):
+        out[j] = data.oMi[j].homogeneous
+    return out
+
+
 @dataclass
 class MeshRows:
     """Rows of all meshes at one state, split in their tangential and radial parts.
@@ -93,7 +101,9 @@ class MeshSet:
                     self.support[i, model.joints[s].idx_v] = 1.0
         self._v = np.zeros(model.nv)
 
-    def evaluate(self, model: pin.Model, data: pin.Data) -> MeshRows:
+    def evaluate(
+        self, model: pin.Model, data: pin.Data, placements: np.ndarray | None = None
+    ) -> MeshRows:
         """Rows at the state of ``data``.
 
         Needs ``computeJointJacobiansTimeVariation(q, v)`` to have run on ``data``: it gives the
@@ -101,14 +111,18 @@ class MeshSet:
         the spatial acceleration at q̈ = 0). Velocities here are spatial, taken at the world origin
         and in world axes, so a point x of body X moves with v_o + ω × x. The arithmetic is in
         ``kernels.mesh_rows``.
+
+        Args:
+            placements: (njoints, 4, 4) world placements of all joints, if already read from
+                ``data.oMi``.
         """
-        nj, m, nv = len(self.joint_ids), self.count, model.nv
-        origin = np.empty((nj, 3))
-        rot = np.empty((nj, 3, 3))
-        for i, j in enumerate(self.joint_ids):
-            placement = data.oMi[j]
-            origin[i] = placement.translation
-            rot[i] = placement.rotation
+        if placements is None:
+            placements = joint_placements(model, data)
+        m, nv = self.count, model.nv
+        ids = self.joint_ids
+        origin = placements[ids, :3, 3]
+        rot = placements[ids, :3, :3]
+        nj = len(ids)
         twist, accel = np.empty((nj, 6)), np.empty((nj, 6))
         kernels.body_motion(data.J, data.dJ, self.support, self._v, twist, accel)
         rows = MeshRows(
@@ -124,10 +138,27 @@ class MeshSet:
             axis=np.empty((m, 3)),
         )
         kernels.mesh_rows(
-            data.J, self.support, origin, rot, twist, accel, self.slot_a, self.slot_b,
-            self.centre_a, self.centre_b, self.axis_a, self.mu, self.sigma,
-            rows.jac_t, rows.jac_r, rows.bias_t, rows.bias_r, rows.tangent, rows.radial_dir,
-            rows.pitch_point, rows.axis,
+            data.J,
+            self.support,
+            origin,
+            rot,
+            twist,
+            accel,
+            self.slot_a,
+            self.slot_b,
+            self.centre_a,
+            self.centre_b,
+            self.axis_a,
+            self.mu,
+            self.sigma,
+            rows.jac_t,
+            rows.jac_r,
+            rows.bias_t,
+            rows.bias_r,
+            rows.tangent,
+            rows.radial_dir,
+            rows.pitch_point,
+            rows.axis,
         )
         rows.lever_a[:] = rows.pitch_point - origin[self.slot_a]
         rows.lever_b[:] = rows.pitch_point - origin[self.slot_b]

@@ -23,28 +23,29 @@ class BearingReactions:
         self.joint_b = joint_b
         self.njoints = model.njoints
         self._wrench = np.zeros((model.njoints, 6))
-        self._origin = np.zeros((model.njoints, 3))
-        self._rot = np.zeros((model.njoints, 3, 3))
+
         self._touched = sorted({int(j) for j in joint_a} | {int(j) for j in joint_b})
         self._fext = pin.StdVec_Force()
         for _ in range(model.njoints):
             self._fext.append(pin.Force.Zero())
 
     def external_forces(
-        self, data: pin.Data, force_on_b: np.ndarray, pitch_point: np.ndarray
+        self, placements: np.ndarray, force_on_b: np.ndarray, pitch_point: np.ndarray
     ) -> pin.StdVec_Force:
         """Tooth forces as Pinocchio external forces, in each joint's frame about its origin.
 
         Args:
+            placements: (njoints, 4, 4) world placements of the joints.
             force_on_b: (m, 3) tooth force on gear B in world [N]; gear A gets the opposite.
             pitch_point: (m, 3) where the tooth forces act, world [m].
         """
-        for j in self._touched:
-            placement = data.oMi[j]
-            self._origin[j] = placement.translation
-            self._rot[j] = placement.rotation
         kernels.tooth_wrenches(
-            self.joint_a, self.joint_b, force_on_b, pitch_point, self._origin, self._rot,
+            self.joint_a,
+            self.joint_b,
+            force_on_b,
+            pitch_point,
+            np.ascontiguousarray(placements[:, :3, 3]),
+            np.ascontiguousarray(placements[:, :3, :3]),
             self._wrench,
         )
         for j in self._touched:
@@ -58,6 +59,7 @@ class BearingReactions:
         v: np.ndarray,
         a: np.ndarray,
         fext: pin.StdVec_Force,
+        placements: np.ndarray,
         out_local: np.ndarray,
         out_world: np.ndarray,
     ) -> None:
@@ -66,10 +68,8 @@ class BearingReactions:
         The world version keeps the moment about the bearing centre and only rotates the axes.
         """
         pin.rnea(self.model, data, q, v, a, fext)
-        rot = self._rot
         for j in range(1, self.njoints):
             out_local[j - 1] = data.f[j].vector
-            rot[j] = data.oMi[j].rotation
-        r = rot[1:]
-        out_world[:, :3] = np.einsum("jab,jb->ja", r, out_local[:, :3])
-        out_world[:, 3:] = np.einsum("jab,jb->ja", r, out_local[:, 3:])
+        rot = placements[1:, :3, :3]
+        out_world[:, :3] = np.einsum("jab,jb->ja", rot, out_local[:, :3])
+        out_world[:, 3:] = np.einsum("jab,jb->ja", rot, out_local[:, 3:])

@@ -64,8 +64,10 @@ class MeshSeries:
 class BearingSeries:
     """Reaction transmitted by one bearing from its parent body to its child body.
 
-    Force and moment are taken at the bearing centre (the joint origin). The moment about the
-    shaft axis is the shaft torque that the joint passes on.
+    Force and moment are taken at the bearing centre (the joint origin): the spatial force that
+    Pinocchio's RNEA finds transmitted through the joint. Its component about the shaft axis is
+    the net torque applied at that joint (applied torque, speed driver or lock, torsional springs
+    and dampers acting there); the rolling bearing itself carries none.
 
     Attributes:
         force: force on the child [N] in world axes, (n, 3).

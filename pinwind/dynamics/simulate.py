@@ -32,7 +32,7 @@ import pinocchio as pin
 from scipy.spatial.transform import Rotation
 
 from pinwind.dynamics.elements import ForceElements
-from pinwind.dynamics.mesh import MeshRows, MeshSet
+from pinwind.dynamics.mesh import MeshRows, MeshSet, joint_placements
 from pinwind.dynamics.reactions import BearingReactions
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import ConstrainedDynamicsSolver, SolverSettings
@@ -187,8 +187,9 @@ class _Stepper:
 
     def kinematics(self, q: np.ndarray, v: np.ndarray):
         pin.computeJointJacobiansTimeVariation(self.model, self.data, q, v)
+        self.placements = joint_placements(self.model, self.data)
         self.meshes.set_velocity(v)
-        return self.meshes.evaluate(self.model, self.data)
+        return self.meshes.evaluate(self.model, self.data, self.placements)
 
     def targets(self, t: float) -> np.ndarray:
         target = np.zeros(self.rows)
@@ -209,7 +210,7 @@ class _Stepper:
         return jac, bias
 
     def project(self, q, v, mass, jac, target) -> np.ndarray:
-        """M-orthogonal projection of v onto J v = target (pseudo-inverse: rows may be redundant)."""
+        """M-orthogonal projection of v onto J v = target (pseudo-inverse: redundant rows)."""
         minv_jt = np.linalg.solve(mass, jac.T)
         correction = np.linalg.pinv(jac @ minv_jt, rcond=1e-12) @ (jac @ v - target)
         return v - minv_jt @ correction
@@ -273,8 +274,17 @@ class _Stepper:
                     self._check(k, t, sol)
                     lam = sol.multipliers
         return _Dynamics(
-            v, residual, mesh_rows, mass, jac, sol.acceleration, lam, tau_applied, tau_spring,
-            tau_damp, gravity,
+            v,
+            residual,
+            mesh_rows,
+            mass,
+            jac,
+            sol.acceleration,
+            lam,
+            tau_applied,
+            tau_spring,
+            tau_damp,
+            gravity,
         )
 
     @staticmethod
@@ -298,8 +308,10 @@ class _Stepper:
         tangential = normal * self.meshes.cos_a
         axial = tangential * self.meshes.tan_beta
         force_on_b = normal[:, None] * n + (self.flank * axial)[:, None] * mesh_rows.axis
-        fext = self.reactions.external_forces(self.data, force_on_b, mesh_rows.pitch_point)
-        self.reactions.evaluate(self.data, q, v, a, fext, self.wrench_local, self.wrench_world)
+        fext = self.reactions.external_forces(self.placements, force_on_b, mesh_rows.pitch_point)
+        self.reactions.evaluate(
+            self.data, q, v, a, fext, self.placements, self.wrench_local, self.wrench_world
+        )
         return normal, tangential, axial, force_on_b
 
 
@@ -349,10 +361,12 @@ def simulate(
     index = {name: gearbox.v_index(name) for name in gearbox.joint_names}
     free = {k: i for k, i in index.items() if k not in gearbox.locked_joints}
     probe = (0.0, 0.5 * duration, duration)
-    torque_loads = joint_loads(torques, where="torques", joint_index=index, unit="N·m",
-                               probe_times=probe)
-    speed_loads = joint_loads(speeds, where="speeds", joint_index=free, unit="rad/s",
-                              probe_times=probe)
+    torque_loads = joint_loads(
+        torques, where="torques", joint_index=index, unit="N·m", probe_times=probe
+    )
+    speed_loads = joint_loads(
+        speeds, where="speeds", joint_index=free, unit="rad/s", probe_times=probe
+    )
     init = joint_loads(initial_speeds, where="initial_speeds", joint_index=free, unit="rad/s")
     model = gearbox.model
     saved_gravity = pin.Motion(model.gravity)
@@ -366,9 +380,7 @@ def simulate(
 
     settings = solver or SolverSettings()
     st = _Stepper(gearbox, dt=dt, torques=torque_loads, speeds=speed_loads, settings=settings)
-    body_frames = [
-        f for f in range(model.nframes) if model.frames[f].type == pin.FrameType.BODY
-    ]
+    body_frames = [f for f in range(model.nframes) if model.frames[f].type == pin.FrameType.BODY]
     body_names = [model.frames[f].name for f in body_frames]
     res = _allocate(gearbox, steps + 1, body_names)
     res.metadata = {
@@ -414,9 +426,19 @@ def simulate(
         for k in range(steps + 1):
             t = k * dt
             dyn = st.solve(k, t, q, v)
-            v, mesh_rows, mass, jac, a, lam = dyn.v, dyn.mesh_rows, dyn.mass, dyn.jac, dyn.a, dyn.lam
+            v, mesh_rows, mass, jac, a, lam = (
+                dyn.v,
+                dyn.mesh_rows,
+                dyn.mass,
+                dyn.jac,
+                dyn.a,
+                dyn.lam,
+            )
             tau_applied, tau_spring, tau_damp, grav = (
-                dyn.tau_applied, dyn.tau_spring, dyn.tau_damp, dyn.gravity
+                dyn.tau_applied,
+                dyn.tau_spring,
+                dyn.tau_damp,
+                dyn.gravity,
             )
             if not math.isfinite(float(a @ a) + float(lam @ lam)):
                 raise Diverged(k, t, "the accelerations or constraint forces are not finite")
@@ -457,9 +479,10 @@ def simulate(
             forces[5] = -tau_damp
             work[k + 1] = forces @ ((0.5 * dt) * (v + v_next))
             if st.nm:
-                st.te = st.te + (st.meshes.cos_a[:, None] * mesh_rows.jac_t + (
-                    st.meshes.sin_a * st.meshes.eps
-                )[:, None] * mesh_rows.jac_r) @ (v_next * dt)
+                st.te = st.te + (
+                    st.meshes.cos_a[:, None] * mesh_rows.jac_t
+                    + (st.meshes.sin_a * st.meshes.eps)[:, None] * mesh_rows.jac_r
+                ) @ (v_next * dt)
             q = pin.integrate(model, q, v_next * dt)
             v = v_next
             if not math.isfinite(float(q @ q) + float(v @ v)):

@@ -3,8 +3,8 @@
 from pinwind.gears.involute import (
     PairGeometry,
     base_radius,
-    involute,
     inverse_involute,
+    involute,
     pair_geometry,
     pitch_radius,
     transverse_pressure_angle,

@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 
 
 def involute(angle: float) -> float:
-    """inv α = tan α − α [rad]."""
+    """Inv α = tan α − α [rad]."""
     return float(np.tan(angle) - angle)
 
 
@@ -33,7 +33,9 @@ def pitch_radius(teeth: int, module: float, helix_angle: float = 0.0) -> float:
     return teeth * module / (2.0 * np.cos(helix_angle))
 
 
-def base_radius(teeth: int, module: float, pressure_angle: float, helix_angle: float = 0.0) -> float:
+def base_radius(
+    teeth: int, module: float, pressure_angle: float, helix_angle: float = 0.0
+) -> float:
     """Base circle radius r_b = r cos α_t [m]."""
     alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
     return pitch_radius(teeth, module, helix_angle) * float(np.cos(alpha_t))

@@ -295,8 +295,8 @@ class _McapFile:
             )
         )
         stats = self._stats
-        stats.message_start_time = start if not stats.message_count else min(
-            start, stats.message_start_time
+        stats.message_start_time = (
+            start if not stats.message_count else min(start, stats.message_start_time)
         )
         stats.message_end_time = max(end, stats.message_end_time)
         stats.message_count += len(times)
@@ -566,20 +566,16 @@ class McapLogger:
             channels.append(channel)
         fixed = np.concatenate(blocks, axis=1)
         columns = np.cumsum([0] + [b.shape[1] for b in blocks[:-1]])
-        tf_payloads = self._tf_codec.encode(
+        # /tf payload lengths change with the stamp's varint length: assemble run by run.
+        pieces, row_length = [], np.empty(len(rows), dtype=np.uint64)
+        for a, b, payloads in self._tf_codec.encode_runs(
             log_time, result.body_position[rows], result.body_quaternion[rows]
-        )
-        tf_head = struct.Struct("<BQHIQQ")
-        tf_records = [
-            tf_head.pack(Opcode.MESSAGE, 22 + len(p), self._tf_channel, int(k), int(t), int(t))
-            + p
-            for k, t, p in zip(rows, log_time, tf_payloads, strict=True)
-        ]
-        row_length = fixed.shape[1] + np.array([len(r) for r in tf_records], dtype=np.uint64)
+        ):
+            tf = _message_records(self._tf_channel, rows[a:b], log_time[a:b], payloads)
+            pieces.append(np.concatenate([fixed[a:b], tf], axis=1).tobytes())
+            row_length[a:b] = fixed.shape[1] + tf.shape[1]
         row_start = np.concatenate([[0], np.cumsum(row_length)[:-1]]).astype(np.uint64)
-        data = b"".join(
-            piece for k in range(len(rows)) for piece in (fixed[k].tobytes(), tf_records[k])
-        )
+        data = b"".join(pieces)
         index = {
             channel: np.stack([log_time, row_start + np.uint64(column)], axis=1)
             for channel, column in zip(channels, columns, strict=True)

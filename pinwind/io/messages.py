@@ -188,9 +188,10 @@ class Float64ArrayCodec:
     def decode(self, payloads: list[bytes] | np.ndarray, topic: str = "") -> np.ndarray:
         """Payloads written by ``encode`` → (n, *shape) float64 (a copy)."""
         rows = _rows(payloads, self.template, topic)
-        if not np.array_equal(rows[:, : self.data_at], np.broadcast_to(
-            self.template[: self.data_at], (len(rows), self.data_at)
-        )):
+        if not np.array_equal(
+            rows[:, : self.data_at],
+            np.broadcast_to(self.template[: self.data_at], (len(rows), self.data_at)),
+        ):
             raise PayloadError(f"{topic}: array layout differs from the one the log declares")
         data = np.ascontiguousarray(rows[:, self.data_at :])
         return data.view("<f8").astype(np.float64).reshape(len(rows), *self.shape)
@@ -243,9 +244,9 @@ class JointStateCodec:
         fixed[self.stamp_at : self.stamp_at + 8] = False
         for at in self.fields_at:
             fixed[at : at + 8 * len(self.names)] = False
-        if not np.array_equal(rows[:, fixed], np.broadcast_to(
-            self.template[fixed], (len(rows), int(fixed.sum()))
-        )):
+        if not np.array_equal(
+            rows[:, fixed], np.broadcast_to(self.template[fixed], (len(rows), int(fixed.sum())))
+        ):
             raise PayloadError(f"{topic}: joint names or layout differ from the log's")
         nj = len(self.names)
         return tuple(  # type: ignore[return-value]
@@ -285,14 +286,20 @@ def _field(number: int, payload: bytes) -> bytes:
     return _varint(number << 3 | 2) + _varint(len(payload)) + payload
 
 
-def _timestamp(ns: int) -> bytes:
-    """google.protobuf.Timestamp (seconds, nanos), zero fields omitted as proto3 does."""
-    seconds, nanos = divmod(int(ns), 1_000_000_000)
-    out = b""
-    if seconds:
-        out += b"\x08" + _varint(seconds)
-    if nanos:
-        out += b"\x10" + _varint(nanos)
+def _varint_length(values: np.ndarray) -> np.ndarray:
+    """Bytes of the protobuf varint of each value (uint64)."""
+    length = np.ones(len(values), dtype=np.int64)
+    for j in range(1, 10):
+        length += values >= np.uint64(1 << (7 * j))
+    return length
+
+
+def _varint_columns(values: np.ndarray, length: int) -> np.ndarray:
+    """Varints of ``length`` bytes each (values that need exactly that many) as (n, length)."""
+    out = np.empty((len(values), length), dtype=np.uint8)
+    for j in range(length):
+        byte = (values >> np.uint64(7 * j)) & np.uint64(0x7F)
+        out[:, j] = byte | np.uint64(0x80 if j < length - 1 else 0)
     return out
 
 
@@ -313,20 +320,50 @@ _POSE_DTYPE = np.dtype(
 class FrameTransformsCodec:
     """foxglove.FrameTransforms: one transform parent → child per link, stamped with the sample time.
 
-    The protobuf bytes are assembled here (the fixed pose part with numpy) and read back with the
-    protobuf library; doubles are stored as their 8 IEEE bytes, so poses round-trip exactly.
+    The protobuf bytes are assembled with numpy and read back with the protobuf library. Every
+    double is written with its tag, zeros included (valid protobuf; a parser reads the same
+    values), so the payload layout only depends on the stamp's varint lengths and poses
+    round-trip bit for bit.
     """
 
     def __init__(self, parent: str, children: list[str]):
         self.parent = parent
         self.children = list(children)
         self._names = [_field(2, parent.encode()) + _field(3, c.encode()) for c in self.children]
+        self._layouts: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
-    def encode(
+    def _layout(self, sec_len: int, nanos_len: int):
+        """Template row and the columns of the stamp and pose bytes, per stamp encoding."""
+        key = (sec_len, nanos_len)
+        if key not in self._layouts:
+            stamp = (1 + sec_len if sec_len else 0) + (1 + nanos_len if nanos_len else 0)
+            row, stamp_cols, pose_cols = bytearray(), [], []
+            for names in self._names:
+                size = 2 + stamp + len(names) + _POSE_DTYPE.itemsize
+                row += b"\x0a" + _varint(size) + b"\x0a" + _varint(stamp)
+                stamp_cols.append(len(row) + np.arange(stamp))
+                row += bytes(stamp) + names
+                pose_cols.append(len(row) + np.arange(_POSE_DTYPE.itemsize))
+                row += bytes(_POSE_DTYPE.itemsize)
+            self._layouts[key] = (
+                np.frombuffer(bytes(row), dtype=np.uint8),
+                np.concatenate(stamp_cols),
+                np.concatenate(pose_cols),
+            )
+        return self._layouts[key]
+
+    def encode_runs(
         self, log_time_ns: np.ndarray, position: np.ndarray, quaternion: np.ndarray
-    ) -> list[bytes]:
-        """Stamps (n,) [ns], positions (n, links, 3), quaternions xyzw (n, links, 4) → payloads."""
-        n, nl = len(log_time_ns), len(self.children)
+    ) -> list[tuple[int, int, np.ndarray]]:
+        """Payloads of consecutive samples with equally long stamps: [(start, stop, (m, L) bytes)].
+
+        Args:
+            log_time_ns: stamps (n,) [ns].
+            position: link positions (n, links, 3) [m].
+            quaternion: link orientations (n, links, 4), x y z w.
+        """
+        ns = np.asarray(log_time_ns, dtype=np.uint64)
+        n, nl = len(ns), len(self.children)
         poses = np.zeros((n, nl), dtype=_POSE_DTYPE)
         poses["t_tag"], poses["t_len"] = 0x22, 27
         poses["r_tag"], poses["r_len"] = 0x2A, 36
@@ -336,26 +373,42 @@ class FrameTransformsCodec:
         for i, key in enumerate(("qx", "qy", "qz", "qw")):
             poses[f"{key}_tag"] = 0x09 + 8 * i
             poses[key] = quaternion[..., i]
-        pose_bytes = poses.view(np.uint8).reshape(n, nl, _POSE_DTYPE.itemsize)
-        heads: dict[int, list[bytes]] = {}
+        pose_bytes = poses.view(np.uint8).reshape(n, nl * _POSE_DTYPE.itemsize)
+        sec = ns // np.uint64(1_000_000_000)
+        nanos = ns % np.uint64(1_000_000_000)
+        # google.protobuf.Timestamp, zero fields omitted as proto3 writes them.
+        sec_len = np.where(sec > 0, _varint_length(sec), 0)
+        nanos_len = np.where(nanos > 0, _varint_length(nanos), 0)
+        key = sec_len * 16 + nanos_len
+        breaks = np.flatnonzero(np.diff(key)) + 1
         out = []
-        for k in range(n):
-            stamp = _field(1, _timestamp(int(log_time_ns[k])))
-            head = heads.get(len(stamp))
-            if head is None:
-                head = [
-                    b"\x0a" + _varint(len(stamp) + len(names) + _POSE_DTYPE.itemsize)
-                    for names in self._names
-                ]
-                heads[len(stamp)] = head
-            row = pose_bytes[k]
-            out.append(
-                b"".join(
-                    h + stamp + names + row[i].tobytes()
-                    for i, (h, names) in enumerate(zip(head, self._names, strict=True))
-                )
-            )
+        for start, stop in zip(np.r_[0, breaks], np.r_[breaks, n], strict=True):
+            s_len, n_len = int(sec_len[start]), int(nanos_len[start])
+            template, stamp_cols, pose_cols = self._layout(s_len, n_len)
+            parts = []
+            if s_len:
+                parts += [np.full((stop - start, 1), 0x08, np.uint8),
+                          _varint_columns(sec[start:stop], s_len)]  # fmt: skip
+            if n_len:
+                parts += [np.full((stop - start, 1), 0x10, np.uint8),
+                          _varint_columns(nanos[start:stop], n_len)]  # fmt: skip
+            rows = np.empty((stop - start, len(template)), dtype=np.uint8)
+            rows[:] = template
+            if parts:
+                rows[:, stamp_cols] = np.tile(np.concatenate(parts, axis=1), nl)
+            rows[:, pose_cols] = pose_bytes[start:stop]
+            out.append((int(start), int(stop), rows))
         return out
+
+    def encode(
+        self, log_time_ns: np.ndarray, position: np.ndarray, quaternion: np.ndarray
+    ) -> list[bytes]:
+        """One payload per sample (see ``encode_runs``)."""
+        return [
+            row.tobytes()
+            for _, _, rows in self.encode_runs(log_time_ns, position, quaternion)
+            for row in rows
+        ]
 
     def decode(self, payloads: list[bytes], topic: str = "") -> tuple[np.ndarray, np.ndarray]:
         """Payloads → positions (n, links, 3) and quaternions (n, links, 4), links by child name."""

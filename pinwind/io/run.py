@@ -23,7 +23,8 @@ DEFAULT_LOG_FOLDER = Path("logs")
 
 def log_path(log: str | os.PathLike | bool, model_name: str) -> Path:
     """Where a log goes: ``True`` → ``logs/<model>_<UTC time>.mcap``; a bare file name →
-    ``logs/<name>``; a path with a folder → as given."""
+    ``logs/<name>``; a path with a folder → as given.
+    """
     if log is True:
         stamp = datetime.now(timezone.utc).strftime("%Y%m%dT%H%M%SZ")
         return DEFAULT_LOG_FOLDER / f"{model_name}_{stamp}.mcap"
@@ -83,7 +84,8 @@ def simulate(
         path,
         log_rate=log_rate,
         overwrite=overwrite,
-        command=command or describe_call(gearbox, {**kwargs, "log": str(path), "log_rate": log_rate}),
+        command=command
+        or describe_call(gearbox, {**kwargs, "log": str(path), "log_rate": log_rate}),
     )
     result = _simulate(gearbox, observer=logger, **kwargs)
     result.metadata["log_path"] = str(path)

@@ -33,11 +33,13 @@ class JointLoad:
     signal: Signal
 
     def __call__(self, t: float) -> float:
+        """The signal's value at time t [s]."""
         value = self.signal(t) if callable(self.signal) else self.signal
         return float(value)
 
     @property
     def description(self) -> str:
+        """The value, or the callable's ``description`` attribute or name, for logs."""
         if callable(self.signal):
             return getattr(self.signal, "description", None) or getattr(
                 self.signal, "__name__", repr(self.signal)

@@ -53,7 +53,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from pinwind.errors import InputError, PinwindWarning
+from pinwind.errors import InvalidGearTrain, PinwindWarning, PlanetsCollide
 from pinwind.gears.involute import pair_geometry
 from pinwind.model.gearbox import CENTRE_DISTANCE_RTOL
 
@@ -68,24 +68,6 @@ GRAVITY = (0.0, -9.81, 0.0)
 
 MassProperties = tuple[float, float, float]
 """(mass [kg], Ixx = Iyy [kg·m²], Izz [kg·m²]) about the centre of mass, z the shaft axis."""
-
-
-class InvalidGearTrain(InputError):
-    """Builder arguments describe a gear train that cannot exist (teeth, module, layout)."""
-
-
-class PlanetsCollide(InvalidGearTrain):
-    """Neighbouring planets' tip circles overlap."""
-
-    def __init__(self, tip_radius: float, chord: float, planets: int, centre_distance: float):
-        self.tip_radius = tip_radius
-        self.chord = chord
-        super().__init__(
-            f"{planets} planets of tip diameter {2 * tip_radius * 1e3:.2f} mm on a "
-            f"{centre_distance * 1e3:.2f} mm centre distance collide: the chord between "
-            f"neighbouring planet centres is only {chord * 1e3:.2f} mm; use fewer or smaller "
-            "planets"
-        )
 
 
 # --- mass properties ---------------------------------------------------------------------------

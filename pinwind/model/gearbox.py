@@ -48,6 +48,7 @@ class Gear:
 
     @property
     def name(self) -> str:
+        """The gear's name in the model file."""
         return self.spec.name
 
 
@@ -203,7 +204,7 @@ class Gearbox:
                 self.path,
                 where,
                 f"gear axis {np.round(axis, 6)} is not parallel to the axis "
-                f"{np.round(joint_axis, 6)} of its bearing \"{self.model.names[joint_id]}\"",
+                f'{np.round(joint_axis, 6)} of its bearing "{self.model.names[joint_id]}"',
             )
         off_axis = centre - (centre @ joint_axis) * joint_axis
         if np.linalg.norm(off_axis) > 1e-9:

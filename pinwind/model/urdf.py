@@ -193,7 +193,8 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
             raise MalformedModel(
                 path,
                 _describe(joint),
-                f'joint type "{jtype}" is not supported; bearings are revolute, continuous or fixed',
+                f'joint type "{jtype}" is not supported; bearings are revolute, continuous '
+                "or fixed",
             )
         out.joints[name] = {
             "type": jtype,
@@ -309,7 +310,7 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             raise InvalidGearGeometry(
                 path,
                 where,
-                f'helix angles {math.degrees(a.helix_angle):g}° and '
+                f"helix angles {math.degrees(a.helix_angle):g}° and "
                 f"{math.degrees(b.helix_angle):g}° do not mesh: an external pair needs opposite "
                 "hands (β2 = −β1), an internal pair the same hand",
             )
@@ -327,6 +328,4 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             raise MalformedModel(
                 path, where, f"stiffness {k:g} N·m/rad and damping {c:g} N·m·s/rad must be ≥ 0"
             )
-        out.springs.append(
-            SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0))
-        )
+        out.springs.append(SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0)))

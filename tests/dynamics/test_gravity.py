@@ -36,8 +36,9 @@ def test_bearings_at_rest_carry_the_weights_exactly(saleh):
         "carrier": MASS["carrier"] + 3 * MASS["pin"] + 3 * MASS["planet"],
     }
     for name, mass in carried.items():
-        assert_allclose(res.bearing(name).force, np.tile(mass * G * up, (len(res), 1)),
-                        rtol=1e-12, atol=1e-9)
+        assert_allclose(
+            res.bearing(name).force, np.tile(mass * G * up, (len(res), 1)), rtol=1e-12, atol=1e-9
+        )
         assert_allclose(res.bearing(name).moment, 0.0, atol=1e-6)
     assert_allclose(res.mesh_normal, 0.0, atol=1e-9)
     assert_allclose(res.speed, 0.0, atol=1e-12)

@@ -20,9 +20,7 @@ def _balance(res):
 
 def test_constraints_hold_to_1e_10_after_ten_thousand_steps():
     gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
-    res = pinwind.simulate(
-        gb, duration=10.0, dt=1e-3, torques={"carrier": 1.1e6, "sun": -1e6 / 6}
-    )
+    res = pinwind.simulate(gb, duration=10.0, dt=1e-3, torques={"carrier": 1.1e6, "sun": -1e6 / 6})
     assert len(res) == 10_001
     assert res.constraint_residual.max() < 1e-10
     # Transmission error: the rigid meshes do not drift apart along their lines of action.

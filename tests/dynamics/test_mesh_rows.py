@@ -66,7 +66,7 @@ def test_row_is_relative_velocity_of_material_points_along_the_line_of_action(ar
         n = ms.line_of_action(rows, np.array([flank]))[0]
         h = 1e-6
 
-        def point(joint_id, qq):
+        def point(joint_id, qq, data=data, p=p):
             d = model.createData()
             pin.forwardKinematics(model, d, qq)
             local = data.oMi[joint_id].actInv(p)
@@ -92,7 +92,7 @@ def test_bias_is_the_time_derivative_of_the_row_at_zero_acceleration(arm, flank)
         jac, bias, *_ = _rows(arm, q, v, f)
         h = 1e-5
 
-        def c(s):
+        def c(s, q=q, v=v, a=a):
             qs = pin.integrate(model, q, v * s + 0.5 * a * s * s)
             js, *_ = _rows(arm, qs, v + a * s, f)
             return (js @ (v + a * s))[0]

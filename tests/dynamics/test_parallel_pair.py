@@ -47,8 +47,9 @@ def test_bearings_carry_the_tooth_force_and_the_weights(pair_urdf):
     f_t = torque / R1
     force_on_2 = np.array([f_t * math.tan(ALPHA), f_t, 0.0])
     weight_1, weight_2 = np.array([0.0, -M1 * G, 0.0]), np.array([0.0, -M2 * G, 0.0])
-    assert_allclose(res.mesh("m").force_on_b, np.tile(force_on_2, (len(res), 1)), rtol=1e-9,
-                    atol=1e-9)
+    assert_allclose(
+        res.mesh("m").force_on_b, np.tile(force_on_2, (len(res), 1)), rtol=1e-9, atol=1e-9
+    )
     # Statics of each gear: bearing force + tooth force + weight = 0.
     assert_allclose(res.bearing("a").force[-1], force_on_2 - weight_1, rtol=1e-9, atol=1e-9)
     assert_allclose(res.bearing("b").force[-1], -force_on_2 - weight_2, rtol=1e-9, atol=1e-9)

@@ -25,7 +25,6 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
-
 from tests.conftest import MODELS
 
 # Table 3 of 000_3b7c4a8fe52a6eee.txt, z axis = shaft axis.

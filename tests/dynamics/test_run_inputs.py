@@ -71,6 +71,9 @@ def test_unstable_time_step_stops_with_the_step_and_time():
     gb = pinwind.load(MODELS / "cai_spur_pair.urdf")
     with pytest.raises(Diverged, match=r"diverged at step \d+ \(t = [0-9.e+-]+ s\).*Reduce dt"):
         pinwind.simulate(
-            gb, duration=100.0, dt=1e-2, speeds={"input_shaft": 20.0},
+            gb,
+            duration=100.0,
+            dt=1e-2,
+            speeds={"input_shaft": 20.0},
             torques={"output_shaft": -49.0},
         )

@@ -10,10 +10,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from pinwind.errors import InputError, PinwindWarning
+from pinwind.errors import InputError, InvalidGearTrain, PinwindWarning, PlanetsCollide
 from pinwind.model.builder import (
-    InvalidGearTrain,
-    PlanetsCollide,
     compound_planetary_urdf,
     planetary_urdf,
     write_planetary,

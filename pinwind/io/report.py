@@ -1,0 +1,168 @@
+"""Statistics of every logged quantity, from the log file alone (``pinwind report``).
+
+For each quantity of each joint, mesh and bearing: min, max, mean, RMS and final value over a time
+window (``analysis/summary.statistics``; the columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2),
+in SI units. Vectors give one row per world or joint-frame component plus one for the magnitude.
+Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has them).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from rich.table import Table
+
+from pinwind.analysis.summary import statistics
+from pinwind.dynamics.result import Result
+from pinwind.errors import InputError
+
+STATISTICS = ("min", "max", "mean", "rms", "final")
+
+
+@dataclass(frozen=True)
+class Row:
+    """Statistics of one series.
+
+    Attributes:
+        group: ``joint``, ``mesh``, ``bearing`` or ``run``.
+        element: joint, mesh or bearing name (the energy term for ``run/energy``).
+        quantity: e.g. ``speed``, ``normal``, ``force (world)``.
+        component: ``x``, ``y``, ``z``, ``|.|`` for vectors, else ``""``.
+        unit: SI unit.
+        min, max, mean, rms, final: the statistics over the window.
+    """
+
+    group: str
+    element: str
+    quantity: str
+    component: str
+    unit: str
+    min: float
+    max: float
+    mean: float
+    rms: float
+    final: float
+
+
+def _series(res: Result) -> Iterator[tuple[str, str, str, str, str, np.ndarray]]:
+    """(group, element, quantity, component, unit, values) of every reported series."""
+    joint = (("angle", res.angle, "rad"), ("speed", res.speed, "rad/s"),
+             ("acceleration", res.acceleration, "rad/s^2"), ("torque", res.torque, "N*m"))  # fmt: skip
+    for i, name in enumerate(res.joint_names):
+        for quantity, values, unit in joint:
+            yield "joint", name, quantity, "", unit, values[:, i]
+    mesh = (("normal", res.mesh_normal, "N"), ("tangential", res.mesh_tangential, "N"),
+            ("radial", res.mesh_radial, "N"), ("axial", res.mesh_axial, "N"),
+            ("flank", res.mesh_flank, "1"), ("transmission error", res.transmission_error, "m"))  # fmt: skip
+    for i, name in enumerate(res.mesh_names):
+        for quantity, values, unit in mesh:
+            yield "mesh", name, quantity, "", unit, values[:, i]
+        yield from _vector("mesh", name, "force on B (world)", "N", res.mesh_force_on_b[:, i])
+    bearing = (("force (world)", res.bearing_force, "N"),
+               ("moment (world)", res.bearing_moment, "N*m"),
+               ("force (joint frame)", res.bearing_force_local, "N"),
+               ("moment (joint frame)", res.bearing_moment_local, "N*m"))  # fmt: skip
+    for i, name in enumerate(res.bearing_names):
+        for quantity, values, unit in bearing:
+            yield from _vector("bearing", name, quantity, unit, values[:, i])
+    yield "run", "", "constraint residual", "", "m/s or rad/s", res.constraint_residual
+    for term, values in res.energy.items():
+        yield "run", term, "energy", "", "J", values
+
+
+def _vector(group: str, element: str, quantity: str, unit: str, values: np.ndarray):
+    for k, axis in enumerate("xyz"):
+        yield group, element, quantity, axis, unit, values[:, k]
+    yield group, element, quantity, "|.|", unit, np.linalg.norm(values, axis=1)
+
+
+def window(res: Result, start: float | None = None, stop: float | None = None) -> np.ndarray:
+    """Indices of the samples with start ≤ t ≤ stop [s] (open ends when None).
+
+    Raises:
+        InputError: the window holds no sample; the message gives the time span of the log.
+    """
+    t = res.time
+    mask = np.ones(len(t), dtype=bool)
+    if start is not None:
+        mask &= t >= start
+    if stop is not None:
+        mask &= t <= stop
+    rows = np.flatnonzero(mask)
+    if not len(rows):
+        span = f"t = {t[0]:.6g} to {t[-1]:.6g} s" if len(t) else "no samples"
+        raise InputError(
+            f"no logged sample between --from {start} and --to {stop} s; the log covers {span}"
+        )
+    return rows
+
+
+def report_rows(res: Result, start: float | None = None, stop: float | None = None) -> list[Row]:
+    """Statistics of every quantity over the window start ≤ t ≤ stop [s]."""
+    rows = window(res, start, stop)
+    return [
+        Row(group, element, quantity, component, unit, **statistics(values[rows]))
+        for group, element, quantity, component, unit, values in _series(res)
+    ]
+
+
+def report_dict(
+    res: Result, start: float | None = None, stop: float | None = None
+) -> dict[str, object]:
+    """The report as plain data (``pinwind report --json``); NaN becomes null."""
+    rows = window(res, start, stop)
+
+    def clean(value):
+        return None if isinstance(value, float) and not math.isfinite(value) else value
+
+    meta = res.metadata
+    return {
+        "log": meta.get("log", {}).get("path"),
+        "model": meta.get("model_name"),
+        "model_sha256": meta.get("model_sha256"),
+        "status": res.status,
+        "window": {
+            "from": float(res.time[rows[0]]),
+            "to": float(res.time[rows[-1]]),
+            "samples": len(rows),
+        },
+        "quantities": [
+            {k: clean(v) for k, v in asdict(row).items()} for row in report_rows(res, start, stop)
+        ],
+    }
+
+
+_TITLES = {
+    "joint": "Bearings (joints): angle, speed, acceleration, torque",
+    "mesh": "Gear meshes: tooth forces and transmission error",
+    "bearing": "Bearing reactions on the child body",
+    "run": "Run: constraint residual and energy ledger",
+}
+
+
+def report_tables(
+    res: Result, start: float | None = None, stop: float | None = None
+) -> list[Table]:
+    """The report as rich tables, one per group."""
+    rows = report_rows(res, start, stop)
+    picked = window(res, start, stop)
+    span = f"t = {res.time[picked[0]]:.6g} to {res.time[picked[-1]]:.6g} s, {len(picked)} samples"
+    tables = []
+    for group, title in _TITLES.items():
+        members = [r for r in rows if r.group == group]
+        if not members:
+            continue
+        table = Table(title=f"{title} ({span})")
+        for column in ("element", "quantity", "", "unit", *STATISTICS):
+            justify = "right" if column in STATISTICS else "left"
+            table.add_column(column.upper() if column == "rms" else column, justify=justify)
+        for r in members:
+            table.add_row(
+                r.element, r.quantity, r.component, r.unit,
+                *(f"{getattr(r, s):.6g}" for s in STATISTICS),
+            )  # fmt: skip
+        tables.append(table)
+    return tables
