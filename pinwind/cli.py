@@ -157,6 +157,9 @@ def simulate(
     except (KeyboardInterrupt, PinwindError) as err:
         if log is not None and log.exists() and not isinstance(err, LogExists):
             err_console.print(f"the run stopped early; its log up to that point is in {log}")
+        if isinstance(err, Terminated):
+            err_console.print(f"terminated ({err})")
+            raise typer.Exit(code=143) from err
         raise
     finally:
         signal.signal(signal.SIGTERM, previous)
@@ -293,9 +296,6 @@ def main() -> None:
     except PinwindError as err:
         err_console.print(f"[bold red]error:[/bold red] {err}", highlight=False)
         sys.exit(2)
-    except Terminated as err:
-        err_console.print(f"terminated ({err})")
-        sys.exit(143)
     except KeyboardInterrupt:
         err_console.print("interrupted")
         sys.exit(130)

@@ -150,6 +150,22 @@ class SolverFailed(PinwindError):
         )
 
 
+class ConflictingConstraints(PinwindError):
+    """Speed drivers and gear meshes ask for speeds that cannot all hold."""
+
+    def __init__(self, step: int, time: float, residual: float, drivers: list[str]):
+        self.step = step
+        self.time = time
+        self.residual = residual
+        self.drivers = drivers
+        super().__init__(
+            f"at step {step} (t = {time:.6g} s) the speed drivers on {', '.join(drivers) or '-'} "
+            f"conflict with the gear meshes (mismatch {residual:.3g}): these are conflicting "
+            "speed drivers on one gear train. Drive one joint per train and load the others "
+            "with torques."
+        )
+
+
 class Diverged(PinwindError):
     """The state became NaN or infinite during a run."""
 

@@ -36,7 +36,13 @@ from pinwind.dynamics.mesh import MeshRows, MeshSet, joint_placements
 from pinwind.dynamics.reactions import BearingReactions
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import ConstrainedDynamicsSolver, SolverSettings
-from pinwind.errors import Diverged, InputError, NonFiniteInput, SolverFailed
+from pinwind.errors import (
+    ConflictingConstraints,
+    Diverged,
+    InputError,
+    NonFiniteInput,
+    SolverFailed,
+)
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.model.gearbox import Gearbox
 
@@ -209,11 +215,18 @@ class _Stepper:
         bias = np.concatenate([bias_m, np.zeros(len(self.drivers))])
         return jac, bias
 
-    def project(self, q, v, mass, jac, target) -> np.ndarray:
+    def project(self, k, t, v, mass, jac, target) -> np.ndarray:
         """M-orthogonal projection of v onto J v = target (pseudo-inverse: redundant rows)."""
         minv_jt = np.linalg.solve(mass, jac.T)
         correction = np.linalg.pinv(jac @ minv_jt, rcond=1e-12) @ (jac @ v - target)
-        return v - minv_jt @ correction
+        projected = v - minv_jt @ correction
+        residual = float(np.max(np.abs(jac @ projected - target), initial=0.0))
+        scale = 1.0 + float(np.abs(target).max(initial=0.0)) + float(
+            np.abs(jac).max(initial=0.0) * np.abs(v).max(initial=0.0)
+        )
+        if residual > 1e-9 * scale:
+            raise ConflictingConstraints(k, t, residual, [d.joint for d in self.drivers])
+        return projected
 
     def mass(self, q: np.ndarray) -> np.ndarray:
         m = pin.crba(self.model, self.data, q)
@@ -232,7 +245,7 @@ class _Stepper:
         if residual > PROJECTION_TOL * (1.0 + float(np.max(np.abs(v), initial=0.0))):
             # Post-stabilisation: J changed over the last step, or the run starts off the
             # constraint manifold.
-            v = self.project(q, v, mass, jac, target_now)
+            v = self.project(k, t, v, mass, jac, target_now)
             mesh_rows = self.kinematics(q, v)
             jac, bias = self.constraint_matrix(mesh_rows)
             residual = float(np.max(np.abs(jac @ v - target_now), initial=0.0))
@@ -364,6 +377,12 @@ def simulate(
     torque_loads = joint_loads(
         torques, where="torques", joint_index=index, unit="N·m", probe_times=probe
     )
+    for name in list(speeds or {}) + list(initial_speeds or {}):
+        if name in gearbox.locked_joints:
+            raise InputError(
+                f'joint "{name}" is a fixed mount (a gear on a fixed joint, held at zero speed); '
+                "it cannot be driven or given a speed. Drive one of: " + ", ".join(free)
+            )
     speed_loads = joint_loads(
         speeds, where="speeds", joint_index=free, unit="rad/s", probe_times=probe
     )

@@ -77,3 +77,21 @@ def test_unstable_time_step_stops_with_the_step_and_time():
             speeds={"input_shaft": 20.0},
             torques={"output_shaft": -49.0},
         )
+
+
+def test_a_fixed_ring_cannot_be_driven():
+    from tests.conftest import MODELS
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    with pytest.raises(InputError, match=r'joint "ring" is a fixed mount'):
+        pinwind.simulate(gb, duration=0.01, dt=1e-3, speeds={"ring": 1.0})
+
+
+def test_two_drivers_on_one_gear_train_is_reported_as_conflicting():
+    from pinwind.errors import ConflictingConstraints
+    from tests.conftest import MODELS
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    # The sun must turn at 6 × the carrier: 1 and 1 rad/s cannot both hold.
+    with pytest.raises(ConflictingConstraints, match="conflicting speed drivers"):
+        pinwind.simulate(gb, duration=0.01, dt=1e-3, speeds={"carrier": 1.0, "sun": 1.0})
