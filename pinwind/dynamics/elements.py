@@ -26,6 +26,7 @@ class ForceElements:
         self.preload = np.array([s.preload_angle for s in springs])
         self.bearing_damping = np.array(gearbox.model.damping, dtype=float).copy()
         self.nv = gearbox.model.nv
+        self._damped = bool(np.any(self.bearing_damping)) or bool(np.any(self.spring_damping))
 
     def elastic_torque(self, q: np.ndarray) -> np.ndarray:
         """Generalised force of the springs' stiffness, −k(θ₁ − θ₂ − θ₀) on joint 1 [N·m], (nv,).
@@ -41,6 +42,8 @@ class ForceElements:
 
     def damping_torque(self, v: np.ndarray) -> np.ndarray:
         """Viscous forces of bearing dampers and spring dampers [N·m], (nv,)."""
+        if not self._damped:
+            return np.zeros(self.nv)
         tau = -self.bearing_damping * v
         if len(self.stiffness):
             torque = -self.spring_damping * (v[self.index_1] - v[self.index_2])

@@ -180,6 +180,7 @@ class _Stepper:
         self.wrench_world = np.zeros((self.model.njoints - 1, 6))
         self.te = np.zeros(self.nm)
         self._upper = np.triu(np.ones((nv, nv), dtype=bool))
+        self._targets: dict[float, np.ndarray] = {}
         self.ledger_forces = np.zeros((len(_WORK_KEYS), nv))
 
     def driver_torque(self, lam: np.ndarray) -> np.ndarray:
@@ -198,6 +199,10 @@ class _Stepper:
         return self.meshes.evaluate(self.model, self.data, self.placements)
 
     def targets(self, t: float) -> np.ndarray:
+        """Right-hand sides of the velocity rows at t: 0 for meshes and locks, ω(t) for drivers."""
+        cached = self._targets.get(t)
+        if cached is not None:
+            return cached
         target = np.zeros(self.rows)
         for i, d in enumerate(self.drivers):
             value = d(t)
@@ -207,6 +212,8 @@ class _Stepper:
                     "must return finite values"
                 )
             target[self.nm + i] = value
+        # Each step asks for t and t + dt; the next step asks for t + dt again.
+        self._targets = {t: target}
         return target
 
     def constraint_matrix(self, mesh_rows) -> tuple[np.ndarray, np.ndarray]:
@@ -265,7 +272,7 @@ class _Stepper:
         tau_damp = self.elements.damping_torque(v)
         force = tau_applied + tau_spring + tau_damp - nle
         rhs = -bias + (target_next - target_now) / self.dt
-        if not (np.all(np.isfinite(force)) and np.all(np.isfinite(rhs))):
+        if not math.isfinite(float(force @ force) + float(rhs @ rhs)):
             raise Diverged(k, t, "the joint forces or constraint terms are not finite")
         sol = self.solver.solve(mass, force, jac, rhs)
         self._check(k, t, sol)
