@@ -75,6 +75,17 @@ def _check_positive(name: str, value: float, unit: str) -> float:
     return value
 
 
+#: Work terms of the energy ledger, accumulated over steps [J].
+_WORK_KEYS = (
+    "work_applied",
+    "work_drivers",
+    "work_springs",
+    "work_gravity",
+    "work_constraints",
+    "dissipated",
+)
+
+
 def _allocate(gearbox: Gearbox, n: int, body_names: list[str]) -> Result:
     nj = len(gearbox.joint_names)
     nm = len(gearbox.meshes)
@@ -108,19 +119,7 @@ def _allocate(gearbox: Gearbox, n: int, body_names: list[str]) -> Result:
         body_position=z(nb, 3),
         body_quaternion=z(nb, 4),
         constraint_residual=np.zeros(n),
-        energy={
-            k: np.zeros(n)
-            for k in (
-                "kinetic",
-                "work_applied",
-                "work_drivers",
-                "work_springs",
-                "work_gravity",
-                "work_constraints",
-                "dissipated",
-                "potential_spring",
-            )
-        },
+        energy={k: np.zeros(n) for k in ("kinetic", *_WORK_KEYS, "potential_spring")},
     )
 
 
@@ -170,9 +169,14 @@ class _Stepper:
         self.rows = self.nm + len(self.drivers)
         self.driver_jac = np.zeros((len(self.drivers), nv))
         self.driver_jac[np.arange(len(self.drivers)), self.driver_index] = 1.0
-        #: Name → row of the constraint system: mesh forces and driver torques are read here.
+        #: Name → row of the constraint system: mesh forces and driver torques are read from the
+        #: multipliers through this map (meshes by name, drivers as "driver:JOINT").
         self.row_of = {name: i for i, name in enumerate(self.meshes.names)}
         self.row_of.update({f"driver:{d.joint}": self.nm + i for i, d in enumerate(self.drivers)})
+        self.mesh_rows = np.array([self.row_of[n] for n in self.meshes.names], dtype=int)
+        self.driver_rows = np.array(
+            [self.row_of[f"driver:{d.joint}"] for d in self.drivers], dtype=int
+        )
         self.solver = ConstrainedDynamicsSolver(nv, self.rows, settings)
         self.flank = np.ones(self.nm)
         self.zero_a = np.zeros(nv)
@@ -187,7 +191,7 @@ class _Stepper:
         """Joint torques of the speed drivers and locks: their rows' multipliers [N·m]."""
         torque = np.zeros(self.model.nv)
         if len(self.drivers):
-            np.add.at(torque, self.driver_index, lam[self.nm :])
+            np.add.at(torque, self.driver_index, lam[self.driver_rows])
         return torque
 
     # --- assembly ----------------------------------------------------------------------------
@@ -323,7 +327,7 @@ class _Stepper:
             )
 
     def reactions_of(self, q, v, a, mesh_rows, lam):
-        normal = lam[: self.nm]
+        normal = lam[self.mesh_rows]
         n = self.meshes.line_of_action(mesh_rows, self.flank)
         tangential = normal * self.meshes.cos_a
         axial = tangential * self.meshes.tan_beta
@@ -501,7 +505,7 @@ def simulate(
             forces[1] = driver_torque
             forces[2] = tau_spring
             forces[3] = -grav
-            forces[4] = lam[: st.nm] @ jac[: st.nm]
+            forces[4] = lam[st.mesh_rows] @ jac[st.mesh_rows]
             forces[5] = -tau_damp
             work[k + 1] = forces @ ((0.5 * dt) * (v + v_next))
             if st.nm:
@@ -546,16 +550,6 @@ def simulate(
             observer.end(final, status)
         _finished = final
     return _finished
-
-
-_WORK_KEYS = (
-    "work_applied",
-    "work_drivers",
-    "work_springs",
-    "work_gravity",
-    "work_constraints",
-    "dissipated",
-)
 
 
 def _finish_samples(model, st, res: Result, work, kinetic, frames, start: int, stop: int) -> None:
