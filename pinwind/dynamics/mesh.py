@@ -124,7 +124,10 @@ class MeshSet:
         rot = placements[ids, :3, :3]
         nj = len(ids)
         twist, accel = np.empty((nj, 6)), np.empty((nj, 6))
-        kernels.body_motion(data.J, data.dJ, self.support, self._v, twist, accel)
+        # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
+        jac_world = np.reshape(data.J, (6, nv))
+        kernels.body_motion(jac_world, np.reshape(data.dJ, (6, nv)), self.support, self._v, twist,
+                            accel)
         rows = MeshRows(
             jac_t=np.empty((m, nv)),
             jac_r=np.empty((m, nv)),
@@ -137,8 +140,10 @@ class MeshSet:
             lever_b=np.empty((m, 3)),
             axis=np.empty((m, 3)),
         )
+        if m == 0:
+            return rows
         kernels.mesh_rows(
-            data.J,
+            jac_world,
             self.support,
             origin,
             rot,

@@ -240,7 +240,7 @@ class _Stepper:
         return projected
 
     def mass(self, q: np.ndarray) -> np.ndarray:
-        m = pin.crba(self.model, self.data, q)
+        m = np.reshape(pin.crba(self.model, self.data, q), self._upper.shape)
         # CRBA fills the upper triangle only.
         return np.where(self._upper, m, m.T)
 

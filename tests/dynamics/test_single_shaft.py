@@ -1,0 +1,33 @@
+"""A model without gears: one shaft on one bearing (Pinocchio hands 1-DoF matrices as vectors)."""
+
+from __future__ import annotations
+
+from numpy.testing import assert_allclose
+
+import pinwind
+from pinwind.model.gearbox import loads
+
+SHAFT = """<robot name="shaft"><link name="housing"/>
+  <link name="s"><inertial><mass value="2"/>
+    <inertia ixx="1" iyy="1" izz="0.5" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="s" type="continuous"><parent link="housing"/><child link="s"/>
+    <axis xyz="0 0 1"/><dynamics damping="0.1"/></joint>
+</robot>"""
+
+
+def test_shaft_accelerates_with_torque_over_inertia_and_its_bearing_carries_its_weight():
+    gb = loads(SHAFT, path="shaft.urdf")
+    res = pinwind.simulate(gb, duration=0.01, dt=1e-3, torques={"s": 1.0})
+    # First step from rest: no damping torque yet, α = T / I_zz.
+    assert_allclose(res.joint("s").acceleration[0], 1.0 / 0.5, rtol=1e-12)
+    assert_allclose(res.bearing("s").force[:, 1], 2.0 * 9.81, rtol=1e-12)
+    # Later steps: α = (T − c ω) / I_zz.
+    omega = res.joint("s").speed
+    assert_allclose(res.joint("s").acceleration, (1.0 - 0.1 * omega) / 0.5, rtol=1e-12)
+
+
+def test_driven_shaft_needs_the_damping_torque():
+    gb = loads(SHAFT, path="shaft.urdf")
+    res = pinwind.simulate(gb, duration=0.01, dt=1e-3, speeds={"s": 3.0})
+    assert_allclose(res.joint("s").speed, 3.0, rtol=1e-12)
+    assert_allclose(res.joint("s").torque, 0.1 * 3.0, rtol=1e-9)
