@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from rich.markup import escape
 from rich.table import Table
 
 from pinwind.dynamics.result import Result
@@ -47,7 +48,7 @@ def summary_tables(res: Result) -> list[Table]:
 
     joints = Table(title=f"Bearings: speeds at t = {res.time[-1]:.4g} s")
     for col in ("joint", "speed [rpm]", f"ratio to {ref or '-'}", "torque [kN·m]"):
-        joints.add_column(col, justify="right" if col != "joint" else "left")
+        joints.add_column(escape(col), justify="right" if col != "joint" else "left")
     for name in res.joint_names:
         js = res.joint(name)
         speed = js.speed[-1]
@@ -61,7 +62,9 @@ def summary_tables(res: Result) -> list[Table]:
     tables.append(joints)
 
     if res.mesh_names:
-        meshes = Table(title="Gear meshes: tooth forces [kN] (final; min / max / RMS of normal)")
+        meshes = Table(
+            title=escape("Gear meshes: tooth forces [kN] (final; min / max / RMS of normal)")
+        )
         for col in (
             "mesh",
             "normal",
@@ -73,7 +76,7 @@ def summary_tables(res: Result) -> list[Table]:
             "RMS",
             "TE [µm]",
         ):
-            meshes.add_column(col, justify="right" if col != "mesh" else "left")
+            meshes.add_column(escape(col), justify="right" if col != "mesh" else "left")
         for name in res.mesh_names:
             ms = res.mesh(name)
             s = statistics(ms.normal)
@@ -91,7 +94,8 @@ def summary_tables(res: Result) -> list[Table]:
         tables.append(meshes)
 
     bearings = Table(
-        title="Bearing reactions on the child body, world frame (final; min / max / RMS of |F|)"
+        title="Bearing reactions on the child body, world frame, kN and kN·m "
+        "(final; min / max / RMS of |F|)"
     )
     for col in (
         "bearing",
@@ -103,7 +107,7 @@ def summary_tables(res: Result) -> list[Table]:
         "|F| RMS",
         "|M| [kN·m]",
     ):
-        bearings.add_column(col, justify="right" if col != "bearing" else "left")
+        bearings.add_column(escape(col), justify="right" if col != "bearing" else "left")
     for name in res.bearing_names:
         b = res.bearing(name)
         magnitude = np.linalg.norm(b.force, axis=1)
