@@ -11,13 +11,16 @@ import math
 import shlex
 import signal
 import sys
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated
 
 import typer
 from rich.console import Console
 
-from pinwind.errors import InputError, LogExists, PinwindError
+from pinwind.errors import InputError, PinwindError, PinwindWarning
 
 app = typer.Typer(
     name="pinwind",
@@ -42,6 +45,15 @@ class Terminated(KeyboardInterrupt):
 
 def _raise_terminated(signum, frame) -> None:
     raise Terminated(f"received {signal.Signals(signum).name}")
+
+
+def _stamp(path: Path) -> tuple[int, int] | None:
+    """Size and modification time of a file, None if it does not exist."""
+    try:
+        stat = path.stat()
+    except OSError:
+        return None
+    return stat.st_size, stat.st_mtime_ns
 
 
 def _pairs(items: list[str] | None, option: str) -> dict[str, str]:
@@ -148,6 +160,7 @@ def simulate(
     gearbox = pinwind.load(model)
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
     command = shlex.join(["pinwind", *sys.argv[1:]])
+    before = _stamp(log) if log is not None else None
     previous = signal.signal(signal.SIGTERM, _raise_terminated)
     try:
         res = pinwind.simulate(
@@ -155,7 +168,7 @@ def simulate(
             progress=progress, log=log, log_rate=log_rate, overwrite=force, command=command,
         )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
-        if log is not None and log.exists() and not isinstance(err, LogExists):
+        if log is not None and _stamp(log) not in (None, before):
             err_console.print(f"the run stopped early; its log up to that point is in {log}")
         if isinstance(err, Terminated):
             err_console.print(f"terminated ({err})")
@@ -175,6 +188,21 @@ def simulate(
         console.print(f"log: {log} ({log.stat().st_size / 1e6:.2f} MB)")
 
 
+@contextmanager
+def _warnings_as_lines() -> Iterator[None]:
+    """Show pinwind warnings (a recovered log, ...) as one line on stderr."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PinwindWarning)
+        yield
+    for warning in caught:
+        if issubclass(warning.category, PinwindWarning):
+            err_console.print(f"[yellow]warning:[/yellow] {warning.message}", highlight=False)
+        else:
+            warnings.warn_explicit(
+                warning.message, warning.category, warning.filename, warning.lineno
+            )
+
+
 @app.command()
 def replay(
     log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
@@ -189,7 +217,8 @@ def replay(
     """Show a log in Rerun: gears turning, force arrows and plots, from the file alone."""
     from pinwind.io.replay import replay as run_replay
 
-    out = run_replay(log, save=save, serve=serve, web_port=web_port, announce=console.print)
+    with _warnings_as_lines():
+        out = run_replay(log, save=save, serve=serve, web_port=web_port, announce=console.print)
     if out is not None:
         console.print(f"wrote {out}")
 
@@ -211,8 +240,8 @@ def report(
     from pinwind.io.mcap_log import open_log
     from pinwind.io.report import report_dict, report_tables
 
-    data = open_log(log)
-    res = data.result
+    with _warnings_as_lines():
+        res = open_log(log).result
     if as_json:
         print(json.dumps(report_dict(res, start, stop), indent=1))
         return

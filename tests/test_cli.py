@@ -12,6 +12,12 @@ import pinwind
 from tests.conftest import MODELS
 
 
+@pytest.fixture(autouse=True)
+def _in_tmp(tmp_path, monkeypatch):
+    # simulate logs to ./logs by default: keep the runs' logs out of the repository.
+    monkeypatch.chdir(tmp_path)
+
+
 def run(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, "-m", "pinwind", *args], capture_output=True, text=True, timeout=300

@@ -126,8 +126,9 @@ class MeshSet:
         twist, accel = np.empty((nj, 6)), np.empty((nj, 6))
         # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
         jac_world = np.reshape(data.J, (6, nv))
-        kernels.body_motion(jac_world, np.reshape(data.dJ, (6, nv)), self.support, self._v, twist,
-                            accel)
+        kernels.body_motion(
+            jac_world, np.reshape(data.dJ, (6, nv)), self.support, self._v, twist, accel
+        )
         rows = MeshRows(
             jac_t=np.empty((m, nv)),
             jac_r=np.empty((m, nv)),

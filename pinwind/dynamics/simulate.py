@@ -232,8 +232,10 @@ class _Stepper:
         correction = np.linalg.pinv(jac @ minv_jt, rcond=1e-12) @ (jac @ v - target)
         projected = v - minv_jt @ correction
         residual = float(np.max(np.abs(jac @ projected - target), initial=0.0))
-        scale = 1.0 + float(np.abs(target).max(initial=0.0)) + float(
-            np.abs(jac).max(initial=0.0) * np.abs(v).max(initial=0.0)
+        scale = (
+            1.0
+            + float(np.abs(target).max(initial=0.0))
+            + float(np.abs(jac).max(initial=0.0) * np.abs(v).max(initial=0.0))
         )
         if residual > 1e-9 * scale:
             raise ConflictingConstraints(k, t, residual, [d.joint for d in self.drivers])

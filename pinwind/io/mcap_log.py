@@ -8,9 +8,9 @@ samples, flushed to the OS as it goes, so a killed run leaves every block but th
 writes the end-status record and the summary even when the run raised. ``read_log`` gives back
 the ``Result``; it recovers the complete blocks of a file that was cut short.
 
-Message records are assembled a block at a time with numpy (``io/messages.py``) and the other
-records with the ``mcap`` package's record classes: the ``mcap`` Python writer spends about 4 µs
-per message, which at 18 messages per sample would be 12 % of a drivetrain step on its own.
+Payloads are encoded a block of samples at a time (``io/messages.py``) and laid out as message
+records with numpy, then written by ``io/mcap_file.py``: the ``mcap`` package's own writer spends
+about 4 µs per message, which at 18 messages per sample would be 30 % of a drivetrain step.
 """
 
 from __future__ import annotations
@@ -20,39 +20,32 @@ import math
 import os
 import platform
 import shlex
-import struct
+import signal
 import sys
+import threading
 import warnings
-import zlib
-from collections import defaultdict
-from dataclasses import dataclass, field
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
 from datetime import datetime, timezone
-from io import BytesIO
 from pathlib import Path
 from typing import Any, BinaryIO
 
 import numpy as np
-from mcap.data_stream import ReadDataStream, RecordBuilder
 from mcap.opcode import Opcode
-from mcap.records import (
-    Attachment,
-    AttachmentIndex,
-    Channel,
-    Chunk,
-    ChunkIndex,
-    DataEnd,
-    Footer,
-    Header,
-    Metadata,
-    MetadataIndex,
-    Schema,
-    Statistics,
-    SummaryOffset,
-)
 
 from pinwind.dynamics.result import Result
 from pinwind.errors import LogError, LogExists, LogRecovered
 from pinwind.io import messages
+from pinwind.io.mcap_file import (
+    MAGIC,
+    RECORD_HEADER,
+    DamagedFile,
+    McapWriter,
+    Scan,
+    message_records,
+)
+from pinwind.io.mcap_file import scan as read_records
 from pinwind.io.messages import (
     Float64ArrayCodec,
     FrameTransformsCodec,
@@ -63,8 +56,6 @@ from pinwind.io.messages import (
 #: Identity of the file format, in the ``pinwind`` metadata record.
 FORMAT = "pinwind-log"
 FORMAT_VERSION = 1
-
-MAGIC = b"\x89MCAP0\r\n"
 
 MODEL_TOPIC = "/robot_description"
 JOINTS_TOPIC = "/joints"
@@ -97,32 +88,76 @@ class ArrayTopic:
 
 #: Every Result array except those on ``/joints`` (angle, speed, torque) and ``/tf`` (poses).
 ARRAY_TOPICS: tuple[ArrayTopic, ...] = (
-    ArrayTopic("/joints/acceleration", "acceleration", "rad/s^2",
-               "joint acceleration over the step that starts at the sample", "joint"),
+    ArrayTopic(
+        "/joints/acceleration",
+        "acceleration",
+        "rad/s^2",
+        "joint acceleration over the step that starts at the sample",
+        "joint",
+    ),
     ArrayTopic("/meshes/normal", "mesh_normal", "N", "tooth normal force F_n >= 0", "mesh"),
     ArrayTopic("/meshes/tangential", "mesh_tangential", "N", "F_t = F_n cos(alpha_w)", "mesh"),
     ArrayTopic("/meshes/radial", "mesh_radial", "N", "F_r = F_n sin(alpha_w)", "mesh"),
     ArrayTopic("/meshes/axial", "mesh_axial", "N", "F_a = F_t tan(beta)", "mesh"),
-    ArrayTopic("/meshes/flank", "mesh_flank", "1",
-               "loaded flank s = +1 when A turning positively drives B, else -1", "mesh"),
-    ArrayTopic("/meshes/transmission_error", "transmission_error", "m",
-               "position mismatch along the line of action", "mesh"),
-    ArrayTopic("/meshes/force_on_b", "mesh_force_on_b", "N", "tooth force on gear B", "mesh",
-               "world"),
+    ArrayTopic(
+        "/meshes/flank",
+        "mesh_flank",
+        "1",
+        "loaded flank s = +1 when A turning positively drives B, else -1",
+        "mesh",
+    ),
+    ArrayTopic(
+        "/meshes/transmission_error",
+        "transmission_error",
+        "m",
+        "position mismatch along the line of action",
+        "mesh",
+    ),
+    ArrayTopic(
+        "/meshes/force_on_b", "mesh_force_on_b", "N", "tooth force on gear B", "mesh", "world"
+    ),
     ArrayTopic("/meshes/pitch_point", "pitch_point", "m", "pitch point", "mesh", "world"),
-    ArrayTopic("/bearings/force", "bearing_force", "N",
-               "force on the child body at the bearing centre", "bearing", "world"),
-    ArrayTopic("/bearings/moment", "bearing_moment", "N*m",
-               "moment on the child body about the bearing centre", "bearing", "world"),
-    ArrayTopic("/bearings/force_local", "bearing_force_local", "N",
-               "force on the child body at the bearing centre", "bearing", "joint"),
-    ArrayTopic("/bearings/moment_local", "bearing_moment_local", "N*m",
-               "moment on the child body about the bearing centre", "bearing", "joint"),
+    ArrayTopic(
+        "/bearings/force",
+        "bearing_force",
+        "N",
+        "force on the child body at the bearing centre",
+        "bearing",
+        "world",
+    ),
+    ArrayTopic(
+        "/bearings/moment",
+        "bearing_moment",
+        "N*m",
+        "moment on the child body about the bearing centre",
+        "bearing",
+        "world",
+    ),
+    ArrayTopic(
+        "/bearings/force_local",
+        "bearing_force_local",
+        "N",
+        "force on the child body at the bearing centre",
+        "bearing",
+        "joint",
+    ),
+    ArrayTopic(
+        "/bearings/moment_local",
+        "bearing_moment_local",
+        "N*m",
+        "moment on the child body about the bearing centre",
+        "bearing",
+        "joint",
+    ),
     ArrayTopic("/run/time", "time", "s", "sample time (exact; log time is rounded to 1 ns)"),
-    ArrayTopic("/run/constraint_residual", "constraint_residual", "m/s or rad/s",
-               "max |J v - target| after the step"),
+    ArrayTopic(
+        "/run/constraint_residual",
+        "constraint_residual",
+        "m/s or rad/s",
+        "max |J v - target| after the step",
+    ),
     ArrayTopic("/run/energy", "energy", "J", "energy ledger (docs/log_format.md)", "term"),
-)  # fmt: skip
+)
 
 _NAMES_OF = {
     "joint": "joint_names",
@@ -136,9 +171,20 @@ def _utc_now() -> str:
     return datetime.now(timezone.utc).isoformat(timespec="seconds")
 
 
+def _plain(value: Any) -> Any:
+    """JSON fallback: numpy scalars and arrays as numbers and lists, anything else as text."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return str(value)
+
+
 def _json_record(values: dict[str, Any]) -> dict[str, str]:
     """MCAP metadata holds strings: every value is stored as JSON."""
-    return {key: json.dumps(value, ensure_ascii=False) for key, value in values.items()}
+    return {
+        key: json.dumps(value, ensure_ascii=False, default=_plain) for key, value in values.items()
+    }
 
 
 def _versions() -> dict[str, str]:
@@ -153,198 +199,33 @@ def _versions() -> dict[str, str]:
     return out
 
 
-# --- writing -----------------------------------------------------------------------------------
-
-
-_RECORD_HEADER = np.dtype(
-    [("op", "u1"), ("length", "<u8"), ("channel", "<u2"), ("sequence", "<u4"),
-     ("log_time", "<u8"), ("publish_time", "<u8")]
-)  # fmt: skip
-
-
-def _message_records(
-    channel: int, sequence: np.ndarray, log_time: np.ndarray, payloads: np.ndarray
-) -> np.ndarray:
-    """MCAP Message records (opcode, length, channel, sequence, times, data) as (n, L) bytes."""
-    n, size = payloads.shape
-    head = np.empty(n, dtype=_RECORD_HEADER)
-    head["op"] = Opcode.MESSAGE
-    head["length"] = 22 + size
-    head["channel"] = channel
-    head["sequence"] = sequence
-    head["log_time"] = log_time
-    head["publish_time"] = log_time
-    return np.concatenate([head.view(np.uint8).reshape(n, _RECORD_HEADER.itemsize), payloads], 1)
-
-
-class _McapFile:
-    """A chunked, indexed MCAP file written record by record (https://mcap.dev/spec).
-
-    Schemas, channels, attachments and metadata go in the data section as they come; messages
-    come as whole chunks (records already assembled, plus each channel's (log time, offset)
-    index). ``finish`` writes the summary section and the footer.
-    """
-
-    def __init__(self, stream: BinaryIO, *, compression_level: int):
-        import zstandard
-
-        self._stream = stream
-        self._pos = 0
-        self._compressor = zstandard.ZstdCompressor(level=compression_level)
-        self._schemas: list[Schema] = []
-        self._channels: list[Channel] = []
-        self._chunk_indexes: list[ChunkIndex] = []
-        self._attachment_indexes: list[AttachmentIndex] = []
-        self._metadata_indexes: list[MetadataIndex] = []
-        self._stats = Statistics(
-            message_count=0,
-            schema_count=0,
-            channel_count=0,
-            attachment_count=0,
-            metadata_count=0,
-            chunk_count=0,
-            message_start_time=0,
-            message_end_time=0,
-            channel_message_counts=defaultdict(int),
-        )
-
-    def _write(self, data: bytes | bytearray | memoryview) -> int:
-        at = self._pos
-        self._stream.write(data)
-        self._pos += len(data)
-        return at
-
-    def _record(self, record) -> tuple[int, int]:
-        builder = RecordBuilder()
-        record.write(builder)
-        data = builder.end()
-        return self._write(data), len(data)
-
-    def start(self, library: str) -> None:
-        self._write(MAGIC)
-        self._record(Header(profile="", library=library))
-
-    def schema(self, schema: messages.Schema) -> int:
-        record = Schema(
-            id=len(self._schemas) + 1, name=schema.name, encoding=schema.encoding, data=schema.data
-        )
-        self._schemas.append(record)
-        self._stats.schema_count += 1
-        self._record(record)
-        return record.id
-
-    def channel(self, topic: str, encoding: str, schema_id: int, metadata: dict[str, str]) -> int:
-        record = Channel(
-            id=len(self._channels) + 1,
-            topic=topic,
-            message_encoding=encoding,
-            schema_id=schema_id,
-            metadata=metadata,
-        )
-        self._channels.append(record)
-        self._stats.channel_count += 1
-        self._record(record)
-        return record.id
-
-    def attachment(self, name: str, media_type: str, data: bytes, create_time: int) -> None:
-        record = Attachment(
-            create_time=create_time, log_time=0, name=name, media_type=media_type, data=data
-        )
-        offset, length = self._record(record)
-        self._attachment_indexes.append(
-            AttachmentIndex(offset, length, 0, create_time, len(data), name, media_type)
-        )
-        self._stats.attachment_count += 1
-
-    def metadata(self, name: str, data: dict[str, str]) -> None:
-        offset, length = self._record(Metadata(name=name, metadata=data))
-        self._metadata_indexes.append(MetadataIndex(offset, length, name))
-        self._stats.metadata_count += 1
-
-    def chunk(self, data: bytes, index: dict[int, np.ndarray]) -> None:
-        """One chunk of message records; ``index``: channel → (n, 2) uint64 (log time, offset)."""
-        times = np.concatenate([rows[:, 0] for rows in index.values()])
-        start, end = int(times.min()), int(times.max())
-        chunk = Chunk(
-            compression="zstd",
-            data=self._compressor.compress(data),
-            message_start_time=start,
-            message_end_time=end,
-            uncompressed_crc=zlib.crc32(data),
-            uncompressed_size=len(data),
-        )
-        chunk_at, chunk_length = self._record(chunk)
-        offsets = {}
-        index_at = self._pos
-        for channel, rows in index.items():
-            body = np.ascontiguousarray(rows, dtype="<u8").tobytes()
-            head = struct.pack("<BQHI", Opcode.MESSAGE_INDEX, 6 + len(body), channel, len(body))
-            offsets[channel] = self._write(head + body)
-            self._stats.channel_message_counts[channel] += len(rows)
-        self._chunk_indexes.append(
-            ChunkIndex(
-                message_start_time=start,
-                message_end_time=end,
-                chunk_start_offset=chunk_at,
-                chunk_length=chunk_length,
-                message_index_offsets=offsets,
-                message_index_length=self._pos - index_at,
-                compression=chunk.compression,
-                compressed_size=len(chunk.data),
-                uncompressed_size=len(data),
-            )
-        )
-        stats = self._stats
-        stats.message_start_time = (
-            start if not stats.message_count else min(start, stats.message_start_time)
-        )
-        stats.message_end_time = max(end, stats.message_end_time)
-        stats.message_count += len(times)
-        stats.chunk_count += 1
-        self._stream.flush()
-
-    def finish(self) -> None:
-        """Data end, summary section (schemas, channels, statistics, indexes), footer, magic."""
-        self._record(DataEnd(data_section_crc=0))
-        summary_start = self._pos
-        builder = RecordBuilder()
-        groups = [
-            (Opcode.SCHEMA, self._schemas),
-            (Opcode.CHANNEL, self._channels),
-            (Opcode.STATISTICS, [self._stats]),
-            (Opcode.CHUNK_INDEX, self._chunk_indexes),
-            (Opcode.ATTACHMENT_INDEX, self._attachment_indexes),
-            (Opcode.METADATA_INDEX, self._metadata_indexes),
-        ]
-        offsets = []
-        for opcode, records in groups:
-            if not records:
-                continue
-            group_start = builder.count
-            for record in records:
-                record.write(builder)
-            offsets.append(
-                SummaryOffset(opcode, summary_start + group_start, builder.count - group_start)
-            )
-        summary_offset_start = summary_start + builder.count
-        for offset in offsets:
-            offset.write(builder)
-        summary = builder.end()
-        crc = zlib.crc32(summary)
-        crc = zlib.crc32(
-            struct.pack("<BQQQ", Opcode.FOOTER, 20, summary_start, summary_offset_start), crc
-        )
-        self._write(summary)
-        self._record(Footer(summary_start=summary_start, summary_offset_start=summary_offset_start,
-                            summary_crc=crc))  # fmt: skip
-        self._write(MAGIC)
-        self._stream.flush()
-
-
 def _topic_values(result: Result, topic: ArrayTopic, rows: np.ndarray, terms: list[str]):
     if topic.field == "energy":
         return np.stack([result.energy[name][rows] for name in terms], axis=1)
     return getattr(result, topic.field)[rows]
+
+
+@contextmanager
+def _interrupts_deferred() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM while a chunk and its bookkeeping are written.
+
+    Ctrl-C raises between any two bytecodes; one landing between a write and the offsets that
+    index it would leave a summary that does not match the file. Signals that arrive meanwhile
+    are raised again, to their own handlers, once the block is done.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    held = (signal.SIGINT, signal.SIGTERM)
+    previous = {s: signal.signal(s, lambda signum, frame: caught.append(signum)) for s in held}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        for s in caught:
+            signal.raise_signal(s)
 
 
 def _resolve_rate(dt: float, log_rate: float | None) -> tuple[int, float]:
@@ -385,10 +266,10 @@ class McapLogger:
         compression_level: int = 1,
     ):
         self.path = Path(path)
-        if self.path.exists() and not overwrite:
-            raise LogExists(str(self.path))
         if self.path.is_dir():
             raise LogError(str(self.path), "is a folder; give a file name such as run.mcap")
+        if self.path.exists() and not overwrite:
+            raise LogExists(str(self.path))
         if log_rate is not None:
             _resolve_rate(1.0, log_rate)  # check the value before the run starts
         self.log_rate = log_rate
@@ -397,8 +278,9 @@ class McapLogger:
         self.compression_level = compression_level
         self.stride = 1
         self.samples_logged = 0
+        self._next_sample = 0
         self._stream: BinaryIO | None = None
-        self._file: _McapFile | None = None
+        self._file: McapWriter | None = None
         self._failed: BaseException | None = None
 
     # --- RunObserver -----------------------------------------------------------------------
@@ -414,7 +296,17 @@ class McapLogger:
             raise LogExists(str(self.path)) from err
         except OSError as err:
             raise LogError(str(self.path), f"cannot write the log: {err.strerror}") from err
-        f = self._file = _McapFile(self._stream, compression_level=self.compression_level)
+        try:
+            self._start(gearbox, result, rate)
+        except BaseException:
+            self._stream.close()
+            self._file = None
+            self.path.unlink(missing_ok=True)
+            raise
+
+    def _start(self, gearbox, result: Result, rate: float) -> None:
+        meta = result.metadata
+        f = self._file = McapWriter(self._stream, compression_level=self.compression_level)
         versions = _versions()
         f.start(library=f"pinwind {versions['pinwind']} (mcap {versions['mcap']})")
 
@@ -448,8 +340,11 @@ class McapLogger:
         self._arrays = []
         for topic in ARRAY_TOPICS:
             dims = []
-            channel_meta = {"field": topic.field, "unit": topic.unit,
-                            "description": topic.description}  # fmt: skip
+            channel_meta = {
+                "field": topic.field,
+                "unit": topic.unit,
+                "description": topic.description,
+            }
             if topic.element:
                 element_names = names[_NAMES_OF[topic.element]]
                 if not element_names:
@@ -495,25 +390,35 @@ class McapLogger:
         f.metadata("pinwind.run", _json_record(run))
         f.metadata("pinwind.model", _json_record({**names, **model_geometry(gearbox)}))
         payload = messages.encode_string(gearbox.source_text)
-        record = _message_records(
-            model_channel, np.zeros(1, np.uint32), np.zeros(1, np.uint64),
+        record = message_records(
+            model_channel,
+            np.zeros(1, np.uint32),
+            np.zeros(1, np.uint64),
             np.frombuffer(payload, np.uint8)[None, :],
-        )  # fmt: skip
+        )
         f.chunk(record.tobytes(), {model_channel: np.zeros((1, 2), np.uint64)})
 
     def samples(self, result: Result, start: int, stop: int) -> None:
-        """Write samples start:stop (every ``stride``-th, counted from 0) as one chunk."""
+        """Write samples start:stop (every ``stride``-th, counted from 0) as one chunk.
+
+        Samples already written are skipped, so a block handed over again after an interrupt
+        is not logged twice.
+        """
         if self._file is None or self._failed is not None:
             return
-        rows = np.arange(start + (-start % self.stride), stop, self.stride)
+        first = max(start, self._next_sample)
+        rows = np.arange(first + (-first % self.stride), stop, self.stride)
         if not len(rows):
             return
         try:
-            self._write_chunk(result, rows)
-        except Exception as err:  # disk full, ...: stop logging, let the run finish
+            data, index = self._assemble(result, rows)
+            with _interrupts_deferred():
+                self._file.chunk(data, index)
+                self._next_sample = int(rows[-1]) + 1
+                self.samples_logged += len(rows)
+        except Exception as err:  # disk full, ...: stop the run with a clear error
             self._failed = err
             raise LogError(str(self.path), f"writing the log failed: {err}") from err
-        self.samples_logged += len(rows)
 
     def end(self, result: Result, status: str) -> None:
         """Write the end-status record and the summary, close the file."""
@@ -522,68 +427,91 @@ class McapLogger:
         in_flight = sys.exc_info()[1]
         cause = f"{type(in_flight).__name__}: {in_flight}" if in_flight is not None else ""
         try:
-            self._file.metadata(
-                "pinwind.end",
-                _json_record(
-                    {
-                        "status": status,
-                        "cause": cause,
-                        "samples_simulated": len(result),
-                        "samples_logged": self.samples_logged,
-                        "log_error": str(self._failed) if self._failed else "",
-                        "wall_time_s": result.metadata.get("wall_time_s"),
-                        "ended_utc": _utc_now(),
-                    }
-                ),
-            )
-            self._file.finish()
+            with _interrupts_deferred():
+                self._finish(result, status, cause)
         except Exception as err:
             if in_flight is None and self._failed is None:
                 raise LogError(str(self.path), f"finishing the log failed: {err}") from err
-            warnings.warn(f"{self.path}: finishing the log failed: {err}", LogRecovered,
-                          stacklevel=2)  # fmt: skip
+            warnings.warn(
+                f"{self.path}: finishing the log failed: {err}", LogRecovered, stacklevel=2
+            )
         finally:
             self._file = None
             if self._stream is not None:
                 self._stream.close()
 
+    def _finish(self, result: Result, status: str, cause: str) -> None:
+        self._file.metadata(
+            "pinwind.end",
+            _json_record(
+                {
+                    "status": status,
+                    "cause": cause,
+                    "samples_simulated": len(result),
+                    "samples_logged": self.samples_logged,
+                    "log_error": str(self._failed) if self._failed else "",
+                    "wall_time_s": result.metadata.get("wall_time_s"),
+                    "ended_utc": _utc_now(),
+                }
+            ),
+        )
+        self._file.finish()
+
     # --- chunks ----------------------------------------------------------------------------
 
-    def _write_chunk(self, result: Result, rows: np.ndarray) -> None:
+    def _assemble(self, result: Result, rows: np.ndarray) -> tuple[np.ndarray, dict]:
+        """Message records of samples ``rows`` in time order (bytes), and each channel's index.
+
+        Each sample is one row: a record per channel, /tf last. /tf payloads grow with the
+        stamp's varint length, so rows are laid out run by run of equal /tf length.
+        """
         log_time = np.rint(result.time[rows] * 1e9).astype(np.uint64)
-        blocks = [
-            _message_records(
-                self._joint_channel, rows, log_time,
+        payloads = [
+            (
+                self._joint_channel,
                 self._joint_codec.encode(
                     log_time, result.angle[rows], result.speed[rows], result.torque[rows]
                 ),
             )
-        ]  # fmt: skip
-        channels = [self._joint_channel]
+        ]
         for topic, codec, channel in self._arrays:
             values = _topic_values(result, topic, rows, self._terms)
-            blocks.append(_message_records(channel, rows, log_time, codec.encode(values)))
-            channels.append(channel)
-        fixed = np.concatenate(blocks, axis=1)
-        columns = np.cumsum([0] + [b.shape[1] for b in blocks[:-1]])
-        # /tf payload lengths change with the stamp's varint length: assemble run by run.
-        pieces, row_length = [], np.empty(len(rows), dtype=np.uint64)
-        for a, b, payloads in self._tf_codec.encode_runs(
+            payloads.append((channel, codec.encode(values)))
+        runs = self._tf_codec.encode_runs(
             log_time, result.body_position[rows], result.body_quaternion[rows]
-        ):
-            tf = _message_records(self._tf_channel, rows[a:b], log_time[a:b], payloads)
-            pieces.append(np.concatenate([fixed[a:b], tf], axis=1).tobytes())
-            row_length[a:b] = fixed.shape[1] + tf.shape[1]
-        row_start = np.concatenate([[0], np.cumsum(row_length)[:-1]]).astype(np.uint64)
-        data = b"".join(pieces)
-        index = {
-            channel: np.stack([log_time, row_start + np.uint64(column)], axis=1)
-            for channel, column in zip(channels, columns, strict=True)
-        }
-        index[self._tf_channel] = np.stack(
-            [log_time, row_start + np.uint64(fixed.shape[1])], axis=1
         )
-        self._file.chunk(data, index)
+        width = RECORD_HEADER.itemsize
+        columns = np.cumsum([0] + [width + p.shape[1] for _, p in payloads])
+        fixed = int(columns[-1])
+        row_length = np.empty(len(rows), dtype=np.int64)
+        for a, b, tf in runs:
+            row_length[a:b] = fixed + width + tf.shape[1]
+        row_start = np.concatenate([[0], np.cumsum(row_length)[:-1]])
+        data = np.empty(int(row_length.sum()), dtype=np.uint8)
+        head = np.empty(len(rows), dtype=RECORD_HEADER)
+        head["op"] = Opcode.MESSAGE
+        head["sequence"] = rows
+        head["log_time"] = log_time
+        head["publish_time"] = log_time
+        head_bytes = head.view(np.uint8).reshape(len(rows), width)
+        for a, b, tf in runs:
+            block = data[row_start[a] : row_start[a] + (b - a) * row_length[a]]
+            block = block.reshape(b - a, row_length[a])
+            for (channel, payload), column in zip(
+                [*payloads, (self._tf_channel, tf)], [*columns[:-1], fixed], strict=True
+            ):
+                rows_ab = slice(a, b) if channel != self._tf_channel else slice(None)
+                head["length"][a:b] = 22 + payload.shape[1]
+                head["channel"][a:b] = channel
+                block[:, column : column + width] = head_bytes[a:b]
+                block[:, column + width : column + width + payload.shape[1]] = payload[rows_ab]
+        offsets = row_start.astype(np.uint64)
+        index = {
+            channel: np.stack([log_time, offsets + np.uint64(column)], axis=1)
+            for (channel, _), column in zip(payloads, columns[:-1], strict=True)
+        }
+        index[self._tf_channel] = np.stack([log_time, offsets + np.uint64(fixed)], axis=1)
+        return data, index
 
 
 def model_geometry(gearbox) -> dict[str, Any]:
@@ -682,145 +610,6 @@ class LogFile:
         return next(iter(self.attachments.values()), b"").decode("utf-8")
 
 
-@dataclass
-class _Scan:
-    """Raw contents of an MCAP file, gathered record by record."""
-
-    library: str = ""
-    schemas: dict[int, Schema] = field(default_factory=dict)
-    channels: dict[int, Channel] = field(default_factory=dict)
-    metadata: dict[str, dict[str, str]] = field(default_factory=dict)
-    attachments: dict[str, bytes] = field(default_factory=dict)
-    #: channel → lists of sequence, log time and payload
-    messages: dict[int, tuple[list[int], list[int], list[bytes]]] = field(
-        default_factory=lambda: defaultdict(lambda: ([], [], []))
-    )
-    data_end: bool = False
-    problem: str = ""
-
-
-_MESSAGE_HEAD = struct.Struct("<BQHIQQ")
-_OPCODE_NAMES = {int(op): op.name.lower().replace("_", " ") for op in Opcode}
-
-
-def _parse(record_type, body: memoryview):
-    return record_type.read(ReadDataStream(BytesIO(body)))
-
-
-def _decompress(chunk: Chunk) -> bytes:
-    if chunk.compression == "":
-        return bytes(chunk.data)
-    if chunk.compression == "zstd":
-        import zstandard
-
-        return zstandard.ZstdDecompressor().decompress(
-            chunk.data, max_output_size=chunk.uncompressed_size
-        )
-    if chunk.compression == "lz4":
-        import lz4.frame
-
-        return lz4.frame.decompress(chunk.data)
-    raise ValueError(f'unknown compression "{chunk.compression}"')
-
-
-def _chunk_messages(scan: _Scan, data: bytes, where: str) -> None:
-    view = memoryview(data)
-    pos, size = 0, len(data)
-    while pos < size:
-        if pos + 9 > size:
-            raise ValueError(f"{where}: a record header runs past the end of the chunk")
-        opcode, length = struct.unpack_from("<BQ", view, pos)
-        end = pos + 9 + length
-        if end > size:
-            raise ValueError(f"{where}: a record runs past the end of the chunk")
-        if opcode == Opcode.MESSAGE:
-            _, _, channel, sequence, log_time, _ = _MESSAGE_HEAD.unpack_from(view, pos)
-            seqs, times, payloads = scan.messages[channel]
-            seqs.append(sequence)
-            times.append(log_time)
-            payloads.append(view[pos + 31 : end])
-        elif opcode == Opcode.SCHEMA:
-            schema = _parse(Schema, view[pos + 9 : end])
-            scan.schemas[schema.id] = schema
-        elif opcode == Opcode.CHANNEL:
-            channel = _parse(Channel, view[pos + 9 : end])
-            scan.channels[channel.id] = channel
-        pos = end
-
-
-def _scan(path: Path, data: bytes) -> _Scan:
-    """Read the data section record by record; stop at a cut and say where."""
-    scan = _Scan()
-    view = memoryview(data)
-    size = len(data)
-    pos = len(MAGIC)
-    while pos < size:
-        if pos + 9 > size:
-            scan.problem = f"the file ends inside a record header at byte {pos}"
-            break
-        opcode, length = struct.unpack_from("<BQ", view, pos)
-        name = _OPCODE_NAMES.get(opcode)
-        if name is None:
-            raise LogError(
-                str(path),
-                f"unknown MCAP record type 0x{opcode:02x} at byte {pos}: the file is corrupted",
-            )
-        end = pos + 9 + length
-        if end > size:
-            scan.problem = (
-                f"the file ends inside a {name} record at byte {pos} ({size - pos} of "
-                f"{length + 9} bytes present)"
-            )
-            break
-        body = view[pos + 9 : end]
-        try:
-            if opcode == Opcode.HEADER:
-                scan.library = _parse(Header, body).library
-            elif opcode == Opcode.SCHEMA:
-                schema = _parse(Schema, body)
-                scan.schemas[schema.id] = schema
-            elif opcode == Opcode.CHANNEL:
-                channel = _parse(Channel, body)
-                scan.channels[channel.id] = channel
-            elif opcode == Opcode.METADATA:
-                record = _parse(Metadata, body)
-                scan.metadata[record.name] = dict(record.metadata)
-            elif opcode == Opcode.ATTACHMENT:
-                stored = struct.unpack_from("<I", body, len(body) - 4)[0]
-                if stored and stored != zlib.crc32(body[:-4]):
-                    raise ValueError(f"attachment at byte {pos} fails its CRC check")
-                attachment = _parse(Attachment, body)
-                scan.attachments[attachment.name] = bytes(attachment.data)
-            elif opcode == Opcode.CHUNK:
-                chunk = _parse(Chunk, body)
-                records = _decompress(chunk)
-                if len(records) != chunk.uncompressed_size:
-                    raise ValueError(f"chunk at byte {pos} decompresses to the wrong size")
-                if chunk.uncompressed_crc and zlib.crc32(records) != chunk.uncompressed_crc:
-                    raise ValueError(f"chunk at byte {pos} fails its CRC check")
-                _chunk_messages(scan, records, f"chunk at byte {pos}")
-            elif opcode == Opcode.MESSAGE:
-                _, _, channel, sequence, log_time, _ = _MESSAGE_HEAD.unpack_from(view, pos)
-                seqs, times, payloads = scan.messages[channel]
-                seqs.append(sequence)
-                times.append(log_time)
-                payloads.append(view[pos + 31 : end])
-            elif opcode in (Opcode.DATA_END, Opcode.FOOTER):
-                scan.data_end = True
-                break
-        except LogError:
-            raise
-        except Exception as err:  # zstd, struct, UTF-8, CRC: the bytes are damaged
-            raise LogError(
-                str(path), f"{name} record at byte {pos} is damaged ({err}): the file is corrupted"
-            ) from err
-        pos = end
-    else:
-        if not scan.data_end:
-            scan.problem = f"the file ends at byte {size} without a data-end record or footer"
-    return scan
-
-
 def _json_values(record: dict[str, str]) -> dict[str, Any]:
     out = {}
     for key, text in record.items():
@@ -855,8 +644,13 @@ def open_log(path: str | os.PathLike) -> LogFile:
         raise LogError(
             str(path), f"not an MCAP file (it {what}, not the MCAP magic bytes \\x89MCAP0\\r\\n)"
         )
-    scan = _scan(path, data)
+    try:
+        scan = read_records(data)
+    except DamagedFile as err:
+        raise LogError(str(path), str(err)) from err
     ident = scan.metadata.get("pinwind")
+    if ident is None and scan.problem and scan.library.startswith("pinwind"):
+        raise LogError(str(path), f"{scan.problem}, before the run's metadata: nothing to recover")
     if ident is None or ident.get("format") != FORMAT:
         topics = sorted({c.topic for c in scan.channels.values()})
         raise LogError(
@@ -876,7 +670,8 @@ def open_log(path: str | os.PathLike) -> LogFile:
     metadata = {name: _json_values(rec) for name, rec in scan.metadata.items()}
     for required in ("pinwind.run", "pinwind.model"):
         if required not in metadata:
-            raise LogError(str(path), f"the '{required}' metadata record is missing")
+            why = f": {scan.problem}" if scan.problem else ""
+            raise LogError(str(path), f"the '{required}' metadata record is missing{why}")
     try:
         result = _result(scan, metadata)
     except PayloadError as err:
@@ -946,19 +741,25 @@ def read_log(path: str | os.PathLike) -> Result:
     return log.result
 
 
-def _result(scan: _Scan, metadata: dict[str, dict[str, Any]]) -> Result:
+def _result(scan: Scan, metadata: dict[str, dict[str, Any]]) -> Result:
     """Decode every topic and align them on the sample index (message sequence)."""
     model = metadata["pinwind.model"]
     names = {key: list(model.get(key, [])) for key in (*_NAMES_OF.values(), "body_names")}
     by_topic = {c.topic: c.id for c in scan.channels.values()}
 
     def payloads(topic: str):
+        """(sequences, payloads) of a topic in sample order, or None when it has no messages."""
         channel = by_topic.get(topic)
-        if channel is None or channel not in scan.messages:
+        if channel is None or not scan.messages.get(channel):
             return None
-        seqs, _, data = scan.messages[channel]
-        order = np.argsort(np.asarray(seqs, dtype=np.int64), kind="stable")
-        return np.asarray(seqs, dtype=np.int64)[order], [data[i] for i in order]
+        blocks = scan.messages[channel]
+        seqs = np.concatenate([b[0] for b in blocks])
+        order = np.argsort(seqs, kind="stable")
+        arrays = [b[2] for b in blocks if isinstance(b[2], np.ndarray)]
+        if len(arrays) == len(blocks) and len({a.shape[1] for a in arrays}) == 1:
+            return seqs[order], np.concatenate(arrays)[order]
+        flat = [bytes(p) for b in blocks for p in b[2]]
+        return seqs[order], [flat[i] for i in order]
 
     decoded: dict[str, tuple[np.ndarray, Any]] = {}
     joints = payloads(JOINTS_TOPIC)
@@ -982,14 +783,13 @@ def _result(scan: _Scan, metadata: dict[str, dict[str, Any]]) -> Result:
     if tf is not None:
         codec = FrameTransformsCodec(WORLD_FRAME, names["body_names"])
         decoded[TF_TOPIC] = (tf[0], codec.decode(tf[1], TF_TOPIC))
-    if "/run/time" not in decoded:
-        raise PayloadError("the log has no /run/time messages")
+    if decoded and "/run/time" not in decoded:
+        raise PayloadError("the log has samples but no /run/time messages")
 
     # Samples present on every topic (a cut file may end mid-way through a chunk of another tool).
-    common = None
-    for seqs, _ in decoded.values():
-        common = seqs if common is None else np.intersect1d(common, seqs)
-    assert common is not None
+    common = np.zeros(0, dtype=np.int64)
+    for i, (seqs, _) in enumerate(decoded.values()):
+        common = seqs if i == 0 else np.intersect1d(common, seqs)
 
     def pick(topic: str):
         seqs, values = decoded[topic]

@@ -307,18 +307,30 @@ def _varint_columns(values: np.ndarray, length: int) -> np.ndarray:
 #: double written with its tag (x = 1, y = 2, z = 3, w = 4), zeros included.
 _POSE_DTYPE = np.dtype(
     [
-        ("t_tag", "u1"), ("t_len", "u1"),
-        ("x_tag", "u1"), ("x", "<f8"), ("y_tag", "u1"), ("y", "<f8"),
-        ("z_tag", "u1"), ("z", "<f8"),
-        ("r_tag", "u1"), ("r_len", "u1"),
-        ("qx_tag", "u1"), ("qx", "<f8"), ("qy_tag", "u1"), ("qy", "<f8"),
-        ("qz_tag", "u1"), ("qz", "<f8"), ("qw_tag", "u1"), ("qw", "<f8"),
+        ("t_tag", "u1"),
+        ("t_len", "u1"),
+        ("x_tag", "u1"),
+        ("x", "<f8"),
+        ("y_tag", "u1"),
+        ("y", "<f8"),
+        ("z_tag", "u1"),
+        ("z", "<f8"),
+        ("r_tag", "u1"),
+        ("r_len", "u1"),
+        ("qx_tag", "u1"),
+        ("qx", "<f8"),
+        ("qy_tag", "u1"),
+        ("qy", "<f8"),
+        ("qz_tag", "u1"),
+        ("qz", "<f8"),
+        ("qw_tag", "u1"),
+        ("qw", "<f8"),
     ]
-)  # fmt: skip
+)
 
 
 class FrameTransformsCodec:
-    """foxglove.FrameTransforms: one transform parent → child per link, stamped with the sample time.
+    """foxglove.FrameTransforms: a transform parent → child per link, stamped with the sample time.
 
     The protobuf bytes are assembled with numpy and read back with the protobuf library. Every
     double is written with its tag, zeros included (valid protobuf; a parser reads the same
@@ -330,13 +342,11 @@ class FrameTransformsCodec:
         self.parent = parent
         self.children = list(children)
         self._names = [_field(2, parent.encode()) + _field(3, c.encode()) for c in self.children]
-        self._layouts: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._layouts: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
-    def _layout(self, sec_len: int, nanos_len: int):
-        """Template row and the columns of the stamp and pose bytes, per stamp encoding."""
-        key = (sec_len, nanos_len)
-        if key not in self._layouts:
-            stamp = (1 + sec_len if sec_len else 0) + (1 + nanos_len if nanos_len else 0)
+    def _layout(self, stamp: int):
+        """Template row and the columns of the stamp and pose bytes, for a stamp of that size."""
+        if stamp not in self._layouts:
             row, stamp_cols, pose_cols = bytearray(), [], []
             for names in self._names:
                 size = 2 + stamp + len(names) + _POSE_DTYPE.itemsize
@@ -345,12 +355,12 @@ class FrameTransformsCodec:
                 row += bytes(stamp) + names
                 pose_cols.append(len(row) + np.arange(_POSE_DTYPE.itemsize))
                 row += bytes(_POSE_DTYPE.itemsize)
-            self._layouts[key] = (
+            self._layouts[stamp] = (
                 np.frombuffer(bytes(row), dtype=np.uint8),
                 np.concatenate(stamp_cols),
                 np.concatenate(pose_cols),
             )
-        return self._layouts[key]
+        return self._layouts[stamp]
 
     def encode_runs(
         self, log_time_ns: np.ndarray, position: np.ndarray, quaternion: np.ndarray
@@ -364,6 +374,8 @@ class FrameTransformsCodec:
         """
         ns = np.asarray(log_time_ns, dtype=np.uint64)
         n, nl = len(ns), len(self.children)
+        if n == 0:
+            return []
         poses = np.zeros((n, nl), dtype=_POSE_DTYPE)
         poses["t_tag"], poses["t_len"] = 0x22, 27
         poses["r_tag"], poses["r_len"] = 0x2A, 36
@@ -384,14 +396,19 @@ class FrameTransformsCodec:
         out = []
         for start, stop in zip(np.r_[0, breaks], np.r_[breaks, n], strict=True):
             s_len, n_len = int(sec_len[start]), int(nanos_len[start])
-            template, stamp_cols, pose_cols = self._layout(s_len, n_len)
+            stamp = (1 + s_len if s_len else 0) + (1 + n_len if n_len else 0)
+            template, stamp_cols, pose_cols = self._layout(stamp)
             parts = []
             if s_len:
-                parts += [np.full((stop - start, 1), 0x08, np.uint8),
-                          _varint_columns(sec[start:stop], s_len)]  # fmt: skip
+                parts += [
+                    np.full((stop - start, 1), 0x08, np.uint8),
+                    _varint_columns(sec[start:stop], s_len),
+                ]
             if n_len:
-                parts += [np.full((stop - start, 1), 0x10, np.uint8),
-                          _varint_columns(nanos[start:stop], n_len)]  # fmt: skip
+                parts += [
+                    np.full((stop - start, 1), 0x10, np.uint8),
+                    _varint_columns(nanos[start:stop], n_len),
+                ]
             rows = np.empty((stop - start, len(template)), dtype=np.uint8)
             rows[:] = template
             if parts:
@@ -410,19 +427,66 @@ class FrameTransformsCodec:
             for row in rows
         ]
 
-    def decode(self, payloads: list[bytes], topic: str = "") -> tuple[np.ndarray, np.ndarray]:
-        """Payloads → positions (n, links, 3) and quaternions (n, links, 4), links by child name."""
+    def decode(
+        self, payloads: list[bytes] | np.ndarray, topic: str = ""
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Payloads → positions (n, links, 3) and quaternions (n, links, 4), links by child name.
+
+        Payloads laid out as ``encode`` writes them are read with numpy views; any other valid
+        FrameTransforms is parsed with the protobuf library.
+        """
+        if isinstance(payloads, np.ndarray):
+            payloads = [row.tobytes() for row in payloads]
+        n, nl = len(payloads), len(self.children)
+        position = np.zeros((n, nl, 3))
+        quaternion = np.zeros((n, nl, 4))
+        seen = np.zeros((n, nl), dtype=bool)
+        lengths = np.array([len(p) for p in payloads], dtype=np.int64)
+        slow = []
+        for length in np.unique(lengths):
+            rows = np.flatnonzero(lengths == length)
+            fixed = self._fixed_layout(int(length))
+            if fixed is None:
+                slow.extend(rows)
+                continue
+            template, stamp_cols, pose_cols = fixed
+            block = np.frombuffer(b"".join(payloads[i] for i in rows), np.uint8)
+            block = block.reshape(len(rows), int(length))
+            constant = np.ones(int(length), dtype=bool)
+            constant[stamp_cols] = False
+            constant[pose_cols] = False
+            same = np.all(block[:, constant] == template[constant], axis=1)
+            slow.extend(rows[~same])
+            good = rows[same]
+            poses = np.ascontiguousarray(block[same][:, pose_cols]).view(_POSE_DTYPE)
+            poses = poses.reshape(len(good), nl)
+            position[good] = np.stack([poses[k] for k in "xyz"], axis=-1)
+            quaternion[good] = np.stack([poses[k] for k in ("qx", "qy", "qz", "qw")], axis=-1)
+            seen[good] = True
+        if slow:
+            self._decode_protobuf(payloads, sorted(slow), position, quaternion, seen, topic)
+        missing = [c for i, c in enumerate(self.children) if not seen[:, i].all()]
+        if missing:
+            raise PayloadError(f"{topic}: no transform for link(s) {', '.join(missing)}")
+        return position, quaternion
+
+    def _fixed_layout(self, length: int):
+        """The ``encode`` layout of payloads ``length`` bytes long, if there is one."""
+        for stamp in range(0, 18):  # a Timestamp holds at most 1 + 10 + 1 + 5 bytes
+            layout = self._layout(stamp)
+            if len(layout[0]) == length:
+                return layout
+        return None
+
+    def _decode_protobuf(self, payloads, rows, position, quaternion, seen, topic) -> None:
         from foxglove_schemas_protobuf.FrameTransforms_pb2 import FrameTransforms
         from google.protobuf.message import DecodeError
 
         index = {name: i for i, name in enumerate(self.children)}
-        n, nl = len(payloads), len(self.children)
-        position = np.full((n, nl, 3), np.nan)
-        quaternion = np.full((n, nl, 4), np.nan)
         msg = FrameTransforms()
-        for k, payload in enumerate(payloads):
+        for k in rows:
             try:
-                msg.ParseFromString(bytes(payload))
+                msg.ParseFromString(bytes(payloads[k]))
             except DecodeError as err:
                 raise PayloadError(f"{topic}: message {k} is not a FrameTransforms: {err}") from err
             for tf in msg.transforms:
@@ -432,7 +496,4 @@ class FrameTransformsCodec:
                 t, r = tf.translation, tf.rotation
                 position[k, i] = (t.x, t.y, t.z)
                 quaternion[k, i] = (r.x, r.y, r.z, r.w)
-        missing = [c for c, i in index.items() if np.isnan(position[:, i]).any()]
-        if missing:
-            raise PayloadError(f"{topic}: no transform for link(s) {', '.join(missing)}")
-        return position, quaternion
+                seen[k, i] = True

@@ -6,8 +6,9 @@
   ``gearbox/<link>/<gear>``: a cylinder of pitch diameter × face width and the tooth outline of
   each face (z, m and the axis from the log's ``pinwind.model`` record); the outline shows the
   turning. Internal gears get a wireframe so that they do not hide what they enclose.
-- ``gearbox/mesh_forces``: the tooth force on gear B at each pitch point; ``gearbox/bearing_forces``:
-  the reaction on each bearing's child body at the bearing centre (the child link origin). Each
+- ``gearbox/mesh_forces``: the tooth force on gear B at each pitch point;
+  ``gearbox/bearing_forces``: the reaction on each bearing's child body at the bearing centre
+  (the child link origin). Each
   family is scaled so that its largest force of the run is drawn half as long as the largest
   pitch radius; ``gearbox/scale`` states the scales.
 - ``plots/speed/<joint>`` [rpm], ``plots/mesh_force/<mesh>`` (normal force) [kN] and
@@ -37,9 +38,15 @@ ARROW_FRACTION = 0.5
 TIMELINE = "time"
 
 _PALETTE = [
-    (230, 159, 0), (86, 180, 233), (0, 158, 115), (240, 228, 66),
-    (0, 114, 178), (213, 94, 0), (204, 121, 167), (153, 153, 153),
-]  # fmt: skip
+    (230, 159, 0),
+    (86, 180, 233),
+    (0, 158, 115),
+    (240, 228, 66),
+    (0, 114, 178),
+    (213, 94, 0),
+    (204, 121, 167),
+    (153, 153, 153),
+]
 
 
 def tooth_outline(gear: dict, z: float) -> np.ndarray:
@@ -215,11 +222,13 @@ def send_log(log: LogFile, recording) -> None:
         notes.append(f"bearing forces (on the child body, world): {1e3 * scale:.4g} mm per N")
     rr.log(
         "gearbox/scale",
-        rr.TextDocument("Arrow scales\n\n" + "\n".join(f"- {note}" for note in notes),
-                        media_type="text/markdown"),
+        rr.TextDocument(
+            "Arrow scales\n\n" + "\n".join(f"- {note}" for note in notes),
+            media_type="text/markdown",
+        ),
         static=True,
         recording=recording,
-    )  # fmt: skip
+    )
 
     def plot(path: str, label: str, values: np.ndarray) -> None:
         rr.log(path, rr.SeriesLines(names=[label]), static=True, recording=recording)

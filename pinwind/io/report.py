@@ -49,22 +49,33 @@ class Row:
 
 def _series(res: Result) -> Iterator[tuple[str, str, str, str, str, np.ndarray]]:
     """(group, element, quantity, component, unit, values) of every reported series."""
-    joint = (("angle", res.angle, "rad"), ("speed", res.speed, "rad/s"),
-             ("acceleration", res.acceleration, "rad/s^2"), ("torque", res.torque, "N*m"))  # fmt: skip
+    joint = (
+        ("angle", res.angle, "rad"),
+        ("speed", res.speed, "rad/s"),
+        ("acceleration", res.acceleration, "rad/s^2"),
+        ("torque", res.torque, "N*m"),
+    )
     for i, name in enumerate(res.joint_names):
         for quantity, values, unit in joint:
             yield "joint", name, quantity, "", unit, values[:, i]
-    mesh = (("normal", res.mesh_normal, "N"), ("tangential", res.mesh_tangential, "N"),
-            ("radial", res.mesh_radial, "N"), ("axial", res.mesh_axial, "N"),
-            ("flank", res.mesh_flank, "1"), ("transmission error", res.transmission_error, "m"))  # fmt: skip
+    mesh = (
+        ("normal", res.mesh_normal, "N"),
+        ("tangential", res.mesh_tangential, "N"),
+        ("radial", res.mesh_radial, "N"),
+        ("axial", res.mesh_axial, "N"),
+        ("flank", res.mesh_flank, "1"),
+        ("transmission error", res.transmission_error, "m"),
+    )
     for i, name in enumerate(res.mesh_names):
         for quantity, values, unit in mesh:
             yield "mesh", name, quantity, "", unit, values[:, i]
         yield from _vector("mesh", name, "force on B (world)", "N", res.mesh_force_on_b[:, i])
-    bearing = (("force (world)", res.bearing_force, "N"),
-               ("moment (world)", res.bearing_moment, "N*m"),
-               ("force (joint frame)", res.bearing_force_local, "N"),
-               ("moment (joint frame)", res.bearing_moment_local, "N*m"))  # fmt: skip
+    bearing = (
+        ("force (world)", res.bearing_force, "N"),
+        ("moment (world)", res.bearing_moment, "N*m"),
+        ("force (joint frame)", res.bearing_force_local, "N"),
+        ("moment (joint frame)", res.bearing_moment_local, "N*m"),
+    )
     for i, name in enumerate(res.bearing_names):
         for quantity, values, unit in bearing:
             yield from _vector("bearing", name, quantity, unit, values[:, i])
@@ -161,8 +172,11 @@ def report_tables(
             table.add_column(column.upper() if column == "rms" else column, justify=justify)
         for r in members:
             table.add_row(
-                r.element, r.quantity, r.component, r.unit,
+                r.element,
+                r.quantity,
+                r.component,
+                r.unit,
                 *(f"{getattr(r, s):.6g}" for s in STATISTICS),
-            )  # fmt: skip
+            )
         tables.append(table)
     return tables

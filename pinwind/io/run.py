@@ -22,12 +22,20 @@ DEFAULT_LOG_FOLDER = Path("logs")
 
 
 def log_path(log: str | os.PathLike | bool, model_name: str) -> Path:
-    """Where a log goes: ``True`` → ``logs/<model>_<UTC time>.mcap``; a bare file name →
-    ``logs/<name>``; a path with a folder → as given.
+    """Where a log goes.
+
+    ``True`` gives a new ``logs/<model>_<UTC time to the ms>.mcap`` (with ``_2``, ``_3``, ... if
+    that name is taken); a bare file name goes in ``logs/``; a path with a folder is used as given.
     """
     if log is True:
-        stamp = datetime.now(timezone.utc).strftime("%Y%m%dT%H%M%SZ")
-        return DEFAULT_LOG_FOLDER / f"{model_name}_{stamp}.mcap"
+        now = datetime.now(timezone.utc)
+        stem = f"{model_name}_{now:%Y%m%dT%H%M%S}.{now.microsecond // 1000:03d}Z"
+        path = DEFAULT_LOG_FOLDER / f"{stem}.mcap"
+        count = 1
+        while path.exists():
+            count += 1
+            path = DEFAULT_LOG_FOLDER / f"{stem}_{count}.mcap"
+        return path
     path = Path(log)
     if path.parent == Path("."):
         return DEFAULT_LOG_FOLDER / path

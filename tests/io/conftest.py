@@ -1,0 +1,52 @@
+"""Logged runs shared by the log tests: the Saleh planetary stage under a time-varying torque."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+import pinwind
+from pinwind.dynamics.result import Result
+from tests.conftest import MODELS
+
+PLANETARY = MODELS / "saleh2017_planetary.urdf"
+DT = 1e-3
+DURATION = 0.25
+#: Samples per observer call (and per MCAP chunk) in the shared run: 251 samples → 100, 100, 51.
+CHUNK = 100
+
+
+class RotorTorque:
+    """1 MN·m on the carrier with a 20 % ripple at 7 Hz, so that every series moves."""
+
+    description = "1e6 N·m · (1 + 0.2 sin(2π·7 Hz·t))"
+
+    def __call__(self, t: float) -> float:
+        return 1.0e6 * (1.0 + 0.2 * math.sin(2.0 * math.pi * 7.0 * t))
+
+
+TORQUES = {"carrier": RotorTorque(), "sun": -1.0e6 / 6.0}
+
+
+@dataclass
+class LoggedRun:
+    result: Result
+    path: Path
+
+
+@pytest.fixture(scope="session")
+def planetary() -> pinwind.Gearbox:
+    return pinwind.load(PLANETARY)
+
+
+@pytest.fixture(scope="session")
+def logged_run(planetary, tmp_path_factory) -> LoggedRun:
+    """The planetary run, in memory and logged at full rate in chunks of 100 samples."""
+    path = tmp_path_factory.mktemp("logs") / "planetary.mcap"
+    result = pinwind.simulate(
+        planetary, duration=DURATION, dt=DT, torques=TORQUES, log=path, chunk=CHUNK
+    )
+    return LoggedRun(result, path)

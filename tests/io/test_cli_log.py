@@ -1,0 +1,202 @@
+"""The command line with logs: --out/--force/--log-rate, SIGTERM and SIGKILL, rerun's converter."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rerun.chunk import RrdReader
+
+import pinwind
+from pinwind.errors import LogRecovered
+from pinwind.io.mcap_log import open_log
+from tests.io.conftest import PLANETARY
+
+ENV = {**os.environ, "RERUN_ANALYTICS": "0"}
+
+
+def run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "pinwind", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=cwd,
+        env=ENV,
+    )
+
+
+def rerun_cli() -> str:
+    found = Path(sys.executable).with_name("rerun")
+    if found.exists():
+        return str(found)
+    which = shutil.which("rerun")
+    if which is None:
+        pytest.skip("the rerun CLI is not installed")
+    return which
+
+
+SIMULATE = (
+    "simulate",
+    str(PLANETARY),
+    "-t",
+    "carrier=1e6",
+    "-t",
+    "sun=-166666.6666666667",
+    "--dt",
+    "1e-3",
+    "--no-progress",
+)
+
+
+def test_simulate_writes_the_log_and_never_overwrites_it_without_force(tmp_path):
+    out = run(*SIMULATE, "--duration", "0.02", "--out", "run.mcap", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    log = tmp_path / "logs" / "run.mcap"
+    assert f"log: {Path('logs') / 'run.mcap'}" in out.stdout
+    assert len(pinwind.read_log(log)) == 21
+    again = run(*SIMULATE, "--duration", "0.05", "--out", "run.mcap", cwd=tmp_path)
+    assert again.returncode == 2
+    assert "logs/run.mcap: the file already exists" in again.stderr
+    assert "Traceback" not in again.stderr
+    assert len(pinwind.read_log(log)) == 21
+    forced = run(*SIMULATE, "--duration", "0.05", "--out", "run.mcap", "--force", cwd=tmp_path)
+    assert forced.returncode == 0, forced.stderr
+    assert len(pinwind.read_log(log)) == 51
+
+
+def test_simulate_logs_by_default_in_logs_and_records_the_command_line(tmp_path):
+    out = run(*SIMULATE, "--duration", "0.01", "--log-rate", "500", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    (log,) = (tmp_path / "logs").glob("saleh2017_planetary_*.mcap")
+    data = open_log(log)
+    assert data.metadata["pinwind"]["command"] == "pinwind " + " ".join(
+        [*SIMULATE, "--duration", "0.01", "--log-rate", "500"]
+    )
+    np.testing.assert_array_equal(data.result.time, np.arange(0, 11, 2) * 1e-3)
+
+
+def _start_long_run(log: Path) -> subprocess.Popen:
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "1000", "--out", str(log)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        env=ENV,
+        text=True,
+    )
+    deadline = time.monotonic() + 60
+    # Wait until two chunks of 1000 samples are on disk (about 0.9 MB each).
+    while not (log.exists() and log.stat().st_size > 2_000_000):
+        if proc.poll() is not None or time.monotonic() > deadline:
+            proc.kill()
+            pytest.fail(f"the run did not start logging: {proc.stderr.read()}")
+        time.sleep(0.05)
+    return proc
+
+
+def test_sigterm_stops_the_run_with_a_complete_log_and_end_status(tmp_path):
+    log = tmp_path / "term.mcap"
+    proc = _start_long_run(log)
+    proc.send_signal(signal.SIGTERM)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 143, stderr
+    assert "terminated (received SIGTERM)" in stderr
+    data = open_log(log)
+    assert data.complete
+    end = data.metadata["pinwind.end"]
+    assert end["status"].startswith("interrupted at step")
+    assert end["cause"] == "Terminated: received SIGTERM"
+    assert end["samples_logged"] == len(data.result) >= 2000
+    clean = pinwind.simulate(
+        pinwind.load(PLANETARY),
+        duration=0.999,
+        dt=1e-3,
+        torques={"carrier": 1e6, "sun": -166666.6666666667},
+    )
+    np.testing.assert_array_equal(data.result.mesh_normal[:1000], clean.mesh_normal)
+    np.testing.assert_array_equal(data.result.body_quaternion[:1000], clean.body_quaternion)
+
+
+def test_sigkill_leaves_a_log_whose_complete_chunks_are_recovered(tmp_path):
+    log = tmp_path / "kill.mcap"
+    proc = _start_long_run(log)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.communicate(timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+    with pytest.warns(LogRecovered, match="without a data-end record"):
+        data = open_log(log)
+    assert not data.complete and "no end-status record" in data.result.status
+    n = len(data.result)
+    assert n >= 2000 and n % 1000 == 0  # whole chunks only
+    np.testing.assert_array_equal(data.result.time, np.arange(n) * 1e-3)
+
+
+def test_report_of_a_damaged_log_is_one_line_without_traceback(logged_run, tmp_path):
+    bad = tmp_path / "bad.mcap"
+    data = bytearray(logged_run.path.read_bytes())
+    data[len(data) // 2 : len(data) // 2 + 64] = bytes(64)
+    bad.write_bytes(bytes(data))
+    out = run("report", str(bad))
+    assert out.returncode == 2
+    assert str(bad) in out.stderr and "corrupted" in out.stderr
+    assert "Traceback" not in out.stderr
+
+
+def test_rerun_cli_converts_the_log_into_time_series(logged_run, tmp_path):
+    rrd = tmp_path / "converted.rrd"
+    out = subprocess.run(
+        [rerun_cli(), "mcap", "convert", str(logged_run.path), "-o", str(rrd)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env=ENV,
+    )
+    assert out.returncode == 0, out.stderr
+    columns: dict[str, dict[str, list]] = {}
+    for chunk in RrdReader(rrd).stream().to_chunks():
+        batch = chunk.to_record_batch()
+        for name in batch.schema.names:
+            columns.setdefault(chunk.entity_path, {}).setdefault(name, []).append(
+                batch.column(name)
+            )
+    res = logged_run.result
+
+    def scalars(entity: str) -> np.ndarray:
+        parts = columns[entity]["Scalars:scalars"]
+        times = np.concatenate(
+            [t.to_numpy().astype(np.int64) for t in columns[entity]["message_log_time"]]
+        )
+        values = np.concatenate([p.flatten().to_numpy() for p in parts])
+        return values.reshape(len(times), -1)[np.argsort(times, kind="stable")]
+
+    np.testing.assert_array_equal(scalars("/meshes/normal"), res.mesh_normal)
+    np.testing.assert_array_equal(scalars("/joints/velocity"), res.speed)
+    np.testing.assert_array_equal(
+        scalars("/bearings/force").reshape(-1, len(res.bearing_names), 3), res.bearing_force
+    )
+    names = columns["/joints/velocity"]["SeriesLines:names"][0].flatten().to_pylist()
+    assert names[: len(res.joint_names)] == res.joint_names
+    assert "Transform3D:translation" in columns["/tf"]
+    visuals = [e for e in columns if e.startswith("/saleh2017_planetary/visual_geometries/")]
+    assert visuals  # the model on /robot_description, through rerun's URDF loader
+
+
+def test_report_of_a_cut_log_warns_in_one_line_and_reports_the_recovered_samples(
+    logged_run, tmp_path
+):
+    cut = tmp_path / "cut.mcap"
+    data = logged_run.path.read_bytes()
+    cut.write_bytes(data[: len(data) * 3 // 4])
+    out = run("report", str(cut), "--json")
+    assert out.returncode == 0, out.stderr
+    assert out.stderr.startswith("warning: ") and "recovered" in out.stderr
+    assert "Traceback" not in out.stderr
+    assert json.loads(out.stdout)["status"].startswith("log cut short")

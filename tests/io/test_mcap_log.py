@@ -1,0 +1,361 @@
+"""MCAP logs: round trip, contents readable without pinwind, and faults (raise, interrupt, cut)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import warnings
+
+import numpy as np
+import pytest
+from mcap.reader import make_reader
+from mcap.stream_reader import StreamReader
+
+import pinwind
+from pinwind.errors import LogError, LogExists, LogRecovered
+from pinwind.io import mcap_log
+from pinwind.io.mcap_log import McapLogger, open_log
+from pinwind.io.messages import decode_string
+from pinwind.io.run import log_path
+from tests.io.conftest import CHUNK, DT, DURATION, PLANETARY, TORQUES
+
+
+def assert_same_arrays(actual: pinwind.Result, expected: pinwind.Result) -> None:
+    """Every array and name of two Results, bit for bit (float64 compared as raw bits)."""
+    for name in ("joint_names", "mesh_names", "bearing_names", "body_names"):
+        assert getattr(actual, name) == getattr(expected, name), name
+    for name in expected.ARRAYS:
+        a, b = getattr(actual, name), getattr(expected, name)
+        assert a.dtype == np.float64 and a.shape == b.shape, name
+        np.testing.assert_array_equal(a.view(np.uint64), b.view(np.uint64), err_msg=name)
+    assert list(actual.energy) == list(expected.energy)
+    for key, values in expected.energy.items():
+        np.testing.assert_array_equal(actual.energy[key], values, err_msg=key)
+
+
+# --- round trip ---------------------------------------------------------------------------------
+
+
+def test_read_log_returns_the_simulated_arrays_bit_for_bit(logged_run):
+    back = pinwind.read_log(logged_run.path)
+    assert len(back) == round(DURATION / DT) + 1
+    assert_same_arrays(back, logged_run.result)
+    assert back.status == "completed"
+
+
+def test_read_log_metadata_equals_the_run_metadata(logged_run):
+    back = pinwind.read_log(logged_run.path)
+    for key, value in logged_run.result.metadata.items():
+        if key == "log_path":
+            continue
+        assert back.metadata[key] == value, key
+
+
+def test_log_records_model_hash_versions_solver_dt_loads_and_call(logged_run):
+    log = open_log(logged_run.path)
+    run, ident = log.metadata["pinwind.run"], log.metadata["pinwind"]
+    text = PLANETARY.read_text(encoding="utf-8")
+    assert run["model_sha256"] == hashlib.sha256(text.encode("utf-8")).hexdigest()
+    assert run["dt"] == DT and run["duration"] == DURATION
+    assert run["solver"] == logged_run.result.metadata["solver"]
+    assert run["torques"]["carrier"] == TORQUES["carrier"].description
+    assert ident["pinwind_version"] == pinwind.__version__
+    assert ident["versions"]["proxsuite"] and ident["versions"]["pin"]
+    assert ident["command"].startswith("pinwind.simulate(pinwind.load(")
+    assert "1e6 N·m · (1 + 0.2 sin(2π·7 Hz·t))" in ident["command"]
+
+
+def test_log_attaches_the_model_file_verbatim_and_publishes_it(logged_run):
+    text = PLANETARY.read_text(encoding="utf-8")
+    with open(logged_run.path, "rb") as f:
+        reader = make_reader(f)
+        attachments = list(reader.iter_attachments())
+        descriptions = [
+            decode_string(m.data) for _, _, m in reader.iter_messages(topics=["/robot_description"])
+        ]
+    assert [a.name for a in attachments] == ["saleh2017_planetary.urdf"]
+    assert attachments[0].data.decode("utf-8") == text
+    assert open_log(logged_run.path).model_text == text
+    assert descriptions == [text]
+
+
+def test_official_mcap_reader_sees_every_message_with_valid_crcs(logged_run):
+    n = len(logged_run.result)
+    with open(logged_run.path, "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        counts = {}
+        for _, channel, _ in reader.iter_messages():
+            counts[channel.topic] = counts.get(channel.topic, 0) + 1
+    assert summary.statistics.message_count == sum(counts.values())
+    assert counts.pop("/robot_description") == 1
+    assert set(counts.values()) == {n}
+    assert "/meshes/normal" in counts and "/tf" in counts and "/joints" in counts
+    with open(logged_run.path, "rb") as f:
+        records = list(StreamReader(f, validate_crcs=True).records)  # raises on a bad CRC
+    assert records
+
+
+def test_log_time_is_simulation_time_and_sequence_is_sample_index(logged_run):
+    time = logged_run.result.time
+    with open(logged_run.path, "rb") as f:
+        stamps = [
+            (m.log_time, m.sequence)
+            for _, _, m in make_reader(f).iter_messages(topics=["/meshes/normal"])
+        ]
+    log_time, sequence = np.array(stamps).T
+    np.testing.assert_array_equal(log_time, np.rint(time * 1e9).astype(np.int64))
+    np.testing.assert_array_equal(sequence, np.arange(len(time)))
+
+
+def test_channels_name_their_elements_units_and_frames(logged_run):
+    channels = open_log(logged_run.path).channels
+    res = logged_run.result
+    assert json.loads(channels["/meshes/normal"]["names"]) == res.mesh_names
+    assert channels["/meshes/normal"]["unit"] == "N"
+    assert json.loads(channels["/bearings/force_local"]["names"]) == res.bearing_names
+    assert channels["/bearings/force_local"]["frame"] == "joint"
+    assert json.loads(channels["/joints"]["names"]) == res.joint_names
+
+
+def test_log_rate_keeps_every_stride_th_sample(planetary, tmp_path):
+    path = tmp_path / "decimated.mcap"
+    full = pinwind.simulate(
+        planetary,
+        duration=DURATION,
+        dt=DT,
+        torques=TORQUES,
+        log=path,
+        log_rate=100.0,
+        chunk=CHUNK,
+    )
+    back = pinwind.read_log(path)
+    stride = round(1.0 / (DT * 100.0))
+    assert back.metadata["log_stride"] == stride == 10
+    np.testing.assert_allclose(back.metadata["log_rate_hz"], 100.0, rtol=1e-12)
+    assert_same_arrays(back, _every(full, stride))
+
+
+def _every(res: pinwind.Result, stride: int) -> pinwind.Result:
+    rows = np.arange(0, len(res), stride)
+    out = res.truncated(len(res))
+    for name in res.ARRAYS:
+        setattr(out, name, getattr(res, name)[rows])
+    out.energy = {k: v[rows] for k, v in res.energy.items()}
+    return out
+
+
+# --- file names and overwriting -----------------------------------------------------------------
+
+
+def test_existing_log_is_never_overwritten_without_overwrite(planetary, tmp_path):
+    path = tmp_path / "keep.mcap"
+    path.write_bytes(b"precious")
+    with pytest.raises(LogExists, match="keep.mcap: the file already exists"):
+        pinwind.simulate(planetary, duration=0.01, dt=DT, torques=TORQUES, log=path)
+    assert path.read_bytes() == b"precious"
+    pinwind.simulate(planetary, duration=0.01, dt=DT, torques=TORQUES, log=path, overwrite=True)
+    assert len(pinwind.read_log(path)) == 11
+
+
+def test_bare_log_names_go_in_the_logs_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert log_path("run.mcap", "m").as_posix() == "logs/run.mcap"
+    assert log_path(tmp_path / "x" / "run.mcap", "m") == tmp_path / "x" / "run.mcap"
+    first = log_path(True, "saleh")
+    assert first.parent.as_posix() == "logs" and first.name.startswith("saleh_")
+    first.parent.mkdir()
+    first.touch()
+    assert log_path(True, "saleh") != first
+
+
+def test_bad_log_rate_is_refused_before_the_run(planetary, tmp_path):
+    with pytest.raises(LogError, match="positive number"):
+        pinwind.simulate(planetary, duration=0.01, dt=DT, log=tmp_path / "r.mcap", log_rate=0.0)
+    assert not (tmp_path / "r.mcap").exists()
+
+
+# --- runs that stop early -----------------------------------------------------------------------
+
+
+class FailsBetween:
+    """Carrier torque that raises ``error`` for 0.1 ≤ t < 0.12 s (not at the probe times)."""
+
+    def __init__(self, error: BaseException):
+        self.error = error
+
+    def __call__(self, t: float) -> float:
+        if 0.1 <= t < 0.12:
+            raise self.error
+        return 1.0e6
+
+
+def test_run_that_raises_leaves_a_readable_log_saying_why(planetary, tmp_path):
+    path = tmp_path / "failed.mcap"
+    with pytest.raises(RuntimeError, match="sensor feed lost"):
+        pinwind.simulate(
+            planetary,
+            duration=DURATION,
+            dt=DT,
+            log=path,
+            chunk=CHUNK,
+            torques={"carrier": FailsBetween(RuntimeError("sensor feed lost"))},
+        )
+    log = open_log(path)
+    assert log.complete
+    end = log.metadata["pinwind.end"]
+    assert end["status"].startswith("failed at step 100 (t = 0.1 s)")
+    assert end["cause"] == "RuntimeError: sensor feed lost"
+    clean = pinwind.simulate(planetary, duration=0.099, dt=DT, torques={"carrier": 1.0e6})
+    assert len(log.result) == 100 == len(clean)
+    assert_same_arrays(log.result, clean)
+
+
+def test_interrupted_run_leaves_a_readable_log_saying_why(planetary, tmp_path):
+    path = tmp_path / "interrupted.mcap"
+    with pytest.raises(KeyboardInterrupt):
+        pinwind.simulate(
+            planetary,
+            duration=DURATION,
+            dt=DT,
+            log=path,
+            chunk=CHUNK,
+            torques={"carrier": FailsBetween(KeyboardInterrupt())},
+        )
+    back = pinwind.read_log(path)
+    assert back.status == "interrupted at step 100 (t = 0.1 s)"
+    assert len(back) == 100
+
+
+def test_input_error_before_the_run_leaves_no_log(planetary, tmp_path):
+    path = tmp_path / "never.mcap"
+    with pytest.raises(pinwind.PinwindError, match='unknown joint "sunn"'):
+        pinwind.simulate(planetary, duration=0.01, dt=DT, torques={"sunn": 1.0}, log=path)
+    assert not path.exists()
+
+
+def test_killed_writer_leaves_its_complete_chunks_readable(planetary, logged_run, tmp_path):
+    """A process killed mid-run: begin and two chunks reached the file, end never ran."""
+    path = tmp_path / "killed.mcap"
+    logger = McapLogger(path)
+    res = logged_run.result
+    logger.begin(planetary, res)
+    logger.samples(res, 0, CHUNK)
+    logger.samples(res, CHUNK, 2 * CHUNK)
+    logger._stream.close()  # what the OS has when the process dies
+    with pytest.warns(LogRecovered, match="recovered 200 samples"):
+        back = pinwind.read_log(path)
+    assert back.status.startswith("log cut short: no end-status record")
+    assert_same_arrays(back, res.truncated(2 * CHUNK))
+
+
+def test_run_stopped_before_its_first_block_reads_as_no_samples(planetary, logged_run, tmp_path):
+    path = tmp_path / "empty.mcap"
+    logger = McapLogger(path)
+    logger.begin(planetary, logged_run.result)
+    logger.end(logged_run.result.truncated(0), "failed at step 0 (t = 0 s): no solution")
+    back = pinwind.read_log(path)
+    assert len(back) == 0 and back.angle.shape == (0, len(back.joint_names))
+    assert back.status == "failed at step 0 (t = 0 s): no solution"
+
+
+# --- damaged and foreign files ------------------------------------------------------------------
+
+
+def _chunk_offsets(path) -> list[tuple[int, int]]:
+    with open(path, "rb") as f:
+        return [
+            (c.chunk_start_offset, c.chunk_length)
+            for c in make_reader(f).get_summary().chunk_indexes
+        ]
+
+
+def test_truncated_log_recovers_the_samples_of_its_complete_chunks(logged_run, tmp_path):
+    chunks = _chunk_offsets(logged_run.path)
+    assert len(chunks) == 4  # the model message, then samples 0-99, 100-199, 200-250
+    start, length = chunks[3]
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(logged_run.path.read_bytes()[: start + length // 2])
+    with pytest.warns(LogRecovered, match=f"ends inside a chunk record at byte {start}"):
+        log = open_log(cut)
+    assert not log.complete
+    assert_same_arrays(log.result, logged_run.result.truncated(2 * CHUNK))
+
+
+def test_log_cut_before_its_metadata_gives_one_error(logged_run, tmp_path):
+    cut = tmp_path / "stub.mcap"
+    cut.write_bytes(logged_run.path.read_bytes()[:300])
+    with pytest.raises(LogError, match="stub.mcap: the file ends inside .* nothing to recover"):
+        pinwind.read_log(cut)
+
+
+def test_corrupted_chunk_gives_one_error_naming_file_and_place(logged_run, tmp_path):
+    start, length = _chunk_offsets(logged_run.path)[2]
+    data = bytearray(logged_run.path.read_bytes())
+    middle = start + length // 2
+    data[middle : middle + 16] = bytes(16)
+    bad = tmp_path / "bad.mcap"
+    bad.write_bytes(bytes(data))
+    with pytest.raises(LogError, match=rf"bad\.mcap: chunk record at byte {start} is damaged"):
+        open_log(bad)
+
+
+def test_corrupted_record_header_gives_one_error(logged_run, tmp_path):
+    start, _ = _chunk_offsets(logged_run.path)[1]
+    data = bytearray(logged_run.path.read_bytes())
+    data[start] = 0x7E
+    bad = tmp_path / "bad_header.mcap"
+    bad.write_bytes(bytes(data))
+    with pytest.raises(LogError, match=f"unknown MCAP record type 0x7e at byte {start}"):
+        open_log(bad)
+
+
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        (b"", "not an MCAP file (it is empty"),
+        (b"<robot name='x'/>", "not an MCAP file (it starts with"),
+    ],
+)
+def test_non_mcap_file_is_refused(tmp_path, content, message):
+    path = tmp_path / "x.mcap"
+    path.write_bytes(content)
+    with pytest.raises(LogError, match=message.replace("(", r"\(")):
+        pinwind.read_log(path)
+
+
+def test_missing_file_and_folder_are_refused(tmp_path):
+    with pytest.raises(LogError, match="nope.mcap: no such file"):
+        pinwind.read_log(tmp_path / "nope.mcap")
+    with pytest.raises(LogError, match="is a folder"):
+        pinwind.read_log(tmp_path)
+
+
+def test_foreign_mcap_is_refused_naming_its_topics(tmp_path):
+    from mcap.writer import Writer
+
+    path = tmp_path / "camera.mcap"
+    with open(path, "wb") as f:
+        writer = Writer(f)
+        writer.start(profile="", library="camera-recorder 2.0")
+        schema = writer.register_schema("raw", "", b"")
+        channel = writer.register_channel("/camera/image", "raw", schema)
+        writer.add_message(channel, log_time=1, data=b"\x00" * 8, publish_time=1)
+        writer.finish()
+    with pytest.raises(LogError, match=r"not a pinwind log .*camera-recorder 2\.0.*/camera/image"):
+        pinwind.read_log(path)
+
+
+def test_log_of_a_newer_format_is_refused(planetary, tmp_path, monkeypatch):
+    path = tmp_path / "future.mcap"
+    monkeypatch.setattr(mcap_log, "FORMAT_VERSION", 99)
+    pinwind.simulate(planetary, duration=0.01, dt=DT, torques=TORQUES, log=path)
+    monkeypatch.undo()
+    with pytest.raises(LogError, match="format version 99 is newer than this pinwind reads"):
+        pinwind.read_log(path)
+
+
+def test_reading_a_complete_log_warns_nothing(logged_run):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        pinwind.read_log(logged_run.path)

@@ -1,0 +1,93 @@
+"""pinwind report: statistics of every quantity from the file alone, checked against numpy."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import pinwind
+from pinwind.errors import InputError
+from pinwind.io.report import report_dict, report_rows
+from tests.io.test_cli_log import run
+
+
+def numpy_statistics(values: np.ndarray) -> dict[str, float]:
+    return {
+        "min": values.min(),
+        "max": values.max(),
+        "mean": values.mean(),
+        "rms": np.sqrt(np.mean(np.square(values))),
+        "final": values[-1],
+    }
+
+
+def expected_series(res: pinwind.Result, t0: float, t1: float) -> dict[tuple, np.ndarray]:
+    """A few series cut to t0 ≤ t ≤ t1, straight from the read-back arrays."""
+    rows = (res.time >= t0) & (res.time <= t1)
+    sun = res.joint_names.index("sun")
+    mesh = res.mesh_names.index("sun_planet1")
+    carrier = res.bearing_names.index("carrier")
+    return {
+        ("joint", "sun", "speed", ""): res.speed[rows, sun],
+        ("mesh", "sun_planet1", "normal", ""): res.mesh_normal[rows, mesh],
+        ("bearing", "carrier", "force (world)", "|.|"): np.linalg.norm(
+            res.bearing_force[rows, carrier], axis=1
+        ),
+        ("bearing", "carrier", "moment (joint frame)", "z"): res.bearing_moment_local[
+            rows, carrier, 2
+        ],
+        ("run", "kinetic", "energy", ""): res.energy["kinetic"][rows],
+    }
+
+
+def test_report_statistics_equal_numpy_on_the_read_back_arrays(logged_run):
+    res = pinwind.read_log(logged_run.path)
+    rows = {(r.group, r.element, r.quantity, r.component): r for r in report_rows(res, 0.05, 0.2)}
+    for key, values in expected_series(res, 0.05, 0.2).items():
+        assert len(values) == 151
+        for stat, value in numpy_statistics(values).items():
+            np.testing.assert_allclose(
+                getattr(rows[key], stat), value, rtol=1e-13, err_msg=str(key)
+            )
+
+
+def test_report_covers_every_joint_mesh_and_bearing(logged_run):
+    res = pinwind.read_log(logged_run.path)
+    rows = report_rows(res)
+    assert {r.element for r in rows if r.group == "joint"} == set(res.joint_names)
+    assert {r.element for r in rows if r.group == "mesh"} == set(res.mesh_names)
+    assert {r.element for r in rows if r.group == "bearing"} == set(res.bearing_names)
+    per_bearing = {
+        (r.quantity, r.component) for r in rows if r.element == "carrier" and r.group == "bearing"
+    }
+    assert len(per_bearing) == 16  # force and moment, world and joint frame, x y z |.|
+
+
+def test_report_window_without_samples_names_the_log_span(logged_run):
+    res = pinwind.read_log(logged_run.path)
+    with pytest.raises(InputError, match=r"the log covers t = 0 to 0\.25 s"):
+        report_dict(res, 1.0, 2.0)
+
+
+def test_report_cli_json_equals_numpy_from_the_file_alone(logged_run):
+    out = run("report", str(logged_run.path), "--json", "--from", "0.05", "--to", "0.2")
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert data["window"] == {"from": 0.05, "to": 0.2, "samples": 151}
+    assert data["status"] == "completed"
+    rows = {
+        (q["group"], q["element"], q["quantity"], q["component"]): q for q in data["quantities"]
+    }
+    res = pinwind.read_log(logged_run.path)
+    for key, values in expected_series(res, 0.05, 0.2).items():
+        for stat, value in numpy_statistics(values).items():
+            np.testing.assert_allclose(rows[key][stat], value, rtol=1e-13, err_msg=str(key))
+
+
+def test_report_cli_prints_tables_of_every_group(logged_run):
+    out = run("report", str(logged_run.path))
+    assert out.returncode == 0, out.stderr
+    for title in ("Bearings (joints)", "Gear meshes", "Bearing reactions", "energy ledger"):
+        assert title in out.stdout
