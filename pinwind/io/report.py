@@ -167,7 +167,7 @@ def report_tables(
         if not members:
             continue
         table = Table(title=f"{title} ({span})")
-        for column in ("element", "quantity", "", "unit", *STATISTICS):
+        for column in ("element", "quantity", "axis", "unit", *STATISTICS):
             justify = "right" if column in STATISTICS else "left"
             table.add_column(column.upper() if column == "rms" else column, justify=justify)
         for r in members:
