@@ -28,6 +28,9 @@ import numpy as np
 import proxsuite
 
 
+_SOLVED = proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED
+
+
 def _power_of_two(x: float) -> float:
     """A power of two within a factor two of x (x > 0): dividing by it is exact."""
     return math.ldexp(1.0, math.frexp(x)[1])
@@ -91,6 +94,9 @@ class ConstrainedDynamicsSolver:
         self.rows = rows
         self._qp = None
         self._data_scale = 0.0
+        self._mass_cache: np.ndarray | None = None
+        self._mass_scale = 1.0
+        self._h = np.zeros((nv, nv))
         self._jac_cache: np.ndarray | None = None
         self._range = np.zeros((0, 0))
         self._full_rank = True
@@ -153,24 +159,34 @@ class ConstrainedDynamicsSolver:
         # one), the unknowns by the size of the data. One absolute tolerance then means the
         # same relative accuracy in every run, and a uniform scaling keeps the multipliers
         # minimum-norm. A change of the data scale restarts the solve like new rows do.
-        mass_scale = _power_of_two(float(np.abs(mass).max()))
-        h, g = mass / mass_scale, -force / mass_scale
+        previous_scale = self._mass_scale
+        mass_changed = self._mass_changed(mass)
+        mass_scale = self._mass_scale
+        h, g = self._h, -force / mass_scale
         size = max(float(np.abs(g).max()), float(np.abs(rhs).max()))
         data_scale = _power_of_two(size) if size > 0.0 else 1.0
-        restart = rows_changed or data_scale != self._data_scale or self._qp is None
+        restart = (
+            rows_changed
+            or data_scale != self._data_scale
+            or mass_scale != previous_scale
+            or self._qp is None
+        )
         self._data_scale = data_scale
         g, b = g / data_scale, rhs / data_scale
         if restart:
             self._qp = self._new_qp(h, g, jac, b)
         else:
-            self._qp.update(H=h, g=g, A=jac, b=b, update_preconditioner=False)
+            # Unchanged H and A are not passed again: proxsuite then keeps its factorisation.
+            self._qp.update(
+                H=h if mass_changed else None, g=g, A=None, b=b, update_preconditioner=False
+            )
             self._qp.solve()
-            if self._qp.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
-                self._qp = self._new_qp(h, g, jac, b)
+            if self._qp.results.info.status != _SOLVED:
+                self._qp = self._new_qp(h, g, self._jac_cache, b)
         res = self._qp.results
-        acc = data_scale * np.array(res.x)
-        lam = -(mass_scale * data_scale) * np.array(res.y)
-        status = str(res.info.status).split(".")[-1]
+        acc = data_scale * res.x
+        lam = -(mass_scale * data_scale) * res.y
+        solved = res.info.status == _SOLVED
         # proxsuite's residuals (∞-norms) of the scaled problem, back in SI units.
         primal = float(res.info.pri_res) * data_scale
         dual = float(res.info.dua_res) * data_scale * mass_scale
@@ -180,6 +196,19 @@ class ConstrainedDynamicsSolver:
             primal_residual=primal,
             dual_residual=dual,
             iterations=int(res.info.iter),
-            solved=status == "PROXQP_SOLVED",
-            status=status,
+            solved=solved,
+            status="PROXQP_SOLVED" if solved else str(res.info.status).split(".")[-1],
         )
+
+    def _mass_changed(self, mass: np.ndarray) -> bool:
+        """Whether M differs from the previous step's (to 1e-12); refreshes its scaled copy."""
+        cached = self._mass_cache
+        if (
+            cached is not None
+            and np.max(np.abs(mass - cached)) <= 1e-12 * self._mass_scale
+        ):
+            return False
+        self._mass_cache = mass.copy()
+        self._mass_scale = _power_of_two(float(np.abs(mass).max()))
+        self._h = mass / self._mass_scale
+        return True
