@@ -43,7 +43,7 @@ class MeshSeries:
         normal: tooth normal force F_n ≥ 0 [N], (n,).
         tangential: F_t = F_n cos α_w [N], (n,).
         radial: F_r = F_n sin α_w [N], (n,).
-        axial: F_a = F_t tan β [N], (n,).
+        axial: F_a = F_t |tan β| [N], (n,); its direction is in ``force_on_b``.
         flank: loaded flank s = ±1, (n,): +1 when A turning positively drives B.
         transmission_error: position mismatch along the line of action [m], (n,).
         force_on_b: tooth force on gear B in world [N], (n, 3).

@@ -332,8 +332,11 @@ class _Stepper:
         normal = lam[self.mesh_rows]
         n = self.meshes.line_of_action(mesh_rows, self.flank)
         tangential = normal * self.meshes.cos_a
-        axial = tangential * self.meshes.tan_beta
-        force_on_b = normal[:, None] * n + (self.flank * axial)[:, None] * mesh_rows.axis
+        # Helical teeth: the tooth line of a right-hand gear A runs along cos β k + sin β t at P,
+        # so the tooth force on B, normal to it, has the axial part −s F_t tan β k.
+        axial = tangential * np.abs(self.meshes.tan_beta)
+        thrust = -(self.flank * tangential * self.meshes.tan_beta)[:, None] * mesh_rows.axis
+        force_on_b = normal[:, None] * n + thrust
         fext = self.reactions.external_forces(self.placements, force_on_b, mesh_rows.pitch_point)
         self.reactions.evaluate(
             self.data, q, v, a, fext, self.placements, self.wrench_local, self.wrench_world

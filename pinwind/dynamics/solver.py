@@ -203,10 +203,7 @@ class ConstrainedDynamicsSolver:
     def _mass_changed(self, mass: np.ndarray) -> bool:
         """Whether M differs from the previous step's (to 1e-12); refreshes its scaled copy."""
         cached = self._mass_cache
-        if (
-            cached is not None
-            and np.max(np.abs(mass - cached)) <= 1e-12 * self._mass_scale
-        ):
+        if cached is not None and np.max(np.abs(mass - cached)) <= 1e-12 * self._mass_scale:
             return False
         self._mass_cache = mass.copy()
         self._mass_scale = _power_of_two(float(np.abs(mass).max()))
