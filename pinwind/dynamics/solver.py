@@ -27,7 +27,6 @@ from dataclasses import dataclass
 import numpy as np
 import proxsuite
 
-
 _SOLVED = proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED
 
 
