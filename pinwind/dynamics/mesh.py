@@ -51,7 +51,6 @@ class MeshRows:
         bias_t, bias_r: (m,) parts of ċ − J q̈.
         tangent, radial_dir: (m, 3) unit t and r̂ in world.
         pitch_point: (m, 3) P in world [m].
-        lever_a, lever_b: (m, 3) P − O_A and P − O_B (joint origins) in world [m].
         axis: (m, 3) unit axis k of gear A in world.
     """
 
@@ -62,8 +61,6 @@ class MeshRows:
     tangent: np.ndarray
     radial_dir: np.ndarray
     pitch_point: np.ndarray
-    lever_a: np.ndarray
-    lever_b: np.ndarray
     axis: np.ndarray
 
 
@@ -137,8 +134,6 @@ class MeshSet:
             tangent=np.empty((m, 3)),
             radial_dir=np.empty((m, 3)),
             pitch_point=np.empty((m, 3)),
-            lever_a=np.empty((m, 3)),
-            lever_b=np.empty((m, 3)),
             axis=np.empty((m, 3)),
         )
         if m == 0:
@@ -166,8 +161,6 @@ class MeshSet:
             rows.pitch_point,
             rows.axis,
         )
-        rows.lever_a[:] = rows.pitch_point - origin[self.slot_a]
-        rows.lever_b[:] = rows.pitch_point - origin[self.slot_b]
         return rows
 
     def set_velocity(self, v: np.ndarray) -> None:

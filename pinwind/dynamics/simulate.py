@@ -179,7 +179,6 @@ class _Stepper:
         )
         self.solver = ConstrainedDynamicsSolver(nv, self.rows, settings)
         self.flank = np.ones(self.nm)
-        self.zero_a = np.zeros(nv)
         self.wrench_local = np.zeros((self.model.njoints - 1, 6))
         self.wrench_world = np.zeros((self.model.njoints - 1, 6))
         self.te = np.zeros(self.nm)
