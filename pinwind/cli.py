@@ -264,6 +264,19 @@ def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> 
     console.print("bearings (joints): " + ", ".join(gb.joint_names))
     if gb.locked_joints:
         console.print("locked (fixed mounts): " + ", ".join(gb.locked_joints))
+    from pinwind.dynamics.ratios import speed_ratio
+
+    free = [j for j in gb.joint_names if j not in gb.locked_joints]
+    if free:
+        try:
+            ratios = {j: speed_ratio(gb, j, free[0]) for j in free}
+        except InputError as err:
+            console.print(f"speed ratios: {err}")
+        else:
+            console.print(
+                f"speed ratios to {free[0]} (joint speeds, relative to the parent body): "
+                + ", ".join(f"{j} {r:.6g}" for j, r in ratios.items())
+            )
     for m in gb.meshes:
         a, b = m.gear_a.spec, m.gear_b.spec
         console.print(

@@ -120,3 +120,11 @@ def test_build_planetary_writes_a_model_with_the_requested_geometry(tmp_path):
         gb.gears["stage1_wheel"].spec.module * (83 + 23) / 2,
         rel_tol=1e-12,
     )
+
+
+def test_info_lists_the_speed_ratios_of_a_one_degree_of_freedom_train():
+    out = run("info", str(MODELS / "saleh2017_drivetrain.urdf"))
+    assert out.returncode == 0, out.stderr
+    # 6 × 83/23 × 103/26 from the tooth counts (000_3b7c4a8fe52a6eee.txt Table 2, §4.1).
+    assert f"stage2_pinion {6 * 83 / 23 * 103 / 26:.6g}" in out.stdout
+    assert "sun 6" in out.stdout
