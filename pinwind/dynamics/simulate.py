@@ -282,22 +282,24 @@ class _Stepper:
         sol = self.solver.solve(mass, force, jac, rhs)
         self._check(k, t, sol)
         lam = sol.multipliers
-        if self.nm:
-            negative = lam[: self.nm] < 0.0
-            if negative.any():
-                # The other flank carries the load: switch those rows to it.
-                free = self.meshes.flank_flip_is_free(mesh_rows)
-                self.flank[negative] *= -1.0
-                jac, bias = self.constraint_matrix(mesh_rows)
-                if np.all(free[negative]):
-                    # Fixed axes: the other flank's row is the opposite row, λ just flips.
-                    lam = lam.copy()
-                    lam[: self.nm][negative] *= -1.0
-                else:
-                    rhs = -bias + (target_next - target_now) / self.dt
-                    sol = self.solver.solve(mass, force, jac, rhs)
-                    self._check(k, t, sol)
-                    lam = sol.multipliers
+        # A negative tooth force means the other flank carries the load: switch those rows to
+        # it. With fixed axes the other flank's row is the opposite row and λ just flips sign;
+        # otherwise solve again (a switch can move load between meshes, so repeat, a few times).
+        for _ in range(4):
+            negative = lam[self.mesh_rows] < 0.0
+            if not negative.any():
+                break
+            free = self.meshes.flank_flip_is_free(mesh_rows)
+            self.flank[negative] *= -1.0
+            jac, bias = self.constraint_matrix(mesh_rows)
+            if np.all(free[negative]):
+                lam = lam.copy()
+                lam[self.mesh_rows[negative]] *= -1.0
+                break
+            rhs = -bias + (target_next - target_now) / self.dt
+            sol = self.solver.solve(mass, force, jac, rhs)
+            self._check(k, t, sol)
+            lam = sol.multipliers
         return _Dynamics(
             v,
             residual,
