@@ -269,6 +269,16 @@ _MESSAGE_HEAD = struct.Struct("<BQHIQQ")
 _OPCODE_NAMES = {int(op): op.name.lower().replace("_", " ") for op in Opcode}
 
 
+def _register(scan, opcode: int, body) -> None:
+    """Add a schema or channel record to the scan's tables (other records are ignored)."""
+    if opcode == Opcode.SCHEMA:
+        schema = _parse(Schema, body)
+        scan.schemas[schema.id] = schema
+    elif opcode == Opcode.CHANNEL:
+        channel = _parse(Channel, body)
+        scan.channels[channel.id] = channel
+
+
 def _parse(record_type, body: memoryview):
     return record_type.read(ReadDataStream(BytesIO(body)))
 
@@ -316,13 +326,7 @@ def _chunk_messages(scan: Scan, data: bytes, where: str) -> None:
         opcodes[opcodes != Opcode.MESSAGE],
         strict=True,
     ):
-        body = memoryview(data)[at + 9 : at + 9 + length]
-        if opcode == Opcode.SCHEMA:
-            schema = _parse(Schema, body)
-            scan.schemas[schema.id] = schema
-        elif opcode == Opcode.CHANNEL:
-            channel = _parse(Channel, body)
-            scan.channels[channel.id] = channel
+        _register(scan, opcode, memoryview(data)[at + 9 : at + 9 + length])
     is_message = opcodes == Opcode.MESSAGE
     starts, sizes = starts[is_message], sizes[is_message]
     if np.any(sizes < 22):
@@ -373,12 +377,8 @@ def scan(data: bytes | memoryview) -> Scan:
         try:
             if opcode == Opcode.HEADER:
                 scan.library = _parse(Header, body).library
-            elif opcode == Opcode.SCHEMA:
-                schema = _parse(Schema, body)
-                scan.schemas[schema.id] = schema
-            elif opcode == Opcode.CHANNEL:
-                channel = _parse(Channel, body)
-                scan.channels[channel.id] = channel
+            elif opcode in (Opcode.SCHEMA, Opcode.CHANNEL):
+                _register(scan, opcode, body)
             elif opcode == Opcode.METADATA:
                 record = _parse(Metadata, body)
                 scan.metadata[record.name] = dict(record.metadata)

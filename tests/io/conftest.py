@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from rerun.chunk import RrdReader
 
 import pinwind
 from pinwind.dynamics.result import Result
@@ -50,3 +51,15 @@ def logged_run(planetary, tmp_path_factory) -> LoggedRun:
         planetary, duration=DURATION, dt=DT, torques=TORQUES, log=path, chunk=CHUNK
     )
     return LoggedRun(result, path)
+
+
+def rrd_columns(rrd: Path) -> dict[str, dict[str, list]]:
+    """entity path → component column → its arrow arrays, read back from an .rrd file."""
+    columns: dict[str, dict[str, list]] = {}
+    for chunk in RrdReader(rrd).stream().to_chunks():
+        batch = chunk.to_record_batch()
+        for name in batch.schema.names:
+            columns.setdefault(chunk.entity_path, {}).setdefault(name, []).append(
+                batch.column(name)
+            )
+    return columns

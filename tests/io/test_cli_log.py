@@ -13,12 +13,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from rerun.chunk import RrdReader
 
 import pinwind
 from pinwind.errors import LogRecovered
 from pinwind.io.mcap_log import open_log
-from tests.io.conftest import PLANETARY
+from tests.io.conftest import PLANETARY, rrd_columns
 
 ENV = {**os.environ, "RERUN_ANALYTICS": "0"}
 
@@ -160,13 +159,7 @@ def test_rerun_cli_converts_the_log_into_time_series(logged_run, tmp_path):
         env=ENV,
     )
     assert out.returncode == 0, out.stderr
-    columns: dict[str, dict[str, list]] = {}
-    for chunk in RrdReader(rrd).stream().to_chunks():
-        batch = chunk.to_record_batch()
-        for name in batch.schema.names:
-            columns.setdefault(chunk.entity_path, {}).setdefault(name, []).append(
-                batch.column(name)
-            )
+    columns = rrd_columns(rrd)
     res = logged_run.result
 
     def scalars(entity: str) -> np.ndarray:

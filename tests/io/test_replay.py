@@ -10,6 +10,7 @@ from rerun.chunk import RrdReader
 
 from pinwind.errors import InputError
 from pinwind.io.replay import replay, tooth_outline
+from tests.io.conftest import rrd_columns
 from tests.io.test_cli_log import run
 
 #: Largest pitch radius of the Saleh stage: the ring, 120 teeth of module 15 mm [m].
@@ -20,13 +21,7 @@ RING_PITCH_RADIUS = 120 * 15e-3 / 2
 def replayed(logged_run, tmp_path_factory):
     rrd = tmp_path_factory.mktemp("replay") / "planetary.rrd"
     assert replay(logged_run.path, save=rrd) == rrd
-    columns: dict[str, dict[str, list]] = {}
-    for chunk in RrdReader(rrd).stream().to_chunks():
-        batch = chunk.to_record_batch()
-        for name in batch.schema.names:
-            columns.setdefault(chunk.entity_path, {}).setdefault(name, []).append(
-                batch.column(name)
-            )
+    columns = rrd_columns(rrd)
     return rrd, columns
 
 
