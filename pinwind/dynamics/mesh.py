@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pinwind.dynamics import kernels
+from pinwind.dynamics import _native
 from pinwind.model.gearbox import Gearbox
 
 
@@ -97,6 +97,20 @@ class MeshSet:
                 if s > 0:
                     self.support[i, model.joints[s].idx_v] = 1.0
         self._v = np.zeros(model.nv)
+        #: The constants as the compiled code takes them (cpp/mesh_rows.hpp MeshConstants).
+        self.spec = {
+            "meshes": self.count,
+            "slots": len(joints),
+            "slot_joint": np.array(joints, dtype=np.int64),
+            "slot_a": self.slot_a.astype(np.int64),
+            "slot_b": self.slot_b.astype(np.int64),
+            "centre_a": self.centre_a,
+            "centre_b": self.centre_b,
+            "axis_a": self.axis_a,
+            "mu": self.mu,
+            "sigma": self.sigma,
+            "support": self.support,
+        }
 
     def evaluate(
         self, model: pin.Model, data: pin.Data, placements: np.ndarray | None = None
@@ -106,8 +120,8 @@ class MeshSet:
         Needs ``computeJointJacobiansTimeVariation(q, v)`` to have run on ``data``: it gives the
         placements, the world-frame Jacobian J and its time variation J̇ (whose product with v is
         the spatial acceleration at q̈ = 0). Velocities here are spatial, taken at the world origin
-        and in world axes, so a point x of body X moves with v_o + ω × x. The arithmetic is in
-        ``kernels.mesh_rows``.
+        and in world axes, so a point x of body X moves with v_o + ω × x. The arithmetic is
+        compiled, ``cpp/mesh_rows.hpp``, the same code the step loop uses.
 
         Args:
             placements: (njoints, 4, 4) world placements of all joints, if already read from
@@ -115,53 +129,18 @@ class MeshSet:
         """
         if placements is None:
             placements = joint_placements(model, data)
-        m, nv = self.count, model.nv
         ids = self.joint_ids
-        origin = placements[ids, :3, 3]
-        rot = placements[ids, :3, :3]
-        nj = len(ids)
-        twist, accel = np.empty((nj, 6)), np.empty((nj, 6))
+        nv = model.nv
         # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
-        jac_world = np.reshape(data.J, (6, nv))
-        kernels.body_motion(
-            jac_world, np.reshape(data.dJ, (6, nv)), self.support, self._v, twist, accel
+        parts = _native.mesh_rows(
+            self.spec,
+            np.reshape(data.J, (6, nv)),
+            np.reshape(data.dJ, (6, nv)),
+            self._v,
+            np.ascontiguousarray(placements[ids, :3, 3]).reshape(-1, 3),
+            np.ascontiguousarray(placements[ids, :3, :3]).reshape(-1, 9),
         )
-        rows = MeshRows(
-            jac_t=np.empty((m, nv)),
-            jac_r=np.empty((m, nv)),
-            bias_t=np.empty(m),
-            bias_r=np.empty(m),
-            tangent=np.empty((m, 3)),
-            radial_dir=np.empty((m, 3)),
-            pitch_point=np.empty((m, 3)),
-            axis=np.empty((m, 3)),
-        )
-        if m == 0:
-            return rows
-        kernels.mesh_rows(
-            jac_world,
-            self.support,
-            origin,
-            rot,
-            twist,
-            accel,
-            self.slot_a,
-            self.slot_b,
-            self.centre_a,
-            self.centre_b,
-            self.axis_a,
-            self.mu,
-            self.sigma,
-            rows.jac_t,
-            rows.jac_r,
-            rows.bias_t,
-            rows.bias_r,
-            rows.tangent,
-            rows.radial_dir,
-            rows.pitch_point,
-            rows.axis,
-        )
-        return rows
+        return MeshRows(*(np.asarray(p) for p in parts))
 
     def set_velocity(self, v: np.ndarray) -> None:
         """Joint velocity the next ``evaluate`` uses."""

@@ -1,0 +1,206 @@
+// Constrained dynamics of one step as an equality QP solved with proxsuite.
+//
+// Gauss's principle (design.md §2):
+//
+//     minimise ½ aᵀ M a − (τ − b)ᵀ a     subject to   J a = r
+//
+// proxsuite's stationarity condition is M a − (τ − b) + Jᵀ y = 0, so the constraint forces are
+// λ = −y: the generalised force of the constraints is Jᵀ λ. Rigid multi-planet stages give
+// redundant rows (a 3-planet stage's 6 mesh rows have rank 4): the KKT matrix is singular and a
+// plain KKT solve fails, but the proximal method of multipliers converges, and because its dual
+// updates stay in range(J M⁻¹ Jᵀ) it returns the minimum-norm multipliers, i.e. equal load
+// sharing in a symmetric stage. What keeps that property:
+//
+// - no preconditioner: proxsuite's Ruiz equilibration rescales the rows, and the multipliers it
+//   returns are then minimum-norm in the scaled rows, not in newtons;
+// - a fresh solve starts from proxsuite's equality-constrained initial guess, the solution of the
+//   regularised KKT system, which lies in range(J M⁻¹ Jᵀ); later solves warm-start from the
+//   previous solution. Neither has a null-space component and the dual updates add none. Warm
+//   starting also brings a step down to zero to two proximal iterations;
+// - the right-hand side is projected onto range(J): redundant rows have right-hand sides that
+//   agree only up to rounding, and left as they are the system is inconsistent at the 1e-12
+//   level, the proximal iterations cannot converge and the multipliers of the redundant
+//   directions drift.
+#pragma once
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/SVD>
+#include <proxsuite/proxqp/dense/dense.hpp>
+
+namespace pinwind {
+
+struct SolverSettings {
+  double eps_abs = 1e-13;
+  double eps_rel = 0.0;
+  long max_iter = 1000;
+};
+
+struct QpSolution {
+  Eigen::VectorXd acceleration;  // a [rad/s²]
+  Eigen::VectorXd multipliers;   // λ [N for mesh rows, N·m for driver rows]
+  double primal_residual = 0.0;  // ‖J a − r‖∞
+  double dual_residual = 0.0;    // ‖M a − (τ − b) − Jᵀ λ‖∞ [N·m]
+  long iterations = 0;
+  bool solved = true;
+  std::string status = "unconstrained";
+};
+
+// A power of two within a factor two of x (x > 0): dividing by it is exact.
+inline double power_of_two(double x) {
+  int exponent = 0;
+  std::frexp(x, &exponent);
+  return std::ldexp(1.0, exponent);
+}
+
+inline std::string status_name(proxsuite::proxqp::QPSolverOutput status) {
+  using proxsuite::proxqp::QPSolverOutput;
+  switch (status) {
+    case QPSolverOutput::PROXQP_SOLVED:
+      return "PROXQP_SOLVED";
+    case QPSolverOutput::PROXQP_MAX_ITER_REACHED:
+      return "PROXQP_MAX_ITER_REACHED";
+    case QPSolverOutput::PROXQP_PRIMAL_INFEASIBLE:
+      return "PROXQP_PRIMAL_INFEASIBLE";
+    case QPSolverOutput::PROXQP_DUAL_INFEASIBLE:
+      return "PROXQP_DUAL_INFEASIBLE";
+    case QPSolverOutput::PROXQP_NOT_RUN:
+      return "PROXQP_NOT_RUN";
+    default:
+      return "PROXQP_STATUS_" + std::to_string(static_cast<int>(status));
+  }
+}
+
+// A proxsuite dense QP of fixed size reused for every step.
+class ConstrainedQp {
+ public:
+  using QP = proxsuite::proxqp::dense::QP<double>;
+
+  ConstrainedQp(Eigen::Index nv, Eigen::Index rows, SolverSettings settings)
+      : nv_(nv), rows_(rows), settings_(settings) {}
+
+  // Solves M a = force + Jᵀ λ, J a = rhs.
+  //
+  // mass: joint-space inertia M [kg·m²]; force: τ − b [N·m]; jac: rows J; rhs: r.
+  const QpSolution& solve(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
+                          const Eigen::MatrixXd& jac, const Eigen::VectorXd& rhs) {
+    QpSolution& out = solution_;
+    if (rows_ == 0) {
+      out.acceleration = mass.ldlt().solve(force);
+      out.multipliers.resize(0);
+      return out;
+    }
+    const bool rows_changed = refresh_rows(jac);
+    if (full_rank_) {
+      rhs_ = rhs;
+    } else {
+      rhs_.resize(rhs.size());
+      rhs_.noalias() = range_ * rhs;
+    }
+    // Scale the QP to unit size with powers of two, which are exact in floating point: the cost
+    // by the largest inertia (so the dual residual is in rad/s² like the primal one), the
+    // unknowns by the size of the data. One absolute tolerance then means the same relative
+    // accuracy in every run, and a uniform scaling keeps the multipliers minimum-norm. A change
+    // of the data scale restarts the solve like new rows do.
+    const double previous_mass_scale = mass_scale_;
+    const bool mass_changed = refresh_mass(mass);
+    g_ = -force / mass_scale_;
+    const double size = std::max(g_.cwiseAbs().maxCoeff(), rhs_.cwiseAbs().maxCoeff());
+    const double data_scale = size > 0.0 ? power_of_two(size) : 1.0;
+    const bool restart = rows_changed || data_scale != data_scale_ ||
+                         mass_scale_ != previous_mass_scale || !qp_;
+    data_scale_ = data_scale;
+    g_ /= data_scale;
+    rhs_ /= data_scale;
+    if (restart) {
+      start(jac_cache_);
+    } else {
+      // Unchanged H and A are not passed again: proxsuite then keeps its factorisation.
+      if (mass_changed) {
+        qp_->update(h_, g_, proxsuite::nullopt, rhs_, proxsuite::nullopt, proxsuite::nullopt,
+                    proxsuite::nullopt, false);
+      } else {
+        qp_->update(proxsuite::nullopt, g_, proxsuite::nullopt, rhs_, proxsuite::nullopt,
+                    proxsuite::nullopt, proxsuite::nullopt, false);
+      }
+      qp_->solve();
+      if (qp_->results.info.status != proxsuite::proxqp::QPSolverOutput::PROXQP_SOLVED) {
+        start(jac_cache_);
+      }
+    }
+    const auto& res = qp_->results;
+    out.acceleration = data_scale * res.x;
+    out.multipliers = -(mass_scale_ * data_scale) * res.y;
+    out.solved = res.info.status == proxsuite::proxqp::QPSolverOutput::PROXQP_SOLVED;
+    out.status = status_name(res.info.status);
+    // proxsuite's residuals (∞-norms) of the scaled problem, back in SI units.
+    out.primal_residual = res.info.pri_res * data_scale;
+    out.dual_residual = res.info.dua_res * data_scale * mass_scale_;
+    out.iterations = static_cast<long>(res.info.iter);
+    return out;
+  }
+
+ private:
+  void start(const Eigen::MatrixXd& jac) {
+    qp_ = std::make_unique<QP>(nv_, rows_, 0);
+    qp_->settings.eps_abs = settings_.eps_abs;
+    qp_->settings.eps_rel = settings_.eps_rel;
+    qp_->settings.max_iter = settings_.max_iter;
+    qp_->settings.verbose = false;
+    qp_->settings.initial_guess =
+        proxsuite::proxqp::InitialGuessStatus::EQUALITY_CONSTRAINED_INITIAL_GUESS;
+    qp_->init(h_, g_, jac, rhs_, proxsuite::nullopt, proxsuite::nullopt, proxsuite::nullopt,
+              false);
+    qp_->solve();
+    qp_->settings.initial_guess =
+        proxsuite::proxqp::InitialGuessStatus::WARM_START_WITH_PREVIOUS_RESULT;
+  }
+
+  // Whether J differs from the previous step's (to 1e-12); refreshes the range projector,
+  // which is kept while J stays the same, as it does for gears on fixed or carrier-borne axes.
+  bool refresh_rows(const Eigen::MatrixXd& jac) {
+    if (jac_cache_.rows() == jac.rows() && jac_cache_.cols() == jac.cols() &&
+        (jac - jac_cache_).cwiseAbs().maxCoeff() <= 1e-12 * jac.cwiseAbs().maxCoeff()) {
+      return false;
+    }
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(jac, Eigen::ComputeThinU);
+    const auto& sv = svd.singularValues();
+    Eigen::Index rank = 0;
+    if (sv.size() && sv[0] > 0.0) {
+      while (rank < sv.size() && sv[rank] > 1e-10 * sv[0]) ++rank;
+    }
+    const Eigen::MatrixXd basis = svd.matrixU().leftCols(rank);
+    range_ = basis * basis.transpose();
+    full_rank_ = rank == jac.rows();
+    jac_cache_ = jac;
+    return true;
+  }
+
+  // Whether M differs from the previous step's (to 1e-12); refreshes its scaled copy.
+  bool refresh_mass(const Eigen::MatrixXd& mass) {
+    if (mass_cache_.size() == mass.size() &&
+        (mass - mass_cache_).cwiseAbs().maxCoeff() <= 1e-12 * mass_scale_) {
+      return false;
+    }
+    mass_cache_ = mass;
+    mass_scale_ = power_of_two(mass.cwiseAbs().maxCoeff());
+    h_ = mass / mass_scale_;
+    return true;
+  }
+
+  Eigen::Index nv_, rows_;
+  SolverSettings settings_;
+  std::unique_ptr<QP> qp_;
+  double data_scale_ = 0.0;
+  double mass_scale_ = 1.0;
+  Eigen::MatrixXd mass_cache_, h_, jac_cache_, range_;
+  Eigen::VectorXd g_, rhs_;
+  bool full_rank_ = true;
+  QpSolution solution_;
+};
+
+}  // namespace pinwind

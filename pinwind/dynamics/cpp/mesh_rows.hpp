@@ -1,0 +1,138 @@
+// Rigid gear-mesh constraint rows of all meshes at one state, and the tooth wrenches they apply.
+//
+// The formulation is documented in pinwind/dynamics/mesh.py: one row per mesh along the line of
+// action n = s cos α_w t + ε sin α_w r̂, kept as its t and r̂ parts so that switching the loaded
+// flank s costs nothing; the bias is the exact time derivative of the row at zero joint
+// acceleration,
+//
+//     ċ − J q̈ = ṅ·Δv + n·Δa_s(P) + n·((ω_B − ω_A) × Ṗ),
+//
+// with spatial velocities taken at the world origin in world axes (Pinocchio's world Jacobian
+// J and its time variation J̇ from computeJointJacobiansTimeVariation).
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace pinwind {
+
+using Eigen::Index;
+using Vec3 = Eigen::Vector3d;
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using Rows3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+// Geometry constants of every mesh (pinwind/dynamics/mesh.py MeshSet).
+struct MeshConstants {
+  // Pinocchio joint ids that carry a meshing gear; a mesh refers to them by slot.
+  std::vector<long> joint_ids;
+  std::vector<long> slot_a, slot_b;
+  Rows3 centre_a, centre_b;  // gear centres in their joint frames [m]
+  Rows3 axis_a;              // axis of gear A in its joint frame
+  Eigen::VectorXd mu;        // pitch point P = C_A + mu (C_B − C_A)⊥
+  Eigen::VectorXd sigma;     // r̂ = sigma (C_B − C_A)⊥ / |·|
+  RowMat support;            // support(i, k) = 1 when velocity k moves the body of slot i
+
+  Index count() const { return static_cast<Index>(slot_a.size()); }
+};
+
+// Rows of all meshes at one state, split along t and r̂ (pinwind/dynamics/mesh.py MeshRows).
+struct MeshRows {
+  RowMat jac_t, jac_r;
+  Eigen::VectorXd bias_t, bias_r;
+  Rows3 tangent, radial, pitch_point, axis;
+  // Work space: spatial velocity and acceleration at q̈ = 0 of each slot's body.
+  std::vector<Eigen::Matrix<double, 6, 1>> twist, accel;
+
+  void resize(Index meshes, Index nv) {
+    jac_t.setZero(meshes, nv);
+    jac_r.setZero(meshes, nv);
+    bias_t.setZero(meshes);
+    bias_r.setZero(meshes);
+    tangent.setZero(meshes, 3);
+    radial.setZero(meshes, 3);
+    pitch_point.setZero(meshes, 3);
+    axis.setZero(meshes, 3);
+  }
+};
+
+// Evaluates the rows of every mesh.
+//
+// jac, djac: world-frame J and J̇ (6 × nv, [linear; angular]) of Pinocchio.
+// origin, rot: world placement of the joint of each slot.
+template <class Jac>
+void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac,
+                        const Eigen::VectorXd& v, const std::vector<Vec3>& origin,
+                        const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
+  const Index nv = v.size();
+  const Index slots = static_cast<Index>(mc.joint_ids.size());
+  // Spatial velocity (twist) and acceleration at q̈ = 0 of each gear body, at the world origin.
+  auto& twist = out.twist;
+  auto& accel = out.accel;
+  twist.resize(slots);
+  accel.resize(slots);
+  for (Index s = 0; s < slots; ++s) {
+    twist[s].setZero();
+    accel[s].setZero();
+    for (Index k = 0; k < nv; ++k) {
+      if (mc.support(s, k) != 0.0) {
+        twist[s] += jac.col(k) * v[k];
+        accel[s] += djac.col(k) * v[k];
+      }
+    }
+  }
+  for (Index m = 0; m < mc.count(); ++m) {
+    const long a = mc.slot_a[m], b = mc.slot_b[m];
+    const Vec3 ca = origin[a] + rot[a] * mc.centre_a.row(m).transpose();
+    const Vec3 cb = origin[b] + rot[b] * mc.centre_b.row(m).transpose();
+    const Vec3 k = rot[a] * mc.axis_a.row(m).transpose();
+    const Vec3 d = cb - ca;
+    const double dk = d.dot(k);
+    const Vec3 p = d - dk * k;  // centre distance vector, perpendicular to the axis
+    const double rho = p.norm();
+    const Vec3 u = p / rho;
+    const Vec3 r = mc.sigma[m] * u;
+    const Vec3 t = k.cross(r);
+    const Vec3 x = ca + mc.mu[m] * p;
+    out.tangent.row(m) = t.transpose();
+    out.radial.row(m) = r.transpose();
+    out.pitch_point.row(m) = x.transpose();
+    out.axis.row(m) = k.transpose();
+
+    // Rows: n·v_o + (P × n)·ω of B minus that of A.
+    const Vec3 mt = x.cross(t), mr = x.cross(r);
+    for (Index c = 0; c < nv; ++c) {
+      const double w = mc.support(b, c) - mc.support(a, c);
+      if (w == 0.0) {
+        out.jac_t(m, c) = 0.0;
+        out.jac_r(m, c) = 0.0;
+        continue;
+      }
+      const Vec3 lin = jac.col(c).template head<3>() * w;
+      const Vec3 ang = jac.col(c).template tail<3>() * w;
+      out.jac_t(m, c) = t.dot(lin) + mt.dot(ang);
+      out.jac_r(m, c) = r.dot(lin) + mr.dot(ang);
+    }
+
+    // Bias ċ − J q̈ = ṅ·Δv + n·Δa_s(P) + n·((ω_B − ω_A) × Ṗ).
+    const Vec3 va = twist[a].head<3>(), wa = twist[a].tail<3>();
+    const Vec3 vb = twist[b].head<3>(), wb = twist[b].tail<3>();
+    const Vec3 dv = vb + wb.cross(x) - va - wa.cross(x);
+    const Vec3 vca = va + wa.cross(ca), vcb = vb + wb.cross(cb);
+    const Vec3 kd = wa.cross(k);
+    const Vec3 dd = vcb - vca;
+    const double ddk = dd.dot(k), dkd = d.dot(kd);
+    const Vec3 pd = dd - ddk * k - dkd * k - dk * kd;
+    const Vec3 rd = mc.sigma[m] * (pd - u.dot(pd) * u) / rho;
+    const Vec3 xd = vca + mc.mu[m] * pd;
+    const Vec3 td = kd.cross(r) + k.cross(rd);
+    const Vec3 da = accel[b].head<3>() + Vec3(accel[b].tail<3>()).cross(x) - accel[a].head<3>() -
+                    Vec3(accel[a].tail<3>()).cross(x);
+    const Vec3 h = da + (wb - wa).cross(xd);
+    out.bias_t[m] = td.dot(dv) + t.dot(h);
+    out.bias_r[m] = rd.dot(dv) + r.dot(h);
+  }
+}
+
+}  // namespace pinwind

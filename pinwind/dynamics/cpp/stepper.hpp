@@ -1,0 +1,472 @@
+// Time integration of a gearbox: assemble, solve, record, step (pinwind/dynamics/simulate.py
+// documents the scheme; this is its compiled inner loop).
+//
+// Each step k, at state (q_k, v_k) and time t_k = k·dt:
+//
+// 1. assemble M (CRBA), b (RNEA at a = 0), τ (applied torques, springs, dampers) and the
+//    constraint rows J, γ: one row per mesh (mesh_rows.hpp), per speed driver and per locked
+//    bearing;
+// 2. solve the equality QP with proxsuite (constrained_qp.hpp): a_k and λ_k, the mesh forces [N]
+//    and driver torques [N·m], read from the duals through the name → row map (rows 0..m−1 are
+//    the meshes in file order, then the drivers);
+// 3. bearing reactions by RNEA with the tooth forces at the pitch points;
+// 4. semi-implicit Euler: v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ v_{k+1} dt.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/jacobian.hpp>
+#include <pinocchio/algorithm/joint-configuration.hpp>
+#include <pinocchio/algorithm/kinematics.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/multibody.hpp>
+
+#include "constrained_qp.hpp"
+#include "mesh_rows.hpp"
+
+namespace pinwind {
+
+// What stopped a run: the Python side raises the matching PinwindError.
+struct RunStatus {
+  enum Code { kCompleted = 0, kDiverged, kSolverFailed, kConflictingConstraints };
+  int code = kCompleted;
+  long sample = 0;  // samples [0, sample) are final
+  long step = 0;    // the step and time the error names
+  double time = 0.0;
+  std::string what;        // Diverged: what became non-finite; SolverFailed: proxsuite's status
+  double residual = 0.0;   // ConflictingConstraints: the mismatch left after projection
+  double primal = 0.0;     // SolverFailed: residuals and iterations
+  double dual = 0.0;
+  long iterations = 0;
+};
+
+// Torsional spring-dampers and viscous bearing damping (pinwind/dynamics/elements.py).
+struct ForceElements {
+  std::vector<long> index_1, index_2;
+  Eigen::VectorXd stiffness, damping, preload;
+  Eigen::VectorXd bearing_damping;
+
+  // −k(θ₁ − θ₂ − θ₀) on joint 1 and the opposite on joint 2 [N·m].
+  void elastic_torque(const Eigen::VectorXd& q, Eigen::VectorXd& tau) const {
+    tau.setZero();
+    for (size_t i = 0; i < index_1.size(); ++i) {
+      const double torque = -stiffness[i] * (q[index_1[i]] - q[index_2[i]] - preload[i]);
+      tau[index_1[i]] += torque;
+      tau[index_2[i]] -= torque;
+    }
+  }
+
+  // −c ω of the bearings and −c (ω₁ − ω₂) of the spring dampers [N·m].
+  void damping_torque(const Eigen::VectorXd& v, Eigen::VectorXd& tau) const {
+    tau = -bearing_damping.cwiseProduct(v);
+    for (size_t i = 0; i < index_1.size(); ++i) {
+      const double torque = -damping[i] * (v[index_1[i]] - v[index_2[i]]);
+      tau[index_1[i]] += torque;
+      tau[index_2[i]] -= torque;
+    }
+  }
+
+  // ½ k (θ₁ − θ₂ − θ₀)² summed over the springs [J].
+  double spring_energy(const Eigen::VectorXd& q) const {
+    double energy = 0.0;
+    for (size_t i = 0; i < index_1.size(); ++i) {
+      const double twist = q[index_1[i]] - q[index_2[i]] - preload[i];
+      energy += 0.5 * stiffness[i] * twist * twist;
+    }
+    return energy;
+  }
+};
+
+// Per-mesh constants used after the solve.
+struct MeshForceConstants {
+  Eigen::VectorXd cos_a, sin_a, eps, tan_beta;
+  std::vector<long> joint_a, joint_b;  // Pinocchio joint ids of gear A and gear B
+};
+
+// Where each sample's outputs go: row-major arrays of the Result, n samples long.
+struct Outputs {
+  double *time, *angle, *speed, *acceleration, *torque;
+  double *mesh_normal, *mesh_tangential, *mesh_radial, *mesh_axial, *mesh_flank;
+  double *transmission_error, *mesh_force_on_b, *pitch_point;
+  double *bearing_force, *bearing_moment, *bearing_force_local, *bearing_moment_local;
+  double *body_position, *body_quaternion, *constraint_residual;
+  double *kinetic, *potential_spring;
+  // Cumulative work [J]: applied, drivers, springs, gravity, constraints, dissipated.
+  double* work[6];
+  long samples;
+};
+
+struct StepperSetup {
+  pinocchio::Model model;
+  MeshConstants meshes;
+  MeshForceConstants mesh_forces;
+  ForceElements elements;
+  std::vector<long> driver_index;  // velocity index of each speed driver and lock
+  std::vector<long> frame_parent;  // body frames: parent joint and placement in it
+  std::vector<pinocchio::SE3> frame_placement;
+  double dt = 1e-3;
+  double projection_tol = 1e-14;
+  SolverSettings solver;
+};
+
+class Stepper {
+ public:
+  Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+          Outputs out)
+      : s_(std::move(setup)),
+        data_(s_.model),
+        out_(out),
+        nv_(s_.model.nv),
+        nm_(s_.meshes.count()),
+        nd_(static_cast<Eigen::Index>(s_.driver_index.size())),
+        rows_(nm_ + nd_),
+        qp_(nv_, rows_, s_.solver),
+        q_(q0),
+        q_next_(q0),
+        v_(v0) {
+    driver_jac_.setZero(nd_, nv_);
+    for (Eigen::Index i = 0; i < nd_; ++i) driver_jac_(i, s_.driver_index[i]) = 1.0;
+    flank_.setOnes(nm_);
+    te_.setZero(nm_);
+    rows_data_.resize(nm_, nv_);
+    origin_.resize(s_.meshes.joint_ids.size());
+    rot_.resize(s_.meshes.joint_ids.size());
+    fext_.assign(s_.model.njoints, pinocchio::Force::Zero());
+    for (auto j : s_.mesh_forces.joint_a) touched_.push_back(j);
+    for (auto j : s_.mesh_forces.joint_b) touched_.push_back(j);
+    tau_spring_.setZero(nv_);
+    tau_damp_.setZero(nv_);
+    jac_.setZero(rows_, nv_);
+    bias_.setZero(rows_);
+    jv_.setZero(rows_);
+    mv_.setZero(nv_);
+  }
+
+  // Steps samples [k0, k1). torque: (k1 − k0, nv) applied torques [N·m] at t_k; target:
+  // (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k and t_{k1} (locks 0).
+  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target) {
+    RunStatus st;
+    for (long k = k0; k < k1; ++k) {
+      const double t = k * s_.dt;
+      st.sample = k;
+      tau_applied_ = torque.row(k - k0).transpose();
+      target_now_.setZero(rows_);
+      target_next_.setZero(rows_);
+      if (nd_) {
+        target_now_.tail(nd_) = target.row(k - k0).transpose();
+        target_next_.tail(nd_) = target.row(k - k0 + 1).transpose();
+      }
+      if (!solve(k, t, st)) return st;
+      if (!std::isfinite(a_.squaredNorm() + lam_.squaredNorm())) {
+        return fail(st, k, t, "the accelerations or constraint forces are not finite");
+      }
+      bearing_reactions();
+      record(k, t);
+      if (k + 1 == out_.samples) {
+        st.sample = k + 1;
+        return st;
+      }
+      advance(k);
+      if (!std::isfinite(q_.squaredNorm() + v_.squaredNorm())) {
+        return fail(st, k + 1, t + s_.dt, "the joint angles or speeds are not finite");
+      }
+    }
+    st.sample = k1;
+    return st;
+  }
+
+  // Joint-space inertia at q (for checks against Pinocchio's own).
+  Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) {
+    mass(q);
+    return mass_;
+  }
+
+ private:
+  static RunStatus& fail(RunStatus& st, long step, double time, const std::string& what) {
+    st.code = RunStatus::kDiverged;
+    st.step = step;
+    st.time = time;
+    st.what = what;
+    return st;
+  }
+
+  void kinematics() {
+    pinocchio::computeJointJacobiansTimeVariation(s_.model, data_, q_, v_);
+    for (size_t i = 0; i < s_.meshes.joint_ids.size(); ++i) {
+      origin_[i] = data_.oMi[s_.meshes.joint_ids[i]].translation();
+      rot_[i] = data_.oMi[s_.meshes.joint_ids[i]].rotation();
+    }
+    if (nm_) evaluate_mesh_rows(s_.meshes, data_.J, data_.dJ, v_, origin_, rot_, rows_data_);
+  }
+
+  void mass(const Eigen::VectorXd& q) {
+    pinocchio::crba(s_.model, data_, q);
+    // CRBA fills the upper triangle only.
+    data_.M.triangularView<Eigen::StrictlyLower>() =
+        data_.M.transpose().triangularView<Eigen::StrictlyLower>();
+    mass_ = data_.M;
+  }
+
+  // J and γ of the loaded flanks (mesh rows), then the driver rows.
+  void constraint_matrix() {
+    const auto& mf = s_.mesh_forces;
+    for (Eigen::Index m = 0; m < nm_; ++m) {
+      const double ct = mf.cos_a[m] * flank_[m], cr = mf.sin_a[m] * mf.eps[m];
+      jac_.row(m) = ct * rows_data_.jac_t.row(m) + cr * rows_data_.jac_r.row(m);
+      bias_[m] = ct * rows_data_.bias_t[m] + cr * rows_data_.bias_r[m];
+    }
+    if (nd_) jac_.bottomRows(nd_) = driver_jac_;
+  }
+
+  double residual() {
+    if (!rows_) return 0.0;
+    jv_.noalias() = jac_ * v_;
+    return (jv_ - target_now_).cwiseAbs().maxCoeff();
+  }
+
+  // M-orthogonal projection of v onto J v = target (pseudo-inverse: redundant rows).
+  bool project(long k, double t, RunStatus& st) {
+    const Eigen::MatrixXd minv_jt = mass_.ldlt().solve(jac_.transpose());
+    const Eigen::MatrixXd delassus = jac_ * minv_jt;
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(delassus, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    Eigen::VectorXd sv = svd.singularValues();
+    const double cutoff = sv.size() ? 1e-12 * sv[0] : 0.0;
+    for (Eigen::Index i = 0; i < sv.size(); ++i) sv[i] = sv[i] > cutoff ? 1.0 / sv[i] : 0.0;
+    const Eigen::VectorXd mismatch = jac_ * v_ - target_now_;
+    const Eigen::VectorXd correction =
+        svd.matrixV() * sv.asDiagonal() * (svd.matrixU().transpose() * mismatch);
+    const Eigen::VectorXd projected = v_ - minv_jt * correction;
+    const double left = (jac_ * projected - target_now_).cwiseAbs().maxCoeff();
+    const double scale = 1.0 + target_now_.cwiseAbs().maxCoeff() +
+                         jac_.cwiseAbs().maxCoeff() * v_.cwiseAbs().maxCoeff();
+    if (left > 1e-9 * scale) {
+      st.code = RunStatus::kConflictingConstraints;
+      st.step = k;
+      st.time = t;
+      st.residual = left;
+      return false;
+    }
+    v_ = projected;
+    return true;
+  }
+
+  bool check(long k, double t, const QpSolution& sol, RunStatus& st) {
+    if (!(std::isfinite(sol.primal_residual) && std::isfinite(sol.dual_residual))) {
+      fail(st, k, t, "the constrained-dynamics QP returned non-finite values");
+      return false;
+    }
+    if (!sol.solved) {
+      st.code = RunStatus::kSolverFailed;
+      st.step = k;
+      st.time = t;
+      st.what = sol.status;
+      st.primal = sol.primal_residual;
+      st.dual = sol.dual_residual;
+      st.iterations = sol.iterations;
+      return false;
+    }
+    return true;
+  }
+
+  // Dynamics at (q, v, t): a, λ and the forces the recorder and the integrator need.
+  bool solve(long k, double t, RunStatus& st) {
+    kinematics();
+    mass(q_);
+    constraint_matrix();
+    residual_ = residual();
+    if (residual_ > s_.projection_tol * (1.0 + v_.cwiseAbs().maxCoeff())) {
+      // Post-stabilisation: J changed over the last step, or the run starts off the
+      // constraint manifold.
+      if (!project(k, t, st)) return false;
+      kinematics();
+      constraint_matrix();
+      residual_ = residual();
+    }
+    gravity_ = pinocchio::computeGeneralizedGravity(s_.model, data_, q_);
+    const Eigen::VectorXd& nle = pinocchio::nonLinearEffects(s_.model, data_, q_, v_);
+    s_.elements.elastic_torque(q_, tau_spring_);
+    s_.elements.damping_torque(v_, tau_damp_);
+    force_ = tau_applied_ + tau_spring_ + tau_damp_ - nle;
+    rhs_ = -bias_ + (target_next_ - target_now_) / s_.dt;
+    if (!std::isfinite(force_.squaredNorm() + rhs_.squaredNorm())) {
+      fail(st, k, t, "the joint forces or constraint terms are not finite");
+      return false;
+    }
+    const QpSolution* sol = &qp_.solve(mass_, force_, jac_, rhs_);
+    if (!check(k, t, *sol, st)) return false;
+    lam_ = sol->multipliers;
+    // A negative tooth force means the other flank carries the load: switch those rows to it.
+    // With fixed axes the other flank's row is the opposite row and λ just flips sign;
+    // otherwise solve again (a switch can move load between meshes, so repeat, a few times).
+    for (int pass = 0; pass < 4; ++pass) {
+      bool any = false, all_free = true;
+      for (Eigen::Index m = 0; m < nm_; ++m) {
+        if (lam_[m] < 0.0) {
+          any = true;
+          all_free = all_free && flank_flip_is_free(m);
+        }
+      }
+      if (!any) break;
+      for (Eigen::Index m = 0; m < nm_; ++m) {
+        if (lam_[m] < 0.0) flank_[m] = -flank_[m];
+      }
+      constraint_matrix();
+      if (all_free) {
+        for (Eigen::Index m = 0; m < nm_; ++m) {
+          if (lam_[m] < 0.0) lam_[m] = -lam_[m];
+        }
+        break;
+      }
+      rhs_ = -bias_ + (target_next_ - target_now_) / s_.dt;
+      sol = &qp_.solve(mass_, force_, jac_, rhs_);
+      if (!check(k, t, *sol, st)) return false;
+      lam_ = sol->multipliers;
+    }
+    a_ = sol->acceleration;
+    return true;
+  }
+
+  // Whether mesh m's other flank has the opposite row (fixed axes): λ just changes sign. When
+  // the radial part of the row vanishes in joint space it vanishes at every state (the axes
+  // cannot move apart), so its bias, the time derivative, vanishes too.
+  bool flank_flip_is_free(Eigen::Index m) const {
+    const double scale = rows_data_.jac_t.row(m).cwiseAbs().maxCoeff() + 1e-300;
+    return rows_data_.jac_r.row(m).cwiseAbs().maxCoeff() <= 1e-12 * scale;
+  }
+
+  // Tooth forces on the gears, and the bearing reactions by RNEA with them applied at the
+  // pitch points: data.f[j] is the spatial force joint j transmits from its parent to its
+  // child, in the joint frame about the joint origin (the reduced-coordinate form of
+  // 000_3b7c4a8fe52a6eee.txt eqs. 16, 18, 23 and 26).
+  void bearing_reactions() {
+    const auto& mf = s_.mesh_forces;
+    force_on_b_.resize(nm_, 3);
+    for (auto j : touched_) fext_[j].setZero();
+    for (Eigen::Index m = 0; m < nm_; ++m) {
+      const Vec3 n = mf.cos_a[m] * flank_[m] * rows_data_.tangent.row(m).transpose() +
+                     mf.sin_a[m] * mf.eps[m] * rows_data_.radial.row(m).transpose();
+      const double tangential = lam_[m] * mf.cos_a[m];
+      // Helical teeth: the tooth line of a right-hand gear A runs along cos β k + sin β t at
+      // P, so the tooth force on B, normal to it, has the axial part −s F_t tan β k.
+      const Vec3 thrust =
+          -(flank_[m] * tangential * mf.tan_beta[m]) * rows_data_.axis.row(m).transpose();
+      const Vec3 f = lam_[m] * n + thrust;
+      force_on_b_.row(m) = f.transpose();
+      const Vec3 p = rows_data_.pitch_point.row(m).transpose();
+      add_world_force(mf.joint_b[m], p, f);
+      add_world_force(mf.joint_a[m], p, -f);
+    }
+    pinocchio::rnea(s_.model, data_, q_, v_, a_, fext_);
+  }
+
+  // Adds a force f applied at world point p to joint j's external force (joint frame, origin).
+  void add_world_force(long j, const Vec3& p, const Vec3& f) {
+    const auto& oMi = data_.oMi[j];
+    const Vec3 moment = (p - oMi.translation()).cross(f);
+    fext_[j].linear() += oMi.rotation().transpose() * f;
+    fext_[j].angular() += oMi.rotation().transpose() * moment;
+  }
+
+  void record(long k, double t) {
+    const auto& mf = s_.mesh_forces;
+    const Eigen::Index nj = s_.model.njoints - 1;
+    out_.time[k] = t;
+    Eigen::Map<Eigen::VectorXd>(out_.angle + k * nv_, nv_) = q_;
+    Eigen::Map<Eigen::VectorXd>(out_.speed + k * nv_, nv_) = v_;
+    Eigen::Map<Eigen::VectorXd>(out_.acceleration + k * nv_, nv_) = a_;
+    driver_torque_.setZero(nv_);
+    for (Eigen::Index i = 0; i < nd_; ++i) driver_torque_[s_.driver_index[i]] += lam_[nm_ + i];
+    Eigen::Map<Eigen::VectorXd>(out_.torque + k * nv_, nv_) = tau_applied_ + driver_torque_;
+    for (Eigen::Index m = 0; m < nm_; ++m) {
+      const long i = k * nm_ + m;
+      const double normal = lam_[m], tangential = normal * mf.cos_a[m];
+      out_.mesh_normal[i] = normal;
+      out_.mesh_tangential[i] = tangential;
+      out_.mesh_radial[i] = normal * mf.sin_a[m];
+      out_.mesh_axial[i] = tangential * std::abs(mf.tan_beta[m]);
+      out_.mesh_flank[i] = flank_[m];
+      out_.transmission_error[i] = te_[m];
+      for (int c = 0; c < 3; ++c) {
+        out_.mesh_force_on_b[3 * i + c] = force_on_b_(m, c);
+        out_.pitch_point[3 * i + c] = rows_data_.pitch_point(m, c);
+      }
+    }
+    for (Eigen::Index j = 1; j <= nj; ++j) {
+      const long i = 3 * (k * nj + j - 1);
+      const auto& f = data_.f[j];
+      const auto& rot = data_.oMi[j].rotation();
+      Eigen::Map<Vec3>(out_.bearing_force_local + i) = f.linear();
+      Eigen::Map<Vec3>(out_.bearing_moment_local + i) = f.angular();
+      // World axes; the moment stays about the bearing centre.
+      Eigen::Map<Vec3>(out_.bearing_force + i) = rot * f.linear();
+      Eigen::Map<Vec3>(out_.bearing_moment + i) = rot * f.angular();
+    }
+    const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
+    for (Eigen::Index b = 0; b < nb; ++b) {
+      // Each link is rigid on a joint: its pose is the joint's placement times a constant one.
+      const pinocchio::SE3 pose = data_.oMi[s_.frame_parent[b]] * s_.frame_placement[b];
+      Eigen::Map<Vec3>(out_.body_position + 3 * (k * nb + b)) = pose.translation();
+      const Eigen::Quaterniond quat(pose.rotation());
+      Eigen::Map<Eigen::Vector4d>(out_.body_quaternion + 4 * (k * nb + b)) = quat.coeffs();
+    }
+    out_.constraint_residual[k] = residual_;
+    mv_.noalias() = mass_ * v_;
+    out_.kinetic[k] = 0.5 * v_.dot(mv_);
+    out_.potential_spring[k] = s_.elements.spring_energy(q_);
+    if (k == 0) {
+      for (auto* w : out_.work) w[0] = 0.0;
+    }
+  }
+
+  // Semi-implicit Euler, with the work of each force over the step at the mid-step speed (with
+  // which the kinetic-energy change of a step equals the work of its forces when M is constant)
+  // and the transmission error along the rows.
+  void advance(long k) {
+    const auto& mf = s_.mesh_forces;
+    v_next_ = v_ + a_ * s_.dt;
+    mid_ = (0.5 * s_.dt) * (v_ + v_next_);
+    if (nm_) jv_.head(nm_).noalias() = jac_.topRows(nm_) * mid_;
+    const double work[6] = {
+        tau_applied_.dot(mid_),
+        driver_torque_.dot(mid_),
+        tau_spring_.dot(mid_),
+        -gravity_.dot(mid_),
+        nm_ ? lam_.head(nm_).dot(jv_.head(nm_)) : 0.0,
+        -tau_damp_.dot(mid_),
+    };
+    for (int i = 0; i < 6; ++i) out_.work[i][k + 1] = out_.work[i][k] + work[i];
+    for (Eigen::Index m = 0; m < nm_; ++m) {
+      te_[m] += (mf.cos_a[m] * rows_data_.jac_t.row(m) +
+                 (mf.sin_a[m] * mf.eps[m]) * rows_data_.jac_r.row(m))
+                    .dot(v_next_ * s_.dt);
+    }
+    pinocchio::integrate(s_.model, q_, v_next_ * s_.dt, q_next_);
+    q_ = q_next_;
+    v_ = v_next_;
+  }
+
+  StepperSetup s_;
+  pinocchio::Data data_;
+  Outputs out_;
+  Eigen::Index nv_, nm_, nd_, rows_;
+  ConstrainedQp qp_;
+  Eigen::VectorXd q_, q_next_, v_, v_next_, mid_;
+  Eigen::VectorXd flank_, te_;
+  MeshRows rows_data_;
+  std::vector<Vec3> origin_;
+  std::vector<Eigen::Matrix3d> rot_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_;
+  std::vector<long> touched_;
+  Eigen::MatrixXd driver_jac_, jac_, mass_;
+  Eigen::VectorXd bias_, target_now_, target_next_, jv_, mv_;
+  Eigen::VectorXd tau_applied_, tau_spring_, tau_damp_, gravity_, force_, rhs_;
+  Eigen::VectorXd a_, lam_, driver_torque_;
+  RowMat force_on_b_;
+  double residual_ = 0.0;
+};
+
+}  // namespace pinwind
