@@ -19,6 +19,7 @@ import json
 import math
 import os
 import platform
+import queue
 import shlex
 import signal
 import sys
@@ -282,6 +283,9 @@ class McapLogger:
         self._stream: BinaryIO | None = None
         self._file: McapWriter | None = None
         self._failed: BaseException | None = None
+        self._queued = 0
+        self._jobs: queue.Queue = queue.Queue()
+        self._writer: threading.Thread | None = None
 
     # --- RunObserver -----------------------------------------------------------------------
 
@@ -303,6 +307,10 @@ class McapLogger:
             self._file = None
             self.path.unlink(missing_ok=True)
             raise
+        # Chunks are encoded, compressed and written by a thread of their own, so that they
+        # overlap the next samples' steps (the compiled step loop releases the GIL).
+        self._writer = threading.Thread(target=self._write_chunks, name="pinwind-log", daemon=True)
+        self._writer.start()
 
     def _start(self, gearbox, result: Result, rate: float) -> None:
         meta = result.metadata
@@ -399,26 +407,59 @@ class McapLogger:
         f.chunk(record.tobytes(), {model_channel: np.zeros((1, 2), np.uint64)})
 
     def samples(self, result: Result, start: int, stop: int) -> None:
-        """Write samples start:stop (every ``stride``-th, counted from 0) as one chunk.
+        """Queue samples start:stop (every ``stride``-th, counted from 0) as one chunk.
 
-        Samples already written are skipped, so a block handed over again after an interrupt
-        is not logged twice.
+        The rows of ``result`` must not change afterwards (the simulation only writes later
+        rows). Samples already queued are skipped, so a block handed over again after an
+        interrupt is not logged twice.
+
+        Raises:
+            LogError: writing an earlier chunk failed (disk full, ...): the run stops.
         """
-        if self._file is None or self._failed is not None:
+        if self._file is None:
             return
-        first = max(start, self._next_sample)
+        self._raise_if_failed()
+        first = max(start, self._queued)
         rows = np.arange(first + (-first % self.stride), stop, self.stride)
         if not len(rows):
             return
-        try:
-            data, index = self._assemble(result, rows)
-            with _interrupts_deferred():
-                self._file.chunk(data, index)
-                self._next_sample = int(rows[-1]) + 1
-                self.samples_logged += len(rows)
-        except Exception as err:  # disk full, ...: stop the run with a clear error
-            self._failed = err
+        self._queued = int(rows[-1]) + 1
+        self._jobs.put((result, rows))
+
+    def flush(self) -> None:
+        """Wait until every queued chunk is in the file."""
+        if self._writer is not None:
+            self._jobs.join()
+        self._raise_if_failed()
+
+    def _raise_if_failed(self) -> None:
+        if self._failed is not None:
+            err = self._failed
             raise LogError(str(self.path), f"writing the log failed: {err}") from err
+
+    def _write_chunks(self) -> None:
+        """The writer thread: one chunk per queued block, in order, until None."""
+        while True:
+            job = self._jobs.get()
+            try:
+                if job is None:
+                    return
+                if self._failed is None:
+                    result, rows = job
+                    data, index = self._assemble(result, rows)
+                    self._file.chunk(data, index)
+                    self._next_sample = int(rows[-1]) + 1
+                    self.samples_logged += len(rows)
+            except Exception as err:  # disk full, ...: reported to the run by samples()
+                self._failed = err
+            finally:
+                self._jobs.task_done()
+
+    def _stop_writer(self) -> None:
+        if self._writer is not None:
+            self._jobs.put(None)
+            self._writer.join()
+            self._writer = None
 
     def end(self, result: Result, status: str) -> None:
         """Write the end-status record and the summary, close the file."""
@@ -428,6 +469,7 @@ class McapLogger:
         cause = f"{type(in_flight).__name__}: {in_flight}" if in_flight is not None else ""
         try:
             with _interrupts_deferred():
+                self._stop_writer()
                 self._finish(result, status, cause)
         except Exception as err:
             if in_flight is None and self._failed is None:
@@ -439,6 +481,8 @@ class McapLogger:
             self._file = None
             if self._stream is not None:
                 self._stream.close()
+        if in_flight is None:
+            self._raise_if_failed()
 
     def _finish(self, result: Result, status: str, cause: str) -> None:
         self._file.metadata(
@@ -493,18 +537,30 @@ class McapLogger:
         head["sequence"] = rows
         head["log_time"] = log_time
         head["publish_time"] = log_time
-        head_bytes = head.view(np.uint8).reshape(len(rows), width)
         for a, b, tf in runs:
-            block = data[row_start[a] : row_start[a] + (b - a) * row_length[a]]
-            block = block.reshape(b - a, row_length[a])
-            for (channel, payload), column in zip(
-                [*payloads, (self._tf_channel, tf)], [*columns[:-1], fixed], strict=True
-            ):
+            channels = [*payloads, (self._tf_channel, tf)]
+            starts = [*columns[:-1], fixed]
+            # One row per sample; each record's header and payload is a field of raw bytes, so
+            # filling a field copies a block per row.
+            layout = np.dtype(
+                {
+                    "names": [f"{kind}{i}" for i in range(len(channels)) for kind in "hp"],
+                    "formats": [
+                        np.dtype(f"V{size}") for _, p in channels for size in (width, p.shape[1])
+                    ],
+                    "offsets": [int(c) + skip for c in starts for skip in (0, width)],
+                    "itemsize": int(row_length[a]),
+                }
+            )
+            block = data[row_start[a] : row_start[a] + (b - a) * row_length[a]].view(layout)
+            for i, (channel, payload) in enumerate(channels):
                 rows_ab = slice(a, b) if channel != self._tf_channel else slice(None)
                 head["length"][a:b] = 22 + payload.shape[1]
                 head["channel"][a:b] = channel
-                block[:, column : column + width] = head_bytes[a:b]
-                block[:, column + width : column + width + payload.shape[1]] = payload[rows_ab]
+                block[f"h{i}"] = head[a:b].view(f"V{width}")
+                block[f"p{i}"] = np.ascontiguousarray(payload[rows_ab]).view(
+                    f"V{payload.shape[1]}"
+                )[:, 0]
         offsets = row_start.astype(np.uint64)
         index = {
             channel: np.stack([log_time, offsets + np.uint64(column)], axis=1)

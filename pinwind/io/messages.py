@@ -344,22 +344,32 @@ class FrameTransformsCodec:
         self._names = [_field(2, parent.encode()) + _field(3, c.encode()) for c in self.children]
         self._layouts: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
-    def _layout(self, stamp: int):
-        """Template row and the columns of the stamp and pose bytes, for a stamp of that size."""
+    def _layout(self, stamp: int) -> tuple[np.ndarray, np.dtype]:
+        """Template row for a stamp of that size, and a row dtype naming its stamp and pose bytes.
+
+        The dtype's fields ``stamp{i}`` and ``pose{i}`` (link i) are whole byte blocks, so that
+        filling them copies a block per row instead of byte by byte.
+        """
         if stamp not in self._layouts:
-            row, stamp_cols, pose_cols = bytearray(), [], []
-            for names in self._names:
-                size = 2 + stamp + len(names) + _POSE_DTYPE.itemsize
+            row, fields = bytearray(), {}
+            pose_size = _POSE_DTYPE.itemsize
+            for i, names in enumerate(self._names):
+                size = 2 + stamp + len(names) + pose_size
                 row += b"\x0a" + _varint(size) + b"\x0a" + _varint(stamp)
-                stamp_cols.append(len(row) + np.arange(stamp))
+                if stamp:
+                    fields[f"stamp{i}"] = (np.dtype(f"V{stamp}"), len(row))
                 row += bytes(stamp) + names
-                pose_cols.append(len(row) + np.arange(_POSE_DTYPE.itemsize))
-                row += bytes(_POSE_DTYPE.itemsize)
-            self._layouts[stamp] = (
-                np.frombuffer(bytes(row), dtype=np.uint8),
-                np.concatenate(stamp_cols),
-                np.concatenate(pose_cols),
+                fields[f"pose{i}"] = (np.dtype(f"V{pose_size}"), len(row))
+                row += bytes(pose_size)
+            dtype = np.dtype(
+                {
+                    "names": list(fields),
+                    "formats": [f[0] for f in fields.values()],
+                    "offsets": [f[1] for f in fields.values()],
+                    "itemsize": len(row),
+                }
             )
+            self._layouts[stamp] = (np.frombuffer(bytes(row), dtype=np.uint8), dtype)
         return self._layouts[stamp]
 
     def encode_runs(
@@ -385,7 +395,7 @@ class FrameTransformsCodec:
         for i, key in enumerate(("qx", "qy", "qz", "qw")):
             poses[f"{key}_tag"] = 0x09 + 8 * i
             poses[key] = quaternion[..., i]
-        pose_bytes = poses.view(np.uint8).reshape(n, nl * _POSE_DTYPE.itemsize)
+        pose_blocks = poses.view(f"V{_POSE_DTYPE.itemsize}").reshape(n, nl)
         sec = ns // np.uint64(1_000_000_000)
         nanos = ns % np.uint64(1_000_000_000)
         # google.protobuf.Timestamp, zero fields omitted as proto3 writes them.
@@ -397,24 +407,29 @@ class FrameTransformsCodec:
         for start, stop in zip(np.r_[0, breaks], np.r_[breaks, n], strict=True):
             s_len, n_len = int(sec_len[start]), int(nanos_len[start])
             stamp = (1 + s_len if s_len else 0) + (1 + n_len if n_len else 0)
-            template, stamp_cols, pose_cols = self._layout(stamp)
-            parts = []
-            if s_len:
-                parts += [
-                    np.full((stop - start, 1), 0x08, np.uint8),
-                    _varint_columns(sec[start:stop], s_len),
-                ]
-            if n_len:
-                parts += [
-                    np.full((stop - start, 1), 0x10, np.uint8),
-                    _varint_columns(nanos[start:stop], n_len),
-                ]
-            rows = np.empty((stop - start, len(template)), dtype=np.uint8)
-            rows[:] = template
-            if parts:
-                rows[:, stamp_cols] = np.tile(np.concatenate(parts, axis=1), nl)
-            rows[:, pose_cols] = pose_bytes[start:stop]
-            out.append((int(start), int(stop), rows))
+            template, dtype = self._layout(stamp)
+            m = stop - start
+            rows = np.empty(m, dtype=dtype)
+            flat = rows.view(np.uint8).reshape(m, len(template))
+            flat[:] = template
+            if stamp:
+                parts = []
+                if s_len:
+                    parts += [
+                        np.full((m, 1), 0x08, np.uint8),
+                        _varint_columns(sec[start:stop], s_len),
+                    ]
+                if n_len:
+                    parts += [
+                        np.full((m, 1), 0x10, np.uint8),
+                        _varint_columns(nanos[start:stop], n_len),
+                    ]
+                stamp_block = np.ascontiguousarray(np.concatenate(parts, axis=1)).view(f"V{stamp}")
+            for i in range(nl):
+                if stamp:
+                    rows[f"stamp{i}"] = stamp_block[:, 0]
+                rows[f"pose{i}"] = pose_blocks[start:stop, i]
+            out.append((int(start), int(stop), flat))
         return out
 
     def encode(
@@ -449,17 +464,19 @@ class FrameTransformsCodec:
             if fixed is None:
                 slow.extend(rows)
                 continue
-            template, stamp_cols, pose_cols = fixed
+            template, dtype = fixed
             block = np.frombuffer(b"".join(payloads[i] for i in rows), np.uint8)
             block = block.reshape(len(rows), int(length))
             constant = np.ones(int(length), dtype=bool)
-            constant[stamp_cols] = False
-            constant[pose_cols] = False
+            for name in dtype.names:
+                field, offset = dtype.fields[name][:2]
+                constant[offset : offset + field.itemsize] = False
             same = np.all(block[:, constant] == template[constant], axis=1)
             slow.extend(rows[~same])
             good = rows[same]
-            poses = np.ascontiguousarray(block[same][:, pose_cols]).view(_POSE_DTYPE)
-            poses = poses.reshape(len(good), nl)
+            records = np.ascontiguousarray(block[same]).reshape(-1).view(dtype)
+            poses = np.stack([records[f"pose{i}"] for i in range(nl)], axis=1)
+            poses = np.ascontiguousarray(poses).view(_POSE_DTYPE).reshape(len(good), nl)
             position[good] = np.stack([poses[k] for k in "xyz"], axis=-1)
             quaternion[good] = np.stack([poses[k] for k in ("qx", "qy", "qz", "qw")], axis=-1)
             seen[good] = True

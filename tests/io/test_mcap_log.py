@@ -242,6 +242,7 @@ def test_killed_writer_leaves_its_complete_chunks_readable(planetary, logged_run
     logger.begin(planetary, res)
     logger.samples(res, 0, CHUNK)
     logger.samples(res, CHUNK, 2 * CHUNK)
+    logger.flush()
     logger._stream.close()  # what the OS has when the process dies
     with pytest.warns(LogRecovered, match="recovered 200 samples"):
         back = pinwind.read_log(path)
