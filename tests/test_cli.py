@@ -45,6 +45,9 @@ def test_simulate_prints_speeds_ratios_mesh_forces_and_bearings():
     expected_kn = 1e6 / 6 / (3 * 0.18 * math.cos(math.radians(24.5))) / 1e3
     assert f"{expected_kn:.4f}" in text
     assert "ratio to carrier" in text
+    # The ring is a fixed mount: its ratio is exactly 0, not the rounding noise of its speed.
+    ring_row = next(line for line in text.splitlines() if line.strip("│ ").startswith("ring "))
+    assert "0 (fixed)" in ring_row
 
 
 def test_speed_option_is_in_rpm():

@@ -49,14 +49,19 @@ def summary_tables(res: Result) -> list[Table]:
     joints = Table(title=f"Bearings: speeds at t = {res.time[-1]:.4g} s")
     for col in ("joint", "speed [rpm]", f"ratio to {ref or '-'}", "torque [kN·m]"):
         joints.add_column(escape(col), justify="right" if col != "joint" else "left")
+    locked = set(res.metadata.get("locked_joints", []))
     for name in res.joint_names:
         js = res.joint(name)
         speed = js.speed[-1]
         ratio = speed / ref_speed if abs(ref_speed) > 1e-12 else math.nan
+        if name in locked:
+            ratio_text = "0 (fixed)"  # held by a row: its speed is rounding noise
+        else:
+            ratio_text = f"{ratio:.6g}" if math.isfinite(ratio) else "-"
         joints.add_row(
             name,
             f"{speed * RAD_PER_S_TO_RPM:.4f}",
-            f"{ratio:.6g}" if math.isfinite(ratio) else "-",
+            ratio_text,
             f"{js.torque[-1] / 1e3:.4f}",
         )
     tables.append(joints)
