@@ -159,10 +159,3 @@ class MeshSet:
         return (self.cos_a * flank)[:, None] * rows.tangent + (self.sin_a * self.eps)[:, None] * (
             rows.radial_dir
         )
-
-    def flank_flip_is_free(self, rows: MeshRows) -> np.ndarray:
-        """Meshes whose other flank has the opposite row (fixed axes): λ just changes sign."""
-        # When the radial part of the row vanishes in joint space it vanishes at every state
-        # (the axes cannot move apart), so its bias, the time derivative, vanishes too.
-        scale = np.abs(rows.jac_t).max(axis=1) + 1e-300
-        return np.abs(rows.jac_r).max(axis=1) <= 1e-12 * scale

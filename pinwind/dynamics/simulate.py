@@ -244,9 +244,9 @@ def simulate(
         dt=dt,
         gravity=g,
         driver_index=[d.v_index for d in drivers],
+        driver_names=[d.joint for d in drivers],
         settings=settings,
     )
-    stepper.drivers = [d.joint for d in drivers]
     if observer is not None:
         observer.begin(gearbox, res)
     status = "completed"

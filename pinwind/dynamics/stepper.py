@@ -82,6 +82,7 @@ class CompiledStepper:
         dt: time step [s].
         gravity: gravity in world [m/s²].
         driver_index: velocity index of each speed driver and locked bearing, in row order.
+        driver_names: their joint names, for messages.
         settings: proxsuite settings.
     """
 
@@ -95,6 +96,7 @@ class CompiledStepper:
         dt: float,
         gravity: np.ndarray,
         driver_index: list[int],
+        driver_names: list[str],
         settings: SolverSettings,
     ):
         model = gearbox.model
@@ -140,7 +142,7 @@ class CompiledStepper:
         self._stepper = _native.Stepper(
             spec, np.asarray(q0, dtype=float), np.asarray(v0, dtype=float), out, len(result)
         )
-        self.drivers: list[str] = []
+        self.drivers = list(driver_names)
 
     def run(self, start: int, stop: int, torque: np.ndarray, target: np.ndarray) -> int:
         """Step samples start:stop; returns ``stop``, or raises with the samples before it final.

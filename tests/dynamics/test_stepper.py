@@ -31,6 +31,7 @@ def test_compiled_model_has_pinocchios_mass_matrix(name):
         dt=1e-3,
         gravity=gb.gravity,
         driver_index=[],
+        driver_names=[],
         settings=SolverSettings(),
     )
     rng = np.random.default_rng(7)
