@@ -1,0 +1,229 @@
+"""Gear mesh stiffness by ISO 6336-1:2019 clause 9, method B.
+
+ISO gives two stiffnesses per unit face width. The single stiffness c′ is the stiffness of one
+tooth pair, taken at the pitch point (in the single-pair zone). The mesh stiffness c_γα is the
+mean over one base pitch of the stiffness summed over all pairs in contact. Both act along the
+line of action, in the transverse plane. Here both are multiplied by the face width b and given
+in SI units [N/m]. ISO's own units are N/(mm·µm): c′ [N/(mm·µm)] · b [mm] is in N/µm, and
+multiplying by 1e6 gives N/m.
+
+Validity, as ISO 6336-1 states it for method B: steel/steel pairs (for other materials scale by
+E/E_steel); specific load F_t K_A / b ≥ 100 N/mm (below that ISO reduces c′); spur and helical
+gears with basic-rack profiles; x1 ≥ x2 and −0.5 ≤ x1 + x2 ≤ 2. c_γα = c′(0.75 ε_α + 0.25)
+holds for ε_α ≥ 1.2. None of these limits is checked here.
+
+The clause and constant values are those of ISO 6336-1 (method B, theoretical single stiffness
+from the flexibility q′ with constants C1…C9). The ISO text was not available to cross-check
+equation numbers, so only the clause is cited.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pinwind.errors import InputError, InvalidGearTrain
+from pinwind.gears.contact import PathOfContact, path_of_contact
+from pinwind.gears.involute import transverse_pressure_angle
+
+#: ISO 6336-1 method B constants C1…C9 of the flexibility q′ [mm·µm/N].
+FLEXIBILITY_CONSTANTS = (
+    0.04723,
+    0.15551,
+    0.25791,
+    -0.00635,
+    -0.11654,
+    -0.00193,
+    -0.24188,
+    0.00529,
+    0.00182,
+)
+
+#: Factor from c′ b in N/(mm·µm) · m to N/m: 1e3 mm per m times 1e6 µm per m.
+_ISO_TO_SI = 1e9
+
+
+def single_pair_stiffness(
+    teeth_1: int,
+    teeth_2: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    profile_shift_1: float = 0.0,
+    profile_shift_2: float = 0.0,
+    helix_angle: float = 0.0,
+    internal_2: bool = False,
+    face_width: float,
+    dedendum_coefficient: float = 1.25,
+    rim_factor: float = 1.0,
+    C_M: float = 0.8,
+) -> float:
+    """Single stiffness times face width, c′ b [N/m], by ISO 6336-1:2019 clause 9, method B.
+
+    The formula, with q′ in mm·µm/N and c′ in N/(mm·µm):
+
+        q′    = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2
+                + C8 x1² + C9 x2²
+        c′_th = 1/q′
+        c′    = c′_th C_M C_R C_B cos β
+        C_B   = [1 + 0.5 (1.2 − h_fP/m_n)] [1 − 0.02 (20° − α_n)]
+        z_n   = z / (cos² β_b cos β)
+
+    C1…C9 are `FLEXIBILITY_CONSTANTS`. The virtual tooth numbers are z_n. An internal gear 2
+    counts as a rack, z_n2 = ∞. This is the reading of ISO 6336-1 that other implementations
+    use; the ISO text itself was not available to check it. The profile shifts keep the
+    ISO 21771 signs.
+
+    Args:
+        teeth_1: tooth count of the pinion (external gear 1).
+        teeth_2: tooth count of gear 2 (positive, also when internal).
+        module: normal module m_n [m].
+        pressure_angle: normal pressure angle α_n of the basic rack [rad].
+        profile_shift_1: x1 [-].
+        profile_shift_2: x2 [-], ISO sign for an internal gear.
+        helix_angle: reference helix angle β [rad].
+        internal_2: gear 2 is an internal (ring) gear.
+        face_width: common face width b [m].
+        dedendum_coefficient: h_fP/m_n of the basic rack [-] (1.25 for ISO 53 profile A).
+        rim_factor: gear blank factor C_R [-]. It is 1 for solid gears; ISO gives
+            C_R = 1 + ln(b_s/b)/(5 e^(s_R/(5 m_n))) for webbed rims.
+        C_M: theoretical-to-measured correction factor [-], 0.8 for solid disc gears.
+
+    Raises:
+        InvalidGearTrain: a non-positive face width, module or tooth count.
+    """
+    _check_inputs(teeth_1, teeth_2, module, face_width)
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    beta_b = math.atan(math.tan(helix_angle) * math.cos(alpha_t))
+    virtual = math.cos(beta_b) ** 2 * math.cos(helix_angle)
+    z_n1 = teeth_1 / virtual
+    inverse_z_n2 = 0.0 if internal_2 else virtual / teeth_2  # 1/z_n2, 0 for a ring (z_n2 = ∞)
+    x1, x2 = profile_shift_1, profile_shift_2
+    c1, c2, c3, c4, c5, c6, c7, c8, c9 = FLEXIBILITY_CONSTANTS
+    flexibility = (
+        c1
+        + c2 / z_n1
+        + c3 * inverse_z_n2
+        + c4 * x1
+        + c5 * x1 / z_n1
+        + c6 * x2
+        + c7 * x2 * inverse_z_n2
+        + c8 * x1**2
+        + c9 * x2**2
+    )
+    basic_rack = (1.0 + 0.5 * (1.2 - dedendum_coefficient)) * (
+        1.0 - 0.02 * (20.0 - math.degrees(pressure_angle))
+    )
+    single = C_M * rim_factor * basic_rack * math.cos(helix_angle) / flexibility
+    return single * face_width * _ISO_TO_SI
+
+
+def mesh_stiffness(
+    teeth_1: int,
+    teeth_2: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    profile_shift_1: float = 0.0,
+    profile_shift_2: float = 0.0,
+    helix_angle: float = 0.0,
+    internal_2: bool = False,
+    face_width: float,
+    addendum_coefficient: float = 1.0,
+    dedendum_coefficient: float = 1.25,
+    rim_factor: float = 1.0,
+    C_M: float = 0.8,
+    tip_radius_1: float | None = None,
+    tip_radius_2: float | None = None,
+) -> float:
+    """Mean mesh stiffness times face width, c_γα b = c′ b (0.75 ε_α + 0.25) [N/m].
+
+    ISO 6336-1:2019 clause 9, method B. ε_α comes from `path_of_contact` with the same
+    geometry, so tip radii and addendum matter here. The arguments are those of
+    `single_pair_stiffness` and `path_of_contact`. ISO states the formula for ε_α ≥ 1.2.
+    """
+    path = path_of_contact(
+        teeth_1,
+        teeth_2,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift_1=profile_shift_1,
+        profile_shift_2=profile_shift_2,
+        helix_angle=helix_angle,
+        internal_2=internal_2,
+        addendum_coefficient=addendum_coefficient,
+        tip_radius_1=tip_radius_1,
+        tip_radius_2=tip_radius_2,
+    )
+    single = single_pair_stiffness(
+        teeth_1,
+        teeth_2,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift_1=profile_shift_1,
+        profile_shift_2=profile_shift_2,
+        helix_angle=helix_angle,
+        internal_2=internal_2,
+        face_width=face_width,
+        dedendum_coefficient=dedendum_coefficient,
+        rim_factor=rim_factor,
+        C_M=C_M,
+    )
+    return single * (0.75 * path.contact_ratio + 0.25)
+
+
+def pair_stiffness_along_path(
+    path: PathOfContact, single_pair: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Stiffness of one tooth pair as it runs along the path of contact, from A to E.
+
+    The curve is piecewise constant. It is chosen so that the summed mesh stiffness is k_s = c′ b
+    in the single-pair zone [B, D], and its mean over one base pitch is ISO's c_γα b. Over one
+    base pitch two pairs are in contact for a fraction ε − 1 and one pair for 2 − ε. Let k_d be
+    the summed stiffness while two pairs are in contact:
+
+        (ε − 1) k_d + (2 − ε) k_s = k_s (0.75 ε + 0.25)
+        ⇒ k_d (ε − 1) = k_s (1.75 ε − 1.75)  ⇒  k_d = 1.75 k_s
+
+    So each of the two pairs carries 0.875 c′ b on [A, B] and [D, E]. A check: the mean summed
+    stiffness is ∫₀^g k(s) ds / p_bt. Here that is
+    [2 (g − p_bt) 0.875 + (2 p_bt − g)] k_s / p_bt = k_s (0.75 ε + 0.25).
+
+    Args:
+        path: the pair's path of contact, with 1 ≤ ε_α ≤ 2.
+        single_pair: c′ b [N/m], e.g. from `single_pair_stiffness`.
+
+    Returns:
+        (s, k): roll distance from A [m] and pair stiffness [N/m], six breakpoints
+        s = (0, B, B, D, D, g_α). Each jump repeats its abscissa, so `np.interp(s_query, s, k)`
+        gives the step curve. Exactly at a jump, np.interp returns one of the two values; use
+        `pairs_in_contact` where the zone matters. Outside [0, g_α] the pair is not in contact
+        and its stiffness is 0.
+
+    Raises:
+        InputError: ε_α outside [1, 2]. Above 2 there is no single-pair zone to anchor c′ on.
+    """
+    if not 1.0 <= path.contact_ratio <= 2.0:
+        raise InputError(
+            f"pair_stiffness_along_path needs 1 ≤ ε_α ≤ 2, got ε_α = {path.contact_ratio:.4f}: "
+            "above 2 there is no single-pair zone where ISO's c′ applies; use the mean "
+            "c_γα b from mesh_stiffness instead"
+        )
+    double = 0.875 * single_pair
+    b, d, g = path.single_start, path.single_end, path.length
+    s = np.array([0.0, b, b, d, d, g])
+    k = np.array([double, double, single_pair, single_pair, double, double])
+    return s, k
+
+
+def _check_inputs(teeth_1: int, teeth_2: int, module: float, face_width: float) -> None:
+    if teeth_1 <= 0 or teeth_2 <= 0:
+        raise InvalidGearTrain(
+            f"tooth counts must be positive (got {teeth_1} and {teeth_2}); mark a ring gear "
+            "with internal_2=True rather than a negative tooth count"
+        )
+    if module <= 0.0:
+        raise InvalidGearTrain(f"the module must be positive, got {module} m")
+    if face_width <= 0.0:
+        raise InvalidGearTrain(f"the face width must be positive, got {face_width} m")
