@@ -29,7 +29,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics import _native
-from pinwind.model.gearbox import Gearbox
+from pinwind.model.gearbox import Gearbox, Mesh
 
 
 def joint_placements(model: pin.Model, data: pin.Data) -> np.ndarray:
@@ -65,10 +65,15 @@ class MeshRows:
 
 
 class MeshSet:
-    """Geometry constants of every mesh, and the evaluation of their rows at a state."""
+    """Geometry constants of every mesh, and the evaluation of their rows at a state.
 
-    def __init__(self, gearbox: Gearbox):
-        meshes = gearbox.meshes
+    Args:
+        gearbox: the model.
+        meshes: the meshes, if not the gearbox's own (a run's rigid/compliant choice).
+    """
+
+    def __init__(self, gearbox: Gearbox, meshes: list[Mesh] | None = None):
+        meshes = gearbox.meshes if meshes is None else meshes
         self.names = [m.name for m in meshes]
         self.count = len(meshes)
         joints = sorted({m.gear_a.joint_id for m in meshes} | {m.gear_b.joint_id for m in meshes})
@@ -98,19 +103,22 @@ class MeshSet:
                     self.support[i, model.joints[s].idx_v] = 1.0
         self._v = np.zeros(model.nv)
         #: The constants as the compiled code takes them (cpp/mesh_rows.hpp MeshConstants).
-        self.spec = {
-            "meshes": self.count,
-            "slots": len(joints),
-            "slot_joint": np.array(joints, dtype=np.int64),
-            "slot_a": self.slot_a.astype(np.int64),
-            "slot_b": self.slot_b.astype(np.int64),
-            "centre_a": self.centre_a,
-            "centre_b": self.centre_b,
-            "axis_a": self.axis_a,
-            "mu": self.mu,
-            "sigma": self.sigma,
-            "support": self.support,
-        }
+        self.constants = constants = _native.MeshConstants()
+        constants.joint_ids = joints
+        constants.slot_a = self.slot_a.tolist()
+        constants.slot_b = self.slot_b.tolist()
+        constants.centre_a = self.centre_a
+        constants.centre_b = self.centre_b
+        constants.axis_a = self.axis_a
+        constants.mu = self.mu
+        constants.sigma = self.sigma
+        constants.support = self.support
+        constants.cos_a = self.cos_a
+        constants.sin_a = self.sin_a
+        constants.eps = self.eps
+        constants.tan_beta = self.tan_beta
+        constants.joint_a = self.joint_a.tolist()
+        constants.joint_b = self.joint_b.tolist()
 
     def evaluate(
         self, model: pin.Model, data: pin.Data, placements: np.ndarray | None = None
@@ -133,7 +141,7 @@ class MeshSet:
         nv = model.nv
         # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
         parts = _native.mesh_rows(
-            self.spec,
+            self.constants,
             np.reshape(data.J, (6, nv)),
             np.reshape(data.dJ, (6, nv)),
             self._v,

@@ -45,9 +45,17 @@ class MeshSeries:
         radial: F_r = F_n sin α_w [N], (n,).
         axial: F_a = F_t |tan β| [N], (n,); its direction is in ``force_on_b``.
         flank: loaded flank s = ±1, (n,): +1 when A turning positively drives B.
-        transmission_error: position mismatch along the line of action [m], (n,).
+        transmission_error: rigid mesh: position mismatch accumulated along the row [m];
+            compliant mesh: the front flank's overlap δ_f from the gear positions [m], (n,).
         force_on_b: tooth force on gear B in world [N], (n, 3).
         pitch_point: pitch point in world [m], (n, 3).
+        deflection: compliant mesh: overlap δ of the loaded flank [m] (0 for rigid meshes;
+            negative: the gap to the nearer flank while out of contact), (n,).
+        contact_position: roll position of the tooth pair entering the mesh, measured along
+            the line of action from gear A's base-circle tangency point [m], (n,)
+            (003_83d3049daebcd276.txt Fig. 7, Table 6).
+        pairs: tooth pairs in contact, (n,).
+        single_tooth_force: normal force on the entering pair, F_n k₁/k (003 §2.4) [N], (n,).
     """
 
     normal: np.ndarray
@@ -58,6 +66,10 @@ class MeshSeries:
     transmission_error: np.ndarray
     force_on_b: np.ndarray
     pitch_point: np.ndarray
+    deflection: np.ndarray
+    contact_position: np.ndarray
+    pairs: np.ndarray
+    single_tooth_force: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -106,7 +118,8 @@ class Result:
         joint_names, mesh_names, bearing_names, body_names: element names from the model file.
         angle, speed, acceleration, torque: (n, joints).
         mesh_normal, mesh_tangential, mesh_radial, mesh_axial, mesh_flank,
-        transmission_error: (n, meshes).
+        transmission_error, mesh_deflection, mesh_contact_position, mesh_pairs,
+        mesh_single_tooth_force: (n, meshes).
         mesh_force_on_b, pitch_point: (n, meshes, 3).
         bearing_force, bearing_moment, bearing_force_local, bearing_moment_local:
             (n, bearings, 3).
@@ -136,6 +149,10 @@ class Result:
     transmission_error: np.ndarray
     mesh_force_on_b: np.ndarray
     pitch_point: np.ndarray
+    mesh_deflection: np.ndarray
+    mesh_contact_position: np.ndarray
+    mesh_pairs: np.ndarray
+    mesh_single_tooth_force: np.ndarray
     bearing_force: np.ndarray
     bearing_moment: np.ndarray
     bearing_force_local: np.ndarray
@@ -162,6 +179,10 @@ class Result:
         "transmission_error",
         "mesh_force_on_b",
         "pitch_point",
+        "mesh_deflection",
+        "mesh_contact_position",
+        "mesh_pairs",
+        "mesh_single_tooth_force",
         "bearing_force",
         "bearing_moment",
         "bearing_force_local",
@@ -200,6 +221,10 @@ class Result:
             transmission_error=self.transmission_error[:, i],
             force_on_b=self.mesh_force_on_b[:, i],
             pitch_point=self.pitch_point[:, i],
+            deflection=self.mesh_deflection[:, i],
+            contact_position=self.mesh_contact_position[:, i],
+            pairs=self.mesh_pairs[:, i],
+            single_tooth_force=self.mesh_single_tooth_force[:, i],
         )
 
     def bearing(self, name: str) -> BearingSeries:

@@ -33,12 +33,14 @@ from typing import Protocol
 
 import numpy as np
 
+from pinwind.dynamics.compliant import mean_mesh_stiffness, mesh_choices, mesh_setup, single_pair
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.errors import InputError, NonFiniteInput, PinwindError
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
-from pinwind.model.gearbox import Gearbox
+from pinwind.model.compliance import MeshCompliance
+from pinwind.model.gearbox import Gearbox, Mesh
 
 
 class RunObserver(Protocol):
@@ -103,6 +105,10 @@ def _allocate(gearbox: Gearbox, n: int, body_names: list[str]) -> Result:
         transmission_error=z(nm),
         mesh_force_on_b=z(nm, 3),
         pitch_point=z(nm, 3),
+        mesh_deflection=z(nm),
+        mesh_contact_position=z(nm),
+        mesh_pairs=z(nm),
+        mesh_single_tooth_force=z(nm),
         bearing_force=z(nj, 3),
         bearing_moment=z(nj, 3),
         bearing_force_local=z(nj, 3),
@@ -149,6 +155,8 @@ def simulate(
     progress: bool | None = None,
     observer: RunObserver | None = None,
     chunk: int = 1000,
+    meshes: Mapping[str, str | MeshCompliance] | None = None,
+    position_errors: Mapping[str, tuple[float, float]] | None = None,
 ) -> Result:
     """Simulate a gearbox under joint torques and speed drivers.
 
@@ -165,6 +173,10 @@ def simulate(
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
         observer: receives samples as they are computed (e.g. the MCAP logger).
         chunk: samples per observer call.
+        meshes: mesh name (or ``"all"``) → ``"rigid"``, ``"compliant"`` or a
+            ``MeshCompliance``, replacing the model file's choice (``dynamics/compliant.py``).
+        position_errors: gear name → (tangential, radial) position error of its centre [m]
+            (planet pin errors), replacing the model file's.
 
     Returns:
         Result with samples at t = 0, dt, ..., duration. If the run raises or is interrupted, the
@@ -204,6 +216,15 @@ def simulate(
         g = np.asarray(gearbox.gravity, dtype=float)
 
     settings = solver or SolverSettings()
+    # Rows after the meshes: the speed drivers, then the locked bearings (held at zero speed).
+    drivers = speed_loads + [JointLoad(j, gearbox.v_index(j), 0.0) for j in gearbox.locked_joints]
+    mesh_setup_ = mesh_setup(
+        gearbox,
+        mesh_choices(gearbox, meshes),
+        driver_index=[d.v_index for d in drivers],
+        dt=dt,
+        position_errors=position_errors,
+    )
     frames = body_frames(model)
     res = _allocate(gearbox, steps + 1, [model.frames[f].name for f in frames])
     res.metadata = {
@@ -219,9 +240,13 @@ def simulate(
         "locked_joints": list(gearbox.locked_joints),
         "solver": settings.as_dict(),
         "integrator": "semi-implicit Euler with velocity projection",
+        "meshes": {m.name: _mesh_metadata(m) for m in mesh_setup_.meshes},
+        "highest_mesh_mode_hz": mesh_setup_.highest_mode,
     }
-    # Rows after the meshes: the speed drivers, then the locked bearings (held at zero speed).
-    drivers = speed_loads + [JointLoad(j, gearbox.v_index(j), 0.0) for j in gearbox.locked_joints]
+    if position_errors:
+        res.metadata["position_errors"] = {
+            k: list(map(float, v)) for k, v in position_errors.items()
+        }
 
     q = gearbox.neutral()
     v = np.zeros(model.nv)
@@ -246,6 +271,7 @@ def simulate(
         driver_index=[d.v_index for d in drivers],
         driver_names=[d.joint for d in drivers],
         settings=settings,
+        meshes=mesh_setup_,
     )
     if observer is not None:
         observer.begin(gearbox, res)
@@ -309,6 +335,22 @@ def simulate(
                 observer.samples(final, written, done)
             observer.end(final, status)
     return final
+
+
+def _mesh_metadata(mesh: Mesh) -> dict:
+    """How a mesh was modelled in a run, for the log's metadata (SI units)."""
+    c = mesh.compliance
+    if c is None:
+        return {"type": "rigid"}
+    return {
+        "type": "compliant",
+        "single_pair_stiffness": single_pair(mesh),
+        "mean_stiffness": mean_mesh_stiffness(mesh),
+        "variation": "table" if c.pair_stiffness is not None else c.variation,
+        "damping": c.damping,
+        "damping_ratio": c.damping_ratio,
+        "backlash": c.backlash,
+    }
 
 
 class _progress_bar:

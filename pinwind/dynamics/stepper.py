@@ -3,8 +3,9 @@
 The step (assembly, proxsuite QP, flank switching, projection, bearing reactions, integration and
 recording) is C++ in ``pinwind/dynamics/cpp/``, calling Pinocchio and proxsuite directly: done in
 Python, the glue around those calls cost twenty times the calls themselves. This module describes
-the gearbox to it as plain arrays (the Pinocchio joint tree, the mesh, spring and driver
-constants) and maps the status it returns to pinwind's errors.
+the gearbox to it in typed structs (``_native.pyi``: the Pinocchio joint tree, the mesh, element
+and driver constants, the Result's arrays to write) and maps the status it returns to pinwind's
+errors.
 
 The C++ side builds its own ``pinocchio.Model`` from the joint tree; ``Stepper.mass_matrix`` lets
 the tests check that its M equals Pinocchio's own.
@@ -16,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics import _native
+from pinwind.dynamics.compliant import IMPLICIT_THETA, MeshSetup
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
@@ -29,10 +31,10 @@ PROJECTION_TOL = 1e-14
 _REVOLUTE = {"JointModelRX": 0, "JointModelRY": 1, "JointModelRZ": 2}
 
 
-def joint_tree(gearbox: Gearbox) -> dict:
-    """The Pinocchio model as arrays: parents, joint types and placements, body inertias.
+def joint_tree(gearbox: Gearbox, gravity: np.ndarray) -> _native.JointTree:
+    """The Pinocchio model as the compiled code takes it.
 
-    Gravity is not part of it: each run gives its own.
+    Parents, joint types and placements, body inertias, and this run's gravity [m/s²].
     """
     model = gearbox.model
     joints = range(1, model.njoints)
@@ -53,18 +55,18 @@ def joint_tree(gearbox: Gearbox) -> dict:
                 f"Pinocchio made it a {kind}; only revolute bearings are supported",
             )
     inertias = [model.inertias[j] for j in joints]
-    return {
-        "joints": model.njoints - 1,
-        "joint_names": [model.names[j] for j in joints],
-        "joint_parent": np.array([model.parents[j] for j in joints], dtype=np.int64),
-        "joint_type": np.array(types, dtype=np.int64),
-        "joint_axis": np.array(axes, dtype=float).reshape(-1, 3),
-        "joint_placement": np.array([model.jointPlacements[j].homogeneous for j in joints]),
-        "body_mass": np.array([i.mass for i in inertias], dtype=float),
-        "body_com": np.array([i.lever for i in inertias], dtype=float).reshape(-1, 3),
-        "body_inertia": np.array([i.inertia for i in inertias], dtype=float).reshape(-1, 3, 3),
-        "armature": np.asarray(model.armature, dtype=float).copy(),
-    }
+    tree = _native.JointTree()
+    tree.names = [model.names[j] for j in joints]
+    tree.parent = [int(model.parents[j]) for j in joints]
+    tree.type = types
+    tree.axis = np.array(axes, dtype=float).reshape(-1, 3)
+    tree.placement = [model.jointPlacements[j].homogeneous for j in joints]
+    tree.mass = np.array([i.mass for i in inertias], dtype=float)
+    tree.com = np.array([i.lever for i in inertias], dtype=float).reshape(-1, 3)
+    tree.inertia = np.array([i.inertia for i in inertias], dtype=float).reshape(-1, 9)
+    tree.armature = np.asarray(model.armature, dtype=float).copy()
+    tree.gravity = np.asarray(gravity, dtype=float)
+    return tree
 
 
 def body_frames(model: pin.Model) -> list[int]:
@@ -84,6 +86,7 @@ class CompiledStepper:
         driver_index: velocity index of each speed driver and locked bearing, in row order.
         driver_names: their joint names, for messages.
         settings: proxsuite settings.
+        meshes: the run's rigid and compliant meshes (``dynamics/compliant.py``).
     """
 
     def __init__(
@@ -98,47 +101,40 @@ class CompiledStepper:
         driver_index: list[int],
         driver_names: list[str],
         settings: SolverSettings,
+        meshes: MeshSetup,
     ):
         model = gearbox.model
-        meshes = MeshSet(gearbox)
-        springs = gearbox.springs
         frames = body_frames(model)
-        spec = joint_tree(gearbox)
-        spec["gravity"] = np.asarray(gravity, dtype=float)
-        spec.update(meshes.spec)
-        spec.update(
-            {
-                "cos_a": meshes.cos_a,
-                "sin_a": meshes.sin_a,
-                "eps": meshes.eps,
-                "tan_beta": meshes.tan_beta,
-                "joint_a": meshes.joint_a.astype(np.int64),
-                "joint_b": meshes.joint_b.astype(np.int64),
-                "springs": len(springs),
-                "spring_index_1": np.array([s.v_index_1 for s in springs], dtype=np.int64),
-                "spring_index_2": np.array([s.v_index_2 for s in springs], dtype=np.int64),
-                "spring_stiffness": np.array([s.stiffness for s in springs], dtype=float),
-                "spring_damping": np.array([s.damping for s in springs], dtype=float),
-                "spring_preload": np.array([s.preload_angle for s in springs], dtype=float),
-                "bearing_damping": np.array(model.damping, dtype=float).copy(),
-                "drivers": len(driver_index),
-                "driver_index": np.array(driver_index, dtype=np.int64),
-                "frames": len(frames),
-                "frame_parent": np.array(
-                    [model.frames[f].parentJoint for f in frames], dtype=np.int64
-                ),
-                "frame_placement": np.array(
-                    [model.frames[f].placement.homogeneous for f in frames]
-                ).reshape(-1, 4, 4),
-                "dt": float(dt),
-                "projection_tol": PROJECTION_TOL,
-                "eps_abs": float(settings.eps_abs),
-                "eps_rel": float(settings.eps_rel),
-                "max_iter": int(settings.max_iter),
-            }
-        )
-        out = {name: getattr(result, name) for name in Result.ARRAYS}
-        out.update(result.energy)
+        spec = _native.StepperSpec()
+        spec.tree = joint_tree(gearbox, gravity)
+        spec.meshes = MeshSet(gearbox, meshes.meshes).constants
+        spec.paths = meshes.paths
+        spec.rigid_meshes = meshes.rigid
+        spec.compliant_meshes = meshes.compliant
+        springs = []
+        for s in gearbox.springs:
+            sp = _native.TorsionalSpringSpec()
+            sp.index_1, sp.index_2 = s.v_index_1, s.v_index_2
+            sp.stiffness, sp.damping, sp.preload_angle = s.stiffness, s.damping, s.preload_angle
+            springs.append(sp)
+        spec.springs = springs
+        spec.bearing_damping = np.array(model.damping, dtype=float).copy()
+        spec.driver_index = list(driver_index)
+        spec.frame_parent = [int(model.frames[f].parentJoint) for f in frames]
+        spec.frame_placement = [model.frames[f].placement.homogeneous for f in frames]
+        spec.dt = float(dt)
+        spec.projection_tol = PROJECTION_TOL
+        spec.implicit_theta = IMPLICIT_THETA
+        solver = _native.SolverSettings()
+        solver.eps_abs = float(settings.eps_abs)
+        solver.eps_rel = float(settings.eps_rel)
+        solver.max_iter = int(settings.max_iter)
+        spec.solver = solver
+        out = _native.OutputArrays()
+        for name in Result.ARRAYS:
+            setattr(out, name, getattr(result, name))
+        for name, values in result.energy.items():
+            setattr(out, name, values)
         self._stepper = _native.Stepper(
             spec, np.asarray(q0, dtype=float), np.asarray(v0, dtype=float), out, len(result)
         )
@@ -158,25 +154,25 @@ class CompiledStepper:
         status = self._stepper.run(
             start, stop, np.ascontiguousarray(torque), np.ascontiguousarray(target)
         )
-        code = status["code"]
+        code = status.code
         if code == 0:
-            return status["sample"]
-        step, time = status["step"], status["time"]
+            return status.sample
+        step, time = status.step, status.time
         if code == 1:
-            err = Diverged(step, time, status["what"])
+            err = Diverged(step, time, status.what)
         elif code == 2:
             err = SolverFailed(
                 step,
                 time,
-                status["what"],
-                f"primal residual {status['primal']:.3g}, dual residual {status['dual']:.3g} "
-                f"N·m after {status['iterations']} iterations. Check for conflicting speed "
+                status.what,
+                f"primal residual {status.primal:.3g}, dual residual {status.dual:.3g} "
+                f"N·m after {status.iterations} iterations. Check for conflicting speed "
                 "drivers (two drivers on joints that the gears couple) or a driver on a locked "
                 "bearing.",
             )
         else:
-            err = ConflictingConstraints(step, time, status["residual"], self.drivers)
-        err.samples = status["sample"]
+            err = ConflictingConstraints(step, time, status.residual, self.drivers)
+        err.samples = status.sample
         raise err
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,8 +21,12 @@ from pinwind.errors import (
     InvalidGearGeometry,
     MalformedModel,
     NonParallelAxes,
+    PinwindError,
+    PinwindWarning,
 )
+from pinwind.gears.contact import PathOfContact, path_of_contact
 from pinwind.gears.involute import pair_geometry
+from pinwind.model.compliance import MeshCompliance
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 
 #: Relative tolerance between the centre distance in the file and the one the gear data give.
@@ -68,6 +73,9 @@ class Mesh:
         working_radius_a, working_radius_b: working pitch radii [m].
         base_radius_a, base_radius_b: base radii [m].
         helix_angle: helix angle β of gear A [rad] (signed; right hand positive).
+        path: the path of contact (contact ratio, single- and double-pair zones), or None when
+            the gear data give no valid one (a warning said why; a rigid mesh still runs).
+        compliance: None for a rigid mesh (a constraint row), else its spring-damper.
     """
 
     name: str
@@ -83,6 +91,13 @@ class Mesh:
     base_radius_a: float
     base_radius_b: float
     helix_angle: float
+    path: PathOfContact | None = None
+    compliance: MeshCompliance | None = None
+
+    @property
+    def face_width(self) -> float:
+        """Face width in contact, the narrower gear's [m]."""
+        return min(self.gear_a.spec.face_width, self.gear_b.spec.face_width)
 
 
 @dataclass(frozen=True)
@@ -136,7 +151,7 @@ class Gearbox:
             source.gravity.copy() if source.gravity is not None else self._default_gravity()
         )
         self.model.gravity = pin.Motion(self.gravity, np.zeros(3))
-        self.meshes = [self._mesh(m.name, m.gear_a, m.gear_b) for m in source.meshes]
+        self.meshes = [self._mesh(m.name, m.gear_a, m.gear_b, m.compliance) for m in source.meshes]
         self.springs = [self._spring(s) for s in source.springs]
 
     # --- lookups ---------------------------------------------------------------------------------
@@ -225,7 +240,9 @@ class Gearbox:
         col = jac[:, self.model.joints[joint_id].idx_v]
         return col[3:] / np.linalg.norm(col[3:])
 
-    def _mesh(self, name: str, gear_a: str, gear_b: str) -> Mesh:
+    def _mesh(
+        self, name: str, gear_a: str, gear_b: str, compliance: MeshCompliance | None = None
+    ) -> Mesh:
         where = f'<mesh name="{name}">'
         a, b = self.gears[gear_a], self.gears[gear_b]
         data = self.model.createData()
@@ -279,21 +296,58 @@ class Gearbox:
         else:
             pitch_fraction = sa.teeth / (sa.teeth + sb.teeth)
             line_sign = 1.0
+        # The teeth work at the centre distance of the bearings, not the nominal one: rigid
+        # involutes on the same base circles roll at cos α′ = (r_b,B ± r_b,A) / a′.
+        base_sum = geo.centre_distance * math.cos(geo.working_pressure_angle)
+        working_angle = math.acos(min(1.0, base_sum / actual))
+        signed_sum = abs(
+            (-sb.teeth if sb.internal else sb.teeth) + (-sa.teeth if sa.internal else sa.teeth)
+        )
+        path = self._path(where, a, b, compliance is not None)
         return Mesh(
             name=name,
             gear_a=a,
             gear_b=b,
-            working_pressure_angle=geo.working_pressure_angle,
-            centre_distance=geo.centre_distance,
+            working_pressure_angle=working_angle,
+            centre_distance=actual,
             pitch_fraction=pitch_fraction,
             line_sign=line_sign,
             radial_sign=-1.0 if sa.internal else 1.0,
-            working_radius_a=geo.working_radius_1,
-            working_radius_b=geo.working_radius_2,
+            working_radius_a=actual * sa.teeth / signed_sum,
+            working_radius_b=actual * sb.teeth / signed_sum,
             base_radius_a=geo.base_radius_1,
             base_radius_b=geo.base_radius_2,
             helix_angle=sa.helix_angle,
+            path=path,
+            compliance=compliance,
         )
+
+    def _path(self, where: str, a: Gear, b: Gear, compliant: bool) -> PathOfContact | None:
+        """The pair's path of contact; for a rigid mesh a failure only warns (outputs NaN)."""
+        sa, sb = a.spec, b.spec
+        try:
+            return path_of_contact(
+                sa.teeth,
+                sb.teeth,
+                module=sa.module,
+                pressure_angle=sa.pressure_angle,
+                profile_shift_1=sa.profile_shift,
+                profile_shift_2=sb.profile_shift,
+                helix_angle=abs(sa.helix_angle),
+                internal_1=sa.internal,
+                internal_2=sb.internal,
+                face_width=min(sa.face_width, sb.face_width),
+            )
+        except PinwindError as err:
+            if compliant:
+                raise InvalidGearGeometry(self.path, where, str(err)) from err
+            warnings.warn(
+                f"{self.path}: {where}: {err}; the mesh runs rigid, without contact position "
+                "or single-tooth force",
+                PinwindWarning,
+                stacklevel=3,
+            )
+            return None
 
     def _spring(self, spec) -> TorsionalSpring:
         where = f'<torsional_spring name="{spec.name}">'

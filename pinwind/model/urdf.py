@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinwind.errors import InvalidGearGeometry, InvalidInertia, MalformedModel, UnknownName
+from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 
 
 @dataclass(frozen=True)
@@ -31,15 +32,20 @@ class GearSpec:
     internal: bool
     centre_in_link: np.ndarray
     axis_in_link: np.ndarray | None
+    #: Angle of tooth 0 from the link's reference direction about the axis [rad].
+    tooth_phase: float = 0.0
+    #: Position error of the gear centre (tangential, radial) [m] (dynamics/compliant.py).
+    position_error: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
 class MeshSpec:
-    """One gear mesh of the model file: gear1 is A, gear2 is B."""
+    """One gear mesh of the model file: gear1 is A, gear2 is B; compliance None is rigid."""
 
     name: str
     gear_a: str
     gear_b: str
+    compliance: MeshCompliance | None = None
 
 
 @dataclass(frozen=True)
@@ -268,6 +274,8 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             internal=_bool(path, el, "internal"),
             centre_in_link=_vector(path, el, "xyz", "0 0 0"),
             axis_in_link=axis,
+            tooth_phase=math.radians(_number(path, el, "tooth_phase_deg", 0.0)),
+            position_error=_position_error(path, el),
         )
     names = set()
     for el in box.findall("mesh"):
@@ -314,7 +322,9 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
                 f"{math.degrees(b.helix_angle):g}° do not mesh: an external pair needs opposite "
                 "hands (β2 = −β1), an internal pair the same hand",
             )
-        out.meshes.append(MeshSpec(name=name, gear_a=gear_a, gear_b=gear_b))
+        out.meshes.append(
+            MeshSpec(name=name, gear_a=gear_a, gear_b=gear_b, compliance=_compliance(path, el))
+        )
     for el in box.findall("torsional_spring"):
         name = _required(path, el, "name")
         where = _describe(el)
@@ -329,3 +339,75 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
                 path, where, f"stiffness {k:g} N·m/rad and damping {c:g} N·m·s/rad must be ≥ 0"
             )
         out.springs.append(SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0)))
+
+
+def _position_error(path: str, el: ET.Element) -> tuple[float, float]:
+    raw = el.get("position_error_um", "0 0")
+    try:
+        values = [float(x) * 1e-6 for x in raw.split()]
+    except ValueError:
+        values = []
+    if len(values) != 2 or not all(math.isfinite(v) for v in values):
+        raise MalformedModel(
+            path,
+            _describe(el),
+            f'attribute position_error_um="{raw}" must be two numbers: the tangential and radial '
+            "position errors of the gear centre in µm",
+        )
+    return values[0], values[1]
+
+
+def _compliance(path: str, el: ET.Element) -> MeshCompliance | None:
+    """The ``<mesh>`` element's compliance, or None for a rigid mesh (docs/model_format.md)."""
+    where = _describe(el)
+    kind = el.get("type", "rigid").strip().lower()
+    if kind not in ("rigid", "compliant"):
+        raise MalformedModel(path, where, f'type="{kind}" must be "rigid" or "compliant"')
+    if kind == "rigid":
+        extra = [a for a in _COMPLIANCE_ATTRIBUTES if el.get(a) is not None]
+        if extra:
+            raise MalformedModel(
+                path,
+                where,
+                f'{", ".join(extra)} only apply to a compliant mesh; add type="compliant" or '
+                "remove them",
+            )
+        return None
+    table = None
+    raw = el.get("pair_stiffness")
+    if raw is not None:
+        try:
+            pairs = [item.split(":") for item in raw.split()]
+            s_mm, k = zip(*((float(a), float(b)) for a, b in pairs), strict=True)
+        except ValueError as err:
+            raise MalformedModel(
+                path,
+                where,
+                f'pair_stiffness="{raw}" must be "x_mm:k x_mm:k ..." (positions along the path '
+                "of contact from its start [mm], stiffness of one tooth pair [N/m])",
+            ) from err
+        table = (np.array(s_mm) * 1e-3, np.array(k))
+    stiffness = el.get("stiffness")
+    damping = el.get("damping")
+    compliance = MeshCompliance(
+        stiffness=None if stiffness is None else _number(path, el, "stiffness"),
+        variation=el.get("stiffness_variation", "path").strip().lower(),
+        pair_stiffness=table,
+        damping=None if damping is None else _number(path, el, "damping"),
+        damping_ratio=_number(path, el, "damping_ratio", DEFAULT_DAMPING_RATIO),
+        backlash=_number(path, el, "backlash_mm", 0.0) * 1e-3,
+    )
+    problems = compliance.problems()
+    if problems:
+        raise MalformedModel(path, where, "; ".join(problems))
+    return compliance
+
+
+_COMPLIANCE_ATTRIBUTES = (
+    "stiffness",
+    "stiffness_variation",
+    "pair_stiffness",
+    "damping",
+    "damping_ratio",
+    "backlash_mm",
+)

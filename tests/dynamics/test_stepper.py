@@ -7,6 +7,7 @@ import pinocchio as pin
 import pytest
 
 import pinwind
+from pinwind.dynamics.compliant import mesh_setup
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.simulate import _allocate
 from pinwind.dynamics.solver import SolverSettings
@@ -33,6 +34,7 @@ def test_compiled_model_has_pinocchios_mass_matrix(name):
         driver_index=[],
         driver_names=[],
         settings=SolverSettings(),
+        meshes=mesh_setup(gb, gb.meshes, driver_index=[], dt=1e-3),
     )
     rng = np.random.default_rng(7)
     data = model.createData()

@@ -33,6 +33,9 @@ struct MeshConstants {
   Eigen::VectorXd mu;        // pitch point P = C_A + mu (C_B − C_A)⊥
   Eigen::VectorXd sigma;     // r̂ = sigma (C_B − C_A)⊥ / |·|
   RowMat support;            // support(i, k) = 1 when velocity k moves the body of slot i
+  // Working pressure angle α_w (cos, sin), ε (−1 when A is internal), tan β of gear A.
+  Eigen::VectorXd cos_a, sin_a, eps, tan_beta;
+  std::vector<long> joint_a, joint_b;  // Pinocchio joint ids of gear A and gear B
 
   Index count() const { return static_cast<Index>(slot_a.size()); }
 };
@@ -42,6 +45,7 @@ struct MeshRows {
   RowMat jac_t, jac_r;
   Eigen::VectorXd bias_t, bias_r;
   Rows3 tangent, radial, pitch_point, axis;
+  Rows3 centre_a, centre_b;  // gear centres in world [m]
   // Work space: spatial velocity and acceleration at q̈ = 0 of each slot's body.
   std::vector<Eigen::Matrix<double, 6, 1>> twist, accel;
 
@@ -54,6 +58,8 @@ struct MeshRows {
     radial.setZero(meshes, 3);
     pitch_point.setZero(meshes, 3);
     axis.setZero(meshes, 3);
+    centre_a.setZero(meshes, 3);
+    centre_b.setZero(meshes, 3);
   }
 };
 
@@ -99,6 +105,8 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
     out.radial.row(m) = r.transpose();
     out.pitch_point.row(m) = x.transpose();
     out.axis.row(m) = k.transpose();
+    out.centre_a.row(m) = ca.transpose();
+    out.centre_b.row(m) = cb.transpose();
 
     // Rows: n·v_o + (P × n)·ω of B minus that of A.
     const Vec3 mt = x.cross(t), mr = x.cross(r);
@@ -133,6 +141,32 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
     out.bias_t[m] = td.dot(dv) + t.dot(h);
     out.bias_r[m] = rd.dot(dv) + r.dot(h);
   }
+}
+
+// The one implementation of a mesh's line of action and row for a flank (docs/model_format.md
+// "Mesh sign convention"): n = s cos α_w t + ε sin α_w r̂, J = s cos α_w J_t + ε sin α_w J_r,
+// shared by the rigid row, the compliant mesh force and the deflection rate δ̇ = −J v.
+inline Vec3 line_of_action(const MeshConstants& mc, const MeshRows& rows, Index m, double flank) {
+  return mc.cos_a[m] * flank * rows.tangent.row(m).transpose() +
+         mc.sin_a[m] * mc.eps[m] * rows.radial.row(m).transpose();
+}
+
+template <class Row>
+void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double flank, Row&& row,
+               double& bias) {
+  const double ct = mc.cos_a[m] * flank, cr = mc.sin_a[m] * mc.eps[m];
+  row = ct * rows.jac_t.row(m) + cr * rows.jac_r.row(m);
+  bias = ct * rows.bias_t[m] + cr * rows.bias_r[m];
+}
+
+// Tooth force on gear B [N] in world for the normal force F_n on flank s: F_n n plus, for
+// helical teeth, the axial thrust. The tooth line of a right-hand gear A runs along
+// cos β k + sin β t at P, so the force on B, normal to it, has the axial part −s F_t tan β k.
+inline Vec3 tooth_force_on_b(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
+                             double normal) {
+  const double tangential = normal * mc.cos_a[m];
+  return normal * line_of_action(mc, rows, m, flank) -
+         (flank * tangential * mc.tan_beta[m]) * rows.axis.row(m).transpose();
 }
 
 }  // namespace pinwind

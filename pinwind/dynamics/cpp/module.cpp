@@ -1,8 +1,9 @@
-// Python bindings of the compiled step loop: pinwind.dynamics._native.
+// Python bindings of the compiled step loop: pinwind.dynamics._native (stub: _native.pyi).
 //
-// The Python side (pinwind/dynamics/stepper.py) hands over the Pinocchio model as plain arrays
-// (joint tree, placements, inertias), rebuilds nothing else, and checks that this copy's mass
-// matrix and bias forces equal Pinocchio's own.
+// The Python side (pinwind/dynamics/stepper.py) fills typed structs: the Pinocchio joint tree
+// (placements, inertias), the mesh geometry, the elements' constants and the Result's arrays to
+// write into. This module rebuilds the Pinocchio model from the joint tree; a test checks that
+// its mass matrix equals Pinocchio's own.
 #include <nanobind/eigen/dense.h>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
@@ -22,146 +23,179 @@ namespace pinwind {
 namespace {
 
 using Array = nb::ndarray<double, nb::numpy, nb::c_contig, nb::device::cpu>;
-using IntArray = nb::ndarray<int64_t, nb::numpy, nb::c_contig, nb::device::cpu>;
+using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>;
 
-Array array(const nb::dict& d, const char* key, size_t size) {
-  if (!d.contains(key)) throw std::invalid_argument(std::string("missing array ") + key);
-  Array a;
-  if (!nb::try_cast<Array>(d[key], a)) {
-    throw std::invalid_argument(std::string(key) + " must be a C-contiguous float64 array");
+// The Pinocchio joint tree, body inertias and gravity (pinwind/dynamics/stepper.py joint_tree).
+struct JointTree {
+  std::vector<std::string> names;
+  std::vector<long> parent;
+  std::vector<long> type;       // 0, 1, 2 = revolute about x, y, z; 3 = unaligned axis
+  Rows3 axis;                   // axis of type-3 joints in the joint frame
+  std::vector<Mat4> placement;  // joint placement in the parent joint's frame
+  Eigen::VectorXd mass;         // [kg]
+  Rows3 com;                    // centre of mass in the joint frame [m]
+  RowMat inertia;               // (joints, 9) rotational inertia about the com [kg·m²]
+  Eigen::VectorXd armature;     // [kg·m²]
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // [m/s²]
+};
+
+// Everything a run needs besides the initial state and the arrays it writes.
+struct StepperSpec {
+  JointTree tree;
+  MeshConstants meshes;
+  std::vector<MeshPathSpec> paths;
+  std::vector<long> rigid_meshes;
+  std::vector<CompliantMeshSpec> compliant_meshes;
+  std::vector<TorsionalSpringSpec> springs;
+  Eigen::VectorXd bearing_damping;
+  std::vector<long> driver_index;
+  std::vector<long> frame_parent;
+  std::vector<Mat4> frame_placement;
+  double dt = 1e-3;
+  double projection_tol = 1e-14;
+  double implicit_theta = 0.5;
+  SolverSettings solver;
+};
+
+// The Result's arrays the run writes into (row-major, float64, n samples long).
+struct OutputArrays {
+  Array time, angle, speed, acceleration, torque;
+  Array mesh_normal, mesh_tangential, mesh_radial, mesh_axial, mesh_flank;
+  Array transmission_error, mesh_force_on_b, pitch_point;
+  Array mesh_deflection, mesh_contact_position, mesh_pairs, mesh_single_tooth_force;
+  Array bearing_force, bearing_moment, bearing_force_local, bearing_moment_local;
+  Array body_position, body_quaternion, constraint_residual;
+  Array kinetic, potential_spring;
+  Array work_applied, work_drivers, work_springs, work_gravity, work_constraints, dissipated;
+};
+
+pinocchio::SE3 placement(const Mat4& h) {
+  return pinocchio::SE3(Eigen::Matrix3d(h.topLeftCorner<3, 3>()), Vec3(h.topRightCorner<3, 1>()));
+}
+
+template <class T>
+void check_size(const char* what, const T& values, size_t size) {
+  if (static_cast<size_t>(values.size()) != size) {
+    throw std::invalid_argument(std::string(what) + " has " + std::to_string(values.size()) +
+                                " entries, expected " + std::to_string(size));
   }
-  if (a.size() != size) {
-    throw std::invalid_argument(std::string(key) + " has " + std::to_string(a.size()) +
-                                " values, expected " + std::to_string(size));
+}
+
+pinocchio::Model build_model(const JointTree& t) {
+  const size_t nj = t.names.size();
+  check_size("tree.parent", t.parent, nj);
+  check_size("tree.type", t.type, nj);
+  check_size("tree.placement", t.placement, nj);
+  check_size("tree.mass", t.mass, nj);
+  if (static_cast<size_t>(t.axis.rows()) != nj || static_cast<size_t>(t.com.rows()) != nj ||
+      static_cast<size_t>(t.inertia.rows()) != nj || t.inertia.cols() != 9) {
+    throw std::invalid_argument("tree.axis, tree.com and tree.inertia need one row per joint");
   }
-  return a;
-}
-
-std::vector<long> longs(const nb::dict& d, const char* key, size_t size) {
-  IntArray a;
-  if (!d.contains(key) || !nb::try_cast<IntArray>(d[key], a)) {
-    throw std::invalid_argument(std::string(key) + " must be a C-contiguous int64 array");
-  }
-  if (a.size() != size) throw std::invalid_argument(std::string(key) + " has the wrong size");
-  return std::vector<long>(a.data(), a.data() + size);
-}
-
-Eigen::VectorXd vec(const nb::dict& d, const char* key, size_t size) {
-  Array a = array(d, key, size);
-  return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(size));
-}
-
-Rows3 rows3(const nb::dict& d, const char* key, size_t rows) {
-  Array a = array(d, key, 3 * rows);
-  return Eigen::Map<const Rows3>(a.data(), static_cast<Eigen::Index>(rows), 3);
-}
-
-pinocchio::SE3 placement(const double* h) {
-  const Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> m(h);
-  return pinocchio::SE3(Eigen::Matrix3d(m.topLeftCorner<3, 3>()), Vec3(m.topRightCorner<3, 1>()));
-}
-
-// The Pinocchio model from its joint tree: types 0, 1, 2 = revolute about x, y, z of the joint
-// frame; 3 = revolute about an unaligned axis.
-pinocchio::Model build_model(const nb::dict& d) {
-  const size_t nj = nb::cast<size_t>(d["joints"]);
-  const auto parent = longs(d, "joint_parent", nj);
-  const auto type = longs(d, "joint_type", nj);
-  const Array axis = array(d, "joint_axis", 3 * nj);
-  const Array place = array(d, "joint_placement", 16 * nj);
-  const Array mass = array(d, "body_mass", nj);
-  const Array com = array(d, "body_com", 3 * nj);
-  const Array inertia = array(d, "body_inertia", 9 * nj);
-  const auto names = nb::cast<std::vector<std::string>>(d["joint_names"]);
   pinocchio::Model model;
   for (size_t i = 0; i < nj; ++i) {
-    const pinocchio::SE3 placement_i = placement(place.data() + 16 * i);
-    const auto p = static_cast<pinocchio::JointIndex>(parent[i]);
+    const auto r = static_cast<Eigen::Index>(i);
+    const pinocchio::SE3 placement_i = placement(t.placement[i]);
+    const auto p = static_cast<pinocchio::JointIndex>(t.parent[i]);
     pinocchio::JointIndex id;
-    switch (type[i]) {
+    switch (t.type[i]) {
       case 0:
-        id = model.addJoint(p, pinocchio::JointModelRX(), placement_i, names[i]);
+        id = model.addJoint(p, pinocchio::JointModelRX(), placement_i, t.names[i]);
         break;
       case 1:
-        id = model.addJoint(p, pinocchio::JointModelRY(), placement_i, names[i]);
+        id = model.addJoint(p, pinocchio::JointModelRY(), placement_i, t.names[i]);
         break;
       case 2:
-        id = model.addJoint(p, pinocchio::JointModelRZ(), placement_i, names[i]);
+        id = model.addJoint(p, pinocchio::JointModelRZ(), placement_i, t.names[i]);
         break;
       case 3:
-        id = model.addJoint(p, pinocchio::JointModelRevoluteUnaligned(Vec3(axis.data() + 3 * i)),
-                            placement_i, names[i]);
+        id = model.addJoint(p, pinocchio::JointModelRevoluteUnaligned(Vec3(t.axis.row(r))),
+                            placement_i, t.names[i]);
         break;
       default:
-        throw std::invalid_argument("joint " + names[i] + ": unsupported joint type");
+        throw std::invalid_argument("joint " + t.names[i] + ": unsupported joint type");
     }
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rotational(
-        inertia.data() + 9 * i);
-    model.inertias[id] = pinocchio::Inertia(mass.data()[i], Vec3(com.data() + 3 * i),
-                                            Eigen::Matrix3d(rotational));
+        t.inertia.row(r).data());
+    model.inertias[id] =
+        pinocchio::Inertia(t.mass[r], Vec3(t.com.row(r)), Eigen::Matrix3d(rotational));
   }
-  model.armature = vec(d, "armature", static_cast<size_t>(model.nv));
-  const Eigen::VectorXd gravity = vec(d, "gravity", 3);
-  model.gravity = pinocchio::Motion(gravity, Vec3::Zero());
+  check_size("tree.armature", t.armature, static_cast<size_t>(model.nv));
+  model.armature = t.armature;
+  model.gravity = pinocchio::Motion(t.gravity, Vec3::Zero());
   return model;
 }
 
-MeshConstants mesh_constants(const nb::dict& d, size_t nv) {
-  MeshConstants mc;
-  const size_t nm = nb::cast<size_t>(d["meshes"]);
-  const size_t slots = nb::cast<size_t>(d["slots"]);
-  mc.joint_ids = longs(d, "slot_joint", slots);
-  mc.slot_a = longs(d, "slot_a", nm);
-  mc.slot_b = longs(d, "slot_b", nm);
-  mc.centre_a = rows3(d, "centre_a", nm);
-  mc.centre_b = rows3(d, "centre_b", nm);
-  mc.axis_a = rows3(d, "axis_a", nm);
-  mc.mu = vec(d, "mu", nm);
-  mc.sigma = vec(d, "sigma", nm);
-  const Array support = array(d, "support", slots * nv);
-  mc.support = Eigen::Map<const RowMat>(support.data(), static_cast<Eigen::Index>(slots),
-                                        static_cast<Eigen::Index>(nv));
-  return mc;
+void check_meshes(const MeshConstants& mc, size_t nv) {
+  const size_t nm = mc.slot_a.size(), slots = mc.joint_ids.size();
+  check_size("meshes.slot_b", mc.slot_b, nm);
+  check_size("meshes.mu", mc.mu, nm);
+  check_size("meshes.sigma", mc.sigma, nm);
+  check_size("meshes.cos_a", mc.cos_a, nm);
+  check_size("meshes.sin_a", mc.sin_a, nm);
+  check_size("meshes.eps", mc.eps, nm);
+  check_size("meshes.tan_beta", mc.tan_beta, nm);
+  check_size("meshes.joint_a", mc.joint_a, nm);
+  check_size("meshes.joint_b", mc.joint_b, nm);
+  if (static_cast<size_t>(mc.centre_a.rows()) != nm ||
+      static_cast<size_t>(mc.centre_b.rows()) != nm ||
+      static_cast<size_t>(mc.axis_a.rows()) != nm) {
+    throw std::invalid_argument("meshes.centre_a, centre_b and axis_a need one row per mesh");
+  }
+  if (static_cast<size_t>(mc.support.rows()) != slots ||
+      static_cast<size_t>(mc.support.cols()) != nv) {
+    throw std::invalid_argument("meshes.support must be (slots, nv)");
+  }
 }
 
-StepperSetup setup(const nb::dict& d) {
+StepperSetup setup(const StepperSpec& spec) {
   StepperSetup s;
-  s.model = build_model(d);
+  s.model = build_model(spec.tree);
   const size_t nv = static_cast<size_t>(s.model.nv);
-  const size_t nm = nb::cast<size_t>(d["meshes"]);
-  s.meshes = mesh_constants(d, nv);
-  s.mesh_forces.cos_a = vec(d, "cos_a", nm);
-  s.mesh_forces.sin_a = vec(d, "sin_a", nm);
-  s.mesh_forces.eps = vec(d, "eps", nm);
-  s.mesh_forces.tan_beta = vec(d, "tan_beta", nm);
-  s.mesh_forces.joint_a = longs(d, "joint_a", nm);
-  s.mesh_forces.joint_b = longs(d, "joint_b", nm);
-  const size_t ns = nb::cast<size_t>(d["springs"]);
-  s.elements.index_1 = longs(d, "spring_index_1", ns);
-  s.elements.index_2 = longs(d, "spring_index_2", ns);
-  s.elements.stiffness = vec(d, "spring_stiffness", ns);
-  s.elements.damping = vec(d, "spring_damping", ns);
-  s.elements.preload = vec(d, "spring_preload", ns);
-  s.elements.bearing_damping = vec(d, "bearing_damping", nv);
-  const size_t drivers = nb::cast<size_t>(d["drivers"]);
-  s.driver_index = longs(d, "driver_index", drivers);
-  const size_t frames = nb::cast<size_t>(d["frames"]);
-  s.frame_parent = longs(d, "frame_parent", frames);
-  const Array fp = array(d, "frame_placement", 16 * frames);
-  for (size_t f = 0; f < frames; ++f) s.frame_placement.push_back(placement(fp.data() + 16 * f));
-  s.dt = nb::cast<double>(d["dt"]);
-  s.projection_tol = nb::cast<double>(d["projection_tol"]);
-  s.solver.eps_abs = nb::cast<double>(d["eps_abs"]);
-  s.solver.eps_rel = nb::cast<double>(d["eps_rel"]);
-  s.solver.max_iter = nb::cast<long>(d["max_iter"]);
+  check_meshes(spec.meshes, nv);
+  const size_t nm = static_cast<size_t>(spec.meshes.count());
+  check_size("paths", spec.paths, nm);
+  for (long m : spec.rigid_meshes) {
+    if (m < 0 || static_cast<size_t>(m) >= nm) throw std::invalid_argument("bad rigid mesh");
+  }
+  for (const auto& c : spec.compliant_meshes) {
+    if (c.mesh < 0 || static_cast<size_t>(c.mesh) >= nm) {
+      throw std::invalid_argument("bad compliant mesh");
+    }
+  }
+  for (const auto& p : spec.paths) {
+    if (p.pair_position.size() != p.pair_stiffness.size()) {
+      throw std::invalid_argument("paths: pair_position and pair_stiffness differ in size");
+    }
+  }
+  for (const auto& sp : spec.springs) {
+    if (sp.index_1 < 0 || sp.index_2 < 0 || static_cast<size_t>(sp.index_1) >= nv ||
+        static_cast<size_t>(sp.index_2) >= nv) {
+      throw std::invalid_argument("bad spring joint index");
+    }
+  }
+  check_size("bearing_damping", spec.bearing_damping, nv);
+  check_size("frame_placement", spec.frame_placement, spec.frame_parent.size());
+  s.meshes = spec.meshes;
+  s.paths = spec.paths;
+  s.rigid_meshes = spec.rigid_meshes;
+  s.compliant_meshes = spec.compliant_meshes;
+  s.springs = spec.springs;
+  s.bearing_damping = spec.bearing_damping;
+  s.driver_index = spec.driver_index;
+  s.frame_parent = spec.frame_parent;
+  for (const auto& h : spec.frame_placement) s.frame_placement.push_back(placement(h));
+  s.dt = spec.dt;
+  s.projection_tol = spec.projection_tol;
+  s.implicit_theta = spec.implicit_theta;
+  s.solver = spec.solver;
   return s;
 }
 
 // A Stepper that keeps the Result's arrays it writes into alive.
 class PyStepper {
  public:
-  PyStepper(const nb::dict& spec, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-            const nb::dict& out, long samples)
+  PyStepper(const StepperSpec& spec, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+            const OutputArrays& out, long samples)
       : keep_(out) {
     StepperSetup s = setup(spec);
     const size_t nv = static_cast<size_t>(s.model.nv);
@@ -172,60 +206,60 @@ class PyStepper {
     if (static_cast<size_t>(q0.size()) != nv || static_cast<size_t>(v0.size()) != nv) {
       throw std::invalid_argument("q0 and v0 must have nv values");
     }
+    auto ptr = [](const char* name, const Array& a, size_t size) {
+      if (!a.is_valid() || a.size() != size) {
+        throw std::invalid_argument(std::string("out.") + name + " must hold " +
+                                    std::to_string(size) + " float64 values");
+      }
+      return a.data();
+    };
     Outputs o{};
     o.samples = samples;
-    auto ptr = [&](const char* key, size_t size) { return array(out, key, size).data(); };
-    o.time = ptr("time", n);
-    o.angle = ptr("angle", n * nv);
-    o.speed = ptr("speed", n * nv);
-    o.acceleration = ptr("acceleration", n * nv);
-    o.torque = ptr("torque", n * nv);
-    o.mesh_normal = ptr("mesh_normal", n * nm);
-    o.mesh_tangential = ptr("mesh_tangential", n * nm);
-    o.mesh_radial = ptr("mesh_radial", n * nm);
-    o.mesh_axial = ptr("mesh_axial", n * nm);
-    o.mesh_flank = ptr("mesh_flank", n * nm);
-    o.transmission_error = ptr("transmission_error", n * nm);
-    o.mesh_force_on_b = ptr("mesh_force_on_b", 3 * n * nm);
-    o.pitch_point = ptr("pitch_point", 3 * n * nm);
-    o.bearing_force = ptr("bearing_force", 3 * n * nj);
-    o.bearing_moment = ptr("bearing_moment", 3 * n * nj);
-    o.bearing_force_local = ptr("bearing_force_local", 3 * n * nj);
-    o.bearing_moment_local = ptr("bearing_moment_local", 3 * n * nj);
-    o.body_position = ptr("body_position", 3 * n * nb_);
-    o.body_quaternion = ptr("body_quaternion", 4 * n * nb_);
-    o.constraint_residual = ptr("constraint_residual", n);
-    o.kinetic = ptr("kinetic", n);
-    o.potential_spring = ptr("potential_spring", n);
-    const char* work[6] = {"work_applied",     "work_drivers", "work_springs",
-                           "work_gravity",     "work_constraints", "dissipated"};
-    for (int i = 0; i < 6; ++i) o.work[i] = ptr(work[i], n);
+    o.time = ptr("time", out.time, n);
+    o.angle = ptr("angle", out.angle, n * nv);
+    o.speed = ptr("speed", out.speed, n * nv);
+    o.acceleration = ptr("acceleration", out.acceleration, n * nv);
+    o.torque = ptr("torque", out.torque, n * nv);
+    o.mesh_normal = ptr("mesh_normal", out.mesh_normal, n * nm);
+    o.mesh_tangential = ptr("mesh_tangential", out.mesh_tangential, n * nm);
+    o.mesh_radial = ptr("mesh_radial", out.mesh_radial, n * nm);
+    o.mesh_axial = ptr("mesh_axial", out.mesh_axial, n * nm);
+    o.mesh_flank = ptr("mesh_flank", out.mesh_flank, n * nm);
+    o.transmission_error = ptr("transmission_error", out.transmission_error, n * nm);
+    o.mesh_force_on_b = ptr("mesh_force_on_b", out.mesh_force_on_b, 3 * n * nm);
+    o.pitch_point = ptr("pitch_point", out.pitch_point, 3 * n * nm);
+    o.mesh_deflection = ptr("mesh_deflection", out.mesh_deflection, n * nm);
+    o.mesh_contact_position = ptr("mesh_contact_position", out.mesh_contact_position, n * nm);
+    o.mesh_pairs = ptr("mesh_pairs", out.mesh_pairs, n * nm);
+    o.mesh_single_tooth_force =
+        ptr("mesh_single_tooth_force", out.mesh_single_tooth_force, n * nm);
+    o.bearing_force = ptr("bearing_force", out.bearing_force, 3 * n * nj);
+    o.bearing_moment = ptr("bearing_moment", out.bearing_moment, 3 * n * nj);
+    o.bearing_force_local = ptr("bearing_force_local", out.bearing_force_local, 3 * n * nj);
+    o.bearing_moment_local = ptr("bearing_moment_local", out.bearing_moment_local, 3 * n * nj);
+    o.body_position = ptr("body_position", out.body_position, 3 * n * nb_);
+    o.body_quaternion = ptr("body_quaternion", out.body_quaternion, 4 * n * nb_);
+    o.constraint_residual = ptr("constraint_residual", out.constraint_residual, n);
+    o.kinetic = ptr("kinetic", out.kinetic, n);
+    o.potential_spring = ptr("potential_spring", out.potential_spring, n);
+    o.work[0] = ptr("work_applied", out.work_applied, n);
+    o.work[1] = ptr("work_drivers", out.work_drivers, n);
+    o.work[2] = ptr("work_springs", out.work_springs, n);
+    o.work[3] = ptr("work_gravity", out.work_gravity, n);
+    o.work[4] = ptr("work_constraints", out.work_constraints, n);
+    o.work[5] = ptr("dissipated", out.dissipated, n);
     stepper_ = std::make_unique<Stepper>(std::move(s), q0, v0, o);
   }
 
-  nb::dict run(long k0, long k1, const RowMat& torque, const RowMat& target) {
-    RunStatus st;
-    {
-      nb::gil_scoped_release release;
-      st = stepper_->run(k0, k1, torque, target);
-    }
-    nb::dict r;
-    r["code"] = st.code;
-    r["sample"] = st.sample;
-    r["step"] = st.step;
-    r["time"] = st.time;
-    r["what"] = st.what;
-    r["residual"] = st.residual;
-    r["primal"] = st.primal;
-    r["dual"] = st.dual;
-    r["iterations"] = st.iterations;
-    return r;
+  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target) {
+    nb::gil_scoped_release release;
+    return stepper_->run(k0, k1, torque, target);
   }
 
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
  private:
-  nb::dict keep_;
+  OutputArrays keep_;
   std::unique_ptr<Stepper> stepper_;
 };
 
@@ -236,9 +270,146 @@ NB_MODULE(_native, m) {
   using namespace pinwind;
   m.doc() = "Compiled step loop of pinwind (pinwind/dynamics/cpp/).";
 
+  nb::class_<SolverSettings>(m, "SolverSettings")
+      .def(nb::init<>())
+      .def_rw("eps_abs", &SolverSettings::eps_abs)
+      .def_rw("eps_rel", &SolverSettings::eps_rel)
+      .def_rw("max_iter", &SolverSettings::max_iter);
+
+  nb::class_<JointTree>(m, "JointTree")
+      .def(nb::init<>())
+      .def_rw("names", &JointTree::names)
+      .def_rw("parent", &JointTree::parent)
+      .def_rw("type", &JointTree::type)
+      .def_rw("axis", &JointTree::axis)
+      .def_rw("placement", &JointTree::placement)
+      .def_rw("mass", &JointTree::mass)
+      .def_rw("com", &JointTree::com)
+      .def_rw("inertia", &JointTree::inertia)
+      .def_rw("armature", &JointTree::armature)
+      .def_rw("gravity", &JointTree::gravity);
+
+  nb::class_<MeshConstants>(m, "MeshConstants")
+      .def(nb::init<>())
+      .def_rw("joint_ids", &MeshConstants::joint_ids)
+      .def_rw("slot_a", &MeshConstants::slot_a)
+      .def_rw("slot_b", &MeshConstants::slot_b)
+      .def_rw("centre_a", &MeshConstants::centre_a)
+      .def_rw("centre_b", &MeshConstants::centre_b)
+      .def_rw("axis_a", &MeshConstants::axis_a)
+      .def_rw("mu", &MeshConstants::mu)
+      .def_rw("sigma", &MeshConstants::sigma)
+      .def_rw("support", &MeshConstants::support)
+      .def_rw("cos_a", &MeshConstants::cos_a)
+      .def_rw("sin_a", &MeshConstants::sin_a)
+      .def_rw("eps", &MeshConstants::eps)
+      .def_rw("tan_beta", &MeshConstants::tan_beta)
+      .def_rw("joint_a", &MeshConstants::joint_a)
+      .def_rw("joint_b", &MeshConstants::joint_b);
+
+  nb::class_<MeshPathSpec>(m, "MeshPathSpec")
+      .def(nb::init<>())
+      .def_rw("base_pitch", &MeshPathSpec::base_pitch)
+      .def_rw("path_length", &MeshPathSpec::path_length)
+      .def_rw("roll_start", &MeshPathSpec::roll_start)
+      .def_rw("roll_radius_a", &MeshPathSpec::roll_radius_a)
+      .def_rw("entering_front", &MeshPathSpec::entering_front)
+      .def_rw("entering_back", &MeshPathSpec::entering_back)
+      .def_rw("angle_ref_a", &MeshPathSpec::angle_ref_a)
+      .def_rw("reference_a", &MeshPathSpec::reference_a)
+      .def_rw("pair_position", &MeshPathSpec::pair_position)
+      .def_rw("pair_stiffness", &MeshPathSpec::pair_stiffness);
+
+  nb::class_<CompliantMeshSpec>(m, "CompliantMeshSpec")
+      .def(nb::init<>())
+      .def_rw("mesh", &CompliantMeshSpec::mesh)
+      .def_rw("stiffness", &CompliantMeshSpec::stiffness)
+      .def_rw("damping", &CompliantMeshSpec::damping)
+      .def_rw("backlash", &CompliantMeshSpec::backlash)
+      .def_rw("base_radius_a", &CompliantMeshSpec::base_radius_a)
+      .def_rw("base_radius_b", &CompliantMeshSpec::base_radius_b)
+      .def_rw("reference_b", &CompliantMeshSpec::reference_b)
+      .def_rw("tangential_ref", &CompliantMeshSpec::tangential_ref)
+      .def_rw("base_radius_sum", &CompliantMeshSpec::base_radius_sum)
+      .def_rw("radial_sign", &CompliantMeshSpec::radial_sign)
+      .def_rw("involute_ref", &CompliantMeshSpec::involute_ref)
+      .def_rw("tangential_offset", &CompliantMeshSpec::tangential_offset)
+      .def_rw("radial_offset", &CompliantMeshSpec::radial_offset);
+
+  nb::class_<TorsionalSpringSpec>(m, "TorsionalSpringSpec")
+      .def(nb::init<>())
+      .def_rw("index_1", &TorsionalSpringSpec::index_1)
+      .def_rw("index_2", &TorsionalSpringSpec::index_2)
+      .def_rw("stiffness", &TorsionalSpringSpec::stiffness)
+      .def_rw("damping", &TorsionalSpringSpec::damping)
+      .def_rw("preload_angle", &TorsionalSpringSpec::preload_angle);
+
+  nb::class_<StepperSpec>(m, "StepperSpec")
+      .def(nb::init<>())
+      .def_rw("tree", &StepperSpec::tree)
+      .def_rw("meshes", &StepperSpec::meshes)
+      .def_rw("paths", &StepperSpec::paths)
+      .def_rw("rigid_meshes", &StepperSpec::rigid_meshes)
+      .def_rw("compliant_meshes", &StepperSpec::compliant_meshes)
+      .def_rw("springs", &StepperSpec::springs)
+      .def_rw("bearing_damping", &StepperSpec::bearing_damping)
+      .def_rw("driver_index", &StepperSpec::driver_index)
+      .def_rw("frame_parent", &StepperSpec::frame_parent)
+      .def_rw("frame_placement", &StepperSpec::frame_placement)
+      .def_rw("dt", &StepperSpec::dt)
+      .def_rw("projection_tol", &StepperSpec::projection_tol)
+      .def_rw("implicit_theta", &StepperSpec::implicit_theta)
+      .def_rw("solver", &StepperSpec::solver);
+
+  nb::class_<OutputArrays>(m, "OutputArrays")
+      .def(nb::init<>())
+      .def_rw("time", &OutputArrays::time)
+      .def_rw("angle", &OutputArrays::angle)
+      .def_rw("speed", &OutputArrays::speed)
+      .def_rw("acceleration", &OutputArrays::acceleration)
+      .def_rw("torque", &OutputArrays::torque)
+      .def_rw("mesh_normal", &OutputArrays::mesh_normal)
+      .def_rw("mesh_tangential", &OutputArrays::mesh_tangential)
+      .def_rw("mesh_radial", &OutputArrays::mesh_radial)
+      .def_rw("mesh_axial", &OutputArrays::mesh_axial)
+      .def_rw("mesh_flank", &OutputArrays::mesh_flank)
+      .def_rw("transmission_error", &OutputArrays::transmission_error)
+      .def_rw("mesh_force_on_b", &OutputArrays::mesh_force_on_b)
+      .def_rw("pitch_point", &OutputArrays::pitch_point)
+      .def_rw("mesh_deflection", &OutputArrays::mesh_deflection)
+      .def_rw("mesh_contact_position", &OutputArrays::mesh_contact_position)
+      .def_rw("mesh_pairs", &OutputArrays::mesh_pairs)
+      .def_rw("mesh_single_tooth_force", &OutputArrays::mesh_single_tooth_force)
+      .def_rw("bearing_force", &OutputArrays::bearing_force)
+      .def_rw("bearing_moment", &OutputArrays::bearing_moment)
+      .def_rw("bearing_force_local", &OutputArrays::bearing_force_local)
+      .def_rw("bearing_moment_local", &OutputArrays::bearing_moment_local)
+      .def_rw("body_position", &OutputArrays::body_position)
+      .def_rw("body_quaternion", &OutputArrays::body_quaternion)
+      .def_rw("constraint_residual", &OutputArrays::constraint_residual)
+      .def_rw("kinetic", &OutputArrays::kinetic)
+      .def_rw("potential_spring", &OutputArrays::potential_spring)
+      .def_rw("work_applied", &OutputArrays::work_applied)
+      .def_rw("work_drivers", &OutputArrays::work_drivers)
+      .def_rw("work_springs", &OutputArrays::work_springs)
+      .def_rw("work_gravity", &OutputArrays::work_gravity)
+      .def_rw("work_constraints", &OutputArrays::work_constraints)
+      .def_rw("dissipated", &OutputArrays::dissipated);
+
+  nb::class_<RunStatus>(m, "RunStatus")
+      .def_ro("code", &RunStatus::code)
+      .def_ro("sample", &RunStatus::sample)
+      .def_ro("step", &RunStatus::step)
+      .def_ro("time", &RunStatus::time)
+      .def_ro("what", &RunStatus::what)
+      .def_ro("residual", &RunStatus::residual)
+      .def_ro("primal", &RunStatus::primal)
+      .def_ro("dual", &RunStatus::dual)
+      .def_ro("iterations", &RunStatus::iterations);
+
   nb::class_<PyStepper>(m, "Stepper")
-      .def(nb::init<const nb::dict&, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                    const nb::dict&, long>(),
+      .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&,
+                    const OutputArrays&, long>(),
            "spec"_a, "q0"_a, "v0"_a, "out"_a, "samples"_a)
       .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a,
            "Steps samples [k0, k1); returns the status of the run.")
@@ -247,9 +418,9 @@ NB_MODULE(_native, m) {
 
   m.def(
       "mesh_rows",
-      [](const nb::dict& spec, const Eigen::MatrixXd& jac, const Eigen::MatrixXd& djac,
+      [](const MeshConstants& mc, const Eigen::MatrixXd& jac, const Eigen::MatrixXd& djac,
          const Eigen::VectorXd& v, const RowMat& origin, const RowMat& rot) {
-        const MeshConstants mc = mesh_constants(spec, static_cast<size_t>(v.size()));
+        check_meshes(mc, static_cast<size_t>(v.size()));
         std::vector<Vec3> o(mc.joint_ids.size());
         std::vector<Eigen::Matrix3d> r(mc.joint_ids.size());
         for (size_t i = 0; i < o.size(); ++i) {
@@ -263,6 +434,6 @@ NB_MODULE(_native, m) {
         return nb::make_tuple(rows.jac_t, rows.jac_r, rows.bias_t, rows.bias_r, rows.tangent,
                               rows.radial, rows.pitch_point, rows.axis);
       },
-      "spec"_a, "jac"_a, "djac"_a, "v"_a, "origin"_a, "rot"_a,
+      "meshes"_a, "jac"_a, "djac"_a, "v"_a, "origin"_a, "rot"_a,
       "Rows of every mesh at one state (pinwind/dynamics/mesh.py).");
 }

@@ -3,12 +3,13 @@
 //
 // Each step k, at state (q_k, v_k) and time t_k = k·dt:
 //
-// 1. assemble M (CRBA), b (RNEA at a = 0), τ (applied torques, springs, dampers) and the
-//    constraint rows J, γ: one row per mesh (mesh_rows.hpp), per speed driver and per locked
-//    bearing;
-// 2. solve the equality QP with proxsuite (constrained_qp.hpp): a_k and λ_k, the mesh forces [N]
-//    and driver torques [N·m], read from the duals through the name → row map (rows 0..m−1 are
-//    the meshes in file order, then the drivers);
+// 1. assemble M (CRBA), b (RNEA at a = 0), τ (applied torques and the elements' explicit
+//    forces), the elements' implicit parts (compliant meshes, elements.hpp) and the constraint
+//    rows J, γ: one row per rigid mesh (mesh_rows.hpp), per speed driver and per locked bearing;
+// 2. solve the equality QP with proxsuite (constrained_qp.hpp): a_k and λ_k, the rigid mesh
+//    forces [N] and driver torques [N·m], read from the duals through the name → row map (rows
+//    0..r−1 are the rigid meshes in file order, then the drivers); elements with contact
+//    conditions settle their active set, solving again when it changes;
 // 3. bearing reactions by RNEA with the tooth forces at the pitch points;
 // 4. semi-implicit Euler: v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ v_{k+1} dt.
 #pragma once
@@ -25,8 +26,12 @@
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
+#include "compliant_mesh.hpp"
 #include "constrained_qp.hpp"
+#include "elements.hpp"
+#include "mesh_path.hpp"
 #include "mesh_rows.hpp"
+#include "torsional_spring.hpp"
 
 namespace pinwind {
 
@@ -44,76 +49,24 @@ struct RunStatus {
   long iterations = 0;
 };
 
-// Torsional spring-dampers and viscous bearing damping (pinwind/dynamics/elements.py).
-struct ForceElements {
-  std::vector<long> index_1, index_2;
-  Eigen::VectorXd stiffness, damping, preload;
-  Eigen::VectorXd bearing_damping;
-
-  // −k(θ₁ − θ₂ − θ₀) on joint 1 and the opposite on joint 2 [N·m].
-  void elastic_torque(const Eigen::VectorXd& q, Eigen::VectorXd& tau) const {
-    tau.setZero();
-    for (size_t i = 0; i < index_1.size(); ++i) {
-      const double torque = -stiffness[i] * (q[index_1[i]] - q[index_2[i]] - preload[i]);
-      tau[index_1[i]] += torque;
-      tau[index_2[i]] -= torque;
-    }
-  }
-
-  // −c ω of the bearings and −c (ω₁ − ω₂) of the spring dampers [N·m].
-  void damping_torque(const Eigen::VectorXd& v, Eigen::VectorXd& tau) const {
-    tau = -bearing_damping.cwiseProduct(v);
-    for (size_t i = 0; i < index_1.size(); ++i) {
-      const double torque = -damping[i] * (v[index_1[i]] - v[index_2[i]]);
-      tau[index_1[i]] += torque;
-      tau[index_2[i]] -= torque;
-    }
-  }
-
-  // ½ k (θ₁ − θ₂ − θ₀)² summed over the springs [J].
-  double spring_energy(const Eigen::VectorXd& q) const {
-    double energy = 0.0;
-    for (size_t i = 0; i < index_1.size(); ++i) {
-      const double twist = q[index_1[i]] - q[index_2[i]] - preload[i];
-      energy += 0.5 * stiffness[i] * twist * twist;
-    }
-    return energy;
-  }
-};
-
-// Per-mesh constants used after the solve.
-struct MeshForceConstants {
-  Eigen::VectorXd cos_a, sin_a, eps, tan_beta;
-  std::vector<long> joint_a, joint_b;  // Pinocchio joint ids of gear A and gear B
-};
-
-// Where each sample's outputs go: row-major arrays of the Result, n samples long.
-struct Outputs {
-  double *time, *angle, *speed, *acceleration, *torque;
-  double *mesh_normal, *mesh_tangential, *mesh_radial, *mesh_axial, *mesh_flank;
-  double *transmission_error, *mesh_force_on_b, *pitch_point;
-  double *bearing_force, *bearing_moment, *bearing_force_local, *bearing_moment_local;
-  double *body_position, *body_quaternion, *constraint_residual;
-  double *kinetic, *potential_spring;
-  // Cumulative work [J]: applied, drivers, springs, gravity, constraints, dissipated.
-  double* work[6];
-  long samples;
-};
-
 struct StepperSetup {
   pinocchio::Model model;
   MeshConstants meshes;
-  MeshForceConstants mesh_forces;
-  ForceElements elements;
+  std::vector<MeshPathSpec> paths;       // every mesh's path of contact
+  std::vector<long> rigid_meshes;        // meshes that are constraint rows, in row order
+  std::vector<CompliantMeshSpec> compliant_meshes;
+  std::vector<TorsionalSpringSpec> springs;
+  Eigen::VectorXd bearing_damping;
   std::vector<long> driver_index;  // velocity index of each speed driver and lock
   std::vector<long> frame_parent;  // body frames: parent joint and placement in it
   std::vector<pinocchio::SE3> frame_placement;
   double dt = 1e-3;
   double projection_tol = 1e-14;
+  double implicit_theta = 0.5;     // compliant_mesh.hpp
   SolverSettings solver;
 };
 
-class Stepper {
+class Stepper : private BodyForces {
  public:
   Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
           Outputs out)
@@ -122,24 +75,31 @@ class Stepper {
         out_(out),
         nv_(s_.model.nv),
         nm_(s_.meshes.count()),
+        nr_(static_cast<Eigen::Index>(s_.rigid_meshes.size())),
         nd_(static_cast<Eigen::Index>(s_.driver_index.size())),
-        rows_(nm_ + nd_),
+        rows_(nr_ + nd_),
         qp_(nv_, rows_, s_.solver),
         q_(q0),
         q_next_(q0),
         v_(v0) {
     driver_jac_.setZero(nd_, nv_);
     for (Eigen::Index i = 0; i < nd_; ++i) driver_jac_(i, s_.driver_index[i]) = 1.0;
-    flank_.setOnes(nm_);
-    te_.setZero(nm_);
+    flank_.setOnes(nr_);
+    te_.setZero(nr_);
     rows_data_.resize(nm_, nv_);
     origin_.resize(s_.meshes.joint_ids.size());
     rot_.resize(s_.meshes.joint_ids.size());
     fext_.assign(s_.model.njoints, pinocchio::Force::Zero());
-    for (auto j : s_.mesh_forces.joint_a) touched_.push_back(j);
-    for (auto j : s_.mesh_forces.joint_b) touched_.push_back(j);
-    tau_spring_.setZero(nv_);
-    tau_damp_.setZero(nv_);
+    if (!s_.springs.empty()) {
+      elements_.push_back(std::make_unique<TorsionalSprings>(s_.springs));
+    }
+    if (s_.bearing_damping.size() && s_.bearing_damping.cwiseAbs().maxCoeff() > 0.0) {
+      elements_.push_back(std::make_unique<BearingDamping>(s_.bearing_damping));
+    }
+    if (!s_.compliant_meshes.empty()) {
+      elements_.push_back(std::make_unique<CompliantMeshes>(s_.compliant_meshes, s_.paths,
+                                                            s_.implicit_theta, nv_));
+    }
     jac_.setZero(rows_, nv_);
     bias_.setZero(rows_);
     jv_.setZero(rows_);
@@ -194,6 +154,8 @@ class Stepper {
     return st;
   }
 
+  StepView view() const { return {q_, v_, s_.dt, data_, s_.meshes, rows_data_}; }
+
   void kinematics() {
     pinocchio::computeJointJacobiansTimeVariation(s_.model, data_, q_, v_);
     for (size_t i = 0; i < s_.meshes.joint_ids.size(); ++i) {
@@ -211,13 +173,10 @@ class Stepper {
     mass_ = data_.M;
   }
 
-  // J and γ of the loaded flanks (mesh rows), then the driver rows.
+  // J and γ of the rigid meshes' loaded flanks, then the driver rows.
   void constraint_matrix() {
-    const auto& mf = s_.mesh_forces;
-    for (Eigen::Index m = 0; m < nm_; ++m) {
-      const double ct = mf.cos_a[m] * flank_[m], cr = mf.sin_a[m] * mf.eps[m];
-      jac_.row(m) = ct * rows_data_.jac_t.row(m) + cr * rows_data_.jac_r.row(m);
-      bias_[m] = ct * rows_data_.bias_t[m] + cr * rows_data_.bias_r[m];
+    for (Eigen::Index r = 0; r < nr_; ++r) {
+      flank_row(s_.meshes, rows_data_, s_.rigid_meshes[r], flank_[r], jac_.row(r), bias_[r]);
     }
     if (nd_) jac_.bottomRows(nd_) = driver_jac_;
   }
@@ -272,6 +231,21 @@ class Stepper {
     return true;
   }
 
+  // The QP's Hessian and force for the elements' current active sets, then the solve.
+  const QpSolution* solve_qp(long k, double t, RunStatus& st) {
+    hessian_ = mass_;
+    force_ = force_explicit_;
+    const StepView sv = view();
+    for (auto& e : elements_) e->add_implicit(sv, hessian_, force_);
+    rhs_ = -bias_ + (target_next_ - target_now_) / s_.dt;
+    if (!std::isfinite(force_.squaredNorm() + rhs_.squaredNorm())) {
+      fail(st, k, t, "the joint forces or constraint terms are not finite");
+      return nullptr;
+    }
+    const QpSolution* sol = &qp_.solve(hessian_, force_, jac_, rhs_);
+    return check(k, t, *sol, st) ? sol : nullptr;
+  }
+
   // Dynamics at (q, v, t): a, λ and the forces the recorder and the integrator need.
   bool solve(long k, double t, RunStatus& st) {
     kinematics();
@@ -288,43 +262,50 @@ class Stepper {
     }
     gravity_ = pinocchio::computeGeneralizedGravity(s_.model, data_, q_);
     const Eigen::VectorXd& nle = pinocchio::nonLinearEffects(s_.model, data_, q_, v_);
-    s_.elements.elastic_torque(q_, tau_spring_);
-    s_.elements.damping_torque(v_, tau_damp_);
-    force_ = tau_applied_ + tau_spring_ + tau_damp_ - nle;
-    rhs_ = -bias_ + (target_next_ - target_now_) / s_.dt;
-    if (!std::isfinite(force_.squaredNorm() + rhs_.squaredNorm())) {
-      fail(st, k, t, "the joint forces or constraint terms are not finite");
-      return false;
+    const StepView sv = view();
+    elements_force_.setZero(nv_);
+    for (auto& e : elements_) {
+      e->prepare(sv);
+      e->add_force(sv, elements_force_);
     }
-    const QpSolution* sol = &qp_.solve(mass_, force_, jac_, rhs_);
-    if (!check(k, t, *sol, st)) return false;
+    force_explicit_ = tau_applied_ + elements_force_ - nle;
+    const QpSolution* sol = solve_qp(k, t, st);
+    if (!sol) return false;
     lam_ = sol->multipliers;
-    // A negative tooth force means the other flank carries the load: switch those rows to it.
-    // With fixed axes the other flank's row is the opposite row and λ just flips sign;
+    // A negative rigid tooth force means the other flank carries the load: switch those rows to
+    // it. With fixed axes the other flank's row is the opposite row and λ just flips sign;
     // otherwise solve again (a switch can move load between meshes, so repeat, a few times).
-    for (int pass = 0; pass < 4; ++pass) {
+    // Elements with contact (compliant meshes) settle their active sets in the same loop.
+    constexpr int kPasses = 8;
+    for (int pass = 0; pass < kPasses; ++pass) {
       bool any = false, all_free = true;
-      for (Eigen::Index m = 0; m < nm_; ++m) {
-        if (lam_[m] < 0.0) {
+      for (Eigen::Index r = 0; r < nr_; ++r) {
+        if (lam_[r] < 0.0) {
           any = true;
-          all_free = all_free && flank_flip_is_free(m);
+          all_free = all_free && flank_flip_is_free(s_.rigid_meshes[r]);
         }
       }
-      if (!any) break;
-      for (Eigen::Index m = 0; m < nm_; ++m) {
-        if (lam_[m] < 0.0) flank_[m] = -flank_[m];
+      bool settled = true;
+      const bool last = pass + 1 == kPasses;
+      for (auto& e : elements_) settled = !e->settle(sv, sol->acceleration, last) && settled;
+      if (!any && settled) break;
+      for (Eigen::Index r = 0; r < nr_; ++r) {
+        if (lam_[r] < 0.0) flank_[r] = -flank_[r];
       }
       constraint_matrix();
-      if (all_free) {
-        for (Eigen::Index m = 0; m < nm_; ++m) {
-          if (lam_[m] < 0.0) lam_[m] = -lam_[m];
+      if (all_free && settled) {
+        for (Eigen::Index r = 0; r < nr_; ++r) {
+          if (lam_[r] < 0.0) lam_[r] = -lam_[r];
         }
         break;
       }
-      rhs_ = -bias_ + (target_next_ - target_now_) / s_.dt;
-      sol = &qp_.solve(mass_, force_, jac_, rhs_);
-      if (!check(k, t, *sol, st)) return false;
+      sol = solve_qp(k, t, st);
+      if (!sol) return false;
       lam_ = sol->multipliers;
+      if (pass + 2 == kPasses) {
+        for (auto& e : elements_) e->settle(sv, sol->acceleration, true);
+        break;
+      }
     }
     a_ = sol->acceleration;
     return true;
@@ -338,63 +319,64 @@ class Stepper {
     return rows_data_.jac_r.row(m).cwiseAbs().maxCoeff() <= 1e-12 * scale;
   }
 
-  // Tooth forces on the gears, and the bearing reactions by RNEA with them applied at the
-  // pitch points: data.f[j] is the spatial force joint j transmits from its parent to its
-  // child, in the joint frame about the joint origin (the reduced-coordinate form of
-  // 000_3b7c4a8fe52a6eee.txt eqs. 16, 18, 23 and 26).
-  void bearing_reactions() {
-    const auto& mf = s_.mesh_forces;
-    force_on_b_.resize(nm_, 3);
-    for (auto j : touched_) fext_[j].setZero();
-    for (Eigen::Index m = 0; m < nm_; ++m) {
-      const Vec3 n = mf.cos_a[m] * flank_[m] * rows_data_.tangent.row(m).transpose() +
-                     mf.sin_a[m] * mf.eps[m] * rows_data_.radial.row(m).transpose();
-      const double tangential = lam_[m] * mf.cos_a[m];
-      // Helical teeth: the tooth line of a right-hand gear A runs along cos β k + sin β t at
-      // P, so the tooth force on B, normal to it, has the axial part −s F_t tan β k.
-      const Vec3 thrust =
-          -(flank_[m] * tangential * mf.tan_beta[m]) * rows_data_.axis.row(m).transpose();
-      const Vec3 f = lam_[m] * n + thrust;
-      force_on_b_.row(m) = f.transpose();
-      const Vec3 p = rows_data_.pitch_point.row(m).transpose();
-      add_world_force(mf.joint_b[m], p, f);
-      add_world_force(mf.joint_a[m], p, -f);
-    }
-    pinocchio::rnea(s_.model, data_, q_, v_, a_, fext_);
-  }
-
   // Adds a force f applied at world point p to joint j's external force (joint frame, origin).
-  void add_world_force(long j, const Vec3& p, const Vec3& f) {
+  void add(long j, const Vec3& p, const Vec3& f) override {
     const auto& oMi = data_.oMi[j];
     const Vec3 moment = (p - oMi.translation()).cross(f);
     fext_[j].linear() += oMi.rotation().transpose() * f;
     fext_[j].angular() += oMi.rotation().transpose() * moment;
   }
 
+  // Tooth forces on the gears, and the bearing reactions by RNEA with them applied at the
+  // pitch points: data.f[j] is the spatial force joint j transmits from its parent to its
+  // child, in the joint frame about the joint origin (the reduced-coordinate form of
+  // 000_3b7c4a8fe52a6eee.txt eqs. 16, 18, 23 and 26).
+  void bearing_reactions() {
+    const auto& mc = s_.meshes;
+    for (auto& f : fext_) f.setZero();
+    for (Eigen::Index r = 0; r < nr_; ++r) {
+      const Eigen::Index m = s_.rigid_meshes[r];
+      const Vec3 f = tooth_force_on_b(mc, rows_data_, m, flank_[r], lam_[r]);
+      const Vec3 p = rows_data_.pitch_point.row(m).transpose();
+      add(mc.joint_b[m], p, f);
+      add(mc.joint_a[m], p, -f);
+    }
+    const StepView sv = view();
+    for (const auto& e : elements_) e->add_body_forces(sv, *this);
+    pinocchio::rnea(s_.model, data_, q_, v_, a_, fext_);
+  }
+
+  // Forces of the rigid meshes from the loaded flanks' multipliers, with where the teeth are
+  // along the path of contact (the compliant meshes' element records its own).
+  void record_rigid_meshes(long k) {
+    const auto& mc = s_.meshes;
+    for (Eigen::Index r = 0; r < nr_; ++r) {
+      const Eigen::Index m = s_.rigid_meshes[r];
+      const auto& path = s_.paths[static_cast<size_t>(m)];
+      const double angle = gear_a_angle(mc, rows_data_, path, data_.oMi[mc.joint_a[m]].rotation(), m);
+      const PathState p = path_state(path, angle, flank_[r]);
+      record_mesh_force(out_, mc, rows_data_, k, m, lam_[r], flank_[r]);
+      const long i = k * nm_ + m;
+      out_.transmission_error[i] = te_[r];
+      out_.mesh_deflection[i] = 0.0;
+      out_.mesh_contact_position[i] = path.roll_start + p.entering;
+      out_.mesh_pairs[i] = p.pairs;
+      out_.mesh_single_tooth_force[i] = lam_[r] * p.share;
+    }
+  }
+
   void record(long k, double t) {
-    const auto& mf = s_.mesh_forces;
     const Eigen::Index nj = s_.model.njoints - 1;
     out_.time[k] = t;
     Eigen::Map<Eigen::VectorXd>(out_.angle + k * nv_, nv_) = q_;
     Eigen::Map<Eigen::VectorXd>(out_.speed + k * nv_, nv_) = v_;
     Eigen::Map<Eigen::VectorXd>(out_.acceleration + k * nv_, nv_) = a_;
     driver_torque_.setZero(nv_);
-    for (Eigen::Index i = 0; i < nd_; ++i) driver_torque_[s_.driver_index[i]] += lam_[nm_ + i];
+    for (Eigen::Index i = 0; i < nd_; ++i) driver_torque_[s_.driver_index[i]] += lam_[nr_ + i];
     Eigen::Map<Eigen::VectorXd>(out_.torque + k * nv_, nv_) = tau_applied_ + driver_torque_;
-    for (Eigen::Index m = 0; m < nm_; ++m) {
-      const long i = k * nm_ + m;
-      const double normal = lam_[m], tangential = normal * mf.cos_a[m];
-      out_.mesh_normal[i] = normal;
-      out_.mesh_tangential[i] = tangential;
-      out_.mesh_radial[i] = normal * mf.sin_a[m];
-      out_.mesh_axial[i] = tangential * std::abs(mf.tan_beta[m]);
-      out_.mesh_flank[i] = flank_[m];
-      out_.transmission_error[i] = te_[m];
-      for (int c = 0; c < 3; ++c) {
-        out_.mesh_force_on_b[3 * i + c] = force_on_b_(m, c);
-        out_.pitch_point[3 * i + c] = rows_data_.pitch_point(m, c);
-      }
-    }
+    record_rigid_meshes(k);
+    const StepView sv = view();
+    for (const auto& e : elements_) e->record(sv, k, out_);
     for (Eigen::Index j = 1; j <= nj; ++j) {
       const long i = 3 * (k * nj + j - 1);
       const auto& f = data_.f[j];
@@ -416,7 +398,9 @@ class Stepper {
     out_.constraint_residual[k] = residual_;
     mv_.noalias() = mass_ * v_;
     out_.kinetic[k] = 0.5 * v_.dot(mv_);
-    out_.potential_spring[k] = s_.elements.spring_energy(q_);
+    double potential = 0.0;
+    for (const auto& e : elements_) potential += e->potential(sv);
+    out_.potential_spring[k] = potential;
     if (k == 0) {
       for (auto* w : out_.work) w[0] = 0.0;
     }
@@ -424,26 +408,29 @@ class Stepper {
 
   // Semi-implicit Euler, with the work of each force over the step at the mid-step speed (with
   // which the kinetic-energy change of a step equals the work of its forces when M is constant)
-  // and the transmission error along the rows.
+  // and the transmission error along the rigid rows.
   void advance(long k) {
-    const auto& mf = s_.mesh_forces;
     v_next_ = v_ + a_ * s_.dt;
     mid_ = (0.5 * s_.dt) * (v_ + v_next_);
-    if (nm_) jv_.head(nm_).noalias() = jac_.topRows(nm_) * mid_;
+    if (nr_) jv_.head(nr_).noalias() = jac_.topRows(nr_) * mid_;
+    StepWork elements;
+    const StepView sv = view();
+    const Eigen::VectorXd v_mid = mid_ / s_.dt;
+    for (const auto& e : elements_) {
+      const StepWork w = e->work(sv, v_next_, v_mid);
+      elements.elastic += w.elastic;
+      elements.dissipated += w.dissipated;
+    }
     const double work[6] = {
         tau_applied_.dot(mid_),
         driver_torque_.dot(mid_),
-        tau_spring_.dot(mid_),
+        elements.elastic,
         -gravity_.dot(mid_),
-        nm_ ? lam_.head(nm_).dot(jv_.head(nm_)) : 0.0,
-        -tau_damp_.dot(mid_),
+        nr_ ? lam_.head(nr_).dot(jv_.head(nr_)) : 0.0,
+        elements.dissipated,
     };
     for (int i = 0; i < 6; ++i) out_.work[i][k + 1] = out_.work[i][k] + work[i];
-    for (Eigen::Index m = 0; m < nm_; ++m) {
-      te_[m] += (mf.cos_a[m] * rows_data_.jac_t.row(m) +
-                 (mf.sin_a[m] * mf.eps[m]) * rows_data_.jac_r.row(m))
-                    .dot(v_next_ * s_.dt);
-    }
+    for (Eigen::Index r = 0; r < nr_; ++r) te_[r] += jac_.row(r).dot(v_next_ * s_.dt);
     pinocchio::integrate(s_.model, q_, v_next_ * s_.dt, q_next_);
     q_ = q_next_;
     v_ = v_next_;
@@ -452,20 +439,19 @@ class Stepper {
   StepperSetup s_;
   pinocchio::Data data_;
   Outputs out_;
-  Eigen::Index nv_, nm_, nd_, rows_;
+  Eigen::Index nv_, nm_, nr_, nd_, rows_;
   ConstrainedQp qp_;
+  std::vector<std::unique_ptr<Element>> elements_;
   Eigen::VectorXd q_, q_next_, v_, v_next_, mid_;
   Eigen::VectorXd flank_, te_;
   MeshRows rows_data_;
   std::vector<Vec3> origin_;
   std::vector<Eigen::Matrix3d> rot_;
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_;
-  std::vector<long> touched_;
-  Eigen::MatrixXd driver_jac_, jac_, mass_;
+  Eigen::MatrixXd driver_jac_, jac_, mass_, hessian_;
   Eigen::VectorXd bias_, target_now_, target_next_, jv_, mv_;
-  Eigen::VectorXd tau_applied_, tau_spring_, tau_damp_, gravity_, force_, rhs_;
+  Eigen::VectorXd tau_applied_, elements_force_, gravity_, force_explicit_, force_, rhs_;
   Eigen::VectorXd a_, lam_, driver_torque_;
-  RowMat force_on_b_;
   double residual_ = 0.0;
 };
 

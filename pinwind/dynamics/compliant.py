@@ -1,0 +1,427 @@
+"""Compliant gear meshes: the constants the compiled element needs, and the mesh modes.
+
+A compliant mesh is a spring-damper along the line of action of each flank (design.md §2,
+001_2d0e0f624d8db633.txt eqs. 2-6, 003_83d3049daebcd276.txt eqs. 14-19):
+
+    F_n = k(x) δ + c δ̇  on the flank in contact,   F_n ≥ 0 (teeth never pull)
+
+with δ the overlap of the two flanks along the line of action computed **from the bodies'
+positions** (gear angles relative to the centre line and the centre distance; the formula is in
+``cpp/compliant_mesh.hpp``), so it stays consistent with the angles over any run length, and
+x the roll position of the tooth pairs along the path of contact (``cpp/mesh_path.hpp``):
+
+- k(x): the sum over the tooth pairs in contact of one pair's stiffness, c′b in the single-pair
+  zone and 0.875 c′b each in the double-pair zones (mean ISO 6336-1 c_γα b,
+  ``gears/mesh_stiffness.py``), a user table (003 Fig. 8), or the constant c_γα b;
+- backlash j: the back flank's overlap is δ_b = −(rolling part) + (radial part) − j, no force in
+  between;
+- the single-tooth force F k₁/k (003 §2.4) of the pair entering the mesh.
+
+Why implicit. Mesh stiffnesses of 1e8 to 5e9 N/m on gears of a few kilograms to a tonne put
+modes in the kHz; an explicit spring would need steps of microseconds. The compiled element
+takes the force at the end of the step (θ = ½ of the way in deflection, the end-of-step speed
+for damping), which makes it linear in the step's acceleration, so it enters the same proxsuite
+solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is stable at any step; a step too
+coarse to resolve the highest mesh mode is run, with one warning naming the mode's frequency
+and the step that resolves it (``RESOLVING_STEPS`` per period).
+
+Position errors of gear centres (planet pin errors) shift the overlaps by n·(e_A − e_B): a
+constant offset in the carrier's frame that makes the planets share the load unequally.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pinwind.dynamics import _native
+from pinwind.dynamics.mesh import MeshSet
+from pinwind.errors import InputError, PinwindWarning, UnknownElement
+from pinwind.gears.mesh_stiffness import (
+    mesh_stiffness,
+    pair_stiffness_along_path,
+    single_pair_stiffness,
+)
+from pinwind.model.compliance import MeshCompliance
+from pinwind.model.gearbox import Gear, Gearbox, Mesh
+
+#: Steps per period of the highest mesh mode below which a run warns that the step is coarse.
+RESOLVING_STEPS = 10
+
+#: θ of the implicit mesh force (cpp/compliant_mesh.hpp): ½ damps the mesh modes least.
+IMPLICIT_THETA = 0.5
+
+
+@dataclass(frozen=True)
+class MeshSetup:
+    """Everything the step loop needs to know about the meshes of one run.
+
+    Attributes:
+        meshes: the gearbox's meshes with this run's rigid/compliant choice.
+        rigid: indices of the rigid meshes (constraint rows, in row order).
+        paths: every mesh's path-of-contact constants (compiled struct).
+        compliant: the compliant meshes' constants (compiled structs).
+        highest_mode: frequency of the highest mesh mode [Hz] (0 without compliant meshes).
+    """
+
+    meshes: list[Mesh]
+    rigid: list[int]
+    paths: list[_native.MeshPathSpec]
+    compliant: list[_native.CompliantMeshSpec]
+    highest_mode: float
+
+
+def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | None) -> list[Mesh]:
+    """The gearbox's meshes with per-run choices applied.
+
+    Args:
+        meshes: mesh name (or ``"all"``) → ``"rigid"``, ``"compliant"`` (the file's compliance
+            if it has one, else the defaults) or a ``MeshCompliance``.
+
+    Raises:
+        UnknownElement: a name that is not a mesh. InputError: an unknown choice.
+    """
+    chosen = list(gearbox.meshes)
+    names = [m.name for m in chosen]
+    for key, choice in (meshes or {}).items():
+        if key != "all" and key not in names:
+            raise UnknownElement("mesh", key, names)
+        if isinstance(choice, MeshCompliance):
+            problems = choice.problems()
+            if problems:
+                raise InputError(f'meshes["{key}"]: ' + "; ".join(problems))
+        elif choice not in ("rigid", "compliant"):
+            raise InputError(
+                f'meshes["{key}"] is {choice!r}; give "rigid", "compliant" or a MeshCompliance'
+            )
+        for i, m in enumerate(chosen):
+            if key not in ("all", m.name):
+                continue
+            if choice == "rigid":
+                compliance = None
+            elif choice == "compliant":
+                compliance = m.compliance or MeshCompliance()
+            else:
+                compliance = choice
+            if compliance is not None and m.path is None:
+                raise InputError(
+                    f'mesh "{m.name}" has no valid path of contact (loading warned why); it '
+                    "cannot be compliant"
+                )
+            chosen[i] = _replace(m, compliance)
+    return chosen
+
+
+def _replace(mesh: Mesh, compliance: MeshCompliance | None) -> Mesh:
+    from dataclasses import replace
+
+    return replace(mesh, compliance=compliance)
+
+
+def _unit_normal(axis: np.ndarray) -> np.ndarray:
+    """A unit vector ⟂ axis: the frame's x axis projected, or y when x is along the axis."""
+    for e in (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])):
+        p = e - (e @ axis) * axis
+        if np.linalg.norm(p) > 0.5:
+            return p / np.linalg.norm(p)
+    raise AssertionError("unreachable: x and y cannot both be along one axis")
+
+
+def reference_direction(gear: Gear) -> np.ndarray:
+    """Direction of tooth 0 in the gear's joint frame: ⟂ its axis, turned by its tooth phase."""
+    axis = gear.axis_in_joint
+    e = _unit_normal(axis)
+    phase = gear.spec.tooth_phase
+    return math.cos(phase) * e + math.sin(phase) * np.cross(axis, e)
+
+
+def _angle_about(k: np.ndarray, u: np.ndarray, e: np.ndarray) -> float:
+    """Angle from u to e about k [rad] (cpp/mesh_path.hpp angle_about)."""
+    return math.atan2(float(k @ np.cross(u, e)), float(u @ e))
+
+
+def _position_error_in_world(
+    gearbox: Gearbox, data: pin.Data, gear: Gear, error: tuple[float, float]
+) -> np.ndarray:
+    """A gear centre's (tangential, radial) position error as a world vector [m].
+
+    Radial is from the axis of the body that carries the gear's bearing (a planet's carrier) to
+    the gear centre; tangential is that axis × radial.
+    """
+    tangential, radial = error
+    if tangential == 0.0 and radial == 0.0:
+        return np.zeros(3)
+    model = gearbox.model
+    parent = model.parents[gear.joint_id]
+    centre = data.oMi[gear.joint_id].act(gear.centre_in_joint)
+    if parent == 0:
+        raise InputError(
+            f'gear "{gear.name}" has a position error, but its bearing sits on the ground, so '
+            "tangential and radial have no carrier to refer to; position errors are for gears "
+            "on a carrier (planets)"
+        )
+    axis = data.oMi[parent].rotation @ gearbox._joint_axis(parent)
+    offset = centre - data.oMi[parent].translation
+    offset = offset - (offset @ axis) * axis
+    if np.linalg.norm(offset) < 1e-9:
+        raise InputError(
+            f'gear "{gear.name}" sits on the axis of the body that carries it, so its position '
+            "error has no radial direction; position errors are for planets"
+        )
+    r = offset / np.linalg.norm(offset)
+    return tangential * np.cross(axis, r) + radial * r
+
+
+def mesh_setup(
+    gearbox: Gearbox,
+    meshes: list[Mesh],
+    *,
+    driver_index: list[int],
+    dt: float,
+    position_errors: Mapping[str, tuple[float, float]] | None = None,
+) -> MeshSetup:
+    """Constants of every mesh for the compiled step loop, at the reference pose.
+
+    Args:
+        meshes: the run's meshes (``mesh_choices``).
+        driver_index: velocity indices of the speed drivers and locks (for the mesh modes).
+        dt: time step [s] (for the coarse-step warning).
+        position_errors: gear name → (tangential, radial) position error [m], replacing the
+            model file's.
+    """
+    errors = {name: g.spec.position_error for name, g in gearbox.gears.items()}
+    for name, value in (position_errors or {}).items():
+        if name not in gearbox.gears:
+            raise UnknownElement("gear", name, list(gearbox.gears))
+        t, r = (float(x) for x in value)
+        if not (math.isfinite(t) and math.isfinite(r)):
+            raise InputError(f'position_errors["{name}"] = {value!r} must be finite [m]')
+        errors[name] = (t, r)
+    model = gearbox.model
+    data = model.createData()
+    q = gearbox.neutral()
+    pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(model.nv))
+    ms = MeshSet(gearbox, meshes)
+    rows = ms.evaluate(model, data)
+    paths, compliant, rigid = [], [], []
+    for i, mesh in enumerate(meshes):
+        a, b = mesh.gear_a, mesh.gear_b
+        k, r_hat, t = rows.axis[i], rows.radial_dir[i], rows.tangent[i]
+        point = rows.pitch_point[i]
+        centre_a = data.oMi[a.joint_id].act(a.centre_in_joint)
+        centre_b = data.oMi[b.joint_id].act(b.centre_in_joint)
+        u = ms.sigma[i] * r_hat
+        ref_a, ref_b = reference_direction(a), reference_direction(b)
+        psi_a = _angle_about(k, u, data.oMi[a.joint_id].rotation @ ref_a)
+        psi_b = _angle_about(k, u, data.oMi[b.joint_id].rotation @ ref_b)
+        paths.append(_path_spec(mesh, ref_a))
+        if mesh.compliance is None:
+            rigid.append(i)
+            continue
+        cos_w = math.cos(mesh.working_pressure_angle)
+        rho_a = float(np.cross(k, point - centre_a) @ t)
+        rho_b = float(np.cross(k, point - centre_b) @ t)
+        spec = _native.CompliantMeshSpec()
+        spec.mesh = i
+        spec.base_radius_a = cos_w * rho_a
+        spec.base_radius_b = cos_w * rho_b
+        spec.reference_b = ref_b
+        spec.tangential_ref = spec.base_radius_a * psi_a - spec.base_radius_b * psi_b
+        spec.base_radius_sum = mesh.centre_distance * cos_w
+        internal = a.spec.internal or b.spec.internal
+        spec.radial_sign = 1.0 if internal else -1.0
+        spec.involute_ref = math.tan(mesh.working_pressure_angle) - mesh.working_pressure_angle
+        shift = _position_error_in_world(gearbox, data, a, errors[a.name]) - (
+            _position_error_in_world(gearbox, data, b, errors[b.name])
+        )
+        spec.tangential_offset = cos_w * float(t @ shift)
+        spec.radial_offset = (
+            ms.eps[i] * math.sin(mesh.working_pressure_angle) * float(r_hat @ shift)
+        )
+        c = mesh.compliance
+        spec.backlash = c.backlash
+        spec.stiffness = mean_mesh_stiffness(mesh)
+        compliant.append(spec)
+    setup = MeshSetup(meshes, rigid, paths, compliant, 0.0)
+    if compliant:
+        mass = pin.crba(model, data, q)
+        mass = np.triu(mass) + np.triu(mass, 1).T
+        constraints = _rigid_rows(ms, rows, rigid, driver_index, model.nv)
+        for spec in compliant:
+            mesh = meshes[spec.mesh]
+            c = mesh.compliance
+            if c.damping is not None:
+                spec.damping = c.damping
+            else:
+                row = _front_row(ms, rows, spec.mesh)
+                m_eq = effective_mass(mass, constraints, row)
+                spec.damping = 2.0 * c.damping_ratio * math.sqrt(spec.stiffness * m_eq)
+        frequency = highest_mesh_mode(mass, constraints, ms, rows, setup)
+        setup = MeshSetup(meshes, rigid, paths, compliant, frequency)
+        _warn_if_coarse(frequency, dt)
+    return setup
+
+
+def _path_spec(mesh: Mesh, reference_a: np.ndarray) -> _native.MeshPathSpec:
+    spec = _native.MeshPathSpec()
+    spec.reference_a = reference_a
+    path = mesh.path
+    if path is None:
+        spec.roll_start = math.nan
+        return spec
+    spec.base_pitch = path.base_pitch
+    spec.path_length = path.length
+    spec.roll_start = path.start_roll_1
+    spec.roll_radius_a = mesh.base_radius_a
+    # Tooth 0 of gear A has its flank at the pitch point when it points along the centre line.
+    pitch = (path.pitch_roll_1 - path.start_roll_1) % path.base_pitch
+    spec.entering_front = pitch
+    spec.entering_back = pitch
+    spec.angle_ref_a = 0.0
+    table = pair_table(mesh)
+    if table is not None:
+        spec.pair_position, spec.pair_stiffness = table
+    return spec
+
+
+def _stiffness_arguments(mesh: Mesh) -> dict:
+    """Gear data for the ISO 6336-1 functions, the internal gear (if any) as gear 2."""
+    a, b = mesh.gear_a.spec, mesh.gear_b.spec
+    if a.internal:
+        a, b = b, a
+    return {
+        "teeth_1": a.teeth,
+        "teeth_2": b.teeth,
+        "module": a.module,
+        "pressure_angle": a.pressure_angle,
+        "profile_shift_1": a.profile_shift,
+        "profile_shift_2": b.profile_shift,
+        "helix_angle": abs(a.helix_angle),
+        "internal_2": b.internal,
+        "face_width": mesh.face_width,
+    }
+
+
+def single_pair(mesh: Mesh) -> float:
+    """Single-pair stiffness c′b of a compliant mesh [N/m]: given, or ISO 6336-1 method B."""
+    c = mesh.compliance
+    if c is not None and c.stiffness is not None:
+        return c.stiffness
+    return single_pair_stiffness(**_stiffness_arguments(mesh))
+
+
+def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
+    """Stiffness of one tooth pair along the path of contact (positions [m], [N/m]).
+
+    None where the mesh stiffness is constant. A rigid mesh gets the ISO shape too: its ratios
+    split the force between the pairs for the single-tooth force.
+    """
+    c = mesh.compliance
+    if c is not None and c.pair_stiffness is not None:
+        s, k = (np.asarray(x, dtype=float) for x in c.pair_stiffness)
+        return s, k
+    if c is not None and c.variation == "constant":
+        return None
+    if mesh.path is None or not 1.0 <= mesh.path.contact_ratio <= 2.0:
+        return None
+    single = single_pair(mesh) if c is not None else 1.0
+    return pair_stiffness_along_path(mesh.path, single)
+
+
+def mean_mesh_stiffness(mesh: Mesh) -> float:
+    """Mean mesh stiffness of a compliant mesh over one base pitch [N/m].
+
+    With the ISO shape: c′b (0.75 ε_α + 0.25) (ISO 6336-1 c_γα); with a table, its mean.
+    """
+    table = pair_table(mesh)
+    path = mesh.path
+    if table is not None and path is not None:
+        s, k = table
+        x = np.linspace(0.0, path.base_pitch, 2001)[:-1]
+        total = sum(
+            np.where(x + j * path.base_pitch <= path.length + 1e-12, 1.0, 0.0)
+            * np.interp(x + j * path.base_pitch, s, k)
+            for j in range(int(path.length / path.base_pitch) + 1)
+        )
+        return float(np.mean(total))
+    c = mesh.compliance
+    if c is not None and c.stiffness is not None:
+        return c.stiffness * (0.75 * path.contact_ratio + 0.25) if path else c.stiffness
+    return mesh_stiffness(**_stiffness_arguments(mesh))
+
+
+def _front_row(ms: MeshSet, rows, i: int) -> np.ndarray:
+    return ms.cos_a[i] * rows.jac_t[i] + ms.sin_a[i] * ms.eps[i] * rows.jac_r[i]
+
+
+def _rigid_rows(ms: MeshSet, rows, rigid: list[int], driver_index: list[int], nv: int):
+    out = [_front_row(ms, rows, i) for i in rigid]
+    for j in driver_index:
+        e = np.zeros(nv)
+        e[j] = 1.0
+        out.append(e)
+    return np.array(out).reshape(-1, nv)
+
+
+def _free_motions(constraints: np.ndarray, nv: int) -> np.ndarray:
+    """Basis (nv, f) of the motions the rigid rows and drivers allow."""
+    if constraints.shape[0] == 0:
+        return np.eye(nv)
+    _, sv, vt = np.linalg.svd(constraints)
+    rank = int(np.sum(sv > 1e-10 * sv[0]))
+    return vt[rank:].T
+
+
+def effective_mass(mass: np.ndarray, constraints: np.ndarray, row: np.ndarray) -> float:
+    """Mass along a mesh's line of action [kg]: 1 / (J M⁻¹ Jᵀ) over the allowed motions."""
+    basis = _free_motions(constraints, mass.shape[0])
+    j = row @ basis
+    m = basis.T @ mass @ basis
+    return 1.0 / float(j @ np.linalg.solve(m, j))
+
+
+def highest_mesh_mode(mass, constraints, ms: MeshSet, rows, setup: MeshSetup) -> float:
+    """Frequency of the highest mode of the mesh springs at their stiffest [Hz].
+
+    Generalised eigenvalues of (Σ k_max JᵢᵀJᵢ, M) over the motions the rigid rows allow.
+    """
+    nv = mass.shape[0]
+    stiffness = np.zeros((nv, nv))
+    for spec, path in ((s, setup.paths[s.mesh]) for s in setup.compliant):
+        row = _front_row(ms, rows, spec.mesh)
+        k_max = spec.stiffness
+        if len(path.pair_stiffness):
+            x = np.linspace(0.0, path.base_pitch, 400)
+            k_max = max(
+                sum(
+                    np.interp(xi + j * path.base_pitch, path.pair_position, path.pair_stiffness)
+                    for j in range(int(path.path_length / path.base_pitch) + 1)
+                    if xi + j * path.base_pitch <= path.path_length
+                )
+                for xi in x
+            )
+        stiffness += k_max * np.outer(row, row)
+    basis = _free_motions(constraints, nv)
+    if basis.shape[1] == 0:
+        return 0.0
+    from scipy.linalg import eigh
+
+    omega2 = eigh(basis.T @ stiffness @ basis, basis.T @ mass @ basis, eigvals_only=True)
+    return math.sqrt(max(float(omega2.max()), 0.0)) / (2.0 * math.pi)
+
+
+def _warn_if_coarse(frequency: float, dt: float) -> None:
+    if frequency * dt * RESOLVING_STEPS > 1.0:
+        warnings.warn(
+            f"dt = {dt:.3g} s does not resolve the highest mesh mode at {frequency:.4g} Hz "
+            f"({1.0 / (frequency * dt):.3g} steps per period); the run is stable but that mode "
+            f"is damped numerically. dt ≤ {1.0 / (RESOLVING_STEPS * frequency):.2g} s resolves "
+            f"it with {RESOLVING_STEPS} steps per period",
+            PinwindWarning,
+            stacklevel=4,
+        )

@@ -1,0 +1,250 @@
+// Compliant gear meshes: a spring-damper along the line of action of each flank, with the
+// deflection taken from the bodies' positions (001_2d0e0f624d8db633.txt eqs. 2-6,
+// 003_83d3049daebcd276.txt eqs. 14-19; pinwind/dynamics/compliant.py documents the model):
+//
+//     F_n = k(x) δ + c δ̇   on the flank in contact, F_n ≥ 0 (teeth never pull).
+//
+// Deflection from positions. With ψ_A, ψ_B the gear angles about the axis relative to the
+// centre line (mesh_path.hpp), the front flank's overlap along its line of action is
+//
+//     δ_f = wrap(T − T_ref + e_T) + R + e_R,      δ_b = −wrap(T − T_ref + e_T) + R + e_R − j
+//     T   = r_A ψ_A − r_B ψ_B                       (signed base radii, rolling part)
+//     R   = κ (r_b,B ± r_b,A) (inv α'(a) − inv α'(a_ref)),  cos α'(a) = (r_b,B ± r_b,A)/a
+//
+// (κ = −1 external, +1 internal: moving an internal pair's centres apart pushes the teeth
+// together), e_T, e_R the position errors of the gears along the line of action, j the
+// backlash; wrap() keeps the tooth pair in mesh, modulo one base pitch. δ̇ = −J v with J the
+// flank's rigid row (mesh_rows.hpp), so the rigid and compliant meshes share one line of action.
+//
+// Implicit force. Stiff meshes (1e8 to 5e9 N/m on gears of a few kg) put modes in the kHz,
+// where an explicit spring is stable only at tiny steps. The force over the step is taken at
+// the end-of-step speed and at θ of the way to the end-of-step deflection:
+//
+//     F = k (δ_k − θ h J v_{k+1}) − c J v_{k+1},   v_{k+1} = v_k + h a
+//       = b − w J a,   b = k δ_k − (θ h k + c) J v_k,   w = h (θ h k + c),
+//
+// so the mesh adds w JᵀJ to the QP's Hessian and Jᵀ b to its force: the same proxsuite solve
+// gives its force at the end of the step (a soft constraint with compliance 1/(h(θhk + c));
+// as k → ∞ it becomes the rigid row). θ = ½ is stable at any step for θ ≥ ½ and damps the
+// mesh mode least; its numerical dissipation is O(h) over a fixed time.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "elements.hpp"
+#include "mesh_path.hpp"
+
+namespace pinwind {
+
+struct CompliantMeshSpec {
+  long mesh = 0;                  // index of the mesh in the model's mesh list
+  double stiffness = 0.0;         // mesh stiffness when the path has no pair table [N/m]
+  double damping = 0.0;           // c [N·s/m]
+  double backlash = 0.0;          // j along the line of action [m]
+  double base_radius_a = 0.0;     // signed base radii: T = r_A ψ_A − r_B ψ_B [m]
+  double base_radius_b = 0.0;
+  Vec3 reference_b = Vec3::UnitX();  // unit vector ⟂ axis fixed in gear B's joint frame
+  double tangential_ref = 0.0;    // T at the reference pose [m]
+  double base_radius_sum = 0.0;   // r_b,B ± r_b,A = a cos α' [m]
+  double radial_sign = -1.0;      // κ
+  double involute_ref = 0.0;      // inv α' at the reference centre distance
+  double tangential_offset = 0.0; // e_T [m]
+  double radial_offset = 0.0;     // e_R [m]
+};
+
+inline double involute(double angle) { return std::tan(angle) - angle; }
+
+class CompliantMeshes : public Element {
+ public:
+  CompliantMeshes(std::vector<CompliantMeshSpec> specs, const std::vector<MeshPathSpec>& paths,
+                  double theta, Eigen::Index nv)
+      : specs_(std::move(specs)), theta_(theta) {
+    const size_t n = specs_.size();
+    for (const auto& s : specs_) paths_.push_back(paths[static_cast<size_t>(s.mesh)]);
+    state_.assign(n, 0);
+    last_flank_.assign(n, 1.0);
+    delta_.setZero(n, 2);
+    row_.resize(2 * n);
+    for (auto& r : row_) r.setZero(nv);
+    path_.resize(2 * n);
+    b_.setZero(n);
+    w_.setZero(n);
+    normal_.setZero(n);
+    elastic_.setZero(n);
+    viscous_.setZero(n);
+    jv_next_.setZero(n);
+  }
+
+  void prepare(const StepView& s) override {
+    const auto& mc = s.meshes;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const auto& sp = specs_[i];
+      const Eigen::Index m = sp.mesh;
+      const Vec3 k = s.rows.axis.row(m).transpose();
+      const Vec3 u = mc.sigma[m] * s.rows.radial.row(m).transpose();
+      const auto& rot_a = s.data.oMi[mc.joint_a[m]].rotation();
+      const auto& rot_b = s.data.oMi[mc.joint_b[m]].rotation();
+      const double psi_a = angle_about(k, u, rot_a * paths_[i].reference_a);
+      const double psi_b = angle_about(k, u, rot_b * sp.reference_b);
+      const double pitch = paths_[i].base_pitch;
+      // Rolling part, wrapped into one base pitch centred on the middle of the backlash gap.
+      double rolling = sp.base_radius_a * psi_a - sp.base_radius_b * psi_b - sp.tangential_ref +
+                       sp.tangential_offset;
+      rolling -= pitch * std::round((rolling + 0.5 * sp.backlash) / pitch);
+      const double distance = (s.rows.centre_b.row(m) - s.rows.centre_a.row(m)).norm();
+      const double along_axis = (s.rows.centre_b.row(m) - s.rows.centre_a.row(m)).dot(k);
+      const double centre_distance = std::sqrt(std::max(0.0, distance * distance -
+                                                                  along_axis * along_axis));
+      const double cos_w = std::min(1.0, sp.base_radius_sum / centre_distance);
+      const double radial =
+          sp.radial_sign * sp.base_radius_sum * (involute(std::acos(cos_w)) - sp.involute_ref) +
+          sp.radial_offset;
+      delta_(i, 0) = rolling + radial;
+      delta_(i, 1) = -rolling + radial - sp.backlash;
+      double unused;
+      flank_row(mc, s.rows, m, 1.0, row_[2 * i], unused);
+      flank_row(mc, s.rows, m, -1.0, row_[2 * i + 1], unused);
+      path_[2 * i] = path_state(paths_[i], psi_a, 1.0);
+      path_[2 * i + 1] = path_state(paths_[i], psi_a, -1.0);
+      if (state_[i] == 0 && first_) {
+        // Start in contact on a flank that overlaps; a mesh at rest with zero deflection
+        // starts on the front flank carrying no force.
+        state_[i] = delta_(i, 0) >= 0.0 ? 1 : (delta_(i, 1) >= 0.0 ? -1 : 0);
+      }
+      coefficients(s, i);
+    }
+    first_ = false;
+  }
+
+  void add_implicit(const StepView&, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      if (state_[i] == 0) continue;
+      const auto& row = row_[2 * i + (state_[i] > 0 ? 0 : 1)];
+      hessian.noalias() += w_[i] * row.transpose() * row;
+      force.noalias() += b_[i] * row.transpose();
+    }
+  }
+
+  bool settle(const StepView& s, const Eigen::VectorXd& a, bool last) override {
+    bool changed = false;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      if (state_[i] != 0) {
+        const int f = state_[i] > 0 ? 0 : 1;
+        const double force = b_[i] - w_[i] * row_[2 * i + f].dot(a);
+        if (force < 0.0 && !last) {
+          state_[i] = 0;
+          changed = true;
+        }
+      } else if (!last) {
+        // A free mesh closes when the force it would carry at the end of the step pushes.
+        for (int f = 0; f < 2; ++f) {
+          const double flank = f == 0 ? 1.0 : -1.0;
+          const auto& row = row_[2 * i + f];
+          const double k = stiffness(i, f);
+          const double jv = row.dot(s.v + s.dt * a);
+          const double trial = k * (delta_(i, f) - theta_ * s.dt * jv) - specs_[i].damping * jv;
+          if (trial > 0.0) {
+            state_[i] = static_cast<int>(flank);
+            changed = true;
+            break;
+          }
+        }
+      }
+      if (state_[i] != 0) coefficients(s, i);
+    }
+    if (changed) return true;
+    // Final forces of the step.
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      if (state_[i] == 0) {
+        normal_[i] = elastic_[i] = viscous_[i] = jv_next_[i] = 0.0;
+        continue;
+      }
+      const int f = state_[i] > 0 ? 0 : 1;
+      last_flank_[i] = state_[i];
+      const double k = stiffness(i, f);
+      jv_next_[i] = row_[2 * i + f].dot(s.v + s.dt * a);
+      elastic_[i] = k * (delta_(i, f) - theta_ * s.dt * jv_next_[i]);
+      viscous_[i] = -specs_[i].damping * jv_next_[i];
+      normal_[i] = std::max(0.0, elastic_[i] + viscous_[i]);
+    }
+    return false;
+  }
+
+  void add_body_forces(const StepView& s, BodyForces& out) const override {
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      if (normal_[i] == 0.0) continue;
+      const Eigen::Index m = specs_[i].mesh;
+      const Vec3 f = tooth_force_on_b(s.meshes, s.rows, m, last_flank_[i], normal_[i]);
+      const Vec3 p = s.rows.pitch_point.row(m).transpose();
+      out.add(s.meshes.joint_b[m], p, f);
+      out.add(s.meshes.joint_a[m], p, -f);
+    }
+  }
+
+  double potential(const StepView&) const override {
+    double energy = 0.0;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      for (int f = 0; f < 2; ++f) {
+        const double d = std::max(0.0, delta_(i, f));
+        energy += 0.5 * stiffness(i, f) * d * d;
+      }
+    }
+    return energy;
+  }
+
+  StepWork work(const StepView& s, const Eigen::VectorXd&,
+                const Eigen::VectorXd& v_mid) const override {
+    StepWork w;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      if (state_[i] == 0 || normal_[i] == 0.0) continue;
+      const double jv = row_[2 * i + (state_[i] > 0 ? 0 : 1)].dot(v_mid) * s.dt;
+      // The generalised force Jᵀ F_n does work F_n J v_mid h (F_n > 0: not clipped).
+      w.elastic += elastic_[i] * jv;
+      w.dissipated -= viscous_[i] * jv;
+    }
+    return w;
+  }
+
+  void record(const StepView& s, long k, const Outputs& out) const override {
+    const long nm = static_cast<long>(s.meshes.count());
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const long idx = k * nm + specs_[i].mesh;
+      record_mesh_force(out, s.meshes, s.rows, k, specs_[i].mesh, normal_[i], last_flank_[i]);
+      const int f = state_[i] != 0 ? (state_[i] > 0 ? 0 : 1) : (last_flank_[i] > 0 ? 0 : 1);
+      const PathState& p = path_[2 * i + f];
+      out.mesh_deflection[idx] =
+          state_[i] != 0 ? delta_(i, f) : std::max(delta_(i, 0), delta_(i, 1));
+      out.transmission_error[idx] = delta_(i, 0);
+      out.mesh_contact_position[idx] = paths_[i].roll_start + p.entering;
+      out.mesh_pairs[idx] = p.pairs;
+      out.mesh_single_tooth_force[idx] = normal_[i] * p.share;
+    }
+  }
+
+ private:
+  double stiffness(size_t i, int f) const {
+    return paths_[i].pair_position.size() ? path_[2 * i + f].stiffness : specs_[i].stiffness;
+  }
+
+  void coefficients(const StepView& s, size_t i) {
+    if (state_[i] == 0) return;
+    const int f = state_[i] > 0 ? 0 : 1;
+    const double k = stiffness(i, f), c = specs_[i].damping, h = s.dt;
+    b_[i] = k * delta_(i, f) - (theta_ * h * k + c) * row_[2 * i + f].dot(s.v);
+    w_[i] = h * (theta_ * h * k + c);
+  }
+
+  std::vector<CompliantMeshSpec> specs_;
+  std::vector<MeshPathSpec> paths_;
+  double theta_;
+  std::vector<int> state_;           // +1 front flank, −1 back flank, 0 no contact
+  std::vector<double> last_flank_;   // the flank last in contact
+  Eigen::Matrix<double, Eigen::Dynamic, 2> delta_;  // overlaps δ_f, δ_b [m]
+  std::vector<Eigen::RowVectorXd> row_;             // J of each flank
+  std::vector<PathState> path_;
+  Eigen::VectorXd b_, w_, normal_, elastic_, viscous_, jv_next_;
+  bool first_ = true;
+};
+
+}  // namespace pinwind

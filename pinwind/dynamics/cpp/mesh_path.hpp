@@ -1,0 +1,95 @@
+// Where the teeth of a mesh are along the path of contact, from the gear angles: the roll
+// position of the entering tooth pair, the number of pairs in contact and each pair's share of
+// the mesh stiffness (003_83d3049daebcd276.txt §2.4, Figs. 7-8). Used by rigid and compliant
+// meshes alike.
+//
+// The path of contact runs from A (the driven gear's tip circle) to E along the line of action,
+// g_α = ε_α p_b long (pinwind/gears/contact.py). A pair enters at A and leaves at E; the next
+// pair follows one base pitch p_b behind. With the entering pair at x ∈ [0, p_b), the pairs in
+// contact sit at x, x + p_b, … ≤ g_α. When gear A turns by Δψ relative to the centre line, its
+// teeth roll by r_b,A Δψ along the line of action of the front flank, and by −r_b,A Δψ along
+// the back flank's.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh_rows.hpp"
+
+namespace pinwind {
+
+struct MeshPathSpec {
+  double base_pitch = 0.0;    // p_bt [m]
+  double path_length = 0.0;   // g_α [m]
+  double roll_start = 0.0;    // roll length from gear A's tangency point to A [m]
+  double roll_radius_a = 0.0; // base radius of gear A [m]
+  double entering_front = 0.0, entering_back = 0.0;  // x at the reference pose [m]
+  double angle_ref_a = 0.0;   // ψ_A at the reference pose [rad]
+  Vec3 reference_a = Vec3::UnitX();  // unit vector ⟂ axis fixed in gear A's joint frame
+  // Stiffness of one tooth pair along the path (positions from A [m], stiffness [N/m]),
+  // piecewise linear; empty: a constant mesh stiffness (the pair count still from geometry).
+  Eigen::VectorXd pair_position, pair_stiffness;
+};
+
+// Angle from u to e about k [rad], in (−π, π].
+inline double angle_about(const Vec3& k, const Vec3& u, const Vec3& e) {
+  return std::atan2(k.dot(u.cross(e)), u.dot(e));
+}
+
+// x mod p in [0, p).
+inline double wrap_positive(double x, double p) {
+  const double r = std::fmod(x, p);
+  return r < 0.0 ? r + p : r;
+}
+
+struct PathState {
+  double entering = 0.0;     // x of the entering pair [m]
+  int pairs = 1;             // pairs in contact
+  double stiffness = 1.0;    // mesh stiffness: the sum over the pairs [N/m] (1 if no table)
+  double share = 1.0;        // the entering pair's stiffness / the mesh stiffness
+};
+
+inline double pair_stiffness_at(const MeshPathSpec& p, double x) {
+  const auto& s = p.pair_position;
+  const auto& k = p.pair_stiffness;
+  const Eigen::Index n = s.size();
+  if (x <= s[0]) return k[0];
+  if (x >= s[n - 1]) return k[n - 1];
+  const auto* it = std::upper_bound(s.data(), s.data() + n, x);
+  const Eigen::Index i = static_cast<Eigen::Index>(it - s.data());
+  const double w = (x - s[i - 1]) / (s[i] - s[i - 1]);
+  return (1.0 - w) * k[i - 1] + w * k[i];
+}
+
+// Path state for gear A's angle ψ_A relative to the centre line, on flank s (±1).
+inline PathState path_state(const MeshPathSpec& p, double angle_a, double flank) {
+  PathState st;
+  if (p.base_pitch <= 0.0) return st;
+  const double roll = p.roll_radius_a * (angle_a - p.angle_ref_a);
+  st.entering = flank > 0 ? wrap_positive(p.entering_front + roll, p.base_pitch)
+                          : wrap_positive(p.entering_back - roll, p.base_pitch);
+  const double tol = 1e-12 * p.base_pitch;
+  st.pairs = 0;
+  for (double x = st.entering; x <= p.path_length + tol; x += p.base_pitch) ++st.pairs;
+  st.pairs = std::max(st.pairs, 1);
+  if (p.pair_position.size() == 0) {
+    st.share = 1.0 / st.pairs;
+    return st;
+  }
+  st.stiffness = 0.0;
+  for (int j = 0; j < st.pairs; ++j) {
+    st.stiffness += pair_stiffness_at(p, st.entering + j * p.base_pitch);
+  }
+  st.share = pair_stiffness_at(p, st.entering) / st.stiffness;
+  return st;
+}
+
+// ψ_A: the angle of gear A about the mesh axis relative to the centre line towards B.
+inline double gear_a_angle(const MeshConstants& mc, const MeshRows& rows, const MeshPathSpec& p,
+                           const Eigen::Matrix3d& rot_a, Eigen::Index m) {
+  const Vec3 k = rows.axis.row(m).transpose();
+  const Vec3 u = mc.sigma[m] * rows.radial.row(m).transpose();
+  return angle_about(k, u, rot_a * p.reference_a);
+}
+
+}  // namespace pinwind

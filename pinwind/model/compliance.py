@@ -1,0 +1,78 @@
+"""How a compliant gear mesh's force follows its deflection: the data of one mesh, SI units.
+
+A mesh is rigid (a constraint row, ``dynamics/mesh.py``) unless it has a ``MeshCompliance``;
+then it is a spring-damper along the line of action (``dynamics/compliant.py``,
+001_2d0e0f624d8db633.txt eqs. 2-6, 003_83d3049daebcd276.txt eqs. 14-19). The model file sets
+it per mesh (docs/model_format.md), and ``simulate(..., meshes=...)`` or ``pinwind simulate
+--mesh NAME=compliant`` per run.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Damping ratio of the mesh mode used when a compliant mesh gives neither damping nor a ratio.
+DEFAULT_DAMPING_RATIO = 0.05
+
+#: How the mesh stiffness varies as the teeth roll.
+STIFFNESS_VARIATIONS = ("path", "constant")
+
+
+@dataclass(frozen=True)
+class MeshCompliance:
+    """The spring-damper of a compliant mesh: F_n = k(x) δ + c δ̇ on the flank in contact, ≥ 0.
+
+    Attributes:
+        stiffness: single-pair stiffness c′·b [N/m] (ISO 6336-1 c′ times the face width b);
+            None: ISO 6336-1 method B from the gear data (``gears/mesh_stiffness.py``).
+        variation: ``"path"``: the mesh stiffness is the sum over the tooth pairs in contact as
+            they roll along the path of contact (c′b with one pair, 1.75 c′b with two, whose
+            mean is ISO's c_γα b); ``"constant"``: the mean mesh stiffness c_γα b throughout.
+        pair_stiffness: stiffness of one tooth pair along the path of contact, as (positions
+            from the path start A [m], stiffness [N/m]), e.g. a FEM curve as in
+            003_83d3049daebcd276.txt Fig. 8; replaces ``stiffness`` and ``variation``.
+        damping: c [N·s/m]; None: from ``damping_ratio``.
+        damping_ratio: ζ of the mesh mode, c = 2 ζ √(k m_eq) with m_eq the effective mass
+            along the line of action; used when ``damping`` is None.
+        backlash: normal backlash along the line of action [m] (≥ 0): no force inside the gap.
+    """
+
+    stiffness: float | None = None
+    variation: str = "path"
+    pair_stiffness: tuple[np.ndarray, np.ndarray] | None = None
+    damping: float | None = None
+    damping_ratio: float = DEFAULT_DAMPING_RATIO
+    backlash: float = 0.0
+
+    def problems(self) -> list[str]:
+        """What is physically wrong with these values, each with the fix (empty when fine)."""
+        out = []
+        if self.stiffness is not None and not (
+            math.isfinite(self.stiffness) and self.stiffness > 0.0
+        ):
+            out.append(f"stiffness is {self.stiffness:g} N/m; give a positive value (c′·b)")
+        if self.variation not in STIFFNESS_VARIATIONS:
+            out.append(
+                f'stiffness variation "{self.variation}" is unknown; use one of '
+                + ", ".join(STIFFNESS_VARIATIONS)
+            )
+        if self.damping is not None and not (math.isfinite(self.damping) and self.damping >= 0):
+            out.append(f"damping is {self.damping:g} N·s/m; it must be ≥ 0")
+        if not (math.isfinite(self.damping_ratio) and 0.0 <= self.damping_ratio < 1.0):
+            out.append(f"damping ratio is {self.damping_ratio:g}; it must lie in [0, 1)")
+        if not (math.isfinite(self.backlash) and self.backlash >= 0.0):
+            out.append(f"backlash is {self.backlash * 1e3:g} mm; it must be ≥ 0")
+        if self.pair_stiffness is not None:
+            s, k = (np.asarray(a, dtype=float) for a in self.pair_stiffness)
+            if s.ndim != 1 or s.shape != k.shape or s.size < 1:
+                out.append("pair stiffness table needs as many positions as stiffness values")
+            elif not (np.all(np.isfinite(s)) and np.all(np.isfinite(k))):
+                out.append("pair stiffness table has non-finite values")
+            elif np.any(np.diff(s) < 0.0):
+                out.append("pair stiffness positions must increase along the path")
+            elif np.any(k <= 0.0):
+                out.append(f"pair stiffness values must be positive; smallest {k.min():g} N/m")
+        return out
