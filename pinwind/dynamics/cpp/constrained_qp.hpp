@@ -1,4 +1,5 @@
-// Constrained dynamics of one step as an equality QP solved with proxsuite.
+// Constrained dynamics of one step as an equality QP, solved with proxsuite when the rows are
+// redundant (rigid multi-planet stages) and directly when they have full rank.
 //
 // Gauss's principle (design.md §2):
 //
@@ -95,12 +96,9 @@ class ConstrainedQp {
       return out;
     }
     const bool rows_changed = refresh_rows(jac);
-    if (full_rank_) {
-      rhs_ = rhs;
-    } else {
-      rhs_.resize(rhs.size());
-      rhs_.noalias() = range_ * rhs;
-    }
+    if (full_rank_) return solve_direct(mass, force, jac, rhs, rows_changed);
+    rhs_.resize(rhs.size());
+    rhs_.noalias() = range_ * rhs;
     // Scale the QP to unit size with powers of two, which are exact in floating point: the cost
     // by the largest inertia (so the dual residual is in rad/s² like the primal one), the
     // unknowns by the size of the data. One absolute tolerance then means the same relative
@@ -145,6 +143,39 @@ class ConstrainedQp {
   }
 
  private:
+  // Rows of full rank have unique multipliers: the KKT system is solved directly through the
+  // Schur complement S = J M⁻¹ Jᵀ, both factorisations kept while M and J stay the same (as
+  // they do for gears on fixed or carrier-borne axes). Same solution as proxsuite's to
+  // rounding, without its iterations, which a force that changes every step (compliant meshes)
+  // would otherwise cost.
+  const QpSolution& solve_direct(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
+                                 const Eigen::MatrixXd& jac, const Eigen::VectorXd& rhs,
+                                 bool rows_changed) {
+    QpSolution& out = solution_;
+    const bool mass_changed =
+        direct_mass_.size() != mass.size() ||
+        (mass - direct_mass_).cwiseAbs().maxCoeff() > 0.0;
+    if (mass_changed || rows_changed || !direct_ready_) {
+      direct_mass_ = mass;
+      mass_ldlt_.compute(mass);
+      minv_jt_ = mass_ldlt_.solve(jac.transpose());
+      schur_ldlt_.compute(jac * minv_jt_);
+      direct_ready_ = true;
+    }
+    free_ = mass_ldlt_.solve(force);
+    out.multipliers = schur_ldlt_.solve(rhs - jac * free_);
+    out.acceleration = free_ + minv_jt_ * out.multipliers;
+    out.primal_residual = (jac * out.acceleration - rhs).cwiseAbs().maxCoeff();
+    out.dual_residual =
+        (mass * out.acceleration - force - jac.transpose() * out.multipliers).cwiseAbs().maxCoeff();
+    out.iterations = 0;
+    out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
+    out.status = "direct";
+    // A later rank-deficient step starts proxsuite afresh.
+    qp_.reset();
+    return out;
+  }
+
   void start(const Eigen::MatrixXd& jac) {
     qp_ = std::make_unique<QP>(nv_, rows_, 0);
     qp_->settings.eps_abs = settings_.eps_abs;
@@ -201,6 +232,11 @@ class ConstrainedQp {
   Eigen::VectorXd g_, rhs_;
   bool full_rank_ = true;
   QpSolution solution_;
+  // Direct solve of full-rank rows.
+  bool direct_ready_ = false;
+  Eigen::MatrixXd direct_mass_, minv_jt_;
+  Eigen::LDLT<Eigen::MatrixXd> mass_ldlt_, schur_ldlt_;
+  Eigen::VectorXd free_;
 };
 
 }  // namespace pinwind
