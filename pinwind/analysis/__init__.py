@@ -1,5 +1,6 @@
-"""Analysis of results: statistics and summaries."""
+"""Analysis of results: statistics, summaries and planet load sharing."""
 
+from pinwind.analysis.load_sharing import LoadSharing, load_sharing
 from pinwind.analysis.summary import statistics, summary_tables
 
-__all__ = ["statistics", "summary_tables"]
+__all__ = ["LoadSharing", "load_sharing", "statistics", "summary_tables"]
