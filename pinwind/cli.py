@@ -113,6 +113,35 @@ def parse_loads(
     return torques, speeds
 
 
+MESH_CHOICES = ("rigid", "compliant")
+
+
+def parse_meshes(items: list[str] | None) -> dict[str, str]:
+    """``--mesh NAME=rigid|compliant`` options → ``simulate(meshes=...)``."""
+    out = {}
+    for name, value in _pairs(items, "--mesh").items():
+        if value not in MESH_CHOICES:
+            raise InputError(
+                f'--mesh "{name}={value}": the type must be one of {", ".join(MESH_CHOICES)}'
+            )
+        out[name] = value
+    return out
+
+
+def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, float]]:
+    """``--position-error GEAR=T_UM,R_UM`` options → (tangential, radial) errors [m]."""
+    out = {}
+    for name, value in _pairs(items, "--position-error").items():
+        parts = value.split(",")
+        if len(parts) != 2:
+            raise InputError(
+                f'--position-error "{name}={value}" must be GEAR=TANGENTIAL_UM,RADIAL_UM'
+            )
+        tangential, radial = (_float(p, "--position-error", "µm") * 1e-6 for p in parts)
+        out[name] = (tangential, radial)
+    return out
+
+
 @app.command()
 def simulate(
     model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
@@ -150,23 +179,46 @@ def simulate(
         typer.Option("--log-rate", help="Logged samples per simulated second [Hz]; default all."),
     ] = None,
     no_log: Annotated[bool, typer.Option("--no-log", help="Do not write a log.")] = False,
+    mesh: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--mesh",
+            help="MESH=rigid or MESH=compliant (MESH may be all; repeatable). Default: the model "
+            "file's type of each mesh.",
+        ),
+    ] = None,
+    position_error: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--position-error",
+            help="GEAR=TANGENTIAL_UM,RADIAL_UM position error of a planet's centre [µm] "
+            "(repeatable); compliant meshes share the load accordingly.",
+        ),
+    ] = None,
 ) -> None:
     """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
     import pinwind
+    import numpy as np
+
+    from pinwind.analysis import load_sharing
     from pinwind.analysis.summary import summary_tables
     from pinwind.io.run import log_path
 
     torques, speeds = parse_loads(torque, speed, speed_sine)
+    meshes = parse_meshes(mesh)
+    errors = parse_position_errors(position_error)
     gearbox = pinwind.load(model)
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
     command = shlex.join(["pinwind", *sys.argv[1:]])
     before = _stamp(log) if log is not None else None
     previous = signal.signal(signal.SIGTERM, _raise_terminated)
     try:
-        res = pinwind.simulate(
-            gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
-            progress=progress, log=log, log_rate=log_rate, overwrite=force, command=command,
-        )  # fmt: skip
+        with _warnings_as_lines():
+            res = pinwind.simulate(
+                gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
+                progress=progress, log=log, log_rate=log_rate, overwrite=force,
+                command=command, meshes=meshes, position_errors=errors,
+            )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
         if log is not None and _stamp(log) not in (None, before):
             err_console.print(f"the run stopped early; its log up to that point is in {log}")
@@ -184,6 +236,16 @@ def simulate(
     )
     for table in summary_tables(res):
         console.print(table)
+    for sharing in load_sharing(res, gearbox):
+        if np.isfinite(sharing.factor_max):
+            shares = ", ".join(
+                f"{m} {s:.4f}" for m, s in zip(sharing.meshes, sharing.mean_share, strict=True)
+            )
+            console.print(
+                f"load sharing at the {sharing.gear}: K_γ = {sharing.mean_share.max():.4f} from "
+                f"the mean loads ({shares}); largest at one sample {sharing.factor_max:.4f}",
+                highlight=False,
+            )
     if log is not None:
         console.print(f"log: {log} ({log.stat().st_size / 1e6:.2f} MB)")
 
@@ -193,8 +255,11 @@ def _warnings_as_lines() -> Iterator[None]:
     """Show pinwind warnings (a recovered log, ...) as one line on stderr."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", PinwindWarning)
-        yield
-    for warning in caught:
+        try:
+            yield
+        finally:
+            shown = list(caught)
+    for warning in shown:
         if issubclass(warning.category, PinwindWarning):
             err_console.print(f"[yellow]warning:[/yellow] {warning.message}", highlight=False)
         else:

@@ -6,6 +6,7 @@ import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import pinwind
@@ -131,3 +132,35 @@ def test_info_lists_the_speed_ratios_of_a_one_degree_of_freedom_train():
     # 6 × 83/23 × 103/26 from the tooth counts (000_3b7c4a8fe52a6eee.txt Table 2, §4.1).
     assert f"stage2_pinion {6 * 83 / 23 * 103 / 26:.6g}" in out.stdout
     assert "sun 6" in out.stdout
+
+
+def test_position_error_option_is_in_micrometres():
+    from pinwind.cli import parse_position_errors
+
+    errors = parse_position_errors(["planet1=12.5,-3"])
+    np.testing.assert_allclose(errors["planet1"], (12.5e-6, -3e-6), rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--mesh", "all=soft"], "the type must be one of rigid, compliant"),
+        (["--mesh", "sun_planet9=compliant"], 'no mesh named "sun_planet9"'),
+        (["--position-error", "planet1=10"], "must be GEAR=TANGENTIAL_UM,RADIAL_UM"),
+    ],
+)
+def test_bad_mesh_options_exit_2_naming_the_option(args, message):
+    proc = run("simulate", str(MODELS / "saleh2017_planetary.urdf"), "--no-log", *args)
+    assert proc.returncode == 2
+    assert message in proc.stderr
+
+
+def test_simulate_runs_compliant_meshes_and_reports_load_sharing():
+    proc = run(
+        "simulate", str(MODELS / "saleh2017_planetary.urdf"), "--no-log",
+        "--torque", "sun=1e5", "--speed", "carrier=0", "--mesh", "all=compliant",
+        "--duration", "0.02", "--dt", "1e-5",
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    # A perfect stage: every planet carries a third.
+    assert "load sharing at the sun: K_γ = 1.0000" in proc.stdout

@@ -121,9 +121,7 @@ def _allocate(gearbox: Gearbox, n: int, body_names: list[str]) -> Result:
         body_position=z(nb, 3),
         body_quaternion=z(nb, 4),
         constraint_residual=np.zeros(n),
-        energy={
-            k: np.zeros(n) for k in ("kinetic", *_WORK_KEYS, "potential_spring", "numerical")
-        },
+        energy={k: np.zeros(n) for k in ("kinetic", *_WORK_KEYS, "potential_spring", "numerical")},
     )
 
 
