@@ -197,9 +197,9 @@ def simulate(
     ] = None,
 ) -> None:
     """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
-    import pinwind
     import numpy as np
 
+    import pinwind
     from pinwind.analysis import load_sharing
     from pinwind.analysis.summary import summary_tables
     from pinwind.io.run import log_path

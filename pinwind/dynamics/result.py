@@ -244,13 +244,17 @@ class Result:
 
     def truncated(self, n: int) -> Result:
         """The first ``n`` samples (used when a run stops early)."""
-        kwargs = {name: getattr(self, name)[:n] for name in self.ARRAYS}
+        return self.rows(0, n)
+
+    def rows(self, start: int, stop: int) -> Result:
+        """Samples start:stop as a Result (views of these arrays)."""
+        kwargs = {name: getattr(self, name)[start:stop] for name in self.ARRAYS}
         return Result(
             joint_names=self.joint_names,
             mesh_names=self.mesh_names,
             bearing_names=self.bearing_names,
             body_names=self.body_names,
-            energy={k: v[:n] for k, v in self.energy.items()},
+            energy={k: v[start:stop] for k, v in self.energy.items()},
             metadata=dict(self.metadata),
             status=self.status,
             **kwargs,

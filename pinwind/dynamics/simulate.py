@@ -22,7 +22,8 @@ and compliant meshes) store ``potential_spring``; what their forces' work over t
 its change is the integrator's own loss, ``numerical`` = −(ΔU_spring + W_springs) (first order in
 dt for the implicit meshes, ``dynamics/compliant.py``), so that
 
-    Δkinetic + ΔU_spring = W_applied + W_drivers + W_gravity + W_constraints − dissipated − numerical.
+    Δkinetic + ΔU_spring
+        = W_applied + W_drivers + W_gravity + W_constraints − dissipated − numerical.
 
 The step loop itself is compiled (``dynamics/stepper.py``, ``dynamics/cpp/stepper.hpp``); this
 module checks the inputs, evaluates the torque and speed signals, and hands the samples to the
@@ -52,10 +53,10 @@ class RunObserver(Protocol):
     """Receives a run's samples as they are computed (the MCAP logger is one)."""
 
     def begin(self, gearbox: Gearbox, result: Result) -> None:
-        """Called once before the first step; ``result`` holds preallocated arrays."""
+        """Called once before the first step; ``result`` has the names and metadata."""
 
-    def samples(self, result: Result, start: int, stop: int) -> None:
-        """Samples ``start:stop`` of ``result`` are final."""
+    def samples(self, block: Result, start: int) -> None:
+        """Samples start … start + len(block) − 1 are final; they are the rows of ``block``."""
 
     def end(self, result: Result, status: str) -> None:
         """Called once at the end, also after an error or an interrupt; status says why."""
@@ -84,16 +85,17 @@ _WORK_KEYS = (
 )
 
 
-def _allocate(gearbox: Gearbox, n: int, body_names: list[str]) -> Result:
+def _allocate(gearbox: Gearbox, n: int, body_names: list[str], *, empty: bool = False) -> Result:
     nj = len(gearbox.joint_names)
     nm = len(gearbox.meshes)
     nb = len(body_names)
+    make = np.empty if empty else np.zeros
 
     def z(*shape):
-        return np.zeros((n, *shape))
+        return make((n, *shape))
 
     return Result(
-        time=np.zeros(n),
+        time=make(n),
         joint_names=list(gearbox.joint_names),
         mesh_names=[m.name for m in gearbox.meshes],
         bearing_names=list(gearbox.joint_names),
@@ -162,6 +164,7 @@ def simulate(
     chunk: int = 1000,
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
+    keep: str | int = "auto",
 ) -> Result:
     """Simulate a gearbox under joint torques and speed drivers.
 
@@ -182,10 +185,16 @@ def simulate(
             ``MeshCompliance``, replacing the model file's choice (``dynamics/compliant.py``).
         position_errors: gear name → (tangential, radial) position error of its centre [m]
             (planet pin errors), replacing the model file's.
+        keep: which samples the returned Result holds; the run itself streams block by block
+            to the observer (the log) in memory for one block. ``"all"``: every sample;
+            an integer N: every N-th sample from 0, and the last; ``"last"``: the last sample
+            only; ``"auto"`` (default): every sample while they fit in ``KEEP_BUDGET`` bytes,
+            else every N-th sample with N the smallest that fits.
 
     Returns:
-        Result with samples at t = 0, dt, ..., duration. If the run raises or is interrupted, the
-        observer's ``end`` still gets the samples computed so far and the reason.
+        Result with the kept samples of t = 0, dt, ..., duration (``metadata["keep_stride"]``
+        says which). If the run raises or is interrupted, the observer's ``end`` still gets
+        the samples computed so far and the reason.
 
     Raises:
         InputError: unknown joint names, non-finite values, dt or duration not positive.
@@ -231,7 +240,11 @@ def simulate(
         position_errors=position_errors,
     )
     frames = body_frames(model)
-    res = _allocate(gearbox, steps + 1, [model.frames[f].name for f in frames])
+    body_names = [model.frames[f].name for f in frames]
+    samples = steps + 1
+    stride = _keep_stride(keep, samples, _bytes_per_sample(gearbox, len(body_names)))
+    kept = _kept_samples(samples, stride)
+    res = _allocate(gearbox, len(kept), body_names)
     res.metadata = {
         "model_name": gearbox.name,
         "model_path": str(gearbox.path),
@@ -247,6 +260,8 @@ def simulate(
         "integrator": "semi-implicit Euler with velocity projection",
         "meshes": {m.name: _mesh_metadata(m) for m in mesh_setup_.meshes},
         "highest_mesh_mode_hz": mesh_setup_.highest_mode,
+        "samples_simulated": samples,
+        "keep_stride": stride,
     }
     if position_errors:
         res.metadata["position_errors"] = {
@@ -268,7 +283,7 @@ def simulate(
 
     stepper = CompiledStepper(
         gearbox,
-        res,
+        samples,
         q,
         v,
         dt=dt,
@@ -281,10 +296,10 @@ def simulate(
     if observer is not None:
         observer.begin(gearbox, res)
     status = "completed"
-    done = written = 0
+    done = 0
+    spring0 = None
     started = wallclock.perf_counter()
     try:
-        samples = steps + 1
         torque_columns = [ld.v_index for ld in torque_loads]
         for start in range(0, samples, chunk):
             stop = min(start + chunk, samples)
@@ -310,18 +325,27 @@ def simulate(
                     f'speeds["{load.joint}"] is {value} rad/s at t = {k * dt:.6g} s; the speed '
                     "function must return finite values"
                 )
+            block = _allocate(gearbox, stop - start, body_names, empty=True)
+            done = start
             try:
-                done = stepper.run(start, stop, torque[: stop - start], target[: stop - start + 1])
+                done = stepper.run(
+                    start, stop, torque[: stop - start], target[: stop - start + 1], block
+                )
             except PinwindError as err:
                 done = getattr(err, "samples", start)
                 raise
             finally:
-                _numerical_loss(res.energy, start, done)
+                # Samples start:done are final whatever happened: keep and hand them over.
+                if done > start:
+                    part = block if done == stop else block.truncated(done - start)
+                    if spring0 is None:
+                        spring0 = float(part.energy["potential_spring"][0])
+                    _numerical_loss(part.energy, spring0)
+                    _keep(res, part, start, kept)
+                    if observer is not None:
+                        observer.samples(part, start)
             if error is not None:
                 raise error
-            if observer is not None:
-                observer.samples(res, start, stop)
-                written = stop
             if bar is not None:
                 bar.advance(stop - start)
     except KeyboardInterrupt:
@@ -335,22 +359,68 @@ def simulate(
             bar.close()
         res.metadata["wall_time_s"] = wallclock.perf_counter() - started
         res.metadata["status"] = status
+        res.metadata["samples_simulated"] = done
         res.status = status
-        final = res if status == "completed" else res.truncated(done)
+        final = res if status == "completed" else res.truncated(int(np.searchsorted(kept, done)))
         if observer is not None:
-            if done > written:
-                observer.samples(final, written, done)
             observer.end(final, status)
     return final
 
 
-def _numerical_loss(energy: dict[str, np.ndarray], start: int, stop: int) -> None:
-    """Fills ``numerical`` = −(U_spring − U_spring[0] + W_springs) for samples start:stop [J]."""
-    if stop > start:
-        spring = energy["potential_spring"]
-        energy["numerical"][start:stop] = -(
-            spring[start:stop] - spring[0] + energy["work_springs"][start:stop]
-        )
+def _numerical_loss(energy: dict[str, np.ndarray], spring0: float) -> None:
+    """Fills ``numerical`` = −(U_spring − U_spring(t=0) + W_springs) of a block [J]."""
+    energy["numerical"][:] = -(energy["potential_spring"] - spring0 + energy["work_springs"])
+
+
+#: Bytes of kept samples above which ``keep="auto"`` keeps every N-th sample only.
+KEEP_BUDGET = 512 * 2**20
+
+
+def _bytes_per_sample(gearbox: Gearbox, bodies: int) -> int:
+    """Bytes a Result holds per sample (float64 arrays)."""
+    nj, nm = len(gearbox.joint_names), len(gearbox.meshes)
+    values = 1 + 4 * nj + nm * (10 + 6) + 12 * nj + 7 * bodies + 1 + len(_WORK_KEYS) + 3
+    return 8 * values
+
+
+def _keep_stride(keep: str | int, samples: int, per_sample: int) -> int:
+    """Every how many samples the Result keeps one (``simulate``'s ``keep``)."""
+    if keep == "all":
+        return 1
+    if keep == "last":
+        return max(samples, 1)
+    if keep == "auto":
+        return max(1, math.ceil(samples * per_sample / KEEP_BUDGET))
+    if isinstance(keep, int) and not isinstance(keep, bool) and keep >= 1:
+        return keep
+    raise InputError(
+        f'keep is {keep!r}; give "all", "auto", "last" or a whole number N ≥ 1 (every N-th sample)'
+    )
+
+
+def _kept_samples(samples: int, stride: int) -> np.ndarray:
+    """Indices of the kept samples: every stride-th from 0, and the last.
+
+    Only the last when the stride spans the run.
+    """
+    if stride >= samples:
+        return np.arange(max(samples - 1, 0), samples)
+    kept = np.arange(0, samples, stride)
+    if samples and kept[-1] != samples - 1:
+        kept = np.append(kept, samples - 1)
+    return kept
+
+
+def _keep(res: Result, block: Result, start: int, kept: np.ndarray) -> None:
+    """Copies the kept samples of a block (samples start … start + len(block) − 1) into res."""
+    lo, hi = np.searchsorted(kept, [start, start + len(block)])
+    if hi == lo:
+        return
+    rows = kept[lo:hi] - start
+    for name in Result.ARRAYS:
+        getattr(res, name)[lo:hi] = getattr(block, name)[rows]
+    for name, values in block.energy.items():
+        res.energy[name][lo:hi] = values[rows]
 
 
 def _mesh_metadata(mesh: Mesh) -> dict:

@@ -79,7 +79,7 @@ class CompiledStepper:
 
     Args:
         gearbox: the model.
-        result: preallocated Result (its arrays are filled in place, sample by sample).
+        samples: samples of the whole run (t = 0, dt, …); each ``run`` fills one block.
         q0, v0: initial angles [rad] and speeds [rad/s]; v0 is projected onto the constraints.
         dt: time step [s].
         gravity: gravity in world [m/s²].
@@ -92,7 +92,7 @@ class CompiledStepper:
     def __init__(
         self,
         gearbox: Gearbox,
-        result: Result,
+        samples: int,
         q0: np.ndarray,
         v0: np.ndarray,
         *,
@@ -130,21 +130,20 @@ class CompiledStepper:
         solver.eps_rel = float(settings.eps_rel)
         solver.max_iter = int(settings.max_iter)
         spec.solver = solver
-        out = _native.OutputArrays()
-        for name in Result.ARRAYS:
-            setattr(out, name, getattr(result, name))
-        for name, values in result.energy.items():
-            if name != "numerical":  # derived in Python from the spring terms
-                setattr(out, name, values)
         self._stepper = _native.Stepper(
-            spec, np.asarray(q0, dtype=float), np.asarray(v0, dtype=float), out, len(result)
+            spec, np.asarray(q0, dtype=float), np.asarray(v0, dtype=float), int(samples)
         )
         self.drivers = list(driver_names)
 
-    def run(self, start: int, stop: int, torque: np.ndarray, target: np.ndarray) -> int:
-        """Step samples start:stop; returns ``stop``, or raises with the samples before it final.
+    def run(
+        self, start: int, stop: int, torque: np.ndarray, target: np.ndarray, block: Result
+    ) -> int:
+        """Step samples start:stop into rows 0 … stop − start − 1 of ``block``.
+
+        Returns ``stop``, or raises with the samples before it final.
 
         Args:
+            block: a Result of stop − start samples whose arrays are filled in place.
             torque: (stop − start, nv) applied joint torques at each sample's time [N·m].
             target: (stop − start + 1, drivers) driver speeds at those times and the next [rad/s].
 
@@ -152,8 +151,14 @@ class CompiledStepper:
             Diverged, SolverFailed, ConflictingConstraints: with ``.samples`` the number of final
             samples.
         """
+        out = _native.OutputArrays()
+        for name in Result.ARRAYS:
+            setattr(out, name, getattr(block, name))
+        for name, values in block.energy.items():
+            if name != "numerical":  # derived in Python from the spring terms
+                setattr(out, name, values)
         status = self._stepper.run(
-            start, stop, np.ascontiguousarray(torque), np.ascontiguousarray(target)
+            start, stop, np.ascontiguousarray(torque), np.ascontiguousarray(target), out
         )
         code = status.code
         if code == 0:

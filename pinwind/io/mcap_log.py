@@ -428,12 +428,14 @@ class McapLogger:
         )
         f.chunk(record.tobytes(), {model_channel: np.zeros((1, 2), np.uint64)})
 
-    def samples(self, result: Result, start: int, stop: int) -> None:
-        """Queue samples start:stop (every ``stride``-th, counted from 0) as one chunk.
+    def samples(self, block: Result, start: int) -> None:
+        """Queue the samples of a block (every ``stride``-th, counted from 0) as one chunk.
 
-        The rows of ``result`` must not change afterwards (the simulation only writes later
-        rows). Samples already queued are skipped, so a block handed over again after an
-        interrupt is not logged twice.
+        The block holds samples start … start + len(block) − 1 in its rows.
+
+        The arrays of ``block`` must not change afterwards (the simulation writes each block
+        into new arrays). Samples already queued are skipped, so a block handed over again after
+        an interrupt is not logged twice.
 
         Raises:
             LogError: writing an earlier chunk failed (disk full, ...): the run stops.
@@ -441,12 +443,13 @@ class McapLogger:
         if self._file is None:
             return
         self._raise_if_failed()
+        stop = start + len(block)
         first = max(start, self._queued)
         rows = np.arange(first + (-first % self.stride), stop, self.stride)
         if not len(rows):
             return
         self._queued = int(rows[-1]) + 1
-        self._jobs.put((result, rows))
+        self._jobs.put((block, rows - start, rows))
 
     def flush(self) -> None:
         """Wait until every queued chunk is in the file."""
@@ -467,11 +470,11 @@ class McapLogger:
                 if job is None:
                     return
                 if self._failed is None:
-                    result, rows = job
-                    data, index = self._assemble(result, rows)
+                    block, rows, samples = job
+                    data, index = self._assemble(block, rows, samples)
                     self._file.chunk(data, index)
-                    self._next_sample = int(rows[-1]) + 1
-                    self.samples_logged += len(rows)
+                    self._next_sample = int(samples[-1]) + 1
+                    self.samples_logged += len(samples)
             except Exception as err:  # disk full, ...: reported to the run by samples()
                 self._failed = err
             finally:
@@ -513,7 +516,7 @@ class McapLogger:
                 {
                     "status": status,
                     "cause": cause,
-                    "samples_simulated": len(result),
+                    "samples_simulated": result.metadata.get("samples_simulated", len(result)),
                     "samples_logged": self.samples_logged,
                     "log_error": str(self._failed) if self._failed else "",
                     "wall_time_s": result.metadata.get("wall_time_s"),
@@ -525,8 +528,12 @@ class McapLogger:
 
     # --- chunks ----------------------------------------------------------------------------
 
-    def _assemble(self, result: Result, rows: np.ndarray) -> tuple[np.ndarray, dict]:
-        """Message records of samples ``rows`` in time order (bytes), and each channel's index.
+    def _assemble(
+        self, result: Result, rows: np.ndarray, samples: np.ndarray
+    ) -> tuple[np.ndarray, dict]:
+        """Message records of ``rows`` of a block in time order (bytes), and each channel's index.
+
+        ``samples`` are the rows' sample indices in the run (the messages' sequence numbers).
 
         Each sample is one row: a record per channel, /tf last. /tf payloads grow with the
         stamp's varint length, so rows are laid out run by run of equal /tf length.
@@ -556,7 +563,7 @@ class McapLogger:
         data = np.empty(int(row_length.sum()), dtype=np.uint8)
         head = np.empty(len(rows), dtype=RECORD_HEADER)
         head["op"] = Opcode.MESSAGE
-        head["sequence"] = rows
+        head["sequence"] = samples
         head["log_time"] = log_time
         head["publish_time"] = log_time
         for a, b, tf in runs:

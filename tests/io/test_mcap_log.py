@@ -240,8 +240,8 @@ def test_killed_writer_leaves_its_complete_chunks_readable(planetary, logged_run
     logger = McapLogger(path)
     res = logged_run.result
     logger.begin(planetary, res)
-    logger.samples(res, 0, CHUNK)
-    logger.samples(res, CHUNK, 2 * CHUNK)
+    logger.samples(res.rows(0, CHUNK), 0)
+    logger.samples(res.rows(CHUNK, 2 * CHUNK), CHUNK)
     logger.flush()
     logger._stream.close()  # what the OS has when the process dies
     with pytest.warns(LogRecovered, match="recovered 200 samples"):

@@ -191,75 +191,81 @@ StepperSetup setup(const StepperSpec& spec) {
   return s;
 }
 
-// A Stepper that keeps the Result's arrays it writes into alive.
+// Pointers into the block's arrays, checked against the block length n and the model's sizes.
+Outputs outputs(const OutputArrays& out, size_t n, size_t nv, size_t nj, size_t nm, size_t nb) {
+  auto ptr = [](const char* name, const Array& a, size_t size) {
+    if (!a.is_valid() || a.size() != size) {
+      throw std::invalid_argument(std::string("out.") + name + " must hold " +
+                                  std::to_string(size) + " float64 values");
+    }
+    return a.data();
+  };
+  Outputs o{};
+  o.samples = static_cast<long>(n);
+  o.time = ptr("time", out.time, n);
+  o.angle = ptr("angle", out.angle, n * nv);
+  o.speed = ptr("speed", out.speed, n * nv);
+  o.acceleration = ptr("acceleration", out.acceleration, n * nv);
+  o.torque = ptr("torque", out.torque, n * nv);
+  o.mesh_normal = ptr("mesh_normal", out.mesh_normal, n * nm);
+  o.mesh_tangential = ptr("mesh_tangential", out.mesh_tangential, n * nm);
+  o.mesh_radial = ptr("mesh_radial", out.mesh_radial, n * nm);
+  o.mesh_axial = ptr("mesh_axial", out.mesh_axial, n * nm);
+  o.mesh_flank = ptr("mesh_flank", out.mesh_flank, n * nm);
+  o.transmission_error = ptr("transmission_error", out.transmission_error, n * nm);
+  o.mesh_force_on_b = ptr("mesh_force_on_b", out.mesh_force_on_b, 3 * n * nm);
+  o.pitch_point = ptr("pitch_point", out.pitch_point, 3 * n * nm);
+  o.mesh_deflection = ptr("mesh_deflection", out.mesh_deflection, n * nm);
+  o.mesh_contact_position = ptr("mesh_contact_position", out.mesh_contact_position, n * nm);
+  o.mesh_pairs = ptr("mesh_pairs", out.mesh_pairs, n * nm);
+  o.mesh_single_tooth_force = ptr("mesh_single_tooth_force", out.mesh_single_tooth_force, n * nm);
+  o.bearing_force = ptr("bearing_force", out.bearing_force, 3 * n * nj);
+  o.bearing_moment = ptr("bearing_moment", out.bearing_moment, 3 * n * nj);
+  o.bearing_force_local = ptr("bearing_force_local", out.bearing_force_local, 3 * n * nj);
+  o.bearing_moment_local = ptr("bearing_moment_local", out.bearing_moment_local, 3 * n * nj);
+  o.body_position = ptr("body_position", out.body_position, 3 * n * nb);
+  o.body_quaternion = ptr("body_quaternion", out.body_quaternion, 4 * n * nb);
+  o.constraint_residual = ptr("constraint_residual", out.constraint_residual, n);
+  o.kinetic = ptr("kinetic", out.kinetic, n);
+  o.potential_spring = ptr("potential_spring", out.potential_spring, n);
+  o.work[0] = ptr("work_applied", out.work_applied, n);
+  o.work[1] = ptr("work_drivers", out.work_drivers, n);
+  o.work[2] = ptr("work_springs", out.work_springs, n);
+  o.work[3] = ptr("work_gravity", out.work_gravity, n);
+  o.work[4] = ptr("work_constraints", out.work_constraints, n);
+  o.work[5] = ptr("dissipated", out.dissipated, n);
+  return o;
+}
+
+// A run of the step loop; each call to run() writes one block of samples into the arrays it
+// is given, so a run of any length needs memory for one block only.
 class PyStepper {
  public:
   PyStepper(const StepperSpec& spec, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-            const OutputArrays& out, long samples)
-      : keep_(out) {
+            long samples) {
     StepperSetup s = setup(spec);
-    const size_t nv = static_cast<size_t>(s.model.nv);
-    const size_t nj = static_cast<size_t>(s.model.njoints - 1);
-    const size_t nm = static_cast<size_t>(s.meshes.count());
-    const size_t nb_ = s.frame_parent.size();
-    const size_t n = static_cast<size_t>(samples);
-    if (static_cast<size_t>(q0.size()) != nv || static_cast<size_t>(v0.size()) != nv) {
+    nv_ = static_cast<size_t>(s.model.nv);
+    nj_ = static_cast<size_t>(s.model.njoints - 1);
+    nm_ = static_cast<size_t>(s.meshes.count());
+    nb_ = s.frame_parent.size();
+    if (static_cast<size_t>(q0.size()) != nv_ || static_cast<size_t>(v0.size()) != nv_) {
       throw std::invalid_argument("q0 and v0 must have nv values");
     }
-    auto ptr = [](const char* name, const Array& a, size_t size) {
-      if (!a.is_valid() || a.size() != size) {
-        throw std::invalid_argument(std::string("out.") + name + " must hold " +
-                                    std::to_string(size) + " float64 values");
-      }
-      return a.data();
-    };
-    Outputs o{};
-    o.samples = samples;
-    o.time = ptr("time", out.time, n);
-    o.angle = ptr("angle", out.angle, n * nv);
-    o.speed = ptr("speed", out.speed, n * nv);
-    o.acceleration = ptr("acceleration", out.acceleration, n * nv);
-    o.torque = ptr("torque", out.torque, n * nv);
-    o.mesh_normal = ptr("mesh_normal", out.mesh_normal, n * nm);
-    o.mesh_tangential = ptr("mesh_tangential", out.mesh_tangential, n * nm);
-    o.mesh_radial = ptr("mesh_radial", out.mesh_radial, n * nm);
-    o.mesh_axial = ptr("mesh_axial", out.mesh_axial, n * nm);
-    o.mesh_flank = ptr("mesh_flank", out.mesh_flank, n * nm);
-    o.transmission_error = ptr("transmission_error", out.transmission_error, n * nm);
-    o.mesh_force_on_b = ptr("mesh_force_on_b", out.mesh_force_on_b, 3 * n * nm);
-    o.pitch_point = ptr("pitch_point", out.pitch_point, 3 * n * nm);
-    o.mesh_deflection = ptr("mesh_deflection", out.mesh_deflection, n * nm);
-    o.mesh_contact_position = ptr("mesh_contact_position", out.mesh_contact_position, n * nm);
-    o.mesh_pairs = ptr("mesh_pairs", out.mesh_pairs, n * nm);
-    o.mesh_single_tooth_force =
-        ptr("mesh_single_tooth_force", out.mesh_single_tooth_force, n * nm);
-    o.bearing_force = ptr("bearing_force", out.bearing_force, 3 * n * nj);
-    o.bearing_moment = ptr("bearing_moment", out.bearing_moment, 3 * n * nj);
-    o.bearing_force_local = ptr("bearing_force_local", out.bearing_force_local, 3 * n * nj);
-    o.bearing_moment_local = ptr("bearing_moment_local", out.bearing_moment_local, 3 * n * nj);
-    o.body_position = ptr("body_position", out.body_position, 3 * n * nb_);
-    o.body_quaternion = ptr("body_quaternion", out.body_quaternion, 4 * n * nb_);
-    o.constraint_residual = ptr("constraint_residual", out.constraint_residual, n);
-    o.kinetic = ptr("kinetic", out.kinetic, n);
-    o.potential_spring = ptr("potential_spring", out.potential_spring, n);
-    o.work[0] = ptr("work_applied", out.work_applied, n);
-    o.work[1] = ptr("work_drivers", out.work_drivers, n);
-    o.work[2] = ptr("work_springs", out.work_springs, n);
-    o.work[3] = ptr("work_gravity", out.work_gravity, n);
-    o.work[4] = ptr("work_constraints", out.work_constraints, n);
-    o.work[5] = ptr("dissipated", out.dissipated, n);
-    stepper_ = std::make_unique<Stepper>(std::move(s), q0, v0, o);
+    stepper_ = std::make_unique<Stepper>(std::move(s), q0, v0, samples);
   }
 
-  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target) {
+  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target,
+                const OutputArrays& out) {
+    if (k1 < k0) throw std::invalid_argument("run: k1 < k0");
+    const Outputs o = outputs(out, static_cast<size_t>(k1 - k0), nv_, nj_, nm_, nb_);
     nb::gil_scoped_release release;
-    return stepper_->run(k0, k1, torque, target);
+    return stepper_->run(k0, k1, torque, target, o);
   }
 
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
  private:
-  OutputArrays keep_;
+  size_t nv_ = 0, nj_ = 0, nm_ = 0, nb_ = 0;
   std::unique_ptr<Stepper> stepper_;
 };
 
@@ -408,11 +414,10 @@ NB_MODULE(_native, m) {
       .def_ro("iterations", &RunStatus::iterations);
 
   nb::class_<PyStepper>(m, "Stepper")
-      .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&,
-                    const OutputArrays&, long>(),
-           "spec"_a, "q0"_a, "v0"_a, "out"_a, "samples"_a)
-      .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a,
-           "Steps samples [k0, k1); returns the status of the run.")
+      .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
+           "spec"_a, "q0"_a, "v0"_a, "samples"_a)
+      .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a, "out"_a,
+           "Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; returns the status.")
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].");
 

@@ -68,11 +68,11 @@ struct StepperSetup {
 
 class Stepper : private BodyForces {
  public:
-  Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
-          Outputs out)
+  // samples: how many samples the whole run has (the last one is recorded, not stepped from).
+  Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, long samples)
       : s_(std::move(setup)),
         data_(s_.model),
-        out_(out),
+        samples_(samples),
         nv_(s_.model.nv),
         nm_(s_.meshes.count()),
         nr_(static_cast<Eigen::Index>(s_.rigid_meshes.size())),
@@ -106,10 +106,12 @@ class Stepper : private BodyForces {
     mv_.setZero(nv_);
   }
 
-  // Steps samples [k0, k1). torque: (k1 − k0, nv) applied torques [N·m] at t_k; target:
-  // (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k and t_{k1} (locks 0).
-  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target) {
+  // Steps samples [k0, k1), writing sample k into row k − k0 of out. torque: (k1 − k0, nv)
+  // applied torques [N·m] at t_k; target: (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k
+  // and t_{k1} (locks 0).
+  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target, const Outputs& out) {
     RunStatus st;
+    out_ = out;
     for (long k = k0; k < k1; ++k) {
       const double t = k * s_.dt;
       st.sample = k;
@@ -125,12 +127,12 @@ class Stepper : private BodyForces {
         return fail(st, k, t, "the accelerations or constraint forces are not finite");
       }
       bearing_reactions();
-      record(k, t);
-      if (k + 1 == out_.samples) {
+      record(k - k0, t);
+      if (k + 1 == samples_) {
         st.sample = k + 1;
         return st;
       }
-      advance(k);
+      advance();
       if (!std::isfinite(q_.squaredNorm() + v_.squaredNorm())) {
         return fail(st, k + 1, t + s_.dt, "the joint angles or speeds are not finite");
       }
@@ -365,6 +367,7 @@ class Stepper : private BodyForces {
     }
   }
 
+  // Writes the state of the step into row k of the block's outputs.
   void record(long k, double t) {
     const Eigen::Index nj = s_.model.njoints - 1;
     out_.time[k] = t;
@@ -402,14 +405,14 @@ class Stepper : private BodyForces {
     for (const auto& e : elements_) potential += e->potential(sv);
     out_.potential_spring[k] = potential;
     if (k == 0) {
-      for (auto* w : out_.work) w[0] = 0.0;
-    }
+      }
+    for (int i = 0; i < 6; ++i) out_.work[i][k] = work_[i];
   }
 
   // Semi-implicit Euler, with the work of each force over the step at the mid-step speed (with
   // which the kinetic-energy change of a step equals the work of its forces when M is constant)
   // and the transmission error along the rigid rows.
-  void advance(long k) {
+  void advance() {
     v_next_ = v_ + a_ * s_.dt;
     mid_ = (0.5 * s_.dt) * (v_ + v_next_);
     if (nr_) jv_.head(nr_).noalias() = jac_.topRows(nr_) * mid_;
@@ -429,7 +432,7 @@ class Stepper : private BodyForces {
         nr_ ? lam_.head(nr_).dot(jv_.head(nr_)) : 0.0,
         elements.dissipated,
     };
-    for (int i = 0; i < 6; ++i) out_.work[i][k + 1] = out_.work[i][k] + work[i];
+    for (int i = 0; i < 6; ++i) work_[i] += work[i];
     for (Eigen::Index r = 0; r < nr_; ++r) te_[r] += jac_.row(r).dot(v_next_ * s_.dt);
     pinocchio::integrate(s_.model, q_, v_next_ * s_.dt, q_next_);
     q_ = q_next_;
@@ -438,7 +441,9 @@ class Stepper : private BodyForces {
 
   StepperSetup s_;
   pinocchio::Data data_;
-  Outputs out_;
+  long samples_;
+  Outputs out_{};
+  double work_[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // cumulative work of each ledger term [J]
   Eigen::Index nv_, nm_, nr_, nd_, rows_;
   ConstrainedQp qp_;
   std::vector<std::unique_ptr<Element>> elements_;

@@ -1,0 +1,181 @@
+"""Compiled step loop of pinwind (pinwind/dynamics/cpp/): typed structs and the stepper.
+
+Every struct is filled from Python (``dynamics/stepper.py``, ``dynamics/compliant.py``,
+``dynamics/mesh.py``); SI units throughout. Arrays are float64 (Eigen vectors and row-major
+matrices); lists of ints are Pinocchio joint or velocity indices.
+"""
+
+import numpy as np
+from numpy.typing import NDArray
+
+Vector = NDArray[np.float64]
+Matrix = NDArray[np.float64]
+
+class SolverSettings:
+    """proxsuite settings (``cpp/constrained_qp.hpp``)."""
+
+    eps_abs: float
+    eps_rel: float
+    max_iter: int
+    def __init__(self) -> None: ...
+
+class JointTree:
+    """The Pinocchio model as arrays: one entry per joint (revolute bearings only)."""
+
+    names: list[str]
+    parent: list[int]
+    type: list[int]  # 0, 1, 2 = revolute about x, y, z of the joint frame; 3 = unaligned
+    axis: Matrix  # (joints, 3) axis of type-3 joints
+    placement: list[Matrix]  # 4 × 4 placement in the parent joint's frame
+    mass: Vector  # [kg]
+    com: Matrix  # (joints, 3) centre of mass in the joint frame [m]
+    inertia: Matrix  # (joints, 9) rotational inertia about the com [kg·m²]
+    armature: Vector  # [kg·m²]
+    gravity: Vector  # (3,) [m/s²]
+    def __init__(self) -> None: ...
+
+class MeshConstants:
+    """Geometry of every mesh (``cpp/mesh_rows.hpp``; ``dynamics/mesh.py`` MeshSet)."""
+
+    joint_ids: list[int]
+    slot_a: list[int]
+    slot_b: list[int]
+    centre_a: Matrix  # (meshes, 3) [m], gear A's joint frame
+    centre_b: Matrix
+    axis_a: Matrix
+    mu: Vector
+    sigma: Vector
+    support: Matrix  # (slots, nv)
+    cos_a: Vector
+    sin_a: Vector
+    eps: Vector
+    tan_beta: Vector
+    joint_a: list[int]
+    joint_b: list[int]
+    def __init__(self) -> None: ...
+
+class MeshPathSpec:
+    """Path of contact of one mesh (``cpp/mesh_path.hpp``)."""
+
+    base_pitch: float  # [m]
+    path_length: float  # [m]
+    roll_start: float  # [m]
+    roll_radius_a: float  # [m]
+    entering_front: float  # [m]
+    entering_back: float  # [m]
+    angle_ref_a: float  # [rad]
+    reference_a: Vector  # (3,) unit vector ⟂ axis in gear A's joint frame
+    pair_position: Vector  # [m] from the path start
+    pair_stiffness: Vector  # [N/m]
+    def __init__(self) -> None: ...
+
+class CompliantMeshSpec:
+    """Constants of one compliant mesh (``cpp/compliant_mesh.hpp``)."""
+
+    mesh: int
+    stiffness: float  # [N/m]
+    damping: float  # [N·s/m]
+    backlash: float  # [m]
+    base_radius_a: float  # [m], signed
+    base_radius_b: float  # [m], signed
+    reference_b: Vector  # (3,)
+    tangential_ref: float  # [m]
+    base_radius_sum: float  # [m]
+    radial_sign: float
+    involute_ref: float
+    tangential_offset: float  # [m]
+    radial_offset: float  # [m]
+    def __init__(self) -> None: ...
+
+class TorsionalSpringSpec:
+    """A torsional spring-damper between two joints (``cpp/torsional_spring.hpp``)."""
+
+    index_1: int
+    index_2: int
+    stiffness: float  # [N·m/rad]
+    damping: float  # [N·m·s/rad]
+    preload_angle: float  # [rad]
+    def __init__(self) -> None: ...
+
+class StepperSpec:
+    """Everything a run needs besides the initial state."""
+
+    tree: JointTree
+    meshes: MeshConstants
+    paths: list[MeshPathSpec]
+    rigid_meshes: list[int]
+    compliant_meshes: list[CompliantMeshSpec]
+    springs: list[TorsionalSpringSpec]
+    bearing_damping: Vector  # [N·m·s/rad] per velocity
+    driver_index: list[int]
+    frame_parent: list[int]
+    frame_placement: list[Matrix]
+    dt: float  # [s]
+    projection_tol: float
+    implicit_theta: float
+    solver: SolverSettings
+    def __init__(self) -> None: ...
+
+class OutputArrays:
+    """The arrays of one block of samples, written in place (a Result's, row-major)."""
+
+    time: Vector
+    angle: Matrix
+    speed: Matrix
+    acceleration: Matrix
+    torque: Matrix
+    mesh_normal: Matrix
+    mesh_tangential: Matrix
+    mesh_radial: Matrix
+    mesh_axial: Matrix
+    mesh_flank: Matrix
+    transmission_error: Matrix
+    mesh_force_on_b: NDArray[np.float64]
+    pitch_point: NDArray[np.float64]
+    mesh_deflection: Matrix
+    mesh_contact_position: Matrix
+    mesh_pairs: Matrix
+    mesh_single_tooth_force: Matrix
+    bearing_force: NDArray[np.float64]
+    bearing_moment: NDArray[np.float64]
+    bearing_force_local: NDArray[np.float64]
+    bearing_moment_local: NDArray[np.float64]
+    body_position: NDArray[np.float64]
+    body_quaternion: NDArray[np.float64]
+    constraint_residual: Vector
+    kinetic: Vector
+    potential_spring: Vector
+    work_applied: Vector
+    work_drivers: Vector
+    work_springs: Vector
+    work_gravity: Vector
+    work_constraints: Vector
+    dissipated: Vector
+    def __init__(self) -> None: ...
+
+class RunStatus:
+    """How a block ended: code 0 completed, 1 diverged, 2 solver failed, 3 conflicting rows."""
+
+    code: int
+    sample: int
+    step: int
+    time: float
+    what: str
+    residual: float
+    primal: float
+    dual: float
+    iterations: int
+
+class Stepper:
+    """One run of the compiled step loop."""
+
+    def __init__(self, spec: StepperSpec, q0: Vector, v0: Vector, samples: int) -> None: ...
+    def run(self, k0: int, k1: int, torque: Matrix, target: Matrix, out: OutputArrays) -> RunStatus:
+        """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out."""
+    def mass_matrix(self, q: Vector) -> Matrix:
+        """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
+
+def mesh_rows(
+    meshes: MeshConstants, jac: Matrix, djac: Matrix, v: Vector, origin: Matrix, rot: Matrix
+) -> tuple[Matrix, Matrix, Vector, Vector, Matrix, Matrix, Matrix, Matrix]:
+    """Rows of every mesh at one state: J_t, J_r, γ_t, γ_r, t, r̂, P, k."""

@@ -1,0 +1,75 @@
+"""Runs stream block by block: the Result keeps what is asked, memory does not grow with length."""
+
+from __future__ import annotations
+
+import tracemalloc
+
+import numpy as np
+import pytest
+
+import pinwind
+from pinwind.dynamics.result import Result
+from pinwind.errors import InputError
+from tests.conftest import MODELS
+
+RUN = dict(dt=1e-3, torques={"carrier": 1e5, "sun": lambda t: -1e4 * (1 + np.sin(t))})
+
+
+@pytest.fixture(scope="module")
+def planetary():
+    return pinwind.load(MODELS / "saleh2017_planetary.urdf")
+
+
+@pytest.fixture(scope="module")
+def everything(planetary):
+    return pinwind.simulate(planetary, duration=2.5, keep="all", **RUN)
+
+
+def _same_rows(res: Result, full: Result, rows: np.ndarray) -> None:
+    for name in Result.ARRAYS:
+        np.testing.assert_array_equal(getattr(res, name), getattr(full, name)[rows], err_msg=name)
+    for name, values in full.energy.items():
+        np.testing.assert_array_equal(res.energy[name], values[rows], err_msg=name)
+
+
+def test_keeping_every_nth_sample_gives_those_samples_of_the_whole_run(planetary, everything):
+    res = pinwind.simulate(planetary, duration=2.5, keep=7, chunk=300, **RUN)
+    rows = np.append(np.arange(0, len(everything), 7), len(everything) - 1)
+    _same_rows(res, everything, rows)
+    assert res.metadata["keep_stride"] == 7
+    assert res.metadata["samples_simulated"] == len(everything)
+
+
+def test_keeping_the_last_sample_gives_the_final_state(planetary, everything):
+    res = pinwind.simulate(planetary, duration=2.5, keep="last", **RUN)
+    _same_rows(res, everything, np.array([len(everything) - 1]))
+
+
+def test_the_log_holds_every_sample_whatever_the_result_keeps(planetary, everything, tmp_path):
+    path = tmp_path / "run.mcap"
+    pinwind.simulate(planetary, duration=2.5, keep="last", log=path, **RUN)
+    back = pinwind.read_log(path)
+    _same_rows(back, everything, np.arange(len(everything)))
+
+
+@pytest.mark.parametrize("keep", ["some", 0, -3, 2.5, True])
+def test_an_unknown_keep_is_refused(planetary, keep):
+    with pytest.raises(InputError, match="keep is"):
+        pinwind.simulate(planetary, duration=0.01, keep=keep, **RUN)
+
+
+def _peak_bytes(planetary, duration: float) -> int:
+    tracemalloc.start()
+    try:
+        pinwind.simulate(planetary, duration=duration, keep="last", chunk=1000, **RUN)
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_peak_memory_does_not_grow_with_the_run_length(planetary):
+    short, long = _peak_bytes(planetary, 3.0), _peak_bytes(planetary, 30.0)
+    # Ten times the samples (30 001 of ~1.6 KB: 48 MB if kept), the same memory: one block of
+    # 1000 samples and the kept last sample, a few MB either way.
+    assert long < 1.2 * short + 1e6, (short, long)
+    assert long < 20e6
