@@ -303,13 +303,12 @@ class _Layout:
                     continue
                 if channel.topic == "/run/energy":
                     for i, term in enumerate(self.terms):
-                        view = np.ndarray((m,), "<f8", data, base + 8 * i, (row,))
+                        view = np.ndarray((m,), "V8", data, base + 8 * i, (row,))
                         values.append((f"energy/{term}", None, view))
                     continue
-                shape = self.shapes[channel.keys[0]]
-                strides = tuple(8 * int(np.prod(shape[i + 1 :])) for i in range(len(shape)))
-                view = np.ndarray((m, *shape), "<f8", data, base, (row, *strides))
-                values.append((channel.keys[0], None, view))
+                if codec.count:
+                    view = np.ndarray((m,), f"V{8 * codec.count}", data, base, (row,))
+                    values.append((channel.keys[0], None, view))
             elif channel.kind == "joints":
                 fixed = _joint_fixed(codec)
                 if length != channel.record_length or not np.array_equal(
@@ -318,8 +317,9 @@ class _Layout:
                     return None
                 nj = len(codec.names)
                 for key, offset in zip(channel.keys, codec.fields_at, strict=True):
-                    view = np.ndarray((m, nj), "<f8", data, at + offset, (row, 8))
-                    values.append((key, None, view))
+                    if nj:
+                        view = np.ndarray((m,), f"V{8 * nj}", data, at + offset, (row,))
+                        values.append((key, None, view))
             else:
                 poses = self._tf_layout(codec, length - 31)
                 if poses is None:
@@ -327,21 +327,11 @@ class _Layout:
                 where, expected, offsets = poses
                 if not np.array_equal(payload[where], expected):
                     return None
+                # x y z and qx qy qz qw, each double after its one-byte protobuf tag
                 for i, offset in enumerate(offsets):
-                    values.append(
-                        (
-                            "body_position",
-                            i,
-                            np.ndarray((m, 3), "<f8", data, at + offset + 3, (row, 9)),
-                        )
-                    )
-                    values.append(
-                        (
-                            "body_quaternion",
-                            i,
-                            np.ndarray((m, 4), "<f8", data, at + offset + 32, (row, 9)),
-                        )
-                    )
+                    position = np.ndarray((m, 3), "V8", data, at + offset + 3, (row, 9))
+                    rotation = np.ndarray((m, 4), "V8", data, at + offset + 32, (row, 9))
+                    values += [("body_position", i, position), ("body_quaternion", i, rotation)]
         if time is None:
             return None
         return _Part(time, values)
@@ -493,18 +483,21 @@ class _Sink:
         self.arrays = {k: np.empty((capacity if k in keys else 0, *s)) for k, s in shapes.items()}
 
     def put(self, part: _Part, rows: slice | np.ndarray, count: int) -> None:
-        """Copy ``count`` samples (``rows`` of the part) after those already there."""
+        """Copy ``count`` samples (``rows`` of the part) after those already there.
+
+        Views of raw bytes (``V`` dtypes: a sample's doubles as one block, or one double) are
+        copied as bytes, which numpy does much faster than unaligned float64 with odd strides.
+        """
         if self.n + count > self.capacity:
             self._grow(self.n + count)
-        end = self.n + count
+        n, end = self.n, self.n + count
         arrays = self.arrays
-        arrays["time"][self.n : end] = part.time[rows]
+        arrays["time"][n:end] = part.time[rows]
         for key, sub, view in part.values:
-            target = arrays[key]
-            if sub is None:
-                target[self.n : end] = view[rows]
-            else:
-                target[self.n : end, sub] = view[rows]
+            target = arrays[key][n:end] if sub is None else arrays[key][n:end, sub]
+            if view.dtype.kind == "V":
+                target = target.reshape(count, -1).view(view.dtype).reshape(count, *view.shape[1:])
+            target[...] = view[rows]
         self.n = end
 
     def _grow(self, needed: int) -> None:
