@@ -237,20 +237,19 @@ def report(
     """Min, max, mean, RMS and final value of every quantity in a log."""
     import json
 
-    from pinwind.io.mcap_log import open_log
-    from pinwind.io.report import report_dict, report_tables
+    from pinwind.io.report import report_dict, report_log, report_tables
 
     with _warnings_as_lines():
-        res = open_log(log).result
+        res = report_log(log, start, stop)  # reads only the window, in bounded memory
     if as_json:
-        print(json.dumps(report_dict(res, start, stop), indent=1))
+        print(json.dumps(report_dict(res), indent=1))
         return
     console.print(
         f"[bold]{res.metadata.get('model_name')}[/bold] — {log}: {res.status}; "
         f"dt = {res.metadata.get('dt'):g} s, logged every {res.metadata['log']['stride']} "
         f"sample(s); model sha256 {str(res.metadata.get('model_sha256'))[:12]}…"
     )
-    for table in report_tables(res, start, stop):
+    for table in report_tables(res):
         console.print(table)
 
 

@@ -662,11 +662,11 @@ class LogReader:
         return self._attachments
 
     @property
-    def span(self) -> tuple[float, float]:
-        """Log times of the first and last sample chunk [s] (rounded to 1 ns)."""
+    def span(self) -> tuple[float, float] | None:
+        """Times of the first and last sample [s] (log times, to 1 ns), None without samples."""
         chunks = self._sample_chunks(None)
         if not chunks:
-            return (0.0, 0.0)
+            return None
         return (chunks[0].start_ns * 1e-9, max(c.end_ns for c in chunks) * 1e-9)
 
     # --- reading -------------------------------------------------------------------------------
