@@ -254,6 +254,41 @@ def report(
 
 
 @app.command()
+def export(
+    log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
+    out: Annotated[Path, typer.Option("--out", "-o", help="Table to write (.parquet or .csv).")],
+    fmt: Annotated[
+        str | None,
+        typer.Option("--format", help="parquet or csv (default: from the suffix of --out)."),
+    ] = None,
+    start: Annotated[
+        float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
+    ] = None,
+    stop: Annotated[
+        float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
+    ] = None,
+    channels: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--channels",
+            help="Topics to export, comma-separated or repeated (/meshes/normal, /bearings, "
+            "/joints, /tf, ...); default all.",
+        ),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing table.")] = False,
+) -> None:
+    """Write a log as a Parquet or CSV table: time_s, then one column per series (SI units)."""
+    from pinwind.io.export import export_log
+
+    picked = [c for item in channels for c in item.split(",") if c.strip()] if channels else None
+    with _warnings_as_lines():
+        rows, columns = export_log(
+            log, out, format=fmt, start=start, stop=stop, channels=picked, overwrite=force
+        )
+    console.print(f"wrote {out} ({rows} rows × {columns} columns)")
+
+
+@app.command()
 def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> None:
     """Load a model, check it, and list its bearings, gears and meshes."""
     import pinwind
