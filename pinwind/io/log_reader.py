@@ -8,11 +8,12 @@ memory as consecutive ``Result`` blocks.
 Decoding is done a chunk at a time with numpy. In a chunk written by pinwind every sample is one
 row of message records, one per channel in the same order, and rows of equal length follow each
 other (only ``/tf`` changes length, with its time stamp's varint). Every value of a topic is then
-a strided view of the decompressed chunk, copied once into the returned arrays. The record framing
-(opcode, length, channel) of every record is checked; the fixed payload bytes (CDR layout, joint
-and link names) on the first row of each run of equal rows. A chunk laid out otherwise (rewritten
-by another tool) is decoded record by record, to the same values. Two threads read, decompress and
-CRC-check the next chunks (zstd and zlib release the GIL) while the main thread copies values.
+a strided view of the decompressed chunk, copied once into the returned arrays. The framing
+(opcode, length, channel) and sample number of every record are checked; the fixed payload bytes
+(CDR layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
+otherwise (rewritten by another tool) is decoded record by record, to the same values. Two threads
+read, decompress and CRC-check the next chunks (zstd and zlib release the GIL) while the main
+thread copies values.
 
 Damage: a chunk that fails its CRC, does not decompress or is not where the index says is
 skipped, and a ``LogDamaged`` warning gives the simulation time it covered. A damaged summary
@@ -90,7 +91,7 @@ class UnknownChannel(InputError):
         self.name = name
         super().__init__(
             f'unknown channel "{name}"; channels are: {", ".join(CHANNELS)} (or a folder of '
-            "them: /joints, /meshes, /bearings, /run)"
+            "them: /meshes, /bearings, /run)"
         )
 
 
@@ -240,15 +241,22 @@ class _Layout:
 
     # fast path: rows of records ---------------------------------------------------------------
 
-    def rows(self, data: bytes, wanted: list[_Channel], where: str) -> list[_Part]:
-        """The samples of a chunk, as strided views of ``data`` (falls back to record by record)."""
-        parts = self._rows(data, wanted)
+    def rows(
+        self, data: bytes, wanted: list[_Channel], where: str, parts: list[_Part] | None = None
+    ) -> list[_Part]:
+        """The samples of a chunk, as strided views of ``data`` (falls back to record by record).
+
+        ``parts``: the rows found beforehand (``find_rows``, in a reading thread), if any.
+        """
+        if parts is None:
+            parts = self.find_rows(data, wanted)
         if parts is None:
             return self._records(data, wanted, where)
         self.carry = None
         return parts
 
-    def _rows(self, data: bytes, wanted: list[_Channel]) -> list[_Part] | None:
+    def find_rows(self, data: bytes, wanted: list[_Channel]) -> list[_Part] | None:
+        """The rows of a chunk written as pinwind writes them, else None (thread-safe)."""
         size = len(data)
         parts: list[_Part] = []
         pos = 0
@@ -805,7 +813,7 @@ class LogReader:
             for t in topics
             if t in self._layout.by_topic and t != TIME_TOPIC
         ]
-        for chunk, data, damage in self._chunk_data(chunks):
+        for chunk, data, found, damage in self._chunk_data(chunks, wanted):
             if damage:
                 lost.append(
                     f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -813,7 +821,7 @@ class LogReader:
                 continue
             where = f"the chunk at byte {chunk.offset}"
             try:
-                parts = self._layout.rows(data, wanted, where)
+                parts = self._layout.rows(data, wanted, where, found)
             except DamagedChunk as err:
                 lost.append(
                     f"{err}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -826,8 +834,12 @@ class LogReader:
                 if count:
                     yield part, rows, count
 
-    def _chunk_data(self, chunks: list[ChunkRef]) -> Iterator[tuple[ChunkRef, bytes, str]]:
-        """(chunk, its records, "" or why it is damaged), in order, read ahead in threads."""
+    def _chunk_data(self, chunks: list[ChunkRef], wanted: list[_Channel]) -> Iterator[tuple]:
+        """(chunk, its records, their rows or None, "" or why it is damaged), in order.
+
+        Two threads read ahead: they read, decompress, CRC-check the chunks and find their rows
+        (while the chunk is in their cache).
+        """
         if not chunks:
             return
         with ThreadPoolExecutor(max_workers=2, thread_name_prefix="pinwind-read") as pool:
@@ -835,25 +847,25 @@ class LogReader:
             ahead = iter(chunks)
             try:
                 for chunk in ahead:
-                    pending.append((chunk, pool.submit(self._load, chunk)))
+                    pending.append((chunk, pool.submit(self._load, chunk, wanted)))
                     if len(pending) > READ_AHEAD:
                         break
                 while pending:
                     chunk, future = pending.popleft()
                     following = next(ahead, None)
                     if following is not None:
-                        pending.append((following, pool.submit(self._load, following)))
-                    data, damage = future.result()
-                    yield chunk, data, damage
+                        pending.append((following, pool.submit(self._load, following, wanted)))
+                    yield (chunk, *future.result())
             finally:
                 for _, future in pending:
                     future.cancel()
 
-    def _load(self, chunk: ChunkRef) -> tuple[bytes, str]:
+    def _load(self, chunk: ChunkRef, wanted: list[_Channel]) -> tuple[bytes, Any, str]:
         try:
-            return mcap_file.read_chunk(self._fd, chunk), ""
+            data = mcap_file.read_chunk(self._fd, chunk)
         except DamagedChunk as err:
-            return b"", str(err)
+            return b"", None, str(err)
+        return data, self._layout.find_rows(data, wanted), ""
 
     def _check_memory(self, capacity: int, keys: list[str]) -> None:
         needed = self._bytes_needed(capacity, keys)
