@@ -144,11 +144,15 @@ def _available_memory() -> int | None:
     except (OSError, ValueError, IndexError):
         pass
     try:
-        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        cgroup = Path("/sys/fs/cgroup")
+        limit = (cgroup / "memory.max").read_text().strip()
         if limit != "max":
-            used = int(Path("/sys/fs/cgroup/memory.current").read_text())
+            used = int((cgroup / "memory.current").read_text())
+            for line in (cgroup / "memory.stat").read_text().splitlines():
+                if line.startswith("file "):  # page cache: given back when memory is needed
+                    used -= int(line.split()[1])
             found.append(int(limit) - used)
-    except (OSError, ValueError):
+    except (OSError, ValueError, IndexError):
         pass
     return min(found) if found else None
 
