@@ -171,6 +171,10 @@ class _Part:
     values: list[tuple[str, int | None, np.ndarray]]
 
 
+#: ``_Layout.rows``' default: the chunk's rows were not looked for in a reading thread.
+_NOT_LOOKED_FOR = object()
+
+
 @dataclass
 class _Channel:
     """A channel whose values a read copies, and how to find them in a payload."""
@@ -225,7 +229,6 @@ class _Layout:
                 length = 31 + codec.size if kind != "tf" else 0  # whole record [bytes]
                 keys = keys or CHANNELS[topic]
                 self.by_topic[topic] = _Channel(by_name[topic], topic, kind, codec, keys, length)
-        self.by_id = {c.id: c for c in self.by_topic.values()}
         self._tf_checks: dict[int, tuple[np.ndarray, np.ndarray, list[int]] | None] = {}
         #: records of samples not yet complete at the end of the last chunk decoded record by
         #: record (None when there are none)
@@ -246,13 +249,13 @@ class _Layout:
     # fast path: rows of records ---------------------------------------------------------------
 
     def rows(
-        self, data: bytes, wanted: list[_Channel], where: str, parts: list[_Part] | None = None
+        self, data: bytes, wanted: list[_Channel], where: str, parts: Any = _NOT_LOOKED_FOR
     ) -> list[_Part]:
         """The samples of a chunk, as strided views of ``data`` (falls back to record by record).
 
-        ``parts``: the rows found beforehand (``find_rows``, in a reading thread), if any.
+        ``parts``: what ``find_rows`` gave for this chunk in a reading thread, if it was called.
         """
-        if parts is None:
+        if parts is _NOT_LOOKED_FOR:
             parts = self.find_rows(data, wanted)
         if parts is None:
             return self._records(data, wanted, where)
