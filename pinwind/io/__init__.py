@@ -1,5 +1,29 @@
-"""Logs of runs: MCAP writer and reader, Rerun replay and reports."""
+"""Logs of runs: MCAP writer and reader, Rerun replay, reports and exports."""
 
-from pinwind.io.mcap_log import LogFile, McapLogger, open_log, read_log
+from pinwind.io.export import export_log
+from pinwind.io.log_reader import (
+    CHANNELS,
+    LogDamaged,
+    LogFile,
+    LogReader,
+    LogTooLarge,
+    UnknownChannel,
+    iter_log,
+    open_log,
+    read_log,
+)
+from pinwind.io.mcap_log import McapLogger
 
-__all__ = ["LogFile", "McapLogger", "open_log", "read_log"]
+__all__ = [
+    "CHANNELS",
+    "LogDamaged",
+    "LogFile",
+    "LogReader",
+    "LogTooLarge",
+    "McapLogger",
+    "UnknownChannel",
+    "export_log",
+    "iter_log",
+    "open_log",
+    "read_log",
+]

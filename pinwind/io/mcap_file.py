@@ -1,15 +1,19 @@
-"""The MCAP container: write records (messages a chunk at a time) and scan them back.
+"""The MCAP container: write records (messages a chunk at a time) and find them again.
 
 ``McapWriter`` writes a chunked, indexed file (https://mcap.dev/spec) whose message records come
 prebuilt, a block of samples at a time (``message_records`` or a caller's own numpy layout), and
-whose other records are written with the ``mcap`` package's record classes. ``scan`` reads a
-file's data section record by record into a ``Scan``, stopping where a file that was cut short
-ends; it is what lets ``read_log`` recover the complete chunks of a killed run.
+whose other records are written with the ``mcap`` package's record classes. ``read_contents``
+finds a file's channels, metadata, attachments and chunks from the summary section (or, when that
+is missing or damaged, by walking the data section up to a cut), without reading any message;
+``read_chunk`` then reads, decompresses and CRC-checks one chunk. That is what lets ``read_log``
+read only the chunks it needs and recover the intact chunks of a killed run or damaged file.
 """
 
 from __future__ import annotations
 
+import os
 import struct
+import threading
 import zlib
 from collections import defaultdict
 from dataclasses import dataclass, field
@@ -283,22 +287,6 @@ def _parse(record_type, body: memoryview):
     return record_type.read(ReadDataStream(BytesIO(body)))
 
 
-def _decompress(chunk: Chunk) -> bytes:
-    if chunk.compression == "":
-        return bytes(chunk.data)
-    if chunk.compression == "zstd":
-        import zstandard
-
-        return zstandard.ZstdDecompressor().decompress(
-            chunk.data, max_output_size=chunk.uncompressed_size
-        )
-    if chunk.compression == "lz4":
-        import lz4.frame
-
-        return lz4.frame.decompress(chunk.data)
-    raise ValueError(f'unknown compression "{chunk.compression}"')
-
-
 def _chunk_messages(scan: Scan, data: bytes, where: str) -> None:
     """Gather the records of a chunk: messages by channel, as (m, L) byte blocks when they can."""
     size = len(data)
@@ -346,69 +334,342 @@ def _chunk_messages(scan: Scan, data: bytes, where: str) -> None:
         )
 
 
-def scan(data: bytes | memoryview) -> Scan:
-    """Read an MCAP file's data section record by record; stop at a cut and say where.
+# --- reading a file by its indexes ----------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ChunkRef:
+    """Where a chunk is and what it holds, from the summary's chunk index or the data section.
+
+    Attributes:
+        offset: file offset of the chunk record [bytes].
+        length: length of the whole chunk record, opcode and length field included [bytes].
+        start_ns, end_ns: log times of its first and last message [ns].
+        index: channel id → file offset of that channel's message-index record (empty when the
+            indexes are missing, e.g. in a file cut just after the chunk).
+    """
+
+    offset: int
+    length: int
+    start_ns: int
+    end_ns: int
+    index: dict[int, int]
+
+
+@dataclass
+class Contents:
+    """An MCAP file's records other than messages, and where its chunks are.
+
+    Attributes:
+        library: the header's library string.
+        channels: channel id → Channel record.
+        metadata: metadata name → (offset, length) of its record.
+        attachments: attachment name → (offset, length) of its record.
+        chunks: every chunk, in file order.
+        indexed: the chunks come from the summary's chunk index (else from the data section).
+        data_end: the data section ends with a data-end record (the file was finished).
+        problem: where a file that was cut short ends, else ``""``.
+        damage: damaged parts that were stepped over (the summary, a metadata record, ...).
+    """
+
+    library: str = ""
+    channels: dict[int, Channel] = field(default_factory=dict)
+    metadata: dict[str, tuple[int, int]] = field(default_factory=dict)
+    attachments: dict[str, tuple[int, int]] = field(default_factory=dict)
+    chunks: list[ChunkRef] = field(default_factory=list)
+    indexed: bool = False
+    data_end: bool = False
+    problem: str = ""
+    damage: list[str] = field(default_factory=list)
+
+
+_RECORD_HEAD = struct.Struct("<BQ")
+_FOOTER = struct.Struct("<BQQQI")  # opcode, length (20), summary start, summary offsets, CRC
+_CHUNK_HEAD = struct.Struct("<QQQII")  # start, end, uncompressed size and CRC, compression length
+_INDEX_HEAD = struct.Struct("<BQHI")  # opcode, length, channel, byte length of the entries
+
+
+def read_at(fd: int, offset: int, length: int) -> bytes:
+    """``length`` bytes at ``offset`` (fewer at the end of the file); safe from several threads."""
+    if hasattr(os, "pread"):
+        return os.pread(fd, length, offset)
+    with _SEEK_LOCK:  # pragma: no cover (Windows)
+        os.lseek(fd, offset, os.SEEK_SET)
+        return os.read(fd, length)
+
+
+_SEEK_LOCK = threading.Lock()
+
+
+def read_contents(fd: int, size: int) -> Contents:
+    """Schemas, channels, metadata, attachments and chunks of an MCAP file, without its messages.
+
+    The summary section (chunk, metadata and attachment indexes) is used when the footer points
+    to one and its CRC holds; otherwise the data section is walked record by record, reading only
+    record headers and the fixed part of each chunk, up to a cut or an unreadable record.
 
     Raises:
-        DamagedFile: a record that is present but cannot be read (unknown type, bad CRC, ...).
+        DamagedFile: a record before the first chunk cannot be read (nothing can be trusted).
     """
-    scan = Scan()
-    view = memoryview(data)
-    size = len(data)
+    contents = Contents()
+    head = read_at(fd, len(MAGIC), 9)
+    if len(head) == 9 and head[0] == Opcode.HEADER:
+        (length,) = struct.unpack_from("<Q", head, 1)
+        body = read_at(fd, len(MAGIC) + 9, min(length, 1 << 20))
+        try:
+            contents.library = _parse(Header, memoryview(body)).library
+        except Exception:  # a damaged header only loses the writer's name
+            contents.library = ""
+    if not _read_summary(fd, size, contents):
+        _walk_data_section(fd, size, contents)
+    return contents
+
+
+def _read_summary(fd: int, size: int, contents: Contents) -> bool:
+    """Fill ``contents`` from the summary section; False when there is none or it is damaged."""
+    tail = len(MAGIC) + _FOOTER.size
+    if size < len(MAGIC) + tail or read_at(fd, size - len(MAGIC), len(MAGIC)) != MAGIC:
+        return False  # no footer: a file cut short (the data section says where)
+    footer_at = size - tail
+    opcode, length, summary_start, offsets_start, crc = _FOOTER.unpack(
+        read_at(fd, footer_at, _FOOTER.size)
+    )
+    if opcode != Opcode.FOOTER or length != 20:
+        contents.damage.append(f"the footer at byte {footer_at} is damaged")
+        return False
+    if summary_start == 0:
+        return False
+    if not len(MAGIC) < summary_start <= footer_at or offsets_start > footer_at:
+        contents.damage.append(f"the footer at byte {footer_at} points outside the file")
+        return False
+    summary = read_at(fd, summary_start, footer_at - summary_start)
+    footer_head = _FOOTER.pack(opcode, length, summary_start, offsets_start, 0)[:-4]
+    if crc and zlib.crc32(footer_head, zlib.crc32(summary)) != crc:
+        contents.damage.append(f"the summary section at byte {summary_start} fails its CRC check")
+        return False
+    try:
+        records = _summary_records(summary, summary_start)
+    except Exception as err:  # struct, UTF-8, lengths: damaged although the CRC was not set
+        contents.damage.append(f"the summary section at byte {summary_start} is damaged ({err})")
+        return False
+    for record in records:
+        if isinstance(record, Channel):
+            contents.channels[record.id] = record
+        elif isinstance(record, ChunkIndex):
+            contents.chunks.append(
+                ChunkRef(
+                    offset=record.chunk_start_offset,
+                    length=record.chunk_length,
+                    start_ns=record.message_start_time,
+                    end_ns=record.message_end_time,
+                    index=dict(record.message_index_offsets),
+                )
+            )
+        elif isinstance(record, MetadataIndex):
+            contents.metadata[record.name] = (record.offset, record.length)
+        elif isinstance(record, AttachmentIndex):
+            contents.attachments[record.name] = (record.offset, record.length)
+    contents.chunks.sort(key=lambda c: c.offset)
+    contents.indexed = True
+    contents.data_end = True
+    return True
+
+
+_SUMMARY_TYPES = {
+    Opcode.SCHEMA: Schema,
+    Opcode.CHANNEL: Channel,
+    Opcode.STATISTICS: Statistics,
+    Opcode.CHUNK_INDEX: ChunkIndex,
+    Opcode.ATTACHMENT_INDEX: AttachmentIndex,
+    Opcode.METADATA_INDEX: MetadataIndex,
+    Opcode.SUMMARY_OFFSET: SummaryOffset,
+}
+
+
+def _summary_records(summary: bytes, at: int) -> list:
+    """The records of a summary section (with the ``mcap`` package's record classes)."""
+    view = memoryview(summary)
+    records, pos = [], 0
+    while pos < len(view):
+        opcode, length = _RECORD_HEAD.unpack_from(view, pos)
+        end = pos + 9 + length
+        if end > len(view):
+            raise ValueError(f"a record at byte {at + pos} runs past the footer")
+        record_type = _SUMMARY_TYPES.get(opcode)
+        if record_type is None:
+            raise ValueError(f"unexpected record type 0x{opcode:02x} at byte {at + pos}")
+        records.append(_parse(record_type, view[pos + 9 : end]))
+        pos = end
+    return records
+
+
+def _walk_data_section(fd: int, size: int, contents: Contents) -> None:
+    """Find channels, metadata, attachments and chunks by walking the data section."""
     pos = len(MAGIC)
+    chunk: ChunkRef | None = None
     while pos < size:
-        if pos + 9 > size:
-            scan.problem = f"the file ends inside a record header at byte {pos}"
+        head = read_at(fd, pos, 9)
+        if len(head) < 9:
+            contents.problem = f"the file ends inside a record header at byte {pos}"
             break
-        opcode, length = struct.unpack_from("<BQ", view, pos)
+        opcode, length = _RECORD_HEAD.unpack(head)
         name = _OPCODE_NAMES.get(opcode)
         if name is None:
-            raise DamagedFile(
-                f"unknown MCAP record type 0x{opcode:02x} at byte {pos}: the file is corrupted"
-            )
+            message = f"unknown MCAP record type 0x{opcode:02x} at byte {pos}"
+            if not contents.chunks:
+                raise DamagedFile(f"{message}: the file is corrupted")
+            contents.problem = f"{message}: the rest of the file cannot be read"
+            break
         end = pos + 9 + length
         if end > size:
-            scan.problem = (
+            contents.problem = (
                 f"the file ends inside a {name} record at byte {pos} ({size - pos} of "
                 f"{length + 9} bytes present)"
             )
             break
-        body = view[pos + 9 : end]
-        try:
-            if opcode == Opcode.HEADER:
-                scan.library = _parse(Header, body).library
-            elif opcode in (Opcode.SCHEMA, Opcode.CHANNEL):
-                _register(scan, opcode, body)
-            elif opcode == Opcode.METADATA:
-                record = _parse(Metadata, body)
-                scan.metadata[record.name] = dict(record.metadata)
-            elif opcode == Opcode.ATTACHMENT:
-                stored = struct.unpack_from("<I", body, len(body) - 4)[0]
-                if stored and stored != zlib.crc32(body[:-4]):
-                    raise ValueError(f"attachment at byte {pos} fails its CRC check")
-                attachment = _parse(Attachment, body)
-                scan.attachments[attachment.name] = bytes(attachment.data)
-            elif opcode == Opcode.CHUNK:
-                chunk = _parse(Chunk, body)
-                records = _decompress(chunk)
-                if len(records) != chunk.uncompressed_size:
-                    raise ValueError(f"chunk at byte {pos} decompresses to the wrong size")
-                if chunk.uncompressed_crc and zlib.crc32(records) != chunk.uncompressed_crc:
-                    raise ValueError(f"chunk at byte {pos} fails its CRC check")
-                _chunk_messages(scan, records, f"chunk at byte {pos}")
-            elif opcode == Opcode.MESSAGE:
-                _, _, channel, sequence, log_time, _ = _MESSAGE_HEAD.unpack_from(view, pos)
-                block = (np.array([sequence]), np.array([log_time], np.uint64), [body[22:]])
-                scan.messages[channel].append(block)
-            elif opcode in (Opcode.DATA_END, Opcode.FOOTER):
-                scan.data_end = True
-                break
-        except Exception as err:  # zstd, struct, UTF-8, CRC: the bytes are damaged
-            raise DamagedFile(
-                f"{name} record at byte {pos} is damaged ({err}): the file is corrupted"
-            ) from err
+        if opcode == Opcode.CHUNK:
+            fixed = read_at(fd, pos + 9, _CHUNK_HEAD.size)
+            start, stop = struct.unpack_from("<QQ", fixed) if len(fixed) >= 16 else (0, 0)
+            chunk = ChunkRef(pos, 9 + length, start, stop, {})
+            contents.chunks.append(chunk)
+        elif opcode == Opcode.MESSAGE_INDEX:
+            if chunk is not None and length >= 6:
+                (channel,) = struct.unpack("<H", read_at(fd, pos + 9, 2))
+                chunk.index[channel] = pos
+        elif opcode in (Opcode.CHANNEL, Opcode.METADATA, Opcode.ATTACHMENT):
+            if opcode == Opcode.ATTACHMENT:
+                name_at = read_at(fd, pos + 9 + 16, 4)
+                (name_length,) = struct.unpack("<I", name_at) if len(name_at) == 4 else (0,)
+                label = read_at(fd, pos + 9 + 20, min(name_length, 4096))
+                contents.attachments[label.decode("utf-8", "replace")] = (pos, 9 + length)
+            else:
+                body = memoryview(read_at(fd, pos + 9, length))
+                try:
+                    record = _parse(Channel if opcode == Opcode.CHANNEL else Metadata, body)
+                except Exception as err:
+                    where = f"{name} record at byte {pos} is damaged ({err})"
+                    if not contents.chunks:
+                        raise DamagedFile(f"{where}: the file is corrupted") from err
+                    contents.damage.append(where)
+                else:
+                    if opcode == Opcode.CHANNEL:
+                        contents.channels[record.id] = record
+                    else:
+                        contents.metadata[record.name] = (pos, 9 + length)
+        elif opcode in (Opcode.DATA_END, Opcode.FOOTER):
+            contents.data_end = True
+            break
         pos = end
     else:
-        if not scan.data_end:
-            scan.problem = f"the file ends at byte {size} without a data-end record or footer"
-    return scan
+        contents.problem = f"the file ends at byte {size} without a data-end record or footer"
+
+
+def read_metadata(fd: int, offset: int, length: int) -> dict[str, str]:
+    """The key-value map of the metadata record at ``offset``.
+
+    Raises:
+        ValueError: the bytes there are not a readable metadata record.
+    """
+    data = read_at(fd, offset, length)
+    if len(data) < 9 or data[0] != Opcode.METADATA:
+        raise ValueError(f"no metadata record at byte {offset}")
+    if _RECORD_HEAD.unpack_from(data)[1] != length - 9:
+        raise ValueError(f"the metadata record at byte {offset} has a damaged length field")
+    return dict(_parse(Metadata, memoryview(data)[9:]).metadata)
+
+
+def read_attachment(fd: int, offset: int, length: int) -> bytes:
+    """The data of the attachment record at ``offset``, its CRC checked.
+
+    Raises:
+        ValueError: not an attachment record, or its CRC fails.
+    """
+    data = memoryview(read_at(fd, offset, length))
+    if len(data) < 13 or data[0] != Opcode.ATTACHMENT:
+        raise ValueError(f"no attachment record at byte {offset}")
+    body = data[9:]
+    stored = struct.unpack_from("<I", body, len(body) - 4)[0]
+    if stored and stored != zlib.crc32(body[:-4]):
+        raise ValueError(f"the attachment at byte {offset} fails its CRC check")
+    return bytes(_parse(Attachment, body).data)
+
+
+def index_entries(fd: int, offset: int, channel: int, count_only: bool) -> np.ndarray | int:
+    """A message-index record: its (log time, offset) entries as (k, 2) uint64, or just k.
+
+    Raises:
+        ValueError: the bytes at ``offset`` are not that channel's message index.
+    """
+    head = read_at(fd, offset, _INDEX_HEAD.size)
+    if len(head) < _INDEX_HEAD.size:
+        raise ValueError(f"the message index at byte {offset} is cut")
+    opcode, length, found, size = _INDEX_HEAD.unpack(head)
+    if opcode != Opcode.MESSAGE_INDEX or found != channel or size % 16 or size + 6 != length:
+        raise ValueError(f"no message index of channel {channel} at byte {offset}")
+    if count_only:
+        return size // 16
+    body = read_at(fd, offset + _INDEX_HEAD.size, size)
+    if len(body) != size:
+        raise ValueError(f"the message index at byte {offset} is cut")
+    return np.frombuffer(body, dtype="<u8").reshape(-1, 2)
+
+
+class DamagedChunk(ValueError):
+    """A chunk that cannot be used: not a chunk record, fails its CRC, does not decompress."""
+
+
+def read_chunk(fd: int, ref: ChunkRef) -> bytes:
+    """The message records of a chunk, decompressed and CRC-checked.
+
+    Raises:
+        DamagedChunk: the reason, naming the chunk's byte offset.
+        MemoryError: no memory for the chunk (never reported as damage).
+    """
+    data = read_at(fd, ref.offset, ref.length)
+    where = f"the chunk at byte {ref.offset}"
+    if len(data) < 9 + _CHUNK_HEAD.size:
+        raise DamagedChunk(f"{where} is cut")
+    opcode, length = _RECORD_HEAD.unpack_from(data)
+    if opcode != Opcode.CHUNK:
+        name = _OPCODE_NAMES.get(opcode)
+        what = f"a {name} record" if name else f"an unknown MCAP record type 0x{opcode:02x}"
+        raise DamagedChunk(f"{where} is {what}")
+    if 9 + length != ref.length:
+        raise DamagedChunk(f"{where} has a damaged length field")
+    _, _, size, crc, name_length = _CHUNK_HEAD.unpack_from(data, 9)
+    at = 9 + _CHUNK_HEAD.size
+    if name_length > 16 or at + name_length + 8 > len(data):
+        raise DamagedChunk(f"{where} has a damaged header")
+    compression = bytes(data[at : at + name_length]).decode("ascii", "replace")
+    at += name_length
+    (stored,) = struct.unpack_from("<Q", data, at)
+    compressed = memoryview(data)[at + 8 :]
+    if stored != len(compressed):
+        raise DamagedChunk(f"{where} has a damaged header")
+    try:
+        records = _decompress_bytes(compression, compressed, size)
+    except MemoryError:
+        raise
+    except Exception as err:  # zstd and lz4 errors: the compressed bytes are damaged
+        if "memory" in str(err).lower():
+            raise MemoryError(str(err)) from err
+        raise DamagedChunk(f"{where} does not decompress ({err})") from err
+    if len(records) != size:
+        raise DamagedChunk(f"{where} decompresses to the wrong size")
+    if crc and zlib.crc32(records) != crc:
+        raise DamagedChunk(f"{where} fails its CRC check")
+    return records
+
+
+def _decompress_bytes(compression: str, data: memoryview, size: int) -> bytes:
+    if compression == "":
+        return bytes(data)
+    if compression == "zstd":
+        import zstandard
+
+        return zstandard.ZstdDecompressor().decompress(data, max_output_size=size)
+    if compression == "lz4":
+        import lz4.frame
+
+        return lz4.frame.decompress(data)
+    raise ValueError(f'unknown compression "{compression}"')

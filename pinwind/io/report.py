@@ -15,7 +15,6 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from rich.table import Table
 
-from pinwind.analysis.summary import statistics
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError
 
@@ -104,45 +103,149 @@ def window(res: Result, start: float | None = None, stop: float | None = None) -
         mask &= t <= stop
     rows = np.flatnonzero(mask)
     if not len(rows):
-        span = f"t = {t[0]:.6g} to {t[-1]:.6g} s" if len(t) else "no samples"
-        raise InputError(
-            f"no logged sample between --from {start} and --to {stop} s; the log covers {span}"
-        )
+        _no_sample(start, stop, (t[0], t[-1]) if len(t) else None)
     return rows
+
+
+def _no_sample(start, stop, span: tuple[float, float] | None):
+    covers = f"t = {span[0]:.6g} to {span[1]:.6g} s" if span else "no samples"
+    raise InputError(
+        f"no logged sample between --from {start} and --to {stop} s; the log covers {covers}"
+    )
+
+
+class _Statistics:
+    """min, max, sum, sum of squares and final value of every series, block after block."""
+
+    def __init__(self) -> None:
+        self.keys: list[tuple[str, str, str, str, str]] = []
+        self.count = 0
+        self.first = math.nan
+        self.last = math.nan
+        self._values: np.ndarray | None = None  # (series, 5): min, max, sum, sum sq, final
+
+    def add(self, res: Result, rows: np.ndarray | slice = slice(None)) -> None:
+        """Fold in the samples ``rows`` of a Result (a block of a log, or a whole run)."""
+        time = res.time[rows]
+        if not len(time):
+            return
+        stats = []
+        keys = []
+        for group, element, quantity, component, unit, values in _series(res):
+            v = np.asarray(values[rows], dtype=float)
+            keys.append((group, element, quantity, component, unit))
+            stats.append((v.min(), v.max(), v.sum(), np.square(v).sum(), v[-1]))
+        block = np.array(stats, dtype=float).reshape(len(keys), 5)
+        if self._values is None:
+            self.keys, self._values, self.first = keys, block, float(time[0])
+        else:
+            old = self._values
+            old[:, 0] = np.minimum(old[:, 0], block[:, 0])
+            old[:, 1] = np.maximum(old[:, 1], block[:, 1])
+            old[:, 2:4] += block[:, 2:4]
+            old[:, 4] = block[:, 4]
+        self.count += len(time)
+        self.last = float(time[-1])
+
+    def rows(self) -> list[Row]:
+        out = []
+        n = self.count
+        for key, (lo, hi, total, squares, final) in zip(self.keys, self._values, strict=True):
+            mean, rms = total / n, math.sqrt(squares / n)
+            out.append(Row(*key, float(lo), float(hi), float(mean), rms, float(final)))
+        return out
+
+
+@dataclass(frozen=True)
+class Report:
+    """Statistics of every quantity over a window, with what they were computed from.
+
+    Attributes:
+        rows: one per series (``Row``).
+        first, last: times of the first and last sample of the window [s].
+        samples: samples in the window.
+        metadata: the run metadata of the log (``Result.metadata``).
+        status: how the run ended.
+    """
+
+    rows: list[Row]
+    first: float
+    last: float
+    samples: int
+    metadata: dict
+    status: str
+
+
+def report(res: Result, start: float | None = None, stop: float | None = None) -> Report:
+    """Statistics of every quantity of a Result over the window start ≤ t ≤ stop [s].
+
+    Raises:
+        InputError: the window holds no sample.
+    """
+    rows = window(res, start, stop)
+    stats = _Statistics()
+    stats.add(res, rows)
+    return Report(stats.rows(), stats.first, stats.last, stats.count, res.metadata, res.status)
+
+
+#: Samples per block when a report streams a log (about 40 MB of arrays for the drivetrain).
+REPORT_BLOCK = 20_000
+
+
+def report_log(
+    path, start: float | None = None, stop: float | None = None, *, block: int = REPORT_BLOCK
+) -> Report:
+    """Statistics of every quantity of a log over start ≤ t ≤ stop [s], in bounded memory.
+
+    Only the chunks that overlap the window are read, ``block`` samples at a time, and body poses
+    (``/tf``) are not read at all.
+
+    Raises:
+        InputError: the window holds no sample; the message gives the time span of the log.
+        LogError: the log cannot be read (``pinwind.io.log_reader.LogReader``).
+    """
+    from pinwind.io.log_reader import CHANNELS, LogReader
+
+    channels = [topic for topic in CHANNELS if topic != "/tf"]
+    stats = _Statistics()
+    metadata: dict = {}
+    status = ""
+    with LogReader(path) as log:
+        for res in log.blocks(block, start=start, stop=stop, channels=channels):
+            stats.add(res)
+            metadata, status = res.metadata, res.status
+        span = log.span
+    if not stats.count:
+        _no_sample(start, stop, span)
+    return Report(stats.rows(), stats.first, stats.last, stats.count, metadata, status)
 
 
 def report_rows(res: Result, start: float | None = None, stop: float | None = None) -> list[Row]:
     """Statistics of every quantity over the window start ≤ t ≤ stop [s]."""
-    rows = window(res, start, stop)
-    return [
-        Row(group, element, quantity, component, unit, **statistics(values[rows]))
-        for group, element, quantity, component, unit, values in _series(res)
-    ]
+    return report(res, start, stop).rows
+
+
+def _as_report(res: Result | Report, start: float | None, stop: float | None) -> Report:
+    return res if isinstance(res, Report) else report(res, start, stop)
 
 
 def report_dict(
-    res: Result, start: float | None = None, stop: float | None = None
+    res: Result | Report, start: float | None = None, stop: float | None = None
 ) -> dict[str, object]:
     """The report as plain data (``pinwind report --json``); NaN becomes null."""
-    rows = window(res, start, stop)
+    rep = _as_report(res, start, stop)
 
     def clean(value):
         return None if isinstance(value, float) and not math.isfinite(value) else value
 
-    meta = res.metadata
+    meta = rep.metadata
     return {
         "log": meta.get("log", {}).get("path"),
         "model": meta.get("model_name"),
         "model_sha256": meta.get("model_sha256"),
-        "status": res.status,
-        "window": {
-            "from": float(res.time[rows[0]]),
-            "to": float(res.time[rows[-1]]),
-            "samples": len(rows),
-        },
-        "quantities": [
-            {k: clean(v) for k, v in asdict(row).items()} for row in report_rows(res, start, stop)
-        ],
+        "status": rep.status,
+        "window": {"from": rep.first, "to": rep.last, "samples": rep.samples},
+        "quantities": [{k: clean(v) for k, v in asdict(row).items()} for row in rep.rows],
     }
 
 
@@ -155,15 +258,14 @@ _TITLES = {
 
 
 def report_tables(
-    res: Result, start: float | None = None, stop: float | None = None
+    res: Result | Report, start: float | None = None, stop: float | None = None
 ) -> list[Table]:
     """The report as rich tables, one per group."""
-    rows = report_rows(res, start, stop)
-    picked = window(res, start, stop)
-    span = f"t = {res.time[picked[0]]:.6g} to {res.time[picked[-1]]:.6g} s, {len(picked)} samples"
+    rep = _as_report(res, start, stop)
+    span = f"t = {rep.first:.6g} to {rep.last:.6g} s, {rep.samples} samples"
     tables = []
     for group, title in _TITLES.items():
-        members = [r for r in rows if r.group == group]
+        members = [r for r in rep.rows if r.group == group]
         if not members:
             continue
         table = Table(title=f"{title} ({span})")

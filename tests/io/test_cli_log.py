@@ -138,14 +138,24 @@ def test_sigkill_leaves_a_log_whose_complete_chunks_are_recovered(tmp_path):
     np.testing.assert_array_equal(data.result.time, np.arange(n) * 1e-3)
 
 
-def test_report_of_a_damaged_log_is_one_line_without_traceback(logged_run, tmp_path):
+def test_report_of_a_damaged_log_warns_in_one_line_with_the_time_lost(logged_run, tmp_path):
     bad = tmp_path / "bad.mcap"
     data = bytearray(logged_run.path.read_bytes())
     data[len(data) // 2 : len(data) // 2 + 64] = bytes(64)
     bad.write_bytes(bytes(data))
+    out = run("report", str(bad), "--json")
+    assert out.returncode == 0, out.stderr
+    assert str(bad) in out.stderr and "damaged" in out.stderr and "s lost" in out.stderr
+    assert "Traceback" not in out.stderr
+    assert json.loads(out.stdout)["window"]["samples"] < len(logged_run.result)
+
+
+def test_report_of_a_file_that_is_not_a_log_is_one_line_without_traceback(tmp_path):
+    bad = tmp_path / "notes.mcap"
+    bad.write_text("not a log")
     out = run("report", str(bad))
     assert out.returncode == 2
-    assert str(bad) in out.stderr and "corrupted" in out.stderr
+    assert str(bad) in out.stderr and "not an MCAP file" in out.stderr
     assert "Traceback" not in out.stderr
 
 

@@ -14,6 +14,7 @@ from mcap.stream_reader import StreamReader
 import pinwind
 from pinwind.errors import LogError, LogExists, LogRecovered
 from pinwind.io import mcap_log
+from pinwind.io.log_reader import LogDamaged, LogReader
 from pinwind.io.mcap_log import McapLogger, open_log
 from pinwind.io.messages import decode_string
 from pinwind.io.run import log_path
@@ -290,25 +291,45 @@ def test_log_cut_before_its_metadata_gives_one_error(logged_run, tmp_path):
         pinwind.read_log(cut)
 
 
-def test_corrupted_chunk_gives_one_error_naming_file_and_place(logged_run, tmp_path):
+def test_corrupted_chunk_is_skipped_with_a_warning_naming_file_place_and_time_lost(
+    logged_run, tmp_path
+):
     start, length = _chunk_offsets(logged_run.path)[2]
     data = bytearray(logged_run.path.read_bytes())
     middle = start + length // 2
     data[middle : middle + 16] = bytes(16)
     bad = tmp_path / "bad.mcap"
     bad.write_bytes(bytes(data))
-    with pytest.raises(LogError, match=rf"bad\.mcap: chunk record at byte {start} is damaged"):
-        open_log(bad)
+    with pytest.warns(
+        LogDamaged, match=rf"bad\.mcap: damaged.*chunk at byte {start} .*t = 0\.1 to 0\.199 s lost"
+    ):
+        log = open_log(bad)
+    kept = np.r_[0:CHUNK, 2 * CHUNK : len(logged_run.result)]
+    np.testing.assert_array_equal(log.result.time, logged_run.result.time[kept])
 
 
-def test_corrupted_record_header_gives_one_error(logged_run, tmp_path):
+def test_corrupted_record_header_is_skipped_with_a_warning(logged_run, tmp_path):
     start, _ = _chunk_offsets(logged_run.path)[1]
     data = bytearray(logged_run.path.read_bytes())
     data[start] = 0x7E
     bad = tmp_path / "bad_header.mcap"
     bad.write_bytes(bytes(data))
-    with pytest.raises(LogError, match=f"unknown MCAP record type 0x7e at byte {start}"):
-        open_log(bad)
+    with pytest.warns(
+        LogDamaged, match=f"chunk at byte {start} is an unknown MCAP record type 0x7e"
+    ):
+        log = open_log(bad)
+    assert len(log.result) == len(logged_run.result) - CHUNK
+
+
+def test_corrupted_metadata_record_gives_one_error(logged_run, tmp_path):
+    with LogReader(logged_run.path) as log:
+        offset, _ = log._contents.metadata["pinwind.run"]
+    data = bytearray(logged_run.path.read_bytes())
+    data[offset + 1] ^= 0x40  # the record's length field
+    bad = tmp_path / "bad_run.mcap"
+    bad.write_bytes(bytes(data))
+    with pytest.raises(LogError, match="'pinwind.run' metadata record at byte .* is damaged"):
+        pinwind.read_log(bad)
 
 
 @pytest.mark.parametrize(

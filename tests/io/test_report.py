@@ -91,3 +91,53 @@ def test_report_cli_prints_tables_of_every_group(logged_run):
     assert out.returncode == 0, out.stderr
     for title in ("Bearings (joints)", "Gear meshes", "Bearing reactions", "energy ledger"):
         assert title in out.stdout
+
+
+# --- streamed reports ---------------------------------------------------------------------------
+
+
+def test_streamed_report_equals_the_report_of_the_whole_read(logged_run):
+    from pinwind.io.report import report, report_log
+
+    whole = report(pinwind.read_log(logged_run.path), 0.05, 0.2)
+    streamed = report_log(logged_run.path, 0.05, 0.2, block=37)
+    assert (streamed.first, streamed.last, streamed.samples) == (0.05, 0.2, 151)
+    assert len(streamed.rows) == len(whole.rows)
+    for a, b in zip(streamed.rows, whole.rows, strict=True):
+        assert (a.group, a.element, a.quantity, a.component) == (
+            b.group,
+            b.element,
+            b.quantity,
+            b.component,
+        )
+        assert (a.min, a.max, a.final) == (b.min, b.max, b.final)
+        np.testing.assert_allclose([a.mean, a.rms], [b.mean, b.rms], rtol=1e-13, atol=1e-300)
+
+
+def test_streamed_report_reads_only_its_window_one_block_at_a_time(logged_run, monkeypatch):
+    from pinwind.io import log_reader, mcap_file
+    from pinwind.io.report import report_log
+
+    chunks, capacities = [], []
+    read_chunk, sink = mcap_file.read_chunk, log_reader._Sink
+
+    def spy_read(fd, chunk):
+        chunks.append(chunk.start_ns)
+        return read_chunk(fd, chunk)
+
+    def spy_sink(shapes, keys, capacity):
+        capacities.append(capacity)
+        return sink(shapes, keys, capacity)
+
+    monkeypatch.setattr(mcap_file, "read_chunk", spy_read)
+    monkeypatch.setattr(log_reader, "_Sink", spy_sink)
+    report_log(logged_run.path, 0.12, 0.15, block=10)
+    assert chunks == [100_000_000]  # the chunk of samples 100-199 only
+    assert set(capacities) == {10}
+
+
+def test_streamed_report_of_an_empty_window_names_the_log_span(logged_run):
+    from pinwind.io.report import report_log
+
+    with pytest.raises(InputError, match=r"the log covers t = 0 to 0\.25 s"):
+        report_log(logged_run.path, 1.0, 2.0)

@@ -1,0 +1,188 @@
+"""Cost of reading a log back: read_log per sample against the compiled step, memory, file size.
+
+For each model: a plain run (no log) gives the compiled step loop's cost per sample
+(``wall_time_s`` / samples); the same run logged at full rate gives the file. Then, each in a
+fresh Python process so that memory figures are its own:
+
+- whole-file ``read_log``: best of ``--repeats`` wall times per sample, and their ratio to the
+  step (issue 12 asks for ≤ 0.1); also the CPU time of the read (all threads), which depends
+  less on what else the machine is doing;
+- peak memory of one whole read over the bytes of the arrays it returns (≤ 1.5): the peak
+  resident set size above the one before the read (``VmHWM`` in /proc/self/status, reset by
+  /proc/self/clear_refs), and the peak of Python's allocations (``tracemalloc``, which numpy
+  reports to), in separate processes;
+- what reading, decompressing and CRC-checking the chunks alone costs (one thread), the floor
+  of a whole read of this file format;
+- a read of 10 % of the time (``start``/``stop``) and of one channel (``/meshes/normal``);
+- bytes per sample on disk.
+
+    python benchmarks/read_log.py [--duration 10] [--dt 1e-4] [--repeats 3] [--models ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import pinwind
+from pinwind.dynamics.simulate import simulate
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+#: Rotor torque on the carrier [N·m]; the output shaft takes it back at its ratio.
+CARRIER_TORQUE = 1.0e6
+LOADS = {
+    "saleh2017_planetary": {"carrier": CARRIER_TORQUE, "sun": -CARRIER_TORQUE / 6.0},
+    "saleh2017_drivetrain": {
+        "carrier": CARRIER_TORQUE,
+        "stage2_pinion": -CARRIER_TORQUE / (6.0 * 3.6 * 3.96),
+    },
+}
+
+#: Run in a fresh process: one measurement, printed as JSON.
+CHILD = r"""
+import json, sys, time, tracemalloc
+import pinwind
+from pinwind.io.log_reader import read_log
+
+path, what, repeats = sys.argv[1], sys.argv[2], int(sys.argv[3])
+
+def status_kib(key):
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith(key))
+
+def array_bytes(res):
+    return sum(getattr(res, n).nbytes for n in res.ARRAYS) + sum(
+        v.nbytes for v in res.energy.values())
+
+if what == "rss":
+    # VmHWM: peak resident set of this process image (ru_maxrss would include the parent's,
+    # inherited through fork); reset to the current size first where the kernel allows it.
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        pass
+    before = status_kib("VmRSS:")
+    res = read_log(path)
+    peak = status_kib("VmHWM:")
+    print(json.dumps({"peak": (peak - before) * 1024, "arrays": array_bytes(res)}))
+elif what == "chunks":
+    # the floor of a whole read: read, decompress and CRC-check every chunk, one thread
+    from pinwind.io import mcap_file
+    from pinwind.io.log_reader import LogReader
+
+    with LogReader(path) as log:
+        chunks = log._sample_chunks(None)
+        best = float("inf")
+        for _ in range(repeats):
+            start = time.perf_counter()
+            for chunk in chunks:
+                mcap_file.read_chunk(log._fd, chunk)
+            best = min(best, time.perf_counter() - start)
+    print(json.dumps({"seconds": best}))
+elif what == "tracemalloc":
+    tracemalloc.start()
+    res = read_log(path)
+    print(json.dumps({"peak": tracemalloc.get_traced_memory()[1], "arrays": array_bytes(res)}))
+else:
+    import resource
+
+    def cpu():
+        use = resource.getrusage(resource.RUSAGE_SELF)
+        return use.ru_utime + use.ru_stime
+
+    kwargs = json.loads(what)
+    best = float("inf")
+    cpu_start = cpu()
+    for _ in range(repeats):
+        start = time.perf_counter()
+        res = read_log(path, **kwargs)
+        best = min(best, time.perf_counter() - start)
+    used = (cpu() - cpu_start) / repeats
+    print(json.dumps(
+        {"seconds": best, "cpu": used, "samples": len(res), "arrays": array_bytes(res)}
+    ))
+"""
+
+
+def child(path: Path, what: str, repeats: int = 1) -> dict:
+    out = subprocess.run(
+        [sys.executable, "-c", CHILD, str(path), what, str(repeats)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return json.loads(out.stdout)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
+    parser.add_argument("--dt", type=float, default=1e-4, help="time step [s]")
+    parser.add_argument("--repeats", type=int, default=3, help="timed reads (best is kept)")
+    parser.add_argument("--models", nargs="+", default=list(LOADS), help="names in models/")
+    parser.add_argument("--out", type=Path, default=None, help="folder for the logs")
+    args = parser.parse_args()
+    folder = args.out or Path(tempfile.mkdtemp(prefix="pinwind_read_"))
+    folder.mkdir(parents=True, exist_ok=True)
+
+    print(f"pinwind {pinwind.__version__}, {args.duration:g} s at dt = {args.dt:g} s per model\n")
+    lines = []
+    for name in args.models:
+        gearbox = pinwind.load(MODELS / f"{name}.urdf")
+        torques = LOADS[name]
+        simulate(gearbox, duration=0.1, dt=args.dt, torques=torques, progress=False)  # warm-up
+        plain = simulate(gearbox, duration=args.duration, dt=args.dt, torques=torques)
+        step = plain.metadata["wall_time_s"] / len(plain)
+        path = folder / f"{name}.mcap"
+        pinwind.simulate(
+            gearbox,
+            duration=args.duration,
+            dt=args.dt,
+            torques=torques,
+            progress=False,
+            log=path,
+            overwrite=True,
+        )
+        n = len(plain)
+        whole = child(path, "{}", args.repeats)
+        rss = child(path, "rss")
+        traced = child(path, "tracemalloc")
+        t0, t1 = 0.45 * args.duration, 0.55 * args.duration
+        window = child(path, json.dumps({"start": t0, "stop": t1}), args.repeats)
+        channel = child(path, json.dumps({"channels": ["/meshes/normal"]}), args.repeats)
+        floor = child(path, "chunks", args.repeats)["seconds"] / n
+        read = whole["seconds"] / whole["samples"]
+        size = path.stat().st_size
+        print(
+            f"== {name}: {n} samples, {size / 1e6:.1f} MB on disk "
+            f"({size / n:.0f} bytes/sample), arrays {whole['arrays'] / n:.0f} bytes/sample\n"
+            f"  compiled step loop       {step * 1e6:8.2f} µs/sample\n"
+            f"  read_log, whole file     {read * 1e6:8.2f} µs/sample  "
+            f"ratio to the step {read / step:.2f} (goal ≤ 0.1)\n"
+            f"  CPU time of that read    {whole['cpu'] / n * 1e6:8.2f} µs/sample (all threads)\n"
+            f"  of which read + unzstd + CRC of the chunks, one thread: {floor * 1e6:.2f} "
+            f"µs/sample (ratio {floor / step:.2f})\n"
+            f"  peak memory / arrays     {rss['peak'] / rss['arrays']:8.2f} (RSS)  "
+            f"{traced['peak'] / traced['arrays']:.2f} (tracemalloc)  (goal ≤ 1.5)\n"
+            f"  10 % time window         {window['seconds'] * 1e3:8.1f} ms "
+            f"({window['samples']} samples, {window['seconds'] / whole['seconds']:.3f} of a "
+            "whole read)\n"
+            f"  one channel (/meshes/normal) {channel['seconds'] * 1e3:6.1f} ms "
+            f"({channel['seconds'] / whole['seconds']:.2f} of a whole read)\n"
+        )
+        lines.append(
+            f"{name:22s} {step * 1e6:7.2f} {read * 1e6:7.2f} {read / step:6.2f} "
+            f"{rss['peak'] / rss['arrays']:6.2f} {traced['peak'] / traced['arrays']:6.2f} "
+            f"{size / n:7.0f}"
+        )
+    print("model                  step µs read µs  ratio  mem/RSS mem/tm bytes/sample")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
