@@ -92,7 +92,9 @@ def main() -> None:
         )
         wall = time.perf_counter() - started
         peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-        print(f"examples/dtu500_planetary.py, 30 s simulated: {wall:.1f} s wall, peak {peak:.0f} MB")
+        print(
+            f"examples/dtu500_planetary.py, 30 s simulated: {wall:.1f} s wall, peak {peak:.0f} MB"
+        )
 
 
 if __name__ == "__main__":

@@ -177,5 +177,22 @@ class Stepper:
 
 def mesh_rows(
     meshes: MeshConstants, jac: Matrix, djac: Matrix, v: Vector, origin: Matrix, rot: Matrix
-) -> tuple[Matrix, Matrix, Vector, Vector, Matrix, Matrix, Matrix, Matrix]:
-    """Rows of every mesh at one state: J_t, J_r, γ_t, γ_r, t, r̂, P, k."""
+) -> tuple[
+    Matrix,
+    Matrix,
+    Vector,
+    Vector,
+    Matrix,
+    Matrix,
+    Matrix,
+    Matrix,
+    Matrix,
+    Matrix,
+    Vector,
+    Vector,
+    Matrix,
+    Matrix,
+]:
+    """Rows of every mesh at one state: J_t, J_r, γ_t, γ_r, t, r̂, P, k, then the rows, biases
+    and lines of action of the front (+1) and back (−1) flanks.
+    """

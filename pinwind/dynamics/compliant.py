@@ -251,16 +251,28 @@ def mesh_setup(
     if compliant:
         mass = pin.crba(model, data, q)
         mass = np.triu(mass) + np.triu(mass, 1).T
-        constraints = _rigid_rows(ms, rows, rigid, driver_index, model.nv)
+        constraints = _rigid_rows(rows, rigid, driver_index, model.nv)
         for spec in compliant:
             mesh = meshes[spec.mesh]
             c = mesh.compliance
+            row = rows.row_front[spec.mesh]
+            m_eq = effective_mass(mass, constraints, row)
+            if not math.isfinite(m_eq):
+                warnings.warn(
+                    f'mesh "{mesh.name}" is compliant, but the rigid meshes and speed drivers '
+                    "around it fix its deflection, so it carries no load; make the meshes in its "
+                    'loop compliant too (e.g. meshes={"all": "compliant"})',
+                    PinwindWarning,
+                    stacklevel=3,
+                )
             if c.damping is not None:
                 spec.damping = c.damping
             else:
-                row = _front_row(ms, rows, spec.mesh)
-                m_eq = effective_mass(mass, constraints, row)
-                spec.damping = 2.0 * c.damping_ratio * math.sqrt(spec.stiffness * m_eq)
+                spec.damping = (
+                    2.0 * c.damping_ratio * math.sqrt(spec.stiffness * m_eq)
+                    if math.isfinite(m_eq)
+                    else 0.0
+                )
         frequency = highest_mesh_mode(mass, constraints, ms, rows, setup)
         setup = MeshSetup(meshes, rigid, paths, compliant, frequency)
         _warn_if_coarse(frequency, dt)
@@ -355,12 +367,8 @@ def mean_mesh_stiffness(mesh: Mesh) -> float:
     return mesh_stiffness(**_stiffness_arguments(mesh))
 
 
-def _front_row(ms: MeshSet, rows, i: int) -> np.ndarray:
-    return ms.cos_a[i] * rows.jac_t[i] + ms.sin_a[i] * ms.eps[i] * rows.jac_r[i]
-
-
-def _rigid_rows(ms: MeshSet, rows, rigid: list[int], driver_index: list[int], nv: int):
-    out = [_front_row(ms, rows, i) for i in rigid]
+def _rigid_rows(rows, rigid: list[int], driver_index: list[int], nv: int):
+    out = [rows.row_front[i] for i in rigid]
     for j in driver_index:
         e = np.zeros(nv)
         e[j] = 1.0
@@ -378,9 +386,14 @@ def _free_motions(constraints: np.ndarray, nv: int) -> np.ndarray:
 
 
 def effective_mass(mass: np.ndarray, constraints: np.ndarray, row: np.ndarray) -> float:
-    """Mass along a mesh's line of action [kg]: 1 / (J M⁻¹ Jᵀ) over the allowed motions."""
+    """Mass along a mesh's line of action [kg]: 1 / (J M⁻¹ Jᵀ) over the allowed motions.
+
+    Infinite when the allowed motions cannot deflect the mesh (the rigid rows fix it).
+    """
     basis = _free_motions(constraints, mass.shape[0])
     j = row @ basis
+    if basis.shape[1] == 0 or np.linalg.norm(j) <= 1e-9 * np.linalg.norm(row):
+        return math.inf
     m = basis.T @ mass @ basis
     return 1.0 / float(j @ np.linalg.solve(m, j))
 
@@ -393,7 +406,7 @@ def highest_mesh_mode(mass, constraints, ms: MeshSet, rows, setup: MeshSetup) ->
     nv = mass.shape[0]
     stiffness = np.zeros((nv, nv))
     for spec, path in ((s, setup.paths[s.mesh]) for s in setup.compliant):
-        row = _front_row(ms, rows, spec.mesh)
+        row = rows.row_front[spec.mesh]
         k_max = spec.stiffness
         if len(path.pair_stiffness):
             x = np.linspace(0.0, path.base_pitch, 400)

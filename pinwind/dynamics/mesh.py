@@ -44,7 +44,9 @@ def joint_placements(model: pin.Model, data: pin.Data) -> np.ndarray:
 class MeshRows:
     """Rows of all meshes at one state, split in their tangential and radial parts.
 
-    For flank s the row is ``cos_a * s * jac_t + sin_a * eps * jac_r`` (same for ``bias``).
+    For flank s the row is ``cos_a * s * jac_t + sin_a * eps * jac_r`` (same for ``bias``); the
+    compiled code forms it (``cpp/mesh_rows.hpp`` flank_row, line_of_action, the functions the
+    step loop uses) for both flanks.
 
     Attributes:
         jac_t, jac_r: (m, nv) row parts along t and r̂.
@@ -52,6 +54,9 @@ class MeshRows:
         tangent, radial_dir: (m, 3) unit t and r̂ in world.
         pitch_point: (m, 3) P in world [m].
         axis: (m, 3) unit axis k of gear A in world.
+        row_front, row_back: (m, nv) rows J of the front (+1) and back (−1) flanks.
+        bias_front, bias_back: (m,) their biases.
+        normal_front, normal_back: (m, 3) their lines of action n in world.
     """
 
     jac_t: np.ndarray
@@ -62,6 +67,12 @@ class MeshRows:
     radial_dir: np.ndarray
     pitch_point: np.ndarray
     axis: np.ndarray
+    row_front: np.ndarray
+    row_back: np.ndarray
+    bias_front: np.ndarray
+    bias_back: np.ndarray
+    normal_front: np.ndarray
+    normal_back: np.ndarray
 
 
 class MeshSet:
@@ -156,14 +167,12 @@ class MeshSet:
 
     def combine(self, rows: MeshRows, flank: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Row matrix J (m, nv) and bias (m,) of the loaded flanks ``flank`` (±1 each)."""
-        ct = (self.cos_a * flank)[:, None]
-        cr = (self.sin_a * self.eps)[:, None]
-        jac = ct * rows.jac_t + cr * rows.jac_r
-        bias = ct[:, 0] * rows.bias_t + cr[:, 0] * rows.bias_r
+        front = np.asarray(flank) > 0
+        jac = np.where(front[:, None], rows.row_front, rows.row_back)
+        bias = np.where(front, rows.bias_front, rows.bias_back)
         return jac, bias
 
     def line_of_action(self, rows: MeshRows, flank: np.ndarray) -> np.ndarray:
         """Unit line of action n (m, 3) in world for the given flanks."""
-        return (self.cos_a * flank)[:, None] * rows.tangent + (self.sin_a * self.eps)[:, None] * (
-            rows.radial_dir
-        )
+        front = np.asarray(flank) > 0
+        return np.where(front[:, None], rows.normal_front, rows.normal_back)

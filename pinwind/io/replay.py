@@ -11,6 +11,8 @@
   (the child link origin). Each
   family is scaled so that its largest force of the run is drawn half as long as the largest
   pitch radius; ``gearbox/scale`` states the scales.
+- ``plots/single_tooth_force/<mesh>`` [kN] and, for compliant meshes,
+  ``plots/mesh_deflection/<mesh>`` [µm];
 - ``plots/speed/<joint>`` [rpm], ``plots/mesh_force/<mesh>`` (normal force) [kN] and
   ``plots/bearing_force/<bearing>`` (|F| in world) [kN].
 
@@ -105,7 +107,15 @@ def blueprint():
             ),
             rrb.Vertical(
                 rrb.TimeSeriesView(origin="plots/speed", name="joint speeds [rpm]"),
-                rrb.TimeSeriesView(origin="plots/mesh_force", name="mesh normal forces [kN]"),
+                rrb.Tabs(
+                    rrb.TimeSeriesView(origin="plots/mesh_force", name="mesh normal forces [kN]"),
+                    rrb.TimeSeriesView(
+                        origin="plots/single_tooth_force", name="single-tooth forces [kN]"
+                    ),
+                    rrb.TimeSeriesView(
+                        origin="plots/mesh_deflection", name="mesh deflections [µm]"
+                    ),
+                ),
                 rrb.TimeSeriesView(
                     origin="plots/bearing_force", name="bearing forces |F|, world [kN]"
                 ),
@@ -238,6 +248,9 @@ def send_log(log: LogFile, recording) -> None:
         plot(f"plots/speed/{name}", name, res.speed[:, i] * RAD_PER_S_TO_RPM)
     for i, name in enumerate(res.mesh_names):
         plot(f"plots/mesh_force/{name}", name, res.mesh_normal[:, i] / 1e3)
+        plot(f"plots/single_tooth_force/{name}", name, res.mesh_single_tooth_force[:, i] / 1e3)
+        if np.any(res.mesh_deflection[:, i]):  # compliant meshes only
+            plot(f"plots/mesh_deflection/{name}", name, res.mesh_deflection[:, i] * 1e6)
     for i, name in enumerate(res.bearing_names):
         plot(
             f"plots/bearing_force/{name}",

@@ -418,3 +418,19 @@ def test_a_pin_error_shares_the_load_as_the_stiffness_network_says():
     # meet the sun's later and it carries less than its share; the others carry more.
     assert res.mesh("sun_planet1").normal[-1] < sun_forces.mean()
     assert sun.factor[-1] > 1.01
+
+
+def test_a_compliant_mesh_locked_by_rigid_ones_is_named_in_a_warning():
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    with pytest.warns(PinwindWarning, match='mesh "sun_planet1" is compliant, but the rigid'):
+        res = pinwind.simulate(
+            gb,
+            duration=0.01,
+            dt=1e-4,
+            torques={"sun": 1e5},
+            speeds={"carrier": 0.0},
+            gravity=np.zeros(3),
+            meshes={"sun_planet1": "compliant"},
+        )
+    # The rigid meshes carry the whole sun torque between the other two planets.
+    np.testing.assert_allclose(res.mesh("sun_planet1").normal, 0.0, atol=1e-6)

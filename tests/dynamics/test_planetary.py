@@ -156,3 +156,22 @@ def test_sinusoidal_speed_driver_torque_is_equivalent_inertia_times_acceleration
     assert_allclose(res.joint("carrier").speed, expected_speed, rtol=1e-10)
     delta = (np.array([omega(x + dt) for x in t]) - expected_speed) / dt
     assert_allclose(res.joint("carrier").torque, J_EQ * delta - 6 * t_sun, rtol=1e-9)
+
+
+def test_planet_sun_and_ring_forces_are_equal_at_the_operating_pressure_angle():
+    """dtu500's bearings sit a few µm off the nominal centre distances (within the loader's
+    1e-4); the teeth then work at acos((r_b,B ± r_b,A) / a′). A planet on one base circle has
+    equal tangential forces at its two meshes, so equal normal forces along that angle."""
+    gb = pinwind.load(MODELS / "dtu500_planetary.urdf")
+    ratio = 1 + 91 / 20
+    res = pinwind.simulate(
+        gb,
+        duration=0.01,
+        dt=1e-3,
+        torques={"carrier": 1e5, "sun": -1e5 / ratio},
+        gravity=np.zeros(3),
+    )
+    for i in (1, 2, 3):
+        sun = res.mesh(f"sun_planet{i}").normal[-1]
+        ring = res.mesh(f"planet{i}_ring").normal[-1]
+        np.testing.assert_allclose(sun, ring, rtol=1e-9)

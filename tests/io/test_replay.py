@@ -117,3 +117,43 @@ def test_replay_cli_save_writes_an_rrd(logged_run, tmp_path):
     assert out.returncode == 0, out.stderr
     assert f"wrote {rrd}" in out.stdout.replace("\n", "")
     assert RrdReader(rrd).recordings()
+
+
+def test_replay_plots_single_tooth_forces_and_compliant_deflections(tmp_path):
+    import warnings
+
+    import pinwind
+    from pinwind.errors import PinwindWarning
+    from tests.conftest import MODELS
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    log = tmp_path / "compliant.mcap"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        res = pinwind.simulate(
+            gb,
+            duration=0.01,
+            dt=1e-4,
+            torques={"sun": 1e5},
+            speeds={"carrier": 0.0},
+            meshes={"all": "compliant", "planet3_ring": "rigid"},
+            log=log,
+        )
+    rrd = tmp_path / "compliant.rrd"
+    replay(log, save=rrd)
+    columns = rrd_columns(rrd)
+
+    def series(path):
+        return np.concatenate([c.flatten().to_numpy() for c in columns[path]["Scalars:scalars"]])
+
+    i = res.mesh_names.index("sun_planet1")
+    np.testing.assert_allclose(
+        series("/plots/mesh_deflection/sun_planet1"), res.mesh_deflection[:, i] * 1e6, rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        series("/plots/single_tooth_force/sun_planet2"),
+        res.mesh_single_tooth_force[:, 1] / 1e3,
+        rtol=1e-12,
+    )
+    # Rigid meshes have no deflection to plot.
+    assert "/plots/mesh_deflection/planet3_ring" not in columns

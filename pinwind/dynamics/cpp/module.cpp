@@ -436,9 +436,31 @@ NB_MODULE(_native, m) {
         MeshRows rows;
         rows.resize(mc.count(), v.size());
         evaluate_mesh_rows(mc, jac, djac, v, o, r, rows);
-        return nb::make_tuple(rows.jac_t, rows.jac_r, rows.bias_t, rows.bias_r, rows.tangent,
-                              rows.radial, rows.pitch_point, rows.axis);
+        // Both flanks' rows, biases and lines of action, from the step loop's own functions.
+        RowMat row_front(mc.count(), v.size()), row_back(mc.count(), v.size());
+        Eigen::VectorXd bias_front(mc.count()), bias_back(mc.count());
+        Rows3 normal_front(mc.count(), 3), normal_back(mc.count(), 3);
+        for (Eigen::Index m = 0; m < mc.count(); ++m) {
+          flank_row(mc, rows, m, 1.0, row_front.row(m), bias_front[m]);
+          flank_row(mc, rows, m, -1.0, row_back.row(m), bias_back[m]);
+          normal_front.row(m) = line_of_action(mc, rows, m, 1.0).transpose();
+          normal_back.row(m) = line_of_action(mc, rows, m, -1.0).transpose();
+        }
+        nb::list out;
+        for (auto& a : {rows.jac_t, rows.jac_r}) out.append(nb::cast(RowMat(a)));
+        out.append(nb::cast(Eigen::VectorXd(rows.bias_t)));
+        out.append(nb::cast(Eigen::VectorXd(rows.bias_r)));
+        for (auto* a : {&rows.tangent, &rows.radial, &rows.pitch_point, &rows.axis}) {
+          out.append(nb::cast(RowMat(*a)));
+        }
+        out.append(nb::cast(row_front));
+        out.append(nb::cast(row_back));
+        out.append(nb::cast(bias_front));
+        out.append(nb::cast(bias_back));
+        out.append(nb::cast(RowMat(normal_front)));
+        out.append(nb::cast(RowMat(normal_back)));
+        return nb::tuple(out);
       },
       "meshes"_a, "jac"_a, "djac"_a, "v"_a, "origin"_a, "rot"_a,
-      "Rows of every mesh at one state (pinwind/dynamics/mesh.py).");
+      "Rows of every mesh at one state, split and per flank (pinwind/dynamics/mesh.py).");
 }
