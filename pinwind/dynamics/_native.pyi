@@ -193,6 +193,8 @@ def mesh_rows(
     Matrix,
     Matrix,
 ]:
-    """Rows of every mesh at one state: J_t, J_r, γ_t, γ_r, t, r̂, P, k, then the rows, biases
-    and lines of action of the front (+1) and back (−1) flanks.
+    """Rows of every mesh at one state.
+
+    J_t, J_r, γ_t, γ_r, t, r̂, P, k, then the rows, biases and lines of action of the front (+1)
+    and back (−1) flanks.
     """
