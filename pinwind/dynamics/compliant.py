@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
@@ -105,7 +105,8 @@ def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | 
             if choice == "rigid":
                 compliance = None
             elif choice == "compliant":
-                compliance = m.compliance or MeshCompliance()
+                # The model file's values if it has them, else the defaults.
+                compliance = gearbox.meshes[i].compliance or MeshCompliance()
             else:
                 compliance = choice
             if compliance is not None and m.path is None:
@@ -113,14 +114,8 @@ def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | 
                     f'mesh "{m.name}" has no valid path of contact (loading warned why); it '
                     "cannot be compliant"
                 )
-            chosen[i] = _replace(m, compliance)
+            chosen[i] = replace(m, compliance=compliance)
     return chosen
-
-
-def _replace(mesh: Mesh, compliance: MeshCompliance | None) -> Mesh:
-    from dataclasses import replace
-
-    return replace(mesh, compliance=compliance)
 
 
 def _unit_normal(axis: np.ndarray) -> np.ndarray:
