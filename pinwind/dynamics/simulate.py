@@ -39,14 +39,14 @@ from typing import Protocol
 
 import numpy as np
 
-from pinwind.dynamics.compliant import mean_mesh_stiffness, mesh_choices, mesh_setup, single_pair
+from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.errors import InputError, NonFiniteInput, PinwindError
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.model.compliance import MeshCompliance
-from pinwind.model.gearbox import Gearbox, Mesh
+from pinwind.model.gearbox import Gearbox
 
 
 class RunObserver(Protocol):
@@ -258,7 +258,7 @@ def simulate(
         "locked_joints": list(gearbox.locked_joints),
         "solver": settings.as_dict(),
         "integrator": "semi-implicit Euler with velocity projection",
-        "meshes": {m.name: _mesh_metadata(m) for m in mesh_setup_.meshes},
+        "meshes": _mesh_metadata(mesh_setup_),
         "highest_mesh_mode_hz": mesh_setup_.highest_mode,
         "samples_simulated": samples,
         "keep_stride": stride,
@@ -423,20 +423,23 @@ def _keep(res: Result, block: Result, start: int, kept: np.ndarray) -> None:
         res.energy[name][lo:hi] = values[rows]
 
 
-def _mesh_metadata(mesh: Mesh) -> dict:
-    """How a mesh was modelled in a run, for the log's metadata (SI units)."""
-    c = mesh.compliance
-    if c is None:
-        return {"type": "rigid"}
-    return {
-        "type": "compliant",
-        "single_pair_stiffness": single_pair(mesh),
-        "mean_stiffness": mean_mesh_stiffness(mesh),
-        "variation": "table" if c.pair_stiffness is not None else c.variation,
-        "damping": c.damping,
-        "damping_ratio": c.damping_ratio,
-        "backlash": c.backlash,
-    }
+def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
+    """How each mesh was modelled in a run, for the log's metadata (SI units)."""
+    out: dict[str, dict] = {m.name: {"type": "rigid"} for m in setup.meshes}
+    for spec in setup.compliant:
+        mesh = setup.meshes[spec.mesh]
+        c = mesh.compliance
+        out[mesh.name] = {
+            "type": "compliant",
+            "single_pair_stiffness": single_pair(mesh),
+            "mean_stiffness": spec.stiffness,
+            "variation": "table" if c.pair_stiffness is not None else c.variation,
+            "damping": spec.damping,
+            "damping_ratio": c.damping_ratio if c.damping is None else None,
+            "backlash": spec.backlash,
+            "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
+        }
+    return out
 
 
 class _progress_bar:
