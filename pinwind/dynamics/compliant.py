@@ -75,6 +75,13 @@ class MeshSetup:
     compliant: list[_native.CompliantMeshSpec]
     highest_mode: float
 
+    def compliance(self, spec: _native.CompliantMeshSpec) -> tuple[Mesh, MeshCompliance]:
+        """The mesh of a compliant spec and its compliance."""
+        mesh = self.meshes[spec.mesh]
+        if mesh.compliance is None:
+            raise AssertionError(f"mesh {mesh.name} has a compliant spec but no compliance")
+        return mesh, mesh.compliance
+
 
 def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | None) -> list[Mesh]:
     """The gearbox's meshes with per-run choices applied.
@@ -102,13 +109,14 @@ def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | 
         for i, m in enumerate(chosen):
             if key not in ("all", m.name):
                 continue
-            if choice == "rigid":
-                compliance = None
+            compliance: MeshCompliance | None
+            if isinstance(choice, MeshCompliance):
+                compliance = choice
             elif choice == "compliant":
                 # The model file's values if it has them, else the defaults.
                 compliance = gearbox.meshes[i].compliance or MeshCompliance()
             else:
-                compliance = choice
+                compliance = None
             if compliance is not None and m.path is None:
                 raise InputError(
                     f'mesh "{m.name}" has no valid path of contact (loading warned why); it '
@@ -248,8 +256,7 @@ def mesh_setup(
         mass = np.triu(mass) + np.triu(mass, 1).T
         constraints = _rigid_rows(rows, rigid, driver_index, model.nv)
         for spec in compliant:
-            mesh = meshes[spec.mesh]
-            c = mesh.compliance
+            mesh, c = setup.compliance(spec)
             row = rows.row_front[spec.mesh]
             m_eq = effective_mass(mass, constraints, row)
             if not math.isfinite(m_eq):

@@ -427,8 +427,7 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
     """How each mesh was modelled in a run, for the log's metadata (SI units)."""
     out: dict[str, dict] = {m.name: {"type": "rigid"} for m in setup.meshes}
     for spec in setup.compliant:
-        mesh = setup.meshes[spec.mesh]
-        c = mesh.compliance
+        mesh, c = setup.compliance(spec)
         out[mesh.name] = {
             "type": "compliant",
             "single_pair_stiffness": single_pair(mesh),

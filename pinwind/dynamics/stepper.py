@@ -164,6 +164,7 @@ class CompiledStepper:
         if code == 0:
             return status.sample
         step, time = status.step, status.time
+        err: Diverged | SolverFailed | ConflictingConstraints
         if code == 1:
             err = Diverged(step, time, status.what)
         elif code == 2:
@@ -178,7 +179,7 @@ class CompiledStepper:
             )
         else:
             err = ConflictingConstraints(step, time, status.residual, self.drivers)
-        err.samples = status.sample
+        err.samples = status.sample  # type: ignore[union-attr]  # read by simulate()
         raise err
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
