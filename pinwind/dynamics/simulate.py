@@ -33,10 +33,11 @@ from typing import Protocol
 
 import numpy as np
 
+from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
-from pinwind.errors import InputError, NonFiniteInput, PinwindError
+from pinwind.errors import Diverged, InputError, NonFiniteInput, OutOfMemory, PinwindError
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.model.gearbox import Gearbox
 
@@ -64,6 +65,45 @@ def _check_positive(name: str, value: float, unit: str) -> float:
     if value <= 0.0:
         raise InputError(f"{name} is {value:g} {unit}; it must be positive")
     return value
+
+
+def _step_count(duration: float, dt: float) -> int:
+    """Number of steps of dt in duration; refuses a duration that dt does not divide."""
+    if dt > duration:
+        raise InputError(f"dt = {dt:g} s is longer than duration = {duration:g} s")
+    steps = round(duration / dt)
+    if abs(steps * dt - duration) > 1e-9 * duration:
+        below = math.floor(duration / dt) * dt
+        raise InputError(
+            f"duration = {duration:g} s is not a whole number of steps of dt = {dt:g} s "
+            f"({duration / dt:.6g} steps); the nearest durations are {below:.10g} s and "
+            f"{below + dt:.10g} s, or choose a dt that divides {duration:g} s"
+        )
+    return steps
+
+
+#: Speed [rad/s] above which a run is stopped as diverged (≈ 955 000 rpm: no gear survives it;
+#: a 10 mm pinion would have a pitch-line speed of 1000 m/s).
+MAX_PLAUSIBLE_SPEED = 1e5
+
+
+def _implausible(res: Result, start: int, stop: int) -> tuple[int, str] | None:
+    """First sample of start:stop whose joint speed is beyond ``MAX_PLAUSIBLE_SPEED``.
+
+    Returns (sample, what) or None; the C++ loop only stops on NaN or infinity, by which time the
+    log holds speeds of 1e146 rad/s.
+    """
+    speeds = np.abs(res.speed[start:stop])
+    bad = np.flatnonzero((speeds > MAX_PLAUSIBLE_SPEED).any(axis=1))
+    if not bad.size:
+        return None
+    k = start + int(bad[0])
+    j = int(np.argmax(np.abs(res.speed[k])))
+    value = res.speed[k, j]
+    return k, (
+        f'joint "{res.joint_names[j]}" turns at {value:.3g} rad/s ({value * 60 / (2 * math.pi):.3g}'
+        f" rpm), beyond the plausible {MAX_PLAUSIBLE_SPEED:.0e} rad/s"
+    )
 
 
 #: Work terms of the energy ledger, accumulated over steps [J].
@@ -120,20 +160,33 @@ def _signal_table(
     """Values of time signals at t_k = k·dt, k in start:stop, as a (stop − start, width) table.
 
     Column ``columns[i]`` gets load i (added, so two loads on one joint sum). Returns the table
-    and the first non-finite value as (k, load, value), or None.
+    and the first sample whose value is not finite or whose function raised, as (k, load,
+    value or exception), or None.
     """
     table = np.zeros((stop - start, width))
     times = np.arange(start, stop) * dt
+    first_bad = None
     for load, column in zip(loads, columns, strict=True):
         if callable(load.signal):
-            values = np.array([load(t) for t in times], dtype=float)
+            values = np.full(len(times), np.nan)
+            for i, t in enumerate(times):
+                try:
+                    values[i] = load(t)
+                except Exception as err:  # the user's function: report it with its step
+                    bad = (start + i, load, err)
+                    break
+            else:
+                bad = None
         else:
             values = np.full(len(times), float(load.signal))
+            bad = None
         table[:, column] += values
-        bad = np.flatnonzero(~np.isfinite(values))
-        if bad.size:
-            return table, (start + int(bad[0]), load, float(values[bad[0]]))
-    return table, None
+        nonfinite = np.flatnonzero(~np.isfinite(values))
+        if bad is None and nonfinite.size:
+            bad = (start + int(nonfinite[0]), load, float(values[nonfinite[0]]))
+        if bad is not None and (first_bad is None or bad[0] < first_bad[0]):
+            first_bad = bad
+    return table, first_bad
 
 
 def simulate(
@@ -159,7 +212,8 @@ def simulate(
         torques: joint name → torque [N·m] about the joint axis, number or callable(t).
         speeds: joint name → prescribed joint speed [rad/s], number or callable(t); the driving
             torque is the multiplier of the driver's row (``res.joint(name).torque``).
-        initial_speeds: joint name → initial speed [rad/s]; projected onto the constraints.
+        initial_speeds: joint name → initial speed [rad/s]; the other joints start at the speeds
+            the gear meshes impose (``dynamics.ratios.train_speeds``).
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
@@ -176,15 +230,19 @@ def simulate(
     """
     duration = _check_positive("duration", duration, "s")
     dt = _check_positive("dt", dt, "s")
-    if dt > duration:
-        raise InputError(f"dt = {dt:g} s is longer than duration = {duration:g} s")
-    steps = int(round(duration / dt))
+    steps = _step_count(duration, dt)
     index = {name: gearbox.v_index(name) for name in gearbox.joint_names}
     free = {k: i for k, i in index.items() if k not in gearbox.locked_joints}
-    probe = (0.0, 0.5 * duration, duration)
+    probe = (0.0,)  # later failures are caught in the run, which logs the samples before them
     torque_loads = joint_loads(
         torques, where="torques", joint_index=index, unit="N·m", probe_times=probe
     )
+    for name in torques or {}:
+        if name in gearbox.locked_joints:
+            raise InputError(
+                f'joint "{name}" is a fixed mount (a gear on a fixed joint, held at zero speed); '
+                "a torque on it would vanish into the lock. Load one of: " + ", ".join(free)
+            )
     for name in list(speeds or {}) + list(initial_speeds or {}):
         if name in gearbox.locked_joints:
             raise InputError(
@@ -205,7 +263,10 @@ def simulate(
 
     settings = solver or SolverSettings()
     frames = body_frames(model)
-    res = _allocate(gearbox, steps + 1, [model.frames[f].name for f in frames])
+    try:
+        res = _allocate(gearbox, steps + 1, [model.frames[f].name for f in frames])
+    except MemoryError as err:
+        raise OutOfMemory(steps + 1, duration, dt) from err
     res.metadata = {
         "model_name": gearbox.name,
         "model_path": str(gearbox.path),
@@ -224,11 +285,8 @@ def simulate(
     drivers = speed_loads + [JointLoad(j, gearbox.v_index(j), 0.0) for j in gearbox.locked_joints]
 
     q = gearbox.neutral()
-    v = np.zeros(model.nv)
-    for ld in init:
-        v[ld.v_index] = ld(0.0)
-    for ld in speed_loads:
-        v[ld.v_index] = ld(0.0)
+    given = {ld.joint: ld(0.0) for ld in [*init, *speed_loads]}
+    v = train_speeds(gearbox, given) if given else np.zeros(model.nv)
 
     if progress is None:
         import sys
@@ -264,28 +322,30 @@ def simulate(
             target, bad_target = _signal_table(
                 drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
             )
-            error = None
+            error = cause = None
             if bad_torque is not None:
-                k, load, value = bad_torque
+                k, load, cause = bad_torque
                 stop = k
-                error = NonFiniteInput(
-                    f'torques["{load.joint}"] is {value} N·m at step {k} (t = {k * dt:.6g} s); '
-                    "the torque function must return finite values"
-                )
+                error = _signal_error("torques", load, k, dt, cause, "N·m")
             if bad_target is not None and max(bad_target[0] - 1, 0) < stop:
-                k, load, value = bad_target
+                k, load, cause = bad_target
                 stop = max(k - 1, 0)
-                error = NonFiniteInput(
-                    f'speeds["{load.joint}"] is {value} rad/s at t = {k * dt:.6g} s; the speed '
-                    "function must return finite values"
-                )
+                error = _signal_error("speeds", load, k, dt, cause, "rad/s")
             try:
                 done = stepper.run(start, stop, torque[: stop - start], target[: stop - start + 1])
             except PinwindError as err:
                 done = getattr(err, "samples", start)
-                raise
+                absurd = _implausible(res, start, done)
+                if absurd is None:
+                    raise
+                done = absurd[0]
+                raise _diverged(absurd, dt) from err
+            absurd = _implausible(res, start, done)
+            if absurd is not None:
+                done = absurd[0]
+                raise _diverged(absurd, dt)
             if error is not None:
-                raise error
+                raise error from (cause if isinstance(cause, Exception) else None)
             if observer is not None:
                 observer.samples(res, start, stop)
                 written = stop
@@ -309,6 +369,37 @@ def simulate(
                 observer.samples(final, written, done)
             observer.end(final, status)
     return final
+
+
+#: Likely causes of a run whose speeds become absurd, for the message.
+DIVERGENCE_CAUSES = (
+    "Likely causes: dt too large for the stiffest spring (explicit integration), negative "
+    "damping, or a torque with nothing to hold the speed (no generator load or speed driver)"
+)
+
+
+def _diverged(absurd: tuple[int, str], dt: float) -> Diverged:
+    k, what = absurd
+    return Diverged(k, k * dt, what, cause=DIVERGENCE_CAUSES)
+
+
+def _signal_error(where: str, load: JointLoad, k: int, dt: float, value, unit: str) -> InputError:
+    """The error for a torque or speed function that raised or returned a non-finite value."""
+    if isinstance(value, Exception):
+        step = max(k - 1, 0) if where == "speeds" else k
+        return InputError(
+            f'{where}["{load.joint}"] raised {type(value).__name__}: {value} at t = {k * dt:.6g} '
+            f"s (step {step}); fix the function. The samples before step {step} are kept"
+        )
+    if where == "speeds":  # step k − 1 asks for the speed at t_k
+        return NonFiniteInput(
+            f'speeds["{load.joint}"] is {value} rad/s at t = {k * dt:.6g} s; the speed function '
+            f"must return finite values (the run stopped before step {max(k - 1, 0)})"
+        )
+    return NonFiniteInput(
+        f'{where}["{load.joint}"] is {value} {unit} at step {k} (t = {k * dt:.6g} s); the '
+        "torque function must return finite values"
+    )
 
 
 class _progress_bar:
