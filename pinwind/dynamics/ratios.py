@@ -76,14 +76,15 @@ def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
     pin.computeJointJacobiansTimeVariation(model, data, q, v)
     meshes = MeshSet(gearbox)
     meshes.set_velocity(v)
-    rows = meshes.evaluate(model, data)
+    # The rows of the flanks the step loop starts on (+1); with fixed axes both flanks agree.
+    jac, _ = meshes.combine(meshes.evaluate(model, data), np.ones(meshes.count))
     held = [*gearbox.locked_joints, *given]
     pick = np.zeros((len(held), model.nv))
     for i, name in enumerate(held):
         pick[i, gearbox.v_index(name)] = 1.0
-    a = np.vstack([rows.jac_t, rows.jac_r, pick])
+    a = np.vstack([jac, pick])
     b = np.concatenate(
-        [np.zeros(2 * meshes.count), np.zeros(len(gearbox.locked_joints)), list(given.values())]
+        [np.zeros(meshes.count), np.zeros(len(gearbox.locked_joints)), list(given.values())]
     )
     particular = np.linalg.lstsq(a, b, rcond=None)[0]
     mismatch = float(np.abs(a @ particular - b).max()) if len(b) else 0.0
