@@ -20,7 +20,7 @@ from typing import Annotated
 import typer
 from rich.console import Console
 
-from pinwind.errors import InputError, PinwindError, PinwindWarning
+from pinwind.errors import ConflictingInputs, InputError, PinwindError, PinwindWarning
 
 app = typer.Typer(
     name="pinwind",
@@ -34,7 +34,8 @@ app.add_typer(build_app, name="build")
 
 # Tables of mesh forces need ~120 columns; pipes and CI logs get that width instead of 80.
 console = Console() if Console().is_terminal else Console(width=130)
-err_console = Console(stderr=True)
+# Errors and warnings are one line each, never hard-wrapped, so they can be copied whole.
+err_console = Console(stderr=True, soft_wrap=True)
 
 RPM_TO_RAD_PER_S = 2.0 * math.pi / 60.0
 
@@ -57,13 +58,32 @@ def _stamp(path: Path) -> tuple[int, int] | None:
 
 
 def _pairs(items: list[str] | None, option: str) -> dict[str, str]:
-    out = {}
+    out: dict[str, str] = {}
     for item in items or []:
         name, sep, value = item.partition("=")
         if not sep or not name.strip() or not value.strip():
             raise InputError(f'{option} "{item}" must look like JOINT=VALUE, e.g. carrier=1e6')
-        out[name.strip()] = value.strip()
+        name = name.strip()
+        if name in out:
+            raise ConflictingInputs(
+                f'{option} gives joint "{name}" twice ({out[name]} and {value.strip()}); give '
+                "each joint once (the values are not added, and neither wins silently)"
+            )
+        out[name] = value.strip()
     return out
+
+
+def _disjoint(**given: dict) -> None:
+    """Refuse a joint that two of the options name (e.g. --speed and --speed-sine)."""
+    options = list(given.items())
+    for i, (first, a) in enumerate(options):
+        for second, b in options[i + 1 :]:
+            both = sorted(set(a) & set(b))
+            if both:
+                raise ConflictingInputs(
+                    f'joint "{both[0]}" is given both in {first} and in {second}; a joint has one '
+                    "speed: give it in one of them"
+                )
 
 
 def _float(text: str, option: str, unit: str) -> float:
@@ -94,15 +114,27 @@ class SineSpeed:
 
 
 def parse_loads(
-    torque: list[str] | None, speed: list[str] | None, speed_sine: list[str] | None
-) -> tuple[dict, dict]:
-    """CLI load options → (torques [N·m], speeds [rad/s]) for ``pinwind.simulate``."""
+    torque: list[str] | None,
+    speed: list[str] | None,
+    speed_sine: list[str] | None,
+    initial_speed: list[str] | None = None,
+) -> tuple[dict, dict, dict]:
+    """CLI load options → (torques [N·m], speeds [rad/s], initial speeds [rad/s]).
+
+    Raises:
+        InputError: a malformed or non-finite value.
+        ConflictingInputs: a joint given twice in one option, or in two speed options.
+    """
     torques = {k: _float(v, "--torque", "N·m") for k, v in _pairs(torque, "--torque").items()}
-    speeds: dict = {
-        k: _float(v, "--speed", "rpm") * RPM_TO_RAD_PER_S
-        for k, v in _pairs(speed, "--speed").items()
+    steady = _pairs(speed, "--speed")
+    sines = _pairs(speed_sine, "--speed-sine")
+    initial = _pairs(initial_speed, "--initial-speed")
+    _disjoint(**{"--speed": steady, "--speed-sine": sines, "--initial-speed": initial})
+    speeds: dict = {k: _float(v, "--speed", "rpm") * RPM_TO_RAD_PER_S for k, v in steady.items()}
+    initial_speeds = {
+        k: _float(v, "--initial-speed", "rpm") * RPM_TO_RAD_PER_S for k, v in initial.items()
     }
-    for name, value in _pairs(speed_sine, "--speed-sine").items():
+    for name, value in sines.items():
         parts = value.split(",")
         if len(parts) != 3:
             raise InputError(
@@ -110,7 +142,7 @@ def parse_loads(
             )
         mean, amp = (_float(p, "--speed-sine", "rpm") * RPM_TO_RAD_PER_S for p in parts[:2])
         speeds[name] = SineSpeed(mean, amp, _float(parts[2], "--speed-sine", "Hz"))
-    return torques, speeds
+    return torques, speeds, initial_speeds
 
 
 @app.command()
@@ -128,6 +160,14 @@ def simulate(
         list[str] | None,
         typer.Option(
             "--speed-sine", help="JOINT=MEAN_RPM,AMPLITUDE_RPM,FREQUENCY_HZ sinusoidal driver."
+        ),
+    ] = None,
+    initial_speed: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--initial-speed",
+            help="JOINT=RPM starting speed (repeatable); the other joints start at the speeds "
+            "the gears impose.",
         ),
     ] = None,
     duration: Annotated[float, typer.Option(help="Simulated time [s].")] = 1.0,
@@ -156,7 +196,7 @@ def simulate(
     from pinwind.analysis.summary import summary_tables
     from pinwind.io.run import log_path
 
-    torques, speeds = parse_loads(torque, speed, speed_sine)
+    torques, speeds, initial_speeds = parse_loads(torque, speed, speed_sine, initial_speed)
     gearbox = pinwind.load(model)
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
     command = shlex.join(["pinwind", *sys.argv[1:]])
@@ -165,7 +205,8 @@ def simulate(
     try:
         res = pinwind.simulate(
             gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
-            progress=progress, log=log, log_rate=log_rate, overwrite=force, command=command,
+            initial_speeds=initial_speeds, progress=progress, log=log, log_rate=log_rate,
+            overwrite=force, command=command,
         )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
         if log is not None and _stamp(log) not in (None, before):

@@ -127,6 +127,10 @@ class NonFiniteInput(InputError):
     """A run input is NaN or infinite."""
 
 
+class InvalidLogRate(InputError):
+    """A log rate that is not positive, or above the sample rate 1/dt."""
+
+
 class ConflictingInputs(InputError):
     """Two inputs contradict each other (one joint given twice, ...)."""
 

@@ -277,6 +277,7 @@ def simulate(
         "gravity": list(map(float, g)),
         "torques": {ld.joint: ld.description for ld in torque_loads},
         "speeds": {ld.joint: ld.description for ld in speed_loads},
+        "initial_speeds": {ld.joint: ld.description for ld in init},
         "locked_joints": list(gearbox.locked_joints),
         "solver": settings.as_dict(),
         "integrator": "semi-implicit Euler with velocity projection",

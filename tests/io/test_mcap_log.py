@@ -12,7 +12,7 @@ from mcap.reader import make_reader
 from mcap.stream_reader import StreamReader
 
 import pinwind
-from pinwind.errors import InputError, LogError, LogExists, LogRecovered
+from pinwind.errors import InputError, InvalidLogRate, LogError, LogExists, LogRecovered
 from pinwind.io import mcap_log
 from pinwind.io.mcap_log import McapLogger, open_log
 from pinwind.io.messages import decode_string
@@ -170,8 +170,15 @@ def test_bare_log_names_go_in_the_logs_folder(tmp_path, monkeypatch):
 
 
 def test_bad_log_rate_is_refused_before_the_run(planetary, tmp_path):
-    with pytest.raises(LogError, match="positive number"):
+    with pytest.raises(InvalidLogRate, match="positive number"):
         pinwind.simulate(planetary, duration=0.01, dt=DT, log=tmp_path / "r.mcap", log_rate=0.0)
+    assert not (tmp_path / "r.mcap").exists()
+
+
+def test_log_rate_above_the_sample_rate_is_refused_before_the_run(planetary, tmp_path):
+    # dt = 1 ms computes 1000 samples per second: 1500 Hz cannot be logged.
+    with pytest.raises(InvalidLogRate, match="1500 Hz is above the sample rate 1/dt = 1000 Hz"):
+        pinwind.simulate(planetary, duration=0.01, dt=DT, log=tmp_path / "r.mcap", log_rate=1500)
     assert not (tmp_path / "r.mcap").exists()
 
 
