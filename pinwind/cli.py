@@ -197,7 +197,8 @@ def simulate(
     from pinwind.io.run import log_path
 
     torques, speeds, initial_speeds = parse_loads(torque, speed, speed_sine, initial_speed)
-    gearbox = pinwind.load(model)
+    with _warnings_as_lines():
+        gearbox = pinwind.load(model)
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
     command = shlex.join(["pinwind", *sys.argv[1:]])
     before = _stamp(log) if log is not None else None
@@ -300,7 +301,8 @@ def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> 
     """Load a model, check it, and list its bearings, gears and meshes."""
     import pinwind
 
-    gb = pinwind.load(model)
+    with _warnings_as_lines():
+        gb = pinwind.load(model)
     console.print(repr(gb))
     console.print("bearings (joints): " + ", ".join(gb.joint_names))
     if gb.locked_joints:

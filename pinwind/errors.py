@@ -120,7 +120,8 @@ class UnknownElement(InputError):
         self.kind = kind
         self.name = name
         self.known = list(known)
-        super().__init__(f'no {kind} named "{name}"; {kind}s are: {", ".join(self.known)}')
+        plural = f"{kind}es" if kind.endswith(("sh", "s")) else f"{kind}s"
+        super().__init__(f'no {kind} named "{name}"; {plural} are: {", ".join(self.known)}')
 
 
 class NonFiniteInput(InputError):
