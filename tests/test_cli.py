@@ -131,3 +131,13 @@ def test_info_lists_the_speed_ratios_of_a_one_degree_of_freedom_train():
     # 6 × 83/23 × 103/26 from the tooth counts (000_3b7c4a8fe52a6eee.txt Table 2, §4.1).
     assert f"stage2_pinion {6 * 83 / 23 * 103 / 26:.6g}" in out.stdout
     assert "sun 6" in out.stdout
+
+
+def test_build_into_a_missing_folder_is_one_line_without_traceback(tmp_path):
+    target = tmp_path / "missing" / "out.urdf"
+    out = run(
+        "build", "planetary", "--sun", "24", "--planet", "48", "--ring", "120", "-o", str(target)
+    )
+    assert out.returncode == 2
+    assert f"cannot write the model to {target}" in out.stderr
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr

@@ -403,6 +403,8 @@ def scan(data: bytes | memoryview) -> Scan:
             elif opcode in (Opcode.DATA_END, Opcode.FOOTER):
                 scan.data_end = True
                 break
+        except MemoryError:
+            raise  # not damage: open_log says that memory ran out
         except Exception as err:  # zstd, struct, UTF-8, CRC: the bytes are damaged
             raise DamagedFile(
                 f"{name} record at byte {pos} is damaged ({err}): the file is corrupted"

@@ -301,7 +301,14 @@ class McapLogger:
         """Open the file; write schemas, channels, the model, the metadata and the names."""
         meta = result.metadata
         self.stride, rate = _resolve_rate(float(meta["dt"]), self.log_rate)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise LogError(
+                str(self.path),
+                f"cannot create the folder {self.path.parent} for the log: "
+                f"{err.strerror or err}; choose another --out (or log=) or fix its permissions",
+            ) from err
         try:
             self._stream = open(self.path, "wb" if self.overwrite else "xb")  # noqa: SIM115
         except FileExistsError as err:
@@ -685,6 +692,25 @@ def _json_values(record: dict[str, str]) -> dict[str, Any]:
 
 
 def open_log(path: str | os.PathLike) -> LogFile:
+    """Read a pinwind MCAP log (docs/log_format.md); see ``_open_log``.
+
+    Raises:
+        LogError: as ``_open_log``, and when memory runs out while reading (a log that is not
+            damaged, only too large for this machine's memory).
+    """
+    try:
+        return _open_log(path)
+    except MemoryError as err:
+        size = Path(path).stat().st_size if Path(path).is_file() else 0
+        raise LogError(
+            str(path),
+            f"memory ran out while reading the log ({size / 1e6:.1f} MB on disk, several times "
+            "that in memory); this says nothing about the file, which may well be intact: read "
+            "it on a machine with more memory, or log with --log-rate to make smaller logs",
+        ) from err
+
+
+def _open_log(path: str | os.PathLike) -> LogFile:
     """Read a pinwind MCAP log (docs/log_format.md).
 
     A file that was cut short (killed run, full disk) gives the samples of its complete chunks,
@@ -770,7 +796,7 @@ def open_log(path: str | os.PathLike) -> LogFile:
             f"(t = {result.time[0] if len(result) else 0:.6g} to "
             f"{result.time[-1] if len(result) else 0:.6g} s)",
             LogRecovered,
-            stacklevel=2,
+            stacklevel=3,
         )
     channels = {c.topic: dict(c.metadata) for c in scan.channels.values()}
     return LogFile(

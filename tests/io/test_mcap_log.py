@@ -375,3 +375,25 @@ def test_reading_a_complete_log_warns_nothing(logged_run):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         pinwind.read_log(logged_run.path)
+
+
+def test_memory_running_out_while_reading_a_good_log_is_not_called_corruption(
+    logged_run, monkeypatch
+):
+    from pinwind.io import mcap_file
+
+    def no_memory(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(mcap_file, "_chunk_messages", no_memory)
+    with pytest.raises(LogError, match="memory ran out while reading the log") as info:
+        pinwind.read_log(logged_run.path)
+    assert "corrupted" not in str(info.value)
+    assert str(logged_run.path) in str(info.value)
+
+
+def test_log_folder_that_cannot_be_created_is_one_clear_error(planetary, tmp_path):
+    blocker = tmp_path / "not_a_folder"
+    blocker.write_text("a file where the log folder should be")
+    with pytest.raises(LogError, match="cannot create the folder .*not_a_folder for the log"):
+        pinwind.simulate(planetary, duration=0.01, dt=DT, log=blocker / "run.mcap")
