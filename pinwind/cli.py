@@ -19,6 +19,7 @@ from typing import Annotated
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 from pinwind.errors import ConflictingInputs, InputError, PinwindError, PinwindWarning
 
@@ -28,16 +29,25 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # Help texts are plain: "[s]" and "[rpm]" are units, not rich markup.
+    rich_markup_mode=None,
 )
-build_app = typer.Typer(help="Write parametric gearbox models.", no_args_is_help=True)
+build_app = typer.Typer(
+    help="Write parametric gearbox models.", no_args_is_help=True, rich_markup_mode=None
+)
 app.add_typer(build_app, name="build")
 
-# Tables of mesh forces need ~120 columns; pipes and CI logs get that width instead of 80.
-console = Console() if Console().is_terminal else Console(width=130)
+# Tables fit 80 columns (a terminal's width; 80 in pipes); pipes get plain ASCII tables.
+console = Console()
 # Errors and warnings are one line each, never hard-wrapped, so they can be copied whole.
 err_console = Console(stderr=True, soft_wrap=True)
 
 RPM_TO_RAD_PER_S = 2.0 * math.pi / 60.0
+
+
+def say(text: str) -> None:
+    """Print a line of text whole (never hard-wrapped, so it can be copied)."""
+    console.print(text, soft_wrap=True, highlight=False)
 
 
 class Terminated(KeyboardInterrupt):
@@ -211,23 +221,26 @@ def simulate(
         )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
         if log is not None and _stamp(log) not in (None, before):
-            err_console.print(f"the run stopped early; its log up to that point is in {log}")
+            err_console.print(
+                f"the run stopped early; its log up to that point is in {escape(str(log))}"
+            )
         if isinstance(err, Terminated):
-            err_console.print(f"terminated ({err})")
+            err_console.print(f"terminated ({escape(str(err))})")
             raise typer.Exit(code=143) from err
         raise
     finally:
         signal.signal(signal.SIGTERM, previous)
-    console.print(
-        f"[bold]{gearbox.name}[/bold] from {model}: {len(res) - 1} steps of {dt:g} s "
-        f"in {res.metadata['wall_time_s']:.2f} s "
+    say(f"[bold]{escape(gearbox.name)}[/bold] from {escape(str(model))}")
+    say(
+        f"{len(res) - 1} steps of {dt:g} s in {res.metadata['wall_time_s']:.2f} s "
         f"({res.metadata['wall_time_s'] / max(len(res) - 1, 1) * 1e6:.0f} µs/step); "
         f"max |J v| = {res.constraint_residual.max():.2e}"
     )
-    for table in summary_tables(res):
+    for table in summary_tables(res, plain=not console.is_terminal):
+        console.print()
         console.print(table)
     if log is not None:
-        console.print(f"log: {log} ({log.stat().st_size / 1e6:.2f} MB)")
+        say(f"log: {escape(str(log))} ({log.stat().st_size / 1e6:.2f} MB)")
 
 
 @contextmanager
@@ -238,7 +251,9 @@ def _warnings_as_lines() -> Iterator[None]:
         yield
     for warning in caught:
         if issubclass(warning.category, PinwindWarning):
-            err_console.print(f"[yellow]warning:[/yellow] {warning.message}", highlight=False)
+            err_console.print(
+                f"[yellow]warning:[/yellow] {escape(str(warning.message))}", highlight=False
+            )
         else:
             warnings.warn_explicit(
                 warning.message, warning.category, warning.filename, warning.lineno
@@ -262,7 +277,7 @@ def replay(
     with _warnings_as_lines():
         out = run_replay(log, save=save, serve=serve, web_port=web_port, announce=console.print)
     if out is not None:
-        console.print(f"wrote {out}")
+        say(f"wrote {escape(str(out))}")
 
 
 @app.command()
@@ -287,12 +302,14 @@ def report(
     if as_json:
         print(json.dumps(report_dict(res, start, stop), indent=1))
         return
-    console.print(
-        f"[bold]{res.metadata.get('model_name')}[/bold] — {log}: {res.status}; "
-        f"dt = {res.metadata.get('dt'):g} s, logged every {res.metadata['log']['stride']} "
-        f"sample(s); model sha256 {str(res.metadata.get('model_sha256'))[:12]}…"
+    say(
+        f"[bold]{escape(str(res.metadata.get('model_name')))}[/bold] — {escape(str(log))}: "
+        f"{escape(res.status)}; dt = {res.metadata.get('dt'):g} s, logged every "
+        f"{res.metadata['log']['stride']} sample(s); model sha256 "
+        f"{str(res.metadata.get('model_sha256'))[:12]}"
     )
-    for table in report_tables(res, start, stop):
+    for table in report_tables(res, start, stop, plain=not console.is_terminal):
+        console.print()
         console.print(table)
 
 
@@ -303,10 +320,10 @@ def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> 
 
     with _warnings_as_lines():
         gb = pinwind.load(model)
-    console.print(repr(gb))
-    console.print("bearings (joints): " + ", ".join(gb.joint_names))
+    say(repr(gb))
+    say("bearings (joints): " + ", ".join(gb.joint_names))
     if gb.locked_joints:
-        console.print("locked (fixed mounts): " + ", ".join(gb.locked_joints))
+        say("locked (fixed mounts): " + ", ".join(gb.locked_joints))
     from pinwind.dynamics.ratios import speed_ratio
 
     free = [j for j in gb.joint_names if j not in gb.locked_joints]
@@ -314,15 +331,15 @@ def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> 
         try:
             ratios = {j: speed_ratio(gb, j, free[0]) for j in free}
         except InputError as err:
-            console.print(f"speed ratios: {err}")
+            say(f"speed ratios: {err}")
         else:
-            console.print(
+            say(
                 f"speed ratios to {free[0]} (joint speeds, relative to the parent body): "
                 + ", ".join(f"{j} {r:.6g}" for j, r in ratios.items())
             )
     for m in gb.meshes:
         a, b = m.gear_a.spec, m.gear_b.spec
-        console.print(
+        say(
             f"mesh {m.name}: {a.name} ({a.teeth}) – {b.name} ({b.teeth}"
             f"{', internal' if b.internal else ''}), a_w = {m.centre_distance * 1e3:.4f} mm, "
             f"α_w = {math.degrees(m.working_pressure_angle):.4f}°"
@@ -371,7 +388,7 @@ def build_planetary(
         parallel=stages,
         name=name,
     )
-    console.print(f"wrote {path}")
+    say(f"wrote {escape(str(path))}")
 
 
 def main() -> None:
@@ -379,7 +396,7 @@ def main() -> None:
     try:
         app()
     except PinwindError as err:
-        err_console.print(f"[bold red]error:[/bold red] {err}", highlight=False)
+        err_console.print(f"[bold red]error:[/bold red] {escape(str(err))}", highlight=False)
         sys.exit(2)
     except KeyboardInterrupt:
         err_console.print("interrupted")
