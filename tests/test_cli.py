@@ -179,3 +179,10 @@ def test_piped_summary_fits_80_columns_in_plain_text_without_cut_numbers():
         assert header in out.stdout
     row = next(line.split() for line in lines if line.strip().startswith("stage2_pinion "))
     assert len(row) == 4 and all(cell.replace(".", "").lstrip("-").isdigit() for cell in row[1:])
+
+
+def test_implausible_gear_warning_is_one_line_on_stderr():
+    out = run("info", str(MODELS / "cai_spur_pair.urdf"))
+    assert out.returncode == 0, out.stderr
+    (line,) = out.stderr.splitlines()
+    assert line.startswith("warning: ") and '<link name="gear2">: axial inertia 0.003' in line

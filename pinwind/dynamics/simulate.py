@@ -225,8 +225,13 @@ def simulate(
         observer's ``end`` still gets the samples computed so far and the reason.
 
     Raises:
-        InputError: unknown joint names, non-finite values, dt or duration not positive.
+        InputError: unknown joint names, non-finite values, dt or duration not positive, a
+            duration that dt does not divide, a torque or speed on a fixed mount, a load
+            function that raises (its exception is the ``__cause__``).
+        ConflictingConstraints: initial or driver speeds that contradict the gear ratios.
         SolverFailed, Diverged: the run cannot go on; the message names the step and time.
+            Diverged also when a joint turns faster than ``MAX_PLAUSIBLE_SPEED``.
+        OutOfMemory: the result arrays do not fit in memory.
     """
     duration = _check_positive("duration", duration, "s")
     dt = _check_positive("dt", dt, "s")
