@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 import pinwind
@@ -59,7 +60,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
         "T_in RMS [N·m]",
         "T_out RMS [N·m]",
     ):
-        table.add_column(col, justify="right")
+        table.add_column(escape(col), justify="right")  # "[rpm]" is a unit, not markup
     rows = []
     cases = list(itertools.product(AMPLITUDES_RPM, FREQUENCIES_HZ))[: args.runs]
     for run, (amp, freq) in enumerate(cases, start=1):

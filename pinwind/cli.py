@@ -19,8 +19,9 @@ from typing import Annotated
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
-from pinwind.errors import InputError, PinwindError, PinwindWarning
+from pinwind.errors import ConflictingInputs, InputError, PinwindError, PinwindWarning
 
 app = typer.Typer(
     name="pinwind",
@@ -28,15 +29,25 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # Help texts are plain: "[s]" and "[rpm]" are units, not rich markup.
+    rich_markup_mode=None,
 )
-build_app = typer.Typer(help="Write parametric gearbox models.", no_args_is_help=True)
+build_app = typer.Typer(
+    help="Write parametric gearbox models.", no_args_is_help=True, rich_markup_mode=None
+)
 app.add_typer(build_app, name="build")
 
-# Tables of mesh forces need ~120 columns; pipes and CI logs get that width instead of 80.
-console = Console() if Console().is_terminal else Console(width=130)
-err_console = Console(stderr=True)
+# Tables fit 80 columns (a terminal's width; 80 in pipes); pipes get plain ASCII tables.
+console = Console()
+# Errors and warnings are one line each, never hard-wrapped, so they can be copied whole.
+err_console = Console(stderr=True, soft_wrap=True)
 
 RPM_TO_RAD_PER_S = 2.0 * math.pi / 60.0
+
+
+def say(text: str) -> None:
+    """Print a line of text whole (never hard-wrapped, so it can be copied)."""
+    console.print(text, soft_wrap=True, highlight=False)
 
 
 class Terminated(KeyboardInterrupt):
@@ -57,13 +68,32 @@ def _stamp(path: Path) -> tuple[int, int] | None:
 
 
 def _pairs(items: list[str] | None, option: str) -> dict[str, str]:
-    out = {}
+    out: dict[str, str] = {}
     for item in items or []:
         name, sep, value = item.partition("=")
         if not sep or not name.strip() or not value.strip():
             raise InputError(f'{option} "{item}" must look like JOINT=VALUE, e.g. carrier=1e6')
-        out[name.strip()] = value.strip()
+        name = name.strip()
+        if name in out:
+            raise ConflictingInputs(
+                f'{option} gives joint "{name}" twice ({out[name]} and {value.strip()}); give '
+                "each joint once (the values are not added, and neither wins silently)"
+            )
+        out[name] = value.strip()
     return out
+
+
+def _disjoint(**given: dict) -> None:
+    """Refuse a joint that two of the options name (e.g. --speed and --speed-sine)."""
+    options = list(given.items())
+    for i, (first, a) in enumerate(options):
+        for second, b in options[i + 1 :]:
+            both = sorted(set(a) & set(b))
+            if both:
+                raise ConflictingInputs(
+                    f'joint "{both[0]}" is given both in {first} and in {second}; a joint has one '
+                    "speed: give it in one of them"
+                )
 
 
 def _float(text: str, option: str, unit: str) -> float:
@@ -94,15 +124,27 @@ class SineSpeed:
 
 
 def parse_loads(
-    torque: list[str] | None, speed: list[str] | None, speed_sine: list[str] | None
-) -> tuple[dict, dict]:
-    """CLI load options → (torques [N·m], speeds [rad/s]) for ``pinwind.simulate``."""
+    torque: list[str] | None,
+    speed: list[str] | None,
+    speed_sine: list[str] | None,
+    initial_speed: list[str] | None = None,
+) -> tuple[dict, dict, dict]:
+    """CLI load options → (torques [N·m], speeds [rad/s], initial speeds [rad/s]).
+
+    Raises:
+        InputError: a malformed or non-finite value.
+        ConflictingInputs: a joint given twice in one option, or in two speed options.
+    """
     torques = {k: _float(v, "--torque", "N·m") for k, v in _pairs(torque, "--torque").items()}
-    speeds: dict = {
-        k: _float(v, "--speed", "rpm") * RPM_TO_RAD_PER_S
-        for k, v in _pairs(speed, "--speed").items()
+    steady = _pairs(speed, "--speed")
+    sines = _pairs(speed_sine, "--speed-sine")
+    initial = _pairs(initial_speed, "--initial-speed")
+    _disjoint(**{"--speed": steady, "--speed-sine": sines, "--initial-speed": initial})
+    speeds: dict = {k: _float(v, "--speed", "rpm") * RPM_TO_RAD_PER_S for k, v in steady.items()}
+    initial_speeds = {
+        k: _float(v, "--initial-speed", "rpm") * RPM_TO_RAD_PER_S for k, v in initial.items()
     }
-    for name, value in _pairs(speed_sine, "--speed-sine").items():
+    for name, value in sines.items():
         parts = value.split(",")
         if len(parts) != 3:
             raise InputError(
@@ -110,7 +152,7 @@ def parse_loads(
             )
         mean, amp = (_float(p, "--speed-sine", "rpm") * RPM_TO_RAD_PER_S for p in parts[:2])
         speeds[name] = SineSpeed(mean, amp, _float(parts[2], "--speed-sine", "Hz"))
-    return torques, speeds
+    return torques, speeds, initial_speeds
 
 
 MESH_CHOICES = ("rigid", "compliant")
@@ -159,6 +201,14 @@ def simulate(
             "--speed-sine", help="JOINT=MEAN_RPM,AMPLITUDE_RPM,FREQUENCY_HZ sinusoidal driver."
         ),
     ] = None,
+    initial_speed: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--initial-speed",
+            help="JOINT=RPM starting speed (repeatable); the other joints start at the speeds "
+            "the gears impose.",
+        ),
+    ] = None,
     duration: Annotated[float, typer.Option(help="Simulated time [s].")] = 1.0,
     dt: Annotated[float, typer.Option(help="Time step [s].")] = 1e-3,
     progress: Annotated[
@@ -204,10 +254,11 @@ def simulate(
     from pinwind.analysis.summary import summary_tables
     from pinwind.io.run import log_path
 
-    torques, speeds = parse_loads(torque, speed, speed_sine)
+    torques, speeds, initial_speeds = parse_loads(torque, speed, speed_sine, initial_speed)
     meshes = parse_meshes(mesh)
     errors = parse_position_errors(position_error)
-    gearbox = pinwind.load(model)
+    with _warnings_as_lines():
+        gearbox = pinwind.load(model)
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
     command = shlex.join(["pinwind", *sys.argv[1:]])
     before = _stamp(log) if log is not None else None
@@ -216,38 +267,39 @@ def simulate(
         with _warnings_as_lines():
             res = pinwind.simulate(
                 gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
-                progress=progress, log=log, log_rate=log_rate, overwrite=force,
-                command=command, meshes=meshes, position_errors=errors,
+                initial_speeds=initial_speeds, progress=progress, log=log, log_rate=log_rate,
+                overwrite=force, command=command, meshes=meshes, position_errors=errors,
             )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
         if log is not None and _stamp(log) not in (None, before):
-            err_console.print(f"the run stopped early; its log up to that point is in {log}")
+            err_console.print(
+                f"the run stopped early; its log up to that point is in {escape(str(log))}"
+            )
         if isinstance(err, Terminated):
-            err_console.print(f"terminated ({err})")
+            err_console.print(f"terminated ({escape(str(err))})")
             raise typer.Exit(code=143) from err
         raise
     finally:
         signal.signal(signal.SIGTERM, previous)
-    console.print(
-        f"[bold]{gearbox.name}[/bold] from {model}: {len(res) - 1} steps of {dt:g} s "
-        f"in {res.metadata['wall_time_s']:.2f} s "
+    say(f"[bold]{escape(gearbox.name)}[/bold] from {escape(str(model))}")
+    say(
+        f"{len(res) - 1} steps of {dt:g} s in {res.metadata['wall_time_s']:.2f} s "
         f"({res.metadata['wall_time_s'] / max(len(res) - 1, 1) * 1e6:.0f} µs/step); "
         f"max |J v| = {res.constraint_residual.max():.2e}"
     )
-    for table in summary_tables(res):
+    for table in summary_tables(res, plain=not console.is_terminal):
+        console.print()
         console.print(table)
+    compliant = {n for n, m in res.metadata.get("meshes", {}).items() if m["type"] != "rigid"}
     for sharing in load_sharing(res, gearbox):
-        if np.isfinite(sharing.factor_max):
-            shares = ", ".join(
-                f"{m} {s:.4f}" for m, s in zip(sharing.meshes, sharing.mean_share, strict=True)
-            )
-            console.print(
-                f"load sharing at the {sharing.gear}: K_γ = {sharing.mean_share.max():.4f} from "
-                f"the mean loads ({shares}); largest at one sample {sharing.factor_max:.4f}",
-                highlight=False,
+        # Rigid planets share equally by construction (minimum-norm multipliers).
+        if np.isfinite(sharing.factor_max) and compliant & set(sharing.meshes):
+            say(
+                f"load sharing at the {sharing.gear}: K_γ = {sharing.mean_share.max():.4f} "
+                f"(mean loads), {sharing.factor_max:.4f} (worst sample)"
             )
     if log is not None:
-        console.print(f"log: {log} ({log.stat().st_size / 1e6:.2f} MB)")
+        say(f"log: {escape(str(log))} ({log.stat().st_size / 1e6:.2f} MB)")
 
 
 @contextmanager
@@ -261,7 +313,9 @@ def _warnings_as_lines() -> Iterator[None]:
             shown = list(caught)
     for warning in shown:
         if issubclass(warning.category, PinwindWarning):
-            err_console.print(f"[yellow]warning:[/yellow] {warning.message}", highlight=False)
+            err_console.print(
+                f"[yellow]warning:[/yellow] {escape(str(warning.message))}", highlight=False
+            )
         else:
             warnings.warn_explicit(
                 warning.message, warning.category, warning.filename, warning.lineno
@@ -285,7 +339,7 @@ def replay(
     with _warnings_as_lines():
         out = run_replay(log, save=save, serve=serve, web_port=web_port, announce=console.print)
     if out is not None:
-        console.print(f"wrote {out}")
+        say(f"wrote {escape(str(out))}")
 
 
 @app.command()
@@ -309,12 +363,14 @@ def report(
     if as_json:
         print(json.dumps(report_dict(res), indent=1))
         return
-    console.print(
-        f"[bold]{res.metadata.get('model_name')}[/bold] — {log}: {res.status}; "
-        f"dt = {res.metadata.get('dt'):g} s, logged every {res.metadata['log']['stride']} "
-        f"sample(s); model sha256 {str(res.metadata.get('model_sha256'))[:12]}…"
+    say(
+        f"[bold]{escape(str(res.metadata.get('model_name')))}[/bold] — {escape(str(log))}: "
+        f"{escape(res.status)}; dt = {res.metadata.get('dt'):g} s, logged every "
+        f"{res.metadata['log']['stride']} sample(s); model sha256 "
+        f"{str(res.metadata.get('model_sha256'))[:12]}"
     )
-    for table in report_tables(res):
+    for table in report_tables(res, start, stop, plain=not console.is_terminal):
+        console.print()
         console.print(table)
 
 
@@ -350,7 +406,7 @@ def export(
         rows, columns = export_log(
             log, out, format=fmt, start=start, stop=stop, channels=picked, overwrite=force
         )
-    console.print(f"wrote {out} ({rows} rows × {columns} columns)")
+    say(f"wrote {escape(str(out))} ({rows} rows × {columns} columns)")
 
 
 @app.command()
@@ -358,11 +414,12 @@ def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> 
     """Load a model, check it, and list its bearings, gears and meshes."""
     import pinwind
 
-    gb = pinwind.load(model)
-    console.print(repr(gb))
-    console.print("bearings (joints): " + ", ".join(gb.joint_names))
+    with _warnings_as_lines():
+        gb = pinwind.load(model)
+    say(repr(gb))
+    say("bearings (joints): " + ", ".join(gb.joint_names))
     if gb.locked_joints:
-        console.print("locked (fixed mounts): " + ", ".join(gb.locked_joints))
+        say("locked (fixed mounts): " + ", ".join(gb.locked_joints))
     from pinwind.dynamics.ratios import speed_ratio
 
     free = [j for j in gb.joint_names if j not in gb.locked_joints]
@@ -370,15 +427,15 @@ def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> 
         try:
             ratios = {j: speed_ratio(gb, j, free[0]) for j in free}
         except InputError as err:
-            console.print(f"speed ratios: {err}")
+            say(f"speed ratios: {err}")
         else:
-            console.print(
+            say(
                 f"speed ratios to {free[0]} (joint speeds, relative to the parent body): "
                 + ", ".join(f"{j} {r:.6g}" for j, r in ratios.items())
             )
     for m in gb.meshes:
         a, b = m.gear_a.spec, m.gear_b.spec
-        console.print(
+        say(
             f"mesh {m.name}: {a.name} ({a.teeth}) – {b.name} ({b.teeth}"
             f"{', internal' if b.internal else ''}), a_w = {m.centre_distance * 1e3:.4f} mm, "
             f"α_w = {math.degrees(m.working_pressure_angle):.4f}°"
@@ -427,7 +484,7 @@ def build_planetary(
         parallel=stages,
         name=name,
     )
-    console.print(f"wrote {path}")
+    say(f"wrote {escape(str(path))}")
 
 
 def main() -> None:
@@ -435,7 +492,7 @@ def main() -> None:
     try:
         app()
     except PinwindError as err:
-        err_console.print(f"[bold red]error:[/bold red] {err}", highlight=False)
+        err_console.print(f"[bold red]error:[/bold red] {escape(str(err))}", highlight=False)
         sys.exit(2)
     except KeyboardInterrupt:
         err_console.print("interrupted")

@@ -85,6 +85,17 @@ class InvalidInertia(ModelError):
     """Non-positive mass, or an inertia tensor that is not physically possible."""
 
 
+class InvalidMount(ModelError):
+    """Bodies and bearings that cannot work as written.
+
+    A gear welded to a moving body, a mesh between gears on one rigid body, negative damping.
+    """
+
+
+class ImplausibleGear(PinwindWarning):
+    """A gear's mass or inertia is far from the steel cylinder its teeth and face width imply."""
+
+
 # --- run inputs --------------------------------------------------------------------------------
 
 
@@ -109,11 +120,20 @@ class UnknownElement(InputError):
         self.kind = kind
         self.name = name
         self.known = list(known)
-        super().__init__(f'no {kind} named "{name}"; {kind}s are: {", ".join(self.known)}')
+        plural = f"{kind}es" if kind.endswith(("sh", "s")) else f"{kind}s"
+        super().__init__(f'no {kind} named "{name}"; {plural} are: {", ".join(self.known)}')
 
 
 class NonFiniteInput(InputError):
     """A run input is NaN or infinite."""
+
+
+class InvalidLogRate(InputError):
+    """A log rate that is not positive, or above the sample rate 1/dt."""
+
+
+class ConflictingInputs(InputError):
+    """Two inputs contradict each other (one joint given twice, ...)."""
 
 
 class InvalidGearTrain(InputError):
@@ -169,13 +189,29 @@ class ConflictingConstraints(PinwindError):
 class Diverged(PinwindError):
     """The state became NaN or infinite during a run."""
 
-    def __init__(self, step: int, time: float, what: str):
+    def __init__(self, step: int, time: float, what: str, cause: str = ""):
         self.step = step
         self.time = time
         self.what = what
         super().__init__(
-            f"the run diverged at step {step} (t = {time:.6g} s): {what}. Reduce dt, check the "
-            "torques and spring stiffnesses for values that are far too large, or add damping."
+            f"the run diverged at step {step} (t = {time:.6g} s): {what}. "
+            + (f"{cause}. " if cause else "")
+            + "Reduce dt, check the torques and spring stiffnesses for values that are far too "
+            "large, or add damping."
+        )
+
+
+class OutOfMemory(PinwindError):
+    """The arrays of a run's results do not fit in memory."""
+
+    def __init__(self, samples: int, duration: float, dt: float):
+        self.samples = samples
+        self.duration = duration
+        self.dt = dt
+        super().__init__(
+            f"memory ran out allocating the results of {samples} samples (duration = "
+            f"{duration:g} s at dt = {dt:g} s); shorten the duration, increase dt, or run it in "
+            "several parts"
         )
 
 

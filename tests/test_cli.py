@@ -73,6 +73,7 @@ def test_speed_option_is_in_rpm():
         (["--torque", "sun"], "must look like JOINT=VALUE"),
         (["--torque", "sun=abc"], '"abc" is not a number'),
         (["--dt", "0"], "dt is 0 s; it must be positive"),
+        (["--speed", "sun=abc"], '"abc" is not a number [rpm]'),  # the unit survives rich
     ],
 )
 def test_bad_options_exit_2_with_one_line(args, message):
@@ -164,3 +165,57 @@ def test_simulate_runs_compliant_meshes_and_reports_load_sharing():
     assert proc.returncode == 0, proc.stderr
     # A perfect stage: every planet carries a third.
     assert "load sharing at the sun: K_γ = 1.0000" in proc.stdout
+
+
+def test_build_into_a_missing_folder_is_one_line_without_traceback(tmp_path):
+    target = tmp_path / "missing" / "out.urdf"
+    out = run(
+        "build", "planetary", "--sun", "24", "--planet", "48", "--ring", "120", "-o", str(target)
+    )
+    assert out.returncode == 2
+    assert f"cannot write the model to {target}" in out.stderr
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+
+
+def test_help_keeps_the_units_in_brackets_and_every_option_whole():
+    out = run("simulate", "--help")
+    assert out.returncode == 0, out.stderr
+    for text in (
+        "Simulated time [s]",
+        "Time step [s]",
+        "[Hz]",
+        "MEAN_RPM,AMPLITUDE_RPM,FREQUENCY_HZ",
+    ):
+        assert text in out.stdout
+    assert "…" not in out.stdout
+    build = run("build", "planetary", "--help")
+    assert "Module [mm]" in build.stdout and "Pressure angle [deg]" in build.stdout
+
+
+def test_piped_summary_fits_80_columns_in_plain_text_without_cut_numbers():
+    # saleh2017_drivetrain has the longest names of the shipped models.
+    out = run(
+        "simulate",
+        str(MODELS / "saleh2017_drivetrain.urdf"),
+        "--torque",
+        "carrier=1e6",
+        "--duration",
+        "0.01",
+        "--no-log",
+    )
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert max(len(line) for line in lines[1:]) <= 80  # line 0 names the model file
+    assert "…" not in out.stdout and "\x1b" not in out.stdout
+    assert not any(ch in out.stdout for ch in "│┃━─┏┗")  # plain ASCII rules when piped
+    for header in ("speed [rpm]", "Fn [kN]", "Ft [kN]", "|M| [kN·m]", "|F| max [kN]"):
+        assert header in out.stdout
+    row = next(line.split() for line in lines if line.strip().startswith("stage2_pinion "))
+    assert len(row) == 4 and all(cell.replace(".", "").lstrip("-").isdigit() for cell in row[1:])
+
+
+def test_implausible_gear_warning_is_one_line_on_stderr():
+    out = run("info", str(MODELS / "cai_spur_pair.urdf"))
+    assert out.returncode == 0, out.stderr
+    (line,) = out.stderr.splitlines()
+    assert line.startswith("warning: ") and '<link name="gear2">: axial inertia 0.003' in line

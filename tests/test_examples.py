@@ -29,8 +29,10 @@ def test_saleh_rated_load_reaches_the_rated_sun_mesh_force():
     assert_allclose(res.mesh("sun_planet1").normal[-1], expected, rtol=1e-9)
 
 
-def test_cai_quasi_steady_contact_force_is_the_brake_torque_over_the_base_radius():
+def test_cai_quasi_steady_contact_force_is_the_brake_torque_over_the_base_radius(capsys):
     rows = _load("cai_quasi_steady").main(["--duration", "1", "--runs", "1", "--dt", "2e-4"])
+    printed = capsys.readouterr().out
+    assert "A [rpm]" in printed and "f [Hz]" in printed  # units not eaten as rich markup
     static = 49.0 / (0.120 * math.cos(math.radians(20.0)))
     assert_allclose(rows[0]["force"]["mean"], static, rtol=1e-3)
     assert_allclose(rows[0]["t_in"]["mean"], 49.0 * 40 / 80, rtol=1e-3)

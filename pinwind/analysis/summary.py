@@ -2,7 +2,7 @@
 
 ``statistics`` gives min, max, mean, RMS and final value of a series (the columns of
 002_bb0c67d52fe8a188.txt Tables 4-1/4-2). ``summary_tables`` lays them out for the terminal, in
-engineering units (rpm, kN, kN·m).
+engineering units (rpm, kN, kN·m) named in the column headers, in tables that fit 80 columns.
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from rich import box
 from rich.markup import escape
 from rich.table import Table
 
@@ -40,15 +41,45 @@ def _input_joint(res: Result) -> str | None:
     return None
 
 
-def summary_tables(res: Result) -> list[Table]:
-    """Tables of joint speeds and ratios, mesh forces and bearing reactions."""
+#: Table style on a terminal: a rule under the header, no vertical borders (narrow).
+TERMINAL_BOX = box.SIMPLE_HEAD
+#: The same in plain ASCII, for pipes and files.
+PLAIN_BOX = box.Box("    \n    \n -- \n    \n    \n    \n    \n    \n", ascii=True)
+
+
+def _table(title: str, columns: tuple[str, ...], plain: bool) -> Table:
+    """A table whose columns never cut a number: a cell too wide for the console folds."""
+    table = Table(
+        title=escape(title),
+        box=PLAIN_BOX if plain else TERMINAL_BOX,
+        title_style=None if plain else "bold",
+        header_style=None if plain else "bold",
+        show_edge=False,
+    )
+    for i, name in enumerate(columns):
+        table.add_column(escape(name), justify="left" if i == 0 else "right", overflow="fold")
+    return table
+
+
+def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
+    """Tables of joint speeds and ratios, mesh forces and bearing reactions.
+
+    Each table fits 80 columns with the shipped models' names (a wider cell folds; numbers are
+    never cut). Units are in the column headers.
+
+    Args:
+        plain: ASCII rules and no styles, for pipes and files.
+    """
     tables = []
     ref = _input_joint(res)
     ref_speed = res.joint(ref).speed[-1] if ref else 0.0
+    final = f"t = {res.time[-1]:.4g} s"
 
-    joints = Table(title=f"Bearings: speeds at t = {res.time[-1]:.4g} s")
-    for col in ("joint", "speed [rpm]", f"ratio to {ref or '-'}", "torque [kN·m]"):
-        joints.add_column(escape(col), justify="right" if col != "joint" else "left")
+    joints = _table(
+        f"Bearings at {final}",
+        ("joint", "speed [rpm]", f"ratio to {ref or '-'} [-]", "torque [kN·m]"),
+        plain,
+    )
     locked = set(res.metadata.get("locked_joints", []))
     for name in res.joint_names:
         js = res.joint(name)
@@ -67,66 +98,55 @@ def summary_tables(res: Result) -> list[Table]:
     tables.append(joints)
 
     if res.mesh_names:
-        meshes = Table(
-            title=escape("Gear meshes: tooth forces [kN] (final; min / max / RMS of normal)")
+        forces = _table(
+            f"Tooth forces at {final} (normal, tangential, radial, axial)",
+            ("mesh", "Fn [kN]", "Ft [kN]", "Fr [kN]", "Fa [kN]", "flank [-]"),
+            plain,
         )
-        for col in (
-            "mesh",
-            "normal",
-            "tangential",
-            "radial",
-            "flank",
-            "min",
-            "max",
-            "RMS",
-            "TE [µm]",
-        ):
-            meshes.add_column(escape(col), justify="right" if col != "mesh" else "left")
+        history = _table(
+            "Gear meshes over the run: normal force and transmission error",
+            ("mesh", "min [kN]", "max [kN]", "RMS [kN]", "max |TE| [µm]"),
+            plain,
+        )
         for name in res.mesh_names:
             ms = res.mesh(name)
             s = statistics(ms.normal)
-            meshes.add_row(
+            forces.add_row(
                 name,
                 f"{ms.normal[-1] / 1e3:.4f}",
                 f"{ms.tangential[-1] / 1e3:.4f}",
                 f"{ms.radial[-1] / 1e3:.4f}",
+                f"{ms.axial[-1] / 1e3:.4f}",
                 f"{int(ms.flank[-1]):+d}",
+            )
+            history.add_row(
+                name,
                 f"{s['min'] / 1e3:.4f}",
                 f"{s['max'] / 1e3:.4f}",
                 f"{s['rms'] / 1e3:.4f}",
                 f"{np.max(np.abs(ms.transmission_error)) * 1e6:.2e}",
             )
-        tables.append(meshes)
+        tables += [forces, history]
 
-    bearings = Table(
-        title="Bearing reactions on the child body, world frame, kN and kN·m "
-        "(final; min / max / RMS of |F|)"
+    reactions = _table(
+        f"Bearing reactions on the child body at {final}, world axes",
+        ("bearing", "Fx [kN]", "Fy [kN]", "Fz [kN]", "|M| [kN·m]"),
+        plain,
     )
-    for col in (
-        "bearing",
-        "Fx [kN]",
-        "Fy [kN]",
-        "Fz [kN]",
-        "|F| min",
-        "|F| max",
-        "|F| RMS",
-        "|M| [kN·m]",
-    ):
-        bearings.add_column(escape(col), justify="right" if col != "bearing" else "left")
+    history = _table(
+        "Bearing reactions over the run: magnitude of the force",
+        ("bearing", "|F| min [kN]", "|F| max [kN]", "|F| RMS [kN]"),
+        plain,
+    )
     for name in res.bearing_names:
         b = res.bearing(name)
-        magnitude = np.linalg.norm(b.force, axis=1)
-        s = statistics(magnitude)
+        s = statistics(np.linalg.norm(b.force, axis=1))
         fx, fy, fz = b.force[-1] / 1e3
-        bearings.add_row(
-            name,
-            f"{fx:.4f}",
-            f"{fy:.4f}",
-            f"{fz:.4f}",
-            f"{s['min'] / 1e3:.4f}",
-            f"{s['max'] / 1e3:.4f}",
-            f"{s['rms'] / 1e3:.4f}",
-            f"{np.linalg.norm(b.moment[-1]) / 1e3:.4f}",
+        reactions.add_row(
+            name, f"{fx:.4f}", f"{fy:.4f}", f"{fz:.4f}", f"{np.linalg.norm(b.moment[-1]) / 1e3:.4f}"
         )
-    tables.append(bearings)
+        history.add_row(
+            name, f"{s['min'] / 1e3:.4f}", f"{s['max'] / 1e3:.4f}", f"{s['rms'] / 1e3:.4f}"
+        )
+    tables += [reactions, history]
     return tables

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics.mesh import MeshSet
-from pinwind.errors import InputError, UnknownJoint
+from pinwind.errors import ConflictingConstraints, InputError, UnknownJoint
 from pinwind.model.gearbox import Gearbox
 
 
@@ -47,3 +49,55 @@ def speed_ratio(gearbox: Gearbox, output: str, reference: str) -> float:
     if abs(ref) < 1e-12 * np.abs(mode).max():
         raise InputError(f'joint "{reference}" does not turn with the gear train')
     return float(mode[gearbox.v_index(output)] / ref)
+
+
+def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
+    """Joint speeds [rad/s] at the reference pose that the gear meshes allow, with ``given`` held.
+
+    The given joints keep their speeds exactly, the locked bearings stay at zero, and every other
+    joint takes the speed the meshes impose (``v`` with J v = 0). Joints the given speeds do not
+    fix (a second, undriven train) take the speeds of least kinetic energy, i.e. zero unless
+    coupled.
+
+    Args:
+        given: joint name → speed [rad/s] (relative to the parent body).
+
+    Raises:
+        UnknownJoint: a name is not a bearing of the gearbox.
+        ConflictingConstraints: the given speeds contradict the gear ratios (e.g. carrier and sun
+            of a planetary stage at speeds that are not in the ratio 6).
+    """
+    for name in given:
+        if name not in gearbox.joint_names:
+            raise UnknownJoint(name, "initial speeds", gearbox.joint_names)
+    model = gearbox.model
+    data = model.createData()
+    q, v = gearbox.neutral(), np.zeros(model.nv)
+    pin.computeJointJacobiansTimeVariation(model, data, q, v)
+    meshes = MeshSet(gearbox)
+    meshes.set_velocity(v)
+    # The rows of the flanks the step loop starts on (+1); with fixed axes both flanks agree.
+    jac, _ = meshes.combine(meshes.evaluate(model, data), np.ones(meshes.count))
+    held = [*gearbox.locked_joints, *given]
+    pick = np.zeros((len(held), model.nv))
+    for i, name in enumerate(held):
+        pick[i, gearbox.v_index(name)] = 1.0
+    a = np.vstack([jac, pick])
+    b = np.concatenate(
+        [np.zeros(meshes.count), np.zeros(len(gearbox.locked_joints)), list(given.values())]
+    )
+    particular = np.linalg.lstsq(a, b, rcond=None)[0]
+    mismatch = float(np.abs(a @ particular - b).max()) if len(b) else 0.0
+    scale = 1.0 + float(np.abs(b).max()) if len(b) else 1.0
+    if mismatch > 1e-9 * scale:
+        raise ConflictingConstraints(0, 0.0, mismatch, list(given))
+    # Joints left free by the given speeds: the least kinetic energy (M metric).
+    _, sv, vt = np.linalg.svd(a)
+    rank = int(np.sum(sv > 1e-10 * sv[0])) if sv.size else 0
+    null = vt[rank:].T
+    if null.shape[1]:
+        mass = pin.crba(model, data, q)
+        mass = np.triu(mass) + np.triu(mass, 1).T
+        reduced = null.T @ mass @ null
+        particular = particular - null @ np.linalg.solve(reduced, null.T @ mass @ particular)
+    return particular

@@ -40,10 +40,11 @@ from typing import Protocol
 import numpy as np
 
 from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
+from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
-from pinwind.errors import InputError, NonFiniteInput, PinwindError
+from pinwind.errors import Diverged, InputError, NonFiniteInput, OutOfMemory, PinwindError
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
@@ -72,6 +73,47 @@ def _check_positive(name: str, value: float, unit: str) -> float:
     if value <= 0.0:
         raise InputError(f"{name} is {value:g} {unit}; it must be positive")
     return value
+
+
+def _step_count(duration: float, dt: float) -> int:
+    """Number of steps of dt in duration; refuses a duration that dt does not divide."""
+    if dt > duration:
+        raise InputError(f"dt = {dt:g} s is longer than duration = {duration:g} s")
+    steps = round(duration / dt)
+    if abs(steps * dt - duration) > 1e-9 * duration:
+        below = math.floor(duration / dt) * dt
+        raise InputError(
+            f"duration = {duration:g} s is not a whole number of steps of dt = {dt:g} s "
+            f"({duration / dt:.6g} steps); the nearest durations are {below:.10g} s and "
+            f"{below + dt:.10g} s, or choose a dt that divides {duration:g} s"
+        )
+    return steps
+
+
+#: Speed [rad/s] above which a run is stopped as diverged (≈ 955 000 rpm: no gear survives it;
+#: a 10 mm pinion would have a pitch-line speed of 1000 m/s).
+MAX_PLAUSIBLE_SPEED = 1e5
+
+
+def _implausible(block: Result, start: int, stop: int) -> tuple[int, str] | None:
+    """First sample of start:stop whose joint speed is beyond ``MAX_PLAUSIBLE_SPEED``.
+
+    ``block`` holds samples start, start + 1, … in its rows. Returns (sample, what) or None; the
+    C++ loop only stops on NaN or infinity, by which time the log holds speeds of 1e146 rad/s.
+    """
+    speeds = np.abs(block.speed[: stop - start])
+    bad = np.flatnonzero((speeds > MAX_PLAUSIBLE_SPEED).any(axis=1))
+    if not bad.size:
+        return None
+    row = int(bad[0])
+    k = start + row
+    j = int(np.argmax(np.abs(block.speed[row])))
+    value = block.speed[row, j]
+    return k, (
+        f'joint "{block.joint_names[j]}" turns at {value:.3g} rad/s '
+        f"({value * 60 / (2 * math.pi):.3g}"
+        f" rpm), beyond the plausible {MAX_PLAUSIBLE_SPEED:.0e} rad/s"
+    )
 
 
 #: Work terms of the energy ledger, accumulated over steps [J].
@@ -133,20 +175,33 @@ def _signal_table(
     """Values of time signals at t_k = k·dt, k in start:stop, as a (stop − start, width) table.
 
     Column ``columns[i]`` gets load i (added, so two loads on one joint sum). Returns the table
-    and the first non-finite value as (k, load, value), or None.
+    and the first sample whose value is not finite or whose function raised, as (k, load,
+    value or exception), or None.
     """
     table = np.zeros((stop - start, width))
     times = np.arange(start, stop) * dt
+    first_bad = None
     for load, column in zip(loads, columns, strict=True):
         if callable(load.signal):
-            values = np.array([load(t) for t in times], dtype=float)
+            values = np.full(len(times), np.nan)
+            for i, t in enumerate(times):
+                try:
+                    values[i] = load(t)
+                except Exception as err:  # the user's function: report it with its step
+                    bad = (start + i, load, err)
+                    break
+            else:
+                bad = None
         else:
             values = np.full(len(times), float(load.signal))
+            bad = None
         table[:, column] += values
-        bad = np.flatnonzero(~np.isfinite(values))
-        if bad.size:
-            return table, (start + int(bad[0]), load, float(values[bad[0]]))
-    return table, None
+        nonfinite = np.flatnonzero(~np.isfinite(values))
+        if bad is None and nonfinite.size:
+            bad = (start + int(nonfinite[0]), load, float(values[nonfinite[0]]))
+        if bad is not None and (first_bad is None or bad[0] < first_bad[0]):
+            first_bad = bad
+    return table, first_bad
 
 
 def simulate(
@@ -175,7 +230,8 @@ def simulate(
         torques: joint name → torque [N·m] about the joint axis, number or callable(t).
         speeds: joint name → prescribed joint speed [rad/s], number or callable(t); the driving
             torque is the multiplier of the driver's row (``res.joint(name).torque``).
-        initial_speeds: joint name → initial speed [rad/s]; projected onto the constraints.
+        initial_speeds: joint name → initial speed [rad/s]; the other joints start at the speeds
+            the gear meshes impose (``dynamics.ratios.train_speeds``).
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
@@ -197,20 +253,29 @@ def simulate(
         the samples computed so far and the reason.
 
     Raises:
-        InputError: unknown joint names, non-finite values, dt or duration not positive.
+        InputError: unknown joint names, non-finite values, dt or duration not positive, a
+            duration that dt does not divide, a torque or speed on a fixed mount, a load
+            function that raises (its exception is the ``__cause__``).
+        ConflictingConstraints: initial or driver speeds that contradict the gear ratios.
         SolverFailed, Diverged: the run cannot go on; the message names the step and time.
+            Diverged also when a joint turns faster than ``MAX_PLAUSIBLE_SPEED``.
+        OutOfMemory: the result arrays do not fit in memory.
     """
     duration = _check_positive("duration", duration, "s")
     dt = _check_positive("dt", dt, "s")
-    if dt > duration:
-        raise InputError(f"dt = {dt:g} s is longer than duration = {duration:g} s")
-    steps = int(round(duration / dt))
+    steps = _step_count(duration, dt)
     index = {name: gearbox.v_index(name) for name in gearbox.joint_names}
     free = {k: i for k, i in index.items() if k not in gearbox.locked_joints}
-    probe = (0.0, 0.5 * duration, duration)
+    probe = (0.0,)  # later failures are caught in the run, which logs the samples before them
     torque_loads = joint_loads(
         torques, where="torques", joint_index=index, unit="N·m", probe_times=probe
     )
+    for name in torques or {}:
+        if name in gearbox.locked_joints:
+            raise InputError(
+                f'joint "{name}" is a fixed mount (a gear on a fixed joint, held at zero speed); '
+                "a torque on it would vanish into the lock. Load one of: " + ", ".join(free)
+            )
     for name in list(speeds or {}) + list(initial_speeds or {}):
         if name in gearbox.locked_joints:
             raise InputError(
@@ -244,7 +309,10 @@ def simulate(
     samples = steps + 1
     stride = _keep_stride(keep, samples, _bytes_per_sample(gearbox, len(body_names)))
     kept = _kept_samples(samples, stride)
-    res = _allocate(gearbox, len(kept), body_names)
+    try:
+        res = _allocate(gearbox, len(kept), body_names)
+    except MemoryError as err:
+        raise OutOfMemory(len(kept), duration, dt) from err
     res.metadata = {
         "model_name": gearbox.name,
         "model_path": str(gearbox.path),
@@ -255,6 +323,7 @@ def simulate(
         "gravity": list(map(float, g)),
         "torques": {ld.joint: ld.description for ld in torque_loads},
         "speeds": {ld.joint: ld.description for ld in speed_loads},
+        "initial_speeds": {ld.joint: ld.description for ld in init},
         "locked_joints": list(gearbox.locked_joints),
         "solver": settings.as_dict(),
         "integrator": "semi-implicit Euler with velocity projection",
@@ -269,11 +338,8 @@ def simulate(
         }
 
     q = gearbox.neutral()
-    v = np.zeros(model.nv)
-    for ld in init:
-        v[ld.v_index] = ld(0.0)
-    for ld in speed_loads:
-        v[ld.v_index] = ld(0.0)
+    given = {ld.joint: ld(0.0) for ld in [*init, *speed_loads]}
+    v = train_speeds(gearbox, given) if given else np.zeros(model.nv)
 
     if progress is None:
         import sys
@@ -310,42 +376,43 @@ def simulate(
             target, bad_target = _signal_table(
                 drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
             )
-            error = None
+            error = cause = None
             if bad_torque is not None:
-                k, load, value = bad_torque
+                k, load, cause = bad_torque
                 stop = k
-                error = NonFiniteInput(
-                    f'torques["{load.joint}"] is {value} N·m at step {k} (t = {k * dt:.6g} s); '
-                    "the torque function must return finite values"
-                )
+                error = _signal_error("torques", load, k, dt, cause, "N·m")
             if bad_target is not None and max(bad_target[0] - 1, 0) < stop:
-                k, load, value = bad_target
+                k, load, cause = bad_target
                 stop = max(k - 1, 0)
-                error = NonFiniteInput(
-                    f'speeds["{load.joint}"] is {value} rad/s at t = {k * dt:.6g} s; the speed '
-                    "function must return finite values"
-                )
+                error = _signal_error("speeds", load, k, dt, cause, "rad/s")
             block = _allocate(gearbox, stop - start, body_names, empty=True)
             done = start
+            failure: PinwindError | None = None
             try:
                 done = stepper.run(
                     start, stop, torque[: stop - start], target[: stop - start + 1], block
                 )
             except PinwindError as err:
                 done = getattr(err, "samples", start)
-                raise
-            finally:
-                # Samples start:done are final whatever happened: keep and hand them over.
-                if done > start:
-                    part = block if done == stop else block.truncated(done - start)
-                    if spring0 is None:
-                        spring0 = float(part.energy["potential_spring"][0])
-                    _numerical_loss(part.energy, spring0)
-                    _keep(res, part, start, kept)
-                    if observer is not None:
-                        observer.samples(part, start)
+                failure = err
+            absurd = _implausible(block, start, done)
+            if absurd is not None:
+                done = absurd[0]
+            # Samples start:done are final whatever happened: keep and hand them over.
+            if done > start:
+                part = block if done == stop else block.truncated(done - start)
+                if spring0 is None:
+                    spring0 = float(part.energy["potential_spring"][0])
+                _numerical_loss(part.energy, spring0)
+                _keep(res, part, start, kept)
+                if observer is not None:
+                    observer.samples(part, start)
+            if absurd is not None:
+                raise _diverged(absurd, dt) from failure
+            if failure is not None:
+                raise failure
             if error is not None:
-                raise error
+                raise error from (cause if isinstance(cause, Exception) else None)
             if bar is not None:
                 bar.advance(stop - start)
     except KeyboardInterrupt:
@@ -439,6 +506,37 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
         }
     return out
+
+
+#: Likely causes of a run whose speeds become absurd, for the message.
+DIVERGENCE_CAUSES = (
+    "Likely causes: dt too large for the stiffest spring (explicit integration), negative "
+    "damping, or a torque with nothing to hold the speed (no generator load or speed driver)"
+)
+
+
+def _diverged(absurd: tuple[int, str], dt: float) -> Diverged:
+    k, what = absurd
+    return Diverged(k, k * dt, what, cause=DIVERGENCE_CAUSES)
+
+
+def _signal_error(where: str, load: JointLoad, k: int, dt: float, value, unit: str) -> InputError:
+    """The error for a torque or speed function that raised or returned a non-finite value."""
+    if isinstance(value, Exception):
+        step = max(k - 1, 0) if where == "speeds" else k
+        return InputError(
+            f'{where}["{load.joint}"] raised {type(value).__name__}: {value} at t = {k * dt:.6g} '
+            f"s (step {step}); fix the function. The samples before step {step} are kept"
+        )
+    if where == "speeds":  # step k − 1 asks for the speed at t_k
+        return NonFiniteInput(
+            f'speeds["{load.joint}"] is {value} rad/s at t = {k * dt:.6g} s; the speed function '
+            f"must return finite values (the run stopped before step {max(k - 1, 0)})"
+        )
+    return NonFiniteInput(
+        f'{where}["{load.joint}"] is {value} {unit} at step {k} (t = {k * dt:.6g} s); the '
+        "torque function must return finite values"
+    )
 
 
 class _progress_bar:

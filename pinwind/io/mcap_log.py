@@ -36,7 +36,7 @@ import numpy as np
 from mcap.opcode import Opcode
 
 from pinwind.dynamics.result import Result
-from pinwind.errors import LogError, LogExists, LogRecovered
+from pinwind.errors import InvalidLogRate, LogError, LogExists, LogRecovered
 from pinwind.io import messages
 from pinwind.io.mcap_file import (
     RECORD_HEADER,
@@ -246,14 +246,22 @@ def _interrupts_deferred() -> Iterator[None]:
             signal.raise_signal(s)
 
 
-def _resolve_rate(dt: float, log_rate: float | None) -> tuple[int, float]:
-    """(stride, logged rate [Hz]) for a wanted log rate at time step dt."""
-    sample_rate = 1.0 / dt
+def _resolve_rate(dt: float | None, log_rate: float | None) -> tuple[int, float]:
+    """(stride, logged rate [Hz]) for a wanted log rate at time step dt (None: check only)."""
+    sample_rate = 1.0 / dt if dt is not None else math.inf
     if log_rate is None:
         return 1, sample_rate
     log_rate = float(log_rate)
     if not math.isfinite(log_rate) or log_rate <= 0.0:
-        raise LogError("<log_rate>", f"the log rate must be a positive number [Hz]; got {log_rate}")
+        raise InvalidLogRate(f"the log rate must be a positive number [Hz]; got {log_rate}")
+    if dt is None:
+        return 1, log_rate
+    if log_rate > sample_rate * (1.0 + 1e-9):
+        raise InvalidLogRate(
+            f"log rate {log_rate:g} Hz is above the sample rate 1/dt = {sample_rate:g} Hz "
+            f"(dt = {dt:g} s): a run cannot log more samples than it computes; give at most "
+            f"{sample_rate:g} Hz, or omit --log-rate to log every sample"
+        )
     stride = max(1, round(sample_rate / log_rate))
     return stride, sample_rate / stride
 
@@ -289,7 +297,7 @@ class McapLogger:
         if self.path.exists() and not overwrite:
             raise LogExists(str(self.path))
         if log_rate is not None:
-            _resolve_rate(1.0, log_rate)  # check the value before the run starts
+            _resolve_rate(None, log_rate)  # check the value before the run starts
         self.log_rate = log_rate
         self.overwrite = overwrite
         self.command = command if command is not None else shlex.join(sys.argv)
@@ -310,7 +318,14 @@ class McapLogger:
         """Open the file; write schemas, channels, the model, the metadata and the names."""
         meta = result.metadata
         self.stride, rate = _resolve_rate(float(meta["dt"]), self.log_rate)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise LogError(
+                str(self.path),
+                f"cannot create the folder {self.path.parent} for the log: "
+                f"{err.strerror or err}; choose another --out (or log=) or fix its permissions",
+            ) from err
         try:
             self._stream = open(self.path, "wb" if self.overwrite else "xb")  # noqa: SIM115
         except FileExistsError as err:

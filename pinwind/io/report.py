@@ -2,7 +2,9 @@
 
 For each quantity of each joint, mesh and bearing: min, max, mean, RMS and final value over a time
 window (``analysis/summary.statistics``; the columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2),
-in SI units. Vectors give one row per world or joint-frame component plus one for the magnitude.
+in SI units (``report_dict``, ``--json``); the printed tables use the units of ``pinwind
+simulate``: rpm, kN, kN·m. Vectors give one row per world or joint-frame component plus one for
+the magnitude.
 Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has them).
 """
 
@@ -13,6 +15,7 @@ from collections.abc import Iterator
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from rich.markup import escape
 from rich.table import Table
 
 from pinwind.dynamics.result import Result
@@ -257,10 +260,56 @@ _TITLES = {
 }
 
 
+#: SI unit of a report row → (unit printed by ``pinwind report``, factor), the units of
+#: ``pinwind simulate``'s summary: rpm, kN, kN·m, µm, kJ.
+DISPLAY_UNITS = {
+    "rad/s": ("rpm", 60.0 / (2.0 * math.pi)),
+    "N": ("kN", 1e-3),
+    "N*m": ("kN·m", 1e-3),
+    "m": ("µm", 1e6),
+    "J": ("kJ", 1e-3),
+    "rad/s^2": ("rad/s²", 1.0),
+    "1": ("-", 1.0),
+}
+
+#: Short labels of the quantities in the printed tables (the JSON keeps the long ones).
+_LABELS = {
+    "acceleration": "accel.",
+    "transmission error": "TE",
+    "force on B (world)": "F on B",
+    "force (world)": "F world",
+    "moment (world)": "M world",
+    "force (joint frame)": "F joint",
+    "moment (joint frame)": "M joint",
+    "constraint residual": "|J v|",
+}
+
+
+def _short(value: float) -> str:
+    """A number in at most 10 characters: 6 significant digits, or 4 in exponent form."""
+    text = f"{value:.6g}"
+    return text if len(text) <= 10 else f"{value:.3e}"
+
+
 def report_tables(
-    res: Result | Report, start: float | None = None, stop: float | None = None
+    res: Result | Report,
+    start: float | None = None,
+    stop: float | None = None,
+    *,
+    plain: bool = False,
 ) -> list[Table]:
-    """The report as rich tables, one per group."""
+    """The report as rich tables, one per group, in the units of ``pinwind simulate``.
+
+    Speeds in rpm, forces in kN, torques and moments in kN·m, transmission error in µm, energy
+    in kJ; each element's name heads its rows, and each row names its quantity, axis and unit
+    ("F world x [kN]"). ``report_dict`` stays SI. Numbers are never cut.
+
+    Args:
+        res: a Result (statistics over the window) or a streamed ``report_log`` Report.
+        plain: ASCII rules and no styles, for pipes and files.
+    """
+    from pinwind.analysis.summary import PLAIN_BOX, TERMINAL_BOX
+
     rep = _as_report(res, start, stop)
     span = f"t = {rep.first:.6g} to {rep.last:.6g} s, {rep.samples} samples"
     tables = []
@@ -268,17 +317,32 @@ def report_tables(
         members = [r for r in rep.rows if r.group == group]
         if not members:
             continue
-        table = Table(title=f"{title} ({span})")
-        for column in ("element", "quantity", "axis", "unit", *STATISTICS):
-            justify = "right" if column in STATISTICS else "left"
-            table.add_column(column.upper() if column == "rms" else column, justify=justify)
+        table = Table(
+            title=escape(f"{title} ({span})"),
+            box=PLAIN_BOX if plain else TERMINAL_BOX,
+            show_edge=False,
+            pad_edge=False,
+            title_style=None if plain else "bold",
+            header_style=None if plain else "bold",
+        )
+        # 15 + 5 × 10 characters, one space either side of each column: within 80 columns.
+        table.add_column("element/quantity", width=15, overflow="fold")
+        for stat in STATISTICS:
+            name = "RMS" if stat == "rms" else stat
+            table.add_column(name, justify="right", width=10, no_wrap=True)
+        element = None
         for r in members:
+            if r.element != element and group != "run":
+                element = r.element
+                table.add_row(escape(element), *([""] * len(STATISTICS)))
+            unit, factor = DISPLAY_UNITS.get(r.unit, (r.unit, 1.0))
+            label = _LABELS.get(r.quantity, r.quantity)
+            if group == "run" and r.quantity == "energy":
+                label = r.element
+            axis = f" {r.component}" if r.component else ""
             table.add_row(
-                r.element,
-                r.quantity,
-                r.component,
-                r.unit,
-                *(f"{getattr(r, s):.6g}" for s in STATISTICS),
+                escape(f"  {label}{axis} [{unit}]"),
+                *(_short(getattr(r, stat) * factor) for stat in STATISTICS),
             )
         tables.append(table)
     return tables

@@ -53,7 +53,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from pinwind.errors import InvalidGearTrain, PinwindWarning, PlanetsCollide
+from pinwind.errors import InputError, InvalidGearTrain, PinwindWarning, PlanetsCollide
 from pinwind.gears.involute import pair_geometry
 from pinwind.model.gearbox import CENTRE_DISTANCE_RTOL
 
@@ -586,7 +586,14 @@ def planetary_urdf(
 def write_planetary(path: str | Path, **kwargs) -> Path:
     """Write ``planetary_urdf(**kwargs)`` to ``path``; return the path."""
     path = Path(path)
-    path.write_text(planetary_urdf(**kwargs), encoding="utf-8")
+    text = planetary_urdf(**kwargs)
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as err:
+        raise InputError(
+            f"cannot write the model to {path}: {err.strerror or err}; choose another --output "
+            "or fix the folder's permissions"
+        ) from err
     return path
 
 

@@ -17,15 +17,19 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.errors import (
+    ImplausibleGear,
     InconsistentCentreDistance,
     InvalidGearGeometry,
+    InvalidInertia,
+    InvalidMount,
     MalformedModel,
     NonParallelAxes,
     PinwindError,
     PinwindWarning,
+    UnknownElement,
 )
 from pinwind.gears.contact import PathOfContact, path_of_contact
-from pinwind.gears.involute import pair_geometry
+from pinwind.gears.involute import pair_geometry, pitch_radius
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 
@@ -33,6 +37,12 @@ from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 CENTRE_DISTANCE_RTOL = 1e-4
 #: Largest angle between two meshing gears' axes [rad].
 AXIS_PARALLEL_TOL = 1e-6
+#: Density of the solid steel disc a gear's mass and inertia are compared with [kg/m³].
+STEEL_DENSITY = 7850.0
+#: A gear link's mass or axial inertia this many times above or below that of the steel disc of
+#: its pitch diameter and face width gets an ``ImplausibleGear`` warning (a shaft or a hub adds a
+#: few times the disc's mass; a slip of units is a factor of 1000).
+PLAUSIBLE_FACTOR = 10.0
 
 
 @dataclass(frozen=True)
@@ -146,7 +156,10 @@ class Gearbox:
             if self.model.joints[jid].nv != 1:
                 raise MalformedModel(source.path, "<robot>", "only 1-DoF bearings are supported")
         self.joint_names = [self.model.names[j] for j in range(1, self.model.njoints)]
+        self._check_axial_inertia()
         self.gears = {name: self._attach(spec) for name, spec in source.gears.items()}
+        #: Plausibility notes (``ImplausibleGear``), issued as warnings by ``load``/``loads``.
+        self.warnings = self._implausible_gears()
         self.gravity = (
             source.gravity.copy() if source.gravity is not None else self._default_gravity()
         )
@@ -166,11 +179,15 @@ class Gearbox:
         return self.model.joints[self.model.getJointId(joint)].idx_v
 
     def mesh(self, name: str) -> Mesh:
-        """The mesh of that name."""
+        """The mesh of that name.
+
+        Raises:
+            UnknownElement: no mesh has that name; the message lists the meshes.
+        """
         for m in self.meshes:
             if m.name == name:
                 return m
-        raise KeyError(name)
+        raise UnknownElement("mesh", name, [m.name for m in self.meshes])
 
     def neutral(self) -> np.ndarray:
         """Reference configuration q (all bearing angles zero)."""
@@ -222,6 +239,17 @@ class Gearbox:
                 f'{np.round(joint_axis, 6)} of its bearing "{self.model.names[joint_id]}"',
             )
         off_axis = centre - (centre @ joint_axis) * joint_axis
+        bearing_child = self._links_on(joint_id)[0] if joint_id else self.source.root_link
+        if np.linalg.norm(off_axis) > 1e-9 and spec.link != bearing_child:
+            raise InvalidMount(
+                self.path,
+                where,
+                f'the gear\'s link "{spec.link}" is welded (fixed joints) to link '
+                f'"{bearing_child}", which turns on bearing "{self.model.names[joint_id]}"; the '
+                f"gear centre is {np.linalg.norm(off_axis) * 1e3:.4f} mm off that bearing's axis, "
+                "so the gear would orbit with the body instead of turning about its own centre. "
+                f'Mount "{spec.link}" on its own bearing (a revolute or continuous joint)',
+            )
         if np.linalg.norm(off_axis) > 1e-9:
             raise InvalidGearGeometry(
                 self.path,
@@ -232,11 +260,76 @@ class Gearbox:
         axis = np.sign(axis @ joint_axis) * joint_axis
         return Gear(spec=spec, joint_id=joint_id, centre_in_joint=centre, axis_in_joint=axis)
 
+    def _links_on(self, joint_id: int) -> list[str]:
+        return [
+            f.name
+            for f in self.model.frames
+            if f.type == pin.FrameType.BODY and f.parentJoint == joint_id
+        ]
+
+    def _check_axial_inertia(self) -> None:
+        """Refuse a bearing whose body (its links welded together) has no inertia about its axis."""
+        for jid in range(1, self.model.njoints):
+            inertia = self.model.inertias[jid]
+            k = self._joint_axis(jid)
+            c = np.asarray(inertia.lever)
+            about_origin = inertia.inertia + inertia.mass * ((c @ c) * np.eye(3) - np.outer(c, c))
+            axial = float(k @ about_origin @ k)
+            scale = float(np.abs(np.linalg.eigvalsh(inertia.inertia)).max())
+            if axial <= 1e-12 * scale:
+                links = ", ".join(f'"{n}"' for n in self._links_on(jid))
+                raise InvalidInertia(
+                    self.path,
+                    f'<link name="{self._links_on(jid)[0]}">',
+                    f'the body on bearing "{self.model.names[jid]}" (links {links}) has no '
+                    f"inertia about the bearing axis {np.round(k, 6)} ({axial:.3g} kg·m²): "
+                    "it would spin up infinitely fast. Give the moment of inertia about the "
+                    "shaft axis (a solid disc: m r²/2)",
+                )
+
+    def _implausible_gears(self) -> list[str]:
+        """Gear links whose mass or axial inertia is far from the steel discs of their gears."""
+        notes = []
+        by_link: dict[str, list[Gear]] = {}
+        for gear in self.gears.values():
+            by_link.setdefault(gear.spec.link, []).append(gear)
+        for link, gears in by_link.items():
+            data = self.source.links[link]
+            if any(g.spec.internal for g in gears) or data.get("mass") is None:
+                continue  # a ring's rim is not a disc
+            frame = self.model.frames[self.model.getFrameId(link, pin.BODY)]
+            rotation = pin.rpy.rpyToMatrix(*data["rpy"])
+            tensor = rotation @ data["inertia"] @ rotation.T  # about the COM, link axes
+            axis = frame.placement.rotation.T @ gears[0].axis_in_joint  # link axes
+            mass, axial = data["mass"], float(axis @ tensor @ axis)
+            disc_mass = disc_inertia = 0.0
+            sizes = []
+            for g in gears:
+                r = pitch_radius(g.spec.teeth, g.spec.module, g.spec.helix_angle)
+                m = STEEL_DENSITY * math.pi * r**2 * g.spec.face_width
+                disc_mass += m
+                disc_inertia += 0.5 * m * r**2
+                sizes.append(f'"{g.name}" {2 * r * 1e3:.4g} mm × {g.spec.face_width * 1e3:.4g} mm')
+            discs = f"solid steel disc{'s' if len(gears) > 1 else ''} ({', '.join(sizes)})"
+            for what, value, disc, unit in (
+                ("mass", mass, disc_mass, "kg"),
+                ("axial inertia", axial, disc_inertia, "kg·m²"),
+            ):
+                ratio = value / disc
+                if not 1.0 / PLAUSIBLE_FACTOR <= ratio <= PLAUSIBLE_FACTOR:
+                    notes.append(
+                        f'{self.path}: <link name="{link}">: {what} {value:.4g} {unit} is '
+                        f"{ratio:.3g} times that of the {discs} its gears imply, {disc:.4g} "
+                        f"{unit}; check the value and its units"
+                    )
+        return notes
+
     def _joint_axis(self, joint_id: int) -> np.ndarray:
         data = self.model.createData()
         q = pin.neutral(self.model)
         pin.computeJointJacobians(self.model, data, q)
-        jac = pin.getJointJacobian(self.model, data, joint_id, pin.LOCAL)
+        # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
+        jac = np.reshape(pin.getJointJacobian(self.model, data, joint_id, pin.LOCAL), (6, -1))
         col = jac[:, self.model.joints[joint_id].idx_v]
         return col[3:] / np.linalg.norm(col[3:])
 
@@ -245,6 +338,25 @@ class Gearbox:
     ) -> Mesh:
         where = f'<mesh name="{name}">'
         a, b = self.gears[gear_a], self.gears[gear_b]
+        fixed = [g for g in (a, b) if self.model.names[g.joint_id] in self.locked_joints]
+        if len(fixed) == 2:
+            raise InvalidMount(
+                self.path,
+                where,
+                f'gears "{gear_a}" and "{gear_b}" are both on fixed mounts (welded to the ground): '
+                "the mesh could carry any force and pinwind could not tell which. Mount one of "
+                "them on a bearing (a revolute or continuous joint)",
+            )
+        if a.joint_id == b.joint_id:
+            body = self.model.names[a.joint_id] if a.joint_id else self.source.root_link
+            raise InvalidMount(
+                self.path,
+                where,
+                f'gears "{gear_a}" (link "{a.spec.link}") and "{gear_b}" (link "{b.spec.link}") '
+                f'are on one rigid body (the links are welded together on bearing "{body}"): '
+                "they cannot turn against each other, so the mesh would carry no force. Mount "
+                "one of them on its own bearing (a revolute or continuous joint)",
+            )
         data = self.model.createData()
         pin.forwardKinematics(self.model, data, pin.neutral(self.model))
         centre_a = data.oMi[a.joint_id].act(a.centre_in_joint)
@@ -263,17 +375,26 @@ class Gearbox:
         d_perp = d - (d @ axis_a) * axis_a
         actual = float(np.linalg.norm(d_perp))
         sa, sb = a.spec, b.spec
-        geo = pair_geometry(
-            sa.teeth,
-            sb.teeth,
-            module=sa.module,
-            pressure_angle=sa.pressure_angle,
-            profile_shift_1=sa.profile_shift,
-            profile_shift_2=sb.profile_shift,
-            helix_angle=abs(sa.helix_angle),
-            internal_1=sa.internal,
-            internal_2=sb.internal,
-        )
+        try:
+            geo = pair_geometry(
+                sa.teeth,
+                sb.teeth,
+                module=sa.module,
+                pressure_angle=sa.pressure_angle,
+                profile_shift_1=sa.profile_shift,
+                profile_shift_2=sb.profile_shift,
+                helix_angle=abs(sa.helix_angle),
+                internal_1=sa.internal,
+                internal_2=sb.internal,
+            )
+        except ValueError as err:
+            raise InvalidGearGeometry(
+                self.path,
+                where,
+                f'gears "{gear_a}" ({sa.teeth} teeth, profile shift {sa.profile_shift:g}) and '
+                f'"{gear_b}" ({sb.teeth} teeth, profile shift {sb.profile_shift:g}) cannot mesh: '
+                f"{err}",
+            ) from err
         tol = CENTRE_DISTANCE_RTOL * geo.centre_distance
         if abs(actual - geo.centre_distance) > tol:
             kind = "internal" if (sa.internal or sb.internal) else "external"
@@ -379,16 +500,21 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:
     """The URDF text Pinocchio builds from, and the joints to lock.
 
     Continuous joints become revolute (one angle coordinate, unwrapped, instead of cos/sin), and a
-    fixed joint whose child carries a gear becomes a revolute joint about the gear axis that the
-    simulation locks, so the mount reaction of a ring gear is a bearing reaction like any other.
+    fixed joint whose child carries a gear and whose parent stands still (the ground, or a body
+    welded to it) becomes a revolute joint about the gear axis that the simulation locks, so the
+    mount reaction of a ring gear is a bearing reaction like any other. A gear on a link welded to
+    a moving body (a gear shrunk onto a shaft link) keeps its weld: it turns with that body, as if
+    it were on that body's link.
     """
     root = ET.fromstring(source.text)
     geared_links = {g.link: g for g in source.gears.values()}
+    moving = _moving_links(source)
     locked = []
     for joint in root.findall("joint"):
         jtype = joint.get("type")
         child = joint.find("child").get("link")
-        if jtype == "fixed" and child in geared_links:
+        parent = joint.find("parent").get("link")
+        if jtype == "fixed" and child in geared_links and parent not in moving:
             gear = geared_links[child]
             axis = gear.axis_in_link if gear.axis_in_link is not None else np.array([0, 0, 1.0])
             joint.set("type", "revolute")
@@ -407,6 +533,22 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:
     return ET.tostring(root, encoding="unicode"), locked
 
 
+def _moving_links(source: ModelFile) -> set[str]:
+    """Links that a revolute or continuous joint lies between and the ground."""
+    children: dict[str, list[tuple[str, str]]] = {}
+    for joint in source.joints.values():
+        children.setdefault(joint["parent"], []).append((joint["child"], joint["type"]))
+    moving: set[str] = set()
+    stack = [(source.root_link, False)]
+    while stack:
+        link, turns = stack.pop()
+        if turns:
+            moving.add(link)
+        for child, jtype in children.get(link, []):
+            stack.append((child, turns or jtype != "fixed"))
+    return moving
+
+
 def load(path: str | Path) -> Gearbox:
     """Load a gearbox model file (URDF with a ``<gearbox>`` extension; docs/model_format.md).
 
@@ -414,9 +556,15 @@ def load(path: str | Path) -> Gearbox:
         ModelError: malformed file or inconsistent gear data; the message names the file, the
             element and the numbers.
     """
-    return Gearbox(read_model_file(str(path)))
+    gearbox = Gearbox(read_model_file(str(path)))
+    for note in gearbox.warnings:
+        warnings.warn(note, ImplausibleGear, stacklevel=2)
+    return gearbox
 
 
 def loads(text: str, path: str = "<string>") -> Gearbox:
     """Build a gearbox from model-file text (``path`` only names it in messages)."""
-    return Gearbox(read_model_file(path, text))
+    gearbox = Gearbox(read_model_file(path, text))
+    for note in gearbox.warnings:
+        warnings.warn(note, ImplausibleGear, stacklevel=2)
+    return gearbox

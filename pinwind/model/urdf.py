@@ -13,7 +13,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinwind.errors import InvalidGearGeometry, InvalidInertia, MalformedModel, UnknownName
+from pinwind.errors import (
+    InvalidGearGeometry,
+    InvalidInertia,
+    InvalidMount,
+    MalformedModel,
+    UnknownName,
+)
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 
 
@@ -81,33 +87,45 @@ def _describe(el: ET.Element) -> str:
     return f'<{el.tag} name="{name}">' if name is not None else f"<{el.tag}>"
 
 
-def _number(path: str, el: ET.Element, attr: str, default: float | None = None) -> float:
+def _number(
+    path: str, el: ET.Element, attr: str, default: float | None = None, where: str | None = None
+) -> float:
+    """A finite number attribute; ``where`` names the owning element (a link, for its mass)."""
+    where = where or _describe(el)
+    at = f"<{el.tag}> " if where != _describe(el) else ""
     raw = el.get(attr)
     if raw is None:
         if default is None:
-            raise MalformedModel(path, _describe(el), f'missing attribute "{attr}"')
+            raise MalformedModel(path, where, f'{at}missing attribute "{attr}"')
         return default
     try:
         value = float(raw)
     except ValueError as err:
-        raise MalformedModel(
-            path, _describe(el), f'attribute {attr}="{raw}" is not a number'
-        ) from err
+        raise MalformedModel(path, where, f'{at}attribute {attr}="{raw}" is not a number') from err
     if not math.isfinite(value):
-        raise MalformedModel(path, _describe(el), f'attribute {attr}="{raw}" is not finite')
+        raise MalformedModel(
+            path, where, f'{at}attribute {attr}="{raw}" is not finite; give a finite number'
+        )
     return value
 
 
-def _vector(path: str, el: ET.Element | None, attr: str, default: str) -> np.ndarray:
+def _vector(
+    path: str, el: ET.Element | None, attr: str, default: str, where: str | None = None
+) -> np.ndarray:
+    """Three finite numbers; ``where`` names the owning element (a joint, for its origin)."""
     raw = default if el is None else el.get(attr, default)
+    where = where or _describe(el)
+    at = f"<{el.tag}> " if el is not None and where != _describe(el) else ""
     try:
         vec = np.array([float(x) for x in raw.split()], dtype=float)
     except ValueError as err:
         raise MalformedModel(
-            path, _describe(el), f'attribute {attr}="{raw}" is not three numbers'
+            path, where, f'{at}attribute {attr}="{raw}" is not three numbers'
         ) from err
     if vec.shape != (3,) or not np.all(np.isfinite(vec)):
-        raise MalformedModel(path, _describe(el), f'attribute {attr}="{raw}" is not three numbers')
+        raise MalformedModel(
+            path, where, f'{at}attribute {attr}="{raw}" is not three finite numbers'
+        )
     return vec
 
 
@@ -128,20 +146,30 @@ def _required(path: str, el: ET.Element, attr: str) -> str:
 def _check_inertia(path: str, link: ET.Element) -> dict:
     inertial = link.find("inertial")
     if inertial is None:
-        return {"mass": 0.0}
+        return {"mass": None}  # refused unless it is the root (the ground), see read_model_file
+    where = _describe(link)
     mass_el = inertial.find("mass")
     if mass_el is None:
-        raise MalformedModel(path, _describe(link), "<inertial> has no <mass>")
-    mass = _number(path, mass_el, "value")
-    where = _describe(link)
+        raise MalformedModel(path, where, "<inertial> has no <mass>")
+    origin = inertial.find("origin")
+    com = _vector(path, origin, "xyz", "0 0 0", where=where)
+    rpy = _vector(path, origin, "rpy", "0 0 0", where=where)
+    mass = _number(path, mass_el, "value", where=where)
     if mass <= 0.0:
         raise InvalidInertia(path, where, f"mass is {mass} kg; a body's mass must be positive")
     inertia_el = inertial.find("inertia")
     if inertia_el is None:
         raise MalformedModel(path, where, "<inertial> has no <inertia>")
     names = ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")
-    ixx, iyy, izz, ixy, ixz, iyz = (_number(path, inertia_el, n, 0.0) for n in names)
+    ixx, iyy, izz, ixy, ixz, iyz = (_number(path, inertia_el, n, 0.0, where=where) for n in names)
     tensor = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+    if not np.any(tensor):
+        raise InvalidInertia(
+            path,
+            where,
+            "the inertia tensor is all zero; a real body has inertia (a solid steel disc of "
+            "radius r and mass m: Izz = m r²/2 about its axis) — give its moments [kg·m²]",
+        )
     principal = np.linalg.eigvalsh(tensor)
     scale = max(abs(principal).max(), 1e-300)
     if principal.min() < -1e-12 * scale:
@@ -157,7 +185,7 @@ def _check_inertia(path: str, link: ET.Element) -> dict:
             f"principal moments {a:.6g}, {b:.6g}, {c:.6g} kg·m² violate the triangle inequality "
             f"({c:.6g} > {a:.6g} + {b:.6g}); no real body has them — check the values and units",
         )
-    return {"mass": mass}
+    return {"mass": mass, "com": com, "rpy": rpy, "inertia": tensor}
 
 
 def read_model_file(path: str, text: str | None = None) -> ModelFile:
@@ -181,12 +209,20 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
     out = ModelFile(path=path, text=text, robot_name=root.get("name", "gearbox"))
     for link in root.findall("link"):
         name = _required(path, link, "name")
+        if name in out.links:
+            raise MalformedModel(
+                path, _describe(link), f'a link named "{name}" is defined twice; names are unique'
+            )
         out.links[name] = _check_inertia(path, link)
     if not out.links:
         raise MalformedModel(path, "<robot>", "the model has no <link>")
     children = set()
     for joint in root.findall("joint"):
         name = _required(path, joint, "name")
+        if name in out.joints:
+            raise MalformedModel(
+                path, _describe(joint), f'a joint named "{name}" is defined twice; names are unique'
+            )
         jtype = _required(path, joint, "type")
         parent_el, child_el = joint.find("parent"), joint.find("child")
         if parent_el is None or child_el is None:
@@ -202,11 +238,23 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
                 f'joint type "{jtype}" is not supported; bearings are revolute, continuous '
                 "or fixed",
             )
+        where = _describe(joint)
+        origin = joint.find("origin")
+        _vector(path, origin, "xyz", "0 0 0", where=where)
+        _vector(path, origin, "rpy", "0 0 0", where=where)
+        axis = _vector(path, joint.find("axis"), "xyz", "1 0 0", where=where)
+        if jtype != "fixed" and np.linalg.norm(axis) < 1e-12:
+            raise MalformedModel(
+                path,
+                where,
+                '<axis> xyz="0 0 0" has no direction; give the shaft axis, e.g. "0 0 1"',
+            )
         out.joints[name] = {
             "type": jtype,
             "parent": parent,
             "child": child,
-            "axis": _vector(path, joint.find("axis"), "xyz", "1 0 0"),
+            "axis": axis,
+            "damping": _damping(path, joint),
         }
         children.add(child)
     roots = [name for name in out.links if name not in children]
@@ -215,13 +263,47 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
             path, "<robot>", f"the links must form one tree with one root; roots found: {roots}"
         )
     out.root_link = roots[0]
+    for name, link in out.links.items():
+        if link["mass"] is None and name != out.root_link:
+            raise InvalidInertia(
+                path,
+                f'<link name="{name}">',
+                "has no <inertial>; pinwind would give it zero mass and inertia (only the root "
+                f'link, "{out.root_link}", is the ground and needs none). Give its <mass> and '
+                "<inertia>",
+            )
 
     boxes = root.findall("gearbox")
     if len(boxes) > 1:
         raise MalformedModel(path, "<gearbox>", "a model has at most one <gearbox> element")
-    if boxes:
-        _read_gearbox(path, boxes[0], out)
+    if not boxes:
+        raise MalformedModel(
+            path,
+            "<robot>",
+            "the model has no <gearbox> element, so no gears and no meshes: every body would "
+            "turn on its own. Add <gearbox> with the gears and meshes (docs/model_format.md), or "
+            "an empty <gearbox/> for a model without gears",
+        )
+    _read_gearbox(path, boxes[0], out)
     return out
+
+
+def _damping(path: str, joint: ET.Element) -> float:
+    """Viscous bearing damping c [N·m·s/rad] of a joint's <dynamics>, checked ≥ 0."""
+    dynamics = joint.find("dynamics")
+    if dynamics is None:
+        return 0.0
+    where = _describe(joint)
+    c = _number(path, dynamics, "damping", 0.0, where=where)
+    friction = _number(path, dynamics, "friction", 0.0, where=where)
+    if c < 0.0 or friction < 0.0:
+        raise InvalidMount(
+            path,
+            where,
+            f"<dynamics> damping {c:g} N·m·s/rad and friction {friction:g} N·m must be ≥ 0; "
+            "negative damping feeds energy into the train and the run diverges",
+        )
+    return c
 
 
 def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:

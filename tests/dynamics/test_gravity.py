@@ -48,3 +48,18 @@ def test_gravity_along_the_shaft_loads_the_bearings_axially(saleh):
     res = pinwind.simulate(saleh, duration=0.01, dt=1e-3, gravity=[0.0, 0.0, -G])
     assert_allclose(res.bearing("sun").force[-1], [0.0, 0.0, MASS["sun"] * G], atol=1e-9)
     assert_allclose(res.bearing("ring").force_local[-1], [0.0, 0.0, MASS["ring"] * G], atol=1e-9)
+
+
+def test_a_model_without_gravity_gets_the_default_and_its_bearings_carry_the_weights():
+    from pinwind.model.gearbox import loads
+
+    text = (MODELS / "saleh2017_planetary.urdf").read_text()
+    assert ' gravity="0 -9.81 0"' in text
+    gb = loads(text.replace(' gravity="0 -9.81 0"', ""), path="saleh_no_gravity.urdf")
+    # Shafts along z: the default is 9.81 m/s² perpendicular to them, along −y.
+    assert_allclose(gb.gravity, [0.0, -G, 0.0], rtol=0, atol=1e-15)
+    res = pinwind.simulate(gb, duration=0.01, dt=1e-3)
+    assert_allclose(res.metadata["gravity"], [0.0, -G, 0.0], rtol=0, atol=1e-15)
+    up = np.array([0.0, 1.0, 0.0])
+    assert_allclose(res.bearing("sun").force[-1], MASS["sun"] * G * up, rtol=1e-12)
+    assert_allclose(res.bearing("ring").force[-1], MASS["ring"] * G * up, rtol=1e-12)

@@ -66,3 +66,74 @@ def test_energy_balance_holds_with_springs_and_a_speed_driver():
     scale = np.abs(res.energy["work_drivers"]).max()
     assert_allclose(change, supplied, rtol=0, atol=1e-6 * scale)
     assert res.constraint_residual.max() < 1e-10
+
+
+def _rotate(quaternion_xyzw: np.ndarray, vector: np.ndarray) -> np.ndarray:
+    """Rotate ``vector`` by each unit quaternion (x, y, z, w) of an (n, 4) array."""
+    xyz, w = quaternion_xyzw[:, :3], quaternion_xyzw[:, 3:]
+    t = 2.0 * np.cross(xyz, vector)
+    return vector + w * t + np.cross(xyz, t)
+
+
+def test_gravity_work_in_the_ledger_equals_weight_times_the_drop_of_an_unbalanced_gear():
+    from tests.conftest import two_gear_urdf
+
+    # Gear a's centre of mass 10 mm off its shaft, level with it at t = 0: released from rest
+    # under the default gravity (the pair model gives none: 9.81 m/s² along −y), it swings down.
+    mass, offset = 1.0, 0.01
+    text = two_gear_urdf().replace(
+        '<inertial><mass value="1.0"/>',
+        f'<inertial><origin xyz="{offset} 0 0"/><mass value="{mass}"/>',
+        1,
+    )
+    gb = loads(text, path="unbalanced_pair.urdf")
+    dt = 1e-4
+    res = pinwind.simulate(gb, duration=1.0, dt=dt)
+    body = res.body("a")
+    centre_of_mass = body.position + _rotate(body.quaternion, np.array([offset, 0.0, 0.0]))
+    drop = centre_of_mass[0, 1] - centre_of_mass[:, 1]
+    assert drop.max() > 0.99 * offset  # it swings through the bottom, 10 mm below the axis
+    expected = mass * 9.81 * drop  # work of gravity = m g Δh, from the body positions alone
+    # Mid-step speeds against positions advanced with v_(k+1): the ledger is first order in dt
+    # (2.4e-4 of m g d at dt = 1e-4 s); a sign error would be off by 2 m g Δh.
+    tol = 1e-3 * mass * 9.81 * offset
+    assert_allclose(res.energy["work_gravity"], expected, rtol=0, atol=tol)
+    # Energy conservation: nothing else does work, so the kinetic energy is m g Δh too.
+    assert_allclose(res.energy["kinetic"], expected, rtol=0, atol=tol)
+    change, supplied = _balance(res)
+    assert_allclose(change, supplied, rtol=0, atol=1e-9 * mass * 9.81 * offset)
+
+
+def test_recorded_speeds_satisfy_the_mesh_row_recomputed_from_the_recorded_angles():
+    # res.constraint_residual is read after the velocity projection, so it is small by
+    # construction. Recompute J(q) v from the recorded angles and speeds alone, with the rows of
+    # pinwind.dynamics.mesh, on the swing arm of test_mesh_rows: gear B's centre moves, so J(q)
+    # turns in joint space and J v drifts every step unless the speeds are projected (with the
+    # projection off, |J v| reaches 0.015 m/s here).
+    import pinocchio as pin
+
+    from pinwind.dynamics.mesh import MeshSet
+    from tests.dynamics.test_mesh_rows import SWING_ARM
+
+    gb = loads(SWING_ARM, path="swing_arm.urdf")
+    res = pinwind.simulate(
+        gb, duration=1.0, dt=1e-3, initial_speeds={"arm": 2.0}, torques={"a": 0.05}
+    )
+    assert np.ptp(res.joint("arm").angle) > 1.0  # the arm swings: the row changes a lot
+    meshes = MeshSet(gb)
+    data = gb.model.createData()
+    # v_k is projected before the solve of step k, onto the row of the flank loaded until then
+    # (the step loop starts on flank +1); the solve may switch the flank, and sample k records
+    # the new one. With a moving centre the other flank's row is not just −row, so check v_k
+    # against the flank of sample k − 1.
+    flank_before = np.vstack([np.ones((1, 1)), res.mesh_flank[:-1]])
+    assert np.any(flank_before != res.mesh_flank)  # the swing arm does switch flanks
+    residual = []
+    for k in range(len(res)):
+        q, v = res.angle[k], res.speed[k]
+        pin.computeJointJacobiansTimeVariation(gb.model, data, q, v)
+        meshes.set_velocity(v)
+        jac, _ = meshes.combine(meshes.evaluate(gb.model, data), flank_before[k])
+        residual.append(np.abs(jac @ v).max())
+    # Pitch-line speeds are ~0.6 m/s; rounding leaves ~1e-16 m/s.
+    assert_allclose(residual, 0.0, rtol=0, atol=1e-12)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import pinwind
@@ -34,11 +35,19 @@ def test_non_finite_torque_is_rejected(pair, value):
         pinwind.simulate(pair, duration=0.01, dt=1e-3, torques={"a": value})
 
 
-def test_non_finite_speed_function_is_rejected_before_stepping(pair):
-    with pytest.raises(NonFiniteInput, match=r'speeds\["b"\] is nan rad/s at t = 0.01 s'):
+def test_non_finite_speed_function_stops_the_run_before_the_step_that_needs_it(pair):
+    # Step k asks for the driver speed at t_(k+1): NaN from t = 6 ms stops the run before step 5.
+    with pytest.raises(
+        NonFiniteInput, match=r'speeds\["b"\] is nan rad/s at t = 0.006 s.*before step 5\)'
+    ):
         pinwind.simulate(
-            pair, duration=0.02, dt=1e-3, speeds={"b": lambda t: math.nan if t > 0 else 0.0}
+            pair, duration=0.02, dt=1e-3, speeds={"b": lambda t: math.nan if t > 0.0055 else 0.0}
         )
+
+
+def test_non_finite_speed_at_the_start_is_rejected_before_stepping(pair):
+    with pytest.raises(NonFiniteInput, match=r'speeds\["b"\] is nan rad/s at t = 0 s'):
+        pinwind.simulate(pair, duration=0.02, dt=1e-3, speeds={"b": lambda t: math.nan})
 
 
 @pytest.mark.parametrize("dt", [0.0, -1e-3, math.nan])
@@ -95,3 +104,85 @@ def test_two_drivers_on_one_gear_train_is_reported_as_conflicting():
     # The sun must turn at 6 × the carrier: 1 and 1 rad/s cannot both hold.
     with pytest.raises(ConflictingConstraints, match="conflicting speed drivers"):
         pinwind.simulate(gb, duration=0.01, dt=1e-3, speeds={"carrier": 1.0, "sun": 1.0})
+
+
+def test_a_torque_on_a_fixed_mount_is_refused():
+    from tests.conftest import MODELS
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    with pytest.raises(InputError, match=r'joint "ring" is a fixed mount.*vanish into the lock'):
+        pinwind.simulate(gb, duration=0.01, dt=1e-3, torques={"ring": 1e5})
+
+
+@pytest.mark.parametrize(
+    "duration, dt, below, above",
+    [(1.0, 0.3, "0.9 s", "1.2 s"), (1.0, 0.15, "0.9 s", "1.05 s"), (0.0105, 1e-3, "0.01", "0.011")],
+)
+def test_duration_that_dt_does_not_divide_is_refused_with_the_nearest_ones(
+    pair, duration, dt, below, above
+):
+    with pytest.raises(InputError, match="not a whole number of steps") as info:
+        pinwind.simulate(pair, duration=duration, dt=dt)
+    message = str(info.value)
+    assert f"duration = {duration:g} s" in message and f"dt = {dt:g} s" in message
+    assert f"nearest durations are {below}" in message and f"and {above}" in message
+
+
+def test_result_arrays_that_do_not_fit_in_memory_give_one_clear_error(pair, monkeypatch):
+    import sys
+
+    from pinwind.errors import OutOfMemory
+
+    simulate_module = sys.modules["pinwind.dynamics.simulate"]
+
+    def no_memory(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(simulate_module, "_allocate", no_memory)
+    with pytest.raises(OutOfMemory, match=r"memory ran out .* 10001 samples \(duration = 10 s"):
+        pinwind.simulate(pair, duration=10.0, dt=1e-3)
+
+
+def test_speed_beyond_the_plausible_bound_stops_the_run_at_the_first_absurd_sample(pair, tmp_path):
+    # two_gear_urdf: I_a = 0.0015, I_b = 0.006 kg·m², ω_b = −(20/40) ω_a, so
+    # J_eq = I_a + I_b / 4 = 0.003 kg·m² and ω_a = (T / J_eq) t_k under a constant torque T.
+    torque, dt = 2600.0, 1e-3
+    alpha = torque / (0.0015 + 0.006 / 4)
+    first = math.floor(1e5 / (alpha * dt)) + 1  # first sample with ω_a > 1e5 rad/s: 116
+    log = tmp_path / "absurd.mcap"
+    with pytest.raises(Diverged, match=r'diverged at step \d+ .*joint "a" turns at') as info:
+        pinwind.simulate(pair, duration=1.0, dt=dt, torques={"a": torque}, log=log)
+    assert info.value.step == first == 116
+    assert "Likely causes" in str(info.value)
+    kept = pinwind.read_log(log)
+    assert len(kept) == first
+    assert np.abs(kept.speed).max() <= 1e5
+
+
+def test_initial_speed_of_the_carrier_starts_the_whole_train_at_rated_speed():
+    from tests.conftest import MODELS
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    omega = 14.2 * 2 * math.pi / 60  # 000_3b7c4a8fe52a6eee.txt §4.1: rotor 14.2 rpm
+    res = pinwind.simulate(
+        gb,
+        duration=0.01,
+        dt=1e-3,
+        initial_speeds={"carrier": omega},
+        torques={"carrier": 1e6, "sun": -1e6 / 6},
+    )
+    # Ring fixed: ω_sun = (1 + z_r/z_s) ω_c = 6 ω_c; planet relative to the carrier −(z_r/z_p) ω_c.
+    np.testing.assert_allclose(res.joint("carrier").speed, omega, rtol=1e-12)
+    np.testing.assert_allclose(res.joint("sun").speed, 6 * omega, rtol=1e-12)
+    for i in (1, 2, 3):
+        np.testing.assert_allclose(res.joint(f"planet{i}").speed, -120 / 48 * omega, rtol=1e-12)
+    np.testing.assert_allclose(res.joint("ring").speed, 0.0, atol=1e-12)
+
+
+def test_initial_speeds_that_contradict_the_gear_ratio_are_refused():
+    from pinwind.errors import ConflictingConstraints
+    from tests.conftest import MODELS
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    with pytest.raises(ConflictingConstraints, match="carrier, sun"):
+        pinwind.simulate(gb, duration=0.01, dt=1e-3, initial_speeds={"carrier": 1.0, "sun": 1.0})

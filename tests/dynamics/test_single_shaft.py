@@ -12,6 +12,7 @@ SHAFT = """<robot name="shaft"><link name="housing"/>
     <inertia ixx="1" iyy="1" izz="0.5" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <joint name="s" type="continuous"><parent link="housing"/><child link="s"/>
     <axis xyz="0 0 1"/><dynamics damping="0.1"/></joint>
+  <gearbox/>
 </robot>"""
 
 

@@ -12,7 +12,7 @@ from mcap.reader import make_reader
 from mcap.stream_reader import StreamReader
 
 import pinwind
-from pinwind.errors import LogError, LogExists, LogRecovered
+from pinwind.errors import InputError, InvalidLogRate, LogError, LogExists, LogRecovered
 from pinwind.io import mcap_log
 from pinwind.io.log_reader import LogDamaged, LogReader
 from pinwind.io.mcap_log import McapLogger, open_log
@@ -171,8 +171,15 @@ def test_bare_log_names_go_in_the_logs_folder(tmp_path, monkeypatch):
 
 
 def test_bad_log_rate_is_refused_before_the_run(planetary, tmp_path):
-    with pytest.raises(LogError, match="positive number"):
+    with pytest.raises(InvalidLogRate, match="positive number"):
         pinwind.simulate(planetary, duration=0.01, dt=DT, log=tmp_path / "r.mcap", log_rate=0.0)
+    assert not (tmp_path / "r.mcap").exists()
+
+
+def test_log_rate_above_the_sample_rate_is_refused_before_the_run(planetary, tmp_path):
+    # dt = 1 ms computes 1000 samples per second: 1500 Hz cannot be logged.
+    with pytest.raises(InvalidLogRate, match="1500 Hz is above the sample rate 1/dt = 1000 Hz"):
+        pinwind.simulate(planetary, duration=0.01, dt=DT, log=tmp_path / "r.mcap", log_rate=1500)
     assert not (tmp_path / "r.mcap").exists()
 
 
@@ -180,35 +187,43 @@ def test_bad_log_rate_is_refused_before_the_run(planetary, tmp_path):
 
 
 class FailsBetween:
-    """Carrier torque that raises ``error`` for 0.1 ≤ t < 0.12 s (not at the probe times)."""
+    """Carrier torque that raises ``error`` for start ≤ t < start + 0.02 s (not at t = 0)."""
 
-    def __init__(self, error: BaseException):
+    def __init__(self, error: BaseException, start: float = 0.1):
         self.error = error
+        self.start = start
 
     def __call__(self, t: float) -> float:
-        if 0.1 <= t < 0.12:
+        if self.start <= t < self.start + 0.02:
             raise self.error
         return 1.0e6
 
 
-def test_run_that_raises_leaves_a_readable_log_saying_why(planetary, tmp_path):
+@pytest.mark.parametrize("fails_at", [100, 137])  # at a block boundary, and inside a block
+def test_run_that_raises_leaves_a_readable_log_saying_why(planetary, tmp_path, fails_at):
     path = tmp_path / "failed.mcap"
-    with pytest.raises(RuntimeError, match="sensor feed lost"):
+    t_fail = fails_at * DT
+    with pytest.raises(InputError, match="sensor feed lost") as info:
         pinwind.simulate(
             planetary,
             duration=DURATION,
             dt=DT,
             log=path,
             chunk=CHUNK,
-            torques={"carrier": FailsBetween(RuntimeError("sensor feed lost"))},
+            torques={"carrier": FailsBetween(RuntimeError("sensor feed lost"), t_fail - DT / 2)},
         )
+    assert isinstance(info.value.__cause__, RuntimeError)
+    assert f"at t = {t_fail:g} s (step {fails_at})" in str(info.value)
     log = open_log(path)
     assert log.complete
     end = log.metadata["pinwind.end"]
-    assert end["status"].startswith("failed at step 100 (t = 0.1 s)")
-    assert end["cause"] == "RuntimeError: sensor feed lost"
-    clean = pinwind.simulate(planetary, duration=0.099, dt=DT, torques={"carrier": 1.0e6})
-    assert len(log.result) == 100 == len(clean)
+    assert end["status"].startswith(f"failed at step {fails_at} (t = {t_fail:g} s)")
+    assert end["cause"].startswith('InputError: torques["carrier"] raised RuntimeError')
+    # Every sample before the failing step is in the log, none after it.
+    clean = pinwind.simulate(
+        planetary, duration=(fails_at - 1) * DT, dt=DT, torques={"carrier": 1.0e6}
+    )
+    assert len(log.result) == fails_at == len(clean)
     assert_same_arrays(log.result, clean)
 
 
@@ -381,3 +396,10 @@ def test_reading_a_complete_log_warns_nothing(logged_run):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         pinwind.read_log(logged_run.path)
+
+
+def test_log_folder_that_cannot_be_created_is_one_clear_error(planetary, tmp_path):
+    blocker = tmp_path / "not_a_folder"
+    blocker.write_text("a file where the log folder should be")
+    with pytest.raises(LogError, match="cannot create the folder .*not_a_folder for the log"):
+        pinwind.simulate(planetary, duration=0.01, dt=DT, log=blocker / "run.mcap")

@@ -141,3 +141,30 @@ def test_streamed_report_of_an_empty_window_names_the_log_span(logged_run):
 
     with pytest.raises(InputError, match=r"the log covers t = 0 to 0\.25 s"):
         report_log(logged_run.path, 1.0, 2.0)
+
+
+def test_report_cli_prints_the_units_of_simulate_in_each_row(logged_run):
+    # rpm, kN and kN·m like pinwind simulate's summary; converted by hand from the SI arrays.
+    out = run("report", str(logged_run.path))
+    assert out.returncode == 0, out.stderr
+    res = pinwind.read_log(logged_run.path)
+    lines = out.stdout.splitlines()
+
+    def row(element: str, quantity: str) -> list[str]:
+        """The cells of ``quantity`` in the block headed by ``element``."""
+        start = next(i for i, line in enumerate(lines) if line.split() == [element])
+        return next(
+            line.split() for line in lines[start + 1 :] if line.strip().startswith(quantity)
+        )
+
+    sun_speed = row("sun", "speed [rpm]")
+    final_rpm = res.joint("sun").speed[-1] * 60 / (2 * np.pi)
+    np.testing.assert_allclose(float(sun_speed[-1]), final_rpm, rtol=1e-5)
+    normal = row("sun_planet1", "normal [kN]")
+    np.testing.assert_allclose(
+        float(normal[-1]), res.mesh("sun_planet1").normal[-1] / 1e3, rtol=1e-5
+    )
+    torque = row("carrier", "torque [kN·m]")
+    np.testing.assert_allclose(float(torque[-1]), res.joint("carrier").torque[-1] / 1e3, rtol=1e-5)
+    assert "[rad/s]" not in out.stdout and "[N]" not in out.stdout
+    assert max(len(line) for line in lines[1:]) <= 80 and "…" not in out.stdout

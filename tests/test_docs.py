@@ -1,0 +1,43 @@
+"""Numbers typed in the README and the docs agree with what they claim to be."""
+
+from __future__ import annotations
+
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+from numpy.testing import assert_allclose
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def test_documented_balanced_drivetrain_output_torque_is_the_rated_torque_over_the_ratio():
+    text = (ROOT / "docs" / "log_format.md").read_text()
+    (typed,) = re.findall(r"stage2_pinion=(-?[0-9.]+)", text)
+    ratio = 6 * 83 / 23 * 103 / 26  # 000_3b7c4a8fe52a6eee.txt: 1 + 120/24, then 83/23, 103/26
+    assert_allclose(float(typed), -1e6 / ratio, rtol=1e-6)
+
+
+def test_readme_quick_start_run_shows_rated_speed_and_tooth_force(tmp_path):
+    text = (ROOT / "README.md").read_text()
+    line = next(x for x in text.splitlines() if "pinwind simulate models/" in x)
+    args = shlex.split(line.split(".venv/bin/pinwind ", 1)[1])
+    args[1] = str(ROOT / args[1])
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", *args, "--no-log"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
+    )
+    assert out.returncode == 0, out.stderr
+    rows: dict[str, list[str]] = {}  # first row of each name: the speeds, then the tooth forces
+    for cells in (line.split() for line in out.stdout.splitlines()):
+        if cells:
+            rows.setdefault(cells[0], cells)
+    # 14.2 rpm rotor, sun 6 × 14.2 = 85.2 rpm (000_3b7c4a8fe52a6eee.txt §4.1), to 4 decimals.
+    assert rows["carrier"][1] == "14.2000" and rows["sun"][1] == "85.2000"
+    # Tangential force per sun mesh (1e6/6) / (3 × 0.18 m) = 308.6420 kN.
+    assert rows["sun_planet1"][2] == f"{1e6 / 6 / (3 * 0.18) / 1e3:.4f}" == "308.6420"
