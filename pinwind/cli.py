@@ -430,6 +430,65 @@ def build_planetary(
     console.print(f"wrote {path}")
 
 
+@app.command()
+def rate(
+    model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
+    torque: Annotated[
+        list[str] | None,
+        typer.Option("--torque", "-t", help="JOINT=N·m applied torque (repeatable)."),
+    ] = None,
+    speed: Annotated[
+        list[str] | None,
+        typer.Option("--speed", "-s", help="JOINT=RPM prescribed joint speed (repeatable)."),
+    ] = None,
+    initial_speed: Annotated[
+        list[str] | None,
+        typer.Option("--initial-speed", help="JOINT=RPM initial speed (repeatable)."),
+    ] = None,
+    material: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--material",
+            help="GEAR=NAME (18CrNiMo7-6, 42CrMo4, 34CrNiMo6; GEAR may be all); default "
+            "18CrNiMo7-6.",
+        ),
+    ] = None,
+    duration: Annotated[float, typer.Option(help="Simulated time [s].")] = 0.05,
+    dt: Annotated[float, typer.Option(help="Time step [s].")] = 1e-3,
+    at: Annotated[str, typer.Option(help="Load level: last, max or mean of the run.")] = "last",
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+) -> None:
+    """Rate every mesh (ISO 6336, AGMA 2001, Hertz) from the forces of a short simulation."""
+    import json
+
+    import pinwind
+    from pinwind.analysis.rating import rate as rate_result
+    from pinwind.analysis.rating_table import rating_tables
+
+    torques, speeds = parse_loads(torque, speed, None)
+    initial = {
+        k: _float(v, "--initial-speed", "rpm") * RPM_TO_RAD_PER_S
+        for k, v in _pairs(initial_speed, "--initial-speed").items()
+    }
+    gearbox = pinwind.load(model)
+    materials = _pairs(material, "--material")
+    if "all" in materials:
+        chosen = materials.pop("all")
+        materials = {g: chosen for g in gearbox.gears} | materials
+    with _warnings_as_lines():
+        res = pinwind.simulate(
+            gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
+            initial_speeds=initial,
+        )  # fmt: skip
+    rating = rate_result(gearbox, res, at=at, materials=materials)
+    if as_json:
+        print(json.dumps(rating.as_dict(), indent=1))
+        return
+    for table in rating_tables(rating, title=f"{gearbox.name} at t = {res.time[-1]:g} s"):
+        console.print(table)
+    console.print("all meshes pass" if rating.passes else "[bold red]some meshes fail[/bold red]")
+
+
 def main() -> None:
     """Entry point: run the CLI and turn pinwind errors into one clear line and exit code 2."""
     try:
