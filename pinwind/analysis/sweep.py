@@ -94,7 +94,8 @@ def enumerate_planetary(
         if ring != sun + 2 * planet or (sun + ring) % planets:
             raise InputError(
                 f"included design {sun}/{planet}/{ring} cannot be built: the ring needs "
-                f"sun + 2·planet = {sun + 2 * planet} teeth and (sun + ring)/{planets} must be whole"
+                f"sun + 2·planet = {sun + 2 * planet} teeth and (sun + ring)/{planets} must be "
+                "whole"
             )
         a = module * (sun + planet) / 2.0
         extra.setdefault((_key(module), _key(a)), []).append((sun, planet, ring))
