@@ -31,7 +31,9 @@ app = typer.Typer(
 )
 build_app = typer.Typer(help="Write parametric gearbox models.", no_args_is_help=True)
 app.add_typer(build_app, name="build")
-sweep_app = typer.Typer(help="Design sweeps: enumerate, simulate, rate, query.", no_args_is_help=True)
+sweep_app = typer.Typer(
+    help="Design sweeps: enumerate, simulate, rate, query.", no_args_is_help=True
+)
 app.add_typer(sweep_app, name="sweep")
 
 # Tables of mesh forces need ~120 columns; pipes and CI logs get that width instead of 80.
@@ -492,12 +494,12 @@ def rate(
 
 
 def _numbers(text: str, option: str, unit: str) -> list[float]:
-    """"420,480,540" → [420.0, 480.0, 540.0]."""
+    """Comma-separated numbers, e.g. 420,480,540, as floats."""
     return [_float(p, option, unit) for p in text.split(",") if p.strip()]
 
 
 def _range(text: str, option: str) -> tuple[float, float]:
-    """"6:6.4" → (6.0, 6.4); a single number gives (x, x)."""
+    """LOW:HIGH, e.g. 6:6.4, as (6.0, 6.4); a single number x gives (x, x)."""
     low, sep, high = text.partition(":")
     lo = _float(low, option, "-")
     return (lo, _float(high, option, "-") if sep else lo)
@@ -725,7 +727,8 @@ def main() -> None:
     try:
         app()
     except PinwindError as err:
-        err_console.print(f"[bold red]error:[/bold red] {err}", highlight=False)
+        # soft_wrap: one line whatever its length (a long path must not be broken in two).
+        err_console.print(f"[bold red]error:[/bold red] {err}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except KeyboardInterrupt:
         err_console.print("interrupted")

@@ -33,6 +33,8 @@ from pathlib import Path
 
 from pinwind.errors import InputError
 
+#: Below this many designs a default sweep runs in this process (see `run_sweep`).
+SERIAL_BELOW = 256
 #: The preliminary design of 000 (Table 2): (sun, planet, ring, module [m]).
 TABLE_5_INCLUDE = ((24, 48, 120, 0.015),)
 
@@ -256,6 +258,11 @@ def evaluate(design: PlanetaryDesign, settings: SweepSettings) -> dict:
     return row
 
 
+def evaluate_batch(designs: Sequence[PlanetaryDesign], settings: SweepSettings) -> list[dict]:
+    """`evaluate` on each design of a batch (one worker task)."""
+    return [evaluate(d, settings) for d in designs]
+
+
 def pinwind_error_types() -> tuple[type, ...]:
     """Error types whose message is enough on its own."""
     from pinwind.errors import PinwindError
@@ -355,7 +362,9 @@ def run_sweep(
     Args:
         designs: from `enumerate_planetary`.
         settings: one set of settings for every design.
-        workers: local worker processes (default: all cores; 1 runs in this process).
+        workers: local worker processes (default: all cores, except that fewer than
+            `SERIAL_BELOW` designs run in this process: starting the pool and importing pinwind
+            in each worker takes about a second, 200 designs' worth; 1 always runs here).
         scheduler: a Dask scheduler address (``tcp://host:8786``) or a ``distributed.Client``;
             overrides ``workers``.
         checkpoint: JSON-lines file; each finished row is appended as soon as it arrives.
@@ -398,7 +407,7 @@ def run_sweep(
         if scheduler is not None:
             backend = _run_dask(todo, settings, scheduler, accept)
         else:
-            n = workers or os.cpu_count() or 1
+            n = workers or (1 if len(todo) < SERIAL_BELOW else os.cpu_count() or 1)
             backend = _run_local(todo, settings, n, accept)
     finally:
         if sink is not None:
@@ -416,11 +425,16 @@ def _run_local(todo, settings, n: int, accept) -> str:
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     # "spawn" keeps the workers free of the parent's threads (rerun, dask) and their locks.
+    # Batches of a few designs per task: each design takes milliseconds, so one task per design
+    # would spend its time in inter-process traffic; small batches keep the progress bar live.
+    size = max(1, min(16, len(todo) // (8 * n)))
+    batches = [todo[i : i + size] for i in range(0, len(todo), size)]
     with ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn")) as pool:
-        futures = [pool.submit(evaluate, d, settings) for d in todo]
+        futures = [pool.submit(evaluate_batch, batch, settings) for batch in batches]
         try:
             for future in as_completed(futures):
-                accept(future.result())
+                for row in future.result():
+                    accept(row)
         except BaseException:
             for future in futures:
                 future.cancel()
