@@ -36,6 +36,10 @@ build_app = typer.Typer(
     help="Write parametric gearbox models.", no_args_is_help=True, rich_markup_mode=None
 )
 app.add_typer(build_app, name="build")
+sweep_app = typer.Typer(
+    help="Design sweeps: enumerate, simulate, rate, query.", no_args_is_help=True
+)
+app.add_typer(sweep_app, name="sweep")
 
 # Tables fit 80 columns (a terminal's width; 80 in pipes); pipes get plain ASCII tables.
 console = Console()
@@ -487,12 +491,303 @@ def build_planetary(
     say(f"wrote {escape(str(path))}")
 
 
+@app.command()
+def rate(
+    model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
+    torque: Annotated[
+        list[str] | None,
+        typer.Option("--torque", "-t", help="JOINT=N·m applied torque (repeatable)."),
+    ] = None,
+    speed: Annotated[
+        list[str] | None,
+        typer.Option("--speed", "-s", help="JOINT=RPM prescribed joint speed (repeatable)."),
+    ] = None,
+    initial_speed: Annotated[
+        list[str] | None,
+        typer.Option("--initial-speed", help="JOINT=RPM initial speed (repeatable)."),
+    ] = None,
+    material: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--material",
+            help="GEAR=NAME (18CrNiMo7-6, 42CrMo4, 34CrNiMo6; GEAR may be all); default "
+            "18CrNiMo7-6.",
+        ),
+    ] = None,
+    duration: Annotated[float, typer.Option(help="Simulated time [s].")] = 0.05,
+    dt: Annotated[float, typer.Option(help="Time step [s].")] = 1e-3,
+    at: Annotated[str, typer.Option(help="Load level: last, max or mean of the run.")] = "last",
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+) -> None:
+    """Rate every mesh (ISO 6336, AGMA 2001, Hertz) from the forces of a short simulation."""
+    import json
+
+    import pinwind
+    from pinwind.analysis.rating import rate as rate_result
+    from pinwind.analysis.rating_table import rating_tables
+
+    torques, speeds, _ = parse_loads(torque, speed, None, None)
+    initial = {
+        k: _float(v, "--initial-speed", "rpm") * RPM_TO_RAD_PER_S
+        for k, v in _pairs(initial_speed, "--initial-speed").items()
+    }
+    gearbox = pinwind.load(model)
+    materials = _pairs(material, "--material")
+    if "all" in materials:
+        chosen = materials.pop("all")
+        materials = {g: chosen for g in gearbox.gears} | materials
+    with _warnings_as_lines():
+        res = pinwind.simulate(
+            gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
+            initial_speeds=initial,
+        )  # fmt: skip
+    rating = rate_result(gearbox, res, at=at, materials=materials)
+    if as_json:
+        print(json.dumps(rating.as_dict(), indent=1))
+        return
+    for table in rating_tables(rating, title=f"{gearbox.name} at t = {res.time[-1]:g} s"):
+        console.print(table)
+    console.print("all meshes pass" if rating.passes else "[bold red]some meshes fail[/bold red]")
+
+
+def _numbers(text: str, option: str, unit: str) -> list[float]:
+    """Comma-separated numbers, e.g. 420,480,540, as floats."""
+    return [_float(p, option, unit) for p in text.split(",") if p.strip()]
+
+
+def _range(text: str, option: str) -> tuple[float, float]:
+    """LOW:HIGH, e.g. 6:6.4, as (6.0, 6.4); a single number x gives (x, x)."""
+    low, sep, high = text.partition(":")
+    lo = _float(low, option, "-")
+    return (lo, _float(high, option, "-") if sep else lo)
+
+
+def _include(items: list[str] | None) -> list[tuple[int, int, int, float]]:
+    """``--include SUN/PLANET/RING@MODULE_MM`` → (sun, planet, ring, module [m])."""
+    out = []
+    for item in items or []:
+        teeth, sep, module = item.partition("@")
+        parts = teeth.split("/")
+        try:
+            sun, planet, ring = (int(p) for p in parts)
+            out.append((sun, planet, ring, float(module) * 1e-3))
+        except ValueError as err:
+            raise InputError(
+                f'--include "{item}" must be SUN/PLANET/RING@MODULE_MM, e.g. 24/48/120@15'
+            ) from err
+        if not sep:
+            raise InputError(f'--include "{item}" must be SUN/PLANET/RING@MODULE_MM')
+    return out
+
+
+@sweep_app.command("planetary")
+def sweep_planetary(
+    center_distance: Annotated[
+        str, typer.Option("--center-distance", help="Centre distances [mm], e.g. 420,480,540,600.")
+    ],
+    module: Annotated[str, typer.Option(help="Modules [mm], e.g. 5,6,7,8,9,10,12,15.")],
+    ratio: Annotated[
+        str, typer.Option(help="Speed-ratio window LOW:HIGH, both ends excluded, e.g. 6:6.4.")
+    ],
+    planets: Annotated[int, typer.Option(help="Number of planets.")] = 3,
+    torque: Annotated[float, typer.Option(help="Carrier (input) torque [N·m].")] = 1e6,
+    carrier_speed: Annotated[float, typer.Option(help="Carrier speed [rpm].")] = 14.2,
+    pressure_angle: Annotated[float, typer.Option(help="Pressure angle [deg].")] = 24.5,
+    face_width: Annotated[
+        float, typer.Option(help="Face width of every design [mm] (000: 380).")
+    ] = 380.0,
+    face_width_factor: Annotated[
+        str | None,
+        typer.Option(
+            help="Face width k·π·m instead of --face-width: k, or LOW:HIGH for the middle k."
+        ),
+    ] = None,
+    material: Annotated[str, typer.Option(help="Gear material.")] = "18CrNiMo7-6",
+    include: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="Extra design SUN/PLANET/RING@MODULE_MM kept whatever its ratio (repeatable). "
+            "Default 24/48/120@15 (000's preliminary design #38) when the window starts at 6."
+        ),
+    ] = None,
+    no_include: Annotated[
+        bool, typer.Option("--no-include", help="Do not add the preliminary design.")
+    ] = False,
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Table to write (.csv or .parquet).")
+    ] = Path("designs.csv"),
+    workers: Annotated[
+        int | None, typer.Option(help="Local worker processes (default: all cores).")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://head:8786.")
+    ] = None,
+    plots: Annotated[
+        Path | None, typer.Option(help="Folder for PNG plots like Figs. 14-19 of 000.")
+    ] = None,
+    compare: Annotated[
+        bool, typer.Option("--compare/--no-compare", help="Print AGMA SFs beside Table 5.")
+    ] = True,
+) -> None:
+    """Enumerate, build, simulate and rate every planetary design; write a table.
+
+    An interrupted sweep keeps its finished rows in OUTPUT.partial.jsonl; running the same
+    command again computes only the missing designs.
+    """
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+
+    from pinwind.analysis import sweep as sw
+
+    window = _range(ratio, "--ratio")
+    extra = _include(include)
+    if not extra and not no_include and window[0] == 6.0:
+        extra = list(sw.TABLE_5_INCLUDE)
+    designs = sw.enumerate_planetary(
+        [a * 1e-3 for a in _numbers(center_distance, "--center-distance", "mm")],
+        [m / 1e3 for m in _numbers(module, "--module", "mm")],
+        ratio_window=window,
+        planets=planets,
+        include=extra,
+    )
+    factor = None
+    if face_width_factor is not None:
+        low, high = _range(face_width_factor, "--face-width-factor")
+        factor = 0.5 * (low + high)
+    settings = sw.SweepSettings(
+        carrier_torque=torque,
+        carrier_speed=carrier_speed * RPM_TO_RAD_PER_S,
+        pressure_angle=math.radians(pressure_angle),
+        face_width=face_width * 1e-3,
+        face_width_factor=factor,
+        material=material,
+    )
+    checkpoint = output.with_name(output.name + ".partial.jsonl")
+    done = sw.read_table(output) if output.exists() else []
+    done += sw.read_checkpoint(checkpoint)
+    console.print(
+        f"{len(designs)} designs; ratio window ({window[0]:g}, {window[1]:g}) open"
+        + (f", plus {len(extra)} included" if extra else "")
+        + (f"; {len(done)} rows from an earlier run" if done else "")
+    )
+    columns = (BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=err_console, transient=True) as bar:
+        task = bar.add_task("designs", total=len(designs))
+        run = sw.run_sweep(
+            designs, settings, workers=workers, scheduler=scheduler, checkpoint=checkpoint,
+            done=done, progress=lambda n, total: bar.update(task, completed=n),
+        )  # fmt: skip
+    sw.write_table(run.rows, output)
+    checkpoint.unlink(missing_ok=True)
+    failed = [r for r in run.rows if r["status"] != "ok"]
+    console.print(
+        f"wrote {output}: {len(run.rows)} designs ({run.computed} computed on {run.backend} in "
+        f"{run.wall_time:.2f} s, {len(failed)} failed)"
+    )
+    for row in failed:
+        console.print(f"  #{row['number']}: {row['reason']}", highlight=False)
+    if compare:
+        _print_table_5_comparison(run.rows)
+    if plots is not None:
+        from pinwind.analysis.sweep_plots import plot_sweep
+
+        paths = plot_sweep(run.rows, plots)
+        console.print(f"plots: {', '.join(str(p) for p in paths)}")
+
+
+def _print_table_5_comparison(rows: list[dict]) -> None:
+    from rich.table import Table
+
+    from pinwind.analysis.sweep_reference import comparison
+
+    entries = [e for e in comparison(rows) if not e["missing"]]
+    if not entries:
+        return
+    table = Table(title="AGMA safety factors beside 000 Table 5 (ours / paper, relative diff.)")
+    for column in ("#", "a/m/sun/planet/ring", "S_H sun–planet", "S_H planet–ring", "S_F min"):
+        table.add_column(column, justify="right")
+    for e in entries:
+        table.add_row(
+            str(e["number"]),
+            e["design"],
+            f"{e['SF_C25']:.2f} / {e['paper_SF_C25']:.2f} ({e['diff_C25']:+.0%})",
+            f"{e['SF_C51']:.2f} / {e['paper_SF_C51']:.2f} ({e['diff_C51']:+.0%})",
+            f"{e['SF_B']:.2f} / {e['paper_SF_B_root']:.2f} ({e['diff_B_root']:+.0%})",
+        )
+    console.print(table)
+
+
+@sweep_app.command("query")
+def sweep_query(
+    table: Annotated[Path, typer.Argument(help="Sweep table (.csv or .parquet).")],
+    center_distance: Annotated[
+        float | None, typer.Option("--center-distance", help="Required centre distance [mm].")
+    ] = None,
+    ratio: Annotated[float | None, typer.Option(help="Required speed ratio.")] = None,
+    ratio_tolerance: Annotated[float, typer.Option(help="Ratio match tolerance.")] = 0.05,
+    module: Annotated[float | None, typer.Option(help="Required module [mm].")] = None,
+    min_sf: Annotated[
+        float | None, typer.Option("--min-sf", help="Keep designs whose safety factor > this.")
+    ] = None,
+    sf: Annotated[
+        str, typer.Option("--sf", help="Safety-factor column: agma_SF_min or iso_S_min, ...")
+    ] = "agma_SF_min",
+    minimise: Annotated[
+        str | None,
+        typer.Option(help="Minimise: center-distance, module, ratio or any column name."),
+    ] = None,
+) -> None:
+    """Pick designs (000 eq. 41): centre distance ∪ ratio ∪ module ∪ SF, optionally minimised."""
+    from pinwind.analysis import sweep as sw
+
+    columns = {"center-distance": "centre_distance_mm", "centre-distance": "centre_distance_mm",
+               "module": "module_mm", "ratio": "ratio"}  # fmt: skip
+    rows = sw.query(
+        sw.read_table(table),
+        centre_distance=None if center_distance is None else center_distance * 1e-3,
+        ratio=ratio,
+        ratio_tolerance=ratio_tolerance,
+        module=None if module is None else module * 1e-3,
+        min_sf=min_sf,
+        sf_column=sf,
+        minimise=columns.get(minimise, minimise) if minimise else None,
+    )
+    if not rows:
+        console.print("no design satisfies every criterion")
+        raise typer.Exit(code=1)
+    for r in rows:
+        console.print(
+            f"#{int(r['number'])}: a = {float(r['centre_distance_mm']):g} mm, m = "
+            f"{float(r['module_mm']):g} mm, teeth {int(r['sun'])}/{int(r['planet'])}/"
+            f"{int(r['ring'])}, i = {float(r['ratio']):.2f}, AGMA SF min "
+            f"{float(r['agma_SF_min']):.2f}, ISO S min {float(r['iso_S_min']):.2f}",
+            highlight=False,
+        )
+
+
+@sweep_app.command("plot")
+def sweep_plot(
+    table: Annotated[Path, typer.Argument(help="Sweep table (.csv or .parquet).")],
+    out_dir: Annotated[Path, typer.Option("--out-dir", "-o", help="Folder for PNGs.")] = Path(
+        "plots"
+    ),
+) -> None:
+    """PNG plots of a sweep against the module (like 000 Figs. 14-19)."""
+    from pinwind.analysis.sweep import read_table
+    from pinwind.analysis.sweep_plots import plot_sweep
+
+    for path in plot_sweep(read_table(table), out_dir):
+        console.print(f"wrote {path}")
+
+
 def main() -> None:
     """Entry point: run the CLI and turn pinwind errors into one clear line and exit code 2."""
     try:
         app()
     except PinwindError as err:
-        err_console.print(f"[bold red]error:[/bold red] {escape(str(err))}", highlight=False)
+        # soft_wrap: one line whatever its length (a long path must not be broken in two).
+        err_console.print(
+            f"[bold red]error:[/bold red] {escape(str(err))}", highlight=False, soft_wrap=True
+        )
         sys.exit(2)
     except KeyboardInterrupt:
         err_console.print("interrupted")

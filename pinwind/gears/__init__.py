@@ -1,5 +1,15 @@
-"""Involute gear geometry, path of contact and ISO 6336 mesh stiffness."""
+"""Involute gear geometry, path of contact, ISO 6336 mesh stiffness, checks and ratings."""
 
+from pinwind.gears.checks import (
+    Finding,
+    check_gear,
+    check_pair,
+    check_planetary,
+    min_profile_shift,
+    tip_thickness,
+    trochoid_clearance,
+    virtual_teeth,
+)
 from pinwind.gears.contact import (
     ContactRatioBelowOne,
     InvoluteInterference,
@@ -8,6 +18,8 @@ from pinwind.gears.contact import (
     pairs_in_contact,
     path_of_contact,
 )
+from pinwind.gears.gear_pair import GearPair, MeshLoad
+from pinwind.gears.hertz import HertzAlongPath, hertz_along_path, hertz_pressure
 from pinwind.gears.involute import (
     PairGeometry,
     base_radius,
@@ -17,27 +29,51 @@ from pinwind.gears.involute import (
     pitch_radius,
     transverse_pressure_angle,
 )
+from pinwind.gears.materials import MATERIALS, Material
 from pinwind.gears.mesh_stiffness import (
     mesh_stiffness,
     pair_stiffness_along_path,
     single_pair_stiffness,
 )
+from pinwind.gears.rating_agma import AgmaFactors, AgmaRating, agma_rating
+from pinwind.gears.rating_iso import IsoFactors, IsoRating, iso_rating
 
 __all__ = [
+    "MATERIALS",
+    "AgmaFactors",
+    "AgmaRating",
     "ContactRatioBelowOne",
+    "Finding",
+    "GearPair",
+    "HertzAlongPath",
     "InvoluteInterference",
+    "IsoFactors",
+    "IsoRating",
+    "Material",
+    "MeshLoad",
     "PairGeometry",
     "PathOfContact",
     "TipInsideBaseCircle",
+    "agma_rating",
     "base_radius",
+    "check_gear",
+    "check_pair",
+    "check_planetary",
+    "hertz_along_path",
+    "hertz_pressure",
     "inverse_involute",
     "involute",
+    "iso_rating",
     "mesh_stiffness",
+    "min_profile_shift",
     "pair_geometry",
     "pair_stiffness_along_path",
     "pairs_in_contact",
     "path_of_contact",
     "pitch_radius",
     "single_pair_stiffness",
+    "tip_thickness",
     "transverse_pressure_angle",
+    "trochoid_clearance",
+    "virtual_teeth",
 ]

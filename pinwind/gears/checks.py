@@ -1,0 +1,426 @@
+"""Geometry checks a gear designer expects: undercut, tip thickness, internal-pair interference.
+
+Each check returns `Finding` objects (nothing wrong: an empty list) rather than raising, so that a
+design sweep can record every problem of a design in one row. `check_pair` and `check_planetary`
+run them all; `raise_for` turns the first error into an exception for callers that want one.
+
+Conventions as in `pinwind.gears.involute` and `pinwind.gears.contact`: SI units, angles in
+radians, ISO 21771 sign of the profile shift (an internal gear counts with a negative tooth number
+inside the formulas; its tip circle is r − m_n (h_a* + x)). The transverse and overlap contact
+ratios are `pinwind.gears.contact.path_of_contact`'s; this module does not recompute them.
+
+Sources of the formulas (each repeated where it is used):
+
+- virtual tooth number z_n = z / (cos² β_b cos β) (ISO 21771; ISO 6336-1 clause 9);
+- undercut: x_min = h_a0* − ρ_a0* (1 − sin α_n) − z sin² α_t / (2 cos β) (DIN 3960 / ISO 21771,
+  the tool's straight flank reaching the base circle's tangency point);
+- tip thickness: s_at = d_a (s_t/d + inv α_t − inv α_at), s_t = m_t (π/2 + 2 x tan α_n)
+  (ISO 21771), with d, d_a negative for an internal gear;
+- internal pairs: involute interference (the ring's tip circle reaching past the planet's
+  tangency point, `contact.path_of_contact`) and trochoid (tip) interference at the end of
+  contact, KHK "Gear Technical Reference", internal gears: θ1 z1/z2 + inv α_w − inv α_a2 ≥ θ2.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from pinwind.errors import InvalidGearTrain
+from pinwind.gears.contact import path_of_contact
+from pinwind.gears.involute import involute, pair_geometry, transverse_pressure_angle
+
+#: Tool addendum h_a0* of the ISO 53 profile A hob (= basic rack dedendum h_fP*) [-].
+TOOL_ADDENDUM = 1.25
+#: Tool tip radius ρ_a0* of the ISO 53 profile A hob (= basic rack root radius ρ_fP*) [-].
+TOOL_TIP_RADIUS = 0.38
+#: Minimum tip thickness as a fraction of the normal module: 0.2 m_n for through-hardened
+#: teeth, 0.4 m_n for case-hardened ones (common design practice, e.g. Niemann/Winter Vol. II).
+MIN_TIP_THICKNESS = {"through_hardened": 0.2, "case_hardened": 0.4}
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One result of a geometry check.
+
+    Attributes:
+        check: what was checked: ``"undercut"``, ``"tip_thickness"``, ``"involute_interference"``,
+            ``"trochoid_interference"``, ``"contact_ratio"``, ``"assembly"``,
+            ``"planet_clearance"``.
+        severity: ``"error"`` (the design cannot work) or ``"warning"`` (it works with a penalty).
+        gear: the gear concerned (``"gear 1"``, ``"sun"``, ...) or the pair's name.
+        value: the checked quantity in SI units (a profile shift, a thickness [m], ...).
+        limit: the limit it was checked against, same unit.
+        message: what is wrong and how to fix it.
+    """
+
+    check: str
+    severity: str
+    gear: str
+    value: float
+    limit: float
+    message: str
+
+
+def virtual_teeth(teeth: int, helix_angle: float = 0.0, pressure_angle: float = 0.0) -> float:
+    """Virtual tooth number z_n = z / (cos² β_b cos β) [-] (ISO 21771).
+
+    β_b = atan(tan β cos α_t) is the base helix angle; for spur gears z_n = z.
+    """
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    beta_b = math.atan(math.tan(helix_angle) * math.cos(alpha_t))
+    return teeth / (math.cos(beta_b) ** 2 * math.cos(helix_angle))
+
+
+def min_profile_shift(
+    teeth: int,
+    *,
+    pressure_angle: float,
+    helix_angle: float = 0.0,
+    tool_addendum: float = TOOL_ADDENDUM,
+    tool_tip_radius: float = TOOL_TIP_RADIUS,
+) -> float:
+    """Smallest profile shift of an external gear cut by a rack tool without undercut [-].
+
+    x_min = h_a0* − ρ_a0* (1 − sin α_n) − z sin² α_t / (2 cos β) (DIN 3960, ISO 21771): the end of
+    the tool's straight flank must not pass the tangency point of the line of action on the base
+    circle. With the ISO 53 profile A tool (h_a0* 1.25, ρ_a0* 0.38) and α_n = 20° the straight
+    flank ends 1.000 m_n above the datum line, so a spur gear needs 17.1 teeth (x = 0).
+    """
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    straight = tool_addendum - tool_tip_radius * (1.0 - math.sin(pressure_angle))
+    return straight - teeth * math.sin(alpha_t) ** 2 / (2.0 * math.cos(helix_angle))
+
+
+def tip_thickness(
+    teeth: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    profile_shift: float = 0.0,
+    helix_angle: float = 0.0,
+    internal: bool = False,
+    tip_radius: float | None = None,
+    addendum_coefficient: float = 1.0,
+) -> float:
+    """Transverse tooth thickness on the tip circle, s_at [m] (ISO 21771).
+
+    s_at = d_a (s_t/d + inv α_t − inv α_at) with s_t = m_t (π/2 + 2 x tan α_n) and
+    cos α_at = d_b/d_a. For an internal gear d and d_a count negative (ISO sign convention), so
+    s_at = |d_a| (s_t/|d| − inv α_t + inv α_at): its teeth thin towards the tip, which is the
+    inner circle. A negative value means the flanks cross below the tip circle (pointed teeth).
+    """
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    m_t = module / math.cos(helix_angle)
+    d = teeth * m_t
+    d_b = d * math.cos(alpha_t)
+    if tip_radius is None:
+        addendum = module * (addendum_coefficient + profile_shift)
+        d_a = d - 2.0 * addendum if internal else d + 2.0 * addendum
+    else:
+        d_a = 2.0 * tip_radius
+    if d_a <= d_b:
+        return math.nan  # no involute at the tip; reported by path_of_contact
+    alpha_at = math.acos(d_b / d_a)
+    s_t = m_t * (math.pi / 2.0 + 2.0 * profile_shift * math.tan(pressure_angle))
+    sign = -1.0 if internal else 1.0
+    return d_a * (s_t / d + sign * (involute(alpha_t) - involute(alpha_at)))
+
+
+def check_gear(
+    teeth: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    profile_shift: float = 0.0,
+    helix_angle: float = 0.0,
+    internal: bool = False,
+    name: str = "gear",
+    case_hardened: bool = True,
+    tip_radius: float | None = None,
+) -> list[Finding]:
+    """Undercut (external gears) and tip thickness of one gear.
+
+    Tip thickness below 0.4 m_n (case hardened, ``case_hardened=True``) or 0.2 m_n (through
+    hardened) is a warning; a pointed tooth (≤ 0) is an error. Undercut is an error: the root is
+    cut away below the base circle and the contact ratio and root strength both drop.
+    """
+    findings = []
+    if not internal:
+        x_min = min_profile_shift(teeth, pressure_angle=pressure_angle, helix_angle=helix_angle)
+        if profile_shift < x_min - 1e-12:
+            z_free = _teeth_without_undercut(pressure_angle, helix_angle, profile_shift)
+            findings.append(
+                Finding(
+                    "undercut",
+                    "error",
+                    name,
+                    profile_shift,
+                    x_min,
+                    f"{name} ({teeth} teeth, x = {profile_shift:+.3f}) is undercut: a rack tool "
+                    f"cuts into its flank below the base circle unless x ≥ {x_min:+.3f}; use at "
+                    f"least {z_free} teeth, or a profile shift of {x_min:+.3f} or more",
+                )
+            )
+    s_at = tip_thickness(
+        teeth,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift=profile_shift,
+        helix_angle=helix_angle,
+        internal=internal,
+        tip_radius=tip_radius,
+    )
+    s_an = s_at * math.cos(helix_angle)  # normal tip thickness (at the tip, close enough)
+    limit = MIN_TIP_THICKNESS["case_hardened" if case_hardened else "through_hardened"] * module
+    if math.isfinite(s_an) and s_an < limit:
+        pointed = s_an <= 0.0
+        findings.append(
+            Finding(
+                "tip_thickness",
+                "error" if pointed else "warning",
+                name,
+                s_an,
+                limit,
+                f"{name} ({teeth} teeth, x = {profile_shift:+.3f}): tip thickness "
+                f"{s_an * 1e3:.3f} mm is {'not positive (pointed teeth)' if pointed else 'below'}"
+                f" {limit * 1e3:.3f} mm ({limit / module:.1f} m_n"
+                f"{', case hardened' if case_hardened else ''}); reduce the profile shift or "
+                "shorten the tip",
+            )
+        )
+    return findings
+
+
+def check_pair(
+    teeth_1: int,
+    teeth_2: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    profile_shift_1: float = 0.0,
+    profile_shift_2: float = 0.0,
+    helix_angle: float = 0.0,
+    internal_2: bool = False,
+    names: tuple[str, str] = ("gear 1", "gear 2"),
+    case_hardened: bool = True,
+) -> list[Finding]:
+    """All checks of a pair: each gear (`check_gear`), path of contact, internal interference.
+
+    The path of contact comes from `contact.path_of_contact`; its errors (tip inside the base
+    circle, involute interference, ε_α < 1) become findings. For an internal gear 2 the trochoid
+    (tip) interference at the end of contact is checked too (`trochoid_clearance`).
+    """
+    findings = check_gear(
+        teeth_1,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift=profile_shift_1,
+        helix_angle=helix_angle,
+        name=names[0],
+        case_hardened=case_hardened,
+    )
+    findings += check_gear(
+        teeth_2,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift=profile_shift_2,
+        helix_angle=helix_angle,
+        internal=internal_2,
+        name=names[1],
+        case_hardened=case_hardened,
+    )
+    pair = f"{names[0]}–{names[1]}"
+    try:
+        path_of_contact(
+            teeth_1,
+            teeth_2,
+            module=module,
+            pressure_angle=pressure_angle,
+            profile_shift_1=profile_shift_1,
+            profile_shift_2=profile_shift_2,
+            helix_angle=helix_angle,
+            internal_2=internal_2,
+        )
+    except InvalidGearTrain as err:
+        kind = type(err).__name__
+        check = {
+            "InvoluteInterference": "involute_interference",
+            "ContactRatioBelowOne": "contact_ratio",
+        }.get(kind, "path_of_contact")
+        value = getattr(err, "contact_ratio", math.nan)
+        findings.append(Finding(check, "error", pair, value, 1.0, f"{pair}: {err}"))
+    if internal_2:
+        clearance = trochoid_clearance(
+            teeth_1,
+            teeth_2,
+            module=module,
+            pressure_angle=pressure_angle,
+            profile_shift_1=profile_shift_1,
+            profile_shift_2=profile_shift_2,
+        )
+        if clearance < 0.0:
+            findings.append(
+                Finding(
+                    "trochoid_interference",
+                    "error",
+                    pair,
+                    clearance,
+                    0.0,
+                    f"{pair}: the tip of {names[0]} ({teeth_1} teeth) fouls the tips of "
+                    f"{names[1]} ({teeth_2} teeth, internal) as it leaves the mesh (trochoid "
+                    f"interference, clearance {clearance:+.4f} rad < 0); the tooth numbers differ "
+                    f"by only {teeth_2 - teeth_1}: use a larger difference, or shift the "
+                    "internal gear's profile (positive ISO x) to shorten its teeth",
+                )
+            )
+    return findings
+
+
+def trochoid_clearance(
+    teeth_1: int,
+    teeth_2: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    profile_shift_1: float = 0.0,
+    profile_shift_2: float = 0.0,
+    addendum_coefficient: float = 1.0,
+) -> float:
+    """Trochoid interference margin of an external gear 1 in an internal gear 2 [rad].
+
+    KHK "Gear Technical Reference" (internal gears, trochoid interference), spur gears: as the
+    pinion's tip leaves the mesh it must pass clear of the ring's tips,
+
+        θ1 z1/z2 + inv α_w − inv α_a2 − θ2 ≥ 0
+        θ1 = acos((r_a2² − r_a1² − a²) / (2 a r_a1)) + inv α_a1 − inv α_w
+        θ2 = acos((a² + r_a2² − r_a1²) / (2 a r_a2))
+
+    with r_a1, r_a2 the tip radii (r_a2 the ring's inner radius), α_a the pressure angles there
+    and a, α_w the working centre distance and pressure angle. Returns the left-hand side; below 0
+    the tips collide. The tips are assumed not to overlap radially beyond the centre distance
+    (r_a2 − r_a1 < a); if they do the acos arguments leave [−1, 1] and the margin is −inf.
+    """
+    geometry = pair_geometry(
+        teeth_1,
+        teeth_2,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift_1=profile_shift_1,
+        profile_shift_2=profile_shift_2,
+        internal_2=True,
+    )
+    a = geometry.centre_distance
+    alpha_w = geometry.working_pressure_angle
+    r_a1 = module * (teeth_1 / 2.0 + addendum_coefficient + profile_shift_1)
+    r_a2 = module * (teeth_2 / 2.0 - addendum_coefficient - profile_shift_2)
+    r_b1, r_b2 = geometry.base_radius_1, geometry.base_radius_2
+    if r_a1 <= r_b1 or r_a2 <= r_b2:
+        return -math.inf
+    alpha_a1 = math.acos(r_b1 / r_a1)
+    alpha_a2 = math.acos(r_b2 / r_a2)
+    c1 = (r_a2**2 - r_a1**2 - a**2) / (2.0 * a * r_a1)
+    c2 = (a**2 + r_a2**2 - r_a1**2) / (2.0 * a * r_a2)
+    if not (-1.0 <= c1 <= 1.0 and -1.0 <= c2 <= 1.0):
+        return -math.inf
+    theta_1 = math.acos(c1) + involute(alpha_a1) - involute(alpha_w)
+    theta_2 = math.acos(c2)
+    return theta_1 * teeth_1 / teeth_2 + involute(alpha_w) - involute(alpha_a2) - theta_2
+
+
+def check_planetary(
+    *,
+    sun: int,
+    planet: int,
+    ring: int,
+    planets: int,
+    module: float,
+    pressure_angle: float,
+    profile_shift: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    helix_angle: float = 0.0,
+    case_hardened: bool = True,
+) -> list[Finding]:
+    """Checks of a simple planetary stage: both pairs, assembly and neighbouring planets.
+
+    Besides `check_pair` on sun–planet and planet–ring: equally spaced identical planets need
+    (z_sun + z_ring)/N whole (error otherwise), and neighbouring planets' tip circles must clear
+    each other, 2 r_a,planet < 2 a sin(π/N) (error).
+    """
+    x_s, x_p, x_r = profile_shift
+    findings = check_pair(
+        sun,
+        planet,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift_1=x_s,
+        profile_shift_2=x_p,
+        helix_angle=helix_angle,
+        names=("sun", "planet"),
+        case_hardened=case_hardened,
+    )
+    ring_pair = check_pair(
+        planet,
+        ring,
+        module=module,
+        pressure_angle=pressure_angle,
+        profile_shift_1=x_p,
+        profile_shift_2=x_r,
+        helix_angle=helix_angle,
+        internal_2=True,
+        names=("planet", "ring"),
+        case_hardened=case_hardened,
+    )
+    seen = {(f.check, f.gear) for f in findings}
+    findings += [f for f in ring_pair if (f.check, f.gear) not in seen]
+    if (sun + ring) % planets:
+        findings.append(
+            Finding(
+                "assembly",
+                "error",
+                "stage",
+                (sun + ring) / planets,
+                round((sun + ring) / planets),
+                f"(z_sun + z_ring)/N = ({sun} + {ring})/{planets} = {(sun + ring) / planets:.4g} "
+                f"is not a whole number: {planets} identical planets cannot be assembled equally "
+                "spaced",
+            )
+        )
+    a = pair_geometry(
+        sun, planet, module=module, pressure_angle=pressure_angle, profile_shift_1=x_s,
+        profile_shift_2=x_p, helix_angle=helix_angle,
+    ).centre_distance  # fmt: skip
+    tip = module * (planet / (2.0 * math.cos(helix_angle)) + 1.0 + x_p)
+    chord = 2.0 * a * math.sin(math.pi / planets)
+    if planets > 1 and 2.0 * tip >= chord:
+        findings.append(
+            Finding(
+                "planet_clearance",
+                "error",
+                "planet",
+                2.0 * tip,
+                chord,
+                f"{planets} planets of tip diameter {2 * tip * 1e3:.2f} mm collide: neighbouring "
+                f"centres are only {chord * 1e3:.2f} mm apart; use fewer or smaller planets",
+            )
+        )
+    return findings
+
+
+def raise_for(findings: Iterable[Finding]) -> None:
+    """Raise `InvalidGearTrain` with the message of the first error, if any."""
+    for finding in findings:
+        if finding.severity == "error":
+            raise InvalidGearTrain(finding.message)
+
+
+def errors(findings: Iterable[Finding]) -> list[Finding]:
+    """The findings of severity ``"error"``."""
+    return [f for f in findings if f.severity == "error"]
+
+
+def _teeth_without_undercut(pressure_angle: float, helix_angle: float, shift: float) -> int:
+    """Smallest tooth count without undercut at profile shift ``shift``."""
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    straight = TOOL_ADDENDUM - TOOL_TIP_RADIUS * (1.0 - math.sin(pressure_angle))
+    return math.ceil(2.0 * math.cos(helix_angle) * (straight - shift) / math.sin(alpha_t) ** 2)

@@ -1,0 +1,267 @@
+"""AGMA 2001 rating of a gear mesh: bending and pitting (000_3b7c4a8fe52a6eee.txt eqs. 32-37).
+
+SI form of AGMA 2001-D04 (Shigley's Mechanical Engineering Design, 10th ed., eqs. 14-15 to 14-42):
+
+    σ   = W_t K_o K_v K_s / (F m_t) · K_m K_B / J                  bending   (000 eq. 32)
+    σ_c = C_p √(W_t K_o K_v K_s K_m C_f / (d_P F I))                contact   (000 eq. 34)
+    σ_all   = s_at Y_N / (K_T K_R)                                             (000 eq. 33)
+    σ_c,all = s_ac Z_N C_H / (K_T K_R)                                         (000 eq. 35)
+    S_F = σ_all / σ,   S_H = σ_c,all / σ_c                                     (000 eqs. 36-37)
+
+000 writes eqs. 36-37 as stress over allowable; here they are allowable over stress, as in AGMA
+2001 and Shigley, so that S ≥ 1 passes. (S_H compares stresses; AGMA compares S_F with S_H².)
+
+Every factor is a field of `AgmaFactors`; None means "compute the default":
+
+- K_v = ((A + √V)/A)^B, A = 50 + 56 (1 − B), B = 0.25 (12 − Q_v)^(2/3), V [ft/min]
+  (Shigley eq. 14-27), transmission accuracy level Q_v (`quality`, default 10);
+- K_s = 1 (AGMA 2001: unity when the steel is chosen for the section; `shigley_size_factor`
+  gives Shigley's 1.192 (F √Y / P)^0.0535 estimate);
+- K_m = 1 + C_mc (C_pf C_pm + C_ma C_e) (Shigley eq. 14-30), uncrowned (C_mc 1), straddle
+  mounted (C_pm 1), C_e 1, C_ma for ``gearing`` (default ``"precision_enclosed"``);
+- J (per gear) = 1/(Y_F Y_S) with ISO 6336-3 method B's Y_F, Y_S (load at the outer point of
+  single tooth contact, `rating_iso.form_factors`). AGMA 908's own layout (Lewis parabola at the
+  highest point of single tooth contact) is not implemented; for Shigley's 17/52 example this
+  gives J = 0.335 and 0.366 against the chart's 0.30 and 0.40 (`tests/gears/test_rating_agma.py`);
+- I = cos φ_t sin φ_t / (2 m_N) · m_G/(m_G ± 1) (+ external, − internal; m_N = 1 for spur
+  gears, p_N/(0.95 Z) for helical), at the working pressure angle (Shigley eqs. 14-23, 14-21);
+- C_p from the two materials (`materials.elastic_coefficient`);
+- Y_N = Z_N = 1 (10⁷ cycles), C_H = 1, K_T = 1, K_R from ``reliability`` (Shigley eq. 14-38;
+  1 at 0.99), C_f = 1, K_B = 1, K_o = 1.
+
+W_t is the tangential load at the operating pitch circle: F_t d_1/d_w1.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, replace
+
+from pinwind.errors import InputError
+from pinwind.gears.gear_pair import GearPair, MeshLoad
+from pinwind.gears.materials import elastic_coefficient
+from pinwind.gears.rating_iso import form_factors
+
+Pair = tuple[float, float]
+
+#: C_ma = A + B F + C F² (F in inches) by gearing condition (Shigley Table 14-9).
+MESH_ALIGNMENT = {
+    "open": (0.247, 0.0167, -0.765e-4),
+    "commercial_enclosed": (0.127, 0.0158, -0.930e-4),
+    "precision_enclosed": (0.0675, 0.0128, -0.926e-4),
+    "extra_precision_enclosed": (0.00360, 0.0102, -0.822e-4),
+}
+_INCH = 0.0254
+
+
+@dataclass(frozen=True)
+class AgmaFactors:
+    """Factors of an AGMA 2001 rating; None means "compute the default" (module docstring).
+
+    Attributes:
+        K_o: overload factor.
+        K_v: dynamic factor.
+        K_s: (pinion, wheel) size factors.
+        K_m: load distribution factor (K_H).
+        K_B: rim thickness factor.
+        J: (pinion, wheel) bending geometry factors (Y_J).
+        I: contact geometry factor (Z_I).
+        C_p: elastic coefficient [√Pa] (Z_E).
+        C_f: surface condition factor (Z_R).
+        Y_N, Z_N: (pinion, wheel) stress cycle factors for bending and contact.
+        C_H: (pinion, wheel) hardness ratio factors (Z_W).
+        K_T: temperature factor (Y_θ).
+        K_R: reliability factor (Y_Z).
+        quality: transmission accuracy level Q_v for the default K_v.
+        gearing: condition for C_ma: ``open``, ``commercial_enclosed``, ``precision_enclosed``,
+            ``extra_precision_enclosed``.
+        reliability: for the default K_R (0.5 … 0.9999).
+    """
+
+    K_o: float = 1.0
+    K_v: float | None = None
+    K_s: Pair = (1.0, 1.0)
+    K_m: float | None = None
+    K_B: float = 1.0
+    J: Pair | None = None
+    I: float | None = None  # noqa: E741 (AGMA's name)
+    C_p: float | None = None
+    C_f: float = 1.0
+    Y_N: Pair = (1.0, 1.0)
+    Z_N: Pair = (1.0, 1.0)
+    C_H: Pair = (1.0, 1.0)
+    K_T: float = 1.0
+    K_R: float | None = None
+    quality: int = 10
+    gearing: str = "precision_enclosed"
+    reliability: float = 0.99
+
+
+@dataclass(frozen=True)
+class AgmaRating:
+    """AGMA 2001 stresses and safety factors of one mesh at one load (SI units).
+
+    Attributes:
+        factors: every factor used, defaults resolved.
+        transmitted_load: W_t [N].
+        bending_stress: σ of pinion and wheel [Pa] (000 eq. 32).
+        bending_allowable: σ_all of pinion and wheel [Pa] (eq. 33).
+        contact_stress: σ_c of pinion and wheel [Pa] (eq. 34; they differ only through K_s).
+        contact_allowable: σ_c,all of pinion and wheel [Pa] (eq. 35).
+        S_F: bending safety factors σ_all/σ (eq. 36, inverted so that ≥ 1 passes).
+        S_H: contact safety factors σ_c,all/σ_c (eq. 37, inverted likewise).
+    """
+
+    factors: AgmaFactors
+    transmitted_load: float
+    bending_stress: Pair
+    bending_allowable: Pair
+    contact_stress: Pair
+    contact_allowable: Pair
+    S_F: Pair
+    S_H: Pair
+
+    @property
+    def passes(self) -> bool:
+        """Every safety factor at least 1."""
+        return min(self.S_F) >= 1.0 and min(self.S_H) >= 1.0
+
+    def as_dict(self) -> dict:
+        """Plain numbers for JSON and tables."""
+        out = asdict(self)
+        out["passes"] = self.passes
+        return out
+
+
+def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = None) -> AgmaRating:
+    """Rate a pair at one load by AGMA 2001 (000_3b7c4a8fe52a6eee.txt eqs. 32-37).
+
+    Raises:
+        InputError: a non-positive or non-finite force, or an unknown ``gearing``.
+    """
+    if not (math.isfinite(load.tangential_force) and load.tangential_force > 0.0):
+        raise InputError(
+            f"the tangential force must be positive and finite, got {load.tangential_force} N"
+        )
+    f = resolve_factors(pair, load, factors or AgmaFactors())
+    d_w1 = 2.0 * pair.geometry.working_radius_1
+    w_t = load.tangential_force * pair.reference_diameter_1 / d_w1
+    b, m_t = pair.face_width, pair.transverse_module
+    common = tuple(w_t * f.K_o * f.K_v * f.K_s[i] for i in (0, 1))
+    bending = tuple(common[i] / (b * m_t) * f.K_m * f.K_B / f.J[i] for i in (0, 1))
+    contact = tuple(f.C_p * math.sqrt(c * f.K_m * f.C_f / (d_w1 * b * f.I)) for c in common)
+    materials = (pair.material_1, pair.material_2)
+    derate = f.K_T * f.K_R
+    bending_all = tuple(
+        m.agma_bending_allowable * f.Y_N[i] / derate for i, m in enumerate(materials)
+    )
+    contact_all = tuple(
+        m.agma_contact_allowable * f.Z_N[i] * f.C_H[i] / derate for i, m in enumerate(materials)
+    )
+    return AgmaRating(
+        factors=f,
+        transmitted_load=w_t,
+        bending_stress=bending,
+        bending_allowable=bending_all,
+        contact_stress=contact,
+        contact_allowable=contact_all,
+        S_F=tuple(a / s for a, s in zip(bending_all, bending, strict=True)),
+        S_H=tuple(a / s for a, s in zip(contact_all, contact, strict=True)),
+    )
+
+
+def resolve_factors(pair: GearPair, load: MeshLoad, given: AgmaFactors) -> AgmaFactors:
+    """Every factor of ``given`` with its None fields computed for this pair and load."""
+    if given.gearing not in MESH_ALIGNMENT:
+        raise InputError(
+            f'unknown gearing condition "{given.gearing}"; choose one of '
+            f"{', '.join(MESH_ALIGNMENT)}"
+        )
+    values: dict = {}
+    if given.K_v is None:
+        values["K_v"] = dynamic_factor(load.pitch_line_speed, given.quality)
+    if given.K_m is None:
+        values["K_m"] = load_distribution_factor(
+            pair.face_width, pair.reference_diameter_1, given.gearing
+        )
+    if given.J is None:
+        forms = (
+            form_factors(
+                pair.teeth_1, pair.profile_shift_1, pair=pair, tip_diameter=pair.tip_diameter(1)
+            ),
+            form_factors(
+                pair.teeth_2,
+                pair.profile_shift_2,
+                pair=pair,
+                tip_diameter=pair.tip_diameter(2),
+                internal=pair.internal_2,
+            ),
+        )
+        values["J"] = tuple(1.0 / (y_f * y_s) for y_f, y_s in forms)
+    if given.I is None:
+        values["I"] = pitting_geometry_factor(pair)
+    if given.C_p is None:
+        values["C_p"] = elastic_coefficient(pair.material_1, pair.material_2)
+    if given.K_R is None:
+        values["K_R"] = reliability_factor(given.reliability)
+    return replace(given, **values)
+
+
+def dynamic_factor(speed: float, quality: int) -> float:
+    """K_v = ((A + √V)/A)^B (Shigley eq. 14-27; V = v/0.00508 in ft/min, v [m/s], Q_v 6…11).
+
+    Shigley's SI form writes √(200 v), a rounded 196.85 ft/min per m/s; the exact conversion is
+    used here so that the US-unit examples come out as printed.
+    """
+    if not 3 <= quality <= 12:
+        raise InputError(f"transmission accuracy level Q_v = {quality} is outside 3…12")
+    b = 0.25 * (12.0 - quality) ** (2.0 / 3.0)
+    a = 50.0 + 56.0 * (1.0 - b)
+    return ((a + math.sqrt(speed / 0.00508)) / a) ** b
+
+
+def load_distribution_factor(face_width: float, pinion_diameter: float, gearing: str) -> float:
+    """K_m = 1 + C_pf + C_ma (Shigley eq. 14-30, uncrowned, straddle mounted, C_e = 1).
+
+    C_pf = F/(10 d) − 0.025 (F ≤ 1 in), F/(10 d) − 0.0375 + 0.0125 F (≤ 17 in),
+    F/(10 d) − 0.1109 + 0.0207 F − 0.000228 F² (≤ 40 in), with F/(10 d) at least 0.05;
+    C_ma = A + B F + C F² (Table 14-9); F and d in inches.
+    """
+    f_in, d_in = face_width / _INCH, pinion_diameter / _INCH
+    ratio = max(f_in / (10.0 * d_in), 0.05)
+    if f_in <= 1.0:
+        c_pf = ratio - 0.025
+    elif f_in <= 17.0:
+        c_pf = ratio - 0.0375 + 0.0125 * f_in
+    else:
+        c_pf = ratio - 0.1109 + 0.0207 * f_in - 0.000228 * f_in**2
+    a, b, c = MESH_ALIGNMENT[gearing]
+    return 1.0 + c_pf + a + b * f_in + c * f_in**2
+
+
+def pitting_geometry_factor(pair: GearPair) -> float:
+    """I = cos φ_t sin φ_t / (2 m_N) · m_G/(m_G ± 1) (Shigley eqs. 14-23, 14-21)."""
+    phi = pair.path.working_pressure_angle
+    m_g = pair.teeth_2 / pair.teeth_1
+    ratio = m_g / (m_g - 1.0) if pair.internal_2 else m_g / (m_g + 1.0)
+    if pair.helix_angle == 0.0:
+        load_sharing = 1.0
+    else:
+        p_n = math.pi * pair.module * math.cos(pair.pressure_angle)
+        load_sharing = p_n / (0.95 * pair.path.length)
+    return math.cos(phi) * math.sin(phi) / (2.0 * load_sharing) * ratio
+
+
+def reliability_factor(reliability: float) -> float:
+    """K_R = 0.658 − 0.0759 ln(1 − R) (0.5 < R < 0.99), 0.50 − 0.109 ln(1 − R) (to 0.9999)."""
+    if not 0.5 < reliability <= 0.9999:
+        raise InputError(f"reliability {reliability} is outside (0.5, 0.9999]")
+    if reliability < 0.99:
+        return 0.658 - 0.0759 * math.log(1.0 - reliability)
+    return 0.50 - 0.109 * math.log(1.0 - reliability)
+
+
+def shigley_size_factor(face_width: float, module: float, lewis_form_factor: float) -> float:
+    """K_s = 1.192 (F √Y / P)^0.0535, at least 1 (Shigley §14-10; F [in], P = 25.4/m [1/in])."""
+    p = _INCH / module
+    return max(1.0, 1.192 * (face_width / _INCH * math.sqrt(lewis_form_factor) / p) ** 0.0535)
