@@ -434,3 +434,29 @@ def test_a_compliant_mesh_locked_by_rigid_ones_is_named_in_a_warning():
         )
     # The rigid meshes carry the whole sun torque between the other two planets.
     np.testing.assert_allclose(res.mesh("sun_planet1").normal, 0.0, atol=1e-6)
+
+
+@pytest.mark.parametrize("ring_first", [False, True])
+def test_a_compliant_stage_settles_to_the_torque_balance_whichever_gear_is_written_first(
+    ring_first,
+):
+    from tests.dynamics.test_planet_bearings import swapped_ring_meshes
+
+    text = (MODELS / "saleh2017_planetary.urdf").read_text()
+    gb = loads(swapped_ring_meshes(text) if ring_first else text, "saleh.urdf")
+    torque_sun = 1e5
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        res = pinwind.simulate(
+            gb,
+            duration=0.1,
+            dt=1e-5,
+            torques={"sun": torque_sun},
+            speeds={"carrier": 0.0},
+            gravity=np.zeros(3),
+            meshes={"all": "compliant"},
+        )
+    # Sun and planets at rest: each of the six meshes carries T_sun / (3 r_b,sun).
+    r_b_sun = 24 * 0.015 / 2 * math.cos(math.radians(24.5))
+    np.testing.assert_allclose(res.mesh_normal[-1], torque_sun / (3 * r_b_sun), rtol=1e-7)
+    assert np.all(res.mesh_deflection[-1] > 0.0)
