@@ -174,6 +174,19 @@ def parse_meshes(items: list[str] | None) -> dict[str, str]:
     return out
 
 
+def parse_keep(text: str) -> str | int:
+    """``--keep all|last|auto|N`` → ``simulate(keep=...)``."""
+    text = text.strip().lower()
+    if text in ("all", "last", "auto"):
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        raise InputError(
+            f'--keep "{text}" must be all, last, auto or a whole number N ≥ 1 (every N-th sample)'
+        ) from None
+
+
 def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, float]]:
     """``--position-error GEAR=T_UM,R_UM`` options → (tangential, radial) errors [m]."""
     out = {}
@@ -241,6 +254,15 @@ def simulate(
             "file's type of each mesh.",
         ),
     ] = None,
+    keep: Annotated[
+        str,
+        typer.Option(
+            "--keep",
+            help="Samples kept in memory for the summary: all, last, auto (every sample while "
+            "they fit in 512 MB, else every N-th) or a number N (every N-th). The log holds "
+            "every sample either way.",
+        ),
+    ] = "auto",
     position_error: Annotated[
         list[str] | None,
         typer.Option(
@@ -273,6 +295,7 @@ def simulate(
                 gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
                 initial_speeds=initial_speeds, progress=progress, log=log, log_rate=log_rate,
                 overwrite=force, command=command, meshes=meshes, position_errors=errors,
+                keep=parse_keep(keep),
             )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
         if log is not None and _stamp(log) not in (None, before):
@@ -286,11 +309,19 @@ def simulate(
     finally:
         signal.signal(signal.SIGTERM, previous)
     say(f"[bold]{escape(gearbox.name)}[/bold] from {escape(str(model))}")
+    steps = res.metadata["samples_simulated"] - 1
     say(
-        f"{len(res) - 1} steps of {dt:g} s in {res.metadata['wall_time_s']:.2f} s "
-        f"({res.metadata['wall_time_s'] / max(len(res) - 1, 1) * 1e6:.0f} µs/step); "
+        f"{steps} steps of {dt:g} s in {res.metadata['wall_time_s']:.2f} s "
+        f"({res.metadata['wall_time_s'] / max(steps, 1) * 1e6:.0f} µs/step); "
         f"max |J v| = {res.constraint_residual.max():.2e}"
     )
+    stride = res.metadata.get("keep_stride", 1)
+    if stride > 1:
+        say(
+            f"min / max / RMS below are over the {len(res)} kept samples (every {stride}-th of "
+            f"{res.metadata['samples_simulated']}, --keep); the log holds every sample "
+            "(pinwind report LOG)"
+        )
     for table in summary_tables(res, plain=not console.is_terminal):
         console.print()
         console.print(table)

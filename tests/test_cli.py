@@ -219,3 +219,19 @@ def test_implausible_gear_warning_is_one_line_on_stderr():
     assert out.returncode == 0, out.stderr
     (line,) = out.stderr.splitlines()
     assert line.startswith("warning: ") and '<link name="gear2">: axial inertia 0.003' in line
+
+
+def test_keep_option_is_refused_when_it_is_not_a_choice_or_a_count():
+    proc = run("simulate", str(MODELS / "saleh2017_planetary.urdf"), "--no-log", "--keep", "x")
+    assert proc.returncode == 2
+    assert '--keep "x" must be all, last, auto or a whole number' in proc.stderr
+
+
+def test_summary_counts_every_step_when_only_some_samples_are_kept():
+    proc = run(
+        "simulate", str(MODELS / "saleh2017_planetary.urdf"), "--no-log", "--torque",
+        "carrier=1e5", "--duration", "1", "--dt", "1e-3", "--keep", "100",
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "1000 steps of 0.001 s" in proc.stdout
+    assert "over the 11 kept samples (every 100-th of 1001" in proc.stdout
