@@ -430,7 +430,7 @@ def panels(
                 ),
             ]
     if res.energy and "kinetic" in res.energy and len(res.energy["kinetic"]) == len(res):
-        terms = [Series(name, v / 1e3, color(i)) for i, v in enumerate(res.energy.values())]
+        terms = [Series(k, v / 1e3, color(i)) for i, (k, v) in enumerate(res.energy.items())]
         largest = max(float(np.max(np.abs(s.values), initial=0.0)) for s in terms)
         out += [
             Panel("energy", "energy", "energy ledger, from t = 0 [kJ]", "kJ", terms),

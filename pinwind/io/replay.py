@@ -103,7 +103,7 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
             rrb.Vertical(
                 rrb.Spatial3DView(origin="gearbox", name="gearbox", eye_controls=eye),
                 rrb.TextDocumentView(origin="gearbox/scale", name="legend"),
-                row_shares=[5, 1],
+                row_shares=[4, 1],
             ),
             plots,
             column_shares=[3, 2],

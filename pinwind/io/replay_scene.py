@@ -36,6 +36,7 @@ ARROW_FRACTION = 0.5
 #: Direction from the machine's centre to the default camera (world, y up).
 CAMERA_DIRECTION = np.array([0.55, 0.45, -1.0])
 MARK_COLOR = (25, 25, 25)
+LABEL_COLOR = (30, 100, 255)
 HOUSING_COLOR = (150, 150, 150)
 
 
@@ -634,8 +635,11 @@ def _send_labels(model, res, visuals, colors, joints, root, view, send, log_stat
     positions = res.body_position[:, index] + np.array(offsets)[None]
     log_static(
         "gearbox/labels",
-        # No colour: the text takes the theme's own text colour, readable in light and dark.
-        rr.Points3D.from_fields(labels=names, radii=rr.Radius.ui_points(0.5), show_labels=True),
+        # One blue for every name, not the body's colour (which vanishes on the body itself):
+        # it reads on the light box of the light theme and the dark box of the dark theme.
+        rr.Points3D.from_fields(
+            labels=names, colors=[LABEL_COLOR], radii=rr.Radius.ui_points(0.5), show_labels=True
+        ),
     )
     send(
         "gearbox/labels",

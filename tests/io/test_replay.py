@@ -63,8 +63,9 @@ def test_one_label_per_named_body_and_none_on_pins(replayed):
     _, columns = replayed
     labels = columns["/gearbox/labels"]["Points3D:labels"][0].to_pylist()[0]
     assert sorted(labels) == ["carrier", "planet1", "planet2", "planet3", "ring", "sun"]
-    # Labels carry no colour: they take the theme's text colour (readable light and dark).
-    assert "Points3D:colors" not in columns["/gearbox/labels"]
+    # One label colour for all, not the body colours (a label vanishes on its own body).
+    colors = columns["/gearbox/labels"]["Points3D:colors"][0].to_pylist()[0]
+    assert len(set(colors)) == 1
 
 
 def test_arrow_labels_give_the_force_in_newtons(replayed, logged_run):
