@@ -1,23 +1,17 @@
-"""Replay a log in Rerun from the file alone: gears turning in 3D, force arrows, time series.
+"""Replay a log in Rerun from the file alone: the machine turning in 3D, forces, plots.
 
 ``replay`` reads a log (``io/mcap_log.py``) and sends Rerun:
 
-- ``gearbox/<link>``: the world pose of every link over time (``Transform3D``), and under it
-  ``gearbox/<link>/<gear>``: a cylinder of pitch diameter × face width and the tooth outline of
-  each face (z, m and the axis from the log's ``pinwind.model`` record); the outline shows the
-  turning. Internal gears get a wireframe so that they do not hide what they enclose.
-- ``gearbox/mesh_forces``: the tooth force on gear B at each pitch point;
-  ``gearbox/bearing_forces``: the reaction on each bearing's child body at the bearing centre
-  (the child link origin). Each
-  family is scaled so that its largest force of the run is drawn half as long as the largest
-  pitch radius; ``gearbox/scale`` states the scales.
-- ``plots/single_tooth_force/<mesh>`` [kN] and, for compliant meshes,
-  ``plots/mesh_deflection/<mesh>`` [µm];
-- ``plots/speed/<joint>`` [rpm], ``plots/mesh_force/<mesh>`` (normal force) [kN] and
-  ``plots/bearing_force/<bearing>`` (|F| in world) [kN].
+- ``gearbox/<link>``: the world pose of every link over time (``Transform3D``); under it the
+  gears, visuals, shafts, bearings and angle marks of ``io/replay_scene.py``, which also sends
+  the body labels (``gearbox/labels``), the housing outline and the force arrows
+  (``gearbox/mesh_forces``, ``gearbox/bearing_forces``; the legend is ``gearbox/scale``);
+- ``plots/<panel>/<series>``: every panel of ``io/panels.py`` (speeds [rpm], torques [kN·m],
+  power [kW], mesh forces [kN], transmission error [µm], bearing forces [kN] and moments
+  [kN·m], load sharing [-], energy [kJ]), each series in its colour.
 
 Everything is on the ``time`` timeline (simulated seconds), laid out by a blueprint: the 3D view
-beside the three plots.
+and its legend beside the plots, in tabs, with y ranges that do not magnify rounding.
 """
 
 from __future__ import annotations
