@@ -26,7 +26,7 @@ RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
 #: Smallest y span of a plot, as a fraction of the largest |value| shown (or of the reference).
 RANGE_FLOOR = 0.05
 #: Margin added below and above the data, as a fraction of the span.
-RANGE_MARGIN = 0.05
+RANGE_MARGIN = 0.08
 #: Height of a plot in the replay [px] and of one legend entry, to keep the legend off the data.
 PLOT_HEIGHT_PX = 300.0
 LEGEND_ENTRY_PX = 19.0

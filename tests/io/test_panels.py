@@ -22,13 +22,13 @@ def test_constant_force_with_rounding_noise_is_drawn_flat():
 
 
 def test_all_zero_data_get_a_unit_range_around_zero():
-    assert y_range(np.zeros(50)) == pytest.approx((-0.5 - 0.05, 0.5 + 0.05), abs=1e-12)
+    assert y_range(np.zeros(50)) == pytest.approx((-0.5 - 0.08, 0.5 + 0.08), abs=1e-12)
 
 
 def test_varying_data_fill_the_axis_up_to_the_margins():
     low, high = y_range(np.linspace(-20.0, 100.0, 7))
-    np.testing.assert_allclose([low, high], [-20 - 6.0, 100 + 6.0], rtol=1e-12)
-    assert RANGE_MARGIN == 0.05
+    np.testing.assert_allclose([low, high], [-20 - 9.6, 100 + 9.6], rtol=1e-12)
+    assert RANGE_MARGIN == 0.08
 
 
 def test_a_residual_gets_its_floor_from_the_reference_not_from_itself():
@@ -39,7 +39,7 @@ def test_a_residual_gets_its_floor_from_the_reference_not_from_itself():
 
 def test_legend_room_is_added_above_the_data_only():
     low, high = y_range(np.linspace(0.0, 10.0, 5), legend_room=0.5)
-    np.testing.assert_allclose([low, high], [-0.5, 10 + 0.5 + 5.0], rtol=1e-12)
+    np.testing.assert_allclose([low, high], [-0.8, 10 + 0.8 + 5.0], rtol=1e-12)
 
 
 def test_absolute_planet_speed_is_its_carrier_relative_speed_plus_the_carriers(logged_run):
