@@ -44,6 +44,9 @@ def main(argv: list[str] | None = None) -> list[dict]:
         default=0.05,
         help="spring damping [N·m·s/rad] so the start-up transient dies out",
     )
+    parser.add_argument(
+        "--figures", type=Path, help="write the run's figures (pinwind plot) into this folder"
+    )
     args = parser.parse_args(argv)
 
     text = (MODELS / "cai_spur_pair.urdf").read_text()
@@ -71,6 +74,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
             dt=args.dt,
             speeds={"input_shaft": driver},
             torques={"output_shaft": BRAKE},
+            **({"log": log, "overwrite": True} if (log := _log(args, run)) else {}),
         )
         late = res.time >= 0.5 * args.duration
         force = statistics(res.mesh("gear_pair").normal[late])
@@ -93,7 +97,17 @@ def main(argv: list[str] | None = None) -> list[dict]:
     Console().print(table)
     static = BRAKE / (0.120 * np.cos(np.radians(20.0)))
     Console().print(f"static contact force 49 N·m / (r₂ cos α) = {static:.1f} N")
+    if args.figures:
+        from pinwind.io.figures import plot_log
+
+        for path in plot_log(_log(args, 1), args.figures):
+            Console().print(f"wrote {path}")
     return rows
+
+
+def _log(args, run: int) -> Path | None:
+    """The log of the first run, written when figures are asked for."""
+    return args.figures / "cai_quasi_steady_run1.mcap" if args.figures and run == 1 else None
 
 
 if __name__ == "__main__":

@@ -62,7 +62,12 @@ def main(argv: list[str] | None = None) -> pinwind.Result:
     parser.add_argument(
         "--keep", type=int, default=10, help="keep every N-th sample in memory for the summary"
     )
+    parser.add_argument(
+        "--figures", type=Path, help="write the run's figures (pinwind plot) into this folder"
+    )
     args = parser.parse_args(argv)
+    if args.figures and not args.out:
+        args.out = args.figures / "dtu500_planetary.mcap"
 
     gb = pinwind.load(MODELS / "dtu500_planetary.urdf")
     started = time.perf_counter()
@@ -121,6 +126,11 @@ def main(argv: list[str] | None = None) -> pinwind.Result:
     )
     if args.out:
         console.print(f"log: {args.out} ({args.out.stat().st_size / 1e6:.1f} MB)")
+    if args.figures:
+        from pinwind.io.figures import plot_log
+
+        for path in plot_log(args.out, args.figures):
+            console.print(f"wrote {path}")
     return res
 
 

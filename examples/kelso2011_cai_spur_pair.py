@@ -117,7 +117,12 @@ def main(argv: list[str] | None = None) -> dict[str, list[dict]]:
     parser.add_argument("--dt", type=float, default=1e-5, help="time step [s]")
     parser.add_argument("--runs", type=int, default=11, help="how many of the 2 + 9 runs")
     parser.add_argument("--out", type=Path, help="MCAP log of the 200 rpm run")
+    parser.add_argument(
+        "--figures", type=Path, help="write the run's figures (pinwind plot) into this folder"
+    )
     args = parser.parse_args(argv)
+    if args.figures and not args.out:
+        args.out = args.figures / "kelso2011_200rpm.mcap"
 
     gb = _model()
     cases = {
@@ -153,6 +158,11 @@ def main(argv: list[str] | None = None) -> dict[str, list[dict]]:
         console.print(line.format(static=BRAKE / r_b2), highlight=False)
     if args.out:
         console.print(f"log of the 200 rpm run: {args.out}")
+    if args.figures:
+        from pinwind.io.figures import plot_log
+
+        for path in plot_log(args.out, args.figures):
+            console.print(f"wrote {path}")
     return results
 
 

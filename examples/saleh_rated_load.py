@@ -5,7 +5,7 @@ driver; its torque is the driver's multiplier); the rotor torque ramps from 0 to
 first half of the run.
 Prints the summary table and the closed-form check of the sun mesh at the end of the run.
 
-    python examples/saleh_rated_load.py --duration 2
+    python examples/saleh_rated_load.py --duration 2 [--figures figures/saleh]
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from rich.console import Console
 import pinwind
 from pinwind.analysis.summary import summary_tables
 from pinwind.dynamics.ratios import speed_ratio
+from pinwind.io.figures import plot_log
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 RATED_TORQUE = 1e6  # N·m, 000_3b7c4a8fe52a6eee.txt §4.1
@@ -29,7 +30,12 @@ def main(argv: list[str] | None = None) -> pinwind.Result:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=2.0, help="simulated time [s]")
     parser.add_argument("--dt", type=float, default=1e-3, help="time step [s]")
+    parser.add_argument("--out", type=Path, help="MCAP log to write (default: none)")
+    parser.add_argument(
+        "--figures", type=Path, help="write the run's figures (pinwind plot) into this folder"
+    )
     args = parser.parse_args(argv)
+    log = args.out or (args.figures / "saleh_rated_load.mcap" if args.figures else None)
 
     gb = pinwind.load(MODELS / "saleh2017_drivetrain.urdf")
     ratio = speed_ratio(gb, "stage2_pinion", "carrier")  # 6 × 83/23 × 103/26
@@ -44,6 +50,7 @@ def main(argv: list[str] | None = None) -> pinwind.Result:
         dt=args.dt,
         torques={"carrier": rotor_torque},
         speeds={"stage2_pinion": ROTOR_RPM * 2 * math.pi / 60 * ratio},
+        **({"log": log, "overwrite": True} if log else {}),
     )
     console = Console()
     for table in summary_tables(res):
@@ -55,6 +62,9 @@ def main(argv: list[str] | None = None) -> pinwind.Result:
         f"sun–planet F_n at the end: {res.mesh('sun_planet1').normal[-1]:.6g} N; "
         f"closed form {expected:.6g} N"
     )
+    if args.figures:
+        for path in plot_log(log, args.figures):
+            console.print(f"wrote {path}")
     return res
 
 

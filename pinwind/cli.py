@@ -1,4 +1,4 @@
-"""Command-line interface: ``pinwind simulate``, ``replay``, ``report``, ``build``, ``info``.
+"""Command-line interface: ``simulate``, ``replay``, ``plot``, ``report``, ``build``, ``info``.
 
 Units at this edge are the ones drivetrain engineers type: rpm, mm, degrees; everything is turned
 into SI before it reaches the library. ``simulate`` logs every run to an MCAP file (``logs/`` by
@@ -366,15 +366,47 @@ def replay(
     serve: Annotated[
         bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
     ] = False,
-    web_port: Annotated[int | None, typer.Option(help="Web viewer port (with --serve).")] = None,
+    web_port: Annotated[
+        int | None, typer.Option(help="Web viewer port (with --serve; default 9090).")
+    ] = None,
+    grpc_port: Annotated[
+        int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
+    ] = None,
 ) -> None:
     """Show a log in Rerun: gears turning, force arrows and plots, from the file alone."""
     from pinwind.io.replay import replay as run_replay
 
     with _warnings_as_lines():
-        out = run_replay(log, save=save, serve=serve, web_port=web_port, announce=console.print)
+        out = run_replay(
+            log, save=save, serve=serve, web_port=web_port, grpc_port=grpc_port, announce=say
+        )
     if out is not None:
         say(f"wrote {escape(str(out))}")
+
+
+@app.command()
+def plot(
+    log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
+    out_dir: Annotated[
+        Path, typer.Option("--out-dir", "-o", help="Folder for the figures.")
+    ] = Path("figures"),
+    start: Annotated[
+        float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
+    ] = None,
+    stop: Annotated[
+        float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
+    ] = None,
+    fmt: Annotated[
+        str, typer.Option("--format", help="png, svg or pdf (the files' extension).")
+    ] = "png",
+) -> None:
+    """Figures of a log for reports: speeds, torques, forces, load sharing, energy (PNG)."""
+    from pinwind.io.figures import plot_log
+
+    with _warnings_as_lines():
+        paths = plot_log(log, out_dir, start=start, stop=stop, format=fmt)
+    for path in paths:
+        say(f"wrote {escape(str(path))}")
 
 
 @app.command()

@@ -236,3 +236,22 @@ class LogExists(LogError):
 
 class LogRecovered(PinwindWarning):
     """A log was cut short (crash, kill, full disk); the samples before the cut were recovered."""
+
+
+# --- replay --------------------------------------------------------------------------------------
+
+
+class PortInUse(InputError):
+    """A port that ``pinwind replay --serve`` needs is taken."""
+
+    def __init__(self, port: int, option: str):
+        self.port = port
+        self.option = option
+        super().__init__(
+            f"port {port} ({option}) is taken, probably by another viewer or replay; stop it, "
+            f"or give a free port: {option} {port + 1}"
+        )
+
+
+class ServeFailed(PinwindError):
+    """Rerun could not start its servers."""

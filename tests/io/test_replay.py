@@ -31,16 +31,60 @@ def test_replay_rrd_has_every_body_gear_arrow_family_and_plot(replayed, logged_r
     for body in res.body_names:
         assert "Transform3D:quaternion" in columns[f"/gearbox/{body}"], body
     for gear, link in [("sun", "sun"), ("planet2", "planet2"), ("ring", "ring")]:
-        assert "Cylinders3D:radii" in columns[f"/gearbox/{link}/{gear}/pitch_cylinder"]
+        assert "Mesh3D:vertex_positions" in columns[f"/gearbox/{link}/{gear}/body"]
         assert "LineStrips3D:strips" in columns[f"/gearbox/{link}/{gear}/teeth"]
-    assert "Arrows3D:vectors" in columns["/gearbox/mesh_forces"]
-    assert "Arrows3D:vectors" in columns["/gearbox/bearing_forces"]
+        assert "LineStrips3D:strips" in columns[f"/gearbox/{link}/{gear}/angle_mark"]
+    # The whole machine: carrier mark and cheeks, pins, bearings, housing outline.
+    assert "LineStrips3D:strips" in columns["/gearbox/carrier/angle_mark"]
+    cheeks = [p for p in columns if p.startswith("/gearbox/carrier/visual")]
+    assert len(cheeks) == 2
+    assert any(p.startswith("/gearbox/pin1/visual") for p in columns)
+    for link in ("sun", "carrier", "planet1"):
+        assert "LineStrips3D:strips" in columns[f"/gearbox/{link}/bearing"]
+    assert "Boxes3D:half_sizes" in columns["/gearbox/housing_outline"]
+    for family in ("mesh_forces", "bearing_forces"):
+        for component in ("origins", "vectors", "labels", "colors", "show_labels"):
+            assert f"Arrows3D:{component}" in columns[f"/gearbox/{family}"], (family, component)
     for joint in res.joint_names:
         assert "Scalars:scalars" in columns[f"/plots/speed/{joint}"]
+        assert "Scalars:scalars" in columns[f"/plots/torque/{joint}"]
+        assert "SeriesLines:colors" in columns[f"/plots/speed/{joint}"]
     for mesh in res.mesh_names:
-        assert "Scalars:scalars" in columns[f"/plots/mesh_force/{mesh}"]
+        for key in ("mesh_force", "transmission_error", "mesh_radial", "load_sharing"):
+            assert "Scalars:scalars" in columns[f"/plots/{key}/{mesh}"], (key, mesh)
     for bearing in res.bearing_names:
         assert "Scalars:scalars" in columns[f"/plots/bearing_force/{bearing}"]
+        assert "Scalars:scalars" in columns[f"/plots/bearing_moment/{bearing}"]
+    assert "Scalars:scalars" in columns["/plots/energy_balance/residual"]
+    assert "Scalars:scalars" in columns["/plots/load_factor/sun"]
+
+
+def test_one_label_per_named_body_and_none_on_pins(replayed):
+    _, columns = replayed
+    labels = columns["/gearbox/labels"]["Points3D:labels"][0].to_pylist()[0]
+    assert sorted(labels) == ["carrier", "planet1", "planet2", "planet3", "ring", "sun"]
+    # One label colour for all, not the body colours (a label vanishes on its own body).
+    colors = columns["/gearbox/labels"]["Points3D:colors"][0].to_pylist()[0]
+    assert len(set(colors)) == 1
+
+
+def test_arrow_labels_give_the_force_in_newtons(replayed, logged_run):
+    _, columns = replayed
+    res = logged_run.result
+    first = columns["/gearbox/mesh_forces"]["Arrows3D:labels"][0].to_pylist()[0]
+    force = np.linalg.norm(res.mesh_force_on_b[0, 0])
+    assert first[0] == f"sun_planet1: {force:,.0f} N".replace(",", " ")
+
+
+def test_replay_plot_colours_are_distinct_within_each_panel(replayed, logged_run):
+    _, columns = replayed
+    res = logged_run.result
+    for key, names in (("speed", res.joint_names), ("mesh_force", res.mesh_names)):
+        colors = [
+            tuple(columns[f"/plots/{key}/{n}"]["SeriesLines:colors"][0].to_pylist()[0])
+            for n in names
+        ]
+        assert len(set(colors)) == len(names), key
 
 
 def test_replay_rrd_carries_the_blueprint(replayed):
@@ -66,31 +110,40 @@ def test_replay_plots_speeds_in_rpm_and_forces_in_kn(replayed, logged_run):
     np.testing.assert_allclose(force, res.mesh_normal[:, mesh] / 1e3, rtol=1e-12)
 
 
-def test_mesh_force_arrows_start_at_the_pitch_points_and_are_scaled_to_the_ring(
-    replayed, logged_run
-):
+def test_force_arrows_sit_outside_the_gears_and_share_one_scale(replayed, logged_run):
     _, columns = replayed
     res = logged_run.result
     nm = len(res.mesh_names)
-    origins = np.concatenate(
-        [
-            c.flatten().flatten().to_numpy()
-            for c in columns["/gearbox/mesh_forces"]["Arrows3D:origins"]
-        ]
+
+    def values(family, component):
+        return np.concatenate(
+            [
+                c.flatten().flatten().to_numpy()
+                for c in columns[f"/gearbox/{family}"][f"Arrows3D:{component}"]
+            ]
+        )
+
+    origins = values("mesh_forces", "origins").reshape(-1, nm, 3)
+    vectors = values("mesh_forces", "vectors").reshape(-1, nm, 3)
+    # In the face plane of gear B (face width 380 mm) plus 1 % of the ring radius, toward the
+    # camera (-z), straight above the pitch point.
+    np.testing.assert_allclose(origins[..., :2], res.pitch_point[..., :2], atol=1e-6)
+    np.testing.assert_allclose(origins[..., 2], -(0.19 + 0.01 * RING_PITCH_RADIUS), atol=1e-6)
+    bearing = values("bearing_forces", "vectors").reshape(len(res), -1, 3)
+    lengths = np.linalg.norm(vectors, axis=-1)
+    largest = max(
+        np.linalg.norm(res.mesh_force_on_b, axis=-1).max(),
+        np.linalg.norm(res.bearing_force, axis=-1).max(),
     )
-    vectors = np.concatenate(
-        [
-            c.flatten().flatten().to_numpy()
-            for c in columns["/gearbox/mesh_forces"]["Arrows3D:vectors"]
-        ]
-    )
-    np.testing.assert_allclose(origins.reshape(-1, nm, 3), res.pitch_point, atol=1e-6)
-    lengths = np.linalg.norm(vectors.reshape(-1, nm, 3), axis=-1)
-    # The largest tooth force of the run is drawn half as long as the ring's pitch radius.
-    np.testing.assert_allclose(lengths.max(), 0.5 * RING_PITCH_RADIUS, rtol=1e-6)
-    forces = np.linalg.norm(res.mesh_force_on_b, axis=-1)
+    # One scale for both families: the largest force of the run is half the ring radius long.
+    scale = 0.5 * RING_PITCH_RADIUS / largest
     np.testing.assert_allclose(
-        lengths, forces * (0.5 * RING_PITCH_RADIUS / forces.max()), rtol=1e-5, atol=1e-7
+        lengths, np.linalg.norm(res.mesh_force_on_b, axis=-1) * scale, rtol=1e-5, atol=1e-7
+    )
+    np.testing.assert_allclose(
+        max(lengths.max(), np.linalg.norm(bearing, axis=-1).max()),
+        0.5 * RING_PITCH_RADIUS,
+        rtol=1e-6,
     )
 
 
@@ -157,3 +210,113 @@ def test_replay_plots_single_tooth_forces_and_compliant_deflections(tmp_path):
     )
     # Rigid meshes have no deflection to plot.
     assert "/plots/mesh_deflection/planet3_ring" not in columns
+
+
+def _blueprint_views(rrd):
+    """TimeSeries/3D view name → (class, y range or None), from the .rrd's blueprint."""
+    reader = RrdReader(rrd)
+    names, ranges, classes = {}, {}, {}
+    for chunk in reader.stream(store=reader.blueprints()[0]).to_chunks():
+        batch = chunk.to_record_batch()
+        path = chunk.entity_path
+        if "ViewBlueprint:display_name" in batch.schema.names:
+            names[path] = batch.column("ViewBlueprint:display_name").to_pylist()[0][0]
+            classes[path] = batch.column("ViewBlueprint:class_identifier").to_pylist()[0][0]
+        if "ScalarAxis:range" in batch.schema.names:
+            ranges[path.rsplit("/", 1)[0]] = batch.column("ScalarAxis:range").to_pylist()[0][0]
+    return {names[p]: (classes[p], ranges.get(p)) for p in names}
+
+
+def test_blueprint_has_a_panel_per_quantity_with_floored_ranges(replayed, logged_run):
+    rrd, _ = replayed
+    views = _blueprint_views(rrd)
+    assert views["gearbox"][0] == "3D"
+    for title in (
+        "joint speeds, relative to the parent body [rpm]",
+        "body speeds, absolute (about the own axis, in the world) [rpm]",
+        "joint torques, applied + driver/lock [kN·m]",
+        "joint power T·ω, ω relative to the parent [kW]",
+        "mesh normal forces F_n [kN]",
+        "mesh force components: axial F_a [kN]",
+        "transmission error along the line of action [µm]",
+        "bearing moments |M| about the bearing centre, world [kN·m]",
+        "planet load share F_n / mean F_n of the meshes of one gear [-]",
+        "energy balance residual Δ(kinetic + spring) − net work [kJ]",
+    ):
+        assert views[title][0] == "TimeSeries", title
+    # The mesh force axis holds every value and spans at least 5 % of the largest force.
+    low, high = views["mesh normal forces F_n [kN]"][1]
+    force = logged_run.result.mesh_normal / 1e3
+    assert low < force.min() and force.max() < high
+    assert high - low >= 0.05 * force.max()
+    # Equal planets share exactly: the load-share axis is not zoomed onto rounding.
+    low, high = views["planet load share F_n / mean F_n of the meshes of one gear [-]"][1]
+    assert high - low >= 0.05
+
+
+def test_meshing_teeth_interlock_at_the_pitch_point_in_the_first_frame(logged_run):
+    from pinwind.io.mcap_log import open_log
+    from pinwind.io.replay_scene import gear_pose, pitch_fraction, tooth_phases
+
+    log = open_log(logged_run.path, stop=0.0)
+    res, model = log.result, log.model
+    gears = model["gears"]
+    phases = tooth_phases(model, res)
+    bodies = {name: i for i, name in enumerate(res.body_names)}
+    for m, name in enumerate(res.mesh_names):
+        mesh = model["meshes"][name]
+        point = res.pitch_point[0, m]
+        fractions = []
+        for gear in (mesh["gear_a"], mesh["gear_b"]):
+            centre, rotation = gear_pose(gears[gear], res, 0, bodies)
+            fractions.append(pitch_fraction(gears[gear], centre, rotation, point, phases[gear]))
+        # Fraction 0: a tooth centred at the pitch point; 0.5: a gap centred there. A tooth of
+        # one gear sits centred in a gap of the other: the fractions differ by half a pitch.
+        offset = (fractions[0] - fractions[1]) % 1.0
+        np.testing.assert_allclose(offset, 0.5, atol=1e-9, err_msg=name)
+        # ... and the tooth is centred, not anywhere along the pitch.
+        assert min(min(f, 1.0 - f) for f in fractions) < 1e-9, (name, fractions)
+        if m == 0:  # sun_planet1: the sun's tooth in the planet's gap
+            assert min(fractions[0], 1.0 - fractions[0]) < 1e-9, fractions
+
+
+def test_viewer_url_opens_the_served_data():
+    from pinwind.io.replay import viewer_url
+
+    assert viewer_url(9191, "rerun+http://127.0.0.1:9877/proxy") == (
+        "http://localhost:9191/?url=rerun%2Bhttp%3A%2F%2F127.0.0.1%3A9877%2Fproxy"
+    )
+
+
+@pytest.fixture
+def taken_port():
+    import socket
+
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+        sock.bind(("127.0.0.1", 0))
+        sock.listen(1)
+        yield sock.getsockname()[1]
+
+
+def test_a_taken_data_port_is_refused_before_anything_starts(logged_run, taken_port):
+    from pinwind.errors import PortInUse
+
+    with pytest.raises(PortInUse, match=f"port {taken_port} \\(--grpc-port\\) is taken"):
+        replay(logged_run.path, serve=True, grpc_port=taken_port, web_port=taken_port + 1)
+
+
+def test_replay_cli_names_the_taken_web_port_in_one_line(logged_run, taken_port):
+    out = run(
+        "replay", str(logged_run.path), "--serve", "--web-port", str(taken_port),
+        "--grpc-port", str(taken_port + 1 if taken_port < 65535 else taken_port - 1),
+    )  # fmt: skip
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1, out.stderr
+    assert f"port {taken_port} (--web-port) is taken" in out.stderr
+    assert f"--web-port {taken_port + 1}" in out.stderr
+    assert "Traceback" not in out.stderr
+
+
+def test_ports_without_serve_are_refused(logged_run, tmp_path):
+    with pytest.raises(InputError, match="go with --serve"):
+        replay(logged_run.path, save=tmp_path / "x.rrd", web_port=9999)

@@ -1,0 +1,473 @@
+"""The time-series panels of a log, shared by ``pinwind replay`` (Rerun) and ``pinwind plot``.
+
+A ``Panel`` is one plot: a title that gives the unit and says whether a quantity is absolute or
+relative, a group (the replay's tab), and its series, already in the plotted unit and coloured.
+Colours are fixed per element: joint and bearing series take the colour of the body they move
+(the same colour as the body in the 3D view), mesh series one colour per mesh, the same in every
+mesh panel; within a panel no two series share a colour.
+
+``y_range`` is the axis rule of every plot: the range never shrinks below a floor relative to the
+values, so that rounding noise on constant data is not magnified to full height.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from pinwind.dynamics.result import Result
+
+RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
+
+#: Smallest y span of a plot, as a fraction of the largest |value| shown (or of the reference).
+RANGE_FLOOR = 0.05
+#: Margin added below and above the data, as a fraction of the span.
+RANGE_MARGIN = 0.08
+#: Height of a plot in the replay [px] and of one legend entry, to keep the legend off the data.
+PLOT_HEIGHT_PX = 300.0
+LEGEND_ENTRY_PX = 19.0
+
+#: Distinct colours (RGB 0-255) for bodies and meshes, readable on light and dark backgrounds
+#: (Tableau 10 without its red and olive, kept for the force arrows, then darker variants).
+PALETTE: tuple[tuple[int, int, int], ...] = (
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (23, 190, 207),
+    (120, 60, 200),
+    (0, 128, 128),
+    (200, 120, 40),
+    (90, 90, 160),
+    (160, 80, 120),
+    (70, 140, 90),
+)
+#: Colour of each arrow family in the 3D view.
+MESH_ARROW_COLOR = (214, 39, 40)
+BEARING_ARROW_COLOR = (188, 189, 34)
+
+
+def legend_room(entries: int, plot_height_px: float = PLOT_HEIGHT_PX) -> float:
+    """Room to leave above the data for a legend in a top corner, as a fraction of the span.
+
+    The legend takes (entries + 0.5) × ``LEGEND_ENTRY_PX`` of a plot ``plot_height_px`` high;
+    the data are kept below it (at most 70 % of the height is given to the legend).
+    """
+    share = min(0.7, (entries + 0.5) * LEGEND_ENTRY_PX / plot_height_px)
+    return share / (1.0 - share)
+
+
+def color(index: int) -> tuple[int, int, int]:
+    """The ``index``-th palette colour (cycling past the end)."""
+    return PALETTE[index % len(PALETTE)]
+
+
+def body_colors(body_names: Sequence[str], root: str = "") -> dict[str, tuple[int, int, int]]:
+    """One distinct colour per body, the root (housing) left out."""
+    moving = [name for name in body_names if name != root]
+    return {name: color(i) for i, name in enumerate(moving)}
+
+
+def y_range(
+    values: Sequence[np.ndarray] | np.ndarray,
+    *,
+    reference: float | None = None,
+    floor: float = RANGE_FLOOR,
+    margin: float = RANGE_MARGIN,
+    legend_room: float = 0.0,
+) -> tuple[float, float]:
+    """Y-axis limits that show the data without magnifying rounding.
+
+    The span is max − min of the finite values, but at least ``floor`` × the largest |value|
+    (or × ``reference`` when given, e.g. the size of the quantities a residual is made of),
+    and at least 1e-12 × that and 1e-300 so that all-zero data get the range ±0.5 around zero.
+    The data are centred in a span widened by ``margin`` on each side, plus ``legend_room`` on
+    top.
+
+    Args:
+        values: one array, or several series.
+        reference: magnitude the floor is relative to [same unit as the values].
+        floor: smallest span as a fraction of the magnitude.
+        margin: margin on each side as a fraction of the span.
+        legend_room: extra room on top as a fraction of the span.
+
+    Returns:
+        (low, high), low < high.
+    """
+    if isinstance(values, np.ndarray):
+        arrays = [values.astype(float).ravel()]
+    else:
+        arrays = [np.asarray(v, dtype=float).ravel() for v in values]
+    data = np.concatenate(arrays) if arrays else np.zeros(0)
+    data = data[np.isfinite(data)]
+    if data.size == 0:
+        return -0.5, 0.5
+    low, high = float(data.min()), float(data.max())
+    magnitude = max(abs(low), abs(high))
+    if reference is not None and math.isfinite(reference):
+        magnitude = max(magnitude, abs(reference))
+    span = high - low
+    least = floor * magnitude
+    if magnitude == 0.0:
+        least = 1.0
+    if span < least:
+        mid = 0.5 * (low + high)
+        low, high = mid - 0.5 * least, mid + 0.5 * least
+        span = least
+    return low - margin * span, high + (margin + legend_room) * span
+
+
+@dataclass(frozen=True)
+class Series:
+    """One line of a panel: its name, its values in the panel's unit, its colour (RGB 0-255)."""
+
+    name: str
+    values: np.ndarray
+    color: tuple[int, int, int]
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One plot of a log.
+
+    Attributes:
+        key: entity folder in the replay (``plots/<key>/<series>``) and figure file stem.
+        group: the replay tab and figure it belongs to.
+        title: what is plotted, with its unit, frame and whether absolute or relative.
+        unit: the unit of the values, for axis labels.
+        series: the lines.
+        reference: magnitude the range floor is relative to, when not the values themselves.
+    """
+
+    key: str
+    group: str
+    title: str
+    unit: str
+    series: list[Series]
+    reference: float | None = None
+    notes: list[str] = field(default_factory=list)
+
+    def y_range(self, legend_room: float = 0.0) -> tuple[float, float]:
+        """The axis range of this panel (``y_range`` over its series)."""
+        return y_range(
+            [s.values for s in self.series], reference=self.reference, legend_room=legend_room
+        )
+
+
+#: Tabs of the replay and figures of ``pinwind plot``, in order.
+GROUPS = (
+    "speeds",
+    "torques and power",
+    "mesh forces",
+    "force components",
+    "mesh deflection",
+    "bearings",
+    "load sharing",
+    "energy",
+)
+
+
+def absolute_speeds(result: Result, joints: dict[str, dict[str, Any]]) -> dict[str, np.ndarray]:
+    """Each joint's child body speed about the joint axis in the world (absolute) [rad/s].
+
+    ω_child = ω_parent + θ̇ · a, a the joint axis in world (from the child's pose), summed down
+    the tree from the root; a planet's absolute speed is its speed on the carrier plus the
+    carrier's.
+
+    Args:
+        result: the run (speeds and body poses).
+        joints: joint name → ``{"parent", "child", "axis"}`` (axis in the child frame).
+    """
+    n = len(result)
+    omega: dict[str, np.ndarray] = {}
+    out: dict[str, np.ndarray] = {}
+    bodies = {name: i for i, name in enumerate(result.body_names)}
+
+    def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        xyz, w = q[:, :3], q[:, 3:4]
+        t = 2.0 * np.cross(xyz, np.broadcast_to(v, xyz.shape))
+        return v + w * t + np.cross(xyz, t)
+
+    pending = {j: spec for j, spec in joints.items() if spec.get("child") in bodies}
+    while pending:
+        progressed = False
+        for name, spec in list(pending.items()):
+            parent = spec.get("parent", "")
+            parent_omega = omega.get(parent)
+            if parent_omega is None and any(s["child"] == parent for s in pending.values()):
+                continue  # its parent is not done yet
+            if parent_omega is None:
+                parent_omega = np.zeros((n, 3))
+            axis = spec.get("axis")
+            axis = np.asarray((0.0, 0.0, 1.0) if axis is None else axis, dtype=float)
+            axis = axis / np.linalg.norm(axis)
+            axis_in_world = rotate(result.body_quaternion[:, bodies[spec["child"]]], axis)
+            if name in result.joint_names:
+                speed = result.speed[:, result.joint_names.index(name)]
+                child_omega = parent_omega + speed[:, None] * axis_in_world
+                out[name] = np.einsum("ij,ij->i", child_omega, axis_in_world)
+            else:
+                child_omega = parent_omega  # a fixed joint
+            omega[spec["child"]] = child_omega
+            del pending[name]
+            progressed = True
+        if not progressed:
+            break
+    return out
+
+
+def energy_residual(energy: dict[str, np.ndarray]) -> np.ndarray:
+    """Energy balance residual [J], zero for an exact ledger (dynamics/simulate.py).
+
+    Δkinetic + ΔU_spring − (W_applied + W_drivers + W_gravity + W_constraints − dissipated
+    − numerical), the changes from the first sample.
+    """
+
+    def term(name: str) -> np.ndarray:
+        values = energy.get(name)
+        return np.zeros_like(energy["kinetic"]) if values is None else values
+
+    stored = term("kinetic") - term("kinetic")[:1] + term("potential_spring")
+    stored = stored - term("potential_spring")[:1]
+    supplied = (
+        term("work_applied")
+        + term("work_drivers")
+        + term("work_gravity")
+        + term("work_constraints")
+        - term("dissipated")
+        - term("numerical")
+    )
+    return stored - supplied
+
+
+def panels(
+    result: Result,
+    model: dict[str, Any],
+    *,
+    joints: dict[str, dict[str, Any]] | None = None,
+    gearbox=None,
+) -> list[Panel]:
+    """Every panel of a run, in ``GROUPS`` order.
+
+    Args:
+        result: the run (``read_log`` or ``simulate``).
+        model: the log's ``pinwind.model`` record (root link, bearings).
+        joints: joint name → parent, child and axis (for absolute speeds); default: from the
+            ``bearings`` of ``model``, axes along z.
+        gearbox: the model, for load sharing (left out when None).
+    """
+    res = result
+    root = model.get("root_link", "")
+    colors = body_colors(res.body_names, root)
+    bearings = model.get("bearings", {})
+    if joints is None:
+        joints = {name: {**spec, "axis": (0.0, 0.0, 1.0)} for name, spec in bearings.items()}
+
+    def joint_color(name: str, i: int) -> tuple[int, int, int]:
+        child = (joints.get(name) or bearings.get(name) or {}).get("child", "")
+        return colors.get(child, color(i))
+
+    def per_joint(values: np.ndarray) -> list[Series]:
+        return [
+            Series(name, values[:, i], joint_color(name, i))
+            for i, name in enumerate(res.joint_names)
+        ]
+
+    def per_mesh(values: np.ndarray) -> list[Series]:
+        return [Series(name, values[:, i], color(i)) for i, name in enumerate(res.mesh_names)]
+
+    def per_bearing(values: np.ndarray) -> list[Series]:
+        return [
+            Series(name, values[:, i], joint_color(name, i))
+            for i, name in enumerate(res.bearing_names)
+        ]
+
+    out = [
+        Panel(
+            "speed",
+            "speeds",
+            "joint speeds, relative to the parent body [rpm]",
+            "rpm",
+            per_joint(res.speed * RAD_PER_S_TO_RPM),
+        )
+    ]
+    absolute = absolute_speeds(res, joints)
+    if absolute:
+        out.append(
+            Panel(
+                "body_speed",
+                "speeds",
+                "body speeds, absolute (about the own axis, in the world) [rpm]",
+                "rpm",
+                [
+                    Series(name, absolute[name] * RAD_PER_S_TO_RPM, joint_color(name, i))
+                    for i, name in enumerate(res.joint_names)
+                    if name in absolute
+                ],
+            )
+        )
+    out += [
+        Panel(
+            "torque",
+            "torques and power",
+            "joint torques, applied + driver/lock [kN·m]",
+            "kN·m",
+            per_joint(res.torque / 1e3),
+        ),
+        Panel(
+            "power",
+            "torques and power",
+            "joint power T·ω, ω relative to the parent [kW]",
+            "kW",
+            per_joint(res.torque * res.speed / 1e3),
+        ),
+    ]
+    if res.mesh_names:
+        out += [
+            Panel(
+                "mesh_force",
+                "mesh forces",
+                "mesh normal forces F_n [kN]",
+                "kN",
+                per_mesh(res.mesh_normal / 1e3),
+            ),
+            Panel(
+                "single_tooth_force",
+                "mesh forces",
+                "single-tooth forces (entering pair) [kN]",
+                "kN",
+                per_mesh(res.mesh_single_tooth_force / 1e3),
+            ),
+        ]
+        scale = float(np.max(np.abs(res.mesh_normal), initial=0.0)) / 1e3
+        for key, field_name, label in (
+            ("mesh_tangential", "mesh_tangential", "tangential F_t"),
+            ("mesh_radial", "mesh_radial", "radial F_r (separating)"),
+            ("mesh_axial", "mesh_axial", "axial F_a"),
+        ):
+            out.append(
+                Panel(
+                    key,
+                    "force components",
+                    f"mesh force components: {label} [kN]",
+                    "kN",
+                    per_mesh(getattr(res, field_name) / 1e3),
+                    reference=scale,
+                )
+            )
+        out.append(
+            Panel(
+                "transmission_error",
+                "mesh deflection",
+                "transmission error along the line of action [µm]",
+                "µm",
+                per_mesh(res.transmission_error * 1e6),
+            )
+        )
+        compliant = [i for i in range(len(res.mesh_names)) if np.any(res.mesh_deflection[:, i])]
+        if compliant:
+            out.append(
+                Panel(
+                    "mesh_deflection",
+                    "mesh deflection",
+                    "compliant mesh deflections δ [µm]",
+                    "µm",
+                    [
+                        Series(res.mesh_names[i], res.mesh_deflection[:, i] * 1e6, color(i))
+                        for i in compliant
+                    ],
+                )
+            )
+    if res.bearing_names:
+        out += [
+            Panel(
+                "bearing_force",
+                "bearings",
+                "bearing forces |F| on the child body, world [kN]",
+                "kN",
+                per_bearing(np.linalg.norm(res.bearing_force, axis=2) / 1e3),
+            ),
+            Panel(
+                "bearing_moment",
+                "bearings",
+                "bearing moments |M| about the bearing centre, world [kN·m]",
+                "kN·m",
+                per_bearing(np.linalg.norm(res.bearing_moment, axis=2) / 1e3),
+            ),
+        ]
+    if gearbox is not None and res.mesh_names:
+        from pinwind.analysis.load_sharing import load_sharing
+
+        shares, factors = [], []
+        for k, sharing in enumerate(load_sharing(res, gearbox)):
+            for name, values in zip(sharing.meshes, sharing.share.T, strict=True):
+                shares.append(Series(name, values, color(res.mesh_names.index(name))))
+            factors.append(Series(sharing.gear, sharing.factor, color(k)))
+        if shares:
+            out += [
+                Panel(
+                    "load_sharing",
+                    "load sharing",
+                    "planet load share F_n / mean F_n of the meshes of one gear [-]",
+                    "-",
+                    shares,
+                    reference=1.0,
+                ),
+                Panel(
+                    "load_factor",
+                    "load sharing",
+                    "load factor K_γ = max / mean planet load per central gear, IEC 61400-4 [-]",
+                    "-",
+                    factors,
+                    reference=1.0,
+                ),
+            ]
+    if res.energy and "kinetic" in res.energy and len(res.energy["kinetic"]) == len(res):
+        terms = [Series(k, v / 1e3, color(i)) for i, (k, v) in enumerate(res.energy.items())]
+        largest = max(float(np.max(np.abs(s.values), initial=0.0)) for s in terms)
+        out += [
+            Panel("energy", "energy", "energy ledger, from t = 0 [kJ]", "kJ", terms),
+            Panel(
+                "energy_balance",
+                "energy",
+                "energy balance residual Δ(kinetic + spring) − net work [kJ]",
+                "kJ",
+                [Series("residual", energy_residual(res.energy) / 1e3, color(0))],
+                reference=largest,
+            ),
+        ]
+    return out
+
+
+def model_of_log(log) -> tuple[Any, dict[str, dict[str, Any]] | None]:
+    """(Gearbox rebuilt from the model text a log carries, its joints), or (None, None).
+
+    The joints map name → type, parent, child and axis (child frame). A log whose model no
+    longer loads (a model written by another pinwind version) gives (None, None): the plots that
+    need it (load sharing, absolute speeds) are left out.
+    """
+    from pinwind.errors import PinwindError
+    from pinwind.model.gearbox import loads
+
+    text = log.model_text
+    if not text:
+        return None, None
+    try:
+        gearbox = loads(text, path=str(log.path))
+    except PinwindError:
+        return None, None
+    joints = getattr(getattr(gearbox, "source", None), "joints", None)
+    return gearbox, joints
+
+
+def log_panels(log) -> list[Panel]:
+    """Every panel of a ``LogFile`` (``open_log``), the model rebuilt from the log itself."""
+    gearbox, joints = model_of_log(log)
+    return panels(log.result, log.model, joints=joints, gearbox=gearbox)
