@@ -44,8 +44,8 @@ class TimedLogger:
     def begin(self, gearbox, result) -> None:
         self._timed(self.logger.begin, gearbox, result)
 
-    def samples(self, result, start: int, stop: int) -> None:
-        self._timed(self.logger.samples, result, start, stop)
+    def samples(self, block, start: int) -> None:
+        self._timed(self.logger.samples, block, start)
 
     def end(self, result, status: str) -> None:
         self._timed(self.logger.end, result, status)

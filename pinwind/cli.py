@@ -34,7 +34,7 @@ app.add_typer(build_app, name="build")
 
 # Tables of mesh forces need ~120 columns; pipes and CI logs get that width instead of 80.
 console = Console() if Console().is_terminal else Console(width=130)
-err_console = Console(stderr=True)
+err_console = Console(stderr=True, soft_wrap=True)  # one error, one line, whatever its length
 
 RPM_TO_RAD_PER_S = 2.0 * math.pi / 60.0
 
