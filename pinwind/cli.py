@@ -20,7 +20,7 @@ from typing import Annotated
 import typer
 from rich.console import Console
 
-from pinwind.errors import InputError, PinwindError, PinwindWarning
+from pinwind.errors import InputError, LogWriteFailed, PinwindError, PinwindWarning
 
 app = typer.Typer(
     name="pinwind",
@@ -179,6 +179,17 @@ def simulate(
         typer.Option("--log-rate", help="Logged samples per simulated second [Hz]; default all."),
     ] = None,
     no_log: Annotated[bool, typer.Option("--no-log", help="Do not write a log.")] = False,
+    pose_rate: Annotated[
+        float,
+        typer.Option("--pose-rate", help="Logged link poses (/tf) per simulated second [Hz]."),
+    ] = 100.0,
+    allow_large_log: Annotated[
+        bool,
+        typer.Option(
+            "--allow-large-log",
+            help="Write the log even if it would exceed 20 GB or the free disk space.",
+        ),
+    ] = False,
     mesh: Annotated[
         list[str] | None,
         typer.Option(
@@ -218,9 +229,11 @@ def simulate(
                 gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
                 progress=progress, log=log, log_rate=log_rate, overwrite=force,
                 command=command, meshes=meshes, position_errors=errors,
+                pose_rate=pose_rate, allow_large_log=allow_large_log,
             )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
-        if log is not None and _stamp(log) not in (None, before):
+        written = not isinstance(err, LogWriteFailed)  # that message says what the file holds
+        if written and log is not None and _stamp(log) not in (None, before):
             err_console.print(f"the run stopped early; its log up to that point is in {log}")
         if isinstance(err, Terminated):
             err_console.print(f"terminated ({err})")

@@ -231,14 +231,13 @@ class LogTooLargeToWrite(LogError):
         self.result_bytes = result_bytes
         self.samples = samples
         self.fitting_rate = fitting_rate
-        rate = f"--log-rate {fitting_rate:g} (log_rate=) would fit" if fitting_rate > 0 else ""
+        rate = f" {fitting_rate:g} (log_rate=) would fit" if fitting_rate > 0 else " HZ"
         super().__init__(
             path,
             f"the log of this run would take about {log_bytes / 1e9:.3g} GB ({samples} samples), "
             f"more than {limit} ({limit_bytes / 1e9:.3g} GB); the Result kept in memory needs "
-            f"{result_bytes / 1e6:.3g} MB. Log less: {rate + ', ' if rate else ''}--no-log "
-            "(log=None) or a shorter --duration; or write it anyway with --allow-large-log "
-            "(allow_large_log=True)",
+            f"{result_bytes / 1e6:.3g} MB. Log less: --log-rate{rate}, --no-log (log=None) or a "
+            "shorter --duration; or write it anyway with --allow-large-log (allow_large_log=True)",
         )
 
 

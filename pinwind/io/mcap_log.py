@@ -284,10 +284,10 @@ def _resolve_rate(dt: float, log_rate: float | None, what: str = "log") -> tuple
 #: (docs/log_format.md, "Size and cost"): the values compress to 0.2-0.35 of their 8 bytes, so
 #: counting half of them keeps the estimate on the high side; a record's header and CDR layout
 #: compress to a few bytes, and each has a 16-byte message-index entry (not compressed); a file
-#: has schemas, metadata, the model text twice and the summary.
+#: has schemas, metadata and the summary, and the model text twice.
 _VALUE_FRACTION = 0.5
 _RECORD_BYTES = 6
-_FILE_BYTES = 64_000
+_FILE_BYTES = 24_000
 
 
 @dataclass(frozen=True)
@@ -298,20 +298,23 @@ class LogEstimate:
         samples: samples logged.
         posed: samples with link poses (/tf).
         bytes: size of the file [bytes].
+        per_sample: bytes per logged sample, poses included.
     """
 
     samples: int
     posed: int
     bytes: int
+    per_sample: float
 
 
 def estimate_log_size(
-    result: Result, *, samples: int, stride: int, pose_stride: int
+    result: Result, *, samples: int, stride: int, pose_stride: int, model_bytes: int = 0
 ) -> LogEstimate:
     """Size of the log of a run of ``samples`` samples, estimated on the high side [bytes].
 
     Every ``stride``-th sample is logged, with its link poses every ``pose_stride``-th;
-    ``result`` gives the shapes (names) of the arrays. Every float64 counts
+    ``result`` gives the shapes (names) of the arrays, ``model_bytes`` the length of the model
+    file (stored twice). Every float64 counts
     ``_VALUE_FRACTION`` of its 8 bytes, every record its message-index entry (16 bytes,
     uncompressed) and ``_RECORD_BYTES`` of compressed framing.
     """
@@ -331,8 +334,13 @@ def estimate_log_size(
     bodies = len(result.body_names)
     per_sample = 8 * _VALUE_FRACTION * doubles + records * (16 + _RECORD_BYTES)
     per_pose = 8 * _VALUE_FRACTION * 7 * bodies + 16 + _RECORD_BYTES * (1 + bodies)
-    total = logged * per_sample + posed * per_pose + _FILE_BYTES
-    return LogEstimate(samples=logged, posed=posed, bytes=int(total))
+    total = logged * per_sample + posed * per_pose + _FILE_BYTES + 2 * model_bytes
+    return LogEstimate(
+        samples=logged,
+        posed=posed,
+        bytes=int(total),
+        per_sample=per_sample + per_pose * posed / max(logged, 1),
+    )
 
 
 def result_bytes(result: Result) -> int:
@@ -358,7 +366,8 @@ def _fitting_rate(estimate: LogEstimate, limit: float, rate: float) -> float:
 
     Two significant digits, rounded down.
     """
-    wanted = 0.9 * rate * (limit - _FILE_BYTES) / max(estimate.bytes - _FILE_BYTES, 1)
+    fixed = estimate.bytes - estimate.samples * estimate.per_sample
+    wanted = 0.9 * rate * (limit - fixed) / max(estimate.bytes - fixed, 1)
     if wanted <= 0:
         return 0.0
     digits = 10.0 ** (math.floor(math.log10(wanted)) - 1)
@@ -506,13 +515,13 @@ class McapLogger:
             samples=int(meta.get("samples_simulated", len(result))),
             stride=self.stride,
             pose_stride=self.pose_stride,
+            model_bytes=len(gearbox.source_text.encode("utf-8")),
         )
         if self.max_bytes is not None:
             self._check_size(result, rate)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         try:
-            # unbuffered: every write reaches the OS at once, and a failed one can be cut back
-            self._stream = open(self.path, "wb" if self.overwrite else "xb", buffering=0)  # noqa: SIM115
+            self._stream = self._open_file()
         except FileExistsError as err:
             raise LogExists(str(self.path)) from err
         except OSError as err:
@@ -528,6 +537,10 @@ class McapLogger:
         # overlap the next samples' steps (the compiled step loop releases the GIL).
         self._writer = threading.Thread(target=self._write_chunks, name="pinwind-log", daemon=True)
         self._writer.start()
+
+    def _open_file(self) -> BinaryIO:
+        """The file, unbuffered: every write reaches the OS at once, a failed one can be cut."""
+        return open(self.path, "wb" if self.overwrite else "xb", buffering=0)  # noqa: SIM115
 
     def _check_size(self, result: Result, rate: float) -> None:
         """Refuse a log larger than ``max_bytes`` or the free space of its file system."""
