@@ -291,12 +291,28 @@ def replay(
         bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
     ] = False,
     web_port: Annotated[int | None, typer.Option(help="Web viewer port (with --serve).")] = None,
+    start: Annotated[
+        float | None, typer.Option("--from", help="Send every sample from this time on [s].")
+    ] = None,
+    stop: Annotated[
+        float | None, typer.Option("--to", help="Send every sample up to this time [s].")
+    ] = None,
+    points: Annotated[
+        int, typer.Option("--points", help="Samples per plotted series in the overview.")
+    ] = 2000,
 ) -> None:
-    """Show a log in Rerun: gears turning, force arrows and plots, from the file alone."""
+    """Show a log in Rerun: gears turning, force arrows and plots, from the file alone.
+
+    The whole run comes as an overview (the smallest and largest sample of each series in each
+    of --points/2 time spans); --from/--to add every sample of that window.
+    """
     from pinwind.io.replay import replay as run_replay
 
     with _warnings_as_lines():
-        out = run_replay(log, save=save, serve=serve, web_port=web_port, announce=console.print)
+        out = run_replay(
+            log, save=save, serve=serve, web_port=web_port, start=start, stop=stop,
+            points=points, announce=console.print,
+        )  # fmt: skip
     if out is not None:
         console.print(f"wrote {out}")
 
