@@ -27,7 +27,6 @@ from mcap.records import (
     Attachment,
     AttachmentIndex,
     Channel,
-    Chunk,
     ChunkIndex,
     DataEnd,
     Footer,
@@ -214,21 +213,36 @@ class McapWriter:
         start = min(int(rows[0, 0]) for rows in index.values() if len(rows))
         end = max(int(rows[:, 0].max()) for rows in index.values() if len(rows))
         size = len(data)
-        chunk = Chunk(
-            compression=self.compression,
-            data=self._compress(data),
-            message_start_time=start,
-            message_end_time=end,
-            uncompressed_crc=zlib.crc32(data),
-            uncompressed_size=size,
+        compressed = self._compress(data)
+        # the chunk record: its fixed fields, then the compressed records as they are
+        name = self.compression.encode()
+        head = struct.pack(
+            f"<BQQQQII{len(name)}sQ",
+            Opcode.CHUNK,
+            8 + 8 + 8 + 4 + 4 + len(name) + 8 + len(compressed),
+            start,
+            end,
+            size,
+            zlib.crc32(data),
+            len(name),
+            name,
+            len(compressed),
         )
-        chunk_at, chunk_length = self._record(chunk)
+        chunk_at = self._write(head)
+        self._write(compressed)
+        chunk_length = self._pos - chunk_at
+        # its message indexes, one record per channel, in one write
         offsets = {}
         index_at = self._pos
+        parts = []
+        at = index_at
         for channel, rows in index.items():
-            body = np.ascontiguousarray(rows, dtype="<u8")
-            head = struct.pack("<BQHI", Opcode.MESSAGE_INDEX, 6 + body.nbytes, channel, body.nbytes)
-            offsets[channel] = self._write(head + body.tobytes())
+            body = np.ascontiguousarray(rows, dtype="<u8").tobytes()
+            parts += [struct.pack("<BQHI", Opcode.MESSAGE_INDEX, 6 + len(body), channel, len(body))]
+            parts.append(body)
+            offsets[channel] = at
+            at += 15 + len(body)
+        self._write(b"".join(parts))
         self.complete = self._pos
         self._chunk_indexes.append(
             ChunkIndex(
@@ -238,8 +252,8 @@ class McapWriter:
                 chunk_length=chunk_length,
                 message_index_offsets=offsets,
                 message_index_length=self._pos - index_at,
-                compression=chunk.compression,
-                compressed_size=len(chunk.data),
+                compression=self.compression,
+                compressed_size=len(compressed),
                 uncompressed_size=size,
             )
         )
