@@ -16,6 +16,7 @@ about 4 µs per message, which at 18 messages per sample would be 30 % of a driv
 from __future__ import annotations
 
 import errno
+import functools
 import json
 import math
 import os
@@ -223,7 +224,9 @@ def _json_record(values: dict[str, Any]) -> dict[str, str]:
     }
 
 
+@functools.cache
 def _versions() -> dict[str, str]:
+    """Versions of Python and the packages a log records (looked up once per process)."""
     from importlib.metadata import PackageNotFoundError, version
 
     out = {"python": platform.python_version()}
@@ -567,7 +570,7 @@ class McapLogger:
         f = self._file = McapWriter(
             self._stream, compression=self.compression, compression_level=self.compression_level
         )
-        versions = _versions()
+        versions = dict(_versions())
         f.start(library=f"pinwind {versions['pinwind']} (mcap {versions['mcap']})")
 
         self._terms = list(result.energy)
