@@ -6,11 +6,13 @@ and hold its channels. ``read_log`` returns one ``Result``; ``iter_log`` streams
 memory as consecutive ``Result`` blocks.
 
 Decoding is done a chunk at a time with numpy. In a chunk written by pinwind every sample is one
-row of message records, one per channel in the same order, and rows of equal length follow each
-other (only ``/tf`` changes length, with its time stamp's varint). Every value of a topic is then
-a strided view of the decompressed chunk, copied once into the returned arrays. The framing
-(opcode, length, channel) and sample number of every record are checked; the fixed payload bytes
-(CDR layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
+row of message records, one per channel in the same order, all of one length; the ``/tf``
+records of the samples that have a pose follow the rows (format 2; in format 1 they were the
+last record of every row, their length changing with the time stamp's varint). Every value of a
+topic is then a strided view of the decompressed chunk, copied once into the returned arrays;
+poses are placed at the rows of their sample numbers, NaN at the others. The framing (opcode,
+length, channel) and sample number of every record are checked; the fixed payload bytes (CDR
+layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
 otherwise (rewritten by another tool) is decoded record by record, to the same values. Two threads
 read, decompress and CRC-check the next chunks (zstd and zlib release the GIL) while the main
 thread copies values.
@@ -1089,7 +1091,9 @@ def read_log(
 ) -> Result:
     """The Result of a logged run, as ``simulate`` returned it (decimated if the log was).
 
-    Arrays are bit-identical to the in-memory run at the logged samples (float64 throughout).
+    Arrays are bit-identical to the in-memory run at the logged samples (float64 throughout);
+    link poses are logged at the pose rate (``pinwind.run`` metadata ``pose_stride``) and NaN at
+    the other samples.
     Only the chunks that overlap the window and hold the channels asked for are read.
 
     Args:
