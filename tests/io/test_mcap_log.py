@@ -150,6 +150,19 @@ def test_log_rate_keeps_every_stride_th_sample(planetary, tmp_path):
     assert_same_arrays(back, _every(full, stride))
 
 
+@pytest.mark.parametrize("pose_rate, pose_every", [(None, 1), (50.0, 20), (1e6, 1)])
+def test_pose_rate_logs_the_poses_of_every_nth_sample_and_nan_between(
+    planetary, tmp_path, pose_rate, pose_every
+):
+    path = tmp_path / "poses.mcap"
+    full = pinwind.simulate(
+        planetary, duration=0.1, dt=DT, torques=TORQUES, log=path, pose_rate=pose_rate
+    )
+    back = pinwind.read_log(path)
+    assert back.metadata["pose_stride"] == pose_every
+    assert_same_arrays(back, full, pose_every=pose_every)
+
+
 def _every(res: pinwind.Result, stride: int) -> pinwind.Result:
     rows = np.arange(0, len(res), stride)
     out = res.truncated(len(res))
