@@ -21,7 +21,13 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
-from pinwind.errors import ConflictingInputs, InputError, PinwindError, PinwindWarning
+from pinwind.errors import (
+    ConflictingInputs,
+    InputError,
+    LogWriteFailed,
+    PinwindError,
+    PinwindWarning,
+)
 
 app = typer.Typer(
     name="pinwind",
@@ -246,6 +252,17 @@ def simulate(
         typer.Option("--log-rate", help="Logged samples per simulated second [Hz]; default all."),
     ] = None,
     no_log: Annotated[bool, typer.Option("--no-log", help="Do not write a log.")] = False,
+    pose_rate: Annotated[
+        float,
+        typer.Option("--pose-rate", help="Logged link poses (/tf) per simulated second [Hz]."),
+    ] = 100.0,
+    allow_large_log: Annotated[
+        bool,
+        typer.Option(
+            "--allow-large-log",
+            help="Write the log even if it would exceed 20 GB or the free disk space.",
+        ),
+    ] = False,
     mesh: Annotated[
         list[str] | None,
         typer.Option(
@@ -295,10 +312,11 @@ def simulate(
                 gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
                 initial_speeds=initial_speeds, progress=progress, log=log, log_rate=log_rate,
                 overwrite=force, command=command, meshes=meshes, position_errors=errors,
-                keep=parse_keep(keep),
+                keep=parse_keep(keep), pose_rate=pose_rate, allow_large_log=allow_large_log,
             )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
-        if log is not None and _stamp(log) not in (None, before):
+        written = not isinstance(err, LogWriteFailed)  # that message says what the file holds
+        if written and log is not None and _stamp(log) not in (None, before):
             err_console.print(
                 f"the run stopped early; its log up to that point is in {escape(str(log))}"
             )
@@ -372,14 +390,28 @@ def replay(
     grpc_port: Annotated[
         int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
     ] = None,
+    start: Annotated[
+        float | None, typer.Option("--from", help="Send every sample from this time on [s].")
+    ] = None,
+    stop: Annotated[
+        float | None, typer.Option("--to", help="Send every sample up to this time [s].")
+    ] = None,
+    points: Annotated[
+        int, typer.Option("--points", help="Samples per plotted series in the overview.")
+    ] = 2000,
 ) -> None:
-    """Show a log in Rerun: gears turning, force arrows and plots, from the file alone."""
+    """Show a log in Rerun: gears turning, force arrows and plots, from the file alone.
+
+    The whole run comes as an overview (the smallest and largest sample of each series in each
+    of --points/2 time spans); --from/--to add every sample of that window.
+    """
     from pinwind.io.replay import replay as run_replay
 
     with _warnings_as_lines():
         out = run_replay(
-            log, save=save, serve=serve, web_port=web_port, grpc_port=grpc_port, announce=say
-        )
+            log, save=save, serve=serve, web_port=web_port, grpc_port=grpc_port,
+            start=start, stop=stop, points=points, announce=say,
+        )  # fmt: skip
     if out is not None:
         say(f"wrote {escape(str(out))}")
 

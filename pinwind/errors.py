@@ -238,6 +238,88 @@ class LogRecovered(PinwindWarning):
     """A log was cut short (crash, kill, full disk); the samples before the cut were recovered."""
 
 
+class LogTooLargeToWrite(LogError):
+    """A run's log would be larger than the limit for one log or the free disk space.
+
+    Attributes:
+        log_bytes: estimated size of the log [bytes].
+        limit_bytes: the limit it exceeds [bytes].
+        limit: which limit (``"the limit for one log"`` or ``"the free space on its disk"``).
+        result_bytes: memory of the Result the run keeps [bytes].
+        samples: samples the log would hold.
+        fitting_rate: a log rate [Hz] whose log would fit.
+    """
+
+    def __init__(
+        self,
+        path: str,
+        *,
+        log_bytes: float,
+        limit_bytes: float,
+        limit: str,
+        result_bytes: float,
+        samples: int,
+        fitting_rate: float,
+    ):
+        self.log_bytes = log_bytes
+        self.limit_bytes = limit_bytes
+        self.limit = limit
+        self.result_bytes = result_bytes
+        self.samples = samples
+        self.fitting_rate = fitting_rate
+        rate = f" {fitting_rate:g} (log_rate=) would fit" if fitting_rate > 0 else " HZ"
+        super().__init__(
+            path,
+            f"the log of this run would take about {log_bytes / 1e9:.3g} GB ({samples} samples), "
+            f"more than {limit} ({limit_bytes / 1e9:.3g} GB); the Result kept in memory needs "
+            f"{result_bytes / 1e6:.3g} MB. Log less: --log-rate{rate}, --no-log (log=None) or a "
+            "shorter --duration; or write it anyway with --allow-large-log (allow_large_log=True)",
+        )
+
+
+class LogWriteFailed(LogError):
+    """Writing a log failed during a run (disk full, file deleted): the run was stopped.
+
+    Attributes:
+        cause: what the operating system said.
+        failed_at: simulation time of the first sample that could not be written [s].
+        samples_logged: samples in the file, complete chunks only.
+        last_time: time of the last of them [s] (NaN if none).
+        kept: the file is still there (False when it was deleted during the run).
+    """
+
+    def __init__(
+        self,
+        path: str,
+        *,
+        cause: str,
+        failed_at: float,
+        samples_logged: int,
+        last_time: float,
+        kept: bool = True,
+    ):
+        self.cause = cause
+        self.failed_at = failed_at
+        self.samples_logged = samples_logged
+        self.last_time = last_time
+        self.kept = kept
+        when = f" at t = {failed_at:.6g} s" if failed_at == failed_at else ""
+        if not kept:
+            holds = "the samples logged so far went with the file"
+        elif samples_logged:
+            holds = (
+                f"the file holds the {samples_logged} samples logged before "
+                f"(t ≤ {last_time:.6g} s), readable with pinwind.read_log or pinwind report"
+            )
+        else:
+            holds = "the file holds no samples"
+        super().__init__(
+            path,
+            f"writing the log failed{when} ({cause}), so the run was stopped; {holds}. Free "
+            "some disk space or log less (--log-rate, --no-log)",
+        )
+
+
 # --- replay --------------------------------------------------------------------------------------
 
 

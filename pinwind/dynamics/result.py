@@ -248,13 +248,17 @@ class Result:
 
     def rows(self, start: int, stop: int) -> Result:
         """Samples start:stop as a Result (views of these arrays)."""
-        kwargs = {name: getattr(self, name)[start:stop] for name in self.ARRAYS}
+        return self.take(slice(start, stop))
+
+    def take(self, rows: slice | np.ndarray) -> Result:
+        """The samples ``rows`` (a slice gives views, indices copies) as a Result."""
+        kwargs = {name: getattr(self, name)[rows] for name in self.ARRAYS}
         return Result(
             joint_names=self.joint_names,
             mesh_names=self.mesh_names,
             bearing_names=self.bearing_names,
             body_names=self.body_names,
-            energy={k: v[start:stop] for k, v in self.energy.items()},
+            energy={k: v[rows] for k, v in self.energy.items()},
             metadata=dict(self.metadata),
             status=self.status,
             **kwargs,

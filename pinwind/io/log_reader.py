@@ -6,11 +6,13 @@ and hold its channels. ``read_log`` returns one ``Result``; ``iter_log`` streams
 memory as consecutive ``Result`` blocks.
 
 Decoding is done a chunk at a time with numpy. In a chunk written by pinwind every sample is one
-row of message records, one per channel in the same order, and rows of equal length follow each
-other (only ``/tf`` changes length, with its time stamp's varint). Every value of a topic is then
-a strided view of the decompressed chunk, copied once into the returned arrays. The framing
-(opcode, length, channel) and sample number of every record are checked; the fixed payload bytes
-(CDR layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
+row of message records, one per channel in the same order, all of one length; the ``/tf``
+records of the samples that have a pose follow the rows (format 2; in format 1 they were the
+last record of every row, their length changing with the time stamp's varint). Every value of a
+topic is then a strided view of the decompressed chunk, copied once into the returned arrays;
+poses are placed at the rows of their sample numbers, NaN at the others. The framing (opcode,
+length, channel) and sample number of every record are checked; the fixed payload bytes (CDR
+layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
 otherwise (rewritten by another tool) is decoded record by record, to the same values. Two threads
 read, decompress and CRC-check the next chunks (zstd and zlib release the GIL) while the main
 thread copies values.
@@ -29,7 +31,7 @@ import warnings
 from collections import deque
 from collections.abc import Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -164,11 +166,15 @@ def _available_memory() -> int | None:
 class _Part:
     """Consecutive samples of a chunk: their times and, per destination, their values.
 
-    ``values`` holds (destination, element index or None, (m, ...) array or strided view).
+    ``values`` holds (destination, element index or None, (m, ...) array or strided view), a
+    value for every sample; ``sparse`` holds (destination, rows, (k, ...) array) for the rows
+    that have one (link poses, logged at the pose rate); ``seq`` the samples' numbers.
     """
 
     time: np.ndarray
     values: list[tuple[str, int | None, np.ndarray]]
+    seq: np.ndarray | None = None
+    sparse: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
 
 
 #: ``_Layout.rows``' default: the chunk's rows were not looked for in a reading thread.
@@ -190,8 +196,10 @@ class _Channel:
 class _Layout:
     """The codecs and destinations of one log, and the decoding of its chunks."""
 
-    def __init__(self, channels: dict[int, Any], names: dict[str, list[str]]):
+    def __init__(self, channels: dict[int, Any], names: dict[str, list[str]], pose_stride: int = 1):
         self.names = names
+        #: samples k with k mod pose_stride = 0 have a /tf record
+        self.pose_stride = max(1, int(pose_stride))
         self.terms = names["energy_terms"]
         nj, nm, nb, nl = (
             len(names[k]) for k in ("joint_names", "mesh_names", "bearing_names", "body_names")
@@ -263,18 +271,30 @@ class _Layout:
         return parts
 
     def find_rows(self, data: bytes, wanted: list[_Channel]) -> list[_Part] | None:
-        """The rows of a chunk written as pinwind writes them, else None (thread-safe)."""
+        """The rows of a chunk written as pinwind writes them, else None (thread-safe).
+
+        Rows of records (one per channel), then, in format 2, the /tf records of the rows that
+        have a pose.
+        """
         size = len(data)
         parts: list[_Part] = []
         pos = 0
         head = np.frombuffer(data, dtype=np.uint8)
+        tf = self.by_topic.get(TF_TOPIC)
+        time = self.by_topic.get(TIME_TOPIC)
         while pos < size:
             columns = _walk_row(data, pos)
             if columns is None:
                 return None
             found = {channel: (column, length) for channel, column, length in columns}
-            time = self.by_topic.get(TIME_TOPIC)
-            if time is None or time.id not in found or any(c.id not in found for c in wanted):
+            if tf is not None and len(found) == 1 and tf.id in found and parts:
+                if tf in wanted and not self._place_poses(data, pos, parts, tf):
+                    return None
+                return parts
+            if time is None or time.id not in found:
+                return None
+            in_row = [c for c in wanted if c.id in found]
+            if any(c is not tf for c in wanted if c.id not in found):
                 return None
             row = sum(length for _, _, length in columns)
             count = (size - pos) // row
@@ -288,12 +308,50 @@ class _Layout:
             if not good[0]:
                 return None
             m = count if good.all() else int(np.argmin(good))
-            part = self._views(data, head, pos, row, m, found, [time, *wanted])
+            part = self._views(data, head, pos, row, m, found, [time, *in_row])
             if part is None:
                 return None
+            part.seq = sample[:m].astype(np.int64)
             parts.append(part)
             pos += m * row
         return parts
+
+    def _place_poses(self, data: bytes, pos: int, parts: list[_Part], tf: _Channel) -> bool:
+        """Decode the /tf records from ``pos`` to the end of the chunk into the parts' rows.
+
+        False if they are not all /tf records of samples of these parts.
+        """
+        size = len(data)
+        offsets, seqs = [], []
+        at = pos
+        while at < size:
+            if at + 31 > size or data[at] != Opcode.MESSAGE:
+                return False
+            length = int.from_bytes(data[at + 1 : at + 9], "little")
+            if int.from_bytes(data[at + 9 : at + 11], "little") != tf.id or at + 9 + length > size:
+                return False
+            offsets.append((at + 31, at + 9 + length))
+            seqs.append(int.from_bytes(data[at + 11 : at + 15], "little"))
+            at += 9 + length
+        seq = np.array(seqs, dtype=np.int64)
+        if np.any(np.diff(seq) <= 0):
+            return False
+        try:
+            position, quaternion = tf.codec.decode([data[a:b] for a, b in offsets], TF_TOPIC)
+        except PayloadError:
+            return False
+        placed = 0
+        for part in parts:
+            lo, hi = np.searchsorted(seq, [part.seq[0], part.seq[-1] + 1])
+            rows = np.searchsorted(part.seq, seq[lo:hi])
+            if np.any(part.seq[rows] != seq[lo:hi]):
+                return False
+            part.sparse += [
+                ("body_position", rows, position[lo:hi]),
+                ("body_quaternion", rows, quaternion[lo:hi]),
+            ]
+            placed += hi - lo
+        return placed == len(seq)
 
     def _views(self, data, head, pos, row, m, found, channels) -> _Part | None:
         """Views of the values of the m rows at pos, pos + row, ...
@@ -411,12 +469,24 @@ class _Layout:
             flat = [bytes(p) for b in blocks for p in b[2]]
             order = np.argsort(seqs, kind="stable")
             gathered[channel.id] = (seqs[order], [flat[i] for i in order])
+        tf = self.by_topic.get(TF_TOPIC)
         common = None
-        for seqs, _ in gathered.values():
-            common = seqs if common is None else np.intersect1d(common, seqs)
+        for channel in channels:
+            if channel is not tf:
+                seqs = gathered[channel.id][0]
+                common = seqs if common is None else np.intersect1d(common, seqs)
+        posed = np.zeros(0, np.int64)
+        if tf in wanted:
+            # a sample is complete with its pose, if it has one; hold back from the first
+            # sample whose pose is still to come (in the next chunk)
+            posed = common[common % self.pose_stride == 0]
+            missing = posed[~np.isin(posed, gathered[tf.id][0])]
+            if len(missing):
+                common, posed = common[common < missing[0]], posed[posed < missing[0]]
+        last = common[-1] if len(common) else -1
         carry = Scan()
         for channel_id, (seqs, payloads) in gathered.items():
-            rest = np.flatnonzero(~np.isin(seqs, common))
+            rest = np.flatnonzero(~np.isin(seqs, common) & (seqs > last))
             if len(rest):
                 block = (seqs[rest], np.zeros(len(rest), np.uint64), [payloads[i] for i in rest])
                 carry.messages[channel_id].append(block)
@@ -424,15 +494,20 @@ class _Layout:
         if not len(common):
             return []
         values: list[tuple[str, int | None, np.ndarray]] = []
+        sparse: list[tuple[str, np.ndarray, np.ndarray]] = []
         time_values = np.zeros(0)
         for channel in channels:
             seqs, payloads = gathered[channel.id]
+            if channel is tf:
+                rows = np.searchsorted(seqs, posed)
+                found = channel.codec.decode([payloads[i] for i in rows], channel.topic)
+                at = np.searchsorted(common, posed)
+                sparse += [("body_position", at, found[0]), ("body_quaternion", at, found[1])]
+                continue
             rows = np.searchsorted(seqs, common)
             found = channel.codec.decode([payloads[i] for i in rows], channel.topic)
             if channel.kind == "joints":
                 values += [(k, None, v) for k, v in zip(channel.keys, found, strict=True)]
-            elif channel.kind == "tf":
-                values += [("body_position", None, found[0]), ("body_quaternion", None, found[1])]
             elif channel.topic == TIME_TOPIC:
                 time_values = found.reshape(-1)
             elif channel.topic == "/run/energy":
@@ -440,7 +515,7 @@ class _Layout:
             else:
                 shape = self.shapes[channel.keys[0]]
                 values.append((channel.keys[0], None, found.reshape(-1, *shape)))
-        return [_Part(time_values, values)]
+        return [_Part(time_values, values, common, sparse)]
 
 
 def _walk_row(data: bytes, pos: int) -> list[tuple[int, int, int]] | None:
@@ -487,6 +562,10 @@ def _joint_fixed(codec: JointStateCodec) -> np.ndarray:
 # --- the arrays a read fills ---------------------------------------------------------------------
 
 
+#: Destinations that have a value only at some samples (poses, at the pose rate): NaN elsewhere.
+_SPARSE = ("body_position", "body_quaternion")
+
+
 class _Sink:
     """Preallocated arrays of the destinations read; unread ones stay empty."""
 
@@ -495,7 +574,13 @@ class _Sink:
         self.keys = keys
         self.n = 0
         self.capacity = capacity
-        self.arrays = {k: np.empty((capacity if k in keys else 0, *s)) for k, s in shapes.items()}
+        self.arrays = {
+            k: self._allocate(k, capacity if k in keys else 0, s) for k, s in shapes.items()
+        }
+
+    @staticmethod
+    def _allocate(key: str, n: int, shape: tuple[int, ...]) -> np.ndarray:
+        return np.full((n, *shape), np.nan) if key in _SPARSE else np.empty((n, *shape))
 
     def put(self, part: _Part, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the part) after those already there.
@@ -513,6 +598,17 @@ class _Sink:
             if view.dtype.kind == "V":
                 target = target.reshape(count, -1).view(view.dtype).reshape(count, *view.shape[1:])
             target[...] = view[rows]
+        for key, at, values in part.sparse:
+            if key not in self.keys:
+                continue
+            if isinstance(rows, slice):
+                first = rows.start or 0
+                inside = (at >= first) & (at < first + count)
+                arrays[key][n + at[inside] - first] = values[inside]
+            else:
+                where = np.minimum(np.searchsorted(rows, at), len(rows) - 1)
+                inside = rows[where] == at
+                arrays[key][n + where[inside]] = values[inside]
         self.n = end
 
     def _grow(self, needed: int) -> None:
@@ -520,7 +616,7 @@ class _Sink:
         self.capacity = max(needed, 2 * self.capacity)
         for key in self.keys:
             old = self.arrays[key]
-            new = np.empty((self.capacity, *old.shape[1:]))
+            new = self._allocate(key, self.capacity, old.shape[1:])
             new[: self.n] = old[: self.n]
             self.arrays[key] = new
 
@@ -642,7 +738,10 @@ class LogReader:
         model = self.metadata["pinwind.model"]
         self.names = {k: list(model.get(k, [])) for k in (*_NAMES_OF.values(), "body_names")}
         self.channels = {c.topic: dict(c.metadata) for c in contents.channels.values()}
-        self._layout = _Layout(contents.channels, self.names)
+        run = self.metadata["pinwind.run"]
+        self._layout = _Layout(
+            contents.channels, self.names, run.get("pose_stride", run.get("log_stride", 1))
+        )
         if TIME_TOPIC not in self._layout.by_topic and contents.chunks:
             raise LogError(where, "unexpected message contents: the log has no /run/time channel")
         end = self.metadata.get("pinwind.end")
@@ -682,7 +781,7 @@ class LogReader:
         chunks = self._sample_chunks(None)
         if not chunks:
             return None
-        return (chunks[0].start_ns * 1e-9, max(c.end_ns for c in chunks) * 1e-9)
+        return (min(c.start_ns for c in chunks) * 1e-9, max(c.end_ns for c in chunks) * 1e-9)
 
     # --- reading -------------------------------------------------------------------------------
 
@@ -778,12 +877,17 @@ class LogReader:
         self._warn(total, (first, last) if total else None, lost)
 
     def _sample_chunks(self, topics: tuple[str, ...] | None) -> list[ChunkRef]:
-        """Chunks that hold samples (the time channel), or whose index is unknown, by time."""
+        """Chunks that hold samples (the time channel), or whose index is unknown, in file order.
+
+        File order is the order the writer produced: time order for pinwind's chunks; for
+        chunks of other tools whose time spans overlap (their /tf records come after a block of
+        samples), the order in which each sample's records complete.
+        """
         time = self._layout.by_topic.get(TIME_TOPIC)
         if time is None:
             return []
         chunks = [c for c in self._contents.chunks if not c.index or time.id in c.index]
-        return sorted(chunks, key=lambda c: (c.start_ns, c.offset))
+        return sorted(chunks, key=lambda c: c.offset)
 
     def _plan(self, start, stop, topics, counts: bool = True) -> tuple[list[ChunkRef], int]:
         """The chunks overlapping the window, and how many samples they hold there (at least)."""
@@ -987,7 +1091,9 @@ def read_log(
 ) -> Result:
     """The Result of a logged run, as ``simulate`` returned it (decimated if the log was).
 
-    Arrays are bit-identical to the in-memory run at the logged samples (float64 throughout).
+    Arrays are bit-identical to the in-memory run at the logged samples (float64 throughout);
+    link poses are logged at the pose rate (``pinwind.run`` metadata ``pose_stride``) and NaN at
+    the other samples.
     Only the chunks that overlap the window and hold the channels asked for are read.
 
     Args:

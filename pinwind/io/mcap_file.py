@@ -27,7 +27,6 @@ from mcap.records import (
     Attachment,
     AttachmentIndex,
     Channel,
-    Chunk,
     ChunkIndex,
     DataEnd,
     Footer,
@@ -83,12 +82,28 @@ class McapWriter:
     index). ``finish`` writes the summary section and the footer.
     """
 
-    def __init__(self, stream: BinaryIO, *, compression_level: int):
-        import zstandard
-
+    def __init__(self, stream: BinaryIO, *, compression: str = "zstd", compression_level: int = 1):
         self._stream = stream
         self._pos = 0
-        self._compressor = zstandard.ZstdCompressor(level=compression_level)
+        #: end of the last complete unit (the start records, a chunk with its message indexes, a
+        #: metadata record): what ``rewind`` cuts the file back to after a failed write
+        self.complete = 0
+        self.compression = compression
+        if compression == "zstd":
+            import zstandard
+
+            self._compress = zstandard.ZstdCompressor(level=compression_level).compress
+        elif compression == "lz4":
+            import lz4.frame
+
+            def lz4_compress(data, level=compression_level):
+                return lz4.frame.compress(data, compression_level=level, store_size=False)
+
+            self._compress = lz4_compress
+        elif compression == "":
+            self._compress = bytes
+        else:
+            raise ValueError(f'unknown chunk compression "{compression}" (zstd, lz4 or "")')
         self._schemas: list[Schema] = []
         self._channels: list[Channel] = []
         self._chunk_indexes: list[ChunkIndex] = []
@@ -106,11 +121,32 @@ class McapWriter:
             channel_message_counts=defaultdict(int),
         )
 
-    def _write(self, data: bytes | bytearray | memoryview) -> int:
+    @property
+    def position(self) -> int:
+        """Bytes written so far."""
+        return self._pos
+
+    def _write(self, data: bytes | bytearray | memoryview | np.ndarray) -> int:
+        """Write all of ``data`` (a raw file may take it in parts); returns where it starts."""
         at = self._pos
-        self._stream.write(data)
-        self._pos += len(data)
+        view = memoryview(data).cast("B")
+        while view:
+            written = self._stream.write(view)
+            if not written:
+                raise OSError(f"the file accepted none of {len(view)} bytes")
+            self._pos += written
+            view = view[written:]
         return at
+
+    def rewind(self) -> None:
+        """Cut the file back to the end of its last complete unit (after a failed write).
+
+        Raises:
+            OSError: the file cannot be truncated.
+        """
+        self._stream.truncate(self.complete)
+        self._stream.seek(self.complete)
+        self._pos = self.complete
 
     def _record(self, record) -> tuple[int, int]:
         builder = RecordBuilder()
@@ -122,6 +158,10 @@ class McapWriter:
         """Magic and header (empty profile: channels may mix encodings)."""
         self._write(MAGIC)
         self._record(Header(profile="", library=library))
+
+    def mark(self) -> None:
+        """Everything written so far is complete (``rewind`` comes back here)."""
+        self.complete = self._pos
 
     def schema(self, schema: messages.Schema) -> int:
         """A schema record; returns its id."""
@@ -163,27 +203,47 @@ class McapWriter:
         offset, length = self._record(Metadata(name=name, metadata=data))
         self._metadata_indexes.append(MetadataIndex(offset, length, name))
         self._stats.metadata_count += 1
+        self.complete = self._pos
 
     def chunk(self, data: bytes | np.ndarray, index: dict[int, np.ndarray]) -> None:
-        """One chunk of message records; ``index``: channel → (n, 2) uint64 (log time, offset)."""
-        times = np.concatenate([rows[:, 0] for rows in index.values()])
-        start, end = int(times.min()), int(times.max())
-        chunk = Chunk(
-            compression="zstd",
-            data=self._compressor.compress(data),
-            message_start_time=start,
-            message_end_time=end,
-            uncompressed_crc=zlib.crc32(data),
-            uncompressed_size=len(data),
+        """One chunk of message records; ``index``: channel → (n, 2) uint64 (log time, offset).
+
+        The chunk counts in the summary only once it and its message indexes are all written.
+        """
+        start = min(int(rows[0, 0]) for rows in index.values() if len(rows))
+        end = max(int(rows[:, 0].max()) for rows in index.values() if len(rows))
+        size = len(data)
+        compressed = self._compress(data)
+        # the chunk record: its fixed fields, then the compressed records as they are
+        name = self.compression.encode()
+        head = struct.pack(
+            f"<BQQQQII{len(name)}sQ",
+            Opcode.CHUNK,
+            8 + 8 + 8 + 4 + 4 + len(name) + 8 + len(compressed),
+            start,
+            end,
+            size,
+            zlib.crc32(data),
+            len(name),
+            name,
+            len(compressed),
         )
-        chunk_at, chunk_length = self._record(chunk)
+        chunk_at = self._write(head)
+        self._write(compressed)
+        chunk_length = self._pos - chunk_at
+        # its message indexes, one record per channel, in one write
         offsets = {}
         index_at = self._pos
+        parts = []
+        at = index_at
         for channel, rows in index.items():
             body = np.ascontiguousarray(rows, dtype="<u8").tobytes()
-            head = struct.pack("<BQHI", Opcode.MESSAGE_INDEX, 6 + len(body), channel, len(body))
-            offsets[channel] = self._write(head + body)
-            self._stats.channel_message_counts[channel] += len(rows)
+            parts += [struct.pack("<BQHI", Opcode.MESSAGE_INDEX, 6 + len(body), channel, len(body))]
+            parts.append(body)
+            offsets[channel] = at
+            at += 15 + len(body)
+        self._write(b"".join(parts))
+        self.complete = self._pos
         self._chunk_indexes.append(
             ChunkIndex(
                 message_start_time=start,
@@ -192,17 +252,21 @@ class McapWriter:
                 chunk_length=chunk_length,
                 message_index_offsets=offsets,
                 message_index_length=self._pos - index_at,
-                compression=chunk.compression,
-                compressed_size=len(chunk.data),
-                uncompressed_size=len(data),
+                compression=self.compression,
+                compressed_size=len(compressed),
+                uncompressed_size=size,
             )
         )
         stats = self._stats
+        count = 0
+        for channel, rows in index.items():
+            stats.channel_message_counts[channel] += len(rows)
+            count += len(rows)
         stats.message_start_time = (
             start if not stats.message_count else min(start, stats.message_start_time)
         )
         stats.message_end_time = max(end, stats.message_end_time)
-        stats.message_count += len(times)
+        stats.message_count += count
         stats.chunk_count += 1
         self._stream.flush()
 

@@ -15,12 +15,15 @@ about 4 µs per message, which at 18 messages per sample would be 30 % of a driv
 
 from __future__ import annotations
 
+import errno
+import functools
 import json
 import math
 import os
 import platform
 import queue
 import shlex
+import shutil
 import signal
 import sys
 import threading
@@ -36,7 +39,14 @@ import numpy as np
 from mcap.opcode import Opcode
 
 from pinwind.dynamics.result import Result
-from pinwind.errors import InvalidLogRate, LogError, LogExists, LogRecovered
+from pinwind.errors import (
+    InvalidLogRate,
+    LogError,
+    LogExists,
+    LogRecovered,
+    LogTooLargeToWrite,
+    LogWriteFailed,
+)
 from pinwind.io import messages
 from pinwind.io.mcap_file import (
     RECORD_HEADER,
@@ -51,7 +61,17 @@ from pinwind.io.messages import (
 
 #: Identity of the file format, in the ``pinwind`` metadata record.
 FORMAT = "pinwind-log"
-FORMAT_VERSION = 1
+#: 2: /tf at the pose rate, its records after each chunk's rows (1: /tf in every row)
+FORMAT_VERSION = 2
+
+#: Link poses per simulated second on /tf [Hz]: a display rate (the physics topics are at the
+#: log rate).
+POSE_RATE = 100.0
+#: Chunk compression and its level.
+COMPRESSION = "zstd"
+COMPRESSION_LEVEL = -1
+#: Largest log a run writes without ``allow_large_log`` (``--allow-large-log``) [bytes].
+MAX_LOG_BYTES = 20e9
 
 MODEL_TOPIC = "/robot_description"
 JOINTS_TOPIC = "/joints"
@@ -205,7 +225,9 @@ def _json_record(values: dict[str, Any]) -> dict[str, str]:
     }
 
 
+@functools.cache
 def _versions() -> dict[str, str]:
+    """Versions of Python and the packages a log records (looked up once per process)."""
     from importlib.metadata import PackageNotFoundError, version
 
     out = {"python": platform.python_version()}
@@ -246,24 +268,181 @@ def _interrupts_deferred() -> Iterator[None]:
             signal.raise_signal(s)
 
 
-def _resolve_rate(dt: float | None, log_rate: float | None) -> tuple[int, float]:
-    """(stride, logged rate [Hz]) for a wanted log rate at time step dt (None: check only)."""
+def _resolve_rate(dt: float | None, log_rate: float | None, what: str = "log") -> tuple[int, float]:
+    """(stride, logged rate [Hz]) for a wanted log (or pose) rate at time step dt.
+
+    dt None only checks the value.
+    """
     sample_rate = 1.0 / dt if dt is not None else math.inf
     if log_rate is None:
         return 1, sample_rate
     log_rate = float(log_rate)
     if not math.isfinite(log_rate) or log_rate <= 0.0:
-        raise InvalidLogRate(f"the log rate must be a positive number [Hz]; got {log_rate}")
+        raise InvalidLogRate(f"the {what} rate must be a positive number [Hz]; got {log_rate}")
     if dt is None:
         return 1, log_rate
     if log_rate > sample_rate * (1.0 + 1e-9):
         raise InvalidLogRate(
-            f"log rate {log_rate:g} Hz is above the sample rate 1/dt = {sample_rate:g} Hz "
+            f"{what} rate {log_rate:g} Hz is above the sample rate 1/dt = {sample_rate:g} Hz "
             f"(dt = {dt:g} s): a run cannot log more samples than it computes; give at most "
-            f"{sample_rate:g} Hz, or omit --log-rate to log every sample"
+            f"{sample_rate:g} Hz, or omit --{what}-rate to log every sample"
         )
     stride = max(1, round(sample_rate / log_rate))
     return stride, sample_rate / stride
+
+
+# --- how large a log will be ---------------------------------------------------------------------
+
+#: What a log takes per value, record and file, measured on the Saleh, Cai and CART models
+#: (docs/log_format.md, "Size and cost"): the values compress to 0.2-0.35 of their 8 bytes, so
+#: counting half of them keeps the estimate on the high side; a record's header and CDR layout
+#: compress to a few bytes, and each has a 16-byte message-index entry (not compressed); a file
+#: has schemas, metadata and the summary, and the model text twice.
+_VALUE_FRACTION = 0.5
+_RECORD_BYTES = 6
+_FILE_BYTES = 24_000
+
+
+@dataclass(frozen=True)
+class LogEstimate:
+    """How large a log will be (an estimate on the high side).
+
+    Attributes:
+        samples: samples logged.
+        posed: samples with link poses (/tf).
+        bytes: size of the file [bytes].
+        per_sample: bytes per logged sample, poses included.
+    """
+
+    samples: int
+    posed: int
+    bytes: int
+    per_sample: float
+
+
+def estimate_log_size(
+    result: Result, *, samples: int, stride: int, pose_stride: int, model_bytes: int = 0
+) -> LogEstimate:
+    """Size of the log of a run of ``samples`` samples, estimated on the high side [bytes].
+
+    Every ``stride``-th sample is logged, with its link poses every ``pose_stride``-th;
+    ``result`` gives the shapes (names) of the arrays, ``model_bytes`` the length of the model
+    file (stored twice). Every float64 counts
+    ``_VALUE_FRACTION`` of its 8 bytes, every record its message-index entry (16 bytes,
+    uncompressed) and ``_RECORD_BYTES`` of compressed framing.
+    """
+    doubles = len(result.energy)
+    records = 1  # /joints
+    for name in Result.ARRAYS:
+        if name in ("body_position", "body_quaternion"):
+            continue
+        per_sample = int(np.prod(getattr(result, name).shape[1:], dtype=int))
+        doubles += per_sample
+    for topic in ARRAY_TOPICS:
+        names = getattr(result, _NAMES_OF[topic.element], None) if topic.element else None
+        if topic.element in ("", "term") or names:  # topics of an empty family are left out
+            records += 1
+    logged = -(-samples // stride)
+    posed = -(-samples // pose_stride)
+    bodies = len(result.body_names)
+    per_sample = 8 * _VALUE_FRACTION * doubles + records * (16 + _RECORD_BYTES)
+    per_pose = 8 * _VALUE_FRACTION * 7 * bodies + 16 + _RECORD_BYTES * (1 + bodies)
+    total = logged * per_sample + posed * per_pose + _FILE_BYTES + 2 * model_bytes
+    return LogEstimate(
+        samples=logged,
+        posed=posed,
+        bytes=int(total),
+        per_sample=per_sample + per_pose * posed / max(logged, 1),
+    )
+
+
+def result_bytes(result: Result) -> int:
+    """Memory of a Result's arrays [bytes]."""
+    return sum(getattr(result, name).nbytes for name in Result.ARRAYS) + sum(
+        values.nbytes for values in result.energy.values()
+    )
+
+
+def _free_space(folder: Path) -> int | None:
+    """Free bytes on the file system that holds ``folder`` (or its nearest existing parent)."""
+    folder = folder.absolute()
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    try:
+        return shutil.disk_usage(folder).free
+    except OSError:
+        return None
+
+
+def _fitting_rate(estimate: LogEstimate, limit: float, rate: float) -> float:
+    """A log rate [Hz] whose log fits in 90 % of ``limit``, from the estimate at ``rate`` [Hz].
+
+    Two significant digits, rounded down.
+    """
+    fixed = estimate.bytes - estimate.samples * estimate.per_sample
+    wanted = 0.9 * rate * (limit - fixed) / max(estimate.bytes - fixed, 1)
+    if wanted <= 0:
+        return 0.0
+    digits = 10.0 ** (math.floor(math.log10(wanted)) - 1)
+    return math.floor(wanted / digits) * digits
+
+
+class _RowLayout:
+    """Byte layout of one logged sample: one message record per channel but /tf, fixed length.
+
+    Built once per log: the row template holds every fixed byte (opcodes, lengths, channel ids,
+    CDR headers, joint names); a block of samples is the template repeated, with the sample
+    number and time written into each record header, the JointState stamp, and each topic's
+    values copied in as whole blocks of bytes.
+    """
+
+    def __init__(self, records: list[tuple[int, np.ndarray]], stamp_record: int, stamp_at: int):
+        """A row of ``records``: (channel, payload template) in row order.
+
+        The stamp goes in the payload of record ``stamp_record`` at byte ``stamp_at``.
+        """
+        width = RECORD_HEADER.itemsize
+        template = bytearray()
+        self.columns: list[int] = []
+        self.channels: list[int] = []
+        for channel, payload in records:
+            head = np.zeros(1, dtype=RECORD_HEADER)
+            head["op"] = Opcode.MESSAGE
+            head["length"] = 22 + len(payload)
+            head["channel"] = channel
+            self.columns.append(len(template))
+            self.channels.append(channel)
+            template += head.tobytes() + payload.tobytes()
+        self.template = np.frombuffer(bytes(template), dtype=np.uint8)
+        self.size = len(template)
+        self.stamp_at = self.columns[stamp_record] + width + stamp_at
+        self._width = width
+
+    def dtype(self, values: list[tuple[int, int]]) -> np.dtype:
+        """A row dtype whose fields are raw bytes.
+
+        ``h<i>``: sequence and times of record i; ``stamp``: the JointState stamp; ``v<j>``:
+        the j-th value block of ``values`` ((byte offset, size) each).
+        """
+        names, formats, offsets = [], [], []
+        for i, column in enumerate(self.columns):
+            names.append(f"h{i}")
+            formats.append(np.dtype("V20"))  # sequence (u4), log time and publish time (u8)
+            offsets.append(column + 11)
+        names.append("stamp")
+        formats.append(np.dtype("V8"))
+        offsets.append(self.stamp_at)
+        for j, (at, size) in enumerate(values):
+            names.append(f"v{j}")
+            formats.append(np.dtype(f"V{size}"))
+            offsets.append(at)
+        return np.dtype(
+            {"names": names, "formats": formats, "offsets": offsets, "itemsize": self.size}
+        )
+
+
+#: sequence, log time, publish time: the variable part of a message record header
+_TIMES = np.dtype([("sequence", "<u4"), ("log_time", "<u8"), ("publish_time", "<u8")])
 
 
 class McapLogger:
@@ -274,9 +453,15 @@ class McapLogger:
         log_rate: logged samples per simulated second [Hz]; default every sample. The logger
             keeps every ``stride``-th sample, stride = round(1 / (dt · log_rate)) ≥ 1, counted from
             sample 0.
+        pose_rate: link poses (``/tf``) per simulated second [Hz], for display; default
+            ``POSE_RATE`` (100 Hz), None for every logged sample. Poses go with every
+            ``pose_stride``-th sample, a multiple of the log stride.
         overwrite: replace an existing file (otherwise ``LogExists`` before anything runs).
         command: the command line or call that started the run (default ``sys.argv``).
-        compression_level: zstd level of the chunks.
+        compression: chunk compression, ``"zstd"`` (default), ``"lz4"`` or ``""``.
+        compression_level: level of that compression.
+        max_bytes: refuse a run whose log would be larger [bytes] (``LogTooLargeToWrite``);
+            default ``MAX_LOG_BYTES``; None for no limit (and no free-space check).
 
     Raises:
         LogExists: the file exists and ``overwrite`` is false.
@@ -287,27 +472,38 @@ class McapLogger:
         path: str | os.PathLike,
         *,
         log_rate: float | None = None,
+        pose_rate: float | None = POSE_RATE,
         overwrite: bool = False,
         command: str | None = None,
-        compression_level: int = 1,
+        compression: str = COMPRESSION,
+        compression_level: int = COMPRESSION_LEVEL,
+        max_bytes: float | None = MAX_LOG_BYTES,
     ):
         self.path = Path(path)
         if self.path.is_dir():
             raise LogError(str(self.path), "is a folder; give a file name such as run.mcap")
         if self.path.exists() and not overwrite:
             raise LogExists(str(self.path))
-        if log_rate is not None:
-            _resolve_rate(None, log_rate)  # check the value before the run starts
+        for name, rate in (("log", log_rate), ("pose", pose_rate)):
+            if rate is not None:
+                _resolve_rate(None, rate, name)  # check the value before the run starts
         self.log_rate = log_rate
+        self.pose_rate = pose_rate
         self.overwrite = overwrite
         self.command = command if command is not None else shlex.join(sys.argv)
+        self.compression = compression
         self.compression_level = compression_level
+        self.max_bytes = max_bytes
         self.stride = 1
+        self.pose_stride = 1
         self.samples_logged = 0
         self._next_sample = 0
+        self._last_time = math.nan
         self._stream: BinaryIO | None = None
         self._file: McapWriter | None = None
         self._failed: BaseException | None = None
+        self._failed_at = math.nan
+        self._lost = False
         self._queued = 0
         self._jobs: queue.Queue = queue.Queue()
         self._writer: threading.Thread | None = None
@@ -315,9 +511,27 @@ class McapLogger:
     # --- RunObserver -----------------------------------------------------------------------
 
     def begin(self, gearbox, result: Result) -> None:
-        """Open the file; write schemas, channels, the model, the metadata and the names."""
+        """Check the log's size; open the file; write schemas, channels, model and metadata.
+
+        Raises:
+            LogTooLargeToWrite: the log would be larger than ``max_bytes`` or the free space.
+            LogError: the file cannot be created.
+        """
         meta = result.metadata
-        self.stride, rate = _resolve_rate(float(meta["dt"]), self.log_rate)
+        dt = float(meta["dt"])
+        self.stride, rate = _resolve_rate(dt, self.log_rate)
+        self.pose_stride = self.stride
+        if self.pose_rate is not None:
+            self.pose_stride = self.stride * max(1, round(rate / float(self.pose_rate)))
+        self.estimate = estimate_log_size(
+            result,
+            samples=int(meta.get("samples_simulated", len(result))),
+            stride=self.stride,
+            pose_stride=self.pose_stride,
+            model_bytes=len(gearbox.source_text.encode("utf-8")),
+        )
+        if self.max_bytes is not None:
+            self._check_size(result, rate)
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as err:
@@ -327,7 +541,7 @@ class McapLogger:
                 f"{err.strerror or err}; choose another --out (or log=) or fix its permissions",
             ) from err
         try:
-            self._stream = open(self.path, "wb" if self.overwrite else "xb")  # noqa: SIM115
+            self._stream = self._open_file()
         except FileExistsError as err:
             raise LogExists(str(self.path)) from err
         except OSError as err:
@@ -344,10 +558,36 @@ class McapLogger:
         self._writer = threading.Thread(target=self._write_chunks, name="pinwind-log", daemon=True)
         self._writer.start()
 
+    def _open_file(self) -> BinaryIO:
+        """The file, unbuffered: every write reaches the OS at once, a failed one can be cut."""
+        return open(self.path, "wb" if self.overwrite else "xb", buffering=0)  # noqa: SIM115
+
+    def _check_size(self, result: Result, rate: float) -> None:
+        """Refuse a log larger than ``max_bytes`` or the free space of its file system."""
+        estimate = self.estimate
+        free = _free_space(self.path.parent)
+        limits = [(float(self.max_bytes), "the limit for one log")]
+        if free is not None:
+            limits.append((float(free), "the free space on its disk"))
+        limit, what = min(limits)
+        if estimate.bytes <= limit:
+            return
+        raise LogTooLargeToWrite(
+            str(self.path),
+            log_bytes=estimate.bytes,
+            limit_bytes=limit,
+            limit=what,
+            result_bytes=result_bytes(result),
+            samples=estimate.samples,
+            fitting_rate=_fitting_rate(estimate, limit, rate),
+        )
+
     def _start(self, gearbox, result: Result, rate: float) -> None:
         meta = result.metadata
-        f = self._file = McapWriter(self._stream, compression_level=self.compression_level)
-        versions = _versions()
+        f = self._file = McapWriter(
+            self._stream, compression=self.compression, compression_level=self.compression_level
+        )
+        versions = dict(_versions())
         f.start(library=f"pinwind {versions['pinwind']} (mcap {versions['mcap']})")
 
         self._terms = list(result.energy)
@@ -365,8 +605,8 @@ class McapLogger:
         model_channel = f.channel(
             MODEL_TOPIC, "cdr", string_schema, {"content": "model file (URDF with <gearbox>)"}
         )
-        self._joint_codec = JointStateCodec(names["joint_names"], WORLD_FRAME)
-        self._joint_channel = f.channel(
+        joint_codec = JointStateCodec(names["joint_names"], WORLD_FRAME)
+        joint_channel = f.channel(
             JOINTS_TOPIC,
             "cdr",
             joint_schema,
@@ -377,7 +617,13 @@ class McapLogger:
                 "effort": "applied plus driver or lock torque [N*m] (Result.torque)",
             },
         )
-        self._arrays = []
+        records = [(joint_channel, joint_codec.template)]
+        #: (Result field or energy, byte offset in the payload, doubles per sample)
+        sources: list[tuple[str, int, int]] = []
+        for field in ("angle", "speed", "torque"):
+            sources.append((field, 0, len(names["joint_names"])))
+        joint_fields = list(joint_codec.fields_at)
+        array_fields = []
         for topic in ARRAY_TOPICS:
             dims = []
             channel_meta = {
@@ -398,14 +644,32 @@ class McapLogger:
                 channel_meta["frame"] = topic.frame
                 channel_meta["axes"] = json.dumps(["x", "y", "z"])
             channel = f.channel(topic.topic, "cdr", array_schema, channel_meta)
-            self._arrays.append((topic, Float64ArrayCodec(dims), channel))
+            codec = Float64ArrayCodec(dims)
+            array_fields.append((len(records), codec.data_at))
+            records.append((channel, codec.template))
+            sources.append((topic.field, 0, codec.count))
         self._tf_codec = FrameTransformsCodec(WORLD_FRAME, names["body_names"])
+        pose_rate = rate * self.stride / self.pose_stride
         self._tf_channel = f.channel(
             TF_TOPIC,
             "protobuf",
             tf_schema,
-            {"content": f"world pose of every link, parent frame '{WORLD_FRAME}'"},
+            {
+                "content": f"world pose of every link, parent frame '{WORLD_FRAME}'",
+                "rate_hz": repr(pose_rate),
+                "stride": str(self.pose_stride),
+            },
         )
+        self._rows = _RowLayout(records, 0, joint_codec.stamp_at)
+        width = RECORD_HEADER.itemsize
+        offsets = [self._rows.columns[0] + width + at for at in joint_fields]
+        offsets += [self._rows.columns[r] + width + at for r, at in array_fields]
+        self._sources = [
+            (field, at, 8 * count)
+            for (field, _, count), at in zip(sources, offsets, strict=True)
+            if count
+        ]
+        self._row_dtype = self._rows.dtype([(at, size) for _, at, size in self._sources])
 
         source = gearbox.source_text.encode("utf-8")
         f.attachment(
@@ -426,7 +690,14 @@ class McapLogger:
             },
         )
         run = {k: v for k, v in meta.items() if k not in ("status", "wall_time_s")}
-        run.update(log_stride=self.stride, log_rate_hz=rate, sample_rate_hz=1.0 / meta["dt"])
+        run.update(
+            log_stride=self.stride,
+            log_rate_hz=rate,
+            sample_rate_hz=1.0 / meta["dt"],
+            pose_stride=self.pose_stride,
+            pose_rate_hz=pose_rate,
+            log_estimate_bytes=self.estimate.bytes,
+        )
         f.metadata("pinwind.run", _json_record(run))
         f.metadata("pinwind.model", _json_record({**names, **model_geometry(gearbox)}))
         payload = messages.encode_string(gearbox.source_text)
@@ -448,18 +719,23 @@ class McapLogger:
         an interrupt is not logged twice.
 
         Raises:
-            LogError: writing an earlier chunk failed (disk full, ...): the run stops.
+            LogWriteFailed: writing an earlier chunk failed (disk full, ...): the run stops.
         """
         if self._file is None:
             return
         self._raise_if_failed()
         stop = start + len(block)
         first = max(start, self._queued)
-        rows = np.arange(first + (-first % self.stride), stop, self.stride)
-        if not len(rows):
+        first += -first % self.stride
+        if first >= stop:
             return
-        self._queued = int(rows[-1]) + 1
-        self._jobs.put((block, rows - start, rows))
+        samples = np.arange(first, stop, self.stride)
+        self._queued = int(samples[-1]) + 1
+        if self.stride == 1:
+            rows: slice | np.ndarray = slice(first - start, stop - start)
+        else:
+            rows = samples - start
+        self._jobs.put((block, rows, samples))
 
     def flush(self) -> None:
         """Wait until every queued chunk is in the file."""
@@ -469,8 +745,18 @@ class McapLogger:
 
     def _raise_if_failed(self) -> None:
         if self._failed is not None:
-            err = self._failed
-            raise LogError(str(self.path), f"writing the log failed: {err}") from err
+            raise self._write_error()
+
+    def _write_error(self) -> LogWriteFailed:
+        err = self._failed
+        return LogWriteFailed(
+            str(self.path),
+            cause=getattr(err, "strerror", None) or str(err),
+            failed_at=self._failed_at,
+            samples_logged=self.samples_logged,
+            last_time=self._last_time,
+            kept=not self._lost,
+        )
 
     def _write_chunks(self) -> None:
         """The writer thread: one chunk per queued block, in order, until None."""
@@ -481,14 +767,40 @@ class McapLogger:
                     return
                 if self._failed is None:
                     block, rows, samples = job
-                    data, index = self._assemble(block, rows, samples)
-                    self._file.chunk(data, index)
-                    self._next_sample = int(samples[-1]) + 1
-                    self.samples_logged += len(samples)
-            except Exception as err:  # disk full, ...: reported to the run by samples()
-                self._failed = err
+                    try:
+                        data, index = self._assemble(block, rows, samples)
+                        self._file.chunk(data, index)
+                        if self._deleted():
+                            self._lost = True
+                            raise FileNotFoundError(
+                                errno.ENOENT,
+                                "the file was deleted, or its folder removed, while the run "
+                                "was writing it",
+                            )
+                    except Exception as err:  # disk full, ...: reported to the run by samples()
+                        self._failed_at = float(block.time[rows][0])
+                        self._failed = err
+                        self._rewind()
+                    else:
+                        self._next_sample = int(samples[-1]) + 1
+                        self.samples_logged += len(samples)
+                        self._last_time = float(block.time[rows][-1])
             finally:
                 self._jobs.task_done()
+
+    def _deleted(self) -> bool:
+        """The file being written has no name any more (deleted, or its folder removed)."""
+        try:
+            return os.fstat(self._stream.fileno()).st_nlink == 0
+        except OSError:
+            return True
+
+    def _rewind(self) -> None:
+        """Cut the file back to its last complete chunk, so that it reads as a cut log."""
+        try:
+            self._file.rewind()
+        except Exception:  # the file is gone or the disk refuses: nothing more to do
+            pass
 
     def _stop_writer(self) -> None:
         if self._writer is not None:
@@ -497,7 +809,15 @@ class McapLogger:
             self._writer = None
 
     def end(self, result: Result, status: str) -> None:
-        """Write the end-status record and the summary, close the file."""
+        """Write the end-status record and the summary, close the file.
+
+        After a failed write, the file is cut back to its last complete chunk and the end
+        record and summary are tried once more there (a full disk may take them now); if that
+        fails too the file stays a cut log, which ``read_log`` recovers.
+
+        Raises:
+            LogWriteFailed: writing failed and no other exception is in flight.
+        """
         if self._file is None:
             return
         in_flight = sys.exc_info()[1]
@@ -507,19 +827,23 @@ class McapLogger:
                 self._stop_writer()
                 self._finish(result, status, cause)
         except Exception as err:
-            if in_flight is None and self._failed is None:
-                raise LogError(str(self.path), f"finishing the log failed: {err}") from err
-            warnings.warn(
-                f"{self.path}: finishing the log failed: {err}", LogRecovered, stacklevel=2
-            )
+            self._rewind()
+            if self._failed is None:
+                self._failed = err
+                self._failed_at = math.nan
         finally:
             self._file = None
             if self._stream is not None:
                 self._stream.close()
-        if in_flight is None:
-            self._raise_if_failed()
+        if self._failed is not None and not isinstance(in_flight, LogWriteFailed):
+            error = self._write_error()
+            if in_flight is None:
+                raise error
+            warnings.warn(str(error), LogRecovered, stacklevel=2)
 
     def _finish(self, result: Result, status: str, cause: str) -> None:
+        if self._failed is not None:
+            status = f"{status}; {self._write_error()}"
         self._file.metadata(
             "pinwind.end",
             _json_record(
@@ -539,73 +863,63 @@ class McapLogger:
     # --- chunks ----------------------------------------------------------------------------
 
     def _assemble(
-        self, result: Result, rows: np.ndarray, samples: np.ndarray
+        self, result: Result, rows: slice | np.ndarray, samples: np.ndarray
     ) -> tuple[np.ndarray, dict]:
-        """Message records of ``rows`` of a block in time order (bytes), and each channel's index.
+        """Message records of ``rows`` of a block (bytes), and each channel's index.
 
         ``samples`` are the rows' sample indices in the run (the messages' sequence numbers).
 
-        Each sample is one row: a record per channel, /tf last. /tf payloads grow with the
-        stamp's varint length, so rows are laid out run by run of equal /tf length.
+        Each sample is one row of records of fixed length, a record per channel but /tf, in
+        ``ARRAY_TOPICS`` order after /joints; the /tf records of the samples that have a pose
+        follow all the rows, in time order (their payloads grow with the stamp's varint).
         """
+        m = len(samples)
+        layout = self._rows
         log_time = np.rint(result.time[rows] * 1e9).astype(np.uint64)
-        payloads = [
-            (
-                self._joint_channel,
-                self._joint_codec.encode(
-                    log_time, result.angle[rows], result.speed[rows], result.torque[rows]
-                ),
-            )
-        ]
-        for topic, codec, channel in self._arrays:
-            values = _topic_values(result, topic, rows, self._terms)
-            payloads.append((channel, codec.encode(values)))
-        runs = self._tf_codec.encode_runs(
-            log_time, result.body_position[rows], result.body_quaternion[rows]
+        posed = np.flatnonzero(samples % self.pose_stride == 0)
+        tf_runs = self._tf_codec.encode_runs(
+            log_time[posed],
+            result.body_position[rows][posed],
+            result.body_quaternion[rows][posed],
         )
         width = RECORD_HEADER.itemsize
-        columns = np.cumsum([0] + [width + p.shape[1] for _, p in payloads])
-        fixed = int(columns[-1])
-        row_length = np.empty(len(rows), dtype=np.int64)
-        for a, b, tf in runs:
-            row_length[a:b] = fixed + width + tf.shape[1]
-        row_start = np.concatenate([[0], np.cumsum(row_length)[:-1]])
-        data = np.empty(int(row_length.sum()), dtype=np.uint8)
-        head = np.empty(len(rows), dtype=RECORD_HEADER)
-        head["op"] = Opcode.MESSAGE
-        head["sequence"] = samples
-        head["log_time"] = log_time
-        head["publish_time"] = log_time
-        for a, b, tf in runs:
-            channels = [*payloads, (self._tf_channel, tf)]
-            starts = [*columns[:-1], fixed]
-            # One row per sample; each record's header and payload is a field of raw bytes, so
-            # filling a field copies a block per row.
-            layout = np.dtype(
-                {
-                    "names": [f"{kind}{i}" for i in range(len(channels)) for kind in "hp"],
-                    "formats": [
-                        np.dtype(f"V{size}") for _, p in channels for size in (width, p.shape[1])
-                    ],
-                    "offsets": [int(c) + skip for c in starts for skip in (0, width)],
-                    "itemsize": int(row_length[a]),
-                }
-            )
-            block = data[row_start[a] : row_start[a] + (b - a) * row_length[a]].view(layout)
-            for i, (channel, payload) in enumerate(channels):
-                rows_ab = slice(a, b) if channel != self._tf_channel else slice(None)
-                head["length"][a:b] = 22 + payload.shape[1]
-                head["channel"][a:b] = channel
-                block[f"h{i}"] = head[a:b].view(f"V{width}")
-                block[f"p{i}"] = np.ascontiguousarray(payload[rows_ab]).view(
-                    f"V{payload.shape[1]}"
-                )[:, 0]
-        offsets = row_start.astype(np.uint64)
+        tf_bytes = sum((b - a) * (width + tf.shape[1]) for a, b, tf in tf_runs)
+        data = np.empty(m * layout.size + tf_bytes, dtype=np.uint8)
+        flat = data[: m * layout.size].reshape(m, layout.size)
+        flat[:] = layout.template
+        row = flat.reshape(-1).view(self._row_dtype)
+        times = np.empty(m, dtype=_TIMES)
+        times["sequence"] = samples
+        times["log_time"] = log_time
+        times["publish_time"] = log_time
+        times = times.view("V20")
+        for i in range(len(layout.columns)):
+            row[f"h{i}"] = times
+        row["stamp"] = messages._stamp_columns(log_time).reshape(-1).view("V8")
+        for j, (field, _, size) in enumerate(self._sources):
+            if field == "energy":
+                values = np.stack([result.energy[t][rows] for t in self._terms], axis=1)
+            else:
+                values = np.ascontiguousarray(getattr(result, field)[rows], dtype="<f8")
+            row[f"v{j}"] = values.reshape(m, -1).view(f"V{size}")[:, 0]
+        offsets = np.arange(m, dtype=np.uint64) * np.uint64(layout.size)
         index = {
             channel: np.stack([log_time, offsets + np.uint64(column)], axis=1)
-            for (channel, _), column in zip(payloads, columns[:-1], strict=True)
+            for channel, column in zip(layout.channels, layout.columns, strict=True)
         }
-        index[self._tf_channel] = np.stack([log_time, offsets + np.uint64(fixed)], axis=1)
+        at = m * layout.size
+        tf_index = []
+        for a, b, tf in tf_runs:
+            records = message_records(
+                self._tf_channel, samples[posed[a:b]], log_time[posed[a:b]], tf
+            )
+            data[at : at + records.size] = records.reshape(-1)
+            length = records.shape[1]
+            starts = at + np.arange(b - a, dtype=np.uint64) * np.uint64(length)
+            tf_index.append(np.stack([log_time[posed[a:b]], starts], axis=1))
+            at += records.size
+        if tf_index:
+            index[self._tf_channel] = np.concatenate(tf_index)
         return data, index
 
 

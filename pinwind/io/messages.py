@@ -22,6 +22,7 @@ sequences a uint32 count and the elements.
 
 from __future__ import annotations
 
+import functools
 import struct
 from dataclasses import dataclass
 
@@ -83,6 +84,7 @@ JOINT_STATE = Schema("sensor_msgs/msg/JointState", "ros2msg", JOINT_STATE_MSG.en
 STRING = Schema("std_msgs/msg/String", "ros2msg", STRING_MSG.encode())
 
 
+@functools.cache
 def frame_transforms_schema() -> Schema:
     """foxglove.FrameTransforms as an MCAP protobuf schema (a FileDescriptorSet)."""
     from foxglove_schemas_protobuf.FrameTransforms_pb2 import FrameTransforms

@@ -16,6 +16,8 @@ and its legend beside the plots, in tabs, with y ranges that do not magnify roun
 
 from __future__ import annotations
 
+import copy
+import math
 import os
 import socket
 import time
@@ -26,6 +28,7 @@ from urllib.parse import quote
 
 import numpy as np
 
+from pinwind.dynamics.result import Result
 from pinwind.errors import InputError, PortInUse, ServeFailed
 from pinwind.io.mcap_log import LogFile, open_log
 from pinwind.io.panels import GROUPS, RAD_PER_S_TO_RPM, Panel, legend_room, log_panels
@@ -106,25 +109,146 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
     )
 
 
-def send_log(log: LogFile, recording, panels: list[Panel] | None = None) -> Scene:
-    """Send a log's machine, poses, arrows and plots (``panels``, default all) to a recording."""
+#: Points per plotted series in the overview of a run: about what a plot a screen wide shows.
+MAX_POINTS = 2000
+
+
+class MinMaxDecimator:
+    """The smallest and largest sample of each series in each of ``spans`` equal time spans.
+
+    Fed block by block (``add``); memory is (spans, series). ``points`` gives, per series, the
+    kept samples in time order: at most 2 per span, the min and the max (one when they are the
+    same sample), so the decimated series has the extremes of the full one.
+    """
+
+    def __init__(self, start: float, stop: float, spans: int, series: int):
+        self.start = start
+        self.width = (stop - start) / spans if stop > start else 1.0
+        self.spans = spans
+        shape = (spans, series)
+        self.low, self.low_at = np.full(shape, np.inf), np.full(shape, np.nan)
+        self.high, self.high_at = np.full(shape, -np.inf), np.full(shape, np.nan)
+
+    def span_of(self, time: np.ndarray) -> np.ndarray:
+        """Index of the span of each time (the last span includes ``stop``)."""
+        index = np.floor((time - self.start) / self.width).astype(np.int64)
+        return np.clip(index, 0, self.spans - 1)
+
+    def add(self, time: np.ndarray, values: np.ndarray) -> None:
+        """Samples at ``time`` (n,), increasing, of every series: ``values`` (n, series)."""
+        if not len(time):
+            return
+        span = self.span_of(time)
+        starts = np.flatnonzero(np.r_[True, span[1:] != span[:-1]])
+        spans = span[starts]
+        index = np.arange(len(time))[:, None]
+        for extreme, value, at, better in (
+            (np.minimum, self.low, self.low_at, np.less),
+            (np.maximum, self.high, self.high_at, np.greater),
+        ):
+            best = extreme.reduceat(values, starts, axis=0)
+            # the first sample of each span that takes the extreme value
+            hit = values == np.repeat(best, np.diff(np.r_[starts, len(time)]), axis=0)
+            first = np.minimum.reduceat(np.where(hit, index, len(time)), starts, axis=0)
+            first = np.minimum(first, len(time) - 1)
+            when = time[first]
+            take = better(best, value[spans]) | np.isnan(at[spans])
+            value[spans] = np.where(take, best, value[spans])
+            at[spans] = np.where(take, when, at[spans])
+
+    def points(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Per series: (times, values) of the kept samples, in time order."""
+        out = []
+        for s in range(self.low.shape[1]):
+            times = np.stack([self.low_at[:, s], self.high_at[:, s]], axis=1)
+            values = np.stack([self.low[:, s], self.high[:, s]], axis=1)
+            keep = ~np.isnan(times)
+            keep[:, 1] &= times[:, 1] != times[:, 0]  # one point when min and max coincide
+            order = np.argsort(np.where(keep, times, np.inf), axis=1, kind="stable")
+            times = np.take_along_axis(times, order, axis=1)[np.take_along_axis(keep, order, 1)]
+            values = np.take_along_axis(values, order, axis=1)[np.take_along_axis(keep, order, 1)]
+            out.append((times, values))
+        return out
+
+
+def overview_rows(res: Result, points: int, window: tuple[float, float] | None) -> np.ndarray:
+    """Rows of the 3D frames.
+
+    At most ``points`` posed samples spread over the run, plus every posed sample of ``window``
+    (start, stop) [s].
+    """
+    posed = np.arange(len(res))
+    if res.body_position.shape[1]:
+        posed = posed[np.isfinite(res.body_position[:, 0, 0])]
+    rows = posed[:: max(1, math.ceil(len(posed) / max(points, 1)))]
+    if len(posed) and rows[-1] != posed[-1]:
+        rows = np.append(rows, posed[-1])
+    if window is not None:
+        inside = posed[(res.time[posed] >= window[0]) & (res.time[posed] <= window[1])]
+        rows = np.union1d(rows, inside)
+    return rows
+
+
+def overview_series(
+    time: np.ndarray, values: np.ndarray, points: int, window: tuple[float, float] | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, values) of a plotted series.
+
+    Its min and max in each of ``points``/2 time spans (``MinMaxDecimator``), plus every sample of
+    ``window`` (start, stop) [s].
+    """
+    if len(time) <= points and window is None:
+        return np.arange(len(time)), values
+    decimator = MinMaxDecimator(float(time[0]), float(time[-1]), max(points // 2, 1), 1)
+    finite = np.isfinite(values)
+    decimator.add(time[finite], values[finite][:, None])
+    kept_times, _ = decimator.points()[0]
+    rows = np.flatnonzero(finite)[np.searchsorted(time[finite], kept_times)]
+    if window is not None:
+        rows = np.union1d(rows, np.flatnonzero((time >= window[0]) & (time <= window[1])))
+    return rows, values[rows]
+
+
+def _nanoseconds(times: np.ndarray) -> np.ndarray:
+    """Times [s] as whole nanoseconds, the log's own time stamps rint(t · 1e9)."""
+    return np.rint(np.asarray(times) * 1e9).astype("timedelta64[ns]")
+
+
+def send_log(
+    log: LogFile,
+    recording,
+    panels: list[Panel] | None = None,
+    *,
+    points: int = MAX_POINTS,
+    window: tuple[float, float] | None = None,
+) -> Scene:
+    """Send a log's machine, poses, arrows and plots (``panels``, default all) to a recording.
+
+    The viewer gets an overview a screen can show: at most ``points`` 3D frames, and each plotted
+    series' min and max in ``points``/2 time spans, so no peak is lost; every sample of ``window``
+    (start, stop) [s] is sent besides.
+    """
     import rerun as rr
 
     res = log.result
-    time_column = rr.TimeColumn(TIMELINE, duration=res.time)
+    frames = overview_rows(res, points, window)
+    view = copy.copy(log)
+    view.result = res.take(frames)
+    time_column = rr.TimeColumn(TIMELINE, duration=_nanoseconds(res.time[frames]))
 
     def send(path: str, columns) -> None:
         rr.send_columns(path, indexes=[time_column], columns=columns, recording=recording)
 
     rr.log("gearbox", rr.ViewCoordinates.RIGHT_HAND_Y_UP, static=True, recording=recording)
-    for i, link in enumerate(res.body_names):
+    for i, link in enumerate(view.result.body_names):
         send(
             f"gearbox/{link}",
             rr.Transform3D.columns(
-                translation=res.body_position[:, i], quaternion=res.body_quaternion[:, i]
+                translation=view.result.body_position[:, i],
+                quaternion=view.result.body_quaternion[:, i],
             ),
         )
-    scene = send_scene(log, recording, send)
+    scene = send_scene(view, recording, send)
     rr.log(
         "gearbox/scale",
         rr.TextDocument(
@@ -137,7 +261,13 @@ def send_log(log: LogFile, recording, panels: list[Panel] | None = None) -> Scen
 
     def plot(path: str, label: str, values: np.ndarray, color=None) -> None:
         rr.log(path, rr.SeriesLines(names=[label], colors=color), static=True, recording=recording)
-        send(path, rr.Scalars.columns(scalars=values))
+        rows, kept = overview_series(res.time, values, points, window)
+        rr.send_columns(
+            path,
+            indexes=[rr.TimeColumn(TIMELINE, duration=_nanoseconds(res.time[rows]))],
+            columns=rr.Scalars.columns(scalars=kept),
+            recording=recording,
+        )
 
     for panel in panels if panels is not None else log_panels(log):
         for series in panel.series:
@@ -172,13 +302,17 @@ def replay(
     grpc_port: int | None = None,
     announce: Callable[[str], None] = print,
     wait: bool = True,
+    start: float | None = None,
+    stop: float | None = None,
+    points: int = MAX_POINTS,
 ) -> Path | None:
     """Show a log in Rerun: spawn the viewer, or write an .rrd (``save``), or serve the web viewer.
 
     With ``serve`` the data are served over gRPC on ``grpc_port`` (default 9876) and the web
     viewer on ``web_port`` (default 9090); ``announce`` gets the one address that opens the
     viewer on the data, and the call blocks (the servers live as long as it does) until Ctrl-C
-    (unless ``wait`` is false).
+    (unless ``wait`` is false). The viewer gets an overview of at most ``points`` samples per
+    series that keeps each series' extremes, and every sample from ``start`` to ``stop`` [s].
 
     Returns:
         The .rrd path when saving, else None.
@@ -204,6 +338,17 @@ def replay(
         check_port_free(grpc_port, "--grpc-port")
         check_port_free(web_port, "--web-port")
     log = open_log(path)
+    window = None
+    if start is not None or stop is not None:
+        t = log.result.time
+        lo = t[0] if start is None else start
+        hi = t[-1] if stop is None else stop
+        if not len(t) or not np.any((t >= lo) & (t <= hi)):
+            span = f"t = {t[0]:g} to {t[-1]:g} s" if len(t) else "no sample"
+            raise InputError(
+                f"no sample from t = {float(lo):.1f} to {float(hi):.1f} s; the log spans {span}"
+            )
+        window = (float(lo), float(hi))
     recording = rr.RecordingStream(application_id="pinwind_replay", recording_id=uuid.uuid4())
     recording.send_recording_name(Path(path).name)
     panels = log_panels(log)
@@ -212,7 +357,7 @@ def replay(
         out = Path(save)
         out.parent.mkdir(parents=True, exist_ok=True)
         recording.save(out, default_blueprint=bp)
-        send_log(log, recording, panels)
+        send_log(log, recording, panels, points=points, window=window)
         recording.flush()
         recording.disconnect()
         return out
@@ -222,7 +367,7 @@ def replay(
             rr.serve_web_viewer(web_port=web_port, open_browser=False, connect_to=url)
         except Exception as err:  # rerun's own error for a port taken meanwhile, ...
             raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
-        send_log(log, recording, panels)
+        send_log(log, recording, panels, points=points, window=window)
         recording.flush()
         announce(f"open {viewer_url(web_port, url)} (Ctrl-C to stop)")
         try:
@@ -232,6 +377,6 @@ def replay(
             pass
         return None
     recording.spawn(default_blueprint=bp)
-    send_log(log, recording, panels)
+    send_log(log, recording, panels, points=points, window=window)
     recording.flush()
     return None

@@ -14,7 +14,7 @@ from typing import Any
 
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.simulate import simulate as _simulate
-from pinwind.io.mcap_log import McapLogger
+from pinwind.io.mcap_log import MAX_LOG_BYTES, POSE_RATE, McapLogger
 from pinwind.model.gearbox import Gearbox
 
 #: Folder of logs given without one (``log=True`` or a bare file name).
@@ -61,8 +61,10 @@ def simulate(
     *,
     log: str | os.PathLike | bool | None = None,
     log_rate: float | None = None,
+    pose_rate: float | None = POSE_RATE,
     overwrite: bool = False,
     command: str | None = None,
+    allow_large_log: bool = False,
     **kwargs: Any,
 ) -> Result:
     """Simulate a gearbox (``pinwind.dynamics.simulate.simulate``) and log it to an MCAP file.
@@ -72,8 +74,12 @@ def simulate(
         log: MCAP file to write: a path, a bare file name (written in ``logs/``), ``True`` for
             ``logs/<model>_<UTC time>.mcap``, or ``None`` for no log.
         log_rate: logged samples per simulated second [Hz]; default every sample.
+        pose_rate: link poses (``/tf``) per simulated second [Hz], for display (default
+            100 Hz); None for a pose with every logged sample.
         overwrite: replace an existing log file; otherwise ``LogExists`` is raised before the run.
         command: the command line to record in the log (default: this call, as text).
+        allow_large_log: write the log even when its estimated size is above ``MAX_LOG_BYTES``
+            (20 GB) or the free disk space.
         **kwargs: ``duration``, ``dt``, ``torques``, ``speeds``, ... as for
             ``pinwind.dynamics.simulate.simulate``.
 
@@ -82,6 +88,10 @@ def simulate(
 
     Raises:
         LogExists: the log file exists and ``overwrite`` is false.
+        LogTooLargeToWrite: the log would be larger than 20 GB or the free disk space (before
+            the run starts; the message gives the sizes and the fixes).
+        LogWriteFailed: writing the log failed during the run (disk full, file deleted): the
+            run stops; the file keeps the samples of its complete chunks.
         InputError, SolverFailed, Diverged: as for the simulation; the log is still complete up
             to the failure, with an end-status record saying why the run stopped.
     """
@@ -91,9 +101,13 @@ def simulate(
     logger = McapLogger(
         path,
         log_rate=log_rate,
+        pose_rate=pose_rate,
         overwrite=overwrite,
+        max_bytes=None if allow_large_log else MAX_LOG_BYTES,
         command=command
-        or describe_call(gearbox, {**kwargs, "log": str(path), "log_rate": log_rate}),
+        or describe_call(
+            gearbox, {**kwargs, "log": str(path), "log_rate": log_rate, "pose_rate": pose_rate}
+        ),
     )
     result = _simulate(gearbox, observer=logger, **kwargs)
     result.metadata["log_path"] = str(path)

@@ -49,6 +49,11 @@ def test_the_log_holds_every_sample_whatever_the_result_keeps(planetary, everyth
     path = tmp_path / "run.mcap"
     pinwind.simulate(planetary, duration=2.5, keep="last", log=path, **RUN)
     back = pinwind.read_log(path)
+    # link poses are logged at 100 Hz (every 10th sample of 1 ms), NaN between
+    posed = np.arange(0, len(everything), 10)
+    np.testing.assert_array_equal(back.body_position[posed], everything.body_position[posed])
+    assert np.isnan(np.delete(back.body_quaternion, posed, axis=0)).all()
+    back.body_position, back.body_quaternion = everything.body_position, everything.body_quaternion
     _same_rows(back, everything, np.arange(len(everything)))
 
 

@@ -18,16 +18,26 @@ from pinwind.io.log_reader import LogDamaged, LogReader
 from pinwind.io.mcap_log import McapLogger, open_log
 from pinwind.io.messages import decode_string
 from pinwind.io.run import log_path
-from tests.io.conftest import CHUNK, DT, DURATION, PLANETARY, TORQUES
+from tests.io.conftest import CHUNK, DT, DURATION, PLANETARY, POSE_EVERY, TORQUES
 
 
-def assert_same_arrays(actual: pinwind.Result, expected: pinwind.Result) -> None:
-    """Every array and name of two Results, bit for bit (float64 compared as raw bits)."""
+def assert_same_arrays(
+    actual: pinwind.Result, expected: pinwind.Result, *, pose_every: int = POSE_EVERY
+) -> None:
+    """Every array and name of two Results, bit for bit (float64 compared as raw bits).
+
+    Link poses are logged at sample k = 0, pose_every, 2 pose_every, ... only: there they equal
+    the expected ones, at the other samples the log gives NaN.
+    """
     for name in ("joint_names", "mesh_names", "bearing_names", "body_names"):
         assert getattr(actual, name) == getattr(expected, name), name
+    posed = np.rint(expected.time / DT).astype(np.int64) % pose_every == 0
     for name in expected.ARRAYS:
         a, b = getattr(actual, name), getattr(expected, name)
         assert a.dtype == np.float64 and a.shape == b.shape, name
+        if name in ("body_position", "body_quaternion"):
+            assert np.isnan(a[~posed]).all(), name
+            a, b = a[posed], b[posed]
         np.testing.assert_array_equal(a.view(np.uint64), b.view(np.uint64), err_msg=name)
     assert list(actual.energy) == list(expected.energy)
     for key, values in expected.energy.items():
@@ -85,13 +95,16 @@ def test_official_mcap_reader_sees_every_message_with_valid_crcs(logged_run):
     with open(logged_run.path, "rb") as f:
         reader = make_reader(f)
         summary = reader.get_summary()
-        counts = {}
-        for _, channel, _ in reader.iter_messages():
+        counts, log_times = {}, []
+        for _, channel, message in reader.iter_messages(log_time_order=True):
             counts[channel.topic] = counts.get(channel.topic, 0) + 1
+            log_times.append(message.log_time)
     assert summary.statistics.message_count == sum(counts.values())
+    assert np.all(np.diff(log_times) >= 0)  # /tf records after each block's rows are sorted in
     assert counts.pop("/robot_description") == 1
+    assert counts.pop("/tf") == len(range(0, n, POSE_EVERY))
     assert set(counts.values()) == {n}
-    assert "/meshes/normal" in counts and "/tf" in counts and "/joints" in counts
+    assert "/meshes/normal" in counts and "/joints" in counts
     with open(logged_run.path, "rb") as f:
         records = list(StreamReader(f, validate_crcs=True).records)  # raises on a bad CRC
     assert records
@@ -135,6 +148,19 @@ def test_log_rate_keeps_every_stride_th_sample(planetary, tmp_path):
     assert back.metadata["log_stride"] == stride == 10
     np.testing.assert_allclose(back.metadata["log_rate_hz"], 100.0, rtol=1e-12)
     assert_same_arrays(back, _every(full, stride))
+
+
+@pytest.mark.parametrize("pose_rate, pose_every", [(None, 1), (50.0, 20), (1e6, 1)])
+def test_pose_rate_logs_the_poses_of_every_nth_sample_and_nan_between(
+    planetary, tmp_path, pose_rate, pose_every
+):
+    path = tmp_path / "poses.mcap"
+    full = pinwind.simulate(
+        planetary, duration=0.1, dt=DT, torques=TORQUES, log=path, pose_rate=pose_rate
+    )
+    back = pinwind.read_log(path)
+    assert back.metadata["pose_stride"] == pose_every
+    assert_same_arrays(back, full, pose_every=pose_every)
 
 
 def _every(res: pinwind.Result, stride: int) -> pinwind.Result:

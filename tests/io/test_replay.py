@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
+import pinwind
 from pinwind.errors import InputError
 from pinwind.io.replay import replay, tooth_outline
-from tests.io.conftest import rrd_columns
+from tests.io.conftest import DT, TORQUES, rrd_columns
 from tests.io.test_cli_log import run
 
 #: Largest pitch radius of the Saleh stage: the ring, 120 teeth of module 15 mm [m].
@@ -125,20 +126,23 @@ def test_force_arrows_sit_outside_the_gears_and_share_one_scale(replayed, logged
 
     origins = values("mesh_forces", "origins").reshape(-1, nm, 3)
     vectors = values("mesh_forces", "vectors").reshape(-1, nm, 3)
+    # The 3D frames are the samples with poses (the log keeps them at 100 Hz).
+    posed = np.isfinite(pinwind.read_log(logged_run.path).body_position[:, 0, 0])
     # In the face plane of gear B (face width 380 mm) plus 1 % of the ring radius, toward the
     # camera (-z), straight above the pitch point.
-    np.testing.assert_allclose(origins[..., :2], res.pitch_point[..., :2], atol=1e-6)
+    np.testing.assert_allclose(origins[..., :2], res.pitch_point[posed][..., :2], atol=1e-6)
     np.testing.assert_allclose(origins[..., 2], -(0.19 + 0.01 * RING_PITCH_RADIUS), atol=1e-6)
-    bearing = values("bearing_forces", "vectors").reshape(len(res), -1, 3)
+    bearing = values("bearing_forces", "vectors").reshape(np.count_nonzero(posed), -1, 3)
     lengths = np.linalg.norm(vectors, axis=-1)
+    shown_mesh, shown_bearing = res.mesh_force_on_b[posed], res.bearing_force[posed]
     largest = max(
-        np.linalg.norm(res.mesh_force_on_b, axis=-1).max(),
-        np.linalg.norm(res.bearing_force, axis=-1).max(),
+        np.linalg.norm(shown_mesh, axis=-1).max(),
+        np.linalg.norm(shown_bearing, axis=-1).max(),
     )
-    # One scale for both families: the largest force of the run is half the ring radius long.
+    # One scale for both families: the largest force drawn is half the ring radius long.
     scale = 0.5 * RING_PITCH_RADIUS / largest
     np.testing.assert_allclose(
-        lengths, np.linalg.norm(res.mesh_force_on_b, axis=-1) * scale, rtol=1e-5, atol=1e-7
+        lengths, np.linalg.norm(shown_mesh, axis=-1) * scale, rtol=1e-5, atol=1e-7
     )
     np.testing.assert_allclose(
         max(lengths.max(), np.linalg.norm(bearing, axis=-1).max()),
@@ -320,3 +324,84 @@ def test_replay_cli_names_the_taken_web_port_in_one_line(logged_run, taken_port)
 def test_ports_without_serve_are_refused(logged_run, tmp_path):
     with pytest.raises(InputError, match="go with --serve"):
         replay(logged_run.path, save=tmp_path / "x.rrd", web_port=9999)
+
+
+@pytest.fixture(scope="module")
+def long_log(planetary, tmp_path_factory):
+    """5001 samples (5 s at 1 ms) of the planetary stage under the rippled rotor torque."""
+    path = tmp_path_factory.mktemp("long") / "long.mcap"
+    pinwind.simulate(planetary, duration=5.0, dt=DT, torques=TORQUES, log=path)
+    return path, pinwind.read_log(path)
+
+
+def scalars(columns, entity: str) -> tuple[np.ndarray, np.ndarray]:
+    """(times [ns], values) of a plotted series in an .rrd, in time order.
+
+    Times are whole nanoseconds, the log times rint(t · 1e9) of the samples.
+    """
+    times = np.concatenate(
+        [t.to_numpy().astype("timedelta64[ns]").astype(np.int64) for t in columns[entity]["time"]]
+    )
+    values = np.concatenate([c.flatten().to_numpy() for c in columns[entity]["Scalars:scalars"]])
+    order = np.argsort(times, kind="stable")
+    return times[order], values[order]
+
+
+def test_overview_keeps_at_most_2000_points_per_series_and_its_min_and_max(long_log, tmp_path):
+    path, res = long_log
+    rrd = tmp_path / "overview.rrd"
+    replay(path, save=rrd)
+    columns = rrd_columns(rrd)
+    series = {
+        "/plots/mesh_force/planet1_ring": res.mesh("planet1_ring").normal / 1e3,
+        "/plots/speed/sun": res.joint("sun").speed * (60 / (2 * math.pi)),
+        "/plots/bearing_force/carrier": np.linalg.norm(res.bearing("carrier").force, axis=1) / 1e3,
+    }
+    for entity, full in series.items():
+        times, values = scalars(columns, entity)
+        assert len(values) <= 2000 < len(full), entity
+        assert values.max() == full.max() and values.min() == full.min(), entity
+        # every point is a sample of the run, at its own time
+        rows = times // 1_000_000  # samples of 1 ms
+        np.testing.assert_array_equal(values, full[rows], err_msg=entity)
+    assert len(columns["/gearbox/sun"]["Transform3D:quaternion"]) >= 1
+
+
+def test_overview_has_the_min_and_max_of_every_time_span(long_log, tmp_path):
+    path, res = long_log
+    rrd = tmp_path / "coarse.rrd"
+    replay(path, save=rrd, points=20)  # 10 spans of 0.5 s
+    times, values = scalars(rrd_columns(rrd), "/plots/mesh_force/sun_planet1")
+    full = res.mesh("sun_planet1").normal / 1e3
+    assert len(values) <= 20
+    sample_ns = np.rint(res.time * 1e9)
+    edges = np.linspace(0.0, 5e9, 11)
+    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
+        inside = (sample_ns >= lo) & ((sample_ns < hi) | (hi == 5e9))
+        sent = (times >= lo) & ((times < hi) | (hi == 5e9))
+        assert values[sent].min() == full[inside].min()
+        assert values[sent].max() == full[inside].max()
+
+
+def test_window_is_sent_at_full_rate_beside_the_overview(long_log, tmp_path):
+    path, res = long_log
+    rrd = tmp_path / "window.rrd"
+    replay(path, save=rrd, start=1.0, stop=1.5, points=100)
+    times, values = scalars(rrd_columns(rrd), "/plots/mesh_force/sun_planet1")
+    inside = (res.time >= 1.0) & (res.time <= 1.5)
+    sent = (times >= 1_000_000_000) & (times <= 1_500_000_000)
+    # every sample of the window (overview points inside it are samples too)
+    np.testing.assert_array_equal(np.unique(times[sent]), np.rint(res.time[inside] * 1e9))
+    assert len(values[~sent]) <= 100
+
+
+def test_replay_cli_sends_a_window_and_refuses_an_empty_one(long_log, tmp_path):
+    path, _ = long_log
+    rrd = tmp_path / "cli.rrd"
+    out = run("replay", str(path), "--save", str(rrd), "--from", "2", "--to", "2.1")
+    assert out.returncode == 0, out.stderr
+    times, _ = scalars(rrd_columns(rrd), "/plots/speed/sun")
+    assert np.count_nonzero((times >= 2_000_000_000) & (times <= 2_100_000_000)) >= 101
+    empty = run("replay", str(path), "--save", str(rrd), "--from", "7", "--to", "8")
+    assert empty.returncode == 2
+    assert "no sample from t = 7.0 to 8.0 s; the log spans t = 0 to 5 s" in empty.stderr
