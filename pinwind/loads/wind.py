@@ -6,7 +6,7 @@ Longitudinal spectrum (IEC 61400-1 ed. 3, annex B, table B.1: Kaimal):
     Λ₁ = 0.7 z_hub for z_hub ≤ 60 m, else 42 m,          σ = I · V
 
 Synthesis (Shinozuka's spectral representation with deterministic amplitudes): on the frequencies
-f_k = k / T, k = 1 … N/2, of a series of N samples of ``sample_time`` over T = ``duration``,
+f_k = k / T, k = 1 … N/2 − 1, of a series of N samples of ``sample_time`` over T = ``duration``,
 
     u(t) = V + Σ_k A_k cos(2π f_k t + φ_k),   A_k = c √(2 S_u(f_k) Δf),  φ_k ~ U(0, 2π) seeded,
 
@@ -80,14 +80,14 @@ def kaimal_series(
     big_t = n * sample_time
     lu = kaimal_length_scale(hub_height) if length_scale is None else float(length_scale)
     sigma = turbulence_intensity * mean
-    f = np.arange(1, n // 2 + 1) / big_t
+    f = np.arange(1, n // 2) / big_t  # no term at 0 (the mean) nor at Nyquist
     amplitude = np.sqrt(2.0 * kaimal_spectrum(f, mean, sigma, lu) / big_t)
     variance = 0.5 * np.sum(amplitude**2)
     if variance > 0:
         amplitude *= sigma / math.sqrt(variance)
     phase = np.random.default_rng(seed).uniform(0.0, 2.0 * math.pi, f.size)
     spectrum = np.zeros(n // 2 + 1, dtype=complex)
-    spectrum[1:] = 0.5 * n * amplitude * np.exp(1j * phase)
+    spectrum[1:-1] = 0.5 * n * amplitude * np.exp(1j * phase)
     u = mean + np.fft.irfft(spectrum, n)
     t = np.arange(n + 1) * sample_time
     return t, np.append(u, u[0])  # periodic: the last sample closes the period
