@@ -231,6 +231,7 @@ def simulate(
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
     wind: Signal | None = None,
+    metadata: Mapping[str, object] | None = None,
 ) -> Result:
     """Simulate a gearbox under joint torques and speed drivers.
 
@@ -263,6 +264,7 @@ def simulate(
         wind: wind speed at the rotors [m/s]: a number or a ``pinwind.loads.signals.Signal``
             (``KaimalWind``, a table, ...), evaluated block by block and handed to the compiled
             loop as a per-sample input.
+        metadata: extra entries for ``result.metadata`` and the log (e.g. the scenario).
 
     Torques and speeds given as ``pinwind.loads.signals.Signal`` are evaluated for a whole block
     at once; plain Python callables are called once per sample, the slow path.
@@ -358,6 +360,7 @@ def simulate(
         "samples_simulated": samples,
         "keep_stride": stride,
         **elements.metadata,
+        **(metadata or {}),
     }
     if position_errors:
         res.metadata["position_errors"] = {
