@@ -90,7 +90,9 @@ def reference_torque(speed: float, times: np.ndarray) -> np.ndarray:
 
 def test_locked_speed_start_follows_krause_equations_solved_independently(pair):
     speed = 1809 * RPM
-    t, torque = _held(pair, speed, InductionMachine.cart600(dynamic=True), duration=0.5, dt=1e-4)
-    reference = reference_torque(speed, t)
+    dt = 1e-4
+    t, torque = _held(pair, speed, InductionMachine.cart600(dynamic=True), duration=0.5, dt=dt)
+    # Sample k records the torque over step k → k + 1, that of the fluxes at its end.
+    reference = reference_torque(speed, t + dt)
     swing = np.abs(reference - circuit_torque(speed)).max()
     assert np.abs(torque - reference).max() < 0.01 * swing

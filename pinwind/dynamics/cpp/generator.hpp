@@ -16,7 +16,8 @@
 //                    integrator (A-stable, no numerical damping) and its fixed point is the
 //                    exact steady state, so the torque settles on the equivalent circuit's.
 // The torque of the first four is a law of the shaft speed, taken linearly implicit
-// (joint_torque.hpp); the dq machine's depends on its fluxes, explicit in the step.
+// (joint_torque.hpp); the dq machine's is that of its end-of-step fluxes, linear in the step's
+// acceleration through the speed at mid-step, taken implicitly the same way.
 #pragma once
 
 #include <cmath>
@@ -149,13 +150,28 @@ class InductionMachineDq : public JointTorqueElement {
     JointTorqueElement::prepare(s);
   }
 
-  TorqueSlope evaluate(const StepView&) const override { return {torque(flux_), 0.0}; }
+  // The torque over the step is the one of the end-of-step fluxes, λ_{k+1}(ω_mid), with
+  // ω_mid = ω_k + (h/2) a: linear in a through dτ/dω_mid (h/2), taken implicitly like the laws
+  // of the shaft speed. Explicit in the fluxes, a machine whose slip stiffness is large next to
+  // its shaft's inertia (many poles, a light shaft) would be unstable at the mechanical step.
+  TorqueSlope evaluate(const StepView& s) const override {
+    const double w = s.v[index_];
+    const double d = 1e-6 * (std::abs(w) + we_ / static_cast<double>(g_.pole_pairs));
+    const double t0 = torque(step(w, s.dt));
+    const double t1 = torque(step(w + d, s.dt));
+    // dτ/da = dτ/dω_mid · h/2; JointTorqueElement multiplies the slope it gets by h.
+    return {t0, 0.5 * (t1 - t0) / d};
+  }
 
   void advance(const StepView& s, const Eigen::VectorXd& v_next) override {
-    const Mat4 a = system(0.5 * (s.v[index_] + v_next[index_]));
-    const Mat4 half = 0.5 * s.dt * a;
-    const Vec4 rhs = flux_ + half * flux_ + s.dt * u_;
-    flux_ = (Mat4::Identity() - half).partialPivLu().solve(rhs);
+    flux_ = step(0.5 * (s.v[index_] + v_next[index_]), s.dt);
+  }
+
+  // Trapezoidal step of the fluxes from λ_k at rotor speed ω_mid over h.
+  Vec4 step(double omega_mid, double h) const {
+    const Mat4 half = 0.5 * h * system(omega_mid);
+    const Vec4 rhs = flux_ + half * flux_ + h * u_;
+    return (Mat4::Identity() - half).partialPivLu().solve(rhs);
   }
 
  private:

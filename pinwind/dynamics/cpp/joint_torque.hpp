@@ -4,10 +4,16 @@
 //
 //     τ over the step = τ(ω_k) + min(τ'(ω_k), 0) h a,     τ' = dτ/dω at ω_k
 //
-// which adds −min(τ', 0) h to the QP's Hessian on the joint's diagonal and τ(ω_k) to its force
-// (the same device as the compliant meshes' w JᵀJ, compliant_mesh.hpp). A rising law (τ' > 0,
-// e.g. an induction machine below its pull-out speed) stays explicit. At steady state (a = 0) the
-// torque is the law's exactly.
+// which adds w = −min(τ', 0) h to the QP's Hessian on the joint's diagonal and τ(ω_k) to its
+// force (the same device as the compliant meshes' w JᵀJ, compliant_mesh.hpp). A rising law
+// (τ' > 0, e.g. an induction machine below its pull-out speed) stays explicit. The weight is
+// lagged (a modified-Newton Jacobian): it follows the steepest falling slope met so far, raised
+// only when the law gets more than twice as steep, so that the Hessian, and proxsuite's
+// factorisation of it, stays the same from step to step (a rotor in turbulence crosses the
+// peak of C_p/λ, where the slope changes sign, many times a second). Any w ≥ 0 is consistent to
+// first order (the error is (w + τ' h) a, and w ≈ |τ'| h is tiny next to the inertia wherever
+// an explicit law would have been stable), and at steady state (a = 0) the torque is the law's
+// exactly.
 #pragma once
 
 #include <cmath>
@@ -39,7 +45,8 @@ class JointTorqueElement : public Element {
   void prepare(const StepView& s) override {
     const TorqueSlope ts = evaluate(s);
     torque_ = ts.torque;
-    weight_ = ts.slope < 0.0 ? -ts.slope * s.dt : 0.0;
+    const double target = ts.slope < 0.0 ? -ts.slope * s.dt : 0.0;
+    if (target > 2.0 * weight_) weight_ = target;
     applied_ = torque_;
   }
 
