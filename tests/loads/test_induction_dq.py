@@ -96,3 +96,15 @@ def test_locked_speed_start_follows_krause_equations_solved_independently(pair):
     reference = reference_torque(speed, t + dt)
     swing = np.abs(reference - circuit_torque(speed)).max()
     assert np.abs(torque - reference).max() < 0.01 * swing
+
+
+def test_dq_machine_on_a_light_shaft_settles_stably_at_the_mechanical_step(pair):
+    # 001's machine on a shaft of 0.006 kg·m² (and 0.0015 behind the pair): its slip stiffness,
+    # ≈ 2e4 N·m·s/rad, is 3000 times what an explicit torque could take at h = 1 ms.
+    w_sync = WE / P
+    res = pinwind.simulate(pair, duration=10.0, dt=1e-3, torques={"a": -50.0},
+                           generators={"b": InductionMachine.cart600(dynamic=True)},
+                           initial_speeds={"a": -2 * w_sync})  # fmt: skip
+    # Power balance: T_gen ω_b = T_a ω_a with ω_a = −2 ω_b: T_gen = 100 N·m, generating.
+    assert_allclose(-res.joint("b").torque[-1], 100.0, rtol=1e-6)
+    assert_allclose(circuit_torque(res.joint("b").speed[-1]), 100.0, rtol=1e-6)

@@ -163,6 +163,8 @@ class InductionMachineDq : public JointTorqueElement {
     return {t0, 0.5 * (t1 - t0) / d};
   }
 
+  bool lagged() const override { return false; }
+
   void advance(const StepView& s, const Eigen::VectorXd& v_next) override {
     flux_ = step(0.5 * (s.v[index_] + v_next[index_]), s.dt);
   }

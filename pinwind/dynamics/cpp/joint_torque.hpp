@@ -11,9 +11,11 @@
 // only when the law gets more than twice as steep, so that the Hessian, and proxsuite's
 // factorisation of it, stays the same from step to step (a rotor in turbulence crosses the
 // peak of C_p/λ, where the slope changes sign, many times a second). Any w ≥ 0 is consistent to
-// first order (the error is (w + τ' h) a, and w ≈ |τ'| h is tiny next to the inertia wherever
-// an explicit law would have been stable), and at steady state (a = 0) the torque is the law's
-// exactly.
+// first order (the error is (w + τ' h) a), stable for a falling law as long as w ≥ |τ'| h / 2
+// (the amplification of J ω̇ = τ' ω is 1 + τ' h / (J + w)), and at steady state (a = 0) the
+// torque is the law's exactly. Elements whose torque has dynamics of its own (the dq machine's
+// fluxes) take the slope of every step instead (``lagged() == false``): there a weight too
+// large distorts the coupled electromechanical mode.
 #pragma once
 
 #include <cmath>
@@ -41,12 +43,14 @@ class JointTorqueElement : public Element {
 
   // The law at the step's state: τ(ω_k) and its slope.
   virtual TorqueSlope evaluate(const StepView& s) const = 0;
+  // Whether the implicit weight may lag the slope (module comment).
+  virtual bool lagged() const { return true; }
 
   void prepare(const StepView& s) override {
     const TorqueSlope ts = evaluate(s);
     torque_ = ts.torque;
     const double target = ts.slope < 0.0 ? -ts.slope * s.dt : 0.0;
-    if (target > 2.0 * weight_) weight_ = target;
+    if (!lagged() || target > 2.0 * weight_) weight_ = target;
     applied_ = torque_;
   }
 
