@@ -14,6 +14,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
+from pinwind.cli import main
 from pinwind.dynamics.result import Result
 from pinwind.scenario import load_scenario
 from tests.conftest import MODELS
@@ -162,12 +163,17 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
         "bad-toml",
     ],
 )
-def test_bad_scenario_gets_one_line_naming_file_key_line_and_choices(tmp_path, text, message):
+def test_bad_scenario_gets_one_line_naming_file_key_line_and_choices(
+    tmp_path, monkeypatch, capsys, text, message
+):
     path = write(tmp_path, text)
-    out = pinwind_cli("run", str(path), "--no-log", cwd=tmp_path)
-    assert out.returncode == 2, out.stdout
-    lines = out.stderr.strip().splitlines()
-    assert len(lines) == 1, out.stderr
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "argv", ["pinwind", "run", str(path), "--no-log"])
+    with pytest.raises(SystemExit) as exit_:
+        main()
+    assert exit_.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1, lines
     assert message.format(p=path) in lines[0], lines[0]
 
 
