@@ -120,3 +120,18 @@ def test_k_omega_squared_law_settles_the_rotor_at_the_optimal_tip_speed_ratio():
     # There the rotor delivers P = ½ρπR²v³ C_p,max: its torque is P/ω.
     power = 0.5 * rho * math.pi * radius**2 * wind**3 * cp_max
     assert_allclose(res.joint("carrier").torque[-1], power / speed, rtol=1e-4)
+
+
+def test_wind_from_a_csv_file_drives_the_rotor_sample_by_sample(tmp_path):
+    path = tmp_path / "wind.csv"
+    path.write_text("time,wind\n0,8\n0.2,12\n0.4,9\n")
+    gb = pinwind.load("models/saleh2017_planetary.urdf")
+    rotor = Rotor.saleh2017()
+    sun = 6 * 14.2 * RPM
+    res = pinwind.simulate(gb, duration=0.4, dt=1e-3, rotors={"carrier": rotor},
+                           wind=parse_signal(f'csv(file="{path}", column="wind")'),
+                           speeds={"sun": sun})  # fmt: skip
+    wind = np.interp(res.time, [0, 0.2, 0.4], [8, 12, 9])
+    # The sun is held: the carrier turns at 14.2 rpm and carries the rotor's torque alone.
+    expected = [rotor.torque(sun / 6, v) for v in wind]
+    assert_allclose(res.joint("carrier").torque, expected, rtol=1e-9)
