@@ -230,7 +230,7 @@ def simulate(
     keep: str | int = "auto",
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
-    wind: Signal | None = None,
+    wind: float | TimeSignal | None = None,
     metadata: Mapping[str, object] | None = None,
 ) -> Result:
     """Simulate a gearbox under joint torques and speed drivers.

@@ -135,3 +135,19 @@ def test_wind_from_a_csv_file_drives_the_rotor_sample_by_sample(tmp_path):
     # The sun is held: the carrier turns at 14.2 rpm and carries the rotor's torque alone.
     expected = [rotor.torque(sun / 6, v) for v in wind]
     assert_allclose(res.joint("carrier").torque, expected, rtol=1e-9)
+
+
+def test_rotor_and_generator_work_balance_the_kinetic_energy_with_the_rotor_inertia():
+    from pinwind.loads.generator import InductionMachine
+
+    gb = pinwind.load("models/saleh2017_planetary.urdf")
+    res = pinwind.simulate(gb, duration=2.0, dt=1e-3, rotors={"carrier": Rotor.saleh2017()},
+                           wind=KaimalWind(mean=11, turbulence_intensity=0.2, seed=5, duration=5),
+                           generators={"sun": InductionMachine.cart600(poles=84, dynamic=True)},
+                           initial_speeds={"carrier": 13 * RPM})  # fmt: skip
+    e = res.energy
+    work = e["work_applied"] + e["work_drivers"] + e["work_gravity"] + e["work_constraints"]
+    change = e["kinetic"] - e["kinetic"][0]
+    assert_allclose(change, work - e["dissipated"], rtol=0, atol=1e-9 * np.abs(work).max())
+    # The rotor's inertia is in the kinetic energy: ½ (J_train + J_rotor) ω_c² at the start.
+    assert e["kinetic"][0] > 0.5 * 5.0e6 * (13 * RPM) ** 2
