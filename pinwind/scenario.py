@@ -195,6 +195,9 @@ class Scenario:
                             '"models/saleh2017_planetary.urdf"')  # fmt: skip
         for name, value in values.items():
             self._check_value(name, value)
+        if "rotor" in values and "wind" not in values:
+            raise self.fail(("wind",), "missing: a rotor needs the wind speed [m/s], a number "
+                            "or a signal, e.g. wind = 10")  # fmt: skip
         self.generators()
         self.rotors()
         self.signals("torque")

@@ -131,8 +131,8 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
             "{p}:2: torque.carrier: sine() needs frequency",
         ),
         (
-            'model = "model.urdf"\n[rotor.carrier]\npreset = "saleh2017"\ndiameter = 80\n',
-            "{p}:4: rotor.carrier.diameter: unknown parameter; rotor parameters are: preset, ",
+            'model = "model.urdf"\nwind = 10\n[rotor.carrier]\npreset = "saleh2017"\nd = 8\n',
+            "{p}:5: rotor.carrier.d: unknown parameter; rotor parameters are: preset, ",
         ),
         (
             'model = "model.urdf"\nmesh = { all = "soft" }\n',
@@ -148,6 +148,10 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
         ),
         ('model = "missing.urdf"\n', "{p}:1: model: "),
         ('model = "model.urdf"\nduration = 1\n[wind\n', "{p}:3: -: not valid TOML"),
+        (
+            'model = "model.urdf"\n[rotor.carrier]\npreset = "saleh2017"\n',
+            "{p}: wind: missing: a rotor needs the wind speed",
+        ),
     ],
     ids=[
         "unknown-key",
@@ -161,6 +165,7 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
         "fixed-joint",
         "model-not-found",
         "bad-toml",
+        "rotor-without-wind",
     ],
 )
 def test_bad_scenario_gets_one_line_naming_file_key_line_and_choices(
