@@ -76,9 +76,10 @@ def figures(planetary: pinwind.Result, drivetrain: pinwind.Result, out: Path) ->
 
     for quantity, scale, unit, number in (("force", 1e3, "kN", 11), ("moment", 1e3, "kN·m", 12)):
         fig, ax = plt.subplots(figsize=(8, 4))
-        values = getattr(planetary.bearing("ring"), quantity) / scale
-        for axis, name in enumerate("xyz"):
-            ax.plot(planetary.time, values[:, axis], label=f"{quantity} {name}")
+        for res, label, style in ((planetary, "planetary", "-"), (drivetrain, "drivetrain", "--")):
+            values = getattr(res.bearing("ring"), quantity) / scale
+            for axis, name in enumerate("xyz"):
+                ax.plot(res.time, values[:, axis], style, label=f"{label}: {quantity} {name}")
         ax.set_xlabel("time [s]")
         ax.set_ylabel(f"ring reaction {quantity} [{unit}], world axes")
         ax.set_title(f"like 000 Fig. {number}: ring gear reaction {quantity}s (with weight)")
@@ -120,8 +121,8 @@ def comparison(planetary: pinwind.Result, drivetrain: pinwind.Result) -> list[tu
          "the ring's weight, 1238 kg · 9.81 = 12.1 kN (the planets' tooth forces cancel); "
          "000 Fig. 11's axis spans 0-13 kN"),
         ("ring moment about its axis [kN·m]", float("nan"), abs(ring_moment[2]) / 1e3,
-         "the ring holds T_carrier + T_sun = 5/6 · 1 MN·m = 833 kN·m; 000 Fig. 12's axis spans "
-         "±500 kN·m, its curves cannot be read from the text"),
+         "the ring holds −(T_carrier + T_sun) = −5/6 · 1 MN·m = −833 kN·m; 000 Fig. 12's axis "
+         "spans ±500 kN·m, its curves cannot be read from the text"),
         ("rotor torque swing [MN·m]", float("nan"), (turbulent.max() - turbulent.min()) / 1e6,
          "000's blades are flexible (oscillation in Figs. 5-6); ours are rigid and the swing "
          "comes from turbulence (10 %, a point series: a rotor average would swing less)"),
@@ -140,7 +141,8 @@ def main(argv: list[str] | None = None) -> dict:
     rows = comparison(planetary, drivetrain)
     print(f"{'quantity':36} {'000':>8} {'pinwind':>10}  why")
     for name, paper, ours, why in rows:
-        print(f"{name:36} {paper:8.4g} {ours:10.4g}  {why}")
+        shown = "-" if math.isnan(paper) else f"{paper:.4g}"
+        print(f"{name:36} {shown:>8} {ours:10.4g}  {why}")
     print("figures:", ", ".join(str(p) for p in paths))
     return {"planetary": planetary, "drivetrain": drivetrain, "figures": paths, "rows": rows}
 
