@@ -16,6 +16,13 @@ For each model (default: saleh2017_planetary and saleh2017_drivetrain):
 3. The closed-form tooth forces of the uniformly accelerating one-DoF train, from the URDF text
    alone (``closed_form``), and each simulator's relative error on the sun–planet normal force.
 
+4. State-dependent loads in the compiled loop (``loads_cost``): the same model with the
+   calibrated 1.4 MW rotor on the carrier in a Kaimal wind and Krause's dq induction machine on
+   the output shaft (001's circuit with the pole count whose synchronous speed is nearest the rated
+   output speed), against the rigid step (with the rotor's inertia) under the rated torques held
+   constant, and fed the same loads as torque tables; step loop only, best of 3 each, in the same
+   run. Goal: ≤ 1.2×.
+
 Run:  python benchmarks/step_rate.py [--steps N] [--dt S] [--models A B] [--profile]
 """
 
@@ -38,6 +45,10 @@ import pinocchio as pin
 
 import pinwind
 from pinwind.dynamics.mesh import MeshSet
+from pinwind.loads.generator import InductionMachine
+from pinwind.loads.rotor import Rotor
+from pinwind.loads.signals import Table
+from pinwind.loads.wind import KaimalWind
 
 MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
 DEFAULT_MODELS = ("saleh2017_planetary", "saleh2017_drivetrain")
@@ -597,6 +608,44 @@ def bench_model(path: Path, steps: int, dt: float, profile: bool) -> list[dict]:
     return rows
 
 
+def loads_cost(path: Path, steps: int, dt: float) -> dict:
+    """Step-loop time with rotor + dq generator over the rigid step (module docstring, 4)."""
+    gb = pinwind.load(path)
+    cf = closed_form(path)
+    output = max(cf.speed_ratio, key=lambda j: abs(cf.speed_ratio[j]))
+    rated_rpm = 14.2 * abs(cf.speed_ratio[output])
+    poles = 2 * max(1, round(3600.0 / rated_rpm))  # 60 Hz: n_sync = 7200 / poles rpm
+    machine = InductionMachine.cart600(poles=poles, dynamic=True, steady_start=True)
+    wind = KaimalWind(mean=10.0, turbulence_intensity=0.1, seed=1,
+                      duration=max(600.0, steps * dt))  # fmt: skip
+    loaded = dict(rotors={cf.carrier_joint: Rotor.saleh2017()}, wind=wind,
+                  generators={output: machine},
+                  initial_speeds={cf.carrier_joint: 14.2 * 2 * math.pi / 60})  # fmt: skip
+
+    def best(**kwargs) -> float:
+        pinwind.simulate(gb, duration=10 * dt, dt=dt, progress=False, **kwargs)  # warm-up
+        times = []
+        for _ in range(3):
+            res = pinwind.simulate(gb, duration=steps * dt, dt=dt, progress=False, **kwargs)
+            times.append(res.metadata["wall_time_s"])
+        return min(times) / steps * 1e6
+
+    # Baselines with the same inertia: the rotor's added to the carrier by a rotor in no wind
+    # (its torque is 0 without any evaluation of C_p).
+    inertia = dict(rotors={cf.carrier_joint: Rotor.saleh2017()}, wind=0.0,
+                   initial_speeds=loaded["initial_speeds"])  # fmt: skip
+    rated = {cf.carrier_joint: 1e6, output: -1e6 / cf.speed_ratio[output]}
+    rigid = best(torques=rated, **inertia)
+    with_loads = best(**loaded)
+    # The same loads fed to the rigid step as tables (recorded joint torques of a loaded run):
+    # the QP then sees the same changing forces, without the elements.
+    res = pinwind.simulate(gb, duration=steps * dt, dt=dt, progress=False, **loaded)
+    fed = {j: Table(res.time, res.joint(j).torque) for j in (cf.carrier_joint, output)}
+    table_fed = best(torques=fed, **inertia)
+    return dict(model=gb.name, output=output, poles=poles, rigid_us=rigid, loads_us=with_loads,
+                table_us=table_fed)  # fmt: skip
+
+
 def print_tables(rows: list[dict], steps: int, dt: float) -> None:
     print(f"\n{steps} steps of dt = {dt:g} s; error = relative error of the sun–planet normal")
     print(f"force (worst planet) against the closed form, max over samples {SKIP}..{steps - 1}\n")
@@ -672,6 +721,7 @@ def main(argv: list[str] | None = None) -> int:
         f"numpy {np.__version__}, python {sys.version.split()[0]}"
     )
     rows = []
+    costs = []
     for model in args.models:
         path = resolve(model)
         try:
@@ -679,7 +729,27 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError as err:
             raise SystemExit(f"model {model!r}: {err}") from err
         rows += bench_model(path, args.steps, args.dt, args.profile)
+        costs.append(loads_cost(path, args.steps, args.dt))
     print_tables(rows, args.steps, args.dt)
+    print(
+        "\nstate-dependent loads in the compiled loop: rotor (Kaimal wind) on the carrier + dq "
+        "induction machine on the\noutput shaft; rigid: the rigid step under the rated torques, "
+        "constant; fed: the rigid step fed the same loads\nas torque tables (the QP sees the same "
+        "changing forces); both with the rotor's inertia; step loop only, best of 3;\ngoal <= "
+        "1.20x"
+    )
+    print(
+        f"{'model':<22} {'generator on':<24} {'rigid':>7} {'fed':>7} {'+ loads':>8} "
+        f"{'/rigid':>7} {'/fed':>6}"
+    )
+    for c in costs:
+        where = f"{c['output']} ({c['poles']} poles)"
+        print(
+            f"{c['model']:<22} {where:<24} {c['rigid_us']:7.2f} {c['table_us']:7.2f} "
+            f"{c['loads_us']:8.2f} {c['loads_us'] / c['rigid_us']:7.2f} "
+            f"{c['loads_us'] / c['table_us']:6.2f}"
+        )
+    print("(µs per step)")
     return 0
 
 

@@ -1,4 +1,4 @@
-"""Command-line interface: ``simulate``, ``replay``, ``plot``, ``report``, ``build``, ``info``.
+"""Command-line interface: ``simulate``, ``run``, ``replay``, ``plot``, ``report``, ``build``, ...
 
 Units at this edge are the ones drivetrain engineers type: rpm, mm, degrees; everything is turned
 into SI before it reaches the library. ``simulate`` logs every run to an MCAP file (``logs/`` by
@@ -133,6 +133,16 @@ class SineSpeed:
         return self.mean + self.amplitude * math.sin(2.0 * math.pi * self.frequency * t)
 
 
+def _signal_or_float(text: str, option: str, unit: str, scale: float = 1.0):
+    """A number, or a signal's text form (``sine(mean=..., ...)``, ``loads/signals.py``)."""
+    if "(" not in text:
+        return _float(text, option, unit) * scale
+    from pinwind.loads.signals import Scaled, parse_signal
+
+    signal = parse_signal(text, where=option)
+    return Scaled(signal, scale) if scale != 1.0 else signal
+
+
 def parse_loads(
     torque: list[str] | None,
     speed: list[str] | None,
@@ -145,12 +155,16 @@ def parse_loads(
         InputError: a malformed or non-finite value.
         ConflictingInputs: a joint given twice in one option, or in two speed options.
     """
-    torques = {k: _float(v, "--torque", "N·m") for k, v in _pairs(torque, "--torque").items()}
+    torques = {
+        k: _signal_or_float(v, "--torque", "N·m") for k, v in _pairs(torque, "--torque").items()
+    }
     steady = _pairs(speed, "--speed")
     sines = _pairs(speed_sine, "--speed-sine")
     initial = _pairs(initial_speed, "--initial-speed")
     _disjoint(**{"--speed": steady, "--speed-sine": sines, "--initial-speed": initial})
-    speeds: dict = {k: _float(v, "--speed", "rpm") * RPM_TO_RAD_PER_S for k, v in steady.items()}
+    speeds: dict = {
+        k: _signal_or_float(v, "--speed", "rpm", RPM_TO_RAD_PER_S) for k, v in steady.items()
+    }
     initial_speeds = {
         k: _float(v, "--initial-speed", "rpm") * RPM_TO_RAD_PER_S for k, v in initial.items()
     }
@@ -212,11 +226,19 @@ def simulate(
     model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
     torque: Annotated[
         list[str] | None,
-        typer.Option("--torque", "-t", help="JOINT=N·m applied torque (repeatable)."),
+        typer.Option(
+            "--torque",
+            "-t",
+            help="JOINT=N·m applied torque, a number or a signal: ramp(...), step(...), "
+            "sine(...), csv(file=...), openfast(file=..., channel=..., scale=...), sums with + "
+            "(repeatable).",
+        ),
     ] = None,
     speed: Annotated[
         list[str] | None,
-        typer.Option("--speed", "-s", help="JOINT=RPM prescribed joint speed (repeatable)."),
+        typer.Option(
+            "--speed", "-s", help="JOINT=RPM prescribed joint speed, a number or a signal [rpm]."
+        ),
     ] = None,
     speed_sine: Annotated[
         list[str] | None,
@@ -288,31 +310,84 @@ def simulate(
             "(repeatable); compliant meshes share the load accordingly.",
         ),
     ] = None,
+    generator: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--generator",
+            help="JOINT=LAW(params): constant(torque=), linear-slip(slope=, sync_rpm=), "
+            "variable-speed(gain=, rated_power=), induction(preset=cart600) or induction-dq(...).",
+        ),
+    ] = None,
+    rotor: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--rotor",
+            help="JOINT=saleh2017 or JOINT=rotor(radius=, inertia=, air_density=, pitch_deg=, "
+            "cp_scale=): rotor aerodynamics driven by --wind.",
+        ),
+    ] = None,
+    wind: Annotated[
+        str | None,
+        typer.Option(
+            "--wind",
+            help="Wind speed at the rotor [m/s]: a number or a signal, e.g. "
+            "kaimal(mean=10, turbulence_intensity=0.1, seed=1).",
+        ),
+    ] = None,
 ) -> None:
     """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
-    import numpy as np
-
     import pinwind
-    from pinwind.analysis import load_sharing
-    from pinwind.analysis.summary import summary_tables
+    from pinwind import scenario as sc
     from pinwind.io.run import log_path
 
-    torques, speeds, initial_speeds = parse_loads(torque, speed, speed_sine, initial_speed)
-    meshes = parse_meshes(mesh)
-    errors = parse_position_errors(position_error)
+    parse_loads(torque, speed, speed_sine, initial_speed)  # refuses malformed values
+    parse_meshes(mesh)
+    parse_position_errors(position_error)
+    values = sc.cli_values(
+        model=str(model), torque=_pairs(torque, "--torque"), speed=_pairs(speed, "--speed"),
+        speed_sine=_pairs(speed_sine, "--speed-sine"),
+        initial_speed=_pairs(initial_speed, "--initial-speed"), mesh=_pairs(mesh, "--mesh"),
+        position_error=_pairs(position_error, "--position-error"),
+        generator=_pairs(generator, "--generator"), rotor=_pairs(rotor, "--rotor"), wind=wind,
+        duration=duration, dt=dt, log_rate=log_rate, pose_rate=pose_rate,
+        allow_large_log=allow_large_log, keep=parse_keep(keep),
+    )  # fmt: skip
+    scenario = sc.Scenario(values, source="command line").check()
     with _warnings_as_lines():
         gearbox = pinwind.load(model)
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
     command = shlex.join(["pinwind", *sys.argv[1:]])
+    _run_and_report(
+        scenario, gearbox, str(model), log, command, progress=progress, force=force,
+        check_joints=False,
+    )  # fmt: skip
+
+
+def _run_and_report(
+    scenario,
+    gearbox,
+    label: str,
+    log: Path | None,
+    command: str,
+    *,
+    progress,
+    force,
+    check_joints: bool = True,
+) -> None:
+    """Run a scenario and print its tables (``simulate`` and ``run``)."""
+    import numpy as np
+
+    from pinwind import scenario as sc
+    from pinwind.analysis import load_sharing
+    from pinwind.analysis.summary import summary_tables
+
     before = _stamp(log) if log is not None else None
     previous = signal.signal(signal.SIGTERM, _raise_terminated)
     try:
         with _warnings_as_lines():
-            res = pinwind.simulate(
-                gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
-                initial_speeds=initial_speeds, progress=progress, log=log, log_rate=log_rate,
-                overwrite=force, command=command, meshes=meshes, position_errors=errors,
-                keep=parse_keep(keep), pose_rate=pose_rate, allow_large_log=allow_large_log,
+            res = sc.run(
+                scenario, gearbox=gearbox, out=log, no_log=log is None, force=force,
+                command=command, progress=progress, check_joints=check_joints,
             )  # fmt: skip
     except (KeyboardInterrupt, PinwindError) as err:
         written = not isinstance(err, LogWriteFailed)  # that message says what the file holds
@@ -326,7 +401,8 @@ def simulate(
         raise
     finally:
         signal.signal(signal.SIGTERM, previous)
-    say(f"[bold]{escape(gearbox.name)}[/bold] from {escape(str(model))}")
+    dt = res.metadata["dt"]
+    say(f"[bold]{escape(gearbox.name)}[/bold] from {escape(label)}")
     steps = res.metadata["samples_simulated"] - 1
     say(
         f"{steps} steps of {dt:g} s in {res.metadata['wall_time_s']:.2f} s "
@@ -353,6 +429,56 @@ def simulate(
             )
     if log is not None:
         say(f"log: {escape(str(log))} ({log.stat().st_size / 1e6:.2f} MB)")
+
+
+@app.command("run")
+def run_scenario(
+    scenario_file: Annotated[
+        Path | None, typer.Argument(help="Scenario file (TOML; keys named like simulate's flags).")
+    ] = None,
+    from_log: Annotated[
+        Path | None,
+        typer.Option("--from-log", help="Repeat the run a log holds, bit for bit."),
+    ] = None,
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", "-o", help="MCAP log to write (default: the scenario's out)."),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing log.")] = False,
+    no_log: Annotated[bool, typer.Option("--no-log", help="Do not write a log.")] = False,
+    progress: Annotated[
+        bool | None, typer.Option("--progress/--no-progress", help="Progress bar.")
+    ] = None,
+) -> None:
+    """Run a scenario file, or repeat a logged run with --from-log LOG."""
+    import pinwind
+    from pinwind import scenario as sc
+    from pinwind.io.run import log_path
+
+    if (scenario_file is None) == (from_log is None):
+        raise InputError("give a scenario file or --from-log LOG (one of them)")
+    with _warnings_as_lines():
+        if from_log is not None:
+            scenario, gearbox = sc.from_log(from_log)
+            label = f"the run logged in {from_log}"
+            target = out if out is not None else True  # never the logged file itself
+        else:
+            scenario = sc.load_scenario(scenario_file)
+            path = scenario.model_path()
+            if not path.is_file():
+                raise scenario.fail(("model",), f"{path} does not exist")
+            gearbox = pinwind.load(path)
+            label = str(scenario_file)
+            target = out if out is not None else scenario.values.get("out", True)
+    skip = no_log or (out is None and bool(scenario.values.get("no_log", False)))
+    log = None if skip else log_path(target, gearbox.name)
+    if from_log is not None and log is not None and log.resolve() == from_log.resolve():
+        raise InputError(f"--out {log} is the log being repeated; choose another file")
+    command = shlex.join(["pinwind", *sys.argv[1:]])
+    _run_and_report(
+        scenario, gearbox, label, log, command, progress=progress,
+        force=force or bool(scenario.values.get("force", False)) and from_log is None,
+    )  # fmt: skip
 
 
 @contextmanager

@@ -64,3 +64,15 @@ def test_dtu500_planetary_balances_the_rotor_torque_at_the_generator(tmp_path):
     expected = -np.mean([module.rotor_torque(t) for t in res.time[late]]) / (1 + 91 / 20)
     assert_allclose(res.joint("sun").torque[late].mean(), expected, rtol=2e-3)
     assert pinwind.read_log(log).mesh_names == res.mesh_names
+
+
+def test_saleh2017_case_study_turns_the_carrier_at_14_2_rpm_and_the_sun_six_times_faster(tmp_path):
+    out = _load("saleh2017_case_study").main(["--duration", "2", "--out", str(tmp_path)])
+    rpm = 2 * math.pi / 60
+    planetary, drivetrain = out["planetary"], out["drivetrain"]
+    assert_allclose(planetary.joint("carrier").speed[-1], 14.2 * rpm, rtol=1e-4)
+    assert_allclose(planetary.joint("sun").speed[-1], 85.2 * rpm, rtol=1e-4)
+    # Rigid train: the sun turns 6 times as fast as the carrier at every sample, in wind too.
+    assert_allclose(drivetrain.joint("sun").speed, 6 * drivetrain.joint("carrier").speed,
+                    rtol=1e-9)  # fmt: skip
+    assert len(out["figures"]) == 5 and all(p.stat().st_size > 10_000 for p in out["figures"])

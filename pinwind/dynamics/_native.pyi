@@ -97,6 +97,59 @@ class TorsionalSpringSpec:
     preload_angle: float  # [rad]
     def __init__(self) -> None: ...
 
+class GeneratorSpec:
+    """A generator law on one joint (``cpp/generator.hpp``; ``loads/generator.py``).
+
+    law: 0 constant, 1 linear slip, 2 variable speed (K ω², constant power above rated),
+    3 steady-state induction machine, 4 dq induction machine (Krause).
+    """
+
+    index: int
+    law: int
+    torque: float  # [N·m]
+    slope: float  # [N·m·s/rad]
+    sync_speed: float  # [rad/s]
+    gain: float  # [N·m·s²/rad²]
+    rated_power: float  # [W]
+    stator_resistance: float  # [Ω]
+    rotor_resistance: float  # [Ω]
+    stator_leakage: float  # [H]
+    rotor_leakage: float  # [H]
+    magnetizing: float  # [H]
+    voltage: float  # line-to-line RMS [V]
+    frequency: float  # [Hz]
+    pole_pairs: int
+    phases: float
+    steady_start: bool
+    def __init__(self) -> None: ...
+
+class RotorSpec:
+    """Rotor aerodynamics on one joint (``cpp/rotor.hpp``; ``loads/rotor.py``).
+
+    cp_model: 0 Heier's analytical C_p times cp_scale, 1 the table C_p(λ, β).
+    """
+
+    index: int
+    radius: float  # [m]
+    air_density: float  # [kg/m³]
+    pitch: float  # [rad]
+    cp_model: int
+    cp_scale: float
+    table_tsr: list[float]
+    table_pitch: list[float]  # [rad]
+    table_cp: list[float]  # row-major (tsr, pitch)
+    wind_column: int
+    def __init__(self) -> None: ...
+
+def induction_torque(generator: GeneratorSpec, speed: float) -> float:
+    """Steady-state induction machine torque on the shaft [N·m] at speed [rad/s] (motoring > 0)."""
+
+def rotor_torque(rotor: RotorSpec, speed: float, wind: float) -> float:
+    """Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s]."""
+
+def rotor_cp(rotor: RotorSpec, tsr: float) -> float:
+    """Power coefficient C_p at tip-speed ratio λ."""
+
 class StepperSpec:
     """Everything a run needs besides the initial state."""
 
@@ -106,6 +159,9 @@ class StepperSpec:
     rigid_meshes: list[int]
     compliant_meshes: list[CompliantMeshSpec]
     springs: list[TorsionalSpringSpec]
+    generators: list[GeneratorSpec]
+    rotors: list[RotorSpec]
+    input_columns: int  # per-sample inputs of the elements (wind speeds)
     bearing_damping: Vector  # [N·m·s/rad] per velocity
     driver_index: list[int]
     frame_parent: list[int]
@@ -170,8 +226,16 @@ class Stepper:
     """One run of the compiled step loop."""
 
     def __init__(self, spec: StepperSpec, q0: Vector, v0: Vector, samples: int) -> None: ...
-    def run(self, k0: int, k1: int, torque: Matrix, target: Matrix, out: OutputArrays) -> RunStatus:
-        """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out."""
+    def run(
+        self,
+        k0: int,
+        k1: int,
+        torque: Matrix,
+        target: Matrix,
+        out: OutputArrays,
+        inputs: Matrix,
+    ) -> RunStatus:
+        """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; inputs (k1 − k0, columns)."""
     def mass_matrix(self, q: Vector) -> Matrix:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
 

@@ -45,7 +45,12 @@ from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.errors import Diverged, InputError, NonFiniteInput, OutOfMemory, PinwindError
+from pinwind.loads.elements import load_elements
+from pinwind.loads.generator import GeneratorLaw
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
+from pinwind.loads.rotor import Rotor
+from pinwind.loads.signals import Signal as TimeSignal
+from pinwind.loads.signals import check_covers
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
 
@@ -182,7 +187,10 @@ def _signal_table(
     times = np.arange(start, stop) * dt
     first_bad = None
     for load, column in zip(loads, columns, strict=True):
-        if callable(load.signal):
+        if isinstance(load.signal, TimeSignal):  # evaluated for the whole block at once
+            values = np.asarray(load.signal.values(times), dtype=float)
+            bad = None
+        elif callable(load.signal):
             values = np.full(len(times), np.nan)
             for i, t in enumerate(times):
                 try:
@@ -220,6 +228,10 @@ def simulate(
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
     keep: str | int = "auto",
+    generators: Mapping[str, GeneratorLaw] | None = None,
+    rotors: Mapping[str, Rotor] | None = None,
+    wind: float | TimeSignal | None = None,
+    metadata: Mapping[str, object] | None = None,
 ) -> Result:
     """Simulate a gearbox under joint torques and speed drivers.
 
@@ -246,6 +258,16 @@ def simulate(
             an integer N: every N-th sample from 0, and the last; ``"last"``: the last sample
             only; ``"auto"`` (default): every sample while they fit in ``KEEP_BUDGET`` bytes,
             else every N-th sample with N the smallest that fits.
+        generators: joint name → generator law (``loads/generator.py``), compiled.
+        rotors: joint name → ``Rotor`` (``loads/rotor.py``), compiled; its inertia is added to
+            the joint.
+        wind: wind speed at the rotors [m/s]: a number or a ``pinwind.loads.signals.Signal``
+            (``KaimalWind``, a table, ...), evaluated block by block and handed to the compiled
+            loop as a per-sample input.
+        metadata: extra entries for ``result.metadata`` and the log (e.g. the scenario).
+
+    Torques and speeds given as ``pinwind.loads.signals.Signal`` are evaluated for a whole block
+    at once; plain Python callables are called once per sample, the slow path.
 
     Returns:
         Result with the kept samples of t = 0, dt, ..., duration (``metadata["keep_stride"]``
@@ -286,6 +308,12 @@ def simulate(
         speeds, where="speeds", joint_index=free, unit="rad/s", probe_times=probe
     )
     init = joint_loads(initial_speeds, where="initial_speeds", joint_index=free, unit="rad/s")
+    for where, lds in (("torques", torque_loads), ("speeds", speed_loads)):
+        for ld in lds:
+            check_covers(ld.signal, duration, f'{where}["{ld.joint}"]')
+    elements = load_elements(generators, rotors, wind, joint_index=free)
+    if elements.wind is not None:
+        check_covers(elements.wind, duration, "wind")
     model = gearbox.model
     if gravity is not None:
         g = np.asarray(gravity, dtype=float)
@@ -331,6 +359,8 @@ def simulate(
         "highest_mesh_mode_hz": mesh_setup_.highest_mode,
         "samples_simulated": samples,
         "keep_stride": stride,
+        **elements.metadata,
+        **(metadata or {}),
     }
     if position_errors:
         res.metadata["position_errors"] = {
@@ -358,6 +388,7 @@ def simulate(
         driver_names=[d.joint for d in drivers],
         settings=settings,
         meshes=mesh_setup_,
+        loads=elements,
     )
     if observer is not None:
         observer.begin(gearbox, res)
@@ -385,13 +416,27 @@ def simulate(
                 k, load, cause = bad_target
                 stop = max(k - 1, 0)
                 error = _signal_error("speeds", load, k, dt, cause, "rad/s")
+            inputs = None
+            if elements.wind is not None:
+                wind_speed = elements.wind.values(np.arange(start, stop) * dt)
+                inputs = np.asarray(wind_speed, dtype=float).reshape(-1, 1)
+                nonfinite = np.flatnonzero(~np.isfinite(inputs[:, 0]))
+                if nonfinite.size and start + int(nonfinite[0]) < stop:
+                    k = start + int(nonfinite[0])
+                    stop = k
+                    error = NonFiniteInput(
+                        f"wind is {wind_speed[k - start]} m/s at step {k} (t = {k * dt:.6g} s); "
+                        "the wind speed must be finite"
+                    )
+                inputs = inputs[: stop - start]
             block = _allocate(gearbox, stop - start, body_names, empty=True)
             done = start
             failure: PinwindError | None = None
             try:
                 done = stepper.run(
-                    start, stop, torque[: stop - start], target[: stop - start + 1], block
-                )
+                    start, stop, torque[: stop - start], target[: stop - start + 1], block,
+                    inputs,
+                )  # fmt: skip
             except PinwindError as err:
                 done = getattr(err, "samples", start)
                 failure = err

@@ -22,6 +22,7 @@ from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.errors import ConflictingConstraints, Diverged, MalformedModel, SolverFailed
+from pinwind.loads.elements import LoadElements
 from pinwind.model.gearbox import Gearbox
 
 #: Constraint residual |J v − target| above which velocities are projected, relative to
@@ -87,6 +88,8 @@ class CompiledStepper:
         driver_names: their joint names, for messages.
         settings: proxsuite settings.
         meshes: the run's rigid and compliant meshes (``dynamics/compliant.py``).
+        loads: the generator and rotor elements (``loads/elements.py``): their compiled specs,
+            the rotors' inertia added to their joints, and the number of input columns.
     """
 
     def __init__(
@@ -102,6 +105,7 @@ class CompiledStepper:
         driver_names: list[str],
         settings: SolverSettings,
         meshes: MeshSetup,
+        loads: LoadElements | None = None,
     ):
         model = gearbox.model
         frames = body_frames(model)
@@ -118,6 +122,15 @@ class CompiledStepper:
             sp.stiffness, sp.damping, sp.preload_angle = s.stiffness, s.damping, s.preload_angle
             springs.append(sp)
         spec.springs = springs
+        if loads is not None:
+            spec.generators = loads.generators
+            spec.rotors = loads.rotors
+            spec.input_columns = loads.input_columns
+            armature = np.array(spec.tree.armature, dtype=float)
+            for index, inertia in loads.added_inertia.items():
+                armature[index] += inertia
+            spec.tree.armature = armature
+        self.input_columns = loads.input_columns if loads is not None else 0
         spec.bearing_damping = np.array(model.damping, dtype=float).copy()
         spec.driver_index = list(driver_index)
         spec.frame_parent = [int(model.frames[f].parentJoint) for f in frames]
@@ -136,7 +149,13 @@ class CompiledStepper:
         self.drivers = list(driver_names)
 
     def run(
-        self, start: int, stop: int, torque: np.ndarray, target: np.ndarray, block: Result
+        self,
+        start: int,
+        stop: int,
+        torque: np.ndarray,
+        target: np.ndarray,
+        block: Result,
+        inputs: np.ndarray | None = None,
     ) -> int:
         """Step samples start:stop into rows 0 … stop − start − 1 of ``block``.
 
@@ -146,6 +165,7 @@ class CompiledStepper:
             block: a Result of stop − start samples whose arrays are filled in place.
             torque: (stop − start, nv) applied joint torques at each sample's time [N·m].
             target: (stop − start + 1, drivers) driver speeds at those times and the next [rad/s].
+            inputs: (stop − start, input_columns) the elements' inputs (wind speeds [m/s]).
 
         Raises:
             Diverged, SolverFailed, ConflictingConstraints: with ``.samples`` the number of final
@@ -157,8 +177,15 @@ class CompiledStepper:
         for name, values in block.energy.items():
             if name != "numerical":  # derived in Python from the spring terms
                 setattr(out, name, values)
+        if inputs is None:
+            inputs = np.zeros((stop - start, self.input_columns))
         status = self._stepper.run(
-            start, stop, np.ascontiguousarray(torque), np.ascontiguousarray(target), out
+            start,
+            stop,
+            np.ascontiguousarray(torque),
+            np.ascontiguousarray(target),
+            out,
+            np.ascontiguousarray(inputs, dtype=float),
         )
         code = status.code
         if code == 0:

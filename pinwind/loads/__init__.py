@@ -1,0 +1,41 @@
+"""Load inputs: time signals, generator laws, rotor aerodynamics, wind (docs/loads.md)."""
+
+from pinwind.loads.generator import ConstantTorque, InductionMachine, LinearSlip, VariableSpeed
+from pinwind.loads.openfast import read_channel
+from pinwind.loads.rotor import CpTable, HeierCp, Rotor
+from pinwind.loads.signals import (
+    Constant,
+    Ramp,
+    Scaled,
+    Signal,
+    Sine,
+    Step,
+    Sum,
+    Table,
+    parse_signal,
+    read_csv,
+)
+from pinwind.loads.wind import KaimalWind, kaimal_series
+
+__all__ = [
+    "Constant",
+    "ConstantTorque",
+    "CpTable",
+    "HeierCp",
+    "InductionMachine",
+    "KaimalWind",
+    "LinearSlip",
+    "Ramp",
+    "Rotor",
+    "Scaled",
+    "Signal",
+    "Sine",
+    "Step",
+    "Sum",
+    "Table",
+    "VariableSpeed",
+    "kaimal_series",
+    "parse_signal",
+    "read_channel",
+    "read_csv",
+]

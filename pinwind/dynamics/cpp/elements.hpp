@@ -1,5 +1,5 @@
 // The element interface of the step loop: everything that adds forces per step (torsional
-// springs, bearing damping, compliant meshes, later generator and rotor laws) is an Element.
+// springs, bearing damping, compliant meshes, generator and rotor laws) is an Element.
 // The stepper iterates them; it does not know any by name (design.md §2 "Elements").
 //
 // A step at (q_k, v_k) with time step h finds a_k from
@@ -63,12 +63,15 @@ struct StepView {
   const pinocchio::Data& data;  // joint placements oMi at q
   const MeshConstants& meshes;
   const MeshRows& rows;  // every mesh's geometry and rows at (q, v)
+  double time = 0.0;                // t_k [s]
+  const double* inputs = nullptr;   // this sample's input columns (wind speed, ...), or null
 };
 
 // Work of an element's forces over one step [J], split as the energy ledger keeps it.
 struct StepWork {
   double elastic = 0.0;      // conservative (spring) forces: joins work_springs
   double dissipated = 0.0;   // damping: joins dissipated (counted positive when lost)
+  double applied = 0.0;      // external loads (rotor, generator): joins work_applied
 };
 
 // Forces on bodies (for the bearing reactions by RNEA): a force f [N] applied at world point p
@@ -105,6 +108,8 @@ class Element {
   }
   // Writes the element's outputs of sample k.
   virtual void record(const StepView&, long, const Outputs&) const {}
+  // Moves the element's own states (generator fluxes, ...) from t_k to t_{k+1}, given v_{k+1}.
+  virtual void advance(const StepView&, const Eigen::VectorXd& v_next) { (void)v_next; }
 };
 
 }  // namespace pinwind

@@ -47,6 +47,9 @@ struct StepperSpec {
   std::vector<long> rigid_meshes;
   std::vector<CompliantMeshSpec> compliant_meshes;
   std::vector<TorsionalSpringSpec> springs;
+  std::vector<GeneratorSpec> generators;
+  std::vector<RotorSpec> rotors;
+  long input_columns = 0;
   Eigen::VectorXd bearing_damping;
   std::vector<long> driver_index;
   std::vector<long> frame_parent;
@@ -173,6 +176,30 @@ StepperSetup setup(const StepperSpec& spec) {
       throw std::invalid_argument("bad spring joint index");
     }
   }
+  for (const auto& g : spec.generators) {
+    if (g.index < 0 || static_cast<size_t>(g.index) >= nv) {
+      throw std::invalid_argument("bad generator joint index");
+    }
+    if (g.law < GeneratorSpec::kConstant || g.law > GeneratorSpec::kInductionDq) {
+      throw std::invalid_argument("bad generator law");
+    }
+    if (g.law >= GeneratorSpec::kInduction && (g.pole_pairs < 1 || !(g.frequency > 0.0))) {
+      throw std::invalid_argument("induction machine: pole_pairs ≥ 1 and frequency > 0");
+    }
+  }
+  for (const auto& r : spec.rotors) {
+    if (r.index < 0 || static_cast<size_t>(r.index) >= nv) {
+      throw std::invalid_argument("bad rotor joint index");
+    }
+    if (r.wind_column < 0 || r.wind_column >= spec.input_columns) {
+      throw std::invalid_argument("rotor wind_column outside the input columns");
+    }
+    if (r.cp_model == RotorSpec::kTable &&
+        (r.table_tsr.empty() || r.table_pitch.empty() ||
+         r.table_cp.size() != r.table_tsr.size() * r.table_pitch.size())) {
+      throw std::invalid_argument("rotor table: table_cp must hold tsr × pitch values");
+    }
+  }
   check_size("bearing_damping", spec.bearing_damping, nv);
   check_size("frame_placement", spec.frame_placement, spec.frame_parent.size());
   s.meshes = spec.meshes;
@@ -180,6 +207,9 @@ StepperSetup setup(const StepperSpec& spec) {
   s.rigid_meshes = spec.rigid_meshes;
   s.compliant_meshes = spec.compliant_meshes;
   s.springs = spec.springs;
+  s.generators = spec.generators;
+  s.rotors = spec.rotors;
+  s.input_columns = spec.input_columns;
   s.bearing_damping = spec.bearing_damping;
   s.driver_index = spec.driver_index;
   s.frame_parent = spec.frame_parent;
@@ -251,21 +281,26 @@ class PyStepper {
     if (static_cast<size_t>(q0.size()) != nv_ || static_cast<size_t>(v0.size()) != nv_) {
       throw std::invalid_argument("q0 and v0 must have nv values");
     }
+    inputs_ = s.input_columns;
     stepper_ = std::make_unique<Stepper>(std::move(s), q0, v0, samples);
   }
 
   RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target,
-                const OutputArrays& out) {
+                const OutputArrays& out, const RowMat& inputs) {
     if (k1 < k0) throw std::invalid_argument("run: k1 < k0");
+    if (inputs_ && (inputs.rows() != k1 - k0 || inputs.cols() != inputs_)) {
+      throw std::invalid_argument("run: inputs must be (k1 - k0, input_columns)");
+    }
     const Outputs o = outputs(out, static_cast<size_t>(k1 - k0), nv_, nj_, nm_, nb_);
     nb::gil_scoped_release release;
-    return stepper_->run(k0, k1, torque, target, o);
+    return stepper_->run(k0, k1, torque, target, o, inputs);
   }
 
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
  private:
   size_t nv_ = 0, nj_ = 0, nm_ = 0, nb_ = 0;
+  long inputs_ = 0;
   std::unique_ptr<Stepper> stepper_;
 };
 
@@ -350,6 +385,45 @@ NB_MODULE(_native, m) {
       .def_rw("damping", &TorsionalSpringSpec::damping)
       .def_rw("preload_angle", &TorsionalSpringSpec::preload_angle);
 
+  nb::class_<GeneratorSpec>(m, "GeneratorSpec")
+      .def(nb::init<>())
+      .def_rw("index", &GeneratorSpec::index)
+      .def_rw("law", &GeneratorSpec::law)
+      .def_rw("torque", &GeneratorSpec::torque)
+      .def_rw("slope", &GeneratorSpec::slope)
+      .def_rw("sync_speed", &GeneratorSpec::sync_speed)
+      .def_rw("gain", &GeneratorSpec::gain)
+      .def_rw("rated_power", &GeneratorSpec::rated_power)
+      .def_rw("stator_resistance", &GeneratorSpec::stator_resistance)
+      .def_rw("rotor_resistance", &GeneratorSpec::rotor_resistance)
+      .def_rw("stator_leakage", &GeneratorSpec::stator_leakage)
+      .def_rw("rotor_leakage", &GeneratorSpec::rotor_leakage)
+      .def_rw("magnetizing", &GeneratorSpec::magnetizing)
+      .def_rw("voltage", &GeneratorSpec::voltage)
+      .def_rw("frequency", &GeneratorSpec::frequency)
+      .def_rw("pole_pairs", &GeneratorSpec::pole_pairs)
+      .def_rw("phases", &GeneratorSpec::phases)
+      .def_rw("steady_start", &GeneratorSpec::steady_start);
+
+  nb::class_<RotorSpec>(m, "RotorSpec")
+      .def(nb::init<>())
+      .def_rw("index", &RotorSpec::index)
+      .def_rw("radius", &RotorSpec::radius)
+      .def_rw("air_density", &RotorSpec::air_density)
+      .def_rw("pitch", &RotorSpec::pitch)
+      .def_rw("cp_model", &RotorSpec::cp_model)
+      .def_rw("cp_scale", &RotorSpec::cp_scale)
+      .def_rw("table_tsr", &RotorSpec::table_tsr)
+      .def_rw("table_pitch", &RotorSpec::table_pitch)
+      .def_rw("table_cp", &RotorSpec::table_cp)
+      .def_rw("wind_column", &RotorSpec::wind_column);
+
+  m.def("induction_torque", &induction_torque, "generator"_a, "speed"_a,
+        "Steady-state induction machine torque on the shaft at speed [rad/s] (motor convention).");
+  m.def("rotor_torque", &rotor_torque, "rotor"_a, "speed"_a, "wind"_a,
+        "Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s].");
+  m.def("rotor_cp", &rotor_cp, "rotor"_a, "tsr"_a, "Power coefficient C_p at tip-speed ratio λ.");
+
   nb::class_<StepperSpec>(m, "StepperSpec")
       .def(nb::init<>())
       .def_rw("tree", &StepperSpec::tree)
@@ -358,6 +432,9 @@ NB_MODULE(_native, m) {
       .def_rw("rigid_meshes", &StepperSpec::rigid_meshes)
       .def_rw("compliant_meshes", &StepperSpec::compliant_meshes)
       .def_rw("springs", &StepperSpec::springs)
+      .def_rw("generators", &StepperSpec::generators)
+      .def_rw("rotors", &StepperSpec::rotors)
+      .def_rw("input_columns", &StepperSpec::input_columns)
       .def_rw("bearing_damping", &StepperSpec::bearing_damping)
       .def_rw("driver_index", &StepperSpec::driver_index)
       .def_rw("frame_parent", &StepperSpec::frame_parent)
@@ -416,7 +493,7 @@ NB_MODULE(_native, m) {
   nb::class_<PyStepper>(m, "Stepper")
       .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
            "spec"_a, "q0"_a, "v0"_a, "samples"_a)
-      .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a, "out"_a,
+      .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a, "out"_a, "inputs"_a,
            "Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; returns the status.")
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].");

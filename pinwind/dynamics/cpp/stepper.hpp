@@ -29,8 +29,10 @@
 #include "compliant_mesh.hpp"
 #include "constrained_qp.hpp"
 #include "elements.hpp"
+#include "generator.hpp"
 #include "mesh_path.hpp"
 #include "mesh_rows.hpp"
+#include "rotor.hpp"
 #include "torsional_spring.hpp"
 
 namespace pinwind {
@@ -56,6 +58,9 @@ struct StepperSetup {
   std::vector<long> rigid_meshes;        // meshes that are constraint rows, in row order
   std::vector<CompliantMeshSpec> compliant_meshes;
   std::vector<TorsionalSpringSpec> springs;
+  std::vector<GeneratorSpec> generators;  // generator.hpp
+  std::vector<RotorSpec> rotors;          // rotor.hpp
+  long input_columns = 0;                 // per-sample inputs the elements read (wind speeds)
   Eigen::VectorXd bearing_damping;
   std::vector<long> driver_index;  // velocity index of each speed driver and lock
   std::vector<long> frame_parent;  // body frames: parent joint and placement in it
@@ -100,6 +105,14 @@ class Stepper : private BodyForces {
       elements_.push_back(std::make_unique<CompliantMeshes>(s_.compliant_meshes, s_.paths,
                                                             s_.implicit_theta, nv_));
     }
+    for (const auto& g : s_.generators) {
+      if (g.law == GeneratorSpec::kInductionDq) {
+        elements_.push_back(std::make_unique<InductionMachineDq>(g));
+      } else {
+        elements_.push_back(std::make_unique<GeneratorLaw>(g));
+      }
+    }
+    for (const auto& r : s_.rotors) elements_.push_back(std::make_unique<RotorAerodynamics>(r));
     jac_.setZero(rows_, nv_);
     bias_.setZero(rows_);
     jv_.setZero(rows_);
@@ -108,13 +121,16 @@ class Stepper : private BodyForces {
 
   // Steps samples [k0, k1), writing sample k into row k − k0 of out. torque: (k1 − k0, nv)
   // applied torques [N·m] at t_k; target: (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k
-  // and t_{k1} (locks 0).
-  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target, const Outputs& out) {
+  // and t_{k1} (locks 0); inputs: (k1 − k0, input_columns) the elements' inputs at t_k.
+  RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target, const Outputs& out,
+                const RowMat& inputs) {
     RunStatus st;
     out_ = out;
     for (long k = k0; k < k1; ++k) {
       const double t = k * s_.dt;
       st.sample = k;
+      time_ = t;
+      inputs_ = s_.input_columns ? inputs.row(k - k0).data() : nullptr;
       tau_applied_ = torque.row(k - k0).transpose();
       target_now_.setZero(rows_);
       target_next_.setZero(rows_);
@@ -156,7 +172,7 @@ class Stepper : private BodyForces {
     return st;
   }
 
-  StepView view() const { return {q_, v_, s_.dt, data_, s_.meshes, rows_data_}; }
+  StepView view() const { return {q_, v_, s_.dt, data_, s_.meshes, rows_data_, time_, inputs_}; }
 
   void kinematics() {
     pinocchio::computeJointJacobiansTimeVariation(s_.model, data_, q_, v_);
@@ -423,9 +439,10 @@ class Stepper : private BodyForces {
       const StepWork w = e->work(sv, v_next_, v_mid);
       elements.elastic += w.elastic;
       elements.dissipated += w.dissipated;
+      elements.applied += w.applied;
     }
     const double work[6] = {
-        tau_applied_.dot(mid_),
+        tau_applied_.dot(mid_) + elements.applied,
         driver_torque_.dot(mid_),
         elements.elastic,
         -gravity_.dot(mid_),
@@ -434,6 +451,7 @@ class Stepper : private BodyForces {
     };
     for (int i = 0; i < 6; ++i) work_[i] += work[i];
     for (Eigen::Index r = 0; r < nr_; ++r) te_[r] += jac_.row(r).dot(v_next_ * s_.dt);
+    for (auto& e : elements_) e->advance(sv, v_next_);
     pinocchio::integrate(s_.model, q_, v_next_ * s_.dt, q_next_);
     q_ = q_next_;
     v_ = v_next_;
@@ -458,6 +476,8 @@ class Stepper : private BodyForces {
   Eigen::VectorXd tau_applied_, elements_force_, gravity_, force_explicit_, force_, rhs_;
   Eigen::VectorXd a_, lam_, driver_torque_;
   double residual_ = 0.0;
+  double time_ = 0.0;
+  const double* inputs_ = nullptr;
 };
 
 }  // namespace pinwind

@@ -1,0 +1,106 @@
+// Rotor aerodynamics on one joint (the rotor hub: the carrier): the torque of a rotor of radius
+// R in a wind of speed v through its power coefficient (pinwind/loads/rotor.py):
+//
+//     τ = P/ω = ½ ρ π R² v³ C_p(λ, β) / ω = ½ ρ π R³ v² C_p(λ, β) / λ,   λ = ω R / v
+//
+// with C_p from Heier's analytical fit (kHeier, β in degrees inside the fit):
+//
+//     C_p = s c₁ (c₂/λ_i − c₃ β − c₄) e^(−c₅/λ_i) + s c₆ λ,   1/λ_i = 1/(λ + 0.08 β) − 0.035/(β³ + 1)
+//
+// (c = 0.5176, 116, 0.4, 5, 21, 0.0068; s a calibration scale), or bilinear in a table
+// C_p(λ, β) (kTable, clamped at its edges). Below λ_min = 0.1 (start-up) the torque is held at
+// its value at λ_min, where C_p/λ of a table would grow without bound. No wind (v ≤ 0), no
+// torque. The wind speed is the sample's input column ``wind_column``: no Python call per step.
+// The rotor's inertia is added to the joint (Pinocchio armature) on the Python side.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "joint_torque.hpp"
+
+namespace pinwind {
+
+struct RotorSpec {
+  enum CpModel { kHeier = 0, kTable };
+  long index = 0;              // velocity index of the rotor joint
+  double radius = 0.0;         // R [m]
+  double air_density = 1.225;  // ρ [kg/m³]
+  double pitch = 0.0;          // β [rad]
+  long cp_model = kHeier;
+  double cp_scale = 1.0;       // s (kHeier)
+  std::vector<double> table_tsr;    // λ grid, increasing
+  std::vector<double> table_pitch;  // β grid [rad], increasing (one entry: C_p(λ) only)
+  std::vector<double> table_cp;     // C_p, row-major (λ, β)
+  long wind_column = 0;        // input column of the wind speed [m/s]
+};
+
+inline constexpr double kMinimumTipSpeedRatio = 0.1;
+
+// C_p of the Heier fit at λ and β [rad].
+inline double heier_cp(double tsr, double pitch, double scale) {
+  const double beta = pitch * 180.0 / M_PI;
+  const double inv = 1.0 / (tsr + 0.08 * beta) - 0.035 / (beta * beta * beta + 1.0);
+  return scale * (0.5176 * (116.0 * inv - 0.4 * beta - 5.0) * std::exp(-21.0 * inv) +
+                  0.0068 * tsr);
+}
+
+// Index i and weight w with x between grid[i] and grid[i + 1] (clamped at the edges).
+inline void bracket(const std::vector<double>& grid, double x, size_t& i, double& w) {
+  if (grid.size() < 2 || x <= grid.front()) {
+    i = 0;
+    w = 0.0;
+    return;
+  }
+  if (x >= grid.back()) {
+    i = grid.size() - 2;
+    w = 1.0;
+    return;
+  }
+  i = static_cast<size_t>(std::upper_bound(grid.begin(), grid.end(), x) - grid.begin()) - 1;
+  w = (x - grid[i]) / (grid[i + 1] - grid[i]);
+}
+
+inline double table_cp(const RotorSpec& r, double tsr) {
+  size_t i, j;
+  double wi, wj;
+  bracket(r.table_tsr, tsr, i, wi);
+  bracket(r.table_pitch, r.pitch, j, wj);
+  const size_t nb = r.table_pitch.size();
+  auto at = [&](size_t a, size_t b) {
+    a = std::min(a, r.table_tsr.size() - 1);
+    b = std::min(b, nb - 1);
+    return r.table_cp[a * nb + b];
+  };
+  return (1 - wi) * ((1 - wj) * at(i, j) + wj * at(i, j + 1)) +
+         wi * ((1 - wj) * at(i + 1, j) + wj * at(i + 1, j + 1));
+}
+
+inline double rotor_cp(const RotorSpec& r, double tsr) {
+  return r.cp_model == RotorSpec::kTable ? table_cp(r, tsr) : heier_cp(tsr, r.pitch, r.cp_scale);
+}
+
+// Aerodynamic torque [N·m] at rotor speed ω [rad/s] and wind speed v [m/s].
+inline double rotor_torque(const RotorSpec& r, double omega, double wind) {
+  if (!(wind > 0.0)) return 0.0;
+  const double tsr = std::max(omega * r.radius / wind, kMinimumTipSpeedRatio);
+  return 0.5 * r.air_density * M_PI * r.radius * r.radius * r.radius * wind * wind *
+         rotor_cp(r, tsr) / tsr;
+}
+
+class RotorAerodynamics : public JointTorqueElement {
+ public:
+  explicit RotorAerodynamics(RotorSpec spec) : JointTorqueElement(spec.index), r_(std::move(spec)) {}
+
+  TorqueSlope evaluate(const StepView& s) const override {
+    const double wind = s.inputs ? s.inputs[r_.wind_column] : 0.0;
+    const auto law = [&](double omega) { return rotor_torque(r_, omega, wind); };
+    return torque_and_slope(law, s.v[index_], std::max(wind, 1.0) / r_.radius);
+  }
+
+ private:
+  RotorSpec r_;
+};
+
+}  // namespace pinwind

@@ -1,0 +1,90 @@
+"""A channel of an OpenFAST output file (``.out`` text, ``.outb`` binary) as a time signal.
+
+The file is read with openfast-io (``openfast_io.FAST_output_reader``, NREL's reader shipped with
+OpenFAST), so every format OpenFAST writes is read as OpenFAST reads it. OpenFAST's channels are
+in its own units (``RotTorq`` and ``GenTq`` in kN·m, ``RotSpeed`` and ``GenSpeed`` in rpm,
+``Wind1VelX`` in m/s): ``scale`` turns them into the SI unit of what the channel drives
+(``scale=1000`` for kN·m → N·m).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import numpy as np
+
+from pinwind.errors import InputError
+from pinwind.loads.signals import Scaled, Table
+
+
+def read_output(path: str | Path) -> tuple[np.ndarray, list[str], list[str]]:
+    """(data, channel names, units) of an OpenFAST output file; column 0 is ``Time``.
+
+    Raises:
+        InputError: the file is missing or openfast-io cannot read it.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such OpenFAST output file")
+    from openfast_io.FAST_output_reader import load_ascii_output, load_binary_output
+
+    try:
+        if path.suffix.lower() == ".outb":
+            data, info, _ = load_binary_output(str(path))
+        else:
+            data, info = load_ascii_output(str(path))
+    except Exception as err:  # the reader raises bare Exceptions, ValueErrors, struct.errors
+        raise InputError(
+            f"{path}: openfast-io cannot read it as an OpenFAST output file ({err})"
+        ) from err
+    return (
+        np.asarray(data, dtype=float),
+        list(info["attribute_names"]),
+        list(info["attribute_units"]),
+    )
+
+
+def read_channel(path: str | Path, channel: str, *, scale: float = 1.0) -> Scaled:
+    """Channel ``channel`` of an OpenFAST output file, times ``scale``, as a signal.
+
+    Raises:
+        InputError: unknown channel (the message lists the file's channels), or rows the
+            ``Table`` refuses (naming the file and row).
+    """
+    path = Path(path)
+    data, names, units = read_output(path)
+    if channel not in names[1:]:
+        raise InputError(f'{path}: no channel "{channel}"; channels are: {", ".join(names[1:])}')
+    column = names.index(channel)
+    unit = units[column] if column < len(units) else ""
+    spec = {"type": "openfast", "file": str(path), "channel": channel, "scale": scale,
+            "sha256": hashlib.sha256(path.read_bytes()).hexdigest()}  # fmt: skip
+    # Data rows follow the header: row numbers in messages are data rows, 1-based.
+    table = Table(data[:, 0], data[:, column], source=f"{path} channel {channel} [{unit}]")
+    return _Channel(table, scale, spec)
+
+
+class _Channel(Scaled):
+    """A scaled table whose spec is the ``openfast(...)`` call that reads it."""
+
+    def __init__(self, table: Table, scale: float, spec: dict):
+        object.__setattr__(self, "signal", table)
+        object.__setattr__(self, "factor", float(scale))
+        object.__setattr__(self, "_spec", spec)
+
+    @property
+    def table(self) -> Table:
+        """The channel's values before scaling."""
+        return self.signal  # type: ignore[return-value]
+
+    def spec(self) -> dict:
+        """``{"type": "openfast", "file": ..., "channel": ..., "scale": ...}``."""
+        return dict(self._spec)
+
+    @property
+    def description(self) -> str:
+        """The file, channel and scale."""
+        return f"openfast(file={self._spec['file']!r}, channel={self._spec['channel']!r}, " + (
+            f"scale={self.factor!r})"
+        )

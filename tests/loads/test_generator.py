@@ -1,0 +1,135 @@
+"""Generator laws in the compiled loop against closed forms derived here."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from numpy.testing import assert_allclose
+from scipy.optimize import minimize_scalar
+
+import pinwind
+from pinwind.errors import InputError, UnknownJoint
+from pinwind.loads.generator import ConstantTorque, InductionMachine, LinearSlip, VariableSpeed
+from pinwind.model.gearbox import loads
+
+RPM = 2 * math.pi / 60
+# 001_2d0e0f624d8db633.txt Table 1's generator, written out here (not taken from the preset).
+RS, RR, LLS, LLR, LM = 0.00053, 0.00048, 0.0365e-3, 0.052e-3, 1.97e-3
+V_LINE, FREQ, POLES = 575.0, 60.0, 4
+WE = 2 * math.pi * FREQ
+W_SYNC = WE / (POLES / 2)  # 1800 rpm
+
+
+def thevenin():
+    """Thevenin equivalent of the stator and magnetising branches, seen from the rotor."""
+    zs = complex(RS, WE * LLS)
+    zm = complex(0.0, WE * LM)
+    v_th = (V_LINE / math.sqrt(3)) * zm / (zs + zm)
+    z_th = zs * zm / (zs + zm)
+    return abs(v_th), z_th.real, z_th.imag, WE * LLR
+
+
+def pair(pair_urdf):
+    """20/40 external pair: b turns at −½ the speed of a."""
+    return loads(pair_urdf(), path="pair.urdf")
+
+
+def test_induction_machine_gives_no_torque_at_1800_rpm_for_4_poles_at_60_hz():
+    machine = InductionMachine.cart600()
+    assert_allclose(machine.sync_speed, 1800 * RPM, rtol=1e-15)
+    assert machine.torque(1800 * RPM) == 0.0
+    # Just above synchronous speed it generates, just below it motors.
+    assert machine.torque(1801 * RPM) > 0 > machine.torque(1799 * RPM)
+
+
+def test_induction_pull_out_torque_and_slip_equal_the_thevenin_closed_form():
+    machine = InductionMachine.cart600()
+    v_th, r_th, x_th, x_lr = thevenin()
+    root = math.sqrt(r_th**2 + (x_th + x_lr) ** 2)
+    slip_max = RR / root
+    motoring_max = 3 * v_th**2 / (2 * W_SYNC * (r_th + root))
+    generating_max = 3 * v_th**2 / (2 * W_SYNC * (-r_th + root))
+
+    def speed(slip):
+        return W_SYNC * (1 - slip)
+
+    # Motoring: T_gen = −τ is most negative at s = s_max; generating: most positive at −s_max.
+    best = minimize_scalar(lambda s: machine.torque(speed(s)), bounds=(1e-4, 0.5),
+                           method="bounded", options={"xatol": 1e-12})  # fmt: skip
+    assert_allclose(best.x, slip_max, rtol=1e-5)
+    assert_allclose(-best.fun, motoring_max, rtol=1e-9)
+    best = minimize_scalar(lambda s: -machine.torque(speed(s)), bounds=(-0.5, -1e-4),
+                           method="bounded", options={"xatol": 1e-12})  # fmt: skip
+    assert_allclose(best.x, -slip_max, rtol=1e-5)
+    assert_allclose(-best.fun, generating_max, rtol=1e-9)
+
+
+def test_induction_torque_at_any_slip_follows_the_equivalent_circuit():
+    machine = InductionMachine.cart600()
+    v_th, r_th, x_th, x_lr = thevenin()
+    for slip in (-0.3, -0.01, -1e-4, 2e-3, 0.05, 1.0):
+        rotor = RR / slip
+        expected = 3 * v_th**2 * rotor / (W_SYNC * ((r_th + rotor) ** 2 + (x_th + x_lr) ** 2))
+        assert_allclose(-machine.torque(W_SYNC * (1 - slip)), expected, rtol=1e-10)
+
+
+@pytest.mark.parametrize(
+    ("law", "generator_torque"),
+    [
+        (ConstantTorque(12.0), lambda w: 12.0),
+        (LinearSlip(slope=0.8, sync_speed=95.0), lambda w: 0.8 * (w - 95.0)),
+        (VariableSpeed(gain=2e-3), lambda w: 2e-3 * w * w),
+        (VariableSpeed(gain=2e-3, rated_power=5.0), lambda w: 5.0 / w),
+        (InductionMachine.cart600(), lambda w: InductionMachine.cart600().torque(w)),
+    ],
+    ids=["constant", "linear-slip", "k-omega-squared", "constant-power", "induction"],
+)
+def test_driver_reaction_of_a_driven_pair_balances_the_generator_torque(
+    pair_urdf, law, generator_torque
+):
+    gb = pair(pair_urdf)
+    speed_a = -200.0  # rad/s; b turns at +100 rad/s (20/40 external pair)
+    res = pinwind.simulate(gb, duration=0.05, dt=1e-3, speeds={"a": speed_a},
+                           generators={"b": law})  # fmt: skip
+    w_b = res.joint("b").speed[-1]
+    assert_allclose(w_b, 100.0, rtol=1e-12)
+    t_gen = generator_torque(w_b)
+    # The generator brakes b: torque −T_gen on b (T_gen > 0 generates).
+    assert_allclose(res.joint("b").torque[-1], -t_gen, rtol=1e-9, atol=1e-12)
+    # At constant speed the driver supplies the power the generator takes: τ_a ω_a = T_gen ω_b.
+    assert_allclose(res.joint("a").torque[-1] * speed_a, t_gen * w_b, rtol=1e-9, atol=1e-12)
+
+
+def test_stiff_slip_law_runs_stably_on_a_light_shaft(pair_urdf):
+    # k h / J_eq ≈ 1e4 · 1e-3 / 0.0075 ≫ 2: an explicit law would diverge at this step.
+    gb = pair(pair_urdf)
+    res = pinwind.simulate(gb, duration=0.5, dt=1e-3, torques={"a": 5.0},
+                           generators={"b": LinearSlip(slope=1e4, sync_speed=-50.0)},
+                           initial_speeds={"a": 0.0})  # fmt: skip
+    # Steady state: T_a ω_a = T_gen ω_b with ω_a = −2 ω_b: 5 · (−2) = k (ω_b + 50) → ω_b.
+    w_b = -50.0 - 10.0 / 1e4
+    assert_allclose(res.joint("b").speed[-1], w_b, rtol=1e-9)
+
+
+def test_generator_on_an_unknown_joint_names_the_joints(pair_urdf):
+    with pytest.raises(UnknownJoint, match='unknown joint "c" in generators; joints are: a, b'):
+        pinwind.simulate(
+            pair(pair_urdf), duration=0.01, dt=1e-3, generators={"c": ConstantTorque(1.0)}
+        )
+
+
+def test_odd_pole_count_is_refused(pair_urdf):
+    with pytest.raises(InputError, match="poles = 3 must be even"):
+        pinwind.simulate(pair(pair_urdf), duration=0.01, dt=1e-3,
+                         generators={"b": InductionMachine.cart600(poles=3)})  # fmt: skip
+
+
+def test_generator_work_joins_the_energy_ledger(pair_urdf):
+    gb = pair(pair_urdf)
+    res = pinwind.simulate(gb, duration=0.3, dt=1e-4, torques={"a": 5.0},
+                           generators={"b": VariableSpeed(gain=1e-3)})  # fmt: skip
+    e = res.energy
+    balance = e["work_applied"] + e["work_drivers"] + e["work_gravity"] - e["dissipated"]
+    assert_allclose(e["kinetic"] - e["kinetic"][0], balance, rtol=1e-9, atol=1e-9)
+    assert e["kinetic"][-1] > 0

@@ -1,0 +1,195 @@
+"""Scenario files: round trip through the log, --from-log repeats bit for bit, errors with lines."""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import pinwind
+from pinwind.cli import main
+from pinwind.dynamics.result import Result
+from pinwind.scenario import load_scenario
+from tests.conftest import MODELS
+
+SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
+RPM = 2 * math.pi / 60
+
+
+def pinwind_cli(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    env = {**os.environ, "COLUMNS": "120"}
+    return subprocess.run([sys.executable, "-m", "pinwind", *args], capture_output=True,
+                          text=True, cwd=cwd, env=env, check=False)  # fmt: skip
+
+
+def write(tmp_path: Path, text: str) -> Path:
+    shutil.copy(MODELS / "saleh2017_planetary.urdf", tmp_path / "model.urdf")
+    path = tmp_path / "case.toml"
+    path.write_text(text)
+    return path
+
+
+SHORT = """model = "model.urdf"
+duration = 0.5
+dt = 1e-3
+initial_speed = { carrier = 14.0 }
+wind = "kaimal(mean=10, turbulence_intensity=0.15, seed=3, duration=1)"
+out = "case.mcap"
+
+[torque]
+carrier = "step(time=0.2, before=0, after=1e4) + sine(mean=0, amplitude=5e3, frequency=3)"
+
+[rotor.carrier]
+preset = "saleh2017"
+
+[generator.sun]
+law = "induction-dq"
+preset = "cart600"
+poles = 2
+"""
+
+
+def test_scenario_values_round_trip_through_the_log(tmp_path):
+    path = write(tmp_path, SHORT)
+    out = pinwind_cli("run", str(path), "--no-progress", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    res = pinwind.read_log(tmp_path / "logs" / "case.mcap")
+    stored = res.metadata["scenario"]
+    assert stored["values"] == load_scenario(path).values
+    assert stored["source"] == str(path)
+    assert res.metadata["duration"] == 0.5 and res.metadata["dt"] == 1e-3
+    assert res.metadata["rotors"]["carrier"]["radius"] == 41 + 3.7 / 2
+    assert res.metadata["generators"]["sun"]["law"] == "induction-dq"
+    assert res.metadata["wind"]["seed"] == 3
+    assert_allclose(res.joint("carrier").speed[0], 14.0 * RPM, rtol=1e-12)
+
+
+def _equal(a: Result, b: Result) -> None:
+    for name in Result.ARRAYS:
+        # poses are NaN between the 100 Hz pose samples of a log
+        assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
+    for name, values in a.energy.items():
+        assert np.array_equal(values, b.energy[name]), name
+
+
+def test_from_log_repeats_a_logged_run_bit_for_bit(tmp_path):
+    path = write(tmp_path, SHORT)
+    assert pinwind_cli("run", str(path), "--no-progress", cwd=tmp_path).returncode == 0
+    # The model file changes afterwards: the repeat uses the one the log holds.
+    (tmp_path / "model.urdf").write_text("not a model any more")
+    out = pinwind_cli("run", "--from-log", "logs/case.mcap", "--out", "again.mcap",
+                      "--no-progress", cwd=tmp_path)  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    _equal(pinwind.read_log(tmp_path / "logs/case.mcap"),
+           pinwind.read_log(tmp_path / "logs/again.mcap"))  # fmt: skip
+
+
+def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path):
+    model = str(MODELS / "saleh2017_planetary.urdf")
+    out = pinwind_cli(
+        "simulate", model, "--initial-speed", "carrier=14.2", "--rotor", "carrier=saleh2017",
+        "--wind", "sine(mean=10, amplitude=1, frequency=0.5)",
+        "--generator", "sun=linear-slip(slope=1.26e6, sync_rpm=83.94)",
+        "--torque", "carrier=ramp(start_value=0, end_value=1e4, start_time=0, end_time=0.1)",
+        "--duration", "0.3", "--out", "flags.mcap", "--no-progress", cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    first = pinwind.read_log(tmp_path / "logs/flags.mcap")
+    values = first.metadata["scenario"]["values"]
+    assert values["generator"]["sun"] == {"law": "linear-slip", "slope": 1.26e6, "sync_rpm": 83.94}
+    assert values["rotor"]["carrier"] == {"preset": "saleh2017"}
+    again = pinwind_cli("run", "--from-log", "logs/flags.mcap", "--out", "b.mcap",
+                        "--no-progress", cwd=tmp_path)  # fmt: skip
+    assert again.returncode == 0, again.stderr
+    _equal(first, pinwind.read_log(tmp_path / "logs/b.mcap"))
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            'model = "model.urdf"\ndt = 1e-3\ndurtion = 2\n',
+            "{p}:3: durtion: unknown key; keys are: model, duration, dt, torque",
+        ),
+        (
+            'model = "model.urdf"\nduration = "2 s"\n',
+            "{p}:2: duration: must be a number [s]; got '2 s'",
+        ),
+        ("duration = 2\n", "{p}: model: missing"),
+        (
+            'model = "model.urdf"\n\n[generator.sun]\nlaw = "slip"\n',
+            "{p}:4: generator.sun.law: is 'slip'; laws are: constant, linear-slip, variable-speed",
+        ),
+        (
+            'model = "model.urdf"\ntorque = { carrier = "sine(mean=1, amplitude=1)" }\n',
+            "{p}:2: torque.carrier: sine() needs frequency",
+        ),
+        (
+            'model = "model.urdf"\nwind = 10\n[rotor.carrier]\npreset = "saleh2017"\nd = 8\n',
+            "{p}:5: rotor.carrier.d: unknown parameter; rotor parameters are: preset, ",
+        ),
+        (
+            'model = "model.urdf"\nmesh = { all = "soft" }\n',
+            "{p}:2: mesh.all: is 'soft'; choose one of: rigid, compliant",
+        ),
+        (
+            'model = "model.urdf"\ntorque = { sunn = 1e5 }\n',
+            '{p}:2: torque.sunn: "sunn" is not a joint of the model; joints are: carrier, planet1',
+        ),
+        (
+            'model = "model.urdf"\ntorque = { ring = 1e5 }\n',
+            '{p}:2: torque.ring: "ring" is a fixed mount',
+        ),
+        ('model = "missing.urdf"\n', "{p}:1: model: "),
+        ('model = "model.urdf"\nduration = 1\n[wind\n', "{p}:3: -: not valid TOML"),
+        (
+            'model = "model.urdf"\n[rotor.carrier]\npreset = "saleh2017"\n',
+            "{p}: wind: missing: a rotor needs the wind speed",
+        ),
+    ],
+    ids=[
+        "unknown-key",
+        "wrong-type",
+        "no-model",
+        "bad-law",
+        "bad-signal",
+        "bad-rotor-key",
+        "bad-choice",
+        "unknown-joint",
+        "fixed-joint",
+        "model-not-found",
+        "bad-toml",
+        "rotor-without-wind",
+    ],
+)
+def test_bad_scenario_gets_one_line_naming_file_key_line_and_choices(
+    tmp_path, monkeypatch, capsys, text, message
+):
+    path = write(tmp_path, text)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "argv", ["pinwind", "run", str(path), "--no-log"])
+    with pytest.raises(SystemExit) as exit_:
+        main()
+    assert exit_.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1, lines
+    assert message.format(p=path) in lines[0], lines[0]
+
+
+def test_the_rated_scenario_reaches_14_2_rpm_under_1_mnm():
+    scenario = load_scenario(SCENARIOS / "saleh2017_rated.toml")
+    from pinwind.scenario import run
+
+    res = run(scenario, no_log=True, progress=False)
+    assert_allclose(res.joint("carrier").speed[-1], 14.2 * RPM, rtol=1e-5)
+    assert_allclose(res.joint("sun").speed[-1], 85.2 * RPM, rtol=1e-5)
+    assert_allclose(res.joint("carrier").torque[-1], 1e6, rtol=1e-4)
+    # Each sun mesh carries the sun torque over 3 planets at r_sun = 0.18 m.
+    assert_allclose(res.mesh("sun_planet1").tangential[-1], 1e6 / 6 / 3 / 0.18, rtol=1e-4)
