@@ -17,6 +17,7 @@ class SolverSettings:
     eps_abs: float
     eps_rel: float
     max_iter: int
+    iterative: bool  # redundant rows by proxsuite instead of the Schur pseudo-inverse
     def __init__(self) -> None: ...
 
 class JointTree:

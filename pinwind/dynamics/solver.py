@@ -16,6 +16,12 @@ from dataclasses import dataclass
 
 import proxsuite
 
+from pinwind.errors import InputError
+
+
+#: How redundant constraint rows are solved (``SolverSettings.method``).
+METHODS = ("direct", "proxsuite")
+
 
 @dataclass(frozen=True)
 class SolverSettings:
@@ -26,11 +32,22 @@ class SolverSettings:
             size (module docstring): a relative accuracy of the accelerations and forces.
         eps_rel: relative tolerance (proxsuite's scaled residuals).
         max_iter: iteration cap of the outer loop.
+        method: ``"direct"``: the Schur complement of the KKT system, with its pseudo-inverse
+            for redundant rows (the minimum-norm multipliers); ``"proxsuite"``: redundant rows
+            by proxsuite's proximal method (the same multipliers, by iteration). Rows of full
+            rank are always solved directly.
     """
 
     eps_abs: float = 1e-13
     eps_rel: float = 0.0
     max_iter: int = 1000
+    method: str = "direct"
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise InputError(
+                f'solver method "{self.method}" is unknown; use one of: {", ".join(METHODS)}'
+            )
 
     def as_dict(self) -> dict:
         """Settings for metadata."""
@@ -40,4 +57,5 @@ class SolverSettings:
             "eps_abs": self.eps_abs,
             "eps_rel": self.eps_rel,
             "max_iter": self.max_iter,
+            "method": self.method,
         }

@@ -142,6 +142,7 @@ class CompiledStepper:
         solver.eps_abs = float(settings.eps_abs)
         solver.eps_rel = float(settings.eps_rel)
         solver.max_iter = int(settings.max_iter)
+        solver.iterative = settings.method == "proxsuite"
         spec.solver = solver
         self._stepper = _native.Stepper(
             spec, np.asarray(q0, dtype=float), np.asarray(v0, dtype=float), int(samples)

@@ -1,5 +1,6 @@
-// Constrained dynamics of one step as an equality QP, solved with proxsuite when the rows are
-// redundant (rigid multi-planet stages) and directly when they have full rank.
+// Constrained dynamics of one step as an equality QP, solved through the Schur complement of its
+// KKT system (minimum-norm multipliers for redundant rows), or with proxsuite's proximal method
+// for redundant rows when SolverSettings.iterative is set.
 //
 // Gauss's principle (design.md §2):
 //
@@ -39,6 +40,9 @@ struct SolverSettings {
   double eps_abs = 1e-13;
   double eps_rel = 0.0;
   long max_iter = 1000;
+  // Redundant rows by proxsuite's proximal iterations instead of the pseudo-inverse of the
+  // Schur complement (both give the minimum-norm multipliers).
+  bool iterative = false;
 };
 
 struct QpSolution {
@@ -96,7 +100,9 @@ class ConstrainedQp {
       return out;
     }
     const bool rows_changed = refresh_rows(jac);
-    if (full_rank_) return solve_direct(mass, force, jac, rhs, rows_changed);
+    if (full_rank_ || !settings_.iterative) {
+      return solve_direct(mass, force, jac, rhs, rows_changed);
+    }
     rhs_.resize(rhs.size());
     rhs_.noalias() = range_ * rhs;
     // Scale the QP to unit size with powers of two, which are exact in floating point: the cost
@@ -143,11 +149,16 @@ class ConstrainedQp {
   }
 
  private:
-  // Rows of full rank have unique multipliers: the KKT system is solved directly through the
-  // Schur complement S = J M⁻¹ Jᵀ, both factorisations kept while M and J stay the same (as
-  // they do for gears on fixed or carrier-borne axes). Same solution as proxsuite's to
-  // rounding, without its iterations, which a force that changes every step (compliant meshes)
-  // would otherwise cost.
+  // The KKT system through the Schur complement S = J M⁻¹ Jᵀ, its factorisation kept while M
+  // and J stay the same (as they do for gears on fixed or carrier-borne axes):
+  //
+  //     λ = S⁺ (r − J M⁻¹ f),   a = M⁻¹ (f + Jᵀ λ).
+  //
+  // Rows of full rank have unique multipliers and S is factorised (LDLT). Redundant rows (a
+  // rigid multi-planet stage) make S singular: its pseudo-inverse, applied to the right-hand
+  // side projected onto range(J), gives the multipliers in range(S), i.e. the minimum-norm
+  // ones, the same that proxsuite's proximal iterations converge to (module comment), in one
+  // step and without iterating when the forces change every step.
   const QpSolution& solve_direct(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
                                  const Eigen::MatrixXd& jac, const Eigen::VectorXd& rhs,
                                  bool rows_changed) {
@@ -159,19 +170,35 @@ class ConstrainedQp {
       direct_mass_ = mass;
       mass_ldlt_.compute(mass);
       minv_jt_ = mass_ldlt_.solve(jac.transpose());
-      schur_ldlt_.compute(jac * minv_jt_);
+      const Eigen::MatrixXd schur = jac * minv_jt_;
+      if (full_rank_) {
+        schur_ldlt_.compute(schur);
+      } else {
+        Eigen::JacobiSVD<Eigen::MatrixXd> svd(schur, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        Eigen::VectorXd inverse = svd.singularValues();
+        const double cutoff = inverse.size() ? 1e-10 * inverse[0] : 0.0;
+        for (Eigen::Index i = 0; i < inverse.size(); ++i) {
+          inverse[i] = inverse[i] > cutoff ? 1.0 / inverse[i] : 0.0;
+        }
+        schur_pinv_ = svd.matrixV() * inverse.asDiagonal() * svd.matrixU().transpose();
+      }
       direct_ready_ = true;
     }
     free_ = mass_ldlt_.solve(force);
-    out.multipliers = schur_ldlt_.solve(rhs - jac * free_);
+    if (full_rank_) {
+      out.multipliers = schur_ldlt_.solve(rhs - jac * free_);
+    } else {
+      // Redundant rows' right-hand sides agree only up to rounding: project onto range(J).
+      out.multipliers = schur_pinv_ * (range_ * (rhs - jac * free_));
+    }
     out.acceleration = free_ + minv_jt_ * out.multipliers;
     out.primal_residual = (jac * out.acceleration - rhs).cwiseAbs().maxCoeff();
     out.dual_residual =
         (mass * out.acceleration - force - jac.transpose() * out.multipliers).cwiseAbs().maxCoeff();
     out.iterations = 0;
     out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
-    out.status = "direct";
-    // A later rank-deficient step starts proxsuite afresh.
+    out.status = full_rank_ ? "direct" : "direct (pseudo-inverse)";
+    // A later iterative step starts proxsuite afresh.
     qp_.reset();
     return out;
   }
@@ -236,6 +263,7 @@ class ConstrainedQp {
   bool direct_ready_ = false;
   Eigen::MatrixXd direct_mass_, minv_jt_;
   Eigen::LDLT<Eigen::MatrixXd> mass_ldlt_, schur_ldlt_;
+  Eigen::MatrixXd schur_pinv_;
   Eigen::VectorXd free_;
 };
 

@@ -315,7 +315,8 @@ NB_MODULE(_native, m) {
       .def(nb::init<>())
       .def_rw("eps_abs", &SolverSettings::eps_abs)
       .def_rw("eps_rel", &SolverSettings::eps_rel)
-      .def_rw("max_iter", &SolverSettings::max_iter);
+      .def_rw("max_iter", &SolverSettings::max_iter)
+      .def_rw("iterative", &SolverSettings::iterative);
 
   nb::class_<JointTree>(m, "JointTree")
       .def(nb::init<>())
