@@ -18,7 +18,6 @@ import proxsuite
 
 from pinwind.errors import InputError
 
-
 #: How redundant constraint rows are solved (``SolverSettings.method``).
 METHODS = ("direct", "proxsuite")
 
