@@ -31,10 +31,11 @@ class SolverSettings:
             size (module docstring): a relative accuracy of the accelerations and forces.
         eps_rel: relative tolerance (proxsuite's scaled residuals).
         max_iter: iteration cap of the outer loop.
-        method: ``"direct"``: the Schur complement of the KKT system, with its pseudo-inverse
-            for redundant rows (the minimum-norm multipliers); ``"proxsuite"``: redundant rows
-            by proxsuite's proximal method (the same multipliers, by iteration). Rows of full
-            rank are always solved directly.
+        method: ``"direct"``: the Schur complement of the KKT system over an orthonormal basis
+            of the rows' span (the minimum-norm multipliers of redundant rows, in one step;
+            ``cpp/constrained_qp.hpp``); ``"proxsuite"``: redundant rows by proxsuite's
+            proximal method (the same multipliers, by iteration). Rows of full rank are always
+            solved directly.
     """
 
     eps_abs: float = 1e-13

@@ -177,7 +177,7 @@ def test_planet_sun_and_ring_forces_are_equal_at_the_operating_pressure_angle():
         np.testing.assert_allclose(sun, ring, rtol=1e-9)
 
 
-def test_redundant_planet_rows_give_the_same_forces_by_pseudo_inverse_and_by_proxsuite():
+def test_redundant_planet_rows_give_the_same_forces_by_row_basis_and_by_proxsuite():
     """Both solvers return the minimum-norm multipliers of the rank-4 planet rows."""
     from pinwind.dynamics.solver import SolverSettings
 

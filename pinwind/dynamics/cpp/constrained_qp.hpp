@@ -149,18 +149,20 @@ class ConstrainedQp {
   }
 
  private:
-  // The KKT system through the Schur complement S = J M⁻¹ Jᵀ, its factorisation kept while M
-  // and J stay the same (as they do for gears on fixed or carrier-borne axes):
+  // The KKT system through the Schur complement, its factorisations kept while M and J stay the
+  // same (as they do for gears on fixed or carrier-borne axes). The rows are first reduced to an
+  // orthonormal basis of their span, J = U J_b with U (rows × rank) from the SVD of J (taken only
+  // when J changes), so that the Schur complement S_b = J_b M⁻¹ J_bᵀ has full rank even for the
+  // redundant rows of a rigid multi-planet stage:
   //
-  //     λ = S⁺ (r − J M⁻¹ f),   a = M⁻¹ (f + Jᵀ λ).
+  //     μ = S_b⁻¹ (Uᵀ r − J_b M⁻¹ f),   a = M⁻¹ (f + J_bᵀ μ),   λ = U μ.
   //
-  // Rows of full rank have unique multipliers and S is factorised (LDLT). Redundant rows (a
-  // rigid multi-planet stage) make S singular: its pseudo-inverse, applied to the right-hand
-  // side projected onto range(J), gives the multipliers in range(S), i.e. the minimum-norm
-  // ones, the same that proxsuite's proximal iterations converge to (module comment), in one
-  // step and without iterating when the forces change every step.
+  // λ lies in range(J) = range(J M⁻¹ Jᵀ): the minimum-norm multipliers, the same that
+  // proxsuite's proximal iterations converge to (module comment), in one step; Uᵀ r projects
+  // the right-hand side onto range(J). A change of M alone (elements with implicit parts) costs
+  // two small LDLT factorisations.
   const QpSolution& solve_direct(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
-                                 const Eigen::MatrixXd& jac, const Eigen::VectorXd& rhs,
+                                 const Eigen::MatrixXd&, const Eigen::VectorXd& rhs,
                                  bool rows_changed) {
     QpSolution& out = solution_;
     const bool mass_changed =
@@ -169,35 +171,25 @@ class ConstrainedQp {
     if (mass_changed || rows_changed || !direct_ready_) {
       direct_mass_ = mass;
       mass_ldlt_.compute(mass);
-      minv_jt_ = mass_ldlt_.solve(jac.transpose());
-      const Eigen::MatrixXd schur = jac * minv_jt_;
-      if (full_rank_) {
-        schur_ldlt_.compute(schur);
-      } else {
-        Eigen::JacobiSVD<Eigen::MatrixXd> svd(schur, Eigen::ComputeFullU | Eigen::ComputeFullV);
-        Eigen::VectorXd inverse = svd.singularValues();
-        const double cutoff = inverse.size() ? 1e-10 * inverse[0] : 0.0;
-        for (Eigen::Index i = 0; i < inverse.size(); ++i) {
-          inverse[i] = inverse[i] > cutoff ? 1.0 / inverse[i] : 0.0;
-        }
-        schur_pinv_ = svd.matrixV() * inverse.asDiagonal() * svd.matrixU().transpose();
-      }
+      minv_jt_ = mass_ldlt_.solve(reduced_jac_.transpose());
+      schur_ldlt_.compute(reduced_jac_ * minv_jt_);
       direct_ready_ = true;
     }
     free_ = mass_ldlt_.solve(force);
-    if (full_rank_) {
-      out.multipliers = schur_ldlt_.solve(rhs - jac * free_);
-    } else {
-      // Redundant rows' right-hand sides agree only up to rounding: project onto range(J).
-      out.multipliers = schur_pinv_ * (range_ * (rhs - jac * free_));
-    }
-    out.acceleration = free_ + minv_jt_ * out.multipliers;
-    out.primal_residual = (jac * out.acceleration - rhs).cwiseAbs().maxCoeff();
+    reduced_rhs_.noalias() = row_basis_.transpose() * rhs;
+    reduced_rhs_.noalias() -= reduced_jac_ * free_;
+    const Eigen::VectorXd mu = schur_ldlt_.solve(reduced_rhs_);
+    out.multipliers.noalias() = row_basis_ * mu;
+    out.acceleration = free_;
+    out.acceleration.noalias() += minv_jt_ * mu;
+    out.primal_residual = (reduced_jac_ * out.acceleration - row_basis_.transpose() * rhs)
+                              .cwiseAbs()
+                              .maxCoeff();
     out.dual_residual =
-        (mass * out.acceleration - force - jac.transpose() * out.multipliers).cwiseAbs().maxCoeff();
+        (mass * out.acceleration - force - reduced_jac_.transpose() * mu).cwiseAbs().maxCoeff();
     out.iterations = 0;
     out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
-    out.status = full_rank_ ? "direct" : "direct (pseudo-inverse)";
+    out.status = "direct";
     // A later iterative step starts proxsuite afresh.
     qp_.reset();
     return out;
@@ -231,8 +223,9 @@ class ConstrainedQp {
     if (sv.size() && sv[0] > 0.0) {
       while (rank < sv.size() && sv[rank] > 1e-10 * sv[0]) ++rank;
     }
-    const Eigen::MatrixXd basis = svd.matrixU().leftCols(rank);
-    range_ = basis * basis.transpose();
+    row_basis_ = svd.matrixU().leftCols(rank);
+    range_ = row_basis_ * row_basis_.transpose();
+    reduced_jac_ = row_basis_.transpose() * jac;
     full_rank_ = rank == jac.rows();
     jac_cache_ = jac;
     return true;
@@ -263,8 +256,8 @@ class ConstrainedQp {
   bool direct_ready_ = false;
   Eigen::MatrixXd direct_mass_, minv_jt_;
   Eigen::LDLT<Eigen::MatrixXd> mass_ldlt_, schur_ldlt_;
-  Eigen::MatrixXd schur_pinv_;
-  Eigen::VectorXd free_;
+  Eigen::MatrixXd row_basis_, reduced_jac_;
+  Eigen::VectorXd free_, reduced_rhs_;
 };
 
 }  // namespace pinwind
