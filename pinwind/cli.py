@@ -179,6 +179,14 @@ def parse_loads(
     return torques, speeds, initial_speeds
 
 
+#: The time window of commands that read a log: --from T0 --to T1 [s], both inclusive.
+WindowStart = Annotated[
+    float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
+]
+WindowStop = Annotated[
+    float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
+]
+
 MESH_CHOICES = ("rigid", "compliant")
 
 
@@ -548,12 +556,8 @@ def plot(
     out_dir: Annotated[
         Path, typer.Option("--out-dir", "-o", help="Folder for the figures.")
     ] = Path("figures"),
-    start: Annotated[
-        float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
-    ] = None,
-    stop: Annotated[
-        float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
-    ] = None,
+    start: WindowStart = None,
+    stop: WindowStop = None,
     fmt: Annotated[
         str, typer.Option("--format", help="png, svg or pdf (the files' extension).")
     ] = "png",
@@ -571,12 +575,8 @@ def plot(
 def report(
     log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
-    start: Annotated[
-        float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
-    ] = None,
-    stop: Annotated[
-        float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
-    ] = None,
+    start: WindowStart = None,
+    stop: WindowStop = None,
 ) -> None:
     """Min, max, mean, RMS and final value of every quantity in a log."""
     import json
@@ -607,12 +607,8 @@ def export(
         str | None,
         typer.Option("--format", help="parquet or csv (default: from the suffix of --out)."),
     ] = None,
-    start: Annotated[
-        float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
-    ] = None,
-    stop: Annotated[
-        float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
-    ] = None,
+    start: WindowStart = None,
+    stop: WindowStop = None,
     channels: Annotated[
         list[str] | None,
         typer.Option(
