@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 from pinwind.errors import InvalidGearTrain
 from pinwind.gears.contact import path_of_contact
+from pinwind.gears.contact import tip_radius as contact_tip_radius
 from pinwind.gears.involute import involute, pair_geometry, transverse_pressure_angle
 
 #: Tool addendum h_a0* of the ISO 53 profile A hob (= basic rack dedendum h_fP*) [-].
@@ -116,10 +117,10 @@ def tip_thickness(
     d = teeth * m_t
     d_b = d * math.cos(alpha_t)
     if tip_radius is None:
-        addendum = module * (addendum_coefficient + profile_shift)
-        d_a = d - 2.0 * addendum if internal else d + 2.0 * addendum
-    else:
-        d_a = 2.0 * tip_radius
+        tip_radius = contact_tip_radius(
+            teeth, module, profile_shift, helix_angle, internal, addendum_coefficient
+        )
+    d_a = 2.0 * tip_radius
     if d_a <= d_b:
         return math.nan  # no involute at the tip; reported by path_of_contact
     alpha_at = math.acos(d_b / d_a)

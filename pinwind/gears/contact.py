@@ -146,11 +146,11 @@ def path_of_contact(
         internal_2=internal_2,
     )
     if tip_radius_1 is None:
-        tip_radius_1 = _tip_radius(
+        tip_radius_1 = tip_radius(
             teeth_1, module, profile_shift_1, helix_angle, internal_1, addendum_coefficient
         )
     if tip_radius_2 is None:
-        tip_radius_2 = _tip_radius(
+        tip_radius_2 = tip_radius(
             teeth_2, module, profile_shift_2, helix_angle, internal_2, addendum_coefficient
         )
     base_1 = float(geometry.base_radius_1)
@@ -216,7 +216,7 @@ def pairs_in_contact(path: PathOfContact, s: float | npt.ArrayLike) -> np.ndarra
     return (np.floor((path.length - phase) / path.base_pitch) + 1.0).astype(int)
 
 
-def _tip_radius(
+def tip_radius(
     teeth: int,
     module: float,
     profile_shift: float,
@@ -224,7 +224,11 @@ def _tip_radius(
     internal: bool,
     addendum_coefficient: float,
 ) -> float:
-    """Tip radius without tip shortening, ISO 21771 sign of x [m]."""
+    """Tip radius without tip shortening [m].
+
+    r ± m_n (h_a* + x), − for an internal gear, x with the ISO 21771 sign; the one implementation,
+    used by ``path_of_contact`` and ``gears/checks.py``.
+    """
     r = pitch_radius(teeth, module, helix_angle)
     addendum = module * (addendum_coefficient + profile_shift)
     return float(r - addendum if internal else r + addendum)
