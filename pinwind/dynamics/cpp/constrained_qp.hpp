@@ -28,8 +28,11 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/Core>
 #include <Eigen/SVD>
 #include <proxsuite/proxqp/dense/dense.hpp>
@@ -159,40 +162,118 @@ class ConstrainedQp {
   //
   // λ lies in range(J) = range(J M⁻¹ Jᵀ): the minimum-norm multipliers, the same that
   // proxsuite's proximal iterations converge to (module comment), in one step; Uᵀ r projects
-  // the right-hand side onto range(J). A change of M alone (elements with implicit parts) costs
-  // two small LDLT factorisations.
+  // the right-hand side onto range(J).
+  //
+  // A Hessian that differs from the factorised one M₀ only on a few diagonal entries,
+  // M = M₀ + E D Eᵀ (a torque law's implicit weight on its joint changing every step,
+  // joint_torque.hpp), keeps M₀'s factorisations: with (a₀, μ₀) the solution for M₀ and Z the
+  // constrained responses to unit forces on those joints (columns of E, right-hand side 0),
+  //
+  //     c = (I + Eᵀ Z D)⁻¹ Eᵀ a₀,   a = a₀ − Z D c,   μ = μ₀ − Z_μ D c
+  //
+  // (Woodbury's identity on the KKT system: exact, the same solution up to rounding). Any
+  // other change of M costs two small LDLT factorisations. A correction that would amplify
+  // rounding (a diagonal of I + Eᵀ Z D below ½: a weight far below M₀'s) refactorises instead.
   const QpSolution& solve_direct(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
                                  const Eigen::MatrixXd&, const Eigen::VectorXd& rhs,
                                  bool rows_changed) {
     QpSolution& out = solution_;
-    const bool mass_changed =
-        direct_mass_.size() != mass.size() ||
-        (mass - direct_mass_).cwiseAbs().maxCoeff() > 0.0;
-    if (mass_changed || rows_changed || !direct_ready_) {
-      direct_mass_ = mass;
-      mass_ldlt_.compute(mass);
-      minv_jt_ = mass_ldlt_.solve(reduced_jac_.transpose());
-      schur_ldlt_.compute(reduced_jac_ * minv_jt_);
-      direct_ready_ = true;
-    }
+    const bool refactor = rows_changed || !direct_ready_ || !diagonal_change(mass);
+    if (refactor) factorise(mass);
     free_ = mass_ldlt_.solve(force);
     reduced_rhs_.noalias() = row_basis_.transpose() * rhs;
     reduced_rhs_.noalias() -= reduced_jac_ * free_;
-    const Eigen::VectorXd mu = schur_ldlt_.solve(reduced_rhs_);
-    out.multipliers.noalias() = row_basis_ * mu;
+    mu_ = schur_ldlt_.solve(reduced_rhs_);
     out.acceleration = free_;
-    out.acceleration.noalias() += minv_jt_ * mu;
+    out.acceleration.noalias() += minv_jt_ * mu_;
+    if (!changed_.empty() && !correct(out.acceleration)) {
+      factorise(mass);
+      return solve_direct(mass, force, reduced_jac_, rhs, false);
+    }
+    out.multipliers.noalias() = row_basis_ * mu_;
     out.primal_residual = (reduced_jac_ * out.acceleration - row_basis_.transpose() * rhs)
                               .cwiseAbs()
                               .maxCoeff();
     out.dual_residual =
-        (mass * out.acceleration - force - reduced_jac_.transpose() * mu).cwiseAbs().maxCoeff();
+        (mass * out.acceleration - force - reduced_jac_.transpose() * mu_).cwiseAbs().maxCoeff();
     out.iterations = 0;
     out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
     out.status = "direct";
     // A later iterative step starts proxsuite afresh.
     qp_.reset();
     return out;
+  }
+
+  // Factorises M (and the Schur complement over the current rows); forgets the responses.
+  void factorise(const Eigen::MatrixXd& mass) {
+    direct_mass_ = mass;
+    mass_ldlt_.compute(mass);
+    minv_jt_ = mass_ldlt_.solve(reduced_jac_.transpose());
+    schur_ldlt_.compute(reduced_jac_ * minv_jt_);
+    direct_ready_ = true;
+    responses_.clear();
+    changed_.clear();
+  }
+
+  // Whether M differs from the factorised M₀ on at most kMaxCorrections diagonal entries and
+  // nowhere else; fills changed_ with those entries and their differences.
+  bool diagonal_change(const Eigen::MatrixXd& mass) {
+    changed_.clear();
+    if (direct_mass_.rows() != mass.rows() || direct_mass_.cols() != mass.cols()) return false;
+    for (Eigen::Index j = 0; j < mass.cols(); ++j) {
+      for (Eigen::Index i = 0; i < mass.rows(); ++i) {
+        const double d = mass(i, j) - direct_mass_(i, j);
+        if (d == 0.0) continue;
+        if (i != j || changed_.size() == kMaxCorrections) return false;
+        changed_.push_back({i, d});
+      }
+    }
+    return true;
+  }
+
+  // The constrained response (a, μ) to a unit force on joint i with J a = 0, kept per joint
+  // while M₀ and the rows stay.
+  const std::pair<Eigen::VectorXd, Eigen::VectorXd>& response(Eigen::Index i) {
+    for (const auto& r : responses_) {
+      if (r.first == i) return r.second;
+    }
+    Eigen::VectorXd unit = Eigen::VectorXd::Zero(direct_mass_.rows());
+    unit[i] = 1.0;
+    Eigen::VectorXd a = mass_ldlt_.solve(unit);
+    const Eigen::VectorXd mu = schur_ldlt_.solve(-(reduced_jac_ * a));
+    a.noalias() += minv_jt_ * mu;
+    responses_.push_back({i, {a, mu}});
+    return responses_.back().second;
+  }
+
+  // Applies the Woodbury correction of changed_ to (a, mu_); false if it would amplify rounding.
+  bool correct(Eigen::VectorXd& a) {
+    const auto k = static_cast<Eigen::Index>(changed_.size());
+    Eigen::MatrixXd c = Eigen::MatrixXd::Identity(k, k);
+    Eigen::VectorXd y(k);
+    for (Eigen::Index q = 0; q < k; ++q) {
+      const auto& z = response(changed_[q].first).first;
+      for (Eigen::Index p = 0; p < k; ++p) c(p, q) += z[changed_[p].first] * changed_[q].second;
+      y[q] = a[changed_[q].first];
+    }
+    if (c.diagonal().minCoeff() < 0.5) return false;
+    Eigen::VectorXd x(k);
+    if (k == 1) {
+      x[0] = y[0] / c(0, 0);
+    } else if (k == 2) {
+      const double det = c(0, 0) * c(1, 1) - c(0, 1) * c(1, 0);
+      x[0] = (c(1, 1) * y[0] - c(0, 1) * y[1]) / det;
+      x[1] = (c(0, 0) * y[1] - c(1, 0) * y[0]) / det;
+    } else {
+      x = c.partialPivLu().solve(y);
+    }
+    for (Eigen::Index q = 0; q < k; ++q) {
+      const auto& r = response(changed_[q].first);
+      const double s = changed_[q].second * x[q];
+      a.noalias() -= s * r.first;
+      mu_.noalias() -= s * r.second;
+    }
+    return true;
   }
 
   void start(const Eigen::MatrixXd& jac) {
@@ -257,7 +338,11 @@ class ConstrainedQp {
   Eigen::MatrixXd direct_mass_, minv_jt_;
   Eigen::LDLT<Eigen::MatrixXd> mass_ldlt_, schur_ldlt_;
   Eigen::MatrixXd row_basis_, reduced_jac_;
-  Eigen::VectorXd free_, reduced_rhs_;
+  Eigen::VectorXd free_, reduced_rhs_, mu_;
+  // Diagonal entries where M differs from the factorised M₀, and the responses to them.
+  static constexpr size_t kMaxCorrections = 2;
+  std::vector<std::pair<Eigen::Index, double>> changed_;
+  std::vector<std::pair<Eigen::Index, std::pair<Eigen::VectorXd, Eigen::VectorXd>>> responses_;
 };
 
 }  // namespace pinwind
