@@ -8,18 +8,22 @@
 //                    R_s + jX_ls in series with jX_m ∥ (R_r'/s + jX_lr')), motor convention
 //                    τ = 3 |I_r'|² R_r' / (s ω_s),  s = (ω_s − ω)/ω_s,  ω_s = 2π f / p
 //   kInductionDq     Krause's dq model in the synchronous frame (001_2d0e0f624d8db633.txt),
-//                    flux linkages λ = (λ_qs, λ_ds, λ'_qr, λ'_dr) integrated with the trapezoidal
-//                    rule at the mechanical step, the rotor speed taken at mid-step:
+//                    flux linkages λ = (λ_qs, λ_ds, λ'_qr, λ'_dr) as states:
 //                      dλ/dt = u − R L⁻¹ λ − W(ω_r) λ,  u = (√2 V_ph, 0, 0, 0)
 //                      τ = (3/2) p (λ_ds i_qs − λ_qs i_ds),  i = L⁻¹ λ,  ω_r = p ω
-//                    The trapezoidal rule keeps the 60 Hz stator transient undamped by the
-//                    integrator (A-stable, no numerical damping) and its fixed point is the
-//                    exact steady state, so the torque settles on the equivalent circuit's.
+//                    integrated exactly over each step with the rotor speed frozen at its
+//                    mid-step value (InductionMachineDq below): the flux ODE is linear, so
+//                    λ_{k+1} = e^{Ah} λ_k + A⁻¹(e^{Ah} − I) u. The 60 Hz stator transient then
+//                    keeps its frequency and decay at any step (no phase drift at the
+//                    mechanics' 1 ms), the map is stable for every h (|eig e^{Ah}| < 1), and
+//                    its fixed point −A⁻¹u is the exact steady state, so the torque settles on
+//                    the equivalent circuit's.
 // The torque of the first four is a law of the shaft speed, taken linearly implicit
 // (joint_torque.hpp); the dq machine's is that of its end-of-step fluxes, linear in the step's
 // acceleration through the speed at mid-step, taken implicitly the same way.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -107,45 +111,53 @@ class GeneratorLaw : public JointTorqueElement {
 };
 
 // Krause's dq induction machine with its flux linkages as states.
+//
+// In complex form, Λ_s = λ_qs + j λ_ds and Λ_r = λ'_qr + j λ'_dr, the four real equations are
+// two complex ones (Krause, Analysis of Electric Machinery, §4.5, in the synchronous frame):
+//
+//     d/dt (Λ_s, Λ_r) = A (Λ_s, Λ_r) + (U, 0),
+//     A = −diag(R_s, R_r') L⁻¹ + j diag(ω_e, ω_e − ω_r),   L = [[L_s, L_M], [L_M, L_r']]
+//
+// with ω_r frozen over the step, A is a constant 2 × 2 complex matrix and the step is exact:
+// with μ = tr A / 2 and δ² = ((a₁₁ − a₂₂)/2)² + a₁₂ a₂₁ (eigenvalues μ ± δ),
+//
+//     Φ = e^{Ah} = ½(e₊ + e₋) I + (e₊ − e₋)/(2δ) (A − μI),   e± = e^{(μ±δ)h}
+//     Λ_{k+1} = Φ Λ_k + A⁻¹ (Φ − I) (U, 0)
+//
+// (the Cayley–Hamilton form of the exponential of a 2 × 2 matrix). Two complex exponentials
+// and one square root per evaluation, no allocation.
 class InductionMachineDq : public JointTorqueElement {
  public:
-  using Mat4 = Eigen::Matrix4d;
-  using Vec4 = Eigen::Vector4d;
+  using C = std::complex<double>;
+  // Λ_s and Λ_r [V·s].
+  struct Flux {
+    C stator, rotor;
+  };
 
   explicit InductionMachineDq(const GeneratorSpec& g) : JointTorqueElement(g.index), g_(g) {
-    const double ls = g.stator_leakage + g.magnetizing, lr = g.rotor_leakage + g.magnetizing;
-    Mat4 inductance;
-    inductance << ls, 0, g.magnetizing, 0,  //
-        0, ls, 0, g.magnetizing,            //
-        g.magnetizing, 0, lr, 0,            //
-        0, g.magnetizing, 0, lr;
-    inverse_ = inductance.inverse();
-    resistance_ = Vec4(g.stator_resistance, g.stator_resistance, g.rotor_resistance,
-                       g.rotor_resistance)
-                      .asDiagonal();
+    ls_ = g.stator_leakage + g.magnetizing;
+    lr_ = g.rotor_leakage + g.magnetizing;
+    lm_ = g.magnetizing;
+    det_ = ls_ * lr_ - lm_ * lm_;
     we_ = 2.0 * M_PI * g.frequency;
-    u_ = Vec4(std::sqrt(2.0) * g.voltage / std::sqrt(3.0), 0.0, 0.0, 0.0);
-    flux_.setZero();
+    pole_pairs_ = static_cast<double>(g.pole_pairs);
+    voltage_ = std::sqrt(2.0) * g.voltage / std::sqrt(3.0);
+    // The entries of A that do not depend on the rotor speed.
+    a11_ = C(-g.stator_resistance * lr_ / det_, we_);
+    a12_ = g.stator_resistance * lm_ / det_;
+    a21_ = g.rotor_resistance * lm_ / det_;
+    a22_real_ = -g.rotor_resistance * ls_ / det_;
   }
 
-  // dλ/dt = A(ω_r) λ + u.
-  Mat4 system(double omega_mech) const {
-    const double slip_speed = we_ - static_cast<double>(g_.pole_pairs) * omega_mech;
-    Mat4 w = Mat4::Zero();
-    w(0, 1) = we_;
-    w(1, 0) = -we_;
-    w(2, 3) = slip_speed;
-    w(3, 2) = -slip_speed;
-    return -resistance_ * inverse_ - w;
-  }
-
-  double torque(const Vec4& flux) const {
-    const Vec4 i = inverse_ * flux;
-    return 1.5 * static_cast<double>(g_.pole_pairs) * (flux[1] * i[0] - flux[0] * i[1]);
+  // Electromagnetic torque of the fluxes [N·m], motor convention:
+  // τ = (3/2) p (λ_ds i_qs − λ_qs i_ds) = −(3/2) p Im(conj(Λ_s) I_s).
+  double torque(const Flux& f) const {
+    const C is = (lr_ * f.stator - lm_ * f.rotor) / det_;
+    return -1.5 * pole_pairs_ * std::imag(std::conj(f.stator) * is);
   }
 
   void prepare(const StepView& s) override {
-    if (first_ && g_.steady_start) flux_ = system(s.v[index_]).partialPivLu().solve(-u_);
+    if (first_ && g_.steady_start) flux_ = steady(s.v[index_]);
     first_ = false;
     JointTorqueElement::prepare(s);
   }
@@ -156,7 +168,7 @@ class InductionMachineDq : public JointTorqueElement {
   // its shaft's inertia (many poles, a light shaft) would be unstable at the mechanical step.
   TorqueSlope evaluate(const StepView& s) const override {
     const double w = s.v[index_];
-    const double d = 1e-6 * (std::abs(w) + we_ / static_cast<double>(g_.pole_pairs));
+    const double d = 1e-6 * (std::abs(w) + we_ / pole_pairs_);
     const double t0 = torque(step(w, s.dt));
     const double t1 = torque(step(w + d, s.dt));
     // dτ/da = dτ/dω_mid · h/2; JointTorqueElement multiplies the slope it gets by h.
@@ -169,19 +181,54 @@ class InductionMachineDq : public JointTorqueElement {
     flux_ = step(0.5 * (s.v[index_] + v_next[index_]), s.dt);
   }
 
-  // Trapezoidal step of the fluxes from λ_k at rotor speed ω_mid over h.
-  Vec4 step(double omega_mid, double h) const {
-    const Mat4 half = 0.5 * h * system(omega_mid);
-    const Vec4 rhs = flux_ + half * flux_ + h * u_;
-    return (Mat4::Identity() - half).partialPivLu().solve(rhs);
+  // The fluxes after a step h [s] from the current ones at shaft speed ω [rad/s] (exact for
+  // ω held over the step; class comment).
+  Flux step(double omega, double h) const {
+    const C a22(a22_real_, we_ - pole_pairs_ * omega);
+    const C mu = 0.5 * (a11_ + a22), half = 0.5 * (a11_ - a22);
+    const C delta = principal_sqrt(half * half + a12_ * a21_);
+    const C ep = std::exp((mu + delta) * h), em = std::exp((mu - delta) * h);
+    const C c0 = 0.5 * (ep + em);
+    // (e₊ − e₋)/(2δ) = e^{μh} sinh(δh)/δ, by its series where δh is small.
+    const C dh = delta * h;
+    const C c1 = std::abs(dh) > 1e-4 ? (ep - em) * reciprocal(2.0 * delta)
+                                     : std::exp(mu * h) * h * (1.0 + dh * dh / 6.0);
+    const C p11 = c0 + c1 * half, p22 = c0 - c1 * half, p12 = c1 * a12_, p21 = c1 * a21_;
+    // A⁻¹ (Φ − I) (U, 0), A⁻¹ = [[a₂₂, −a₁₂], [−a₂₁, a₁₁]] / det A.
+    const C inv_det = reciprocal(a11_ * a22 - a12_ * a21_);
+    const C g1 = (p11 - 1.0) * voltage_, g2 = p21 * voltage_;
+    const C forced_s = (a22 * g1 - a12_ * g2) * inv_det;
+    const C forced_r = (a11_ * g2 - a21_ * g1) * inv_det;
+    return {p11 * flux_.stator + p12 * flux_.rotor + forced_s,
+            p21 * flux_.stator + p22 * flux_.rotor + forced_r};
+  }
+
+  // The steady-state fluxes at shaft speed ω: −A⁻¹ (U, 0).
+  Flux steady(double omega) const {
+    const C a22(a22_real_, we_ - pole_pairs_ * omega);
+    const C inv_det = reciprocal(a11_ * a22 - a12_ * a21_);
+    return {-a22 * voltage_ * inv_det, a21_ * voltage_ * inv_det};
+  }
+
+  // 1/z and the principal √z of finite, moderate numbers, without the library's handling of
+  // infinities and overflow (__divdc3, csqrt and hypot took most of a step's dq time).
+  static C reciprocal(const C& z) {
+    const double n = z.real() * z.real() + z.imag() * z.imag();
+    return {z.real() / n, -z.imag() / n};
+  }
+  static C principal_sqrt(const C& z) {
+    const double r = std::sqrt(z.real() * z.real() + z.imag() * z.imag());
+    const double re = std::sqrt(0.5 * (r + z.real()));
+    const double im = std::sqrt(0.5 * std::max(r - z.real(), 0.0));
+    return {re, std::signbit(z.imag()) ? -im : im};
   }
 
  private:
   GeneratorSpec g_;
-  Mat4 inverse_, resistance_;
-  Vec4 u_;
-  double we_ = 0.0;
-  Vec4 flux_;
+  double ls_ = 0.0, lr_ = 0.0, lm_ = 0.0, det_ = 0.0, we_ = 0.0, pole_pairs_ = 2.0;
+  double voltage_ = 0.0, a12_ = 0.0, a21_ = 0.0, a22_real_ = 0.0;
+  C a11_;
+  Flux flux_{};
   bool first_ = true;
 };
 
