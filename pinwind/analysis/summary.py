@@ -149,4 +149,28 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             name, f"{s['min'] / 1e3:.4f}", f"{s['max'] / 1e3:.4f}", f"{s['rms'] / 1e3:.4f}"
         )
     tables += [reactions, history]
+
+    if res.generator_names or res.rotor_names:
+        loads = _table(
+            f"Generators and rotors at {final}, and their means over the run",
+            ("element", "torque [kN·m]", "mean [kN·m]", "power [kW]", "λ [-]", "Cp [-]"),
+            plain,
+        )
+        for name in res.generator_names:
+            torque = res.generator(name).torque
+            loads.add_row(
+                f"generator {name}", f"{torque[-1] / 1e3:.4f}", f"{np.mean(torque) / 1e3:.4f}",
+                "-", "-", "-",
+            )  # fmt: skip
+        for name in res.rotor_names:
+            r = res.rotor(name)
+            loads.add_row(
+                f"rotor {name}",
+                f"{r.torque[-1] / 1e3:.4f}",
+                f"{np.mean(r.torque) / 1e3:.4f}",
+                f"{r.power[-1] / 1e3:.2f}",
+                f"{r.tip_speed_ratio[-1]:.4f}",
+                f"{r.power_coefficient[-1]:.4f}",
+            )
+        tables.append(loads)
     return tables

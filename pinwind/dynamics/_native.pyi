@@ -208,6 +208,12 @@ class OutputArrays:
     work_gravity: Vector
     work_constraints: Vector
     dissipated: Vector
+    generator_torque: Matrix
+    rotor_torque: Matrix
+    rotor_power: Matrix
+    rotor_tip_speed_ratio: Matrix
+    rotor_power_coefficient: Matrix
+    rotor_wind_speed: Matrix
     def __init__(self) -> None: ...
 
 class RunStatus:

@@ -6,6 +6,8 @@ build exactly the same object. Accessors return small views with named fields:
     res.joint("sun").speed           # (n,) rad/s
     res.mesh("sun_planet1").normal   # (n,) N
     res.bearing("carrier").force     # (n, 3) N, world frame
+    res.generator("sun").torque      # (n,) N·m, > 0 generating
+    res.rotor("carrier").power       # (n,) W
 """
 
 from __future__ import annotations
@@ -107,6 +109,52 @@ class BodySeries:
     quaternion: np.ndarray
 
 
+@dataclass(frozen=True)
+class GeneratorSeries:
+    """Time series of one generator law on its shaft (``pinwind.loads.generator``).
+
+    Attributes:
+        torque: generator torque T_gen on the shaft [N·m], positive when generating (the shaft
+            feels −T_gen, which is part of the joint's torque), over the step that starts at
+            each sample; for the dq machine, the electromagnetic torque of the fluxes at the
+            step's end, (n,).
+    """
+
+    torque: np.ndarray
+
+
+@dataclass(frozen=True)
+class RotorSeries:
+    """Time series of one rotor (``pinwind.loads.rotor``).
+
+    Attributes:
+        torque: aerodynamic torque on the hub over the step that starts at each sample [N·m]
+            (part of the joint's torque), (n,).
+        power: aerodynamic power at the sample, P = ½ ρ π R² v³ C_p = τ(ω) ω [W], (n,).
+        tip_speed_ratio: λ = ω R / v at the sample (held at its floor 0.1 at start-up; 0
+            without wind) [-], (n,).
+        power_coefficient: C_p(λ, β) [-], (n,).
+        wind_speed: wind speed at the rotor v [m/s], (n,).
+    """
+
+    torque: np.ndarray
+    power: np.ndarray
+    tip_speed_ratio: np.ndarray
+    power_coefficient: np.ndarray
+    wind_speed: np.ndarray
+
+
+#: Per-element arrays of a Result: (n, generators) and (n, rotors).
+GENERATOR_ARRAYS = ("generator_torque",)
+ROTOR_ARRAYS = (
+    "rotor_torque",
+    "rotor_power",
+    "rotor_tip_speed_ratio",
+    "rotor_power_coefficient",
+    "rotor_wind_speed",
+)
+
+
 @dataclass
 class Result:
     """All time series of a run (SI units, float64), sample k at ``time[k]``.
@@ -125,6 +173,11 @@ class Result:
             (n, bearings, 3).
         body_position: (n, bodies, 3); body_quaternion: (n, bodies, 4) xyzw.
         constraint_residual: max |J v − target| after each step [m/s or rad/s], (n,).
+        generator_names, rotor_names: joints carrying a generator law or a rotor, in the
+            order of the columns below (empty without them).
+        generator_torque: T_gen [N·m], (n, generators) (``GeneratorSeries``).
+        rotor_torque [N·m], rotor_power [W], rotor_tip_speed_ratio, rotor_power_coefficient,
+            rotor_wind_speed [m/s]: (n, rotors) (``RotorSeries``).
         energy: energy ledger [J], name → (n,): ``kinetic``, ``potential_gravity``,
             ``potential_spring``, ``work_applied`` (applied torques and gravity-free inputs),
             ``work_drivers`` (speed drivers and locks), ``dissipated`` (dampers).
@@ -163,6 +216,14 @@ class Result:
     energy: dict[str, np.ndarray] = field(default_factory=dict)
     metadata: dict[str, Any] = field(default_factory=dict)
     status: str = "completed"
+    generator_names: list[str] = field(default_factory=list)
+    rotor_names: list[str] = field(default_factory=list)
+    generator_torque: np.ndarray = None  # type: ignore[assignment]  # (n, 0) when not given
+    rotor_torque: np.ndarray = None  # type: ignore[assignment]
+    rotor_power: np.ndarray = None  # type: ignore[assignment]
+    rotor_tip_speed_ratio: np.ndarray = None  # type: ignore[assignment]
+    rotor_power_coefficient: np.ndarray = None  # type: ignore[assignment]
+    rotor_wind_speed: np.ndarray = None  # type: ignore[assignment]
 
     #: Names of the array attributes, for writers, readers and comparisons.
     ARRAYS = (
@@ -190,7 +251,18 @@ class Result:
         "body_position",
         "body_quaternion",
         "constraint_residual",
+        *GENERATOR_ARRAYS,
+        *ROTOR_ARRAYS,
     )
+
+    def __post_init__(self) -> None:
+        # Runs without generators or rotors, and logs written before these outputs: no columns.
+        n = len(self.time)
+        for names, arrays in ((self.generator_names, GENERATOR_ARRAYS),
+                              (self.rotor_names, ROTOR_ARRAYS)):  # fmt: skip
+            for name in arrays:
+                if getattr(self, name) is None:
+                    setattr(self, name, np.zeros((n, len(names))))
 
     def __len__(self) -> int:
         return len(self.time)
@@ -242,6 +314,16 @@ class Result:
         i = self._index("body", self.body_names, name)
         return BodySeries(self.body_position[:, i], self.body_quaternion[:, i])
 
+    def generator(self, name: str) -> GeneratorSeries:
+        """Time series of the generator law on a joint."""
+        i = self._index("generator", self.generator_names, name)
+        return GeneratorSeries(self.generator_torque[:, i])
+
+    def rotor(self, name: str) -> RotorSeries:
+        """Time series of the rotor on a joint: torque, power, λ, C_p and wind speed."""
+        i = self._index("rotor", self.rotor_names, name)
+        return RotorSeries(*(getattr(self, a)[:, i] for a in ROTOR_ARRAYS))
+
     def truncated(self, n: int) -> Result:
         """The first ``n`` samples (used when a run stops early)."""
         return self.rows(0, n)
@@ -258,6 +340,8 @@ class Result:
             mesh_names=self.mesh_names,
             bearing_names=self.bearing_names,
             body_names=self.body_names,
+            generator_names=self.generator_names,
+            rotor_names=self.rotor_names,
             energy={k: v[rows] for k, v in self.energy.items()},
             metadata=dict(self.metadata),
             status=self.status,

@@ -41,11 +41,11 @@ import numpy as np
 
 from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
 from pinwind.dynamics.ratios import train_speeds
-from pinwind.dynamics.result import Result
+from pinwind.dynamics.result import ROTOR_ARRAYS, Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.errors import Diverged, InputError, NonFiniteInput, OutOfMemory, PinwindError
-from pinwind.loads.elements import load_elements
+from pinwind.loads.elements import LoadElements, load_elements
 from pinwind.loads.generator import GeneratorLaw
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.loads.rotor import Rotor
@@ -132,7 +132,14 @@ _WORK_KEYS = (
 )
 
 
-def _allocate(gearbox: Gearbox, n: int, body_names: list[str], *, empty: bool = False) -> Result:
+def _allocate(
+    gearbox: Gearbox,
+    n: int,
+    body_names: list[str],
+    elements: LoadElements,
+    *,
+    empty: bool = False,
+) -> Result:
     nj = len(gearbox.joint_names)
     nm = len(gearbox.meshes)
     nb = len(body_names)
@@ -171,6 +178,10 @@ def _allocate(gearbox: Gearbox, n: int, body_names: list[str], *, empty: bool = 
         body_quaternion=z(nb, 4),
         constraint_residual=np.zeros(n),
         energy={k: np.zeros(n) for k in ("kinetic", *_WORK_KEYS, "potential_spring", "numerical")},
+        generator_names=list(elements.generator_names),
+        rotor_names=list(elements.rotor_names),
+        generator_torque=z(len(elements.generator_names)),
+        **{name: z(len(elements.rotor_names)) for name in ROTOR_ARRAYS},
     )
 
 
@@ -335,10 +346,18 @@ def simulate(
     frames = body_frames(model)
     body_names = [model.frames[f].name for f in frames]
     samples = steps + 1
-    stride = _keep_stride(keep, samples, _bytes_per_sample(gearbox, len(body_names)))
+    stride = _keep_stride(
+        keep,
+        samples,
+        _bytes_per_sample(
+            gearbox,
+            len(body_names),
+            len(elements.generator_names) + len(ROTOR_ARRAYS) * len(elements.rotor_names),
+        ),
+    )
     kept = _kept_samples(samples, stride)
     try:
-        res = _allocate(gearbox, len(kept), body_names)
+        res = _allocate(gearbox, len(kept), body_names, elements)
     except MemoryError as err:
         raise OutOfMemory(len(kept), duration, dt) from err
     res.metadata = {
@@ -429,7 +448,7 @@ def simulate(
                         "the wind speed must be finite"
                     )
                 inputs = inputs[: stop - start]
-            block = _allocate(gearbox, stop - start, body_names, empty=True)
+            block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
             done = start
             failure: PinwindError | None = None
             try:
@@ -488,10 +507,11 @@ def _numerical_loss(energy: dict[str, np.ndarray], spring0: float) -> None:
 KEEP_BUDGET = 512 * 2**20
 
 
-def _bytes_per_sample(gearbox: Gearbox, bodies: int) -> int:
-    """Bytes a Result holds per sample (float64 arrays)."""
+def _bytes_per_sample(gearbox: Gearbox, bodies: int, elements: int = 0) -> int:
+    """Bytes a Result holds per sample (float64 arrays); elements: per-element values."""
     nj, nm = len(gearbox.joint_names), len(gearbox.meshes)
     values = 1 + 4 * nj + nm * (10 + 6) + 12 * nj + 7 * bodies + 1 + len(_WORK_KEYS) + 3
+    values += elements
     return 8 * values
 
 

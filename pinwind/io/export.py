@@ -4,7 +4,8 @@ Columns are named ``group/element/quantity_unit`` with SI units spelled out (``N
 ``rad_s`` for rad/s), vector components before the unit, and the time first:
 
     time_s, joint/sun/speed_rad_s, mesh/sun_planet1/normal_N, mesh/sun_planet1/force_on_b_x_N,
-    bearing/carrier/moment_local_z_N_m, body/carrier/quaternion_w, energy/kinetic_J, ...
+    bearing/carrier/moment_local_z_N_m, body/carrier/quaternion_w, energy/kinetic_J,
+    generator/sun/torque_N_m, rotor/carrier/power_W, rotor/carrier/tip_speed_ratio, ...
 
 Parquet keeps every float64 bit for bit; CSV writes 17 significant digits, which read back to the
 same float64. A log is exported a block of samples at a time, so its size does not matter.
@@ -42,12 +43,19 @@ COLUMNS: dict[str, tuple[str, str, str]] = {
     "body_position": ("body", "position", "m"),
     "body_quaternion": ("body", "quaternion", ""),
     "constraint_residual": ("run", "constraint_residual", "m_s_or_rad_s"),
+    "generator_torque": ("generator", "torque", "N_m"),
+    "rotor_torque": ("rotor", "torque", "N_m"),
+    "rotor_power": ("rotor", "power", "W"),
+    "rotor_tip_speed_ratio": ("rotor", "tip_speed_ratio", ""),
+    "rotor_power_coefficient": ("rotor", "power_coefficient", ""),
+    "rotor_wind_speed": ("rotor", "wind_speed", "m_s"),
 }
 
 FORMATS = ("parquet", "csv")
 
 _ELEMENTS = {"joint": "joint_names", "mesh": "mesh_names", "bearing": "bearing_names"}
 _ELEMENTS["body"] = "body_names"
+_ELEMENTS.update(generator="generator_names", rotor="rotor_names")
 
 
 def columns(res: Result, fields: Iterable[str] | None = None) -> Iterator[tuple[str, np.ndarray]]:

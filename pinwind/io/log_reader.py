@@ -205,6 +205,7 @@ class _Layout:
             len(names[k]) for k in ("joint_names", "mesh_names", "bearing_names", "body_names")
         )
         count = {"joint": nj, "mesh": nm, "bearing": nb, "term": len(self.terms)}
+        count.update({kind: len(names.get(key, [])) for kind, key in _NAMES_OF.items()})
         #: destination → shape of one sample
         self.shapes: dict[str, tuple[int, ...]] = {
             "time": (),
@@ -628,6 +629,8 @@ class _Sink:
             mesh_names=names["mesh_names"],
             bearing_names=names["bearing_names"],
             body_names=names["body_names"],
+            generator_names=names.get("generator_names", []),
+            rotor_names=names.get("rotor_names", []),
             energy={t: arrays[f"energy/{t}"] for t in terms},
             **{name: arrays[name] for name in Result.ARRAYS},
         )

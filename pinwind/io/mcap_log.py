@@ -195,6 +195,25 @@ ARRAY_TOPICS: tuple[ArrayTopic, ...] = (
         "max |J v - target| after the step",
     ),
     ArrayTopic("/run/energy", "energy", "J", "energy ledger (docs/log_format.md)", "term"),
+    # Generator and rotor elements (Result.generator, Result.rotor); absent without them.
+    ArrayTopic(
+        "/generators/torque",
+        "generator_torque",
+        "N*m",
+        "generator torque T_gen on the shaft, > 0 generating",
+        "generator",
+    ),
+    ArrayTopic("/rotors/torque", "rotor_torque", "N*m", "aerodynamic torque on the hub", "rotor"),
+    ArrayTopic(
+        "/rotors/power", "rotor_power", "W", "aerodynamic power 0.5 rho pi R^2 v^3 Cp", "rotor"
+    ),
+    ArrayTopic(
+        "/rotors/tip_speed_ratio", "rotor_tip_speed_ratio", "1", "tip-speed ratio wR/v", "rotor"
+    ),
+    ArrayTopic(
+        "/rotors/power_coefficient", "rotor_power_coefficient", "1", "power coefficient Cp", "rotor"
+    ),
+    ArrayTopic("/rotors/wind_speed", "rotor_wind_speed", "m/s", "wind speed at the rotor", "rotor"),
 )
 
 _NAMES_OF = {
@@ -202,6 +221,8 @@ _NAMES_OF = {
     "mesh": "mesh_names",
     "bearing": "bearing_names",
     "term": "energy_terms",
+    "generator": "generator_names",
+    "rotor": "rotor_names",
 }
 
 
@@ -597,6 +618,8 @@ class McapLogger:
             "bearing_names": list(result.bearing_names),
             "body_names": list(result.body_names),
             "energy_terms": self._terms,
+            "generator_names": list(result.generator_names),
+            "rotor_names": list(result.rotor_names),
         }
         array_schema = f.schema(messages.FLOAT64_MULTI_ARRAY)
         joint_schema = f.schema(messages.JOINT_STATE)

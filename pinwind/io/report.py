@@ -29,8 +29,9 @@ class Row:
     """Statistics of one series.
 
     Attributes:
-        group: ``joint``, ``mesh``, ``bearing`` or ``run``.
-        element: joint, mesh or bearing name (the energy term for ``run/energy``).
+        group: ``joint``, ``mesh``, ``bearing``, ``load`` (generators and rotors) or ``run``.
+        element: joint, mesh or bearing name, ``generator JOINT`` or ``rotor JOINT`` (the
+            energy term for ``run/energy``).
         quantity: e.g. ``speed``, ``normal``, ``force (world)``.
         component: ``x``, ``y``, ``z``, ``|.|`` for vectors, else ``""``.
         unit: SI unit.
@@ -81,6 +82,18 @@ def _series(res: Result) -> Iterator[tuple[str, str, str, str, str, np.ndarray]]
     for i, name in enumerate(res.bearing_names):
         for quantity, values, unit in bearing:
             yield from _vector("bearing", name, quantity, unit, values[:, i])
+    for i, name in enumerate(res.generator_names):
+        yield "load", f"generator {name}", "torque", "", "N*m", res.generator_torque[:, i]
+    rotor = (
+        ("torque", res.rotor_torque, "N*m"),
+        ("power", res.rotor_power, "W"),
+        ("tip-speed ratio", res.rotor_tip_speed_ratio, "1"),
+        ("power coefficient", res.rotor_power_coefficient, "1"),
+        ("wind speed", res.rotor_wind_speed, "m/s"),
+    )
+    for i, name in enumerate(res.rotor_names):
+        for quantity, values, unit in rotor:
+            yield "load", f"rotor {name}", quantity, "", unit, values[:, i]
     yield "run", "", "constraint residual", "", "m/s or rad/s", res.constraint_residual
     for term, values in res.energy.items():
         yield "run", term, "energy", "", "J", values
@@ -256,6 +269,7 @@ _TITLES = {
     "joint": "Bearings (joints): angle, speed, acceleration, torque",
     "mesh": "Gear meshes: tooth forces and transmission error",
     "bearing": "Bearing reactions on the child body",
+    "load": "Generators and rotors",
     "run": "Run: constraint residual and energy ledger",
 }
 
@@ -268,6 +282,7 @@ DISPLAY_UNITS = {
     "N*m": ("kN·m", 1e-3),
     "m": ("µm", 1e6),
     "J": ("kJ", 1e-3),
+    "W": ("kW", 1e-3),
     "rad/s^2": ("rad/s²", 1.0),
     "1": ("-", 1.0),
 }

@@ -25,6 +25,7 @@ class LoadElements:
 
     Attributes:
         generators, rotors: compiled specs.
+        generator_names, rotor_names: their joints, in the same order.
         added_inertia: velocity index → inertia added to the joint [kg·m²] (rotors).
         input_columns: per-sample inputs (1 with rotors: the wind speed [m/s], else 0).
         wind: the wind-speed signal [m/s], or None.
@@ -33,6 +34,8 @@ class LoadElements:
 
     generators: list[_native.GeneratorSpec] = field(default_factory=list)
     rotors: list[_native.RotorSpec] = field(default_factory=list)
+    generator_names: list[str] = field(default_factory=list)
+    rotor_names: list[str] = field(default_factory=list)
     added_inertia: dict[int, float] = field(default_factory=dict)
     input_columns: int = 0
     wind: Signal | None = None
@@ -78,6 +81,7 @@ def load_elements(
             if law.poles % 2:
                 raise InputError(f'generators["{name}"].poles = {law.poles} must be even')
         out.generators.append(law.native(joint_index[name]))
+        out.generator_names.append(name)
         out.metadata.setdefault("generators", {})[name] = describe(law)
     if rotors:
         if wind is None:
@@ -92,6 +96,7 @@ def load_elements(
             raise InputError(f'rotors["{name}"] is {rotor!r}; give a pinwind.loads.rotor.Rotor')
         index = joint_index[name]
         out.rotors.append(rotor.native(index, 0))
+        out.rotor_names.append(name)
         if rotor.inertia:
             out.added_inertia[index] = out.added_inertia.get(index, 0.0) + rotor.inertia
         out.metadata.setdefault("rotors", {})[name] = rotor.describe()

@@ -35,6 +35,12 @@ struct Outputs {
   // Cumulative work [J]: applied, drivers, springs, gravity, constraints, dissipated.
   double* work[6];
   long samples;
+  // Per generator and per rotor, in the order of their specs: (n, generators) and (n, rotors).
+  double* generator_torque = nullptr;  // T_gen on the shaft [N·m], > 0 generating
+  double *rotor_torque = nullptr, *rotor_power = nullptr;  // [N·m], [W]
+  double *rotor_tip_speed_ratio = nullptr, *rotor_power_coefficient = nullptr;  // λ, C_p [-]
+  double* rotor_wind_speed = nullptr;  // [m/s]
+  long generators = 0, rotors = 0;
 };
 
 // Writes mesh m's forces of sample k (n_meshes per sample) for F_n on flank s: the same

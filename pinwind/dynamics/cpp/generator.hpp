@@ -79,7 +79,9 @@ inline double induction_torque(const GeneratorSpec& g, double omega) {
 // The laws of the shaft speed alone.
 class GeneratorLaw : public JointTorqueElement {
  public:
-  explicit GeneratorLaw(const GeneratorSpec& g) : JointTorqueElement(g.index), g_(g) {}
+  // slot: this generator's column in the per-generator outputs.
+  GeneratorLaw(const GeneratorSpec& g, long slot)
+      : JointTorqueElement(g.index), g_(g), slot_(slot) {}
 
   // Torque on the shaft τ(ω) [N·m].
   double operator()(double omega) const {
@@ -106,8 +108,15 @@ class GeneratorLaw : public JointTorqueElement {
     return torque_and_slope(*this, s.v[index_], scale);
   }
 
+  // Also T_gen = −τ over the step, the generator's own output.
+  void record(const StepView& s, long k, const Outputs& out) const override {
+    JointTorqueElement::record(s, k, out);
+    out.generator_torque[k * out.generators + slot_] = -applied();
+  }
+
  private:
   GeneratorSpec g_;
+  long slot_;
 };
 
 // Krause's dq induction machine with its flux linkages as states.
@@ -134,7 +143,9 @@ class InductionMachineDq : public JointTorqueElement {
     C stator, rotor;
   };
 
-  explicit InductionMachineDq(const GeneratorSpec& g) : JointTorqueElement(g.index), g_(g) {
+  // slot: this generator's column in the per-generator outputs.
+  InductionMachineDq(const GeneratorSpec& g, long slot)
+      : JointTorqueElement(g.index), g_(g), slot_(slot) {
     ls_ = g.stator_leakage + g.magnetizing;
     lr_ = g.rotor_leakage + g.magnetizing;
     lm_ = g.magnetizing;
@@ -176,6 +187,12 @@ class InductionMachineDq : public JointTorqueElement {
   }
 
   bool lagged() const override { return false; }
+
+  // Also T_gen = −τ over the step (the electromagnetic torque of the end-of-step fluxes).
+  void record(const StepView& s, long k, const Outputs& out) const override {
+    JointTorqueElement::record(s, k, out);
+    out.generator_torque[k * out.generators + slot_] = -applied();
+  }
 
   void advance(const StepView& s, const Eigen::VectorXd& v_next) override {
     flux_ = step(0.5 * (s.v[index_] + v_next[index_]), s.dt);
@@ -225,6 +242,7 @@ class InductionMachineDq : public JointTorqueElement {
 
  private:
   GeneratorSpec g_;
+  long slot_;
   double ls_ = 0.0, lr_ = 0.0, lm_ = 0.0, det_ = 0.0, we_ = 0.0, pole_pairs_ = 2.0;
   double voltage_ = 0.0, a12_ = 0.0, a21_ = 0.0, a22_real_ = 0.0;
   C a11_;

@@ -70,6 +70,9 @@ struct OutputArrays {
   Array body_position, body_quaternion, constraint_residual;
   Array kinetic, potential_spring;
   Array work_applied, work_drivers, work_springs, work_gravity, work_constraints, dissipated;
+  Array generator_torque;  // (n, generators)
+  Array rotor_torque, rotor_power, rotor_tip_speed_ratio, rotor_power_coefficient,
+      rotor_wind_speed;  // (n, rotors)
 };
 
 pinocchio::SE3 placement(const Mat4& h) {
@@ -222,7 +225,8 @@ StepperSetup setup(const StepperSpec& spec) {
 }
 
 // Pointers into the block's arrays, checked against the block length n and the model's sizes.
-Outputs outputs(const OutputArrays& out, size_t n, size_t nv, size_t nj, size_t nm, size_t nb) {
+Outputs outputs(const OutputArrays& out, size_t n, size_t nv, size_t nj, size_t nm, size_t nb,
+                size_t ng, size_t nr) {
   auto ptr = [](const char* name, const Array& a, size_t size) {
     if (!a.is_valid() || a.size() != size) {
       throw std::invalid_argument(std::string("out.") + name + " must hold " +
@@ -264,6 +268,19 @@ Outputs outputs(const OutputArrays& out, size_t n, size_t nv, size_t nj, size_t 
   o.work[3] = ptr("work_gravity", out.work_gravity, n);
   o.work[4] = ptr("work_constraints", out.work_constraints, n);
   o.work[5] = ptr("dissipated", out.dissipated, n);
+  // Per-element outputs: none to write (and no array needed) without such elements.
+  auto element_ptr = [&](const char* name, const Array& a, size_t count) {
+    return count ? ptr(name, a, n * count) : nullptr;
+  };
+  o.generators = static_cast<long>(ng);
+  o.rotors = static_cast<long>(nr);
+  o.generator_torque = element_ptr("generator_torque", out.generator_torque, ng);
+  o.rotor_torque = element_ptr("rotor_torque", out.rotor_torque, nr);
+  o.rotor_power = element_ptr("rotor_power", out.rotor_power, nr);
+  o.rotor_tip_speed_ratio = element_ptr("rotor_tip_speed_ratio", out.rotor_tip_speed_ratio, nr);
+  o.rotor_power_coefficient =
+      element_ptr("rotor_power_coefficient", out.rotor_power_coefficient, nr);
+  o.rotor_wind_speed = element_ptr("rotor_wind_speed", out.rotor_wind_speed, nr);
   return o;
 }
 
@@ -278,6 +295,8 @@ class PyStepper {
     nj_ = static_cast<size_t>(s.model.njoints - 1);
     nm_ = static_cast<size_t>(s.meshes.count());
     nb_ = s.frame_parent.size();
+    ng_ = s.generators.size();
+    nr_ = s.rotors.size();
     if (static_cast<size_t>(q0.size()) != nv_ || static_cast<size_t>(v0.size()) != nv_) {
       throw std::invalid_argument("q0 and v0 must have nv values");
     }
@@ -291,7 +310,7 @@ class PyStepper {
     if (inputs_ && (inputs.rows() != k1 - k0 || inputs.cols() != inputs_)) {
       throw std::invalid_argument("run: inputs must be (k1 - k0, input_columns)");
     }
-    const Outputs o = outputs(out, static_cast<size_t>(k1 - k0), nv_, nj_, nm_, nb_);
+    const Outputs o = outputs(out, static_cast<size_t>(k1 - k0), nv_, nj_, nm_, nb_, ng_, nr_);
     nb::gil_scoped_release release;
     return stepper_->run(k0, k1, torque, target, o, inputs);
   }
@@ -299,7 +318,7 @@ class PyStepper {
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
  private:
-  size_t nv_ = 0, nj_ = 0, nm_ = 0, nb_ = 0;
+  size_t nv_ = 0, nj_ = 0, nm_ = 0, nb_ = 0, ng_ = 0, nr_ = 0;
   long inputs_ = 0;
   std::unique_ptr<Stepper> stepper_;
 };
@@ -478,7 +497,13 @@ NB_MODULE(_native, m) {
       .def_rw("work_springs", &OutputArrays::work_springs)
       .def_rw("work_gravity", &OutputArrays::work_gravity)
       .def_rw("work_constraints", &OutputArrays::work_constraints)
-      .def_rw("dissipated", &OutputArrays::dissipated);
+      .def_rw("dissipated", &OutputArrays::dissipated)
+      .def_rw("generator_torque", &OutputArrays::generator_torque)
+      .def_rw("rotor_torque", &OutputArrays::rotor_torque)
+      .def_rw("rotor_power", &OutputArrays::rotor_power)
+      .def_rw("rotor_tip_speed_ratio", &OutputArrays::rotor_tip_speed_ratio)
+      .def_rw("rotor_power_coefficient", &OutputArrays::rotor_power_coefficient)
+      .def_rw("rotor_wind_speed", &OutputArrays::rotor_wind_speed);
 
   nb::class_<RunStatus>(m, "RunStatus")
       .def_ro("code", &RunStatus::code)

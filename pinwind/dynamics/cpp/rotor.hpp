@@ -81,26 +81,60 @@ inline double rotor_cp(const RotorSpec& r, double tsr) {
   return r.cp_model == RotorSpec::kTable ? table_cp(r, tsr) : heier_cp(tsr, r.pitch, r.cp_scale);
 }
 
+// The rotor's operating point: tip-speed ratio λ (held at λ_min below it), C_p(λ, β) and the
+// aerodynamic torque [N·m]; all 0 without wind.
+struct RotorPoint {
+  double tsr = 0.0, cp = 0.0, torque = 0.0;
+};
+
+inline RotorPoint rotor_point(const RotorSpec& r, double omega, double wind) {
+  if (!(wind > 0.0)) return {};
+  RotorPoint p;
+  p.tsr = std::max(omega * r.radius / wind, kMinimumTipSpeedRatio);
+  p.cp = rotor_cp(r, p.tsr);
+  p.torque = 0.5 * r.air_density * M_PI * r.radius * r.radius * r.radius * wind * wind * p.cp /
+             p.tsr;
+  return p;
+}
+
 // Aerodynamic torque [N·m] at rotor speed ω [rad/s] and wind speed v [m/s].
 inline double rotor_torque(const RotorSpec& r, double omega, double wind) {
-  if (!(wind > 0.0)) return 0.0;
-  const double tsr = std::max(omega * r.radius / wind, kMinimumTipSpeedRatio);
-  return 0.5 * r.air_density * M_PI * r.radius * r.radius * r.radius * wind * wind *
-         rotor_cp(r, tsr) / tsr;
+  return rotor_point(r, omega, wind).torque;
 }
 
 class RotorAerodynamics : public JointTorqueElement {
  public:
-  explicit RotorAerodynamics(RotorSpec spec) : JointTorqueElement(spec.index), r_(std::move(spec)) {}
+  // slot: this rotor's column in the per-rotor outputs.
+  RotorAerodynamics(RotorSpec spec, long slot)
+      : JointTorqueElement(spec.index), r_(std::move(spec)), slot_(slot) {}
 
+  // τ(ω_k) and its central difference (torque_and_slope), keeping the operating point.
   TorqueSlope evaluate(const StepView& s) const override {
-    const double wind = s.inputs ? s.inputs[r_.wind_column] : 0.0;
-    const auto law = [&](double omega) { return rotor_torque(r_, omega, wind); };
-    return torque_and_slope(law, s.v[index_], std::max(wind, 1.0) / r_.radius);
+    wind_ = s.inputs ? s.inputs[r_.wind_column] : 0.0;
+    const double omega = s.v[index_];
+    const double d = 1e-6 * (std::abs(omega) + std::max(wind_, 1.0) / r_.radius);
+    point_ = rotor_point(r_, omega, wind_);
+    return {point_.torque,
+            (rotor_torque(r_, omega + d, wind_) - rotor_torque(r_, omega - d, wind_)) / (2.0 * d)};
+  }
+
+  // Also the rotor's own outputs: the torque over the step, and at the sample the power
+  // P = τ(ω_k) ω_k = ½ ρ π R² v³ C_p, λ, C_p and the wind speed.
+  void record(const StepView& s, long k, const Outputs& out) const override {
+    JointTorqueElement::record(s, k, out);
+    const long i = k * out.rotors + slot_;
+    out.rotor_torque[i] = applied();
+    out.rotor_power[i] = point_.torque * s.v[index_];
+    out.rotor_tip_speed_ratio[i] = point_.tsr;
+    out.rotor_power_coefficient[i] = point_.cp;
+    out.rotor_wind_speed[i] = wind_;
   }
 
  private:
   RotorSpec r_;
+  long slot_;
+  mutable RotorPoint point_;
+  mutable double wind_ = 0.0;
 };
 
 }  // namespace pinwind

@@ -105,14 +105,18 @@ class Stepper : private BodyForces {
       elements_.push_back(std::make_unique<CompliantMeshes>(s_.compliant_meshes, s_.paths,
                                                             s_.implicit_theta, nv_));
     }
-    for (const auto& g : s_.generators) {
+    for (size_t i = 0; i < s_.generators.size(); ++i) {
+      const auto& g = s_.generators[i];
+      const long slot = static_cast<long>(i);
       if (g.law == GeneratorSpec::kInductionDq) {
-        elements_.push_back(std::make_unique<InductionMachineDq>(g));
+        elements_.push_back(std::make_unique<InductionMachineDq>(g, slot));
       } else {
-        elements_.push_back(std::make_unique<GeneratorLaw>(g));
+        elements_.push_back(std::make_unique<GeneratorLaw>(g, slot));
       }
     }
-    for (const auto& r : s_.rotors) elements_.push_back(std::make_unique<RotorAerodynamics>(r));
+    for (size_t i = 0; i < s_.rotors.size(); ++i) {
+      elements_.push_back(std::make_unique<RotorAerodynamics>(s_.rotors[i], static_cast<long>(i)));
+    }
     jac_.setZero(rows_, nv_);
     bias_.setZero(rows_);
     jv_.setZero(rows_);
