@@ -387,10 +387,10 @@ KINDS: dict[str, tuple[str, ...]] = {
     "csv": ("file", "column", "time_column", "sha256"),
     "openfast": ("file", "channel", "scale", "sha256"),
     "kaimal": ("mean", "turbulence_intensity", "seed", "duration", "sample_time",
-               "length_scale", "hub_height"),
+               "length_scale", "hub_height", "rotor_radius"),
 }  # fmt: skip
 _OPTIONAL = {"phase", "column", "time_column", "sha256", "scale", "duration", "sample_time",
-             "length_scale", "hub_height"}  # fmt: skip
+             "length_scale", "hub_height", "rotor_radius"}  # fmt: skip
 
 
 def signal_from_spec(spec: Any, *, base: Path | None = None, where: str = "signal") -> Signal:

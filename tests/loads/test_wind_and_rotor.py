@@ -151,3 +151,72 @@ def test_rotor_and_generator_work_balance_the_kinetic_energy_with_the_rotor_iner
     assert_allclose(change, work - e["dissipated"], rtol=0, atol=1e-9 * np.abs(work).max())
     # The rotor's inertia is in the kinetic energy: ½ (J_train + J_rotor) ω_c² at the start.
     assert e["kinetic"][0] > 0.5 * 5.0e6 * (13 * RPM) ** 2
+
+
+# --- rotor-effective wind -----------------------------------------------------------------------
+
+
+def _coherence(r, f, mean, lc):
+    """IEC 61400-1 ed. 3 annex B coherence, written out here."""
+    return np.exp(-12 * np.sqrt((f * r / mean) ** 2 + (0.12 * r / lc) ** 2))
+
+
+def test_rotor_admittance_is_the_coherence_averaged_over_pairs_of_points_on_the_disc():
+    from pinwind.loads.wind import disc_distance_density, rotor_admittance
+
+    radius, mean, lc = 42.85, 10.0, 8.1 * 42
+    # The distance density integrates to 1 and has the disc's mean chord-free distance 128R/45π.
+    r = np.linspace(0, 2 * radius, 200_001)
+    p = disc_distance_density(r, radius)
+    assert_allclose(np.trapezoid(p, r), 1.0, rtol=1e-8)
+    assert_allclose(np.trapezoid(r * p, r), 128 * radius / (45 * math.pi), rtol=1e-8)
+    # Monte Carlo: uniform pairs of points on the disc (seeded), coherence averaged over them.
+    rng = np.random.default_rng(2)
+    n = 200_000
+    rho = radius * np.sqrt(rng.uniform(size=(2, n)))
+    phi = rng.uniform(0, 2 * math.pi, size=(2, n))
+    x, y = rho * np.cos(phi), rho * np.sin(phi)
+    d = np.hypot(x[0] - x[1], y[0] - y[1])
+    f = np.array([0.0, 0.01, 0.05, 0.2, 1.0])
+    monte_carlo = np.array([_coherence(d, fk, mean, lc).mean() for fk in f])
+    chi2 = rotor_admittance(f, radius=radius, mean=mean, coherence_scale=lc)
+    assert_allclose(chi2, monte_carlo, atol=3e-3)
+    assert np.all(np.diff(chi2) < 0) and chi2[-1] < 0.05
+
+
+def test_rotor_effective_kaimal_wind_has_the_point_spectrum_times_the_admittance():
+    from pinwind.loads.wind import rotor_admittance
+
+    mean, ti, dt, radius = 10.0, 0.12, 0.05, 42.85
+    kwargs = dict(mean=mean, turbulence_intensity=ti, duration=600.0, sample_time=dt, seed=5)
+    _, point = kaimal_series(**kwargs)
+    _, rotor = kaimal_series(**kwargs, rotor_radius=radius)
+    assert_allclose(rotor[:-1].mean(), mean, rtol=1e-12)
+    n = point.size - 1
+    f = np.fft.rfftfreq(n, dt)[1:-1]
+    ratio = np.abs(np.fft.rfft(rotor[:-1])[1:-1]) ** 2 / np.abs(np.fft.rfft(point[:-1])[1:-1]) ** 2
+    # The admittance integrated here on a fine grid of distances (trapezoid rule, error below
+    # 3e-6 up to Nyquist), at every 50th frequency.
+    r = np.linspace(0, 2 * radius, 200_001)
+    x = r / (2 * radius)
+    p = 4 * r / (math.pi * radius**2) * (np.arccos(x) - x * np.sqrt(1 - x * x))
+    lc = 8.1 * 42  # hub height 80 m
+    some = slice(0, None, 50)
+    chi2 = np.array([np.trapezoid(p * _coherence(r, fk, mean, lc), r) for fk in f[some]])
+    assert_allclose(ratio[some], chi2, rtol=1e-5)
+    # Its variance: σ² weighted by the admittance over the point series' spectrum.
+    chi2 = rotor_admittance(f, radius=radius, mean=mean, coherence_scale=lc)
+    point_spectrum = np.abs(np.fft.rfft(point[:-1] - mean)[1:-1]) ** 2
+    expected = (ti * mean) ** 2 * np.sum(point_spectrum * chi2) / np.sum(point_spectrum)
+    assert_allclose(rotor[:-1].var(), expected, rtol=1e-6)
+    assert rotor[:-1].std() < 0.9 * point[:-1].std()
+
+
+def test_rotor_radius_is_a_kaimal_signal_parameter():
+    a = parse_signal("kaimal(mean=10, turbulence_intensity=0.1, seed=3, rotor_radius=40)")
+    b = KaimalWind(mean=10.0, turbulence_intensity=0.1, seed=3, rotor_radius=40.0)
+    t = np.arange(0, 600, 0.1)
+    assert np.array_equal(a.values(t), b.values(t))
+    assert a.spec()["rotor_radius"] == 40.0
+    with pytest.raises(InputError, match="rotor_radius"):
+        KaimalWind(mean=10.0, turbulence_intensity=0.1, rotor_radius=-1.0)
