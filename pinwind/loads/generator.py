@@ -19,8 +19,9 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
 
 The laws of the shaft speed are taken linearly implicit in the step (``cpp/joint_torque.hpp``),
 so a steep curve (001's machine: ≈ 2e4 N·m per rad/s near synchronous speed) is stable at the
-step the mechanics use; the dq machine's fluxes are integrated with the trapezoidal rule at the
-same step.
+step the mechanics use; the dq machine's fluxes are integrated exactly over that step with the
+rotor speed held at mid-step (the flux equations are linear: closed-form e^{Ah}), so its 60 Hz
+transient keeps its phase at 1 ms.
 """
 
 from __future__ import annotations
