@@ -297,6 +297,9 @@ _LABELS = {
     "force (joint frame)": "F joint",
     "moment (joint frame)": "M joint",
     "constraint residual": "|J v|",
+    "tip-speed ratio": "TSR",
+    "power coefficient": "Cp",
+    "wind speed": "wind",
 }
 
 
