@@ -63,14 +63,59 @@ struct MeshRows {
   }
 };
 
-// Evaluates the rows of every mesh.
+// The geometry (centres, axis, t, r̂, pitch point) and Jacobian rows of every mesh: they depend
+// on the joint angles only.
 //
-// jac, djac: world-frame J and J̇ (6 × nv, [linear; angular]) of Pinocchio.
+// jac: world-frame J (6 × nv, [linear; angular]) of Pinocchio.
 // origin, rot: world placement of the joint of each slot.
 template <class Jac>
-void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac,
-                        const Eigen::VectorXd& v, const std::vector<Vec3>& origin,
-                        const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
+void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
+                            const std::vector<Vec3>& origin,
+                            const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
+  const Index nv = jac.cols();
+  for (Index m = 0; m < mc.count(); ++m) {
+    const long a = mc.slot_a[m], b = mc.slot_b[m];
+    const Vec3 ca = origin[a] + rot[a] * mc.centre_a.row(m).transpose();
+    const Vec3 cb = origin[b] + rot[b] * mc.centre_b.row(m).transpose();
+    const Vec3 k = rot[a] * mc.axis_a.row(m).transpose();
+    const Vec3 d = cb - ca;
+    const double dk = d.dot(k);
+    const Vec3 p = d - dk * k;  // centre distance vector, perpendicular to the axis
+    const Vec3 u = p / p.norm();
+    const Vec3 r = mc.sigma[m] * u;
+    const Vec3 t = k.cross(r);
+    const Vec3 x = ca + mc.mu[m] * p;
+    out.tangent.row(m) = t.transpose();
+    out.radial.row(m) = r.transpose();
+    out.pitch_point.row(m) = x.transpose();
+    out.axis.row(m) = k.transpose();
+    out.centre_a.row(m) = ca.transpose();
+    out.centre_b.row(m) = cb.transpose();
+
+    // Row: n·(v_B(P) − v_A(P)) over the joint velocities, split along t and r̂.
+    const Vec3 mt = x.cross(t), mr = x.cross(r);
+    for (Index c = 0; c < nv; ++c) {
+      const double w = mc.support(b, c) - mc.support(a, c);
+      if (w == 0.0) {
+        out.jac_t(m, c) = 0.0;
+        out.jac_r(m, c) = 0.0;
+        continue;
+      }
+      const Vec3 lin = jac.col(c).template head<3>() * w;
+      const Vec3 ang = jac.col(c).template tail<3>() * w;
+      out.jac_t(m, c) = t.dot(lin) + mt.dot(ang);
+      out.jac_r(m, c) = r.dot(lin) + mr.dot(ang);
+    }
+  }
+}
+
+// The bias ċ − J q̈ of every mesh at joint speeds v, from the geometry evaluate_mesh_geometry left
+// in ``out`` at the same angles.
+//
+// jac, djac: world-frame J and J̇ (6 × nv, [linear; angular]) of Pinocchio.
+template <class Jac>
+void evaluate_mesh_bias(const MeshConstants& mc, const Jac& jac, const Jac& djac,
+                        const Eigen::VectorXd& v, MeshRows& out) {
   const Index nv = v.size();
   const Index slots = static_cast<Index>(mc.joint_ids.size());
   // Spatial velocity (twist) and acceleration at q̈ = 0 of each gear body, at the world origin.
@@ -90,38 +135,15 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
   }
   for (Index m = 0; m < mc.count(); ++m) {
     const long a = mc.slot_a[m], b = mc.slot_b[m];
-    const Vec3 ca = origin[a] + rot[a] * mc.centre_a.row(m).transpose();
-    const Vec3 cb = origin[b] + rot[b] * mc.centre_b.row(m).transpose();
-    const Vec3 k = rot[a] * mc.axis_a.row(m).transpose();
+    const Vec3 ca = out.centre_a.row(m).transpose(), cb = out.centre_b.row(m).transpose();
+    const Vec3 k = out.axis.row(m).transpose();
+    const Vec3 t = out.tangent.row(m).transpose(), r = out.radial.row(m).transpose();
+    const Vec3 x = out.pitch_point.row(m).transpose();
     const Vec3 d = cb - ca;
     const double dk = d.dot(k);
-    const Vec3 p = d - dk * k;  // centre distance vector, perpendicular to the axis
+    const Vec3 p = d - dk * k;
     const double rho = p.norm();
     const Vec3 u = p / rho;
-    const Vec3 r = mc.sigma[m] * u;
-    const Vec3 t = k.cross(r);
-    const Vec3 x = ca + mc.mu[m] * p;
-    out.tangent.row(m) = t.transpose();
-    out.radial.row(m) = r.transpose();
-    out.pitch_point.row(m) = x.transpose();
-    out.axis.row(m) = k.transpose();
-    out.centre_a.row(m) = ca.transpose();
-    out.centre_b.row(m) = cb.transpose();
-
-    // Rows: n·v_o + (P × n)·ω of B minus that of A.
-    const Vec3 mt = x.cross(t), mr = x.cross(r);
-    for (Index c = 0; c < nv; ++c) {
-      const double w = mc.support(b, c) - mc.support(a, c);
-      if (w == 0.0) {
-        out.jac_t(m, c) = 0.0;
-        out.jac_r(m, c) = 0.0;
-        continue;
-      }
-      const Vec3 lin = jac.col(c).template head<3>() * w;
-      const Vec3 ang = jac.col(c).template tail<3>() * w;
-      out.jac_t(m, c) = t.dot(lin) + mt.dot(ang);
-      out.jac_r(m, c) = r.dot(lin) + mr.dot(ang);
-    }
 
     // Bias ċ − J q̈ = ṅ·Δv + n·Δa_s(P) + n·((ω_B − ω_A) × Ṗ).
     const Vec3 va = twist[a].head<3>(), wa = twist[a].tail<3>();
@@ -141,6 +163,15 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
     out.bias_t[m] = td.dot(dv) + t.dot(h);
     out.bias_r[m] = rd.dot(dv) + r.dot(h);
   }
+}
+
+// Evaluates the rows of every mesh: geometry, Jacobian rows and bias.
+template <class Jac>
+void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac,
+                        const Eigen::VectorXd& v, const std::vector<Vec3>& origin,
+                        const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
+  evaluate_mesh_geometry(mc, jac, origin, rot, out);
+  evaluate_mesh_bias(mc, jac, djac, v, out);
 }
 
 // The one implementation of a mesh's line of action and row for a flank (docs/model_format.md
