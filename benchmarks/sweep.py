@@ -66,7 +66,7 @@ def stages(design, settings, repeat=20):
             t3 = time.perf_counter()
             res = simulate(gb, duration=settings.duration, dt=settings.dt,
                            torques={"carrier": 1e6, "sun": -1e6 / design.ratio},
-                           initial_speeds={"carrier": settings.carrier_speed})  # fmt: skip
+                           initial_speeds={"carrier": settings.input_speed})  # fmt: skip
         t4 = time.perf_counter()
         rate(gb, res)
         t5 = time.perf_counter()
