@@ -125,7 +125,7 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
 #: Points per plotted series in the overview of a run: about what a plot a screen wide shows.
 MAX_POINTS = 2000
 #: Samples read from the log at a time: the replay holds about one block of samples.
-BLOCK = 20_000
+BLOCK = 5_000
 #: Width of a plotted line [ui points], and the step between the nested widths of lines that lie
 #: on top of each other (each shows as a stripe of its colour on each side of the next).
 LINE_WIDTH = 1.5

@@ -368,7 +368,7 @@ def test_overview_keeps_at_most_2000_points_per_series_and_its_min_and_max(long_
     assert len(columns["/gearbox/sun"]["Transform3D:quaternion"]) >= 1
 
 
-@pytest.mark.parametrize("block", [777, 20_000])
+@pytest.mark.parametrize("block", [777, 10_000])
 def test_overview_has_the_min_and_max_of_every_time_span(long_log, tmp_path, block):
     path, res = long_log
     rrd = tmp_path / "coarse.rrd"
