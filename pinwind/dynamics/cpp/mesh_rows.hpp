@@ -109,30 +109,12 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
   }
 }
 
-// The bias ċ − J q̈ of every mesh at joint speeds v, from the geometry evaluate_mesh_geometry left
-// in ``out`` at the same angles.
-//
-// jac, djac: world-frame J and J̇ (6 × nv, [linear; angular]) of Pinocchio.
-template <class Jac>
-void evaluate_mesh_bias(const MeshConstants& mc, const Jac& jac, const Jac& djac,
-                        const Eigen::VectorXd& v, MeshRows& out) {
-  const Index nv = v.size();
-  const Index slots = static_cast<Index>(mc.joint_ids.size());
-  // Spatial velocity (twist) and acceleration at q̈ = 0 of each gear body, at the world origin.
-  auto& twist = out.twist;
-  auto& accel = out.accel;
-  twist.resize(slots);
-  accel.resize(slots);
-  for (Index s = 0; s < slots; ++s) {
-    twist[s].setZero();
-    accel[s].setZero();
-    for (Index k = 0; k < nv; ++k) {
-      if (mc.support(s, k) != 0.0) {
-        twist[s] += jac.col(k) * v[k];
-        accel[s] += djac.col(k) * v[k];
-      }
-    }
-  }
+// The bias ċ − J q̈ of every mesh from the spatial velocity (twist) and the acceleration at
+// q̈ = 0 of each slot's body (world axes, at the world origin), with the geometry that
+// evaluate_mesh_geometry left in ``out`` at the same angles.
+inline void evaluate_mesh_bias_from(const MeshConstants& mc, MeshRows& out) {
+  const auto& twist = out.twist;
+  const auto& accel = out.accel;
   for (Index m = 0; m < mc.count(); ++m) {
     const long a = mc.slot_a[m], b = mc.slot_b[m];
     const Vec3 ca = out.centre_a.row(m).transpose(), cb = out.centre_b.row(m).transpose();
@@ -163,6 +145,30 @@ void evaluate_mesh_bias(const MeshConstants& mc, const Jac& jac, const Jac& djac
     out.bias_t[m] = td.dot(dv) + t.dot(h);
     out.bias_r[m] = rd.dot(dv) + r.dot(h);
   }
+}
+
+// The bias of every mesh at joint speeds v: each slot's twist Σ J_k v_k and acceleration at
+// q̈ = 0, Σ J̇_k v_k, over the velocities that move it; then evaluate_mesh_bias_from.
+//
+// jac, djac: world-frame J and J̇ (6 × nv, [linear; angular]) of Pinocchio.
+template <class Jac>
+void evaluate_mesh_bias(const MeshConstants& mc, const Jac& jac, const Jac& djac,
+                        const Eigen::VectorXd& v, MeshRows& out) {
+  const Index nv = v.size();
+  const Index slots = static_cast<Index>(mc.joint_ids.size());
+  out.twist.resize(slots);
+  out.accel.resize(slots);
+  for (Index s = 0; s < slots; ++s) {
+    out.twist[s].setZero();
+    out.accel[s].setZero();
+    for (Index k = 0; k < nv; ++k) {
+      if (mc.support(s, k) != 0.0) {
+        out.twist[s] += jac.col(k) * v[k];
+        out.accel[s] += djac.col(k) * v[k];
+      }
+    }
+  }
+  evaluate_mesh_bias_from(mc, out);
 }
 
 // Evaluates the rows of every mesh: geometry, Jacobian rows and bias.

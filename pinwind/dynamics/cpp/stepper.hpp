@@ -192,21 +192,36 @@ class Stepper : private BodyForces {
   // the joint placements; then the meshes' bias.
   void velocity_kinematics() {
     const auto& model = s_.model;
+    const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+    drift_.resize(nj);
     data_.ov[0].setZero();
-    for (pinocchio::JointIndex i = 1; i < static_cast<pinocchio::JointIndex>(model.njoints); ++i) {
+    drift_[0].setZero();
+    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
-      const pinocchio::Motion::Vector6 twist =
-          data_.J.middleCols(idx, n) * v_.segment(idx, n);
-      data_.ov[i] = data_.ov[model.parents[i]] + pinocchio::Motion(twist);
+      const auto parent = model.parents[i];
+      const pinocchio::Motion::Vector6 twist = data_.J.middleCols(idx, n) * v_.segment(idx, n);
+      data_.ov[i] = data_.ov[parent] + pinocchio::Motion(twist);
       for (int c = idx; c < idx + n; ++c) {
         data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
       }
+      const pinocchio::Motion::Vector6 dj = data_.dJ.middleCols(idx, n) * v_.segment(idx, n);
+      drift_[i] = drift_[parent] + pinocchio::Motion(dj);
     }
-    if (nm_) evaluate_mesh_bias(s_.meshes, data_.J, data_.dJ, v_, rows_data_);
+    if (nm_) {
+      // The twist and the acceleration at q̈ = 0 of each gear's body are those of its joint.
+      const auto& ids = s_.meshes.joint_ids;
+      rows_data_.twist.resize(ids.size());
+      rows_data_.accel.resize(ids.size());
+      for (size_t i = 0; i < ids.size(); ++i) {
+        rows_data_.twist[i] = data_.ov[ids[i]].toVector();
+        rows_data_.accel[i] = drift_[ids[i]].toVector();
+      }
+      evaluate_mesh_bias_from(s_.meshes, rows_data_);
+    }
   }
 
   // Recursive Newton-Euler in world axes about the world origin (Featherstone, Rigid Body
-  // Dynamics Algorithms, §5.3 and Table 5.1's RNEA; Pinocchio's world-convention passes), from the
+  // Dynamics Algorithms, 2008, §5.3; Pinocchio's world-convention passes), from the
   // J, J̇, joint velocities and world inertias the step has already computed: the bias forces
   // C(q, v) v + g(q), and per body the force at q̈ = 0 for the bearing reactions after the QP.
   // Each pass over the joints is a few spatial products; Pinocchio's nonLinearEffects and rnea
@@ -217,11 +232,9 @@ class Stepper : private BodyForces {
     bias_accel_.resize(nj);
     body_force_.resize(nj);
     subtree_.resize(nj);
-    bias_accel_[0] = -model.gravity;  // gravity as an upward acceleration of the base
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-      const int idx = model.idx_vs[i], n = model.nvs[i];
-      const pinocchio::Motion::Vector6 dj = data_.dJ.middleCols(idx, n) * v_.segment(idx, n);
-      bias_accel_[i] = bias_accel_[model.parents[i]] + pinocchio::Motion(dj);
+      // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
+      bias_accel_[i] = drift_[i] - model.gravity;
       body_force_[i] = body_[i] * bias_accel_[i] + body_[i].vxiv(data_.ov[i]);
       subtree_[i] = body_force_[i];
     }
@@ -588,7 +601,7 @@ class Stepper : private BodyForces {
   std::vector<Eigen::Matrix3d> rot_;
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_, wrench_;
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Inertia) composite_, body_;  // world inertias
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) bias_accel_, accel_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) bias_accel_, accel_, drift_;
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_;
   Eigen::VectorXd nle_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;
