@@ -127,7 +127,7 @@ def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | 
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a × b of two 3-vectors (np.cross costs 30 µs on them; a run set-up makes hundreds)."""
+    """Cross product a × b of two 3-vectors (np.cross takes 30 µs; a set-up makes hundreds)."""
     return np.array(
         [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
     )

@@ -3,7 +3,9 @@
 Each step k, at state (q_k, v_k) and time t_k = k·dt:
 
 1. assemble M (CRBA), b (RNEA at a = 0), τ (applied torques, springs, dampers) and the constraint
-   rows J, γ: one row per mesh (``dynamics/mesh.py``), per speed driver and per locked bearing;
+   rows J, γ: one row per mesh (``dynamics/mesh.py``), per speed driver and per locked bearing
+   (the compiled loop makes one pass over the joint placements, Pinocchio's
+   computeJointJacobians, and runs CRBA and RNEA in world axes on what it gives);
 2. solve the equality QP with proxsuite (``dynamics/solver.py``): a_k and λ_k, the mesh forces
    [N] and driver torques [N·m] read from the duals through the name → row map (the meshes in
    file order, then the speed drivers, then the locked bearings);

@@ -549,8 +549,6 @@ class Stepper : private BodyForces {
     double potential = 0.0;
     for (const auto& e : elements_) potential += e->potential(sv);
     out_.potential_spring[k] = potential;
-    if (k == 0) {
-      }
     for (int i = 0; i < 6; ++i) out_.work[i][k] = work_[i];
   }
 
