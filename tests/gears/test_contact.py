@@ -17,6 +17,7 @@ from pinwind.gears.contact import (
     path_of_contact,
 )
 from pinwind.gears.gear_pair import GearPair
+from tests.conftest import dtu_pairs
 
 ALPHA_20 = math.radians(20.0)
 #: Face width [m] of pairs whose overlap ratio no test here reads (spur pairs, or unasserted).
@@ -115,30 +116,8 @@ def dtu_reference(module: float = 10e-3, alpha: float = ALPHA_20):
 
 
 def dtu_paths() -> tuple[PathOfContact, PathOfContact]:
-    sun_planet = path_of_contact(
-        GearPair(
-            20,
-            35,
-            module=10e-3,
-            pressure_angle=ALPHA_20,
-            profile_shift_1=0.582,
-            profile_shift_2=0.419,
-            face_width=WIDTH,
-        )
-    )
-    planet_ring = path_of_contact(
-        GearPair(
-            35,
-            91,
-            module=10e-3,
-            pressure_angle=ALPHA_20,
-            profile_shift_1=0.419,
-            profile_shift_2=-0.840,
-            internal_2=True,
-            face_width=WIDTH,
-        )
-    )
-    return sun_planet, planet_ring
+    sun_planet, planet_ring = dtu_pairs()
+    return path_of_contact(sun_planet), path_of_contact(planet_ring)
 
 
 def test_dtu_stage_reproduces_table6_switch_points():
@@ -194,19 +173,7 @@ def test_opposite_internal_shift_sign_puts_dtu_ring_tip_past_the_planet_base_cir
     # reach past T1, on the planet's base circle (A at −18.5 mm), and Table 6 could not be
     # reproduced.
     with pytest.raises(InvoluteInterference) as err:
-        path_of_contact(
-            GearPair(
-                35,
-                91,
-                module=10e-3,
-                pressure_angle=ALPHA_20,
-                profile_shift_1=0.419,
-                profile_shift_2=-0.840,
-                internal_2=True,
-                face_width=WIDTH,
-            ),
-            tip_radius_2=0.4366,
-        )
+        path_of_contact(dtu_pairs()[1], tip_radius_2=0.4366)
     assert err.value.start < 0.0
     assert "interference" in str(err.value)
 

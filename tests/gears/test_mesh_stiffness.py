@@ -10,6 +10,7 @@ import pytest
 from pinwind.errors import InputError, InvalidGearTrain
 from pinwind.gears.contact import PathOfContact, pairs_in_contact, path_of_contact
 from pinwind.gears.gear_pair import GearPair
+from tests.conftest import dtu_pairs
 from pinwind.gears.mesh_stiffness import (
     mesh_stiffness,
     pair_stiffness_along_path,
@@ -92,18 +93,7 @@ def test_dtu_planet_ring_single_stiffness_treats_ring_as_rack():
     # c′ b = 0.78/0.0514513 · 210e6 = 3.1836e9 N/m.
     q = iso_flexibility(35, math.inf, 0.419, -0.840)
     np.testing.assert_allclose(q, 0.0514513, atol=2e-7)
-    k = single_pair_stiffness(
-        GearPair(
-            35,
-            91,
-            module=10e-3,
-            pressure_angle=ALPHA_20,
-            profile_shift_1=0.419,
-            profile_shift_2=-0.840,
-            internal_2=True,
-            face_width=0.21,
-        )
-    )
+    k = single_pair_stiffness(dtu_pairs()[1])
     np.testing.assert_allclose(k, 0.78 / q * 210e6, rtol=1e-12)
     np.testing.assert_allclose(k, 3.1836e9, rtol=1e-4)
 
@@ -113,29 +103,8 @@ def test_dtu_single_pair_stiffness_is_near_003_fem_value():
     # ISO method B gives 3.05e9 (sun/planet) and 3.18e9 (planet/ring), 9-13 % lower. The
     # tolerance is 20 %: C_M = 0.8 is ISO's mean ratio of measured to theoretical stiffness, and
     # the seed's FEM models its own gear bodies and contact.
-    sun_planet = single_pair_stiffness(
-        GearPair(
-            20,
-            35,
-            module=10e-3,
-            pressure_angle=ALPHA_20,
-            profile_shift_1=0.582,
-            profile_shift_2=0.419,
-            face_width=0.21,
-        )
-    )
-    planet_ring = single_pair_stiffness(
-        GearPair(
-            35,
-            91,
-            module=10e-3,
-            pressure_angle=ALPHA_20,
-            profile_shift_1=0.419,
-            profile_shift_2=-0.840,
-            internal_2=True,
-            face_width=0.21,
-        )
-    )
+    sun_planet = single_pair_stiffness(dtu_pairs()[0])
+    planet_ring = single_pair_stiffness(dtu_pairs()[1])
     np.testing.assert_allclose([sun_planet, planet_ring], [3.5e9, 3.5e9], rtol=0.2)
 
 
@@ -210,15 +179,7 @@ def test_mesh_stiffness_is_iso_c_gamma_alpha():
 
 
 def planet_ring_path_and_stiffness() -> tuple[PathOfContact, float]:
-    kwargs = dict(
-        module=10e-3,
-        pressure_angle=ALPHA_20,
-        profile_shift_1=0.419,
-        profile_shift_2=-0.840,
-        internal_2=True,
-        face_width=0.21,
-    )
-    pair = GearPair(35, 91, **kwargs)
+    pair = dtu_pairs()[1]
     return path_of_contact(pair), single_pair_stiffness(pair)
 
 
