@@ -82,7 +82,7 @@ def min_profile_shift(
     flank ends 1.000 m_n above the datum line, so a spur gear needs 17.1 teeth (x = 0).
     """
     alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    straight = tool_addendum - tool_tip_radius * (1.0 - math.sin(pressure_angle))
+    straight = _straight_flank_end(pressure_angle, tool_addendum, tool_tip_radius)
     return straight - teeth * math.sin(alpha_t) ** 2 / (2.0 * math.cos(helix_angle))
 
 
@@ -395,5 +395,12 @@ def errors(findings: Iterable[Finding]) -> list[Finding]:
 def _teeth_without_undercut(pressure_angle: float, helix_angle: float, shift: float) -> int:
     """Smallest tooth count without undercut at profile shift ``shift``."""
     alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    straight = TOOL_ADDENDUM - TOOL_TIP_RADIUS * (1.0 - math.sin(pressure_angle))
+    straight = _straight_flank_end(pressure_angle, TOOL_ADDENDUM, TOOL_TIP_RADIUS)
     return math.ceil(2.0 * math.cos(helix_angle) * (straight - shift) / math.sin(alpha_t) ** 2)
+
+
+def _straight_flank_end(
+    pressure_angle: float, tool_addendum: float, tool_tip_radius: float
+) -> float:
+    """End of a rack tool's straight flank above its datum line, h_a0* − ρ_a0* (1 − sin α_n) [-]."""
+    return tool_addendum - tool_tip_radius * (1.0 - math.sin(pressure_angle))

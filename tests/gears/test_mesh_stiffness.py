@@ -10,12 +10,12 @@ import pytest
 from pinwind.errors import InputError, InvalidGearTrain
 from pinwind.gears.contact import PathOfContact, pairs_in_contact, path_of_contact
 from pinwind.gears.gear_pair import GearPair
-from tests.conftest import dtu_pairs
 from pinwind.gears.mesh_stiffness import (
     mesh_stiffness,
     pair_stiffness_along_path,
     single_pair_stiffness,
 )
+from tests.conftest import dtu_pairs
 
 ALPHA_20 = math.radians(20.0)
 #: Face width [m] of a pair whose stiffness no test here reads.
