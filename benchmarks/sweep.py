@@ -53,7 +53,8 @@ def stages(design, settings, repeat=20):
     for _ in range(repeat):
         t0 = time.perf_counter()
         check_planetary(sun=design.sun, planet=design.planet, ring=design.ring, planets=3,
-                        module=design.module, pressure_angle=settings.pressure_angle)  # fmt: skip
+                        module=design.module, pressure_angle=settings.pressure_angle,
+                        face_width=settings.face_width)  # fmt: skip
         t1 = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

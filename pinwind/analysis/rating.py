@@ -141,15 +141,7 @@ def rate_pair(
             "loaded mesh (apply torques so that the teeth carry load)"
         )
     load = MeshLoad(pair.tangential_force(normal_force), pitch_line_speed, normal_force)
-    hertz = hertz_along_path(
-        pair.path,
-        normal_force,
-        centre_distance=pair.geometry.centre_distance,
-        face_width=pair.face_width,
-        material_1=pair.material_1,
-        material_2=pair.material_2,
-        internal_2=pair.internal_2,
-    )
+    hertz = hertz_along_path(pair, normal_force)
     return MeshRating(
         mesh=mesh,
         pair=pair,

@@ -96,8 +96,9 @@ class ParallelDesign(StageDesign):
     def check(self, settings: SweepSettings) -> list:
         """`gears.checks.check_pair` of pinion and wheel."""
         return _findings(
-            self.pinion, self.wheel, self.module, settings.pressure_angle, self.helix_angle
-        )
+            self.pinion, self.wheel, self.module, settings.pressure_angle, self.helix_angle,
+            face_width=settings.width(self.module),
+        )  # fmt: skip
 
     def urdf(self, settings: SweepSettings) -> str:
         """`model.builder.parallel_urdf` of the pair."""
@@ -209,8 +210,10 @@ def enumerate_parallel(
                 ratio = wheel / pinion
                 if not lo < ratio < hi:
                     continue
+                # No check reads the face width (it only sets the overlap ratio): one circular
+                # pitch stands in for the width the settings give later.
                 if any(f.severity == "error" for f in _findings(
-                    pinion, wheel, module, pressure_angle, beta
+                    pinion, wheel, module, pressure_angle, beta, face_width=math.pi * module
                 )):  # fmt: skip
                     continue
                 designs.append(
@@ -241,10 +244,14 @@ def _tooth_sum(a: float, module: float, helix_angle: float) -> tuple[int | None,
     return total, math.acos(min(1.0, module * total / (2.0 * a)))
 
 
-def _findings(pinion: int, wheel: int, module: float, pressure_angle: float, beta: float) -> list:
+def _findings(
+    pinion: int, wheel: int, module: float, pressure_angle: float, beta: float, *, face_width: float
+) -> list:
+    """`gears.checks.check_pair` of the pinion–wheel pair."""
     from pinwind.gears.checks import check_pair
+    from pinwind.gears.gear_pair import GearPair
 
     return check_pair(
-        pinion, wheel, module=module, pressure_angle=pressure_angle, helix_angle=beta,
-        names=("pinion", "wheel"),
+        GearPair(pinion, wheel, module=module, pressure_angle=pressure_angle,
+                 face_width=face_width, helix_angle=beta)
     )  # fmt: skip

@@ -105,6 +105,7 @@ class PlanetaryDesign(StageDesign):
         return check_planetary(
             sun=self.sun, planet=self.planet, ring=self.ring, planets=self.planets,
             module=self.module, pressure_angle=settings.pressure_angle,
+            face_width=settings.width(self.module),
         )  # fmt: skip
 
     def urdf(self, settings: SweepSettings) -> str:

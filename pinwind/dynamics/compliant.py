@@ -42,6 +42,7 @@ import pinocchio as pin
 from pinwind.dynamics import _native
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.errors import InputError, PinwindWarning, UnknownElement
+from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
     mesh_stiffness,
     pair_stiffness_along_path,
@@ -310,22 +311,12 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray) -> _native.MeshPathSpec:
     return spec
 
 
-def _stiffness_arguments(mesh: Mesh) -> dict:
-    """Gear data for the ISO 6336-1 functions, the internal gear (if any) as gear 2."""
+def _stiffness_pair(mesh: Mesh) -> GearPair:
+    """The mesh's gears as a `GearPair` for the ISO 6336-1 functions, the internal gear second."""
     a, b = mesh.gear_a.spec, mesh.gear_b.spec
     if a.internal:
         a, b = b, a
-    return {
-        "teeth_1": a.teeth,
-        "teeth_2": b.teeth,
-        "module": a.module,
-        "pressure_angle": a.pressure_angle,
-        "profile_shift_1": a.profile_shift,
-        "profile_shift_2": b.profile_shift,
-        "helix_angle": abs(a.helix_angle),
-        "internal_2": b.internal,
-        "face_width": mesh.face_width,
-    }
+    return GearPair.from_gears(a, b)
 
 
 def single_pair(mesh: Mesh) -> float:
@@ -333,7 +324,7 @@ def single_pair(mesh: Mesh) -> float:
     c = mesh.compliance
     if c is not None and c.stiffness is not None:
         return c.stiffness
-    return single_pair_stiffness(**_stiffness_arguments(mesh))
+    return single_pair_stiffness(_stiffness_pair(mesh))
 
 
 def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
@@ -373,7 +364,7 @@ def mean_mesh_stiffness(mesh: Mesh) -> float:
     c = mesh.compliance
     if c is not None and c.stiffness is not None:
         return c.stiffness * (0.75 * path.contact_ratio + 0.25) if path else c.stiffness
-    return mesh_stiffness(**_stiffness_arguments(mesh))
+    return mesh_stiffness(_stiffness_pair(mesh))
 
 
 def _rigid_rows(rows, rigid: list[int], driver_index: list[int], nv: int):

@@ -40,7 +40,7 @@ from scipy.optimize import minimize_scalar
 
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair
-from pinwind.gears.involute import involute
+from pinwind.gears.involute import involute, pitch_radius
 
 
 def agma_geometry_factors(pair: GearPair) -> tuple[float, float]:
@@ -62,30 +62,33 @@ def agma_geometry_factors(pair: GearPair) -> tuple[float, float]:
 
 
 def _mesh(pair: GearPair) -> dict:
-    """Transverse mesh quantities of AGMA 908 §3-4 in units of the normal module."""
+    """Transverse mesh quantities of AGMA 908 §3-4 in units of the normal module.
+
+    The pair's own geometry (`GearPair.geometry`, `GearPair.path`), divided by m_n: C6 = T1T2,
+    C1 and C5 the start and end of contact from T1, C2 = C5 − p_b, C4 = C1 + p_b, Z = g_α.
+    """
     m = pair.module
     psi = pair.helix_angle
     phi_n = pair.pressure_angle
     z1, z2 = pair.teeth_1, pair.teeth_2
     m_g = z2 / z1
-    r1 = z1 / (2.0 * math.cos(psi))
+    r1 = pitch_radius(z1, 1.0, psi)
     r2 = r1 * m_g
-    phi = math.atan(math.tan(phi_n) / math.cos(psi))
-    rb1, rb2 = r1 * math.cos(phi), r2 * math.cos(phi)
-    c_r = pair.geometry.centre_distance / m
-    phi_r = math.acos((rb1 + rb2) / c_r)  # operating transverse pressure angle
-    ro1, ro2 = pair.tip_diameter(1) / (2.0 * m), pair.tip_diameter(2) / (2.0 * m)
-    p_b = 2.0 * math.pi * rb1 / z1  # transverse base pitch
+    geometry, path = pair.geometry, pair.path
+    rb1, rb2 = geometry.base_radius_1 / m, geometry.base_radius_2 / m
+    c_r = geometry.centre_distance / m
+    phi_r = geometry.working_pressure_angle  # operating transverse pressure angle
+    ro1, ro2 = pair.tip_radius(1) / m, pair.tip_radius(2) / m
+    p_b = path.base_pitch / m  # transverse base pitch
     p_n = math.pi * math.cos(phi_n)  # normal base pitch
-    psi_b = math.acos(min(1.0, p_n / p_b))
-    c6 = c_r * math.sin(phi_r)
-    c1 = c6 - math.sqrt(ro2**2 - rb2**2)
-    c5 = math.sqrt(ro1**2 - rb1**2)
-    c2, c4 = c5 - p_b, c1 + p_b
-    z_len = c5 - c1  # length of the line of action
-    m_p = z_len / p_b
+    psi_b = pair.base_helix_angle
+    c6 = pair.tangency_distance / m
+    c1 = path.start_roll_1 / m
+    z_len = path.length / m  # length of the line of action
+    c2, c4 = c1 + z_len - p_b, c1 + p_b
+    m_p = path.contact_ratio
     face = pair.face_width / m
-    m_f = face * math.sin(psi) / math.pi if psi else 0.0
+    m_f = path.overlap_ratio
     phi_nr = math.asin(math.cos(psi_b) * math.sin(phi_r))
     m_n, c_psi = 1.0, 1.0
     if m_f > 1.0:

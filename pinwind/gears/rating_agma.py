@@ -144,7 +144,9 @@ def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = No
 
     Raises:
         InputError: a non-positive or non-finite force, or an unknown ``gearing``.
+        InvalidGearTrain: gear 1 is internal.
     """
+    pair.require_external_gear_1("the AGMA 2001 rating")
     if not (math.isfinite(load.tangential_force) and load.tangential_force > 0.0):
         raise InputError(
             f"the tangential force must be positive and finite, got {load.tangential_force} N"
@@ -156,7 +158,7 @@ def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = No
     common = tuple(w_t * f.K_o * f.K_v * f.K_s[i] for i in (0, 1))
     bending = tuple(common[i] / (b * m_t) * f.K_m * f.K_B / f.J[i] for i in (0, 1))
     contact = tuple(f.C_p * math.sqrt(c * f.K_m * f.C_f / (d_w1 * b * f.I)) for c in common)
-    materials = (pair.material_1, pair.material_2)
+    materials = pair.materials
     derate = f.K_T * f.K_R
     bending_all = tuple(
         m.agma_bending_allowable * f.Y_N[i] / derate for i, m in enumerate(materials)
@@ -197,23 +199,12 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: AgmaFactors) -> AgmaF
     if given.J is None and given.geometry_factor == "agma908" and not pair.internal_2:
         values["J"] = agma_geometry_factors(pair)
     elif given.J is None:
-        forms = (
-            form_factors(
-                pair.teeth_1, pair.profile_shift_1, pair=pair, tip_diameter=pair.tip_diameter(1)
-            ),
-            form_factors(
-                pair.teeth_2,
-                pair.profile_shift_2,
-                pair=pair,
-                tip_diameter=pair.tip_diameter(2),
-                internal=pair.internal_2,
-            ),
-        )
+        forms = (form_factors(pair, gear) for gear in (1, 2))
         values["J"] = tuple(1.0 / (y_f * y_s) for y_f, y_s in forms)
     if given.I is None:
         values["I"] = pitting_geometry_factor(pair)
     if given.C_p is None:
-        values["C_p"] = elastic_coefficient(pair.material_1, pair.material_2)
+        values["C_p"] = elastic_coefficient(*pair.materials)
     if given.K_R is None:
         values["K_R"] = reliability_factor(given.reliability)
     return replace(given, **values)
