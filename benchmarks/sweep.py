@@ -53,7 +53,8 @@ def stages(design, settings, repeat=20):
     for _ in range(repeat):
         t0 = time.perf_counter()
         check_planetary(sun=design.sun, planet=design.planet, ring=design.ring, planets=3,
-                        module=design.module, pressure_angle=settings.pressure_angle)  # fmt: skip
+                        module=design.module, pressure_angle=settings.pressure_angle,
+                        face_width=settings.face_width)  # fmt: skip
         t1 = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -66,7 +67,7 @@ def stages(design, settings, repeat=20):
             t3 = time.perf_counter()
             res = simulate(gb, duration=settings.duration, dt=settings.dt,
                            torques={"carrier": 1e6, "sun": -1e6 / design.ratio},
-                           initial_speeds={"carrier": settings.carrier_speed})  # fmt: skip
+                           initial_speeds={"carrier": settings.input_speed})  # fmt: skip
         t4 = time.perf_counter()
         rate(gb, res)
         t5 = time.perf_counter()

@@ -851,8 +851,6 @@ def sweep_planetary(
     An interrupted sweep keeps its finished rows in OUTPUT.partial.jsonl; running the same
     command again computes only the missing designs.
     """
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
-
     from pinwind.analysis import sweep as sw
 
     window = _range(ratio, "--ratio")
@@ -866,24 +864,46 @@ def sweep_planetary(
         planets=planets,
         include=extra,
     )
-    factor = None
-    if face_width_factor is not None:
-        low, high = _range(face_width_factor, "--face-width-factor")
-        factor = 0.5 * (low + high)
     settings = sw.SweepSettings(
-        carrier_torque=torque,
-        carrier_speed=carrier_speed * RPM_TO_RAD_PER_S,
+        input_torque=torque,
+        input_speed=carrier_speed * RPM_TO_RAD_PER_S,
         pressure_angle=math.radians(pressure_angle),
         face_width=face_width * 1e-3,
-        face_width_factor=factor,
+        face_width_factor=_face_width_factor(face_width_factor),
         material=material,
     )
+    note = f"ratio window ({window[0]:g}, {window[1]:g}) open" + (
+        f", plus {len(extra)} included" if extra else ""
+    )
+    rows = _run_sweep(designs, settings, note=note, output=output, workers=workers,
+                      scheduler=scheduler, plots=plots)  # fmt: skip
+    if compare:
+        _print_table_5_comparison(rows)
+
+
+def _face_width_factor(text: str | None) -> float | None:
+    """The factor of --face-width-factor: one value k, or the middle of LOW:HIGH."""
+    if text is None:
+        return None
+    low, high = _range(text, "--face-width-factor")
+    return 0.5 * (low + high)
+
+
+def _run_sweep(designs, settings, *, note: str, output: Path, workers, scheduler, plots) -> list:
+    """Run a sweep of any stage kind with a progress bar; write, report and plot its table.
+
+    An interrupted sweep keeps its finished rows in OUTPUT.partial.jsonl; a re-run reads them
+    (and OUTPUT, if it exists) and computes only the missing designs.
+    """
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+
+    from pinwind.analysis import sweep as sw
+
     checkpoint = output.with_name(output.name + ".partial.jsonl")
     done = sw.read_table(output) if output.exists() else []
     done += sw.read_checkpoint(checkpoint)
     console.print(
-        f"{len(designs)} designs; ratio window ({window[0]:g}, {window[1]:g}) open"
-        + (f", plus {len(extra)} included" if extra else "")
+        f"{len(designs)} designs; {note}"
         + (f"; {len(done)} rows from an earlier run" if done else "")
     )
     columns = (BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
@@ -902,13 +922,81 @@ def sweep_planetary(
     )
     for row in failed:
         console.print(f"  #{row['number']}: {row['reason']}", highlight=False)
-    if compare:
-        _print_table_5_comparison(run.rows)
     if plots is not None:
         from pinwind.analysis.sweep_plots import plot_sweep
 
         paths = plot_sweep(run.rows, plots)
         console.print(f"plots: {', '.join(str(p) for p in paths)}")
+    return run.rows
+
+
+@sweep_app.command("parallel")
+def sweep_parallel(
+    center_distance: Annotated[
+        str, typer.Option("--center-distance", help="Centre distances [mm], e.g. 500,560,630.")
+    ],
+    module: Annotated[str, typer.Option(help="Normal modules [mm], e.g. 8,10,12.")],
+    ratio: Annotated[
+        str, typer.Option(help="Speed-ratio window LOW:HIGH (wheel/pinion), ends excluded.")
+    ],
+    torque: Annotated[
+        float, typer.Option(help="Input (wheel shaft) torque [N·m]; default 1 MN·m / 6.")
+    ] = 1e6 / 6.0,
+    input_speed: Annotated[float, typer.Option(help="Input (wheel shaft) speed [rpm].")] = 85.2,
+    pressure_angle: Annotated[float, typer.Option(help="Normal pressure angle [deg].")] = 20.0,
+    helix_angle: Annotated[
+        float,
+        typer.Option(help="Nominal helix angle [deg], 0 for spur; raised per design to fit."),
+    ] = 0.0,
+    face_width: Annotated[float, typer.Option(help="Face width of every design [mm].")] = 250.0,
+    face_width_factor: Annotated[
+        str | None,
+        typer.Option(
+            help="Face width k·π·m instead of --face-width: k, or LOW:HIGH for the middle k."
+        ),
+    ] = None,
+    material: Annotated[str, typer.Option(help="Gear material.")] = "18CrNiMo7-6",
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Table to write (.csv or .parquet).")
+    ] = Path("parallel_designs.csv"),
+    workers: Annotated[
+        int | None, typer.Option(help="Local worker processes (default: all cores).")
+    ] = None,
+    scheduler: Annotated[
+        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://head:8786.")
+    ] = None,
+    plots: Annotated[Path | None, typer.Option(help="Folder for PNG plots.")] = None,
+) -> None:
+    """Enumerate, build, simulate and rate every parallel (spur/helical) stage; write a table.
+
+    000 §5: the planetary procedure applied to a parallel stage. Tooth sums fit the centre
+    distance exactly (spur: 2a/m whole; helical: the helix angle is raised to fit), the ratio
+    z_wheel/z_pinion lies strictly inside the window and the pair passes the geometry checks.
+    The default load is the 1.4 MW case's second stage: 1 MN·m / 6 at 85.2 rpm. An interrupted
+    sweep keeps its rows in OUTPUT.partial.jsonl; the same command again computes only the rest.
+    """
+    from pinwind.analysis import sweep as sw
+
+    window = _range(ratio, "--ratio")
+    alpha = math.radians(pressure_angle)
+    designs = sw.enumerate_parallel(
+        [a * 1e-3 for a in _numbers(center_distance, "--center-distance", "mm")],
+        [m / 1e3 for m in _numbers(module, "--module", "mm")],
+        ratio_window=window,
+        pressure_angle=alpha,
+        helix_angle=math.radians(helix_angle),
+    )
+    settings = sw.SweepSettings(
+        input_torque=torque,
+        input_speed=input_speed * RPM_TO_RAD_PER_S,
+        pressure_angle=alpha,
+        face_width=face_width * 1e-3,
+        face_width_factor=_face_width_factor(face_width_factor),
+        material=material,
+    )
+    note = f"ratio window ({window[0]:g}, {window[1]:g}) open, undercut and other errors left out"
+    _run_sweep(designs, settings, note=note, output=output, workers=workers,
+               scheduler=scheduler, plots=plots)  # fmt: skip
 
 
 def _print_table_5_comparison(rows: list[dict]) -> None:
@@ -973,9 +1061,7 @@ def sweep_query(
         raise typer.Exit(code=1)
     for r in rows:
         console.print(
-            f"#{int(r['number'])}: a = {float(r['centre_distance_mm']):g} mm, m = "
-            f"{float(r['module_mm']):g} mm, teeth {int(r['sun'])}/{int(r['planet'])}/"
-            f"{int(r['ring'])}, i = {float(r['ratio']):.2f}, AGMA SF min "
+            f"#{int(r['number'])}: {sw.stage_of(r).describe(r)}, AGMA SF min "
             f"{float(r['agma_SF_min']):.2f}, ISO S min {float(r['iso_S_min']):.2f}",
             highlight=False,
         )
@@ -988,7 +1074,7 @@ def sweep_plot(
         "plots"
     ),
 ) -> None:
-    """PNG plots of a sweep against the module (like 000 Figs. 14-19)."""
+    """PNG plots of a sweep (planetary or parallel) against the module (like 000 Figs. 14-19)."""
     from pinwind.analysis.sweep import read_table
     from pinwind.analysis.sweep_plots import plot_sweep
 

@@ -2,13 +2,28 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
+from pinwind.gears.checks import stage_pairs
+from pinwind.gears.gear_pair import GearPair
+
 #: The shipped models folder.
 MODELS = Path(__file__).resolve().parent.parent / "models"
+
+
+def dtu_pairs() -> tuple[GearPair, GearPair]:
+    """Sun–planet and planet–ring pairs of the DTU stage of 003_83d3049daebcd276.txt.
+
+    Module 10 mm, α 20°, z 20/35/91, ISO profile shifts 0.582/0.419/−0.840, face width 210 mm.
+    """
+    return stage_pairs(
+        sun=20, planet=35, ring=91, module=10e-3, pressure_angle=math.radians(20.0),
+        face_width=0.21, profile_shift=(0.582, 0.419, -0.840),
+    )  # fmt: skip
 
 
 def two_gear_urdf(

@@ -3,9 +3,11 @@
     rating = rate(gearbox, result)              # one load level per mesh, taken from the run
     rating.meshes[0].iso.S_H, rating.meshes[0].agma.S_F, rating.gears["sun"].min_S_H_iso
 
-The load of a mesh is its normal force F_n at one sample (``at="last"``, the default, for a run
-that has settled; ``"max"`` for the largest value; ``"mean"``), turned into the nominal tangential
-force at the reference circle, F_t = F_n cos β_b cos α_t (`GearPair.tangential_force`). The
+The load of a mesh is its line-of-action force at one sample (``at="last"``, the default, for a
+run that has settled; ``"max"`` for the largest value; ``"mean"``). A run reports it in the
+transverse plane (``MeshForces.normal``, docs/model_format.md), so the force normal to the tooth
+flank is F_n = normal / cos β_b (the same for spur gears), and the nominal tangential force at the
+reference circle is F_t = F_n cos β_b cos α_t (`GearPair.tangential_force`). The
 pitch-line speed for the dynamic factors is the larger of r |ω| of the two gears, with ω each
 gear's joint speed relative to its parent body at that sample: exact for fixed axes and for a
 planet's meshes (the planet's joint speed is relative to the carrier), a little high for the sun
@@ -139,15 +141,7 @@ def rate_pair(
             "loaded mesh (apply torques so that the teeth carry load)"
         )
     load = MeshLoad(pair.tangential_force(normal_force), pitch_line_speed, normal_force)
-    hertz = hertz_along_path(
-        pair.path,
-        normal_force,
-        centre_distance=pair.geometry.centre_distance,
-        face_width=pair.face_width,
-        material_1=pair.material_1,
-        material_2=pair.material_2,
-        internal_2=pair.internal_2,
-    )
+    hertz = hertz_along_path(pair, normal_force)
     return MeshRating(
         mesh=mesh,
         pair=pair,
@@ -188,8 +182,9 @@ def rate(
     for mesh in gearbox.meshes:
         normal = result.mesh(mesh.name).normal
         k = len(normal) - 1 if at != "max" else int(np.argmax(normal))
-        force = float(np.mean(normal)) if at == "mean" else float(normal[k])
+        transverse = float(np.mean(normal)) if at == "mean" else float(normal[k])
         pair = GearPair.from_mesh(mesh, dict(materials or {}))
+        force = transverse / math.cos(pair.base_helix_angle)
         speed = _pitch_line_speed(gearbox, result, mesh, k)
         ratings.append(
             rate_pair(pair, force, pitch_line_speed=speed, iso=iso, agma=agma, mesh=mesh.name)

@@ -1,23 +1,20 @@
-"""PNG plots of a planetary sweep against the module, like 000_3b7c4a8fe52a6eee.txt Figs. 14-19."""
+"""PNG plots of a sweep against the module, like 000_3b7c4a8fe52a6eee.txt Figs. 14-19.
+
+Which quantities are drawn is the stage kind's choice (`StageDesign.PLOTS`): Figs. 14-19's for a
+planetary stage, the same family (centre distance, ratio, contact and bending SF) for a parallel
+one.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-#: (file stem, column, axis label, horizontal line at 1 for safety factors)
-PLOTS = (
-    ("fig14_centre_distance", "centre_distance_mm", "centre distance [mm]", False),
-    ("fig15_speed_ratio", "ratio", "speed ratio [-]", False),
-    ("fig16_contact_sf_sun_planet", "agma_SF_contact_sun_planet", "AGMA S_H sun/planet", True),
-    ("fig17_contact_sf_planet_ring", "agma_SF_contact_planet_ring", "AGMA S_H planet/ring", True),
-    ("fig18_bending_sf_min", "agma_SF_bending_min", "AGMA S_F, smallest of all gears", True),
-    ("fig19_iso_sf_min", "iso_S_min", "ISO 6336 smallest S_H, S_F", True),
-)
-
 
 def plot_sweep(rows: list[dict], out_dir: Path) -> list[Path]:
     """One PNG per quantity against the module, workable designs labelled by number."""
     import matplotlib
+
+    from pinwind.analysis.sweep import stage_of
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -25,8 +22,9 @@ def plot_sweep(rows: list[dict], out_dir: Path) -> list[Path]:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     ok = [r for r in rows if r.get("status") == "ok"]
+    plots = stage_of(rows[0]).PLOTS if rows else ()
     paths = []
-    for stem, column, label, unity in PLOTS:
+    for stem, column, label, unity in plots:
         fig, ax = plt.subplots(figsize=(7, 4.5))
         x = [float(r["module_mm"]) for r in ok]
         y = [float(r[column]) for r in ok]

@@ -3,7 +3,9 @@
 Each step k, at state (q_k, v_k) and time t_k = k·dt:
 
 1. assemble M (CRBA), b (RNEA at a = 0), τ (applied torques, springs, dampers) and the constraint
-   rows J, γ: one row per mesh (``dynamics/mesh.py``), per speed driver and per locked bearing;
+   rows J, γ: one row per mesh (``dynamics/mesh.py``), per speed driver and per locked bearing
+   (the compiled loop makes one pass over the joint placements, Pinocchio's
+   computeJointJacobians, and runs CRBA and RNEA in world axes on what it gives);
 2. solve the equality QP with proxsuite (``dynamics/solver.py``): a_k and λ_k, the mesh forces
    [N] and driver torques [N·m] read from the duals through the name → row map (the meshes in
    file order, then the speed drivers, then the locked bearings);
@@ -140,48 +142,61 @@ def _allocate(
     *,
     empty: bool = False,
 ) -> Result:
+    """A Result of n samples whose arrays are views of one buffer.
+
+    One large buffer rather than thirty: numpy asks the kernel for huge pages for buffers of
+    4 MB and more, so that filling a long run's arrays takes a page fault per 2 MB instead of
+    one per 4 kB (page faults were a sixth of a drivetrain run's time). ``elements`` gives the
+    generator and rotor columns.
+    """
     nj = len(gearbox.joint_names)
     nm = len(gearbox.meshes)
     nb = len(body_names)
-    make = np.empty if empty else np.zeros
-
-    def z(*shape):
-        return make((n, *shape))
-
+    energy_keys = ("kinetic", *_WORK_KEYS, "potential_spring", "numerical")
+    shapes = {
+        "time": (),
+        "angle": (nj,),
+        "speed": (nj,),
+        "acceleration": (nj,),
+        "torque": (nj,),
+        "mesh_normal": (nm,),
+        "mesh_tangential": (nm,),
+        "mesh_radial": (nm,),
+        "mesh_axial": (nm,),
+        "mesh_flank": (nm,),
+        "transmission_error": (nm,),
+        "mesh_force_on_b": (nm, 3),
+        "pitch_point": (nm, 3),
+        "mesh_deflection": (nm,),
+        "mesh_contact_position": (nm,),
+        "mesh_pairs": (nm,),
+        "mesh_single_tooth_force": (nm,),
+        "bearing_force": (nj, 3),
+        "bearing_moment": (nj, 3),
+        "bearing_force_local": (nj, 3),
+        "bearing_moment_local": (nj, 3),
+        "body_position": (nb, 3),
+        "body_quaternion": (nb, 4),
+        "constraint_residual": (),
+        **{f"energy/{k}": () for k in energy_keys},
+        "generator_torque": (len(elements.generator_names),),
+        **{name: (len(elements.rotor_names),) for name in ROTOR_ARRAYS},
+    }
+    sizes = {k: n * math.prod(shape) for k, shape in shapes.items()}
+    buffer = (np.empty if empty else np.zeros)(sum(sizes.values()))
+    arrays, at = {}, 0
+    for key, shape in shapes.items():
+        arrays[key] = buffer[at : at + sizes[key]].reshape(n, *shape)
+        at += sizes[key]
     return Result(
-        time=make(n),
         joint_names=list(gearbox.joint_names),
         mesh_names=[m.name for m in gearbox.meshes],
         bearing_names=list(gearbox.joint_names),
         body_names=body_names,
-        angle=z(nj),
-        speed=z(nj),
-        acceleration=z(nj),
-        torque=z(nj),
-        mesh_normal=z(nm),
-        mesh_tangential=z(nm),
-        mesh_radial=z(nm),
-        mesh_axial=z(nm),
-        mesh_flank=z(nm),
-        transmission_error=z(nm),
-        mesh_force_on_b=z(nm, 3),
-        pitch_point=z(nm, 3),
-        mesh_deflection=z(nm),
-        mesh_contact_position=z(nm),
-        mesh_pairs=z(nm),
-        mesh_single_tooth_force=z(nm),
-        bearing_force=z(nj, 3),
-        bearing_moment=z(nj, 3),
-        bearing_force_local=z(nj, 3),
-        bearing_moment_local=z(nj, 3),
-        body_position=z(nb, 3),
-        body_quaternion=z(nb, 4),
-        constraint_residual=np.zeros(n),
-        energy={k: np.zeros(n) for k in ("kinetic", *_WORK_KEYS, "potential_spring", "numerical")},
         generator_names=list(elements.generator_names),
         rotor_names=list(elements.rotor_names),
-        generator_torque=z(len(elements.generator_names)),
-        **{name: z(len(elements.rotor_names)) for name in ROTOR_ARRAYS},
+        energy={k: arrays.pop(f"energy/{k}") for k in energy_keys},
+        **arrays,
     )
 
 
@@ -414,6 +429,8 @@ def simulate(
     status = "completed"
     done = 0
     spring0 = None
+    direct = stride == 1  # every sample kept: the Result's own rows are the blocks
+    spare: Result | None = None
     started = wallclock.perf_counter()
     try:
         torque_columns = [ld.v_index for ld in torque_loads]
@@ -448,7 +465,13 @@ def simulate(
                         "the wind speed must be finite"
                     )
                 inputs = inputs[: stop - start]
-            block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
+            if direct:  # the compiled loop writes the kept arrays in place: no copy
+                block = res.rows(start, stop)
+            elif observer is None:  # nothing holds on to a block: one buffer for all
+                spare = spare or _allocate(gearbox, chunk, body_names, elements, empty=True)
+                block = spare.rows(0, stop - start)
+            else:  # the observer may keep the block (the log's writer thread): new arrays
+                block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
             done = start
             failure: PinwindError | None = None
             try:
@@ -468,7 +491,8 @@ def simulate(
                 if spring0 is None:
                     spring0 = float(part.energy["potential_spring"][0])
                 _numerical_loss(part.energy, spring0)
-                _keep(res, part, start, kept)
+                if not direct:
+                    _keep(res, part, start, kept)
                 if observer is not None:
                     observer.samples(part, start)
             if absurd is not None:

@@ -6,9 +6,9 @@ from pinwind.gears.checks import (
     check_pair,
     check_planetary,
     min_profile_shift,
+    stage_pairs,
     tip_thickness,
     trochoid_clearance,
-    virtual_teeth,
 )
 from pinwind.gears.contact import (
     ContactRatioBelowOne,
@@ -22,12 +22,15 @@ from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.hertz import HertzAlongPath, hertz_along_path, hertz_pressure
 from pinwind.gears.involute import (
     PairGeometry,
+    base_helix_angle,
     base_radius,
     inverse_involute,
     involute,
     pair_geometry,
     pitch_radius,
+    tip_radius,
     transverse_pressure_angle,
+    virtual_teeth,
 )
 from pinwind.gears.materials import MATERIALS, Material
 from pinwind.gears.mesh_stiffness import (
@@ -55,6 +58,7 @@ __all__ = [
     "PathOfContact",
     "TipInsideBaseCircle",
     "agma_rating",
+    "base_helix_angle",
     "base_radius",
     "check_gear",
     "check_pair",
@@ -72,6 +76,8 @@ __all__ = [
     "path_of_contact",
     "pitch_radius",
     "single_pair_stiffness",
+    "stage_pairs",
+    "tip_radius",
     "tip_thickness",
     "transverse_pressure_angle",
     "trochoid_clearance",

@@ -25,12 +25,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from pinwind.errors import InvalidGearTrain
 from pinwind.gears.contact import path_of_contact
-from pinwind.gears.contact import tip_radius as contact_tip_radius
-from pinwind.gears.involute import involute, pair_geometry, transverse_pressure_angle
+from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.involute import involute, transverse_pressure_angle
+from pinwind.gears.involute import tip_radius as unshortened_tip_radius
+from pinwind.gears.involute import virtual_teeth as virtual_teeth
 
 #: Tool addendum h_a0* of the ISO 53 profile A hob (= basic rack dedendum h_fP*) [-].
 TOOL_ADDENDUM = 1.25
@@ -64,16 +66,6 @@ class Finding:
     message: str
 
 
-def virtual_teeth(teeth: int, helix_angle: float = 0.0, pressure_angle: float = 0.0) -> float:
-    """Virtual tooth number z_n = z / (cos² β_b cos β) [-] (ISO 21771).
-
-    β_b = atan(tan β cos α_t) is the base helix angle; for spur gears z_n = z.
-    """
-    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    beta_b = math.atan(math.tan(helix_angle) * math.cos(alpha_t))
-    return teeth / (math.cos(beta_b) ** 2 * math.cos(helix_angle))
-
-
 def min_profile_shift(
     teeth: int,
     *,
@@ -90,7 +82,7 @@ def min_profile_shift(
     flank ends 1.000 m_n above the datum line, so a spur gear needs 17.1 teeth (x = 0).
     """
     alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    straight = tool_addendum - tool_tip_radius * (1.0 - math.sin(pressure_angle))
+    straight = _straight_flank_end(pressure_angle, tool_addendum, tool_tip_radius)
     return straight - teeth * math.sin(alpha_t) ** 2 / (2.0 * math.cos(helix_angle))
 
 
@@ -117,7 +109,7 @@ def tip_thickness(
     d = teeth * m_t
     d_b = d * math.cos(alpha_t)
     if tip_radius is None:
-        tip_radius = contact_tip_radius(
+        tip_radius = unshortened_tip_radius(
             teeth, module, profile_shift, helix_angle, internal, addendum_coefficient
         )
     d_a = 2.0 * tip_radius
@@ -194,56 +186,32 @@ def check_gear(
     return findings
 
 
-def check_pair(
-    teeth_1: int,
-    teeth_2: int,
-    *,
-    module: float,
-    pressure_angle: float,
-    profile_shift_1: float = 0.0,
-    profile_shift_2: float = 0.0,
-    helix_angle: float = 0.0,
-    internal_2: bool = False,
-    names: tuple[str, str] = ("gear 1", "gear 2"),
-    case_hardened: bool = True,
-) -> list[Finding]:
+def check_pair(pair: GearPair, *, case_hardened: bool = True) -> list[Finding]:
     """All checks of a pair: each gear (`check_gear`), path of contact, internal interference.
 
-    The path of contact comes from `contact.path_of_contact`; its errors (tip inside the base
-    circle, involute interference, ε_α < 1) become findings. For an internal gear 2 the trochoid
-    (tip) interference at the end of contact is checked too (`trochoid_clearance`).
+    The gears are named by ``pair.names`` in the findings. The path of contact comes from
+    `contact.path_of_contact`; its errors (tip inside the base circle, involute interference,
+    ε_α < 1) become findings. For an internal gear the trochoid (tip) interference at the end
+    of contact is checked too (`trochoid_clearance`).
     """
-    findings = check_gear(
-        teeth_1,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift=profile_shift_1,
-        helix_angle=helix_angle,
-        name=names[0],
-        case_hardened=case_hardened,
-    )
-    findings += check_gear(
-        teeth_2,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift=profile_shift_2,
-        helix_angle=helix_angle,
-        internal=internal_2,
-        name=names[1],
-        case_hardened=case_hardened,
-    )
-    pair = f"{names[0]}–{names[1]}"
-    try:
-        path_of_contact(
-            teeth_1,
-            teeth_2,
-            module=module,
-            pressure_angle=pressure_angle,
-            profile_shift_1=profile_shift_1,
-            profile_shift_2=profile_shift_2,
-            helix_angle=helix_angle,
-            internal_2=internal_2,
+    findings: list[Finding] = []
+    for gear in (1, 2):
+        teeth, shift, internal = pair.gear(gear)
+        findings += check_gear(
+            teeth,
+            module=pair.module,
+            pressure_angle=pair.pressure_angle,
+            profile_shift=shift,
+            helix_angle=pair.helix_angle,
+            internal=internal,
+            name=pair.names[gear - 1],
+            case_hardened=case_hardened,
+            tip_radius=pair.tip_radius(gear),
         )
+    names = pair.names
+    label = f"{names[0]}–{names[1]}"
+    try:
+        path_of_contact(pair)
     except InvalidGearTrain as err:
         kind = type(err).__name__
         check = {
@@ -251,44 +219,30 @@ def check_pair(
             "ContactRatioBelowOne": "contact_ratio",
         }.get(kind, "path_of_contact")
         value = getattr(err, "contact_ratio", math.nan)
-        findings.append(Finding(check, "error", pair, value, 1.0, f"{pair}: {err}"))
-    if internal_2:
-        clearance = trochoid_clearance(
-            teeth_1,
-            teeth_2,
-            module=module,
-            pressure_angle=pressure_angle,
-            profile_shift_1=profile_shift_1,
-            profile_shift_2=profile_shift_2,
-        )
+        findings.append(Finding(check, "error", label, value, 1.0, f"{label}: {err}"))
+    if pair.internal_1 or pair.internal_2:
+        ring_last = pair if pair.internal_2 else pair.reversed()
+        clearance = trochoid_clearance(ring_last)
         if clearance < 0.0:
+            (z1, z2), (n1, n2) = (ring_last.teeth_1, ring_last.teeth_2), ring_last.names
             findings.append(
                 Finding(
                     "trochoid_interference",
                     "error",
-                    pair,
+                    label,
                     clearance,
                     0.0,
-                    f"{pair}: the tip of {names[0]} ({teeth_1} teeth) fouls the tips of "
-                    f"{names[1]} ({teeth_2} teeth, internal) as it leaves the mesh (trochoid "
+                    f"{label}: the tip of {n1} ({z1} teeth) fouls the tips of "
+                    f"{n2} ({z2} teeth, internal) as it leaves the mesh (trochoid "
                     f"interference, clearance {clearance:+.4f} rad < 0); the tooth numbers differ "
-                    f"by only {teeth_2 - teeth_1}: use a larger difference, or shift the "
+                    f"by only {z2 - z1}: use a larger difference, or shift the "
                     "internal gear's profile (positive ISO x) to shorten its teeth",
                 )
             )
     return findings
 
 
-def trochoid_clearance(
-    teeth_1: int,
-    teeth_2: int,
-    *,
-    module: float,
-    pressure_angle: float,
-    profile_shift_1: float = 0.0,
-    profile_shift_2: float = 0.0,
-    addendum_coefficient: float = 1.0,
-) -> float:
+def trochoid_clearance(pair: GearPair) -> float:
     """Trochoid interference margin of an external gear 1 in an internal gear 2 [rad].
 
     KHK "Gear Technical Reference" (internal gears, trochoid interference), spur gears: as the
@@ -299,23 +253,24 @@ def trochoid_clearance(
         θ2 = acos((a² + r_a2² − r_a1²) / (2 a r_a2))
 
     with r_a1, r_a2 the tip radii (r_a2 the ring's inner radius), α_a the pressure angles there
-    and a, α_w the working centre distance and pressure angle. Returns the left-hand side; below 0
+    and a, α_w the working centre distance and pressure angle. The formula is for spur gears: a
+    helical pair is checked as its spur equivalent (β = 0). Returns the left-hand side; below 0
     the tips collide. The tips are assumed not to overlap radially beyond the centre distance
     (r_a2 − r_a1 < a); if they do the acos arguments leave [−1, 1] and the margin is −inf.
+
+    Raises:
+        InvalidGearTrain: gear 2 is not internal.
     """
-    geometry = pair_geometry(
-        teeth_1,
-        teeth_2,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift_1=profile_shift_1,
-        profile_shift_2=profile_shift_2,
-        internal_2=True,
-    )
+    if not pair.internal_2:
+        raise InvalidGearTrain(
+            f"the trochoid clearance is that of an external gear in an internal gear 2; "
+            f"{pair.names[1]} is not internal (set internal_2=True)"
+        )
+    spur = replace(pair, helix_angle=0.0)
+    geometry = spur.geometry
     a = geometry.centre_distance
     alpha_w = geometry.working_pressure_angle
-    r_a1 = module * (teeth_1 / 2.0 + addendum_coefficient + profile_shift_1)
-    r_a2 = module * (teeth_2 / 2.0 - addendum_coefficient - profile_shift_2)
+    r_a1, r_a2 = spur.tip_radius(1), spur.tip_radius(2)
     r_b1, r_b2 = geometry.base_radius_1, geometry.base_radius_2
     if r_a1 <= r_b1 or r_a2 <= r_b2:
         return -math.inf
@@ -327,7 +282,8 @@ def trochoid_clearance(
         return -math.inf
     theta_1 = math.acos(c1) + involute(alpha_a1) - involute(alpha_w)
     theta_2 = math.acos(c2)
-    return theta_1 * teeth_1 / teeth_2 + involute(alpha_w) - involute(alpha_a2) - theta_2
+    z1, z2 = pair.teeth_1, pair.teeth_2
+    return theta_1 * z1 / z2 + involute(alpha_w) - involute(alpha_a2) - theta_2
 
 
 def check_planetary(
@@ -338,40 +294,23 @@ def check_planetary(
     planets: int,
     module: float,
     pressure_angle: float,
+    face_width: float,
     profile_shift: tuple[float, float, float] = (0.0, 0.0, 0.0),
     helix_angle: float = 0.0,
     case_hardened: bool = True,
 ) -> list[Finding]:
     """Checks of a simple planetary stage: both pairs, assembly and neighbouring planets.
 
-    Besides `check_pair` on sun–planet and planet–ring: equally spaced identical planets need
-    (z_sun + z_ring)/N whole (error otherwise), and neighbouring planets' tip circles must clear
-    each other, 2 r_a,planet < 2 a sin(π/N) (error).
+    Besides `check_pair` on sun–planet and planet–ring (`stage_pairs`): equally spaced
+    identical planets need (z_sun + z_ring)/N whole (error otherwise), and neighbouring planets'
+    tip circles must clear each other, 2 r_a,planet < 2 a sin(π/N) (error).
     """
-    x_s, x_p, x_r = profile_shift
-    findings = check_pair(
-        sun,
-        planet,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift_1=x_s,
-        profile_shift_2=x_p,
-        helix_angle=helix_angle,
-        names=("sun", "planet"),
-        case_hardened=case_hardened,
-    )
-    ring_pair = check_pair(
-        planet,
-        ring,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift_1=x_p,
-        profile_shift_2=x_r,
-        helix_angle=helix_angle,
-        internal_2=True,
-        names=("planet", "ring"),
-        case_hardened=case_hardened,
-    )
+    sun_planet, planet_ring = stage_pairs(
+        sun=sun, planet=planet, ring=ring, module=module, pressure_angle=pressure_angle,
+        face_width=face_width, profile_shift=profile_shift, helix_angle=helix_angle,
+    )  # fmt: skip
+    findings = check_pair(sun_planet, case_hardened=case_hardened)
+    ring_pair = check_pair(planet_ring, case_hardened=case_hardened)
     seen = {(f.check, f.gear) for f in findings}
     findings += [f for f in ring_pair if (f.check, f.gear) not in seen]
     if (sun + ring) % planets:
@@ -387,11 +326,8 @@ def check_planetary(
                 "spaced",
             )
         )
-    a = pair_geometry(
-        sun, planet, module=module, pressure_angle=pressure_angle, profile_shift_1=x_s,
-        profile_shift_2=x_p, helix_angle=helix_angle,
-    ).centre_distance  # fmt: skip
-    tip = module * (planet / (2.0 * math.cos(helix_angle)) + 1.0 + x_p)
+    a = sun_planet.geometry.centre_distance
+    tip = sun_planet.tip_radius(2)
     chord = 2.0 * a * math.sin(math.pi / planets)
     if planets > 1 and 2.0 * tip >= chord:
         findings.append(
@@ -406,6 +342,42 @@ def check_planetary(
             )
         )
     return findings
+
+
+def stage_pairs(
+    *,
+    sun: int,
+    planet: int,
+    ring: int,
+    module: float,
+    pressure_angle: float,
+    face_width: float,
+    profile_shift: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    helix_angle: float = 0.0,
+) -> tuple[GearPair, GearPair]:
+    """The sun–planet and planet–ring `GearPair` of a simple planetary stage, ring internal."""
+    x_s, x_p, x_r = profile_shift
+    sun_planet = GearPair(
+        sun,
+        planet,
+        module=module,
+        pressure_angle=pressure_angle,
+        face_width=face_width,
+        profile_shift_1=x_s,
+        profile_shift_2=x_p,
+        helix_angle=helix_angle,
+        names=("sun", "planet"),
+    )
+    planet_ring = replace(
+        sun_planet,
+        teeth_1=planet,
+        teeth_2=ring,
+        profile_shift_1=x_p,
+        profile_shift_2=x_r,
+        internal_2=True,
+        names=("planet", "ring"),
+    )
+    return sun_planet, planet_ring
 
 
 def raise_for(findings: Iterable[Finding]) -> None:
@@ -423,5 +395,12 @@ def errors(findings: Iterable[Finding]) -> list[Finding]:
 def _teeth_without_undercut(pressure_angle: float, helix_angle: float, shift: float) -> int:
     """Smallest tooth count without undercut at profile shift ``shift``."""
     alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    straight = TOOL_ADDENDUM - TOOL_TIP_RADIUS * (1.0 - math.sin(pressure_angle))
+    straight = _straight_flank_end(pressure_angle, TOOL_ADDENDUM, TOOL_TIP_RADIUS)
     return math.ceil(2.0 * math.cos(helix_angle) * (straight - shift) / math.sin(alpha_t) ** 2)
+
+
+def _straight_flank_end(
+    pressure_angle: float, tool_addendum: float, tool_tip_radius: float
+) -> float:
+    """End of a rack tool's straight flank above its datum line, h_a0* − ρ_a0* (1 − sin α_n) [-]."""
+    return tool_addendum - tool_tip_radius * (1.0 - math.sin(pressure_angle))

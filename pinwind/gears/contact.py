@@ -8,19 +8,23 @@ measured from T1, or from A where the name says so. Lengths are in metres and an
 
 Profile shift follows ISO 21771, as in `pinwind.gears.involute`: an internal gear counts with a
 negative tooth number inside the formulas, and its profile shift x keeps the ISO sign. So the
-tip (inner) radius of an internal gear is r_a = r − m_n (h_a* + x) (see `path_of_contact`).
+tip (inner) radius of an internal gear is r_a = r − m_n (h_a* + x) (see `path_of_contact`). The pair
+is a `pinwind.gears.gear_pair.GearPair`.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from pinwind.errors import InvalidGearTrain
-from pinwind.gears.involute import pair_geometry, pitch_radius, transverse_pressure_angle
+
+if TYPE_CHECKING:
+    from pinwind.gears.gear_pair import GearPair
 
 
 @dataclass(frozen=True)
@@ -62,25 +66,16 @@ class PathOfContact:
 
 
 def path_of_contact(
-    teeth_1: int,
-    teeth_2: int,
+    pair: GearPair,
     *,
-    module: float,
-    pressure_angle: float,
-    profile_shift_1: float = 0.0,
-    profile_shift_2: float = 0.0,
-    helix_angle: float = 0.0,
-    internal_1: bool = False,
-    internal_2: bool = False,
-    addendum_coefficient: float = 1.0,
-    face_width: float = 0.0,
     tip_radius_1: float | None = None,
     tip_radius_2: float | None = None,
 ) -> PathOfContact:
     """Path of contact of a spur or helical pair, external or internal, with profile shift.
 
-    The working pressure angle α_wt and centre distance a_w come from
-    `pinwind.gears.involute.pair_geometry`. By default the tip radii have no tip shortening:
+    The working pressure angle α_wt and centre distance a_w are the pair's
+    (`GearPair.geometry`, from `pinwind.gears.involute.pair_geometry`). By default the tip radii
+    have no tip shortening (`GearPair.tip_radius`):
 
         external gear: r_a = r + m_n (h_a* + x)
         internal gear: r_a = r − m_n (h_a* + x)
@@ -101,58 +96,24 @@ def path_of_contact(
         gear 1 internal:   g_α = g_a2 − g_a1 + a_w sin α_wt
 
     Args:
-        teeth_1: tooth count of gear 1 (positive, also for an internal gear).
-        teeth_2: tooth count of gear 2.
-        module: normal module m_n [m].
-        pressure_angle: normal pressure angle α_n [rad].
-        profile_shift_1: profile shift coefficient x1 [-] (ISO sign).
-        profile_shift_2: profile shift coefficient x2 [-] (ISO sign).
-        helix_angle: reference helix angle β [rad].
-        internal_1: gear 1 is an internal (ring) gear.
-        internal_2: gear 2 is an internal (ring) gear.
-        addendum_coefficient: h_a* of the basic rack [-].
-        face_width: common face width b [m]; only used for the overlap ratio.
+        pair: the pair (either gear may be internal); its face width gives the overlap ratio
+            and its addendum coefficient h_a* the default tip radii.
         tip_radius_1: tip radius of gear 1 [m]. Overrides the default, e.g. for tip shortening.
         tip_radius_2: tip radius of gear 2 [m].
 
     Raises:
-        InvalidGearTrain: both gears internal, or a non-positive module or tooth count.
         TipInsideBaseCircle: a tip circle lies inside its base circle.
         InvoluteInterference: the path leaves the part of the line of action that both involutes
             cover (a tip reaches past the mating gear's tangency point).
         ContactRatioBelowOne: ε_α < 1, so the pair cannot transmit motion continuously.
+        ValueError: an internal and an external gear of equal tooth numbers
+            (`involute.pair_geometry`).
     """
-    if internal_1 and internal_2:
-        raise InvalidGearTrain(
-            "two internal gears cannot mesh; set internal_1 or internal_2, not both"
-        )
-    if teeth_1 <= 0 or teeth_2 <= 0:
-        raise InvalidGearTrain(
-            f"tooth counts must be positive (got {teeth_1} and {teeth_2}); mark a ring gear "
-            "with internal_1/internal_2 rather than a negative tooth count"
-        )
-    if module <= 0.0:
-        raise InvalidGearTrain(f"the module must be positive, got {module} m")
-
-    geometry = pair_geometry(
-        teeth_1,
-        teeth_2,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift_1=profile_shift_1,
-        profile_shift_2=profile_shift_2,
-        helix_angle=helix_angle,
-        internal_1=internal_1,
-        internal_2=internal_2,
-    )
+    geometry = pair.geometry
     if tip_radius_1 is None:
-        tip_radius_1 = tip_radius(
-            teeth_1, module, profile_shift_1, helix_angle, internal_1, addendum_coefficient
-        )
+        tip_radius_1 = pair.tip_radius(1)
     if tip_radius_2 is None:
-        tip_radius_2 = tip_radius(
-            teeth_2, module, profile_shift_2, helix_angle, internal_2, addendum_coefficient
-        )
+        tip_radius_2 = pair.tip_radius(2)
     base_1 = float(geometry.base_radius_1)
     base_2 = float(geometry.base_radius_2)
     for gear, tip, base in ((1, tip_radius_1, base_1), (2, tip_radius_2, base_2)):
@@ -160,17 +121,17 @@ def path_of_contact(
             raise TipInsideBaseCircle(gear, tip, base)
 
     alpha_wt = float(geometry.working_pressure_angle)
-    line = geometry.centre_distance * math.sin(alpha_wt)  # |T1 T2|
+    line = pair.tangency_distance  # |T1 T2|
     tip_roll_1 = math.sqrt(tip_radius_1**2 - base_1**2)  # from T1 to gear 1's tip circle
     tip_roll_2 = math.sqrt(tip_radius_2**2 - base_2**2)  # from T2 to gear 2's tip circle
 
     # Positions u along the line of action, measured from T1 towards the pitch point C. Contact
     # must stay where both flanks are involutes: between T1 and T2 for an external pair, and
     # beyond the nearer tangency point for an internal pair (both lie on the same side of C).
-    if internal_2:
+    if pair.internal_2:
         start, end = tip_roll_2 - line, tip_roll_1
         lower, upper = 0.0, math.inf
-    elif internal_1:
+    elif pair.internal_1:
         start, end = tip_roll_1, line + tip_roll_2
         lower, upper = line, math.inf
     else:
@@ -179,9 +140,7 @@ def path_of_contact(
     if start < lower or end > upper:
         raise InvoluteInterference(start, end, lower, upper)
 
-    m_t = module / math.cos(helix_angle)
-    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    base_pitch = math.pi * m_t * math.cos(alpha_t)
+    base_pitch = math.pi * pair.transverse_module * math.cos(pair.transverse_pressure_angle)
     length = end - start
     contact_ratio = length / base_pitch
     if contact_ratio < 1.0:
@@ -190,7 +149,7 @@ def path_of_contact(
         base_pitch=base_pitch,
         length=length,
         contact_ratio=contact_ratio,
-        overlap_ratio=face_width * math.sin(abs(helix_angle)) / (math.pi * module),
+        overlap_ratio=pair.face_width * math.sin(abs(pair.helix_angle)) / (math.pi * pair.module),
         start_roll_1=start,
         pitch_roll_1=base_1 * math.tan(alpha_wt),
         single_start=length - base_pitch,
@@ -214,24 +173,6 @@ def pairs_in_contact(path: PathOfContact, s: float | npt.ArrayLike) -> np.ndarra
     """
     phase = np.mod(np.asarray(s, dtype=float), path.base_pitch)
     return (np.floor((path.length - phase) / path.base_pitch) + 1.0).astype(int)
-
-
-def tip_radius(
-    teeth: int,
-    module: float,
-    profile_shift: float,
-    helix_angle: float,
-    internal: bool,
-    addendum_coefficient: float,
-) -> float:
-    """Tip radius without tip shortening [m].
-
-    r ± m_n (h_a* + x), − for an internal gear, x with the ISO 21771 sign; the one implementation,
-    used by ``path_of_contact`` and ``gears/checks.py``.
-    """
-    r = pitch_radius(teeth, module, helix_angle)
-    addendum = module * (addendum_coefficient + profile_shift)
-    return float(r - addendum if internal else r + addendum)
 
 
 # --- errors ------------------------------------------------------------------------------------

@@ -1,19 +1,34 @@
-"""A gear pair to rate and the load on it: the common input of the ISO 6336 and AGMA 2001 ratings.
+"""A gear pair and the load on it: the one description of a pair that every gear function takes.
 
-Gear 1 is the pinion: the external gear with fewer teeth (ISO 6336 and AGMA both number it so);
-gear 2 is the wheel, possibly internal. `GearPair.from_mesh` orders a model's mesh that way.
+The path of contact (`contact.path_of_contact`), the geometry checks (`checks.check_pair`), the
+ISO 6336-1 mesh stiffness (`mesh_stiffness`), Hertz stress (`hertz.hertz_along_path`) and the
+ISO 6336 and AGMA 2001 ratings all take a `GearPair`; the derived geometry they share (working
+geometry, base radii, tip radii, base helix angle, path of contact) lives here, computed once.
+
+For the ratings gear 1 is the pinion: the external gear with fewer teeth (ISO 6336 and AGMA both
+number it so); gear 2 is the wheel, possibly internal. `GearPair.from_mesh` orders a model's
+mesh that way. The geometry (path of contact, checks) also takes gear 1 internal
+(``internal_1``), the order of a model's mesh (`GearPair.from_gears`).
 SI units, angles in radians, ISO 21771 sign of profile shift (`pinwind.gears.involute`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import cast
 
 from pinwind.errors import InvalidGearTrain
 from pinwind.gears.contact import PathOfContact, path_of_contact
-from pinwind.gears.involute import PairGeometry, pair_geometry, transverse_pressure_angle
+from pinwind.gears.involute import (
+    PairGeometry,
+    base_helix_angle,
+    pair_geometry,
+    tip_radius,
+    transverse_pressure_angle,
+    virtual_teeth,
+)
 from pinwind.gears.materials import DEFAULT_MATERIAL, Material, material
 
 
@@ -22,7 +37,7 @@ class GearPair:
     """Geometry and materials of a spur or helical pair, pinion first.
 
     Attributes:
-        teeth_1: pinion tooth count (external).
+        teeth_1: pinion tooth count (positive, also when internal).
         teeth_2: wheel tooth count (positive, also when internal).
         module: normal module m_n [m].
         pressure_angle: normal pressure angle α_n [rad].
@@ -35,6 +50,12 @@ class GearPair:
         addendum_coefficient: h_aP* of the basic rack [-].
         dedendum_coefficient: h_fP* of the basic rack [-] (ISO 53 profile A: 1.25).
         root_radius_coefficient: ρ_fP* of the basic rack [-] (ISO 53 profile A: 0.38).
+        internal_1: gear 1 is an internal (ring) gear: a model's mesh in its own order
+            (`from_gears`); the ratings and the ISO stiffness want it as gear 2 (`from_mesh`).
+
+    Raises:
+        InvalidGearTrain: a non-positive tooth count, module or face width, or two internal
+            gears.
     """
 
     teeth_1: int
@@ -52,11 +73,17 @@ class GearPair:
     addendum_coefficient: float = 1.0
     dedendum_coefficient: float = 1.25
     root_radius_coefficient: float = 0.38
+    internal_1: bool = False
 
     def __post_init__(self) -> None:
         if self.teeth_1 <= 0 or self.teeth_2 <= 0:
             raise InvalidGearTrain(
-                f"tooth counts must be positive ({self.teeth_1}, {self.teeth_2})"
+                f"tooth counts must be positive ({self.teeth_1}, {self.teeth_2}); mark a ring "
+                "gear with internal_1/internal_2 rather than a negative tooth count"
+            )
+        if self.internal_1 and self.internal_2:
+            raise InvalidGearTrain(
+                "two internal gears cannot mesh; set internal_1 or internal_2, not both"
             )
         if self.module <= 0 or self.face_width <= 0:
             raise InvalidGearTrain(
@@ -75,6 +102,15 @@ class GearPair:
         a, b = mesh.gear_a.spec, mesh.gear_b.spec
         if a.internal or (not b.internal and b.teeth < a.teeth):
             a, b = b, a
+        return cls.from_gears(a, b, materials)
+
+    @classmethod
+    def from_gears(cls, a, b, materials: dict[str, Material | str] | None = None) -> GearPair:
+        """The pair of two gears of a model (``pinwind.model.gearbox.GearSpec``), in that order.
+
+        Gear 1 is ``a`` (possibly internal), gear 2 ``b``; the module, pressure and helix angles
+        are ``a``'s, the face width the smaller one. ``materials`` as in `from_mesh`.
+        """
         chosen = materials or {}
         return cls(
             teeth_1=a.teeth,
@@ -85,11 +121,40 @@ class GearPair:
             profile_shift_1=a.profile_shift,
             profile_shift_2=b.profile_shift,
             helix_angle=abs(a.helix_angle),
+            internal_1=a.internal,
             internal_2=b.internal,
             material_1=chosen.get(a.name, DEFAULT_MATERIAL),
             material_2=chosen.get(b.name, DEFAULT_MATERIAL),
             names=(a.name, b.name),
         )
+
+    def reversed(self) -> GearPair:
+        """The same pair with gears 1 and 2 exchanged (teeth, shifts, internal flags, ...)."""
+        return replace(
+            self,
+            teeth_1=self.teeth_2,
+            teeth_2=self.teeth_1,
+            profile_shift_1=self.profile_shift_2,
+            profile_shift_2=self.profile_shift_1,
+            internal_1=self.internal_2,
+            internal_2=self.internal_1,
+            material_1=self.material_2,
+            material_2=self.material_1,
+            names=(self.names[1], self.names[0]),
+        )
+
+    def require_external_gear_1(self, method: str) -> None:
+        """Raise `InvalidGearTrain` if gear 1 is internal: ``method`` takes the pinion first."""
+        if self.internal_1:
+            raise InvalidGearTrain(
+                f"{method} takes the external gear first, but gear 1 ({self.names[0]}) is "
+                "internal; use pair.reversed() or GearPair.from_mesh, which puts it second"
+            )
+
+    @property
+    def materials(self) -> tuple[Material, Material]:
+        """(material_1, material_2), resolved to `Material` by the constructor."""
+        return cast(Material, self.material_1), cast(Material, self.material_2)
 
     # --- derived geometry (ISO 21771) ---------------------------------------------------------
 
@@ -104,24 +169,29 @@ class GearPair:
             profile_shift_1=self.profile_shift_1,
             profile_shift_2=self.profile_shift_2,
             helix_angle=self.helix_angle,
+            internal_1=self.internal_1,
             internal_2=self.internal_2,
         )
 
     @cached_property
     def path(self) -> PathOfContact:
-        """Path of contact (contact ratios) from `contact.path_of_contact`."""
-        return path_of_contact(
-            self.teeth_1,
-            self.teeth_2,
-            module=self.module,
-            pressure_angle=self.pressure_angle,
-            profile_shift_1=self.profile_shift_1,
-            profile_shift_2=self.profile_shift_2,
-            helix_angle=self.helix_angle,
-            internal_2=self.internal_2,
-            addendum_coefficient=self.addendum_coefficient,
-            face_width=self.face_width,
-        )
+        """Path of contact (contact ratios) from `contact.path_of_contact`, tips unshortened."""
+        return path_of_contact(self)
+
+    @property
+    def tangency_distance(self) -> float:
+        """|T1 T2| = a_w sin α_wt, between the base-circle tangency points [m] (ISO 21771)."""
+        geometry = self.geometry
+        return geometry.centre_distance * math.sin(float(geometry.working_pressure_angle))
+
+    def flank_radii(self, roll_1):
+        """Flank radii of curvature (ρ1, ρ2) at roll distance ``roll_1`` from T1 [m].
+
+        ρ1 = u, ρ2 = |T1T2| − u for an external pair and −(|T1T2| + u) for an internal
+        gear 2 (concave flank); ``roll_1`` a float or an array (003_83d3049daebcd276.txt Fig. 10).
+        """
+        line = self.tangency_distance
+        return roll_1, (-(line + roll_1) if self.internal_2 else line - roll_1)
 
     @property
     def transverse_pressure_angle(self) -> float:
@@ -130,8 +200,8 @@ class GearPair:
 
     @property
     def base_helix_angle(self) -> float:
-        """β_b = atan(tan β cos α_t) [rad]."""
-        return math.atan(math.tan(self.helix_angle) * math.cos(self.transverse_pressure_angle))
+        """β_b = atan(tan β cos α_t) [rad] (`involute.base_helix_angle`)."""
+        return base_helix_angle(self.pressure_angle, self.helix_angle)
 
     @property
     def transverse_module(self) -> float:
@@ -153,16 +223,28 @@ class GearPair:
         """U = z2/z1, negative for an internal wheel (ISO 6336-2) [-]."""
         return (-self.teeth_2 if self.internal_2 else self.teeth_2) / self.teeth_1
 
-    def tip_diameter(self, gear: int) -> float:
-        """Tip diameter without tip shortening [m]; the inner diameter of an internal wheel."""
-        z, x = (
-            (self.teeth_1, self.profile_shift_1)
-            if gear == 1
-            else (self.teeth_2, self.profile_shift_2)
+    def gear(self, gear: int) -> tuple[int, float, bool]:
+        """(teeth, profile shift, internal) of gear 1 or 2."""
+        if gear == 1:
+            return self.teeth_1, self.profile_shift_1, self.internal_1
+        if gear == 2:
+            return self.teeth_2, self.profile_shift_2, self.internal_2
+        raise ValueError(f"a gear pair has gears 1 and 2, not {gear!r}")
+
+    def tip_radius(self, gear: int) -> float:
+        """Tip radius without tip shortening [m] (`involute.tip_radius`); inner one if internal."""
+        teeth, shift, internal = self.gear(gear)
+        return tip_radius(
+            teeth, self.module, shift, self.helix_angle, internal, self.addendum_coefficient
         )
-        d = z * self.transverse_module
-        addendum = 2.0 * self.module * (self.addendum_coefficient + x)
-        return d - addendum if (gear == 2 and self.internal_2) else d + addendum
+
+    def tip_diameter(self, gear: int) -> float:
+        """Tip diameter without tip shortening, 2 `tip_radius` [m]."""
+        return 2.0 * self.tip_radius(gear)
+
+    def virtual_teeth(self, gear: int) -> float:
+        """Virtual tooth number z_n of gear 1 or 2 (`involute.virtual_teeth`) [-]."""
+        return virtual_teeth(self.gear(gear)[0], self.helix_angle, self.pressure_angle)
 
     def tangential_force(self, normal_force: float) -> float:
         """F_t at the reference circle from the normal tooth force: F_n cos β_b cos α_t [N].

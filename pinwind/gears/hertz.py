@@ -20,7 +20,8 @@ import numpy as np
 import numpy.typing as npt
 
 from pinwind.errors import InputError
-from pinwind.gears.contact import PathOfContact, pairs_in_contact
+from pinwind.gears.contact import pairs_in_contact
+from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.materials import Material
 
 #: σ_vM / p_max: the mean of Norton's static (0.57) and sliding (0.73) coefficients (003).
@@ -84,38 +85,27 @@ class HertzAlongPath:
         return float(np.max(self.p_max))
 
 
-def hertz_along_path(
-    path: PathOfContact,
-    normal_force: float,
-    *,
-    centre_distance: float,
-    face_width: float,
-    material_1: Material,
-    material_2: Material,
-    internal_2: bool = False,
-    points: int = 201,
-) -> HertzAlongPath:
+def hertz_along_path(pair: GearPair, normal_force: float, *, points: int = 201) -> HertzAlongPath:
     """Hertz pressure along the path of contact of a pair carrying the mesh force ``normal_force``.
 
     Where two pairs are in contact each carries half the force (equal pair stiffness, the rigid
     mesh's sharing); in the single-pair zone one pair carries all of it. ρ1 is the roll distance
     from T1; ρ2 = T1T2 − ρ1 for an external pair and −(T1T2 + ρ1) for an internal gear 2
-    (concave flank), T1T2 = a_w sin α_wt.
+    (concave flank), T1T2 = a_w sin α_wt (`GearPair.flank_radii`).
 
     Args:
-        path: the pair's path of contact (`contact.path_of_contact`).
+        pair: the pair, external gear 1: its path of contact (`GearPair.path`), face width
+            (the contact length L) and materials.
         normal_force: mesh normal force F_n [N].
-        centre_distance: working centre distance a_w [m].
-        face_width: contact length L [m].
-        material_1, material_2: materials of gears 1 and 2.
-        internal_2: gear 2 is internal.
         points: samples from A to E.
+
+    Raises:
+        InvalidGearTrain: gear 1 is internal, or the pair has no valid path of contact.
     """
+    pair.require_external_gear_1("hertz_along_path")
+    path = pair.path
     roll = np.linspace(0.0, path.length, points)
-    u = path.start_roll_1 + roll
-    line = centre_distance * math.sin(path.working_pressure_angle)
-    rho_1 = u
-    rho_2 = -(line + u) if internal_2 else line - u
+    rho_1, rho_2 = pair.flank_radii(path.start_roll_1 + roll)
     # Pairs in contact at each position of this pair: round half a nanometre towards the zone
     # with fewer pairs so that the zone ends B and D belong to the single-pair zone.
     pairs = np.minimum(
@@ -123,5 +113,5 @@ def hertz_along_path(
         pairs_in_contact(path, np.minimum(roll + 1e-9, path.length)),
     )
     force = normal_force / np.maximum(pairs, 1)
-    p = hertz_pressure(force, rho_1, rho_2, face_width, material_1, material_2)
+    p = hertz_pressure(force, rho_1, rho_2, pair.face_width, *pair.materials)
     return HertzAlongPath(roll, rho_1, rho_2, pairs, force, p, VON_MISES_RATIO * p)

@@ -7,6 +7,7 @@ metres and every angle in radians.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +32,40 @@ def transverse_pressure_angle(pressure_angle: float, helix_angle: float) -> floa
 def pitch_radius(teeth: int, module: float, helix_angle: float = 0.0) -> float:
     """Reference pitch radius r = z m_n / (2 cos β) [m]."""
     return teeth * module / (2.0 * np.cos(helix_angle))
+
+
+def base_helix_angle(pressure_angle: float, helix_angle: float) -> float:
+    """β_b = atan(tan β cos α_t) [rad] (ISO 21771)."""
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    return math.atan(math.tan(helix_angle) * math.cos(alpha_t))
+
+
+def virtual_teeth(teeth: int, helix_angle: float = 0.0, pressure_angle: float = 0.0) -> float:
+    """Virtual tooth number z_n = z / (cos² β_b cos β) [-] (ISO 21771; ISO 6336-1 clause 9).
+
+    β_b is the base helix angle (`base_helix_angle`); for spur gears z_n = z.
+    """
+    beta_b = base_helix_angle(pressure_angle, helix_angle)
+    return teeth / (math.cos(beta_b) ** 2 * math.cos(helix_angle))
+
+
+def tip_radius(
+    teeth: int,
+    module: float,
+    profile_shift: float,
+    helix_angle: float,
+    internal: bool,
+    addendum_coefficient: float,
+) -> float:
+    """Tip radius without tip shortening [m].
+
+    r ± m_n (h_a* + x), − for an internal gear (its inner radius), x with the ISO 21771 sign
+    (ISO 21771: d_a = d + 2 (z/|z|) m_n (h_aP* + x)). The one implementation, used by
+    `GearPair.tip_radius`, ``contact.path_of_contact`` and ``checks.tip_thickness``.
+    """
+    r = pitch_radius(teeth, module, helix_angle)
+    addendum = module * (addendum_coefficient + profile_shift)
+    return float(r - addendum if internal else r + addendum)
 
 
 def base_radius(

@@ -23,9 +23,9 @@ import math
 
 import numpy as np
 
-from pinwind.errors import InputError, InvalidGearTrain
+from pinwind.errors import InputError
 from pinwind.gears.contact import PathOfContact, path_of_contact
-from pinwind.gears.involute import transverse_pressure_angle
+from pinwind.gears.gear_pair import GearPair
 
 #: ISO 6336-1 method B constants C1…C9 of the flexibility q′ [mm·µm/N].
 FLEXIBILITY_CONSTANTS = (
@@ -44,21 +44,7 @@ FLEXIBILITY_CONSTANTS = (
 _ISO_TO_SI = 1e9
 
 
-def single_pair_stiffness(
-    teeth_1: int,
-    teeth_2: int,
-    *,
-    module: float,
-    pressure_angle: float,
-    profile_shift_1: float = 0.0,
-    profile_shift_2: float = 0.0,
-    helix_angle: float = 0.0,
-    internal_2: bool = False,
-    face_width: float,
-    dedendum_coefficient: float = 1.25,
-    rim_factor: float = 1.0,
-    C_M: float = 0.8,
-) -> float:
+def single_pair_stiffness(pair: GearPair, *, rim_factor: float = 1.0, C_M: float = 0.8) -> float:
     """Single stiffness times face width, c′ b [N/m], by ISO 6336-1:2019 clause 9, method B.
 
     The formula, with q′ in mm·µm/N and c′ in N/(mm·µm):
@@ -70,36 +56,26 @@ def single_pair_stiffness(
         C_B   = [1 + 0.5 (1.2 − h_fP/m_n)] [1 − 0.02 (20° − α_n)]
         z_n   = z / (cos² β_b cos β)
 
-    C1…C9 are `FLEXIBILITY_CONSTANTS`. The virtual tooth numbers are z_n. An internal gear 2
-    counts as a rack, z_n2 = ∞. This is the reading of ISO 6336-1 that other implementations
-    use; the ISO text itself was not available to check it. The profile shifts keep the
-    ISO 21771 signs.
+    C1…C9 are `FLEXIBILITY_CONSTANTS`. The virtual tooth numbers are z_n
+    (`GearPair.virtual_teeth`). An internal gear 2 counts as a rack, z_n2 = ∞. This is the
+    reading of ISO 6336-1 that other implementations use; the ISO text itself was not available
+    to check it. The profile shifts keep the ISO 21771 signs.
 
     Args:
-        teeth_1: tooth count of the pinion (external gear 1).
-        teeth_2: tooth count of gear 2 (positive, also when internal).
-        module: normal module m_n [m].
-        pressure_angle: normal pressure angle α_n of the basic rack [rad].
-        profile_shift_1: x1 [-].
-        profile_shift_2: x2 [-], ISO sign for an internal gear.
-        helix_angle: reference helix angle β [rad].
-        internal_2: gear 2 is an internal (ring) gear.
-        face_width: common face width b [m].
-        dedendum_coefficient: h_fP/m_n of the basic rack [-] (1.25 for ISO 53 profile A).
+        pair: the pair, external pinion as gear 1 (an internal gear, if any, is gear 2); its
+            face width b, normal module, pressure angle α_n of the basic rack, profile shifts,
+            helix angle and dedendum coefficient h_fP/m_n (1.25 for ISO 53 profile A) enter.
         rim_factor: gear blank factor C_R [-]. It is 1 for solid gears; ISO gives
             C_R = 1 + ln(b_s/b)/(5 e^(s_R/(5 m_n))) for webbed rims.
         C_M: theoretical-to-measured correction factor [-], 0.8 for solid disc gears.
 
     Raises:
-        InvalidGearTrain: a non-positive face width, module or tooth count.
+        InvalidGearTrain: gear 1 is internal (put the internal gear second).
     """
-    _check_inputs(teeth_1, teeth_2, module, face_width)
-    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    beta_b = math.atan(math.tan(helix_angle) * math.cos(alpha_t))
-    virtual = math.cos(beta_b) ** 2 * math.cos(helix_angle)
-    z_n1 = teeth_1 / virtual
-    inverse_z_n2 = 0.0 if internal_2 else virtual / teeth_2  # 1/z_n2, 0 for a ring (z_n2 = ∞)
-    x1, x2 = profile_shift_1, profile_shift_2
+    pair.require_external_gear_1("ISO 6336-1 method B")
+    z_n1 = pair.virtual_teeth(1)
+    inverse_z_n2 = 0.0 if pair.internal_2 else 1.0 / pair.virtual_teeth(2)  # 0 for a ring
+    x1, x2 = pair.profile_shift_1, pair.profile_shift_2
     c1, c2, c3, c4, c5, c6, c7, c8, c9 = FLEXIBILITY_CONSTANTS
     flexibility = (
         c1
@@ -112,26 +88,16 @@ def single_pair_stiffness(
         + c8 * x1**2
         + c9 * x2**2
     )
-    basic_rack = (1.0 + 0.5 * (1.2 - dedendum_coefficient)) * (
-        1.0 - 0.02 * (20.0 - math.degrees(pressure_angle))
+    basic_rack = (1.0 + 0.5 * (1.2 - pair.dedendum_coefficient)) * (
+        1.0 - 0.02 * (20.0 - math.degrees(pair.pressure_angle))
     )
-    single = C_M * rim_factor * basic_rack * math.cos(helix_angle) / flexibility
-    return single * face_width * _ISO_TO_SI
+    single = C_M * rim_factor * basic_rack * math.cos(pair.helix_angle) / flexibility
+    return single * pair.face_width * _ISO_TO_SI
 
 
 def mesh_stiffness(
-    teeth_1: int,
-    teeth_2: int,
+    pair: GearPair,
     *,
-    module: float,
-    pressure_angle: float,
-    profile_shift_1: float = 0.0,
-    profile_shift_2: float = 0.0,
-    helix_angle: float = 0.0,
-    internal_2: bool = False,
-    face_width: float,
-    addendum_coefficient: float = 1.0,
-    dedendum_coefficient: float = 1.25,
     rim_factor: float = 1.0,
     C_M: float = 0.8,
     tip_radius_1: float | None = None,
@@ -139,37 +105,15 @@ def mesh_stiffness(
 ) -> float:
     """Mean mesh stiffness times face width, c_γα b = c′ b (0.75 ε_α + 0.25) [N/m].
 
-    ISO 6336-1:2019 clause 9, method B. ε_α comes from `path_of_contact` with the same
-    geometry, so tip radii and addendum matter here. The arguments are those of
-    `single_pair_stiffness` and `path_of_contact`. ISO states the formula for ε_α ≥ 1.2.
+    ISO 6336-1:2019 clause 9, method B. ε_α is the pair's (`GearPair.path`), or that of
+    `path_of_contact` with the tip radii given, so tip radii and addendum matter here. The other
+    arguments are those of `single_pair_stiffness`. ISO states the formula for ε_α ≥ 1.2.
     """
-    path = path_of_contact(
-        teeth_1,
-        teeth_2,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift_1=profile_shift_1,
-        profile_shift_2=profile_shift_2,
-        helix_angle=helix_angle,
-        internal_2=internal_2,
-        addendum_coefficient=addendum_coefficient,
-        tip_radius_1=tip_radius_1,
-        tip_radius_2=tip_radius_2,
-    )
-    single = single_pair_stiffness(
-        teeth_1,
-        teeth_2,
-        module=module,
-        pressure_angle=pressure_angle,
-        profile_shift_1=profile_shift_1,
-        profile_shift_2=profile_shift_2,
-        helix_angle=helix_angle,
-        internal_2=internal_2,
-        face_width=face_width,
-        dedendum_coefficient=dedendum_coefficient,
-        rim_factor=rim_factor,
-        C_M=C_M,
-    )
+    if tip_radius_1 is None and tip_radius_2 is None:
+        path = pair.path
+    else:
+        path = path_of_contact(pair, tip_radius_1=tip_radius_1, tip_radius_2=tip_radius_2)
+    single = single_pair_stiffness(pair, rim_factor=rim_factor, C_M=C_M)
     return single * (0.75 * path.contact_ratio + 0.25)
 
 
@@ -215,15 +159,3 @@ def pair_stiffness_along_path(
     s = np.array([0.0, b, b, d, d, g])
     k = np.array([double, double, single_pair, single_pair, double, double])
     return s, k
-
-
-def _check_inputs(teeth_1: int, teeth_2: int, module: float, face_width: float) -> None:
-    if teeth_1 <= 0 or teeth_2 <= 0:
-        raise InvalidGearTrain(
-            f"tooth counts must be positive (got {teeth_1} and {teeth_2}); mark a ring gear "
-            "with internal_2=True rather than a negative tooth count"
-        )
-    if module <= 0.0:
-        raise InvalidGearTrain(f"the module must be positive, got {module} m")
-    if face_width <= 0.0:
-        raise InvalidGearTrain(f"the face width must be positive, got {face_width} m")

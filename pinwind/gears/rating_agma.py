@@ -19,10 +19,12 @@ Every factor is a field of `AgmaFactors`; None means "compute the default":
   gives Shigley's 1.192 (F √Y / P)^0.0535 estimate);
 - K_m = 1 + C_mc (C_pf C_pm + C_ma C_e) (Shigley eq. 14-30), uncrowned (C_mc 1), straddle
   mounted (C_pm 1), C_e 1, C_ma for ``gearing`` (default ``"precision_enclosed"``);
-- J (per gear) = 1/(Y_F Y_S) with ISO 6336-3 method B's Y_F, Y_S (load at the outer point of
-  single tooth contact, `rating_iso.form_factors`). AGMA 908's own layout (Lewis parabola at the
-  highest point of single tooth contact) is not implemented; for Shigley's 17/52 example this
-  gives J = 0.335 and 0.366 against the chart's 0.30 and 0.40 (`tests/gears/test_rating_agma.py`);
+- J (per gear) by AGMA 908-B89 (``geometry_factor="agma908"``, the default for external
+  pairs; `agma_geometry_factor.agma_geometry_factors`: Lewis parabola tangent to the generated
+  fillet, load at the highest point of single tooth contact, Dolan–Broghamer K_f). AGMA 908 has
+  no J for internal gears, so an internal pair (and ``geometry_factor="iso"``) uses
+  J = 1/(Y_F Y_S) with ISO 6336-3 method B's Y_F, Y_S (load at the outer point of single tooth
+  contact, `rating_iso.form_factors`);
 - I = cos φ_t sin φ_t / (2 m_N) · m_G/(m_G ± 1) (+ external, − internal; m_N = 1 for spur
   gears, p_N/(0.95 Z) for helical), at the working pressure angle (Shigley eqs. 14-23, 14-21);
 - C_p from the two materials (`materials.elastic_coefficient`);
@@ -38,6 +40,7 @@ import math
 from dataclasses import asdict, dataclass, replace
 
 from pinwind.errors import InputError
+from pinwind.gears.agma_geometry_factor import agma_geometry_factors
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.materials import elastic_coefficient
 from pinwind.gears.rating_iso import form_factors
@@ -76,6 +79,8 @@ class AgmaFactors:
         gearing: condition for C_ma: ``open``, ``commercial_enclosed``, ``precision_enclosed``,
             ``extra_precision_enclosed``.
         reliability: for the default K_R (0.5 … 0.9999).
+        geometry_factor: default J: ``"agma908"`` (AGMA 908-B89 for external pairs, ISO's
+            1/(Y_F Y_S) for internal ones) or ``"iso"`` (1/(Y_F Y_S) always).
     """
 
     K_o: float = 1.0
@@ -95,6 +100,7 @@ class AgmaFactors:
     quality: int = 10
     gearing: str = "precision_enclosed"
     reliability: float = 0.99
+    geometry_factor: str = "agma908"
 
 
 @dataclass(frozen=True)
@@ -138,7 +144,9 @@ def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = No
 
     Raises:
         InputError: a non-positive or non-finite force, or an unknown ``gearing``.
+        InvalidGearTrain: gear 1 is internal.
     """
+    pair.require_external_gear_1("the AGMA 2001 rating")
     if not (math.isfinite(load.tangential_force) and load.tangential_force > 0.0):
         raise InputError(
             f"the tangential force must be positive and finite, got {load.tangential_force} N"
@@ -150,7 +158,7 @@ def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = No
     common = tuple(w_t * f.K_o * f.K_v * f.K_s[i] for i in (0, 1))
     bending = tuple(common[i] / (b * m_t) * f.K_m * f.K_B / f.J[i] for i in (0, 1))
     contact = tuple(f.C_p * math.sqrt(c * f.K_m * f.C_f / (d_w1 * b * f.I)) for c in common)
-    materials = (pair.material_1, pair.material_2)
+    materials = pair.materials
     derate = f.K_T * f.K_R
     bending_all = tuple(
         m.agma_bending_allowable * f.Y_N[i] / derate for i, m in enumerate(materials)
@@ -184,24 +192,19 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: AgmaFactors) -> AgmaF
         values["K_m"] = load_distribution_factor(
             pair.face_width, pair.reference_diameter_1, given.gearing
         )
-    if given.J is None:
-        forms = (
-            form_factors(
-                pair.teeth_1, pair.profile_shift_1, pair=pair, tip_diameter=pair.tip_diameter(1)
-            ),
-            form_factors(
-                pair.teeth_2,
-                pair.profile_shift_2,
-                pair=pair,
-                tip_diameter=pair.tip_diameter(2),
-                internal=pair.internal_2,
-            ),
+    if given.geometry_factor not in ("agma908", "iso"):
+        raise InputError(
+            f'unknown geometry_factor "{given.geometry_factor}"; choose "agma908" or "iso"'
         )
+    if given.J is None and given.geometry_factor == "agma908" and not pair.internal_2:
+        values["J"] = agma_geometry_factors(pair)
+    elif given.J is None:
+        forms = (form_factors(pair, gear) for gear in (1, 2))
         values["J"] = tuple(1.0 / (y_f * y_s) for y_f, y_s in forms)
     if given.I is None:
         values["I"] = pitting_geometry_factor(pair)
     if given.C_p is None:
-        values["C_p"] = elastic_coefficient(pair.material_1, pair.material_2)
+        values["C_p"] = elastic_coefficient(*pair.materials)
     if given.K_R is None:
         values["K_R"] = reliability_factor(given.reliability)
     return replace(given, **values)

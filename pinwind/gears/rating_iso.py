@@ -42,7 +42,6 @@ import math
 from dataclasses import asdict, dataclass, fields, replace
 
 from pinwind.errors import InputError
-from pinwind.gears.checks import virtual_teeth
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.involute import involute
 from pinwind.gears.materials import elastic_coefficient
@@ -181,8 +180,9 @@ def iso_rating(pair: GearPair, load: MeshLoad, factors: IsoFactors | None = None
 
     Raises:
         InputError: a non-positive or non-finite force.
-        InvalidGearTrain: the pair has no valid path of contact.
+        InvalidGearTrain: the pair has no valid path of contact, or gear 1 is internal.
     """
+    pair.require_external_gear_1("the ISO 6336 rating")
     f_t = load.tangential_force
     if not (math.isfinite(f_t) and f_t > 0.0):
         raise InputError(f"the tangential force must be positive and finite, got {f_t} N")
@@ -191,7 +191,7 @@ def iso_rating(pair: GearPair, load: MeshLoad, factors: IsoFactors | None = None
     sigma_h0 = f.Z_H * f.Z_E * f.Z_eps * f.Z_beta * math.sqrt(f_t / (d1 * b) * (u + 1.0) / u)
     load_h = math.sqrt(f.K_A * f.K_gamma * f.K_v * f.K_Hbeta * f.K_Halpha)
     sigma_h = (f.Z_B * sigma_h0 * load_h, f.Z_D * sigma_h0 * load_h)
-    materials = (pair.material_1, pair.material_2)
+    materials = pair.materials
     sigma_hg = tuple(
         m.sigma_H_lim * f.Z_NT[i] * f.Z_L[i] * f.Z_v[i] * f.Z_R[i] * f.Z_W[i] * f.Z_X[i]
         for i, m in enumerate(materials)
@@ -240,7 +240,7 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> IsoFac
             / (math.cos(alpha_t) ** 2 * math.sin(alpha_wt))
         ),
     )
-    pick("Z_E", lambda: elastic_coefficient(pair.material_1, pair.material_2))
+    pick("Z_E", lambda: elastic_coefficient(*pair.materials))
     z_eps = pick("Z_eps", lambda: contact_ratio_factor(eps_a, eps_b))
     pick("Z_beta", lambda: 1.0 / math.sqrt(math.cos(beta)))
     m1, m2 = single_pair_ratios(pair)
@@ -271,26 +271,13 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> IsoFac
 
     pick("K_Halpha", lambda: transverse(eps_gamma / (eps_a * z_eps**2)))
     pick("K_Falpha", lambda: transverse(eps_gamma / (eps_a * y_eps)))
-    forms = [
-        form_factors(
-            pair.teeth_1, pair.profile_shift_1, pair=pair, tip_diameter=pair.tip_diameter(1)
-        ),
-        form_factors(
-            pair.teeth_2,
-            pair.profile_shift_2,
-            pair=pair,
-            tip_diameter=pair.tip_diameter(2),
-            internal=pair.internal_2,
-        ),
-    ]
+    forms = [form_factors(pair, gear) for gear in (1, 2)]
     pick("Y_F", lambda: (forms[0][0], forms[1][0]))
     pick("Y_S", lambda: (forms[0][1], forms[1][1]))
     pick("Y_beta", lambda: 1.0 - min(eps_b, 1.0) * min(math.degrees(beta), 30.0) / 120.0)
     pick(
         "Y_X",
-        lambda: tuple(
-            size_factor(pair.module, m.case_hardened) for m in (pair.material_1, pair.material_2)
-        ),
+        lambda: tuple(size_factor(pair.module, m.case_hardened) for m in pair.materials),
     )
     return replace(given, **values)
 
@@ -310,19 +297,18 @@ def single_pair_ratios(pair: GearPair) -> tuple[float, float]:
     contact B (a base pitch inside the end of contact E); M2 the same at the wheel's inner point
     D (a base pitch beyond the start A). This is ISO's
     M1 = tan α_wt / √([√(d_a1²/d_b1² − 1) − 2π/z1][√(d_a2²/d_b2² − 1) − (ε_α − 1) 2π/z2]),
-    written with roll distances so that it holds for an internal wheel (ρ2 = u + T1T2).
+    written with roll distances (`GearPair.flank_radii`) so that it holds for an internal wheel
+    (ρ2 = −(u + T1T2); the signs cancel in the ratio).
     """
     path = pair.path
-    line = pair.geometry.centre_distance * math.sin(path.working_pressure_angle)
 
-    def rho_2(u: float) -> float:
-        return u + line if pair.internal_2 else line - u
+    def curvature_product(u: float) -> float:
+        rho_1, rho_2 = pair.flank_radii(u)
+        return rho_1 * rho_2
 
-    c = path.pitch_roll_1
-    b_point = path.start_roll_1 + path.length - path.base_pitch
-    d_point = path.start_roll_1 + path.base_pitch
-    m1 = math.sqrt(c * rho_2(c) / (b_point * rho_2(b_point)))
-    m2 = math.sqrt(c * rho_2(c) / (d_point * rho_2(d_point)))
+    c = curvature_product(path.pitch_roll_1)
+    m1 = math.sqrt(c / curvature_product(path.start_roll_1 + path.length - path.base_pitch))
+    m2 = math.sqrt(c / curvature_product(path.start_roll_1 + path.base_pitch))
     return m1, m2
 
 
@@ -356,7 +342,7 @@ def face_load_factor(c_gamma_alpha: float, misalignment: float, line_load: float
 def transverse_load_factor(pair, load, given, c_gamma_alpha, k_v, k_hb, eps_gamma, limit):
     """K_Hα or K_Fα by ISO 6336-1 method B with the running-in allowance y_α (ISO 6336-1)."""
     f_pb = given.base_pitch_deviation
-    m1 = pair.material_1
+    m1 = pair.materials[0]
     if m1.case_hardened:
         y_alpha = min(0.075 * f_pb, 3e-6)
     else:
@@ -384,16 +370,8 @@ def size_factor(module: float, case_hardened: bool) -> float:
     return min(1.0, max(0.85, 1.03 - 0.006 * m))
 
 
-def form_factors(
-    teeth: int,
-    profile_shift: float,
-    *,
-    pair: GearPair,
-    tip_diameter: float,
-    internal: bool = False,
-    at_tip: bool = False,
-) -> tuple[float, float]:
-    """(Y_F, Y_S) by ISO 6336-3 method B for a gear cut by the basic-rack tool of ``pair``.
+def form_factors(pair: GearPair, gear: int, *, at_tip: bool = False) -> tuple[float, float]:
+    """(Y_F, Y_S) by ISO 6336-3 method B of gear 1 or 2 of ``pair``, cut by its basic-rack tool.
 
     Load at the outer point of single tooth contact (``at_tip``: at the tip, which gives ISO's
     Y_Fa, Y_Sa of method C); critical section where the 30° tangent touches the root fillet:
@@ -415,10 +393,12 @@ def form_factors(
     No protuberance (s_pr = 0). An internal gear is modelled as a rack (z_n → ∞, see the module
     docstring) whose tip lies the same distance beyond its reference line.
     """
+    teeth, profile_shift, internal = pair.gear(gear)
+    tip_diameter = pair.tip_diameter(gear)
     m_n, alpha_n = pair.module, pair.pressure_angle
     h_fp = pair.dedendum_coefficient * m_n
     rho_fp = pair.root_radius_coefficient * m_n
-    z_n = _RACK_TEETH if internal else virtual_teeth(teeth, pair.helix_angle, alpha_n)
+    z_n = _RACK_TEETH if internal else pair.virtual_teeth(gear)
     d = teeth * pair.transverse_module
     addendum = (d - tip_diameter) / 2.0 if internal else (tip_diameter - d) / 2.0
     e = (
@@ -476,20 +456,7 @@ def form_factors(
 
 def _mesh_stiffness_per_width(pair: GearPair) -> float:
     """c_γα [N/m per m of face width] from `mesh_stiffness` (ISO 6336-1 method B)."""
-    k = mesh_stiffness(
-        pair.teeth_1,
-        pair.teeth_2,
-        module=pair.module,
-        pressure_angle=pair.pressure_angle,
-        profile_shift_1=pair.profile_shift_1,
-        profile_shift_2=pair.profile_shift_2,
-        helix_angle=pair.helix_angle,
-        internal_2=pair.internal_2,
-        face_width=pair.face_width,
-        addendum_coefficient=pair.addendum_coefficient,
-        dedendum_coefficient=pair.dedendum_coefficient,
-    )
-    return k / pair.face_width
+    return mesh_stiffness(pair) / pair.face_width
 
 
 def factor_names() -> list[str]:

@@ -302,8 +302,11 @@ class _Layout:
             good = np.ones(count, dtype=bool)
             sample = np.ndarray((count,), "<u4", data, pos + columns[0][1] + 11, (row,))
             for _, column, _ in columns:
-                framing = np.ndarray((count,), "V11", data, pos + column, (row,))
-                good &= framing == framing[0]
+                # opcode, record length and channel of this column's record in every row (as
+                # integers: numpy compares them far faster than 11-byte void values)
+                for dtype, at in (("u1", 0), ("<u8", 1), ("<u2", 9)):
+                    field = np.ndarray((count,), dtype, data, pos + column + at, (row,))
+                    good &= field == field[0]
                 # the records of a row belong to one sample (message sequence = sample index)
                 good &= np.ndarray((count,), "<u4", data, pos + column + 11, (row,)) == sample
             if not good[0]:

@@ -528,6 +528,7 @@ class McapLogger:
         self._queued = 0
         self._jobs: queue.Queue = queue.Queue()
         self._writer: threading.Thread | None = None
+        self._buffer = np.empty(0, dtype=np.uint8)  # the records of one chunk (_assemble)
 
     # --- RunObserver -----------------------------------------------------------------------
 
@@ -907,7 +908,12 @@ class McapLogger:
         )
         width = RECORD_HEADER.itemsize
         tf_bytes = sum((b - a) * (width + tf.shape[1]) for a, b, tf in tf_runs)
-        data = np.empty(m * layout.size + tf_bytes, dtype=np.uint8)
+        size = m * layout.size + tf_bytes
+        if self._buffer.size < size:
+            self._buffer = np.empty(size, dtype=np.uint8)
+        # One buffer for every chunk: the writer thread compresses a chunk before it assembles
+        # the next, and fresh pages cost a fault per 4 kB (a fifth of the logger's time).
+        data = self._buffer[:size]
         flat = data[: m * layout.size].reshape(m, layout.size)
         flat[:] = layout.template
         row = flat.reshape(-1).view(self._row_dtype)

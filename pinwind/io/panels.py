@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -27,9 +27,10 @@ RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
 RANGE_FLOOR = 0.05
 #: Margin added below and above the data, as a fraction of the span.
 RANGE_MARGIN = 0.08
-#: Height of a plot in the replay [px] and of one legend entry, to keep the legend off the data.
+#: Height of a plot in the replay [px] and of one legend entry, to keep the legend off the data
+#: (an entry measured 23 px in the web viewer at 100 % zoom; 19 px let the top line touch it).
 PLOT_HEIGHT_PX = 300.0
-LEGEND_ENTRY_PX = 19.0
+LEGEND_ENTRY_PX = 23.0
 
 #: Distinct colours (RGB 0-255) for bodies and meshes, readable on light and dark backgrounds
 #: (Tableau 10 without its red and olive, kept for the force arrows, then darker variants).
@@ -144,6 +145,8 @@ class Panel:
         unit: the unit of the values, for axis labels.
         series: the lines.
         reference: magnitude the range floor is relative to, when not the values themselves.
+        drop_zero: series that are zero at every sample are left out (rigid meshes in the
+            compliant deflection panel); ``panels`` applies it unless told to keep them.
     """
 
     key: str
@@ -153,6 +156,7 @@ class Panel:
     series: list[Series]
     reference: float | None = None
     notes: list[str] = field(default_factory=list)
+    drop_zero: bool = False
 
     def y_range(self, legend_room: float = 0.0) -> tuple[float, float]:
         """The axis range of this panel (``y_range`` over its series)."""
@@ -223,19 +227,27 @@ def absolute_speeds(result: Result, joints: dict[str, dict[str, Any]]) -> dict[s
     return out
 
 
-def energy_residual(energy: dict[str, np.ndarray]) -> np.ndarray:
+def energy_residual(
+    energy: dict[str, np.ndarray], start: dict[str, float] | None = None
+) -> np.ndarray:
     """Energy balance residual [J], zero for an exact ledger (dynamics/simulate.py).
 
     Δkinetic + ΔU_spring − (W_applied + W_drivers + W_gravity + W_constraints − dissipated
-    − numerical), the changes from the first sample.
+    − numerical), the changes from the first sample, or from ``start`` (each term's value at the
+    first sample of the run [J], for a block of a longer run).
     """
 
     def term(name: str) -> np.ndarray:
         values = energy.get(name)
         return np.zeros_like(energy["kinetic"]) if values is None else values
 
-    stored = term("kinetic") - term("kinetic")[:1] + term("potential_spring")
-    stored = stored - term("potential_spring")[:1]
+    def first(name: str):
+        if start is not None:
+            return start.get(name, 0.0)
+        return term(name)[:1]
+
+    stored = term("kinetic") - first("kinetic") + term("potential_spring")
+    stored = stored - first("potential_spring")
     supplied = (
         term("work_applied")
         + term("work_drivers")
@@ -253,15 +265,25 @@ def panels(
     *,
     joints: dict[str, dict[str, Any]] | None = None,
     gearbox=None,
+    energy_start: dict[str, float] | None = None,
+    keep_zero: bool = False,
 ) -> list[Panel]:
     """Every panel of a run, in ``GROUPS`` order.
 
+    Given a block of a run (``LogReader.blocks``), every block gives the same panels and series
+    when ``keep_zero`` is set; the values of a sample do not depend on the other samples, except
+    the load shares, whose "loaded" threshold is relative to the block's largest load.
+
     Args:
-        result: the run (``read_log`` or ``simulate``).
+        result: the run (``read_log`` or ``simulate``), or a block of it.
         model: the log's ``pinwind.model`` record (root link, bearings).
         joints: joint name → parent, child and axis (for absolute speeds); default: from the
             ``bearings`` of ``model``, axes along z.
         gearbox: the model, for load sharing (left out when None).
+        energy_start: each energy term at the first sample of the run [J] (the balance residual
+            counts changes from there); default: the first sample of ``result``.
+        keep_zero: keep the series of ``drop_zero`` panels that are zero at every sample of
+            ``result`` (a later block may not be).
     """
     res = result
     root = model.get("root_link", "")
@@ -371,20 +393,16 @@ def panels(
                 per_mesh(res.transmission_error * 1e6),
             )
         )
-        compliant = [i for i in range(len(res.mesh_names)) if np.any(res.mesh_deflection[:, i])]
-        if compliant:
-            out.append(
-                Panel(
-                    "mesh_deflection",
-                    "mesh deflection",
-                    "compliant mesh deflections δ [µm]",
-                    "µm",
-                    [
-                        Series(res.mesh_names[i], res.mesh_deflection[:, i] * 1e6, color(i))
-                        for i in compliant
-                    ],
-                )
+        out.append(
+            Panel(
+                "mesh_deflection",
+                "mesh deflection",
+                "compliant mesh deflections δ [µm]",
+                "µm",
+                per_mesh(res.mesh_deflection * 1e6),
+                drop_zero=True,
             )
+        )
     if res.bearing_names:
         out += [
             Panel(
@@ -439,11 +457,27 @@ def panels(
                 "energy",
                 "energy balance residual Δ(kinetic + spring) − net work [kJ]",
                 "kJ",
-                [Series("residual", energy_residual(res.energy) / 1e3, color(0))],
+                [Series("residual", energy_residual(res.energy, energy_start) / 1e3, color(0))],
                 reference=largest,
             ),
         ]
+    if not keep_zero:
+        out = [without_zero_series(p) for p in out]
+        out = [p for p in out if p.series or not p.drop_zero]
     return out
+
+
+def without_zero_series(panel: Panel, zero: Sequence[bool] | None = None) -> Panel:
+    """The panel without the series that are zero at every sample, if it is a ``drop_zero`` one.
+
+    ``zero`` says per series whether it is all zero (default: from the values).
+    """
+    if not panel.drop_zero:
+        return panel
+    if zero is None:
+        zero = [not np.any(s.values) for s in panel.series]
+    kept = [s for s, z in zip(panel.series, zero, strict=True) if not z]
+    return replace(panel, series=kept)
 
 
 def model_of_log(log) -> tuple[Any, dict[str, dict[str, Any]] | None]:

@@ -16,13 +16,14 @@ and its legend beside the plots, in tabs, with y ranges that do not magnify roun
 
 from __future__ import annotations
 
-import copy
 import math
 import os
+import re
 import socket
 import time
 import uuid
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from urllib.parse import quote
 
@@ -30,15 +31,27 @@ import numpy as np
 
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError, PortInUse, ServeFailed
-from pinwind.io.mcap_log import LogFile, open_log
-from pinwind.io.panels import GROUPS, RAD_PER_S_TO_RPM, Panel, legend_room, log_panels
-from pinwind.io.replay_scene import ARROW_FRACTION, Scene, scene_camera, send_scene, tooth_outline
+from pinwind.io.log_reader import LogFile, LogReader
+from pinwind.io.panels import (
+    GROUPS,
+    RAD_PER_S_TO_RPM,
+    Panel,
+    legend_room,
+    model_of_log,
+    without_zero_series,
+)
+from pinwind.io.panels import panels as run_panels
+from pinwind.io.replay_scene import ARROW_FRACTION, Scene, send_scene, tooth_outline
 
 __all__ = [
     "ARROW_FRACTION",
     "RAD_PER_S_TO_RPM",
     "TIMELINE",
+    "FramePicker",
+    "MinMaxDecimator",
+    "Overview",
     "blueprint",
+    "line_widths",
     "replay",
     "send_log",
     "tooth_outline",
@@ -111,14 +124,29 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
 
 #: Points per plotted series in the overview of a run: about what a plot a screen wide shows.
 MAX_POINTS = 2000
+#: Samples read from the log at a time: the replay holds about one block of samples.
+BLOCK = 5_000
+#: Width of a plotted line [ui points], and the step between the nested widths of lines that lie
+#: on top of each other (each shows as a stripe of its colour on each side of the next).
+LINE_WIDTH = 1.5
+STRIPE_WIDTH = 3.0
+#: Two series of a plot coincide (would hide each other) when their min and max in every time
+#: span differ by at most this fraction of the plot's y range (3 px of a 300 px plot).
+COINCIDENT_FRACTION = 0.01
 
 
 class MinMaxDecimator:
     """The smallest and largest sample of each series in each of ``spans`` equal time spans.
 
-    Fed block by block (``add``); memory is (spans, series). ``points`` gives, per series, the
-    kept samples in time order: at most 2 per span, the min and the max (one when they are the
-    same sample), so the decimated series has the extremes of the full one.
+    Fed block by block (``add``); memory is (spans, series) whatever the number of samples.
+    NaN samples are skipped. ``points`` gives, per series, the kept samples in time order: at
+    most 2 per span, the min and the max (one when they are the same sample), so the decimated
+    series has the extremes of the full one in every span. Of equal extremes the earliest sample
+    is kept.
+
+    Attributes:
+        low, high: (spans, series) min and max of each span (+inf / -inf where no sample).
+        low_at, high_at: (spans, series) their times [s] (NaN where no sample).
     """
 
     def __init__(self, start: float, stop: float, spans: int, series: int):
@@ -138,26 +166,27 @@ class MinMaxDecimator:
         """Samples at ``time`` (n,), increasing, of every series: ``values`` (n, series)."""
         if not len(time):
             return
+        values = np.where(np.isfinite(values), values, np.nan)
         span = self.span_of(time)
         starts = np.flatnonzero(np.r_[True, span[1:] != span[:-1]])
         spans = span[starts]
         index = np.arange(len(time))[:, None]
+        counts = np.diff(np.r_[starts, len(time)])
         for extreme, value, at, better in (
-            (np.minimum, self.low, self.low_at, np.less),
-            (np.maximum, self.high, self.high_at, np.greater),
+            (np.fmin, self.low, self.low_at, np.less),
+            (np.fmax, self.high, self.high_at, np.greater),
         ):
-            best = extreme.reduceat(values, starts, axis=0)
+            best = extreme.reduceat(values, starts, axis=0)  # NaN only where a span has none
             # the first sample of each span that takes the extreme value
-            hit = values == np.repeat(best, np.diff(np.r_[starts, len(time)]), axis=0)
+            hit = values == np.repeat(best, counts, axis=0)
             first = np.minimum.reduceat(np.where(hit, index, len(time)), starts, axis=0)
-            first = np.minimum(first, len(time) - 1)
-            when = time[first]
-            take = better(best, value[spans]) | np.isnan(at[spans])
+            when = time[np.minimum(first, len(time) - 1)]
+            take = better(best, value[spans])  # False for NaN: nothing new in that span
             value[spans] = np.where(take, best, value[spans])
             at[spans] = np.where(take, when, at[spans])
 
     def points(self) -> list[tuple[np.ndarray, np.ndarray]]:
-        """Per series: (times, values) of the kept samples, in time order."""
+        """Per series: (times [s], values) of the kept samples, in time order."""
         out = []
         for s in range(self.low.shape[1]):
             times = np.stack([self.low_at[:, s], self.high_at[:, s]], axis=1)
@@ -170,82 +199,316 @@ class MinMaxDecimator:
             out.append((times, values))
         return out
 
+    def all_zero(self, s: int) -> bool:
+        """Series ``s`` is zero at every (finite) sample seen."""
+        low, high = self.low[:, s], self.high[:, s]
+        seen = np.isfinite(low)
+        return bool(not np.any(low[seen]) and not np.any(high[seen]))
 
-def overview_rows(res: Result, points: int, window: tuple[float, float] | None) -> np.ndarray:
-    """Rows of the 3D frames.
 
-    At most ``points`` posed samples spread over the run, plus every posed sample of ``window``
-    (start, stop) [s].
+class Overview:
+    """What the viewer gets of every plotted series of a run, fed block by block.
+
+    A run of at most ``points`` samples is sent whole; a longer one as its ``MinMaxDecimator``
+    over ``points``/2 spans from ``start`` to ``stop`` [s]. Memory: the decimator plus, while
+    the run is short enough, its first ``points`` samples.
     """
-    posed = np.arange(len(res))
-    if res.body_position.shape[1]:
-        posed = posed[np.isfinite(res.body_position[:, 0, 0])]
-    rows = posed[:: max(1, math.ceil(len(posed) / max(points, 1)))]
-    if len(posed) and rows[-1] != posed[-1]:
-        rows = np.append(rows, posed[-1])
-    if window is not None:
-        inside = posed[(res.time[posed] >= window[0]) & (res.time[posed] <= window[1])]
-        rows = np.union1d(rows, inside)
-    return rows
+
+    def __init__(self, start: float, stop: float, points: int, series: int):
+        self.points = points
+        self.decimator = MinMaxDecimator(start, stop, max(points // 2, 1), series)
+        self._head: list[tuple[np.ndarray, np.ndarray]] | None = []
+        self._count = 0
+
+    def add(self, time: np.ndarray, values: np.ndarray) -> None:
+        """Samples at ``time`` (n,), increasing, of every series: ``values`` (n, series)."""
+        self.decimator.add(time, values)
+        self._count += len(time)
+        if self._head is not None and self._count <= self.points:
+            self._head.append((time.copy(), values.copy()))
+        else:
+            self._head = None
+
+    def series(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Per series: (times [s], values) to send, in time order."""
+        if self._head is None:
+            return self.decimator.points()
+        if not self._head:
+            return [(np.zeros(0), np.zeros(0))] * self.decimator.low.shape[1]
+        time = np.concatenate([t for t, _ in self._head])
+        values = np.concatenate([v for _, v in self._head])
+        return [(time, values[:, s]) for s in range(values.shape[1])]
 
 
-def overview_series(
-    time: np.ndarray, values: np.ndarray, points: int, window: tuple[float, float] | None
-) -> tuple[np.ndarray, np.ndarray]:
-    """(rows, values) of a plotted series.
+class FramePicker:
+    """The samples drawn in 3D: a display rate over the run, full rate in a window.
 
-    Its min and max in each of ``points``/2 time spans (``MinMaxDecimator``), plus every sample of
-    ``window`` (start, stop) [s].
+    Fed block by block (``pick``): the first sample with a pose in each of ``points`` equal
+    time spans from ``start`` to ``stop`` [s], every sample with a pose in ``window``
+    (start, stop) [s], and (``last``) the last sample with a pose. Spans are cut on the log's
+    own time stamps (whole nanoseconds), so that no rounding moves a sample across.
     """
-    if len(time) <= points and window is None:
-        return np.arange(len(time)), values
-    decimator = MinMaxDecimator(float(time[0]), float(time[-1]), max(points // 2, 1), 1)
-    finite = np.isfinite(values)
-    decimator.add(time[finite], values[finite][:, None])
-    kept_times, _ = decimator.points()[0]
-    rows = np.flatnonzero(finite)[np.searchsorted(time[finite], kept_times)]
-    if window is not None:
-        rows = np.union1d(rows, np.flatnonzero((time >= window[0]) & (time <= window[1])))
-    return rows, values[rows]
+
+    def __init__(self, start: float, stop: float, points: int, window: tuple[float, float] | None):
+        self.start_ns = round(start * 1e9)
+        self.length_ns = max(round(stop * 1e9) - self.start_ns, 1)
+        self.points = max(points, 1)
+        self.window = window
+        self._cell = -1
+        self._taken = -math.inf
+        self._last: Result | None = None
+
+    def pick(self, block: Result) -> np.ndarray:
+        """Rows of ``block`` to draw."""
+        posed = np.arange(len(block))
+        if block.body_position.shape[1]:
+            posed = posed[np.isfinite(block.body_position[:, 0, 0])]
+        if not len(posed):
+            return posed
+        stamps = np.rint(block.time[posed] * 1e9).astype(np.int64) - self.start_ns
+        cells = np.clip(stamps * self.points // self.length_ns, 0, self.points - 1)
+        new = cells != np.r_[self._cell, cells[:-1]]
+        rows = posed[new & (cells > self._cell)]
+        self._cell = max(self._cell, int(cells[-1]))
+        if self.window is not None:
+            t = block.time[posed]
+            rows = np.union1d(rows, posed[(t >= self.window[0]) & (t <= self.window[1])])
+        self._last = block.take(posed[-1:])
+        if len(rows):
+            self._taken = float(block.time[rows[-1]])
+        return rows
+
+    def last(self) -> Result | None:
+        """The last sample with a pose, when it was not picked."""
+        if self._last is not None and float(self._last.time[0]) > self._taken:
+            return self._last
+        return None
+
+
+def concatenate(parts: list[Result]) -> Result:
+    """One Result of consecutive parts of a run (the names and metadata of the first)."""
+    first = parts[0]
+    if len(parts) == 1:
+        return first
+    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS}
+    return Result(
+        joint_names=first.joint_names,
+        mesh_names=first.mesh_names,
+        bearing_names=first.bearing_names,
+        body_names=first.body_names,
+        energy={k: np.concatenate([p.energy[k] for p in parts]) for k in first.energy},
+        metadata=dict(first.metadata),
+        status=first.status,
+        **arrays,
+    )
+
+
+def _natural_key(name: str) -> list:
+    """Sort key of names as Rerun orders entity path parts: digit runs by their value."""
+    return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name)]
+
+
+def line_widths(
+    names: list[str], low: np.ndarray, high: np.ndarray, tolerance: float
+) -> list[float]:
+    """Widths [ui points] of a plot's lines so that lines on top of each other stay visible.
+
+    Lines whose min and max (``low``, ``high``: (spans, series), from ``MinMaxDecimator``) differ
+    by at most ``tolerance`` in every span would draw as one: each such group gets nested widths,
+    widest first in Rerun's drawing order (entity names in natural order, later lines on top),
+    so that every one shows as a stripe of its colour. Other lines get ``LINE_WIDTH``.
+    """
+    k = len(names)
+    group = list(range(k))
+
+    def root(i: int) -> int:
+        while group[i] != i:
+            i = group[i]
+        return i
+
+    seen = np.isfinite(low)
+    for i in range(k):
+        for j in range(i + 1, k):
+            if not np.array_equal(seen[:, i], seen[:, j]) or not seen[:, i].any():
+                continue
+            both = seen[:, i]
+            if (
+                np.max(np.abs(low[both, i] - low[both, j])) <= tolerance
+                and np.max(np.abs(high[both, i] - high[both, j])) <= tolerance
+            ):
+                group[root(j)] = root(i)
+    widths = [LINE_WIDTH] * k
+    members: dict[int, list[int]] = {}
+    for i in range(k):
+        members.setdefault(root(i), []).append(i)
+    for together in members.values():
+        together.sort(key=lambda i: _natural_key(names[i]))
+        for rank, i in enumerate(together):
+            widths[i] = LINE_WIDTH + STRIPE_WIDTH * (len(together) - 1 - rank)
+    return widths
 
 
 def _nanoseconds(times: np.ndarray) -> np.ndarray:
-    """Times [s] as whole nanoseconds, the log's own time stamps rint(t · 1e9)."""
+    """Times [s] as whole nanoseconds, the log times rint(t · 1e9)."""
     return np.rint(np.asarray(times) * 1e9).astype("timedelta64[ns]")
 
 
+def _log_file(reader: LogReader, result: Result) -> LogFile:
+    return LogFile(
+        path=reader.path,
+        result=result,
+        metadata=reader.metadata,
+        attachments=reader.attachments,
+        channels=reader.channels,
+        complete=reader.complete,
+        problem=reader.problem,
+    )
+
+
 def send_log(
-    log: LogFile,
+    reader: LogReader,
     recording,
-    panels: list[Panel] | None = None,
     *,
     points: int = MAX_POINTS,
     window: tuple[float, float] | None = None,
-) -> Scene:
-    """Send a log's machine, poses, arrows and plots (``panels``, default all) to a recording.
+    block: int = BLOCK,
+) -> tuple[list[Panel], Scene]:
+    """Stream a log's machine, poses, arrows and plots to a recording, a block at a time.
 
-    The viewer gets an overview a screen can show: at most ``points`` 3D frames, and each plotted
-    series' min and max in ``points``/2 time spans, so no peak is lost; every sample of ``window``
-    (start, stop) [s] is sent besides.
+    The log is read in blocks of ``block`` samples (``LogReader.blocks``); for each, the panels
+    (``panels.panels``) feed an ``Overview`` of every series and a ``FramePicker`` keeps the
+    samples drawn in 3D. Then the viewer gets: each series' min and max in ``points``/2 time
+    spans (the whole series when the run has at most ``points`` samples), at most ``points``
+    + 1 3D frames, and every sample of ``window`` (start, stop) [s] besides. Memory is about
+    one block, the frames and the overview, whatever the length of the log.
+
+    Returns:
+        The panels (their series as sent outside the window, their y ranges those of the whole
+        run) and the scene, for the blueprint.
     """
     import rerun as rr
 
-    res = log.result
-    frames = overview_rows(res, points, window)
-    view = copy.copy(log)
-    view.result = res.take(frames)
-    time_column = rr.TimeColumn(TIMELINE, duration=_nanoseconds(res.time[frames]))
+    span = reader.span or (0.0, 0.0)
+    gearbox, joints = model_of_log(_log_file(reader, None))  # the model text, not the samples
+    model = reader.metadata.get("pinwind.model", {})
+    picker = FramePicker(span[0], span[1], points, window)
+    frames: list[Result] = []
+    layout: list[Panel] = []
+    references: list[float | None] = []
+    overview: Overview | None = None
+    energy_start: dict[str, float] | None = None
+
+    def send_scalars(path: str, times: np.ndarray, values: np.ndarray) -> None:
+        rr.send_columns(
+            path,
+            indexes=[rr.TimeColumn(TIMELINE, duration=_nanoseconds(times))],
+            columns=rr.Scalars.columns(scalars=values),
+            recording=recording,
+        )
+
+    for res in reader.blocks(block):
+        if not len(res):
+            continue
+        if energy_start is None:
+            energy_start = {k: float(v[0]) for k, v in res.energy.items()}
+        block_panels = run_panels(
+            res, model, joints=joints, gearbox=gearbox, energy_start=energy_start, keep_zero=True
+        )
+        if overview is None:
+            layout = [
+                replace(p, series=[replace(s, values=np.zeros(0)) for s in p.series])
+                for p in block_panels
+            ]
+            references = [p.reference for p in block_panels]
+            overview = Overview(span[0], span[1], points, sum(len(p.series) for p in layout))
+        references = [
+            r if p.reference is None else max(p.reference, r if r is not None else -math.inf)
+            for r, p in zip(references, block_panels, strict=True)
+        ]
+        values = np.column_stack([s.values for p in block_panels for s in p.series])
+        overview.add(res.time, values)
+        if window is not None:
+            inside = np.flatnonzero((res.time >= window[0]) & (res.time <= window[1]))
+            if len(inside):
+                k = 0
+                for panel in block_panels:
+                    for s in panel.series:
+                        path = f"plots/{panel.key}/{s.name}"
+                        send_scalars(path, res.time[inside], values[inside, k])
+                        k += 1
+        rows = picker.pick(res)
+        if len(rows):
+            frames.append(res.take(rows))
+        del values, block_panels
+    last = picker.last()
+    if last is not None:
+        frames.append(last)
+
+    sent: list[Panel] = []
+    if overview is not None:
+        kept = overview.series()
+        decimator = overview.decimator
+        k = 0
+        for template, reference in zip(layout, references, strict=True):
+            index = list(range(k, k + len(template.series)))
+            k += len(template.series)
+            panel = replace(
+                template,
+                series=[
+                    replace(s, values=kept[i][1])
+                    for s, i in zip(template.series, index, strict=True)
+                ],
+                reference=reference,
+            )
+            zero = [decimator.all_zero(i) for i in index]
+            keep = [i for i, z in zip(index, zero, strict=True) if not (panel.drop_zero and z)]
+            panel = without_zero_series(panel, zero)
+            if not panel.series:
+                continue
+            low, high = panel.y_range()
+            widths = line_widths(
+                [s.name for s in panel.series],
+                decimator.low[:, keep],
+                decimator.high[:, keep],
+                COINCIDENT_FRACTION * (high - low),
+            )
+            for s, i, width in zip(panel.series, keep, widths, strict=True):
+                path = f"plots/{panel.key}/{s.name}"
+                rr.log(
+                    path,
+                    rr.SeriesLines(names=[s.name], colors=s.color, widths=[width]),
+                    static=True,
+                    recording=recording,
+                )
+                times, values = kept[i]
+                if window is not None:
+                    outside = (times < window[0]) | (times > window[1])
+                    times, values = times[outside], values[outside]
+                send_scalars(path, times, values)
+            sent.append(panel)
+
+    scene = _send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
+    return sent, scene
+
+
+def _send_frames(view: LogFile | None, recording) -> Scene:
+    """The machine, its poses at the frames of ``view.result``, labels, arrows and legend."""
+    import rerun as rr
+
+    rr.log("gearbox", rr.ViewCoordinates.RIGHT_HAND_Y_UP, static=True, recording=recording)
+    if view is None:
+        return Scene(camera_position=np.array([0.0, 0.0, -3.0]), camera_target=np.zeros(3))
+    res = view.result
+    time_column = rr.TimeColumn(TIMELINE, duration=_nanoseconds(res.time))
 
     def send(path: str, columns) -> None:
         rr.send_columns(path, indexes=[time_column], columns=columns, recording=recording)
 
-    rr.log("gearbox", rr.ViewCoordinates.RIGHT_HAND_Y_UP, static=True, recording=recording)
-    for i, link in enumerate(view.result.body_names):
+    for i, link in enumerate(res.body_names):
         send(
             f"gearbox/{link}",
             rr.Transform3D.columns(
-                translation=view.result.body_position[:, i],
-                quaternion=view.result.body_quaternion[:, i],
+                translation=res.body_position[:, i], quaternion=res.body_quaternion[:, i]
             ),
         )
     scene = send_scene(view, recording, send)
@@ -258,20 +521,6 @@ def send_log(
         static=True,
         recording=recording,
     )
-
-    def plot(path: str, label: str, values: np.ndarray, color=None) -> None:
-        rr.log(path, rr.SeriesLines(names=[label], colors=color), static=True, recording=recording)
-        rows, kept = overview_series(res.time, values, points, window)
-        rr.send_columns(
-            path,
-            indexes=[rr.TimeColumn(TIMELINE, duration=_nanoseconds(res.time[rows]))],
-            columns=rr.Scalars.columns(scalars=kept),
-            recording=recording,
-        )
-
-    for panel in panels if panels is not None else log_panels(log):
-        for series in panel.series:
-            plot(f"plots/{panel.key}/{series.name}", series.name, series.values, series.color)
     return scene
 
 
@@ -305,6 +554,7 @@ def replay(
     start: float | None = None,
     stop: float | None = None,
     points: int = MAX_POINTS,
+    block: int = BLOCK,
 ) -> Path | None:
     """Show a log in Rerun: spawn the viewer, or write an .rrd (``save``), or serve the web viewer.
 
@@ -313,13 +563,17 @@ def replay(
     viewer on the data, and the call blocks (the servers live as long as it does) until Ctrl-C
     (unless ``wait`` is false). The viewer gets an overview of at most ``points`` samples per
     series that keeps each series' extremes, and every sample from ``start`` to ``stop`` [s].
+    The log is streamed in blocks of ``block`` samples (``send_log``): memory does not grow
+    with the length of the log. The layout (blueprint) is sent last, once the y ranges of the
+    whole run are known.
 
     Returns:
         The .rrd path when saving, else None.
 
     Raises:
         LogError: the log cannot be read.
-        InputError: both ``save`` and ``serve`` given, or ports without ``serve``.
+        InputError: both ``save`` and ``serve`` given, ports without ``serve``, or a window
+            without samples.
         PortInUse: a port is taken.
     """
     import rerun as rr
@@ -337,46 +591,55 @@ def replay(
             )
         check_port_free(grpc_port, "--grpc-port")
         check_port_free(web_port, "--web-port")
-    log = open_log(path)
-    window = None
-    if start is not None or stop is not None:
-        t = log.result.time
-        lo = t[0] if start is None else start
-        hi = t[-1] if stop is None else stop
-        if not len(t) or not np.any((t >= lo) & (t <= hi)):
-            span = f"t = {t[0]:g} to {t[-1]:g} s" if len(t) else "no sample"
-            raise InputError(
-                f"no sample from t = {float(lo):.1f} to {float(hi):.1f} s; the log spans {span}"
-            )
-        window = (float(lo), float(hi))
-    recording = rr.RecordingStream(application_id="pinwind_replay", recording_id=uuid.uuid4())
-    recording.send_recording_name(Path(path).name)
-    panels = log_panels(log)
-    bp = blueprint(panels, scene_camera(log))
-    if save is not None:
-        out = Path(save)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        recording.save(out, default_blueprint=bp)
-        send_log(log, recording, panels, points=points, window=window)
-        recording.flush()
+    with LogReader(path) as reader:
+        window = _window(reader, start, stop)
+        recording = rr.RecordingStream(application_id="pinwind_replay", recording_id=uuid.uuid4())
+        recording.send_recording_name(Path(path).name)
+        out = None
+        if save is not None:
+            out = Path(save)
+            out.parent.mkdir(parents=True, exist_ok=True)
+            recording.save(out)
+        elif serve:
+            try:
+                url = recording.serve_grpc(grpc_port=grpc_port)
+                rr.serve_web_viewer(web_port=web_port, open_browser=False, connect_to=url)
+            except Exception as err:  # rerun's own error for a port taken meanwhile, ...
+                raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
+        else:
+            recording.spawn()
+        sent, scene = send_log(reader, recording, points=points, window=window, block=block)
+    rr.send_blueprint(blueprint(sent, scene), recording=recording)
+    recording.flush()
+    if out is not None:
         recording.disconnect()
         return out
     if serve:
-        try:
-            url = recording.serve_grpc(grpc_port=grpc_port, default_blueprint=bp)
-            rr.serve_web_viewer(web_port=web_port, open_browser=False, connect_to=url)
-        except Exception as err:  # rerun's own error for a port taken meanwhile, ...
-            raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
-        send_log(log, recording, panels, points=points, window=window)
-        recording.flush()
         announce(f"open {viewer_url(web_port, url)} (Ctrl-C to stop)")
         try:
             while wait:
                 time.sleep(3600)
         except KeyboardInterrupt:
             pass
-        return None
-    recording.spawn(default_blueprint=bp)
-    send_log(log, recording, panels, points=points, window=window)
-    recording.flush()
     return None
+
+
+def _window(
+    reader: LogReader, start: float | None, stop: float | None
+) -> tuple[float, float] | None:
+    """The ``--from``/``--to`` window (start, stop) [s] with open ends closed, or None.
+
+    Raises:
+        InputError: no sample of the log lies in the window.
+    """
+    if start is None and stop is None:
+        return None
+    span = reader.span
+    lo = (span[0] if span else 0.0) if start is None else start
+    hi = (span[1] if span else 0.0) if stop is None else stop
+    if span is None or not len(reader.read(start=lo, stop=hi, channels=[]).time):
+        where = f"t = {span[0]:g} to {span[1]:g} s" if span else "no sample"
+        raise InputError(
+            f"no sample from t = {float(lo):.1f} to {float(hi):.1f} s; the log spans {where}"
+        )
+    return float(lo), float(hi)

@@ -188,6 +188,7 @@ class _Gear:
     profile_shift: float = 0.0
     internal: bool = False
     z: float = 0.0
+    helix_angle: float = 0.0
 
 
 @dataclass
@@ -209,7 +210,7 @@ class _Train:
         """Add a gear, its pitch-cylinder visual and (if given) its mass to its link."""
         self.gears.append(gear)
         link = self.link(gear.link)
-        radius = gear.teeth * gear.module / 2.0
+        radius = gear.teeth * gear.module / (2.0 * math.cos(gear.helix_angle))
         link.visuals.append((gear.z, radius, gear.face_width))
         if props is not None:
             link.parts.append(_part(props, gear.z))
@@ -252,7 +253,7 @@ class _Train:
                     ET.SubElement(el, "dynamics", damping=_num(joint.damping))
         box = ET.SubElement(robot, "gearbox", gravity=_vec(GRAVITY))
         for g in self.gears:
-            ET.SubElement(
+            el = ET.SubElement(
                 box,
                 "gear",
                 name=g.name,
@@ -266,6 +267,8 @@ class _Train:
                 xyz=_vec((0.0, 0.0, g.z)),
                 axis="0 0 1",
             )
+            if g.helix_angle:
+                el.set("helix_angle_deg", _num(math.degrees(g.helix_angle)))
         for name, gear_1, gear_2 in self.meshes:
             ET.SubElement(box, "mesh", name=name, gear1=gear_1, gear2=gear_2)
         for name, joint_1, joint_2, stiffness, damping in self.springs:
@@ -401,13 +404,18 @@ def _add_parallel_stages(
     face_widths: Sequence[float],
     inertias: Mapping[str, MassProperties],
     bores: Mapping[str, float] | None = None,
+    helix_angles: Sequence[float] | None = None,
 ) -> None:
     """Stage k: wheel gear on the driving link, pinion joint ``stage{k}_pinion`` on the housing.
 
     Axial layout: the face of each stage's gears starts one half face width after the previous
     gear's face ends (``previous_face_end`` [m], world z of the last face before stage 1).
+    Helical stages (``helix_angles`` [rad], default spur): the wheel has +β, the pinion −β (an
+    external pair needs opposite hands, docs/model_format.md); the centre distance is then
+    m_n (z_wheel + z_pinion)/(2 cos β).
     """
     bores = bores or {}
+    helix_angles = list(helix_angles) if helix_angles is not None else [0.0] * len(stages)
     link, link_xyz = first_link, np.array([0.0, 0.0, first_link_z])
     face_end = previous_face_end
 
@@ -419,25 +427,94 @@ def _add_parallel_stages(
     for k, (wheel, pinion) in enumerate(stages, start=1):
         wheel = _teeth(f"parallel stage {k} wheel teeth", wheel)
         pinion = _teeth(f"parallel stage {k} pinion teeth", pinion)
-        m, b = modules[k - 1], face_widths[k - 1]
+        m, b, beta = modules[k - 1], face_widths[k - 1], helix_angles[k - 1]
         z = face_end + b  # the face starts b/2 after the previous one ends
         face_end = z + 0.5 * b
         wheel_name, pinion_name = f"stage{k}_wheel", f"stage{k}_pinion"
-        pinion_xyz = link_xyz + np.array([0.0, m * (wheel + pinion) / 2.0, 0.0])
+        centre_distance = m * (wheel + pinion) / (2.0 * math.cos(beta))
+        pinion_xyz = link_xyz + np.array([0.0, centre_distance, 0.0])
         pinion_xyz[2] = z
         train.joints.append(
             _Joint(pinion_name, "continuous", "housing", pinion_name, tuple(pinion_xyz))
         )
         train.gear(
-            _Gear(wheel_name, link, wheel, m, pressure_angle, b, z=z - link_xyz[2]),
-            props(wheel_name, wheel, m, b),
-        )
+            _Gear(wheel_name, link, wheel, m, pressure_angle, b, z=z - link_xyz[2],
+                  helix_angle=beta),
+            props(wheel_name, wheel, m / math.cos(beta), b),
+        )  # fmt: skip
         train.gear(
-            _Gear(pinion_name, pinion_name, pinion, m, pressure_angle, b),
-            props(pinion_name, pinion, m, b),
+            _Gear(pinion_name, pinion_name, pinion, m, pressure_angle, b, helix_angle=-beta),
+            props(pinion_name, pinion, m / math.cos(beta), b),
         )
         train.meshes.append((f"stage{k}", wheel_name, pinion_name))
         link, link_xyz = pinion_name, pinion_xyz
+
+
+def parallel_urdf(
+    *,
+    stages: Sequence[tuple[int, int]],
+    module: float | Sequence[float],
+    pressure_angle: float,
+    face_width: float | Sequence[float],
+    helix_angle: float | Sequence[float] = 0.0,
+    name: str = "parallel",
+    inertias: Mapping[str, MassProperties] | None = None,
+) -> str:
+    """URDF text of a parallel-axis gear train alone (no planetary stage before it).
+
+    Joint ``input`` (continuous, on the housing at the origin) is the low-speed input shaft and
+    carries ``stage1_wheel``; stage k's pinion ``stage{k}_pinion`` drives stage k + 1's wheel,
+    as in the parallel stages of `planetary_urdf` (module docstring), the first wheel's face
+    centred on z = 0. Default mass properties: steel cylinders of pitch diameter × face width.
+
+    Args:
+        stages: (wheel teeth, pinion teeth) per stage, input side first (000's 83/23, 103/26).
+        module: normal module m_n [m], one value or one per stage.
+        pressure_angle: normal pressure angle [rad].
+        face_width: face width [m], one value or one per stage.
+        helix_angle: helix angle β [rad] of each stage's wheel (its pinion gets −β), one value or
+            one per stage; 0 for spur gears.
+        name: robot name.
+        inertias: ``stage{k}_wheel`` / ``stage{k}_pinion`` → (mass [kg], Ixx = Iyy, Izz [kg·m²]).
+
+    Raises:
+        InvalidGearTrain: no stage, non-positive teeth, module or width, or |β| ≥ 45°.
+    """
+    stages = list(stages)
+    if not stages:
+        raise InvalidGearTrain("parallel_urdf needs at least one stage (wheel teeth, pinion teeth)")
+    allowed = [f"stage{k}_{g}" for k in range(1, len(stages) + 1) for g in ("wheel", "pinion")]
+    table = _inertia_table(inertias, allowed)
+    modules = _per_stage("module", module, math.nan, len(stages))
+    widths = _per_stage("face_width", face_width, math.nan, len(stages))
+    if isinstance(helix_angle, (int, float)):
+        betas = [float(helix_angle)] * len(stages)
+    else:
+        betas = [float(b) for b in helix_angle]
+        if len(betas) != len(stages):
+            raise InvalidGearTrain(f"helix_angle has {len(betas)} values for {len(stages)} stages")
+    for beta in betas:
+        if not (math.isfinite(beta) and abs(beta) < math.pi / 4.0):
+            raise InvalidGearTrain(
+                f"helix_angle = {math.degrees(beta):g}°; give |β| < 45° (0 for spur gears)"
+            )
+    train = _Train(name, "pinwind.model.builder.parallel_urdf")
+    train.link("housing")
+    train.joints.append(_Joint("input", "continuous", "housing", "input", (0.0, 0.0, 0.0)))
+    train.link("input")
+    _add_parallel_stages(
+        train,
+        stages=stages,
+        first_link="input",
+        first_link_z=0.0,
+        previous_face_end=-widths[0],
+        pressure_angle=_pressure_angle(pressure_angle),
+        modules=modules,
+        face_widths=widths,
+        inertias=table,
+        helix_angles=betas,
+    )
+    return train.render()
 
 
 # --- planetary stage ----------------------------------------------------------------------------

@@ -29,7 +29,8 @@ from pinwind.errors import (
     UnknownElement,
 )
 from pinwind.gears.contact import PathOfContact, path_of_contact
-from pinwind.gears.involute import pair_geometry, pitch_radius
+from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.involute import pitch_radius
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 
@@ -375,18 +376,9 @@ class Gearbox:
         d_perp = d - (d @ axis_a) * axis_a
         actual = float(np.linalg.norm(d_perp))
         sa, sb = a.spec, b.spec
+        pair = GearPair.from_gears(sa, sb)
         try:
-            geo = pair_geometry(
-                sa.teeth,
-                sb.teeth,
-                module=sa.module,
-                pressure_angle=sa.pressure_angle,
-                profile_shift_1=sa.profile_shift,
-                profile_shift_2=sb.profile_shift,
-                helix_angle=abs(sa.helix_angle),
-                internal_1=sa.internal,
-                internal_2=sb.internal,
-            )
+            geo = pair.geometry
         except ValueError as err:
             raise InvalidGearGeometry(
                 self.path,
@@ -424,7 +416,7 @@ class Gearbox:
         signed_sum = abs(
             (-sb.teeth if sb.internal else sb.teeth) + (-sa.teeth if sa.internal else sa.teeth)
         )
-        path = self._path(where, a, b, compliance is not None)
+        path = self._path(where, pair, compliance is not None)
         return Mesh(
             name=name,
             gear_a=a,
@@ -443,22 +435,10 @@ class Gearbox:
             compliance=compliance,
         )
 
-    def _path(self, where: str, a: Gear, b: Gear, compliant: bool) -> PathOfContact | None:
+    def _path(self, where: str, pair: GearPair, compliant: bool) -> PathOfContact | None:
         """The pair's path of contact; for a rigid mesh a failure only warns (outputs NaN)."""
-        sa, sb = a.spec, b.spec
         try:
-            return path_of_contact(
-                sa.teeth,
-                sb.teeth,
-                module=sa.module,
-                pressure_angle=sa.pressure_angle,
-                profile_shift_1=sa.profile_shift,
-                profile_shift_2=sb.profile_shift,
-                helix_angle=abs(sa.helix_angle),
-                internal_1=sa.internal,
-                internal_2=sb.internal,
-                face_width=min(sa.face_width, sb.face_width),
-            )
+            return path_of_contact(pair)
         except PinwindError as err:
             if compliant:
                 raise InvalidGearGeometry(self.path, where, str(err)) from err

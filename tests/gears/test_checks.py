@@ -14,10 +14,13 @@ from pinwind.gears.checks import (
     raise_for,
     tip_thickness,
     trochoid_clearance,
-    virtual_teeth,
 )
+from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.involute import virtual_teeth
 
 ALPHA = math.radians(20.0)
+#: Face width [m]: no geometry check reads it.
+WIDTH = 0.05
 
 
 def test_virtual_teeth_of_a_helical_gear_by_hand():
@@ -77,29 +80,31 @@ def test_trochoid_interference_by_the_khk_formula_for_a_small_tooth_difference()
         t2 = math.acos((a**2 + ra2**2 - ra1**2) / (2 * a * ra2))
         return t1 * z1 / z2 + inv(ALPHA) - inv(aa2) - t2
 
-    assert trochoid_clearance(48, 120, module=1e-3, pressure_angle=ALPHA) == pytest.approx(
-        margin(48, 120), rel=1e-9
-    )
+    def ring_pair(z1, z2):
+        return GearPair(z1, z2, module=1e-3, pressure_angle=ALPHA, face_width=WIDTH,
+                        internal_2=True)  # fmt: skip
+
+    assert trochoid_clearance(ring_pair(48, 120)) == pytest.approx(margin(48, 120), rel=1e-9)
     assert margin(48, 120) > 0
-    assert trochoid_clearance(60, 66, module=1e-3, pressure_angle=ALPHA) < 0
-    found = check_pair(60, 66, module=1e-3, pressure_angle=ALPHA, internal_2=True)
+    assert trochoid_clearance(ring_pair(60, 66)) < 0
+    found = check_pair(ring_pair(60, 66))
     assert "trochoid_interference" in [f.check for f in found]
 
 
 def test_saleh_preliminary_stage_passes_every_check():
     assert not errors(
         check_planetary(sun=24, planet=48, ring=120, planets=3, module=0.015,
-                        pressure_angle=math.radians(24.5))
+                        pressure_angle=math.radians(24.5), face_width=0.38)
     )  # fmt: skip
 
 
 def test_unequal_spacing_and_colliding_planets_are_errors_with_reasons():
     found = check_planetary(sun=25, planet=48, ring=121, planets=3, module=0.015,
-                            pressure_angle=ALPHA)  # fmt: skip
+                            pressure_angle=ALPHA, face_width=WIDTH)  # fmt: skip
     assert [f.check for f in errors(found)] == ["assembly"]
     assert "(25 + 121)/3" in found[0].message
     crowded = check_planetary(sun=12, planet=48, ring=108, planets=4, module=0.01,
-                              pressure_angle=ALPHA)  # fmt: skip
+                              pressure_angle=ALPHA, face_width=WIDTH)  # fmt: skip
     assert "planet_clearance" in [f.check for f in crowded]
     with pytest.raises(InvalidGearTrain, match="undercut"):
         raise_for(crowded)

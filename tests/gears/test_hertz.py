@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from pinwind.gears.contact import path_of_contact
+from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.hertz import hertz_along_path, hertz_pressure
 from pinwind.gears.materials import MATERIALS
 
@@ -29,10 +30,12 @@ def test_concave_ring_flank_lowers_the_pressure():
 
 def test_pair_carries_half_the_force_in_the_double_zone_and_all_of_it_in_the_single_zone():
     alpha = math.radians(24.5)
-    path = path_of_contact(24, 48, module=0.015, pressure_angle=alpha)
+    pair = GearPair(24, 48, module=0.015, pressure_angle=alpha, face_width=0.38,
+                    material_1=STEEL, material_2=STEEL)  # fmt: skip
+    path = path_of_contact(pair)
     a = 0.015 * 72 / 2
-    h = hertz_along_path(path, 3.4e5, centre_distance=a, face_width=0.38, material_1=STEEL,
-                         material_2=STEEL, points=401)  # fmt: skip
+    np.testing.assert_allclose(pair.geometry.centre_distance, a, rtol=1e-12)
+    h = hertz_along_path(pair, 3.4e5, points=401)
     single = (h.roll > path.single_start + 1e-6) & (h.roll < path.single_end - 1e-6)
     double = (h.roll < path.single_start - 1e-6) | (h.roll > path.single_end + 1e-6)
     np.testing.assert_array_equal(h.pairs[single], 1)

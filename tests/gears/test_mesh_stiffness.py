@@ -9,13 +9,17 @@ import pytest
 
 from pinwind.errors import InputError, InvalidGearTrain
 from pinwind.gears.contact import PathOfContact, pairs_in_contact, path_of_contact
+from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
     mesh_stiffness,
     pair_stiffness_along_path,
     single_pair_stiffness,
 )
+from tests.conftest import dtu_pairs
 
 ALPHA_20 = math.radians(20.0)
+#: Face width [m] of a pair whose stiffness no test here reads.
+WIDTH = 0.05
 # ISO 6336-1 method B, C1…C9 [mm·µm/N], typed again here from the standard's table.
 C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 
@@ -39,15 +43,21 @@ def test_single_stiffness_of_unshifted_17_43_spur_pair():
     # q′ = 0.04723 + 0.15551/17 + 0.25791/43 = 0.04723 + 0.0091476 + 0.0059979 = 0.0623755,
     # c′_th = 16.032 N/(mm·µm); c′ = 16.032 · C_M 0.8 · C_B 0.975 = 12.505 N/(mm·µm)
     # (C_B = 1 + 0.5 (1.2 − 1.25) = 0.975 at 20°). b = 20 mm: 250.10 N/µm = 2.5010e8 N/m.
-    k = single_pair_stiffness(17, 43, module=2e-3, pressure_angle=ALPHA_20, face_width=20e-3)
+    k = single_pair_stiffness(
+        GearPair(17, 43, module=2e-3, pressure_angle=ALPHA_20, face_width=20e-3)
+    )
     np.testing.assert_allclose(k, 0.8 * 0.975 / 0.0623755 * 20 * 1e6, rtol=2e-6)
     np.testing.assert_allclose(k, 2.5010e8, rtol=1e-4)
 
 
 def test_single_stiffness_does_not_depend_on_module():
     # Method B is a stiffness per unit face width that only sees z, x, β and the rack.
-    k_small = single_pair_stiffness(20, 50, module=1e-3, pressure_angle=ALPHA_20, face_width=0.1)
-    k_large = single_pair_stiffness(20, 50, module=25e-3, pressure_angle=ALPHA_20, face_width=0.1)
+    k_small = single_pair_stiffness(
+        GearPair(20, 50, module=1e-3, pressure_angle=ALPHA_20, face_width=0.1)
+    )
+    k_large = single_pair_stiffness(
+        GearPair(20, 50, module=25e-3, pressure_angle=ALPHA_20, face_width=0.1)
+    )
     np.testing.assert_allclose(k_small, k_large, rtol=1e-14)
 
 
@@ -59,13 +69,15 @@ def test_dtu_sun_planet_single_stiffness_by_hand():
     q = iso_flexibility(20, 35, 0.582, 0.419)
     np.testing.assert_allclose(q, 0.0536944, atol=2e-7)
     k = single_pair_stiffness(
-        20,
-        35,
-        module=10e-3,
-        pressure_angle=ALPHA_20,
-        profile_shift_1=0.582,
-        profile_shift_2=0.419,
-        face_width=0.21,
+        GearPair(
+            20,
+            35,
+            module=10e-3,
+            pressure_angle=ALPHA_20,
+            profile_shift_1=0.582,
+            profile_shift_2=0.419,
+            face_width=0.21,
+        )
     )
     np.testing.assert_allclose(k, 0.78 / q * 210 * 1e6, rtol=1e-12)
     np.testing.assert_allclose(k, 3.0506e9, rtol=1e-4)
@@ -81,16 +93,7 @@ def test_dtu_planet_ring_single_stiffness_treats_ring_as_rack():
     # c′ b = 0.78/0.0514513 · 210e6 = 3.1836e9 N/m.
     q = iso_flexibility(35, math.inf, 0.419, -0.840)
     np.testing.assert_allclose(q, 0.0514513, atol=2e-7)
-    k = single_pair_stiffness(
-        35,
-        91,
-        module=10e-3,
-        pressure_angle=ALPHA_20,
-        profile_shift_1=0.419,
-        profile_shift_2=-0.840,
-        internal_2=True,
-        face_width=0.21,
-    )
+    k = single_pair_stiffness(dtu_pairs()[1])
     np.testing.assert_allclose(k, 0.78 / q * 210e6, rtol=1e-12)
     np.testing.assert_allclose(k, 3.1836e9, rtol=1e-4)
 
@@ -100,33 +103,16 @@ def test_dtu_single_pair_stiffness_is_near_003_fem_value():
     # ISO method B gives 3.05e9 (sun/planet) and 3.18e9 (planet/ring), 9-13 % lower. The
     # tolerance is 20 %: C_M = 0.8 is ISO's mean ratio of measured to theoretical stiffness, and
     # the seed's FEM models its own gear bodies and contact.
-    sun_planet = single_pair_stiffness(
-        20,
-        35,
-        module=10e-3,
-        pressure_angle=ALPHA_20,
-        profile_shift_1=0.582,
-        profile_shift_2=0.419,
-        face_width=0.21,
-    )
-    planet_ring = single_pair_stiffness(
-        35,
-        91,
-        module=10e-3,
-        pressure_angle=ALPHA_20,
-        profile_shift_1=0.419,
-        profile_shift_2=-0.840,
-        internal_2=True,
-        face_width=0.21,
-    )
+    sun_planet = single_pair_stiffness(dtu_pairs()[0])
+    planet_ring = single_pair_stiffness(dtu_pairs()[1])
     np.testing.assert_allclose([sun_planet, planet_ring], [3.5e9, 3.5e9], rtol=0.2)
 
 
 def test_internal_gear_equals_external_gear_with_infinitely_many_teeth():
     kwargs = dict(module=4e-3, pressure_angle=ALPHA_20, profile_shift_1=0.3, face_width=50e-3)
-    ring = single_pair_stiffness(24, 80, profile_shift_2=-0.2, internal_2=True, **kwargs)
-    rack_like = single_pair_stiffness(24, 10**12, profile_shift_2=-0.2, **kwargs)
-    external = single_pair_stiffness(24, 80, profile_shift_2=-0.2, **kwargs)
+    ring = single_pair_stiffness(GearPair(24, 80, profile_shift_2=-0.2, internal_2=True, **kwargs))
+    rack_like = single_pair_stiffness(GearPair(24, 10**12, profile_shift_2=-0.2, **kwargs))
+    external = single_pair_stiffness(GearPair(24, 80, profile_shift_2=-0.2, **kwargs))
     np.testing.assert_allclose(ring, rack_like, rtol=1e-9)
     assert abs(ring - external) > 1e-3 * external
 
@@ -140,14 +126,16 @@ def test_helical_single_stiffness_uses_virtual_teeth_and_cos_beta():
     factor = math.cos(beta_b) ** 2 * math.cos(beta)
     q = iso_flexibility(21 / factor, 64 / factor, 0.2, -0.1)
     k = single_pair_stiffness(
-        21,
-        64,
-        module=3e-3,
-        pressure_angle=ALPHA_20,
-        profile_shift_1=0.2,
-        profile_shift_2=-0.1,
-        helix_angle=beta,
-        face_width=30e-3,
+        GearPair(
+            21,
+            64,
+            module=3e-3,
+            pressure_angle=ALPHA_20,
+            profile_shift_1=0.2,
+            profile_shift_2=-0.1,
+            helix_angle=beta,
+            face_width=30e-3,
+        )
     )
     np.testing.assert_allclose(k, 0.78 * math.cos(beta) / q * 30e6, rtol=1e-12)
 
@@ -160,7 +148,14 @@ def test_basic_rack_factor_scales_single_stiffness(dedendum, alpha_deg, c_b):
     # C_B = [1 + 0.5 (1.2 − h_fP/m_n)] [1 − 0.02 (20° − α_n)]: 1.4 → 0.9, α_n 25° → × 1.1.
     alpha = math.radians(alpha_deg)
     k = single_pair_stiffness(
-        30, 60, module=3e-3, pressure_angle=alpha, face_width=10e-3, dedendum_coefficient=dedendum
+        GearPair(
+            30,
+            60,
+            module=3e-3,
+            pressure_angle=alpha,
+            face_width=10e-3,
+            dedendum_coefficient=dedendum,
+        )
     )
     np.testing.assert_allclose(k, 0.8 * c_b / iso_flexibility(30, 60, 0, 0) * 10e6, rtol=1e-12)
 
@@ -177,22 +172,15 @@ def test_mesh_stiffness_is_iso_c_gamma_alpha():
     )
     eps = g / (math.pi * m * math.cos(ALPHA_20))
     kwargs = dict(module=m, pressure_angle=ALPHA_20, face_width=40e-3)
-    single = single_pair_stiffness(20, 40, **kwargs)
+    single = single_pair_stiffness(GearPair(20, 40, **kwargs))
     np.testing.assert_allclose(
-        mesh_stiffness(20, 40, **kwargs), single * (0.75 * eps + 0.25), rtol=1e-12
+        mesh_stiffness(GearPair(20, 40, **kwargs)), single * (0.75 * eps + 0.25), rtol=1e-12
     )
 
 
 def planet_ring_path_and_stiffness() -> tuple[PathOfContact, float]:
-    kwargs = dict(
-        module=10e-3,
-        pressure_angle=ALPHA_20,
-        profile_shift_1=0.419,
-        profile_shift_2=-0.840,
-        internal_2=True,
-    )
-    path = path_of_contact(35, 91, **kwargs)
-    return path, single_pair_stiffness(35, 91, face_width=0.21, **kwargs)
+    pair = dtu_pairs()[1]
+    return path_of_contact(pair), single_pair_stiffness(pair)
 
 
 @pytest.mark.parametrize("mesh", ["textbook", "dtu_planet_ring"])
@@ -200,7 +188,9 @@ def test_mean_mesh_stiffness_equals_iso_c_gamma(mesh):
     # The mean over one base pitch of the summed stiffness is ∫₀^g k(s) ds / p_bt: every point
     # of the path is visited by exactly one pair per pitch.
     if mesh == "textbook":
-        path = path_of_contact(20, 40, module=5e-3, pressure_angle=ALPHA_20)
+        path = path_of_contact(
+            GearPair(20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=WIDTH)
+        )
         single = 1.0e9
     else:
         path, single = planet_ring_path_and_stiffness()
@@ -251,4 +241,6 @@ def test_pair_stiffness_rejects_contact_ratio_above_two():
 
 def test_nonpositive_face_width_is_rejected():
     with pytest.raises(InvalidGearTrain, match="face width"):
-        single_pair_stiffness(20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=0.0)
+        single_pair_stiffness(
+            GearPair(20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=0.0)
+        )

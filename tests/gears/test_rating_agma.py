@@ -89,12 +89,12 @@ def test_default_dynamic_and_load_distribution_factors_match_example_14_4(exampl
     assert shigley_size_factor(1.5 * INCH, INCH / 10, 0.412) == pytest.approx(1.052, abs=5e-4)
 
 
-def test_default_geometry_factor_J_from_iso_form_factors_is_within_12_percent_of_chart(
+def test_iso_geometry_factor_option_J_from_form_factors_is_within_12_percent_of_chart(
     example_14_4,
 ):
     pair, load = example_14_4
-    r = agma_rating(pair, load)
-    # Shigley Fig. 14-6: J = 0.30 (17 teeth) and 0.40 (52 teeth) for this pair; the default
+    r = agma_rating(pair, load, AgmaFactors(geometry_factor="iso"))
+    # Shigley Fig. 14-6: J = 0.30 (17 teeth) and 0.40 (52 teeth) for this pair; the option
     # J = 1/(Y_F Y_S) (ISO 6336-3 method B) is not AGMA 908's layout and differs by up to 12 %.
     assert r.factors.J[0] == pytest.approx(0.30, rel=0.12)
     assert r.factors.J[1] == pytest.approx(0.40, rel=0.12)

@@ -29,7 +29,8 @@ def test_elasticity_factor_of_two_steels_is_189_8_root_mpa():
 
 def test_method_c_form_factors_of_20_teeth_match_iso_chart():
     pair = GearPair(20, 100, module=0.001, pressure_angle=math.radians(20.0), face_width=0.01)
-    y_fa, y_sa = form_factors(20, 0.0, pair=pair, tip_diameter=0.022, at_tip=True)
+    assert pair.tip_diameter(1) == pytest.approx(0.022, rel=1e-12)
+    y_fa, y_sa = form_factors(pair, 1, at_tip=True)
     # ISO 6336-3 (DIN 3990-3) charts for the ISO 53 A rack, x = 0, z = 20: Y_Fa 2.80, Y_Sa 1.55.
     assert y_fa == pytest.approx(2.80, abs=0.01)
     assert y_sa == pytest.approx(1.55, abs=0.01)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -367,10 +368,12 @@ def test_overview_keeps_at_most_2000_points_per_series_and_its_min_and_max(long_
     assert len(columns["/gearbox/sun"]["Transform3D:quaternion"]) >= 1
 
 
-def test_overview_has_the_min_and_max_of_every_time_span(long_log, tmp_path):
+@pytest.mark.parametrize("block", [777, 10_000])
+def test_overview_has_the_min_and_max_of_every_time_span(long_log, tmp_path, block):
     path, res = long_log
     rrd = tmp_path / "coarse.rrd"
-    replay(path, save=rrd, points=20)  # 10 spans of 0.5 s
+    # 10 spans of 0.5 s; blocks of 777 samples (0.777 s) end inside spans, or one block
+    replay(path, save=rrd, points=20, block=block)
     times, values = scalars(rrd_columns(rrd), "/plots/mesh_force/sun_planet1")
     full = res.mesh("sun_planet1").normal / 1e3
     assert len(values) <= 20
@@ -405,3 +408,120 @@ def test_replay_cli_sends_a_window_and_refuses_an_empty_one(long_log, tmp_path):
     empty = run("replay", str(path), "--save", str(rrd), "--from", "7", "--to", "8")
     assert empty.returncode == 2
     assert "no sample from t = 7.0 to 8.0 s; the log spans t = 0 to 5 s" in empty.stderr
+
+
+@pytest.fixture(scope="module")
+def logs_ten_times_apart(planetary, tmp_path_factory):
+    """The planetary stage for 10 s and 100 s at 1 ms (10 001 and 100 001 samples)."""
+    folder = tmp_path_factory.mktemp("lengths")
+    paths = []
+    for duration in (10.0, 100.0):
+        path = folder / f"planetary_{duration:g}s.mcap"
+        pinwind.simulate(
+            planetary, duration=duration, dt=DT, torques=TORQUES, log=path, keep="last"
+        )
+        paths.append(path)
+    return paths
+
+
+def _replay_peak_bytes(path, rrd) -> int:
+    tracemalloc.start()
+    try:
+        replay(path, save=rrd, points=200, block=1000)
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_replay_memory_does_not_grow_with_the_log_length(logs_ten_times_apart, tmp_path):
+    short_log, long_log = logs_ten_times_apart
+    replay(short_log, save=tmp_path / "warm.rrd", points=200)  # imports, caches
+    short = _replay_peak_bytes(short_log, tmp_path / "short.rrd")
+    long = _replay_peak_bytes(long_log, tmp_path / "long.rrd")
+    # Read whole, the long log's 100 001 samples take ~160 MB (~1.6 KB each) and the short
+    # one's 16 MB. Streamed, both take one block of 1000 samples, the reader's read-ahead
+    # (4 chunks), the overview of 200 points per series and 201 frames: ~25 MB either way.
+    assert long < 1.15 * short + 2e6, (short, long)
+    assert long < 60e6, long
+    columns = rrd_columns(tmp_path / "long.rrd")
+    times, _ = scalars(columns, "/plots/mesh_force/sun_planet1")
+    assert len(times) <= 200
+    frames = sum(len(c) for c in columns["/gearbox/sun"]["Transform3D:quaternion"])
+    assert frames == 201  # one pose in each of 200 spans of 0.5 s, and the last one
+
+
+def test_frames_come_at_a_display_rate_and_at_the_pose_rate_in_a_window(long_log, tmp_path):
+    path, res = long_log
+    rrd = tmp_path / "frames.rrd"
+    replay(path, save=rrd, points=50, start=2.0, stop=2.5, block=777)
+    columns = rrd_columns(rrd)
+    frames = np.concatenate(
+        [
+            t.to_numpy().astype("timedelta64[ns]").astype(np.int64)
+            for t in columns["/gearbox/sun"]["time"]
+        ]
+    )
+    posed = np.rint(res.time[np.isfinite(res.body_position[:, 0, 0])] * 1e9).astype(np.int64)
+    assert set(frames) <= set(posed)
+    in_window = posed[(posed >= 2_000_000_000) & (posed <= 2_500_000_000)]
+    np.testing.assert_array_equal(frames[np.isin(frames, in_window)], in_window)
+    # outside the window: the first pose of each of 50 spans of 0.1 s, and the last pose
+    outside = np.sort(frames[~np.isin(frames, in_window)])
+    first = [posed[np.minimum(posed // 100_000_000, 49) == k].min() for k in range(50)]
+    expected = [f for f in first if not 2_000_000_000 <= f <= 2_500_000_000] + [posed[-1]]
+    np.testing.assert_array_equal(outside, expected)
+
+
+def test_lines_on_top_of_each_other_get_nested_widths(replayed, logged_run):
+    from pinwind.io.replay import LINE_WIDTH
+
+    _, columns = replayed
+    res = logged_run.result
+
+    def width(key: str, name: str) -> float:
+        return columns[f"/plots/{key}/{name}"]["SeriesLines:widths"][0].to_pylist()[0][0]
+
+    # In the symmetric stage the three sun meshes carry equal forces (to rounding), and so do
+    # the three ring meshes (the planets' inertia makes the two sets differ while the torque
+    # varies), so each set would draw as one line: each line of a set gets its own width,
+    # widest first in Rerun's drawing order (names in natural order, later lines on top), so
+    # that each shows as a stripe of its own colour.
+    force = res.mesh_normal
+    for first in ("sun_planet1", "planet1_ring"):
+        i = res.mesh_names.index(first)
+        same = [
+            name
+            for j, name in enumerate(res.mesh_names)
+            if np.max(np.abs(force[:, j] - force[:, i])) < 1e-6 * np.max(np.abs(force))
+        ]
+        assert len(same) == 3, same
+        widths = [width("mesh_force", name) for name in sorted(same)]  # no digit runs to compare
+        assert len(set(widths)) == 3, widths
+        assert widths == sorted(widths, reverse=True), widths
+        assert widths[-1] == LINE_WIDTH
+    # The sun turns 6 times as fast as the carrier: lines apart keep the one width.
+    assert width("speed", "sun") == width("speed", "carrier") == LINE_WIDTH
+
+
+def test_line_widths_nest_only_lines_that_coincide():
+    from pinwind.io.replay import LINE_WIDTH, STRIPE_WIDTH, line_widths
+
+    low = np.array([[0.0, 0.0, 5.0, 0.0], [1.0, 1.0, 6.0, 1.0]])
+    high = low + 0.5
+    low[1, 3] += 0.02  # within the tolerance of 0.05
+    names = ["planet10", "planet2", "ring", "planet1"]
+    widths = line_widths(names, low, high, tolerance=0.05)
+    # planet1, planet2, planet10 coincide: in natural order the widest first; ring stands apart
+    assert widths == [
+        LINE_WIDTH,
+        LINE_WIDTH + STRIPE_WIDTH,
+        LINE_WIDTH,
+        LINE_WIDTH + 2 * STRIPE_WIDTH,
+    ]
+    low[1, 3] += 0.1  # now planet1 is apart too
+    assert line_widths(names, low, high, tolerance=0.05) == [
+        LINE_WIDTH,
+        LINE_WIDTH + STRIPE_WIDTH,
+        LINE_WIDTH,
+        LINE_WIDTH,
+    ]

@@ -63,31 +63,16 @@ struct MeshRows {
   }
 };
 
-// Evaluates the rows of every mesh.
+// The geometry (centres, axis, t, r̂, pitch point) and Jacobian rows of every mesh: they depend
+// on the joint angles only.
 //
-// jac, djac: world-frame J and J̇ (6 × nv, [linear; angular]) of Pinocchio.
+// jac: world-frame J (6 × nv, [linear; angular]) of Pinocchio.
 // origin, rot: world placement of the joint of each slot.
 template <class Jac>
-void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac,
-                        const Eigen::VectorXd& v, const std::vector<Vec3>& origin,
-                        const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
-  const Index nv = v.size();
-  const Index slots = static_cast<Index>(mc.joint_ids.size());
-  // Spatial velocity (twist) and acceleration at q̈ = 0 of each gear body, at the world origin.
-  auto& twist = out.twist;
-  auto& accel = out.accel;
-  twist.resize(slots);
-  accel.resize(slots);
-  for (Index s = 0; s < slots; ++s) {
-    twist[s].setZero();
-    accel[s].setZero();
-    for (Index k = 0; k < nv; ++k) {
-      if (mc.support(s, k) != 0.0) {
-        twist[s] += jac.col(k) * v[k];
-        accel[s] += djac.col(k) * v[k];
-      }
-    }
-  }
+void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
+                            const std::vector<Vec3>& origin,
+                            const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
+  const Index nv = jac.cols();
   for (Index m = 0; m < mc.count(); ++m) {
     const long a = mc.slot_a[m], b = mc.slot_b[m];
     const Vec3 ca = origin[a] + rot[a] * mc.centre_a.row(m).transpose();
@@ -96,8 +81,7 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
     const Vec3 d = cb - ca;
     const double dk = d.dot(k);
     const Vec3 p = d - dk * k;  // centre distance vector, perpendicular to the axis
-    const double rho = p.norm();
-    const Vec3 u = p / rho;
+    const Vec3 u = p / p.norm();
     const Vec3 r = mc.sigma[m] * u;
     const Vec3 t = k.cross(r);
     const Vec3 x = ca + mc.mu[m] * p;
@@ -108,7 +92,7 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
     out.centre_a.row(m) = ca.transpose();
     out.centre_b.row(m) = cb.transpose();
 
-    // Rows: n·v_o + (P × n)·ω of B minus that of A.
+    // Row: n·(v_B(P) − v_A(P)) over the joint velocities, split along t and r̂.
     const Vec3 mt = x.cross(t), mr = x.cross(r);
     for (Index c = 0; c < nv; ++c) {
       const double w = mc.support(b, c) - mc.support(a, c);
@@ -122,6 +106,26 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
       out.jac_t(m, c) = t.dot(lin) + mt.dot(ang);
       out.jac_r(m, c) = r.dot(lin) + mr.dot(ang);
     }
+  }
+}
+
+// The bias ċ − J q̈ of every mesh from the spatial velocity (twist) and the acceleration at
+// q̈ = 0 of each slot's body (world axes, at the world origin), with the geometry that
+// evaluate_mesh_geometry left in ``out`` at the same angles.
+inline void evaluate_mesh_bias_from(const MeshConstants& mc, MeshRows& out) {
+  const auto& twist = out.twist;
+  const auto& accel = out.accel;
+  for (Index m = 0; m < mc.count(); ++m) {
+    const long a = mc.slot_a[m], b = mc.slot_b[m];
+    const Vec3 ca = out.centre_a.row(m).transpose(), cb = out.centre_b.row(m).transpose();
+    const Vec3 k = out.axis.row(m).transpose();
+    const Vec3 t = out.tangent.row(m).transpose(), r = out.radial.row(m).transpose();
+    const Vec3 x = out.pitch_point.row(m).transpose();
+    const Vec3 d = cb - ca;
+    const double dk = d.dot(k);
+    const Vec3 p = d - dk * k;
+    const double rho = p.norm();
+    const Vec3 u = p / rho;
 
     // Bias ċ − J q̈ = ṅ·Δv + n·Δa_s(P) + n·((ω_B − ω_A) × Ṗ).
     const Vec3 va = twist[a].head<3>(), wa = twist[a].tail<3>();
@@ -141,6 +145,39 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
     out.bias_t[m] = td.dot(dv) + t.dot(h);
     out.bias_r[m] = rd.dot(dv) + r.dot(h);
   }
+}
+
+// The bias of every mesh at joint speeds v: each slot's twist Σ J_k v_k and acceleration at
+// q̈ = 0, Σ J̇_k v_k, over the velocities that move it; then evaluate_mesh_bias_from.
+//
+// jac, djac: world-frame J and J̇ (6 × nv, [linear; angular]) of Pinocchio.
+template <class Jac>
+void evaluate_mesh_bias(const MeshConstants& mc, const Jac& jac, const Jac& djac,
+                        const Eigen::VectorXd& v, MeshRows& out) {
+  const Index nv = v.size();
+  const Index slots = static_cast<Index>(mc.joint_ids.size());
+  out.twist.resize(slots);
+  out.accel.resize(slots);
+  for (Index s = 0; s < slots; ++s) {
+    out.twist[s].setZero();
+    out.accel[s].setZero();
+    for (Index k = 0; k < nv; ++k) {
+      if (mc.support(s, k) != 0.0) {
+        out.twist[s] += jac.col(k) * v[k];
+        out.accel[s] += djac.col(k) * v[k];
+      }
+    }
+  }
+  evaluate_mesh_bias_from(mc, out);
+}
+
+// Evaluates the rows of every mesh: geometry, Jacobian rows and bias.
+template <class Jac>
+void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac,
+                        const Eigen::VectorXd& v, const std::vector<Vec3>& origin,
+                        const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
+  evaluate_mesh_geometry(mc, jac, origin, rot, out);
+  evaluate_mesh_bias(mc, jac, djac, v, out);
 }
 
 // The one implementation of a mesh's line of action and row for a flank (docs/model_format.md

@@ -163,7 +163,8 @@ class Stepper : private BodyForces {
 
   // Joint-space inertia at q (for checks against Pinocchio's own).
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) {
-    mass(q);
+    pinocchio::computeJointJacobians(s_.model, data_, q);
+    mass_from_jacobian();
     return mass_;
   }
 
@@ -178,22 +179,150 @@ class Stepper : private BodyForces {
 
   StepView view() const { return {q_, v_, s_.dt, data_, s_.meshes, rows_data_, time_, inputs_}; }
 
+  // Joint placements, world Jacobian J and the meshes' geometry and rows: what depends on the
+  // angles only.
   void kinematics() {
-    pinocchio::computeJointJacobiansTimeVariation(s_.model, data_, q_, v_);
+    pinocchio::computeJointJacobians(s_.model, data_, q_);
     for (size_t i = 0; i < s_.meshes.joint_ids.size(); ++i) {
       origin_[i] = data_.oMi[s_.meshes.joint_ids[i]].translation();
       rot_[i] = data_.oMi[s_.meshes.joint_ids[i]].rotation();
     }
-    if (nm_) evaluate_mesh_rows(s_.meshes, data_.J, data_.dJ, v_, origin_, rot_, rows_data_);
+    if (nm_) evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
   }
 
-  void mass(const Eigen::VectorXd& q) {
-    pinocchio::crba(s_.model, data_, q);
-    // CRBA fills the upper triangle only.
-    data_.M.triangularView<Eigen::StrictlyLower>() =
-        data_.M.transpose().triangularView<Eigen::StrictlyLower>();
-    mass_ = data_.M;
+  // What depends on the speeds too, at the final (projected) v: the world spatial velocity of
+  // joint i is that of its parent plus J_i v_i, so the time variation dJ_i = v_i ×(motion) J_i
+  // (what computeJointJacobiansTimeVariation computes) follows from J without another pass over
+  // the joint placements; then the meshes' bias.
+  void velocity_kinematics() {
+    const auto& model = s_.model;
+    const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+    drift_.resize(nj);
+    data_.ov[0].setZero();
+    drift_[0].setZero();
+    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+      const int idx = model.idx_vs[i], n = model.nvs[i];
+      const auto parent = model.parents[i];
+      const pinocchio::Motion::Vector6 twist = data_.J.middleCols(idx, n) * v_.segment(idx, n);
+      data_.ov[i] = data_.ov[parent] + pinocchio::Motion(twist);
+      for (int c = idx; c < idx + n; ++c) {
+        data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
+      }
+      const pinocchio::Motion::Vector6 dj = data_.dJ.middleCols(idx, n) * v_.segment(idx, n);
+      drift_[i] = drift_[parent] + pinocchio::Motion(dj);
+    }
+    if (nm_) {
+      // The twist and the acceleration at q̈ = 0 of each gear's body are those of its joint.
+      const auto& ids = s_.meshes.joint_ids;
+      rows_data_.twist.resize(ids.size());
+      rows_data_.accel.resize(ids.size());
+      for (size_t i = 0; i < ids.size(); ++i) {
+        rows_data_.twist[i] = data_.ov[ids[i]].toVector();
+        rows_data_.accel[i] = drift_[ids[i]].toVector();
+      }
+      evaluate_mesh_bias_from(s_.meshes, rows_data_);
+    }
   }
+
+  // Recursive Newton-Euler in world axes about the world origin (Featherstone, Rigid Body
+  // Dynamics Algorithms, 2008, §5.3; Pinocchio's world-convention passes), from the
+  // J, J̇, joint velocities and world inertias the step has already computed: the bias forces
+  // C(q, v) v + g(q), and per body the force at q̈ = 0 for the bearing reactions after the QP.
+  // Each pass over the joints is a few spatial products; Pinocchio's nonLinearEffects and rnea
+  // would each recompute the joint placements (two sines and cosines per joint).
+  void bias_forces() {
+    const auto& model = s_.model;
+    const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+    bias_accel_.resize(nj);
+    body_force_.resize(nj);
+    subtree_.resize(nj);
+    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+      // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
+      bias_accel_[i] = drift_[i] - model.gravity;
+      body_force_[i] = body_[i] * bias_accel_[i] + body_[i].vxiv(data_.ov[i]);
+      subtree_[i] = body_force_[i];
+    }
+    nle_.resize(nv_);
+    for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
+      const int idx = model.idx_vs[i], n = model.nvs[i];
+      nle_.segment(idx, n).noalias() =
+          data_.J.middleCols(idx, n).transpose() * subtree_[i].toVector();
+      if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
+    }
+  }
+
+  // The force each joint transmits to its subtree at accelerations a_ under the external body
+  // forces fext_ (world, about the origin), in the joint frame about the joint origin as
+  // Pinocchio's rnea leaves it in data.f: the bearing reactions.
+  void joint_forces() {
+    const auto& model = s_.model;
+    const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+    accel_.resize(nj);
+    accel_[0].setZero();
+    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+      const int idx = model.idx_vs[i], n = model.nvs[i];
+      const pinocchio::Motion::Vector6 ja = data_.J.middleCols(idx, n) * a_.segment(idx, n);
+      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(ja);
+      subtree_[i] = body_force_[i] + body_[i] * accel_[i] - fext_[i];
+    }
+    for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
+      if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
+      data_.f[i] = data_.oMi[i].actInv(subtree_[i]);
+    }
+  }
+
+  // Joint-space inertia M(q) from the placements and J of kinematics(), as Pinocchio's CRBA in
+  // world convention computes it (composite inertias Y_i of each subtree in world,
+  // M(i, j) = J_iᵀ Y_j J_j for j in the subtree of i, plus the armature), without CRBA's own
+  // pass over the joint placements.
+  void mass_from_jacobian() {
+    const auto& model = s_.model;
+    const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+    composite_.resize(nj);
+    body_.resize(nj);
+    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+      body_[i] = composite_[i] = data_.oMi[i].act(model.inertias[i]);
+    }
+    mass_.setZero(nv_, nv_);
+    momenta_.resize(6, nv_);
+    for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
+      const int idx = model.idx_vs[i], n = model.nvs[i], sub = data_.nvSubtree[i];
+      for (int c = idx; c < idx + n; ++c) {
+        momenta_.col(c) = (composite_[i] * pinocchio::Motion(data_.J.col(c))).toVector();
+      }
+      mass_.block(idx, idx, n, sub).noalias() =
+          data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+      if (model.parents[i] > 0) composite_[model.parents[i]] += composite_[i];
+    }
+    mass_.diagonal() += model.armature;
+    mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
+  }
+
+  // Generalised gravity g(q) = −Σ_i J_iᵀ W_i (Pinocchio's sign: the torque that holds the
+  // bodies against gravity), with W_i the world gravity wrench about the world origin summed
+  // over joint i's subtree: the world Jacobian J and the placements of the kinematics pass
+  // give it without the pass computeGeneralizedGravity makes.
+  void generalized_gravity() {
+    const auto& model = s_.model;
+    const Vec3 g = model.gravity.linear();
+    const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+    wrench_.resize(nj);
+    wrench_[0].setZero();
+    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+      const auto& body = model.inertias[i];
+      const Vec3 weight = body.mass() * g;
+      wrench_[i].linear() = weight;
+      wrench_[i].angular() = data_.oMi[i].act(body.lever()).cross(weight);
+    }
+    for (pinocchio::JointIndex i = nj - 1; i > 0; --i) wrench_[model.parents[i]] += wrench_[i];
+    gravity_.resize(nv_);
+    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+      const int idx = model.idx_vs[i], n = model.nvs[i];
+      gravity_.segment(idx, n).noalias() =
+          -(data_.J.middleCols(idx, n).transpose() * wrench_[i].toVector());
+    }
+  }
+
 
   // J and γ of the rigid meshes' loaded flanks, then the driver rows.
   void constraint_matrix() {
@@ -271,19 +400,20 @@ class Stepper : private BodyForces {
   // Dynamics at (q, v, t): a, λ and the forces the recorder and the integrator need.
   bool solve(long k, double t, RunStatus& st) {
     kinematics();
-    mass(q_);
+    mass_from_jacobian();
     constraint_matrix();
     residual_ = residual();
     if (residual_ > s_.projection_tol * (1.0 + v_.cwiseAbs().maxCoeff())) {
       // Post-stabilisation: J changed over the last step, or the run starts off the
       // constraint manifold.
       if (!project(k, t, st)) return false;
-      kinematics();
-      constraint_matrix();
       residual_ = residual();
     }
-    gravity_ = pinocchio::computeGeneralizedGravity(s_.model, data_, q_);
-    const Eigen::VectorXd& nle = pinocchio::nonLinearEffects(s_.model, data_, q_, v_);
+    velocity_kinematics();
+    constraint_matrix();
+    generalized_gravity();
+    bias_forces();
+    const Eigen::VectorXd& nle = nle_;
     const StepView sv = view();
     elements_force_.setZero(nv_);
     for (auto& e : elements_) {
@@ -341,12 +471,11 @@ class Stepper : private BodyForces {
     return rows_data_.jac_r.row(m).cwiseAbs().maxCoeff() <= 1e-12 * scale;
   }
 
-  // Adds a force f applied at world point p to joint j's external force (joint frame, origin).
+  // Adds a force f applied at world point p to joint j's external force (world axes, about the
+  // world origin, as joint_forces() takes it).
   void add(long j, const Vec3& p, const Vec3& f) override {
-    const auto& oMi = data_.oMi[j];
-    const Vec3 moment = (p - oMi.translation()).cross(f);
-    fext_[j].linear() += oMi.rotation().transpose() * f;
-    fext_[j].angular() += oMi.rotation().transpose() * moment;
+    fext_[j].linear() += f;
+    fext_[j].angular() += p.cross(f);
   }
 
   // Tooth forces on the gears, and the bearing reactions by RNEA with them applied at the
@@ -365,7 +494,7 @@ class Stepper : private BodyForces {
     }
     const StepView sv = view();
     for (const auto& e : elements_) e->add_body_forces(sv, *this);
-    pinocchio::rnea(s_.model, data_, q_, v_, a_, fext_);
+    joint_forces();
   }
 
   // Forces of the rigid meshes from the loaded flanks' multipliers, with where the teeth are
@@ -424,8 +553,6 @@ class Stepper : private BodyForces {
     double potential = 0.0;
     for (const auto& e : elements_) potential += e->potential(sv);
     out_.potential_spring[k] = potential;
-    if (k == 0) {
-      }
     for (int i = 0; i < 6; ++i) out_.work[i][k] = work_[i];
   }
 
@@ -474,7 +601,12 @@ class Stepper : private BodyForces {
   MeshRows rows_data_;
   std::vector<Vec3> origin_;
   std::vector<Eigen::Matrix3d> rot_;
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_, wrench_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Inertia) composite_, body_;  // world inertias
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) bias_accel_, accel_, drift_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_;
+  Eigen::VectorXd nle_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;
   Eigen::MatrixXd driver_jac_, jac_, mass_, hessian_;
   Eigen::VectorXd bias_, target_now_, target_next_, jv_, mv_;
   Eigen::VectorXd tau_applied_, elements_force_, gravity_, force_explicit_, force_, rhs_;
