@@ -466,6 +466,10 @@ class _RowLayout:
 _TIMES = np.dtype([("sequence", "<u4"), ("log_time", "<u8"), ("publish_time", "<u8")])
 
 
+#: Blocks handed to the log's writer thread and not yet written, at most (the run waits).
+MAX_QUEUED_BLOCKS = 4
+
+
 class McapLogger:
     """Writes a run to one MCAP file while it is simulated (a ``RunObserver``).
 
@@ -526,7 +530,9 @@ class McapLogger:
         self._failed_at = math.nan
         self._lost = False
         self._queued = 0
-        self._jobs: queue.Queue = queue.Queue()
+        # Bounded: when the writer falls behind the steps (zstd costs about a step per
+        # sample), the run waits for it instead of queueing blocks without end.
+        self._jobs: queue.Queue = queue.Queue(maxsize=MAX_QUEUED_BLOCKS)
         self._writer: threading.Thread | None = None
         self._buffer = np.empty(0, dtype=np.uint8)  # the records of one chunk (_assemble)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import time
 import warnings
 
 import numpy as np
@@ -429,3 +430,27 @@ def test_log_folder_that_cannot_be_created_is_one_clear_error(planetary, tmp_pat
     blocker.write_text("a file where the log folder should be")
     with pytest.raises(LogError, match="cannot create the folder .*not_a_folder for the log"):
         pinwind.simulate(planetary, duration=0.01, dt=DT, log=blocker / "run.mcap")
+
+
+def test_a_writer_slower_than_the_steps_holds_the_run_back_instead_of_queueing_blocks(
+    planetary, tmp_path, monkeypatch
+):
+    """Memory must not grow with the run when zstd is slower than the step: the queue of blocks
+    waiting for the writer thread stays bounded, and every sample still reaches the file."""
+    assemble = McapLogger._assemble
+    waiting: list[int] = []
+
+    def slow(self, block, rows, samples):
+        waiting.append(self._jobs.qsize())
+        time.sleep(0.005)  # a chunk takes longer to write than the run takes to step it
+        return assemble(self, block, rows, samples)
+
+    monkeypatch.setattr(McapLogger, "_assemble", slow)
+    path = tmp_path / "slow.mcap"
+    blocks = 60
+    res = pinwind.simulate(
+        planetary, duration=blocks * 10 * DT, dt=DT, torques=TORQUES, log=path, chunk=10
+    )
+    assert len(waiting) == blocks + 1  # the last block holds the final sample alone
+    assert max(waiting) <= mcap_log.MAX_QUEUED_BLOCKS
+    assert_same_arrays(pinwind.read_log(path), res)
