@@ -179,6 +179,17 @@ def parse_loads(
     return torques, speeds, initial_speeds
 
 
+#: Options shared by the sweep commands.
+SweepTable = Annotated[
+    Path, typer.Option("--output", "-o", help="Table to write (.csv or .parquet).")
+]
+SweepWorkers = Annotated[
+    int | None, typer.Option(help="Local worker processes (default: all cores).")
+]
+SweepScheduler = Annotated[
+    str | None, typer.Option(help="Dask scheduler address, e.g. tcp://head:8786.")
+]
+
 #: The time window of commands that read a log: --from T0 --to T1 [s], both inclusive.
 WindowStart = Annotated[
     float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
@@ -830,15 +841,9 @@ def sweep_planetary(
     no_include: Annotated[
         bool, typer.Option("--no-include", help="Do not add the preliminary design.")
     ] = False,
-    output: Annotated[
-        Path, typer.Option("--output", "-o", help="Table to write (.csv or .parquet).")
-    ] = Path("designs.csv"),
-    workers: Annotated[
-        int | None, typer.Option(help="Local worker processes (default: all cores).")
-    ] = None,
-    scheduler: Annotated[
-        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://head:8786.")
-    ] = None,
+    output: SweepTable = Path("designs.csv"),
+    workers: SweepWorkers = None,
+    scheduler: SweepScheduler = None,
     plots: Annotated[
         Path | None, typer.Option(help="Folder for PNG plots like Figs. 14-19 of 000.")
     ] = None,
@@ -956,15 +961,9 @@ def sweep_parallel(
         ),
     ] = None,
     material: Annotated[str, typer.Option(help="Gear material.")] = "18CrNiMo7-6",
-    output: Annotated[
-        Path, typer.Option("--output", "-o", help="Table to write (.csv or .parquet).")
-    ] = Path("parallel_designs.csv"),
-    workers: Annotated[
-        int | None, typer.Option(help="Local worker processes (default: all cores).")
-    ] = None,
-    scheduler: Annotated[
-        str | None, typer.Option(help="Dask scheduler address, e.g. tcp://head:8786.")
-    ] = None,
+    output: SweepTable = Path("parallel_designs.csv"),
+    workers: SweepWorkers = None,
+    scheduler: SweepScheduler = None,
     plots: Annotated[Path | None, typer.Option(help="Folder for PNG plots.")] = None,
 ) -> None:
     """Enumerate, build, simulate and rate every parallel (spur/helical) stage; write a table.
