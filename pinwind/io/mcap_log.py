@@ -760,12 +760,14 @@ class McapLogger:
         if first >= stop:
             return
         samples = np.arange(first, stop, self.stride)
-        self._queued = int(samples[-1]) + 1
         if self.stride == 1:
             rows: slice | np.ndarray = slice(first - start, stop - start)
         else:
             rows = samples - start
+        # Waits while MAX_QUEUED_BLOCKS wait for the writer; counted as queued only once in
+        # the queue, so that a Ctrl-C during the wait leaves these samples to be handed again.
         self._jobs.put((block, rows, samples))
+        self._queued = int(samples[-1]) + 1
 
     def flush(self) -> None:
         """Wait until every queued chunk is in the file."""
