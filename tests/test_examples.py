@@ -25,7 +25,7 @@ def test_saleh_rated_load_reaches_the_rated_sun_mesh_force(tmp_path):
     res = _load("saleh_rated_load").main(["--duration", "0.2", "--figures", str(tmp_path)])
     # --figures logs the run and writes pinwind plot's figures of it.
     assert (tmp_path / "saleh_rated_load.mcap").exists()
-    assert (tmp_path / "03_mesh_forces.png").stat().st_size > 10_000
+    assert (tmp_path / "04_mesh_forces.png").stat().st_size > 10_000
     # Rated rotor torque at constant speed: 1e6/6 N·m on the sun, shared by 3 planets at
     # r_b = 0.18 m · cos 24.5°.
     expected = 1e6 / 6 / (3 * 0.18 * math.cos(math.radians(24.5)))

@@ -1,12 +1,14 @@
 """Static figures of a log for reports: ``pinwind plot LOG -o DIR`` (matplotlib, Agg backend).
 
-One figure per group of ``io/panels.py`` (speeds, torques and power, mesh forces, mesh
-deflection, bearings, load sharing, energy), one subplot per panel, the time in seconds on a
-shared axis. Every figure says in its caption which model and log it comes from and how the run
-was made (dt, loads, status, pinwind version, model hash), so that a figure pasted in a report
-keeps its provenance. The y ranges follow ``panels.y_range`` (no magnified rounding); colours are
-distinct within a subplot and equal to the replay's; legends sit to the right, outside the data;
-identical series are drawn with different dashes and widths so that none hides another.
+One figure per group of ``io/panels.py`` (speeds, torques and power, rotor, mesh forces, force
+components, mesh deflection, bearings, load sharing, energy; a group without panels in the run,
+such as the rotor of a run without one, gets no figure), one subplot per panel, the time in
+seconds on a shared axis. Files are numbered by the group's place in ``GROUPS``. Every figure
+says in its caption which model and log it comes from and how the run was made (dt, loads,
+status, pinwind version, model hash), so that a figure pasted in a report keeps its provenance.
+The y ranges follow ``panels.y_range`` (no magnified rounding); colours are distinct within a
+subplot and equal to the replay's; legends sit to the right, outside the data; identical series
+are drawn with different dashes and widths so that none hides another.
 """
 
 from __future__ import annotations

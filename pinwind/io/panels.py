@@ -27,10 +27,20 @@ RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
 RANGE_FLOOR = 0.05
 #: Margin added below and above the data, as a fraction of the span.
 RANGE_MARGIN = 0.08
-#: Height of a plot in the replay [px] and of one legend entry, to keep the legend off the data
-#: (an entry measured 23 px in the web viewer at 100 % zoom; 19 px let the top line touch it).
+#: Size of a plot in the replay [px] and of its legend, to keep the legend off the data: an entry
+#: measured 23 px high in the web viewer at 100 % zoom (19 px let the top line touch it); its
+#: width is estimated from the longest name (px per character, plus the colour swatch and
+#: padding) and the plot width from the default layout (plots take 2/5 of a 1600 px window).
 PLOT_HEIGHT_PX = 300.0
+PLOT_WIDTH_PX = 600.0
 LEGEND_ENTRY_PX = 23.0
+LEGEND_CHAR_PX = 7.5
+LEGEND_PAD_PX = 40.0
+#: Most of the plot height given to legend room above or below the data; a legend that needs
+#: more in every corner overlaps some data rather than squeezing them flat.
+LEGEND_ROOM_CAP = 0.35
+#: Corners tried for the legend, in order of preference (Rerun's ``Corner2D`` names).
+LEGEND_CORNERS = ("LeftTop", "RightTop", "LeftBottom", "RightBottom")
 
 #: Distinct colours (RGB 0-255) for bodies and meshes, readable on light and dark backgrounds
 #: (Tableau 10 without its red and olive, kept for the force arrows, then darker variants).
@@ -55,16 +65,6 @@ MESH_ARROW_COLOR = (214, 39, 40)
 BEARING_ARROW_COLOR = (188, 189, 34)
 
 
-def legend_room(entries: int, plot_height_px: float = PLOT_HEIGHT_PX) -> float:
-    """Room to leave above the data for a legend in a top corner, as a fraction of the span.
-
-    The legend takes (entries + 0.5) × ``LEGEND_ENTRY_PX`` of a plot ``plot_height_px`` high;
-    the data are kept below it (at most 70 % of the height is given to the legend).
-    """
-    share = min(0.7, (entries + 0.5) * LEGEND_ENTRY_PX / plot_height_px)
-    return share / (1.0 - share)
-
-
 def color(index: int) -> tuple[int, int, int]:
     """The ``index``-th palette colour (cycling past the end)."""
     return PALETTE[index % len(PALETTE)]
@@ -82,22 +82,19 @@ def y_range(
     reference: float | None = None,
     floor: float = RANGE_FLOOR,
     margin: float = RANGE_MARGIN,
-    legend_room: float = 0.0,
 ) -> tuple[float, float]:
     """Y-axis limits that show the data without magnifying rounding.
 
     The span is max − min of the finite values, but at least ``floor`` × the largest |value|
     (or × ``reference`` when given, e.g. the size of the quantities a residual is made of),
     and at least 1e-12 × that and 1e-300 so that all-zero data get the range ±0.5 around zero.
-    The data are centred in a span widened by ``margin`` on each side, plus ``legend_room`` on
-    top.
+    The data are centred in a span widened by ``margin`` on each side.
 
     Args:
         values: one array, or several series.
         reference: magnitude the floor is relative to [same unit as the values].
         floor: smallest span as a fraction of the magnitude.
         margin: margin on each side as a fraction of the span.
-        legend_room: extra room on top as a fraction of the span.
 
     Returns:
         (low, high), low < high.
@@ -122,7 +119,7 @@ def y_range(
         mid = 0.5 * (low + high)
         low, high = mid - 0.5 * least, mid + 0.5 * least
         span = least
-    return low - margin * span, high + (margin + legend_room) * span
+    return low - margin * span, high + margin * span
 
 
 @dataclass(frozen=True)
@@ -158,17 +155,77 @@ class Panel:
     notes: list[str] = field(default_factory=list)
     drop_zero: bool = False
 
-    def y_range(self, legend_room: float = 0.0) -> tuple[float, float]:
+    def y_range(self) -> tuple[float, float]:
         """The axis range of this panel (``y_range`` over its series)."""
-        return y_range(
-            [s.values for s in self.series], reference=self.reference, legend_room=legend_room
-        )
+        return y_range([s.values for s in self.series], reference=self.reference)
+
+
+def legend_layout(
+    panel: Panel,
+    *,
+    plot_height_px: float = PLOT_HEIGHT_PX,
+    plot_width_px: float = PLOT_WIDTH_PX,
+    cap: float = LEGEND_ROOM_CAP,
+) -> tuple[str, tuple[float, float]]:
+    """The corner of a panel's legend and the y range that keeps the data off it.
+
+    The legend is a box (entries + 0.5) × ``LEGEND_ENTRY_PX`` high and as wide as its longest
+    name (``LEGEND_CHAR_PX`` per character + ``LEGEND_PAD_PX``). In each corner it covers the
+    first (left) or last (right) samples of every series over its share of the width, the
+    series' values taken as evenly spaced in time (the whole run, or the min and max of equal
+    time spans as the replay sends them; one more sample is counted for the rounding). The range
+    ``panel.y_range()`` is widened on the legend's side until those samples stay a margin off the
+    box; the corner that needs the least widening is taken (ties in ``LEGEND_CORNERS`` order),
+    and the widening is at most ``cap`` of the plot height (the legend then overlaps some data).
+
+    Args:
+        panel: the plot, its series' values in time order.
+        plot_height_px, plot_width_px: the plot's size [px].
+        cap: largest share of the plot height given to legend room.
+
+    Returns:
+        (corner, (low, high)): a ``LEGEND_CORNERS`` name and the y-axis limits.
+    """
+    low, high = panel.y_range()
+    entries = len(panel.series)
+    height = min((entries + 0.5) * LEGEND_ENTRY_PX / plot_height_px, 0.95)
+    longest = max((len(s.name) for s in panel.series), default=0)
+    width = min((longest * LEGEND_CHAR_PX + LEGEND_PAD_PX) / plot_width_px, 1.0)
+    # The data span inside the margins of y_range: low + m·S = data low, S (1 + 2m) = range.
+    gap = RANGE_MARGIN * (high - low) / (1.0 + 2.0 * RANGE_MARGIN)
+    most = cap / (1.0 - cap) * (high - low)  # widening that takes ``cap`` of the new range
+
+    def covered(right: bool) -> np.ndarray:
+        parts = []
+        for s in panel.series:
+            values = np.asarray(s.values, dtype=float)
+            count = min(len(values), math.ceil(width * len(values)) + 1)
+            part = values[len(values) - count :] if right else values[:count]
+            parts.append(part[np.isfinite(part)])
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    candidates = []
+    for corner in LEGEND_CORNERS:
+        data = covered(corner.startswith("Right"))
+        if corner.endswith("Top"):
+            # The box spans the top ``height`` of (low, top): top − h (top − low) ≥ data max + gap.
+            edge = float(data.max()) + gap if data.size else -math.inf
+            top = max(high, (edge - height * low) / (1.0 - height))
+            widening, limits = top - high, (low, high + min(top - high, most))
+        else:
+            edge = float(data.min()) - gap if data.size else math.inf
+            bottom = min(low, (edge - height * high) / (1.0 - height))
+            widening, limits = low - bottom, (low - min(low - bottom, most), high)
+        candidates.append((widening, corner, limits))
+    _, corner, limits = min(candidates, key=lambda c: c[0])  # the first of equal ones
+    return corner, limits
 
 
 #: Tabs of the replay and figures of ``pinwind plot``, in order.
 GROUPS = (
     "speeds",
     "torques and power",
+    "rotor",
     "mesh forces",
     "force components",
     "mesh deflection",
@@ -351,6 +408,63 @@ def panels(
             per_joint(res.torque * res.speed / 1e3),
         ),
     ]
+
+    def per_element(names: list[str], values: np.ndarray) -> list[Series]:
+        # Generators and rotors sit on joints: the colour of the body they turn.
+        return [
+            Series(name, values[:, i], joint_color(name, joint_index.get(name, i)))
+            for i, name in enumerate(names)
+        ]
+
+    joint_index = {name: i for i, name in enumerate(res.joint_names)}
+    if res.generator_names:
+        out.append(
+            Panel(
+                "generator_torque",
+                "torques and power",
+                "generator torque T_gen on the shaft, > 0 generating [kN·m]",
+                "kN·m",
+                per_element(res.generator_names, res.generator_torque / 1e3),
+            )
+        )
+    if res.rotor_names:
+        out += [
+            Panel(
+                "rotor_torque",
+                "torques and power",
+                "rotor aerodynamic torque on the hub [kN·m]",
+                "kN·m",
+                per_element(res.rotor_names, res.rotor_torque / 1e3),
+            ),
+            Panel(
+                "rotor_power",
+                "torques and power",
+                "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]",
+                "kW",
+                per_element(res.rotor_names, res.rotor_power / 1e3),
+            ),
+            Panel(
+                "rotor_wind_speed",
+                "rotor",
+                "wind speed at the rotor v [m/s]",
+                "m/s",
+                per_element(res.rotor_names, res.rotor_wind_speed),
+            ),
+            Panel(
+                "rotor_tip_speed_ratio",
+                "rotor",
+                "tip-speed ratio λ = ω R / v [-]",
+                "-",
+                per_element(res.rotor_names, res.rotor_tip_speed_ratio),
+            ),
+            Panel(
+                "rotor_power_coefficient",
+                "rotor",
+                "power coefficient C_p(λ, β) [-]",
+                "-",
+                per_element(res.rotor_names, res.rotor_power_coefficient),
+            ),
+        ]
     if res.mesh_names:
         out += [
             Panel(

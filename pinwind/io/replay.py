@@ -7,7 +7,8 @@
   the body labels (``gearbox/labels``), the housing outline and the force arrows
   (``gearbox/mesh_forces``, ``gearbox/bearing_forces``; the legend is ``gearbox/scale``);
 - ``plots/<panel>/<series>``: every panel of ``io/panels.py`` (speeds [rpm], torques [kN·m],
-  power [kW], mesh forces [kN], transmission error [µm], bearing forces [kN] and moments
+  power [kW], generator and rotor torque [kN·m] and power [kW], wind speed [m/s], tip-speed
+  ratio and C_p [-], mesh forces [kN], transmission error [µm], bearing forces [kN] and moments
   [kN·m], load sharing [-], energy [kJ]), each series in its colour.
 
 Everything is on the ``time`` timeline (simulated seconds), laid out by a blueprint: the 3D view
@@ -36,7 +37,7 @@ from pinwind.io.panels import (
     GROUPS,
     RAD_PER_S_TO_RPM,
     Panel,
-    legend_room,
+    legend_layout,
     model_of_log,
     without_zero_series,
 )
@@ -67,19 +68,20 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
     """The layout: the 3D machine and its legend beside the plots, grouped in tabs.
 
     Each tab of ``panels.GROUPS`` holds its panels; each plot's y range follows
-    ``panels.y_range`` (no magnified rounding, room on top for the legend), and hovering shows
+    ``panels.y_range`` (no magnified rounding), its legend sits in the corner where the data
+    leave it the most room (``panels.legend_layout``), and hovering shows
     every series at that time. ``scene`` gives the default camera. Without arguments: the
     speed, mesh-force and bearing-force plots with automatic ranges.
     """
     import rerun.blueprint as rrb
 
     def view(panel: Panel, legend: bool):
-        room = legend_room(len(panel.series)) if legend else 0.0
+        corner, limits = legend_layout(panel) if legend else ("LeftTop", panel.y_range())
         return rrb.TimeSeriesView(
             origin=f"plots/{panel.key}",
             name=panel.title,
-            axis_y=rrb.ScalarAxis(range=panel.y_range(legend_room=room)),
-            plot_legend=rrb.PlotLegend(corner="LeftTop", visible=legend),
+            axis_y=rrb.ScalarAxis(range=limits),
+            plot_legend=rrb.PlotLegend(corner=corner, visible=legend),
             interaction=rrb.PlotInteraction(tooltip_mode="All"),
         )
 

@@ -11,7 +11,11 @@ from rerun.chunk import RrdReader
 
 import pinwind
 from pinwind.dynamics.result import Result
-from tests.conftest import MODELS
+from pinwind.loads.generator import LinearSlip
+from pinwind.loads.rotor import Rotor
+from pinwind.loads.signals import Ramp, Sine
+from pinwind.model.gearbox import loads
+from tests.conftest import MODELS, two_gear_urdf
 
 PLANETARY = MODELS / "saleh2017_planetary.urdf"
 DT = 1e-3
@@ -51,6 +55,33 @@ def logged_run(planetary, tmp_path_factory) -> LoggedRun:
     path = tmp_path_factory.mktemp("logs") / "planetary.mcap"
     result = pinwind.simulate(
         planetary, duration=DURATION, dt=DT, torques=TORQUES, log=path, chunk=CHUNK
+    )
+    return LoggedRun(result, path)
+
+
+#: The rotor run: a 40 m rotor on shaft a, driven from 1.2 to 1.8 rad/s over 0.2 s, in a wind of
+#: 10 ± 2 m/s at 10 Hz; a slip-law generator on b (turning at −½ a).
+ROTOR_RADIUS = 40.0
+ROTOR_SPEED = Ramp(1.2, 1.8, 0.0, 0.2)
+WIND = Sine(10.0, 2.0, 10.0)
+
+
+@pytest.fixture(scope="session")
+def rotor_run(tmp_path_factory) -> LoggedRun:
+    """A two-gear pair with a rotor on a and a generator on b, logged in chunks of 50 samples."""
+    path = tmp_path_factory.mktemp("logs") / "rotor.mcap"
+    pair = loads(two_gear_urdf(), path="pair.urdf")
+    result = pinwind.simulate(
+        pair,
+        duration=0.2,
+        dt=1e-3,
+        speeds={"a": ROTOR_SPEED},
+        rotors={"a": Rotor(radius=ROTOR_RADIUS)},
+        wind=WIND,
+        generators={"b": LinearSlip(slope=50.0, sync_speed=-1.0)},
+        log=path,
+        chunk=50,
+        progress=False,
     )
     return LoggedRun(result, path)
 

@@ -9,15 +9,16 @@ from pinwind.errors import InputError
 from pinwind.io.figures import envelope, plot_log
 from tests.io.test_cli_log import run
 
+#: The planetary run has no rotor: no figure 03_rotor.
 GROUP_FILES = [
     "01_speeds.png",
     "02_torques_and_power.png",
-    "03_mesh_forces.png",
-    "04_force_components.png",
-    "05_mesh_deflection.png",
-    "06_bearings.png",
-    "07_load_sharing.png",
-    "08_energy.png",
+    "04_mesh_forces.png",
+    "05_force_components.png",
+    "06_mesh_deflection.png",
+    "07_bearings.png",
+    "08_load_sharing.png",
+    "09_energy.png",
 ]
 
 
@@ -55,7 +56,7 @@ def test_svg_and_pdf_by_format_and_window(logged_run, tmp_path):
     assert [p.name for p in svg] == ["01_speeds.svg"]
     assert "<svg" in svg[0].read_text()[:2000]
     pdf = plot_log(logged_run.path, tmp_path, format="PDF", groups=["energy"])
-    assert pdf[0].name == "08_energy.pdf"
+    assert pdf[0].name == "09_energy.pdf"
     assert pdf[0].read_bytes()[:5] == b"%PDF-"
 
 
@@ -78,3 +79,10 @@ def test_plot_cli_refuses_an_empty_window_in_one_line(logged_run, tmp_path):
     out = run("plot", str(logged_run.path), "-o", str(tmp_path), "--from", "5")
     assert out.returncode == 2
     assert out.stderr.count("\n") == 1 and "no samples between --from 5" in out.stderr
+
+
+def test_a_run_with_a_rotor_gets_the_rotor_figure(rotor_run, tmp_path):
+    written = plot_log(rotor_run.path, tmp_path, groups=["torques and power", "rotor"])
+    assert [p.name for p in written] == ["02_torques_and_power.png", "03_rotor.png"]
+    for path in written:
+        assert path.stat().st_size > 10_000, path.name

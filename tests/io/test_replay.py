@@ -525,3 +525,34 @@ def test_line_widths_nest_only_lines_that_coincide():
         LINE_WIDTH,
         LINE_WIDTH,
     ]
+
+
+def test_replay_plots_generator_torque_and_rotor_series_of_a_rotor_run(rotor_run, tmp_path):
+    rrd = replay(rotor_run.path, save=tmp_path / "rotor.rrd")
+    columns = rrd_columns(rrd)
+    res = rotor_run.result
+
+    def sent(path):
+        return np.concatenate([c.flatten().to_numpy() for c in columns[path]["Scalars:scalars"]])
+
+    np.testing.assert_allclose(
+        sent("/plots/generator_torque/b"), res.generator("b").torque / 1000.0, rtol=1e-15
+    )
+    np.testing.assert_allclose(sent("/plots/rotor_power/a"), res.rotor("a").power / 1000.0,
+                               rtol=1e-15)  # fmt: skip
+    np.testing.assert_allclose(
+        sent("/plots/rotor_tip_speed_ratio/a"), res.rotor("a").tip_speed_ratio, rtol=1e-15
+    )
+    titles = _blueprint_views(rrd)
+    for title in (
+        "generator torque T_gen on the shaft, > 0 generating [kN·m]",
+        "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]",
+        "wind speed at the rotor v [m/s]",
+        "power coefficient C_p(λ, β) [-]",
+    ):
+        assert titles[title][0] == "TimeSeries", title
+
+
+def test_replay_of_a_run_without_rotor_has_no_rotor_plots(replayed):
+    _, columns = replayed
+    assert not [p for p in columns if p.startswith(("/plots/rotor", "/plots/generator"))]
