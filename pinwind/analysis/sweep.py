@@ -335,7 +335,7 @@ def read_table(path: Path) -> list[dict]:
 
 def read_checkpoint(path: Path) -> list[dict]:
     """Rows of a checkpoint (JSON lines); a torn last line is ignored."""
-    rows = []
+    rows: list[dict] = []
     if not Path(path).exists():
         return rows
     for line in Path(path).read_text(encoding="utf-8").splitlines():
