@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +29,10 @@ from pinwind.gears.hertz import hertz_along_path
 from pinwind.gears.materials import Material
 from pinwind.gears.rating_agma import AgmaFactors, AgmaRating, agma_rating
 from pinwind.gears.rating_iso import IsoFactors, IsoRating, iso_rating
+
+if TYPE_CHECKING:
+    from pinwind.dynamics.result import Result
+    from pinwind.model.gearbox import Gearbox, Mesh
 
 
 @dataclass(frozen=True)
@@ -155,8 +160,8 @@ def rate_pair(
 
 
 def rate(
-    gearbox,
-    result,
+    gearbox: Gearbox,
+    result: Result,
     *,
     at: str = "last",
     materials: Mapping[str, Material | str] | None = None,
@@ -220,7 +225,7 @@ def summarise(ratings: list[MeshRating]) -> dict[str, GearSummary]:
     }
 
 
-def _pitch_line_speed(gearbox, result, mesh, k: int) -> float:
+def _pitch_line_speed(gearbox: Gearbox, result: Result, mesh: Mesh, k: int) -> float:
     """Max over the two gears of r |ω_joint| at sample k [m/s] (module docstring)."""
     speeds = []
     for gear in (mesh.gear_a, mesh.gear_b):

@@ -201,7 +201,7 @@ def run_sweep(
     for row in done:
         previous[design_key(row)] = row
     rows: dict[int, dict] = {}
-    todo = []
+    todo: list[StageDesign] = []
     for d in designs:
         old = previous.get(design_key(d.identity(settings)))
         if old is not None:
@@ -236,7 +236,9 @@ def run_sweep(
     return SweepRun(ordered, len(todo), time.perf_counter() - start, backend)
 
 
-def _run_local(todo, settings, n: int, accept) -> str:
+def _run_local(
+    todo: list[StageDesign], settings: SweepSettings, n: int, accept: Callable[[dict], None]
+) -> str:
     if n <= 1 or len(todo) <= 1:
         for d in todo:
             accept(evaluate(d, settings))
@@ -262,13 +264,18 @@ def _run_local(todo, settings, n: int, accept) -> str:
     return f"processes ({n})"
 
 
-def _run_dask(todo, settings, scheduler, accept) -> str:
+def _run_dask(
+    todo: list[StageDesign],
+    settings: SweepSettings,
+    scheduler: str | object,
+    accept: Callable[[dict], None],
+) -> str:
     try:
         from distributed import Client, as_completed
     except ImportError as err:  # pragma: no cover - distributed is a dependency
         raise InputError("--scheduler needs dask.distributed: pip install distributed") from err
     own = not isinstance(scheduler, Client)
-    client = Client(scheduler) if own else scheduler
+    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
     try:
         futures = client.map(evaluate, todo, settings=settings, pure=False)
         for future in as_completed(futures):
@@ -335,7 +342,7 @@ def read_table(path: Path) -> list[dict]:
 
 def read_checkpoint(path: Path) -> list[dict]:
     """Rows of a checkpoint (JSON lines); a torn last line is ignored."""
-    rows = []
+    rows: list[dict] = []
     if not Path(path).exists():
         return rows
     for line in Path(path).read_text(encoding="utf-8").splitlines():

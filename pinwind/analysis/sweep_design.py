@@ -21,7 +21,10 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
+
+if TYPE_CHECKING:
+    from pinwind.analysis.rating import GearboxRating
 
 #: Columns every row has after its identity columns, before its results.
 STATUS_COLUMNS = ("status", "reason", "findings")
@@ -102,7 +105,7 @@ class StageDesign(ABC):
 
     @staticmethod
     @abstractmethod
-    def rating_columns(rating) -> dict:
+    def rating_columns(rating: GearboxRating) -> dict:
         """The ``RESULTS`` columns from a `pinwind.analysis.rating.GearboxRating`."""
 
     @classmethod

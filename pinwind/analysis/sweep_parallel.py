@@ -24,10 +24,13 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from pinwind.analysis.sweep_design import StageDesign, SweepSettings
 from pinwind.errors import InputError
+
+if TYPE_CHECKING:
+    from pinwind.analysis.rating import GearboxRating
 
 #: Names of the two gears and the mesh in the model of a `ParallelDesign`.
 WHEEL, PINION, MESH = "stage1_wheel", "stage1_pinion", "stage1"
@@ -116,7 +119,7 @@ class ParallelDesign(StageDesign):
         return {"input": torque, PINION: torque / self.ratio}, {"input": settings.input_speed}
 
     @staticmethod
-    def rating_columns(rating) -> dict:
+    def rating_columns(rating: GearboxRating) -> dict:
         """The results of the row (`StageDesign.rating_columns`)."""
         (mesh,) = [m for m in rating.meshes if m.mesh == MESH]
         wheel = mesh.pair.names.index(WHEEL)

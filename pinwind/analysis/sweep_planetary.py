@@ -20,10 +20,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 from pinwind.analysis.sweep_design import StageDesign, SweepSettings, length_key
 from pinwind.errors import InputError
+
+if TYPE_CHECKING:
+    from pinwind.analysis.rating import GearboxRating
 
 #: The preliminary design of 000 (Table 2): (sun, planet, ring, module [m]).
 TABLE_5_INCLUDE = ((24, 48, 120, 0.015),)
@@ -124,7 +127,7 @@ class PlanetaryDesign(StageDesign):
         return torques, {"carrier": settings.input_speed}
 
     @staticmethod
-    def rating_columns(rating) -> dict:
+    def rating_columns(rating: GearboxRating) -> dict:
         """The results of the row (`StageDesign.rating_columns`)."""
         return _rating_columns(rating)
 
@@ -227,13 +230,13 @@ def enumerate_planetary(
     return designs
 
 
-def _rating_columns(rating) -> dict:
+def _rating_columns(rating: GearboxRating) -> dict:
     sp = [m for m in rating.meshes if m.mesh.startswith("sun_planet")]
     pr = [m for m in rating.meshes if m.mesh.endswith("_ring")]
     gears = rating.gears
     planets = [g for name, g in gears.items() if name.startswith("planet")]
 
-    def low(items):
+    def low(items: Iterable[float]) -> float:
         return float(min(items))
 
     out = {

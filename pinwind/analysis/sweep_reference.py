@@ -59,7 +59,7 @@ def comparison(rows: list[dict]) -> list[dict]:
     planet/ring, smallest bending) with relative differences (ours/paper − 1).
     """
     ours = {int(r["number"]): r for r in rows}
-    out = []
+    out: list[dict[str, object]] = []
     for n, a, m, sun, planet, ring, _i, c25, c51, b_root, b_flank in TABLE_5:
         row = ours.get(n)
         if row is None or (int(row["sun"]), int(row["planet"]), int(row["ring"])) != (
@@ -69,21 +69,25 @@ def comparison(rows: list[dict]) -> list[dict]:
         ):
             out.append({"number": n, "missing": True})
             continue
-        entry = {
-            "number": n,
-            "design": f"{a}/{m}/{sun}/{planet}/{ring}",
-            "paper_SF_C25": c25,
-            "paper_SF_C51": c51,
-            "paper_SF_B_root": b_root,
-            "paper_SF_B_flank": b_flank,
-            "SF_C25": float(row["agma_SF_contact_sun_planet"]),
-            "SF_C51": float(row["agma_SF_contact_planet_ring"]),
-            "SF_B": float(row["agma_SF_bending_min"]),
-            "missing": False,
-        }
-        entry["diff_C25"] = entry["SF_C25"] / c25 - 1.0
-        entry["diff_C51"] = entry["SF_C51"] / c51 - 1.0
-        entry["diff_B_root"] = entry["SF_B"] / b_root - 1.0
-        entry["diff_C25_vs_flank"] = entry["SF_C25"] / b_flank - 1.0
-        out.append(entry)
+        sf_c25 = float(row["agma_SF_contact_sun_planet"])
+        sf_c51 = float(row["agma_SF_contact_planet_ring"])
+        sf_b = float(row["agma_SF_bending_min"])
+        out.append(
+            {
+                "number": n,
+                "design": f"{a}/{m}/{sun}/{planet}/{ring}",
+                "paper_SF_C25": c25,
+                "paper_SF_C51": c51,
+                "paper_SF_B_root": b_root,
+                "paper_SF_B_flank": b_flank,
+                "SF_C25": sf_c25,
+                "SF_C51": sf_c51,
+                "SF_B": sf_b,
+                "missing": False,
+                "diff_C25": sf_c25 / c25 - 1.0,
+                "diff_C51": sf_c51 / c51 - 1.0,
+                "diff_B_root": sf_b / b_root - 1.0,
+                "diff_C25_vs_flank": sf_c25 / b_flank - 1.0,
+            }
+        )
     return out

@@ -38,8 +38,8 @@ from pinwind.gears.mesh_stiffness import (
     pair_stiffness_along_path,
     single_pair_stiffness,
 )
-from pinwind.gears.rating_agma import AgmaFactors, AgmaRating, agma_rating
-from pinwind.gears.rating_iso import IsoFactors, IsoRating, iso_rating
+from pinwind.gears.rating_agma import AgmaFactors, AgmaRating, ResolvedAgmaFactors, agma_rating
+from pinwind.gears.rating_iso import IsoFactors, IsoRating, ResolvedIsoFactors, iso_rating
 
 __all__ = [
     "MATERIALS",
@@ -56,6 +56,8 @@ __all__ = [
     "MeshLoad",
     "PairGeometry",
     "PathOfContact",
+    "ResolvedAgmaFactors",
+    "ResolvedIsoFactors",
     "TipInsideBaseCircle",
     "agma_rating",
     "base_helix_angle",

@@ -37,7 +37,9 @@ W_t is the tangential load at the operating pitch circle: F_t d_1/d_w1.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from typing import TypeVar
 
 from pinwind.errors import InputError
 from pinwind.gears.agma_geometry_factor import agma_geometry_factors
@@ -46,6 +48,7 @@ from pinwind.gears.materials import elastic_coefficient
 from pinwind.gears.rating_iso import form_factors
 
 Pair = tuple[float, float]
+_T = TypeVar("_T")
 
 #: C_ma = A + B F + C F² (F in inches) by gearing condition (Shigley Table 14-9).
 MESH_ALIGNMENT = {
@@ -103,6 +106,34 @@ class AgmaFactors:
     geometry_factor: str = "agma908"
 
 
+@dataclass(frozen=True, kw_only=True)
+class ResolvedAgmaFactors:
+    """The factors an AGMA 2001 rating used: `AgmaFactors` with every default computed.
+
+    The same fields, in the same order and with the same meaning, as `AgmaFactors`; none is
+    None. `resolve_factors` makes one; `agma_rating` also accepts one and then uses it as is.
+    """
+
+    K_o: float
+    K_v: float
+    K_s: Pair
+    K_m: float
+    K_B: float
+    J: Pair
+    I: float  # noqa: E741 (AGMA's name)
+    C_p: float
+    C_f: float
+    Y_N: Pair
+    Z_N: Pair
+    C_H: Pair
+    K_T: float
+    K_R: float
+    quality: int
+    gearing: str
+    reliability: float
+    geometry_factor: str
+
+
 @dataclass(frozen=True)
 class AgmaRating:
     """AGMA 2001 stresses and safety factors of one mesh at one load (SI units).
@@ -118,7 +149,7 @@ class AgmaRating:
         S_H: contact safety factors σ_c,all/σ_c (eq. 37, inverted likewise).
     """
 
-    factors: AgmaFactors
+    factors: ResolvedAgmaFactors
     transmitted_load: float
     bending_stress: Pair
     bending_allowable: Pair
@@ -139,8 +170,13 @@ class AgmaRating:
         return out
 
 
-def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = None) -> AgmaRating:
+def agma_rating(
+    pair: GearPair, load: MeshLoad, factors: AgmaFactors | ResolvedAgmaFactors | None = None
+) -> AgmaRating:
     """Rate a pair at one load by AGMA 2001 (000_3b7c4a8fe52a6eee.txt eqs. 32-37).
+
+    ``factors``: overrides, every None field computed (module docstring); a
+    `ResolvedAgmaFactors` (``AgmaRating.factors`` of an earlier rating) is used as is.
 
     Raises:
         InputError: a non-positive or non-finite force, or an unknown ``gearing``.
@@ -151,20 +187,21 @@ def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = No
         raise InputError(
             f"the tangential force must be positive and finite, got {load.tangential_force} N"
         )
-    f = resolve_factors(pair, load, factors or AgmaFactors())
+    if isinstance(factors, ResolvedAgmaFactors):
+        f = factors
+    else:
+        f = resolve_factors(pair, load, factors or AgmaFactors())
     d_w1 = 2.0 * pair.geometry.working_radius_1
     w_t = load.tangential_force * pair.reference_diameter_1 / d_w1
     b, m_t = pair.face_width, pair.transverse_module
-    common = tuple(w_t * f.K_o * f.K_v * f.K_s[i] for i in (0, 1))
-    bending = tuple(common[i] / (b * m_t) * f.K_m * f.K_B / f.J[i] for i in (0, 1))
-    contact = tuple(f.C_p * math.sqrt(c * f.K_m * f.C_f / (d_w1 * b * f.I)) for c in common)
+    common = _per_gear(lambda i: w_t * f.K_o * f.K_v * f.K_s[i])
+    bending = _per_gear(lambda i: common[i] / (b * m_t) * f.K_m * f.K_B / f.J[i])
+    contact = _per_gear(lambda i: f.C_p * math.sqrt(common[i] * f.K_m * f.C_f / (d_w1 * b * f.I)))
     materials = pair.materials
     derate = f.K_T * f.K_R
-    bending_all = tuple(
-        m.agma_bending_allowable * f.Y_N[i] / derate for i, m in enumerate(materials)
-    )
-    contact_all = tuple(
-        m.agma_contact_allowable * f.Z_N[i] * f.C_H[i] / derate for i, m in enumerate(materials)
+    bending_all = _per_gear(lambda i: materials[i].agma_bending_allowable * f.Y_N[i] / derate)
+    contact_all = _per_gear(
+        lambda i: materials[i].agma_contact_allowable * f.Z_N[i] * f.C_H[i] / derate
     )
     return AgmaRating(
         factors=f,
@@ -173,41 +210,69 @@ def agma_rating(pair: GearPair, load: MeshLoad, factors: AgmaFactors | None = No
         bending_allowable=bending_all,
         contact_stress=contact,
         contact_allowable=contact_all,
-        S_F=tuple(a / s for a, s in zip(bending_all, bending, strict=True)),
-        S_H=tuple(a / s for a, s in zip(contact_all, contact, strict=True)),
+        S_F=_per_gear(lambda i: bending_all[i] / bending[i]),
+        S_H=_per_gear(lambda i: contact_all[i] / contact[i]),
     )
 
 
-def resolve_factors(pair: GearPair, load: MeshLoad, given: AgmaFactors) -> AgmaFactors:
-    """Every factor of ``given`` with its None fields computed for this pair and load."""
+def resolve_factors(pair: GearPair, load: MeshLoad, given: AgmaFactors) -> ResolvedAgmaFactors:
+    """Every factor of ``given``, its None fields computed for this pair and load."""
     if given.gearing not in MESH_ALIGNMENT:
         raise InputError(
             f'unknown gearing condition "{given.gearing}"; choose one of '
             f"{', '.join(MESH_ALIGNMENT)}"
         )
-    values: dict = {}
-    if given.K_v is None:
-        values["K_v"] = dynamic_factor(load.pitch_line_speed, given.quality)
-    if given.K_m is None:
-        values["K_m"] = load_distribution_factor(
-            pair.face_width, pair.reference_diameter_1, given.gearing
-        )
+    k_v = _given_or(given.K_v, lambda: dynamic_factor(load.pitch_line_speed, given.quality))
+    k_m = _given_or(
+        given.K_m,
+        lambda: load_distribution_factor(pair.face_width, pair.reference_diameter_1, given.gearing),
+    )
     if given.geometry_factor not in ("agma908", "iso"):
         raise InputError(
             f'unknown geometry_factor "{given.geometry_factor}"; choose "agma908" or "iso"'
         )
-    if given.J is None and given.geometry_factor == "agma908" and not pair.internal_2:
-        values["J"] = agma_geometry_factors(pair)
-    elif given.J is None:
-        forms = (form_factors(pair, gear) for gear in (1, 2))
-        values["J"] = tuple(1.0 / (y_f * y_s) for y_f, y_s in forms)
-    if given.I is None:
-        values["I"] = pitting_geometry_factor(pair)
-    if given.C_p is None:
-        values["C_p"] = elastic_coefficient(*pair.materials)
-    if given.K_R is None:
-        values["K_R"] = reliability_factor(given.reliability)
-    return replace(given, **values)
+    j = _given_or(given.J, lambda: _bending_geometry_factors(pair, given.geometry_factor))
+    i_factor = _given_or(given.I, lambda: pitting_geometry_factor(pair))
+    c_p = _given_or(given.C_p, lambda: elastic_coefficient(*pair.materials))
+    k_r = _given_or(given.K_R, lambda: reliability_factor(given.reliability))
+    return ResolvedAgmaFactors(
+        K_o=given.K_o,
+        K_v=k_v,
+        K_s=given.K_s,
+        K_m=k_m,
+        K_B=given.K_B,
+        J=j,
+        I=i_factor,
+        C_p=c_p,
+        C_f=given.C_f,
+        Y_N=given.Y_N,
+        Z_N=given.Z_N,
+        C_H=given.C_H,
+        K_T=given.K_T,
+        K_R=k_r,
+        quality=given.quality,
+        gearing=given.gearing,
+        reliability=given.reliability,
+        geometry_factor=given.geometry_factor,
+    )
+
+
+def _bending_geometry_factors(pair: GearPair, method: str) -> Pair:
+    """Default (J_pinion, J_wheel): AGMA 908 for an external pair, else 1/(Y_F Y_S) (ISO)."""
+    if method == "agma908" and not pair.internal_2:
+        return agma_geometry_factors(pair)
+    forms = [form_factors(pair, gear) for gear in (1, 2)]
+    return _per_gear(lambda i: 1.0 / (forms[i][0] * forms[i][1]))
+
+
+def _given_or(value: _T | None, compute: Callable[[], _T]) -> _T:
+    """``value`` if the user gave it, else ``compute()`` (called only then)."""
+    return compute() if value is None else value
+
+
+def _per_gear(value: Callable[[int], float]) -> Pair:
+    """(value(0), value(1)): a per-gear quantity of pinion and wheel."""
+    return value(0), value(1)
 
 
 def dynamic_factor(speed: float, quality: int) -> float:

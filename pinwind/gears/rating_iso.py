@@ -39,7 +39,9 @@ Defaults that are choices, not standard results (override them with real data):
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields, replace
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, fields
+from typing import TypeVar
 
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair, MeshLoad
@@ -64,6 +66,7 @@ _K1 = {
 _RACK_TEETH = 1.0e4
 
 Pair = tuple[float, float]
+_T = TypeVar("_T")
 
 
 @dataclass(frozen=True)
@@ -129,12 +132,57 @@ class IsoFactors:
     base_pitch_deviation: float | None = None
 
 
+@dataclass(frozen=True, kw_only=True)
+class ResolvedIsoFactors:
+    """The factors an ISO 6336 rating used: `IsoFactors` with every default computed.
+
+    The same fields, in the same order and with the same meaning, as `IsoFactors`; none of
+    the factors is None (``base_pitch_deviation`` is an input, not a factor, and stays as
+    given). `resolve_factors` makes one; `iso_rating` also accepts one and then uses it as is.
+    """
+
+    K_A: float
+    K_gamma: float
+    K_v: float
+    K_Hbeta: float
+    K_Fbeta: float
+    K_Halpha: float
+    K_Falpha: float
+    Z_H: float
+    Z_E: float
+    Z_eps: float
+    Z_beta: float
+    Z_B: float
+    Z_D: float
+    Z_NT: Pair
+    Z_L: Pair
+    Z_v: Pair
+    Z_R: Pair
+    Z_W: Pair
+    Z_X: Pair
+    Y_F: Pair
+    Y_S: Pair
+    Y_beta: float
+    Y_B: Pair
+    Y_DT: float
+    Y_ST: float
+    Y_NT: Pair
+    Y_delta: Pair
+    Y_R: Pair
+    Y_X: Pair
+    S_H_min: float
+    S_F_min: float
+    accuracy_grade: int
+    misalignment: float
+    base_pitch_deviation: float | None
+
+
 @dataclass(frozen=True)
 class IsoRating:
     """ISO 6336 stresses and safety factors of one mesh at one load (SI units).
 
     Attributes:
-        factors: every factor used, defaults resolved (an `IsoFactors` with no None left).
+        factors: every factor used, defaults resolved.
         tangential_force: F_t [N].
         sigma_H0: nominal contact stress [Pa].
         sigma_H: contact stress of pinion and wheel (Z_B, Z_D applied) [Pa].
@@ -146,7 +194,7 @@ class IsoRating:
         S_F: bending safety factors σ_FG/σ_F of pinion and wheel.
     """
 
-    factors: IsoFactors
+    factors: ResolvedIsoFactors
     tangential_force: float
     sigma_H0: float
     sigma_H: Pair
@@ -170,13 +218,16 @@ class IsoRating:
         return out
 
 
-def iso_rating(pair: GearPair, load: MeshLoad, factors: IsoFactors | None = None) -> IsoRating:
+def iso_rating(
+    pair: GearPair, load: MeshLoad, factors: IsoFactors | ResolvedIsoFactors | None = None
+) -> IsoRating:
     """Rate a pair at one load by ISO 6336-2 (pitting) and ISO 6336-3 (bending).
 
     Args:
         pair: geometry and materials, pinion first.
         load: nominal tangential force at the reference circle and pitch-line speed.
-        factors: overrides; every None field is computed (see the module docstring).
+        factors: overrides; every None field is computed (see the module docstring). A
+            `ResolvedIsoFactors` (``IsoRating.factors`` of an earlier rating) is used as is.
 
     Raises:
         InputError: a non-positive or non-finite force.
@@ -186,53 +237,52 @@ def iso_rating(pair: GearPair, load: MeshLoad, factors: IsoFactors | None = None
     f_t = load.tangential_force
     if not (math.isfinite(f_t) and f_t > 0.0):
         raise InputError(f"the tangential force must be positive and finite, got {f_t} N")
-    f = resolve_factors(pair, load, factors or IsoFactors())
+    if isinstance(factors, ResolvedIsoFactors):
+        f = factors
+    else:
+        f = resolve_factors(pair, load, factors or IsoFactors())
     b, d1, u = pair.face_width, pair.reference_diameter_1, pair.gear_ratio
     sigma_h0 = f.Z_H * f.Z_E * f.Z_eps * f.Z_beta * math.sqrt(f_t / (d1 * b) * (u + 1.0) / u)
     load_h = math.sqrt(f.K_A * f.K_gamma * f.K_v * f.K_Hbeta * f.K_Halpha)
     sigma_h = (f.Z_B * sigma_h0 * load_h, f.Z_D * sigma_h0 * load_h)
     materials = pair.materials
-    sigma_hg = tuple(
-        m.sigma_H_lim * f.Z_NT[i] * f.Z_L[i] * f.Z_v[i] * f.Z_R[i] * f.Z_W[i] * f.Z_X[i]
-        for i, m in enumerate(materials)
-    )
+
+    def pitting_strength(i: int) -> float:
+        """σ_HG = σ_Hlim Z_NT Z_L Z_v Z_R Z_W Z_X of gear i [Pa]."""
+        m = materials[i]
+        return m.sigma_H_lim * f.Z_NT[i] * f.Z_L[i] * f.Z_v[i] * f.Z_R[i] * f.Z_W[i] * f.Z_X[i]
+
+    sigma_hg = _per_gear(pitting_strength)
     nominal = f_t / (b * pair.module)
-    sigma_f0 = tuple(nominal * f.Y_F[i] * f.Y_S[i] * f.Y_beta * f.Y_B[i] * f.Y_DT for i in (0, 1))
+    sigma_f0 = _per_gear(lambda i: nominal * f.Y_F[i] * f.Y_S[i] * f.Y_beta * f.Y_B[i] * f.Y_DT)
     load_f = f.K_A * f.K_gamma * f.K_v * f.K_Fbeta * f.K_Falpha
-    sigma_f = tuple(s * load_f for s in sigma_f0)
-    sigma_fg = tuple(
-        m.sigma_F_lim * f.Y_ST * f.Y_NT[i] * f.Y_delta[i] * f.Y_R[i] * f.Y_X[i]
-        for i, m in enumerate(materials)
+    sigma_f = _per_gear(lambda i: sigma_f0[i] * load_f)
+    sigma_fg = _per_gear(
+        lambda i: materials[i].sigma_F_lim * f.Y_ST * f.Y_NT[i] * f.Y_delta[i] * f.Y_R[i] * f.Y_X[i]
     )
     return IsoRating(
         factors=f,
         tangential_force=f_t,
         sigma_H0=sigma_h0,
         sigma_H=sigma_h,
-        sigma_H_permissible=tuple(s / f.S_H_min for s in sigma_hg),
-        S_H=tuple(g / s for g, s in zip(sigma_hg, sigma_h, strict=True)),
+        sigma_H_permissible=_per_gear(lambda i: sigma_hg[i] / f.S_H_min),
+        S_H=_per_gear(lambda i: sigma_hg[i] / sigma_h[i]),
         sigma_F0=sigma_f0,
         sigma_F=sigma_f,
-        sigma_F_permissible=tuple(s / f.S_F_min for s in sigma_fg),
-        S_F=tuple(g / s for g, s in zip(sigma_fg, sigma_f, strict=True)),
+        sigma_F_permissible=_per_gear(lambda i: sigma_fg[i] / f.S_F_min),
+        S_F=_per_gear(lambda i: sigma_fg[i] / sigma_f[i]),
     )
 
 
-def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> IsoFactors:
-    """Every factor of ``given`` with its None fields computed for this pair and load."""
+def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> ResolvedIsoFactors:
+    """Every factor of ``given``, its None fields computed for this pair and load."""
     path = pair.path
     eps_a, eps_b = path.contact_ratio, path.overlap_ratio
     alpha_t, alpha_wt = pair.transverse_pressure_angle, path.working_pressure_angle
     beta, beta_b = pair.helix_angle, pair.base_helix_angle
-    values: dict = {}
 
-    def pick(name, compute):
-        value = getattr(given, name)
-        values[name] = compute() if value is None else value
-        return values[name]
-
-    pick(
-        "Z_H",
+    z_h = _given_or(
+        given.Z_H,
         lambda: math.sqrt(
             2.0
             * math.cos(beta_b)
@@ -240,16 +290,16 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> IsoFac
             / (math.cos(alpha_t) ** 2 * math.sin(alpha_wt))
         ),
     )
-    pick("Z_E", lambda: elastic_coefficient(*pair.materials))
-    z_eps = pick("Z_eps", lambda: contact_ratio_factor(eps_a, eps_b))
-    pick("Z_beta", lambda: 1.0 / math.sqrt(math.cos(beta)))
+    z_e = _given_or(given.Z_E, lambda: elastic_coefficient(*pair.materials))
+    z_eps = _given_or(given.Z_eps, lambda: contact_ratio_factor(eps_a, eps_b))
+    z_beta = _given_or(given.Z_beta, lambda: 1.0 / math.sqrt(math.cos(beta)))
     m1, m2 = single_pair_ratios(pair)
-    pick("Z_B", lambda: _single_pair_factor(m1, eps_b))
-    pick("Z_D", lambda: 1.0 if pair.internal_2 else _single_pair_factor(m2, eps_b))
-    k_v = pick("K_v", lambda: dynamic_factor(pair, load, given.K_A, given.accuracy_grade))
+    z_b = _given_or(given.Z_B, lambda: _single_pair_factor(m1, eps_b))
+    z_d = _given_or(given.Z_D, lambda: 1.0 if pair.internal_2 else _single_pair_factor(m2, eps_b))
+    k_v = _given_or(given.K_v, lambda: dynamic_factor(pair, load, given.K_A, given.accuracy_grade))
     c_gamma_alpha = _mesh_stiffness_per_width(pair)
-    k_hb = pick(
-        "K_Hbeta",
+    k_hb = _given_or(
+        given.K_Hbeta,
         lambda: face_load_factor(
             c_gamma_alpha,
             given.misalignment,
@@ -259,27 +309,72 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> IsoFac
     h = (pair.addendum_coefficient + pair.dedendum_coefficient) * pair.module
     b_h = max(pair.face_width / h, 3.0)
     n_f = b_h**2 / (1.0 + b_h + b_h**2)
-    pick("K_Fbeta", lambda: k_hb**n_f)
+    k_fb = _given_or(given.K_Fbeta, lambda: k_hb**n_f)
     eps_gamma = eps_a + eps_b
     eps_an = eps_a / math.cos(beta_b) ** 2
     y_eps = 0.25 + 0.75 / eps_an
 
-    def transverse(limit):
-        if given.base_pitch_deviation is None:
-            return 1.0
+    def transverse(limit: float) -> float:
         return transverse_load_factor(pair, load, given, c_gamma_alpha, k_v, k_hb, eps_gamma, limit)
 
-    pick("K_Halpha", lambda: transverse(eps_gamma / (eps_a * z_eps**2)))
-    pick("K_Falpha", lambda: transverse(eps_gamma / (eps_a * y_eps)))
+    k_ha = _given_or(given.K_Halpha, lambda: transverse(eps_gamma / (eps_a * z_eps**2)))
+    k_fa = _given_or(given.K_Falpha, lambda: transverse(eps_gamma / (eps_a * y_eps)))
     forms = [form_factors(pair, gear) for gear in (1, 2)]
-    pick("Y_F", lambda: (forms[0][0], forms[1][0]))
-    pick("Y_S", lambda: (forms[0][1], forms[1][1]))
-    pick("Y_beta", lambda: 1.0 - min(eps_b, 1.0) * min(math.degrees(beta), 30.0) / 120.0)
-    pick(
-        "Y_X",
-        lambda: tuple(size_factor(pair.module, m.case_hardened) for m in pair.materials),
+    y_f = _given_or(given.Y_F, lambda: (forms[0][0], forms[1][0]))
+    y_s = _given_or(given.Y_S, lambda: (forms[0][1], forms[1][1]))
+    y_beta = _given_or(
+        given.Y_beta, lambda: 1.0 - min(eps_b, 1.0) * min(math.degrees(beta), 30.0) / 120.0
     )
-    return replace(given, **values)
+    y_x = _given_or(
+        given.Y_X,
+        lambda: _per_gear(lambda i: size_factor(pair.module, pair.materials[i].case_hardened)),
+    )
+    return ResolvedIsoFactors(
+        K_A=given.K_A,
+        K_gamma=given.K_gamma,
+        K_v=k_v,
+        K_Hbeta=k_hb,
+        K_Fbeta=k_fb,
+        K_Halpha=k_ha,
+        K_Falpha=k_fa,
+        Z_H=z_h,
+        Z_E=z_e,
+        Z_eps=z_eps,
+        Z_beta=z_beta,
+        Z_B=z_b,
+        Z_D=z_d,
+        Z_NT=given.Z_NT,
+        Z_L=given.Z_L,
+        Z_v=given.Z_v,
+        Z_R=given.Z_R,
+        Z_W=given.Z_W,
+        Z_X=given.Z_X,
+        Y_F=y_f,
+        Y_S=y_s,
+        Y_beta=y_beta,
+        Y_B=given.Y_B,
+        Y_DT=given.Y_DT,
+        Y_ST=given.Y_ST,
+        Y_NT=given.Y_NT,
+        Y_delta=given.Y_delta,
+        Y_R=given.Y_R,
+        Y_X=y_x,
+        S_H_min=given.S_H_min,
+        S_F_min=given.S_F_min,
+        accuracy_grade=given.accuracy_grade,
+        misalignment=given.misalignment,
+        base_pitch_deviation=given.base_pitch_deviation,
+    )
+
+
+def _given_or(value: _T | None, compute: Callable[[], _T]) -> _T:
+    """``value`` if the user gave it, else ``compute()`` (called only then)."""
+    return compute() if value is None else value
+
+
+def _per_gear(value: Callable[[int], float]) -> Pair:
+    """(value(0), value(1)): a per-gear quantity of pinion and wheel."""
+    return value(0), value(1)
 
 
 def contact_ratio_factor(eps_alpha: float, eps_beta: float) -> float:
@@ -339,9 +434,23 @@ def face_load_factor(c_gamma_alpha: float, misalignment: float, line_load: float
     return 1.0 + x / 2.0 if x <= 2.0 else math.sqrt(2.0 * x)
 
 
-def transverse_load_factor(pair, load, given, c_gamma_alpha, k_v, k_hb, eps_gamma, limit):
-    """K_Hα or K_Fα by ISO 6336-1 method B with the running-in allowance y_α (ISO 6336-1)."""
+def transverse_load_factor(
+    pair: GearPair,
+    load: MeshLoad,
+    given: IsoFactors,
+    c_gamma_alpha: float,
+    k_v: float,
+    k_hb: float,
+    eps_gamma: float,
+    limit: float,
+) -> float:
+    """K_Hα or K_Fα by ISO 6336-1 method B with the running-in allowance y_α (ISO 6336-1).
+
+    1 when ``given.base_pitch_deviation`` is None (no f_pb, no method B).
+    """
     f_pb = given.base_pitch_deviation
+    if f_pb is None:
+        return 1.0
     m1 = pair.materials[0]
     if m1.case_hardened:
         y_alpha = min(0.075 * f_pb, 3e-6)

@@ -7,6 +7,7 @@ factors and results, transcribed from it (US units), are the expectations here.
 """
 
 import math
+from dataclasses import fields
 
 import pytest
 
@@ -14,6 +15,7 @@ from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.materials import Material
 from pinwind.gears.rating_agma import (
     AgmaFactors,
+    ResolvedAgmaFactors,
     agma_rating,
     dynamic_factor,
     load_distribution_factor,
@@ -114,3 +116,13 @@ def test_safety_factor_is_allowable_over_stress_so_that_one_passes(example_14_4)
     heavy = agma_rating(pair, MeshLoad(load.tangential_force * 20, load.pitch_line_speed))
     assert light.passes and not heavy.passes
     assert heavy.S_F[0] < 1.0 < light.S_F[0]
+
+
+def test_resolved_factors_have_the_fields_of_the_given_ones_in_order():
+    assert [f.name for f in fields(ResolvedAgmaFactors)] == [f.name for f in fields(AgmaFactors)]
+
+
+def test_rating_again_with_the_resolved_factors_gives_the_same_stresses(example_14_4):
+    pair, load = example_14_4
+    first = agma_rating(pair, load, AgmaFactors(quality=6, reliability=0.9))
+    assert agma_rating(pair, load, first.factors) == first

@@ -1,12 +1,19 @@
 """ISO 6336-2/-3 rating: factors against closed forms and chart values, stresses by hand."""
 
 import math
+from dataclasses import fields
 
 import pytest
 
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.involute import involute
-from pinwind.gears.rating_iso import IsoFactors, form_factors, iso_rating, single_pair_ratios
+from pinwind.gears.rating_iso import (
+    IsoFactors,
+    ResolvedIsoFactors,
+    form_factors,
+    iso_rating,
+    single_pair_ratios,
+)
 
 
 def _pair(z1=17, z2=52, internal=False, **kw):
@@ -95,3 +102,13 @@ def test_internal_mesh_uses_difference_of_tooth_numbers_in_the_ratio_term():
 
 def test_involute_helper_is_tan_minus_angle():
     assert involute(math.radians(20.0)) == pytest.approx(0.014904383867336446, rel=1e-12)
+
+
+def test_resolved_factors_have_the_fields_of_the_given_ones_in_order():
+    assert [f.name for f in fields(ResolvedIsoFactors)] == [f.name for f in fields(IsoFactors)]
+
+
+def test_rating_again_with_the_resolved_factors_gives_the_same_stresses():
+    pair, load = _pair(25, 97, True), MeshLoad(5e4, 4.0)
+    first = iso_rating(pair, load, IsoFactors(K_A=1.25, base_pitch_deviation=12e-6))
+    assert iso_rating(pair, load, first.factors) == first
