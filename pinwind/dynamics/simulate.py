@@ -37,7 +37,7 @@ from __future__ import annotations
 import math
 import time as wallclock
 from collections.abc import Mapping
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -184,7 +184,8 @@ def _allocate(
     }
     sizes = {k: n * math.prod(shape) for k, shape in shapes.items()}
     buffer = (np.empty if empty else np.zeros)(sum(sizes.values()))
-    arrays, at = {}, 0
+    arrays: dict[str, Any] = {}
+    at = 0
     for key, shape in shapes.items():
         arrays[key] = buffer[at : at + sizes[key]].reshape(n, *shape)
         at += sizes[key]
@@ -200,9 +201,13 @@ def _allocate(
     )
 
 
+#: (sample, load, the non-finite value or the exception its function raised)
+_BadSample = tuple[int, JointLoad, float | Exception]
+
+
 def _signal_table(
     loads: list[JointLoad], start: int, stop: int, dt: float, columns: list[int], width: int
-) -> tuple[np.ndarray, tuple[int, JointLoad, float] | None]:
+) -> tuple[np.ndarray, _BadSample | None]:
     """Values of time signals at t_k = k·dt, k in start:stop, as a (stop − start, width) table.
 
     Column ``columns[i]`` gets load i (added, so two loads on one joint sum). Returns the table
@@ -211,8 +216,9 @@ def _signal_table(
     """
     table = np.zeros((stop - start, width))
     times = np.arange(start, stop) * dt
-    first_bad = None
+    first_bad: _BadSample | None = None
     for load, column in zip(loads, columns, strict=True):
+        bad: _BadSample | None
         if isinstance(load.signal, TimeSignal):  # evaluated for the whole block at once
             values = np.asarray(load.signal.values(times), dtype=float)
             bad = None
