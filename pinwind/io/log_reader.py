@@ -233,11 +233,11 @@ class _Layout:
                 keys = (topic.field,)
                 self.shapes[topic.field] = () if not topic.element else shape
             codecs[topic.topic] = ("array", Float64ArrayCodec(dims), keys)
-        for topic, (kind, codec, keys) in codecs.items():
-            if topic in by_name:
+        for name, (kind, codec, keys) in codecs.items():
+            if name in by_name:
                 length = 31 + codec.size if kind != "tf" else 0  # whole record [bytes]
-                keys = keys or CHANNELS[topic]
-                self.by_topic[topic] = _Channel(by_name[topic], topic, kind, codec, keys, length)
+                keys = keys or CHANNELS[name]
+                self.by_topic[name] = _Channel(by_name[name], name, kind, codec, keys, length)
         self._tf_checks: dict[int, tuple[np.ndarray, np.ndarray, list[int]] | None] = {}
         #: records of samples not yet complete at the end of the last chunk decoded record by
         #: record (None when there are none)
@@ -346,9 +346,12 @@ class _Layout:
             return False
         placed = 0
         for part in parts:
-            lo, hi = np.searchsorted(seq, [part.seq[0], part.seq[-1] + 1])
-            rows = np.searchsorted(part.seq, seq[lo:hi])
-            if np.any(part.seq[rows] != seq[lo:hi]):
+            part_seq = part.seq
+            if part_seq is None:  # _rows numbers every part it makes
+                raise RuntimeError("internal error: a part of a chunk without sample numbers")
+            lo, hi = np.searchsorted(seq, [part_seq[0], part_seq[-1] + 1])
+            rows = np.searchsorted(part_seq, seq[lo:hi])
+            if np.any(part_seq[rows] != seq[lo:hi]):
                 return False
             part.sparse += [
                 ("body_position", rows, position[lo:hi]),
@@ -426,10 +429,12 @@ class _Layout:
                 offsets = []
                 tags = np.zeros(_POSE_DTYPE.itemsize, dtype=bool)
                 pose = np.zeros(1, dtype=_POSE_DTYPE)
-                for name in _POSE_DTYPE.names:
+                pose_fields = _POSE_DTYPE.fields
+                if pose_fields is None:  # a structured dtype, always has fields
+                    raise RuntimeError("internal error: _POSE_DTYPE has no fields")
+                for name, spec in pose_fields.items():
                     if name.endswith(("_tag", "_len")):
-                        start = _POSE_DTYPE.fields[name][1]
-                        tags[start] = True
+                        tags[spec[1]] = True
                 pose["t_tag"], pose["t_len"] = 0x22, 27
                 pose["r_tag"], pose["r_len"] = 0x2A, 36
                 for i, key in enumerate("xyz"):
@@ -474,11 +479,10 @@ class _Layout:
             order = np.argsort(seqs, kind="stable")
             gathered[channel.id] = (seqs[order], [flat[i] for i in order])
         tf = self.by_topic.get(TF_TOPIC)
-        common = None
-        for channel in channels:
+        common = gathered[time.id][0]  # channels[0]: the time channel, never /tf
+        for channel in channels[1:]:
             if channel is not tf:
-                seqs = gathered[channel.id][0]
-                common = seqs if common is None else np.intersect1d(common, seqs)
+                common = np.intersect1d(common, gathered[channel.id][0])
         posed = np.zeros(0, np.int64)
         if tf in wanted:
             # a sample is complete with its pose, if it has one; hold back from the first
@@ -626,7 +630,7 @@ class _Sink:
 
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
         """The samples so far as a Result (views of the arrays)."""
-        arrays = {k: v[: self.n] for k, v in self.arrays.items()}
+        arrays: dict[str, Any] = {k: v[: self.n] for k, v in self.arrays.items()}
         return Result(
             joint_names=names["joint_names"],
             mesh_names=names["mesh_names"],
@@ -679,7 +683,7 @@ class LogReader:
         if self.path.is_dir():
             raise LogError(where, "is a folder, not a log file")
         try:
-            self._fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+            self._fd: int | None = os.open(self.path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
         except OSError as err:
             raise LogError(where, f"cannot read the file: {err.strerror}") from err
         try:
@@ -690,8 +694,9 @@ class LogReader:
 
     def _open(self) -> None:
         where = str(self.path)
-        self.size = os.fstat(self._fd).st_size
-        start = mcap_file.read_at(self._fd, 0, len(MAGIC))
+        fd = self._descriptor()
+        self.size = os.fstat(fd).st_size
+        start = mcap_file.read_at(fd, 0, len(MAGIC))
         if start != MAGIC:
             what = "is empty" if not start else f"starts with {start!r}"
             raise LogError(
@@ -699,7 +704,7 @@ class LogReader:
                 f"not an MCAP file (it {what}, not the MCAP magic bytes \\x89MCAP0\\r\\n)",
             )
         try:
-            contents = mcap_file.read_contents(self._fd, self.size)
+            contents = mcap_file.read_contents(fd, self.size)
         except DamagedFile as err:
             raise LogError(where, str(err)) from err
         self._contents = contents
@@ -708,7 +713,7 @@ class LogReader:
         records: dict[str, dict[str, str]] = {}
         for name, (offset, length) in contents.metadata.items():
             try:
-                records[name] = mcap_file.read_metadata(self._fd, offset, length)
+                records[name] = mcap_file.read_metadata(fd, offset, length)
             except Exception as err:  # struct, UTF-8: the record is damaged
                 if name in ("pinwind", "pinwind.run", "pinwind.model"):
                     raise LogError(
@@ -763,6 +768,12 @@ class LogReader:
         if fd is not None:
             os.close(fd)
 
+    def _descriptor(self) -> int:
+        """The open file's descriptor."""
+        if self._fd is None:
+            raise ValueError(f"I/O operation on a closed log ({self.path})")
+        return self._fd
+
     def __enter__(self) -> LogReader:
         return self
 
@@ -776,7 +787,9 @@ class LogReader:
             self._attachments = {}
             for name, (offset, length) in self._contents.attachments.items():
                 try:
-                    self._attachments[name] = mcap_file.read_attachment(self._fd, offset, length)
+                    self._attachments[name] = mcap_file.read_attachment(
+                        self._descriptor(), offset, length
+                    )
                 except Exception as err:  # CRC, struct: damaged
                     self._damage.append(f"attachment '{name}' is damaged ({err})")
         return self._attachments
@@ -880,7 +893,7 @@ class LogReader:
                 yield block
         except MemoryError as err:
             raise self._too_large(samples, keys) from err
-        self._warn(total, (first, last) if total else None, lost)
+        self._warn(total, (first, last) if total and first is not None else None, lost)
 
     def _sample_chunks(self, topics: tuple[str, ...] | None) -> list[ChunkRef]:
         """Chunks that hold samples (the time channel), or whose index is unknown, in file order.
@@ -907,13 +920,13 @@ class LogReader:
             inside = lo <= chunk.start_ns and chunk.end_ns <= hi
             try:
                 found = mcap_file.index_entries(
-                    self._fd, chunk.index[time], time, count_only=inside
+                    self._descriptor(), chunk.index[time], time, count_only=inside
                 )
             except (KeyError, ValueError):  # no index (cut file) or a damaged one: estimate
                 capacity += max(1, (chunk.length * 8) // self._row_estimate())
                 continue
-            if inside:
-                capacity += int(found)
+            if isinstance(found, int):  # count_only=inside: the count
+                capacity += found
             else:
                 stamps = found[:, 0]
                 capacity += int(np.count_nonzero((stamps >= lo) & (stamps <= hi)))
@@ -979,13 +992,13 @@ class LogReader:
 
     def _load(self, chunk: ChunkRef, wanted: list[_Channel]) -> tuple[bytes, Any, str]:
         try:
-            data = mcap_file.read_chunk(self._fd, chunk)
+            data = mcap_file.read_chunk(self._descriptor(), chunk)
         except DamagedChunk as err:
             return b"", None, str(err)
         return data, self._layout.find_rows(data, wanted), ""
 
     def _check_memory(self, capacity: int, keys: list[str]) -> None:
-        needed = self._bytes_needed(capacity, keys)
+        needed = self._bytes_of(capacity, keys)
         available = _available_memory()
         if available is not None and needed > available:
             raise MemoryError(f"{needed} bytes needed, {available} available")
@@ -993,6 +1006,9 @@ class LogReader:
     def _bytes_needed(self, capacity: int | None, keys: list[str]) -> int | None:
         if capacity is None:
             return None
+        return self._bytes_of(capacity, keys)
+
+    def _bytes_of(self, capacity: int, keys: list[str]) -> int:
         shapes = self._layout.shapes
         return capacity * 8 * sum(int(np.prod(shapes[k], dtype=int)) for k in keys)
 

@@ -16,6 +16,7 @@ import struct
 import threading
 import zlib
 from collections import defaultdict
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from io import BytesIO
 from typing import Any, BinaryIO
@@ -31,6 +32,7 @@ from mcap.records import (
     DataEnd,
     Footer,
     Header,
+    McapRecord,
     Metadata,
     MetadataIndex,
     Schema,
@@ -74,6 +76,19 @@ def message_records(
     return np.concatenate([head.view(np.uint8).reshape(n, RECORD_HEADER.itemsize), payloads], 1)
 
 
+def _buffer(data: bytes | bytearray | memoryview | np.ndarray) -> bytes | bytearray | memoryview:
+    """``data`` as a buffer the type checker knows (an array as the memoryview of its bytes).
+
+    numpy's stubs give ``ndarray`` the buffer protocol (``__buffer__``) only from Python 3.12.
+    """
+    return data.data if isinstance(data, np.ndarray) else data
+
+
+def _byte_view(data: bytes | bytearray | memoryview | np.ndarray) -> memoryview:
+    """The bytes of ``data`` as a flat memoryview of unsigned bytes."""
+    return memoryview(_buffer(data)).cast("B")
+
+
 class McapWriter:
     """A chunked, indexed MCAP file written record by record (https://mcap.dev/spec).
 
@@ -89,6 +104,7 @@ class McapWriter:
         #: metadata record): what ``rewind`` cuts the file back to after a failed write
         self.complete = 0
         self.compression = compression
+        self._compress: Callable[[bytes | bytearray | memoryview], bytes]
         if compression == "zstd":
             import zstandard
 
@@ -134,7 +150,7 @@ class McapWriter:
     def _write(self, data: bytes | bytearray | memoryview | np.ndarray) -> int:
         """Write all of ``data`` (a raw file may take it in parts); returns where it starts."""
         at = self._pos
-        view = memoryview(data).cast("B")
+        view = _byte_view(data)
         while view:
             written = self._stream.write(view)
             if not written:
@@ -218,7 +234,8 @@ class McapWriter:
         start = min(int(rows[0, 0]) for rows in index.values() if len(rows))
         end = max(int(rows[:, 0].max()) for rows in index.values() if len(rows))
         size = len(data)
-        compressed = self._compress(data)
+        records = _buffer(data)
+        compressed = self._compress(records)
         compression_checks = self.compression == "zstd"
         # the chunk record: its fixed fields, then the compressed records as they are
         name = self.compression.encode()
@@ -229,7 +246,7 @@ class McapWriter:
             start,
             end,
             size,
-            0 if compression_checks else zlib.crc32(data),
+            0 if compression_checks else zlib.crc32(records),
             len(name),
             name,
             len(compressed),
@@ -281,7 +298,7 @@ class McapWriter:
         self._record(DataEnd(data_section_crc=0))
         summary_start = self._pos
         builder = RecordBuilder()
-        groups = [
+        groups: list[tuple[Opcode, Sequence[McapRecord]]] = [
             (Opcode.SCHEMA, self._schemas),
             (Opcode.CHANNEL, self._channels),
             (Opcode.STATISTICS, [self._stats]),

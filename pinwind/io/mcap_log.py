@@ -285,8 +285,8 @@ def _interrupts_deferred() -> Iterator[None]:
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
-        for s in caught:
-            signal.raise_signal(s)
+        for signum in caught:
+            signal.raise_signal(signum)
 
 
 def _resolve_rate(dt: float | None, log_rate: float | None, what: str = "log") -> tuple[int, float]:
@@ -357,8 +357,7 @@ def estimate_log_size(
     for name in Result.ARRAYS:
         if name in ("body_position", "body_quaternion"):
             continue
-        per_sample = int(np.prod(getattr(result, name).shape[1:], dtype=int))
-        doubles += per_sample
+        doubles += int(np.prod(getattr(result, name).shape[1:], dtype=int))
     for topic in ARRAY_TOPICS:
         names = getattr(result, _NAMES_OF[topic.element], None) if topic.element else None
         if topic.element in ("", "term") or names:  # topics of an empty family are left out
@@ -559,7 +558,7 @@ class McapLogger:
             model_bytes=len(gearbox.source_text.encode("utf-8")),
         )
         if self.max_bytes is not None:
-            self._check_size(result, rate)
+            self._check_size(result, rate, self.max_bytes)
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as err:
@@ -569,15 +568,15 @@ class McapLogger:
                 f"{err.strerror or err}; choose another --out (or log=) or fix its permissions",
             ) from err
         try:
-            self._stream = self._open_file()
+            stream = self._stream = self._open_file()
         except FileExistsError as err:
             raise LogExists(str(self.path)) from err
         except OSError as err:
             raise LogError(str(self.path), f"cannot write the log: {err.strerror}") from err
         try:
-            self._start(gearbox, result, rate)
+            self._start(stream, gearbox, result, rate)
         except BaseException:
-            self._stream.close()
+            stream.close()
             self._file = None
             self.path.unlink(missing_ok=True)
             raise
@@ -590,11 +589,11 @@ class McapLogger:
         """The file, unbuffered: every write reaches the OS at once, a failed one can be cut."""
         return open(self.path, "wb" if self.overwrite else "xb", buffering=0)  # noqa: SIM115
 
-    def _check_size(self, result: Result, rate: float) -> None:
+    def _check_size(self, result: Result, rate: float, max_bytes: float) -> None:
         """Refuse a log larger than ``max_bytes`` or the free space of its file system."""
         estimate = self.estimate
         free = _free_space(self.path.parent)
-        limits = [(float(self.max_bytes), "the limit for one log")]
+        limits = [(float(max_bytes), "the limit for one log")]
         if free is not None:
             limits.append((float(free), "the free space on its disk"))
         limit, what = min(limits)
@@ -610,10 +609,10 @@ class McapLogger:
             fitting_rate=_fitting_rate(estimate, limit, rate),
         )
 
-    def _start(self, gearbox, result: Result, rate: float) -> None:
+    def _start(self, stream: BinaryIO, gearbox, result: Result, rate: float) -> None:
         meta = result.metadata
         f = self._file = McapWriter(
-            self._stream, compression=self.compression, compression_level=self.compression_level
+            stream, compression=self.compression, compression_level=self.compression_level
         )
         versions = dict(_versions())
         f.start(library=f"pinwind {versions['pinwind']} (mcap {versions['mcap']})")
@@ -801,7 +800,7 @@ class McapLogger:
                     block, rows, samples = job
                     try:
                         data, index = self._assemble(block, rows, samples)
-                        self._file.chunk(data, index)
+                        self._mcap().chunk(data, index)
                         if self._deleted():
                             self._lost = True
                             raise FileNotFoundError(
@@ -820,17 +819,29 @@ class McapLogger:
             finally:
                 self._jobs.task_done()
 
+    def _mcap(self) -> McapWriter:
+        """The MCAP writer, open between ``begin`` and ``end``."""
+        if self._file is None:
+            raise RuntimeError(f"internal error: the log {self.path} is not open for writing")
+        return self._file
+
+    def _open_stream(self) -> BinaryIO:
+        """The log's file, open from ``begin``."""
+        if self._stream is None:
+            raise RuntimeError(f"internal error: the log {self.path} has no open file")
+        return self._stream
+
     def _deleted(self) -> bool:
         """The file being written has no name any more (deleted, or its folder removed)."""
         try:
-            return os.fstat(self._stream.fileno()).st_nlink == 0
+            return os.fstat(self._open_stream().fileno()).st_nlink == 0
         except OSError:
             return True
 
     def _rewind(self) -> None:
         """Cut the file back to its last complete chunk, so that it reads as a cut log."""
         try:
-            self._file.rewind()
+            self._mcap().rewind()
         except Exception:  # the file is gone or the disk refuses: nothing more to do
             pass
 
@@ -874,9 +885,10 @@ class McapLogger:
             warnings.warn(str(error), LogRecovered, stacklevel=2)
 
     def _finish(self, result: Result, status: str, cause: str) -> None:
+        f = self._mcap()
         if self._failed is not None:
             status = f"{status}; {self._write_error()}"
-        self._file.metadata(
+        f.metadata(
             "pinwind.end",
             _json_record(
                 {
@@ -890,7 +902,7 @@ class McapLogger:
                 }
             ),
         )
-        self._file.finish()
+        f.finish()
 
     # --- chunks ----------------------------------------------------------------------------
 

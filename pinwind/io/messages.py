@@ -344,7 +344,7 @@ class FrameTransformsCodec:
         self.parent = parent
         self.children = list(children)
         self._names = [_field(2, parent.encode()) + _field(3, c.encode()) for c in self.children]
-        self._layouts: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self._layouts: dict[int, tuple[np.ndarray, np.dtype]] = {}
 
     def _layout(self, stamp: int) -> tuple[np.ndarray, np.dtype]:
         """Template row for a stamp of that size, and a row dtype naming its stamp and pose bytes.
@@ -403,8 +403,8 @@ class FrameTransformsCodec:
         # google.protobuf.Timestamp, zero fields omitted as proto3 writes them.
         sec_len = np.where(sec > 0, _varint_length(sec), 0)
         nanos_len = np.where(nanos > 0, _varint_length(nanos), 0)
-        key = sec_len * 16 + nanos_len
-        breaks = np.flatnonzero(np.diff(key)) + 1
+        stamp_lengths = sec_len * 16 + nanos_len
+        breaks = np.flatnonzero(np.diff(stamp_lengths)) + 1
         out = []
         for start, stop in zip(np.r_[0, breaks], np.r_[breaks, n], strict=True):
             s_len, n_len = int(sec_len[start]), int(nanos_len[start])
@@ -459,7 +459,7 @@ class FrameTransformsCodec:
         quaternion = np.zeros((n, nl, 4))
         seen = np.zeros((n, nl), dtype=bool)
         lengths = np.array([len(p) for p in payloads], dtype=np.int64)
-        slow = []
+        slow: list[int] = []
         for length in np.unique(lengths):
             rows = np.flatnonzero(lengths == length)
             fixed = self._fixed_layout(int(length))

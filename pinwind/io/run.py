@@ -36,6 +36,8 @@ def log_path(log: str | os.PathLike | bool, model_name: str) -> Path:
             count += 1
             path = DEFAULT_LOG_FOLDER / f"{stem}_{count}.mcap"
         return path
+    if log is False:
+        raise TypeError("log_path needs a path or True, not False (False means no log)")
     path = Path(log)
     if path.parent == Path("."):
         return DEFAULT_LOG_FOLDER / path
@@ -47,7 +49,8 @@ def describe_call(gearbox: Gearbox, kwargs: Mapping[str, Any]) -> str:
 
     def show(value: Any) -> str:
         if callable(value):
-            return getattr(value, "description", None) or getattr(value, "__name__", repr(value))
+            name = getattr(value, "description", None) or getattr(value, "__name__", repr(value))
+            return str(name)
         if isinstance(value, Mapping):
             return "{" + ", ".join(f"{k!r}: {show(v)}" for k, v in value.items()) + "}"
         return repr(value)
