@@ -552,12 +552,15 @@ def _repeats(data: bytes, at: int, seen: set[int]) -> bool:
     return int.from_bytes(data[at + 9 : at + 11], "little") in seen
 
 
-_JOINT_FIXED: dict[int, np.ndarray] = {}
+#: Fixed-byte positions by payload layout (size, stamp offset, value offsets, joint count). Keyed
+#: by the layout, not the codec: a codec's id() is reused once it is garbage-collected, and a
+#: cache keyed by it handed a later log's codec another log's positions (an IndexError).
+_JOINT_FIXED: dict[tuple[int, int, tuple[int, ...], int], np.ndarray] = {}
 
 
 def _joint_fixed(codec: JointStateCodec) -> np.ndarray:
     """Positions of the fixed bytes of a JointState payload (all but stamp and values)."""
-    key = id(codec)
+    key = (codec.size, codec.stamp_at, tuple(codec.fields_at), len(codec.names))
     if key not in _JOINT_FIXED:
         fixed = np.ones(codec.size, dtype=bool)
         fixed[codec.stamp_at : codec.stamp_at + 8] = False
@@ -869,8 +872,8 @@ class LogReader:
                 while done < count:
                     take = min(count - done, samples - sink.n)
                     if isinstance(rows, slice):
-                        first = rows.start or 0
-                        piece = slice(first + done, first + done + take)
+                        row0 = rows.start or 0
+                        piece = slice(row0 + done, row0 + done + take)
                     else:
                         piece = rows[done : done + take]
                     sink.put(part, piece, take)

@@ -305,3 +305,27 @@ def test_reading_a_cut_log_in_a_window_warns_that_it_was_recovered(logged_run, t
     with pytest.warns(LogRecovered, match="recovered 51 samples"):
         back = read_log(cut, start=0.149)
     np.testing.assert_array_equal(back.time, np.arange(149, 200) * 1e-3)
+
+
+def test_streaming_a_damaged_window_names_the_samples_times_it_read(logged_run, tmp_path):
+    offset, length, _ = chunk_spans(logged_run.path)[2]  # samples 100-199
+    path = _damaged(logged_run, tmp_path, offset + length - 1000)
+    with pytest.warns(LogDamaged) as caught:
+        blocks = list(iter_log(path, block=64, start=0.05))
+    read = np.concatenate([b.time for b in blocks])
+    assert read[0] == pytest.approx(0.05, abs=1e-12)  # the window's first sample, 50 rows in
+    message = str(caught[0].message)
+    assert f"t = {read[0]:.6g} to {read[-1]:.6g} s" in message, message
+
+
+def test_joint_state_fixed_bytes_are_all_but_the_stamp_and_three_value_arrays():
+    # One log's codec may be freed and its id() reused by another log's: the positions must
+    # follow each codec's own layout.
+    from pinwind.io.messages import JointStateCodec
+
+    for names in (["a", "b"], ["a", "b", "c", "d", "e"], ["sun"]):
+        codec = JointStateCodec(names, "world")
+        fixed = log_reader._joint_fixed(codec)
+        assert fixed.max() < codec.size
+        assert len(fixed) == codec.size - 8 - 3 * 8 * len(names)
+        del codec
