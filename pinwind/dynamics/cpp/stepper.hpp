@@ -227,27 +227,34 @@ class Stepper : private BodyForces {
   // Recursive Newton-Euler in world axes about the world origin (Featherstone, Rigid Body
   // Dynamics Algorithms, 2008, §5.3; Pinocchio's world-convention passes), from the
   // J, J̇, joint velocities and world inertias the step has already computed: the bias forces
-  // C(q, v) v + g(q), and per body the force at q̈ = 0 for the bearing reactions after the QP.
-  // Each pass over the joints is a few spatial products; Pinocchio's nonLinearEffects and rnea
+  // C(q, v) v + g(q), their gravity part g(q) on its own (for the energy ledger), and per body
+  // the force at q̈ = 0 for the bearing reactions after the QP. Each pass over the joints is a
+  // few spatial products; Pinocchio's computeGeneralizedGravity, nonLinearEffects and rnea
   // would each recompute the joint placements (two sines and cosines per joint).
   void bias_forces() {
     const auto& model = s_.model;
     const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
-    bias_accel_.resize(nj);
     body_force_.resize(nj);
     subtree_.resize(nj);
+    weight_.resize(nj);
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
       // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
-      bias_accel_[i] = drift_[i] - model.gravity;
-      body_force_[i] = body_[i] * bias_accel_[i] + body_[i].vxiv(data_.ov[i]);
+      weight_[i] = body_[i] * (-model.gravity);
+      body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
       subtree_[i] = body_force_[i];
     }
     nle_.resize(nv_);
+    gravity_.resize(nv_);
     for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
-      nle_.segment(idx, n).noalias() =
-          data_.J.middleCols(idx, n).transpose() * subtree_[i].toVector();
-      if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
+      const auto cols = data_.J.middleCols(idx, n);
+      nle_.segment(idx, n).noalias() = cols.transpose() * subtree_[i].toVector();
+      gravity_.segment(idx, n).noalias() = cols.transpose() * weight_[i].toVector();
+      const auto parent = model.parents[i];
+      if (parent > 0) {
+        subtree_[parent] += subtree_[i];
+        weight_[parent] += weight_[i];
+      }
     }
   }
 
@@ -297,32 +304,6 @@ class Stepper : private BodyForces {
     mass_.diagonal() += model.armature;
     mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
   }
-
-  // Generalised gravity g(q) = −Σ_i J_iᵀ W_i (Pinocchio's sign: the torque that holds the
-  // bodies against gravity), with W_i the world gravity wrench about the world origin summed
-  // over joint i's subtree: the world Jacobian J and the placements of the kinematics pass
-  // give it without the pass computeGeneralizedGravity makes.
-  void generalized_gravity() {
-    const auto& model = s_.model;
-    const Vec3 g = model.gravity.linear();
-    const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
-    wrench_.resize(nj);
-    wrench_[0].setZero();
-    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-      const auto& body = model.inertias[i];
-      const Vec3 weight = body.mass() * g;
-      wrench_[i].linear() = weight;
-      wrench_[i].angular() = data_.oMi[i].act(body.lever()).cross(weight);
-    }
-    for (pinocchio::JointIndex i = nj - 1; i > 0; --i) wrench_[model.parents[i]] += wrench_[i];
-    gravity_.resize(nv_);
-    for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-      const int idx = model.idx_vs[i], n = model.nvs[i];
-      gravity_.segment(idx, n).noalias() =
-          -(data_.J.middleCols(idx, n).transpose() * wrench_[i].toVector());
-    }
-  }
-
 
   // J and γ of the rigid meshes' loaded flanks, then the driver rows.
   void constraint_matrix() {
@@ -411,7 +392,6 @@ class Stepper : private BodyForces {
     }
     velocity_kinematics();
     constraint_matrix();
-    generalized_gravity();
     bias_forces();
     const Eigen::VectorXd& nle = nle_;
     const StepView sv = view();
@@ -601,10 +581,10 @@ class Stepper : private BodyForces {
   MeshRows rows_data_;
   std::vector<Vec3> origin_;
   std::vector<Eigen::Matrix3d> rot_;
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_, wrench_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_;
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Inertia) composite_, body_;  // world inertias
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) bias_accel_, accel_, drift_;
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) accel_, drift_;
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_, weight_;
   Eigen::VectorXd nle_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;
   Eigen::MatrixXd driver_jac_, jac_, mass_, hessian_;
