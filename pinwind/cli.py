@@ -179,6 +179,34 @@ def parse_loads(
     return torques, speeds, initial_speeds
 
 
+#: Load options shared by the commands that simulate (simulate, rate).
+TorqueOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--torque",
+        "-t",
+        help="JOINT=N·m applied torque, a number or a signal: ramp(...), step(...), "
+        "sine(...), csv(file=...), openfast(file=..., channel=..., scale=...), sums with + "
+        "(repeatable).",
+    ),
+]
+SpeedOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--speed", "-s", help="JOINT=RPM prescribed joint speed, a number or a signal [rpm]."
+    ),
+]
+InitialSpeedOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--initial-speed",
+        help="JOINT=RPM starting speed (repeatable); the other joints start at the speeds "
+        "the gears impose.",
+    ),
+]
+DurationOption = Annotated[float, typer.Option(help="Simulated time [s].")]
+StepOption = Annotated[float, typer.Option(help="Time step [s].")]
+
 #: Options shared by the sweep commands.
 SweepTable = Annotated[
     Path, typer.Option("--output", "-o", help="Table to write (.csv or .parquet).")
@@ -243,38 +271,17 @@ def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, flo
 @app.command()
 def simulate(
     model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
-    torque: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--torque",
-            "-t",
-            help="JOINT=N·m applied torque, a number or a signal: ramp(...), step(...), "
-            "sine(...), csv(file=...), openfast(file=..., channel=..., scale=...), sums with + "
-            "(repeatable).",
-        ),
-    ] = None,
-    speed: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--speed", "-s", help="JOINT=RPM prescribed joint speed, a number or a signal [rpm]."
-        ),
-    ] = None,
+    torque: TorqueOption = None,
+    speed: SpeedOption = None,
     speed_sine: Annotated[
         list[str] | None,
         typer.Option(
             "--speed-sine", help="JOINT=MEAN_RPM,AMPLITUDE_RPM,FREQUENCY_HZ sinusoidal driver."
         ),
     ] = None,
-    initial_speed: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--initial-speed",
-            help="JOINT=RPM starting speed (repeatable); the other joints start at the speeds "
-            "the gears impose.",
-        ),
-    ] = None,
-    duration: Annotated[float, typer.Option(help="Simulated time [s].")] = 1.0,
-    dt: Annotated[float, typer.Option(help="Time step [s].")] = 1e-3,
+    initial_speed: InitialSpeedOption = None,
+    duration: DurationOption = 1.0,
+    dt: StepOption = 1e-3,
     progress: Annotated[
         bool | None, typer.Option("--progress/--no-progress", help="Progress bar.")
     ] = None,
@@ -722,18 +729,9 @@ def build_planetary(
 @app.command()
 def rate(
     model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
-    torque: Annotated[
-        list[str] | None,
-        typer.Option("--torque", "-t", help="JOINT=N·m applied torque (repeatable)."),
-    ] = None,
-    speed: Annotated[
-        list[str] | None,
-        typer.Option("--speed", "-s", help="JOINT=RPM prescribed joint speed (repeatable)."),
-    ] = None,
-    initial_speed: Annotated[
-        list[str] | None,
-        typer.Option("--initial-speed", help="JOINT=RPM initial speed (repeatable)."),
-    ] = None,
+    torque: TorqueOption = None,
+    speed: SpeedOption = None,
+    initial_speed: InitialSpeedOption = None,
     material: Annotated[
         list[str] | None,
         typer.Option(
@@ -742,8 +740,8 @@ def rate(
             "18CrNiMo7-6.",
         ),
     ] = None,
-    duration: Annotated[float, typer.Option(help="Simulated time [s].")] = 0.05,
-    dt: Annotated[float, typer.Option(help="Time step [s].")] = 1e-3,
+    duration: DurationOption = 0.05,
+    dt: StepOption = 1e-3,
     at: Annotated[str, typer.Option(help="Load level: last, max or mean of the run.")] = "last",
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
 ) -> None:
@@ -754,11 +752,7 @@ def rate(
     from pinwind.analysis.rating import rate as rate_result
     from pinwind.analysis.rating_table import rating_tables
 
-    torques, speeds, _ = parse_loads(torque, speed, None, None)
-    initial = {
-        k: _float(v, "--initial-speed", "rpm") * RPM_TO_RAD_PER_S
-        for k, v in _pairs(initial_speed, "--initial-speed").items()
-    }
+    torques, speeds, initial = parse_loads(torque, speed, None, initial_speed)
     gearbox = pinwind.load(model)
     materials = _pairs(material, "--material")
     if "all" in materials:

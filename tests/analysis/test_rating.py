@@ -62,3 +62,13 @@ def test_rate_command_prints_json_with_safety_factors_per_mesh_and_gear(tmp_path
     assert data["gears"]["ring"]["S_H_iso"] > data["gears"]["sun"]["S_H_iso"]
     # Through-hardened 42CrMo4 (σ_Hlim 770 MPa) cannot carry 1 MN·m on this stage in pitting.
     assert data["passes"] is False
+
+
+def test_rate_command_refuses_a_joint_both_driven_and_given_a_start_speed(tmp_path):
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "rate", str(MODELS / "saleh2017_planetary.urdf"),
+         "--speed", "carrier=14.2", "--initial-speed", "carrier=10", "--duration", "0.01"],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 2
+    assert "--speed" in out.stderr and "--initial-speed" in out.stderr and "carrier" in out.stderr
