@@ -304,6 +304,14 @@ def simulate(
         float,
         typer.Option("--pose-rate", help="Logged link poses (/tf) per simulated second [Hz]."),
     ] = 100.0,
+    view_rate: Annotated[
+        float,
+        typer.Option(
+            "--view-rate",
+            help="Samples per simulated second on the topics Rerun and Foxglove plot when they "
+            "open the log [Hz] (pinwind reads every logged sample).",
+        ),
+    ] = 100.0,
     allow_large_log: Annotated[
         bool,
         typer.Option(
@@ -375,7 +383,7 @@ def simulate(
         initial_speed=_pairs(initial_speed, "--initial-speed"), mesh=_pairs(mesh, "--mesh"),
         position_error=_pairs(position_error, "--position-error"),
         generator=_pairs(generator, "--generator"), rotor=_pairs(rotor, "--rotor"), wind=wind,
-        duration=duration, dt=dt, log_rate=log_rate, pose_rate=pose_rate,
+        duration=duration, dt=dt, log_rate=log_rate, pose_rate=pose_rate, view_rate=view_rate,
         allow_large_log=allow_large_log, keep=parse_keep(keep),
     )  # fmt: skip
     scenario = sc.Scenario(values, source="command line").check()

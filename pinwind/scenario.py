@@ -76,6 +76,7 @@ KEYS: dict[str, tuple[str, str, str]] = {
     "out": ("path", "", "log file"),
     "log_rate": ("number", "Hz", "logged samples per second"),
     "pose_rate": ("number", "Hz", "logged link poses per second"),
+    "view_rate": ("number", "Hz", "samples per second on the topics viewers plot"),
     "allow_large_log": ("bool", "", "write a log above the size limit"),
     "keep": ("keep", "all, last, auto or N", "samples the Result keeps in memory"),
     "force": ("bool", "", "replace an existing log"),
@@ -491,6 +492,7 @@ def run(
         The ``Result``.
     """
     import pinwind
+    from pinwind.io.mcap_log import POSE_RATE, VIEW_RATE
     from pinwind.io.run import log_path
 
     v = scenario.values
@@ -508,7 +510,8 @@ def run(
         gearbox,
         log=log,
         log_rate=v.get("log_rate"),
-        pose_rate=v.get("pose_rate"),
+        pose_rate=v.get("pose_rate", POSE_RATE),
+        view_rate=v.get("view_rate", VIEW_RATE),
         allow_large_log=v.get("allow_large_log", False),
         keep=v.get("keep", "auto"),
         overwrite=v.get("force", False) if force is None else force,
@@ -535,6 +538,7 @@ def cli_values(
     dt: float,
     log_rate: float | None,
     pose_rate: float | None = None,
+    view_rate: float | None = None,
     allow_large_log: bool = False,
     keep: str | int = "auto",
 ) -> dict[str, Any]:
@@ -573,6 +577,8 @@ def cli_values(
         values["log_rate"] = log_rate
     if pose_rate is not None:
         values["pose_rate"] = pose_rate
+    if view_rate is not None:
+        values["view_rate"] = view_rate
     if allow_large_log:
         values["allow_large_log"] = True
     if keep != "auto":

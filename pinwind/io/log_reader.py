@@ -27,6 +27,8 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
+import threading
 import warnings
 from collections import deque
 from collections.abc import Iterable, Iterator
@@ -41,10 +43,12 @@ from mcap.opcode import Opcode
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError, LogError, LogRecovered
 from pinwind.io import mcap_file
+from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile, Scan
 from pinwind.io.mcap_log import (
     _NAMES_OF,
     ARRAY_TOPICS,
+    COLUMNS_TOPIC,
     FORMAT,
     FORMAT_VERSION,
     JOINTS_TOPIC,
@@ -649,6 +653,34 @@ class _Sink:
 # --- the reader ---------------------------------------------------------------------------------
 
 
+class _Buffers:
+    """Decompression buffers used again once nothing refers to them (thread-safe).
+
+    A chunk's column blocks are views of its buffer; when the last view is gone (its samples
+    are copied), only this list holds the buffer, and the next chunk decompresses into it.
+    """
+
+    #: references to a free buffer while ``take`` looks at it: the list, the loop variable and
+    #: the argument of getrefcount
+    _FREE = 3
+
+    def __init__(self) -> None:
+        self._all: list[np.ndarray] = []
+        self._lock = threading.Lock()
+
+    def take(self, size: int) -> np.ndarray | None:
+        """A free buffer larger than ``size`` bytes (None when size is unknown)."""
+        if size <= 0:
+            return None
+        with self._lock:
+            for buffer in self._all:
+                if buffer.size > size and sys.getrefcount(buffer) == self._FREE:
+                    return buffer
+            buffer = np.empty(size + size // 8 + 64, dtype=np.uint8)
+            self._all.append(buffer)
+            return buffer
+
+
 def _json_values(record: dict[str, str]) -> dict[str, Any]:
     out = {}
     for key, text in record.items():
@@ -756,12 +788,23 @@ class LogReader:
         self._layout = _Layout(
             contents.channels, self.names, run.get("pose_stride", run.get("log_stride", 1))
         )
-        if TIME_TOPIC not in self._layout.by_topic and contents.chunks:
+        #: format 3: the arrays are read from the columns (None: from the ROS 2 topics)
+        self._columns: ColumnLayout | None = None
+        for channel in contents.channels.values():
+            if channel.topic == COLUMNS_TOPIC:
+                try:
+                    self._columns = ColumnLayout.of(
+                        channel.id, dict(channel.metadata), self._layout.shapes
+                    )
+                except ValueError as err:
+                    raise LogError(where, f"unexpected message contents: {err}") from err
+        if self._columns is None and TIME_TOPIC not in self._layout.by_topic and contents.chunks:
             raise LogError(where, "unexpected message contents: the log has no /run/time channel")
         end = self.metadata.get("pinwind.end")
         self.complete = end is not None and contents.data_end and not self.problem
         self._end_damaged = end is None and "pinwind.end" in contents.metadata
         self._attachments: dict[str, bytes] | None = None
+        self._buffers = _Buffers()
 
     # --- file ----------------------------------------------------------------------------------
 
@@ -803,7 +846,8 @@ class LogReader:
         chunks = self._sample_chunks(None)
         if not chunks:
             return None
-        return (min(c.start_ns for c in chunks) * 1e-9, max(c.end_ns for c in chunks) * 1e-9)
+        first = min(c.start_ns for c in chunks) * 1e-9
+        return (first, max(c.end_ns for c in chunks) * 1e-9)
 
     # --- reading -------------------------------------------------------------------------------
 
@@ -830,7 +874,7 @@ class LogReader:
         try:
             chunks, capacity = self._plan(start, stop, topics)
             self._check_memory(capacity, keys)
-            sink = _Sink(self._layout.shapes, keys, capacity)
+            sink = self._sink(keys, capacity)
             for part, rows, count in self._parts(chunks, topics, start, stop, lost):
                 sink.put(part, rows, count)
             result = sink.result(self.names, self._layout.terms)
@@ -866,7 +910,7 @@ class LogReader:
         last = math.nan
         try:
             chunks, _ = self._plan(start, stop, topics, counts=False)
-            sink = _Sink(self._layout.shapes, keys, samples)
+            sink = self._sink(keys, samples)
             for part, rows, count in self._parts(chunks, topics, start, stop, lost):
                 done = 0
                 while done < count:
@@ -885,7 +929,7 @@ class LogReader:
                         first = block.time[0] if first is None else first
                         last = block.time[-1]
                         yield block
-                        sink = _Sink(self._layout.shapes, keys, samples)
+                        sink = self._sink(keys, samples)
             if sink.n or total == 0:
                 block = sink.result(self.names, self._layout.terms)
                 self._finish(block, topics, start, stop, lost)
@@ -898,6 +942,12 @@ class LogReader:
             raise self._too_large(samples, keys) from err
         self._warn(total, (first, last) if total and first is not None else None, lost)
 
+    def _sink(self, keys: list[str], capacity: int) -> _Sink | ColumnSink:
+        """The arrays a read of ``keys`` fills, room for ``capacity`` samples to start with."""
+        if self._columns is not None:
+            return ColumnSink(self._columns, self._layout.shapes, keys, capacity)
+        return _Sink(self._layout.shapes, keys, capacity)
+
     def _sample_chunks(self, topics: tuple[str, ...] | None) -> list[ChunkRef]:
         """Chunks that hold samples (the time channel), or whose index is unknown, in file order.
 
@@ -905,15 +955,21 @@ class LogReader:
         chunks of other tools whose time spans overlap (their /tf records come after a block of
         samples), the order in which each sample's records complete.
         """
-        time = self._layout.by_topic.get(TIME_TOPIC)
-        if time is None:
-            return []
-        chunks = [c for c in self._contents.chunks if not c.index or time.id in c.index]
+        if self._columns is not None:
+            wanted = self._columns.channel
+        else:
+            time = self._layout.by_topic.get(TIME_TOPIC)
+            if time is None:
+                return []
+            wanted = time.id
+        chunks = [c for c in self._contents.chunks if not c.index or wanted in c.index]
         return sorted(chunks, key=lambda c: c.offset)
 
     def _plan(self, start, stop, topics, counts: bool = True) -> tuple[list[ChunkRef], int]:
         """The chunks overlapping the window, and how many samples they hold there (at least)."""
         lo, hi = _time_bounds(start, stop)
+        if self._columns is not None:
+            return self._plan_columns(lo, hi)
         chunks = [c for c in self._sample_chunks(topics) if c.end_ns >= lo and c.start_ns <= hi]
         if not counts:
             return chunks, 0
@@ -935,12 +991,47 @@ class LogReader:
                 capacity += int(np.count_nonzero((stamps >= lo) & (stamps <= hi)))
         return chunks, capacity
 
+    def _plan_columns(self, lo: int, hi: int) -> tuple[list[ChunkRef], int]:
+        """The columns chunks with samples in [lo, hi] [ns], and about how many samples.
+
+        A block's samples are evenly spaced (``dt · log_stride``) from the chunk's start to its
+        end time, so the count needs no decompression; a wrong one only makes the arrays grow.
+        """
+        chunks = [c for c in self._sample_chunks(None) if c.end_ns >= lo and c.start_ns <= hi]
+        run = self.metadata["pinwind.run"]
+        try:
+            spacing = float(run["dt"]) * int(run.get("log_stride", 1)) * 1e9
+        except (KeyError, TypeError, ValueError):
+            spacing = math.nan
+        if not spacing > 0:
+            return chunks, 0
+        capacity = 0
+        for chunk in chunks:
+            m = round((chunk.end_ns - chunk.start_ns) / spacing) + 1
+            first = max(0, math.ceil((lo - chunk.start_ns) / spacing - 1e-6))
+            last = min(m - 1, math.floor((hi - chunk.start_ns) / spacing + 1e-6))
+            capacity += max(0, last - first + 1)
+        return chunks, capacity
+
     def _row_estimate(self) -> int:
         """A lower bound of the bytes of one sample's records (to estimate counts)."""
         return max(1, sum(c.record_length for c in self._layout.by_topic.values()))
 
-    def _parts(self, chunks, topics, start, stop, lost) -> Iterator[tuple[_Part, Any, int]]:
+    def _parts(self, chunks, topics, start, stop, lost) -> Iterator[tuple[Any, Any, int]]:
         """(part, rows in the window, count) of every chunk, chunks read ahead by two threads."""
+        if self._columns is not None:
+            for chunk, _, blocks, damage in self._chunk_data(chunks, [], self._load_columns):
+                if damage:
+                    lost.append(
+                        f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to "
+                        f"{chunk.end_ns * 1e-9:.9g} s lost"
+                    )
+                    continue
+                for block in blocks:
+                    rows, count = _window(block.time, start, stop)
+                    if count:
+                        yield block, rows, count
+            return
         wanted = [
             self._layout.by_topic[t]
             for t in topics
@@ -967,7 +1058,20 @@ class LogReader:
                 if count:
                     yield part, rows, count
 
-    def _chunk_data(self, chunks: list[ChunkRef], wanted: list[_Channel]) -> Iterator[tuple]:
+    def _load_columns(self, chunk: ChunkRef, _) -> tuple[bytes, list[ColumnBlock], str]:
+        """A columns chunk's blocks, or why it is damaged (thread-safe)."""
+        layout = self._columns
+        if layout is None:
+            raise RuntimeError("internal error: columns read from a log without them")
+        try:
+            data = mcap_file.read_chunk(self._descriptor(), chunk, self._buffers.take(chunk.size))
+            return b"", decode_chunk(data, layout), ""
+        except DamagedChunk as err:
+            return b"", [], str(err)
+
+    def _chunk_data(
+        self, chunks: list[ChunkRef], wanted: list[_Channel], load=None
+    ) -> Iterator[tuple]:
         """(chunk, its records, their rows or None, "" or why it is damaged), in order.
 
         Two threads read ahead: they read, decompress, CRC-check the chunks and find their rows
@@ -975,19 +1079,20 @@ class LogReader:
         """
         if not chunks:
             return
+        load = load or self._load
         with ThreadPoolExecutor(max_workers=2, thread_name_prefix="pinwind-read") as pool:
             pending: deque = deque()
             ahead = iter(chunks)
             try:
                 for chunk in ahead:
-                    pending.append((chunk, pool.submit(self._load, chunk, wanted)))
+                    pending.append((chunk, pool.submit(load, chunk, wanted)))
                     if len(pending) > READ_AHEAD:
                         break
                 while pending:
                     chunk, future = pending.popleft()
                     following = next(ahead, None)
                     if following is not None:
-                        pending.append((following, pool.submit(self._load, following, wanted)))
+                        pending.append((following, pool.submit(load, following, wanted)))
                     yield (chunk, *future.result())
             finally:
                 for _, future in pending:

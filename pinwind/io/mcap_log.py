@@ -61,12 +61,15 @@ from pinwind.io.messages import (
 
 #: Identity of the file format, in the ``pinwind`` metadata record.
 FORMAT = "pinwind-log"
-#: 2: /tf at the pose rate, its records after each chunk's rows (1: /tf in every row)
-FORMAT_VERSION = 2
+#: 3: every array at the log rate as columns (/pinwind/columns), the ROS 2 topics for viewers at
+#: the view rate (2: the ROS 2 topics at the log rate and /tf at the pose rate; 1: /tf in every row)
+FORMAT_VERSION = 3
 
-#: Link poses per simulated second on /tf [Hz]: a display rate (the physics topics are at the
-#: log rate).
+#: Link poses per simulated second on /tf and /pinwind/poses [Hz]: a display rate.
 POSE_RATE = 100.0
+#: Samples per simulated second on the ROS 2 topics that viewers plot (/joints, /meshes/...,
+#: /bearings/..., /run/...) [Hz]: a display rate. pinwind reads the columns, at the log rate.
+VIEW_RATE = 100.0
 #: Chunk compression and its level.
 COMPRESSION = "zstd"
 COMPRESSION_LEVEL = -1
@@ -74,6 +77,15 @@ COMPRESSION_LEVEL = -1
 MAX_LOG_BYTES = 20e9
 
 MODEL_TOPIC = "/robot_description"
+#: Every Result array at the log rate, link poses at the pose rate: one message per block of
+#: samples, in a chunk of its own; what ``read_log`` reads.
+COLUMNS_TOPIC = "/pinwind/columns"
+#: Message encoding of that topic (docs/log_format.md, "Columns"): a layout byte, two counts,
+#: then float64 little-endian values, series after series (the values of one series, one element
+#: of one array, for every sample of the block, are consecutive).
+COLUMNS_ENCODING = "pinwind.columns"
+#: The layout byte of a columns payload.
+COLUMNS_LAYOUT = 1
 JOINTS_TOPIC = "/joints"
 TF_TOPIC = "/tf"
 #: Parent frame of every link transform on ``/tf``.
@@ -342,16 +354,24 @@ class LogEstimate:
 
 
 def estimate_log_size(
-    result: Result, *, samples: int, stride: int, pose_stride: int, model_bytes: int = 0
+    result: Result,
+    *,
+    samples: int,
+    stride: int,
+    pose_stride: int,
+    view_stride: int | None = None,
+    model_bytes: int = 0,
 ) -> LogEstimate:
     """Size of the log of a run of ``samples`` samples, estimated on the high side [bytes].
 
-    Every ``stride``-th sample is logged, with its link poses every ``pose_stride``-th;
-    ``result`` gives the shapes (names) of the arrays, ``model_bytes`` the length of the model
-    file (stored twice). Every float64 counts
-    ``_VALUE_FRACTION`` of its 8 bytes, every record its message-index entry (16 bytes,
-    uncompressed) and ``_RECORD_BYTES`` of compressed framing.
+    Every ``stride``-th sample is logged (``/pinwind/columns``), every ``view_stride``-th also on
+    the viewers' topics (default: every logged one), with its link poses every
+    ``pose_stride``-th; ``result`` gives the shapes (names) of the arrays, ``model_bytes`` the
+    length of the model file (stored twice). Every float64 counts ``_VALUE_FRACTION`` of its 8
+    bytes, every viewers' record its message-index entry (16 bytes, uncompressed) and
+    ``_RECORD_BYTES`` of compressed framing.
     """
+    view_stride = stride if view_stride is None else view_stride
     doubles = len(result.energy)
     records = 1  # /joints
     for name in Result.ARRAYS:
@@ -363,16 +383,20 @@ def estimate_log_size(
         if topic.element in ("", "term") or names:  # topics of an empty family are left out
             records += 1
     logged = -(-samples // stride)
+    viewed = -(-samples // view_stride)
     posed = -(-samples // pose_stride)
     bodies = len(result.body_names)
-    per_sample = 8 * _VALUE_FRACTION * doubles + records * (16 + _RECORD_BYTES)
-    per_pose = 8 * _VALUE_FRACTION * 7 * bodies + 16 + _RECORD_BYTES * (1 + bodies)
-    total = logged * per_sample + posed * per_pose + _FILE_BYTES + 2 * model_bytes
+    per_sample = 8 * _VALUE_FRACTION * doubles
+    per_view = 8 * _VALUE_FRACTION * doubles + records * (16 + _RECORD_BYTES)
+    # /tf for the viewers, and the same poses with their time on /pinwind/poses
+    per_pose = 8 * _VALUE_FRACTION * (15 * bodies + 1) + 16 + _RECORD_BYTES * (1 + bodies)
+    total = logged * per_sample + viewed * per_view + posed * per_pose
+    total += _FILE_BYTES + 2 * model_bytes
     return LogEstimate(
         samples=logged,
         posed=posed,
         bytes=int(total),
-        per_sample=per_sample + per_pose * posed / max(logged, 1),
+        per_sample=(total - _FILE_BYTES - 2 * model_bytes) / max(logged, 1),
     )
 
 
@@ -461,6 +485,11 @@ class _RowLayout:
         )
 
 
+#: Where the values of a columns record start in it: after the 31-byte header, the layout byte
+#: and the two counts, so at a multiple of 8 bytes when the record does.
+_COLUMNS_AT = RECORD_HEADER.itemsize + 9
+
+
 #: sequence, log time, publish time: the variable part of a message record header
 _TIMES = np.dtype([("sequence", "<u4"), ("log_time", "<u8"), ("publish_time", "<u8")])
 
@@ -477,9 +506,13 @@ class McapLogger:
         log_rate: logged samples per simulated second [Hz]; default every sample. The logger
             keeps every ``stride``-th sample, stride = round(1 / (dt · log_rate)) ≥ 1, counted from
             sample 0.
-        pose_rate: link poses (``/tf``) per simulated second [Hz], for display; default
-            ``POSE_RATE`` (100 Hz), None for every logged sample. Poses go with every
-            ``pose_stride``-th sample, a multiple of the log stride.
+        pose_rate: link poses (``/tf``, ``/pinwind/poses``) per simulated second [Hz], for
+            display; default ``POSE_RATE`` (100 Hz), None for every viewed sample. Poses go with
+            every ``pose_stride``-th sample, a multiple of the view stride.
+        view_rate: samples per simulated second on the ROS 2 topics that Rerun and Foxglove
+            plot [Hz]; default ``VIEW_RATE`` (100 Hz), None for every logged sample. They go with
+            every ``view_stride``-th sample, a multiple of the log stride. Every array is on
+            ``/pinwind/columns`` at the log rate whatever this says (``read_log`` reads that).
         overwrite: replace an existing file (otherwise ``LogExists`` before anything runs).
         command: the command line or call that started the run (default ``sys.argv``).
         compression: chunk compression, ``"zstd"`` (default), ``"lz4"`` or ``""``.
@@ -497,6 +530,7 @@ class McapLogger:
         *,
         log_rate: float | None = None,
         pose_rate: float | None = POSE_RATE,
+        view_rate: float | None = VIEW_RATE,
         overwrite: bool = False,
         command: str | None = None,
         compression: str = COMPRESSION,
@@ -508,17 +542,19 @@ class McapLogger:
             raise LogError(str(self.path), "is a folder; give a file name such as run.mcap")
         if self.path.exists() and not overwrite:
             raise LogExists(str(self.path))
-        for name, rate in (("log", log_rate), ("pose", pose_rate)):
+        for name, rate in (("log", log_rate), ("pose", pose_rate), ("view", view_rate)):
             if rate is not None:
                 _resolve_rate(None, rate, name)  # check the value before the run starts
         self.log_rate = log_rate
         self.pose_rate = pose_rate
+        self.view_rate = view_rate
         self.overwrite = overwrite
         self.command = command if command is not None else shlex.join(sys.argv)
         self.compression = compression
         self.compression_level = compression_level
         self.max_bytes = max_bytes
         self.stride = 1
+        self.view_stride = 1
         self.pose_stride = 1
         self.samples_logged = 0
         self._next_sample = 0
@@ -534,6 +570,7 @@ class McapLogger:
         self._jobs: queue.Queue = queue.Queue(maxsize=MAX_QUEUED_BLOCKS)
         self._writer: threading.Thread | None = None
         self._buffer = np.empty(0, dtype=np.uint8)  # the records of one chunk (_assemble)
+        self._column_buffer = np.empty(0, dtype=np.float64)  # _assemble_columns
 
     # --- RunObserver -----------------------------------------------------------------------
 
@@ -547,14 +584,19 @@ class McapLogger:
         meta = result.metadata
         dt = float(meta["dt"])
         self.stride, rate = _resolve_rate(dt, self.log_rate)
-        self.pose_stride = self.stride
+        self.view_stride = self.stride
+        if self.view_rate is not None:
+            self.view_stride = self.stride * max(1, round(rate / float(self.view_rate)))
+        self.pose_stride = self.view_stride
         if self.pose_rate is not None:
-            self.pose_stride = self.stride * max(1, round(rate / float(self.pose_rate)))
+            view = rate * self.stride / self.view_stride
+            self.pose_stride = self.view_stride * max(1, round(view / float(self.pose_rate)))
         self.estimate = estimate_log_size(
             result,
             samples=int(meta.get("samples_simulated", len(result))),
             stride=self.stride,
             pose_stride=self.pose_stride,
+            view_stride=self.view_stride,
             model_bytes=len(gearbox.source_text.encode("utf-8")),
         )
         if self.max_bytes is not None:
@@ -627,6 +669,7 @@ class McapLogger:
             "generator_names": list(result.generator_names),
             "rotor_names": list(result.rotor_names),
         }
+        view_rate = rate * self.stride / self.view_stride
         array_schema = f.schema(messages.FLOAT64_MULTI_ARRAY)
         joint_schema = f.schema(messages.JOINT_STATE)
         string_schema = f.schema(messages.STRING)
@@ -644,6 +687,8 @@ class McapLogger:
                 "position": "joint angle [rad], unwrapped (Result.angle)",
                 "velocity": "joint speed relative to the parent body [rad/s] (Result.speed)",
                 "effort": "applied plus driver or lock torque [N*m] (Result.torque)",
+                "rate_hz": repr(view_rate),
+                "stride": str(self.view_stride),
             },
         )
         records = [(joint_channel, joint_codec.template)]
@@ -672,6 +717,8 @@ class McapLogger:
                 dims.append(("axis", 3))
                 channel_meta["frame"] = topic.frame
                 channel_meta["axes"] = json.dumps(["x", "y", "z"])
+            channel_meta["rate_hz"] = repr(view_rate)
+            channel_meta["stride"] = str(self.view_stride)
             channel = f.channel(topic.topic, "cdr", array_schema, channel_meta)
             codec = Float64ArrayCodec(dims)
             array_fields.append((len(records), codec.data_at))
@@ -687,6 +734,41 @@ class McapLogger:
                 "content": f"world pose of every link, parent frame '{WORLD_FRAME}'",
                 "rate_hz": repr(pose_rate),
                 "stride": str(self.pose_stride),
+            },
+        )
+        # The columns pinwind reads back: every array but the poses, at the log rate.
+        columns: list[tuple[str, list[int]]] = [("time", [])]
+        for name in Result.ARRAYS:
+            shape = list(getattr(result, name).shape[1:])
+            if name not in ("time", "body_position", "body_quaternion") and math.prod(shape):
+                columns.append((name, shape))
+        columns += [(f"energy/{term}", []) for term in self._terms]
+        self._columns = [(key, math.prod(shape)) for key, shape in columns]
+        self._column_width = sum(width for _, width in self._columns)
+        bodies = len(names["body_names"])
+        self._pose_width = 1 + 7 * bodies
+        layout = (
+            f"a layout byte ({COLUMNS_LAYOUT}), the number of samples m and of poses p (uint32 "
+            "each), then float64 values: series after series in the order of 'columns' (m "
+            "values each; each array's elements in C order), then the p posed samples' series "
+            "in the order of 'pose_columns'; all little-endian"
+        )
+        self._columns_channel = f.channel(
+            COLUMNS_TOPIC,
+            COLUMNS_ENCODING,
+            0,
+            {
+                "content": "every Result array at the log rate, link poses at the pose rate; "
+                "one message per block of samples, log time = its first sample's",
+                "columns": json.dumps(columns),
+                "pose_columns": json.dumps(
+                    [("time", []), ("body_position", [bodies, 3]), ("body_quaternion", [bodies, 4])]
+                ),
+                "layout": layout,
+                "rate_hz": repr(rate),
+                "stride": str(self.stride),
+                "pose_rate_hz": repr(pose_rate),
+                "pose_stride": str(self.pose_stride),
             },
         )
         self._rows = _RowLayout(records, 0, joint_codec.stamp_at)
@@ -723,6 +805,8 @@ class McapLogger:
             log_stride=self.stride,
             log_rate_hz=rate,
             sample_rate_hz=1.0 / meta["dt"],
+            view_stride=self.view_stride,
+            view_rate_hz=view_rate,
             pose_stride=self.pose_stride,
             pose_rate_hz=pose_rate,
             log_estimate_bytes=self.estimate.bytes,
@@ -799,8 +883,10 @@ class McapLogger:
                 if self._failed is None:
                     block, rows, samples = job
                     try:
-                        data, index = self._assemble(block, rows, samples)
-                        self._mcap().chunk(data, index)
+                        self._mcap().chunk(*self._assemble_columns(block, rows, samples))
+                        viewed = self._viewed(rows, samples)
+                        if viewed is not None:
+                            self._mcap().chunk(*self._assemble(block, *viewed))
                         if self._deleted():
                             self._lost = True
                             raise FileNotFoundError(
@@ -905,6 +991,83 @@ class McapLogger:
         f.finish()
 
     # --- chunks ----------------------------------------------------------------------------
+
+    def _viewed(
+        self, rows: slice | np.ndarray, samples: np.ndarray
+    ) -> tuple[slice | np.ndarray, np.ndarray] | None:
+        """The rows and sample numbers of a block's samples that go to the viewers' topics."""
+        if self.view_stride == self.stride:
+            return rows, samples
+        pick = np.flatnonzero(samples % self.view_stride == 0)
+        if not len(pick):
+            return None
+        if isinstance(rows, slice):
+            return rows.start + pick, samples[pick]
+        return rows[pick], samples[pick]
+
+    def _assemble_columns(
+        self, result: Result, rows: slice | np.ndarray, samples: np.ndarray
+    ) -> tuple[np.ndarray, dict]:
+        """The chunk pinwind reads back: the ``/pinwind/columns`` records of a block.
+
+        The first record's payload holds every array but the poses for the ``rows`` of a block
+        (sample numbers ``samples``), then the times and poses of those samples that have one
+        (every ``pose_stride``-th), as float64 series after series. A closing record without
+        samples, at the block's last sample time, makes the chunk's time span (its log times,
+        in the chunk index) that of the block. The copy turns the block's
+        sample-major arrays into runs of one series, which zstd compresses twice as fast and
+        ``read_log`` decompresses into its arrays with whole-run copies. One record per block,
+        poses included, so that no other tool's rechunking can part a block's values.
+        """
+        m = len(samples)
+        k = self._column_width
+        time = result.time[rows]
+        log_time = np.rint(time[:1] * 1e9).astype(np.uint64)
+        posed = np.flatnonzero(samples % self.pose_stride == 0)
+        p = len(posed)
+        bodies = len(result.body_names)
+        pose_width = self._pose_width
+        doubles = k * m + pose_width * p
+        size = _COLUMNS_AT + 8 * doubles
+        # and the closing record: no samples, at the last sample's time
+        if self._column_buffer.size < size // 8 + _COLUMNS_AT // 8:
+            self._column_buffer = np.empty(size // 8 + _COLUMNS_AT // 8)
+        data = self._column_buffer.view(np.uint8)[: size + _COLUMNS_AT]
+        last_time = np.rint(time[-1:] * 1e9).astype(np.uint64)
+        self._column_head(data, 0, samples[0], log_time, m, p)
+        self._column_head(data, size, samples[-1], last_time, 0, 0)
+        first = _COLUMNS_AT // 8
+        values = self._column_buffer[first : first + k * m].reshape(k, m)
+        at = 0
+        for key, width in self._columns:
+            if key.startswith("energy/"):
+                source = result.energy[key[len("energy/") :]]
+            else:
+                source = getattr(result, key)
+            values[at : at + width] = source[rows].reshape(m, width).T
+            at += width
+        if p:
+            poses = self._column_buffer[first + k * m : size // 8].reshape(pose_width, p)
+            poses[0] = time[posed]
+            poses[1 : 1 + 3 * bodies] = result.body_position[rows][posed].reshape(p, -1).T
+            poses[1 + 3 * bodies :] = result.body_quaternion[rows][posed].reshape(p, -1).T
+        index = np.array([[log_time[0], 0], [last_time[0], size]], dtype=np.uint64)
+        return data, {self._columns_channel: index}
+
+    def _column_head(
+        self, data: np.ndarray, at: int, sample: int, log_time: np.ndarray, m: int, p: int
+    ) -> None:
+        """Header, layout byte and counts of a columns record of m samples and p poses."""
+        head = data[at : at + RECORD_HEADER.itemsize].view(RECORD_HEADER)
+        head["op"] = Opcode.MESSAGE
+        head["length"] = _COLUMNS_AT - 9 + 8 * (self._column_width * m + self._pose_width * p)
+        head["channel"] = self._columns_channel
+        head["sequence"] = int(sample) & 0xFFFFFFFF  # the sample's number (mod 2^32)
+        head["log_time"] = log_time
+        head["publish_time"] = log_time
+        counts = data[at + RECORD_HEADER.itemsize : at + _COLUMNS_AT]
+        counts[0] = COLUMNS_LAYOUT
+        counts[1:].view("<u4")[:] = (m, p)
 
     def _assemble(
         self, result: Result, rows: slice | np.ndarray, samples: np.ndarray

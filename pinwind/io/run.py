@@ -14,7 +14,7 @@ from typing import Any
 
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.simulate import simulate as _simulate
-from pinwind.io.mcap_log import MAX_LOG_BYTES, POSE_RATE, McapLogger
+from pinwind.io.mcap_log import MAX_LOG_BYTES, POSE_RATE, VIEW_RATE, McapLogger
 from pinwind.model.gearbox import Gearbox
 
 #: Folder of logs given without one (``log=True`` or a bare file name).
@@ -65,6 +65,7 @@ def simulate(
     log: str | os.PathLike | bool | None = None,
     log_rate: float | None = None,
     pose_rate: float | None = POSE_RATE,
+    view_rate: float | None = VIEW_RATE,
     overwrite: bool = False,
     command: str | None = None,
     allow_large_log: bool = False,
@@ -76,9 +77,13 @@ def simulate(
         gearbox: the model (``pinwind.load``).
         log: MCAP file to write: a path, a bare file name (written in ``logs/``), ``True`` for
             ``logs/<model>_<UTC time>.mcap``, or ``None`` for no log.
-        log_rate: logged samples per simulated second [Hz]; default every sample.
-        pose_rate: link poses (``/tf``) per simulated second [Hz], for display (default
-            100 Hz); None for a pose with every logged sample.
+        log_rate: logged samples per simulated second [Hz]; default every sample. Every array
+            is in the log at this rate (``/pinwind/columns``, what ``read_log`` reads).
+        view_rate: samples per simulated second on the ROS 2 topics that Rerun and Foxglove
+            plot when they open the log [Hz], a display rate (default 100 Hz); None for every
+            logged sample.
+        pose_rate: link poses per simulated second [Hz], for display (default 100 Hz, at most
+            the view rate); None for a pose with every viewed sample.
         overwrite: replace an existing log file; otherwise ``LogExists`` is raised before the run.
         command: the command line to record in the log (default: this call, as text).
         allow_large_log: write the log even when its estimated size is above ``MAX_LOG_BYTES``
@@ -105,11 +110,19 @@ def simulate(
         path,
         log_rate=log_rate,
         pose_rate=pose_rate,
+        view_rate=view_rate,
         overwrite=overwrite,
         max_bytes=None if allow_large_log else MAX_LOG_BYTES,
         command=command
         or describe_call(
-            gearbox, {**kwargs, "log": str(path), "log_rate": log_rate, "pose_rate": pose_rate}
+            gearbox,
+            {
+                **kwargs,
+                "log": str(path),
+                "log_rate": log_rate,
+                "pose_rate": pose_rate,
+                "view_rate": view_rate,
+            },
         ),
     )
     result = _simulate(gearbox, observer=logger, **kwargs)

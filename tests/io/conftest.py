@@ -24,6 +24,8 @@ DURATION = 0.25
 CHUNK = 100
 #: Link poses go to the log at 100 Hz (pinwind.io.mcap_log.POSE_RATE): every 10th sample of 1 ms.
 POSE_EVERY = 10
+#: The viewers' topics too (pinwind.io.mcap_log.VIEW_RATE, 100 Hz); /pinwind/columns has all.
+VIEW_EVERY = 10
 
 
 class RotorTorque:
@@ -84,6 +86,21 @@ def rotor_run(tmp_path_factory) -> LoggedRun:
         progress=False,
     )
     return LoggedRun(result, path)
+
+
+def column_chunks(path: Path) -> list[tuple[int, int, int]]:
+    """(offset, length, first log time [ns]) of the chunks that hold /pinwind/columns, in file
+    order (one per block of samples), from the official MCAP reader's summary."""
+    from mcap.reader import make_reader
+
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    columns = next(i for i, c in summary.channels.items() if c.topic == "/pinwind/columns")
+    return [
+        (c.chunk_start_offset, c.chunk_length, c.message_start_time)
+        for c in summary.chunk_indexes
+        if columns in c.message_index_offsets
+    ]
 
 
 def rrd_columns(rrd: Path) -> dict[str, dict[str, list]]:

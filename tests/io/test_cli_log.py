@@ -18,7 +18,7 @@ import pytest
 import pinwind
 from pinwind.errors import LogRecovered
 from pinwind.io.mcap_log import open_log
-from tests.io.conftest import PLANETARY, rrd_columns
+from tests.io.conftest import PLANETARY, VIEW_EVERY, rrd_columns
 
 ENV = {**os.environ, "RERUN_ANALYTICS": "0"}
 
@@ -190,10 +190,12 @@ def test_rerun_cli_converts_the_log_into_time_series(logged_run, tmp_path):
         values = np.concatenate([p.flatten().to_numpy() for p in parts])
         return values.reshape(len(times), -1)[np.argsort(times, kind="stable")]
 
-    np.testing.assert_array_equal(scalars("/meshes/normal"), res.mesh_normal)
-    np.testing.assert_array_equal(scalars("/joints/velocity"), res.speed)
+    viewed = slice(None, None, VIEW_EVERY)  # the viewers' topics are at the view rate
+    np.testing.assert_array_equal(scalars("/meshes/normal"), res.mesh_normal[viewed])
+    np.testing.assert_array_equal(scalars("/joints/velocity"), res.speed[viewed])
     np.testing.assert_array_equal(
-        scalars("/bearings/force").reshape(-1, len(res.bearing_names), 3), res.bearing_force
+        scalars("/bearings/force").reshape(-1, len(res.bearing_names), 3),
+        res.bearing_force[viewed],
     )
     names = columns["/joints/velocity"]["SeriesLines:names"][0].flatten().to_pylist()
     assert names[: len(res.joint_names)] == res.joint_names
@@ -220,7 +222,7 @@ def test_rerun_reads_log_times_as_dates_unless_converted_with_duration_timelines
     """MCAP log times have no epoch field: Rerun 0.41 takes them as Unix times (1970-01-01 +
     t) when it opens the file, and as simulation time from 0 with ``--timeline-type duration``.
     """
-    expected = np.rint(logged_run.result.time * 1e9).astype(np.int64)
+    expected = np.rint(logged_run.result.time[::VIEW_EVERY] * 1e9).astype(np.int64)
     dates = _convert(logged_run.path, tmp_path / "dates.rrd")["/meshes/normal"]
     assert all(str(c.type) == "timestamp[ns]" for c in dates["message_log_time"])
     times = _convert(logged_run.path, tmp_path / "t.rrd", "--timeline-type", "duration")

@@ -19,7 +19,7 @@ from pinwind.errors import LogRecovered, LogTooLargeToWrite, LogWriteFailed
 from pinwind.io import mcap_log, run
 from pinwind.io.log_reader import LogReader
 from pinwind.io.mcap_log import McapLogger
-from tests.io.conftest import CHUNK, DT, DURATION, TORQUES
+from tests.io.conftest import CHUNK, DT, DURATION, TORQUES, column_chunks
 from tests.io.test_cli_log import ENV, SIMULATE
 from tests.io.test_mcap_log import assert_same_arrays
 
@@ -144,24 +144,17 @@ class LoggerOnFullDisk(McapLogger):
         return FullDisk(self.path, self.room)
 
 
-def _chunks(path):
-    with LogReader(path) as log:
-        return log._contents.chunks
-
-
 def test_full_disk_stops_the_run_and_leaves_its_complete_chunks_readable(
     planetary, logged_run, tmp_path
 ):
     run_it = dict(duration=DURATION, dt=DT, torques=TORQUES, chunk=CHUNK)
     roomy = tmp_path / "roomy.mcap"
     simulate(planetary, **run_it, observer=LoggerOnFullDisk(roomy, 1 << 40))
-    # chunks: the model, samples 0-99, 100-199, 200-250; the disk fills inside the last one
-    model, first, second, third = _chunks(roomy)
+    # the columns of samples 0-99, 100-199, 200-250; the disk fills inside the last ones
+    first, second, third = column_chunks(roomy)
     path = tmp_path / "full.mcap"
     with pytest.raises(LogWriteFailed) as stopped:
-        simulate(
-            planetary, **run_it, observer=LoggerOnFullDisk(path, third.offset + third.length // 2)
-        )
+        simulate(planetary, **run_it, observer=LoggerOnFullDisk(path, third[0] + third[1] // 2))
     err = stopped.value
     assert err.samples_logged == 2 * CHUNK and err.failed_at == 0.2
     assert str(err) == (
@@ -170,7 +163,7 @@ def test_full_disk_stops_the_run_and_leaves_its_complete_chunks_readable(
         "pinwind.read_log or pinwind report. Free some disk space or log less (--log-rate, "
         "--no-log)"
     )
-    assert path.stat().st_size == third.offset  # cut back to the end of the second chunk
+    assert path.stat().st_size == third[0]  # cut back to the end of the second chunk
     with pytest.warns(LogRecovered, match="recovered 200 samples"):
         back = pinwind.read_log(path)
     assert_same_arrays(back, logged_run.result.truncated(2 * CHUNK))

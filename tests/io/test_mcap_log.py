@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import hashlib
 import json
+import struct
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,7 +21,16 @@ from pinwind.io.log_reader import LogDamaged, LogReader
 from pinwind.io.mcap_log import McapLogger, open_log
 from pinwind.io.messages import decode_string
 from pinwind.io.run import log_path
-from tests.io.conftest import CHUNK, DT, DURATION, PLANETARY, POSE_EVERY, TORQUES
+from tests.io.conftest import (
+    CHUNK,
+    DT,
+    DURATION,
+    PLANETARY,
+    POSE_EVERY,
+    TORQUES,
+    VIEW_EVERY,
+    column_chunks,
+)
 
 
 def assert_same_arrays(
@@ -104,7 +115,9 @@ def test_official_mcap_reader_sees_every_message_with_valid_crcs(logged_run):
     assert np.all(np.diff(log_times) >= 0)  # /tf records after each block's rows are sorted in
     assert counts.pop("/robot_description") == 1
     assert counts.pop("/tf") == len(range(0, n, POSE_EVERY))
-    assert set(counts.values()) == {n}
+    # a block's columns and its closing record, for the blocks of 100, 100 and 51 samples
+    assert counts.pop("/pinwind/columns") == 2 * -(-n // CHUNK)
+    assert set(counts.values()) == {len(range(0, n, VIEW_EVERY))}  # the viewers' topics
     assert "/meshes/normal" in counts and "/joints" in counts
     with open(logged_run.path, "rb") as f:
         records = list(StreamReader(f, validate_crcs=True).records)  # raises on a bad CRC
@@ -119,8 +132,9 @@ def test_log_time_is_simulation_time_and_sequence_is_sample_index(logged_run):
             for _, _, m in make_reader(f).iter_messages(topics=["/meshes/normal"])
         ]
     log_time, sequence = np.array(stamps).T
-    np.testing.assert_array_equal(log_time, np.rint(time * 1e9).astype(np.int64))
-    np.testing.assert_array_equal(sequence, np.arange(len(time)))
+    viewed = np.arange(0, len(time), VIEW_EVERY)  # the viewers' topics are at the view rate
+    np.testing.assert_array_equal(log_time, np.rint(time[viewed] * 1e9).astype(np.int64))
+    np.testing.assert_array_equal(sequence, viewed)
 
 
 def test_channels_name_their_elements_units_and_frames(logged_run):
@@ -151,13 +165,23 @@ def test_log_rate_keeps_every_stride_th_sample(planetary, tmp_path):
     assert_same_arrays(back, _every(full, stride))
 
 
-@pytest.mark.parametrize("pose_rate, pose_every", [(None, 1), (50.0, 20), (1e6, 1)])
+@pytest.mark.parametrize(
+    "pose_rate, view_rate, pose_every",
+    [(None, None, 1), (50.0, 100.0, 20), (1e6, None, 1), (None, 100.0, 10), (1e6, 100.0, 10)],
+)
 def test_pose_rate_logs_the_poses_of_every_nth_sample_and_nan_between(
-    planetary, tmp_path, pose_rate, pose_every
+    planetary, tmp_path, pose_rate, view_rate, pose_every
 ):
+    """Poses are for display: at the pose rate, at most the view rate (1 ms steps here)."""
     path = tmp_path / "poses.mcap"
     full = pinwind.simulate(
-        planetary, duration=0.1, dt=DT, torques=TORQUES, log=path, pose_rate=pose_rate
+        planetary,
+        duration=0.1,
+        dt=DT,
+        torques=TORQUES,
+        log=path,
+        pose_rate=pose_rate,
+        view_rate=view_rate,
     )
     back = pinwind.read_log(path)
     assert back.metadata["pose_stride"] == pose_every
@@ -306,18 +330,10 @@ def test_run_stopped_before_its_first_block_reads_as_no_samples(planetary, logge
 # --- damaged and foreign files ------------------------------------------------------------------
 
 
-def _chunk_offsets(path) -> list[tuple[int, int]]:
-    with open(path, "rb") as f:
-        return [
-            (c.chunk_start_offset, c.chunk_length)
-            for c in make_reader(f).get_summary().chunk_indexes
-        ]
-
-
 def test_truncated_log_recovers_the_samples_of_its_complete_chunks(logged_run, tmp_path):
-    chunks = _chunk_offsets(logged_run.path)
-    assert len(chunks) == 4  # the model message, then samples 0-99, 100-199, 200-250
-    start, length = chunks[3]
+    chunks = column_chunks(logged_run.path)
+    assert len(chunks) == 3  # samples 0-99, 100-199, 200-250
+    start, length, _ = chunks[2]
     cut = tmp_path / "cut.mcap"
     cut.write_bytes(logged_run.path.read_bytes()[: start + length // 2])
     with pytest.warns(LogRecovered, match=f"ends inside a chunk record at byte {start}"):
@@ -336,7 +352,7 @@ def test_log_cut_before_its_metadata_gives_one_error(logged_run, tmp_path):
 def test_corrupted_chunk_is_skipped_with_a_warning_naming_file_place_and_time_lost(
     logged_run, tmp_path
 ):
-    start, length = _chunk_offsets(logged_run.path)[2]
+    start, length, _ = column_chunks(logged_run.path)[1]  # samples 100-199
     data = bytearray(logged_run.path.read_bytes())
     middle = start + length // 2
     data[middle : middle + 16] = bytes(16)
@@ -351,7 +367,7 @@ def test_corrupted_chunk_is_skipped_with_a_warning_naming_file_place_and_time_lo
 
 
 def test_corrupted_record_header_is_skipped_with_a_warning(logged_run, tmp_path):
-    start, _ = _chunk_offsets(logged_run.path)[1]
+    start, _, _ = column_chunks(logged_run.path)[0]  # samples 0-99
     data = bytearray(logged_run.path.read_bytes())
     data[start] = 0x7E
     bad = tmp_path / "bad_header.mcap"
@@ -454,3 +470,70 @@ def test_a_writer_slower_than_the_steps_holds_the_run_back_instead_of_queueing_b
     assert len(waiting) == blocks + 1  # the last block holds the final sample alone
     assert max(waiting) <= mcap_log.MAX_QUEUED_BLOCKS
     assert_same_arrays(pinwind.read_log(path), res)
+
+
+# --- format 3: columns at the log rate, viewers' topics at the view rate --------------------------
+
+
+def test_columns_payload_decoded_by_hand_from_the_documented_layout_equals_the_run(logged_run):
+    """docs/log_format.md, "Columns": layout byte 1, m and p (uint32), then float64 series."""
+    res = logged_run.result
+    with open(logged_run.path, "rb") as f:
+        reader = make_reader(f)
+        channel = next(
+            c for c in reader.get_summary().channels.values() if c.topic == "/pinwind/columns"
+        )
+        columns = json.loads(channel.metadata["columns"])
+        pose_columns = json.loads(channel.metadata["pose_columns"])
+        payloads = [m.data for _, _, m in reader.iter_messages(topics=["/pinwind/columns"])]
+    width = sum(int(np.prod(shape)) for _, shape in columns)
+    pose_width = sum(int(np.prod(shape)) for _, shape in pose_columns)
+    got: dict[str, list] = {key: [] for key, _ in columns}
+    pose_time = []
+    for data in payloads:
+        assert data[0] == 1
+        m, p = struct.unpack_from("<II", data, 1)
+        values = np.frombuffer(data, "<f8", offset=9)
+        assert len(values) == width * m + pose_width * p
+        series = values[: width * m].reshape(width, m)
+        at = 0
+        for key, shape in columns:
+            count = int(np.prod(shape))
+            got[key].append(series[at : at + count].T.reshape(m, *shape))
+            at += count
+        pose_time.append(values[width * m :].reshape(pose_width, p)[0])
+    assert [len(d) for d in payloads].count(9) == 3  # a closing record per block
+    for key, parts in got.items():
+        expected = res.energy[key[7:]] if key.startswith("energy/") else getattr(res, key)
+        np.testing.assert_array_equal(np.concatenate(parts), expected, err_msg=key)
+    np.testing.assert_array_equal(np.concatenate(pose_time), res.time[::POSE_EVERY])
+
+
+def test_view_rate_thins_the_viewers_topics_only(planetary, tmp_path):
+    path = tmp_path / "view.mcap"
+    full = pinwind.simulate(
+        planetary, duration=0.1, dt=DT, torques=TORQUES, log=path, view_rate=250.0, pose_rate=None
+    )
+    with open(path, "rb") as f:
+        normal = [
+            np.frombuffer(m.data[-8 * len(full.mesh_names) :], "<f8")
+            for _, _, m in make_reader(f).iter_messages(topics=["/meshes/normal"])
+        ]
+    np.testing.assert_array_equal(np.array(normal), full.mesh_normal[::4])  # 1 kHz / 250 Hz
+    assert_same_arrays(pinwind.read_log(path), full, pose_every=4)
+
+
+def test_log_of_format_2_is_still_read(planetary):
+    """A log written by the format-2 writer (ROS 2 topics at the log rate, no columns): 0.05 s
+    of the shared planetary run at 1 ms in chunks of 20, poses at 100 Hz."""
+    back = pinwind.read_log(Path(__file__).parent / "data" / "planetary_format2.mcap")
+    assert back.metadata["log"]["complete"]
+    full = pinwind.simulate(planetary, duration=0.05, dt=DT, torques=TORQUES)
+    assert len(back) == len(full) == 51
+    posed = np.arange(len(full)) % POSE_EVERY == 0
+    for name in full.ARRAYS:
+        a, b = getattr(back, name), getattr(full, name)
+        if name in ("body_position", "body_quaternion"):
+            assert np.isnan(a[~posed]).all()
+            a, b = a[posed], b[posed]
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-9, err_msg=name)

@@ -119,18 +119,18 @@ def test_streamed_report_reads_only_its_window_one_block_at_a_time(logged_run, m
     from pinwind.io.report import report_log
 
     chunks, capacities = [], []
-    read_chunk, sink = mcap_file.read_chunk, log_reader._Sink
+    read_chunk, sink = mcap_file.read_chunk, log_reader.ColumnSink
 
-    def spy_read(fd, chunk):
+    def spy_read(fd, chunk, into=None):
         chunks.append(chunk.start_ns)
-        return read_chunk(fd, chunk)
+        return read_chunk(fd, chunk, into)
 
-    def spy_sink(shapes, keys, capacity):
+    def spy_sink(layout, shapes, keys, capacity):
         capacities.append(capacity)
-        return sink(shapes, keys, capacity)
+        return sink(layout, shapes, keys, capacity)
 
     monkeypatch.setattr(mcap_file, "read_chunk", spy_read)
-    monkeypatch.setattr(log_reader, "_Sink", spy_sink)
+    monkeypatch.setattr(log_reader, "ColumnSink", spy_sink)
     report_log(logged_run.path, 0.12, 0.15, block=10)
     assert chunks == [100_000_000]  # the chunk of samples 100-199 only
     assert set(capacities) == {10}
