@@ -104,7 +104,7 @@ class ColumnBlock:
     poses: np.ndarray
 
 
-def decode_chunk(data: bytes, layout: ColumnLayout) -> list[ColumnBlock]:
+def decode_chunk(data: bytes | np.ndarray, layout: ColumnLayout) -> list[ColumnBlock]:
     """The column blocks in a chunk's message records (other channels' records are skipped).
 
     Raises:
@@ -130,7 +130,7 @@ def decode_chunk(data: bytes, layout: ColumnLayout) -> list[ColumnBlock]:
     return blocks
 
 
-def _block(data: bytes, at: int, end: int, layout: ColumnLayout) -> ColumnBlock:
+def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) -> ColumnBlock:
     if end - at < _HEAD or data[at] != COLUMNS_LAYOUT:
         raise DamagedChunk(f"a columns record at byte {at} has an unknown layout")
     m, p = np.frombuffer(data, "<u4", 2, at + 1).tolist()
@@ -214,16 +214,19 @@ class ColumnSink:
 
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
         """The samples so far as a Result (views of the arrays, sample index first)."""
-        arrays: dict[str, Any] = {
-            k: np.moveaxis(v[..., : self.n], -1, 0) for k, v in self.arrays.items()
-        }
-        return Result(
-            joint_names=names["joint_names"],
-            mesh_names=names["mesh_names"],
-            bearing_names=names["bearing_names"],
-            body_names=names["body_names"],
-            generator_names=names.get("generator_names", []),
-            rotor_names=names.get("rotor_names", []),
-            energy={t: arrays[f"energy/{t}"] for t in terms},
-            **{name: arrays[name] for name in Result.ARRAYS},
-        )
+        arrays = {k: np.moveaxis(v[..., : self.n], -1, 0) for k, v in self.arrays.items()}
+        return result_of(arrays, names, terms)
+
+
+def result_of(arrays: dict[str, Any], names: dict[str, list[str]], terms: list[str]) -> Result:
+    """A Result of a read's arrays (destination → array), with the log's names."""
+    return Result(
+        joint_names=names["joint_names"],
+        mesh_names=names["mesh_names"],
+        bearing_names=names["bearing_names"],
+        body_names=names["body_names"],
+        generator_names=names.get("generator_names", []),
+        rotor_names=names.get("rotor_names", []),
+        energy={t: arrays[f"energy/{t}"] for t in terms},
+        **{name: arrays[name] for name in Result.ARRAYS},
+    )

@@ -35,7 +35,7 @@ from collections.abc import Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from mcap.opcode import Opcode
@@ -43,7 +43,13 @@ from mcap.opcode import Opcode
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError, LogError, LogRecovered
 from pinwind.io import mcap_file
-from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
+from pinwind.io.log_columns import (
+    ColumnBlock,
+    ColumnLayout,
+    ColumnSink,
+    decode_chunk,
+    result_of,
+)
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile, Scan
 from pinwind.io.mcap_log import (
     _NAMES_OF,
@@ -637,17 +643,7 @@ class _Sink:
 
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
         """The samples so far as a Result (views of the arrays)."""
-        arrays: dict[str, Any] = {k: v[: self.n] for k, v in self.arrays.items()}
-        return Result(
-            joint_names=names["joint_names"],
-            mesh_names=names["mesh_names"],
-            bearing_names=names["bearing_names"],
-            body_names=names["body_names"],
-            generator_names=names.get("generator_names", []),
-            rotor_names=names.get("rotor_names", []),
-            energy={t: arrays[f"energy/{t}"] for t in terms},
-            **{name: arrays[name] for name in Result.ARRAYS},
-        )
+        return result_of({k: v[: self.n] for k, v in self.arrays.items()}, names, terms)
 
 
 # --- the reader ---------------------------------------------------------------------------------
@@ -1100,7 +1096,8 @@ class LogReader:
 
     def _load(self, chunk: ChunkRef, wanted: list[_Channel]) -> tuple[bytes, Any, str]:
         try:
-            data = mcap_file.read_chunk(self._descriptor(), chunk)
+            # no buffer given: the records come as bytes
+            data = cast(bytes, mcap_file.read_chunk(self._descriptor(), chunk))
         except DamagedChunk as err:
             return b"", None, str(err)
         return data, self._layout.find_rows(data, wanted), ""

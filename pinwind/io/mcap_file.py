@@ -742,6 +742,7 @@ def read_chunk(fd: int, ref: ChunkRef, into: np.ndarray | None = None) -> bytes 
     compressed = memoryview(data)[at + 8 :]
     if stored != len(compressed):
         raise DamagedChunk(f"{where} has a damaged header")
+    records: bytes | np.ndarray
     try:
         if compression == "zstd" and into is not None and into.size > size:
             records = _zstd_into(compressed, into)
@@ -755,7 +756,7 @@ def read_chunk(fd: int, ref: ChunkRef, into: np.ndarray | None = None) -> bytes 
         raise DamagedChunk(f"{where} does not decompress ({err})") from err
     if len(records) != size:
         raise DamagedChunk(f"{where} decompresses to the wrong size")
-    if crc and zlib.crc32(records) != crc:
+    if crc and zlib.crc32(_byte_view(records)) != crc:
         raise DamagedChunk(f"{where} fails its CRC check")
     return records
 
