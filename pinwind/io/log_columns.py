@@ -1,12 +1,13 @@
 """The columns of a pinwind log (format 3): a block's layout, and the arrays a read fills.
 
 Every logged block is one ``/pinwind/columns`` message (docs/log_format.md, "Columns"): a layout
-byte, the number of samples m and of posed samples p, then float64 values series after series:
-the m values of each element of each array in the order of the channel's ``columns``, then the p
+byte, the number of samples m and of posed samples p, a bit per series saying whether it is
+constant over the block, then float64 values: the m values of each series that varies, the one
+value of each series that does not (both in the order of the channel's ``columns``), then the p
 times and poses in the order of ``pose_columns``. Decoding a block is a view of the decompressed
-chunk; a read copies each series into arrays that keep every series contiguous (``ColumnSink``),
-so a block costs one whole-run copy per series, and the Result's arrays are views with the
-sample index first, as ``simulate`` returns them.
+chunk; a read copies the varying series and fills the constant ones into one array that keeps
+every series contiguous (``ColumnSink``), and the Result's arrays are views of it with the sample
+index first, as ``simulate`` returns them.
 """
 
 from __future__ import annotations
@@ -21,12 +22,13 @@ from mcap.opcode import Opcode
 
 from pinwind.dynamics.result import Result
 from pinwind.io.mcap_file import DamagedChunk
-from pinwind.io.mcap_log import COLUMNS_LAYOUT
+from pinwind.io.mcap_log import COLUMNS_LAYOUT, mask_bytes
 
 #: A columns payload's header: layout byte, samples m, posed samples p.
 _HEAD = 9
 #: A message record's header: opcode, length, channel, sequence, log and publish time.
 _RECORD = 31
+_MESSAGE = int(Opcode.MESSAGE)
 
 #: Destinations that have a value only at some samples (poses, at the pose rate): NaN elsewhere.
 SPARSE = ("body_position", "body_quaternion")
@@ -93,13 +95,19 @@ class ColumnBlock:
 
     Attributes:
         time: sample times [s], (m,).
-        values: every series, (width, m).
+        varying: the series that vary over the block, in column order, (V, m).
+        constants: the value of each series that does not, in column order, (C,).
+        same: per series of ``columns``, whether it is constant over the block, (width,).
+        slot: per series, its row in ``varying`` or its place in ``constants``, (width,).
         pose_time: times of the samples with a pose, (p,).
         poses: time and pose series of those samples, (pose_width, p).
     """
 
     time: np.ndarray
-    values: np.ndarray
+    varying: np.ndarray
+    constants: np.ndarray
+    same: np.ndarray
+    slot: np.ndarray
     pose_time: np.ndarray
     poses: np.ndarray
 
@@ -120,36 +128,54 @@ def decode_chunk(data: bytes | np.ndarray, layout: ColumnLayout) -> list[ColumnB
         end = pos + 9 + length
         if end > size:
             raise DamagedChunk(f"a record at byte {pos} of the chunk runs past its end")
-        if data[pos] == Opcode.MESSAGE and length >= 22:
+        if data[pos] == _MESSAGE and length >= 22:
             channel = int.from_bytes(data[pos + 9 : pos + 11], "little")
             if channel == layout.channel:
                 block = _block(data, pos + _RECORD, end, layout)
-                if len(block.time):  # not the closing record of a block
+                if block is not None:
                     blocks.append(block)
         pos = end
     return blocks
 
 
-def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) -> ColumnBlock:
-    if end - at < _HEAD or data[at] != COLUMNS_LAYOUT:
+def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) -> ColumnBlock | None:
+    """The block of a columns record, None for the closing record of a block (no samples)."""
+    width = layout.width
+    flags = mask_bytes(width)
+    if end - at < _HEAD + flags or data[at] != COLUMNS_LAYOUT:
         raise DamagedChunk(f"a columns record at byte {at} has an unknown layout")
     m, p = np.frombuffer(data, "<u4", 2, at + 1).tolist()
-    doubles = layout.width * m + layout.pose_width * p
-    if end - at != _HEAD + 8 * doubles:
+    if m == 0 and p == 0 and end - at == _HEAD + flags:
+        return None
+    bits = np.frombuffer(data, np.uint8, flags, at + _HEAD)
+    same = np.unpackbits(bits, count=width, bitorder="little").view(bool)
+    constant = int(np.count_nonzero(same))
+    vary = width - constant
+    doubles = vary * m + constant + layout.pose_width * p
+    start = at + _HEAD + flags
+    if end - start != 8 * doubles or (m == 0 and constant):
         raise DamagedChunk(
-            f"a columns record at byte {at} holds {end - at} bytes, not the {_HEAD + 8 * doubles} "
-            f"of {m} samples and {p} poses"
+            f"a columns record at byte {at} holds {end - at} bytes, not the "
+            f"{start - at + 8 * doubles} of {m} samples ({constant} series constant) and "
+            f"{p} poses"
         )
-    values = np.frombuffer(data, "<f8", layout.width * m, at + _HEAD).reshape(layout.width, m)
-    poses = np.frombuffer(data, "<f8", layout.pose_width * p, at + _HEAD + 8 * layout.width * m)
+    varying = np.frombuffer(data, "<f8", vary * m, start).reshape(vary, m)
+    start += 8 * vary * m
+    constants = np.frombuffer(data, "<f8", constant, start)
+    poses = np.frombuffer(data, "<f8", layout.pose_width * p, start + 8 * constant)
     poses = poses.reshape(layout.pose_width, p)
-    return ColumnBlock(values[0], values, poses[0], poses)
+    slot = np.where(same, np.cumsum(same), np.cumsum(~same)) - 1
+    time = np.full(m, constants[0]) if same[0] else varying[0]
+    return ColumnBlock(time, varying, constants, same, slot, poses[0], poses)
 
 
 class ColumnSink:
-    """The arrays a read fills, each series contiguous; unread destinations stay empty.
+    """The arrays a read fills: one (series, capacity) array, every series contiguous.
 
-    Each destination is stored as (*shape, capacity) and handed out as a view (samples, *shape).
+    Its rows are the read destinations' series: those of the columns in column order, then the
+    poses. A destination's array is a view of its rows, (samples, *shape), so one allocation
+    holds the whole read (and its memory is returned when the last of its arrays is dropped);
+    unread destinations are empty.
     """
 
     def __init__(
@@ -161,38 +187,98 @@ class ColumnSink:
     ):
         self.layout = layout
         self.shapes = shapes
-        self.keys = keys
-        #: the destinations that have series (an array of zero elements has none)
-        self.copied = [k for k in keys if k in layout.at]
+        self.keys = chosen = set(keys)
+        #: the destinations that have series (an array of zero elements has none), columns first
+        ordered = sorted(
+            (k for k in chosen if k in layout.at),
+            key=lambda k: (k in SPARSE, layout.at[k][0]),
+        )
+        self.copied = [k for k in ordered if k not in SPARSE]
+        self.sparse = [k for k in ordered if k in SPARSE]
+        #: destination → its first row in ``base``, series count, shape of one sample
+        self.rows: dict[str, tuple[int, int, tuple[int, ...]]] = {}
+        row = 0
+        for key in ordered:
+            _, width, shape = layout.at[key]
+            self.rows[key] = (row, width, shape)
+            row += width
+        self.height = row
+        self.columns = row - sum(self.rows[k][1] for k in self.sparse)
+        #: the columns' series copied, and the rows they go to (in column order, both)
+        source = [
+            np.arange(layout.at[k][0], layout.at[k][0] + self.rows[k][1]) for k in self.copied
+        ]
+        self.source = np.concatenate(source) if source else np.zeros(0, dtype=np.intp)
+        self.every = np.array_equal(self.source, np.arange(layout.width))
         self.n = 0
         self.capacity = capacity
-        self.arrays = {
-            k: self._allocate(k, capacity if k in self.keys else 0, s) for k, s in shapes.items()
-        }
+        self.base = self._allocate(capacity)
 
-    @staticmethod
-    def _allocate(key: str, n: int, shape: tuple[int, ...]) -> np.ndarray:
-        if key in SPARSE:
-            return np.full((*shape, n), np.nan)
-        return np.empty((*shape, n))
+    def _allocate(self, capacity: int, poses: bool = True) -> np.ndarray:
+        base = np.empty((self.height, capacity))
+        if poses:
+            base[self.columns :] = np.nan  # a value only at the posed samples
+        return base
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) after those already there."""
         if self.n + count > self.capacity:
             self._grow(self.n + count)
-        n, end = self.n, self.n + count
-        at = self.layout.at
-        for key in self.copied:
-            first, width, shape = at[key]
-            target = self.arrays[key][..., n:end]
-            if key in SPARSE:
-                self._place(block, rows, count, target, first, width, shape)
-                continue
-            target[...] = block.values[first : first + width, rows].reshape(*shape, count)
-        self.n = end
+        self.place(block, rows, count, self.n)
+        self.n += count
+
+    def place(self, block: ColumnBlock, rows: slice | np.ndarray, count: int, at: int) -> None:
+        """Copy ``count`` samples (``rows`` of the block) to samples ``at`` to ``at + count``.
+
+        There must be room. Threads may place samples at the same time in other samples.
+        """
+        end = at + count
+        target = self.base[: self.columns, at:end]
+        same = block.same[self.source]
+        if self.every and not same.any():  # nothing constant: one copy
+            target[...] = block.varying[:, rows]
+        elif len(self.source):
+            slot = block.slot[self.source]
+            vary = ~same
+            if self.every:  # every varying series, in order: block.varying as it is
+                target[vary] = block.varying[:, rows]
+            else:
+                target[vary] = block.varying[slot[vary]][:, rows]
+            target[same] = block.constants[slot[same], None]
+        for key in self.sparse:
+            row, width, _ = self.rows[key]
+            first = self.layout.at[key][0]
+            self._place(block, rows, count, self.base[row : row + width, at:end], first, width)
+
+    def clear_poses(self, at: int, count: int) -> None:
+        """NaN in the pose series of samples ``at`` to ``at + count`` (room from ``unfilled``)."""
+        self.base[self.columns :, at : at + count] = np.nan
+
+    def move(self, at: int, count: int, to: int) -> None:
+        """Samples ``at`` to ``at + count`` moved back to ``to`` (≤ ``at``): closes a gap."""
+        if to != at:
+            self.base[:, to : to + count] = self.base[:, at : at + count]
+
+    @classmethod
+    def unfilled(
+        cls,
+        layout: ColumnLayout,
+        shapes: dict[str, tuple[int, ...]],
+        keys: list[str],
+        capacity: int,
+    ) -> ColumnSink:
+        """A sink whose pose series are not yet NaN.
+
+        For threads that ``clear_poses`` and ``place`` their own samples, each on its own part
+        of the fresh memory.
+        """
+        sink = cls(layout, shapes, keys, 0)
+        sink.capacity = capacity
+        sink.base = sink._allocate(capacity, poses=False)
+        return sink
 
     @staticmethod
-    def _place(block, rows, count, target, first, width, shape) -> None:
+    def _place(block, rows, count, target, first, width) -> None:
         """Poses of the samples in ``rows`` that have one; the rest stay NaN."""
         if not len(block.pose_time):
             return
@@ -200,22 +286,30 @@ class ColumnSink:
         where = np.minimum(np.searchsorted(time, block.pose_time), count - 1)
         inside = time[where] == block.pose_time
         if inside.any():
-            poses = block.poses[first : first + width, inside]
-            target[..., where[inside]] = poses.reshape(*shape, -1)
+            target[:, where[inside]] = block.poses[first : first + width, inside]
 
     def _grow(self, needed: int) -> None:
         """More room (a count from the index was missing or wrong: damaged or foreign file)."""
         self.capacity = max(needed, 2 * self.capacity)
-        for key in self.keys:
-            old = self.arrays[key]
-            new = self._allocate(key, self.capacity, old.shape[:-1])
-            new[..., : self.n] = old[..., : self.n]
-            self.arrays[key] = new
+        base = self._allocate(self.capacity)
+        base[:, : self.n] = self.base[:, : self.n]
+        self.base = base
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every destination's samples so far, (samples, *shape): views of ``base``."""
+        out = {}
+        for key, shape in self.shapes.items():
+            if key in self.rows:
+                row, width, _ = self.rows[key]
+                series = self.base[row : row + width, : self.n].reshape(*shape, self.n)
+                out[key] = np.moveaxis(series, -1, 0)
+            else:  # no series: an array of zero elements per sample, or not read
+                out[key] = np.empty((self.n if key in self.keys else 0, *shape))
+        return out
 
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
-        """The samples so far as a Result (views of the arrays, sample index first)."""
-        arrays = {k: np.moveaxis(v[..., : self.n], -1, 0) for k, v in self.arrays.items()}
-        return result_of(arrays, names, terms)
+        """The samples so far as a Result (views of ``base``, sample index first)."""
+        return result_of(self.arrays(), names, terms)
 
 
 def result_of(arrays: dict[str, Any], names: dict[str, list[str]], terms: list[str]) -> Result:

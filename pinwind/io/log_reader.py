@@ -870,9 +870,16 @@ class LogReader:
         try:
             chunks, capacity = self._plan(start, stop, topics)
             self._check_memory(capacity, keys)
-            sink = self._sink(keys, capacity)
-            for part, rows, count in self._parts(chunks, topics, start, stop, lost):
-                sink.put(part, rows, count)
+            placed = None
+            if self._columns is not None and capacity:
+                placed = self._read_columns(chunks, keys, start, stop, lost)
+            sink: _Sink | ColumnSink
+            if placed is not None:
+                sink = placed
+            else:  # rows of records, or columns whose counts were not all known
+                sink = self._sink(keys, capacity)
+                for part, rows, count in self._parts(chunks, topics, start, stop, lost):
+                    sink.put(part, rows, count)
             result = sink.result(self.names, self._layout.terms)
         except MemoryError as err:
             raise self._too_large(capacity, keys) from err
@@ -988,26 +995,90 @@ class LogReader:
         return chunks, capacity
 
     def _plan_columns(self, lo: int, hi: int) -> tuple[list[ChunkRef], int]:
-        """The columns chunks with samples in [lo, hi] [ns], and about how many samples.
+        """The columns chunks with samples in [lo, hi] [ns], and about how many samples."""
+        chunks = [c for c in self._sample_chunks(None) if c.end_ns >= lo and c.start_ns <= hi]
+        return chunks, sum(self._column_counts(chunks, lo, hi))
+
+    def _column_counts(self, chunks: list[ChunkRef], lo: int, hi: int) -> list[int]:
+        """About how many samples in [lo, hi] [ns] each columns chunk holds (0: unknown).
 
         A block's samples are evenly spaced (``dt · log_stride``) from the chunk's start to its
-        end time, so the count needs no decompression; a wrong one only makes the arrays grow.
+        end time, so the count needs no decompression; a count that is too high leaves a gap
+        that is closed, one that is too low makes the read start again in order.
         """
-        chunks = [c for c in self._sample_chunks(None) if c.end_ns >= lo and c.start_ns <= hi]
         run = self.metadata["pinwind.run"]
         try:
             spacing = float(run["dt"]) * int(run.get("log_stride", 1)) * 1e9
         except (KeyError, TypeError, ValueError):
             spacing = math.nan
         if not spacing > 0:
-            return chunks, 0
-        capacity = 0
+            return [0] * len(chunks)
+        counts = []
         for chunk in chunks:
             m = round((chunk.end_ns - chunk.start_ns) / spacing) + 1
             first = max(0, math.ceil((lo - chunk.start_ns) / spacing - 1e-6))
             last = min(m - 1, math.floor((hi - chunk.start_ns) / spacing + 1e-6))
-            capacity += max(0, last - first + 1)
-        return chunks, capacity
+            counts.append(max(0, last - first + 1))
+        return counts
+
+    def _read_columns(
+        self,
+        chunks: list[ChunkRef],
+        keys: list[str],
+        start: float | None,
+        stop: float | None,
+        lost: list[str],
+    ) -> ColumnSink | None:
+        """The samples of a columns log, each chunk copied into its place by a reading thread.
+
+        Each chunk is decompressed and copied by one of two threads into its place in the
+        arrays (known from the chunk index). None when a chunk holds more samples than its place
+        (a foreign or odd file: the caller reads in order).
+
+        A damaged chunk, or one with fewer samples than its place, leaves a gap that is closed
+        by moving the samples after it, in order as the chunks finish.
+        """
+        layout = self._columns
+        if layout is None:
+            raise RuntimeError("internal error: columns read from a log without them")
+        counts = self._column_counts(chunks, *_time_bounds(start, stop))
+        if not all(counts):
+            return None
+        places = np.concatenate([[0], np.cumsum(counts)]).tolist()
+        place = {chunk.offset: (places[i], counts[i]) for i, chunk in enumerate(chunks)}
+        sink = ColumnSink.unfilled(layout, self._layout.shapes, keys, places[-1])
+
+        def load(chunk: ChunkRef, _) -> tuple[bytes, int | None, str]:
+            at, room = place[chunk.offset]
+            _, blocks, damage = self._load_columns(chunk, None)
+            if damage:
+                return b"", 0, damage
+            parts = [(block, *_window(block.time, start, stop)) for block in blocks]
+            filled = sum(count for _, _, count in parts)
+            if filled > room:
+                return b"", None, ""
+            sink.clear_poses(at, filled)
+            for block, rows, count in parts:
+                if count:
+                    sink.place(block, rows, count, at)
+                    at += count
+            return b"", filled, ""
+
+        n = 0
+        damaged = []
+        for chunk, _, filled, damage in self._chunk_data(chunks, [], load):
+            if damage:
+                damaged.append(
+                    f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
+                )
+                continue
+            if filled is None:
+                return None
+            sink.move(place[chunk.offset][0], filled, n)
+            n += filled
+        sink.n = n
+        lost += damaged
+        return sink
 
     def _row_estimate(self) -> int:
         """A lower bound of the bytes of one sample's records (to estimate counts)."""

@@ -80,12 +80,13 @@ MODEL_TOPIC = "/robot_description"
 #: Every Result array at the log rate, link poses at the pose rate: one message per block of
 #: samples, in a chunk of its own; what ``read_log`` reads.
 COLUMNS_TOPIC = "/pinwind/columns"
-#: Message encoding of that topic (docs/log_format.md, "Columns"): a layout byte, two counts,
-#: then float64 little-endian values, series after series (the values of one series, one element
-#: of one array, for every sample of the block, are consecutive).
+#: Message encoding of that topic (docs/log_format.md, "Columns"): a layout byte, two counts, a
+#: bit per series (constant over the block or not), then float64 little-endian values, series
+#: after series (the values of one series, one element of one array, for every sample of the
+#: block, are consecutive; a constant series has one value).
 COLUMNS_ENCODING = "pinwind.columns"
 #: The layout byte of a columns payload.
-COLUMNS_LAYOUT = 1
+COLUMNS_LAYOUT = 2
 JOINTS_TOPIC = "/joints"
 TF_TOPIC = "/tf"
 #: Parent frame of every link transform on ``/tf``.
@@ -490,6 +491,14 @@ class _RowLayout:
 _COLUMNS_AT = RECORD_HEADER.itemsize + 9
 
 
+def mask_bytes(width: int) -> int:
+    """Bytes of the constant-series bits of ``width`` series in a columns payload.
+
+    Whole 8-byte words, so that the values after them stay aligned.
+    """
+    return 8 * ((width + 63) // 64)
+
+
 #: sequence, log time, publish time: the variable part of a message record header
 _TIMES = np.dtype([("sequence", "<u4"), ("log_time", "<u8"), ("publish_time", "<u8")])
 
@@ -571,6 +580,7 @@ class McapLogger:
         self._writer: threading.Thread | None = None
         self._buffer = np.empty(0, dtype=np.uint8)  # the records of one chunk (_assemble)
         self._column_buffer = np.empty(0, dtype=np.float64)  # _assemble_columns
+        self._column_scratch = np.empty(0, dtype=np.float64)
 
     # --- RunObserver -----------------------------------------------------------------------
 
@@ -749,9 +759,11 @@ class McapLogger:
         self._pose_width = 1 + 7 * bodies
         layout = (
             f"a layout byte ({COLUMNS_LAYOUT}), the number of samples m and of poses p (uint32 "
-            "each), then float64 values: series after series in the order of 'columns' (m "
-            "values each; each array's elements in C order), then the p posed samples' series "
-            "in the order of 'pose_columns'; all little-endian"
+            "each), a bit per series of 'columns' (bit i of byte i // 8, 1: the series is "
+            "constant over the block), zero-padded to a multiple of 8 bytes, then float64 "
+            "values: the m values of each varying series, then the one value of each constant "
+            "series, both in the order of 'columns' (each array's elements in C order), then "
+            "the p posed samples' series in the order of 'pose_columns'; all little-endian"
         )
         self._columns_channel = f.channel(
             COLUMNS_TOPIC,
@@ -1011,33 +1023,35 @@ class McapLogger:
         """The chunk pinwind reads back: the ``/pinwind/columns`` records of a block.
 
         The first record's payload holds every array but the poses for the ``rows`` of a block
-        (sample numbers ``samples``), then the times and poses of those samples that have one
-        (every ``pose_stride``-th), as float64 series after series. A closing record without
-        samples, at the block's last sample time, makes the chunk's time span (its log times,
-        in the chunk index) that of the block. The copy turns the block's
-        sample-major arrays into runs of one series, which zstd compresses twice as fast and
-        ``read_log`` decompresses into its arrays with whole-run copies. One record per block,
-        poses included, so that no other tool's rechunking can part a block's values.
+        (sample numbers ``samples``): the m values of each series that varies, the one value
+        of each series that is the same (bit for bit) at every sample of the block, and a bit
+        per series saying which; then the times and poses of the samples that have one (every
+        ``pose_stride``-th). A closing record without samples, at the block's last sample
+        time, makes the chunk's time span (its log times, in the chunk index) that of the
+        block. The copy turns the block's sample-major arrays into runs of one series, which
+        zstd compresses twice as fast and ``read_log`` decompresses into its arrays with
+        whole-run copies; a constant series (a rigid mesh's deflection, a fixed gear's pitch
+        point, a bearing without moment) is neither compressed nor decompressed nor copied.
+        One record per block, poses included, so that no other tool's rechunking can part a
+        block's values.
         """
         m = len(samples)
         k = self._column_width
+        flags = mask_bytes(k)
         time = result.time[rows]
         log_time = np.rint(time[:1] * 1e9).astype(np.uint64)
         posed = np.flatnonzero(samples % self.pose_stride == 0)
         p = len(posed)
         bodies = len(result.body_names)
         pose_width = self._pose_width
-        doubles = k * m + pose_width * p
-        size = _COLUMNS_AT + 8 * doubles
-        # and the closing record: no samples, at the last sample's time
-        if self._column_buffer.size < size // 8 + _COLUMNS_AT // 8:
-            self._column_buffer = np.empty(size // 8 + _COLUMNS_AT // 8)
-        data = self._column_buffer.view(np.uint8)[: size + _COLUMNS_AT]
-        last_time = np.rint(time[-1:] * 1e9).astype(np.uint64)
-        self._column_head(data, 0, samples[0], log_time, m, p)
-        self._column_head(data, size, samples[-1], last_time, 0, 0)
-        first = _COLUMNS_AT // 8
-        values = self._column_buffer[first : first + k * m].reshape(k, m)
+        # room for every series varying, and the closing record
+        most = (2 * _COLUMNS_AT + 2 * flags) // 8 + k * m + pose_width * p
+        if self._column_buffer.size < most:
+            self._column_buffer = np.empty(most)
+        first = (_COLUMNS_AT + flags) // 8
+        if self._column_scratch.size < k * m:
+            self._column_scratch = np.empty(k * m)
+        values = self._column_scratch[: k * m].reshape(k, m)
         at = 0
         for key, width in self._columns:
             if key.startswith("energy/"):
@@ -1046,21 +1060,53 @@ class McapLogger:
                 source = getattr(result, key)
             values[at : at + width] = source[rows].reshape(m, width).T
             at += width
+        bits = values.view(np.uint64)
+        same = bits.max(axis=1) == bits.min(axis=1)  # bit for bit: -0.0 and NaN too
+        count = int(np.count_nonzero(same))
+        vary = k - count
+        end = first + vary * m
+        varying = self._column_buffer[first:end].reshape(vary, m)
+        if count:
+            np.take(values, np.flatnonzero(~same), axis=0, out=varying)
+            self._column_buffer[end : end + count] = values[same, 0]
+        else:
+            varying[...] = values
+        end += count
         if p:
-            poses = self._column_buffer[first + k * m : size // 8].reshape(pose_width, p)
+            poses = self._column_buffer[end : end + pose_width * p].reshape(pose_width, p)
             poses[0] = time[posed]
             poses[1 : 1 + 3 * bodies] = result.body_position[rows][posed].reshape(p, -1).T
             poses[1 + 3 * bodies :] = result.body_quaternion[rows][posed].reshape(p, -1).T
+        end += pose_width * p
+        size = 8 * end
+        data = self._column_buffer.view(np.uint8)[: size + _COLUMNS_AT + flags]
+        last_time = np.rint(time[-1:] * 1e9).astype(np.uint64)
+        self._column_head(data, 0, samples[0], log_time, m, p, size - _COLUMNS_AT)
+        data[_COLUMNS_AT : _COLUMNS_AT + flags] = 0
+        data[_COLUMNS_AT : _COLUMNS_AT + (k + 7) // 8] = np.packbits(same, bitorder="little")
+        # the closing record: no samples, no series constant, at the last sample's time
+        self._column_head(data, size, samples[-1], last_time, 0, 0, flags)
+        data[size + _COLUMNS_AT :] = 0
         index = np.array([[log_time[0], 0], [last_time[0], size]], dtype=np.uint64)
         return data, {self._columns_channel: index}
 
     def _column_head(
-        self, data: np.ndarray, at: int, sample: int, log_time: np.ndarray, m: int, p: int
+        self,
+        data: np.ndarray,
+        at: int,
+        sample: int,
+        log_time: np.ndarray,
+        m: int,
+        p: int,
+        after: int,
     ) -> None:
-        """Header, layout byte and counts of a columns record of m samples and p poses."""
+        """Header, layout byte and counts of a columns record of m samples and p poses.
+
+        ``after``: the bytes after them (constant-series bits and values).
+        """
         head = data[at : at + RECORD_HEADER.itemsize].view(RECORD_HEADER)
         head["op"] = Opcode.MESSAGE
-        head["length"] = _COLUMNS_AT - 9 + 8 * (self._column_width * m + self._pose_width * p)
+        head["length"] = _COLUMNS_AT - 9 + after
         head["channel"] = self._columns_channel
         head["sequence"] = int(sample) & 0xFFFFFFFF  # the sample's number (mod 2^32)
         head["log_time"] = log_time

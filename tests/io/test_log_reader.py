@@ -98,6 +98,24 @@ def test_channel_read_equals_those_arrays_of_a_whole_read_and_leaves_the_rest_em
     assert set(part.metadata["log"]["channels"]) == {"/run/time", *channels}
 
 
+@pytest.mark.parametrize("off", [-1, 7])
+def test_whole_read_equals_the_run_when_the_samples_per_chunk_are_guessed_wrong(
+    logged_run, monkeypatch, off
+):
+    # Each chunk is copied into the place its index span gives; a guess too high leaves gaps
+    # that must be closed, one too low must send the read back to copying in order.
+    guess = LogReader._column_counts
+
+    def wrong(self, chunks, lo, hi):
+        return [count + off for count in guess(self, chunks, lo, hi)]
+
+    monkeypatch.setattr(LogReader, "_column_counts", wrong)
+    assert_same_arrays(read_log(logged_run.path), logged_run.result)
+    window = read_log(logged_run.path, start=0.05, stop=0.2)
+    keep = (logged_run.result.time >= 0.05) & (logged_run.result.time <= 0.2)
+    assert_same_arrays(window, rows_of(logged_run.result, keep))
+
+
 def test_a_folder_selects_every_channel_under_it(logged_run):
     part = read_log(logged_run.path, channels=["/bearings"])
     assert part.metadata["log"]["channels"] == [

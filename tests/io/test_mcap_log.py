@@ -476,7 +476,9 @@ def test_a_writer_slower_than_the_steps_holds_the_run_back_instead_of_queueing_b
 
 
 def test_columns_payload_decoded_by_hand_from_the_documented_layout_equals_the_run(logged_run):
-    """docs/log_format.md, "Columns": layout byte 1, m and p (uint32), then float64 series."""
+    """docs/log_format.md, "Columns": layout byte 2, m and p (uint32), a bit per series that is
+    constant over the block (8-byte words), the varying series' m values, the constant ones'
+    single values, then the posed samples' series."""
     res = logged_run.result
     with open(logged_run.path, "rb") as f:
         reader = make_reader(f)
@@ -488,25 +490,64 @@ def test_columns_payload_decoded_by_hand_from_the_documented_layout_equals_the_r
         payloads = [m.data for _, _, m in reader.iter_messages(topics=["/pinwind/columns"])]
     width = sum(int(np.prod(shape)) for _, shape in columns)
     pose_width = sum(int(np.prod(shape)) for _, shape in pose_columns)
+    words = (width + 63) // 64
     got: dict[str, list] = {key: [] for key, _ in columns}
     pose_time = []
+    closing = 0
     for data in payloads:
-        assert data[0] == 1
+        assert data[0] == 2
         m, p = struct.unpack_from("<II", data, 1)
-        values = np.frombuffer(data, "<f8", offset=9)
-        assert len(values) == width * m + pose_width * p
-        series = values[: width * m].reshape(width, m)
+        flags = int.from_bytes(data[9 : 9 + 8 * words], "little")
+        constant = [bool(flags >> i & 1) for i in range(width)]
+        values = np.frombuffer(data, "<f8", offset=9 + 8 * words)
+        if m == 0:
+            closing += 1
+            assert not any(constant) and len(values) == 0
+            continue
+        varying = width - sum(constant)
+        assert len(values) == varying * m + sum(constant) + pose_width * p
+        series, singles = [], iter(values[varying * m : varying * m + sum(constant)])
+        rows = iter(values[: varying * m].reshape(varying, m))
+        for i in range(width):
+            series.append(np.full(m, next(singles)) if constant[i] else next(rows))
+        series = np.array(series)
         at = 0
         for key, shape in columns:
             count = int(np.prod(shape))
             got[key].append(series[at : at + count].T.reshape(m, *shape))
             at += count
-        pose_time.append(values[width * m :].reshape(pose_width, p)[0])
-    assert [len(d) for d in payloads].count(9) == 3  # a closing record per block
+        pose_time.append(values[len(values) - pose_width * p :].reshape(pose_width, p)[0])
+    assert closing == 3  # a closing record per block
     for key, parts in got.items():
         expected = res.energy[key[7:]] if key.startswith("energy/") else getattr(res, key)
         np.testing.assert_array_equal(np.concatenate(parts), expected, err_msg=key)
     np.testing.assert_array_equal(np.concatenate(pose_time), res.time[::POSE_EVERY])
+
+
+def test_a_series_constant_over_a_block_is_stored_once(logged_run):
+    # The planetary's meshes are rigid spur meshes: no deflection and no axial force at any
+    # sample, so the bits of those series are set in every block; the time always varies.
+    with open(logged_run.path, "rb") as f:
+        reader = make_reader(f)
+        channel = next(
+            c for c in reader.get_summary().channels.values() if c.topic == "/pinwind/columns"
+        )
+        columns = json.loads(channel.metadata["columns"])
+        payloads = [m.data for _, _, m in reader.iter_messages(topics=["/pinwind/columns"])]
+    width = sum(int(np.prod(shape)) for _, shape in columns)
+    first = {}
+    at = 0
+    for key, shape in columns:
+        first[key] = (at, int(np.prod(shape)))
+        at += first[key][1]
+    blocks = [d for d in payloads if struct.unpack_from("<I", d, 1)[0]]
+    assert len(blocks) == 3
+    for data in blocks:
+        flags = int.from_bytes(data[9 : 9 + 8 * ((width + 63) // 64)], "little")
+        for key in ("mesh_deflection", "mesh_axial"):
+            at, count = first[key]
+            assert all(flags >> i & 1 for i in range(at, at + count)), key
+        assert not flags & 1  # the time
 
 
 def test_view_rate_thins_the_viewers_topics_only(planetary, tmp_path):
