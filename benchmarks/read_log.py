@@ -6,7 +6,8 @@ in a fresh Python process so that memory figures are its own:
 
 - whole-file ``read_log``: best of ``--repeats`` wall times per sample, and their ratio to the
   step (issue 12 asks for ≤ 0.1); also the CPU time of the read (all threads), which depends
-  less on what else the machine is doing;
+  less on what else the machine is doing, and the read with one reading thread instead of
+  ``READ_THREADS`` (one per core, 2 to 8), which says how the read scales with cores;
 - peak memory of one whole read over the bytes of the arrays it returns (≤ 1.5): the peak
   resident set size above the one before the read (``VmHWM`` in /proc/self/status, reset by
   /proc/self/clear_refs), and the peak of Python's allocations (``tracemalloc``, which numpy
@@ -30,6 +31,7 @@ from pathlib import Path
 
 import pinwind
 from pinwind.dynamics.simulate import simulate
+from pinwind.io.log_reader import READ_THREADS
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 #: Rotor torque on the carrier [N·m]; the output shaft takes it back at its ratio.
@@ -96,6 +98,11 @@ else:
         return use.ru_utime + use.ru_stime
 
     kwargs = json.loads(what)
+    threads = kwargs.pop("threads", None)
+    if threads:
+        from pinwind.io import log_reader
+
+        log_reader.READ_THREADS, log_reader.READ_AHEAD = threads, 2 * threads - 1
     best = float("inf")
     cpu_start = cpu()
     for _ in range(repeats):
@@ -152,6 +159,7 @@ def main() -> None:
         )
         n = plain.metadata["samples_simulated"]
         whole = child(path, "{}", args.repeats)
+        single = child(path, json.dumps({"threads": 1}), args.repeats)
         rss = child(path, "rss")
         traced = child(path, "tracemalloc")
         t0, t1 = 0.45 * args.duration, 0.55 * args.duration
@@ -167,6 +175,8 @@ def main() -> None:
             f"  read_log, whole file     {read * 1e6:8.2f} µs/sample  "
             f"ratio to the step {read / step:.2f} (goal ≤ 0.1)\n"
             f"  CPU time of that read    {whole['cpu'] / n * 1e6:8.2f} µs/sample (all threads)\n"
+            f"  the same, 1 reading thread {single['seconds'] / n * 1e6:6.2f} µs/sample (ratio "
+            f"{single['seconds'] / n / step:.2f}; {READ_THREADS} threads above)\n"
             f"  of which read + unzstd + CRC of the chunks, one thread: {floor * 1e6:.2f} "
             f"µs/sample (ratio {floor / step:.2f})\n"
             f"  peak memory / arrays     {rss['peak'] / rss['arrays']:8.2f} (RSS)  "

@@ -80,8 +80,19 @@ CHANNELS: dict[str, tuple[str, ...]] = {
     TF_TOPIC: ("body_position", "body_quaternion"),
 }
 
-#: Chunks read ahead of the one being copied (each ~1 MB compressed, ~4 MB decompressed).
-READ_AHEAD = 3
+
+def _cores() -> int:
+    """The cores this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 2
+
+
+#: Threads that read, decompress and (format 3) copy chunks: one per core this process may
+#: use, 2 to 8 (beyond that the copies are bound by memory bandwidth).
+READ_THREADS = max(2, min(8, _cores()))
+#: Chunks read ahead of the one being copied (1000 samples of a shipped model: ~1 MB decompressed).
+READ_AHEAD = 2 * READ_THREADS - 1
 
 
 class LogDamaged(LogRecovered):
@@ -1147,7 +1158,7 @@ class LogReader:
         if not chunks:
             return
         load = load or self._load
-        with ThreadPoolExecutor(max_workers=2, thread_name_prefix="pinwind-read") as pool:
+        with ThreadPoolExecutor(READ_THREADS, thread_name_prefix="pinwind-read") as pool:
             pending: deque = deque()
             ahead = iter(chunks)
             try:
