@@ -26,20 +26,10 @@ def speed_ratio(gearbox: Gearbox, output: str, reference: str) -> float:
     for name in (output, reference):
         if name not in gearbox.joint_names:
             raise UnknownJoint(name, "speed_ratio", gearbox.joint_names)
-    model = gearbox.model
-    data = model.createData()
-    q, v = gearbox.neutral(), np.zeros(model.nv)
-    pin.computeJointJacobiansTimeVariation(model, data, q, v)
-    meshes = MeshSet(gearbox)
-    meshes.set_velocity(v)
-    jac, _ = meshes.combine(meshes.evaluate(model, data), np.ones(meshes.count))
-    locks = np.zeros((len(gearbox.locked_joints), model.nv))
-    for i, name in enumerate(gearbox.locked_joints):
-        locks[i, gearbox.v_index(name)] = 1.0
-    rows = np.vstack([jac, locks])
+    rows = np.vstack([_mesh_rows(gearbox), _selector(gearbox, gearbox.locked_joints)])
     _, sv, vt = np.linalg.svd(rows)
-    rank = int(np.sum(sv > 1e-10 * sv[0])) if sv.size else 0
-    free = model.nv - rank
+    rank = _rank(sv)
+    free = gearbox.model.nv - rank
     if free != 1:
         raise InputError(
             f"the gear train has {free} degrees of freedom; a speed ratio needs exactly one"
@@ -70,21 +60,10 @@ def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
     for name in given:
         if name not in gearbox.joint_names:
             raise UnknownJoint(name, "initial speeds", gearbox.joint_names)
-    model = gearbox.model
-    data = model.createData()
-    q, v = gearbox.neutral(), np.zeros(model.nv)
-    pin.computeJointJacobiansTimeVariation(model, data, q, v)
-    meshes = MeshSet(gearbox)
-    meshes.set_velocity(v)
-    # The rows of the flanks the step loop starts on (+1); with fixed axes both flanks agree.
-    jac, _ = meshes.combine(meshes.evaluate(model, data), np.ones(meshes.count))
-    held = [*gearbox.locked_joints, *given]
-    pick = np.zeros((len(held), model.nv))
-    for i, name in enumerate(held):
-        pick[i, gearbox.v_index(name)] = 1.0
-    a = np.vstack([jac, pick])
+    jac = _mesh_rows(gearbox)
+    a = np.vstack([jac, _selector(gearbox, [*gearbox.locked_joints, *given])])
     b = np.concatenate(
-        [np.zeros(meshes.count), np.zeros(len(gearbox.locked_joints)), list(given.values())]
+        [np.zeros(len(jac)), np.zeros(len(gearbox.locked_joints)), list(given.values())]
     )
     particular = np.linalg.lstsq(a, b, rcond=None)[0]
     mismatch = float(np.abs(a @ particular - b).max()) if len(b) else 0.0
@@ -93,11 +72,40 @@ def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
         raise ConflictingConstraints(0, 0.0, mismatch, list(given))
     # Joints left free by the given speeds: the least kinetic energy (M metric).
     _, sv, vt = np.linalg.svd(a)
-    rank = int(np.sum(sv > 1e-10 * sv[0])) if sv.size else 0
-    null = vt[rank:].T
+    null = vt[_rank(sv) :].T
     if null.shape[1]:
-        mass = pin.crba(model, data, q)
+        model = gearbox.model
+        mass = pin.crba(model, model.createData(), gearbox.neutral())
         mass = np.triu(mass) + np.triu(mass, 1).T
         reduced = null.T @ mass @ null
         particular = particular - null @ np.linalg.solve(reduced, null.T @ mass @ particular)
     return particular
+
+
+def _mesh_rows(gearbox: Gearbox) -> np.ndarray:
+    """The mesh rows J (J v = 0) at the reference pose, (meshes, nv).
+
+    The rows of the flanks the step loop starts on (+1); with fixed axes both flanks agree.
+    """
+    model = gearbox.model
+    data = model.createData()
+    v = np.zeros(model.nv)
+    pin.computeJointJacobiansTimeVariation(model, data, gearbox.neutral(), v)
+    meshes = MeshSet(gearbox)
+    meshes.set_velocity(v)
+    jac, _ = meshes.combine(meshes.evaluate(model, data), np.ones(meshes.count))
+    return jac
+
+
+def _selector(gearbox: Gearbox, names: list[str]) -> np.ndarray:
+    """Rows that pick the speeds of the joints ``names``, (len(names), nv)."""
+    rows = np.zeros((len(names), gearbox.model.nv))
+    for i, name in enumerate(names):
+        rows[i, gearbox.v_index(name)] = 1.0
+    return rows
+
+
+def _rank(singular_values: np.ndarray) -> int:
+    """Numerical rank from singular values (largest first): those above 1e-10 of the largest."""
+    sv = singular_values
+    return int(np.sum(sv > 1e-10 * sv[0])) if sv.size else 0
