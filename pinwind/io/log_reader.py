@@ -5,7 +5,10 @@ chunk's time span, place and size, so a read fetches only the chunks that overla
 and hold its channels. ``read_log`` returns one ``Result``; ``iter_log`` streams a log larger than
 memory as consecutive ``Result`` blocks.
 
-Decoding is done a chunk at a time with numpy. In a chunk written by pinwind every sample is one
+Decoding is done a chunk at a time with numpy. Format 3 stores every array as columns, one
+message per block of samples (``log_columns``): the reading threads, one per core, each take a
+chunk, decompress it and copy its series into their place in one array, known from the chunk
+index before anything is decompressed. In formats 1 and 2, every sample is one
 row of message records, one per channel in the same order, all of one length; the ``/tf``
 records of the samples that have a pose follow the rows (format 2; in format 1 they were the
 last record of every row, their length changing with the time stamp's varint). Every value of a
@@ -13,9 +16,9 @@ topic is then a strided view of the decompressed chunk, copied once into the ret
 poses are placed at the rows of their sample numbers, NaN at the others. The framing (opcode,
 length, channel) and sample number of every record are checked; the fixed payload bytes (CDR
 layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
-otherwise (rewritten by another tool) is decoded record by record, to the same values. Two threads
-read, decompress and CRC-check the next chunks (zstd and zlib release the GIL) while the main
-thread copies values.
+otherwise (rewritten by another tool) is decoded record by record, to the same values. The
+reading threads read, decompress and CRC-check the next chunks (zstd and zlib release the GIL)
+while the main thread copies values.
 
 Damage: a chunk that fails its CRC, does not decompress or is not where the index says is
 skipped, and a ``LogDamaged`` warning gives the simulation time it covered. A damaged summary
@@ -1042,7 +1045,7 @@ class LogReader:
     ) -> ColumnSink | None:
         """The samples of a columns log, each chunk copied into its place by a reading thread.
 
-        Each chunk is decompressed and copied by one of two threads into its place in the
+        Each chunk is decompressed and copied by one of the reading threads into its place in the
         arrays (known from the chunk index). None when a chunk holds more samples than its place
         (a foreign or odd file: the caller reads in order).
 
@@ -1096,7 +1099,7 @@ class LogReader:
         return max(1, sum(c.record_length for c in self._layout.by_topic.values()))
 
     def _parts(self, chunks, topics, start, stop, lost) -> Iterator[tuple[Any, Any, int]]:
-        """(part, rows in the window, count) of every chunk, chunks read ahead by two threads."""
+        """(part, rows in the window, count) of every chunk, read ahead by the reading threads."""
         if self._columns is not None:
             for chunk, _, blocks, damage in self._chunk_data(chunks, [], self._load_columns):
                 if damage:
@@ -1152,8 +1155,9 @@ class LogReader:
     ) -> Iterator[tuple]:
         """(chunk, its records, their rows or None, "" or why it is damaged), in order.
 
-        Two threads read ahead: they read, decompress, CRC-check the chunks and find their rows
-        (while the chunk is in their cache).
+        ``READ_THREADS`` threads read ahead: they read, decompress, CRC-check the chunks and run
+        ``load`` on them (find their rows, or copy their columns) while the chunk is in their
+        cache.
         """
         if not chunks:
             return
