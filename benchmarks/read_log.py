@@ -12,7 +12,7 @@ in a fresh Python process so that memory figures are its own:
   resident set size above the one before the read (``VmHWM`` in /proc/self/status, reset by
   /proc/self/clear_refs), and the peak of Python's allocations (``tracemalloc``, which numpy
   reports to), in separate processes;
-- what reading, decompressing and CRC-checking the chunks alone costs (one thread), the floor
+- what reading, decompressing and checking the chunks alone costs (one thread), the floor
   of a whole read of this file format;
 - a read of 10 % of the time (``start``/``stop``) and of one channel (``/meshes/normal``);
 - bytes per sample on disk.
@@ -73,7 +73,7 @@ if what == "rss":
     peak = status_kib("VmHWM:")
     print(json.dumps({"peak": (peak - before) * 1024, "arrays": array_bytes(res)}))
 elif what == "chunks":
-    # the floor of a whole read: read, decompress and CRC-check every chunk, one thread
+    # the floor of a whole read: read, decompress and check (zstd checksum) every chunk, one thread
     from pinwind.io import mcap_file
     from pinwind.io.log_reader import LogReader
 
@@ -177,7 +177,7 @@ def main() -> None:
             f"  CPU time of that read    {whole['cpu'] / n * 1e6:8.2f} µs/sample (all threads)\n"
             f"  the same, 1 reading thread {single['seconds'] / n * 1e6:6.2f} µs/sample (ratio "
             f"{single['seconds'] / n / step:.2f}; {READ_THREADS} threads above)\n"
-            f"  of which read + unzstd + CRC of the chunks, one thread: {floor * 1e6:.2f} "
+            f"  of which read + unzstd + checksum of the chunks, one thread: {floor * 1e6:.2f} "
             f"µs/sample (ratio {floor / step:.2f})\n"
             f"  peak memory / arrays     {rss['peak'] / rss['arrays']:8.2f} (RSS)  "
             f"{traced['peak'] / traced['arrays']:.2f} (tracemalloc)  (goal ≤ 1.5)\n"
