@@ -306,7 +306,9 @@ def read_csv(path: str | Path, column: int | str = 1, *, time_column: int | str 
     except OSError as err:
         raise InputError(f"{path}: cannot read the CSV table: {err.strerror or err}") from err
     header: list[str] | None = None
-    times, values, rows = [], [], []
+    times: list[float] = []
+    values: list[float] = []
+    rows: list[int] = []
     for number, row in enumerate(csv.reader(text.splitlines()), start=1):
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
             continue
