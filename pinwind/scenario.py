@@ -135,7 +135,9 @@ def key_line(text: str | None, path: tuple[str, ...]) -> int:
     """Line (1-based) of a dotted key in TOML text, or of its nearest parent; 0 if not found."""
     if not text:
         return 0
-    best, depth, header = 0, 0, ()
+    best, depth = 0, 0
+    header: tuple[str, ...] = ()
+    found: tuple[str, ...]
     for number, line in enumerate(text.splitlines(), start=1):
         stripped = line.split("#", 1)[0].strip()
         if not stripped:
