@@ -444,6 +444,10 @@ def parse_call(text: str, option: str, default_key: str) -> dict[str, Any]:
     if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.args:
         out: dict[str, Any] = {} if node.func.id == "rotor" else {default_key: node.func.id}
         for kw in node.keywords:
+            if kw.arg is None:  # **{...}
+                raise InputError(
+                    f'{option}: in "{text}", give the parameters as key=value, not as **{{...}}'
+                )
             try:
                 out[kw.arg] = ast.literal_eval(kw.value)
             except ValueError as err:
