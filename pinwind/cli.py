@@ -15,7 +15,7 @@ import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, cast
 
 import typer
 from rich.console import Console
@@ -497,7 +497,8 @@ def run_scenario(
             label = f"the run logged in {from_log}"
             target = out if out is not None else True  # never the logged file itself
         else:
-            scenario = sc.load_scenario(scenario_file)
+            # Exactly one of scenario_file and from_log is given (checked above).
+            scenario = sc.load_scenario(cast(Path, scenario_file))
             path = scenario.model_path()
             if not path.is_file():
                 raise scenario.fail(("model",), f"{path} does not exist")

@@ -135,7 +135,9 @@ def key_line(text: str | None, path: tuple[str, ...]) -> int:
     """Line (1-based) of a dotted key in TOML text, or of its nearest parent; 0 if not found."""
     if not text:
         return 0
-    best, depth, header = 0, 0, ()
+    best, depth = 0, 0
+    header: tuple[str, ...] = ()
+    found: tuple[str, ...]
     for number, line in enumerate(text.splitlines(), start=1):
         stripped = line.split("#", 1)[0].strip()
         if not stripped:
@@ -442,6 +444,10 @@ def parse_call(text: str, option: str, default_key: str) -> dict[str, Any]:
     if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.args:
         out: dict[str, Any] = {} if node.func.id == "rotor" else {default_key: node.func.id}
         for kw in node.keywords:
+            if kw.arg is None:  # **{...}
+                raise InputError(
+                    f'{option}: in "{text}", give the parameters as key=value, not as **{{...}}'
+                )
             try:
                 out[kw.arg] = ast.literal_eval(kw.value)
             except ValueError as err:

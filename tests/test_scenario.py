@@ -193,3 +193,24 @@ def test_the_rated_scenario_reaches_14_2_rpm_under_1_mnm():
     assert_allclose(res.joint("carrier").torque[-1], 1e6, rtol=1e-4)
     # Each sun mesh carries the sun torque over 3 planets at r_sun = 0.18 m.
     assert_allclose(res.mesh("sun_planet1").tangential[-1], 1e6 / 6 / 3 / 0.18, rtol=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [
+        ("--generator", 'sun=linear-slip(**{"slope": 1.26e6, "sync_rpm": 83.94})'),
+        ("--rotor", 'carrier=rotor(**{"preset": "saleh2017"})'),
+    ],
+)
+def test_double_star_parameters_in_a_flag_are_refused_in_one_line_naming_the_flag(
+    monkeypatch, capsys, option, value
+):
+    model = str(MODELS / "saleh2017_planetary.urdf")
+    argv = ["pinwind", "simulate", model, option, value, "--wind", "10", "--no-log"]
+    monkeypatch.setattr(sys, "argv", argv)
+    with pytest.raises(SystemExit) as exit_:
+        main()
+    assert exit_.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1, lines
+    assert f"{option}: in " in lines[0] and "give the parameters as key=value" in lines[0]

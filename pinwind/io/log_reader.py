@@ -851,6 +851,11 @@ class LogReader:
         return self._attachments
 
     @property
+    def model_text(self) -> str:
+        """The model file as attached to the log."""
+        return _model_text(self.attachments)
+
+    @property
     def span(self) -> tuple[float, float] | None:
         """Times of the first and last sample [s] (log times, to 1 ns), None without samples."""
         chunks = self._sample_chunks(None)
@@ -1372,10 +1377,15 @@ class LogFile:
     @property
     def model_text(self) -> str:
         """The model file as attached to the log."""
-        for name, data in self.attachments.items():
-            if name.endswith((".urdf", ".xml")):
-                return data.decode("utf-8")
-        return next(iter(self.attachments.values()), b"").decode("utf-8")
+        return _model_text(self.attachments)
+
+
+def _model_text(attachments: dict[str, bytes]) -> str:
+    """The model file among a log's attachments (the first one if none is named .urdf/.xml)."""
+    for name, data in attachments.items():
+        if name.endswith((".urdf", ".xml")):
+            return data.decode("utf-8")
+    return next(iter(attachments.values()), b"").decode("utf-8")
 
 
 def open_log(

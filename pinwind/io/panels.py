@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -39,8 +39,10 @@ LEGEND_PAD_PX = 40.0
 #: Most of the plot height given to legend room above or below the data; a legend that needs
 #: more in every corner overlaps some data rather than squeezing them flat.
 LEGEND_ROOM_CAP = 0.35
+#: A legend corner: one of Rerun's ``Corner2D`` names.
+LegendCorner = Literal["LeftTop", "RightTop", "LeftBottom", "RightBottom"]
 #: Corners tried for the legend, in order of preference (Rerun's ``Corner2D`` names).
-LEGEND_CORNERS = ("LeftTop", "RightTop", "LeftBottom", "RightBottom")
+LEGEND_CORNERS: tuple[LegendCorner, ...] = ("LeftTop", "RightTop", "LeftBottom", "RightBottom")
 
 #: Distinct colours (RGB 0-255) for bodies and meshes, readable on light and dark backgrounds
 #: (Tableau 10 without its red and olive, kept for the force arrows, then darker variants).
@@ -166,7 +168,7 @@ def legend_layout(
     plot_height_px: float = PLOT_HEIGHT_PX,
     plot_width_px: float = PLOT_WIDTH_PX,
     cap: float = LEGEND_ROOM_CAP,
-) -> tuple[str, tuple[float, float]]:
+) -> tuple[LegendCorner, tuple[float, float]]:
     """The corner of a panel's legend and the y range that keeps the data off it.
 
     The legend is a box (entries + 0.5) × ``LEGEND_ENTRY_PX`` high and as wide as its longest

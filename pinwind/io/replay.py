@@ -26,6 +26,7 @@ import uuid
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 from urllib.parse import quote
 
 import numpy as np
@@ -292,7 +293,9 @@ def concatenate(parts: list[Result]) -> Result:
     first = parts[0]
     if len(parts) == 1:
         return first
-    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS}
+    arrays: dict[str, Any] = {
+        name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS
+    }
     return Result(
         joint_names=first.joint_names,
         mesh_names=first.mesh_names,
@@ -391,7 +394,7 @@ def send_log(
     import rerun as rr
 
     span = reader.span or (0.0, 0.0)
-    gearbox, joints = model_of_log(_log_file(reader, None))  # the model text, not the samples
+    gearbox, joints = model_of_log(reader)  # the model text, not the samples
     model = reader.metadata.get("pinwind.model", {})
     picker = FramePicker(span[0], span[1], points, window)
     frames: list[Result] = []

@@ -71,6 +71,14 @@ def quaternion_matrix(q) -> np.ndarray:
     )
 
 
+def _attribute(el: ET.Element, attr: str) -> str:
+    """An attribute's text; ValueError when the element does not have it."""
+    raw = el.get(attr)
+    if raw is None:
+        raise ValueError(f"<{el.tag}> has no {attr}")
+    return raw
+
+
 def _rpy_matrix(rpy) -> np.ndarray:
     r, p, y = rpy
     rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
@@ -120,16 +128,20 @@ def model_visuals(text: str) -> list[Visual]:
             if geometry is None:
                 continue
             for shape in geometry:
+                size: tuple[float, ...]
                 try:
                     if shape.tag == "cylinder":
-                        size = (float(shape.get("radius")), float(shape.get("length")))
+                        size = (
+                            float(_attribute(shape, "radius")),
+                            float(_attribute(shape, "length")),
+                        )
                     elif shape.tag == "box":
-                        size = tuple(float(v) for v in shape.get("size").split())
+                        size = tuple(float(v) for v in _attribute(shape, "size").split())
                     elif shape.tag == "sphere":
-                        size = (float(shape.get("radius")),)
+                        size = (float(_attribute(shape, "radius")),)
                     else:
                         continue
-                except (TypeError, ValueError):
+                except ValueError:  # a missing or malformed size: the shape is left out
                     continue
                 out.append(Visual(link.get("name", ""), shape.tag, size, xyz, rot))
     return out

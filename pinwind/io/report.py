@@ -164,7 +164,9 @@ class _Statistics:
         self.last = float(time[-1])
 
     def rows(self) -> list[Row]:
-        out = []
+        out: list[Row] = []
+        if self._values is None:  # no sample added
+            return out
         n = self.count
         for key, (lo, hi, total, squares, final) in zip(self.keys, self._values, strict=True):
             mean, rms = total / n, math.sqrt(squares / n)

@@ -41,9 +41,10 @@ class JointLoad:
     def description(self) -> str:
         """The value, or the callable's ``description`` attribute or name, for logs."""
         if callable(self.signal):
-            return getattr(self.signal, "description", None) or getattr(
-                self.signal, "__name__", repr(self.signal)
-            )
+            description = getattr(self.signal, "description", None)
+            if description:
+                return description
+            return getattr(self.signal, "__name__", repr(self.signal))
         return repr(float(self.signal))
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -67,6 +68,8 @@ def read_channel(path: str | Path, channel: str, *, scale: float = 1.0) -> Scale
 
 class _Channel(Scaled):
     """A scaled table whose spec is the ``openfast(...)`` call that reads it."""
+
+    _spec: dict[str, Any]
 
     def __init__(self, table: Table, scale: float, spec: dict):
         object.__setattr__(self, "signal", table)

@@ -306,7 +306,9 @@ def read_csv(path: str | Path, column: int | str = 1, *, time_column: int | str 
     except OSError as err:
         raise InputError(f"{path}: cannot read the CSV table: {err.strerror or err}") from err
     header: list[str] | None = None
-    times, values, rows = [], [], []
+    times: list[float] = []
+    values: list[float] = []
+    rows: list[int] = []
     for number, row in enumerate(csv.reader(text.splitlines()), start=1):
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
             continue
@@ -509,7 +511,14 @@ def _signal_node(node: ast.AST, text: str, base: Path | None, where: str) -> Sig
                 f'{where}: in "{text}", give {node.func.id}() its parameters by name, e.g. '
                 f"{node.func.id}({', '.join(f'{k}=...' for k in KINDS.get(node.func.id, ()))})"
             )
-        params = {kw.arg: _literal(kw.value, text, where) for kw in node.keywords}
+        params: dict[str, Any] = {}
+        for kw in node.keywords:
+            if kw.arg is None:  # **{...}
+                raise InputError(
+                    f'{where}: in "{text}", give {node.func.id}() its parameters as key=value, '
+                    "not as **{...}"
+                )
+            params[kw.arg] = _literal(kw.value, text, where)
         return make_signal(node.func.id, params, base=base, where=where)
     value = _literal(node, text, where)
     if isinstance(value, bool) or not isinstance(value, int | float):

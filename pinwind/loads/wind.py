@@ -176,7 +176,7 @@ class KaimalWind(Signal):
         *,
         mean: float,
         turbulence_intensity: float,
-        seed: int = 0,
+        seed: int | float = 0,
         duration: float = 600.0,
         sample_time: float = 0.05,
         length_scale: float | None = None,

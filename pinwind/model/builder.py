@@ -46,7 +46,7 @@ from __future__ import annotations
 import math
 import warnings
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -152,7 +152,7 @@ def _part(props: MassProperties, z: float = 0.0) -> _Part:
 def _combine(parts: Sequence[_Part]) -> _Part:
     """One rigid body from several: masses add, inertias move by the parallel-axis theorem."""
     mass = sum(p.mass for p in parts)
-    com = sum(p.mass * p.com for p in parts) / mass
+    com = sum((p.mass * p.com for p in parts), np.zeros(3)) / mass
     inertia = np.zeros((3, 3))
     for p in parts:
         d = p.com - com
@@ -291,7 +291,7 @@ def _num(value: float) -> str:
     return "0" if text == "-0" else text
 
 
-def _vec(values: Sequence[float]) -> str:
+def _vec(values: Iterable[float]) -> str:
     return " ".join(_num(v) for v in values)
 
 

@@ -12,6 +12,7 @@ import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 import pinocchio as pin
@@ -489,11 +490,12 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:
     root = ET.fromstring(source.text)
     geared_links = {g.link: g for g in source.gears.values()}
     moving = _moving_links(source)
-    locked = []
+    locked: list[str] = []
     for joint in root.findall("joint"):
+        # read_model_file checked every joint's name, type, parent and child in this text.
+        name = cast(str, joint.get("name"))
         jtype = joint.get("type")
-        child = joint.find("child").get("link")
-        parent = joint.find("parent").get("link")
+        child, parent = source.joints[name]["child"], source.joints[name]["parent"]
         if jtype == "fixed" and child in geared_links and parent not in moving:
             gear = geared_links[child]
             axis = gear.axis_in_link if gear.axis_in_link is not None else np.array([0, 0, 1.0])
@@ -501,7 +503,7 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:
             for old in joint.findall("axis"):
                 joint.remove(old)
             ET.SubElement(joint, "axis", xyz=" ".join(repr(float(x)) for x in axis))
-            locked.append(joint.get("name"))
+            locked.append(name)
             jtype = "revolute"
         if jtype in ("revolute", "continuous"):
             joint.set("type", "revolute")

@@ -114,7 +114,10 @@ def _vector(
 ) -> np.ndarray:
     """Three finite numbers; ``where`` names the owning element (a joint, for its origin)."""
     raw = default if el is None else el.get(attr, default)
-    where = where or _describe(el)
+    if not where:
+        if el is None:
+            raise TypeError("_vector: give where for an optional element")  # a caller's bug
+        where = _describe(el)
     at = f"<{el.tag}> " if el is not None and where != _describe(el) else ""
     try:
         vec = np.array([float(x) for x in raw.split()], dtype=float)
@@ -263,8 +266,8 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
             path, "<robot>", f"the links must form one tree with one root; roots found: {roots}"
         )
     out.root_link = roots[0]
-    for name, link in out.links.items():
-        if link["mass"] is None and name != out.root_link:
+    for name, props in out.links.items():
+        if props["mass"] is None and name != out.root_link:
             raise InvalidInertia(
                 path,
                 f'<link name="{name}">',

@@ -148,10 +148,9 @@ def whole_and_blocks(path, size: int):
     """The panels of a log read whole, and those of its blocks of ``size`` samples."""
     from pinwind.io.log_reader import LogReader
     from pinwind.io.panels import model_of_log, panels
-    from pinwind.io.replay import _log_file
 
     with LogReader(path) as reader:
-        gearbox, joints = model_of_log(_log_file(reader, None))
+        gearbox, joints = model_of_log(reader)
         model = reader.metadata["pinwind.model"]
         whole = panels(reader.read(), model, joints=joints, gearbox=gearbox, keep_zero=True)
         blocks = list(reader.blocks(size))

@@ -61,6 +61,10 @@ def test_text_form_reads_back_every_signal_and_its_spec():
         ("sine(mean=1, amplitude=2)", "sine\\(\\) needs frequency"),
         ("sine(mean=1, amplitude=2, frequency=1, period=3)", 'no parameter "period"'),
         ("sine(1, 2, 3)", "give sine\\(\\) its parameters by name"),
+        (
+            'sine(**{"mean": 1, "amplitude": 2, "frequency": 1})',
+            "give sine\\(\\) its parameters as key=value, not as \\*\\*",
+        ),
         ("ramp(start_value=0, end_value=1, start_time=2, end_time=1)", "must be after"),
     ],
 )
