@@ -308,10 +308,13 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.M
     spec.path_length = path.length
     spec.roll_start = path.start_roll_1
     spec.roll_radius_a = mesh.base_radius_a
-    # Tooth 0 of gear A has its flank at the pitch point when it points along the centre line.
+    # Tooth 0 of gear A has its front flank at the pitch point when its reference direction
+    # points at the pitch point. Its back flank (the other side of the tooth) is then the
+    # tooth thickness behind, on the back line of action (the mirror image of the front one
+    # about the centre line): r_b,A times the thickness angle further along the path.
     pitch = (path.pitch_roll_1 - path.start_roll_1) % path.base_pitch
     spec.entering_front = pitch
-    spec.entering_back = pitch
+    spec.entering_back = (pitch + mesh.base_radius_a * tooth_a) % path.base_pitch
     spec.angle_ref_a = 0.0
     table = pair_table(mesh)
     if table is not None:
