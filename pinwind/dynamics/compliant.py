@@ -315,7 +315,11 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.M
     pitch = (path.pitch_roll_1 - path.start_roll_1) % path.base_pitch
     spec.entering_front = pitch
     spec.entering_back = (pitch + mesh.base_radius_a * tooth_a) % path.base_pitch
-    spec.angle_ref_a = 0.0
+    # ψ_A is measured from the centre line towards B's centre (cpp/mesh_path.hpp gear_a_angle);
+    # with B internal the pitch point lies the other way, half a turn round A, so the front
+    # flank is at the pitch point when the reference direction points away from B's centre (for
+    # an odd tooth count that is half a base pitch away from pointing at it).
+    spec.angle_ref_a = math.pi if mesh.line_sign < 0 else 0.0
     table = pair_table(mesh)
     if table is not None:
         spec.pair_position, spec.pair_stiffness = table
