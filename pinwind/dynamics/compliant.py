@@ -50,6 +50,7 @@ from pinwind.gears.mesh_stiffness import (
 )
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gear, Gearbox, Mesh
+from pinwind.model.phasing import direction_at, half_tooth_angle
 
 #: Steps per period of the highest mesh mode below which a run warns that the step is coarse.
 RESOLVING_STEPS = 10
@@ -134,21 +135,22 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
-def _unit_normal(axis: np.ndarray) -> np.ndarray:
-    """A unit vector ⟂ axis: the frame's x axis projected, or y when x is along the axis."""
-    for e in (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])):
-        p = e - (e @ axis) * axis
-        if np.linalg.norm(p) > 0.5:
-            return p / np.linalg.norm(p)
-    raise AssertionError("unreachable: x and y cannot both be along one axis")
+def reference_direction(gearbox: Gearbox, gear: Gear, mesh: Mesh) -> np.ndarray:
+    """Where a gear's tooth 0 flank crosses a mesh's working pitch circle: a unit vector.
 
+    The vector is ⟂ the gear's axis, in its joint frame, and points where the flank of tooth 0
+    facing the gear's positive turn crosses the working pitch circle of ``mesh``.
 
-def reference_direction(gear: Gear) -> np.ndarray:
-    """Direction of tooth 0 in the gear's joint frame: ⟂ its axis, turned by its tooth phase."""
-    axis = gear.axis_in_joint
-    e = _unit_normal(axis)
-    phase = gear.spec.tooth_phase
-    return math.cos(phase) * e + math.sin(phase) * _cross(axis, e)
+    For gear A that is its front flank (docs/model_format.md "Mesh sign convention"): with this
+    direction along the centre line, the front flank is at the pitch point. The angle is the
+    tooth centre's (``gearbox.tooth_phases``, teeth interlocked with the mating gears,
+    ``model/phasing.py``) plus half the tooth thickness on that circle (ISO 21771,
+    ``half_tooth_angle``), so a gear meshing on two pitch circles (a planet) has one set of
+    teeth.
+    """
+    radius = mesh.working_radius_a if gear is mesh.gear_a else mesh.working_radius_b
+    angle = gearbox.tooth_phases[gear.name] + half_tooth_angle(gear.spec, radius)
+    return direction_at(gear.axis_in_joint, angle)
 
 
 def _angle_about(k: np.ndarray, u: np.ndarray, e: np.ndarray) -> float:
@@ -227,10 +229,10 @@ def mesh_setup(
         centre_a = data.oMi[a.joint_id].act(a.centre_in_joint)
         centre_b = data.oMi[b.joint_id].act(b.centre_in_joint)
         u = ms.sigma[i] * r_hat
-        ref_a, ref_b = reference_direction(a), reference_direction(b)
+        ref_a, ref_b = reference_direction(gearbox, a, mesh), reference_direction(gearbox, b, mesh)
         psi_a = _angle_about(k, u, data.oMi[a.joint_id].rotation @ ref_a)
         psi_b = _angle_about(k, u, data.oMi[b.joint_id].rotation @ ref_b)
-        paths.append(_path_spec(mesh, ref_a))
+        paths.append(_path_spec(mesh, ref_a, 2.0 * half_tooth_angle(a.spec, mesh.working_radius_a)))
         if mesh.compliance is None:
             rigid.append(i)
             continue
@@ -289,7 +291,13 @@ def mesh_setup(
     return setup
 
 
-def _path_spec(mesh: Mesh, reference_a: np.ndarray) -> _native.MeshPathSpec:
+def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.MeshPathSpec:
+    """Path-of-contact constants of a mesh: where its tooth pairs are at the reference pose.
+
+    Args:
+        reference_a: ``reference_direction`` of gear A in its joint frame.
+        tooth_a: A's tooth thickness on the working pitch circle, as an angle [rad].
+    """
     spec = _native.MeshPathSpec()
     spec.reference_a = reference_a
     path = mesh.path
@@ -300,11 +308,18 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray) -> _native.MeshPathSpec:
     spec.path_length = path.length
     spec.roll_start = path.start_roll_1
     spec.roll_radius_a = mesh.base_radius_a
-    # Tooth 0 of gear A has its flank at the pitch point when it points along the centre line.
+    # Tooth 0 of gear A has its front flank at the pitch point when its reference direction
+    # points at the pitch point. Its back flank (the other side of the tooth) is then the
+    # tooth thickness behind, on the back line of action (the mirror image of the front one
+    # about the centre line): r_b,A times the thickness angle further along the path.
     pitch = (path.pitch_roll_1 - path.start_roll_1) % path.base_pitch
     spec.entering_front = pitch
-    spec.entering_back = pitch
-    spec.angle_ref_a = 0.0
+    spec.entering_back = (pitch + mesh.base_radius_a * tooth_a) % path.base_pitch
+    # ψ_A is measured from the centre line towards B's centre (cpp/mesh_path.hpp gear_a_angle);
+    # with B internal the pitch point lies the other way, half a turn round A, so the front
+    # flank is at the pitch point when the reference direction points away from B's centre (for
+    # an odd tooth count that is half a base pitch away from pointing at it).
+    spec.angle_ref_a = math.pi if mesh.line_sign < 0 else 0.0
     table = pair_table(mesh)
     if table is not None:
         spec.pair_position, spec.pair_stiffness = table

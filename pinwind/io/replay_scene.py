@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.io.panels import BEARING_ARROW_COLOR, MESH_ARROW_COLOR, body_colors
+from pinwind.model.phasing import MeshPoint, interlocking_phases
 
 #: Largest arrow of the run, as a fraction of the largest pitch radius.
 ARROW_FRACTION = 0.5
@@ -180,17 +181,18 @@ def _pitch_point(mesh: dict, centre_a, centre_b, internal_b: bool) -> np.ndarray
 def tooth_phases(model: dict, result) -> dict[str, float]:
     """Tooth-0 angle of every gear in its own frame [rad], so that meshing teeth interlock.
 
-    Gears are visited mesh by mesh from the first gear of each train. The first gear puts a
-    tooth centre on its first mesh's pitch point; for every mesh A-B reached from a phased gear,
-    B is turned so that its gap is centred where A's tooth is: B's pitch fraction at the pitch
+    The interlock is the model's (``pinwind.model.phasing.interlocking_phases``, the rule the
+    physics phases its teeth with): gears are visited mesh by mesh from the first gear of each
+    train, and for every mesh A-B reached from a phased gear, B's pitch fraction at the pitch
     point is 0.5 + s·(A's), s = +1 when both gears' angles grow in the same direction along the
-    common tangent there (internal mesh), −1 otherwise (external mesh). Pitch points and gear
-    angles are those of the first sample.
+    common tangent there (internal mesh), −1 otherwise (external mesh). What differs is where
+    the drawing starts, because it works from the log alone: angles are in the drawing frame of
+    each gear (``gear_pose``) at the first sample, and the first gear of each train puts a tooth
+    centre on its first mesh's pitch point, so the drawing does not show the physics' tooth 0.
     """
     gears: dict = model.get("gears", {})
     meshes: dict = model.get("meshes", {})
     bodies = {name: i for i, name in enumerate(result.body_names)}
-    phases: dict[str, float] = {}
     if not len(result) or not gears:
         return {name: 0.0 for name in gears}
     pose = {
@@ -203,39 +205,24 @@ def tooth_phases(model: dict, result) -> dict[str, float]:
         a, b = mesh["gear_a"], mesh["gear_b"]
         return _pitch_point(mesh, pose[a][0], pose[b][0], gears[b]["internal"])
 
-    order = [(n, m) for n, m in meshes.items() if m["gear_a"] in pose and m["gear_b"] in pose]
-    while True:
-        pending = [
-            (n, m) for n, m in order if not (m["gear_a"] in phases and m["gear_b"] in phases)
-        ]
-        if not pending:
-            break
-        step = next(
-            ((n, m) for n, m in pending if m["gear_a"] in phases or m["gear_b"] in phases), None
-        )
-        if step is None:  # a new train: its first gear's tooth on its first pitch point
-            name, mesh = pending[0]
-            a = mesh["gear_a"]
-            centre, rotation = pose[a]
-            v = rotation.T @ (point_of(name, mesh) - centre)
-            phases[a] = math.atan2(v[1], v[0])
+    def angle(gear: str, point: np.ndarray) -> float:
+        centre, rotation = pose[gear]
+        v = rotation.T @ (point - centre)
+        return math.atan2(v[1], v[0])
+
+    points = []
+    for name, mesh in meshes.items():
+        a, b = mesh["gear_a"], mesh["gear_b"]
+        if a not in pose or b not in pose:
             continue
-        name, mesh = step
-        known, other = (
-            (mesh["gear_a"], mesh["gear_b"])
-            if mesh["gear_a"] in phases
-            else (mesh["gear_b"], mesh["gear_a"])
-        )
         point = point_of(name, mesh)
-        ck, rk = pose[known]
-        co, ro = pose[other]
-        f_known = pitch_fraction(gears[known], ck, rk, point, phases[known])
-        tangent_known = np.cross(rk[:, 2], point - ck)
-        tangent_other = np.cross(ro[:, 2], point - co)
-        sign = 1.0 if tangent_known @ tangent_other > 0 else -1.0
-        target = (0.5 + sign * f_known) % 1.0
-        v = ro.T @ (point - co)
-        phases[other] = math.atan2(v[1], v[0]) - target * 2.0 * math.pi / gears[other]["teeth"]
+        (ca, ra), (cb, rb) = pose[a], pose[b]
+        tangent_a = np.cross(ra[:, 2], point - ca)
+        tangent_b = np.cross(rb[:, 2], point - cb)
+        same = bool(tangent_a @ tangent_b > 0)
+        points.append(MeshPoint(a, b, angle(a, point), angle(b, point), same))
+    teeth = {name: g["teeth"] for name, g in gears.items()}
+    phases = interlocking_phases(points, teeth)
     return {name: phases.get(name, 0.0) for name in gears}
 
 

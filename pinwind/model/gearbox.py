@@ -33,6 +33,7 @@ from pinwind.gears.contact import PathOfContact, path_of_contact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.involute import pitch_radius
 from pinwind.model.compliance import MeshCompliance
+from pinwind.model.phasing import model_tooth_phases
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 
 #: Relative tolerance between the centre distance in the file and the one the gear data give.
@@ -134,6 +135,8 @@ class Gearbox:
         name: the URDF robot name.
         model: the ``pinocchio.Model`` (gb.model).
         gears: gear name → Gear.
+        tooth_phases: gear name → angle of its tooth 0's centre line about its axis in its joint
+            frame at the reference pose [rad], meshing teeth interlocked (``model/phasing.py``).
         meshes: the meshes, in file order.
         springs: torsional spring-dampers.
         joint_names: the bearings, in the order of the velocity vector (one DoF each).
@@ -168,6 +171,9 @@ class Gearbox:
         self.model.gravity = pin.Motion(self.gravity, np.zeros(3))
         self.meshes = [self._mesh(m.name, m.gear_a, m.gear_b, m.compliance) for m in source.meshes]
         self.springs = [self._spring(s) for s in source.springs]
+        #: Gear name → angle of tooth 0's centre line about the gear axis in its joint frame at
+        #: the reference pose [rad], meshing teeth interlocked (``model/phasing.py``).
+        self.tooth_phases = model_tooth_phases(self)
 
     # --- lookups ---------------------------------------------------------------------------------
 

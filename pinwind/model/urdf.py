@@ -38,8 +38,11 @@ class GearSpec:
     internal: bool
     centre_in_link: np.ndarray
     axis_in_link: np.ndarray | None
-    #: Angle of tooth 0 from the link's reference direction about the axis [rad].
+    #: Angle of tooth 0 from the link's reference direction about the axis [rad]
+    #: (``model/phasing.py``: where its flank facing the positive turn crosses the pitch circle).
     tooth_phase: float = 0.0
+    #: The file gives ``tooth_phase_deg``; otherwise the phase follows from the mating gears.
+    tooth_phase_given: bool = False
     #: Position error of the gear centre (tangential, radial) [m] (dynamics/compliant.py).
     position_error: tuple[float, float] = (0.0, 0.0)
 
@@ -360,6 +363,7 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             centre_in_link=_vector(path, el, "xyz", "0 0 0"),
             axis_in_link=axis,
             tooth_phase=math.radians(_number(path, el, "tooth_phase_deg", 0.0)),
+            tooth_phase_given=el.get("tooth_phase_deg") is not None,
             position_error=_position_error(path, el),
         )
     names = set()

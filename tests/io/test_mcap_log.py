@@ -16,6 +16,7 @@ from mcap.stream_reader import StreamReader
 
 import pinwind
 from pinwind.errors import InputError, InvalidLogRate, LogError, LogExists, LogRecovered
+from pinwind.gears.contact import pairs_in_contact
 from pinwind.io import mcap_log
 from pinwind.io.log_reader import LogDamaged, LogReader
 from pinwind.io.mcap_log import McapLogger, open_log
@@ -564,6 +565,33 @@ def test_view_rate_thins_the_viewers_topics_only(planetary, tmp_path):
     assert_same_arrays(pinwind.read_log(path), full, pose_every=4)
 
 
+def _back_flanks_a_tooth_thickness_behind(gearbox: pinwind.Gearbox, result) -> None:
+    """Move an old log's back-flank contact positions to where pinwind now puts them.
+
+    The log was written while pinwind put gear A's back flank at the pitch point together with
+    its front flank; it now sits a tooth thickness s behind (``dynamics/compliant.py``
+    ``_path_spec``), r_b s/r further along the back flank's path, which for the standard
+    (unshifted) teeth of this model is s = half the circular pitch p: r_b (p/2)/r = p_b/2. The
+    sun meshes run on their back flank here (flank −1), so their contact position moves half a
+    base pitch round the path, their pair count follows from it on the path of contact
+    (``gears/contact.pairs_in_contact``), and the force on the entering pair is the mesh force
+    shared equally by the pairs (ISO shape: 0.875 c' per pair in double contact).
+    """
+    for i, name in enumerate(result.mesh_names):
+        path = gearbox.mesh(name).path
+        back = result.mesh_flank[:, i] < 0
+        if not back.any():
+            continue
+        assert gearbox.mesh(name).gear_a.spec.profile_shift == 0.0
+        x = result.mesh_contact_position[back, i] - path.start_roll_1
+        x = (x + 0.5 * path.base_pitch) % path.base_pitch
+        result.mesh_contact_position[back, i] = path.start_roll_1 + x
+        result.mesh_pairs[back, i] = pairs_in_contact(path, x)
+        result.mesh_single_tooth_force[back, i] = (
+            result.mesh_normal[back, i] / result.mesh_pairs[back, i]
+        )
+
+
 def test_log_of_format_2_is_still_read(planetary):
     """A log written by the format-2 writer (ROS 2 topics at the log rate, no columns): 0.05 s
     of the shared planetary run at 1 ms in chunks of 20, poses at 100 Hz."""
@@ -572,6 +600,7 @@ def test_log_of_format_2_is_still_read(planetary):
     full = pinwind.simulate(planetary, duration=0.05, dt=DT, torques=TORQUES)
     assert len(back) == len(full) == 51
     posed = np.arange(len(full)) % POSE_EVERY == 0
+    _back_flanks_a_tooth_thickness_behind(planetary, back)
     for name in full.ARRAYS:
         a, b = getattr(back, name), getattr(full, name)
         if name in ("body_position", "body_quaternion"):

@@ -23,8 +23,8 @@ struct MeshPathSpec {
   double path_length = 0.0;   // g_α [m]
   double roll_start = 0.0;    // roll length from gear A's tangency point to A [m]
   double roll_radius_a = 0.0; // base radius of gear A [m]
-  double entering_front = 0.0, entering_back = 0.0;  // x at the reference pose [m]
-  double angle_ref_a = 0.0;   // ψ_A at the reference pose [rad]
+  double entering_front = 0.0, entering_back = 0.0;  // x at ψ_A = angle_ref_a [m]
+  double angle_ref_a = 0.0;   // ψ_A with reference_a pointing at the pitch point [rad]
   Vec3 reference_a = Vec3::UnitX();  // unit vector ⟂ axis fixed in gear A's joint frame
   // Stiffness of one tooth pair along the path (positions from A [m], stiffness [N/m]),
   // piecewise linear; empty: a constant mesh stiffness (the pair count still from geometry).
