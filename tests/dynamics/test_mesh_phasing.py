@@ -148,11 +148,18 @@ def test_dtu500_ring_meshes_lead_planet_1_by_the_closed_form_as_the_sun_meshes_d
 def test_dtu500_ring_mesh_leads_its_sun_mesh_by_the_profile_shifted_closed_form(dtu_run):
     _, t_s, t_r = stage(DTU["sun"], DTU["planet"], DTU["ring"], DTU["x"])
     expected = ((DTU["planet"] - t_s - t_r) / 2.0) % 1.0  # ≈ 0.0072, not 0.5 nor 0.0
+    assert_ring_leads_sun(dtu_run, expected)
+
+
+def assert_ring_leads_sun(phases, expected: float) -> None:
+    """Each planet's ring mesh leads its sun mesh by ``expected`` mesh periods.
+
+    On the flanks the derivation assumes: the sun mesh on its back flank, the ring mesh on its
+    front flank (the planet's flank facing its positive turn).
+    """
     for i in (1, 2, 3):
-        phi_s, flank_s = dtu_run[f"sun_planet{i}"]
-        phi_r, flank_r = dtu_run[f"planet{i}_ring"]
-        # The flanks the derivation assumes: the sun mesh on its back flank, the ring mesh on
-        # its front flank (the planet's flank facing its positive turn).
+        phi_s, flank_s = phases[f"sun_planet{i}"]
+        phi_r, flank_r = phases[f"planet{i}_ring"]
         assert np.all(flank_s == -1) and np.all(flank_r == 1)
         got = lead(phi_r, phi_s)
         assert circular_gap(got, expected) < 1e-3, (i, got, expected)
@@ -166,13 +173,7 @@ def test_dtu500_ring_mesh_leads_its_sun_mesh_the_other_way_when_the_sun_drives()
     geometry, t_s, t_r = stage(DTU["sun"], DTU["planet"], DTU["ring"], DTU["x"])
     gearbox = pinwind.load(MODELS / "dtu500_planetary.urdf")
     phases = run_phases(gearbox, geometry, SUN_DRIVES)
-    expected = ((DTU["planet"] + t_s + t_r) / 2.0) % 1.0
-    for i in (1, 2, 3):
-        phi_s, flank_s = phases[f"sun_planet{i}"]
-        phi_r, flank_r = phases[f"planet{i}_ring"]
-        assert np.all(flank_s == -1) and np.all(flank_r == 1)
-        got = lead(phi_r, phi_s)
-        assert circular_gap(got, expected) < 1e-3, (i, got, expected)
+    assert_ring_leads_sun(phases, ((DTU["planet"] + t_s + t_r) / 2.0) % 1.0)
 
 
 @pytest.mark.parametrize(
