@@ -12,7 +12,7 @@ import shlex
 import signal
 import sys
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, cast
@@ -536,6 +536,33 @@ def _warnings_as_lines() -> Iterator[None]:
             )
 
 
+@contextmanager
+def _reading(log: Path, what: str) -> Iterator[Callable[[float, float], None]]:
+    """A progress bar over the simulated time of a log as it is read (stderr, a terminal only).
+
+    Yields the callback that ``LogReader.blocks`` takes: (simulated time read, of the window) [s].
+    """
+    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+    if not err_console.is_terminal:  # piped: nothing to redraw, and stderr stays the messages
+        yield lambda done, total: None
+        return
+    columns = (
+        TextColumn(f"{what} {escape(log.name)}"),
+        BarColumn(),
+        TextColumn("{task.fields[simulated]}"),
+        TimeRemainingColumn(),
+    )
+    with Progress(*columns, console=err_console, transient=True) as bar:
+        task = bar.add_task(what, total=None, simulated="")
+
+        def advance(done: float, total: float) -> None:
+            simulated = f"{done:.1f}/{total:.1f} s simulated"
+            bar.update(task, completed=done, total=total, simulated=simulated)
+
+        yield advance
+
+
 @app.command()
 def replay(
     log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
@@ -568,10 +595,10 @@ def replay(
     """
     from pinwind.io.replay import replay as run_replay
 
-    with _warnings_as_lines():
+    with _warnings_as_lines(), _reading(log, "reading") as progress:
         out = run_replay(
             log, save=save, serve=serve, web_port=web_port, grpc_port=grpc_port,
-            start=start, stop=stop, points=points, announce=say,
+            start=start, stop=stop, points=points, announce=say, progress=progress,
         )  # fmt: skip
     if out is not None:
         say(f"wrote {escape(str(out))}")
@@ -610,8 +637,8 @@ def report(
 
     from pinwind.io.report import report_dict, report_log, report_tables
 
-    with _warnings_as_lines():
-        res = report_log(log, start, stop)  # reads only the window, in bounded memory
+    with _warnings_as_lines(), _reading(log, "reading") as progress:
+        res = report_log(log, start, stop, progress=progress)  # only the window, bounded memory
     if as_json:
         print(json.dumps(report_dict(res), indent=1))
         return
@@ -650,10 +677,11 @@ def export(
     from pinwind.io.export import export_log
 
     picked = [c for item in channels for c in item.split(",") if c.strip()] if channels else None
-    with _warnings_as_lines():
+    with _warnings_as_lines(), _reading(log, "exporting") as progress:
         rows, columns = export_log(
-            log, out, format=fmt, start=start, stop=stop, channels=picked, overwrite=force
-        )
+            log, out, format=fmt, start=start, stop=stop, channels=picked, overwrite=force,
+            progress=progress,
+        )  # fmt: skip
     say(f"wrote {escape(str(out))} ({rows} rows × {columns} columns)")
 
 

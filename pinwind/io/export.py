@@ -14,7 +14,7 @@ same float64. A log is exported a block of samples at a time, so its size does n
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -104,6 +104,7 @@ def export_log(
     channels: Iterable[str] | str | None = None,
     overwrite: bool = False,
     block: int = 20_000,
+    progress: Callable[[float, float], None] | None = None,
 ) -> tuple[int, int]:
     """Write a log's samples (start ≤ t ≤ stop [s], ``channels``) to a Parquet or CSV file.
 
@@ -115,6 +116,8 @@ def export_log(
         channels: topics to export (``pinwind.io.log_reader.CHANNELS``); default all.
         overwrite: replace an existing ``out``.
         block: samples read and written at a time.
+        progress: gets (simulated time read, of the window) [s] before each block is written
+            (``LogReader.blocks``).
 
     Returns:
         (rows, columns) written.
@@ -135,7 +138,7 @@ def export_log(
     if out.exists() and not overwrite:
         raise LogExists(str(out))
     with LogReader(path) as log:
-        blocks = log.blocks(block, start=start, stop=stop, channels=channels)
+        blocks = log.blocks(block, start=start, stop=stop, channels=channels, progress=progress)
         write = _write_parquet if format == "parquet" else _write_csv
         return write(blocks, out)
 

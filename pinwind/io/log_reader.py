@@ -34,7 +34,7 @@ import sys
 import threading
 import warnings
 from collections import deque
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -913,10 +913,16 @@ class LogReader:
         start: float | None = None,
         stop: float | None = None,
         channels: Iterable[str] | str | None = None,
+        progress: Callable[[float, float], None] | None = None,
     ) -> Iterator[Result]:
         """Consecutive Results of at most ``samples`` samples each, start ≤ t ≤ stop [s].
 
         Memory stays at about one block whatever the size of the log.
+
+        Args:
+            progress: called before each block is handed out with (simulated time read so
+                far, simulated time of the window) [s], both from the window's start (or the
+                log's first sample) to its stop (or the log's last sample).
 
         Raises:
             UnknownChannel: a channel name that is not in ``CHANNELS``.
@@ -927,6 +933,7 @@ class LogReader:
         topics = select_channels(channels)
         keys = self._layout.keys(topics)
         lost: list[str] = []
+        report = self._progress(start, stop, progress)
         total = 0
         first: float | None = None
         last = math.nan
@@ -950,6 +957,7 @@ class LogReader:
                         total += len(block)
                         first = block.time[0] if first is None else first
                         last = block.time[-1]
+                        report(last)
                         yield block
                         sink = self._sink(keys, samples)
             if sink.n or total == 0:
@@ -959,10 +967,26 @@ class LogReader:
                     total += len(block)
                     first = block.time[0] if first is None else first
                     last = block.time[-1]
+                    report(last)
                 yield block
         except MemoryError as err:
             raise self._too_large(samples, keys) from err
         self._warn(total, (first, last) if total and first is not None else None, lost)
+
+    def _progress(
+        self,
+        start: float | None,
+        stop: float | None,
+        progress: Callable[[float, float], None] | None,
+    ) -> Callable[[float], None]:
+        """``progress`` as a function of the last sample time read [s] (``blocks``)."""
+        if progress is None:
+            return lambda _: None
+        span = self.span or (0.0, 0.0)
+        first = span[0] if start is None else max(start, span[0])
+        end = span[1] if stop is None else min(stop, span[1])
+        length = max(end - first, 0.0)
+        return lambda t: progress(min(max(float(t) - first, 0.0), length), length)
 
     def _sink(self, keys: list[str], capacity: int) -> _Sink | ColumnSink:
         """The arrays a read of ``keys`` fills, room for ``capacity`` samples to start with."""

@@ -377,6 +377,7 @@ def send_log(
     points: int = MAX_POINTS,
     window: tuple[float, float] | None = None,
     block: int = BLOCK,
+    progress: Callable[[float, float], None] | None = None,
 ) -> tuple[list[Panel], Scene]:
     """Stream a log's machine, poses, arrows and plots to a recording, a block at a time.
 
@@ -385,7 +386,8 @@ def send_log(
     samples drawn in 3D. Then the viewer gets: each series' min and max in ``points``/2 time
     spans (the whole series when the run has at most ``points`` samples), at most ``points``
     + 1 3D frames, and every sample of ``window`` (start, stop) [s] besides. Memory is about
-    one block, the frames and the overview, whatever the length of the log.
+    one block, the frames and the overview, whatever the length of the log. ``progress`` gets
+    (simulated time read, of the log) [s] before each block (``LogReader.blocks``).
 
     Returns:
         The panels (their series as sent outside the window, their y ranges those of the whole
@@ -411,7 +413,7 @@ def send_log(
             recording=recording,
         )
 
-    for res in reader.blocks(block):
+    for res in reader.blocks(block, progress=progress):
         if not len(res):
             continue
         if energy_start is None:
@@ -560,6 +562,7 @@ def replay(
     stop: float | None = None,
     points: int = MAX_POINTS,
     block: int = BLOCK,
+    progress: Callable[[float, float], None] | None = None,
 ) -> Path | None:
     """Show a log in Rerun: spawn the viewer, or write an .rrd (``save``), or serve the web viewer.
 
@@ -568,9 +571,9 @@ def replay(
     viewer on the data, and the call blocks (the servers live as long as it does) until Ctrl-C
     (unless ``wait`` is false). The viewer gets an overview of at most ``points`` samples per
     series that keeps each series' extremes, and every sample from ``start`` to ``stop`` [s].
-    The log is streamed in blocks of ``block`` samples (``send_log``): memory does not grow
-    with the length of the log. The layout (blueprint) is sent last, once the y ranges of the
-    whole run are known.
+    The log is streamed in blocks of ``block`` samples (``send_log``, which reports to
+    ``progress``): memory does not grow with the length of the log. The layout (blueprint) is
+    sent last, once the y ranges of the whole run are known.
 
     Returns:
         The .rrd path when saving, else None.
@@ -613,7 +616,9 @@ def replay(
                 raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
         else:
             recording.spawn()
-        sent, scene = send_log(reader, recording, points=points, window=window, block=block)
+        sent, scene = send_log(
+            reader, recording, points=points, window=window, block=block, progress=progress
+        )
     rr.send_blueprint(blueprint(sent, scene), recording=recording)
     recording.flush()
     if out is not None:

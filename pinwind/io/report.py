@@ -11,7 +11,7 @@ Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has t
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -211,12 +211,18 @@ REPORT_BLOCK = 20_000
 
 
 def report_log(
-    path, start: float | None = None, stop: float | None = None, *, block: int = REPORT_BLOCK
+    path,
+    start: float | None = None,
+    stop: float | None = None,
+    *,
+    block: int = REPORT_BLOCK,
+    progress: Callable[[float, float], None] | None = None,
 ) -> Report:
     """Statistics of every quantity of a log over start ≤ t ≤ stop [s], in bounded memory.
 
     Only the chunks that overlap the window are read, ``block`` samples at a time, and body poses
-    (``/tf``) are not read at all.
+    (``/tf``) are not read at all. ``progress`` gets (simulated time read, of the window) [s]
+    before each block (``LogReader.blocks``).
 
     Raises:
         InputError: the window holds no sample; the message gives the time span of the log.
@@ -229,7 +235,8 @@ def report_log(
     metadata: dict = {}
     status = ""
     with LogReader(path) as log:
-        for res in log.blocks(block, start=start, stop=stop, channels=channels):
+        blocks = log.blocks(block, start=start, stop=stop, channels=channels, progress=progress)
+        for res in blocks:
             stats.add(res)
             metadata, status = res.metadata, res.status
         span = log.span

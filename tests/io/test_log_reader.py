@@ -173,6 +173,40 @@ def test_blocks_of_a_window_and_channels_equal_that_read(logged_run):
     assert all(b.bearing_force.shape[0] == 0 for b in blocks)
 
 
+@pytest.mark.parametrize(
+    "start, stop, block, expected",
+    [
+        # samples every DT = 1 ms from 0 to 0.25 s: blocks end at 0.099, 0.199, 0.25 s
+        (None, None, 100, [(0.099, 0.25), (0.199, 0.25), (0.25, 0.25)]),
+        # from 0.05 s: blocks of 0.050-0.099 and 0.100-0.149 s, then 0.150-0.170 s
+        (0.05, 0.17, 50, [(0.049, 0.12), (0.099, 0.12), (0.12, 0.12)]),
+    ],
+)
+def test_blocks_report_the_simulated_time_read_of_the_window(
+    logged_run, start, stop, block, expected
+):
+    calls = []
+    with LogReader(logged_run.path) as log:
+        blocks = log.blocks(block, start=start, stop=stop, progress=lambda *a: calls.append(a))
+        for res in blocks:
+            assert calls[-1][0] == pytest.approx(res.time[-1] - (start or 0.0), abs=1e-9)
+    np.testing.assert_allclose(calls, expected, rtol=0, atol=1e-9)
+
+
+def test_report_and_export_pass_the_progress_on(logged_run, tmp_path):
+    from pinwind.io.export import export_log
+    from pinwind.io.report import report_log
+
+    for run in (
+        lambda p: report_log(logged_run.path, block=100, progress=p),
+        lambda p: export_log(logged_run.path, tmp_path / "t.csv", block=100, progress=p),
+    ):
+        calls: list = []
+        run(lambda *a, calls=calls: calls.append(a))
+        np.testing.assert_allclose(calls[-1], (0.25, 0.25), rtol=0, atol=1e-9)
+        assert len(calls) == 3  # 251 samples in blocks of 100
+
+
 # --- files laid out by other writers -------------------------------------------------------------
 
 
