@@ -619,8 +619,8 @@ def plot(
     """Figures of a log for reports: speeds, torques, forces, load sharing, energy (PNG)."""
     from pinwind.io.figures import plot_log
 
-    with _warnings_as_lines():
-        paths = plot_log(log, out_dir, start=start, stop=stop, format=fmt)
+    with _warnings_as_lines(), _reading(log, "reading") as progress:
+        paths = plot_log(log, out_dir, start=start, stop=stop, format=fmt, progress=progress)
     for path in paths:
         say(f"wrote {escape(str(path))}")
 

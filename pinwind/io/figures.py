@@ -15,73 +15,67 @@ from __future__ import annotations
 
 import os
 import textwrap
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from pinwind.errors import InputError
-from pinwind.io.panels import GROUPS, Panel, log_panels
+from pinwind.io.log_reader import LogReader
+from pinwind.io.overview import DecimatedPanel, PanelOverview
+from pinwind.io.panels import GROUPS, model_of_log
 
 #: Figure formats, by file extension.
 FORMATS = ("png", "svg", "pdf")
-#: Above this many samples a series is drawn as its min/max envelope over this many columns.
+#: Above twice this many samples a series is drawn as its min and max in this many time spans.
 MAX_POINTS = 4000
+#: Samples read from the log at a time.
+BLOCK = 20_000
 #: (dash pattern, line width) per series in a subplot: identical lines stay visible.
 _STYLES = (("-", 2.6), ((0, (5, 2)), 1.9), ((0, (1, 1.5)), 1.5), ((0, (6, 2, 1, 2)), 1.2))
 
 
-def envelope(time: np.ndarray, values: np.ndarray, columns: int = MAX_POINTS):
-    """(time, values) reduced to the min and max of ``columns`` equal slices, in time order.
+def caption(
+    meta: dict[str, Any],
+    status: str,
+    path: str | os.PathLike,
+    shown: tuple[float, float] | None,
+    start: float | None,
+    stop: float | None,
+) -> str:
+    """Provenance of a figure: model, log file, run settings, loads, status and versions.
 
-    Series with at most 2 × ``columns`` samples are returned as they are; peaks are never lost.
+    Args:
+        meta: the run's metadata as read back (``Result.metadata``).
+        status: how the run ended.
+        path: the log.
+        shown: times of the first and last sample drawn [s].
+        start, stop: the window asked for [s].
     """
-    n = len(values)
-    if n <= 2 * columns:
-        return time, values
-    edges = np.linspace(0, n, columns + 1).astype(int)
-    t_out = np.empty(2 * columns)
-    v_out = np.empty(2 * columns)
-    for k in range(columns):
-        a, b = edges[k], edges[k + 1]
-        chunk = values[a:b]
-        finite = bool(np.any(np.isfinite(chunk)))
-        lo = int(np.nanargmin(chunk)) if finite else 0
-        hi = int(np.nanargmax(chunk)) if finite else 0
-        first, second = sorted((lo, hi))
-        t_out[2 * k], v_out[2 * k] = time[a + first], chunk[first]
-        t_out[2 * k + 1], v_out[2 * k + 1] = time[a + second], chunk[second]
-    return t_out, v_out
-
-
-def caption(log, start: float | None, stop: float | None) -> str:
-    """Provenance of a figure: model, log file, run settings, loads, status and versions."""
-    res = log.result
-    meta = res.metadata
-    info = log.metadata.get("pinwind", {})
     loads = [f"{k}: {v}" for k, v in (meta.get("torques") or {}).items()]
     loads += [f"{k}: speed {v}" for k, v in (meta.get("speeds") or {}).items()]
     window = ""
-    if len(res):
-        window = f"; shown t = {res.time[0]:.6g} to {res.time[-1]:.6g} s"
+    if shown is not None:
+        window = f"; shown t = {shown[0]:.6g} to {shown[1]:.6g} s"
     if start is not None or stop is not None:
         window += f" (asked --from {start} --to {stop})"
     text = (
         f"model {meta.get('model_name', '?')} (sha256 {str(meta.get('model_sha256', ''))[:12]}), "
-        f"log {Path(log.path).name}: {res.status}; dt = {meta.get('dt', float('nan')):g} s, "
+        f"log {Path(path).name}: {status}; dt = {meta.get('dt', float('nan')):g} s, "
         f"logged every {meta.get('log', {}).get('stride', 1)} sample(s){window}; "
-        f"loads: {'; '.join(loads) or 'none'}; pinwind {info.get('pinwind_version', '?')}"
+        f"loads: {'; '.join(loads) or 'none'}; pinwind {meta.get('pinwind_version', '?')}"
     )
     return "\n".join(textwrap.wrap(text, 150))
 
 
-def _draw(ax, time: np.ndarray, panel: Panel) -> None:
-    for k, series in enumerate(panel.series):
+def _draw(ax, kept: DecimatedPanel) -> None:
+    panel = kept.panel
+    for k, (series, times) in enumerate(zip(panel.series, kept.times, strict=True)):
         dash, width = _STYLES[k % len(_STYLES)] if len(panel.series) > 1 else _STYLES[0]
-        t, v = envelope(time, series.values)
         ax.plot(
-            t,
-            v,
+            times,
+            series.values,
             color=np.array(series.color) / 255.0,
             linestyle=dash,
             linewidth=width,
@@ -107,8 +101,14 @@ def plot_log(
     format: str = "png",
     dpi: int = 110,
     groups: Sequence[str] | None = None,
+    block: int = BLOCK,
+    progress: Callable[[float, float], None] | None = None,
 ) -> list[Path]:
     """Write one figure per panel group of a log; return the files written.
+
+    The log is read ``block`` samples at a time (``LogReader.blocks``) into a ``PanelOverview``
+    of ``MAX_POINTS`` min/max spans per series: memory does not grow with the length of the log,
+    and every peak is drawn.
 
     Args:
         path: the log (MCAP file written by pinwind).
@@ -117,46 +117,62 @@ def plot_log(
         format: ``png``, ``svg`` or ``pdf`` (the file extension).
         dpi: resolution of PNG figures.
         groups: the figures to write (``panels.GROUPS`` names); default all.
+        block: samples read at a time.
+        progress: gets (simulated time read, of the window) [s] before each block.
 
     Raises:
         LogError: the log cannot be read.
-        InputError: an unknown format.
+        InputError: an unknown format, or no sample in the window.
     """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from pinwind.io.mcap_log import open_log
-
     format = format.lower().lstrip(".")
     if format not in FORMATS:
         raise InputError(f'unknown figure format "{format}"; give one of {", ".join(FORMATS)}')
-    log = open_log(path, start=start, stop=stop)
-    res = log.result
-    if len(res) == 0:
-        raise InputError(
-            f"{path}: no samples between --from {start} and --to {stop}; the log spans "
-            f"the run's duration {res.metadata.get('duration', '?')} s"
+    with LogReader(path) as reader:
+        span = reader.span or (0.0, 0.0)
+        first = span[0] if start is None else max(start, span[0])
+        last = span[1] if stop is None else min(stop, span[1])
+        gearbox, joints = model_of_log(reader)
+        model = reader.metadata.get("pinwind.model", {})
+        overview = PanelOverview(
+            first, max(last, first), 2 * MAX_POINTS, model, joints=joints, gearbox=gearbox
         )
+        meta: dict[str, Any] = {}
+        status = ""
+        shown: tuple[float, float] | None = None
+        for res in reader.blocks(block, start=start, stop=stop, progress=progress):
+            meta, status = res.metadata, res.status
+            if len(res):
+                overview.add(res)
+                shown = (shown[0] if shown else float(res.time[0]), float(res.time[-1]))
+        if shown is None:
+            duration = reader.metadata.get("pinwind.run", {}).get("duration", "?")
+            raise InputError(
+                f"{path}: no samples between --from {start} and --to {stop}; the log spans "
+                f"the run's duration {duration} s"
+            )
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    all_panels = log_panels(log)
-    note = caption(log, start, stop)
+    all_panels = overview.panels()
+    note = caption(meta, status, path, shown, start, stop)
     written = []
     for number, group in enumerate(GROUPS, start=1):
-        shown = [p for p in all_panels if p.group == group and p.series]
-        if not shown or (groups is not None and group not in groups):
+        shown_panels = [p for p in all_panels if p.panel.group == group]
+        if not shown_panels or (groups is not None and group not in groups):
             continue
+        rows = len(shown_panels)
         fig, axes = plt.subplots(
-            len(shown), 1, figsize=(10, 1.0 + 2.3 * len(shown)), sharex=True, squeeze=False
+            rows, 1, figsize=(10, 1.0 + 2.3 * rows), sharex=True, squeeze=False
         )
-        for ax, panel in zip(axes[:, 0], shown, strict=True):
-            _draw(ax, res.time, panel)
+        for ax, kept in zip(axes[:, 0], shown_panels, strict=True):
+            _draw(ax, kept)
         axes[-1, 0].set_xlabel("time [s]")
-        fig.suptitle(f"{res.metadata.get('model_name', '')}: {group}", fontsize=11, x=0.02,
-                     ha="left")  # fmt: skip
-        fig.tight_layout(rect=(0, 0.45 / (1.0 + 2.3 * len(shown)), 1, 1))
+        fig.suptitle(f"{meta.get('model_name', '')}: {group}", fontsize=11, x=0.02, ha="left")
+        fig.tight_layout(rect=(0, 0.45 / (1.0 + 2.3 * rows), 1, 1))
         fig.text(0.01, 0.005, note, fontsize=6.5, va="bottom", ha="left", color="0.25")
         file = out / f"{number:02d}_{group.replace(' ', '_')}.{format}"
         fig.savefig(file, dpi=dpi)

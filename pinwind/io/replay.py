@@ -24,7 +24,6 @@ import socket
 import time
 import uuid
 from collections.abc import Callable
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 from urllib.parse import quote
@@ -34,15 +33,14 @@ import numpy as np
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError, PortInUse, ServeFailed
 from pinwind.io.log_reader import LogFile, LogReader
+from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview
 from pinwind.io.panels import (
     GROUPS,
     RAD_PER_S_TO_RPM,
     Panel,
     legend_layout,
     model_of_log,
-    without_zero_series,
 )
-from pinwind.io.panels import panels as run_panels
 from pinwind.io.replay_scene import ARROW_FRACTION, Scene, send_scene, tooth_outline
 
 __all__ = [
@@ -136,111 +134,6 @@ STRIPE_WIDTH = 3.0
 #: Two series of a plot coincide (would hide each other) when their min and max in every time
 #: span differ by at most this fraction of the plot's y range (3 px of a 300 px plot).
 COINCIDENT_FRACTION = 0.01
-
-
-class MinMaxDecimator:
-    """The smallest and largest sample of each series in each of ``spans`` equal time spans.
-
-    Fed block by block (``add``); memory is (spans, series) whatever the number of samples.
-    NaN samples are skipped. ``points`` gives, per series, the kept samples in time order: at
-    most 2 per span, the min and the max (one when they are the same sample), so the decimated
-    series has the extremes of the full one in every span. Of equal extremes the earliest sample
-    is kept.
-
-    Attributes:
-        low, high: (spans, series) min and max of each span (+inf / -inf where no sample).
-        low_at, high_at: (spans, series) their times [s] (NaN where no sample).
-    """
-
-    def __init__(self, start: float, stop: float, spans: int, series: int):
-        self.start = start
-        self.width = (stop - start) / spans if stop > start else 1.0
-        self.spans = spans
-        shape = (spans, series)
-        self.low, self.low_at = np.full(shape, np.inf), np.full(shape, np.nan)
-        self.high, self.high_at = np.full(shape, -np.inf), np.full(shape, np.nan)
-
-    def span_of(self, time: np.ndarray) -> np.ndarray:
-        """Index of the span of each time (the last span includes ``stop``)."""
-        index = np.floor((time - self.start) / self.width).astype(np.int64)
-        return np.clip(index, 0, self.spans - 1)
-
-    def add(self, time: np.ndarray, values: np.ndarray) -> None:
-        """Samples at ``time`` (n,), increasing, of every series: ``values`` (n, series)."""
-        if not len(time):
-            return
-        values = np.where(np.isfinite(values), values, np.nan)
-        span = self.span_of(time)
-        starts = np.flatnonzero(np.r_[True, span[1:] != span[:-1]])
-        spans = span[starts]
-        index = np.arange(len(time))[:, None]
-        counts = np.diff(np.r_[starts, len(time)])
-        for extreme, value, at, better in (
-            (np.fmin, self.low, self.low_at, np.less),
-            (np.fmax, self.high, self.high_at, np.greater),
-        ):
-            best = extreme.reduceat(values, starts, axis=0)  # NaN only where a span has none
-            # the first sample of each span that takes the extreme value
-            hit = values == np.repeat(best, counts, axis=0)
-            first = np.minimum.reduceat(np.where(hit, index, len(time)), starts, axis=0)
-            when = time[np.minimum(first, len(time) - 1)]
-            take = better(best, value[spans])  # False for NaN: nothing new in that span
-            value[spans] = np.where(take, best, value[spans])
-            at[spans] = np.where(take, when, at[spans])
-
-    def points(self) -> list[tuple[np.ndarray, np.ndarray]]:
-        """Per series: (times [s], values) of the kept samples, in time order."""
-        out = []
-        for s in range(self.low.shape[1]):
-            times = np.stack([self.low_at[:, s], self.high_at[:, s]], axis=1)
-            values = np.stack([self.low[:, s], self.high[:, s]], axis=1)
-            keep = ~np.isnan(times)
-            keep[:, 1] &= times[:, 1] != times[:, 0]  # one point when min and max coincide
-            order = np.argsort(np.where(keep, times, np.inf), axis=1, kind="stable")
-            times = np.take_along_axis(times, order, axis=1)[np.take_along_axis(keep, order, 1)]
-            values = np.take_along_axis(values, order, axis=1)[np.take_along_axis(keep, order, 1)]
-            out.append((times, values))
-        return out
-
-    def all_zero(self, s: int) -> bool:
-        """Series ``s`` is zero at every (finite) sample seen."""
-        low, high = self.low[:, s], self.high[:, s]
-        seen = np.isfinite(low)
-        return bool(not np.any(low[seen]) and not np.any(high[seen]))
-
-
-class Overview:
-    """What the viewer gets of every plotted series of a run, fed block by block.
-
-    A run of at most ``points`` samples is sent whole; a longer one as its ``MinMaxDecimator``
-    over ``points``/2 spans from ``start`` to ``stop`` [s]. Memory: the decimator plus, while
-    the run is short enough, its first ``points`` samples.
-    """
-
-    def __init__(self, start: float, stop: float, points: int, series: int):
-        self.points = points
-        self.decimator = MinMaxDecimator(start, stop, max(points // 2, 1), series)
-        self._head: list[tuple[np.ndarray, np.ndarray]] | None = []
-        self._count = 0
-
-    def add(self, time: np.ndarray, values: np.ndarray) -> None:
-        """Samples at ``time`` (n,), increasing, of every series: ``values`` (n, series)."""
-        self.decimator.add(time, values)
-        self._count += len(time)
-        if self._head is not None and self._count <= self.points:
-            self._head.append((time.copy(), values.copy()))
-        else:
-            self._head = None
-
-    def series(self) -> list[tuple[np.ndarray, np.ndarray]]:
-        """Per series: (times [s], values) to send, in time order."""
-        if self._head is None:
-            return self.decimator.points()
-        if not self._head:
-            return [(np.zeros(0), np.zeros(0))] * self.decimator.low.shape[1]
-        time = np.concatenate([t for t, _ in self._head])
-        values = np.concatenate([v for _, v in self._head])
-        return [(time, values[:, s]) for s in range(values.shape[1])]
 
 
 class FramePicker:
@@ -381,13 +274,13 @@ def send_log(
 ) -> tuple[list[Panel], Scene]:
     """Stream a log's machine, poses, arrows and plots to a recording, a block at a time.
 
-    The log is read in blocks of ``block`` samples (``LogReader.blocks``); for each, the panels
-    (``panels.panels``) feed an ``Overview`` of every series and a ``FramePicker`` keeps the
-    samples drawn in 3D. Then the viewer gets: each series' min and max in ``points``/2 time
-    spans (the whole series when the run has at most ``points`` samples), at most ``points``
-    + 1 3D frames, and every sample of ``window`` (start, stop) [s] besides. Memory is about
-    one block, the frames and the overview, whatever the length of the log. ``progress`` gets
-    (simulated time read, of the log) [s] before each block (``LogReader.blocks``).
+    The log is read in blocks of ``block`` samples (``LogReader.blocks``); each feeds a
+    ``PanelOverview`` of every plotted series and a ``FramePicker`` of the samples drawn in 3D.
+    Then the viewer gets: each series' min and max in ``points``/2 time spans (the whole series
+    when the run has at most ``points`` samples), at most ``points`` + 1 3D frames, and every
+    sample of ``window`` (start, stop) [s] besides. Memory is about one block, the frames and
+    the overview, whatever the length of the log. ``progress`` gets (simulated time read, of
+    the log) [s] before each block (``LogReader.blocks``).
 
     Returns:
         The panels (their series as sent outside the window, their y ranges those of the whole
@@ -399,11 +292,8 @@ def send_log(
     gearbox, joints = model_of_log(reader)  # the model text, not the samples
     model = reader.metadata.get("pinwind.model", {})
     picker = FramePicker(span[0], span[1], points, window)
+    overview = PanelOverview(span[0], span[1], points, model, joints=joints, gearbox=gearbox)
     frames: list[Result] = []
-    layout: list[Panel] = []
-    references: list[float | None] = []
-    overview: Overview | None = None
-    energy_start: dict[str, float] | None = None
 
     def send_scalars(path: str, times: np.ndarray, values: np.ndarray) -> None:
         rr.send_columns(
@@ -416,24 +306,7 @@ def send_log(
     for res in reader.blocks(block, progress=progress):
         if not len(res):
             continue
-        if energy_start is None:
-            energy_start = {k: float(v[0]) for k, v in res.energy.items()}
-        block_panels = run_panels(
-            res, model, joints=joints, gearbox=gearbox, energy_start=energy_start, keep_zero=True
-        )
-        if overview is None:
-            layout = [
-                replace(p, series=[replace(s, values=np.zeros(0)) for s in p.series])
-                for p in block_panels
-            ]
-            references = [p.reference for p in block_panels]
-            overview = Overview(span[0], span[1], points, sum(len(p.series) for p in layout))
-        references = [
-            r if p.reference is None else max(p.reference, r if r is not None else -math.inf)
-            for r, p in zip(references, block_panels, strict=True)
-        ]
-        values = np.column_stack([s.values for p in block_panels for s in p.series])
-        overview.add(res.time, values)
+        block_panels, values = overview.add(res)
         if window is not None:
             inside = np.flatnonzero((res.time >= window[0]) & (res.time <= window[1]))
             if len(inside):
@@ -452,47 +325,26 @@ def send_log(
         frames.append(last)
 
     sent: list[Panel] = []
-    if overview is not None:
-        kept = overview.series()
-        decimator = overview.decimator
-        k = 0
-        for template, reference in zip(layout, references, strict=True):
-            index = list(range(k, k + len(template.series)))
-            k += len(template.series)
-            panel = replace(
-                template,
-                series=[
-                    replace(s, values=kept[i][1])
-                    for s, i in zip(template.series, index, strict=True)
-                ],
-                reference=reference,
+    for kept in overview.panels():
+        panel = kept.panel
+        low, high = panel.y_range()
+        widths = line_widths(
+            [s.name for s in panel.series], kept.low, kept.high, COINCIDENT_FRACTION * (high - low)
+        )
+        for s, times, width in zip(panel.series, kept.times, widths, strict=True):
+            path = f"plots/{panel.key}/{s.name}"
+            rr.log(
+                path,
+                rr.SeriesLines(names=[s.name], colors=s.color, widths=[width]),
+                static=True,
+                recording=recording,
             )
-            zero = [decimator.all_zero(i) for i in index]
-            keep = [i for i, z in zip(index, zero, strict=True) if not (panel.drop_zero and z)]
-            panel = without_zero_series(panel, zero)
-            if not panel.series:
-                continue
-            low, high = panel.y_range()
-            widths = line_widths(
-                [s.name for s in panel.series],
-                decimator.low[:, keep],
-                decimator.high[:, keep],
-                COINCIDENT_FRACTION * (high - low),
-            )
-            for s, i, width in zip(panel.series, keep, widths, strict=True):
-                path = f"plots/{panel.key}/{s.name}"
-                rr.log(
-                    path,
-                    rr.SeriesLines(names=[s.name], colors=s.color, widths=[width]),
-                    static=True,
-                    recording=recording,
-                )
-                times, values = kept[i]
-                if window is not None:
-                    outside = (times < window[0]) | (times > window[1])
-                    times, values = times[outside], values[outside]
-                send_scalars(path, times, values)
-            sent.append(panel)
+            values = s.values
+            if window is not None:
+                outside = (times < window[0]) | (times > window[1])
+                times, values = times[outside], values[outside]
+            send_scalars(path, times, values)
+        sent.append(panel)
 
     scene = _send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
     return sent, scene

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pinwind.errors import InputError
-from pinwind.io.figures import envelope, plot_log
+from pinwind.io.figures import plot_log
 from tests.io.test_cli_log import run
 
 #: The planetary run has no rotor: no figure 03_rotor.
@@ -65,14 +65,34 @@ def test_unknown_format_is_refused(logged_run, tmp_path):
         plot_log(logged_run.path, tmp_path, format="jpgg")
 
 
-def test_envelope_keeps_every_peak_of_a_long_series():
-    t = np.linspace(0.0, 1.0, 100_001)
-    v = np.sin(2 * np.pi * 3 * t)
-    v[54_321] = 7.0
-    te, ve = envelope(t, v, columns=500)
-    assert len(ve) == 1000
-    assert ve.max() == 7.0 and ve.min() == pytest.approx(-1.0, abs=1e-6)
-    assert np.all(np.diff(te) >= 0)
+def test_plot_reads_the_log_a_block_at_a_time_and_draws_every_peak(logged_run, tmp_path):
+    # Memory must not grow with the log: the figures come from blocks of `block` samples, never
+    # from one array of the whole run; the largest mesh force of the run is still on the plot.
+    import matplotlib.pyplot as plt
+
+    from pinwind.io import log_reader
+
+    capacities = []
+    sink = log_reader.ColumnSink
+
+    def spy(layout, shapes, keys, capacity):
+        capacities.append(capacity)
+        return sink(layout, shapes, keys, capacity)
+
+    drawn = []
+    savefig = plt.Figure.savefig
+
+    def keep_lines(fig, *args, **kwargs):
+        drawn.extend(line.get_ydata() for ax in fig.axes for line in ax.get_lines())
+        return savefig(fig, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(log_reader, "ColumnSink", spy)
+        mp.setattr(plt.Figure, "savefig", keep_lines)
+        plot_log(logged_run.path, tmp_path, block=40, groups=["mesh forces"])
+    assert set(capacities) == {40}
+    peak_kN = np.abs(logged_run.result.mesh_normal).max() / 1e3  # the panel is in kN
+    np.testing.assert_allclose(max(np.abs(y).max() for y in drawn), peak_kN, rtol=1e-12)
 
 
 def test_plot_cli_refuses_an_empty_window_in_one_line(logged_run, tmp_path):
