@@ -266,6 +266,21 @@ def test_a_flipped_bit_in_a_chunk_loses_that_chunk_only_with_a_warning(logged_ru
     assert back.status == "completed"
 
 
+@pytest.mark.parametrize("start, stop", [(0.05, 0.22), (0.15, None), (None, 0.12), (0.1, 0.2)])
+def test_a_window_across_a_damaged_chunk_is_the_window_of_the_intact_samples(
+    logged_run, whole, tmp_path, start, stop
+):
+    # The reading threads copy each chunk into its place; the lost chunk's place is closed up.
+    offset, length, _ = column_chunks(logged_run.path)[1]  # samples 100-199
+    path = _damaged(logged_run, tmp_path, offset + length - 1000)
+    t = whole.time
+    keep = ((t < 0.1) | (t > 0.199)) & (t >= (start if start is not None else -1.0))
+    keep &= t <= (stop if stop is not None else 1.0)
+    with pytest.warns(LogDamaged):
+        back = read_log(path, start=start, stop=stop)
+    assert_same_arrays(back, rows_of(whole, np.flatnonzero(keep)))
+
+
 def test_a_damaged_chunk_header_loses_that_chunk_only_with_a_warning(logged_run, whole, tmp_path):
     offset, _, _ = column_chunks(logged_run.path)[0]  # samples 0-99
     path = _damaged(logged_run, tmp_path, offset, bit=0x78)  # opcode 0x06 → 0x7e
