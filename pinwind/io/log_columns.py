@@ -193,7 +193,7 @@ class ColumnSink:
             (k for k in chosen if k in layout.at),
             key=lambda k: (k in SPARSE, layout.at[k][0]),
         )
-        self.copied = [k for k in ordered if k not in SPARSE]
+        copied = [k for k in ordered if k not in SPARSE]
         self.sparse = [k for k in ordered if k in SPARSE]
         #: destination → its first row in ``base``, series count, shape of one sample
         self.rows: dict[str, tuple[int, int, tuple[int, ...]]] = {}
@@ -205,9 +205,7 @@ class ColumnSink:
         self.height = row
         self.columns = row - sum(self.rows[k][1] for k in self.sparse)
         #: the columns' series copied, and the rows they go to (in column order, both)
-        source = [
-            np.arange(layout.at[k][0], layout.at[k][0] + self.rows[k][1]) for k in self.copied
-        ]
+        source = [np.arange(layout.at[k][0], layout.at[k][0] + self.rows[k][1]) for k in copied]
         self.source = np.concatenate(source) if source else np.zeros(0, dtype=np.intp)
         self.every = np.array_equal(self.source, np.arange(layout.width))
         self.n = 0
