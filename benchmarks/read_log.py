@@ -1,8 +1,8 @@
 """Cost of reading a log back: read_log per sample against the compiled step, memory, file size.
 
-For each model: a plain run (no log, ``keep="last"``) gives the compiled step loop's cost per
-sample (``wall_time_s`` / samples); the same run logged at full rate gives the file. Then, each
-in a fresh Python process so that memory figures are its own:
+For each model: a plain run (no log, ``keep="last"``, no statistics) gives the compiled step
+loop's cost per sample (``wall_time_s`` / samples); the same run logged at full rate gives the
+file. Then, each in a fresh Python process so that memory figures are its own:
 
 - whole-file ``read_log``: best of ``--repeats`` wall times per sample, and their ratio to the
   step (issue 12 asks for ≤ 0.1); also the first of them (the first large allocation of a
@@ -195,7 +195,14 @@ def main() -> None:
         simulate(gearbox, duration=0.1, dt=args.dt, torques=torques, progress=False)  # warm-up
         # keep="last": the step itself, without first writes to the Result's fresh memory (which
         # cost more than the step on a fresh virtual machine, and which the loop now does itself)
-        plain = simulate(gearbox, duration=args.duration, dt=args.dt, torques=torques, keep="last")
+        plain = simulate(
+            gearbox,
+            duration=args.duration,
+            dt=args.dt,
+            torques=torques,
+            keep="last",
+            statistics=False,
+        )
         step = plain.metadata["wall_time_s"] / plain.metadata["samples_simulated"]
         path = folder / f"{name}.mcap"
         pinwind.simulate(

@@ -438,17 +438,21 @@ def _run_and_report(
     dt = res.metadata["dt"]
     say(f"[bold]{escape(gearbox.name)}[/bold] from {escape(label)}")
     steps = res.metadata["samples_simulated"] - 1
+    residual = res.constraint_residual.max()
+    if res.statistics is not None:
+        residual = res.statistics.row("run", "", "constraint residual").max
     say(
         f"{steps} steps of {dt:g} s in {res.metadata['wall_time_s']:.2f} s "
         f"({res.metadata['wall_time_s'] / max(steps, 1) * 1e6:.0f} µs/step); "
-        f"max |J v| = {res.constraint_residual.max():.2e}"
+        f"max |J v| = {residual:.2e}"
     )
     stride = res.metadata.get("keep_stride", 1)
     if stride > 1:
         say(
-            f"min / max / RMS below are over the {len(res)} kept samples (every {stride}-th of "
-            f"{res.metadata['samples_simulated']}, --keep); the log holds every sample "
-            "(pinwind report LOG)"
+            f"values at the end below are of the last sample; min / max / RMS are over every "
+            f"one of the {res.metadata['samples_simulated']} samples, of which the result "
+            f"keeps {len(res)} (every {stride}-th, --keep)"
+            + ("; the log holds them all (pinwind report LOG)" if log is not None else "")
         )
     for table in summary_tables(res, plain=not console.is_terminal):
         console.print()
@@ -459,7 +463,8 @@ def _run_and_report(
         if np.isfinite(sharing.factor_max) and compliant & set(sharing.meshes):
             say(
                 f"load sharing at the {sharing.gear}: K_γ = {sharing.mean_share.max():.4f} "
-                f"(mean loads), {sharing.factor_max:.4f} (worst sample)"
+                f"(mean loads), {sharing.factor_max:.4f} "
+                f"(worst {'kept ' if stride > 1 else ''}sample)"
             )
     if log is not None:
         say(f"log: {escape(str(log))} ({log.stat().st_size / 1e6:.2f} MB)")

@@ -14,6 +14,7 @@ from rich import box
 from rich.markup import escape
 from rich.table import Table
 
+from pinwind.analysis.run_statistics import RunningStatistics
 from pinwind.dynamics.result import Result
 
 RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
@@ -61,6 +62,13 @@ def _table(title: str, columns: tuple[str, ...], plain: bool) -> Table:
     return table
 
 
+def _span(res: Result, stats: RunningStatistics) -> str:
+    """What the statistics cover: the run, or the kept samples of a Result that has no others."""
+    if stats.count >= res.metadata.get("samples_simulated", stats.count):
+        return "the run"
+    return f"the {stats.count} kept samples"
+
+
 def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
     """Tables of joint speeds and ratios, mesh forces and bearing reactions.
 
@@ -71,6 +79,7 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
         plain: ASCII rules and no styles, for pipes and files.
     """
     tables = []
+    stats = res.statistics or RunningStatistics.of(res)
     ref = _input_joint(res)
     ref_speed = res.joint(ref).speed[-1] if ref else 0.0
     final = f"t = {res.time[-1]:.4g} s"
@@ -104,13 +113,14 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             plain,
         )
         history = _table(
-            "Gear meshes over the run: normal force and transmission error",
+            f"Gear meshes over {_span(res, stats)}: normal force and transmission error",
             ("mesh", "min [kN]", "max [kN]", "RMS [kN]", "max |TE| [µm]"),
             plain,
         )
         for name in res.mesh_names:
             ms = res.mesh(name)
-            s = statistics(ms.normal)
+            s = stats.row("mesh", name, "normal")
+            te = stats.row("mesh", name, "transmission error")
             forces.add_row(
                 name,
                 f"{ms.normal[-1] / 1e3:.4f}",
@@ -121,10 +131,10 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             )
             history.add_row(
                 name,
-                f"{s['min'] / 1e3:.4f}",
-                f"{s['max'] / 1e3:.4f}",
-                f"{s['rms'] / 1e3:.4f}",
-                f"{np.max(np.abs(ms.transmission_error)) * 1e6:.2e}",
+                f"{s.min / 1e3:.4f}",
+                f"{s.max / 1e3:.4f}",
+                f"{s.rms / 1e3:.4f}",
+                f"{max(abs(te.min), abs(te.max)) * 1e6:.2e}",
             )
         tables += [forces, history]
 
@@ -134,32 +144,31 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
         plain,
     )
     history = _table(
-        "Bearing reactions over the run: magnitude of the force",
+        f"Bearing reactions over {_span(res, stats)}: magnitude of the force",
         ("bearing", "|F| min [kN]", "|F| max [kN]", "|F| RMS [kN]"),
         plain,
     )
     for name in res.bearing_names:
         b = res.bearing(name)
-        s = statistics(np.linalg.norm(b.force, axis=1))
+        s = stats.row("bearing", name, "force (world)", "|.|")
         fx, fy, fz = b.force[-1] / 1e3
         reactions.add_row(
             name, f"{fx:.4f}", f"{fy:.4f}", f"{fz:.4f}", f"{np.linalg.norm(b.moment[-1]) / 1e3:.4f}"
         )
-        history.add_row(
-            name, f"{s['min'] / 1e3:.4f}", f"{s['max'] / 1e3:.4f}", f"{s['rms'] / 1e3:.4f}"
-        )
+        history.add_row(name, f"{s.min / 1e3:.4f}", f"{s.max / 1e3:.4f}", f"{s.rms / 1e3:.4f}")
     tables += [reactions, history]
 
     if res.generator_names or res.rotor_names:
         loads = _table(
-            f"Generators and rotors at {final}, and their means over the run",
+            f"Generators and rotors at {final}, and their means over {_span(res, stats)}",
             ("element", "torque [kN·m]", "mean [kN·m]", "power [kW]", "λ [-]", "Cp [-]"),
             plain,
         )
         for name in res.generator_names:
             torque = res.generator(name).torque
+            mean = stats.row("load", f"generator {name}", "torque").mean
             loads.add_row(
-                f"generator {name}", f"{torque[-1] / 1e3:.4f}", f"{np.mean(torque) / 1e3:.4f}",
+                f"generator {name}", f"{torque[-1] / 1e3:.4f}", f"{mean / 1e3:.4f}",
                 "-", "-", "-",
             )  # fmt: skip
         for name in res.rotor_names:
@@ -167,7 +176,7 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             loads.add_row(
                 f"rotor {name}",
                 f"{r.torque[-1] / 1e3:.4f}",
-                f"{np.mean(r.torque) / 1e3:.4f}",
+                f"{stats.row('load', f'rotor {name}', 'torque').mean / 1e3:.4f}",
                 f"{r.power[-1] / 1e3:.2f}",
                 f"{r.tip_speed_ratio[-1]:.4f}",
                 f"{r.power_coefficient[-1]:.4f}",

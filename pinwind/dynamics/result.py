@@ -13,11 +13,14 @@ build exactly the same object. Accessors return small views with named fields:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from pinwind.errors import UnknownElement
+
+if TYPE_CHECKING:
+    from pinwind.analysis.run_statistics import RunningStatistics
 
 
 @dataclass(frozen=True)
@@ -183,6 +186,10 @@ class Result:
             ``work_drivers`` (speed drivers and locks), ``dissipated`` (dampers).
         metadata: model name, file hash, dt, solver settings, loads and status.
         status: ``"completed"``, or why the run stopped early.
+        statistics: min, max, mean, RMS and final value of every series over every simulated
+            sample (``analysis/run_statistics.RunningStatistics``), when ``simulate`` folded them
+            (by default when the Result does not keep every sample); None otherwise, and in a
+            Result read from a log or cut from another (``take``, ``rows``).
     """
 
     time: np.ndarray
@@ -224,6 +231,7 @@ class Result:
     rotor_tip_speed_ratio: np.ndarray = None  # type: ignore[assignment]
     rotor_power_coefficient: np.ndarray = None  # type: ignore[assignment]
     rotor_wind_speed: np.ndarray = None  # type: ignore[assignment]
+    statistics: RunningStatistics | None = None
 
     #: Names of the array attributes, for writers, readers and comparisons.
     ARRAYS = (

@@ -36,8 +36,10 @@ from __future__ import annotations
 
 import math
 import time as wallclock
+from collections import deque
 from collections.abc import Mapping
-from typing import Any, Protocol
+from concurrent.futures import Future, ThreadPoolExecutor
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -55,6 +57,9 @@ from pinwind.loads.signals import Signal as TimeSignal
 from pinwind.loads.signals import check_covers
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
+
+if TYPE_CHECKING:
+    from pinwind.analysis.run_statistics import RunningStatistics
 
 
 class RunObserver(Protocol):
@@ -260,6 +265,7 @@ def simulate(
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
     keep: str | int = "auto",
+    statistics: bool | None = None,
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
     wind: float | TimeSignal | None = None,
@@ -290,6 +296,11 @@ def simulate(
             an integer N: every N-th sample from 0, and the last; ``"last"``: the last sample
             only; ``"auto"`` (default): every sample while they fit in ``KEEP_BUDGET`` bytes,
             else every N-th sample with N the smallest that fits.
+        statistics: fold every simulated sample into ``result.statistics``: min, max, mean,
+            RMS and final value of every series (``analysis/run_statistics``), on a thread of
+            its own while the loop steps. Default: when the Result does not keep every sample
+            (``keep``), so that the peaks between kept samples count. With ``keep="last"`` the
+            Result holds the last sample and these statistics only.
         generators: joint name → generator law (``loads/generator.py``), compiled.
         rotors: joint name → ``Rotor`` (``loads/rotor.py``), compiled; its inertia is added to
             the joint.
@@ -432,11 +443,14 @@ def simulate(
     )
     if observer is not None:
         observer.begin(gearbox, res)
+    folding = _Folding() if (stride > 1 if statistics is None else statistics) else None
     status = "completed"
     done = 0
     spring0 = None
     direct = stride == 1  # every sample kept: the Result's own rows are the blocks
-    spare: Result | None = None
+    # Buffers for blocks the Result does not keep: one, or three in turn while the statistics'
+    # thread folds up to two blocks behind (the third is free to step into).
+    spares: list[Result] = []
     started = wallclock.perf_counter()
     try:
         torque_columns = [ld.v_index for ld in torque_loads]
@@ -473,9 +487,14 @@ def simulate(
                 inputs = inputs[: stop - start]
             if direct:  # the compiled loop writes the kept arrays in place: no copy
                 block = res.rows(start, stop)
-            elif observer is None:  # nothing holds on to a block: one buffer for all
-                spare = spare or _allocate(gearbox, chunk, body_names, elements, empty=True)
-                block = spare.rows(0, stop - start)
+            elif observer is None:  # blocks are dropped once folded: a few buffers in turn
+                if not spares:
+                    turns = 1 if folding is None else _Folding.BEHIND + 1
+                    spares = [
+                        _allocate(gearbox, chunk, body_names, elements, empty=True)
+                        for _ in range(turns)
+                    ]
+                block = spares[start // chunk % len(spares)].rows(0, stop - start)
             else:  # the observer may keep the block (the log's writer thread): new arrays
                 block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
             done = start
@@ -501,6 +520,8 @@ def simulate(
                     _keep(res, part, start, kept)
                 if observer is not None:
                     observer.samples(part, start)
+                if folding is not None:
+                    folding.add(part)
             if absurd is not None:
                 raise _diverged(absurd, dt) from failure
             if failure is not None:
@@ -523,9 +544,48 @@ def simulate(
         res.metadata["samples_simulated"] = done
         res.status = status
         final = res if status == "completed" else res.truncated(int(np.searchsorted(kept, done)))
+        if folding is not None:
+            try:
+                final.statistics = folding.close()
+            except Exception:
+                if status == "completed":
+                    raise  # otherwise the run's own error is the one to report
         if observer is not None:
             observer.end(final, status)
     return final
+
+
+class _Folding:
+    """Folds a run's blocks into ``RunningStatistics`` on a thread, at most ``BEHIND`` behind.
+
+    numpy releases the GIL in the reductions and the compiled loop while it steps, so on two
+    cores the folding costs the loop little.
+    """
+
+    def __init__(self) -> None:
+        from pinwind.analysis.run_statistics import RunningStatistics
+
+        self.statistics = RunningStatistics()
+        self._pool = ThreadPoolExecutor(1, thread_name_prefix="pinwind-statistics")
+        self._pending: deque[Future] = deque()
+
+    #: Blocks added and not yet folded, at most; ``add`` waits for the oldest beyond that.
+    BEHIND = 2
+
+    def add(self, block: Result) -> None:
+        """Fold a block; its arrays must not change until ``BEHIND`` more blocks are added."""
+        while len(self._pending) >= self.BEHIND:
+            self._pending.popleft().result()
+        self._pending.append(self._pool.submit(self.statistics.add, block))
+
+    def close(self) -> RunningStatistics:
+        """The statistics of every block added, once folded."""
+        try:
+            while self._pending:
+                self._pending.popleft().result()
+        finally:
+            self._pool.shutdown()
+        return self.statistics
 
 
 def _numerical_loss(energy: dict[str, np.ndarray], spring0: float) -> None:

@@ -1,8 +1,8 @@
 """Statistics of every logged quantity, from the log file alone (``pinwind report``).
 
 For each quantity of each joint, mesh and bearing: min, max, mean, RMS and final value over a time
-window (``analysis/summary.statistics``; the columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2),
-in SI units (``report_dict``, ``--json``); the printed tables use the units of ``pinwind
+window (``analysis/run_statistics``; the columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2), in
+SI units (``report_dict``, ``--json``); the printed tables use the units of ``pinwind
 simulate``: rpm, kN, kN·m. Vectors give one row per world or joint-frame component plus one for
 the magnitude.
 Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has them).
@@ -11,98 +11,16 @@ Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has t
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
 import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
+from pinwind.analysis.run_statistics import STATISTICS, Row, RunningStatistics
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError
-
-STATISTICS = ("min", "max", "mean", "rms", "final")
-
-
-@dataclass(frozen=True)
-class Row:
-    """Statistics of one series.
-
-    Attributes:
-        group: ``joint``, ``mesh``, ``bearing``, ``load`` (generators and rotors) or ``run``.
-        element: joint, mesh or bearing name, ``generator JOINT`` or ``rotor JOINT`` (the
-            energy term for ``run/energy``).
-        quantity: e.g. ``speed``, ``normal``, ``force (world)``.
-        component: ``x``, ``y``, ``z``, ``|.|`` for vectors, else ``""``.
-        unit: SI unit.
-        min, max, mean, rms, final: the statistics over the window.
-    """
-
-    group: str
-    element: str
-    quantity: str
-    component: str
-    unit: str
-    min: float
-    max: float
-    mean: float
-    rms: float
-    final: float
-
-
-def _series(res: Result) -> Iterator[tuple[str, str, str, str, str, np.ndarray]]:
-    """(group, element, quantity, component, unit, values) of every reported series."""
-    joint = (
-        ("angle", res.angle, "rad"),
-        ("speed", res.speed, "rad/s"),
-        ("acceleration", res.acceleration, "rad/s^2"),
-        ("torque", res.torque, "N*m"),
-    )
-    for i, name in enumerate(res.joint_names):
-        for quantity, values, unit in joint:
-            yield "joint", name, quantity, "", unit, values[:, i]
-    mesh = (
-        ("normal", res.mesh_normal, "N"),
-        ("tangential", res.mesh_tangential, "N"),
-        ("radial", res.mesh_radial, "N"),
-        ("axial", res.mesh_axial, "N"),
-        ("flank", res.mesh_flank, "1"),
-        ("transmission error", res.transmission_error, "m"),
-    )
-    for i, name in enumerate(res.mesh_names):
-        for quantity, values, unit in mesh:
-            yield "mesh", name, quantity, "", unit, values[:, i]
-        yield from _vector("mesh", name, "force on B (world)", "N", res.mesh_force_on_b[:, i])
-    bearing = (
-        ("force (world)", res.bearing_force, "N"),
-        ("moment (world)", res.bearing_moment, "N*m"),
-        ("force (joint frame)", res.bearing_force_local, "N"),
-        ("moment (joint frame)", res.bearing_moment_local, "N*m"),
-    )
-    for i, name in enumerate(res.bearing_names):
-        for quantity, values, unit in bearing:
-            yield from _vector("bearing", name, quantity, unit, values[:, i])
-    for i, name in enumerate(res.generator_names):
-        yield "load", f"generator {name}", "torque", "", "N*m", res.generator_torque[:, i]
-    rotor = (
-        ("torque", res.rotor_torque, "N*m"),
-        ("power", res.rotor_power, "W"),
-        ("tip-speed ratio", res.rotor_tip_speed_ratio, "1"),
-        ("power coefficient", res.rotor_power_coefficient, "1"),
-        ("wind speed", res.rotor_wind_speed, "m/s"),
-    )
-    for i, name in enumerate(res.rotor_names):
-        for quantity, values, unit in rotor:
-            yield "load", f"rotor {name}", quantity, "", unit, values[:, i]
-    yield "run", "", "constraint residual", "", "m/s or rad/s", res.constraint_residual
-    for term, values in res.energy.items():
-        yield "run", term, "energy", "", "J", values
-
-
-def _vector(group: str, element: str, quantity: str, unit: str, values: np.ndarray):
-    for k, axis in enumerate("xyz"):
-        yield group, element, quantity, axis, unit, values[:, k]
-    yield group, element, quantity, "|.|", unit, np.linalg.norm(values, axis=1)
 
 
 def window(res: Result, start: float | None = None, stop: float | None = None) -> np.ndarray:
@@ -128,50 +46,6 @@ def _no_sample(start, stop, span: tuple[float, float] | None):
     raise InputError(
         f"no logged sample between --from {start} and --to {stop} s; the log covers {covers}"
     )
-
-
-class _Statistics:
-    """min, max, sum, sum of squares and final value of every series, block after block."""
-
-    def __init__(self) -> None:
-        self.keys: list[tuple[str, str, str, str, str]] = []
-        self.count = 0
-        self.first = math.nan
-        self.last = math.nan
-        self._values: np.ndarray | None = None  # (series, 5): min, max, sum, sum sq, final
-
-    def add(self, res: Result, rows: np.ndarray | slice = slice(None)) -> None:
-        """Fold in the samples ``rows`` of a Result (a block of a log, or a whole run)."""
-        time = res.time[rows]
-        if not len(time):
-            return
-        stats = []
-        keys = []
-        for group, element, quantity, component, unit, values in _series(res):
-            v = np.asarray(values[rows], dtype=float)
-            keys.append((group, element, quantity, component, unit))
-            stats.append((v.min(), v.max(), v.sum(), np.square(v).sum(), v[-1]))
-        block = np.array(stats, dtype=float).reshape(len(keys), 5)
-        if self._values is None:
-            self.keys, self._values, self.first = keys, block, float(time[0])
-        else:
-            old = self._values
-            old[:, 0] = np.minimum(old[:, 0], block[:, 0])
-            old[:, 1] = np.maximum(old[:, 1], block[:, 1])
-            old[:, 2:4] += block[:, 2:4]
-            old[:, 4] = block[:, 4]
-        self.count += len(time)
-        self.last = float(time[-1])
-
-    def rows(self) -> list[Row]:
-        out: list[Row] = []
-        if self._values is None:  # no sample added
-            return out
-        n = self.count
-        for key, (lo, hi, total, squares, final) in zip(self.keys, self._values, strict=True):
-            mean, rms = total / n, math.sqrt(squares / n)
-            out.append(Row(*key, float(lo), float(hi), float(mean), rms, float(final)))
-        return out
 
 
 @dataclass(frozen=True)
@@ -201,7 +75,7 @@ def report(res: Result, start: float | None = None, stop: float | None = None) -
         InputError: the window holds no sample.
     """
     rows = window(res, start, stop)
-    stats = _Statistics()
+    stats = RunningStatistics()
     stats.add(res, rows)
     return Report(stats.rows(), stats.first, stats.last, stats.count, res.metadata, res.status)
 
@@ -231,7 +105,7 @@ def report_log(
     from pinwind.io.log_reader import CHANNELS, LogReader
 
     channels = [topic for topic in CHANNELS if topic != "/tf"]
-    stats = _Statistics()
+    stats = RunningStatistics()
     metadata: dict = {}
     status = ""
     with LogReader(path) as log:

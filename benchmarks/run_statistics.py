@@ -1,0 +1,97 @@
+"""Cost of the run statistics: simulate folding every sample into min, max, mean, RMS and final.
+
+When the Result does not keep every sample (``keep="last"``, every N-th, or ``"auto"`` on a long
+run), ``simulate`` folds every block into ``result.statistics`` on a thread of its own
+(``analysis/run_statistics.RunningStatistics``). For each model, the same unlogged run with
+``keep="last"`` without and with the statistics, interleaved A/B ``--repeats`` times: the median
+of the per-pair ratios of wall time (the cost the loop sees), and of CPU time (the work, all
+threads). Also the folding alone in one thread, per sample, on blocks of the run's size.
+
+    python benchmarks/run_statistics.py [--duration 10] [--dt 1e-4] [--repeats 7] [--models ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from pathlib import Path
+
+import pinwind
+from pinwind.analysis.run_statistics import RunningStatistics
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+#: Rotor torque on the carrier [N·m]; the output shaft takes it back at its ratio.
+CARRIER_TORQUE = 1.0e6
+LOADS = {
+    "saleh2017_planetary": {"carrier": CARRIER_TORQUE, "sun": -CARRIER_TORQUE / 6.0},
+    "saleh2017_drivetrain": {
+        "carrier": CARRIER_TORQUE,
+        "stage2_pinion": -CARRIER_TORQUE / (6.0 * 3.6 * 3.96),
+    },
+}
+#: Samples per block of the run (``simulate``'s ``chunk``).
+BLOCK = 1000
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
+    parser.add_argument("--dt", type=float, default=1e-4, help="time step [s]")
+    parser.add_argument("--repeats", type=int, default=7, help="interleaved pairs")
+    parser.add_argument("--models", nargs="+", default=list(LOADS), help="names in models/")
+    args = parser.parse_args()
+    print(f"pinwind {pinwind.__version__}, {args.duration:g} s at dt = {args.dt:g} s per run\n")
+    lines = []
+    for name in args.models:
+        gearbox = pinwind.load(MODELS / f"{name}.urdf")
+
+        def run(
+            folded: bool, duration: float = args.duration, gearbox=gearbox, name=name
+        ) -> tuple[float, float, int]:
+            wall, cpu = time.perf_counter(), time.process_time()
+            res = pinwind.simulate(
+                gearbox,
+                duration=duration,
+                dt=args.dt,
+                torques=LOADS[name],
+                keep="last",
+                statistics=folded,
+                progress=False,
+            )
+            assert (res.statistics is not None) == folded
+            return time.perf_counter() - wall, time.process_time() - cpu, len(res)
+
+        run(False, 0.1), run(True, 0.1)  # warm-up
+        pairs = [(run(False), run(True)) for _ in range(args.repeats)]
+        wall = statistics.median(b[0] / a[0] for a, b in pairs)
+        cpu = statistics.median(b[1] / a[1] for a, b in pairs)
+        samples = round(args.duration / args.dt) + 1
+        plain = statistics.median(a[0] for a, _ in pairs) / samples
+
+        everything = pinwind.simulate(
+            gearbox, duration=2.0, dt=args.dt, torques=LOADS[name], keep="all", progress=False
+        )
+        best = float("inf")
+        for _ in range(args.repeats):
+            folded = RunningStatistics()
+            start = time.perf_counter()
+            for at in range(0, len(everything), BLOCK):
+                folded.add(everything.rows(at, at + BLOCK))
+            best = min(best, time.perf_counter() - start)
+        fold = best / len(everything)
+        print(
+            f"== {name}: {samples} samples, {len(folded.rows())} series\n"
+            f"  run without statistics        {plain * 1e6:7.2f} µs/sample (median)\n"
+            f"  with ÷ without, wall time     {wall:7.3f} (median of {args.repeats} pairs)\n"
+            f"  with ÷ without, CPU time      {cpu:7.3f}\n"
+            f"  folding alone, one thread     {fold * 1e6:7.2f} µs/sample "
+            f"({fold / plain:.2f} of the run)\n"
+        )
+        lines.append(f"{name:22s} {plain * 1e6:8.2f} {wall:7.3f} {cpu:7.3f} {fold * 1e6:8.2f}")
+    print("model                  run µs/s  wall    CPU     fold µs/s")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,280 @@
+"""Statistics of every series of a run, folded block after block: min, max, mean, RMS, final.
+
+For each quantity of each joint, mesh and bearing (and generator, rotor, the constraint residual
+and the energy ledger): min, max, mean, RMS and final value over the samples folded in (the
+columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2), in SI units. A vector gives one series per
+axis plus one for its magnitude. Body poses are geometry, not loads, and are left out.
+
+``RunningStatistics`` folds a Result block after block, in memory that does not grow with the
+run: ``simulate`` folds every sample into it when the Result does not keep them all (so that the
+peaks between the kept samples count), and ``pinwind report`` folds a log too large for memory.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinwind.dynamics.result import ROTOR_ARRAYS, Result
+from pinwind.errors import InputError, UnknownElement
+
+STATISTICS = ("min", "max", "mean", "rms", "final")
+#: Samples folded at a time.
+SLICE = 4096
+
+
+@dataclass(frozen=True)
+class Row:
+    """Statistics of one series.
+
+    Attributes:
+        group: ``joint``, ``mesh``, ``bearing``, ``load`` (generators and rotors) or ``run``.
+        element: joint, mesh or bearing name, ``generator JOINT`` or ``rotor JOINT`` (the
+            energy term for ``run/energy``).
+        quantity: e.g. ``speed``, ``normal``, ``force (world)``.
+        component: ``x``, ``y``, ``z``, ``|.|`` for vectors, else ``""``.
+        unit: SI unit.
+        min, max, mean, rms, final: the statistics over the samples folded in.
+    """
+
+    group: str
+    element: str
+    quantity: str
+    component: str
+    unit: str
+    min: float
+    max: float
+    mean: float
+    rms: float
+    final: float
+
+
+#: (group, element, quantity, component, unit): names one series.
+Key = tuple[str, str, str, str, str]
+
+_JOINT = (
+    ("angle", "angle", "rad"),
+    ("speed", "speed", "rad/s"),
+    ("acceleration", "acceleration", "rad/s^2"),
+    ("torque", "torque", "N*m"),
+)
+_MESH = (
+    ("normal", "mesh_normal", "N"),
+    ("tangential", "mesh_tangential", "N"),
+    ("radial", "mesh_radial", "N"),
+    ("axial", "mesh_axial", "N"),
+    ("flank", "mesh_flank", "1"),
+    ("transmission error", "transmission_error", "m"),
+)
+_MESH_VECTORS = (("force on B (world)", "mesh_force_on_b", "N"),)
+_BEARING_VECTORS = (
+    ("force (world)", "bearing_force", "N"),
+    ("moment (world)", "bearing_moment", "N*m"),
+    ("force (joint frame)", "bearing_force_local", "N"),
+    ("moment (joint frame)", "bearing_moment_local", "N*m"),
+)
+_ROTOR = tuple(
+    zip(
+        ("torque", "power", "tip-speed ratio", "power coefficient", "wind speed"),
+        ROTOR_ARRAYS,
+        ("N*m", "W", "1", "1", "m/s"),
+        strict=True,
+    )
+)
+_AXES = ("x", "y", "z", "|.|")
+
+
+@dataclass(frozen=True)
+class _Field:
+    """One Result array and the series it gives, in the order of its columns.
+
+    ``source`` is a Result attribute or ``energy/TERM``; a vector array (samples, elements, 3)
+    gives its x, y and z columns, then a magnitude per element.
+    """
+
+    source: str
+    keys: list[Key]
+    vector: bool
+
+
+def _fields(res: Result) -> list[_Field]:
+    """The arrays of a Result that are reported, with their series' keys."""
+    fields = []
+    for quantity, source, unit in _JOINT:
+        keys = [("joint", name, quantity, "", unit) for name in res.joint_names]
+        fields.append(_Field(source, keys, False))
+    for quantity, source, unit in _MESH:
+        keys = [("mesh", name, quantity, "", unit) for name in res.mesh_names]
+        fields.append(_Field(source, keys, False))
+    for group, names, vectors in (
+        ("mesh", res.mesh_names, _MESH_VECTORS),
+        ("bearing", res.bearing_names, _BEARING_VECTORS),
+    ):
+        for quantity, source, unit in vectors:
+            keys = [(group, n, quantity, axis, unit) for n in names for axis in _AXES[:3]]
+            keys += [(group, n, quantity, "|.|", unit) for n in names]
+            fields.append(_Field(source, keys, True))
+    keys = [("load", f"generator {n}", "torque", "", "N*m") for n in res.generator_names]
+    fields.append(_Field("generator_torque", keys, False))
+    for quantity, source, unit in _ROTOR:
+        keys = [("load", f"rotor {name}", quantity, "", unit) for name in res.rotor_names]
+        fields.append(_Field(source, keys, False))
+    keys = [("run", "", "constraint residual", "", "m/s or rad/s")]
+    fields.append(_Field("constraint_residual", keys, False))
+    for term in res.energy:
+        fields.append(_Field(f"energy/{term}", [("run", term, "energy", "", "J")], False))
+    return [f for f in fields if f.keys]
+
+
+def _report_order(res: Result) -> list[Key]:
+    """Every series' key, element after element (each joint's, mesh's, bearing's together)."""
+    keys: list[Key] = []
+    for name in res.joint_names:
+        keys += [("joint", name, quantity, "", unit) for quantity, _, unit in _JOINT]
+    for name in res.mesh_names:
+        keys += [("mesh", name, quantity, "", unit) for quantity, _, unit in _MESH]
+        for quantity, _, unit in _MESH_VECTORS:
+            keys += [("mesh", name, quantity, axis, unit) for axis in _AXES]
+    for name in res.bearing_names:
+        for quantity, _, unit in _BEARING_VECTORS:
+            keys += [("bearing", name, quantity, axis, unit) for axis in _AXES]
+    keys += [("load", f"generator {n}", "torque", "", "N*m") for n in res.generator_names]
+    for name in res.rotor_names:
+        keys += [("load", f"rotor {name}", q, "", unit) for q, _, unit in _ROTOR]
+    keys.append(("run", "", "constraint residual", "", "m/s or rad/s"))
+    keys += [("run", term, "energy", "", "J") for term in res.energy]
+    return keys
+
+
+class RunningStatistics:
+    """min, max, sum, sum of squares and final value of every series, block after block.
+
+    Memory is a few numbers per series whatever the number of samples. A block is folded as
+    one (series, samples) table: four reductions of contiguous rows, rather than five per
+    series.
+
+    Attributes:
+        count: samples folded in.
+        first, last: times of the first and last of them [s] (NaN before any).
+    """
+
+    def __init__(self) -> None:
+        self.count = 0
+        self.first = math.nan
+        self.last = math.nan
+        self._fields: list[_Field] = []
+        self._width = 0
+        self._values: np.ndarray | None = None  # (series, 5): min, max, sum, sum sq, final
+        self._order: np.ndarray | None = None  # report order → row of _values
+        self._keys: list[Key] = []
+
+    @classmethod
+    def of(cls, res: Result, rows: np.ndarray | slice = slice(None)) -> RunningStatistics:
+        """The statistics of the samples ``rows`` of a Result."""
+        stats = cls()
+        stats.add(res, rows)
+        return stats
+
+    def _layout(self, res: Result) -> None:
+        self._fields = _fields(res)
+        keys = [key for f in self._fields for key in f.keys]
+        self._width = len(keys)
+        at = {key: i for i, key in enumerate(keys)}
+        self._keys = _report_order(res)
+        self._order = np.array([at[key] for key in self._keys], dtype=np.intp)
+
+    def add(self, res: Result, rows: np.ndarray | slice = slice(None)) -> None:
+        """Fold in the samples ``rows`` of a Result (a block of a run or of a log)."""
+        chosen = (
+            np.asarray(rows) if not isinstance(rows, slice) else range(*rows.indices(len(res.time)))
+        )
+        # A table of SLICE samples stays in the cache through its four reductions.
+        for at in range(0, len(chosen), SLICE):
+            part = chosen[at : at + SLICE]
+            if isinstance(part, range) and part.step > 0:
+                self._fold(res, slice(part.start, part.stop, part.step))
+            else:
+                self._fold(res, np.asarray(part))
+
+    def _fold(self, res: Result, rows: np.ndarray | slice) -> None:
+        time = res.time[rows]
+        m = len(time)
+        if not m:
+            return
+        if self._values is None:
+            self._layout(res)
+        table = np.empty((self._width, m))
+        row = 0
+        for f in self._fields:
+            if f.source.startswith("energy/"):
+                values = res.energy[f.source[7:]][rows]
+            else:
+                values = getattr(res, f.source)[rows]
+            if f.vector:  # (m, elements, 3): the axes, then the magnitudes
+                count = values.shape[1]
+                axes = table[row : row + 3 * count]
+                axes[...] = values.reshape(m, 3 * count).T
+                xyz = axes.reshape(count, 3, m)
+                magnitude = table[row + 3 * count : row + 4 * count]
+                np.multiply(xyz[:, 0], xyz[:, 0], out=magnitude)
+                magnitude += xyz[:, 1] * xyz[:, 1]
+                magnitude += xyz[:, 2] * xyz[:, 2]
+                np.sqrt(magnitude, out=magnitude)
+                row += 4 * count
+            else:
+                width = len(f.keys)
+                table[row : row + width] = values.reshape(m, width).T
+                row += width
+        if row != self._width:
+            raise ValueError(f"a block with {row} series after blocks with {self._width}")
+        block = np.empty((self._width, 5))
+        np.min(table, axis=1, out=block[:, 0])
+        np.max(table, axis=1, out=block[:, 1])
+        np.sum(table, axis=1, out=block[:, 2])
+        np.einsum("ij,ij->i", table, table, out=block[:, 3])
+        block[:, 4] = table[:, -1]
+        if self._values is None:
+            self._values, self.first = block, float(time[0])
+        else:
+            old = self._values
+            np.minimum(old[:, 0], block[:, 0], out=old[:, 0])
+            np.maximum(old[:, 1], block[:, 1], out=old[:, 1])
+            old[:, 2:4] += block[:, 2:4]
+            old[:, 4] = block[:, 4]
+        self.count += m
+        self.last = float(time[-1])
+
+    def rows(self) -> list[Row]:
+        """One Row per series, element after element (empty before any sample)."""
+        if self._values is None or self._order is None:
+            return []
+        n = self.count
+        out = []
+        for key, (lo, hi, total, squares, final) in zip(
+            self._keys, self._values[self._order], strict=True
+        ):
+            mean, rms = total / n, math.sqrt(squares / n)
+            out.append(Row(*key, float(lo), float(hi), float(mean), rms, float(final)))
+        return out
+
+    def row(self, group: str, element: str, quantity: str, component: str = "") -> Row:
+        """The statistics of one series, e.g. ``row("mesh", "sun_planet1", "normal")``.
+
+        Raises:
+            UnknownElement: no such element in the group.
+            InputError: the element has no such series (the message lists its series).
+        """
+        wanted = (group, element, quantity, component)
+        for r in self.rows():
+            if (r.group, r.element, r.quantity, r.component) == wanted:
+                return r
+        mine = [f"{k[2]} {k[3]}".strip() for k in self._keys if k[:2] == (group, element)]
+        if not mine:
+            known = list(dict.fromkeys(k[1] for k in self._keys if k[0] == group))
+            raise UnknownElement(group, element, known)
+        raise InputError(
+            f'{group} "{element}" has no series "{f"{quantity} {component}".strip()}"; its '
+            f"series are: {', '.join(mine)}"
+        )
