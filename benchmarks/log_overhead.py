@@ -25,21 +25,12 @@ import time
 import zlib
 from pathlib import Path
 
+from saleh_loads import LOADS, MODELS
+
 import pinwind
 from pinwind.dynamics.simulate import simulate
 from pinwind.io.log_reader import read_log
 from pinwind.io.mcap_log import McapLogger
-
-MODELS = Path(__file__).resolve().parents[1] / "models"
-#: Rotor torque on the carrier [N·m]; the output shaft takes it back at its ratio.
-CARRIER_TORQUE = 1.0e6
-LOADS = {
-    "saleh2017_planetary": {"carrier": CARRIER_TORQUE, "sun": -CARRIER_TORQUE / 6.0},
-    "saleh2017_drivetrain": {
-        "carrier": CARRIER_TORQUE,
-        "stage2_pinion": -CARRIER_TORQUE / (6.0 * 3.6 * 3.96),
-    },
-}
 
 
 class TimedLogger:

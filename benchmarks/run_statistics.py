@@ -15,21 +15,12 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
-from pathlib import Path
+
+from saleh_loads import LOADS, MODELS
 
 import pinwind
 from pinwind.analysis.run_statistics import RunningStatistics
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
-#: Rotor torque on the carrier [N·m]; the output shaft takes it back at its ratio.
-CARRIER_TORQUE = 1.0e6
-LOADS = {
-    "saleh2017_planetary": {"carrier": CARRIER_TORQUE, "sun": -CARRIER_TORQUE / 6.0},
-    "saleh2017_drivetrain": {
-        "carrier": CARRIER_TORQUE,
-        "stage2_pinion": -CARRIER_TORQUE / (6.0 * 3.6 * 3.96),
-    },
-}
 #: Samples per block of the run (``simulate``'s ``chunk``).
 BLOCK = 1000
 
