@@ -17,12 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinwind.dynamics._native import fold_columns, fold_magnitudes
 from pinwind.dynamics.result import ROTOR_ARRAYS, Result
 from pinwind.errors import InputError, UnknownElement
 
 STATISTICS = ("min", "max", "mean", "rms", "final")
-#: Samples folded at a time.
-SLICE = 4096
 
 
 @dataclass(frozen=True)
@@ -151,9 +150,10 @@ def _report_order(res: Result) -> list[Key]:
 class RunningStatistics:
     """min, max, sum, sum of squares and final value of every series, block after block.
 
-    Memory is a few numbers per series whatever the number of samples. A block is folded as
-    one (series, samples) table: four reductions of contiguous rows, rather than five per
-    series.
+    Memory is a few numbers per series whatever the number of samples. Each array of a block
+    is folded in one pass of the compiled module, where it lies (``fold_columns``,
+    ``fold_magnitudes`` in ``dynamics/cpp/column_statistics.hpp``); the blocks' sums add up
+    here.
 
     Attributes:
         count: samples folded in.
@@ -166,8 +166,8 @@ class RunningStatistics:
         self.last = math.nan
         self._fields: list[_Field] = []
         self._width = 0
-        self._values: np.ndarray | None = None  # (series, 5): min, max, sum, sum sq, final
-        self._order: np.ndarray | None = None  # report order → row of _values
+        self._values: np.ndarray | None = None  # (5, series): min, max, sum, sum sq, final
+        self._order: np.ndarray | None = None  # report order → column of _values
         self._keys: list[Key] = []
 
     @classmethod
@@ -187,62 +187,35 @@ class RunningStatistics:
 
     def add(self, res: Result, rows: np.ndarray | slice = slice(None)) -> None:
         """Fold in the samples ``rows`` of a Result (a block of a run or of a log)."""
-        chosen = (
-            np.asarray(rows) if not isinstance(rows, slice) else range(*rows.indices(len(res.time)))
-        )
-        # A table of SLICE samples stays in the cache through its four reductions.
-        for at in range(0, len(chosen), SLICE):
-            part = chosen[at : at + SLICE]
-            if isinstance(part, range) and part.step > 0:
-                self._fold(res, slice(part.start, part.stop, part.step))
-            else:
-                self._fold(res, np.asarray(part))
-
-    def _fold(self, res: Result, rows: np.ndarray | slice) -> None:
         time = res.time[rows]
         m = len(time)
         if not m:
             return
         if self._values is None:
             self._layout(res)
-        table = np.empty((self._width, m))
+        block = np.empty((5, self._width))  # min, max, sum, sum of squares, last
         row = 0
         for f in self._fields:
             if f.source.startswith("energy/"):
                 values = res.energy[f.source[7:]][rows]
             else:
                 values = getattr(res, f.source)[rows]
+            width = len(f.keys)
             if f.vector:  # (m, elements, 3): the axes, then the magnitudes
-                count = values.shape[1]
-                axes = table[row : row + 3 * count]
-                axes[...] = values.reshape(m, 3 * count).T
-                xyz = axes.reshape(count, 3, m)
-                magnitude = table[row + 3 * count : row + 4 * count]
-                np.multiply(xyz[:, 0], xyz[:, 0], out=magnitude)
-                magnitude += xyz[:, 1] * xyz[:, 1]
-                magnitude += xyz[:, 2] * xyz[:, 2]
-                np.sqrt(magnitude, out=magnitude)
-                row += 4 * count
+                axes = values.reshape(m, width // 4 * 3)
+                fold_columns(axes, block[:, row : row + axes.shape[1]])
+                fold_magnitudes(axes, block[:, row + axes.shape[1] : row + width])
             else:
-                width = len(f.keys)
-                table[row : row + width] = values.reshape(m, width).T
-                row += width
-        if row != self._width:
-            raise ValueError(f"a block with {row} series after blocks with {self._width}")
-        block = np.empty((self._width, 5))
-        np.min(table, axis=1, out=block[:, 0])
-        np.max(table, axis=1, out=block[:, 1])
-        np.sum(table, axis=1, out=block[:, 2])
-        np.einsum("ij,ij->i", table, table, out=block[:, 3])
-        block[:, 4] = table[:, -1]
+                fold_columns(values.reshape(m, width), block[:, row : row + width])
+            row += width
         if self._values is None:
             self._values, self.first = block, float(time[0])
         else:
             old = self._values
-            np.minimum(old[:, 0], block[:, 0], out=old[:, 0])
-            np.maximum(old[:, 1], block[:, 1], out=old[:, 1])
-            old[:, 2:4] += block[:, 2:4]
-            old[:, 4] = block[:, 4]
+            np.minimum(old[0], block[0], out=old[0])
+            np.maximum(old[1], block[1], out=old[1])
+            old[2:4] += block[2:4]
+            old[4] = block[4]
         self.count += m
         self.last = float(time[-1])
 
@@ -253,7 +226,7 @@ class RunningStatistics:
         n = self.count
         out = []
         for key, (lo, hi, total, squares, final) in zip(
-            self._keys, self._values[self._order], strict=True
+            self._keys, self._values[:, self._order].T, strict=True
         ):
             mean, rms = total / n, math.sqrt(squares / n)
             out.append(Row(*key, float(lo), float(hi), float(mean), rms, float(final)))

@@ -151,6 +151,18 @@ def rotor_torque(rotor: RotorSpec, speed: float, wind: float) -> float:
 def rotor_cp(rotor: RotorSpec, tsr: float) -> float:
     """Power coefficient C_p at tip-speed ratio λ."""
 
+def fold_columns(values: Matrix, out: Matrix) -> None:
+    """min, max, sum, sum of squares and last value of each column of an (m, k) block.
+
+    ``values`` may have any strides; ``out`` is a (5, k) float64 view, written in place.
+    """
+
+def fold_magnitudes(values: Matrix, out: Matrix) -> None:
+    """The same for the magnitudes of the vectors of an (m, 3e) block into a (5, e) ``out``.
+
+    Columns 3j, 3j + 1, 3j + 2 are vector j's x, y, z; |v| = √((x² + y²) + z²).
+    """
+
 class StepperSpec:
     """Everything a run needs besides the initial state."""
 

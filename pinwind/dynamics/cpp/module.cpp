@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "column_statistics.hpp"
 #include "stepper.hpp"
 
 namespace nb = nanobind;
@@ -23,6 +24,31 @@ namespace pinwind {
 namespace {
 
 using Array = nb::ndarray<double, nb::numpy, nb::c_contig, nb::device::cpu>;
+// Any float64 matrix, with its strides (a column of a Result, a view of a read log's arrays).
+using AnyMatrix = nb::ndarray<const double, nb::ndim<2>, nb::device::cpu>;
+using OutMatrix = nb::ndarray<double, nb::ndim<2>, nb::device::cpu>;
+
+// Folds the columns of `values` (or the magnitudes of its x, y, z column triples) into `out`,
+// a (5, columns) view (column_statistics.hpp), without the GIL.
+void fold_block(const AnyMatrix& values, OutMatrix& out, bool magnitudes) {
+  const Strided2 v{values.data(), static_cast<long>(values.shape(0)),
+                   static_cast<long>(values.shape(1)), static_cast<long>(values.stride(0)),
+                   static_cast<long>(values.stride(1))};
+  const long k = magnitudes ? v.cols / 3 : v.cols;
+  if (static_cast<long>(out.shape(0)) != kFoldRows || static_cast<long>(out.shape(1)) != k) {
+    throw std::invalid_argument("fold: out must be (5, " + std::to_string(k) + "), not (" +
+                                std::to_string(out.shape(0)) + ", " +
+                                std::to_string(out.shape(1)) + ")");
+  }
+  double* data = out.data();
+  const long o0 = static_cast<long>(out.stride(0)), o1 = static_cast<long>(out.stride(1));
+  nb::gil_scoped_release release;
+  if (magnitudes) {
+    fold_magnitudes(v, data, o0, o1);
+  } else {
+    fold_values(v, data, o0, o1);
+  }
+}
 using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>;
 
 // The Pinocchio joint tree, body inertias and gravity (pinwind/dynamics/stepper.py joint_tree).
@@ -443,6 +469,17 @@ NB_MODULE(_native, m) {
   m.def("rotor_torque", &rotor_torque, "rotor"_a, "speed"_a, "wind"_a,
         "Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s].");
   m.def("rotor_cp", &rotor_cp, "rotor"_a, "tsr"_a, "Power coefficient C_p at tip-speed ratio λ.");
+  m.def(
+      "fold_columns", [](const AnyMatrix& values, OutMatrix out) { fold_block(values, out, false); },
+      "values"_a, "out"_a,
+      "min, max, sum, sum of squares and last value of each column of an (m, k) block into the "
+      "rows of out (5, k).");
+  m.def(
+      "fold_magnitudes",
+      [](const AnyMatrix& values, OutMatrix out) { fold_block(values, out, true); }, "values"_a,
+      "out"_a,
+      "The same for the magnitudes of the vectors of an (m, 3e) block (x, y, z of each vector "
+      "side by side) into out (5, e).");
 
   nb::class_<StepperSpec>(m, "StepperSpec")
       .def(nb::init<>())
