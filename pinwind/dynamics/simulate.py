@@ -558,8 +558,8 @@ def simulate(
 class _Folding:
     """Folds a run's blocks into ``RunningStatistics`` on a thread, at most ``BEHIND`` behind.
 
-    numpy releases the GIL in the reductions and the compiled loop while it steps, so on two
-    cores the folding costs the loop little.
+    The compiled folding and the compiled loop both run without the GIL, so on two cores the
+    folding costs the loop 4–6 % of its wall time (``benchmarks/run_statistics.py``).
     """
 
     def __init__(self) -> None:
