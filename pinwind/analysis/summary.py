@@ -15,23 +15,25 @@ from rich.markup import escape
 from rich.table import Table
 
 from pinwind.analysis.run_statistics import RunningStatistics
+from pinwind.dynamics._native import fold_columns
 from pinwind.dynamics.result import Result
 
 RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
 
 
 def statistics(values: np.ndarray) -> dict[str, float]:
-    """min, max, mean, RMS and final value of a 1-D series (empty series give NaN)."""
-    values = np.asarray(values, dtype=float)
+    """min, max, mean, RMS and final value of a 1-D series (empty series give NaN).
+
+    The same fold as ``RunningStatistics`` (``dynamics/cpp/column_statistics.hpp``).
+    """
+    values = np.asarray(values, dtype=float).reshape(-1)
     if values.size == 0:
         return {k: math.nan for k in ("min", "max", "mean", "rms", "final")}
-    return {
-        "min": float(values.min()),
-        "max": float(values.max()),
-        "mean": float(values.mean()),
-        "rms": float(np.sqrt(np.mean(values**2))),
-        "final": float(values[-1]),
-    }
+    folded = np.empty((5, 1))
+    fold_columns(values.reshape(-1, 1), folded)
+    lo, hi, total, squares, final = folded[:, 0].tolist()
+    n = values.size
+    return {"min": lo, "max": hi, "mean": total / n, "rms": math.sqrt(squares / n), "final": final}
 
 
 def _input_joint(res: Result) -> str | None:

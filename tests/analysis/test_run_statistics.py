@@ -182,3 +182,14 @@ def test_asking_for_a_series_that_does_not_exist_names_the_ones_that_do(gearbox)
         stats.row("mesh", "sun_planet9", "normal")
     with pytest.raises(InputError, match="its series are: normal, tangential"):
         stats.row("mesh", "sun_planet1", "speed")
+
+
+def test_the_statistics_of_one_series_are_numpy_s_and_nan_for_an_empty_one():
+    from pinwind.analysis.summary import statistics
+
+    values = np.random.default_rng(7).normal(3.0, 2.0, 1001)
+    got = statistics(values)
+    lo, hi, mean, rms, final = numpy_statistics(values)
+    assert (got["min"], got["max"], got["final"]) == (lo, hi, final)
+    assert_allclose([got["mean"], got["rms"]], [mean, rms], rtol=1e-13)
+    assert all(math.isnan(v) for v in statistics(np.array([])).values())
