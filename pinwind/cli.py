@@ -331,9 +331,9 @@ def simulate(
         str,
         typer.Option(
             "--keep",
-            help="Samples kept in memory for the summary: all, last, auto (every sample while "
-            "they fit in 512 MB, else every N-th) or a number N (every N-th). The log holds "
-            "every sample either way.",
+            help="Samples kept in memory: all, last, auto (every sample while they fit in "
+            "512 MB, else every N-th) or a number N (every N-th). The log holds every sample "
+            "either way, and the summary's min / max / RMS are over every sample.",
         ),
     ] = "auto",
     position_error: Annotated[
