@@ -221,16 +221,16 @@ class RunningStatistics:
 
     def rows(self) -> list[Row]:
         """One Row per series, element after element (empty before any sample)."""
-        if self._values is None or self._order is None:
+        if self._values is None:
             return []
+        return [self._row(position) for position in range(len(self._keys))]
+
+    def _row(self, position: int) -> Row:
+        """The Row of the series at ``position`` in element order."""
+        assert self._values is not None and self._order is not None  # after a fold
+        lo, hi, total, squares, final = self._values[:, self._order[position]].tolist()
         n = self.count
-        out = []
-        for key, (lo, hi, total, squares, final) in zip(
-            self._keys, self._values[:, self._order].T, strict=True
-        ):
-            mean, rms = total / n, math.sqrt(squares / n)
-            out.append(Row(*key, float(lo), float(hi), float(mean), rms, float(final)))
-        return out
+        return Row(*self._keys[position], lo, hi, total / n, math.sqrt(squares / n), final)
 
     def row(self, group: str, element: str, quantity: str, component: str = "") -> Row:
         """The statistics of one series, e.g. ``row("mesh", "sun_planet1", "normal")``.
@@ -240,9 +240,9 @@ class RunningStatistics:
             InputError: the element has no such series (the message lists its series).
         """
         wanted = (group, element, quantity, component)
-        for r in self.rows():
-            if (r.group, r.element, r.quantity, r.component) == wanted:
-                return r
+        for position, key in enumerate(self._keys):
+            if key[:4] == wanted and self._values is not None:
+                return self._row(position)
         mine = [f"{k[2]} {k[3]}".strip() for k in self._keys if k[:2] == (group, element)]
         if not mine:
             known = list(dict.fromkeys(k[1] for k in self._keys if k[0] == group))
