@@ -1,5 +1,7 @@
 """Compiled step loop of pinwind (pinwind/dynamics/cpp/): typed structs and the stepper.
 
+Also the compiled parts of the run statistics and of the log's columns.
+
 Every struct is filled from Python (``dynamics/stepper.py``, ``dynamics/compliant.py``,
 ``dynamics/mesh.py``); SI units throughout. Arrays are float64 (Eigen vectors and row-major
 matrices); lists of ints are Pinocchio joint or velocity indices.
@@ -10,6 +12,8 @@ from numpy.typing import NDArray
 
 Vector = NDArray[np.float64]
 Matrix = NDArray[np.float64]
+Bytes = NDArray[np.uint8]
+Indices = NDArray[np.int64]
 
 class SolverSettings:
     """proxsuite settings (``cpp/constrained_qp.hpp``)."""
@@ -162,6 +166,36 @@ def fold_magnitudes(values: Matrix, out: Matrix) -> None:
 
     Columns 3j, 3j + 1, 3j + 2 are vector j's x, y, z; |v| = √((x² + y²) + z²).
     """
+
+def shuffle_series(values: Matrix, series: Indices, planes: Bytes) -> None:
+    """The byte planes of the rows ``series`` of a (k, m) block into ``planes`` (8 · V · m).
+
+    The V rows' values, one row after the other, as one run of V · m float64 values: byte 0
+    (little-endian) of every value, then byte 1, ..., byte 7 (``cpp/byte_planes.hpp``). The
+    rows of ``values`` must be contiguous.
+    """
+
+def unshuffle_series(
+    planes: Bytes,
+    m: int,
+    first: int,
+    count: int,
+    rows: Indices,
+    out: Matrix,
+    at: int,
+    stream: bool = False,
+) -> None:
+    """Samples ``first`` to ``first + count`` of V shuffled series into ``out[rows[j], at:]``.
+
+    Each series has m samples; series j is skipped where ``rows[j]`` < 0. ``out``: float64
+    (series, samples) with contiguous rows. ``stream``: non-temporal stores, for memory not read
+    soon. Raises ValueError for sizes or indices that do not fit.
+    """
+
+def fill_rows(
+    values: Vector, rows: Indices, out: Matrix, at: int, count: int, stream: bool = False
+) -> None:
+    """``out[rows[j], at:at + count] = values[j]`` where ``rows[j]`` ≥ 0 (as unshuffle_series)."""
 
 class StepperSpec:
     """Everything a run needs besides the initial state."""

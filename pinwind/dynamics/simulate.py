@@ -102,6 +102,24 @@ def _step_count(duration: float, dt: float) -> int:
     return steps
 
 
+#: Samples per block handed to the observer (the log: a chunk of columns per block) in a long
+#: run. A log read back decompresses and places a chunk per reading thread at a time: blocks of
+#: 5000 samples read 20-25 % faster than blocks of 1000 (benchmarks/read_log.py).
+CHUNK = 5000
+#: The fewest samples per block. A run ends by waiting for its log's writer to compress the
+#: last block (0.4-0.8 µs per sample): blocks are a twentieth of a shorter run, so that this
+#: wait stays a few per cent of the run (benchmarks/log_overhead.py).
+MIN_CHUNK = 1000
+
+
+def block_samples(samples: int) -> int:
+    """Samples per block of a run of ``samples`` samples.
+
+    A twentieth of the run, at least ``MIN_CHUNK`` and at most ``CHUNK``.
+    """
+    return max(MIN_CHUNK, min(CHUNK, samples // 20))
+
+
 #: Speed [rad/s] above which a run is stopped as diverged (≈ 955 000 rpm: no gear survives it;
 #: a 10 mm pinion would have a pitch-line speed of 1000 m/s).
 MAX_PLAUSIBLE_SPEED = 1e5
@@ -261,7 +279,7 @@ def simulate(
     solver: SolverSettings | None = None,
     progress: bool | None = None,
     observer: RunObserver | None = None,
-    chunk: int = 1000,
+    chunk: int | None = None,
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
     keep: str | int = "auto",
@@ -286,7 +304,8 @@ def simulate(
         solver: proxsuite settings.
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
         observer: receives samples as they are computed (e.g. the MCAP logger).
-        chunk: samples per observer call.
+        chunk: samples per observer call (a log holds a chunk of columns per call); default
+            ``block_samples``: 1000 to 5000, a twentieth of the run.
         meshes: mesh name (or ``"all"``) → ``"rigid"``, ``"compliant"`` or a
             ``MeshCompliance``, replacing the model file's choice (``dynamics/compliant.py``).
         position_errors: gear name → (tangential, radial) position error of its centre [m]
@@ -388,6 +407,10 @@ def simulate(
         ),
     )
     kept = _kept_samples(samples, stride)
+    if chunk is None:
+        chunk = block_samples(samples)
+    elif isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise InputError(f"chunk={chunk!r}: give a whole number of samples per block, at least 1")
     try:
         res = _allocate(gearbox, len(kept), body_names, elements)
     except MemoryError as err:

@@ -2,12 +2,13 @@
 
 Every logged block is one ``/pinwind/columns`` message (docs/log_format.md, "Columns"): a layout
 byte, the number of samples m and of posed samples p, a bit per series saying whether it is
-constant over the block, then float64 values: the m values of each series that varies, the one
-value of each series that does not (both in the order of the channel's ``columns``), then the p
-times and poses in the order of ``pose_columns``. Decoding a block is a view of the decompressed
-chunk; a read copies the varying series and fills the constant ones into one array that keeps
-every series contiguous (``ColumnSink``), and the Result's arrays are views of it with the sample
-index first, as ``simulate`` returns them.
+constant over the block, then the m values of each series that varies as byte planes (byte 0 of
+every value, then byte 1, ...), the one value of each series that does not (both in the order of
+the channel's ``columns``), then the p times and poses in the order of ``pose_columns``. Decoding
+a block gives views of the decompressed chunk; a read turns the planes back into values
+straight into one array that keeps every series contiguous (``ColumnSink``, in the compiled
+module, without the GIL), fills the constant ones, and the Result's arrays are views of it with
+the sample index first, as ``simulate`` returns them.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from typing import Any
 import numpy as np
 from mcap.opcode import Opcode
 
+from pinwind.dynamics._native import fill_rows, unshuffle_series
 from pinwind.dynamics.result import Result
 from pinwind.io.mcap_file import DamagedChunk
 from pinwind.io.mcap_log import COLUMNS_LAYOUT, mask_bytes
@@ -95,7 +97,8 @@ class ColumnBlock:
 
     Attributes:
         time: sample times [s], (m,).
-        varying: the series that vary over the block, in column order, (V, m).
+        planes: the series that vary over the block (V of them, in column order), as the byte
+            planes of their V · m values one after the other, (8 · V · m,) bytes.
         constants: the value of each series that does not, in column order, (C,).
         same: per series of ``columns``, whether it is constant over the block, (width,).
         slot: per series, its row in ``varying`` or its place in ``constants``, (width,).
@@ -104,12 +107,40 @@ class ColumnBlock:
     """
 
     time: np.ndarray
-    varying: np.ndarray
+    planes: np.ndarray
     constants: np.ndarray
     same: np.ndarray
     slot: np.ndarray
     pose_time: np.ndarray
     poses: np.ndarray
+
+    @property
+    def samples(self) -> int:
+        """m, the samples of the block."""
+        return len(self.time)
+
+    def unshuffle(
+        self,
+        into: np.ndarray,
+        rows: np.ndarray,
+        first: int,
+        count: int,
+        at: int,
+        stream: bool = False,
+    ) -> None:
+        """Samples ``first`` to ``first + count`` of varying series j into ``into[rows[j], at:]``.
+
+        ``into``: float64 (series, samples) with contiguous rows; series j is skipped where
+        ``rows[j]`` < 0. ``stream``: write around the caches (``byte_planes.hpp``).
+        """
+        unshuffle_series(self.planes, self.samples, first, count, rows, into, at, stream)
+
+    def varying(self) -> np.ndarray:
+        """The varying series' values, (V, m): a new array."""
+        vary = len(self.planes) // (8 * self.samples) if self.samples else 0
+        values = np.empty((vary, self.samples))
+        self.unshuffle(values, np.arange(vary), 0, self.samples, 0)
+        return values
 
 
 def decode_chunk(data: bytes | np.ndarray, layout: ColumnLayout) -> list[ColumnBlock]:
@@ -159,14 +190,18 @@ def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) ->
             f"{start - at + 8 * doubles} of {m} samples ({constant} series constant) and "
             f"{p} poses"
         )
-    varying = np.frombuffer(data, "<f8", vary * m, start).reshape(vary, m)
+    planes = np.frombuffer(data, np.uint8, 8 * vary * m, start)
     start += 8 * vary * m
     constants = np.frombuffer(data, "<f8", constant, start)
     poses = np.frombuffer(data, "<f8", layout.pose_width * p, start + 8 * constant)
     poses = poses.reshape(layout.pose_width, p)
     slot = np.where(same, np.cumsum(same), np.cumsum(~same)) - 1
-    time = np.full(m, constants[0]) if same[0] else varying[0]
-    return ColumnBlock(time, varying, constants, same, slot, poses[0], poses)
+    time = np.full(m, constants[0])
+    if not same[0]:  # the time varies: it is the first of the varying series
+        first_only = np.full(vary, -1)
+        first_only[0] = 0
+        unshuffle_series(planes, m, 0, m, first_only, time[None, :], 0)
+    return ColumnBlock(time, planes, constants, same, slot, poses[0], poses)
 
 
 class ColumnSink:
@@ -207,16 +242,16 @@ class ColumnSink:
         #: the columns' series copied, and the rows they go to (in column order, both)
         source = [np.arange(layout.at[k][0], layout.at[k][0] + self.rows[k][1]) for k in copied]
         self.source = np.concatenate(source) if source else np.zeros(0, dtype=np.intp)
-        self.every = np.array_equal(self.source, np.arange(layout.width))
+        #: per series of the columns, its row in ``base``, -1 when it is not read
+        self.row_of = np.full(layout.width, -1)
+        self.row_of[self.source] = np.arange(len(self.source))
+        #: the poses' rows, NaN but at the posed samples
+        self.pose_rows = np.arange(self.columns, self.height)
+        self.pose_nan = np.full(len(self.pose_rows), np.nan)
         self.n = 0
         self.capacity = capacity
-        self.base = self._allocate(capacity)
-
-    def _allocate(self, capacity: int, poses: bool = True) -> np.ndarray:
-        base = np.empty((self.height, capacity))
-        if poses:
-            base[self.columns :] = np.nan  # a value only at the posed samples
-        return base
+        # not filled: each sample is written once, by the thread that places it
+        self.base = np.empty((self.height, capacity))
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) after those already there."""
@@ -228,52 +263,28 @@ class ColumnSink:
     def place(self, block: ColumnBlock, rows: slice | np.ndarray, count: int, at: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) to samples ``at`` to ``at + count``.
 
-        There must be room. Threads may place samples at the same time in other samples.
+        There must be room. Threads may place samples at the same time in other samples: the
+        compiled copies run without the GIL.
         """
         end = at + count
-        target = self.base[: self.columns, at:end]
-        same = block.same[self.source]
-        if self.every and not same.any():  # nothing constant: one copy
-            target[...] = block.varying[:, rows]
-        elif len(self.source):
-            slot = block.slot[self.source]
-            vary = ~same
-            if self.every:  # every varying series, in order: block.varying as it is
-                target[vary] = block.varying[:, rows]
-            else:
-                target[vary] = block.varying[slot[vary]][:, rows]
-            target[same] = block.constants[slot[same], None]
+        if len(self.source):
+            if isinstance(rows, slice):
+                block.unshuffle(self.base, self.row_of[~block.same], rows.start, count, at, True)
+            else:  # samples that are not consecutive (a window of a foreign file)
+                vary = ~block.same[self.source]
+                slot = block.slot[self.source]
+                self.base[: self.columns, at:end][vary] = block.varying()[slot[vary]][:, rows]
+            fill_rows(block.constants, self.row_of[block.same], self.base, at, count, True)
+        fill_rows(self.pose_nan, self.pose_rows, self.base, at, count, True)
         for key in self.sparse:
             row, width, _ = self.rows[key]
             first = self.layout.at[key][0]
             self._place(block, rows, count, self.base[row : row + width, at:end], first, width)
 
-    def clear_poses(self, at: int, count: int) -> None:
-        """NaN in the pose series of samples ``at`` to ``at + count`` (room from ``unfilled``)."""
-        self.base[self.columns :, at : at + count] = np.nan
-
     def move(self, at: int, count: int, to: int) -> None:
         """Samples ``at`` to ``at + count`` moved back to ``to`` (≤ ``at``): closes a gap."""
         if to != at:
             self.base[:, to : to + count] = self.base[:, at : at + count]
-
-    @classmethod
-    def unfilled(
-        cls,
-        layout: ColumnLayout,
-        shapes: dict[str, tuple[int, ...]],
-        keys: list[str],
-        capacity: int,
-    ) -> ColumnSink:
-        """A sink whose pose series are not yet NaN.
-
-        For threads that ``clear_poses`` and ``place`` their own samples, each on its own part
-        of the fresh memory.
-        """
-        sink = cls(layout, shapes, keys, 0)
-        sink.capacity = capacity
-        sink.base = sink._allocate(capacity, poses=False)
-        return sink
 
     @staticmethod
     def _place(block, rows, count, target, first, width) -> None:
@@ -289,7 +300,7 @@ class ColumnSink:
     def _grow(self, needed: int) -> None:
         """More room (a count from the index was missing or wrong: damaged or foreign file)."""
         self.capacity = max(needed, 2 * self.capacity)
-        base = self._allocate(self.capacity)
+        base = np.empty((self.height, self.capacity))
         base[:, : self.n] = self.base[:, : self.n]
         self.base = base
 

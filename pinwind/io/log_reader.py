@@ -1089,7 +1089,7 @@ class LogReader:
             return None
         places = np.concatenate([[0], np.cumsum(counts)]).tolist()
         place = {chunk.offset: (places[i], counts[i]) for i, chunk in enumerate(chunks)}
-        sink = ColumnSink.unfilled(layout, self._layout.shapes, keys, places[-1])
+        sink = ColumnSink(layout, self._layout.shapes, keys, places[-1])
 
         def load(chunk: ChunkRef, _) -> tuple[bytes, int | None, str]:
             at, room = place[chunk.offset]
@@ -1100,7 +1100,6 @@ class LogReader:
             filled = sum(count for _, _, count in parts)
             if filled > room:
                 return b"", None, ""
-            sink.clear_poses(at, filled)
             for block, rows, count in parts:
                 if count:
                     sink.place(block, rows, count, at)

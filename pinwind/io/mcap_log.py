@@ -38,6 +38,7 @@ from typing import Any, BinaryIO
 import numpy as np
 from mcap.opcode import Opcode
 
+from pinwind.dynamics._native import shuffle_series
 from pinwind.dynamics.result import Result
 from pinwind.errors import (
     InvalidLogRate,
@@ -83,10 +84,11 @@ COLUMNS_TOPIC = "/pinwind/columns"
 #: Message encoding of that topic (docs/log_format.md, "Columns"): a layout byte, two counts, a
 #: bit per series (constant over the block or not), then float64 little-endian values, series
 #: after series (the values of one series, one element of one array, for every sample of the
-#: block, are consecutive; a constant series has one value).
+#: block, are consecutive; a constant series has one value), the varying ones as byte planes.
 COLUMNS_ENCODING = "pinwind.columns"
-#: The layout byte of a columns payload.
-COLUMNS_LAYOUT = 2
+#: The layout byte of a columns payload: 3, the varying series' values as byte planes (2, the
+#: values as they are, was never released).
+COLUMNS_LAYOUT = 3
 JOINTS_TOPIC = "/joints"
 TF_TOPIC = "/tf"
 #: Parent frame of every link transform on ``/tf``.
@@ -760,10 +762,12 @@ class McapLogger:
         layout = (
             f"a layout byte ({COLUMNS_LAYOUT}), the number of samples m and of poses p (uint32 "
             "each), a bit per series of 'columns' (bit i of byte i // 8, 1: the series is "
-            "constant over the block), zero-padded to a multiple of 8 bytes, then float64 "
-            "values: the m values of each varying series, then the one value of each constant "
-            "series, both in the order of 'columns' (each array's elements in C order), then "
-            "the p posed samples' series in the order of 'pose_columns'; all little-endian"
+            "constant over the block), zero-padded to a multiple of 8 bytes, then the m values of "
+            "each of the V varying series as the byte planes of these V * m float64 values "
+            "(byte 0 of every value, then byte 1, ..., byte 7), then the float64 value of each "
+            "constant series, both in the order of 'columns' (each array's elements in C order), "
+            "then the p posed samples' float64 series in the order of 'pose_columns'; all "
+            "little-endian"
         )
         self._columns_channel = f.channel(
             COLUMNS_TOPIC,
@@ -1029,9 +1033,10 @@ class McapLogger:
         ``pose_stride``-th). A closing record without samples, at the block's last sample
         time, makes the chunk's time span (its log times, in the chunk index) that of the
         block. The copy turns the block's sample-major arrays into runs of one series, which
-        zstd compresses twice as fast and ``read_log`` decompresses into its arrays with
-        whole-run copies; a constant series (a rigid mesh's deflection, a fixed gear's pitch
-        point, a bearing without moment) is neither compressed nor decompressed nor copied.
+        zstd compresses twice as fast, and the varying series' values into byte planes
+        (``byte_planes.hpp``), which it compresses to 0.6 of the size, again about twice as
+        fast; a constant series (a rigid mesh's deflection, a fixed gear's pitch point, a
+        bearing without moment) is neither compressed nor decompressed nor copied.
         One record per block, poses included, so that no other tool's rechunking can part a
         block's values.
         """
@@ -1065,12 +1070,8 @@ class McapLogger:
         count = int(np.count_nonzero(same))
         vary = k - count
         end = first + vary * m
-        varying = self._column_buffer[first:end].reshape(vary, m)
-        if count:
-            np.take(values, np.flatnonzero(~same), axis=0, out=varying)
-            self._column_buffer[end : end + count] = values[same, 0]
-        else:
-            varying[...] = values
+        shuffle_series(values, np.flatnonzero(~same), self._column_buffer[first:end].view(np.uint8))
+        self._column_buffer[end : end + count] = values[same, 0]
         end += count
         if p:
             poses = self._column_buffer[end : end + pose_width * p].reshape(pose_width, p)

@@ -63,6 +63,39 @@ def test_an_unknown_keep_is_refused(planetary, keep):
         pinwind.simulate(planetary, duration=0.01, keep=keep, **RUN)
 
 
+class _BlockSizes:
+    def __init__(self) -> None:
+        self.sizes: list[int] = []
+
+    def begin(self, gearbox, result) -> None:
+        pass
+
+    def samples(self, block: Result, start: int) -> None:
+        self.sizes.append(len(block))
+
+    def end(self, result, status) -> None:
+        pass
+
+
+@pytest.mark.parametrize(
+    ("duration", "block"),
+    [(5.0, 1000), (30.0, 1500), (200.0, 5000)],  # 5001, 30 001, 200 001 samples at 1 ms
+)
+def test_blocks_are_a_twentieth_of_the_run_from_1000_to_5000_samples(planetary, duration, block):
+    blocks = _BlockSizes()
+    pinwind.simulate(planetary, duration=duration, keep="last", observer=blocks, **RUN)
+    samples = round(duration / RUN["dt"]) + 1
+    assert sum(blocks.sizes) == samples
+    assert set(blocks.sizes[:-1]) == {block}
+    assert blocks.sizes[-1] == samples - block * (len(blocks.sizes) - 1)
+
+
+@pytest.mark.parametrize("chunk", [0, -5, 2.5, True])
+def test_a_block_of_no_whole_positive_number_of_samples_is_refused(planetary, chunk):
+    with pytest.raises(InputError, match=f"chunk={chunk!r}: give a whole number"):
+        pinwind.simulate(planetary, duration=0.01, chunk=chunk, **RUN)
+
+
 def _peak_bytes(planetary, duration: float) -> int:
     tracemalloc.start()
     try:

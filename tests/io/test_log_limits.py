@@ -226,7 +226,7 @@ def _limit_file_size(size: int):
 def test_cli_run_hitting_a_file_size_limit_stops_in_one_line_and_keeps_its_chunks(tmp_path):
     log = tmp_path / "limited.mcap"
     out = subprocess.run(
-        [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "5", "--out", str(log)],
+        [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "10", "--out", str(log)],
         capture_output=True,
         text=True,
         timeout=120,

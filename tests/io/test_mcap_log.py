@@ -477,9 +477,10 @@ def test_a_writer_slower_than_the_steps_holds_the_run_back_instead_of_queueing_b
 
 
 def test_columns_payload_decoded_by_hand_from_the_documented_layout_equals_the_run(logged_run):
-    """docs/log_format.md, "Columns": layout byte 2, m and p (uint32), a bit per series that is
-    constant over the block (8-byte words), the varying series' m values, the constant ones'
-    single values, then the posed samples' series."""
+    """docs/log_format.md, "Columns": layout byte 3, m and p (uint32), a bit per series that is
+    constant over the block (8-byte words), the byte planes of the varying series' m values
+    (byte 0 of every value, then byte 1, ...), the constant ones' single values, then the posed
+    samples' series."""
     res = logged_run.result
     with open(logged_run.path, "rb") as f:
         reader = make_reader(f)
@@ -496,7 +497,7 @@ def test_columns_payload_decoded_by_hand_from_the_documented_layout_equals_the_r
     pose_time = []
     closing = 0
     for data in payloads:
-        assert data[0] == 2
+        assert data[0] == 3
         m, p = struct.unpack_from("<II", data, 1)
         flags = int.from_bytes(data[9 : 9 + 8 * words], "little")
         constant = [bool(flags >> i & 1) for i in range(width)]
@@ -508,7 +509,9 @@ def test_columns_payload_decoded_by_hand_from_the_documented_layout_equals_the_r
         varying = width - sum(constant)
         assert len(values) == varying * m + sum(constant) + pose_width * p
         series, singles = [], iter(values[varying * m : varying * m + sum(constant)])
-        rows = iter(values[: varying * m].reshape(varying, m))
+        planes = np.frombuffer(data, np.uint8, 8 * varying * m, 9 + 8 * words).reshape(8, -1)
+        unshuffled = np.ascontiguousarray(planes.T).view("<f8")  # (V · m, 1): byte b of value i
+        rows = iter(unshuffled.reshape(varying, m))
         for i in range(width):
             series.append(np.full(m, next(singles)) if constant[i] else next(rows))
         series = np.array(series)

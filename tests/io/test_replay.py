@@ -412,13 +412,22 @@ def test_replay_cli_sends_a_window_and_refuses_an_empty_one(long_log, tmp_path):
 
 @pytest.fixture(scope="module")
 def logs_ten_times_apart(planetary, tmp_path_factory):
-    """The planetary stage for 10 s and 100 s at 1 ms (10 001 and 100 001 samples)."""
+    """The planetary stage for 10 s and 100 s at 1 ms (10 001 and 100 001 samples).
+
+    In chunks of 1000 samples, so that the reader's read-ahead (4 chunks) is full in both.
+    """
     folder = tmp_path_factory.mktemp("lengths")
     paths = []
     for duration in (10.0, 100.0):
         path = folder / f"planetary_{duration:g}s.mcap"
         pinwind.simulate(
-            planetary, duration=duration, dt=DT, torques=TORQUES, log=path, keep="last"
+            planetary,
+            duration=duration,
+            dt=DT,
+            torques=TORQUES,
+            log=path,
+            keep="last",
+            chunk=1000,
         )
         paths.append(path)
     return paths
