@@ -101,7 +101,7 @@ class ColumnBlock:
             planes of their V · m values one after the other, (8 · V · m,) bytes.
         constants: the value of each series that does not, in column order, (C,).
         same: per series of ``columns``, whether it is constant over the block, (width,).
-        slot: per series, its row in ``varying`` or its place in ``constants``, (width,).
+        slot: per series, its place among the varying series or in ``constants``, (width,).
         pose_time: times of the samples with a pose, (p,).
         poses: time and pose series of those samples, (pose_width, p).
     """

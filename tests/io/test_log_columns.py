@@ -1,4 +1,4 @@
-"""The byte planes of a log's columns (docs/log_format.md, "Columns", layout 3).
+"""The byte planes of a log's columns (docs/log_format.md, "Columns", layout 3), and the sink.
 
 The compiled kernels (``dynamics/cpp/byte_planes.hpp``) against the definition written with
 numpy: byte b (little-endian) of value i of a run of n values is at b · n + i.
@@ -8,7 +8,12 @@ import numpy as np
 import pytest
 from numpy.testing import assert_array_equal
 
+import pinwind
 from pinwind.dynamics._native import fill_rows, shuffle_series, unshuffle_series
+from pinwind.io import mcap_file
+from pinwind.io.log_columns import ColumnSink, decode_chunk
+from pinwind.io.log_reader import CHANNELS, LogReader
+from tests.io.conftest import DT, TORQUES
 
 #: Lengths below, at and past the 16 values of one vector step, and long runs with a tail.
 LENGTHS = [1, 2, 15, 16, 17, 31, 33, 1003]
@@ -95,3 +100,23 @@ def test_byte_planes_refuse_sizes_and_rows_that_do_not_fit():
         shuffle_series(np.zeros((2, 10)), np.array([6]), np.zeros(80, np.uint8))
     with pytest.raises(ValueError, match="2 values for 1 rows"):
         fill_rows(np.zeros(2), np.array([0]), out, 0, 1)
+
+
+def test_samples_placed_one_by_one_equal_the_same_samples_of_a_whole_read(planetary, tmp_path):
+    """A window whose samples are not consecutive in a block (a foreign file's times) takes
+    the per-sample path of ``ColumnSink.place``; it must give what the whole read gives."""
+    path = tmp_path / "run.mcap"
+    pinwind.simulate(planetary, duration=0.2, dt=DT, torques=TORQUES, log=path, chunk=100)
+    whole = pinwind.read_log(path)
+    picked = np.array([0, 3, 4, 50, 99])  # of the second block: samples 100 + picked
+    with LogReader(path) as log:
+        keys = log._layout.keys(tuple(CHANNELS))
+        block = decode_chunk(
+            mcap_file.read_chunk(log._fd, log._sample_chunks(None)[1]), log._columns
+        )[0]
+        sink = ColumnSink(log._columns, log._layout.shapes, keys, len(picked))
+        sink.place(block, picked, len(picked), 0)
+        sink.n = len(picked)
+        part = sink.result(log.names, log._layout.terms)
+    for name in ("time", "mesh_normal", "mesh_axial", "bearing_force_local", "body_position"):
+        assert_array_equal(getattr(part, name), getattr(whole, name)[100 + picked], err_msg=name)
