@@ -67,6 +67,23 @@ def test_read_log_returns_the_simulated_arrays_bit_for_bit(logged_run):
     assert back.status == "completed"
 
 
+@pytest.mark.parametrize("compression", ["", "lz4"])
+def test_a_log_with_other_chunk_compression_reads_back_bit_for_bit(
+    planetary, tmp_path, compression
+):
+    # Chunks that are not zstd come back as read-only bytes, not in a reading thread's buffer.
+    path = tmp_path / "other.mcap"
+    res = pinwind.simulate(
+        planetary,
+        duration=0.3,
+        dt=DT,
+        torques=TORQUES,
+        chunk=CHUNK,
+        observer=McapLogger(path, compression=compression),
+    )
+    assert_same_arrays(pinwind.read_log(path), res)
+
+
 def test_read_log_metadata_equals_the_run_metadata(logged_run):
     back = pinwind.read_log(logged_run.path)
     for key, value in logged_run.result.metadata.items():
