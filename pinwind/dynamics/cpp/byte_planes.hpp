@@ -1,8 +1,9 @@
 // The byte planes of float64 series: the log's columns (docs/log_format.md, "Columns", layout 3)
 // store n values as byte 0 of every value, then byte 1 of every value, ..., byte 7 (the
 // "shuffle" filter of Blosc and HDF5, numcodecs.Shuffle(elementsize=8)). The high bytes of a
-// smooth series (sign, exponent, leading mantissa bits) then repeat in long runs: zstd makes the
-// columns 0.6 of their size without it, and compresses and decompresses them about twice as fast.
+// smooth series (sign, exponent, leading mantissa bits) then repeat in long runs: zstd -1 stores
+// the columns in 0.6 of the bytes it needs without the shuffle, compresses them 1.6 times and
+// decompresses them twice as fast (benchmarks/README.md, read_log.py).
 #pragma once
 
 #include <cstdint>
