@@ -1035,8 +1035,9 @@ class McapLogger:
         block. The copy turns the block's sample-major arrays into runs of one series, which
         zstd compresses twice as fast, and the varying series' values into byte planes
         (``byte_planes.hpp``), which it compresses to 0.6 of the size 1.6 times as fast and
-        decompresses twice as fast; a constant series (a rigid mesh's deflection, a fixed gear's pitch point, a
-        bearing without moment) is neither compressed nor decompressed nor copied.
+        decompresses twice as fast; a constant series (a rigid mesh's deflection, a fixed
+        gear's pitch point, a bearing without moment) is neither compressed nor decompressed
+        nor copied.
         One record per block, poses included, so that no other tool's rechunking can part a
         block's values.
         """
