@@ -8,6 +8,10 @@ build exactly the same object. Accessors return small views with named fields:
     res.bearing("carrier").force     # (n, 3) N, world frame
     res.generator("sun").torque      # (n,) N·m, > 0 generating
     res.rotor("carrier").power       # (n,) W
+    res.body("carrier").position     # (p,) m at the p samples with a pose (``pose_rows``)
+
+Link poses are kept at their own samples: every sample in a Result of ``simulate``, the pose
+rate of the log (a display rate) in one read from a log.
 """
 
 from __future__ import annotations
@@ -101,15 +105,17 @@ class BearingSeries:
 
 @dataclass(frozen=True)
 class BodySeries:
-    """World pose of one link.
+    """World pose of one link at the p samples that have one (``Result.pose_rows``).
 
     Attributes:
-        position: link frame origin in world [m], (n, 3).
-        quaternion: link orientation in world, (n, 4), scalar last (x, y, z, w).
+        position: link frame origin in world [m], (p, 3).
+        quaternion: link orientation in world, (p, 4), scalar last (x, y, z, w).
+        time: the times of those samples [s], (p,).
     """
 
     position: np.ndarray
     quaternion: np.ndarray
+    time: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -147,6 +153,8 @@ class RotorSeries:
     wind_speed: np.ndarray
 
 
+#: Arrays of a Result indexed by pose (``Result.pose_rows``) rather than by sample.
+POSE_ARRAYS = ("body_position", "body_quaternion")
 #: Per-element arrays of a Result: (n, generators) and (n, rotors).
 GENERATOR_ARRAYS = ("generator_torque",)
 ROTOR_ARRAYS = (
@@ -174,7 +182,9 @@ class Result:
         mesh_force_on_b, pitch_point: (n, meshes, 3).
         bearing_force, bearing_moment, bearing_force_local, bearing_moment_local:
             (n, bearings, 3).
-        body_position: (n, bodies, 3); body_quaternion: (n, bodies, 4) xyzw.
+        pose_rows: the samples that have a link pose, increasing, (p,): every sample in a
+            Result of ``simulate``, those at the log's pose rate in one read from a log.
+        body_position: (p, bodies, 3); body_quaternion: (p, bodies, 4) xyzw, at ``pose_rows``.
         constraint_residual: max |J v − target| after each step [m/s or rad/s], (n,).
         generator_names, rotor_names: joints carrying a generator law or a rotor, in the
             order of the columns below (empty without them).
@@ -232,8 +242,10 @@ class Result:
     rotor_power_coefficient: np.ndarray = None  # type: ignore[assignment]
     rotor_wind_speed: np.ndarray = None  # type: ignore[assignment]
     statistics: RunningStatistics | None = None
+    pose_rows: np.ndarray = None  # type: ignore[assignment]  # every sample when not given
 
-    #: Names of the array attributes, for writers, readers and comparisons.
+    #: Names of the array attributes, for writers, readers and comparisons; those of
+    #: ``POSE_ARRAYS`` have a row per pose (``pose_rows``), the others a row per sample.
     ARRAYS = (
         "time",
         "angle",
@@ -271,6 +283,18 @@ class Result:
             for name in arrays:
                 if getattr(self, name) is None:
                     setattr(self, name, np.zeros((n, len(names))))
+        if self.pose_rows is None:
+            self.pose_rows = np.arange(len(self.body_position))
+        if not len(self.pose_rows) == len(self.body_position) == len(self.body_quaternion):
+            raise ValueError(
+                f"{len(self.pose_rows)} pose rows for {len(self.body_position)} positions and "
+                f"{len(self.body_quaternion)} quaternions"
+            )
+
+    @property
+    def pose_time(self) -> np.ndarray:
+        """Times of the samples that have a link pose [s], (p,)."""
+        return self.time[self.pose_rows]
 
     def __len__(self) -> int:
         return len(self.time)
@@ -318,9 +342,9 @@ class Result:
         )
 
     def body(self, name: str) -> BodySeries:
-        """Time series of a link's world pose."""
+        """A link's world pose at the samples that have one (``pose_rows``)."""
         i = self._index("body", self.body_names, name)
-        return BodySeries(self.body_position[:, i], self.body_quaternion[:, i])
+        return BodySeries(self.body_position[:, i], self.body_quaternion[:, i], self.pose_time)
 
     def generator(self, name: str) -> GeneratorSeries:
         """Time series of the generator law on a joint."""
@@ -340,9 +364,31 @@ class Result:
         """Samples start:stop as a Result (views of these arrays)."""
         return self.take(slice(start, stop))
 
+    def posed(self) -> Result:
+        """The samples that have a link pose, as a Result (a pose at every sample)."""
+        if len(self.pose_rows) == len(self):
+            return self
+        return self.take(self.pose_rows)
+
+    def pose_at_samples(self, name: str) -> np.ndarray:
+        """A pose array (``POSE_ARRAYS``) with a row per sample, (n, bodies, 3 or 4).
+
+        NaN at the samples without a pose; a new array.
+        """
+        poses = getattr(self, name)
+        out = np.full((len(self), *poses.shape[1:]), np.nan)
+        out[self.pose_rows] = poses
+        return out
+
     def take(self, rows: slice | np.ndarray) -> Result:
-        """The samples ``rows`` (a slice gives views, indices copies) as a Result."""
-        kwargs = {name: getattr(self, name)[rows] for name in self.ARRAYS}
+        """The samples ``rows`` (a slice gives views, indices copies) as a Result.
+
+        The poses kept are those of the samples taken (``pose_rows`` renumbered).
+        """
+        kwargs = {n: getattr(self, n)[rows] for n in self.ARRAYS if n not in POSE_ARRAYS}
+        picked, pose_rows = self._poses_of(rows)
+        for name in POSE_ARRAYS:
+            kwargs[name] = getattr(self, name)[picked]
         return Result(
             joint_names=self.joint_names,
             mesh_names=self.mesh_names,
@@ -353,5 +399,49 @@ class Result:
             energy={k: v[rows] for k, v in self.energy.items()},
             metadata=dict(self.metadata),
             status=self.status,
+            pose_rows=pose_rows,
             **kwargs,
         )
+
+    def _poses_of(self, rows: slice | np.ndarray) -> tuple[slice | np.ndarray, np.ndarray]:
+        """The poses of the samples ``rows``, and where those samples are among ``rows``.
+
+        The poses as a slice when ``rows`` is one (consecutive samples), else as indices.
+        """
+        n, posed = len(self), self.pose_rows
+        if isinstance(rows, slice):
+            start, stop, step = rows.indices(n)
+            if step == 1:
+                lo, hi = np.searchsorted(posed, [start, max(start, stop)])
+                return slice(int(lo), int(hi)), posed[lo:hi] - start
+            rows = np.arange(start, stop, step)
+        rows = np.asarray(rows)
+        if rows.dtype == bool:
+            rows = np.flatnonzero(rows)
+        rows = np.where(rows < 0, rows + n, rows)
+        where = np.minimum(np.searchsorted(posed, rows), max(len(posed) - 1, 0))
+        has = posed[where] == rows if len(posed) else np.zeros(len(rows), dtype=bool)
+        return where[has], np.flatnonzero(has)
+
+
+def concatenate(parts: list[Result]) -> Result:
+    """One Result of consecutive parts of a run (the names, metadata and status of the first)."""
+    first = parts[0]
+    if len(parts) == 1:
+        return first
+    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS}
+    starts = np.cumsum([0] + [len(p) for p in parts[:-1]])
+    pose_rows = np.concatenate([p.pose_rows + at for p, at in zip(parts, starts, strict=True)])
+    return Result(
+        joint_names=first.joint_names,
+        mesh_names=first.mesh_names,
+        bearing_names=first.bearing_names,
+        body_names=first.body_names,
+        generator_names=first.generator_names,
+        rotor_names=first.rotor_names,
+        energy={k: np.concatenate([p.energy[k] for p in parts]) for k in first.energy},
+        metadata=dict(first.metadata),
+        status=first.status,
+        pose_rows=pose_rows,
+        **arrays,
+    )

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pinwind.dynamics.result import Result
+from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import InputError, LogExists
 
 #: Result array → (group, quantity, unit in the name); components x y z (w) go before the unit.
@@ -75,7 +75,8 @@ def columns(res: Result, fields: Iterable[str] | None = None) -> Iterator[tuple[
                 yield f"energy/{term}_J", values
             continue
         group, quantity, unit = COLUMNS[name]
-        values = getattr(res, name)
+        # a row per sample, as every column: NaN at the samples without a pose (pose rate)
+        values = res.pose_at_samples(name) if name in POSE_ARRAYS else getattr(res, name)
         suffix = f"_{unit}" if unit else ""
         if group == "run":
             yield f"run/{quantity}{suffix}", values

@@ -22,7 +22,7 @@ import numpy as np
 from mcap.opcode import Opcode
 
 from pinwind.dynamics._native import fill_rows, unshuffle_series
-from pinwind.dynamics.result import Result
+from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.io.mcap_file import DamagedChunk
 from pinwind.io.mcap_log import COLUMNS_LAYOUT, mask_bytes
 
@@ -32,8 +32,8 @@ _HEAD = 9
 _RECORD = 31
 _MESSAGE = int(Opcode.MESSAGE)
 
-#: Destinations that have a value only at some samples (poses, at the pose rate): NaN elsewhere.
-SPARSE = ("body_position", "body_quaternion")
+#: Destinations that have a value only at some samples (poses, at the pose rate).
+SPARSE = POSE_ARRAYS
 
 
 @dataclass(frozen=True)
@@ -205,12 +205,13 @@ def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) ->
 
 
 class ColumnSink:
-    """The arrays a read fills: one (series, capacity) array, every series contiguous.
+    """The arrays a read fills: the columns' series, and the poses of the samples with one.
 
-    Its rows are the read destinations' series: those of the columns in column order, then the
-    poses. A destination's array is a view of its rows, (samples, *shape), so one allocation
-    holds the whole read (and its memory is returned when the last of its arrays is dropped);
-    unread destinations are empty.
+    The series read are the rows of one (series, capacity) array, each contiguous, in column
+    order. A destination's array is a view of its rows, (samples, *shape), so one allocation
+    holds the samples of the whole read (and its memory is returned when the last of its arrays
+    is dropped); unread destinations are empty. The poses (at the log's pose rate, a few in a
+    hundred samples) are kept as the pieces each block gives, and joined by ``arrays``.
     """
 
     def __init__(
@@ -223,31 +224,37 @@ class ColumnSink:
         self.layout = layout
         self.shapes = shapes
         self.keys = chosen = set(keys)
-        #: the destinations that have series (an array of zero elements has none), columns first
-        ordered = sorted(
-            (k for k in chosen if k in layout.at),
-            key=lambda k: (k in SPARSE, layout.at[k][0]),
+        #: the destinations that have series in the columns (an array of zero elements has none)
+        copied = sorted(
+            (k for k in chosen if k in layout.at and k not in SPARSE),
+            key=lambda k: layout.at[k][0],
         )
-        copied = [k for k in ordered if k not in SPARSE]
-        self.sparse = [k for k in ordered if k in SPARSE]
         #: destination → its first row in ``base``, series count, shape of one sample
         self.rows: dict[str, tuple[int, int, tuple[int, ...]]] = {}
         row = 0
-        for key in ordered:
+        for key in copied:
             _, width, shape = layout.at[key]
             self.rows[key] = (row, width, shape)
             row += width
         self.height = row
-        self.columns = row - sum(self.rows[k][1] for k in self.sparse)
         #: the columns' series copied, and the rows they go to (in column order, both)
         source = [np.arange(layout.at[k][0], layout.at[k][0] + self.rows[k][1]) for k in copied]
         self.source = np.concatenate(source) if source else np.zeros(0, dtype=np.intp)
         #: per series of the columns, its row in ``base``, -1 when it is not read
         self.row_of = np.full(layout.width, -1)
         self.row_of[self.source] = np.arange(len(self.source))
-        #: the poses' rows, NaN but at the posed samples
-        self.pose_rows = np.arange(self.columns, self.height)
-        self.pose_nan = np.full(len(self.pose_rows), np.nan)
+        #: whether the poses are read, and their series among a block's pose series
+        self.posed = any(k in chosen for k in SPARSE)
+        self.pose_series = np.concatenate(
+            [np.zeros(0, np.intp)]
+            + [
+                np.arange(layout.at[k][0], layout.at[k][0] + layout.at[k][1])
+                for k in SPARSE
+                if k in layout.at
+            ]
+        )
+        #: (samples, their poses (pose series, k)) of each block placed, in any order
+        self.poses: list[tuple[np.ndarray, np.ndarray]] = []
         self.n = 0
         self.capacity = capacity
         # not filled: each sample is written once, by the thread that places it
@@ -266,36 +273,30 @@ class ColumnSink:
         There must be room. Threads may place samples at the same time in other samples: the
         compiled copies run without the GIL.
         """
-        end = at + count
         if len(self.source):
             if isinstance(rows, slice):
                 block.unshuffle(self.base, self.row_of[~block.same], rows.start, count, at, True)
             else:  # samples that are not consecutive (a window of a foreign file)
                 vary = ~block.same[self.source]
                 slot = block.slot[self.source]
-                self.base[: self.columns, at:end][vary] = block.varying()[slot[vary]][:, rows]
+                self.base[:, at : at + count][vary] = block.varying()[slot[vary]][:, rows]
             fill_rows(block.constants, self.row_of[block.same], self.base, at, count, True)
-        fill_rows(self.pose_nan, self.pose_rows, self.base, at, count, True)
-        for key in self.sparse:
-            row, width, _ = self.rows[key]
-            first = self.layout.at[key][0]
-            self._place(block, rows, count, self.base[row : row + width, at:end], first, width)
+        if self.posed and len(block.pose_time):
+            time = block.time[rows]
+            where = np.minimum(np.searchsorted(time, block.pose_time), count - 1)
+            inside = time[where] == block.pose_time
+            if inside.any():
+                poses = block.poses[self.pose_series][:, inside]
+                self.poses.append((at + where[inside], poses))
 
     def move(self, at: int, count: int, to: int) -> None:
         """Samples ``at`` to ``at + count`` moved back to ``to`` (≤ ``at``): closes a gap."""
-        if to != at:
-            self.base[:, to : to + count] = self.base[:, at : at + count]
-
-    @staticmethod
-    def _place(block, rows, count, target, first, width) -> None:
-        """Poses of the samples in ``rows`` that have one; the rest stay NaN."""
-        if not len(block.pose_time):
+        if to == at:
             return
-        time = block.time[rows]
-        where = np.minimum(np.searchsorted(time, block.pose_time), count - 1)
-        inside = time[where] == block.pose_time
-        if inside.any():
-            target[:, where[inside]] = block.poses[first : first + width, inside]
+        self.base[:, to : to + count] = self.base[:, at : at + count]
+        for samples, _ in self.poses:
+            if at <= samples[0] < at + count:
+                samples -= at - to
 
     def _grow(self, needed: int) -> None:
         """More room (a count from the index was missing or wrong: damaged or foreign file)."""
@@ -305,15 +306,34 @@ class ColumnSink:
         self.base = base
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """Every destination's samples so far, (samples, *shape): views of ``base``."""
-        out = {}
+        """Every destination's samples so far, (samples, *shape): views of ``base``.
+
+        The poses are (poses, *shape), at the samples ``pose_rows`` (also returned).
+        """
+        out: dict[str, np.ndarray] = {}
         for key, shape in self.shapes.items():
             if key in self.rows:
                 row, width, _ = self.rows[key]
                 series = self.base[row : row + width, : self.n].reshape(*shape, self.n)
                 out[key] = np.moveaxis(series, -1, 0)
-            else:  # no series: an array of zero elements per sample, or not read
+            elif key not in SPARSE:  # no series: an array of zero elements per sample, or not read
                 out[key] = np.empty((self.n if key in self.keys else 0, *shape))
+        pieces = sorted((p for p in self.poses if p[0][0] < self.n), key=lambda p: p[0][0])
+        rows = np.concatenate([s for s, _ in pieces]) if pieces else np.zeros(0, np.int64)
+        kept = rows < self.n
+        out["pose_rows"] = rows[kept]
+        values = (
+            np.concatenate([v for _, v in pieces], axis=1)[:, kept]
+            if pieces
+            else np.empty((len(self.pose_series), 0))
+        )
+        at = 0
+        for key in SPARSE:
+            shape = self.shapes[key]
+            width = math.prod(shape)
+            series = values[at : at + width].reshape(*shape, -1)
+            out[key] = np.moveaxis(series, -1, 0)
+            at += width
         return out
 
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
@@ -331,5 +351,6 @@ def result_of(arrays: dict[str, Any], names: dict[str, list[str]], terms: list[s
         generator_names=names.get("generator_names", []),
         rotor_names=names.get("rotor_names", []),
         energy={t: arrays[f"energy/{t}"] for t in terms},
+        pose_rows=arrays["pose_rows"],
         **{name: arrays[name] for name in Result.ARRAYS},
     )

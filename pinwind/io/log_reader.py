@@ -13,7 +13,8 @@ row of message records, one per channel in the same order, all of one length; th
 records of the samples that have a pose follow the rows (format 2; in format 1 they were the
 last record of every row, their length changing with the time stamp's varint). Every value of a
 topic is then a strided view of the decompressed chunk, copied once into the returned arrays;
-poses are placed at the rows of their sample numbers, NaN at the others. The framing (opcode,
+poses are placed at the rows of their sample numbers, then kept for those samples only
+(``Result.pose_rows``). The framing (opcode,
 length, channel) and sample number of every record are checked; the fixed payload bytes (CDR
 layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
 otherwise (rewritten by another tool) is decoded record by record, to the same values. The
@@ -43,7 +44,7 @@ from typing import Any, cast
 import numpy as np
 from mcap.opcode import Opcode
 
-from pinwind.dynamics.result import Result
+from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import InputError, LogError, LogRecovered
 from pinwind.io import mcap_file
 from pinwind.io.log_columns import (
@@ -597,8 +598,9 @@ def _joint_fixed(codec: JointStateCodec) -> np.ndarray:
 # --- the arrays a read fills ---------------------------------------------------------------------
 
 
-#: Destinations that have a value only at some samples (poses, at the pose rate): NaN elsewhere.
-_SPARSE = ("body_position", "body_quaternion")
+#: Destinations that have a value only at some samples (poses, at the pose rate): NaN elsewhere
+#: while a read fills them, then only the samples that have one.
+_SPARSE = POSE_ARRAYS
 
 
 class _Sink:
@@ -656,8 +658,17 @@ class _Sink:
             self.arrays[key] = new
 
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
-        """The samples so far as a Result (views of the arrays)."""
-        return result_of({k: v[: self.n] for k, v in self.arrays.items()}, names, terms)
+        """The samples so far as a Result (views of the arrays; the poses copied)."""
+        arrays = {k: v[: self.n] for k, v in self.arrays.items()}
+        position = arrays["body_position"]
+        if position.shape[1]:  # the samples that have a pose: NaN at the others
+            rows = np.flatnonzero(np.isfinite(position[:, 0, 0]))
+        else:  # no links: a pose (of none) at every sample read
+            rows = np.arange(len(position))
+        arrays["pose_rows"] = rows
+        for key in _SPARSE:
+            arrays[key] = arrays[key][rows]
+        return result_of(arrays, names, terms)
 
 
 # --- the reader ---------------------------------------------------------------------------------
@@ -1228,8 +1239,13 @@ class LogReader:
         return self._bytes_of(capacity, keys)
 
     def _bytes_of(self, capacity: int, keys: list[str]) -> int:
+        """Bytes of the arrays of ``capacity`` samples of ``keys`` (poses at the pose rate)."""
         shapes = self._layout.shapes
-        return capacity * 8 * sum(int(np.prod(shapes[k], dtype=int)) for k in keys)
+        poses = capacity
+        if self._columns is not None:  # formats 1 and 2 fill the poses at every sample first
+            log_stride = max(1, int(self.metadata["pinwind.run"].get("log_stride", 1)))
+            poses = capacity // max(1, self._layout.pose_stride // log_stride) + 1
+        return 8 * sum((poses if k in _SPARSE else capacity) * math.prod(shapes[k]) for k in keys)
 
     def _too_large(self, capacity: int | None, keys: list[str]) -> LogTooLarge:
         needed = self._bytes_needed(capacity, keys)
@@ -1333,8 +1349,8 @@ def read_log(
     """The Result of a logged run, as ``simulate`` returned it (decimated if the log was).
 
     Arrays are bit-identical to the in-memory run at the logged samples (float64 throughout);
-    link poses are logged at the pose rate (``pinwind.run`` metadata ``pose_stride``) and NaN at
-    the other samples.
+    link poses are logged at the pose rate (``pinwind.run`` metadata ``pose_stride``), and the
+    Result has them at those samples only (``pose_rows``, ``pose_time``).
     Only the chunks that overlap the window and hold the channels asked for are read.
 
     Args:

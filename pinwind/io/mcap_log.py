@@ -39,7 +39,7 @@ import numpy as np
 from mcap.opcode import Opcode
 
 from pinwind.dynamics._native import shuffle_series
-from pinwind.dynamics.result import Result
+from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import (
     InvalidLogRate,
     LogError,
@@ -378,7 +378,7 @@ def estimate_log_size(
     doubles = len(result.energy)
     records = 1  # /joints
     for name in Result.ARRAYS:
-        if name in ("body_position", "body_quaternion"):
+        if name in POSE_ARRAYS:
             continue
         doubles += int(np.prod(getattr(result, name).shape[1:], dtype=int))
     for topic in ARRAY_TOPICS:
@@ -752,7 +752,7 @@ class McapLogger:
         columns: list[tuple[str, list[int]]] = [("time", [])]
         for name in Result.ARRAYS:
             shape = list(getattr(result, name).shape[1:])
-            if name not in ("time", "body_position", "body_quaternion") and math.prod(shape):
+            if name != "time" and name not in POSE_ARRAYS and math.prod(shape):
                 columns.append((name, shape))
         columns += [(f"energy/{term}", []) for term in self._terms]
         self._columns = [(key, math.prod(shape)) for key, shape in columns]
@@ -844,14 +844,20 @@ class McapLogger:
         The block holds samples start … start + len(block) − 1 in its rows.
 
         The arrays of ``block`` must not change afterwards (the simulation writes each block
-        into new arrays). Samples already queued are skipped, so a block handed over again after
-        an interrupt is not logged twice.
+        into new arrays), and it has a pose at every sample (as ``simulate`` makes them).
+        Samples already queued are skipped, so a block handed over again after an interrupt is
+        not logged twice.
 
         Raises:
             LogWriteFailed: writing an earlier chunk failed (disk full, ...): the run stops.
         """
         if self._file is None:
             return
+        if len(block.pose_rows) != len(block):
+            raise ValueError(
+                f"a block of {len(block)} samples with {len(block.pose_rows)} poses: the log "
+                "takes the poses at its pose rate from a block with a pose at every sample"
+            )
         self._raise_if_failed()
         stop = start + len(block)
         first = max(start, self._queued)

@@ -242,7 +242,10 @@ def absolute_speeds(result: Result, joints: dict[str, dict[str, Any]]) -> dict[s
 
     ω_child = ω_parent + θ̇ · a, a the joint axis in world (from the child's pose), summed down
     the tree from the root; a planet's absolute speed is its speed on the carrier plus the
-    carrier's.
+    carrier's. Each sample takes the axes from its latest pose (the first pose for samples
+    before it): exact while the joint axes keep their direction between poses, as they do in a
+    gearbox whose axes are fixed in the housing or parallel to the axes they turn about. No
+    speeds without poses.
 
     Args:
         result: the run (speeds and body poses).
@@ -250,6 +253,9 @@ def absolute_speeds(result: Result, joints: dict[str, dict[str, Any]]) -> dict[s
     """
     n = len(result)
     omega: dict[str, np.ndarray] = {}
+    if not len(result.pose_rows):
+        return {}
+    pose = np.maximum(np.searchsorted(result.pose_rows, np.arange(n), side="right") - 1, 0)
     out: dict[str, np.ndarray] = {}
     bodies = {name: i for i, name in enumerate(result.body_names)}
 
@@ -271,7 +277,7 @@ def absolute_speeds(result: Result, joints: dict[str, dict[str, Any]]) -> dict[s
             axis = spec.get("axis")
             axis = np.asarray((0.0, 0.0, 1.0) if axis is None else axis, dtype=float)
             axis = axis / np.linalg.norm(axis)
-            axis_in_world = rotate(result.body_quaternion[:, bodies[spec["child"]]], axis)
+            axis_in_world = rotate(result.body_quaternion[pose, bodies[spec["child"]]], axis)
             if name in result.joint_names:
                 speed = result.speed[:, result.joint_names.index(name)]
                 child_omega = parent_omega + speed[:, None] * axis_in_world

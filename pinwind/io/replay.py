@@ -25,12 +25,11 @@ import time
 import uuid
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 from urllib.parse import quote
 
 import numpy as np
 
-from pinwind.dynamics.result import Result
+from pinwind.dynamics.result import Result, concatenate
 from pinwind.errors import InputError, PortInUse, ServeFailed
 from pinwind.io.log_reader import LogFile, LogReader
 from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview
@@ -156,9 +155,7 @@ class FramePicker:
 
     def pick(self, block: Result) -> np.ndarray:
         """Rows of ``block`` to draw."""
-        posed = np.arange(len(block))
-        if block.body_position.shape[1]:
-            posed = posed[np.isfinite(block.body_position[:, 0, 0])]
+        posed = block.pose_rows
         if not len(posed):
             return posed
         stamps = np.rint(block.time[posed] * 1e9).astype(np.int64) - self.start_ns
@@ -179,26 +176,6 @@ class FramePicker:
         if self._last is not None and float(self._last.time[0]) > self._taken:
             return self._last
         return None
-
-
-def concatenate(parts: list[Result]) -> Result:
-    """One Result of consecutive parts of a run (the names and metadata of the first)."""
-    first = parts[0]
-    if len(parts) == 1:
-        return first
-    arrays: dict[str, Any] = {
-        name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS
-    }
-    return Result(
-        joint_names=first.joint_names,
-        mesh_names=first.mesh_names,
-        bearing_names=first.bearing_names,
-        body_names=first.body_names,
-        energy={k: np.concatenate([p.energy[k] for p in parts]) for k in first.energy},
-        metadata=dict(first.metadata),
-        status=first.status,
-        **arrays,
-    )
 
 
 def _natural_key(name: str) -> list:
@@ -357,7 +334,7 @@ def _send_frames(view: LogFile | None, recording) -> Scene:
     rr.log("gearbox", rr.ViewCoordinates.RIGHT_HAND_Y_UP, static=True, recording=recording)
     if view is None:
         return Scene(camera_position=np.array([0.0, 0.0, -3.0]), camera_target=np.zeros(3))
-    res = view.result
+    res = view.result.posed()
     time_column = rr.TimeColumn(TIMELINE, duration=_nanoseconds(res.time))
 
     def send(path: str, columns) -> None:

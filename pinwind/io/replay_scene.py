@@ -152,7 +152,10 @@ def model_visuals(text: str) -> list[Visual]:
 
 
 def gear_pose(gear: dict, result, k: int, bodies: dict[str, int]) -> tuple[np.ndarray, np.ndarray]:
-    """(centre, rotation) of a gear's frame (z = its axis) in world at sample ``k``."""
+    """(centre, rotation) of a gear's frame (z = its axis) in world at sample ``k``.
+
+    ``result`` has a pose at every sample (``Result.posed``).
+    """
     i = bodies[gear["link"]]
     rotation = quaternion_matrix(result.body_quaternion[k, i])
     centre = result.body_position[k, i] + rotation @ np.asarray(gear["centre_in_link"])
@@ -402,7 +405,7 @@ def camera(model: dict, result, visuals: list[Visual]) -> tuple[np.ndarray, np.n
 def scene_camera(log) -> Scene:
     """The default camera of a log's scene (before anything is sent)."""
     text = log.model_text
-    eye, target, _ = camera(log.model, log.result, model_visuals(text) if text else [])
+    eye, target, _ = camera(log.model, log.result.posed(), model_visuals(text) if text else [])
     return Scene(camera_position=eye, camera_target=target)
 
 
@@ -415,7 +418,7 @@ def send_scene(
     """
     import rerun as rr
 
-    res = log.result
+    res = log.result.posed()  # the frames drawn: samples with a pose
     model = log.model
     gears: dict = model.get("gears", {})
     text = log.model_text

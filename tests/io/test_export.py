@@ -42,11 +42,15 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
             out[f"bearing/{name}/force_local_{axis}_N"] = b.force_local[:, k]
             out[f"bearing/{name}/moment_local_{axis}_N_m"] = b.moment_local[:, k]
     for name in res.body_names:
+        # a row per sample: the poses at the samples that have one, NaN at the others
         body = res.body(name)
+        rows = np.searchsorted(res.time, body.time)
         for k, axis in enumerate("xyz"):
-            out[f"body/{name}/position_{axis}_m"] = body.position[:, k]
+            out[f"body/{name}/position_{axis}_m"] = np.full(len(res), np.nan)
+            out[f"body/{name}/position_{axis}_m"][rows] = body.position[:, k]
         for k, axis in enumerate("xyzw"):
-            out[f"body/{name}/quaternion_{axis}"] = body.quaternion[:, k]
+            out[f"body/{name}/quaternion_{axis}"] = np.full(len(res), np.nan)
+            out[f"body/{name}/quaternion_{axis}"][rows] = body.quaternion[:, k]
     out["run/constraint_residual_m_s_or_rad_s"] = res.constraint_residual
     for term, values in res.energy.items():
         out[f"energy/{term}_J"] = values

@@ -118,5 +118,9 @@ def test_samples_placed_one_by_one_equal_the_same_samples_of_a_whole_read(planet
         sink.place(block, picked, len(picked), 0)
         sink.n = len(picked)
         part = sink.result(log.names, log._layout.terms)
-    for name in ("time", "mesh_normal", "mesh_axial", "bearing_force_local", "body_position"):
+    for name in ("time", "mesh_normal", "mesh_axial", "bearing_force_local"):
         assert_array_equal(getattr(part, name), getattr(whole, name)[100 + picked], err_msg=name)
+    # poses every 10th sample (100 Hz at 1 ms): samples 100 and 150 of those picked
+    assert_array_equal(part.pose_rows, [0, 3])
+    assert_array_equal(part.body_position, whole.body_position[[10, 15]])
+    assert_array_equal(whole.pose_rows[[10, 15]], [100, 150])

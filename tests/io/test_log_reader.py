@@ -9,6 +9,7 @@ import pytest
 from mcap.reader import make_reader
 
 import pinwind
+from pinwind.dynamics.result import concatenate
 from pinwind.errors import LogError, LogRecovered
 from pinwind.io import log_reader, mcap_file
 from pinwind.io.log_reader import (
@@ -25,12 +26,8 @@ from tests.io.test_mcap_log import assert_same_arrays
 
 
 def rows_of(res: pinwind.Result, rows) -> pinwind.Result:
-    """The samples ``rows`` of a Result (slice or indices), names and metadata kept."""
-    out = res.truncated(len(res))
-    for name in res.ARRAYS:
-        setattr(out, name, getattr(res, name)[rows])
-    out.energy = {k: v[rows] for k, v in res.energy.items()}
-    return out
+    """The samples ``rows`` of a Result (slice, indices or mask), names and metadata kept."""
+    return res.take(rows)
 
 
 @pytest.fixture(scope="module")
@@ -156,11 +153,7 @@ def test_window_read_decompresses_only_the_chunks_it_needs(logged_run, monkeypat
 def test_blocks_concatenate_to_the_whole_read(logged_run, whole, block):
     blocks = list(iter_log(logged_run.path, block=block))
     assert all(len(b) == block for b in blocks[:-1]) and 1 <= len(blocks[-1]) <= block
-    joined = rows_of(whole, slice(None))
-    for name in whole.ARRAYS:
-        setattr(joined, name, np.concatenate([getattr(b, name) for b in blocks]))
-    joined.energy = {k: np.concatenate([b.energy[k] for b in blocks]) for k in whole.energy}
-    assert_same_arrays(joined, whole)
+    assert_same_arrays(concatenate(blocks), whole)
 
 
 def test_blocks_of_a_window_and_channels_equal_that_read(logged_run):

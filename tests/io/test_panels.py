@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+import pinwind
 from pinwind.io.mcap_log import open_log
 from pinwind.io.panels import (
     LEGEND_CORNERS,
@@ -125,8 +126,11 @@ def test_legend_room_is_taken_in_the_corner_the_data_leave_free():
     assert limits == panel.y_range()
 
 
-def test_absolute_planet_speed_is_its_carrier_relative_speed_plus_the_carriers(logged_run):
-    res = logged_run.result
+@pytest.mark.parametrize("source", ["simulated", "read back (poses at 100 Hz)"])
+def test_absolute_planet_speed_is_its_carrier_relative_speed_plus_the_carriers(logged_run, source):
+    # at every sample, also those between the logged poses (every 10th sample)
+    res = logged_run.result if source == "simulated" else pinwind.read_log(logged_run.path)
+    assert len(res.pose_rows) == (len(res) if source == "simulated" else 26)
     joints = {
         "carrier": {"parent": "housing", "child": "carrier", "axis": [0, 0, 1]},
         "planet1": {"parent": "carrier", "child": "planet1", "axis": [0, 0, 1]},
