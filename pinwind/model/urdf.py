@@ -194,6 +194,22 @@ def _check_inertia(path: str, link: ET.Element) -> dict:
     return {"mass": mass, "com": com, "rpy": rpy, "inertia": tensor}
 
 
+def _not_text(path: str, err: UnicodeDecodeError) -> str:
+    """What to say of a model file that is not UTF-8 text (a log given as the model, ...)."""
+    with open(path, "rb") as f:
+        head = f.read(5)
+    if head == b"\x89MCAP":
+        return (
+            "this is an MCAP log, not a model: give the model file (URDF with <gearbox>); "
+            "for the log use pinwind report, replay, plot or export, and pinwind run "
+            "--from-log to repeat its run"
+        )
+    return (
+        f"not a text file: byte 0x{err.object[err.start]:02x} at position {err.start} is not "
+        "UTF-8; give the model file (URDF with <gearbox>)"
+    )
+
+
 def read_model_file(path: str, text: str | None = None) -> ModelFile:
     """Parse and check a model file; raise a ``ModelError`` naming the element at fault."""
     if text is None:
@@ -202,6 +218,8 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
                 text = f.read()
         except OSError as err:
             raise MalformedModel(path, "<file>", f"cannot read the file: {err.strerror}") from err
+        except UnicodeDecodeError as err:
+            raise MalformedModel(path, "<file>", _not_text(path, err)) from err
     try:
         root = ET.fromstring(text)
     except ET.ParseError as err:

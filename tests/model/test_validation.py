@@ -16,7 +16,7 @@ from pinwind.errors import (
     NonParallelAxes,
     UnknownName,
 )
-from pinwind.model.gearbox import loads
+from pinwind.model.gearbox import load, loads
 
 PATH = "bad.urdf"
 
@@ -41,6 +41,21 @@ def test_truncated_file_is_not_well_formed_xml(pair_urdf):
     message = load_error(text[:cut], MalformedModel)
     assert "<file>" in message
     assert "not well-formed XML at line" in message
+
+
+@pytest.mark.parametrize(
+    "head, said",
+    [
+        (b"\x89MCAP0\r\n", "this is an MCAP log, not a model"),
+        (b"<robot>\xff\xfe</robot>", "byte 0xff at position 7 is not UTF-8"),
+    ],
+)
+def test_a_file_that_is_not_text_is_named_with_what_it_is(tmp_path, head, said):
+    path = tmp_path / "model.urdf"
+    path.write_bytes(head)
+    with pytest.raises(MalformedModel) as info:
+        load(path)
+    assert str(info.value).startswith(f"{path}: <file>: ") and said in str(info.value)
 
 
 def test_gear_on_unknown_link_is_named(pair_urdf):
