@@ -429,7 +429,9 @@ def concatenate(parts: list[Result]) -> Result:
     first = parts[0]
     if len(parts) == 1:
         return first
-    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS}
+    arrays: dict[str, Any] = {
+        name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS
+    }
     starts = np.cumsum([0] + [len(p) for p in parts[:-1]])
     pose_rows = np.concatenate([p.pose_rows + at for p, at in zip(parts, starts, strict=True)])
     return Result(
