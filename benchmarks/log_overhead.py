@@ -19,14 +19,12 @@ length, such as opening the file (1–2 ms of the drivetrain's 13–19 ms at 20 
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import tempfile
-import threading
 import time
-import zlib
 from pathlib import Path
 
+from machine import parallel_capacity
 from saleh_loads import LOADS, MODELS
 
 import pinwind
@@ -57,28 +55,6 @@ class TimedLogger:
 
     def end(self, result, status: str) -> None:
         self._timed(self.logger.end, result, status)
-
-
-_PROBE = os.urandom(8 << 20)
-
-
-def parallel_capacity() -> float:
-    """Cores this process gets when it asks for two (2.0: a free core for the log's thread).
-
-    CPU ÷ wall time of two threads that checksum 40 MB each without the GIL.
-    """
-
-    def work() -> None:
-        for _ in range(5):
-            zlib.crc32(_PROBE)
-
-    wall, cpu = time.perf_counter(), time.process_time()
-    threads = [threading.Thread(target=work) for _ in range(2)]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join()
-    return (time.process_time() - cpu) / (time.perf_counter() - wall)
 
 
 def measure(name: str, duration: float, dt: float, repeats: int, folder: Path) -> None:

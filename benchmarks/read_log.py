@@ -10,6 +10,8 @@ file. Then, each in a fresh Python process so that memory figures are its own:
   threads), which depends less on what else the machine is doing, and the read with one
   reading thread instead of ``READ_THREADS`` (one per core, 2 to 8), which says how the read
   scales with cores;
+- the cores the process gets when it asks for two, probed before each read
+  (``machine.parallel_capacity``): below 2 while other work shares the machine;
 - peak memory of one whole read over the bytes of the arrays it returns (≤ 1.5): the peak
   resident set size above the one before the read (``VmHWM`` in /proc/self/status, reset by
   /proc/self/clear_refs), and the peak of Python's allocations (``tracemalloc``, which numpy
@@ -142,23 +144,29 @@ else:
         from pinwind.io import log_reader
 
         log_reader.READ_THREADS, log_reader.READ_AHEAD = threads, 2 * threads - 1
-    times = []
-    cpu_start = cpu()
+    sys.path.insert(0, sys.argv[4])
+    from machine import parallel_capacity
+
+    times, cores = [], []
+    used = 0.0
     for _ in range(repeats):
+        res = None  # the last read's arrays are freed before the probe
+        cores.append(parallel_capacity())
+        cpu_start = cpu()
         start = time.perf_counter()
         res = read_log(path, **kwargs)
         times.append(time.perf_counter() - start)
-    used = (cpu() - cpu_start) / repeats
+        used += cpu() - cpu_start
     print(json.dumps({
-        "seconds": min(times), "first": times[0], "cpu": used, "samples": len(res),
-        "arrays": array_bytes(res),
+        "seconds": min(times), "first": times[0], "cpu": used / repeats, "samples": len(res),
+        "arrays": array_bytes(res), "cores": sorted(cores)[len(cores) // 2],
     }))
 """
 
 
 def child(path: Path, what: str, repeats: int = 1) -> dict:
     out = subprocess.run(
-        [sys.executable, "-c", CHILD, str(path), what, str(repeats)],
+        [sys.executable, "-c", CHILD, str(path), what, str(repeats), str(Path(__file__).parent)],
         capture_output=True,
         text=True,
         check=True,
@@ -224,6 +232,8 @@ def main() -> None:
             f"ratio to the step {read / step:.3f} (goal ≤ 0.1)\n"
             f"  CPU time of that read    {whole['cpu'] / n * 1e6:8.2f} µs/sample (all threads, "
             "mean of the reads)\n"
+            f"  cores available          {whole['cores']:8.2f} (of 2 asked for, median before the "
+            "reads)\n"
             f"  first read of the process {whole['first'] / n * 1e6:7.2f} µs/sample (ratio "
             f"{whole['first'] / n / step:.2f}; the kernel finds huge pages for the new arrays)\n"
             f"  the same, 1 reading thread {single['seconds'] / n * 1e6:6.2f} µs/sample (ratio "
@@ -245,9 +255,9 @@ def main() -> None:
             f"{name:22s} {step * 1e6:7.2f} {read * 1e6:7.2f} {read / step:6.3f} "
             f"{bare['arrays'] / step:6.2f} "
             f"{rss['peak'] / rss['arrays']:6.2f} {traced['peak'] / traced['arrays']:6.2f} "
-            f"{size / n:7.0f}"
+            f"{size / n:7.0f} {whole['cores']:6.2f}"
         )
-    print("model                  step µs read µs  ratio  floor  mem/RSS mem/tm bytes/sample")
+    print("model                  step µs read µs  ratio  floor  mem/RSS mem/tm bytes/sample cores")
     print("\n".join(lines))
 
 
