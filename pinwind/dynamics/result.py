@@ -385,10 +385,19 @@ class Result:
 
         The poses kept are those of the samples taken (``pose_rows`` renumbered).
         """
-        kwargs = {n: getattr(self, n)[rows] for n in self.ARRAYS if n not in POSE_ARRAYS}
+        arrays = {n: getattr(self, n)[rows] for n in self.ARRAYS if n not in POSE_ARRAYS}
         picked, pose_rows = self._poses_of(rows)
         for name in POSE_ARRAYS:
-            kwargs[name] = getattr(self, name)[picked]
+            arrays[name] = getattr(self, name)[picked]
+        return self.holding(arrays, {k: v[rows] for k, v in self.energy.items()}, pose_rows)
+
+    def holding(
+        self, arrays: dict[str, Any], energy: dict[str, np.ndarray], pose_rows: np.ndarray
+    ) -> Result:
+        """A Result with these names, metadata (a copy) and status, holding other samples.
+
+        ``arrays``: every name of ``ARRAYS`` → its array.
+        """
         return Result(
             joint_names=self.joint_names,
             mesh_names=self.mesh_names,
@@ -396,11 +405,11 @@ class Result:
             body_names=self.body_names,
             generator_names=self.generator_names,
             rotor_names=self.rotor_names,
-            energy={k: v[rows] for k, v in self.energy.items()},
+            energy=energy,
             metadata=dict(self.metadata),
             status=self.status,
             pose_rows=pose_rows,
-            **kwargs,
+            **arrays,
         )
 
     def _poses_of(self, rows: slice | np.ndarray) -> tuple[slice | np.ndarray, np.ndarray]:
@@ -429,21 +438,8 @@ def concatenate(parts: list[Result]) -> Result:
     first = parts[0]
     if len(parts) == 1:
         return first
-    arrays: dict[str, Any] = {
-        name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS
-    }
+    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS}
+    energy = {k: np.concatenate([p.energy[k] for p in parts]) for k in first.energy}
     starts = np.cumsum([0] + [len(p) for p in parts[:-1]])
     pose_rows = np.concatenate([p.pose_rows + at for p, at in zip(parts, starts, strict=True)])
-    return Result(
-        joint_names=first.joint_names,
-        mesh_names=first.mesh_names,
-        bearing_names=first.bearing_names,
-        body_names=first.body_names,
-        generator_names=first.generator_names,
-        rotor_names=first.rotor_names,
-        energy={k: np.concatenate([p.energy[k] for p in parts]) for k in first.energy},
-        metadata=dict(first.metadata),
-        status=first.status,
-        pose_rows=pose_rows,
-        **arrays,
-    )
+    return first.holding(arrays, energy, pose_rows)
