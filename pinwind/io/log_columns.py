@@ -331,7 +331,7 @@ class ColumnSink:
         for key in SPARSE:
             shape = self.shapes[key]
             width = math.prod(shape)
-            series = values[at : at + width].reshape(*shape, -1)
+            series = values[at : at + width].reshape(*shape, values.shape[1])
             out[key] = np.moveaxis(series, -1, 0)
             at += width
         return out
