@@ -8,7 +8,7 @@ build exactly the same object. Accessors return small views with named fields:
     res.bearing("carrier").force     # (n, 3) N, world frame
     res.generator("sun").torque      # (n,) N·m, > 0 generating
     res.rotor("carrier").power       # (n,) W
-    res.body("carrier").position     # (p,) m at the p samples with a pose (``pose_rows``)
+    res.body("carrier").position     # (p, 3) m at the p samples with a pose (``pose_rows``)
 
 Link poses are kept at their own samples: every sample in a Result of ``simulate``, the pose
 rate of the log (a display rate) in one read from a log.
