@@ -72,8 +72,8 @@ def test_scenario_values_round_trip_through_the_log(tmp_path):
 
 
 def _equal(a: Result, b: Result) -> None:
+    assert np.array_equal(a.pose_rows, b.pose_rows)  # the 100 Hz pose samples of a log
     for name in Result.ARRAYS:
-        # poses are NaN between the 100 Hz pose samples of a log
         assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
     for name, values in a.energy.items():
         assert np.array_equal(values, b.energy[name]), name

@@ -188,7 +188,7 @@ def test_log_rate_keeps_every_stride_th_sample(planetary, tmp_path):
     "pose_rate, view_rate, pose_every",
     [(None, None, 1), (50.0, 100.0, 20), (1e6, None, 1), (None, 100.0, 10), (1e6, 100.0, 10)],
 )
-def test_pose_rate_logs_the_poses_of_every_nth_sample_and_nan_between(
+def test_pose_rate_logs_the_poses_of_every_nth_sample_only(
     planetary, tmp_path, pose_rate, view_rate, pose_every
 ):
     """Poses are for display: at the pose rate, at most the view rate (1 ms steps here)."""
