@@ -17,8 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinwind.dynamics import series
 from pinwind.dynamics._native import fold_columns, fold_magnitudes
-from pinwind.dynamics.result import ROTOR_ARRAYS, Result
+from pinwind.dynamics.result import Result
 from pinwind.errors import InputError, UnknownElement
 
 STATISTICS = ("min", "max", "mean", "rms", "final")
@@ -53,36 +54,11 @@ class Row:
 #: (group, element, quantity, component, unit): names one series.
 Key = tuple[str, str, str, str, str]
 
-_JOINT = (
-    ("angle", "angle", "rad"),
-    ("speed", "speed", "rad/s"),
-    ("acceleration", "acceleration", "rad/s^2"),
-    ("torque", "torque", "N*m"),
-)
-_MESH = (
-    ("normal", "mesh_normal", "N"),
-    ("tangential", "mesh_tangential", "N"),
-    ("radial", "mesh_radial", "N"),
-    ("axial", "mesh_axial", "N"),
-    ("flank", "mesh_flank", "1"),
-    ("transmission error", "transmission_error", "m"),
-)
-_MESH_VECTORS = (("force on B (world)", "mesh_force_on_b", "N"),)
-_BEARING_VECTORS = (
-    ("force (world)", "bearing_force", "N"),
-    ("moment (world)", "bearing_moment", "N*m"),
-    ("force (joint frame)", "bearing_force_local", "N"),
-    ("moment (joint frame)", "bearing_moment_local", "N*m"),
-)
-_ROTOR = tuple(
-    zip(
-        ("torque", "power", "tip-speed ratio", "power coefficient", "wind speed"),
-        ROTOR_ARRAYS,
-        ("N*m", "W", "1", "1", "m/s"),
-        strict=True,
-    )
-)
 _AXES = ("x", "y", "z", "|.|")
+#: The report's group of each family: generators and rotors are both ``load``.
+_GROUPS = {"generator": "load", "rotor": "load"}
+#: Families in report order; ``run`` (constraint residual, energy) last.
+_REPORT_FAMILIES = ("joint", "mesh", "bearing", "generator", "rotor")
 
 
 @dataclass(frozen=True)
@@ -98,30 +74,36 @@ class _Field:
     vector: bool
 
 
+def _element_keys(s: series.Series, name: str, axes: tuple[str, ...]) -> list[Key]:
+    """The keys of one element's series (``axes`` of a vector, or the scalar)."""
+    group = _GROUPS.get(s.family, s.family)
+    element = f"{s.family} {name}" if s.family in _GROUPS else name
+    components = axes if s.components else ("",)
+    return [(group, element, s.title, axis, s.unit) for axis in components]
+
+
+def _reported(family: str) -> list[series.Series]:
+    """A family's series that are reported: its scalars, then its vectors (schema order)."""
+    reported = [s for s in series.of_family(family) if s.statistics]
+    return sorted(reported, key=lambda s: bool(s.components))
+
+
 def _fields(res: Result) -> list[_Field]:
-    """The arrays of a Result that are reported, with their series' keys."""
+    """The arrays of a Result that are reported (``Series.statistics``), with their keys."""
     fields = []
-    for quantity, source, unit in _JOINT:
-        keys = [("joint", name, quantity, "", unit) for name in res.joint_names]
-        fields.append(_Field(source, keys, False))
-    for quantity, source, unit in _MESH:
-        keys = [("mesh", name, quantity, "", unit) for name in res.mesh_names]
-        fields.append(_Field(source, keys, False))
-    for group, names, vectors in (
-        ("mesh", res.mesh_names, _MESH_VECTORS),
-        ("bearing", res.bearing_names, _BEARING_VECTORS),
-    ):
-        for quantity, source, unit in vectors:
-            keys = [(group, n, quantity, axis, unit) for n in names for axis in _AXES[:3]]
-            keys += [(group, n, quantity, "|.|", unit) for n in names]
-            fields.append(_Field(source, keys, True))
-    keys = [("load", f"generator {n}", "torque", "", "N*m") for n in res.generator_names]
-    fields.append(_Field("generator_torque", keys, False))
-    for quantity, source, unit in _ROTOR:
-        keys = [("load", f"rotor {name}", quantity, "", unit) for name in res.rotor_names]
-        fields.append(_Field(source, keys, False))
-    keys = [("run", "", "constraint residual", "", "m/s or rad/s")]
-    fields.append(_Field("constraint_residual", keys, False))
+    for s in series.schema():
+        if not s.statistics:
+            continue
+        if s.family == "run":
+            fields.append(_Field(s.name, [("run", "", s.title, "", s.unit)], False))
+            continue
+        names = res.names(s.family)
+        if s.components:
+            keys = [k for n in names for k in _element_keys(s, n, _AXES[:3])]
+            keys += [k for n in names for k in _element_keys(s, n, _AXES[3:])]
+        else:
+            keys = [k for n in names for k in _element_keys(s, n, _AXES)]
+        fields.append(_Field(s.name, keys, bool(s.components)))
     for term in res.energy:
         fields.append(_Field(f"energy/{term}", [("run", term, "energy", "", "J")], False))
     return [f for f in fields if f.keys]
@@ -130,19 +112,11 @@ def _fields(res: Result) -> list[_Field]:
 def _report_order(res: Result) -> list[Key]:
     """Every series' key, element after element (each joint's, mesh's, bearing's together)."""
     keys: list[Key] = []
-    for name in res.joint_names:
-        keys += [("joint", name, quantity, "", unit) for quantity, _, unit in _JOINT]
-    for name in res.mesh_names:
-        keys += [("mesh", name, quantity, "", unit) for quantity, _, unit in _MESH]
-        for quantity, _, unit in _MESH_VECTORS:
-            keys += [("mesh", name, quantity, axis, unit) for axis in _AXES]
-    for name in res.bearing_names:
-        for quantity, _, unit in _BEARING_VECTORS:
-            keys += [("bearing", name, quantity, axis, unit) for axis in _AXES]
-    keys += [("load", f"generator {n}", "torque", "", "N*m") for n in res.generator_names]
-    for name in res.rotor_names:
-        keys += [("load", f"rotor {name}", q, "", unit) for q, _, unit in _ROTOR]
-    keys.append(("run", "", "constraint residual", "", "m/s or rad/s"))
+    for family in _REPORT_FAMILIES:
+        for name in res.names(family):
+            for s in _reported(family):
+                keys += _element_keys(s, name, _AXES)
+    keys += [("run", "", s.title, "", s.unit) for s in _reported("run")]
     keys += [("run", term, "energy", "", "J") for term in res.energy]
     return keys
 

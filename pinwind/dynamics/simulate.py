@@ -43,9 +43,10 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from pinwind.dynamics import series
 from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
 from pinwind.dynamics.ratios import train_speeds
-from pinwind.dynamics.result import ROTOR_ARRAYS, Result
+from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.errors import Diverged, InputError, NonFiniteInput, OutOfMemory, PinwindError
@@ -147,16 +148,6 @@ def _implausible(block: Result, start: int, stop: int) -> tuple[int, str] | None
 
 
 #: Work terms of the energy ledger, accumulated over steps [J].
-_WORK_KEYS = (
-    "work_applied",
-    "work_drivers",
-    "work_springs",
-    "work_gravity",
-    "work_constraints",
-    "dissipated",
-)
-
-
 def _allocate(
     gearbox: Gearbox,
     n: int,
@@ -165,46 +156,15 @@ def _allocate(
     *,
     empty: bool = False,
 ) -> Result:
-    """A Result of n samples whose arrays are views of one buffer.
+    """A Result of n samples, one array per series of the schema, views of one buffer.
 
     One large buffer rather than thirty: numpy asks the kernel for huge pages for buffers of
     4 MB and more, so that filling a long run's arrays takes a page fault per 2 MB instead of
     one per 4 kB (page faults were a sixth of a drivetrain run's time). ``elements`` gives the
     generator and rotor columns.
     """
-    nj = len(gearbox.joint_names)
-    nm = len(gearbox.meshes)
-    nb = len(body_names)
-    energy_keys = ("kinetic", *_WORK_KEYS, "potential_spring", "numerical")
-    shapes = {
-        "time": (),
-        "angle": (nj,),
-        "speed": (nj,),
-        "acceleration": (nj,),
-        "torque": (nj,),
-        "mesh_normal": (nm,),
-        "mesh_tangential": (nm,),
-        "mesh_radial": (nm,),
-        "mesh_axial": (nm,),
-        "mesh_flank": (nm,),
-        "transmission_error": (nm,),
-        "mesh_force_on_b": (nm, 3),
-        "pitch_point": (nm, 3),
-        "mesh_deflection": (nm,),
-        "mesh_contact_position": (nm,),
-        "mesh_pairs": (nm,),
-        "mesh_single_tooth_force": (nm,),
-        "bearing_force": (nj, 3),
-        "bearing_moment": (nj, 3),
-        "bearing_force_local": (nj, 3),
-        "bearing_moment_local": (nj, 3),
-        "body_position": (nb, 3),
-        "body_quaternion": (nb, 4),
-        "constraint_residual": (),
-        **{f"energy/{k}": () for k in energy_keys},
-        "generator_torque": (len(elements.generator_names),),
-        **{name: (len(elements.rotor_names),) for name in ROTOR_ARRAYS},
-    }
+    names = _names(gearbox, body_names, elements)
+    shapes = _sample_shapes(names)
     sizes = {k: n * math.prod(shape) for k, shape in shapes.items()}
     buffer = (np.empty if empty else np.zeros)(sum(sizes.values()))
     arrays: dict[str, Any] = {}
@@ -213,15 +173,32 @@ def _allocate(
         arrays[key] = buffer[at : at + sizes[key]].reshape(n, *shape)
         at += sizes[key]
     return Result(
-        joint_names=list(gearbox.joint_names),
-        mesh_names=[m.name for m in gearbox.meshes],
-        bearing_names=list(gearbox.joint_names),
-        body_names=body_names,
-        generator_names=list(elements.generator_names),
-        rotor_names=list(elements.rotor_names),
-        energy={k: arrays.pop(f"energy/{k}") for k in energy_keys},
+        **names,
+        energy={t.name: arrays.pop(f"energy/{t.name}") for t in series.ENERGY_TERMS},
         **arrays,
     )
+
+
+def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> dict[str, Any]:
+    """The element names of every family of a run (``series.NAMES_OF``)."""
+    return {
+        "joint_names": list(gearbox.joint_names),
+        "mesh_names": [m.name for m in gearbox.meshes],
+        "bearing_names": list(gearbox.joint_names),
+        "body_names": body_names,
+        "generator_names": list(elements.generator_names),
+        "rotor_names": list(elements.rotor_names),
+    }
+
+
+def _sample_shapes(names: dict[str, list]) -> dict[str, tuple[int, ...]]:
+    """The shape of one sample of every series and energy term (``energy/TERM``)."""
+    shapes: dict[str, tuple[int, ...]] = {}
+    for s in series.schema():
+        count = len(names[series.NAMES_OF[s.family]]) if s.family != "run" else 1
+        shapes[s.name] = s.shape(count)
+    shapes.update({f"energy/{t.name}": () for t in series.ENERGY_TERMS})
+    return shapes
 
 
 #: (sample, load, the non-finite value or the exception its function raised)
@@ -400,11 +377,7 @@ def simulate(
     stride = _keep_stride(
         keep,
         samples,
-        _bytes_per_sample(
-            gearbox,
-            len(body_names),
-            len(elements.generator_names) + len(ROTOR_ARRAYS) * len(elements.rotor_names),
-        ),
+        _bytes_per_sample(gearbox, body_names, elements),
     )
     kept = _kept_samples(samples, stride)
     if chunk is None:
@@ -539,6 +512,7 @@ def simulate(
                 if spring0 is None:
                     spring0 = float(part.energy["potential_spring"][0])
                 _numerical_loss(part.energy, spring0)
+                _derive(part, gearbox)
                 if not direct:
                     _keep(res, part, start, kept)
                 if observer is not None:
@@ -616,16 +590,21 @@ def _numerical_loss(energy: dict[str, np.ndarray], spring0: float) -> None:
     energy["numerical"][:] = -(energy["potential_spring"] - spring0 + energy["work_springs"])
 
 
+def _derive(block: Result, gearbox: Gearbox) -> None:
+    """Fills the series computed in Python (``Series.derive``) of a block, in place."""
+    for s in series.schema():
+        if s.derive is not None:
+            getattr(block, s.name)[...] = s.derive(block, gearbox)
+
+
 #: Bytes of kept samples above which ``keep="auto"`` keeps every N-th sample only.
 KEEP_BUDGET = 512 * 2**20
 
 
-def _bytes_per_sample(gearbox: Gearbox, bodies: int, elements: int = 0) -> int:
-    """Bytes a Result holds per sample (float64 arrays); elements: per-element values."""
-    nj, nm = len(gearbox.joint_names), len(gearbox.meshes)
-    values = 1 + 4 * nj + nm * (10 + 6) + 12 * nj + 7 * bodies + 1 + len(_WORK_KEYS) + 3
-    values += elements
-    return 8 * values
+def _bytes_per_sample(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> int:
+    """Bytes a Result holds per sample (float64 arrays of every series and energy term)."""
+    shapes = _sample_shapes(_names(gearbox, body_names, elements))
+    return 8 * sum(math.prod(shape) for shape in shapes.values())
 
 
 def _keep_stride(keep: str | int, samples: int, per_sample: int) -> int:

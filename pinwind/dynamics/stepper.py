@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from pinwind.dynamics import _native
+from pinwind.dynamics import _native, series
 from pinwind.dynamics.compliant import IMPLICIT_THETA, MeshSetup
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
@@ -173,8 +173,8 @@ class CompiledStepper:
             samples.
         """
         out = _native.OutputArrays()
-        for name in Result.ARRAYS:
-            setattr(out, name, getattr(block, name))
+        for s in series.compiled():
+            setattr(out, s.name, getattr(block, s.name))
         for name, values in block.energy.items():
             if name != "numerical":  # derived in Python from the spring terms
                 setattr(out, name, values)

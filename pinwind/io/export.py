@@ -19,74 +19,45 @@ from pathlib import Path
 
 import numpy as np
 
-from pinwind.dynamics.result import POSE_ARRAYS, Result
+from pinwind.dynamics import series
+from pinwind.dynamics.result import Result
 from pinwind.errors import InputError, LogExists
 
-#: Result array → (group, quantity, unit in the name); components x y z (w) go before the unit.
-COLUMNS: dict[str, tuple[str, str, str]] = {
-    "angle": ("joint", "angle", "rad"),
-    "speed": ("joint", "speed", "rad_s"),
-    "acceleration": ("joint", "acceleration", "rad_s2"),
-    "torque": ("joint", "torque", "N_m"),
-    "mesh_normal": ("mesh", "normal", "N"),
-    "mesh_tangential": ("mesh", "tangential", "N"),
-    "mesh_radial": ("mesh", "radial", "N"),
-    "mesh_axial": ("mesh", "axial", "N"),
-    "mesh_flank": ("mesh", "flank", ""),
-    "transmission_error": ("mesh", "transmission_error", "m"),
-    "mesh_force_on_b": ("mesh", "force_on_b", "N"),
-    "pitch_point": ("mesh", "pitch_point", "m"),
-    "bearing_force": ("bearing", "force", "N"),
-    "bearing_moment": ("bearing", "moment", "N_m"),
-    "bearing_force_local": ("bearing", "force_local", "N"),
-    "bearing_moment_local": ("bearing", "moment_local", "N_m"),
-    "body_position": ("body", "position", "m"),
-    "body_quaternion": ("body", "quaternion", ""),
-    "constraint_residual": ("run", "constraint_residual", "m_s_or_rad_s"),
-    "generator_torque": ("generator", "torque", "N_m"),
-    "rotor_torque": ("rotor", "torque", "N_m"),
-    "rotor_power": ("rotor", "power", "W"),
-    "rotor_tip_speed_ratio": ("rotor", "tip_speed_ratio", ""),
-    "rotor_power_coefficient": ("rotor", "power_coefficient", ""),
-    "rotor_wind_speed": ("rotor", "wind_speed", "m_s"),
-}
-
 FORMATS = ("parquet", "csv")
-
-_ELEMENTS = {"joint": "joint_names", "mesh": "mesh_names", "bearing": "bearing_names"}
-_ELEMENTS["body"] = "body_names"
-_ELEMENTS.update(generator="generator_names", rotor="rotor_names")
 
 
 def columns(res: Result, fields: Iterable[str] | None = None) -> Iterator[tuple[str, np.ndarray]]:
     """(name, (n,) float64 values) of every column of a Result: time, then ``fields``' series.
 
+    The columns are those of the schema (``dynamics/series.py``), in its order, then the
+    energy ledger.
+
     Args:
         res: the samples.
         fields: Result arrays to include (``energy`` for the energy ledger); default all.
     """
-    fields = list(COLUMNS) + ["energy"] if fields is None else list(fields)
+    names = [s.name for s in series.schema() if s.name != "time"]
+    wanted = set(names + ["energy"] if fields is None else fields)
     yield "time_s", res.time
-    for name in (*COLUMNS, "energy"):
-        if name not in fields:
+    for s in series.schema():
+        if s.name == "time" or s.name not in wanted:
             continue
-        if name == "energy":
-            for term, values in res.energy.items():
-                yield f"energy/{term}_J", values
-            continue
-        group, quantity, unit = COLUMNS[name]
         # a row per sample, as every column: NaN at the samples without a pose (pose rate)
-        values = res.pose_at_samples(name) if name in POSE_ARRAYS else getattr(res, name)
+        values = res.pose_at_samples(s.name) if s.per == "pose" else getattr(res, s.name)
+        unit = s.column_unit()
         suffix = f"_{unit}" if unit else ""
-        if group == "run":
-            yield f"run/{quantity}{suffix}", values
+        if s.family == "run":
+            yield f"run/{s.quantity}{suffix}", values
             continue
-        for i, element in enumerate(getattr(res, _ELEMENTS[group])):
-            if values.ndim == 2:
-                yield f"{group}/{element}/{quantity}{suffix}", values[:, i]
+        for i, element in enumerate(res.names(s.family)):
+            if not s.components:
+                yield f"{s.family}/{element}/{s.quantity}{suffix}", values[:, i]
             else:
-                for k, axis in enumerate("xyzw"[: values.shape[2]]):
-                    yield f"{group}/{element}/{quantity}_{axis}{suffix}", values[:, i, k]
+                for k, axis in enumerate(s.components):
+                    yield f"{s.family}/{element}/{s.quantity}_{axis}{suffix}", values[:, i, k]
+    if "energy" in wanted:
+        for term, values in res.energy.items():
+            yield f"energy/{term}_J", values
 
 
 def _fields(topics: Iterable[str]) -> list[str]:

@@ -35,7 +35,7 @@ import sys
 import threading
 import warnings
 from collections import deque
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -57,13 +57,13 @@ from pinwind.io.log_columns import (
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile, Scan
 from pinwind.io.mcap_log import (
     _NAMES_OF,
-    ARRAY_TOPICS,
     COLUMNS_TOPIC,
     FORMAT,
     FORMAT_VERSION,
     JOINTS_TOPIC,
     TF_TOPIC,
     WORLD_FRAME,
+    array_topics,
 )
 from pinwind.io.messages import (
     _POSE_DTYPE,
@@ -75,14 +75,33 @@ from pinwind.io.messages import (
 
 TIME_TOPIC = "/run/time"
 
-#: Every channel (MCAP topic) that holds samples, and the Result arrays it fills. ``/run/time``
-#: is always read. ``channels=`` takes these names, or a folder of them (``/meshes``,
-#: ``/bearings``, ``/run``).
-CHANNELS: dict[str, tuple[str, ...]] = {
-    JOINTS_TOPIC: ("angle", "speed", "torque"),
-    **{t.topic: (t.field,) for t in ARRAY_TOPICS},
-    TF_TOPIC: ("body_position", "body_quaternion"),
-}
+
+class _Channels(Mapping[str, tuple[str, ...]]):
+    """Every channel (MCAP topic) that holds samples, and the Result arrays it fills.
+
+    ``/run/time`` is always read. ``channels=`` takes these names, or a folder of them
+    (``/meshes``, ``/bearings``, ``/run``). Read from the schema of series
+    (``dynamics/series.py``) when used, so a series declared at run time has its channel.
+    """
+
+    def _table(self) -> dict[str, tuple[str, ...]]:
+        return {
+            JOINTS_TOPIC: ("angle", "speed", "torque"),
+            **{t.topic: (t.field,) for t in array_topics()},
+            TF_TOPIC: ("body_position", "body_quaternion"),
+        }
+
+    def __getitem__(self, topic: str) -> tuple[str, ...]:
+        return self._table()[topic]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._table())
+
+    def __len__(self) -> int:
+        return len(self._table())
+
+
+CHANNELS = _Channels()
 
 
 def _cores() -> int:
@@ -246,7 +265,7 @@ class _Layout:
             JOINTS_TOPIC: ("joints", JointStateCodec(names["joint_names"], WORLD_FRAME), ()),
             TF_TOPIC: ("tf", FrameTransformsCodec(WORLD_FRAME, names["body_names"]), ()),
         }
-        for topic in ARRAY_TOPICS:
+        for topic in array_topics():
             dims = [(topic.element, count[topic.element])] if topic.element else [("value", 1)]
             if topic.frame:
                 dims.append(("axis", 3))

@@ -38,6 +38,7 @@ from typing import Any, BinaryIO
 import numpy as np
 from mcap.opcode import Opcode
 
+from pinwind.dynamics import series
 from pinwind.dynamics._native import shuffle_series
 from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import (
@@ -117,128 +118,34 @@ class ArrayTopic:
     frame: str = ""
 
 
-#: Every Result array except those on ``/joints`` (angle, speed, torque) and ``/tf`` (poses).
-ARRAY_TOPICS: tuple[ArrayTopic, ...] = (
-    ArrayTopic(
-        "/joints/acceleration",
-        "acceleration",
-        "rad/s^2",
-        "joint acceleration over the step that starts at the sample",
-        "joint",
-    ),
-    ArrayTopic("/meshes/normal", "mesh_normal", "N", "tooth normal force F_n >= 0", "mesh"),
-    ArrayTopic("/meshes/tangential", "mesh_tangential", "N", "F_t = F_n cos(alpha_w)", "mesh"),
-    ArrayTopic("/meshes/radial", "mesh_radial", "N", "F_r = F_n sin(alpha_w)", "mesh"),
-    ArrayTopic("/meshes/axial", "mesh_axial", "N", "F_a = F_t tan(beta)", "mesh"),
-    ArrayTopic(
-        "/meshes/flank",
-        "mesh_flank",
-        "1",
-        "loaded flank s = +1 when A turning positively drives B, else -1",
-        "mesh",
-    ),
-    ArrayTopic(
-        "/meshes/transmission_error",
-        "transmission_error",
-        "m",
-        "position mismatch along the line of action",
-        "mesh",
-    ),
-    ArrayTopic(
-        "/meshes/force_on_b", "mesh_force_on_b", "N", "tooth force on gear B", "mesh", "world"
-    ),
-    ArrayTopic("/meshes/pitch_point", "pitch_point", "m", "pitch point", "mesh", "world"),
-    ArrayTopic(
-        "/meshes/deflection",
-        "mesh_deflection",
-        "m",
-        "compliant mesh: overlap of the loaded flank (negative: gap); rigid: 0",
-        "mesh",
-    ),
-    ArrayTopic(
-        "/meshes/contact_position",
-        "mesh_contact_position",
-        "m",
-        "roll position of the entering tooth pair from gear A's base tangency point",
-        "mesh",
-    ),
-    ArrayTopic("/meshes/pairs", "mesh_pairs", "1", "tooth pairs in contact", "mesh"),
-    ArrayTopic(
-        "/meshes/single_tooth_force",
-        "mesh_single_tooth_force",
-        "N",
-        "normal force on the entering tooth pair, F_n k1/k",
-        "mesh",
-    ),
-    ArrayTopic(
-        "/bearings/force",
-        "bearing_force",
-        "N",
-        "force on the child body at the bearing centre",
-        "bearing",
-        "world",
-    ),
-    ArrayTopic(
-        "/bearings/moment",
-        "bearing_moment",
-        "N*m",
-        "moment on the child body about the bearing centre",
-        "bearing",
-        "world",
-    ),
-    ArrayTopic(
-        "/bearings/force_local",
-        "bearing_force_local",
-        "N",
-        "force on the child body at the bearing centre",
-        "bearing",
-        "joint",
-    ),
-    ArrayTopic(
-        "/bearings/moment_local",
-        "bearing_moment_local",
-        "N*m",
-        "moment on the child body about the bearing centre",
-        "bearing",
-        "joint",
-    ),
-    ArrayTopic("/run/time", "time", "s", "sample time (exact; log time is rounded to 1 ns)"),
-    ArrayTopic(
-        "/run/constraint_residual",
-        "constraint_residual",
-        "m/s or rad/s",
-        "max |J v - target| after the step",
-    ),
-    ArrayTopic("/run/energy", "energy", "J", "energy ledger (docs/log_format.md)", "term"),
-    # Generator and rotor elements (Result.generator, Result.rotor); absent without them.
-    ArrayTopic(
-        "/generators/torque",
-        "generator_torque",
-        "N*m",
-        "generator torque T_gen on the shaft, > 0 generating",
-        "generator",
-    ),
-    ArrayTopic("/rotors/torque", "rotor_torque", "N*m", "aerodynamic torque on the hub", "rotor"),
-    ArrayTopic(
-        "/rotors/power", "rotor_power", "W", "aerodynamic power 0.5 rho pi R^2 v^3 Cp", "rotor"
-    ),
-    ArrayTopic(
-        "/rotors/tip_speed_ratio", "rotor_tip_speed_ratio", "1", "tip-speed ratio wR/v", "rotor"
-    ),
-    ArrayTopic(
-        "/rotors/power_coefficient", "rotor_power_coefficient", "1", "power coefficient Cp", "rotor"
-    ),
-    ArrayTopic("/rotors/wind_speed", "rotor_wind_speed", "m/s", "wind speed at the rotor", "rotor"),
-)
+ENERGY_TOPIC = "/run/energy"
 
-_NAMES_OF = {
-    "joint": "joint_names",
-    "mesh": "mesh_names",
-    "bearing": "bearing_names",
-    "term": "energy_terms",
-    "generator": "generator_names",
-    "rotor": "rotor_names",
-}
+
+def array_topics() -> tuple[ArrayTopic, ...]:
+    """The viewer topics of the Result's arrays, in the log's topic order.
+
+    A topic per logged series of the schema (``dynamics/series.py``; angle, speed and torque
+    are on ``/joints``, the poses on ``/tf``), family after family (``series.TOPIC_ORDER``), and
+    the energy ledger after the run's own series.
+    """
+    out = []
+    for family in series.TOPIC_ORDER:
+        for s in series.of_family(family):
+            if s.logged:
+                out.append(ArrayTopic(s.topic, s.name, s.unit, s.meaning, _element_of(s), s.frame))
+        if family == "run":
+            meaning = "energy ledger (docs/log_format.md)"
+            out.append(ArrayTopic(ENERGY_TOPIC, "energy", "J", meaning, "term"))
+    return tuple(out)
+
+
+def _element_of(s: series.Series) -> str:
+    """The kind of a topic's first dimension (``""`` for one value per sample)."""
+    return "" if s.family == "run" else s.family
+
+
+#: The Result attribute that names the elements of each kind of a topic's first dimension.
+_NAMES_OF = {**series.NAMES_OF, "term": "energy_terms"}
 
 
 def _utc_now() -> str:
@@ -273,12 +180,6 @@ def _versions() -> dict[str, str]:
         except PackageNotFoundError:
             out[dist] = "not installed"
     return out
-
-
-def _topic_values(result: Result, topic: ArrayTopic, rows: np.ndarray, terms: list[str]):
-    if topic.field == "energy":
-        return np.stack([result.energy[name][rows] for name in terms], axis=1)
-    return getattr(result, topic.field)[rows]
 
 
 @contextmanager
@@ -381,7 +282,7 @@ def estimate_log_size(
         if name in POSE_ARRAYS:
             continue
         doubles += int(np.prod(getattr(result, name).shape[1:], dtype=int))
-    for topic in ARRAY_TOPICS:
+    for topic in array_topics():
         names = getattr(result, _NAMES_OF[topic.element], None) if topic.element else None
         if topic.element in ("", "term") or names:  # topics of an empty family are left out
             records += 1
@@ -710,7 +611,7 @@ class McapLogger:
             sources.append((field, 0, len(names["joint_names"])))
         joint_fields = list(joint_codec.fields_at)
         array_fields = []
-        for topic in ARRAY_TOPICS:
+        for topic in array_topics():
             dims = []
             channel_meta = {
                 "field": topic.field,
@@ -1131,7 +1032,7 @@ class McapLogger:
         ``samples`` are the rows' sample indices in the run (the messages' sequence numbers).
 
         Each sample is one row of records of fixed length, a record per channel but /tf, in
-        ``ARRAY_TOPICS`` order after /joints; the /tf records of the samples that have a pose
+        ``array_topics()`` order after /joints; the /tf records of the samples that have a pose
         follow all the rows, in time order (their payloads grow with the stamp's varint).
         """
         m = len(samples)

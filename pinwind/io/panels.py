@@ -19,6 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from pinwind.dynamics import series
 from pinwind.dynamics.result import Result
 
 RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
@@ -361,187 +362,67 @@ def panels(
         child = (joints.get(name) or bearings.get(name) or {}).get("child", "")
         return colors.get(child, color(i))
 
-    def per_joint(values: np.ndarray) -> list[Series]:
+    joint_index = {name: i for i, name in enumerate(res.joint_names)}
+
+    def element_color(family: str, name: str, i: int) -> tuple[int, int, int]:
+        # Joint, bearing, generator and rotor series take the colour of the body they turn;
+        # meshes one colour each.
+        if family == "mesh":
+            return color(i)
+        return joint_color(name, joint_index.get(name, i))
+
+    def lines(s: series.Series, values: np.ndarray) -> list[Series]:
+        if s.family == "run":
+            return [Series(s.quantity, values, color(0))]
+        names = res.names(s.family)
         return [
-            Series(name, values[:, i], joint_color(name, i))
-            for i, name in enumerate(res.joint_names)
-        ]
-
-    def per_mesh(values: np.ndarray) -> list[Series]:
-        return [Series(name, values[:, i], color(i)) for i, name in enumerate(res.mesh_names)]
-
-    def per_bearing(values: np.ndarray) -> list[Series]:
-        return [
-            Series(name, values[:, i], joint_color(name, i))
-            for i, name in enumerate(res.bearing_names)
-        ]
-
-    out = [
-        Panel(
-            "speed",
-            "speeds",
-            "joint speeds, relative to the parent body [rpm]",
-            "rpm",
-            per_joint(res.speed * RAD_PER_S_TO_RPM),
-        )
-    ]
-    absolute = absolute_speeds(res, joints)
-    if absolute:
-        out.append(
-            Panel(
-                "body_speed",
-                "speeds",
-                "body speeds, absolute (about the own axis, in the world) [rpm]",
-                "rpm",
-                [
-                    Series(name, absolute[name] * RAD_PER_S_TO_RPM, joint_color(name, i))
-                    for i, name in enumerate(res.joint_names)
-                    if name in absolute
-                ],
-            )
-        )
-    out += [
-        Panel(
-            "torque",
-            "torques and power",
-            "joint torques, applied + driver/lock [kN·m]",
-            "kN·m",
-            per_joint(res.torque / 1e3),
-        ),
-        Panel(
-            "power",
-            "torques and power",
-            "joint power T·ω, ω relative to the parent [kW]",
-            "kW",
-            per_joint(res.torque * res.speed / 1e3),
-        ),
-    ]
-
-    def per_element(names: list[str], values: np.ndarray) -> list[Series]:
-        # Generators and rotors sit on joints: the colour of the body they turn.
-        return [
-            Series(name, values[:, i], joint_color(name, joint_index.get(name, i)))
+            Series(name, values[:, i], element_color(s.family, name, i))
             for i, name in enumerate(names)
         ]
 
-    joint_index = {name: i for i, name in enumerate(res.joint_names)}
-    if res.generator_names:
+    def plotted(s: series.Series) -> np.ndarray:
+        values = getattr(res, s.name)
+        if s.plot is not None and s.plot.magnitude:
+            values = np.linalg.norm(values, axis=-1)
+        return values * (s.plot.scale if s.plot is not None else 1.0)
+
+    out: list[Panel] = []
+    for s in series.schema():
+        if s.plot is None or s.per == "pose" or (s.family != "run" and not res.names(s.family)):
+            continue
+        p = s.plot
+        reference = None
+        if p.relative_to is not None:
+            reference = float(np.max(np.abs(plotted(series.get(p.relative_to))), initial=0.0))
         out.append(
-            Panel(
-                "generator_torque",
-                "torques and power",
-                "generator torque T_gen on the shaft, > 0 generating [kN·m]",
-                "kN·m",
-                per_element(res.generator_names, res.generator_torque / 1e3),
-            )
+            Panel(p.key, p.group, p.title, p.unit, lines(s, plotted(s)), reference, [], p.drop_zero)
         )
-    if res.rotor_names:
-        out += [
-            Panel(
-                "rotor_torque",
-                "torques and power",
-                "rotor aerodynamic torque on the hub [kN·m]",
-                "kN·m",
-                per_element(res.rotor_names, res.rotor_torque / 1e3),
-            ),
-            Panel(
-                "rotor_power",
-                "torques and power",
-                "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]",
-                "kW",
-                per_element(res.rotor_names, res.rotor_power / 1e3),
-            ),
-            Panel(
-                "rotor_wind_speed",
-                "rotor",
-                "wind speed at the rotor v [m/s]",
-                "m/s",
-                per_element(res.rotor_names, res.rotor_wind_speed),
-            ),
-            Panel(
-                "rotor_tip_speed_ratio",
-                "rotor",
-                "tip-speed ratio λ = ω R / v [-]",
-                "-",
-                per_element(res.rotor_names, res.rotor_tip_speed_ratio),
-            ),
-            Panel(
-                "rotor_power_coefficient",
-                "rotor",
-                "power coefficient C_p(λ, β) [-]",
-                "-",
-                per_element(res.rotor_names, res.rotor_power_coefficient),
-            ),
-        ]
-    if res.mesh_names:
-        out += [
-            Panel(
-                "mesh_force",
-                "mesh forces",
-                "mesh normal forces F_n [kN]",
-                "kN",
-                per_mesh(res.mesh_normal / 1e3),
-            ),
-            Panel(
-                "single_tooth_force",
-                "mesh forces",
-                "single-tooth forces (entering pair) [kN]",
-                "kN",
-                per_mesh(res.mesh_single_tooth_force / 1e3),
-            ),
-        ]
-        scale = float(np.max(np.abs(res.mesh_normal), initial=0.0)) / 1e3
-        for key, field_name, label in (
-            ("mesh_tangential", "mesh_tangential", "tangential F_t"),
-            ("mesh_radial", "mesh_radial", "radial F_r (separating)"),
-            ("mesh_axial", "mesh_axial", "axial F_a"),
-        ):
+        if s.name == "speed":
+            absolute = absolute_speeds(res, joints)
+            if absolute:
+                out.append(
+                    Panel(
+                        "body_speed",
+                        "speeds",
+                        "body speeds, absolute (about the own axis, in the world) [rpm]",
+                        "rpm",
+                        [
+                            Series(name, absolute[name] * RAD_PER_S_TO_RPM, joint_color(name, i))
+                            for i, name in enumerate(res.joint_names)
+                            if name in absolute
+                        ],
+                    )
+                )
+        if s.name == "torque":
             out.append(
                 Panel(
-                    key,
-                    "force components",
-                    f"mesh force components: {label} [kN]",
-                    "kN",
-                    per_mesh(getattr(res, field_name) / 1e3),
-                    reference=scale,
+                    "power",
+                    "torques and power",
+                    "joint power T·ω, ω relative to the parent [kW]",
+                    "kW",
+                    lines(s, res.torque * res.speed / 1e3),
                 )
             )
-        out.append(
-            Panel(
-                "transmission_error",
-                "mesh deflection",
-                "transmission error along the line of action [µm]",
-                "µm",
-                per_mesh(res.transmission_error * 1e6),
-            )
-        )
-        out.append(
-            Panel(
-                "mesh_deflection",
-                "mesh deflection",
-                "compliant mesh deflections δ [µm]",
-                "µm",
-                per_mesh(res.mesh_deflection * 1e6),
-                drop_zero=True,
-            )
-        )
-    if res.bearing_names:
-        out += [
-            Panel(
-                "bearing_force",
-                "bearings",
-                "bearing forces |F| on the child body, world [kN]",
-                "kN",
-                per_bearing(np.linalg.norm(res.bearing_force, axis=2) / 1e3),
-            ),
-            Panel(
-                "bearing_moment",
-                "bearings",
-                "bearing moments |M| about the bearing centre, world [kN·m]",
-                "kN·m",
-                per_bearing(np.linalg.norm(res.bearing_moment, axis=2) / 1e3),
-            ),
-        ]
     if gearbox is not None and res.mesh_names:
         from pinwind.analysis.load_sharing import load_sharing
 
@@ -586,7 +467,7 @@ def panels(
     if not keep_zero:
         out = [without_zero_series(p) for p in out]
         out = [p for p in out if p.series or not p.drop_zero]
-    return out
+    return sorted(out, key=lambda p: GROUPS.index(p.group))
 
 
 def without_zero_series(panel: Panel, zero: Sequence[bool] | None = None) -> Panel:

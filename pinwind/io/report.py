@@ -19,6 +19,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from pinwind.analysis.run_statistics import STATISTICS, Row, RunningStatistics
+from pinwind.dynamics import series
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError
 
@@ -170,20 +171,13 @@ DISPLAY_UNITS = {
     "1": ("-", 1.0),
 }
 
-#: Short labels of the quantities in the printed tables (the JSON keeps the long ones).
-_LABELS = {
-    "acceleration": "accel.",
-    "transmission error": "TE",
-    "force on B (world)": "F on B",
-    "force (world)": "F world",
-    "moment (world)": "M world",
-    "force (joint frame)": "F joint",
-    "moment (joint frame)": "M joint",
-    "constraint residual": "|J v|",
-    "tip-speed ratio": "TSR",
-    "power coefficient": "Cp",
-    "wind speed": "wind",
-}
+
+def _labels() -> dict[str, str]:
+    """Short labels of the quantities in the printed tables (``Series.short``).
+
+    The JSON keeps the long ones.
+    """
+    return {s.title: s.short for s in series.schema() if s.short}
 
 
 def _short(value: float) -> str:
@@ -232,12 +226,13 @@ def report_tables(
             name = "RMS" if stat == "rms" else stat
             table.add_column(name, justify="right", width=10, no_wrap=True)
         element = None
+        labels = _labels()
         for r in members:
             if r.element != element and group != "run":
                 element = r.element
                 table.add_row(escape(element), *([""] * len(STATISTICS)))
             unit, factor = DISPLAY_UNITS.get(r.unit, (r.unit, 1.0))
-            label = _LABELS.get(r.quantity, r.quantity)
+            label = labels.get(r.quantity, r.quantity)
             if group == "run" and r.quantity == "energy":
                 label = r.element
             axis = f" {r.component}" if r.component else ""

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 import pytest
 from numpy.testing import assert_array_equal
@@ -93,4 +91,4 @@ def test_joined_parts_number_their_poses_from_the_first_sample():
 def test_a_pose_count_that_differs_from_the_pose_rows_is_refused():
     res = _result(10, np.array([0, 4, 8]))
     with pytest.raises(ValueError, match="2 pose rows for 3 positions"):
-        replace(res, pose_rows=np.array([0, 4]))
+        res.holding(res.arrays(), res.energy, pose_rows=np.array([0, 4]))

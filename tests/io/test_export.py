@@ -31,6 +31,11 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         out[f"mesh/{name}/axial_N"] = m.axial
         out[f"mesh/{name}/flank"] = m.flank
         out[f"mesh/{name}/transmission_error_m"] = m.transmission_error
+        # the compliant mesh's series (0 or the rigid contact state for rigid meshes)
+        out[f"mesh/{name}/deflection_m"] = m.deflection
+        out[f"mesh/{name}/contact_position_m"] = m.contact_position
+        out[f"mesh/{name}/pairs"] = m.pairs
+        out[f"mesh/{name}/single_tooth_force_N"] = m.single_tooth_force
         for k, axis in enumerate("xyz"):
             out[f"mesh/{name}/force_on_b_{axis}_N"] = m.force_on_b[:, k]
             out[f"mesh/{name}/pitch_point_{axis}_m"] = m.pitch_point[:, k]

@@ -1,0 +1,362 @@
+"""The schema of a run's outputs: every time series declared once, read by every consumer.
+
+A ``Series`` says what one Result array holds: its name, the family of elements it has a value
+for (each joint, mesh, bearing, body, generator or rotor, or one per run), its components and
+frame, its SI unit and a one-line meaning, the MCAP topic it is logged on, how the statistics,
+the report and the plots show it, and, for a series computed in Python rather than by the
+compiled step, the function that derives it from a block of samples. The Result's arrays and
+accessors, the log's topics and columns, the run statistics, ``pinwind report``, ``pinwind
+export``, the plot panels and the replay all iterate ``SCHEMA`` (the typed-record idea of rerun's
+archetypes): a new series is one ``declare``.
+
+Series written by the compiled step (``derive`` is None) are the members of ``_native.Series``
+(``dynamics/cpp/outputs.hpp``); a test checks that the two lists agree.
+
+The energy ledger is a dict of one value per run and sample (``Result.energy``), its terms
+declared in ``ENERGY_TERMS``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+#: Kinds of element a series has values for; ``run``: one value per sample.
+Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor"]
+
+#: Result attribute that names the elements of each family, in the order of their columns.
+NAMES_OF: dict[str, str] = {
+    "joint": "joint_names",
+    "mesh": "mesh_names",
+    "bearing": "bearing_names",
+    "body": "body_names",
+    "generator": "generator_names",
+    "rotor": "rotor_names",
+}
+
+#: Folder of each family's MCAP topics (``/meshes/normal``).
+TOPIC_FOLDERS: dict[str, str] = {
+    "run": "/run",
+    "joint": "/joints",
+    "mesh": "/meshes",
+    "bearing": "/bearings",
+    "generator": "/generators",
+    "rotor": "/rotors",
+}
+
+#: Order of the families on the log's viewer topics (as logs have always had them).
+TOPIC_ORDER: tuple[str, ...] = ("joint", "mesh", "bearing", "run", "generator", "rotor")
+
+
+@dataclass(frozen=True)
+class Plot:
+    """How a series is plotted (``io/panels.py``): one panel, a line per element.
+
+    Attributes:
+        key: the panel's key (replay entity folder, figure file stem).
+        group: the replay tab and figure (``panels.GROUPS``).
+        title: what is plotted, with its display unit in brackets.
+        unit: the display unit.
+        scale: display value = SI value × scale.
+        magnitude: plot |v| of a vector series.
+        relative_to: the range floor is relative to the largest |value| of this other series
+            (same scale), e.g. force components relative to the normal force.
+        drop_zero: series that are zero at every sample are left out.
+    """
+
+    key: str
+    group: str
+    title: str
+    unit: str
+    scale: float = 1.0
+    magnitude: bool = False
+    relative_to: str | None = None
+    drop_zero: bool = False
+
+
+#: A function that computes a derived series for a block of samples: (block, gearbox) → array
+#: of shape (samples, elements[, components]); the block is a ``Result`` of the run's other
+#: series (this module imports nothing of pinwind, so it names no type of it).
+Derive = Callable[[Any, Any], np.ndarray]
+
+
+@dataclass(frozen=True)
+class Series:
+    """One output series of a run: an array (samples, elements[, components]) of a Result.
+
+    Attributes:
+        name: the Result attribute (``mesh_normal``); unique.
+        family: which elements it has values for (``Family``).
+        quantity: its name within the family: the accessor field (``res.mesh(m).normal``), the
+            log topic ``/meshes/normal`` and the export column ``mesh/m/normal_N``.
+        unit: SI unit in ASCII (``N``, ``N*m``, ``rad/s^2``, ``1`` for none).
+        meaning: one line, for docs, logs and the report's JSON.
+        components: ``""`` for a scalar, ``"xyz"`` for a vector, ``"xyzw"`` for a quaternion.
+        frame: ``world`` or ``joint``: the axes of a vector's components.
+        per: ``sample`` (a row per sample) or ``pose`` (a row per ``Result.pose_rows``).
+        logged: on its own viewer topic (False: carried by ``/joints`` or ``/tf``).
+        label: its name in the statistics and the report (default: ``quantity`` in words).
+        short: its label in the printed report tables (default: ``label``).
+        statistics: folded into the run statistics and the report.
+        plot: its panel, or None.
+        derive: None for a series the compiled step writes; else the function that computes
+            it from a block's other series, in Python, before the block is logged.
+    """
+
+    name: str
+    family: Family
+    quantity: str
+    unit: str
+    meaning: str
+    components: str = ""
+    frame: str = ""
+    per: Literal["sample", "pose"] = "sample"
+    logged: bool = True
+    label: str = ""
+    short: str = ""
+    statistics: bool = True
+    plot: Plot | None = None
+    derive: Derive | None = None
+
+    @property
+    def topic(self) -> str:
+        """Its MCAP topic (``/meshes/normal``)."""
+        return f"{TOPIC_FOLDERS.get(self.family, '/' + self.family)}/{self.quantity}"
+
+    @property
+    def title(self) -> str:
+        """Its statistics label (``transmission error``)."""
+        return self.label or self.quantity.replace("_", " ")
+
+    @property
+    def width(self) -> int:
+        """Values per element and sample."""
+        return len(self.components) or 1
+
+    def shape(self, elements: int) -> tuple[int, ...]:
+        """Shape of one sample for ``elements`` elements (``()`` for a run scalar)."""
+        if self.family == "run":
+            return (self.width,) if self.components else ()
+        return (elements, self.width) if self.components else (elements,)
+
+    def column_unit(self) -> str:
+        """The unit as a column name suffix: ``N*m`` → ``N_m``, ``rad/s^2`` → ``rad_s2``."""
+        if self.unit == "1":
+            return ""
+        return self.unit.replace("*", "_").replace("/", "_").replace("^", "").replace(" ", "_")
+
+
+RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
+
+_J: Family = "joint"
+_M: Family = "mesh"
+_B: Family = "bearing"
+
+#: Every series of a run, in the order of the Result's arrays (and of the log's columns).
+_BUILT_IN: tuple[Series, ...] = (
+    Series("time", "run", "time", "s", "sample time (exact; log time is rounded to 1 ns)",
+           statistics=False),
+    Series("angle", _J, "angle", "rad", "joint angle, unwrapped", logged=False),
+    Series("speed", _J, "speed", "rad/s", "joint speed relative to the parent body",
+           logged=False,
+           plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm",
+                     RPM_PER_RAD_S)),
+    Series("acceleration", _J, "acceleration", "rad/s^2",
+           "joint acceleration over the step that starts at the sample", short="accel."),
+    Series("torque", _J, "torque", "N*m",
+           "applied torque plus speed-driver or lock torque on the joint", logged=False,
+           plot=Plot("torque", "torques and power", "joint torques, applied + driver/lock "
+                     "[kN·m]", "kN·m", 1e-3)),
+    Series("mesh_normal", _M, "normal", "N", "tooth normal force F_n >= 0",
+           plot=Plot("mesh_force", "mesh forces", "mesh normal forces F_n [kN]", "kN", 1e-3)),
+    Series("mesh_tangential", _M, "tangential", "N", "F_t = F_n cos(alpha_w)",
+           plot=Plot("mesh_tangential", "force components",
+                     "mesh force components: tangential F_t [kN]", "kN", 1e-3,
+                     relative_to="mesh_normal")),
+    Series("mesh_radial", _M, "radial", "N", "F_r = F_n sin(alpha_w)",
+           plot=Plot("mesh_radial", "force components",
+                     "mesh force components: radial F_r (separating) [kN]", "kN", 1e-3,
+                     relative_to="mesh_normal")),
+    Series("mesh_axial", _M, "axial", "N", "F_a = F_t tan(beta)",
+           plot=Plot("mesh_axial", "force components",
+                     "mesh force components: axial F_a [kN]", "kN", 1e-3,
+                     relative_to="mesh_normal")),
+    Series("mesh_flank", _M, "flank", "1",
+           "loaded flank s = +1 when A turning positively drives B, else -1"),
+    Series("transmission_error", _M, "transmission_error", "m",
+           "position mismatch along the line of action", short="TE",
+           plot=Plot("transmission_error", "mesh deflection",
+                     "transmission error along the line of action [µm]", "µm", 1e6)),
+    Series("mesh_force_on_b", _M, "force_on_b", "N", "tooth force on gear B", "xyz", "world",
+           label="force on B (world)", short="F on B"),
+    Series("pitch_point", _M, "pitch_point", "m", "pitch point", "xyz", "world",
+           statistics=False),
+    Series("mesh_deflection", _M, "deflection", "m",
+           "compliant mesh: overlap of the loaded flank (negative: gap); rigid: 0",
+           short="defl.",
+           plot=Plot("mesh_deflection", "mesh deflection", "compliant mesh deflections δ [µm]",
+                     "µm", 1e6, drop_zero=True)),
+    Series("mesh_contact_position", _M, "contact_position", "m",
+           "roll position of the entering tooth pair from gear A's base tangency point",
+           short="contact"),
+    Series("mesh_pairs", _M, "pairs", "1", "tooth pairs in contact"),
+    Series("mesh_single_tooth_force", _M, "single_tooth_force", "N",
+           "normal force on the entering tooth pair, F_n k1/k", short="F 1 tooth",
+           plot=Plot("single_tooth_force", "mesh forces",
+                     "single-tooth forces (entering pair) [kN]", "kN", 1e-3)),
+    Series("bearing_force", _B, "force", "N", "force on the child body at the bearing centre",
+           "xyz", "world", label="force (world)", short="F world",
+           plot=Plot("bearing_force", "bearings",
+                     "bearing forces |F| on the child body, world [kN]", "kN", 1e-3,
+                     magnitude=True)),
+    Series("bearing_moment", _B, "moment", "N*m",
+           "moment on the child body about the bearing centre", "xyz", "world",
+           label="moment (world)", short="M world",
+           plot=Plot("bearing_moment", "bearings",
+                     "bearing moments |M| about the bearing centre, world [kN·m]", "kN·m", 1e-3,
+                     magnitude=True)),
+    Series("bearing_force_local", _B, "force_local", "N",
+           "force on the child body at the bearing centre", "xyz", "joint",
+           label="force (joint frame)", short="F joint"),
+    Series("bearing_moment_local", _B, "moment_local", "N*m",
+           "moment on the child body about the bearing centre", "xyz", "joint",
+           label="moment (joint frame)", short="M joint"),
+    Series("body_position", "body", "position", "m", "link frame origin", "xyz", "world",
+           per="pose", logged=False, statistics=False),
+    Series("body_quaternion", "body", "quaternion", "1", "link orientation, scalar last",
+           "xyzw", "world", per="pose", logged=False, statistics=False),
+    Series("constraint_residual", "run", "constraint_residual", "m/s or rad/s",
+           "max |J v - target| after the step", short="|J v|"),
+    Series("generator_torque", "generator", "torque", "N*m",
+           "generator torque T_gen on the shaft, > 0 generating",
+           plot=Plot("generator_torque", "torques and power",
+                     "generator torque T_gen on the shaft, > 0 generating [kN·m]", "kN·m",
+                     1e-3)),
+    Series("rotor_torque", "rotor", "torque", "N*m", "aerodynamic torque on the hub",
+           plot=Plot("rotor_torque", "torques and power",
+                     "rotor aerodynamic torque on the hub [kN·m]", "kN·m", 1e-3)),
+    Series("rotor_power", "rotor", "power", "W", "aerodynamic power 0.5 rho pi R^2 v^3 Cp",
+           plot=Plot("rotor_power", "torques and power",
+                     "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]", "kW", 1e-3)),
+    Series("rotor_tip_speed_ratio", "rotor", "tip_speed_ratio", "1", "tip-speed ratio wR/v",
+           label="tip-speed ratio", short="TSR",
+           plot=Plot("rotor_tip_speed_ratio", "rotor", "tip-speed ratio λ = ω R / v [-]", "-")),
+    Series("rotor_power_coefficient", "rotor", "power_coefficient", "1",
+           "power coefficient Cp", short="Cp",
+           plot=Plot("rotor_power_coefficient", "rotor", "power coefficient C_p(λ, β) [-]",
+                     "-")),
+    Series("rotor_wind_speed", "rotor", "wind_speed", "m/s", "wind speed at the rotor",
+           short="wind",
+           plot=Plot("rotor_wind_speed", "rotor", "wind speed at the rotor v [m/s]", "m/s")),
+)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class EnergyTerm:
+    """One term of the energy ledger (``Result.energy``), cumulative from t = 0 [J]."""
+
+    name: str
+    meaning: str
+
+
+#: The energy ledger, in the order of ``Result.energy`` (``dynamics/simulate.py`` gives the
+#: balance they close).
+ENERGY_TERMS: tuple[EnergyTerm, ...] = (
+    EnergyTerm("kinetic", "kinetic energy ½ vᵀ M v"),
+    EnergyTerm("work_applied", "work of the applied torques, generators and rotors"),
+    EnergyTerm("work_drivers", "work of the speed drivers and locks"),
+    EnergyTerm("work_springs", "work of the spring forces (torsional springs, compliant meshes)"),
+    EnergyTerm("work_gravity", "work of gravity"),
+    EnergyTerm("work_constraints", "work of the rigid mesh forces (zero up to drift)"),
+    EnergyTerm("dissipated", "energy taken by the dampers"),
+    EnergyTerm("potential_spring", "energy stored in the springs"),
+    EnergyTerm("numerical", "the integrator's own loss: −(ΔU_spring + W_springs)"),
+)
+
+_SCHEMA: list[Series] = list(_BUILT_IN)
+
+
+def schema() -> tuple[Series, ...]:
+    """Every declared series, in the order of the Result's arrays."""
+    return tuple(_SCHEMA)
+
+
+def declare(series: Series) -> Series:
+    """Add a series to the schema: every Result, log, report, export and plot then has it.
+
+    A series computed in Python needs ``derive``; the compiled step's own are declared above.
+
+    Raises:
+        ValueError: its name is taken, or it has no ``derive``.
+    """
+    if any(s.name == series.name for s in _SCHEMA):
+        raise ValueError(f'a series named "{series.name}" is already declared')
+    if series.derive is None:
+        raise ValueError(
+            f'series "{series.name}": give derive=, the function that computes it from a block '
+            "(the compiled step writes only the series of _native.Series)"
+        )
+    if series.family not in ("run", *NAMES_OF):
+        raise ValueError(f'series "{series.name}": unknown family "{series.family}"')
+    _SCHEMA.append(series)
+    return series
+
+
+def withdraw(name: str) -> None:
+    """Remove a declared (derived) series: the inverse of ``declare``."""
+    for i, s in enumerate(_SCHEMA):
+        if s.name == name:
+            if s.derive is None:
+                raise ValueError(f'series "{name}" is written by the compiled step')
+            del _SCHEMA[i]
+            return
+    raise KeyError(name)
+
+
+def get(name: str) -> Series:
+    """The series named ``name``.
+
+    Raises:
+        KeyError: no such series.
+    """
+    for s in _SCHEMA:
+        if s.name == name:
+            return s
+    raise KeyError(name)
+
+
+def of_family(family: str) -> tuple[Series, ...]:
+    """The series of one family, in schema order."""
+    return tuple(s for s in _SCHEMA if s.family == family)
+
+
+def compiled() -> tuple[Series, ...]:
+    """The series the compiled step writes (``_native.Series``)."""
+    return tuple(s for s in _SCHEMA if s.derive is None)
+
+
+def pose_series() -> tuple[Series, ...]:
+    """The series with a row per pose (``Result.pose_rows``) rather than per sample."""
+    return tuple(s for s in _SCHEMA if s.per == "pose")
+
+
+class Names:
+    """The names of the schema's series, read when iterated: a new ``declare`` shows at once."""
+
+    def __init__(self, select: Callable[[Series], bool] = lambda s: True):
+        self._select = select
+
+    def __iter__(self) -> Iterator[str]:
+        return iter([s.name for s in _SCHEMA if self._select(s)])
+
+    def __contains__(self, name: object) -> bool:
+        return any(s.name == name for s in _SCHEMA if self._select(s))
+
+    def __len__(self) -> int:
+        return sum(1 for s in _SCHEMA if self._select(s))
+
+    def __repr__(self) -> str:
+        return f"Names({list(self)})"
