@@ -198,8 +198,7 @@ def main() -> None:
             duration=args.duration,
             dt=args.dt,
             torques=torques,
-            keep="last",
-            statistics=False,
+            keep="last",  # dynamics.simulate folds no statistics (pinwind.simulate would)
         )
         step = plain.metadata["wall_time_s"] / plain.metadata["samples_simulated"]
         path = folder / f"{name}.mcap"

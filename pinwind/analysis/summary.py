@@ -16,7 +16,7 @@ from rich.table import Table
 
 from pinwind.analysis.run_statistics import RunningStatistics
 from pinwind.dynamics._native import fold_columns
-from pinwind.dynamics.result import Result
+from pinwind.dynamics.result import FoldedStatistics, Result
 
 RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
 
@@ -64,7 +64,7 @@ def _table(title: str, columns: tuple[str, ...], plain: bool) -> Table:
     return table
 
 
-def _span(res: Result, stats: RunningStatistics) -> str:
+def _span(res: Result, stats: FoldedStatistics) -> str:
     """What the statistics cover: the run, or the kept samples of a Result that has no others."""
     if stats.count >= res.metadata.get("samples_simulated", stats.count):
         return "the run"

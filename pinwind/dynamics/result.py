@@ -17,15 +17,24 @@ rate of the log (a display rate) in one read from a log.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
 from pinwind.dynamics import series as schema
 from pinwind.errors import UnknownElement
 
-if TYPE_CHECKING:
-    from pinwind.analysis.run_statistics import RunningStatistics
+
+class FoldedStatistics(Protocol):
+    """Statistics of every series over a run (``analysis/run_statistics.RunningStatistics``)."""
+
+    count: int
+
+    def row(self, group: str, element: str, quantity: str, component: str = "") -> Any:
+        """The statistics of one series."""
+
+    def rows(self) -> list[Any]:
+        """One row per series."""
 
 
 class ElementSeries:
@@ -118,7 +127,7 @@ class Result:
         energy: dict[str, np.ndarray] | None = None,
         metadata: dict[str, Any] | None = None,
         status: str = "completed",
-        statistics: RunningStatistics | None = None,
+        statistics: FoldedStatistics | None = None,
         pose_rows: np.ndarray | None = None,
         **arrays: np.ndarray,
     ):

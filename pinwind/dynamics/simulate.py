@@ -36,10 +36,8 @@ from __future__ import annotations
 
 import math
 import time as wallclock
-from collections import deque
-from collections.abc import Mapping
-from concurrent.futures import Future, ThreadPoolExecutor
-from typing import TYPE_CHECKING, Any, Protocol
+from collections.abc import Mapping, Sequence
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -59,12 +57,15 @@ from pinwind.loads.signals import check_covers
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
 
-if TYPE_CHECKING:
-    from pinwind.analysis.run_statistics import RunningStatistics
-
 
 class RunObserver(Protocol):
-    """Receives a run's samples as they are computed (the MCAP logger is one)."""
+    """Receives a run's samples as they are computed (the MCAP logger and the run statistics).
+
+    An observer may say, as ``holds``, how many later blocks it may still read a block during
+    (its arrays must not change until then): 0 when it is done with a block once ``samples``
+    returns. Without it (or None) it may keep the blocks, and the run gives it new arrays every
+    block.
+    """
 
     def begin(self, gearbox: Gearbox, result: Result) -> None:
         """Called once before the first step; ``result`` has the names and metadata."""
@@ -255,12 +256,11 @@ def simulate(
     gravity: np.ndarray | None = None,
     solver: SolverSettings | None = None,
     progress: bool | None = None,
-    observer: RunObserver | None = None,
+    observer: RunObserver | Sequence[RunObserver] | None = None,
     chunk: int | None = None,
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
     keep: str | int = "auto",
-    statistics: bool | None = None,
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
     wind: float | TimeSignal | None = None,
@@ -280,7 +280,9 @@ def simulate(
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
-        observer: receives samples as they are computed (e.g. the MCAP logger).
+        observer: one or several observers that receive the samples as they are computed:
+            the MCAP logger (``io/mcap_log.McapLogger``), the run statistics
+            (``analysis/run_statistics.StatisticsObserver``; ``pinwind.simulate`` adds it).
         chunk: samples per observer call (a log holds a chunk of columns per call); default
             ``block_samples``: 1000 to 5000, a twentieth of the run.
         meshes: mesh name (or ``"all"``) → ``"rigid"``, ``"compliant"`` or a
@@ -292,11 +294,6 @@ def simulate(
             an integer N: every N-th sample from 0, and the last; ``"last"``: the last sample
             only; ``"auto"`` (default): every sample while they fit in ``KEEP_BUDGET`` bytes,
             else every N-th sample with N the smallest that fits.
-        statistics: fold every simulated sample into ``result.statistics``: min, max, mean,
-            RMS and final value of every series (``analysis/run_statistics``), on a thread of
-            its own while the loop steps. Default: when the Result does not keep every sample
-            (``keep``), so that the peaks between kept samples count. With ``keep="last"`` the
-            Result holds the last sample and these statistics only.
         generators: joint name → generator law (``loads/generator.py``), compiled.
         rotors: joint name → ``Rotor`` (``loads/rotor.py``), compiled; its inertia is added to
             the joint.
@@ -437,15 +434,16 @@ def simulate(
         meshes=mesh_setup_,
         loads=elements,
     )
-    if observer is not None:
-        observer.begin(gearbox, res)
-    folding = _Folding() if (stride > 1 if statistics is None else statistics) else None
+    observers = observers_of(observer)
+    for o in observers:
+        o.begin(gearbox, res)
+    holds = [getattr(o, "holds", None) for o in observers]
     status = "completed"
     done = 0
     spring0 = None
     direct = stride == 1  # every sample kept: the Result's own rows are the blocks
-    # Buffers for blocks the Result does not keep: one, or three in turn while the statistics'
-    # thread folds up to two blocks behind (the third is free to step into).
+    # Buffers for blocks the Result does not keep: one more than the blocks an observer may
+    # still read while the loop steps into the next (the statistics' thread folds two behind).
     spares: list[Result] = []
     started = wallclock.perf_counter()
     try:
@@ -483,15 +481,14 @@ def simulate(
                 inputs = inputs[: stop - start]
             if direct:  # the compiled loop writes the kept arrays in place: no copy
                 block = res.rows(start, stop)
-            elif observer is None:  # blocks are dropped once folded: a few buffers in turn
+            elif None not in holds:  # blocks are dropped once observed: buffers in turn
                 if not spares:
-                    turns = 1 if folding is None else _Folding.BEHIND + 1
                     spares = [
                         _allocate(gearbox, chunk, body_names, elements, empty=True)
-                        for _ in range(turns)
+                        for _ in range(1 + max((h for h in holds if h is not None), default=0))
                     ]
                 block = spares[start // chunk % len(spares)].rows(0, stop - start)
-            else:  # the observer may keep the block (the log's writer thread): new arrays
+            else:  # an observer keeps the blocks (the log's writer thread): new arrays
                 block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
             done = start
             failure: PinwindError | None = None
@@ -515,10 +512,8 @@ def simulate(
                 _derive(part, gearbox)
                 if not direct:
                     _keep(res, part, start, kept)
-                if observer is not None:
-                    observer.samples(part, start)
-                if folding is not None:
-                    folding.add(part)
+                for o in observers:
+                    o.samples(part, start)
             if absurd is not None:
                 raise _diverged(absurd, dt) from failure
             if failure is not None:
@@ -541,48 +536,33 @@ def simulate(
         res.metadata["samples_simulated"] = done
         res.status = status
         final = res if status == "completed" else res.truncated(int(np.searchsorted(kept, done)))
-        if folding is not None:
-            try:
-                final.statistics = folding.close()
-            except Exception:
-                if status == "completed":
-                    raise  # otherwise the run's own error is the one to report
-        if observer is not None:
-            observer.end(final, status)
+        _end_all(observers, final, status)
     return final
 
 
-class _Folding:
-    """Folds a run's blocks into ``RunningStatistics`` on a thread, at most ``BEHIND`` behind.
+def _end_all(observers: list[RunObserver], final: Result, status: str) -> None:
+    """Ends every observer, even when one raises (a log is always closed).
 
-    The compiled folding and the compiled loop both run without the GIL, so on two cores the
-    folding costs the loop 4–6 % of its wall time (``benchmarks/run_statistics.py``).
+    Then raises the first error, unless the run itself failed (its own error is the one to
+    report).
     """
-
-    def __init__(self) -> None:
-        from pinwind.analysis.run_statistics import RunningStatistics
-
-        self.statistics = RunningStatistics()
-        self._pool = ThreadPoolExecutor(1, thread_name_prefix="pinwind-statistics")
-        self._pending: deque[Future] = deque()
-
-    #: Blocks added and not yet folded, at most; ``add`` waits for the oldest beyond that.
-    BEHIND = 2
-
-    def add(self, block: Result) -> None:
-        """Fold a block; its arrays must not change until ``BEHIND`` more blocks are added."""
-        while len(self._pending) >= self.BEHIND:
-            self._pending.popleft().result()
-        self._pending.append(self._pool.submit(self.statistics.add, block))
-
-    def close(self) -> RunningStatistics:
-        """The statistics of every block added, once folded."""
+    errors = []
+    for o in observers:
         try:
-            while self._pending:
-                self._pending.popleft().result()
-        finally:
-            self._pool.shutdown()
-        return self.statistics
+            o.end(final, status)
+        except Exception as err:
+            errors.append(err)
+    if errors and status == "completed":
+        raise errors[0]
+
+
+def observers_of(observer: RunObserver | Sequence[RunObserver] | None) -> list[RunObserver]:
+    """The observers given as None, one, or a sequence, as a list."""
+    if observer is None:
+        return []
+    if all(hasattr(observer, m) for m in ("begin", "samples", "end")):
+        return [observer]  # type: ignore[list-item]  # one observer
+    return list(observer)  # type: ignore[arg-type]  # a sequence of them
 
 
 def _numerical_loss(energy: dict[str, np.ndarray], spring0: float) -> None:

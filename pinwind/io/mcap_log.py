@@ -436,6 +436,9 @@ class McapLogger:
         LogExists: the file exists and ``overwrite`` is false.
     """
 
+    #: The writer thread keeps the blocks it is handed: the run gives it new arrays each block.
+    holds: int | None = None
+
     def __init__(
         self,
         path: str | os.PathLike,

@@ -12,7 +12,9 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
+from pinwind.analysis.run_statistics import StatisticsObserver
 from pinwind.dynamics.result import Result
+from pinwind.dynamics.simulate import observers_of
 from pinwind.dynamics.simulate import simulate as _simulate
 from pinwind.io.mcap_log import MAX_LOG_BYTES, POSE_RATE, VIEW_RATE, McapLogger
 from pinwind.model.gearbox import Gearbox
@@ -88,6 +90,11 @@ def simulate(
         command: the command line to record in the log (default: this call, as text).
         allow_large_log: write the log even when its estimated size is above ``MAX_LOG_BYTES``
             (20 GB) or the free disk space.
+        statistics: fold every simulated sample into ``result.statistics``: min, max, mean,
+            RMS and final value of every series (``analysis/run_statistics``), on a thread of
+            its own while the loop steps. Default: when the Result does not keep every sample
+            (``keep``), so that the peaks between kept samples count. With ``keep="last"`` the
+            Result holds the last sample and these statistics only.
         **kwargs: ``duration``, ``dt``, ``torques``, ``speeds``, ... as for
             ``pinwind.dynamics.simulate.simulate``.
 
@@ -103,8 +110,11 @@ def simulate(
         InputError, SolverFailed, Diverged: as for the simulation; the log is still complete up
             to the failure, with an end-status record saying why the run stopped.
     """
+    # the statistics last: the observers' ends run in order (a log is closed first)
+    observers = [*observers_of(kwargs.pop("observer", None))]
+    observers.append(StatisticsObserver(kwargs.pop("statistics", None)))
     if log is None or log is False:
-        return _simulate(gearbox, **kwargs)
+        return _simulate(gearbox, observer=observers, **kwargs)
     path = log_path(log, gearbox.name)
     logger = McapLogger(
         path,
@@ -125,6 +135,6 @@ def simulate(
             },
         ),
     )
-    result = _simulate(gearbox, observer=logger, **kwargs)
+    result = _simulate(gearbox, observer=[logger, *observers], **kwargs)
     result.metadata["log_path"] = str(path)
     return result
