@@ -50,9 +50,13 @@ class SolverSettings:
             )
 
     def as_dict(self) -> dict:
-        """Settings for metadata."""
+        """Settings for metadata: which solve ran, and its tolerances."""
+        solve = {
+            "direct": "Schur complement of the KKT system over an orthonormal basis of the rows",
+            "proxsuite": "proxsuite.proxqp.dense (proximal iterations) for redundant rows",
+        }
         return {
-            "solver": "proxsuite.proxqp.dense",
+            "solver": solve[self.method],
             "proxsuite_version": getattr(proxsuite, "__version__", "unknown"),
             "eps_abs": self.eps_abs,
             "eps_rel": self.eps_rel,
