@@ -41,3 +41,9 @@ def test_readme_quick_start_run_shows_rated_speed_and_tooth_force(tmp_path):
     assert rows["carrier"][1] == "14.2000" and rows["sun"][1] == "85.2000"
     # Tangential force per sun mesh (1e6/6) / (3 × 0.18 m) = 308.6420 kN.
     assert rows["sun_planet1"][2] == f"{1e6 / 6 / (3 * 0.18) / 1e3:.4f}" == "308.6420"
+
+
+def test_the_documented_series_are_the_declared_ones():
+    from pinwind.dynamics.series import markdown_table
+
+    assert markdown_table() in (ROOT / "docs" / "series.md").read_text()

@@ -360,3 +360,23 @@ class Names:
 
     def __repr__(self) -> str:
         return f"Names({list(self)})"
+
+
+def markdown_table() -> str:
+    """The schema as the Markdown table of ``docs/series.md`` (a test keeps the two equal)."""
+    lines = [
+        "| Result array | family | quantity | shape per sample | unit | frame | topic | meaning |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for s in _SCHEMA:
+        per = "" if s.family == "run" else s.family
+        if s.components:
+            per = f"{per}, {s.components}" if per else s.components
+        topic = f"`{s.topic}`" if s.logged else ("`/tf`" if s.per == "pose" else "`/joints`")
+        lines.append(
+            f"| `{s.name}` | {s.family} | {s.quantity} | [{per or 'value'}] | {s.unit} | "
+            f"{s.frame or '-'} | {topic} | {s.meaning.replace('|', '&#124;')} |"
+        )
+    lines += ["", "| energy term | meaning |", "|---|---|"]
+    lines += [f"| `{t.name}` | {t.meaning} |" for t in ENERGY_TERMS]
+    return "\n".join(lines) + "\n"
