@@ -3,7 +3,7 @@
 The sweep (`pinwind.analysis.sweep`) runs every design the same way, whatever its kind:
 
 1. ``design.check(settings)``: geometry findings (`pinwind.gears.checks`), recorded in the row;
-2. ``design.urdf(settings)``: the model file (`pinwind.model.builder`), loaded by pinwind;
+2. ``design.urdf(settings)``: the model file (`pinwind.model.builders`), loaded by pinwind;
 3. ``design.loads(settings)``: (torques, initial speeds) that put the stage in torque balance;
    a short rigid `simulate` run gives the mesh forces;
 4. `pinwind.analysis.rating.rate` (ISO 6336 and AGMA 2001), then ``design.rating_columns``.
@@ -97,7 +97,7 @@ class StageDesign(ABC):
 
     @abstractmethod
     def urdf(self, settings: SweepSettings) -> str:
-        """The design's model file (`pinwind.model.builder`)."""
+        """The design's model file (`pinwind.model.builders`)."""
 
     @abstractmethod
     def loads(self, settings: SweepSettings) -> tuple[dict[str, float], dict[str, float]]:
