@@ -23,6 +23,8 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
+from pinwind.units import rpm_to_rad_s
+
 if TYPE_CHECKING:
     from pinwind.analysis.rating import GearboxRating
 
@@ -47,7 +49,7 @@ class SweepSettings:
     """
 
     input_torque: float = 1e6
-    input_speed: float = 14.2 * math.pi / 30.0
+    input_speed: float = rpm_to_rad_s(14.2)
     pressure_angle: float = math.radians(24.5)
     face_width: float = 0.38
     face_width_factor: float | None = None
