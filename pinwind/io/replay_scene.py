@@ -402,13 +402,6 @@ def camera(model: dict, result, visuals: list[Visual]) -> tuple[np.ndarray, np.n
     return target + 2.4 * radius * direction, target, radius
 
 
-def scene_camera(log) -> Scene:
-    """The default camera of a log's scene (before anything is sent)."""
-    text = log.model_text
-    eye, target, _ = camera(log.model, log.result.posed(), model_visuals(text) if text else [])
-    return Scene(camera_position=eye, camera_target=target)
-
-
 def send_scene(
     log, recording, send: Callable[[str, Any], None], colors: dict | None = None
 ) -> Scene:
@@ -434,9 +427,6 @@ def send_scene(
     def log_static(path: str, *archetypes) -> None:
         for archetype in archetypes:
             rr.log(path, archetype, static=True, recording=recording)
-
-    def toward_camera(axis_world: np.ndarray) -> float:
-        return 1.0 if float(axis_world @ view) >= 0 else -1.0
 
     # Bodies: poses over time (the existing ``gearbox/<link>`` transforms) come from replay.py.
     phases = tooth_phases(model, res)
