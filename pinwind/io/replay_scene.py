@@ -31,6 +31,7 @@ import numpy as np
 
 from pinwind.errors import ModelError
 from pinwind.io.panels import BEARING_ARROW_COLOR, MESH_ARROW_COLOR, body_colors
+from pinwind.model.builders.gear_bodies import RING_RIM_MODULES
 from pinwind.model.phasing import MeshPoint, interlocking_phases
 from pinwind.model.urdf import ModelFile, VisualSpec, read_model_file
 
@@ -182,7 +183,7 @@ def tooth_outline(gear: dict, z: float, phase: float = 0.0) -> np.ndarray:
 def outer_radius(gear: dict) -> float:
     """Radius of the gear's solid: the tip circle, or the rim of an internal gear [m]."""
     if gear["internal"]:
-        return gear["pitch_radius"] + 3.5 * gear["module"]
+        return gear["pitch_radius"] + RING_RIM_MODULES * gear["module"]
     return gear["pitch_radius"] + gear["module"]
 
 
