@@ -49,6 +49,7 @@ from pinwind.loads.generator import InductionMachine
 from pinwind.loads.rotor import Rotor
 from pinwind.loads.signals import Table
 from pinwind.loads.wind import KaimalWind
+from pinwind.units import rpm_to_rad_s
 
 MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
 DEFAULT_MODELS = ("saleh2017_planetary", "saleh2017_drivetrain")
@@ -620,7 +621,7 @@ def loads_cost(path: Path, steps: int, dt: float) -> dict:
                       duration=max(600.0, steps * dt))  # fmt: skip
     loaded = dict(rotors={cf.carrier_joint: Rotor.saleh2017()}, wind=wind,
                   generators={output: machine},
-                  initial_speeds={cf.carrier_joint: 14.2 * 2 * math.pi / 60})  # fmt: skip
+                  initial_speeds={cf.carrier_joint: rpm_to_rad_s(14.2)})  # fmt: skip
 
     def best(**kwargs) -> float:
         pinwind.simulate(gb, duration=10 * dt, dt=dt, progress=False, **kwargs)  # warm-up

@@ -45,7 +45,7 @@ def stages(design, settings, repeat=20):
     from pinwind.analysis.rating import rate
     from pinwind.dynamics.simulate import simulate
     from pinwind.gears.checks import check_planetary
-    from pinwind.model.builder import planetary_urdf
+    from pinwind.model.builders import planetary_urdf
     from pinwind.model.gearbox import loads
 
     out = {"checks": 0.0, "build URDF": 0.0, "load (Pinocchio)": 0.0, "simulate": 0.0,

@@ -33,12 +33,12 @@ from rich.table import Table
 
 import pinwind
 from pinwind.analysis import load_sharing
-from pinwind.cli import RPM_TO_RAD_PER_S
 from pinwind.model.compliance import MeshCompliance
+from pinwind.units import rpm_to_rad_s
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 RATED_POWER = 500e3  # W
-ROTOR_SPEED = 27.1 * RPM_TO_RAD_PER_S  # rad/s, assumed (see the docstring)
+ROTOR_SPEED = rpm_to_rad_s(27.1)  # rad/s, assumed (see the docstring)
 RATED_TORQUE = RATED_POWER / ROTOR_SPEED  # N·m on the carrier
 RATIO = 1 + 91 / 20  # carrier → sun with the ring fixed
 MESH = MeshCompliance(stiffness=3.5e9, damping=40e3)  # 003 §2.3

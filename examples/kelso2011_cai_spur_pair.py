@@ -24,8 +24,9 @@ from rich.table import Table
 
 import pinwind
 from pinwind.analysis.summary import statistics
-from pinwind.cli import RPM_TO_RAD_PER_S, SineSpeed
+from pinwind.cli import SineSpeed
 from pinwind.model.compliance import MeshCompliance
+from pinwind.units import rpm_to_rad_s
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 BRAKE = 49.0  # N·m on the output shaft (the output turns backwards: the brake pushes forwards)
@@ -126,10 +127,10 @@ def main(argv: list[str] | None = None) -> dict[str, list[dict]]:
 
     gb = _model()
     cases = {
-        "200 rpm": 200 * RPM_TO_RAD_PER_S,
-        "300 rpm": 300 * RPM_TO_RAD_PER_S,
+        "200 rpm": rpm_to_rad_s(200.0),
+        "300 rpm": rpm_to_rad_s(300.0),
         **{
-            f"run {run}": SineSpeed(200 * RPM_TO_RAD_PER_S, amp * RPM_TO_RAD_PER_S, freq)
+            f"run {run}": SineSpeed(rpm_to_rad_s(200.0), rpm_to_rad_s(amp), freq)
             for run, (amp, freq) in SINE_RUNS.items()
         },
     }

@@ -32,9 +32,9 @@ import numpy as np  # noqa: E402
 
 import pinwind  # noqa: E402
 from pinwind.scenario import load_scenario, run  # noqa: E402
+from pinwind.units import rad_s_to_rpm  # noqa: E402
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
-RPM = 2 * math.pi / 60
 
 
 def simulate(name: str, duration: float, out: Path) -> pinwind.Result:
@@ -57,7 +57,7 @@ def figures(planetary: pinwind.Result, drivetrain: pinwind.Result, out: Path) ->
     runs = ((planetary, "planetary, 10 m/s steady"), (drivetrain, "drivetrain, 10 m/s Kaimal 10 %"))
     for res, label in runs:
         top.plot(res.time, res.joint("carrier").torque / 1e6, label=label)
-        bottom.plot(res.time, res.joint("carrier").speed / RPM, label=label)
+        bottom.plot(res.time, rad_s_to_rpm(res.joint("carrier").speed), label=label)
     top.set_ylabel("rotor torque on the hub [MN·m]")
     bottom.set_ylabel("rotor speed [rpm]")
     bottom.set_xlabel("time [s]")
@@ -67,7 +67,7 @@ def figures(planetary: pinwind.Result, drivetrain: pinwind.Result, out: Path) ->
 
     fig, ax = plt.subplots(figsize=(8, 4))
     for joint in ("carrier", "sun", "planet1", "ring"):
-        ax.plot(planetary.time, planetary.joint(joint).speed / RPM, label=joint)
+        ax.plot(planetary.time, rad_s_to_rpm(planetary.joint(joint).speed), label=joint)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("angular velocity [rpm]")
     ax.set_title("like 000 Fig. 8: speeds in the planetary stage (planets relative to carrier)")
@@ -101,8 +101,8 @@ def figures(planetary: pinwind.Result, drivetrain: pinwind.Result, out: Path) ->
 def comparison(planetary: pinwind.Result, drivetrain: pinwind.Result) -> list[tuple]:
     """(quantity, paper, pinwind, why) rows; pinwind's values at the end of the steady run."""
     late = planetary.time >= planetary.time[-1] - 1.0
-    carrier = planetary.joint("carrier").speed[late].mean() / RPM
-    sun = planetary.joint("sun").speed[late].mean() / RPM
+    carrier = rad_s_to_rpm(planetary.joint("carrier").speed[late].mean())
+    sun = rad_s_to_rpm(planetary.joint("sun").speed[late].mean())
     torque = planetary.joint("carrier").torque[late].mean()
     ft = planetary.mesh("sun_planet1").tangential[late].mean()
     ring_force = np.linalg.norm(planetary.bearing("ring").force[late].mean(axis=0))

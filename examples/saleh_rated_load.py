@@ -11,7 +11,6 @@ Prints the summary table and the closed-form check of the sun mesh at the end of
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 
 from rich.console import Console
@@ -20,6 +19,7 @@ import pinwind
 from pinwind.analysis.summary import summary_tables
 from pinwind.dynamics.ratios import speed_ratio
 from pinwind.io.figures import plot_log
+from pinwind.units import rpm_to_rad_s
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 RATED_TORQUE = 1e6  # N·m, 000_3b7c4a8fe52a6eee.txt §4.1
@@ -49,7 +49,7 @@ def main(argv: list[str] | None = None) -> pinwind.Result:
         duration=args.duration,
         dt=args.dt,
         torques={"carrier": rotor_torque},
-        speeds={"stage2_pinion": ROTOR_RPM * 2 * math.pi / 60 * ratio},
+        speeds={"stage2_pinion": rpm_to_rad_s(ROTOR_RPM) * ratio},
         **({"log": log, "overwrite": True} if log else {}),
     )
     console = Console()

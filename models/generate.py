@@ -1,4 +1,4 @@
-"""Write the shipped model files of models/ with pinwind.model.builder.
+"""Write the shipped model files of models/ with pinwind.model.builders.
 
 Every value and its source (seed table or documented assumption) is listed in models/README.md.
 Run ``python models/generate.py`` after changing the builder; the outputs are checked in.
@@ -11,7 +11,7 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
-from pinwind.model.builder import (
+from pinwind.model.builders import (
     compound_planetary_urdf,
     cylinder_inertia,
     planetary_urdf,

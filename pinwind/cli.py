@@ -742,7 +742,7 @@ def build_planetary(
     ),
 ) -> None:
     """Write a planetary stage (+ parallel stages) with inertias from steel geometry."""
-    from pinwind.model.builder import write_planetary
+    from pinwind.model.builders import write_planetary
 
     stages = []
     for item in parallel or []:

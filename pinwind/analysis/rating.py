@@ -26,6 +26,7 @@ import numpy as np
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.hertz import hertz_along_path
+from pinwind.gears.involute import pitch_radius
 from pinwind.gears.materials import Material
 from pinwind.gears.rating_agma import AgmaFactors, AgmaRating, agma_rating
 from pinwind.gears.rating_iso import IsoFactors, IsoRating, iso_rating
@@ -234,6 +235,6 @@ def _pitch_line_speed(gearbox: Gearbox, result: Result, mesh: Mesh, k: int) -> f
             omega = float(result.joint(joint).speed[k])
         else:
             omega = 0.0
-        radius = gear.spec.teeth * gear.spec.module / (2.0 * math.cos(gear.spec.helix_angle))
+        radius = pitch_radius(gear.spec.teeth, gear.spec.module, gear.spec.helix_angle)
         speeds.append(abs(omega) * radius)
     return max(speeds)

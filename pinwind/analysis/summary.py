@@ -17,8 +17,7 @@ from rich.table import Table
 from pinwind.analysis.run_statistics import RunningStatistics
 from pinwind.dynamics._native import fold_columns
 from pinwind.dynamics.result import FoldedStatistics, Result
-
-RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
+from pinwind.units import rad_s_to_rpm
 
 
 def statistics(values: np.ndarray) -> dict[str, float]:
@@ -102,7 +101,7 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             ratio_text = f"{ratio:.6g}" if math.isfinite(ratio) else "-"
         joints.add_row(
             name,
-            f"{speed * RAD_PER_S_TO_RPM:.4f}",
+            f"{rad_s_to_rpm(speed):.4f}",
             ratio_text,
             f"{js.torque[-1] / 1e3:.4f}",
         )

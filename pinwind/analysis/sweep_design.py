@@ -3,7 +3,7 @@
 The sweep (`pinwind.analysis.sweep`) runs every design the same way, whatever its kind:
 
 1. ``design.check(settings)``: geometry findings (`pinwind.gears.checks`), recorded in the row;
-2. ``design.urdf(settings)``: the model file (`pinwind.model.builder`), loaded by pinwind;
+2. ``design.urdf(settings)``: the model file (`pinwind.model.builders`), loaded by pinwind;
 3. ``design.loads(settings)``: (torques, initial speeds) that put the stage in torque balance;
    a short rigid `simulate` run gives the mesh forces;
 4. `pinwind.analysis.rating.rate` (ISO 6336 and AGMA 2001), then ``design.rating_columns``.
@@ -22,6 +22,8 @@ import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
+
+from pinwind.units import rpm_to_rad_s
 
 if TYPE_CHECKING:
     from pinwind.analysis.rating import GearboxRating
@@ -47,7 +49,7 @@ class SweepSettings:
     """
 
     input_torque: float = 1e6
-    input_speed: float = 14.2 * math.pi / 30.0
+    input_speed: float = rpm_to_rad_s(14.2)
     pressure_angle: float = math.radians(24.5)
     face_width: float = 0.38
     face_width_factor: float | None = None
@@ -97,7 +99,7 @@ class StageDesign(ABC):
 
     @abstractmethod
     def urdf(self, settings: SweepSettings) -> str:
-        """The design's model file (`pinwind.model.builder`)."""
+        """The design's model file (`pinwind.model.builders`)."""
 
     @abstractmethod
     def loads(self, settings: SweepSettings) -> tuple[dict[str, float], dict[str, float]]:

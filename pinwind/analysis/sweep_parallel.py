@@ -12,7 +12,7 @@ z_p and a wheel z_w = Σ − z_p with a speed ratio u = z_w/z_p strictly inside 
 when `pinwind.gears.checks.check_pair` finds no error (undercut of the pinion, pointed teeth,
 ε_α < 1); designs that only draw warnings are kept with their findings.
 
-Each `ParallelDesign` is built with `model.builder.parallel_urdf`: the wheel on the input shaft
+Each `ParallelDesign` is built with `model.builders.parallel_urdf`: the wheel on the input shaft
 (joint ``input``), the pinion on joint ``stage1_pinion``, mesh ``stage1``. The run applies the
 input torque T to the wheel and +T/u to the pinion (the pinion turns the other way, so a load
 that resists it is positive): the stage is in torque balance and the tangential force at the
@@ -104,8 +104,8 @@ class ParallelDesign(StageDesign):
         )  # fmt: skip
 
     def urdf(self, settings: SweepSettings) -> str:
-        """`model.builder.parallel_urdf` of the pair."""
-        from pinwind.model.builder import parallel_urdf
+        """`model.builders.parallel_urdf` of the pair."""
+        from pinwind.model.builders import parallel_urdf
 
         return parallel_urdf(
             stages=[(self.wheel, self.pinion)], module=self.module,

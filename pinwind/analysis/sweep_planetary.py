@@ -7,7 +7,7 @@ strictly inside the window (lo, hi). Designs given in ``include`` (the paper's p
 24/48/120 at 15 mm, i = 6 exactly, on the window's edge) are added and numbered first in their
 (module, centre distance) group, as Table 5 numbers #38 before #39.
 
-Each `PlanetaryDesign` is built with `model.builder.planetary_urdf` and run with the carrier
+Each `PlanetaryDesign` is built with `model.builders.planetary_urdf` and run with the carrier
 torque in and the sun loaded with −T/i, so the stage is in torque balance (`StageDesign`).
 
 Why the window is open: with the paper's inputs every (a, m) group that assembles has a design
@@ -112,8 +112,8 @@ class PlanetaryDesign(StageDesign):
         )  # fmt: skip
 
     def urdf(self, settings: SweepSettings) -> str:
-        """`model.builder.planetary_urdf` of the stage."""
-        from pinwind.model.builder import planetary_urdf
+        """`model.builders.planetary_urdf` of the stage."""
+        from pinwind.model.builders import planetary_urdf
 
         return planetary_urdf(
             sun=self.sun, planet=self.planet, ring=self.ring, planets=self.planets,

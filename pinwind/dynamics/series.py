@@ -369,7 +369,7 @@ def markdown_table() -> str:
         "|---|---|---|---|---|---|---|---|",
     ]
     for s in _SCHEMA:
-        per = "" if s.family == "run" else s.family
+        per: str = "" if s.family == "run" else s.family
         if s.components:
             per = f"{per}, {s.components}" if per else s.components
         topic = f"`{s.topic}`" if s.logged else ("`/tf`" if s.per == "pose" else "`/joints`")

@@ -30,7 +30,12 @@ from dataclasses import dataclass, replace
 from pinwind.errors import InvalidGearTrain
 from pinwind.gears.contact import path_of_contact
 from pinwind.gears.gear_pair import GearPair
-from pinwind.gears.involute import involute, transverse_pressure_angle
+from pinwind.gears.involute import (
+    base_radius,
+    half_tooth_angle,
+    involute,
+    transverse_pressure_angle,
+)
 from pinwind.gears.involute import tip_radius as unshortened_tip_radius
 from pinwind.gears.involute import virtual_teeth as virtual_teeth
 
@@ -103,22 +108,24 @@ def tip_thickness(
     cos α_at = d_b/d_a. For an internal gear d and d_a count negative (ISO sign convention), so
     s_at = |d_a| (s_t/|d| − inv α_t + inv α_at): its teeth thin towards the tip, which is the
     inner circle. A negative value means the flanks cross below the tip circle (pointed teeth).
+    That is s_at = 2 r_a ψ(r_a), ψ the half tooth angle of ``involute.half_tooth_angle``.
     """
-    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    m_t = module / math.cos(helix_angle)
-    d = teeth * m_t
-    d_b = d * math.cos(alpha_t)
     if tip_radius is None:
         tip_radius = unshortened_tip_radius(
             teeth, module, profile_shift, helix_angle, internal, addendum_coefficient
         )
-    d_a = 2.0 * tip_radius
-    if d_a <= d_b:
+    if tip_radius <= base_radius(teeth, module, pressure_angle, helix_angle):
         return math.nan  # no involute at the tip; reported by path_of_contact
-    alpha_at = math.acos(d_b / d_a)
-    s_t = m_t * (math.pi / 2.0 + 2.0 * profile_shift * math.tan(pressure_angle))
-    sign = -1.0 if internal else 1.0
-    return d_a * (s_t / d + sign * (involute(alpha_t) - involute(alpha_at)))
+    half_angle = half_tooth_angle(
+        teeth,
+        module=module,
+        pressure_angle=pressure_angle,
+        radius=tip_radius,
+        profile_shift=profile_shift,
+        helix_angle=helix_angle,
+        internal=internal,
+    )
+    return 2.0 * tip_radius * half_angle
 
 
 def check_gear(

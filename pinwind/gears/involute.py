@@ -31,7 +31,7 @@ def transverse_pressure_angle(pressure_angle: float, helix_angle: float) -> floa
 
 def pitch_radius(teeth: int, module: float, helix_angle: float = 0.0) -> float:
     """Reference pitch radius r = z m_n / (2 cos β) [m]."""
-    return teeth * module / (2.0 * np.cos(helix_angle))
+    return float(teeth * module / (2.0 * np.cos(helix_angle)))
 
 
 def base_helix_angle(pressure_angle: float, helix_angle: float) -> float:
@@ -74,6 +74,34 @@ def base_radius(
     """Base circle radius r_b = r cos α_t [m]."""
     alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
     return pitch_radius(teeth, module, helix_angle) * float(np.cos(alpha_t))
+
+
+def half_tooth_angle(
+    teeth: int,
+    *,
+    module: float,
+    pressure_angle: float,
+    radius: float,
+    profile_shift: float = 0.0,
+    helix_angle: float = 0.0,
+    internal: bool = False,
+) -> float:
+    """Half the transverse tooth thickness at ``radius`` [m], as an angle about the axis [rad].
+
+    ISO 21771: s_t = m_t (π/2 + 2 x tan α_n) on the reference circle d = z m_t, and at radius r
+
+        ψ(r) = s_t/d ± (inv α_t − inv α(r)),   cos α(r) = r_b / r,
+
+    + for an external gear (its teeth thin outwards), − for an internal one (its teeth thin
+    inwards, towards its tip; x with the ISO sign convention). At or inside the base circle
+    α(r) = 0. The tooth thickness on the circle of radius r is 2 r ψ(r).
+    """
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    r_base = base_radius(teeth, module, pressure_angle, helix_angle)
+    alpha_r = math.acos(min(1.0, r_base / radius))
+    reference = (0.5 * math.pi + 2.0 * profile_shift * math.tan(pressure_angle)) / teeth
+    sign = -1.0 if internal else 1.0
+    return reference + sign * (involute(alpha_t) - involute(alpha_r))
 
 
 @dataclass(frozen=True)

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass
 from typing import TypeVar
 
 from pinwind.errors import InputError
@@ -566,8 +566,3 @@ def form_factors(pair: GearPair, gear: int, *, at_tip: bool = False) -> tuple[fl
 def _mesh_stiffness_per_width(pair: GearPair) -> float:
     """c_γα [N/m per m of face width] from `mesh_stiffness` (ISO 6336-1 method B)."""
     return mesh_stiffness(pair) / pair.face_width
-
-
-def factor_names() -> list[str]:
-    """Names of the fields of `IsoFactors` (for tables)."""
-    return [f.name for f in fields(IsoFactors)]

@@ -33,18 +33,11 @@ from pinwind.dynamics.result import Result, concatenate
 from pinwind.errors import InputError, PortInUse, ServeFailed
 from pinwind.io.log_reader import LogFile, LogReader
 from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview
-from pinwind.io.panels import (
-    GROUPS,
-    RAD_PER_S_TO_RPM,
-    Panel,
-    legend_layout,
-    model_of_log,
-)
+from pinwind.io.panels import GROUPS, Panel, legend_layout, model_of_log
 from pinwind.io.replay_scene import ARROW_FRACTION, Scene, send_scene, tooth_outline
 
 __all__ = [
     "ARROW_FRACTION",
-    "RAD_PER_S_TO_RPM",
     "TIMELINE",
     "FramePicker",
     "MinMaxDecimator",

@@ -1,6 +1,7 @@
 """The 3D scene of ``pinwind replay``: the whole machine, its motion and its forces.
 
-Drawn from the log alone (the ``pinwind.model`` record and the model text it carries):
+Drawn from the log alone (the ``pinwind.model`` record and the model text it carries, read by
+the model's own reader, ``model/urdf.read_model_file``):
 
 - every gear as a solid with its teeth (``gear_mesh``), phased so that meshing teeth interlock
   at the pitch point in the first frame (``tooth_phases``), with a dark **angle mark** from the
@@ -22,15 +23,17 @@ Drawn from the log alone (the ``pinwind.model`` record and the model text it car
 from __future__ import annotations
 
 import math
-import xml.etree.ElementTree as ET
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from pinwind.errors import ModelError
 from pinwind.io.panels import BEARING_ARROW_COLOR, MESH_ARROW_COLOR, body_colors
+from pinwind.model.builders.gear_bodies import RING_RIM_MODULES
 from pinwind.model.phasing import MeshPoint, interlocking_phases
+from pinwind.model.urdf import ModelFile, VisualSpec, read_model_file
 
 #: Largest arrow of the run, as a fraction of the largest pitch radius.
 ARROW_FRACTION = 0.5
@@ -72,80 +75,9 @@ def quaternion_matrix(q) -> np.ndarray:
     )
 
 
-def _attribute(el: ET.Element, attr: str) -> str:
-    """An attribute's text; ValueError when the element does not have it."""
-    raw = el.get(attr)
-    if raw is None:
-        raise ValueError(f"<{el.tag}> has no {attr}")
-    return raw
-
-
-def _rpy_matrix(rpy) -> np.ndarray:
-    r, p, y = rpy
-    rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
-    ry = np.array([[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]])
-    rz = np.array([[math.cos(y), -math.sin(y), 0], [math.sin(y), math.cos(y), 0], [0, 0, 1]])
-    return rz @ ry @ rx
-
-
 def _circle(radius: float, z: float, points: int = 48) -> np.ndarray:
     a = np.linspace(0.0, 2.0 * math.pi, points + 1)
     return np.stack([radius * np.cos(a), radius * np.sin(a), np.full_like(a, z)], axis=1)
-
-
-# --- the model's own shapes ---------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class Visual:
-    """A ``<visual>`` of a link, its pose in the link frame.
-
-    ``kind`` cylinder (size = radius, length), box (x, y, z) or sphere (radius).
-    """
-
-    link: str
-    kind: str
-    size: tuple[float, ...]
-    xyz: np.ndarray
-    rotation: np.ndarray
-
-
-def model_visuals(text: str) -> list[Visual]:
-    """The cylinders, boxes and spheres of the ``<visual>`` elements of a URDF text."""
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError:
-        return []
-    out = []
-    for link in root.findall("link"):
-        for visual in link.findall("visual"):
-            origin = visual.find("origin")
-            xyz = np.zeros(3)
-            rot = np.eye(3)
-            if origin is not None:
-                xyz = np.array([float(v) for v in origin.get("xyz", "0 0 0").split()])
-                rot = _rpy_matrix([float(v) for v in origin.get("rpy", "0 0 0").split()])
-            geometry = visual.find("geometry")
-            if geometry is None:
-                continue
-            for shape in geometry:
-                size: tuple[float, ...]
-                try:
-                    if shape.tag == "cylinder":
-                        size = (
-                            float(_attribute(shape, "radius")),
-                            float(_attribute(shape, "length")),
-                        )
-                    elif shape.tag == "box":
-                        size = tuple(float(v) for v in _attribute(shape, "size").split())
-                    elif shape.tag == "sphere":
-                        size = (float(_attribute(shape, "radius")),)
-                    else:
-                        continue
-                except ValueError:  # a missing or malformed size: the shape is left out
-                    continue
-                out.append(Visual(link.get("name", ""), shape.tag, size, xyz, rot))
-    return out
 
 
 # --- gears: frames, tooth phases, solids --------------------------------------------------------
@@ -251,7 +183,7 @@ def tooth_outline(gear: dict, z: float, phase: float = 0.0) -> np.ndarray:
 def outer_radius(gear: dict) -> float:
     """Radius of the gear's solid: the tip circle, or the rim of an internal gear [m]."""
     if gear["internal"]:
-        return gear["pitch_radius"] + 3.5 * gear["module"]
+        return gear["pitch_radius"] + RING_RIM_MODULES * gear["module"]
     return gear["pitch_radius"] + gear["module"]
 
 
@@ -316,26 +248,21 @@ class Scene:
     notes: list[str] = field(default_factory=list)
 
 
-def _joints(text: str) -> dict[str, dict[str, Any]]:
+def _model_file(text: str) -> tuple[ModelFile | None, str]:
+    """The log's model text read by the model's reader, or (None, why it could not be).
+
+    The text was loaded when the run was made; a log of an older pinwind may hold one that
+    today's reader refuses, and the replay then draws without the model's shapes.
+    """
+    if not text:
+        return None, "the log holds no model text"
     try:
-        root = ET.fromstring(text)
-    except ET.ParseError:
-        return {}
-    out = {}
-    for joint in root.findall("joint"):
-        parent, child, axis = joint.find("parent"), joint.find("child"), joint.find("axis")
-        out[joint.get("name", "")] = {
-            "type": joint.get("type", ""),
-            "parent": parent.get("link", "") if parent is not None else "",
-            "child": child.get("link", "") if child is not None else "",
-            "axis": [float(v) for v in axis.get("xyz", "0 0 1").split()]
-            if axis is not None
-            else [0.0, 0.0, 1.0],
-        }
-    return out
+        return read_model_file("<model of the log>", text), ""
+    except ModelError as err:
+        return None, str(err)
 
 
-def _extent(model: dict, visuals: list[Visual], link: str) -> tuple[float, float, float]:
+def _extent(model: dict, visuals: list[VisualSpec], link: str) -> tuple[float, float, float]:
     """(z min, z max, outer radius) of what a link carries, along z of the link frame."""
     zs, radii = [], []
     for g in model.get("gears", {}).values():
@@ -352,7 +279,7 @@ def _extent(model: dict, visuals: list[Visual], link: str) -> tuple[float, float
     return min(zs), max(zs), max(radii)
 
 
-def _shaft_radius(model: dict, visuals: list[Visual], link: str) -> float:
+def _shaft_radius(model: dict, visuals: list[VisualSpec], link: str) -> float:
     roots = [
         g["pitch_radius"] - 1.25 * g["module"]
         for g in model.get("gears", {}).values()
@@ -363,7 +290,7 @@ def _shaft_radius(model: dict, visuals: list[Visual], link: str) -> float:
     return 0.15 * _extent(model, visuals, link)[2]
 
 
-def _is_gear_visual(v: Visual, model: dict) -> bool:
+def _is_gear_visual(v: VisualSpec, model: dict) -> bool:
     for g in model.get("gears", {}).values():
         if (
             g["link"] == v.link
@@ -375,7 +302,7 @@ def _is_gear_visual(v: Visual, model: dict) -> bool:
     return False
 
 
-def camera(model: dict, result, visuals: list[Visual]) -> tuple[np.ndarray, np.ndarray, float]:
+def camera(model: dict, result, visuals: list[VisualSpec]) -> tuple[np.ndarray, np.ndarray, float]:
     """(eye position, look target, radius) framing every gear and visual of the first sample."""
     points = []
     bodies = {name: i for i, name in enumerate(result.body_names)}
@@ -402,13 +329,6 @@ def camera(model: dict, result, visuals: list[Visual]) -> tuple[np.ndarray, np.n
     return target + 2.4 * radius * direction, target, radius
 
 
-def scene_camera(log) -> Scene:
-    """The default camera of a log's scene (before anything is sent)."""
-    text = log.model_text
-    eye, target, _ = camera(log.model, log.result.posed(), model_visuals(text) if text else [])
-    return Scene(camera_position=eye, camera_target=target)
-
-
 def send_scene(
     log, recording, send: Callable[[str, Any], None], colors: dict | None = None
 ) -> Scene:
@@ -421,9 +341,9 @@ def send_scene(
     res = log.result.posed()  # the frames drawn: samples with a pose
     model = log.model
     gears: dict = model.get("gears", {})
-    text = log.model_text
-    visuals = model_visuals(text) if text else []
-    joints = _joints(text) if text else {}
+    source, unread = _model_file(log.model_text)
+    visuals = source.visuals if source else []
+    joints = source.joints if source else {}
     root = model.get("root_link", "")
     colors = colors or body_colors(res.body_names, root)
     bodies = {name: i for i, name in enumerate(res.body_names)}
@@ -434,9 +354,6 @@ def send_scene(
     def log_static(path: str, *archetypes) -> None:
         for archetype in archetypes:
             rr.log(path, archetype, static=True, recording=recording)
-
-    def toward_camera(axis_world: np.ndarray) -> float:
-        return 1.0 if float(axis_world @ view) >= 0 else -1.0
 
     # Bodies: poses over time (the existing ``gearbox/<link>`` transforms) come from replay.py.
     phases = tooth_phases(model, res)
@@ -558,8 +475,10 @@ def send_scene(
         )
 
     _send_housing(model, res, visuals, log_static)
-    _send_labels(model, res, visuals, colors, joints, root, view, send, log_static)
+    _send_labels(model, res, visuals, colors, root, view, send, log_static)
     scene = Scene(camera_position=eye, camera_target=target)
+    if unread:
+        scene.notes.append(f"the model's own shapes and bearings are not drawn: {unread}")
     _send_arrows(model, res, visuals, view, scene, send, log_static)
     return scene
 
@@ -592,7 +511,7 @@ def _send_housing(model, res, visuals, log_static) -> None:
     )
 
 
-def _send_labels(model, res, visuals, colors, joints, root, view, send, log_static) -> None:
+def _send_labels(model, res, visuals, colors, root, view, send, log_static) -> None:
     """One label per body beside it, on the face toward the camera; coaxial labels fanned."""
     import rerun as rr
 

@@ -12,6 +12,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
 import numpy as np
+import pinocchio as pin
 
 from pinwind.errors import (
     InvalidGearGeometry,
@@ -69,6 +70,21 @@ class SpringSpec:
     preload_angle: float
 
 
+@dataclass(frozen=True)
+class VisualSpec:
+    """One shape of a link's ``<visual>``: its pose in the link frame and its size [m].
+
+    ``kind`` is ``cylinder`` (size = radius, length; axis z), ``box`` (x, y, z) or ``sphere``
+    (radius); ``rotation`` is the link-from-visual rotation of the origin's roll-pitch-yaw.
+    """
+
+    link: str
+    kind: str
+    size: tuple[float, ...]
+    xyz: np.ndarray
+    rotation: np.ndarray
+
+
 @dataclass
 class ModelFile:
     """Everything read from a model file, before Pinocchio sees it."""
@@ -81,6 +97,7 @@ class ModelFile:
     gears: dict[str, GearSpec] = field(default_factory=dict)
     meshes: list[MeshSpec] = field(default_factory=list)
     springs: list[SpringSpec] = field(default_factory=list)
+    visuals: list[VisualSpec] = field(default_factory=list)
     gravity: np.ndarray | None = None
     root_link: str = ""
 
@@ -194,6 +211,47 @@ def _check_inertia(path: str, link: ET.Element) -> dict:
     return {"mass": mass, "com": com, "rpy": rpy, "inertia": tensor}
 
 
+#: The sizes of a ``<visual>`` shape: attribute → how many numbers it holds.
+_SHAPE_SIZES = {"cylinder": (("radius", 1), ("length", 1)), "box": (("size", 3),),
+                "sphere": (("radius", 1),)}  # fmt: skip
+
+
+def _visuals(path: str, link: ET.Element, name: str) -> list[VisualSpec]:
+    """The cylinders, boxes and spheres of a link's ``<visual>`` elements.
+
+    A shape whose size is missing or not numbers is left out, as urdfdom (Pinocchio's reader)
+    leaves it out with a message and loads the model; meshes are not read.
+    """
+    out = []
+    for visual in link.findall("visual"):
+        origin = visual.find("origin")
+        where = _describe(link)
+        xyz = _vector(path, origin, "xyz", "0 0 0", where=where)
+        rpy = _vector(path, origin, "rpy", "0 0 0", where=where)
+        geometry = visual.find("geometry")
+        for shape in geometry if geometry is not None else []:
+            if shape.tag not in _SHAPE_SIZES:
+                continue
+            try:
+                size = tuple(
+                    float(v)
+                    for attr, count in _SHAPE_SIZES[shape.tag]
+                    for v in _numbers(shape.get(attr), count)
+                )
+            except ValueError:
+                continue
+            out.append(VisualSpec(name, shape.tag, size, xyz, pin.rpy.rpyToMatrix(rpy)))
+    return out
+
+
+def _numbers(raw: str | None, count: int) -> list[float]:
+    """``count`` finite numbers from an attribute's text; ValueError otherwise."""
+    values = [float(v) for v in (raw or "").split()]
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise ValueError(f"{raw!r} is not {count} finite numbers")
+    return values
+
+
 def _not_text(path: str, err: UnicodeDecodeError) -> str:
     """What to say of a model file that is not UTF-8 text (a log given as the model, ...)."""
     with open(path, "rb") as f:
@@ -238,6 +296,7 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
                 path, _describe(link), f'a link named "{name}" is defined twice; names are unique'
             )
         out.links[name] = _check_inertia(path, link)
+        out.visuals += _visuals(path, link, name)
     if not out.links:
         raise MalformedModel(path, "<robot>", "the model has no <link>")
     children = set()

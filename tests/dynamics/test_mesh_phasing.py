@@ -42,7 +42,7 @@ import numpy as np
 import pytest
 
 import pinwind
-from pinwind.model.builder import planetary_urdf
+from pinwind.model.builders import planetary_urdf
 from pinwind.model.gearbox import loads
 from tests.conftest import MODELS
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from pinwind.gears.involute import pair_geometry
+from pinwind.gears.involute import half_tooth_angle, pair_geometry
 
 ALPHA_20 = math.radians(20.0)
 
@@ -161,3 +161,45 @@ def test_helical_pair_centre_distance_uses_transverse_module():
     np.testing.assert_allclose(geo.centre_distance, 4e-3 * 85 / (2 * math.cos(beta)), rtol=1e-12)
     alpha_t = math.atan(math.tan(ALPHA_20) / math.cos(beta))
     np.testing.assert_allclose(geo.working_pressure_angle, alpha_t, atol=1e-9)
+
+
+@pytest.mark.parametrize("internal", [False, True])
+@pytest.mark.parametrize("shift", [0.0, 0.419, -0.84])
+def test_half_tooth_angle_on_the_reference_circle_is_a_quarter_pitch_plus_the_shift(
+    internal, shift
+):
+    # ISO 21771: s = m (π/2 + 2 x tan α) on d = z m, so ψ = s/d = (π/2 + 2 x tan α)/z.
+    z, m = 35, 0.01
+    psi = half_tooth_angle(
+        z, module=m, pressure_angle=ALPHA_20, radius=z * m / 2.0, profile_shift=shift,
+        internal=internal,
+    )  # fmt: skip
+    np.testing.assert_allclose(
+        psi, (math.pi / 2.0 + 2.0 * shift * math.tan(ALPHA_20)) / z, rtol=1e-13
+    )
+
+
+@pytest.mark.parametrize(
+    ("z1", "z2", "x1", "x2", "internal"),
+    [
+        (20, 35, 0.582, 0.419, False),  # DTU 500 kW sun-planet (003_83d3049daebcd276.txt)
+        (35, 91, 0.419, -0.840, True),  # DTU 500 kW planet-ring
+        (17, 40, 0.3, -0.1, False),
+    ],
+)
+def test_meshing_teeth_fill_the_working_pitch_without_backlash(z1, z2, x1, x2, internal):
+    # On the working pitch circles the two tooth thicknesses add up to the working pitch
+    # 2π r_w/z: 2 r_w1 ψ1 + 2 r_w2 ψ2 = 2π r_w1/z1, i.e. z1 ψ1 + z2 ψ2 = π (r_w1/z1 = r_w2/z2).
+    m = 0.008
+    geo = pair_geometry(
+        z1, z2, module=m, pressure_angle=ALPHA_20, profile_shift_1=x1, profile_shift_2=x2,
+        internal_2=internal,
+    )  # fmt: skip
+    psi_1 = half_tooth_angle(
+        z1, module=m, pressure_angle=ALPHA_20, radius=geo.working_radius_1, profile_shift=x1
+    )
+    psi_2 = half_tooth_angle(
+        z2, module=m, pressure_angle=ALPHA_20, radius=geo.working_radius_2, profile_shift=x2,
+        internal=internal,
+    )  # fmt: skip
+    np.testing.assert_allclose(z1 * psi_1 + z2 * psi_2, math.pi, rtol=1e-12)

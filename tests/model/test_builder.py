@@ -11,7 +11,7 @@ import pinocchio as pin
 import pytest
 
 from pinwind.errors import InputError, InvalidGearTrain, PinwindWarning, PlanetsCollide
-from pinwind.model.builder import (
+from pinwind.model.builders import (
     compound_planetary_urdf,
     planetary_urdf,
     write_planetary,

@@ -1,0 +1,27 @@
+"""Unit conversions at the edges: pinwind is SI inside (rad/s for speeds).
+
+Speeds come in and go out in rpm at the edges (command line, scenario files, tables, plots);
+``rpm_to_rad_s`` and ``rad_s_to_rpm`` are the one conversion, for numbers and arrays alike.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TypeVar
+
+import numpy as np
+
+#: One revolution per minute in rad/s: 2π/60.
+RAD_S_PER_RPM = 2.0 * math.pi / 60.0
+
+Speed = TypeVar("Speed", float, np.ndarray)
+
+
+def rpm_to_rad_s(speed_rpm: Speed) -> Speed:
+    """A speed in rad/s from one in revolutions per minute (ω = 2π n/60)."""
+    return speed_rpm * RAD_S_PER_RPM
+
+
+def rad_s_to_rpm(speed: Speed) -> Speed:
+    """A speed in revolutions per minute from one in rad/s (n = 60 ω/2π)."""
+    return speed / RAD_S_PER_RPM
