@@ -25,3 +25,23 @@ def rpm_to_rad_s(speed_rpm: Speed) -> Speed:
 def rad_s_to_rpm(speed: Speed) -> Speed:
     """A speed in revolutions per minute from one in rad/s (n = 60 ω/2π)."""
     return speed / RAD_S_PER_RPM
+
+
+#: rpm per rad/s, 60/2π: plots multiply by it, as they always have (bit for bit).
+RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
+#: Display units that are a thousand SI units.
+_KILO = ("kN", "kN·m", "kW", "kJ", "kN/m")
+
+
+def to_display(values: np.ndarray, unit: str) -> np.ndarray:
+    """SI values in a plot's display unit.
+
+    kN, kN·m, kW, kJ, kN/m: ÷ 1000; µm: × 1e6; rpm: × 60/2π; any other unit: the values.
+    """
+    if unit in _KILO:
+        return values / 1e3
+    if unit == "µm":
+        return values * 1e6
+    if unit == "rpm":
+        return values * RPM_PER_RAD_S
+    return values

@@ -59,8 +59,7 @@ class Plot:
         key: the panel's key (replay entity folder, figure file stem).
         group: the replay tab and figure (``panels.GROUPS``).
         title: what is plotted, with its display unit in brackets.
-        unit: the display unit.
-        scale: display value = SI value × scale.
+        unit: the display unit (``units.to_display`` converts to it).
         magnitude: plot |v| of a vector series.
         relative_to: the range floor is relative to the largest |value| of this other series
             (same scale), e.g. force components relative to the normal force.
@@ -71,7 +70,6 @@ class Plot:
     group: str
     title: str
     unit: str
-    scale: float = 1.0
     magnitude: bool = False
     relative_to: str | None = None
     drop_zero: bool = False
@@ -149,8 +147,6 @@ class Series:
         return self.unit.replace("*", "_").replace("/", "_").replace("^", "").replace(" ", "_")
 
 
-RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
-
 _J: Family = "joint"
 _M: Family = "mesh"
 _B: Family = "bearing"
@@ -162,34 +158,33 @@ _BUILT_IN: tuple[Series, ...] = (
     Series("angle", _J, "angle", "rad", "joint angle, unwrapped", logged=False),
     Series("speed", _J, "speed", "rad/s", "joint speed relative to the parent body",
            logged=False,
-           plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm",
-                     RPM_PER_RAD_S)),
+           plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm")),
     Series("acceleration", _J, "acceleration", "rad/s^2",
            "joint acceleration over the step that starts at the sample", short="accel."),
     Series("torque", _J, "torque", "N*m",
            "applied torque plus speed-driver or lock torque on the joint", logged=False,
            plot=Plot("torque", "torques and power", "joint torques, applied + driver/lock "
-                     "[kN·m]", "kN·m", 1e-3)),
+                     "[kN·m]", "kN·m")),
     Series("mesh_normal", _M, "normal", "N", "tooth normal force F_n >= 0",
-           plot=Plot("mesh_force", "mesh forces", "mesh normal forces F_n [kN]", "kN", 1e-3)),
+           plot=Plot("mesh_force", "mesh forces", "mesh normal forces F_n [kN]", "kN")),
     Series("mesh_tangential", _M, "tangential", "N", "F_t = F_n cos(alpha_w)",
            plot=Plot("mesh_tangential", "force components",
-                     "mesh force components: tangential F_t [kN]", "kN", 1e-3,
+                     "mesh force components: tangential F_t [kN]", "kN",
                      relative_to="mesh_normal")),
     Series("mesh_radial", _M, "radial", "N", "F_r = F_n sin(alpha_w)",
            plot=Plot("mesh_radial", "force components",
-                     "mesh force components: radial F_r (separating) [kN]", "kN", 1e-3,
+                     "mesh force components: radial F_r (separating) [kN]", "kN",
                      relative_to="mesh_normal")),
     Series("mesh_axial", _M, "axial", "N", "F_a = F_t tan(beta)",
            plot=Plot("mesh_axial", "force components",
-                     "mesh force components: axial F_a [kN]", "kN", 1e-3,
+                     "mesh force components: axial F_a [kN]", "kN",
                      relative_to="mesh_normal")),
     Series("mesh_flank", _M, "flank", "1",
            "loaded flank s = +1 when A turning positively drives B, else -1"),
     Series("transmission_error", _M, "transmission_error", "m",
            "position mismatch along the line of action", short="TE",
            plot=Plot("transmission_error", "mesh deflection",
-                     "transmission error along the line of action [µm]", "µm", 1e6)),
+                     "transmission error along the line of action [µm]", "µm")),
     Series("mesh_force_on_b", _M, "force_on_b", "N", "tooth force on gear B", "xyz", "world",
            label="force on B (world)", short="F on B"),
     Series("pitch_point", _M, "pitch_point", "m", "pitch point", "xyz", "world",
@@ -198,7 +193,7 @@ _BUILT_IN: tuple[Series, ...] = (
            "compliant mesh: overlap of the loaded flank (negative: gap); rigid: 0",
            short="defl.",
            plot=Plot("mesh_deflection", "mesh deflection", "compliant mesh deflections δ [µm]",
-                     "µm", 1e6, drop_zero=True)),
+                     "µm", drop_zero=True)),
     Series("mesh_contact_position", _M, "contact_position", "m",
            "roll position of the entering tooth pair from gear A's base tangency point",
            short="contact"),
@@ -206,17 +201,17 @@ _BUILT_IN: tuple[Series, ...] = (
     Series("mesh_single_tooth_force", _M, "single_tooth_force", "N",
            "normal force on the entering tooth pair, F_n k1/k", short="F 1 tooth",
            plot=Plot("single_tooth_force", "mesh forces",
-                     "single-tooth forces (entering pair) [kN]", "kN", 1e-3)),
+                     "single-tooth forces (entering pair) [kN]", "kN")),
     Series("bearing_force", _B, "force", "N", "force on the child body at the bearing centre",
            "xyz", "world", label="force (world)", short="F world",
            plot=Plot("bearing_force", "bearings",
-                     "bearing forces |F| on the child body, world [kN]", "kN", 1e-3,
+                     "bearing forces |F| on the child body, world [kN]", "kN",
                      magnitude=True)),
     Series("bearing_moment", _B, "moment", "N*m",
            "moment on the child body about the bearing centre", "xyz", "world",
            label="moment (world)", short="M world",
            plot=Plot("bearing_moment", "bearings",
-                     "bearing moments |M| about the bearing centre, world [kN·m]", "kN·m", 1e-3,
+                     "bearing moments |M| about the bearing centre, world [kN·m]", "kN·m",
                      magnitude=True)),
     Series("bearing_force_local", _B, "force_local", "N",
            "force on the child body at the bearing centre", "xyz", "joint",
@@ -233,14 +228,13 @@ _BUILT_IN: tuple[Series, ...] = (
     Series("generator_torque", "generator", "torque", "N*m",
            "generator torque T_gen on the shaft, > 0 generating",
            plot=Plot("generator_torque", "torques and power",
-                     "generator torque T_gen on the shaft, > 0 generating [kN·m]", "kN·m",
-                     1e-3)),
+                     "generator torque T_gen on the shaft, > 0 generating [kN·m]", "kN·m")),
     Series("rotor_torque", "rotor", "torque", "N*m", "aerodynamic torque on the hub",
            plot=Plot("rotor_torque", "torques and power",
-                     "rotor aerodynamic torque on the hub [kN·m]", "kN·m", 1e-3)),
+                     "rotor aerodynamic torque on the hub [kN·m]", "kN·m")),
     Series("rotor_power", "rotor", "power", "W", "aerodynamic power 0.5 rho pi R^2 v^3 Cp",
            plot=Plot("rotor_power", "torques and power",
-                     "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]", "kW", 1e-3)),
+                     "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]", "kW")),
     Series("rotor_tip_speed_ratio", "rotor", "tip_speed_ratio", "1", "tip-speed ratio wR/v",
            label="tip-speed ratio", short="TSR",
            plot=Plot("rotor_tip_speed_ratio", "rotor", "tip-speed ratio λ = ω R / v [-]", "-")),

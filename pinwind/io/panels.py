@@ -21,8 +21,7 @@ import numpy as np
 
 from pinwind.dynamics import series
 from pinwind.dynamics.result import Result
-
-RAD_PER_S_TO_RPM = 60.0 / (2.0 * math.pi)
+from pinwind.units import to_display
 
 #: Smallest y span of a plot, as a fraction of the largest |value| shown (or of the reference).
 RANGE_FLOOR = 0.05
@@ -382,9 +381,11 @@ def panels(
 
     def plotted(s: series.Series) -> np.ndarray:
         values = getattr(res, s.name)
-        if s.plot is not None and s.plot.magnitude:
+        if s.plot is None:
+            return values
+        if s.plot.magnitude:
             values = np.linalg.norm(values, axis=-1)
-        return values * (s.plot.scale if s.plot is not None else 1.0)
+        return to_display(values, s.plot.unit)
 
     out: list[Panel] = []
     for s in series.schema():
@@ -407,7 +408,7 @@ def panels(
                         "body speeds, absolute (about the own axis, in the world) [rpm]",
                         "rpm",
                         [
-                            Series(name, absolute[name] * RAD_PER_S_TO_RPM, joint_color(name, i))
+                            Series(name, to_display(absolute[name], "rpm"), joint_color(name, i))
                             for i, name in enumerate(res.joint_names)
                             if name in absolute
                         ],

@@ -43,7 +43,7 @@ def with_line_load():
             "N/m",
             "line load w = F_t / b",
             plot=Plot(
-                "line_load", "force components", "line load w = F_t / b [kN/m]", "kN/m", 1e-3
+                "line_load", "force components", "line load w = F_t / b [kN/m]", "kN/m"
             ),  # fmt: skip
             derive=line_load,
         )
