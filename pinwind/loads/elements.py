@@ -16,7 +16,8 @@ from pinwind.dynamics import _native
 from pinwind.errors import InputError, NonFiniteInput, UnknownJoint
 from pinwind.loads.generator import GeneratorLaw, InductionMachine, describe
 from pinwind.loads.rotor import Rotor
-from pinwind.loads.signals import Signal, signal_from_spec
+from pinwind.loads.signal_text import signal_from_spec
+from pinwind.loads.signals import Signal
 
 
 @dataclass

@@ -13,7 +13,7 @@ import pinwind
 from pinwind.errors import InputError
 from pinwind.loads.generator import VariableSpeed
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
-from pinwind.loads.signals import parse_signal
+from pinwind.loads.signal_text import parse_signal
 from pinwind.loads.wind import KaimalWind, kaimal_series
 
 RPM = 2 * math.pi / 60
