@@ -29,7 +29,7 @@ from pinwind.errors import (
     PinwindWarning,
     UnknownElement,
 )
-from pinwind.gears.contact import PathOfContact, path_of_contact
+from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.involute import pitch_radius
 from pinwind.model.compliance import MeshCompliance
@@ -445,7 +445,7 @@ class Gearbox:
     def _path(self, where: str, pair: GearPair, compliant: bool) -> PathOfContact | None:
         """The pair's path of contact; for a rigid mesh a failure only warns (outputs NaN)."""
         try:
-            return path_of_contact(pair)
+            return pair.path_of_contact()
         except PinwindError as err:
             if compliant:
                 raise InvalidGearGeometry(self.path, where, str(err)) from err
