@@ -29,7 +29,12 @@ from dataclasses import dataclass, replace
 
 from pinwind.errors import InvalidGearTrain
 from pinwind.gears.gear_pair import GearPair
-from pinwind.gears.involute import involute, transverse_pressure_angle
+from pinwind.gears.involute import (
+    base_radius,
+    half_tooth_angle,
+    involute,
+    transverse_pressure_angle,
+)
 from pinwind.gears.involute import tip_radius as unshortened_tip_radius
 from pinwind.gears.involute import virtual_teeth as virtual_teeth
 
@@ -96,28 +101,24 @@ def tip_thickness(
     tip_radius: float | None = None,
     addendum_coefficient: float = 1.0,
 ) -> float:
-    """Transverse tooth thickness on the tip circle, s_at [m] (ISO 21771).
+    """Transverse tooth thickness on the tip circle, s_at = d_a ψ(r_a) [m] (ISO 21771).
 
-    s_at = d_a (s_t/d + inv α_t − inv α_at) with s_t = m_t (π/2 + 2 x tan α_n) and
-    cos α_at = d_b/d_a. For an internal gear d and d_a count negative (ISO sign convention), so
-    s_at = |d_a| (s_t/|d| − inv α_t + inv α_at): its teeth thin towards the tip, which is the
-    inner circle. A negative value means the flanks cross below the tip circle (pointed teeth).
+    ψ is half the tooth's angle (`involute.half_tooth_angle`): s_at = d_a (s_t/d ± (inv α_t −
+    inv α_at)) with s_t = m_t (π/2 + 2 x tan α_n) and cos α_at = d_b/d_a, − for an internal gear,
+    whose teeth thin towards the tip, the inner circle. A negative value means the flanks cross
+    below the tip circle (pointed teeth).
     """
-    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
-    m_t = module / math.cos(helix_angle)
-    d = teeth * m_t
-    d_b = d * math.cos(alpha_t)
     if tip_radius is None:
         tip_radius = unshortened_tip_radius(
             teeth, module, profile_shift, helix_angle, internal, addendum_coefficient
         )
-    d_a = 2.0 * tip_radius
-    if d_a <= d_b:
+    if tip_radius <= base_radius(teeth, module, pressure_angle, helix_angle):
         return math.nan  # no involute at the tip; reported by path_of_contact
-    alpha_at = math.acos(d_b / d_a)
-    s_t = m_t * (math.pi / 2.0 + 2.0 * profile_shift * math.tan(pressure_angle))
-    sign = -1.0 if internal else 1.0
-    return d_a * (s_t / d + sign * (involute(alpha_t) - involute(alpha_at)))
+    psi = half_tooth_angle(
+        teeth, module, pressure_angle, tip_radius,
+        profile_shift=profile_shift, helix_angle=helix_angle, internal=internal,
+    )  # fmt: skip
+    return 2.0 * tip_radius * psi
 
 
 def check_gear(

@@ -76,6 +76,35 @@ def base_radius(
     return pitch_radius(teeth, module, helix_angle) * float(np.cos(alpha_t))
 
 
+def half_tooth_angle(
+    teeth: int,
+    module: float,
+    pressure_angle: float,
+    radius: float,
+    *,
+    profile_shift: float = 0.0,
+    helix_angle: float = 0.0,
+    internal: bool = False,
+) -> float:
+    """Half the transverse tooth thickness at ``radius``, as an angle about the gear axis [rad].
+
+    ISO 21771: s_t = m_t (π/2 + 2 x tan α_n) on the reference circle d = z m_t, and at radius r
+
+        ψ(r) = s_t/d ± (inv α_t − inv α(r)),   cos α(r) = r_b / r,
+
+    + for an external gear (its teeth thin outwards), − for an internal one (its teeth thin
+    inwards, towards its tip: d and r count negative in ISO's formula). The thickness there is
+    the arc s(r) = 2 r ψ(r). ``radius`` is at least the base radius (taken as it below).
+    """
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    r_ref = teeth * module / (2.0 * math.cos(helix_angle))
+    r_base = r_ref * math.cos(alpha_t)
+    alpha_r = math.acos(min(1.0, r_base / radius))
+    reference = (0.5 * math.pi + 2.0 * profile_shift * math.tan(pressure_angle)) / teeth
+    sign = -1.0 if internal else 1.0
+    return reference + sign * (involute(alpha_t) - involute(alpha_r))
+
+
 @dataclass(frozen=True)
 class PairGeometry:
     """Working geometry of a gear pair.
