@@ -7,7 +7,7 @@ logged to one self-contained MCAP file (``simulate(..., log="run.mcap")``, ``rea
 
 from pinwind.dynamics.result import Result
 from pinwind.errors import PinwindError
-from pinwind.io.mcap_log import read_log
+from pinwind.io.log_reader import read_log
 from pinwind.io.run import simulate
 from pinwind.model.gearbox import Gearbox, load
 

@@ -134,10 +134,11 @@ class SineSpeed:
 
 
 def _signal_or_float(text: str, option: str, unit: str, scale: float = 1.0):
-    """A number, or a signal's text form (``sine(mean=..., ...)``, ``loads/signals.py``)."""
+    """A number, or a signal's text form (``sine(mean=..., ...)``, ``loads/signal_text.py``)."""
     if "(" not in text:
         return _float(text, option, unit) * scale
-    from pinwind.loads.signals import Scaled, parse_signal
+    from pinwind.loads.signal_text import parse_signal
+    from pinwind.loads.signals import Scaled
 
     signal = parse_signal(text, where=option)
     return Scaled(signal, scale) if scale != 1.0 else signal

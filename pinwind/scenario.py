@@ -50,7 +50,8 @@ from typing import Any
 from pinwind.errors import InputError
 from pinwind.loads.generator import ConstantTorque, InductionMachine, LinearSlip, VariableSpeed
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
-from pinwind.loads.signals import Scaled, Signal, signal_from_spec
+from pinwind.loads.signal_text import signal_from_spec
+from pinwind.loads.signals import Scaled, Signal
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -50,7 +50,7 @@ from pinwind.gears.mesh_stiffness import (
 )
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gear, Gearbox, Mesh
-from pinwind.model.phasing import direction_at, half_tooth_angle
+from pinwind.model.phasing import direction_at
 
 #: Steps per period of the highest mesh mode below which a run warns that the step is coarse.
 RESOLVING_STEPS = 10
@@ -145,11 +145,11 @@ def reference_direction(gearbox: Gearbox, gear: Gear, mesh: Mesh) -> np.ndarray:
     direction along the centre line, the front flank is at the pitch point. The angle is the
     tooth centre's (``gearbox.tooth_phases``, teeth interlocked with the mating gears,
     ``model/phasing.py``) plus half the tooth thickness on that circle (ISO 21771,
-    ``half_tooth_angle``), so a gear meshing on two pitch circles (a planet) has one set of
-    teeth.
+    ``gears/involute.half_tooth_angle``), so a gear meshing on two pitch circles (a planet) has
+    one set of teeth.
     """
     radius = mesh.working_radius_a if gear is mesh.gear_a else mesh.working_radius_b
-    angle = gearbox.tooth_phases[gear.name] + half_tooth_angle(gear.spec, radius)
+    angle = gearbox.tooth_phases[gear.name] + gear.spec.half_tooth_angle(radius)
     return direction_at(gear.axis_in_joint, angle)
 
 
@@ -232,7 +232,7 @@ def mesh_setup(
         ref_a, ref_b = reference_direction(gearbox, a, mesh), reference_direction(gearbox, b, mesh)
         psi_a = _angle_about(k, u, data.oMi[a.joint_id].rotation @ ref_a)
         psi_b = _angle_about(k, u, data.oMi[b.joint_id].rotation @ ref_b)
-        paths.append(_path_spec(mesh, ref_a, 2.0 * half_tooth_angle(a.spec, mesh.working_radius_a)))
+        paths.append(_path_spec(mesh, ref_a, 2.0 * a.spec.half_tooth_angle(mesh.working_radius_a)))
         if mesh.compliance is None:
             rigid.append(i)
             continue

@@ -43,12 +43,12 @@ import numpy as np
 
 from pinwind.dynamics import series
 from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
+from pinwind.dynamics.elements import LoadElements, load_elements
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.errors import Diverged, InputError, NonFiniteInput, OutOfMemory, PinwindError
-from pinwind.loads.elements import LoadElements, load_elements
 from pinwind.loads.generator import GeneratorLaw
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.loads.rotor import Rotor

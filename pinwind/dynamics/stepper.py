@@ -18,11 +18,11 @@ import pinocchio as pin
 
 from pinwind.dynamics import _native, series
 from pinwind.dynamics.compliant import IMPLICIT_THETA, MeshSetup
+from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.errors import ConflictingConstraints, Diverged, MalformedModel, SolverFailed
-from pinwind.loads.elements import LoadElements
 from pinwind.model.gearbox import Gearbox
 
 #: Constraint residual |J v − target| above which velocities are projected, relative to
@@ -88,7 +88,7 @@ class CompiledStepper:
         driver_names: their joint names, for messages.
         settings: proxsuite settings.
         meshes: the run's rigid and compliant meshes (``dynamics/compliant.py``).
-        loads: the generator and rotor elements (``loads/elements.py``): their compiled specs,
+        loads: the generator and rotor elements (``dynamics/elements.py``): their compiled specs,
             the rotors' inertia added to their joints, and the number of input columns.
     """
 

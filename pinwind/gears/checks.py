@@ -28,7 +28,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
 from pinwind.errors import InvalidGearTrain
-from pinwind.gears.contact import path_of_contact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.involute import (
     base_radius,
@@ -218,7 +217,7 @@ def check_pair(pair: GearPair, *, case_hardened: bool = True) -> list[Finding]:
     names = pair.names
     label = f"{names[0]}–{names[1]}"
     try:
-        path_of_contact(pair)
+        pair.path_of_contact()
     except InvalidGearTrain as err:
         kind = type(err).__name__
         check = {

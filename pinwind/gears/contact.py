@@ -8,23 +8,21 @@ measured from T1, or from A where the name says so. Lengths are in metres and an
 
 Profile shift follows ISO 21771, as in `pinwind.gears.involute`: an internal gear counts with a
 negative tooth number inside the formulas, and its profile shift x keeps the ISO sign. So the
-tip (inner) radius of an internal gear is r_a = r − m_n (h_a* + x) (see `path_of_contact`). The pair
-is a `pinwind.gears.gear_pair.GearPair`.
+tip (inner) radius of an internal gear is r_a = r − m_n (h_a* + x) (see `path_of_contact`).
+`path_of_contact` takes the pair's geometry as numbers; `GearPair.path_of_contact` gives them for
+a `pinwind.gears.gear_pair.GearPair`.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from pinwind.errors import InvalidGearTrain
-
-if TYPE_CHECKING:
-    from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.involute import PairGeometry
 
 
 @dataclass(frozen=True)
@@ -39,8 +37,7 @@ class PathOfContact:
         base_pitch: transverse base pitch p_bt = π m_t cos α_t [m].
         length: g_α, the length of the path of contact from A to E [m].
         contact_ratio: transverse contact ratio ε_α = g_α / p_bt [-].
-        overlap_ratio: overlap ratio ε_β = b sin β / (π m_n) [-]; 0 for spur gears, or when no
-            face width is given.
+        overlap_ratio: overlap ratio ε_β = b sin β / (π m_n) [-]; 0 for spur gears.
         start_roll_1: distance from T1 (gear 1's base-circle tangency point) to A along the line
             of action [m]. This is gear 1's base-circle roll length at the start of contact.
         pitch_roll_1: the same distance for the pitch point C, r_b1 tan α_wt [m].
@@ -66,16 +63,20 @@ class PathOfContact:
 
 
 def path_of_contact(
-    pair: GearPair,
+    geometry: PairGeometry,
     *,
-    tip_radius_1: float | None = None,
-    tip_radius_2: float | None = None,
+    tip_radius_1: float,
+    tip_radius_2: float,
+    base_pitch: float,
+    internal_1: bool = False,
+    internal_2: bool = False,
+    overlap_ratio: float = 0.0,
 ) -> PathOfContact:
     """Path of contact of a spur or helical pair, external or internal, with profile shift.
 
-    The working pressure angle α_wt and centre distance a_w are the pair's
-    (`GearPair.geometry`, from `pinwind.gears.involute.pair_geometry`). By default the tip radii
-    have no tip shortening (`GearPair.tip_radius`):
+    The working pressure angle α_wt, centre distance a_w and base radii are ``geometry``'s
+    (`pinwind.gears.involute.pair_geometry`). Tip radii without tip shortening
+    (`involute.tip_radius`, `GearPair.tip_radius`) are:
 
         external gear: r_a = r + m_n (h_a* + x)
         internal gear: r_a = r − m_n (h_a* + x)
@@ -96,10 +97,12 @@ def path_of_contact(
         gear 1 internal:   g_α = g_a2 − g_a1 + a_w sin α_wt
 
     Args:
-        pair: the pair (either gear may be internal); its face width gives the overlap ratio
-            and its addendum coefficient h_a* the default tip radii.
-        tip_radius_1: tip radius of gear 1 [m]. Overrides the default, e.g. for tip shortening.
+        geometry: working geometry of the pair (either gear may be internal).
+        tip_radius_1: tip radius of gear 1 [m] (its inner radius if internal).
         tip_radius_2: tip radius of gear 2 [m].
+        base_pitch: transverse base pitch p_bt = π m_t cos α_t [m].
+        internal_1, internal_2: gear 1 or gear 2 is an internal (ring) gear.
+        overlap_ratio: ε_β = b sin β / (π m_n) [-], carried into the result.
 
     Raises:
         TipInsideBaseCircle: a tip circle lies inside its base circle.
@@ -109,11 +112,6 @@ def path_of_contact(
         ValueError: an internal and an external gear of equal tooth numbers
             (`involute.pair_geometry`).
     """
-    geometry = pair.geometry
-    if tip_radius_1 is None:
-        tip_radius_1 = pair.tip_radius(1)
-    if tip_radius_2 is None:
-        tip_radius_2 = pair.tip_radius(2)
     base_1 = float(geometry.base_radius_1)
     base_2 = float(geometry.base_radius_2)
     for gear, tip, base in ((1, tip_radius_1, base_1), (2, tip_radius_2, base_2)):
@@ -121,17 +119,17 @@ def path_of_contact(
             raise TipInsideBaseCircle(gear, tip, base)
 
     alpha_wt = float(geometry.working_pressure_angle)
-    line = pair.tangency_distance  # |T1 T2|
+    line = geometry.tangency_distance  # |T1 T2|
     tip_roll_1 = math.sqrt(tip_radius_1**2 - base_1**2)  # from T1 to gear 1's tip circle
     tip_roll_2 = math.sqrt(tip_radius_2**2 - base_2**2)  # from T2 to gear 2's tip circle
 
     # Positions u along the line of action, measured from T1 towards the pitch point C. Contact
     # must stay where both flanks are involutes: between T1 and T2 for an external pair, and
     # beyond the nearer tangency point for an internal pair (both lie on the same side of C).
-    if pair.internal_2:
+    if internal_2:
         start, end = tip_roll_2 - line, tip_roll_1
         lower, upper = 0.0, math.inf
-    elif pair.internal_1:
+    elif internal_1:
         start, end = tip_roll_1, line + tip_roll_2
         lower, upper = line, math.inf
     else:
@@ -140,7 +138,6 @@ def path_of_contact(
     if start < lower or end > upper:
         raise InvoluteInterference(start, end, lower, upper)
 
-    base_pitch = math.pi * pair.transverse_module * math.cos(pair.transverse_pressure_angle)
     length = end - start
     contact_ratio = length / base_pitch
     if contact_ratio < 1.0:
@@ -149,7 +146,7 @@ def path_of_contact(
         base_pitch=base_pitch,
         length=length,
         contact_ratio=contact_ratio,
-        overlap_ratio=pair.face_width * math.sin(abs(pair.helix_angle)) / (math.pi * pair.module),
+        overlap_ratio=overlap_ratio,
         start_roll_1=start,
         pitch_roll_1=base_1 * math.tan(alpha_wt),
         single_start=length - base_pitch,

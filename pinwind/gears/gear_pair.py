@@ -175,14 +175,37 @@ class GearPair:
 
     @cached_property
     def path(self) -> PathOfContact:
-        """Path of contact (contact ratios) from `contact.path_of_contact`, tips unshortened."""
-        return path_of_contact(self)
+        """Path of contact (contact ratios), tips unshortened (`path_of_contact`)."""
+        return self.path_of_contact()
+
+    def path_of_contact(
+        self, *, tip_radius_1: float | None = None, tip_radius_2: float | None = None
+    ) -> PathOfContact:
+        """Path of contact of the pair (`contact.path_of_contact`).
+
+        Args:
+            tip_radius_1: tip radius of gear 1 [m]; default `tip_radius` (no tip shortening).
+            tip_radius_2: tip radius of gear 2 [m]; the same.
+
+        Raises:
+            TipInsideBaseCircle, InvoluteInterference, ContactRatioBelowOne: as
+                `contact.path_of_contact`.
+        """
+        overlap = self.face_width * math.sin(abs(self.helix_angle)) / (math.pi * self.module)
+        return path_of_contact(
+            self.geometry,
+            tip_radius_1=self.tip_radius(1) if tip_radius_1 is None else tip_radius_1,
+            tip_radius_2=self.tip_radius(2) if tip_radius_2 is None else tip_radius_2,
+            base_pitch=math.pi * self.transverse_module * math.cos(self.transverse_pressure_angle),
+            internal_1=self.internal_1,
+            internal_2=self.internal_2,
+            overlap_ratio=overlap,
+        )
 
     @property
     def tangency_distance(self) -> float:
         """|T1 T2| = a_w sin α_wt, between the base-circle tangency points [m] (ISO 21771)."""
-        geometry = self.geometry
-        return geometry.centre_distance * math.sin(float(geometry.working_pressure_angle))
+        return self.geometry.tangency_distance
 
     def flank_radii(self, roll_1):
         """Flank radii of curvature (ρ1, ρ2) at roll distance ``roll_1`` from T1 [m].

@@ -61,7 +61,7 @@ def tip_radius(
 
     r ± m_n (h_a* + x), − for an internal gear (its inner radius), x with the ISO 21771 sign
     (ISO 21771: d_a = d + 2 (z/|z|) m_n (h_aP* + x)). The one implementation, used by
-    `GearPair.tip_radius`, ``contact.path_of_contact`` and ``checks.tip_thickness``.
+    `GearPair.tip_radius` (so ``GearPair.path_of_contact``) and ``checks.tip_thickness``.
     """
     r = pitch_radius(teeth, module, helix_angle)
     addendum = module * (addendum_coefficient + profile_shift)
@@ -123,6 +123,11 @@ class PairGeometry:
     working_radius_2: float
     base_radius_1: float
     base_radius_2: float
+
+    @property
+    def tangency_distance(self) -> float:
+        """|T1 T2| = a_w sin α_wt, between the base-circle tangency points [m] (ISO 21771)."""
+        return self.centre_distance * math.sin(float(self.working_pressure_angle))
 
 
 def pair_geometry(

@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from pinwind.errors import InputError
-from pinwind.gears.contact import PathOfContact, path_of_contact
+from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
 
 #: ISO 6336-1 method B constants C1…C9 of the flexibility q′ [mm·µm/N].
@@ -106,13 +106,14 @@ def mesh_stiffness(
     """Mean mesh stiffness times face width, c_γα b = c′ b (0.75 ε_α + 0.25) [N/m].
 
     ISO 6336-1:2019 clause 9, method B. ε_α is the pair's (`GearPair.path`), or that of
-    `path_of_contact` with the tip radii given, so tip radii and addendum matter here. The other
-    arguments are those of `single_pair_stiffness`. ISO states the formula for ε_α ≥ 1.2.
+    `GearPair.path_of_contact` with the tip radii given, so tip radii and addendum matter here.
+    The other arguments are those of `single_pair_stiffness`. ISO states the formula for
+    ε_α ≥ 1.2.
     """
     if tip_radius_1 is None and tip_radius_2 is None:
         path = pair.path
     else:
-        path = path_of_contact(pair, tip_radius_1=tip_radius_1, tip_radius_2=tip_radius_2)
+        path = pair.path_of_contact(tip_radius_1=tip_radius_1, tip_radius_2=tip_radius_2)
     single = single_pair_stiffness(pair, rim_factor=rim_factor, C_M=C_M)
     return single * (0.75 * path.contact_ratio + 0.25)
 

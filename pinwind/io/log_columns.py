@@ -23,8 +23,8 @@ from mcap.opcode import Opcode
 
 from pinwind.dynamics._native import fill_rows, unshuffle_series
 from pinwind.dynamics.result import POSE_ARRAYS, Result
+from pinwind.io.log_format import COLUMNS_LAYOUT, mask_bytes
 from pinwind.io.mcap_file import DamagedChunk
-from pinwind.io.mcap_log import COLUMNS_LAYOUT, mask_bytes
 
 #: A columns payload's header: layout byte, samples m, posed samples p.
 _HEAD = 9

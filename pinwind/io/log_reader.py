@@ -54,17 +54,17 @@ from pinwind.io.log_columns import (
     decode_chunk,
     result_of,
 )
-from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile, Scan
-from pinwind.io.mcap_log import (
-    _NAMES_OF,
+from pinwind.io.log_format import (
     COLUMNS_TOPIC,
     FORMAT,
     FORMAT_VERSION,
     JOINTS_TOPIC,
+    NAMES_OF,
     TF_TOPIC,
     WORLD_FRAME,
     array_topics,
 )
+from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile, Scan
 from pinwind.io.messages import (
     _POSE_DTYPE,
     Float64ArrayCodec,
@@ -249,7 +249,7 @@ class _Layout:
             len(names[k]) for k in ("joint_names", "mesh_names", "bearing_names", "body_names")
         )
         count = {"joint": nj, "mesh": nm, "bearing": nb, "term": len(self.terms)}
-        count.update({kind: len(names.get(key, [])) for kind, key in _NAMES_OF.items()})
+        count.update({kind: len(names.get(key, [])) for kind, key in NAMES_OF.items()})
         #: destination → shape of one sample
         self.shapes: dict[str, tuple[int, ...]] = {
             "time": (),
@@ -822,7 +822,7 @@ class LogReader:
                 why = f": {self.problem}" if self.problem else ""
                 raise LogError(where, f"the '{required}' metadata record is missing{why}")
         model = self.metadata["pinwind.model"]
-        self.names = {k: list(model.get(k, [])) for k in (*_NAMES_OF.values(), "body_names")}
+        self.names = {k: list(model.get(k, [])) for k in (*NAMES_OF.values(), "body_names")}
         self.channels = {c.topic: dict(c.metadata) for c in contents.channels.values()}
         run = self.metadata["pinwind.run"]
         self._layout = _Layout(

@@ -1,12 +1,13 @@
-"""MCAP logs of runs: the documented topics, the writer (a ``RunObserver``) and the reader.
+"""MCAP logs of runs: the writer (a ``RunObserver``).
 
-A log is one self-contained MCAP file (docs/log_format.md): the model file as an attachment and
-on ``/robot_description``, metadata records (versions, model hash, solver settings, dt, loads, the
-command, the gear geometry) and one message per logged sample on each topic, with log time =
-simulation time. ``McapLogger`` writes it while ``simulate`` runs, one MCAP chunk per block of
-samples, flushed to the OS as it goes, so a killed run leaves every block but the last; ``end``
-writes the end-status record and the summary even when the run raised. ``read_log`` gives back
-the ``Result``; it recovers the complete blocks of a file that was cut short.
+A log is one self-contained MCAP file (docs/log_format.md, its topics in ``io/log_format.py``):
+the model file as an attachment and on ``/robot_description``, metadata records (versions, model
+hash, solver settings, dt, loads, the command, the gear geometry) and one message per logged
+sample on each topic, with log time = simulation time. ``McapLogger`` writes it while
+``simulate`` runs, one MCAP chunk per block of samples, flushed to the OS as it goes, so a killed
+run leaves every block but the last; ``end`` writes the end-status record and the summary even
+when the run raised. ``read_log`` (``io/log_reader.py``) gives back the ``Result``; it recovers
+the complete blocks of a file that was cut short.
 
 Payloads are encoded a block of samples at a time (``io/messages.py``) and laid out as message
 records with numpy, then written by ``io/mcap_file.py``: the ``mcap`` package's own writer spends
@@ -38,7 +39,6 @@ from typing import Any, BinaryIO
 import numpy as np
 from mcap.opcode import Opcode
 
-from pinwind.dynamics import series
 from pinwind.dynamics._native import shuffle_series
 from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import (
@@ -50,6 +50,20 @@ from pinwind.errors import (
     LogWriteFailed,
 )
 from pinwind.io import messages
+from pinwind.io.log_format import (
+    COLUMNS_ENCODING,
+    COLUMNS_LAYOUT,
+    COLUMNS_TOPIC,
+    FORMAT,
+    FORMAT_VERSION,
+    JOINTS_TOPIC,
+    MODEL_TOPIC,
+    NAMES_OF,
+    TF_TOPIC,
+    WORLD_FRAME,
+    array_topics,
+    mask_bytes,
+)
 from pinwind.io.mcap_file import (
     RECORD_HEADER,
     McapWriter,
@@ -61,12 +75,6 @@ from pinwind.io.messages import (
     JointStateCodec,
 )
 
-#: Identity of the file format, in the ``pinwind`` metadata record.
-FORMAT = "pinwind-log"
-#: 3: every array at the log rate as columns (/pinwind/columns), the ROS 2 topics for viewers at
-#: the view rate (2: the ROS 2 topics at the log rate and /tf at the pose rate; 1: /tf in every row)
-FORMAT_VERSION = 3
-
 #: Link poses per simulated second on /tf and /pinwind/poses [Hz]: a display rate.
 POSE_RATE = 100.0
 #: Samples per simulated second on the ROS 2 topics that viewers plot (/joints, /meshes/...,
@@ -77,75 +85,6 @@ COMPRESSION = "zstd"
 COMPRESSION_LEVEL = -1
 #: Largest log a run writes without ``allow_large_log`` (``--allow-large-log``) [bytes].
 MAX_LOG_BYTES = 20e9
-
-MODEL_TOPIC = "/robot_description"
-#: Every Result array at the log rate, link poses at the pose rate: one message per block of
-#: samples, in a chunk of its own; what ``read_log`` reads.
-COLUMNS_TOPIC = "/pinwind/columns"
-#: Message encoding of that topic (docs/log_format.md, "Columns"): a layout byte, two counts, a
-#: bit per series (constant over the block or not), then float64 little-endian values, series
-#: after series (the values of one series, one element of one array, for every sample of the
-#: block, are consecutive; a constant series has one value), the varying ones as byte planes.
-COLUMNS_ENCODING = "pinwind.columns"
-#: The layout byte of a columns payload: 3, the varying series' values as byte planes (2, the
-#: values as they are, was never released).
-COLUMNS_LAYOUT = 3
-JOINTS_TOPIC = "/joints"
-TF_TOPIC = "/tf"
-#: Parent frame of every link transform on ``/tf``.
-WORLD_FRAME = "world"
-
-
-@dataclass(frozen=True)
-class ArrayTopic:
-    """A topic of std_msgs/msg/Float64MultiArray messages holding one Result array per sample.
-
-    Attributes:
-        topic: MCAP topic (and Rerun entity path).
-        field: Result attribute (``energy`` for the energy ledger).
-        unit: SI unit of the values.
-        description: what the values are.
-        element: kind of the first dimension (``joint``, ``mesh``, ``bearing``, ``term``), or
-            ``""`` for one value per sample.
-        frame: ``world`` or ``joint`` for 3-vectors (second dimension x, y, z), else ``""``.
-    """
-
-    topic: str
-    field: str
-    unit: str
-    description: str
-    element: str = ""
-    frame: str = ""
-
-
-ENERGY_TOPIC = "/run/energy"
-
-
-def array_topics() -> tuple[ArrayTopic, ...]:
-    """The viewer topics of the Result's arrays, in the log's topic order.
-
-    A topic per logged series of the schema (``dynamics/series.py``; angle, speed and torque
-    are on ``/joints``, the poses on ``/tf``), family after family (``series.TOPIC_ORDER``), and
-    the energy ledger after the run's own series.
-    """
-    out = []
-    for family in series.TOPIC_ORDER:
-        for s in series.of_family(family):
-            if s.logged:
-                out.append(ArrayTopic(s.topic, s.name, s.unit, s.meaning, _element_of(s), s.frame))
-        if family == "run":
-            meaning = "energy ledger (docs/log_format.md)"
-            out.append(ArrayTopic(ENERGY_TOPIC, "energy", "J", meaning, "term"))
-    return tuple(out)
-
-
-def _element_of(s: series.Series) -> str:
-    """The kind of a topic's first dimension (``""`` for one value per sample)."""
-    return "" if s.family == "run" else s.family
-
-
-#: The Result attribute that names the elements of each kind of a topic's first dimension.
-_NAMES_OF = {**series.NAMES_OF, "term": "energy_terms"}
 
 
 def _utc_now() -> str:
@@ -283,7 +222,7 @@ def estimate_log_size(
             continue
         doubles += int(np.prod(getattr(result, name).shape[1:], dtype=int))
     for topic in array_topics():
-        names = getattr(result, _NAMES_OF[topic.element], None) if topic.element else None
+        names = getattr(result, NAMES_OF[topic.element], None) if topic.element else None
         if topic.element in ("", "term") or names:  # topics of an empty family are left out
             records += 1
     logged = -(-samples // stride)
@@ -392,14 +331,6 @@ class _RowLayout:
 #: Where the values of a columns record start in it: after the 31-byte header, the layout byte
 #: and the two counts, so at a multiple of 8 bytes when the record does.
 _COLUMNS_AT = RECORD_HEADER.itemsize + 9
-
-
-def mask_bytes(width: int) -> int:
-    """Bytes of the constant-series bits of ``width`` series in a columns payload.
-
-    Whole 8-byte words, so that the values after them stay aligned.
-    """
-    return 8 * ((width + 63) // 64)
 
 
 #: sequence, log time, publish time: the variable part of a message record header
@@ -622,7 +553,7 @@ class McapLogger:
                 "description": topic.description,
             }
             if topic.element:
-                element_names = names[_NAMES_OF[topic.element]]
+                element_names = names[NAMES_OF[topic.element]]
                 if not element_names:
                     continue  # e.g. a model without meshes: no mesh topics
                 dims.append((topic.element, len(element_names)))
@@ -1147,15 +1078,3 @@ def model_geometry(gearbox) -> dict[str, Any]:
         "meshes": meshes,
         "bearings": bearings,
     }
-
-
-# --- reading (pinwind/io/log_reader.py) ---------------------------------------------------------
-
-
-def __getattr__(name: str):
-    """``read_log``, ``open_log`` and ``LogFile`` live in ``log_reader`` (which imports this)."""
-    if name in ("LogFile", "open_log", "read_log"):
-        from pinwind.io import log_reader
-
-        return getattr(log_reader, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

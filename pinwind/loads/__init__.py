@@ -3,6 +3,7 @@
 from pinwind.loads.generator import ConstantTorque, InductionMachine, LinearSlip, VariableSpeed
 from pinwind.loads.openfast import read_channel
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
+from pinwind.loads.signal_text import parse_signal
 from pinwind.loads.signals import (
     Constant,
     Ramp,
@@ -12,7 +13,6 @@ from pinwind.loads.signals import (
     Step,
     Sum,
     Table,
-    parse_signal,
     read_csv,
 )
 from pinwind.loads.wind import KaimalWind, kaimal_series

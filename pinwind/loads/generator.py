@@ -8,7 +8,7 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
 - ``LinearSlip``: T_gen = k (ω − ω_sync), the linearisation of an induction generator near
   synchronous speed.
 - ``VariableSpeed``: T_gen = K ω² below rated, P_rated / ω above (constant power); with
-  K = ½ ρ π R⁵ C_p,max / (λ_opt³ N³) the rotor tracks λ_opt (``Rotor.optimal_gain``).
+  K = ½ ρ π R⁵ C_p,max / (λ_opt³ N³) the rotor tracks λ_opt (``dynamics/elements.optimal_gain``).
 - ``InductionMachine``: the steady-state torque–slip curve of the per-phase equivalent circuit
   (R_s + jX_ls in series with jX_M ∥ (R_r'/s + jX_lr')), star-connected on a grid of line
   voltage V and frequency f, p pole pairs: ω_sync = 2π f / p, s = (ω_sync − ω) / ω_sync; with
@@ -30,8 +30,6 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from pinwind.dynamics import _native
-
 
 @dataclass(frozen=True)
 class ConstantTorque:
@@ -40,12 +38,6 @@ class ConstantTorque:
     torque: float
 
     law = "constant"
-
-    def native(self, index: int) -> _native.GeneratorSpec:
-        """The compiled spec on velocity index ``index``."""
-        g = _native.GeneratorSpec()
-        g.index, g.law, g.torque = index, 0, float(self.torque)
-        return g
 
 
 @dataclass(frozen=True)
@@ -56,13 +48,6 @@ class LinearSlip:
     sync_speed: float
 
     law = "linear-slip"
-
-    def native(self, index: int) -> _native.GeneratorSpec:
-        """The compiled spec on velocity index ``index``."""
-        g = _native.GeneratorSpec()
-        g.index, g.law = index, 1
-        g.slope, g.sync_speed = float(self.slope), float(self.sync_speed)
-        return g
 
 
 @dataclass(frozen=True)
@@ -76,13 +61,6 @@ class VariableSpeed:
     rated_power: float = 0.0
 
     law = "variable-speed"
-
-    def native(self, index: int) -> _native.GeneratorSpec:
-        """The compiled spec on velocity index ``index``."""
-        g = _native.GeneratorSpec()
-        g.index, g.law = index, 2
-        g.gain, g.rated_power = float(self.gain), float(self.rated_power)
-        return g
 
 
 @dataclass(frozen=True)
@@ -135,26 +113,6 @@ class InductionMachine:
             poles=4,
         )
         return cls(**{**values, **changes})
-
-    def native(self, index: int) -> _native.GeneratorSpec:
-        """The compiled spec on velocity index ``index``."""
-        g = _native.GeneratorSpec()
-        g.index = index
-        g.law = 4 if self.dynamic else 3
-        g.stator_resistance = float(self.stator_resistance)
-        g.rotor_resistance = float(self.rotor_resistance)
-        g.stator_leakage = float(self.stator_leakage)
-        g.rotor_leakage = float(self.rotor_leakage)
-        g.magnetizing = float(self.magnetizing)
-        g.voltage = float(self.voltage)
-        g.frequency = float(self.frequency)
-        g.pole_pairs = int(self.poles) // 2
-        g.steady_start = bool(self.steady_start)
-        return g
-
-    def torque(self, speed: float) -> float:
-        """Steady-state generator torque T_gen [N·m] at shaft speed [rad/s] (compiled law)."""
-        return -_native.induction_torque(self.native(0), float(speed))
 
 
 GeneratorLaw = ConstantTorque | LinearSlip | VariableSpeed | InductionMachine

@@ -28,7 +28,6 @@ from typing import Any
 
 import numpy as np
 
-from pinwind.dynamics import _native
 from pinwind.errors import InputError
 
 #: 000's rotor: 41 m blades on a 3.7 m hub [m].
@@ -137,47 +136,6 @@ class Rotor:
             cp=HeierCp(SALEH2017_CP_SCALE),
         )
         return cls(**{**values, **changes})
-
-    def native(self, index: int, wind_column: int) -> _native.RotorSpec:
-        """The compiled spec on velocity index ``index``, wind from input ``wind_column``."""
-        r = _native.RotorSpec()
-        r.index, r.wind_column = index, wind_column
-        r.radius, r.air_density, r.pitch = float(self.radius), float(self.air_density), self.pitch
-        if isinstance(self.cp, CpTable):
-            r.cp_model = 1
-            r.table_tsr = [float(x) for x in self.cp.tsr]
-            r.table_pitch = [float(x) for x in self.cp.pitch]
-            r.table_cp = [float(c) for row in self.cp.cp for c in row]
-        else:
-            r.cp_model = 0
-            r.cp_scale = float(self.cp.scale)
-        return r
-
-    def torque(self, speed: float, wind: float) -> float:
-        """Aerodynamic torque [N·m] at rotor speed [rad/s] in wind [m/s] (the compiled law)."""
-        return _native.rotor_torque(self.native(0, 0), float(speed), float(wind))
-
-    def power_coefficient(self, tsr: float) -> float:
-        """C_p at tip-speed ratio λ (the compiled law)."""
-        return _native.rotor_cp(self.native(0, 0), float(tsr))
-
-    def optimum(self) -> tuple[float, float]:
-        """(λ_opt, C_p,max): the tip-speed ratio of the highest power coefficient."""
-        from scipy.optimize import minimize_scalar
-
-        best = minimize_scalar(
-            lambda x: -self.power_coefficient(x), bounds=(1.0, 20.0), method="bounded",
-            options={"xatol": 1e-10},
-        )  # fmt: skip
-        return float(best.x), -float(best.fun)
-
-    def optimal_gain(self, ratio: float = 1.0) -> float:
-        """K of ``VariableSpeed`` that holds λ_opt, for a generator turning ratio × the rotor.
-
-        K = ½ ρ π R⁵ C_p,max / λ_opt³ / ratio³ [N·m·s²].
-        """
-        tsr, cp = self.optimum()
-        return 0.5 * self.air_density * math.pi * self.radius**5 * cp / tsr**3 / ratio**3
 
     def describe(self) -> dict[str, Any]:
         """Plain values for the log (SI)."""

@@ -29,11 +29,11 @@ from pinwind.errors import (
     PinwindWarning,
     UnknownElement,
 )
-from pinwind.gears.contact import PathOfContact, path_of_contact
+from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.involute import pitch_radius
 from pinwind.model.compliance import MeshCompliance
-from pinwind.model.phasing import model_tooth_phases
+from pinwind.model.phasing import mesh_point, tooth_phases
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 
 #: Relative tolerance between the centre distance in the file and the one the gear data give.
@@ -173,7 +173,7 @@ class Gearbox:
         self.springs = [self._spring(s) for s in source.springs]
         #: Gear name → angle of tooth 0's centre line about the gear axis in its joint frame at
         #: the reference pose [rad], meshing teeth interlocked (``model/phasing.py``).
-        self.tooth_phases = model_tooth_phases(self)
+        self.tooth_phases = self._tooth_phases()
 
     # --- lookups ---------------------------------------------------------------------------------
 
@@ -445,7 +445,7 @@ class Gearbox:
     def _path(self, where: str, pair: GearPair, compliant: bool) -> PathOfContact | None:
         """The pair's path of contact; for a rigid mesh a failure only warns (outputs NaN)."""
         try:
-            return path_of_contact(pair)
+            return pair.path_of_contact()
         except PinwindError as err:
             if compliant:
                 raise InvalidGearGeometry(self.path, where, str(err)) from err
@@ -456,6 +456,30 @@ class Gearbox:
                 stacklevel=3,
             )
             return None
+
+    def _tooth_phases(self) -> dict[str, float]:
+        """Tooth phase of every gear at the reference pose [rad] (``phasing.tooth_phases``)."""
+        data = self.model.createData()
+        pin.forwardKinematics(self.model, data, self.neutral())
+        points = []
+        for m in self.meshes:
+            a, b = m.gear_a, m.gear_b
+            pose_a, pose_b = data.oMi[a.joint_id], data.oMi[b.joint_id]
+            points.append(
+                mesh_point(
+                    a.name,
+                    b.name,
+                    centre_a=pose_a.act(a.centre_in_joint),
+                    centre_b=pose_b.act(b.centre_in_joint),
+                    world_from_a=pose_a.rotation,
+                    world_from_b=pose_b.rotation,
+                    axis_a=a.axis_in_joint,
+                    axis_b=b.axis_in_joint,
+                    pitch_fraction=m.pitch_fraction,
+                )
+            )
+        radii = {n: r for n in self.gears if (r := _flank_radius(self.meshes, n)) is not None}
+        return tooth_phases(points, {n: g.spec for n, g in self.gears.items()}, radii)
 
     def _spring(self, spec) -> TorsionalSpring:
         where = f'<torsional_spring name="{spec.name}">'
@@ -481,6 +505,15 @@ class Gearbox:
             damping=spec.damping,
             preload_angle=spec.preload_angle,
         )
+
+
+def _flank_radius(meshes: list[Mesh], name: str) -> float | None:
+    """Working pitch radius of a gear's first mesh, in file order, where it is A, else B [m]."""
+    for which in ("a", "b"):
+        for m in meshes:
+            if getattr(m, f"gear_{which}").name == name:
+                return getattr(m, f"working_radius_{which}")
+    return None
 
 
 def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:

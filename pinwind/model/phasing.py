@@ -29,7 +29,9 @@ mesh by mesh in file order from an already-phased mating gear; a gear that start
 reach a gear decides; the others agree when the stage satisfies its assembly condition.
 
 The physics (``dynamics/compliant.py``) and the replay drawing (``io/replay_scene.py``) both
-phase their gears with ``interlocking_phases``, each with its own zero direction per gear.
+phase their gears with ``interlocking_phases``, each with its own zero direction per gear. This
+module takes plain geometry (names, vectors, gear specs); ``Gearbox`` gives it its own at the
+reference pose (``tooth_phases``).
 """
 
 from __future__ import annotations
@@ -40,12 +42,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import pinocchio as pin
-
-from pinwind.gears.involute import involute, transverse_pressure_angle
 
 if TYPE_CHECKING:
-    from pinwind.model.gearbox import Gearbox
     from pinwind.model.urdf import GearSpec
 
 
@@ -133,28 +131,6 @@ def interlocking_phases(
         phases[other] = angle_other - target * 2.0 * math.pi / teeth[other]
 
 
-def half_tooth_angle(spec: GearSpec, radius: float) -> float:
-    """Half the transverse tooth thickness at a radius, as an angle about the gear axis [rad].
-
-    ISO 21771: s_t = m_t (π/2 + 2 x tan α_n) on the reference circle d = z m_t, and at radius r
-
-        ψ(r) = s_t/d ± (inv α_t − inv α(r)),   cos α(r) = r_b / r,
-
-    + for an external gear (its teeth thin outwards), − for an internal one (its teeth thin
-    inwards, towards its tip; the ISO sign convention of ``gears/checks.tip_thickness``).
-    ``radius`` is at least the base radius (a working pitch radius always is).
-    """
-    alpha_t = transverse_pressure_angle(spec.pressure_angle, spec.helix_angle)
-    r_ref = spec.teeth * spec.module / (2.0 * math.cos(spec.helix_angle))
-    r_base = r_ref * math.cos(alpha_t)
-    alpha_r = math.acos(min(1.0, r_base / radius))
-    reference = (0.5 * math.pi + 2.0 * spec.profile_shift * math.tan(spec.pressure_angle)) / (
-        spec.teeth
-    )
-    sign = -1.0 if spec.internal else 1.0
-    return reference + sign * (involute(alpha_t) - involute(alpha_r))
-
-
 def zero_direction(axis: np.ndarray) -> np.ndarray:
     """The direction a gear's phase is measured from, in its joint frame: unit, ⟂ ``axis``.
 
@@ -179,16 +155,53 @@ def _angle_of(axis: np.ndarray, v: np.ndarray) -> float:
     return math.atan2(float(axis @ np.cross(e, v)), float(e @ v))
 
 
-def _flank_radius(gearbox: Gearbox, name: str) -> float | None:
-    """Working pitch radius of a gear's first mesh, in file order, where it is A, else B [m]."""
-    for which in ("a", "b"):
-        for m in gearbox.meshes:
-            if getattr(m, f"gear_{which}").name == name:
-                return getattr(m, f"working_radius_{which}")
-    return None
+def mesh_point(
+    gear_a: str,
+    gear_b: str,
+    *,
+    centre_a: np.ndarray,
+    centre_b: np.ndarray,
+    world_from_a: np.ndarray,
+    world_from_b: np.ndarray,
+    axis_a: np.ndarray,
+    axis_b: np.ndarray,
+    pitch_fraction: float,
+) -> MeshPoint:
+    """A mesh as the interlock sees it, from where its two gears stand at the reference pose.
+
+    Args:
+        gear_a, gear_b: the gears' names.
+        centre_a, centre_b: the gears' centres in world [m].
+        world_from_a, world_from_b: rotations of the gears' joint frames in world (3 × 3).
+        axis_a, axis_b: the gears' unit axes in their joint frames.
+        pitch_fraction: μ with pitch point P = C_A + μ d⊥, d⊥ the centre offset B − A normal
+            to A's axis (``Mesh.pitch_fraction``) [-].
+    """
+    world_axis_a = world_from_a @ axis_a
+    world_axis_b = world_from_b @ axis_b
+    offset = centre_b - centre_a
+    offset = offset - (offset @ world_axis_a) * world_axis_a
+    point = centre_a + pitch_fraction * offset
+    # The pitch point in each gear's transverse plane (helical gears may sit apart axially).
+    to_a = point - centre_a
+    to_b = point - centre_b
+    to_a = to_a - (to_a @ world_axis_a) * world_axis_a
+    to_b = to_b - (to_b @ world_axis_b) * world_axis_b
+    same = float(np.cross(world_axis_a, to_a) @ np.cross(world_axis_b, to_b)) > 0.0
+    return MeshPoint(
+        gear_a,
+        gear_b,
+        _angle_of(axis_a, world_from_a.T @ to_a),
+        _angle_of(axis_b, world_from_b.T @ to_b),
+        same,
+    )
 
 
-def model_tooth_phases(gearbox: Gearbox) -> dict[str, float]:
+def tooth_phases(
+    meshes: Sequence[MeshPoint],
+    gears: Mapping[str, GearSpec],
+    flank_radius: Mapping[str, float],
+) -> dict[str, float]:
     """Tooth phase of every gear of a gearbox at the reference pose [rad], in its joint frame.
 
     Each gear's phase is the angle of tooth 0's centre line about its axis from
@@ -199,41 +212,19 @@ def model_tooth_phases(gearbox: Gearbox) -> dict[str, float]:
     ``tooth_phase_deg`` φ is where the flank of tooth 0 facing the gear's positive turn (A's
     front flank, docs/model_format.md) crosses the working pitch circle r_w of the gear's first
     mesh (in file order, where it is A, else B): the tooth centre is at φ − ψ(r_w)
-    (``half_tooth_angle``).
+    (``GearSpec.half_tooth_angle``).
+
+    Args:
+        meshes: the meshes in file order (``mesh_point``).
+        gears: gear name → its spec from the model file.
+        flank_radius: gear name → r_w above [m], for every gear that meshes.
     """
-    data = gearbox.model.createData()
-    pin.forwardKinematics(gearbox.model, data, gearbox.neutral())
-    points = []
-    for m in gearbox.meshes:
-        a, b = m.gear_a, m.gear_b
-        pose_a, pose_b = data.oMi[a.joint_id], data.oMi[b.joint_id]
-        centre_a, centre_b = pose_a.act(a.centre_in_joint), pose_b.act(b.centre_in_joint)
-        axis_a = pose_a.rotation @ a.axis_in_joint
-        axis_b = pose_b.rotation @ b.axis_in_joint
-        offset = centre_b - centre_a
-        offset = offset - (offset @ axis_a) * axis_a
-        point = centre_a + m.pitch_fraction * offset
-        # The pitch point in each gear's transverse plane (helical gears may sit apart axially).
-        to_a = point - centre_a
-        to_b = point - centre_b
-        to_a = to_a - (to_a @ axis_a) * axis_a
-        to_b = to_b - (to_b @ axis_b) * axis_b
-        same = float(np.cross(axis_a, to_a) @ np.cross(axis_b, to_b)) > 0.0
-        points.append(
-            MeshPoint(
-                a.name,
-                b.name,
-                _angle_of(a.axis_in_joint, pose_a.rotation.T @ to_a),
-                _angle_of(b.axis_in_joint, pose_b.rotation.T @ to_b),
-                same,
-            )
-        )
     own = {}
-    for name, gear in gearbox.gears.items():
-        radius = _flank_radius(gearbox, name)
-        shift = half_tooth_angle(gear.spec, radius) if radius is not None else 0.0
-        own[name] = gear.spec.tooth_phase - shift
-    given = {n: own[n] for n, g in gearbox.gears.items() if g.spec.tooth_phase_given}
-    teeth = {n: g.spec.teeth for n, g in gearbox.gears.items()}
-    phases = interlocking_phases(points, teeth, given, own)
-    return {name: phases.get(name, own[name]) for name in gearbox.gears}
+    for name, spec in gears.items():
+        radius = flank_radius.get(name)
+        shift = spec.half_tooth_angle(radius) if radius is not None else 0.0
+        own[name] = spec.tooth_phase - shift
+    given = {n: own[n] for n, spec in gears.items() if spec.tooth_phase_given}
+    teeth = {n: spec.teeth for n, spec in gears.items()}
+    phases = interlocking_phases(meshes, teeth, given, own)
+    return {name: phases.get(name, own[name]) for name in gears}

@@ -21,6 +21,7 @@ from pinwind.errors import (
     MalformedModel,
     UnknownName,
 )
+from pinwind.gears.involute import half_tooth_angle
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 
 
@@ -46,6 +47,16 @@ class GearSpec:
     tooth_phase_given: bool = False
     #: Position error of the gear centre (tangential, radial) [m] (dynamics/compliant.py).
     position_error: tuple[float, float] = (0.0, 0.0)
+
+    def half_tooth_angle(self, radius: float) -> float:
+        """Half the tooth thickness at ``radius`` [m] as an angle about the axis [rad].
+
+        ``gears/involute.half_tooth_angle`` of this gear.
+        """
+        return half_tooth_angle(
+            self.teeth, module=self.module, pressure_angle=self.pressure_angle, radius=radius,
+            profile_shift=self.profile_shift, helix_angle=self.helix_angle, internal=self.internal,
+        )  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ import pinwind
 from pinwind.analysis import load_sharing
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.errors import MalformedModel, PinwindWarning
-from pinwind.gears import GearPair, path_of_contact
+from pinwind.gears import GearPair
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import MODELS, two_gear_urdf
@@ -386,17 +386,15 @@ def _saleh_compliant_run(errors):
 
     def k_of(mesh):
         s, b = mesh.gear_a.spec, mesh.gear_b.spec
-        path = path_of_contact(
-            GearPair(
-                s.teeth,
-                b.teeth,
-                module=s.module,
-                pressure_angle=s.pressure_angle,
-                internal_1=s.internal,
-                internal_2=b.internal,
-                face_width=s.face_width,
-            )
-        )
+        path = GearPair(
+            s.teeth,
+            b.teeth,
+            module=s.module,
+            pressure_angle=s.pressure_angle,
+            internal_1=s.internal,
+            internal_2=b.internal,
+            face_width=s.face_width,
+        ).path_of_contact()
         return k1 * (0.75 * path.contact_ratio + 0.25)
 
     return gb, res, _planetary_statics(gb, k_of, torque_sun, errors)

@@ -17,6 +17,7 @@ from pinwind.gears.contact import (
     path_of_contact,
 )
 from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.involute import PairGeometry
 from tests.conftest import dtu_pairs
 
 ALPHA_20 = math.radians(20.0)
@@ -52,7 +53,7 @@ def test_textbook_spur_pair_has_contact_ratio_1_64():
     g = roll(ra1, rb1) + roll(ra2, rb2) - line
     p_b = math.pi * m * math.cos(alpha)
 
-    path = path_of_contact(GearPair(20, 40, module=m, pressure_angle=alpha, face_width=WIDTH))
+    path = GearPair(20, 40, module=m, pressure_angle=alpha, face_width=WIDTH).path_of_contact()
 
     np.testing.assert_allclose(path.contact_ratio, 1.64, atol=0.006)  # the rounded book value
     np.testing.assert_allclose(path.contact_ratio, g / p_b, rtol=1e-12)
@@ -61,6 +62,26 @@ def test_textbook_spur_pair_has_contact_ratio_1_64():
     np.testing.assert_allclose(path.start_roll_1, line - roll(ra2, rb2), rtol=1e-12)
     # C is at r_b1 tan α = r_1 sin α from T1 when there is no shift.
     np.testing.assert_allclose(path.pitch_roll_1, 10 * m * math.sin(alpha), rtol=1e-12)
+
+
+def test_path_of_contact_from_plain_numbers_is_the_textbook_pair():
+    # The same z 20/40, m 5 mm, α 20° pair given as its numbers only, no GearPair.
+    m, alpha = 5e-3, ALPHA_20
+    rb1, rb2 = 10 * m * math.cos(alpha), 20 * m * math.cos(alpha)
+    ra1, ra2 = 11 * m, 21 * m
+    g = roll(ra1, rb1) + roll(ra2, rb2) - 30 * m * math.sin(alpha)
+    p_b = math.pi * m * math.cos(alpha)
+    geometry = PairGeometry(
+        centre_distance=30 * m, working_pressure_angle=alpha, working_radius_1=10 * m,
+        working_radius_2=20 * m, base_radius_1=rb1, base_radius_2=rb2,
+    )  # fmt: skip
+
+    path = path_of_contact(geometry, tip_radius_1=ra1, tip_radius_2=ra2, base_pitch=p_b)
+
+    np.testing.assert_allclose(path.length, g, rtol=1e-12)
+    np.testing.assert_allclose(path.contact_ratio, g / p_b, rtol=1e-12)
+    np.testing.assert_allclose(path.pitch_roll_1, 10 * m * math.sin(alpha), rtol=1e-12)
+    assert path.overlap_ratio == 0.0
     np.testing.assert_allclose([path.single_start, path.single_end], [g - p_b, p_b], rtol=1e-12)
     np.testing.assert_allclose([path.tip_radius_1, path.tip_radius_2], [ra1, ra2], rtol=1e-12)
     assert path.overlap_ratio == 0.0
@@ -78,9 +99,9 @@ def test_helical_pair_uses_transverse_geometry_and_gives_overlap_ratio():
     g = roll(r1 + m_n, rb1) + roll(r2 + m_n, rb2) - (r1 + r2) * math.sin(alpha_t)
     p_bt = math.pi * m_t * math.cos(alpha_t)
 
-    path = path_of_contact(
-        GearPair(19, 57, module=m_n, pressure_angle=ALPHA_20, helix_angle=beta, face_width=b)
-    )
+    path = GearPair(
+        19, 57, module=m_n, pressure_angle=ALPHA_20, helix_angle=beta, face_width=b
+    ).path_of_contact()
 
     np.testing.assert_allclose(path.overlap_ratio, 0.8238, atol=1e-4)
     np.testing.assert_allclose(path.overlap_ratio, b * math.sin(beta) / (math.pi * m_n), rtol=1e-12)
@@ -117,7 +138,7 @@ def dtu_reference(module: float = 10e-3, alpha: float = ALPHA_20):
 
 def dtu_paths() -> tuple[PathOfContact, PathOfContact]:
     sun_planet, planet_ring = dtu_pairs()
-    return path_of_contact(sun_planet), path_of_contact(planet_ring)
+    return sun_planet.path_of_contact(), planet_ring.path_of_contact()
 
 
 def test_dtu_stage_reproduces_table6_switch_points():
@@ -173,7 +194,7 @@ def test_opposite_internal_shift_sign_puts_dtu_ring_tip_past_the_planet_base_cir
     # reach past T1, on the planet's base circle (A at −18.5 mm), and Table 6 could not be
     # reproduced.
     with pytest.raises(InvoluteInterference) as err:
-        path_of_contact(dtu_pairs()[1], tip_radius_2=0.4366)
+        dtu_pairs()[1].path_of_contact(tip_radius_2=0.4366)
     assert err.value.start < 0.0
     assert "interference" in str(err.value)
 
@@ -183,18 +204,16 @@ def test_internal_gear_as_gear_1_gives_the_same_path_seen_from_the_ring():
     # physical point. It is now measured from the ring's tangency point, which lies
     # a_w sin α_wt behind the planet's.
     _, planet_ring = dtu_paths()
-    ring_planet = path_of_contact(
-        GearPair(
-            91,
-            35,
-            module=10e-3,
-            pressure_angle=ALPHA_20,
-            profile_shift_1=-0.840,
-            profile_shift_2=0.419,
-            internal_1=True,
-            face_width=WIDTH,
-        )
-    )
+    ring_planet = GearPair(
+        91,
+        35,
+        module=10e-3,
+        pressure_angle=ALPHA_20,
+        profile_shift_1=-0.840,
+        profile_shift_2=0.419,
+        internal_1=True,
+        face_width=WIDTH,
+    ).path_of_contact()
     alpha_w = inv_inverse(inv(ALPHA_20) + 2 * math.tan(ALPHA_20) * (0.419 - 0.840) / (35 - 91))
     line = 10e-3 * 56 / 2 * math.cos(ALPHA_20) * math.tan(alpha_w)  # a_w sin α_w
     np.testing.assert_allclose(ring_planet.length, planet_ring.length, rtol=1e-12)
@@ -205,7 +224,9 @@ def test_internal_gear_as_gear_1_gives_the_same_path_seen_from_the_ring():
 
 
 def test_pairs_in_contact_are_two_in_double_zones_and_one_in_single_zone():
-    path = path_of_contact(GearPair(20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=WIDTH))
+    path = GearPair(
+        20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=WIDTH
+    ).path_of_contact()
     b, d, g, p = path.single_start, path.single_end, path.length, path.base_pitch
     s = np.array([0.5 * b, 0.5 * (b + d), 0.5 * (d + g)])
     np.testing.assert_array_equal(pairs_in_contact(path, s), [2, 1, 2])
@@ -218,16 +239,14 @@ def test_pairs_in_contact_are_two_in_double_zones_and_one_in_single_zone():
 def test_mean_number_of_pairs_in_contact_equals_contact_ratio(addendum):
     # Averaged over one base pitch, the number of loaded pairs is ε_α. With h_a* = 1.35 on
     # 60/60 teeth ε_α > 2, so the count runs 2-3.
-    path = path_of_contact(
-        GearPair(
-            60,
-            60,
-            module=2e-3,
-            pressure_angle=ALPHA_20,
-            addendum_coefficient=addendum,
-            face_width=WIDTH,
-        )
-    )
+    path = GearPair(
+        60,
+        60,
+        module=2e-3,
+        pressure_angle=ALPHA_20,
+        addendum_coefficient=addendum,
+        face_width=WIDTH,
+    ).path_of_contact()
     phase = (np.arange(200_000) + 0.5) / 200_000 * path.base_pitch
     counts = pairs_in_contact(path, phase)
     np.testing.assert_allclose(counts.mean(), path.contact_ratio, rtol=0, atol=1e-4)
@@ -242,10 +261,8 @@ def test_short_tips_give_contact_ratio_below_one():
     #     = 10.65 mm, ε_α = 10.65/14.761 = 0.72.
     m = 5e-3
     with pytest.raises(ContactRatioBelowOne) as err:
-        path_of_contact(
-            GearPair(20, 40, module=m, pressure_angle=ALPHA_20, face_width=WIDTH),
-            tip_radius_1=10.4 * m,
-            tip_radius_2=20.4 * m,
+        GearPair(20, 40, module=m, pressure_angle=ALPHA_20, face_width=WIDTH).path_of_contact(
+            tip_radius_1=10.4 * m, tip_radius_2=20.4 * m
         )
     np.testing.assert_allclose(err.value.contact_ratio, 0.72, atol=0.005)
     assert "ε_α" in str(err.value) and "< 1" in str(err.value)
@@ -254,8 +271,8 @@ def test_short_tips_give_contact_ratio_below_one():
 def test_tip_inside_base_circle_is_reported_with_both_radii():
     m = 5e-3
     with pytest.raises(TipInsideBaseCircle) as err:
-        path_of_contact(
-            GearPair(20, 40, module=m, pressure_angle=ALPHA_20, face_width=WIDTH), tip_radius_2=0.09
+        GearPair(20, 40, module=m, pressure_angle=ALPHA_20, face_width=WIDTH).path_of_contact(
+            tip_radius_2=0.09
         )
     assert err.value.gear == 2
     assert "90.0000 mm" in str(err.value) and "93.9693 mm" in str(err.value)
@@ -266,23 +283,21 @@ def test_small_unshifted_pinion_with_large_gear_interferes():
     # (sqrt(r_a2² − r_b2²) = sqrt(82² − 75.175²) = 32.75 mm > a sin α = 92 sin 20° = 31.47 mm
     # for m = 2 mm).
     with pytest.raises(InvoluteInterference):
-        path_of_contact(GearPair(12, 80, module=2e-3, pressure_angle=ALPHA_20, face_width=WIDTH))
+        GearPair(12, 80, module=2e-3, pressure_angle=ALPHA_20, face_width=WIDTH).path_of_contact()
 
 
 def test_two_internal_gears_and_bad_numbers_are_rejected():
     with pytest.raises(InvalidGearTrain):
-        path_of_contact(
-            GearPair(
-                35,
-                91,
-                module=1e-3,
-                pressure_angle=ALPHA_20,
-                internal_1=True,
-                internal_2=True,
-                face_width=WIDTH,
-            )
-        )
+        GearPair(
+            35,
+            91,
+            module=1e-3,
+            pressure_angle=ALPHA_20,
+            internal_1=True,
+            internal_2=True,
+            face_width=WIDTH,
+        ).path_of_contact()
     with pytest.raises(InvalidGearTrain):
-        path_of_contact(GearPair(-20, 40, module=1e-3, pressure_angle=ALPHA_20, face_width=WIDTH))
+        GearPair(-20, 40, module=1e-3, pressure_angle=ALPHA_20, face_width=WIDTH).path_of_contact()
     with pytest.raises(PinwindError):
-        path_of_contact(GearPair(20, 40, module=0.0, pressure_angle=ALPHA_20, face_width=WIDTH))
+        GearPair(20, 40, module=0.0, pressure_angle=ALPHA_20, face_width=WIDTH).path_of_contact()

@@ -5,7 +5,6 @@ import math
 import numpy as np
 import pytest
 
-from pinwind.gears.contact import path_of_contact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.hertz import hertz_along_path, hertz_pressure
 from pinwind.gears.materials import MATERIALS
@@ -32,7 +31,7 @@ def test_pair_carries_half_the_force_in_the_double_zone_and_all_of_it_in_the_sin
     alpha = math.radians(24.5)
     pair = GearPair(24, 48, module=0.015, pressure_angle=alpha, face_width=0.38,
                     material_1=STEEL, material_2=STEEL)  # fmt: skip
-    path = path_of_contact(pair)
+    path = pair.path_of_contact()
     a = 0.015 * 72 / 2
     np.testing.assert_allclose(pair.geometry.centre_distance, a, rtol=1e-12)
     h = hertz_along_path(pair, 3.4e5, points=401)

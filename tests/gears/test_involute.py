@@ -203,3 +203,32 @@ def test_meshing_teeth_fill_the_working_pitch_without_backlash(z1, z2, x1, x2, i
         internal=internal,
     )  # fmt: skip
     np.testing.assert_allclose(z1 * psi_1 + z2 * psi_2, math.pi, rtol=1e-12)
+
+
+def test_unshifted_tooth_is_half_a_pitch_thick_on_the_reference_circle():
+    # x = 0: tooth and gap share the reference pitch π m_t equally, so the tooth subtends π/z
+    # there, half of it π/(2z); the same for an internal gear (its gap is the external tooth).
+    z, m, beta = 23, 4e-3, math.radians(15.0)
+    r = z * m / (2 * math.cos(beta))
+    for internal in (False, True):
+        psi = half_tooth_angle(
+            z, module=m, pressure_angle=ALPHA_20, radius=r, helix_angle=beta, internal=internal
+        )
+        np.testing.assert_allclose(psi, math.pi / (2 * z), rtol=1e-12)
+
+
+def test_half_tooth_angle_moves_by_the_involute_from_the_reference_circle():
+    # A profile shift x adds 2 x tan α_n / z; at radius r the flank has turned by
+    # inv α(r) − inv α, cos α(r) = r_b / r: thinner outwards on an external gear, thicker on an
+    # internal one.
+    z, m, x = 30, 2e-3, 0.3
+    r_b = z * m / 2 * math.cos(ALPHA_20)
+    r = 1.04 * z * m / 2
+    turn = inv(math.acos(r_b / r)) - inv(ALPHA_20)
+    reference = math.pi / (2 * z) + 2 * x * math.tan(ALPHA_20) / z
+    external = half_tooth_angle(z, module=m, pressure_angle=ALPHA_20, radius=r, profile_shift=x)
+    internal = half_tooth_angle(
+        z, module=m, pressure_angle=ALPHA_20, radius=r, profile_shift=x, internal=True
+    )
+    np.testing.assert_allclose(external, reference - turn, rtol=1e-12)
+    np.testing.assert_allclose(internal, reference + turn, rtol=1e-12)

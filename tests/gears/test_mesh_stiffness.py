@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pinwind.errors import InputError, InvalidGearTrain
-from pinwind.gears.contact import PathOfContact, pairs_in_contact, path_of_contact
+from pinwind.gears.contact import PathOfContact, pairs_in_contact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
     mesh_stiffness,
@@ -180,7 +180,7 @@ def test_mesh_stiffness_is_iso_c_gamma_alpha():
 
 def planet_ring_path_and_stiffness() -> tuple[PathOfContact, float]:
     pair = dtu_pairs()[1]
-    return path_of_contact(pair), single_pair_stiffness(pair)
+    return pair.path_of_contact(), single_pair_stiffness(pair)
 
 
 @pytest.mark.parametrize("mesh", ["textbook", "dtu_planet_ring"])
@@ -188,9 +188,9 @@ def test_mean_mesh_stiffness_equals_iso_c_gamma(mesh):
     # The mean over one base pitch of the summed stiffness is ∫₀^g k(s) ds / p_bt: every point
     # of the path is visited by exactly one pair per pitch.
     if mesh == "textbook":
-        path = path_of_contact(
-            GearPair(20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=WIDTH)
-        )
+        path = GearPair(
+            20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=WIDTH
+        ).path_of_contact()
         single = 1.0e9
     else:
         path, single = planet_ring_path_and_stiffness()

@@ -17,7 +17,7 @@ import pytest
 
 import pinwind
 from pinwind.errors import LogRecovered
-from pinwind.io.mcap_log import open_log
+from pinwind.io.log_reader import open_log
 from tests.io.conftest import PLANETARY, VIEW_EVERY, rrd_columns
 
 ENV = {**os.environ, "RERUN_ANALYTICS": "0"}

@@ -19,8 +19,8 @@ from pinwind.dynamics.result import POSE_ARRAYS
 from pinwind.errors import InputError, InvalidLogRate, LogError, LogExists, LogRecovered
 from pinwind.gears.contact import pairs_in_contact
 from pinwind.io import mcap_log
-from pinwind.io.log_reader import LogDamaged, LogReader
-from pinwind.io.mcap_log import McapLogger, open_log
+from pinwind.io.log_reader import LogDamaged, LogReader, open_log
+from pinwind.io.mcap_log import McapLogger
 from pinwind.io.messages import decode_string
 from pinwind.io.run import log_path
 from tests.io.conftest import (

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import pinwind
-from pinwind.io.mcap_log import open_log
+from pinwind.io.log_reader import open_log
 from pinwind.io.panels import (
     LEGEND_CORNERS,
     LEGEND_ENTRY_PX,

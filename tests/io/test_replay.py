@@ -261,7 +261,7 @@ def test_blueprint_has_a_panel_per_quantity_with_floored_ranges(replayed, logged
 
 
 def test_meshing_teeth_interlock_at_the_pitch_point_in_the_first_frame(logged_run):
-    from pinwind.io.mcap_log import open_log
+    from pinwind.io.log_reader import open_log
     from pinwind.io.replay_scene import gear_pose, pitch_fraction, tooth_phases
 
     log = open_log(logged_run.path, stop=0.0)

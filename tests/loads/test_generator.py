@@ -9,6 +9,7 @@ from numpy.testing import assert_allclose
 from scipy.optimize import minimize_scalar
 
 import pinwind
+from pinwind.dynamics.elements import induction_torque
 from pinwind.errors import InputError, UnknownJoint
 from pinwind.loads.generator import ConstantTorque, InductionMachine, LinearSlip, VariableSpeed
 from pinwind.model.gearbox import loads
@@ -38,9 +39,9 @@ def pair(pair_urdf):
 def test_induction_machine_gives_no_torque_at_1800_rpm_for_4_poles_at_60_hz():
     machine = InductionMachine.cart600()
     assert_allclose(machine.sync_speed, 1800 * RPM, rtol=1e-15)
-    assert machine.torque(1800 * RPM) == 0.0
+    assert induction_torque(machine, 1800 * RPM) == 0.0
     # Just above synchronous speed it generates, just below it motors.
-    assert machine.torque(1801 * RPM) > 0 > machine.torque(1799 * RPM)
+    assert induction_torque(machine, 1801 * RPM) > 0 > induction_torque(machine, 1799 * RPM)
 
 
 def test_induction_pull_out_torque_and_slip_equal_the_thevenin_closed_form():
@@ -55,11 +56,11 @@ def test_induction_pull_out_torque_and_slip_equal_the_thevenin_closed_form():
         return W_SYNC * (1 - slip)
 
     # Motoring: T_gen = −τ is most negative at s = s_max; generating: most positive at −s_max.
-    best = minimize_scalar(lambda s: machine.torque(speed(s)), bounds=(1e-4, 0.5),
+    best = minimize_scalar(lambda s: induction_torque(machine, speed(s)), bounds=(1e-4, 0.5),
                            method="bounded", options={"xatol": 1e-12})  # fmt: skip
     assert_allclose(best.x, slip_max, rtol=1e-5)
     assert_allclose(-best.fun, motoring_max, rtol=1e-9)
-    best = minimize_scalar(lambda s: -machine.torque(speed(s)), bounds=(-0.5, -1e-4),
+    best = minimize_scalar(lambda s: -induction_torque(machine, speed(s)), bounds=(-0.5, -1e-4),
                            method="bounded", options={"xatol": 1e-12})  # fmt: skip
     assert_allclose(best.x, -slip_max, rtol=1e-5)
     assert_allclose(-best.fun, generating_max, rtol=1e-9)
@@ -71,7 +72,7 @@ def test_induction_torque_at_any_slip_follows_the_equivalent_circuit():
     for slip in (-0.3, -0.01, -1e-4, 2e-3, 0.05, 1.0):
         rotor = RR / slip
         expected = 3 * v_th**2 * rotor / (W_SYNC * ((r_th + rotor) ** 2 + (x_th + x_lr) ** 2))
-        assert_allclose(-machine.torque(W_SYNC * (1 - slip)), expected, rtol=1e-10)
+        assert_allclose(-induction_torque(machine, W_SYNC * (1 - slip)), expected, rtol=1e-10)
 
 
 @pytest.mark.parametrize(
@@ -81,7 +82,7 @@ def test_induction_torque_at_any_slip_follows_the_equivalent_circuit():
         (LinearSlip(slope=0.8, sync_speed=95.0), lambda w: 0.8 * (w - 95.0)),
         (VariableSpeed(gain=2e-3), lambda w: 2e-3 * w * w),
         (VariableSpeed(gain=2e-3, rated_power=5.0), lambda w: 5.0 / w),
-        (InductionMachine.cart600(), lambda w: InductionMachine.cart600().torque(w)),
+        (InductionMachine.cart600(), lambda w: induction_torque(InductionMachine.cart600(), w)),
     ],
     ids=["constant", "linear-slip", "k-omega-squared", "constant-power", "induction"],
 )

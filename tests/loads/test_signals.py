@@ -12,15 +12,14 @@ from numpy.testing import assert_allclose
 import pinwind
 from pinwind.errors import InputError, NonFiniteInput
 from pinwind.loads.openfast import read_channel
+from pinwind.loads.signal_text import parse_signal, signal_from_spec
 from pinwind.loads.signals import (
     Constant,
     Ramp,
     Sine,
     Step,
     Sum,
-    parse_signal,
     read_csv,
-    signal_from_spec,
 )
 from pinwind.model.gearbox import loads
 

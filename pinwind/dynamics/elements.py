@@ -1,0 +1,231 @@
+"""Generator and rotor laws (``loads/``) as the compiled step loop takes them.
+
+``load_elements`` checks the joint names and the laws, and gives the compiled specs
+(``_native.GeneratorSpec``, ``_native.RotorSpec``, from ``generator_spec`` and ``rotor_spec``),
+the rotor inertias to add to their joints, and the per-sample input columns the rotors read (one
+wind-speed column). The compiled laws can also be evaluated alone (``induction_torque``,
+``rotor_torque``, ``rotor_power_coefficient``, ``optimal_gain``): the numbers the step loop uses.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+from pinwind.dynamics import _native
+from pinwind.errors import InputError, NonFiniteInput, UnknownJoint
+from pinwind.loads.generator import (
+    ConstantTorque,
+    GeneratorLaw,
+    InductionMachine,
+    LinearSlip,
+    VariableSpeed,
+    describe,
+)
+from pinwind.loads.rotor import CpTable, Rotor
+from pinwind.loads.signal_text import signal_from_spec
+from pinwind.loads.signals import Signal
+
+
+@dataclass
+class LoadElements:
+    """The compiled generator and rotor specs of a run.
+
+    Attributes:
+        generators, rotors: compiled specs.
+        generator_names, rotor_names: their joints, in the same order.
+        added_inertia: velocity index → inertia added to the joint [kg·m²] (rotors).
+        input_columns: per-sample inputs (1 with rotors: the wind speed [m/s], else 0).
+        wind: the wind-speed signal [m/s], or None.
+        metadata: the laws as plain values, for the log.
+    """
+
+    generators: list[_native.GeneratorSpec] = field(default_factory=list)
+    rotors: list[_native.RotorSpec] = field(default_factory=list)
+    generator_names: list[str] = field(default_factory=list)
+    rotor_names: list[str] = field(default_factory=list)
+    added_inertia: dict[int, float] = field(default_factory=dict)
+    input_columns: int = 0
+    wind: Signal | None = None
+    metadata: dict[str, Any] = field(default_factory=dict)
+
+
+_GENERATORS = GeneratorLaw.__args__  # type: ignore[attr-defined]
+
+
+def load_elements(
+    generators: Mapping[str, GeneratorLaw] | None,
+    rotors: Mapping[str, Rotor] | None,
+    wind: Signal | float | None,
+    *,
+    joint_index: Mapping[str, int],
+) -> LoadElements:
+    """Check generator and rotor laws and build their compiled specs.
+
+    Args:
+        generators: joint name → generator law (``loads/generator.py``).
+        rotors: joint name → ``Rotor``.
+        wind: wind speed [m/s] at the rotors: a number or a ``Signal``; needed with rotors.
+        joint_index: joint name → velocity index of every joint that may carry them.
+
+    Raises:
+        UnknownJoint, InputError, NonFiniteInput: a bad joint, law or wind.
+    """
+    out = LoadElements()
+    for name, law in (generators or {}).items():
+        if name not in joint_index:
+            raise UnknownJoint(name, "generators", joint_index)
+        if not isinstance(law, _GENERATORS):
+            raise InputError(
+                f'generators["{name}"] is {law!r}; give a ConstantTorque, LinearSlip, '
+                "VariableSpeed or InductionMachine (pinwind.loads.generator)"
+            )
+        _check_finite(law, f'generators["{name}"]')
+        if isinstance(law, InductionMachine):
+            positive = ("rotor_resistance", "magnetizing", "voltage", "frequency", "poles")
+            for key in positive:
+                if not getattr(law, key) > 0:
+                    raise InputError(f'generators["{name}"].{key} must be positive')
+            if law.poles % 2:
+                raise InputError(f'generators["{name}"].poles = {law.poles} must be even')
+        out.generators.append(generator_spec(law, joint_index[name]))
+        out.generator_names.append(name)
+        out.metadata.setdefault("generators", {})[name] = describe(law)
+    if rotors:
+        if wind is None:
+            raise InputError("rotors need a wind speed: give wind= (m/s, a number or a signal)")
+        out.wind = signal_from_spec(wind, where="wind") if not isinstance(wind, Signal) else wind
+        out.input_columns = 1
+        out.metadata["wind"] = out.wind.spec()
+    for name, rotor in (rotors or {}).items():
+        if name not in joint_index:
+            raise UnknownJoint(name, "rotors", joint_index)
+        if not isinstance(rotor, Rotor):
+            raise InputError(f'rotors["{name}"] is {rotor!r}; give a pinwind.loads.rotor.Rotor')
+        index = joint_index[name]
+        out.rotors.append(rotor_spec(rotor, index, 0))
+        out.rotor_names.append(name)
+        if rotor.inertia:
+            out.added_inertia[index] = out.added_inertia.get(index, 0.0) + rotor.inertia
+        out.metadata.setdefault("rotors", {})[name] = rotor.describe()
+    return out
+
+
+def _check_finite(law: Any, where: str) -> None:
+    for f in fields(law):
+        value = getattr(law, f.name)
+        if isinstance(value, float) and not math.isfinite(value):
+            raise NonFiniteInput(f"{where}.{f.name} is {value}; give a finite value")
+
+
+# --- compiled specs ------------------------------------------------------------------------------
+
+
+def _constant_torque_spec(law: ConstantTorque, index: int) -> _native.GeneratorSpec:
+    """The compiled spec on velocity index ``index``."""
+    g = _native.GeneratorSpec()
+    g.index, g.law, g.torque = index, 0, float(law.torque)
+    return g
+
+
+def _linear_slip_spec(law: LinearSlip, index: int) -> _native.GeneratorSpec:
+    """The compiled spec on velocity index ``index``."""
+    g = _native.GeneratorSpec()
+    g.index, g.law = index, 1
+    g.slope, g.sync_speed = float(law.slope), float(law.sync_speed)
+    return g
+
+
+def _variable_speed_spec(law: VariableSpeed, index: int) -> _native.GeneratorSpec:
+    """The compiled spec on velocity index ``index``."""
+    g = _native.GeneratorSpec()
+    g.index, g.law = index, 2
+    g.gain, g.rated_power = float(law.gain), float(law.rated_power)
+    return g
+
+
+def _induction_machine_spec(machine: InductionMachine, index: int) -> _native.GeneratorSpec:
+    """The compiled spec on velocity index ``index``."""
+    g = _native.GeneratorSpec()
+    g.index = index
+    g.law = 4 if machine.dynamic else 3
+    g.stator_resistance = float(machine.stator_resistance)
+    g.rotor_resistance = float(machine.rotor_resistance)
+    g.stator_leakage = float(machine.stator_leakage)
+    g.rotor_leakage = float(machine.rotor_leakage)
+    g.magnetizing = float(machine.magnetizing)
+    g.voltage = float(machine.voltage)
+    g.frequency = float(machine.frequency)
+    g.pole_pairs = int(machine.poles) // 2
+    g.steady_start = bool(machine.steady_start)
+    return g
+
+
+#: Generator law → the builder of its compiled spec.
+_GENERATOR_SPECS: dict[type, Callable[[Any, int], _native.GeneratorSpec]] = {
+    ConstantTorque: _constant_torque_spec,
+    LinearSlip: _linear_slip_spec,
+    VariableSpeed: _variable_speed_spec,
+    InductionMachine: _induction_machine_spec,
+}
+
+
+def generator_spec(law: GeneratorLaw, index: int) -> _native.GeneratorSpec:
+    """The compiled spec of a generator law on velocity index ``index``."""
+    return _GENERATOR_SPECS[type(law)](law, index)
+
+
+def rotor_spec(rotor: Rotor, index: int, wind_column: int) -> _native.RotorSpec:
+    """The compiled spec on velocity index ``index``, wind from input ``wind_column``."""
+    r = _native.RotorSpec()
+    r.index, r.wind_column = index, wind_column
+    r.radius, r.air_density, r.pitch = float(rotor.radius), float(rotor.air_density), rotor.pitch
+    if isinstance(rotor.cp, CpTable):
+        r.cp_model = 1
+        r.table_tsr = [float(x) for x in rotor.cp.tsr]
+        r.table_pitch = [float(x) for x in rotor.cp.pitch]
+        r.table_cp = [float(c) for row in rotor.cp.cp for c in row]
+    else:
+        r.cp_model = 0
+        r.cp_scale = float(rotor.cp.scale)
+    return r
+
+
+# --- the compiled laws, evaluated alone ----------------------------------------------------------
+
+
+def induction_torque(machine: InductionMachine, speed: float) -> float:
+    """Steady-state generator torque T_gen [N·m] at shaft speed [rad/s] (compiled law)."""
+    return -_native.induction_torque(_induction_machine_spec(machine, 0), float(speed))
+
+
+def rotor_torque(rotor: Rotor, speed: float, wind: float) -> float:
+    """Aerodynamic torque [N·m] at rotor speed [rad/s] in wind [m/s] (the compiled law)."""
+    return _native.rotor_torque(rotor_spec(rotor, 0, 0), float(speed), float(wind))
+
+
+def rotor_power_coefficient(rotor: Rotor, tsr: float) -> float:
+    """C_p at tip-speed ratio λ (the compiled law)."""
+    return _native.rotor_cp(rotor_spec(rotor, 0, 0), float(tsr))
+
+
+def rotor_optimum(rotor: Rotor) -> tuple[float, float]:
+    """(λ_opt, C_p,max): the tip-speed ratio of the highest power coefficient."""
+    from scipy.optimize import minimize_scalar
+
+    best = minimize_scalar(
+        lambda x: -rotor_power_coefficient(rotor, x), bounds=(1.0, 20.0), method="bounded",
+        options={"xatol": 1e-10},
+    )  # fmt: skip
+    return float(best.x), -float(best.fun)
+
+
+def optimal_gain(rotor: Rotor, ratio: float = 1.0) -> float:
+    """K of ``VariableSpeed`` that holds λ_opt, for a generator turning ratio × the rotor.
+
+    K = ½ ρ π R⁵ C_p,max / λ_opt³ / ratio³ [N·m·s²].
+    """
+    tsr, cp = rotor_optimum(rotor)
+    return 0.5 * rotor.air_density * math.pi * rotor.radius**5 * cp / tsr**3 / ratio**3
