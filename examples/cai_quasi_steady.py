@@ -24,7 +24,8 @@ from rich.table import Table
 
 import pinwind
 from pinwind.analysis.summary import statistics
-from pinwind.cli import RPM_TO_RAD_PER_S, SineSpeed
+from pinwind.loads.signals import Scaled, Sine
+from pinwind.scenario import RPM_TO_RAD_PER_S
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 AMPLITUDES_RPM = (7.6, 9.2, 11.0)  # Table 3-3
@@ -67,7 +68,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     rows = []
     cases = list(itertools.product(AMPLITUDES_RPM, FREQUENCIES_HZ))[: args.runs]
     for run, (amp, freq) in enumerate(cases, start=1):
-        driver = SineSpeed(200 * RPM_TO_RAD_PER_S, amp * RPM_TO_RAD_PER_S, freq)
+        driver = Scaled(Sine(200.0, amp, freq), RPM_TO_RAD_PER_S)
         res = pinwind.simulate(
             gb,
             duration=args.duration,

@@ -33,8 +33,8 @@ from rich.table import Table
 
 import pinwind
 from pinwind.analysis import load_sharing
-from pinwind.cli import RPM_TO_RAD_PER_S
 from pinwind.model.compliance import MeshCompliance
+from pinwind.scenario import RPM_TO_RAD_PER_S
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 RATED_POWER = 500e3  # W

@@ -24,8 +24,9 @@ from rich.table import Table
 
 import pinwind
 from pinwind.analysis.summary import statistics
-from pinwind.cli import RPM_TO_RAD_PER_S, SineSpeed
+from pinwind.loads.signals import Scaled, Sine
 from pinwind.model.compliance import MeshCompliance
+from pinwind.scenario import RPM_TO_RAD_PER_S
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 BRAKE = 49.0  # N·m on the output shaft (the output turns backwards: the brake pushes forwards)
@@ -129,7 +130,7 @@ def main(argv: list[str] | None = None) -> dict[str, list[dict]]:
         "200 rpm": 200 * RPM_TO_RAD_PER_S,
         "300 rpm": 300 * RPM_TO_RAD_PER_S,
         **{
-            f"run {run}": SineSpeed(200 * RPM_TO_RAD_PER_S, amp * RPM_TO_RAD_PER_S, freq)
+            f"run {run}": Scaled(Sine(200.0, amp, freq), RPM_TO_RAD_PER_S)
             for run, (amp, freq) in SINE_RUNS.items()
         },
     }

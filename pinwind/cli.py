@@ -7,6 +7,7 @@ default) that ``replay`` and ``report`` read back on their own.
 
 from __future__ import annotations
 
+import ast
 import math
 import shlex
 import signal
@@ -15,7 +16,7 @@ import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated, cast
+from typing import Annotated, Any, cast
 
 import typer
 from rich.console import Console
@@ -28,6 +29,8 @@ from pinwind.errors import (
     PinwindError,
     PinwindWarning,
 )
+from pinwind.loads.generator import LAWS
+from pinwind.scenario import RPM_TO_RAD_PER_S
 
 app = typer.Typer(
     name="pinwind",
@@ -51,8 +54,6 @@ app.add_typer(sweep_app, name="sweep")
 console = Console()
 # Errors and warnings are one line each, never hard-wrapped, so they can be copied whole.
 err_console = Console(stderr=True, soft_wrap=True)
-
-RPM_TO_RAD_PER_S = 2.0 * math.pi / 60.0
 
 
 def say(text: str) -> None:
@@ -116,57 +117,40 @@ def _float(text: str, option: str, unit: str) -> float:
     return value
 
 
-class SineSpeed:
-    """Ω(t) = mean + amplitude · sin(2π f t) [rad/s] (002_bb0c67d52fe8a188.txt eq. 2-1)."""
-
-    def __init__(self, mean: float, amplitude: float, frequency: float):
-        self.mean = mean
-        self.amplitude = amplitude
-        self.frequency = frequency
-        self.description = (
-            f"{mean / RPM_TO_RAD_PER_S:g} rpm + {amplitude / RPM_TO_RAD_PER_S:g} rpm · "
-            f"sin(2π·{frequency:g} Hz·t)"
-        )
-
-    def __call__(self, t: float) -> float:
-        """Ω(t) [rad/s]."""
-        return self.mean + self.amplitude * math.sin(2.0 * math.pi * self.frequency * t)
+def _number_or_signal(text: str, option: str, unit: str) -> float | str:
+    """A number [unit], or a signal's text form (``sine(mean=..., ...)``, built by the scenario)."""
+    return text if "(" in text else _float(text, option, unit)
 
 
-def _signal_or_float(text: str, option: str, unit: str, scale: float = 1.0):
-    """A number, or a signal's text form (``sine(mean=..., ...)``, ``loads/signals.py``)."""
-    if "(" not in text:
-        return _float(text, option, unit) * scale
-    from pinwind.loads.signals import Scaled, parse_signal
-
-    signal = parse_signal(text, where=option)
-    return Scaled(signal, scale) if scale != 1.0 else signal
+def _number_or_text(text: str) -> float | str:
+    """A number, or the text for the scenario to read (``--wind``)."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
-def parse_loads(
+def load_values(
     torque: list[str] | None,
     speed: list[str] | None,
     speed_sine: list[str] | None,
     initial_speed: list[str] | None = None,
-) -> tuple[dict, dict, dict]:
-    """CLI load options → (torques [N·m], speeds [rad/s], initial speeds [rad/s]).
+) -> dict[str, Any]:
+    """CLI load options → scenario values ``torque`` [N·m], ``speed``, ``initial_speed`` [rpm].
 
     Raises:
         InputError: a malformed or non-finite value.
         ConflictingInputs: a joint given twice in one option, or in two speed options.
     """
     torques = {
-        k: _signal_or_float(v, "--torque", "N·m") for k, v in _pairs(torque, "--torque").items()
+        k: _number_or_signal(v, "--torque", "N·m") for k, v in _pairs(torque, "--torque").items()
     }
     steady = _pairs(speed, "--speed")
     sines = _pairs(speed_sine, "--speed-sine")
     initial = _pairs(initial_speed, "--initial-speed")
     _disjoint(**{"--speed": steady, "--speed-sine": sines, "--initial-speed": initial})
-    speeds: dict = {
-        k: _signal_or_float(v, "--speed", "rpm", RPM_TO_RAD_PER_S) for k, v in steady.items()
-    }
-    initial_speeds = {
-        k: _float(v, "--initial-speed", "rpm") * RPM_TO_RAD_PER_S for k, v in initial.items()
+    speeds: dict[str, float | str] = {
+        k: _number_or_signal(v, "--speed", "rpm") for k, v in steady.items()
     }
     for name, value in sines.items():
         parts = value.split(",")
@@ -174,9 +158,19 @@ def parse_loads(
             raise InputError(
                 f'--speed-sine "{name}={value}" must be JOINT=MEAN_RPM,AMPLITUDE_RPM,FREQUENCY_HZ'
             )
-        mean, amp = (_float(p, "--speed-sine", "rpm") * RPM_TO_RAD_PER_S for p in parts[:2])
-        speeds[name] = SineSpeed(mean, amp, _float(parts[2], "--speed-sine", "Hz"))
-    return torques, speeds, initial_speeds
+        mean, amplitude = (_float(p, "--speed-sine", "rpm") for p in parts[:2])
+        frequency = _float(parts[2], "--speed-sine", "Hz")
+        speeds[name] = f"sine(mean={mean!r}, amplitude={amplitude!r}, frequency={frequency!r})"
+    values: dict[str, Any] = {}
+    if torques:
+        values["torque"] = torques
+    if speeds:
+        values["speed"] = speeds
+    if initial:
+        values["initial_speed"] = {
+            k: _float(v, "--initial-speed", "rpm") for k, v in initial.items()
+        }
+    return values
 
 
 #: Load options shared by the commands that simulate (simulate, rate).
@@ -229,8 +223,8 @@ WindowStop = Annotated[
 MESH_CHOICES = ("rigid", "compliant")
 
 
-def parse_meshes(items: list[str] | None) -> dict[str, str]:
-    """``--mesh NAME=rigid|compliant`` options → ``simulate(meshes=...)``."""
+def mesh_values(items: list[str] | None) -> dict[str, str]:
+    """``--mesh NAME=rigid|compliant`` options → ``mesh`` values."""
     out = {}
     for name, value in _pairs(items, "--mesh").items():
         if value not in MESH_CHOICES:
@@ -254,8 +248,8 @@ def parse_keep(text: str) -> str | int:
         ) from None
 
 
-def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, float]]:
-    """``--position-error GEAR=T_UM,R_UM`` options → (tangential, radial) errors [m]."""
+def position_error_values(items: list[str] | None) -> dict[str, list[float]]:
+    """``--position-error GEAR=T_UM,R_UM`` options → ``position_error`` values [µm]."""
     out = {}
     for name, value in _pairs(items, "--position-error").items():
         parts = value.split(",")
@@ -263,9 +257,62 @@ def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, flo
             raise InputError(
                 f'--position-error "{name}={value}" must be GEAR=TANGENTIAL_UM,RADIAL_UM'
             )
-        tangential, radial = (_float(p, "--position-error", "µm") * 1e-6 for p in parts)
-        out[name] = (tangential, radial)
+        out[name] = [_float(p, "--position-error", "µm") for p in parts]
     return out
+
+
+def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, float]]:
+    """``--position-error`` options → (tangential, radial) errors [m], as a run takes them."""
+    from pinwind import scenario as sc
+
+    values = {"model": "", "position_error": position_error_values(items)}
+    return dict(sc.build(values, flags=FLAGS).position_errors)
+
+
+def parse_call(text: str, option: str, default_key: str) -> dict[str, Any]:
+    """``name(key=value, ...)`` or ``name`` → ``{default_key: name, key: value, ...}``."""
+    try:
+        node = ast.parse(text.strip(), mode="eval").body
+    except SyntaxError as err:
+        raise InputError(f'{option}: cannot read "{text}": {err.msg}') from err
+    if isinstance(node, ast.Name):
+        return {default_key: node.id}
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.args:
+        out: dict[str, Any] = {} if node.func.id == "rotor" else {default_key: node.func.id}
+        for kw in node.keywords:
+            if kw.arg is None:  # **{...}
+                raise InputError(
+                    f'{option}: in "{text}", give the parameters as key=value, not as **{{...}}'
+                )
+            try:
+                out[kw.arg] = ast.literal_eval(kw.value)
+            except ValueError as err:
+                raise InputError(
+                    f'{option}: in "{text}", {kw.arg} must be a number or a quoted text'
+                ) from err
+        return out
+    raise InputError(f'{option}: "{text}" must look like NAME(key=value, ...)')
+
+
+def generator_values(items: list[str] | None) -> dict[str, Any]:
+    """``--generator JOINT=LAW(params)`` → ``generator`` values (``law``: linear-slip is a name)."""
+    out = {}
+    for joint, text in _pairs(items, "--generator").items():
+        law, sep, rest = text.partition("(")
+        call = parse_call("x(" + rest if sep else "x", "--generator", "law")
+        call["law"] = law.strip()
+        out[joint] = call
+    return out
+
+
+def rotor_values(items: list[str] | None) -> dict[str, Any]:
+    """``--rotor JOINT=PRESET`` or ``JOINT=rotor(params)`` → ``rotor`` values."""
+    return {joint: parse_call(text, "--rotor", "preset")
+            for joint, text in _pairs(items, "--rotor").items()}  # fmt: skip
+
+
+#: Scenario keys whose signals come from these options: their errors name the option.
+FLAGS = {"torque": "--torque", "speed": "--speed"}
 
 
 @app.command()
@@ -348,8 +395,7 @@ def simulate(
         list[str] | None,
         typer.Option(
             "--generator",
-            help="JOINT=LAW(params): constant(torque=), linear-slip(slope=, sync_rpm=), "
-            "variable-speed(gain=, rated_power=), induction(preset=cart600) or induction-dq(...).",
+            help="JOINT=LAW(params): " + ", ".join(kind.usage for kind in LAWS.values()) + ".",
         ),
     ] = None,
     rotor: Annotated[
@@ -374,19 +420,22 @@ def simulate(
     from pinwind import scenario as sc
     from pinwind.io.run import log_path
 
-    parse_loads(torque, speed, speed_sine, initial_speed)  # refuses malformed values
-    parse_meshes(mesh)
-    parse_position_errors(position_error)
-    values = sc.cli_values(
-        model=str(model), torque=_pairs(torque, "--torque"), speed=_pairs(speed, "--speed"),
-        speed_sine=_pairs(speed_sine, "--speed-sine"),
-        initial_speed=_pairs(initial_speed, "--initial-speed"), mesh=_pairs(mesh, "--mesh"),
-        position_error=_pairs(position_error, "--position-error"),
-        generator=_pairs(generator, "--generator"), rotor=_pairs(rotor, "--rotor"), wind=wind,
-        duration=duration, dt=dt, log_rate=log_rate, pose_rate=pose_rate, view_rate=view_rate,
-        allow_large_log=allow_large_log, keep=parse_keep(keep),
-    )  # fmt: skip
-    scenario = sc.Scenario(values, source="command line").check()
+    values: dict[str, Any] = {"model": str(model), "duration": duration, "dt": dt}
+    values |= load_values(torque, speed, speed_sine, initial_speed)
+    optional = {
+        "mesh": mesh_values(mesh),
+        "position_error": position_error_values(position_error),
+        "generator": generator_values(generator),
+        "rotor": rotor_values(rotor),
+        "wind": None if wind is None else _number_or_text(wind),
+        "log_rate": log_rate,
+        "pose_rate": pose_rate,
+        "view_rate": view_rate,
+        "allow_large_log": allow_large_log or None,
+        "keep": None if (kept := parse_keep(keep)) == "auto" else kept,
+    }
+    values |= {k: v for k, v in optional.items() if v is not None and v != {}}
+    scenario = sc.build(values, flags=FLAGS)
     with _warnings_as_lines():
         gearbox = pinwind.load(model)
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
@@ -791,20 +840,19 @@ def rate(
     import json
 
     import pinwind
+    from pinwind import scenario as sc
     from pinwind.analysis.rating import rate as rate_result
     from pinwind.analysis.rating_table import rating_tables
 
-    torques, speeds, initial = parse_loads(torque, speed, None, initial_speed)
+    values = {"model": str(model), "duration": duration, "dt": dt}
+    scenario = sc.build(values | load_values(torque, speed, None, initial_speed), flags=FLAGS)
     gearbox = pinwind.load(model)
     materials = _pairs(material, "--material")
     if "all" in materials:
         chosen = materials.pop("all")
         materials = {g: chosen for g in gearbox.gears} | materials
     with _warnings_as_lines():
-        res = pinwind.simulate(
-            gearbox, duration=duration, dt=dt, torques=torques, speeds=speeds,
-            initial_speeds=initial,
-        )  # fmt: skip
+        res = sc.run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
     rating = rate_result(gearbox, res, at=at, materials=materials)
     if as_json:
         print(json.dumps(rating.as_dict(), indent=1))

@@ -27,7 +27,8 @@ transient keeps its phase at 1 ms.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
 from pinwind.dynamics import _native
@@ -38,8 +39,6 @@ class ConstantTorque:
     """T_gen = torque [N·m]."""
 
     torque: float
-
-    law = "constant"
 
     def native(self, index: int) -> _native.GeneratorSpec:
         """The compiled spec on velocity index ``index``."""
@@ -54,8 +53,6 @@ class LinearSlip:
 
     slope: float
     sync_speed: float
-
-    law = "linear-slip"
 
     def native(self, index: int) -> _native.GeneratorSpec:
         """The compiled spec on velocity index ``index``."""
@@ -74,8 +71,6 @@ class VariableSpeed:
 
     gain: float
     rated_power: float = 0.0
-
-    law = "variable-speed"
 
     def native(self, index: int) -> _native.GeneratorSpec:
         """The compiled spec on velocity index ``index``."""
@@ -110,11 +105,6 @@ class InductionMachine:
     poles: int
     dynamic: bool = False
     steady_start: bool = False
-
-    @property
-    def law(self) -> str:  # type: ignore[override]
-        """``"induction"`` or ``"induction-dq"``."""
-        return "induction-dq" if self.dynamic else "induction"
 
     @property
     def sync_speed(self) -> float:
@@ -160,6 +150,99 @@ class InductionMachine:
 GeneratorLaw = ConstantTorque | LinearSlip | VariableSpeed | InductionMachine
 
 
+@dataclass(frozen=True)
+class LawKind:
+    """A generator law as runs name it: in flags, scenario files and the log.
+
+    Attributes:
+        name: the law's name (``linear-slip``).
+        cls: the class that computes it.
+        parameters: input key → (keyword of ``cls``, unit of the input: values in "rpm" are
+            turned into rad/s at the edge, every other unit is SI as given).
+        fixed: keywords the name implies (``induction-dq``: ``dynamic=True``).
+        presets: preset name → the class's constructor of it, taking keyword changes.
+    """
+
+    name: str
+    cls: type
+    parameters: Mapping[str, tuple[str, str]]
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+    presets: Mapping[str, Callable[..., GeneratorLaw]] = field(default_factory=dict)
+
+    @property
+    def keys(self) -> tuple[str, ...]:
+        """The input keys: ``preset`` (if the law has presets), then the parameters."""
+        return ("preset",) * bool(self.presets) + tuple(self.parameters)
+
+    @property
+    def usage(self) -> str:
+        """The flag form, e.g. ``linear-slip(slope=, sync_rpm=)``."""
+        if self.presets:
+            return f"{self.name}(preset={next(iter(self.presets))}, ...)"
+        return f"{self.name}({', '.join(f'{key}=' for key in self.parameters)})"
+
+    def field_type(self, keyword: str) -> str:
+        """The annotation of a keyword of ``cls`` (``"float"``, ``"int"``, ``"bool"``)."""
+        return str(next(f.type for f in fields(self.cls) if f.name == keyword))
+
+    def build(self, preset: str | None = None, **kwargs: Any) -> GeneratorLaw:
+        """The law from SI keyword arguments, from a preset if one is named."""
+        make = self.presets[preset] if preset is not None else self.cls
+        return make(**self.fixed, **kwargs)
+
+    def named(self, law: GeneratorLaw) -> bool:
+        """Whether ``law`` is of this kind (its class and the keywords the name implies)."""
+        return type(law) is self.cls and all(getattr(law, k) == v for k, v in self.fixed.items())
+
+
+_INDUCTION = {
+    key: (key, unit)
+    for key, unit in (
+        ("stator_resistance", "Ω"), ("rotor_resistance", "Ω"), ("stator_leakage", "H"),
+        ("rotor_leakage", "H"), ("magnetizing", "H"), ("voltage", "V"), ("frequency", "Hz"),
+        ("poles", "-"), ("steady_start", "-"),
+    )
+}  # fmt: skip
+
+#: Every generator law by its name: the one table that flags, scenario files, the log's
+#: ``generators`` metadata (``describe``) and the help texts read.
+LAWS: dict[str, LawKind] = {
+    kind.name: kind
+    for kind in (
+        LawKind("constant", ConstantTorque, {"torque": ("torque", "N·m")}),
+        LawKind(
+            "linear-slip",
+            LinearSlip,
+            {"slope": ("slope", "N·m·s/rad"), "sync_rpm": ("sync_speed", "rpm")},
+        ),
+        LawKind(
+            "variable-speed",
+            VariableSpeed,
+            {"gain": ("gain", "N·m·s²"), "rated_power": ("rated_power", "W")},
+        ),
+        LawKind(
+            "induction",
+            InductionMachine,
+            _INDUCTION,
+            fixed={"dynamic": False},
+            presets={"cart600": InductionMachine.cart600},
+        ),
+        LawKind(
+            "induction-dq",
+            InductionMachine,
+            _INDUCTION,
+            fixed={"dynamic": True},
+            presets={"cart600": InductionMachine.cart600},
+        ),
+    )
+}
+
+
+def kind_of(law: GeneratorLaw) -> LawKind:
+    """The entry of ``LAWS`` that names ``law``."""
+    return next(kind for kind in LAWS.values() if kind.named(law))
+
+
 def describe(law: GeneratorLaw) -> dict[str, Any]:
     """The law as plain values for the log: ``{"law": name, **parameters in SI}``."""
-    return {"law": law.law, **asdict(law)}
+    return {"law": kind_of(law).name, **asdict(law)}
