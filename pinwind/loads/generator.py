@@ -17,6 +17,10 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
   is 001's machine (Table 1: 3-phase, 60 Hz, 575 V, 4 poles, R_s 0.00053 Ω, R_r' 0.00048 Ω,
   L_ls 0.0365 mH, L_lr' 0.052 mH, L_M 1.97 mH).
 
+``LAWS`` names them (``constant``, ``linear-slip``, ``variable-speed``, ``induction``,
+``induction-dq``) with their input parameters and presets: the one table that flags, scenario
+files and the log read.
+
 The laws of the shaft speed are taken linearly implicit in the step (``cpp/joint_torque.hpp``),
 so a steep curve (001's machine: ≈ 2e4 N·m per rad/s near synchronous speed) is stable at the
 step the mechanics use; the dq machine's fluxes are integrated exactly over that step with the
