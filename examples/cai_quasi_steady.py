@@ -24,8 +24,8 @@ from rich.table import Table
 
 import pinwind
 from pinwind.analysis.summary import statistics
-from pinwind.cli import SineSpeed
-from pinwind.units import rpm_to_rad_s
+from pinwind.loads.signals import Scaled, Sine
+from pinwind.units import RAD_S_PER_RPM
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 AMPLITUDES_RPM = (7.6, 9.2, 11.0)  # Table 3-3
@@ -68,7 +68,7 @@ def main(argv: list[str] | None = None) -> list[dict]:
     rows = []
     cases = list(itertools.product(AMPLITUDES_RPM, FREQUENCIES_HZ))[: args.runs]
     for run, (amp, freq) in enumerate(cases, start=1):
-        driver = SineSpeed(rpm_to_rad_s(200.0), rpm_to_rad_s(amp), freq)
+        driver = Scaled(Sine(200.0, amp, freq), RAD_S_PER_RPM)
         res = pinwind.simulate(
             gb,
             duration=args.duration,

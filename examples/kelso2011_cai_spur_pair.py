@@ -24,9 +24,9 @@ from rich.table import Table
 
 import pinwind
 from pinwind.analysis.summary import statistics
-from pinwind.cli import SineSpeed
+from pinwind.loads.signals import Scaled, Sine
 from pinwind.model.compliance import MeshCompliance
-from pinwind.units import rpm_to_rad_s
+from pinwind.units import RAD_S_PER_RPM, rpm_to_rad_s
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 BRAKE = 49.0  # N·m on the output shaft (the output turns backwards: the brake pushes forwards)
@@ -130,7 +130,7 @@ def main(argv: list[str] | None = None) -> dict[str, list[dict]]:
         "200 rpm": rpm_to_rad_s(200.0),
         "300 rpm": rpm_to_rad_s(300.0),
         **{
-            f"run {run}": SineSpeed(rpm_to_rad_s(200.0), rpm_to_rad_s(amp), freq)
+            f"run {run}": Scaled(Sine(200.0, amp, freq), RAD_S_PER_RPM)
             for run, (amp, freq) in SINE_RUNS.items()
         },
     }

@@ -38,8 +38,7 @@ SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
 
 
 def simulate(name: str, duration: float, out: Path) -> pinwind.Result:
-    scenario = load_scenario(SCENARIOS / f"{name}.toml")
-    scenario.values["duration"] = duration
+    scenario = load_scenario(SCENARIOS / f"{name}.toml", changes={"duration": duration})
     return run(scenario, out=out / f"{name}.mcap", force=True, progress=False)
 
 

@@ -1,7 +1,13 @@
-"""Scenario files: everything a run needs, in TOML, with the names of ``pinwind simulate``'s flags.
+"""Scenarios: everything a run needs, from a TOML file, ``pinwind simulate``'s flags or Python.
 
-``pinwind run scenarios/saleh2017_rated.toml`` runs one; ``pinwind simulate`` turns its flags into
-the same values. Keys (units at the edge, like the flags; ``-`` and ``_`` are the same)::
+A ``Scenario`` is the run's inputs built: signals, generator laws (``loads.generator.LAWS``),
+rotors, wind, meshes, position errors, in SI. ``build`` makes it once from plain values (building
+is the check: an error names the key and its line, or the flag) and ``run`` hands those very
+objects to ``simulate``; ``pinwind simulate``, ``run``, ``run --from-log``, ``rate`` and the
+sweeps all take this one path.
+
+``pinwind run scenarios/saleh2017_rated.toml`` runs a file; ``pinwind simulate`` turns its flags
+into the same values. Keys (units at the edge, like the flags; ``-`` and ``_`` are the same)::
 
     model = "../models/saleh2017_planetary.urdf"   # relative to the scenario file
     duration = 60.0                                # [s]
@@ -37,28 +43,29 @@ the valid choices.
 
 from __future__ import annotations
 
-import ast
 import copy
 import math
 import re
-import sys
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+import tomllib
 
 from pinwind.errors import InputError
-from pinwind.loads.generator import ConstantTorque, InductionMachine, LinearSlip, VariableSpeed
+from pinwind.loads.generator import LAWS, GeneratorLaw
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
 from pinwind.loads.signal_text import signal_from_spec
 from pinwind.loads.signals import Scaled, Signal
+from pinwind.units import RAD_S_PER_RPM
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - Python 3.10
-    import tomli as tomllib
+if TYPE_CHECKING:
+    from pinwind.dynamics.result import Result
+    from pinwind.model.gearbox import Gearbox
 
-RPM = 2.0 * math.pi / 60.0
+#: Factors of the input units that are not SI (a generator law's ``sync_rpm``).
+TO_SI = {"rpm": RAD_S_PER_RPM}
 
 #: Scenario keys → (kind, unit or choices, what it is). Their names are ``pinwind simulate``'s
 #: flags with ``_`` for ``-``.
@@ -84,31 +91,6 @@ KEYS: dict[str, tuple[str, str, str]] = {
     "no_log": ("bool", "", "write no log"),
 }
 
-#: Generator laws and their keys → (field of the law, factor to SI).
-GENERATOR_LAWS: dict[str, dict[str, tuple[str, float]]] = {
-    "constant": {"torque": ("torque", 1.0)},
-    "linear-slip": {"slope": ("slope", 1.0), "sync_rpm": ("sync_speed", RPM)},
-    "variable-speed": {"gain": ("gain", 1.0), "rated_power": ("rated_power", 1.0)},
-    **{
-        law: {
-            key: (key, 1.0)
-            for key in (
-                "preset",
-                "stator_resistance",
-                "rotor_resistance",
-                "stator_leakage",
-                "rotor_leakage",
-                "magnetizing",
-                "voltage",
-                "frequency",
-                "poles",
-                "steady_start",
-            )  # fmt: skip
-        }
-        for law in ("induction", "induction-dq")
-    },
-}
-GENERATOR_PRESETS = {"cart600": InductionMachine.cart600}
 ROTOR_KEYS = ("preset", "radius", "inertia", "air_density", "pitch_deg", "cp_scale", "cp_table")
 ROTOR_PRESETS = {"saleh2017": Rotor.saleh2017}
 
@@ -162,34 +144,182 @@ def key_line(text: str | None, path: tuple[str, ...]) -> int:
     return best
 
 
-@dataclass
+def _error(source: str, text: str | None, key: tuple[str, ...], message: str) -> ScenarioError:
+    return ScenarioError(source, ".".join(key), key_line(text, key), message)
+
+
+@dataclass(frozen=True, kw_only=True)
 class Scenario:
-    """The values of a run, checked.
+    """The inputs of one run, built (SI): what ``simulate`` takes, and the values they came from.
+
+    Made once from plain values by ``build`` (scenario files, flags, logs), or directly in
+    Python; ``run`` hands these very objects to ``simulate``.
 
     Attributes:
-        values: plain values (numbers, texts, tables) with normalised keys, as in the file.
-        source: where they come from (a file name, ``"command line"``, ``"log ..."``).
+        duration: simulated time [s].
+        dt: time step [s].
+        torques: joint → torque [N·m], a signal or a number.
+        speeds: joint → prescribed joint speed [rad/s], a signal or a number.
+        initial_speeds: joint → initial speed [rad/s].
+        meshes: mesh name (or ``"all"``) → ``"rigid"`` or ``"compliant"``.
+        position_errors: gear → (tangential, radial) position error of its centre [m].
+        generators: joint → generator law (``loads/generator.py``).
+        rotors: joint → ``Rotor`` (``loads/rotor.py``).
+        wind: wind speed at the rotors [m/s], or None.
+        values: the plain values it was built from, keys normalised: what the log records and
+            ``--from-log`` rebuilds it from (also the log settings: ``out``, ``log_rate``,
+            ``keep``, ...); empty for a scenario made in Python.
+        source: where the values come from (a file name, ``"command line"``, ``"log LOG"``).
         base: folder that relative file names in the values are relative to.
         text: the TOML text, for line numbers in messages.
     """
 
-    values: dict[str, Any]
-    source: str = "command line"
+    duration: float = 1.0
+    dt: float = 1e-3
+    torques: Mapping[str, Signal | float] = field(default_factory=dict)
+    speeds: Mapping[str, Signal | float] = field(default_factory=dict)
+    initial_speeds: Mapping[str, float] = field(default_factory=dict)
+    meshes: Mapping[str, str] = field(default_factory=dict)
+    position_errors: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    generators: Mapping[str, GeneratorLaw] = field(default_factory=dict)
+    rotors: Mapping[str, Rotor] = field(default_factory=dict)
+    wind: Signal | float | None = None
+    values: dict[str, Any] = field(default_factory=dict)
+    source: str = "Python"
     base: Path = field(default_factory=Path.cwd)
     text: str | None = None
 
-    # --- checking ------------------------------------------------------------------------------
-
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         """The error for a key: file, key, line and the message."""
-        return ScenarioError(self.source, ".".join(key), key_line(self.text, key), message)
+        return _error(self.source, self.text, key, message)
 
-    def check(self) -> Scenario:
-        """Check keys and types; build every signal and law once so that errors name the key.
+    def check_joints(self, joints: list[str], fixed: list[str]) -> None:
+        """Refuse loads on joints the model does not have, naming the key and the joints."""
+        free = [j for j in joints if j not in fixed]
+        loads: tuple[tuple[str, Mapping[str, Any]], ...] = (
+            ("torque", self.torques), ("speed", self.speeds),
+            ("initial_speed", self.initial_speeds), ("generator", self.generators),
+            ("rotor", self.rotors),
+        )  # fmt: skip
+        for name, given in loads:
+            for joint in given:
+                if joint not in free:
+                    why = "is a fixed mount" if joint in fixed else "is not a joint of the model"
+                    raise self.fail((name, joint), f'"{joint}" {why}; joints are: '
+                                    + ", ".join(free))  # fmt: skip
+
+    def model_path(self) -> Path:
+        """The model file, relative to ``base``.
 
         Raises:
-            ScenarioError: the first problem found.
+            InputError: a scenario made in Python, which names no model file.
         """
+        if "model" not in self.values:
+            raise InputError("a scenario made in Python names no model file; give the gearbox")
+        path = Path(self.values["model"])
+        return path if path.is_absolute() else self.base / path
+
+    def simulate_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments of ``pinwind.simulate`` (SI): the built signals and laws themselves."""
+        kwargs: dict[str, Any] = {
+            "duration": self.duration,
+            "dt": self.dt,
+            "torques": self.torques,
+            "speeds": self.speeds,
+            "initial_speeds": self.initial_speeds,
+            "meshes": self.meshes,
+            "position_errors": self.position_errors,
+        }
+        if self.generators:
+            kwargs["generators"] = self.generators
+        if self.rotors:
+            kwargs["rotors"] = self.rotors
+            kwargs["wind"] = self.wind
+        return kwargs
+
+    def record(self) -> dict[str, Any]:
+        """What the log stores: the values, where they come from, the base folder."""
+        return {"values": copy.deepcopy(self.values), "source": self.source,
+                "base": str(self.base.resolve())}  # fmt: skip
+
+
+def build(
+    values: Mapping[str, Any],
+    *,
+    source: str = "command line",
+    base: Path | None = None,
+    text: str | None = None,
+    flags: Mapping[str, str] | None = None,
+) -> Scenario:
+    """Check plain values and build every signal and law once: the run's ``Scenario``.
+
+    Args:
+        values: the values (numbers, texts, tables) as in a scenario file, units at the edge.
+        source: where they come from, for messages (a file name, ``"command line"``, ...).
+        base: folder that relative file names are relative to (default: the working folder).
+        text: the TOML text, for line numbers in messages.
+        flags: key → the command-line option that gave it (``torque`` → ``--torque``): its
+            signals' errors name the option, and numbers are left to ``simulate``'s checks,
+            whose messages name the option too. None for files and logs.
+
+    Raises:
+        ScenarioError: the first problem found, naming the key (and its line).
+        InputError: a bad signal given by a flag, naming the flag.
+    """
+    return _Builder(values, source, base or Path.cwd(), text, flags).scenario()
+
+
+class _Builder:
+    """Builds a ``Scenario`` from values; each error names the key (or the flag) at fault."""
+
+    def __init__(
+        self,
+        values: Mapping[str, Any],
+        source: str,
+        base: Path,
+        text: str | None,
+        flags: Mapping[str, str] | None,
+    ):
+        self.values: dict[str, Any] = dict(values)
+        self.source, self.base, self.text, self.flags = source, base, text, flags
+
+    def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
+        return _error(self.source, self.text, key, message)
+
+    def scenario(self) -> Scenario:
+        self.check()
+        v = self.values
+        # Built in the order the errors were always found in: laws, rotors, signals, wind.
+        generators = self.generators()
+        rotors = self.rotors()
+        torques = self.signals("torque")
+        speeds = {k: Scaled(s, RAD_S_PER_RPM) for k, s in self.signals("speed").items()}
+        wind = self.wind()
+        return Scenario(
+            duration=float(v.get("duration", 1.0)),
+            dt=float(v.get("dt", 1e-3)),
+            torques=torques,
+            speeds=speeds,
+            initial_speeds={
+                k: float(x) * RAD_S_PER_RPM for k, x in v.get("initial_speed", {}).items()
+            },
+            meshes=dict(v.get("mesh", {})),
+            position_errors={
+                k: (p[0] * 1e-6, p[1] * 1e-6) for k, p in v.get("position_error", {}).items()
+            },
+            generators=generators,
+            rotors=rotors,
+            wind=wind,
+            values=v,
+            source=self.source,
+            base=self.base,
+            text=self.text,
+        )
+
+    # --- checking ------------------------------------------------------------------------------
+
+    def check(self) -> None:
+        """Check keys and types (normalising the keys)."""
         values = {}
         for key, value in self.values.items():
             name = _norm(key)
@@ -205,20 +335,14 @@ class Scenario:
         if "rotor" in values and "wind" not in values:
             raise self.fail(("wind",), "missing: a rotor needs the wind speed [m/s], a number "
                             "or a signal, e.g. wind = 10")  # fmt: skip
-        self.generators()
-        self.rotors()
-        self.signals("torque")
-        self.signals("speed")
-        self.wind()
-        return self
 
     def _check_value(self, name: str, value: Any) -> None:
         kind, unit, what = KEYS[name]
         key = (name,)
         if kind == "path" and not isinstance(value, str):
             raise self.fail(key, f"must be a file name (text); got {value!r}")
-        if kind == "number":  # the command line leaves the checks to simulate()'s messages
-            self._number(key, value, unit, positive=self.source != "command line")
+        if kind == "number":
+            self._number(key, value, unit, positive=self.flags is None)
         if kind == "bool" and not isinstance(value, bool):
             raise self.fail(key, f"must be true or false; got {value!r}")
         if kind == "keep" and not (
@@ -254,14 +378,17 @@ class Scenario:
     # --- building -----------------------------------------------------------------------------
 
     def signals(self, name: str) -> dict[str, Signal]:
-        """``torque`` [N·m] or ``speed`` (rpm in the file, rad/s out) as signals."""
+        """``torque`` or ``speed`` as signals, in the values' units."""
+        flag = (self.flags or {}).get(name)
         out: dict[str, Signal] = {}
         for joint, spec in self.values.get(name, {}).items():
+            if flag is not None:  # the flag's own message, as the command line always said it
+                out[joint] = signal_from_spec(spec, base=self.base, where=flag)
+                continue
             try:
-                signal = signal_from_spec(spec, base=self.base, where=f"{name}.{joint}")
+                out[joint] = signal_from_spec(spec, base=self.base, where=f"{name}.{joint}")
             except InputError as err:
                 raise self.fail((name, joint), _strip(str(err), f"{name}.{joint}: ")) from err
-            out[joint] = Scaled(signal, RPM) if name == "speed" else signal
         return out
 
     def wind(self) -> Signal | None:
@@ -273,49 +400,38 @@ class Scenario:
         except InputError as err:
             raise self.fail(("wind",), _strip(str(err), "wind: ")) from err
 
-    def generators(self) -> dict[str, Any]:
-        """Generator laws per joint."""
+    def generators(self) -> dict[str, GeneratorLaw]:
+        """Generator laws per joint, by their names in ``loads.generator.LAWS``."""
         out = {}
         for joint, params in self.values.get("generator", {}).items():
             key = ("generator", joint)
             params = {_norm(k): v for k, v in params.items()}
             law = params.pop("law", "induction" if "preset" in params else None)
-            if law not in GENERATOR_LAWS:
-                raise self.fail(key + ("law",), f"is {law!r}; laws are: "
-                                + ", ".join(GENERATOR_LAWS))  # fmt: skip
-            allowed = GENERATOR_LAWS[law]
+            if law not in LAWS:
+                raise self.fail(key + ("law",), f"is {law!r}; laws are: " + ", ".join(LAWS))
+            kind = LAWS[law]
             kwargs: dict[str, Any] = {}
             for name, value in params.items():
-                if name not in allowed:
+                if name not in kind.keys:
                     raise self.fail(key + (name,), f"{law} has no parameter {name!r}; its "
-                                    f"parameters are: {', '.join(allowed)}")  # fmt: skip
-                target, factor = allowed[name]
+                                    f"parameters are: {', '.join(kind.keys)}")  # fmt: skip
                 if name == "preset":
-                    if value not in GENERATOR_PRESETS:
+                    if value not in kind.presets:
                         raise self.fail(key + (name,), f"is {value!r}; presets are: "
-                                        + ", ".join(GENERATOR_PRESETS))  # fmt: skip
-                elif name == "steady_start":
+                                        + ", ".join(kind.presets))  # fmt: skip
+                    continue
+                target, unit = kind.parameters[name]
+                if kind.field_type(target) == "bool":
                     if not isinstance(value, bool):
                         raise self.fail(key + (name,), "must be true or false")
                     kwargs[target] = value
-                else:
-                    kwargs[target] = self._number(key + (name,), value, "SI") * factor
+                    continue
+                number = self._number(key + (name,), value, unit) * TO_SI.get(unit, 1.0)
+                kwargs[target] = int(number) if kind.field_type(target) == "int" else number
             try:
-                if law in ("induction", "induction-dq"):
-                    dynamic = law == "induction-dq"
-                    if "poles" in kwargs:
-                        kwargs["poles"] = int(kwargs["poles"])
-                    preset = params.get("preset")
-                    if preset is not None:
-                        out[joint] = GENERATOR_PRESETS[preset](dynamic=dynamic, **kwargs)
-                    else:
-                        out[joint] = InductionMachine(dynamic=dynamic, **kwargs)
-                else:
-                    cls = {"constant": ConstantTorque, "linear-slip": LinearSlip,
-                           "variable-speed": VariableSpeed}[law]  # fmt: skip
-                    out[joint] = cls(**kwargs)
+                out[joint] = kind.build(params.get("preset"), **kwargs)
             except TypeError as err:
-                missing = [k for k in allowed if k != "preset" and allowed[k][0] not in kwargs]
+                missing = [k for k, (target, _) in kind.parameters.items() if target not in kwargs]
                 raise self.fail(key, f"{law} needs {', '.join(missing)}") from err
         return out
 
@@ -360,54 +476,18 @@ class Scenario:
         except (InputError, TypeError, ValueError) as err:
             raise self.fail(key, str(err)) from err
 
-    def check_joints(self, joints: list[str], fixed: list[str]) -> None:
-        """Refuse loads on joints the model does not have, naming the key and the joints."""
-        free = [j for j in joints if j not in fixed]
-        for name in ("torque", "speed", "initial_speed", "generator", "rotor"):
-            for joint in self.values.get(name, {}):
-                if joint not in free:
-                    why = "is a fixed mount" if joint in fixed else "is not a joint of the model"
-                    raise self.fail((name, joint), f'"{joint}" {why}; joints are: '
-                                    + ", ".join(free))  # fmt: skip
-
-    def model_path(self) -> Path:
-        """The model file, relative to ``base``."""
-        path = Path(self.values["model"])
-        return path if path.is_absolute() else self.base / path
-
-    def simulate_kwargs(self) -> dict[str, Any]:
-        """Keyword arguments of ``pinwind.simulate`` (SI)."""
-        v = self.values
-        kwargs: dict[str, Any] = {
-            "duration": float(v.get("duration", 1.0)),
-            "dt": float(v.get("dt", 1e-3)),
-            "torques": self.signals("torque"),
-            "speeds": self.signals("speed"),
-            "initial_speeds": {k: float(x) * RPM for k, x in v.get("initial_speed", {}).items()},
-            "meshes": dict(v.get("mesh", {})),
-            "position_errors": {
-                k: (p[0] * 1e-6, p[1] * 1e-6) for k, p in v.get("position_error", {}).items()
-            },  # fmt: skip
-        }
-        if "generator" in v:
-            kwargs["generators"] = self.generators()
-        if "rotor" in v:
-            kwargs["rotors"] = self.rotors()
-            kwargs["wind"] = self.wind()
-        return kwargs
-
-    def record(self) -> dict[str, Any]:
-        """What the log stores: the values, where they come from, the base folder."""
-        return {"values": copy.deepcopy(self.values), "source": self.source,
-                "base": str(self.base.resolve())}  # fmt: skip
-
 
 def _strip(message: str, prefix: str) -> str:
     return message[len(prefix) :] if message.startswith(prefix) else message
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Read and check a scenario file.
+def load_scenario(path: str | Path, *, changes: Mapping[str, Any] | None = None) -> Scenario:
+    """Read a scenario file and build it.
+
+    Args:
+        path: the TOML file.
+        changes: values that replace the file's (e.g. ``{"duration": 5.0}`` for a short run);
+            the log records the values as changed.
 
     Raises:
         ScenarioError: unreadable TOML, unknown key, wrong type, missing model, ...
@@ -423,69 +503,25 @@ def load_scenario(path: str | Path) -> Scenario:
         m = re.search(r"line (\d+)", str(err))
         raise ScenarioError(str(path), "-", int(m.group(1)) if m else 0,
                             f"not valid TOML: {err}") from err  # fmt: skip
-    return Scenario(values, source=str(path), base=path.parent, text=text).check()
+    return build({**values, **(changes or {})}, source=str(path), base=path.parent, text=text)
 
 
 def from_record(record: Mapping[str, Any], source: str) -> Scenario:
     """The scenario a log stored (``Scenario.record``)."""
-    return Scenario(dict(record["values"]), source=source, base=Path(record["base"])).check()
-
-
-# --- the command line's flags as scenario values ------------------------------------------------
-
-
-def parse_call(text: str, option: str, default_key: str) -> dict[str, Any]:
-    """``name(key=value, ...)`` or ``name`` → ``{default_key: name, key: value, ...}``."""
-    try:
-        node = ast.parse(text.strip(), mode="eval").body
-    except SyntaxError as err:
-        raise InputError(f'{option}: cannot read "{text}": {err.msg}') from err
-    if isinstance(node, ast.Name):
-        return {default_key: node.id}
-    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.args:
-        out: dict[str, Any] = {} if node.func.id == "rotor" else {default_key: node.func.id}
-        for kw in node.keywords:
-            if kw.arg is None:  # **{...}
-                raise InputError(
-                    f'{option}: in "{text}", give the parameters as key=value, not as **{{...}}'
-                )
-            try:
-                out[kw.arg] = ast.literal_eval(kw.value)
-            except ValueError as err:
-                raise InputError(
-                    f'{option}: in "{text}", {kw.arg} must be a number or a quoted text'
-                ) from err
-        return out
-    raise InputError(f'{option}: "{text}" must look like NAME(key=value, ...)')
-
-
-def generator_values(items: Mapping[str, str], option: str = "--generator") -> dict[str, Any]:
-    """``JOINT=LAW(params)`` → ``generator`` values (``law`` first: linear-slip is a name)."""
-    out = {}
-    for joint, text in items.items():
-        law, sep, rest = text.partition("(")
-        call = parse_call("x(" + rest if sep else "x", option, "law")
-        call["law"] = law.strip()
-        out[joint] = call
-    return out
-
-
-def rotor_values(items: Mapping[str, str], option: str = "--rotor") -> dict[str, Any]:
-    """``JOINT=PRESET`` or ``JOINT=rotor(params)`` → ``rotor`` values."""
-    return {joint: parse_call(text, option, "preset") for joint, text in items.items()}
+    return build(dict(record["values"]), source=source, base=Path(record["base"]))
 
 
 def run(
     scenario: Scenario,
     *,
-    gearbox: Any = None,
+    gearbox: Gearbox | None = None,
     out: str | Path | None = None,
     force: bool | None = None,
     no_log: bool | None = None,
     command: str | None = None,
     progress: bool | None = None,
     check_joints: bool = True,
-) -> Any:
+) -> Result:
     """Run a scenario: load its model (unless given), simulate, log it with its values.
 
     Args:
@@ -498,22 +534,22 @@ def run(
     Returns:
         The ``Result``.
     """
-    import pinwind
     from pinwind.io.mcap_log import POSE_RATE, VIEW_RATE
-    from pinwind.io.run import log_path
+    from pinwind.io.run import log_path, simulate
+    from pinwind.model.gearbox import load
 
     v = scenario.values
     if gearbox is None:
         path = scenario.model_path()
         if not path.is_file():
             raise scenario.fail(("model",), f"{path} does not exist")
-        gearbox = pinwind.load(path)
+        gearbox = load(path)
     if check_joints:
         scenario.check_joints(list(gearbox.joint_names), list(gearbox.locked_joints))
     skip = v.get("no_log", False) if no_log is None else no_log
     target = out if out is not None else v.get("out")
     log = None if skip else log_path(target if target is not None else True, gearbox.name)
-    return pinwind.simulate(
+    return simulate(
         gearbox,
         log=log,
         log_rate=v.get("log_rate"),
@@ -524,73 +560,9 @@ def run(
         overwrite=v.get("force", False) if force is None else force,
         command=command,
         progress=progress,
-        metadata={"scenario": scenario.record()},
+        metadata={"scenario": scenario.record()} if v else None,
         **scenario.simulate_kwargs(),
     )
-
-
-def cli_values(
-    *,
-    model: str,
-    torque: Mapping[str, str],
-    speed: Mapping[str, str],
-    speed_sine: Mapping[str, str],
-    initial_speed: Mapping[str, str],
-    mesh: Mapping[str, str],
-    position_error: Mapping[str, str],
-    generator: Mapping[str, str],
-    rotor: Mapping[str, str],
-    wind: str | None,
-    duration: float,
-    dt: float,
-    log_rate: float | None,
-    pose_rate: float | None = None,
-    view_rate: float | None = None,
-    allow_large_log: bool = False,
-    keep: str | int = "auto",
-) -> dict[str, Any]:
-    """``pinwind simulate``'s flags (already split into JOINT → text) as scenario values."""
-
-    def value(text: str) -> Any:
-        try:
-            return float(text)
-        except ValueError:
-            return text
-
-    values: dict[str, Any] = {"model": model, "duration": duration, "dt": dt}
-    if torque:
-        values["torque"] = {k: value(t) for k, t in torque.items()}
-    speeds = {k: value(t) for k, t in speed.items()}
-    for joint, text in speed_sine.items():
-        mean, amplitude, frequency = (float(x) for x in text.split(","))
-        speeds[joint] = f"sine(mean={mean!r}, amplitude={amplitude!r}, frequency={frequency!r})"
-    if speeds:
-        values["speed"] = speeds
-    if initial_speed:
-        values["initial_speed"] = {k: float(t) for k, t in initial_speed.items()}
-    if mesh:
-        values["mesh"] = dict(mesh)
-    if position_error:
-        values["position_error"] = {
-            k: [float(x) for x in t.split(",")] for k, t in position_error.items()
-        }
-    if generator:
-        values["generator"] = generator_values(generator)
-    if rotor:
-        values["rotor"] = rotor_values(rotor)
-    if wind is not None:
-        values["wind"] = value(wind)
-    if log_rate is not None:
-        values["log_rate"] = log_rate
-    if pose_rate is not None:
-        values["pose_rate"] = pose_rate
-    if view_rate is not None:
-        values["view_rate"] = view_rate
-    if allow_large_log:
-        values["allow_large_log"] = True
-    if keep != "auto":
-        values["keep"] = keep
-    return values
 
 
 def from_log(path: str | Path) -> tuple[Scenario, Any]:

@@ -136,7 +136,7 @@ def test_info_lists_the_speed_ratios_of_a_one_degree_of_freedom_train():
 
 
 def test_position_error_option_is_in_micrometres():
-    from pinwind.cli import parse_position_errors
+    from pinwind.cli.flags import parse_position_errors
 
     errors = parse_position_errors(["planet1=12.5,-3"])
     np.testing.assert_allclose(errors["planet1"], (12.5e-6, -3e-6), rtol=1e-15)

@@ -214,3 +214,82 @@ def test_double_star_parameters_in_a_flag_are_refused_in_one_line_naming_the_fla
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1, lines
     assert f"{option}: in " in lines[0] and "give the parameters as key=value" in lines[0]
+
+
+BUILT_ONCE = """model = "model.urdf"
+duration = 0.01
+initial_speed = { carrier = 14.0 }
+wind = "kaimal(mean=10, turbulence_intensity=0.1, seed=1, duration=1)"
+torque = { carrier = "sine(mean=0, amplitude=1e3, frequency=2)" }
+
+[rotor.carrier]
+preset = "saleh2017"
+
+[generator.sun]
+law = "linear-slip"
+slope = 1.26e6
+sync_rpm = 83.94
+"""
+SINE = "carrier=sine(mean=0, amplitude=1e3, frequency=2)"
+ONCE_EACH = {"Sine": 1, "KaimalWind": 1, "Rotor": 1, "LinearSlip": 1}
+
+
+@pytest.mark.parametrize(
+    ("argv", "built"),
+    [
+        (
+            ["simulate", "model.urdf", "--initial-speed", "carrier=14", "--duration", "0.01",
+             "--torque", SINE, "--rotor", "carrier=saleh2017",
+             "--wind", "kaimal(mean=10, turbulence_intensity=0.1, seed=1, duration=1)",
+             "--generator", "sun=linear-slip(slope=1.26e6, sync_rpm=83.94)", "--no-log"],
+            ONCE_EACH,
+        ),
+        (["run", "case.toml", "--no-log"], ONCE_EACH),
+        (["rate", "model.urdf", "--torque", SINE, "--duration", "0.01"], {"Sine": 1}),
+    ],
+    ids=["simulate", "run", "rate"],
+)  # fmt: skip
+def test_each_signal_and_law_of_a_run_is_built_once(tmp_path, monkeypatch, argv, built):
+    from pinwind.loads.generator import LinearSlip
+    from pinwind.loads.rotor import Rotor
+    from pinwind.loads.signals import Sine
+    from pinwind.loads.wind import KaimalWind
+
+    write(tmp_path, BUILT_ONCE)
+    monkeypatch.chdir(tmp_path)
+    counted: dict[str, int] = {}
+    for cls in (Sine, KaimalWind, Rotor, LinearSlip):
+
+        def init(self, *args, _name=cls.__name__, _init=cls.__init__, **kwargs):
+            counted[_name] = counted.get(_name, 0) + 1
+            _init(self, *args, **kwargs)
+
+        monkeypatch.setattr(cls, "__init__", init)
+    monkeypatch.setattr(sys, "argv", ["pinwind", *argv])
+    with pytest.raises(SystemExit) as exit_:
+        main()
+    assert exit_.value.code == 0
+    assert counted == built
+
+
+@pytest.mark.parametrize(
+    ("law", "params"),
+    [
+        ("constant", {"torque": 1e3}),
+        ("linear-slip", {"slope": 1e4, "sync_rpm": 60.0}),
+        ("variable-speed", {"gain": 2.0, "rated_power": 1e6}),
+        ("induction", {"preset": "cart600"}),
+        ("induction-dq", {"preset": "cart600", "poles": 6}),
+    ],
+)
+def test_every_generator_law_is_logged_under_the_name_it_was_given(law, params):
+    from pinwind.loads.generator import describe
+    from pinwind.scenario import build
+
+    values = {"model": "m.urdf", "generator": {"sun": {"law": law, **params}}}
+    logged = describe(build(values, source="case.toml").generators["sun"])
+    assert logged["law"] == law
+    if law == "linear-slip":  # 60 rpm is one turn per second: 2π rad/s
+        assert_allclose(logged["sync_speed"], 2 * math.pi, rtol=1e-15)
+    if law == "induction-dq":
+        assert logged["dynamic"] is True and logged["poles"] == 6

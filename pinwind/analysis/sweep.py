@@ -4,9 +4,10 @@ Any kind of stage goes through the same path (`StageDesign`; the kinds are `swee
 and `sweep_parallel`):
 
 1. `evaluate`: check, build, load and simulate one design with pinwind's dynamics (a short rigid
-   run in torque balance), rate every mesh (`analysis.rating.rate`, ISO 6336 and AGMA 2001) and
-   return a row. A design that fails to build, simulate or rate is a row with
-   ``status = "failed"`` and the reason; geometry findings are listed in ``findings``.
+   run in torque balance, a `pinwind.scenario.Scenario` run like every other run), rate every
+   mesh (`analysis.rating.rate`, ISO 6336 and AGMA 2001) and return a row. A design that fails
+   to build, simulate or rate is a row with ``status = "failed"`` and the reason; geometry
+   findings are listed in ``findings``.
 2. `run_sweep`: all local cores (processes) or a Dask cluster, a progress bar, rows written to a
    checkpoint as they finish; a re-run skips the designs already in the output or checkpoint.
    The rows do not depend on the backend: each design is computed on its own, the same way.
@@ -91,8 +92,8 @@ def evaluate(design: StageDesign, settings: SweepSettings) -> dict:
         import warnings
 
         from pinwind.analysis.rating import rate
-        from pinwind.dynamics.simulate import simulate
         from pinwind.model.gearbox import loads
+        from pinwind.scenario import Scenario, run
 
         findings = design.check(settings)
         row["findings"] = "; ".join(f"{f.severity}: {f.message}" for f in findings)
@@ -101,10 +102,9 @@ def evaluate(design: StageDesign, settings: SweepSettings) -> dict:
             gearbox = loads(design.urdf(settings), f"design #{design.number}")
             stage = "simulating"
             torques, speeds = design.loads(settings)
-            result = simulate(
-                gearbox, duration=settings.duration, dt=settings.dt, torques=torques,
-                initial_speeds=speeds,
-            )  # fmt: skip
+            scenario = Scenario(duration=settings.duration, dt=settings.dt, torques=torques,
+                                initial_speeds=speeds)  # fmt: skip
+            result = run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
         stage = "rating"
         rating = rate(gearbox, result, materials={g: settings.material for g in gearbox.gears})
         row.update(design.rating_columns(rating))

@@ -17,6 +17,10 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
   is 001's machine (Table 1: 3-phase, 60 Hz, 575 V, 4 poles, R_s 0.00053 Ω, R_r' 0.00048 Ω,
   L_ls 0.0365 mH, L_lr' 0.052 mH, L_M 1.97 mH).
 
+``LAWS`` names them (``constant``, ``linear-slip``, ``variable-speed``, ``induction``,
+``induction-dq``) with their input parameters and presets: the one table that flags, scenario
+files and the log read.
+
 The laws of the shaft speed are taken linearly implicit in the step (``cpp/joint_torque.hpp``),
 so a steep curve (001's machine: ≈ 2e4 N·m per rad/s near synchronous speed) is stable at the
 step the mechanics use; the dq machine's fluxes are integrated exactly over that step with the
@@ -27,7 +31,8 @@ transient keeps its phase at 1 ms.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
 
@@ -37,8 +42,6 @@ class ConstantTorque:
 
     torque: float
 
-    law = "constant"
-
 
 @dataclass(frozen=True)
 class LinearSlip:
@@ -46,8 +49,6 @@ class LinearSlip:
 
     slope: float
     sync_speed: float
-
-    law = "linear-slip"
 
 
 @dataclass(frozen=True)
@@ -59,8 +60,6 @@ class VariableSpeed:
 
     gain: float
     rated_power: float = 0.0
-
-    law = "variable-speed"
 
 
 @dataclass(frozen=True)
@@ -90,11 +89,6 @@ class InductionMachine:
     steady_start: bool = False
 
     @property
-    def law(self) -> str:  # type: ignore[override]
-        """``"induction"`` or ``"induction-dq"``."""
-        return "induction-dq" if self.dynamic else "induction"
-
-    @property
     def sync_speed(self) -> float:
         """Synchronous shaft speed 2π f / p [rad/s]."""
         return 2.0 * math.pi * self.frequency / (self.poles // 2)
@@ -118,6 +112,99 @@ class InductionMachine:
 GeneratorLaw = ConstantTorque | LinearSlip | VariableSpeed | InductionMachine
 
 
+@dataclass(frozen=True)
+class LawKind:
+    """A generator law as runs name it: in flags, scenario files and the log.
+
+    Attributes:
+        name: the law's name (``linear-slip``).
+        cls: the class that computes it.
+        parameters: input key → (keyword of ``cls``, unit of the input: values in "rpm" are
+            turned into rad/s at the edge, every other unit is SI as given).
+        fixed: keywords the name implies (``induction-dq``: ``dynamic=True``).
+        presets: preset name → the class's constructor of it, taking keyword changes.
+    """
+
+    name: str
+    cls: type
+    parameters: Mapping[str, tuple[str, str]]
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+    presets: Mapping[str, Callable[..., GeneratorLaw]] = field(default_factory=dict)
+
+    @property
+    def keys(self) -> tuple[str, ...]:
+        """The input keys: ``preset`` (if the law has presets), then the parameters."""
+        return ("preset",) * bool(self.presets) + tuple(self.parameters)
+
+    @property
+    def usage(self) -> str:
+        """The flag form, e.g. ``linear-slip(slope=, sync_rpm=)``."""
+        if self.presets:
+            return f"{self.name}(preset={next(iter(self.presets))}, ...)"
+        return f"{self.name}({', '.join(f'{key}=' for key in self.parameters)})"
+
+    def field_type(self, keyword: str) -> str:
+        """The annotation of a keyword of ``cls`` (``"float"``, ``"int"``, ``"bool"``)."""
+        return str(next(f.type for f in fields(self.cls) if f.name == keyword))
+
+    def build(self, preset: str | None = None, **kwargs: Any) -> GeneratorLaw:
+        """The law from SI keyword arguments, from a preset if one is named."""
+        make = self.presets[preset] if preset is not None else self.cls
+        return make(**self.fixed, **kwargs)
+
+    def named(self, law: GeneratorLaw) -> bool:
+        """Whether ``law`` is of this kind (its class and the keywords the name implies)."""
+        return type(law) is self.cls and all(getattr(law, k) == v for k, v in self.fixed.items())
+
+
+_INDUCTION = {
+    key: (key, unit)
+    for key, unit in (
+        ("stator_resistance", "Ω"), ("rotor_resistance", "Ω"), ("stator_leakage", "H"),
+        ("rotor_leakage", "H"), ("magnetizing", "H"), ("voltage", "V"), ("frequency", "Hz"),
+        ("poles", "-"), ("steady_start", "-"),
+    )
+}  # fmt: skip
+
+#: Every generator law by its name: the one table that flags, scenario files, the log's
+#: ``generators`` metadata (``describe``) and the help texts read.
+LAWS: dict[str, LawKind] = {
+    kind.name: kind
+    for kind in (
+        LawKind("constant", ConstantTorque, {"torque": ("torque", "N·m")}),
+        LawKind(
+            "linear-slip",
+            LinearSlip,
+            {"slope": ("slope", "N·m·s/rad"), "sync_rpm": ("sync_speed", "rpm")},
+        ),
+        LawKind(
+            "variable-speed",
+            VariableSpeed,
+            {"gain": ("gain", "N·m·s²"), "rated_power": ("rated_power", "W")},
+        ),
+        LawKind(
+            "induction",
+            InductionMachine,
+            _INDUCTION,
+            fixed={"dynamic": False},
+            presets={"cart600": InductionMachine.cart600},
+        ),
+        LawKind(
+            "induction-dq",
+            InductionMachine,
+            _INDUCTION,
+            fixed={"dynamic": True},
+            presets={"cart600": InductionMachine.cart600},
+        ),
+    )
+}
+
+
+def kind_of(law: GeneratorLaw) -> LawKind:
+    """The entry of ``LAWS`` that names ``law``."""
+    return next(kind for kind in LAWS.values() if kind.named(law))
+
+
 def describe(law: GeneratorLaw) -> dict[str, Any]:
     """The law as plain values for the log: ``{"law": name, **parameters in SI}``."""
-    return {"law": law.law, **asdict(law)}
+    return {"law": kind_of(law).name, **asdict(law)}

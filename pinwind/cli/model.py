@@ -1,0 +1,91 @@
+"""The commands on models: ``info`` (check and list a model) and ``build planetary``."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+
+from pinwind.cli.app import app, build_app, say, warnings_as_lines
+from pinwind.errors import InputError
+
+
+@app.command()
+def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> None:
+    """Load a model, check it, and list its bearings, gears and meshes."""
+    import pinwind
+
+    with warnings_as_lines():
+        gb = pinwind.load(model)
+    say(repr(gb))
+    say("bearings (joints): " + ", ".join(gb.joint_names))
+    if gb.locked_joints:
+        say("locked (fixed mounts): " + ", ".join(gb.locked_joints))
+    from pinwind.dynamics.ratios import speed_ratio
+
+    free = [j for j in gb.joint_names if j not in gb.locked_joints]
+    if free:
+        try:
+            ratios = {j: speed_ratio(gb, j, free[0]) for j in free}
+        except InputError as err:
+            say(f"speed ratios: {err}")
+        else:
+            say(
+                f"speed ratios to {free[0]} (joint speeds, relative to the parent body): "
+                + ", ".join(f"{j} {r:.6g}" for j, r in ratios.items())
+            )
+    for m in gb.meshes:
+        a, b = m.gear_a.spec, m.gear_b.spec
+        say(
+            f"mesh {m.name}: {a.name} ({a.teeth}) – {b.name} ({b.teeth}"
+            f"{', internal' if b.internal else ''}), a_w = {m.centre_distance * 1e3:.4f} mm, "
+            f"α_w = {math.degrees(m.working_pressure_angle):.4f}°"
+        )
+
+
+@build_app.command("planetary")
+def build_planetary(
+    sun: Annotated[int, typer.Option(help="Sun teeth.")],
+    planet: Annotated[int, typer.Option(help="Planet teeth.")],
+    ring: Annotated[int, typer.Option(help="Ring teeth.")],
+    planets: Annotated[int, typer.Option(help="Number of planets.")] = 3,
+    module: Annotated[float, typer.Option(help="Module [mm].")] = 15.0,
+    pressure_angle: Annotated[float, typer.Option(help="Pressure angle [deg].")] = 20.0,
+    face_width: Annotated[float, typer.Option(help="Face width [mm].")] = 200.0,
+    parallel: Annotated[
+        list[str] | None,
+        typer.Option(help="Parallel stage WHEEL/PINION teeth, e.g. 83/23 (repeatable)."),
+    ] = None,
+    name: Annotated[str, typer.Option(help="Model name.")] = "planetary",
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output URDF file.")] = Path(
+        "planetary.urdf"
+    ),
+) -> None:
+    """Write a planetary stage (+ parallel stages) with inertias from steel geometry."""
+    from pinwind.model.builders import write_planetary
+
+    stages = []
+    for item in parallel or []:
+        wheel, sep, pinion = item.partition("/")
+        try:
+            stages.append((int(wheel), int(pinion)))
+        except ValueError as err:
+            raise InputError(f'--parallel "{item}" must be WHEEL/PINION teeth, e.g. 83/23') from err
+        if not sep:
+            raise InputError(f'--parallel "{item}" must be WHEEL/PINION teeth, e.g. 83/23')
+    path = write_planetary(
+        output,
+        sun=sun,
+        planet=planet,
+        ring=ring,
+        planets=planets,
+        module=module * 1e-3,
+        pressure_angle=math.radians(pressure_angle),
+        face_width=face_width * 1e-3,
+        parallel=stages,
+        name=name,
+    )
+    say(f"wrote {escape(str(path))}")

@@ -1,0 +1,64 @@
+"""``pinwind rate``: ISO 6336, AGMA 2001 and Hertz ratings from a short run's mesh forces."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from pinwind.cli.app import app, console, warnings_as_lines
+from pinwind.cli.flags import (
+    FLAGS,
+    DurationOption,
+    InitialSpeedOption,
+    SpeedOption,
+    StepOption,
+    TorqueOption,
+    load_values,
+    parse_pairs,
+)
+
+
+@app.command()
+def rate(
+    model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
+    torque: TorqueOption = None,
+    speed: SpeedOption = None,
+    initial_speed: InitialSpeedOption = None,
+    material: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--material",
+            help="GEAR=NAME (18CrNiMo7-6, 42CrMo4, 34CrNiMo6; GEAR may be all); default "
+            "18CrNiMo7-6.",
+        ),
+    ] = None,
+    duration: DurationOption = 0.05,
+    dt: StepOption = 1e-3,
+    at: Annotated[str, typer.Option(help="Load level: last, max or mean of the run.")] = "last",
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+) -> None:
+    """Rate every mesh (ISO 6336, AGMA 2001, Hertz) from the forces of a short simulation."""
+    import pinwind
+    from pinwind import scenario as sc
+    from pinwind.analysis.rating import rate as rate_result
+    from pinwind.analysis.rating_table import rating_tables
+
+    values = {"model": str(model), "duration": duration, "dt": dt}
+    scenario = sc.build(values | load_values(torque, speed, None, initial_speed), flags=FLAGS)
+    gearbox = pinwind.load(model)
+    materials = parse_pairs(material, "--material")
+    if "all" in materials:
+        chosen = materials.pop("all")
+        materials = {g: chosen for g in gearbox.gears} | materials
+    with warnings_as_lines():
+        res = sc.run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
+    rating = rate_result(gearbox, res, at=at, materials=materials)
+    if as_json:
+        print(json.dumps(rating.as_dict(), indent=1))
+        return
+    for table in rating_tables(rating, title=f"{gearbox.name} at t = {res.time[-1]:g} s"):
+        console.print(table)
+    console.print("all meshes pass" if rating.passes else "[bold red]some meshes fail[/bold red]")

@@ -1,0 +1,307 @@
+"""``pinwind simulate`` and ``pinwind run``: a run from flags, a scenario file or a log.
+
+Both build one ``Scenario`` (``pinwind/scenario.py``), run it, log it to MCAP (``logs/`` by
+default) and print speeds, mesh forces, bearing reactions and load sharing.
+"""
+
+from __future__ import annotations
+
+import shlex
+import signal
+import sys
+from pathlib import Path
+from typing import Annotated, Any, cast
+
+import typer
+from rich.markup import escape
+
+from pinwind.cli.app import (
+    Terminated,
+    app,
+    console,
+    err_console,
+    raise_terminated,
+    say,
+    warnings_as_lines,
+)
+from pinwind.cli.flags import (
+    FLAGS,
+    DurationOption,
+    InitialSpeedOption,
+    SpeedOption,
+    StepOption,
+    TorqueOption,
+    generator_values,
+    load_values,
+    mesh_values,
+    number_or_text,
+    parse_keep,
+    position_error_values,
+    rotor_values,
+)
+from pinwind.errors import InputError, LogWriteFailed, PinwindError
+from pinwind.loads.generator import LAWS
+
+
+def _stamp(path: Path) -> tuple[int, int] | None:
+    """Size and modification time of a file, None if it does not exist."""
+    try:
+        stat = path.stat()
+    except OSError:
+        return None
+    return stat.st_size, stat.st_mtime_ns
+
+
+@app.command()
+def simulate(
+    model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
+    torque: TorqueOption = None,
+    speed: SpeedOption = None,
+    speed_sine: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--speed-sine", help="JOINT=MEAN_RPM,AMPLITUDE_RPM,FREQUENCY_HZ sinusoidal driver."
+        ),
+    ] = None,
+    initial_speed: InitialSpeedOption = None,
+    duration: DurationOption = 1.0,
+    dt: StepOption = 1e-3,
+    progress: Annotated[
+        bool | None, typer.Option("--progress/--no-progress", help="Progress bar.")
+    ] = None,
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out",
+            "-o",
+            help="MCAP log to write (a bare file name goes in logs/). Default: "
+            "logs/<model>_<UTC time>.mcap.",
+        ),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing log.")] = False,
+    log_rate: Annotated[
+        float | None,
+        typer.Option("--log-rate", help="Logged samples per simulated second [Hz]; default all."),
+    ] = None,
+    no_log: Annotated[bool, typer.Option("--no-log", help="Do not write a log.")] = False,
+    pose_rate: Annotated[
+        float,
+        typer.Option("--pose-rate", help="Logged link poses (/tf) per simulated second [Hz]."),
+    ] = 100.0,
+    view_rate: Annotated[
+        float,
+        typer.Option(
+            "--view-rate",
+            help="Samples per simulated second on the topics Rerun and Foxglove plot when they "
+            "open the log [Hz] (pinwind reads every logged sample).",
+        ),
+    ] = 100.0,
+    allow_large_log: Annotated[
+        bool,
+        typer.Option(
+            "--allow-large-log",
+            help="Write the log even if it would exceed 20 GB or the free disk space.",
+        ),
+    ] = False,
+    mesh: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--mesh",
+            help="MESH=rigid or MESH=compliant (MESH may be all; repeatable). Default: the model "
+            "file's type of each mesh.",
+        ),
+    ] = None,
+    keep: Annotated[
+        str,
+        typer.Option(
+            "--keep",
+            help="Samples kept in memory: all, last, auto (every sample while they fit in "
+            "512 MB, else every N-th) or a number N (every N-th). The log holds every sample "
+            "either way, and the summary's min / max / RMS are over every sample.",
+        ),
+    ] = "auto",
+    position_error: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--position-error",
+            help="GEAR=TANGENTIAL_UM,RADIAL_UM position error of a planet's centre [µm] "
+            "(repeatable); compliant meshes share the load accordingly.",
+        ),
+    ] = None,
+    generator: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--generator",
+            help="JOINT=LAW(params): " + ", ".join(kind.usage for kind in LAWS.values()) + ".",
+        ),
+    ] = None,
+    rotor: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--rotor",
+            help="JOINT=saleh2017 or JOINT=rotor(radius=, inertia=, air_density=, pitch_deg=, "
+            "cp_scale=): rotor aerodynamics driven by --wind.",
+        ),
+    ] = None,
+    wind: Annotated[
+        str | None,
+        typer.Option(
+            "--wind",
+            help="Wind speed at the rotor [m/s]: a number or a signal, e.g. "
+            "kaimal(mean=10, turbulence_intensity=0.1, seed=1).",
+        ),
+    ] = None,
+) -> None:
+    """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
+    import pinwind
+    from pinwind import scenario as sc
+    from pinwind.io.run import log_path
+
+    values: dict[str, Any] = {"model": str(model), "duration": duration, "dt": dt}
+    values |= load_values(torque, speed, speed_sine, initial_speed)
+    optional = {
+        "mesh": mesh_values(mesh),
+        "position_error": position_error_values(position_error),
+        "generator": generator_values(generator),
+        "rotor": rotor_values(rotor),
+        "wind": None if wind is None else number_or_text(wind),
+        "log_rate": log_rate,
+        "pose_rate": pose_rate,
+        "view_rate": view_rate,
+        "allow_large_log": allow_large_log or None,
+        "keep": None if (kept := parse_keep(keep)) == "auto" else kept,
+    }
+    values |= {k: v for k, v in optional.items() if v is not None and v != {}}
+    scenario = sc.build(values, flags=FLAGS)
+    with warnings_as_lines():
+        gearbox = pinwind.load(model)
+    log = None if no_log else log_path(out if out is not None else True, gearbox.name)
+    command = shlex.join(["pinwind", *sys.argv[1:]])
+    _run_and_report(
+        scenario, gearbox, str(model), log, command, progress=progress, force=force,
+        check_joints=False,
+    )  # fmt: skip
+
+
+def _run_and_report(
+    scenario,
+    gearbox,
+    label: str,
+    log: Path | None,
+    command: str,
+    *,
+    progress,
+    force,
+    check_joints: bool = True,
+) -> None:
+    """Run a scenario and print its tables (``simulate`` and ``run``)."""
+    import numpy as np
+
+    from pinwind import scenario as sc
+    from pinwind.analysis import load_sharing
+    from pinwind.analysis.summary import summary_tables
+
+    before = _stamp(log) if log is not None else None
+    previous = signal.signal(signal.SIGTERM, raise_terminated)
+    try:
+        with warnings_as_lines():
+            res = sc.run(
+                scenario, gearbox=gearbox, out=log, no_log=log is None, force=force,
+                command=command, progress=progress, check_joints=check_joints,
+            )  # fmt: skip
+    except (KeyboardInterrupt, PinwindError) as err:
+        written = not isinstance(err, LogWriteFailed)  # that message says what the file holds
+        if written and log is not None and _stamp(log) not in (None, before):
+            err_console.print(
+                f"the run stopped early; its log up to that point is in {escape(str(log))}"
+            )
+        if isinstance(err, Terminated):
+            err_console.print(f"terminated ({escape(str(err))})")
+            raise typer.Exit(code=143) from err
+        raise
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    dt = res.metadata["dt"]
+    say(f"[bold]{escape(gearbox.name)}[/bold] from {escape(label)}")
+    steps = res.metadata["samples_simulated"] - 1
+    residual = res.constraint_residual.max()
+    if res.statistics is not None:
+        residual = res.statistics.row("run", "", "constraint residual").max
+    say(
+        f"{steps} steps of {dt:g} s in {res.metadata['wall_time_s']:.2f} s "
+        f"({res.metadata['wall_time_s'] / max(steps, 1) * 1e6:.0f} µs/step); "
+        f"max |J v| = {residual:.2e}"
+    )
+    stride = res.metadata.get("keep_stride", 1)
+    if stride > 1:
+        say(
+            f"values at the end below are of the last sample; min / max / RMS are over every "
+            f"one of the {res.metadata['samples_simulated']} samples, of which the result "
+            f"keeps {len(res)} (every {stride}-th, --keep)"
+            + ("; the log holds them all (pinwind report LOG)" if log is not None else "")
+        )
+    for table in summary_tables(res, plain=not console.is_terminal):
+        console.print()
+        console.print(table)
+    compliant = {n for n, m in res.metadata.get("meshes", {}).items() if m["type"] != "rigid"}
+    for sharing in load_sharing(res, gearbox):
+        # Rigid planets share equally by construction (minimum-norm multipliers).
+        if np.isfinite(sharing.factor_max) and compliant & set(sharing.meshes):
+            say(
+                f"load sharing at the {sharing.gear}: K_γ = {sharing.mean_share.max():.4f} "
+                f"(mean loads), {sharing.factor_max:.4f} "
+                f"(worst {'kept ' if stride > 1 else ''}sample)"
+            )
+    if log is not None:
+        say(f"log: {escape(str(log))} ({log.stat().st_size / 1e6:.2f} MB)")
+
+
+@app.command("run")
+def run_scenario(
+    scenario_file: Annotated[
+        Path | None, typer.Argument(help="Scenario file (TOML; keys named like simulate's flags).")
+    ] = None,
+    from_log: Annotated[
+        Path | None,
+        typer.Option("--from-log", help="Repeat the run a log holds, bit for bit."),
+    ] = None,
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", "-o", help="MCAP log to write (default: the scenario's out)."),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Overwrite an existing log.")] = False,
+    no_log: Annotated[bool, typer.Option("--no-log", help="Do not write a log.")] = False,
+    progress: Annotated[
+        bool | None, typer.Option("--progress/--no-progress", help="Progress bar.")
+    ] = None,
+) -> None:
+    """Run a scenario file, or repeat a logged run with --from-log LOG."""
+    import pinwind
+    from pinwind import scenario as sc
+    from pinwind.io.run import log_path
+
+    if (scenario_file is None) == (from_log is None):
+        raise InputError("give a scenario file or --from-log LOG (one of them)")
+    with warnings_as_lines():
+        if from_log is not None:
+            scenario, gearbox = sc.from_log(from_log)
+            label = f"the run logged in {from_log}"
+            target = out if out is not None else True  # never the logged file itself
+        else:
+            # Exactly one of scenario_file and from_log is given (checked above).
+            scenario = sc.load_scenario(cast(Path, scenario_file))
+            path = scenario.model_path()
+            if not path.is_file():
+                raise scenario.fail(("model",), f"{path} does not exist")
+            gearbox = pinwind.load(path)
+            label = str(scenario_file)
+            target = out if out is not None else scenario.values.get("out", True)
+    skip = no_log or (out is None and bool(scenario.values.get("no_log", False)))
+    log = None if skip else log_path(target, gearbox.name)
+    if from_log is not None and log is not None and log.resolve() == from_log.resolve():
+        raise InputError(f"--out {log} is the log being repeated; choose another file")
+    command = shlex.join(["pinwind", *sys.argv[1:]])
+    _run_and_report(
+        scenario, gearbox, label, log, command, progress=progress,
+        force=force or bool(scenario.values.get("force", False)) and from_log is None,
+    )  # fmt: skip
