@@ -46,12 +46,11 @@ from __future__ import annotations
 import copy
 import math
 import re
+import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
-
-import tomllib
 
 from pinwind.errors import InputError
 from pinwind.loads.generator import LAWS, GeneratorLaw

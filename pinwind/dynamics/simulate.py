@@ -56,6 +56,7 @@ from pinwind.loads.signals import Signal as TimeSignal
 from pinwind.loads.signals import check_covers
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
+from pinwind.units import rad_s_to_rpm
 
 
 class RunObserver(Protocol):
@@ -143,7 +144,7 @@ def _implausible(block: Result, start: int, stop: int) -> tuple[int, str] | None
     value = block.speed[row, j]
     return k, (
         f'joint "{block.joint_names[j]}" turns at {value:.3g} rad/s '
-        f"({value * 60 / (2 * math.pi):.3g}"
+        f"({rad_s_to_rpm(value):.3g}"
         f" rpm), beyond the plausible {MAX_PLAUSIBLE_SPEED:.0e} rad/s"
     )
 

@@ -237,11 +237,6 @@ class GearPair:
         return self.teeth_1 * self.transverse_module
 
     @property
-    def reference_diameter_2(self) -> float:
-        """d2 = z2 m_t [m] (positive also for an internal wheel)."""
-        return self.teeth_2 * self.transverse_module
-
-    @property
     def gear_ratio(self) -> float:
         """U = z2/z1, negative for an internal wheel (ISO 6336-2) [-]."""
         return (-self.teeth_2 if self.internal_2 else self.teeth_2) / self.teeth_1

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -30,7 +30,7 @@ def log_path(log: str | os.PathLike | bool, model_name: str) -> Path:
     that name is taken); a bare file name goes in ``logs/``; a path with a folder is used as given.
     """
     if log is True:
-        now = datetime.now(timezone.utc)
+        now = datetime.now(UTC)
         stem = f"{model_name}_{now:%Y%m%dT%H%M%S}.{now.microsecond // 1000:03d}Z"
         path = DEFAULT_LOG_FOLDER / f"{stem}.mcap"
         count = 1

@@ -29,11 +29,12 @@ from typing import Any
 import numpy as np
 
 from pinwind.errors import InputError
+from pinwind.units import rpm_to_rad_s
 
 #: 000's rotor: 41 m blades on a 3.7 m hub [m].
 SALEH2017_RADIUS = 41.0 + 3.7 / 2
 #: 000's rated point: 1 MN·m at 14.2 rpm in a steady 10 m/s wind.
-SALEH2017_RATED = {"torque": 1e6, "speed": 14.2 * 2 * math.pi / 60, "wind": 10.0}
+SALEH2017_RATED = {"torque": 1e6, "speed": rpm_to_rad_s(14.2), "wind": 10.0}
 #: Rotor inertia [kg·m²]: NREL 5 MW rotor (3.8e7 kg·m², R 63 m, blades 61.5 m) × (41/61.5)⁵.
 SALEH2017_INERTIA = round(3.8e7 * (41.0 / 61.5) ** 5, -5)
 
