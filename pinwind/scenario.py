@@ -499,7 +499,7 @@ def run(
         The ``Result``.
     """
     import pinwind
-    from pinwind.io.mcap_log import POSE_RATE, VIEW_RATE
+    from pinwind.io.log_writer import POSE_RATE, VIEW_RATE
     from pinwind.io.run import log_path
 
     v = scenario.values

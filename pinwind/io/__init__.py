@@ -12,7 +12,7 @@ from pinwind.io.log_reader import (
     open_log,
     read_log,
 )
-from pinwind.io.mcap_log import McapLogger
+from pinwind.io.log_writer import McapLogger
 
 __all__ = [
     "CHANNELS",

@@ -22,7 +22,7 @@ from pinwind.io.log_reader import (
     read_log,
 )
 from tests.io.conftest import CHUNK, column_chunks
-from tests.io.test_mcap_log import assert_same_arrays
+from tests.io.test_log_writer import assert_same_arrays
 
 
 def rows_of(res: pinwind.Result, rows) -> pinwind.Result:
