@@ -1,13 +1,12 @@
 """Logs of runs: MCAP writer and reader, Rerun replay, reports and exports."""
 
 from pinwind.io.export import export_log
+from pinwind.io.log_channels import CHANNELS, UnknownChannel
 from pinwind.io.log_reader import (
-    CHANNELS,
     LogDamaged,
     LogFile,
     LogReader,
     LogTooLarge,
-    UnknownChannel,
     iter_log,
     open_log,
     read_log,
