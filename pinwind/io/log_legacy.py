@@ -87,8 +87,8 @@ class RowLayout:
             JOINTS_TOPIC: ("joints", JointStateCodec(names["joint_names"], WORLD_FRAME), ()),
             TF_TOPIC: ("tf", FrameTransformsCodec(WORLD_FRAME, names["body_names"]), ()),
         }
+        count = arrays.count
         for topic in array_topics():
-            count = arrays.count
             dims = [(topic.element, count[topic.element])] if topic.element else [("value", 1)]
             if topic.frame:
                 dims.append(("axis", 3))
