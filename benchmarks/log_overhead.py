@@ -30,7 +30,7 @@ from saleh_loads import LOADS, MODELS
 import pinwind
 from pinwind.dynamics.simulate import simulate
 from pinwind.io.log_reader import read_log
-from pinwind.io.mcap_log import McapLogger
+from pinwind.io.log_writer import McapLogger
 
 
 class TimedLogger:

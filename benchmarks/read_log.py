@@ -40,7 +40,7 @@ from saleh_loads import LOADS, MODELS
 
 import pinwind
 from pinwind.dynamics.simulate import simulate
-from pinwind.io.log_reader import READ_THREADS
+from pinwind.io.log_threads import READ_THREADS
 
 #: Run in a fresh process: one measurement, printed as JSON.
 CHILD = r"""
@@ -94,7 +94,8 @@ elif what == "floor":
 
     import numpy as np
     from pinwind.io import mcap_file
-    from pinwind.io.log_reader import READ_THREADS, LogReader
+    from pinwind.io.log_reader import LogReader
+    from pinwind.io.log_threads import READ_THREADS
 
     res = read_log(path)
     n = len(res)
@@ -141,9 +142,9 @@ else:
     kwargs = json.loads(what)
     threads = kwargs.pop("threads", None)
     if threads:
-        from pinwind.io import log_reader
+        from pinwind.io import log_threads
 
-        log_reader.READ_THREADS, log_reader.READ_AHEAD = threads, 2 * threads - 1
+        log_threads.READ_THREADS, log_threads.READ_AHEAD = threads, 2 * threads - 1
     sys.path.insert(0, sys.argv[4])
     from machine import parallel_capacity
 

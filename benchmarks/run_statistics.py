@@ -23,7 +23,7 @@ from saleh_loads import LOADS, MODELS
 
 import pinwind
 from pinwind.analysis.run_statistics import RunningStatistics
-from pinwind.io.mcap_log import McapLogger
+from pinwind.io.log_writer import McapLogger
 
 #: Samples per block of the run (``simulate``'s ``chunk``).
 BLOCK = 1000

@@ -533,7 +533,7 @@ def run(
     Returns:
         The ``Result``.
     """
-    from pinwind.io.mcap_log import POSE_RATE, VIEW_RATE
+    from pinwind.io.log_writer import POSE_RATE, VIEW_RATE
     from pinwind.io.run import log_path, simulate
     from pinwind.model.gearbox import load
 

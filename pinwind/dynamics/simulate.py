@@ -282,7 +282,7 @@ def simulate(
         solver: proxsuite settings.
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
         observer: one or several observers that receive the samples as they are computed:
-            the MCAP logger (``io/mcap_log.McapLogger``), the run statistics
+            the MCAP logger (``io/log_writer.McapLogger``), the run statistics
             (``analysis/run_statistics.StatisticsObserver``; ``pinwind.simulate`` adds it).
         chunk: samples per observer call (a log holds a chunk of columns per call); default
             ``block_samples``: 1000 to 5000, a twentieth of the run.

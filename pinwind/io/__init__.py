@@ -1,18 +1,17 @@
 """Logs of runs: MCAP writer and reader, Rerun replay, reports and exports."""
 
 from pinwind.io.export import export_log
+from pinwind.io.log_channels import CHANNELS, UnknownChannel
 from pinwind.io.log_reader import (
-    CHANNELS,
     LogDamaged,
     LogFile,
     LogReader,
     LogTooLarge,
-    UnknownChannel,
     iter_log,
     open_log,
     read_log,
 )
-from pinwind.io.mcap_log import McapLogger
+from pinwind.io.log_writer import McapLogger
 
 __all__ = [
     "CHANNELS",

@@ -61,7 +61,7 @@ def columns(res: Result, fields: Iterable[str] | None = None) -> Iterator[tuple[
 
 
 def _fields(topics: Iterable[str]) -> list[str]:
-    from pinwind.io.log_reader import CHANNELS
+    from pinwind.io.log_channels import CHANNELS
 
     return [f for topic in topics for f in CHANNELS[topic] if f != "time"]
 
@@ -85,7 +85,7 @@ def export_log(
         out: the table to write.
         format: ``parquet`` or ``csv``; default from the suffix of ``out``.
         start, stop: time window [s] (open ends when None).
-        channels: topics to export (``pinwind.io.log_reader.CHANNELS``); default all.
+        channels: topics to export (``pinwind.io.log_channels.CHANNELS``); default all.
         overwrite: replace an existing ``out``.
         block: samples read and written at a time.
         progress: gets (simulated time read, of the window) [s] before each block is written

@@ -1,7 +1,7 @@
 """The pinwind log format (docs/log_format.md): its identity, topics and columns layout.
 
-What the writer (``io/mcap_log.py``) and the readers (``io/log_reader.py``, ``io/log_columns.py``)
-both follow; nothing here reads or writes a file.
+What the writer (``io/log_writer.py``) and the readers (``io/log_reader.py``, ``io/log_legacy.py``,
+``io/log_columns.py``) all follow; nothing here reads or writes a file.
 """
 
 from __future__ import annotations

@@ -2,24 +2,16 @@
 
 ``LogReader`` opens a log (docs/log_format.md) by its summary section: the chunk index gives each
 chunk's time span, place and size, so a read fetches only the chunks that overlap its time window
-and hold its channels. ``read_log`` returns one ``Result``; ``iter_log`` streams a log larger than
-memory as consecutive ``Result`` blocks.
+and hold its channels (``io/log_channels.py``). ``read_log`` returns one ``Result``; ``iter_log``
+streams a log larger than memory as consecutive ``Result`` blocks; ``open_log`` gives the
+metadata and attachments with the samples.
 
 Decoding is done a chunk at a time with numpy. Format 3 stores every array as columns, one
-message per block of samples (``log_columns``): the reading threads, one per core, each take a
-chunk, decompress it and copy its series into their place in one array, known from the chunk
-index before anything is decompressed. In formats 1 and 2, every sample is one
-row of message records, one per channel in the same order, all of one length; the ``/tf``
-records of the samples that have a pose follow the rows (format 2; in format 1 they were the
-last record of every row, their length changing with the time stamp's varint). Every value of a
-topic is then a strided view of the decompressed chunk, copied once into the returned arrays;
-poses are placed at the rows of their sample numbers, then kept for those samples only
-(``Result.pose_rows``). The framing (opcode,
-length, channel) and sample number of every record are checked; the fixed payload bytes (CDR
-layout, joint and link names) on the first row of each run of equal rows. A chunk laid out
-otherwise (rewritten by another tool) is decoded record by record, to the same values. The
-reading threads read, decompress and CRC-check the next chunks (zstd and zlib release the GIL)
-while the main thread copies values.
+message per block of samples (``io/log_columns.py``): the reading threads (``io/log_threads.py``),
+one per core, each take a chunk, decompress it and copy its series into their place in one array,
+known from the chunk index before anything is decompressed. Formats 1 and 2 store every sample
+as a row of message records (``io/log_legacy.py``); the reading threads read, decompress and
+CRC-check the next chunks while the main thread copies values.
 
 Damage: a chunk that fails its CRC, does not decompress or is not where the index says is
 skipped, and a ``LogDamaged`` warning gives the simulation time it covered. A damaged summary
@@ -28,94 +20,27 @@ section (the end of the file) is replaced by a walk through the data section.
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import sys
-import threading
 import warnings
-from collections import deque
-from collections.abc import Callable, Iterable, Iterator, Mapping
-from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, cast
 
 import numpy as np
-from mcap.opcode import Opcode
 
 from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import InputError, LogError, LogRecovered
 from pinwind.io import mcap_file
-from pinwind.io.log_columns import (
-    ColumnBlock,
-    ColumnLayout,
-    ColumnSink,
-    decode_chunk,
-    result_of,
-)
-from pinwind.io.log_format import (
-    COLUMNS_TOPIC,
-    FORMAT,
-    FORMAT_VERSION,
-    JOINTS_TOPIC,
-    NAMES_OF,
-    TF_TOPIC,
-    WORLD_FRAME,
-    array_topics,
-)
-from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile, Scan
-from pinwind.io.messages import (
-    _POSE_DTYPE,
-    Float64ArrayCodec,
-    FrameTransformsCodec,
-    JointStateCodec,
-    PayloadError,
-)
-
-TIME_TOPIC = "/run/time"
-
-
-class _Channels(Mapping[str, tuple[str, ...]]):
-    """Every channel (MCAP topic) that holds samples, and the Result arrays it fills.
-
-    ``/run/time`` is always read. ``channels=`` takes these names, or a folder of them
-    (``/meshes``, ``/bearings``, ``/run``). Read from the schema of series
-    (``dynamics/series.py``) when used, so a series declared at run time has its channel.
-    """
-
-    def _table(self) -> dict[str, tuple[str, ...]]:
-        return {
-            JOINTS_TOPIC: ("angle", "speed", "torque"),
-            **{t.topic: (t.field,) for t in array_topics()},
-            TF_TOPIC: ("body_position", "body_quaternion"),
-        }
-
-    def __getitem__(self, topic: str) -> tuple[str, ...]:
-        return self._table()[topic]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._table())
-
-    def __len__(self) -> int:
-        return len(self._table())
-
-
-CHANNELS = _Channels()
-
-
-def _cores() -> int:
-    """The cores this process may run on."""
-    if hasattr(os, "sched_getaffinity"):
-        return len(os.sched_getaffinity(0))
-    return os.cpu_count() or 2
-
-
-#: Threads that read, decompress and (format 3) copy chunks: one per core this process may
-#: use, 2 to 8 (beyond that the copies are bound by memory bandwidth).
-READ_THREADS = max(2, min(8, _cores()))
-#: Chunks read ahead of the one being copied (1000 samples of a shipped model: ~1 MB decompressed).
-READ_AHEAD = 2 * READ_THREADS - 1
+from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
+from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
+from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_OF
+from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
+from pinwind.io.log_metadata import json_values
+from pinwind.io.log_threads import ChunkBuffers, read_ahead
+from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
+from pinwind.io.messages import PayloadError
 
 
 class LogDamaged(LogRecovered):
@@ -128,42 +53,6 @@ class LogDamaged(LogRecovered):
 
 class LogTooLarge(LogError):
     """Reading the log needs more memory than there is."""
-
-
-class UnknownChannel(InputError):
-    """``channels=`` (``--channels``) names a channel that pinwind logs do not have."""
-
-    def __init__(self, name: str):
-        self.name = name
-        super().__init__(
-            f'unknown channel "{name}"; channels are: {", ".join(CHANNELS)} (or a folder of '
-            "them: /meshes, /bearings, /run)"
-        )
-
-
-def select_channels(channels: Iterable[str] | str | None) -> tuple[str, ...]:
-    """The topics asked for: names of ``CHANNELS``, or folders of them; None for every one.
-
-    ``/run/time`` is always included.
-
-    Raises:
-        UnknownChannel: a name that is neither a channel nor a folder of channels.
-    """
-    if channels is None:
-        return tuple(CHANNELS)
-    if isinstance(channels, str):
-        channels = [c for c in channels.split(",") if c.strip()]
-    picked = {TIME_TOPIC}
-    for name in channels:
-        name = name.strip().rstrip("/")
-        if name in CHANNELS:
-            picked.add(name)
-            continue
-        under = [t for t in CHANNELS if t.startswith(name + "/")] if name.startswith("/") else []
-        if not under:
-            raise UnknownChannel(name)
-        picked.update(under)
-    return tuple(t for t in CHANNELS if t in picked)
 
 
 def _time_bounds(start: float | None, stop: float | None) -> tuple[int, int]:
@@ -203,532 +92,7 @@ def _available_memory() -> int | None:
     return min(found) if found else None
 
 
-# --- where the values are in a chunk -----------------------------------------------------------
-
-
-@dataclass
-class _Part:
-    """Consecutive samples of a chunk: their times and, per destination, their values.
-
-    ``values`` holds (destination, element index or None, (m, ...) array or strided view), a
-    value for every sample; ``sparse`` holds (destination, rows, (k, ...) array) for the rows
-    that have one (link poses, logged at the pose rate); ``seq`` the samples' numbers.
-    """
-
-    time: np.ndarray
-    values: list[tuple[str, int | None, np.ndarray]]
-    seq: np.ndarray | None = None
-    sparse: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
-
-
-#: ``_Layout.rows``' default: the chunk's rows were not looked for in a reading thread.
-_NOT_LOOKED_FOR = object()
-
-
-@dataclass
-class _Channel:
-    """A channel whose values a read copies, and how to find them in a payload."""
-
-    id: int
-    topic: str
-    kind: str  # "joints", "array", "tf"
-    codec: Any
-    keys: tuple[str, ...]
-    record_length: int  # whole record [bytes]; 0 when it varies (/tf)
-
-
-class _Layout:
-    """The codecs and destinations of one log, and the decoding of its chunks."""
-
-    def __init__(self, channels: dict[int, Any], names: dict[str, list[str]], pose_stride: int = 1):
-        self.names = names
-        #: samples k with k mod pose_stride = 0 have a /tf record
-        self.pose_stride = max(1, int(pose_stride))
-        self.terms = names["energy_terms"]
-        nj, nm, nb, nl = (
-            len(names[k]) for k in ("joint_names", "mesh_names", "bearing_names", "body_names")
-        )
-        count = {"joint": nj, "mesh": nm, "bearing": nb, "term": len(self.terms)}
-        count.update({kind: len(names.get(key, [])) for kind, key in NAMES_OF.items()})
-        #: destination → shape of one sample
-        self.shapes: dict[str, tuple[int, ...]] = {
-            "time": (),
-            "angle": (nj,),
-            "speed": (nj,),
-            "torque": (nj,),
-            "body_position": (nl, 3),
-            "body_quaternion": (nl, 4),
-        }
-        self.by_topic: dict[str, _Channel] = {}
-        by_name = {c.topic: c.id for c in channels.values()}
-        codecs: dict[str, tuple[str, Any, tuple[str, ...]]] = {
-            JOINTS_TOPIC: ("joints", JointStateCodec(names["joint_names"], WORLD_FRAME), ()),
-            TF_TOPIC: ("tf", FrameTransformsCodec(WORLD_FRAME, names["body_names"]), ()),
-        }
-        for topic in array_topics():
-            dims = [(topic.element, count[topic.element])] if topic.element else [("value", 1)]
-            if topic.frame:
-                dims.append(("axis", 3))
-            shape = tuple(size for _, size in dims)
-            if topic.field == "energy":
-                keys = tuple(f"energy/{term}" for term in self.terms)
-                self.shapes.update({key: () for key in keys})
-            else:
-                keys = (topic.field,)
-                self.shapes[topic.field] = () if not topic.element else shape
-            codecs[topic.topic] = ("array", Float64ArrayCodec(dims), keys)
-        for name, (kind, codec, keys) in codecs.items():
-            if name in by_name:
-                length = 31 + codec.size if kind != "tf" else 0  # whole record [bytes]
-                keys = keys or CHANNELS[name]
-                self.by_topic[name] = _Channel(by_name[name], name, kind, codec, keys, length)
-        self._tf_checks: dict[int, tuple[np.ndarray, np.ndarray, list[int]] | None] = {}
-        #: records of samples not yet complete at the end of the last chunk decoded record by
-        #: record (None when there are none)
-        self.carry: Scan | None = None
-
-    def keys(self, topics: Iterable[str]) -> list[str]:
-        """Destinations filled by the topics (energy split into its terms)."""
-        out = []
-        for topic in topics:
-            if topic == "/run/energy":
-                out += [f"energy/{term}" for term in self.terms]
-            elif topic == TIME_TOPIC:
-                out.append("time")
-            else:
-                out += list(CHANNELS[topic])
-        return out
-
-    # fast path: rows of records ---------------------------------------------------------------
-
-    def rows(
-        self, data: bytes, wanted: list[_Channel], where: str, parts: Any = _NOT_LOOKED_FOR
-    ) -> list[_Part]:
-        """The samples of a chunk, as strided views of ``data`` (falls back to record by record).
-
-        ``parts``: what ``find_rows`` gave for this chunk in a reading thread, if it was called.
-        """
-        if parts is _NOT_LOOKED_FOR:
-            parts = self.find_rows(data, wanted)
-        if parts is None:
-            return self._records(data, wanted, where)
-        self.carry = None
-        return parts
-
-    def find_rows(self, data: bytes, wanted: list[_Channel]) -> list[_Part] | None:
-        """The rows of a chunk written as pinwind writes them, else None (thread-safe).
-
-        Rows of records (one per channel), then, in format 2, the /tf records of the rows that
-        have a pose.
-        """
-        size = len(data)
-        parts: list[_Part] = []
-        pos = 0
-        head = np.frombuffer(data, dtype=np.uint8)
-        tf = self.by_topic.get(TF_TOPIC)
-        time = self.by_topic.get(TIME_TOPIC)
-        while pos < size:
-            columns = _walk_row(data, pos)
-            if columns is None:
-                return None
-            found = {channel: (column, length) for channel, column, length in columns}
-            if tf is not None and len(found) == 1 and tf.id in found and parts:
-                if tf in wanted and not self._place_poses(data, pos, parts, tf):
-                    return None
-                return parts
-            if time is None or time.id not in found:
-                return None
-            in_row = [c for c in wanted if c.id in found]
-            if any(c is not tf for c in wanted if c.id not in found):
-                return None
-            row = sum(length for _, _, length in columns)
-            count = (size - pos) // row
-            good = np.ones(count, dtype=bool)
-            sample = np.ndarray((count,), "<u4", data, pos + columns[0][1] + 11, (row,))
-            for _, column, _ in columns:
-                # opcode, record length and channel of this column's record in every row (as
-                # integers: numpy compares them far faster than 11-byte void values)
-                for dtype, at in (("u1", 0), ("<u8", 1), ("<u2", 9)):
-                    field = np.ndarray((count,), dtype, data, pos + column + at, (row,))
-                    good &= field == field[0]
-                # the records of a row belong to one sample (message sequence = sample index)
-                good &= np.ndarray((count,), "<u4", data, pos + column + 11, (row,)) == sample
-            if not good[0]:
-                return None
-            m = count if good.all() else int(np.argmin(good))
-            part = self._views(data, head, pos, row, m, found, [time, *in_row])
-            if part is None:
-                return None
-            part.seq = sample[:m].astype(np.int64)
-            parts.append(part)
-            pos += m * row
-        return parts
-
-    def _place_poses(self, data: bytes, pos: int, parts: list[_Part], tf: _Channel) -> bool:
-        """Decode the /tf records from ``pos`` to the end of the chunk into the parts' rows.
-
-        False if they are not all /tf records of samples of these parts.
-        """
-        size = len(data)
-        offsets, seqs = [], []
-        at = pos
-        while at < size:
-            if at + 31 > size or data[at] != Opcode.MESSAGE:
-                return False
-            length = int.from_bytes(data[at + 1 : at + 9], "little")
-            if int.from_bytes(data[at + 9 : at + 11], "little") != tf.id or at + 9 + length > size:
-                return False
-            offsets.append((at + 31, at + 9 + length))
-            seqs.append(int.from_bytes(data[at + 11 : at + 15], "little"))
-            at += 9 + length
-        seq = np.array(seqs, dtype=np.int64)
-        if np.any(np.diff(seq) <= 0):
-            return False
-        try:
-            position, quaternion = tf.codec.decode([data[a:b] for a, b in offsets], TF_TOPIC)
-        except PayloadError:
-            return False
-        placed = 0
-        for part in parts:
-            part_seq = part.seq
-            if part_seq is None:  # _rows numbers every part it makes
-                raise RuntimeError("internal error: a part of a chunk without sample numbers")
-            lo, hi = np.searchsorted(seq, [part_seq[0], part_seq[-1] + 1])
-            rows = np.searchsorted(part_seq, seq[lo:hi])
-            if np.any(part_seq[rows] != seq[lo:hi]):
-                return False
-            part.sparse += [
-                ("body_position", rows, position[lo:hi]),
-                ("body_quaternion", rows, quaternion[lo:hi]),
-            ]
-            placed += hi - lo
-        return placed == len(seq)
-
-    def _views(self, data, head, pos, row, m, found, channels) -> _Part | None:
-        """Views of the values of the m rows at pos, pos + row, ...
-
-        None if a payload's fixed bytes differ from the codec's.
-        """
-        values: list[tuple[str, int | None, np.ndarray]] = []
-        time = None
-        for channel in channels:
-            column, length = found[channel.id]
-            at = pos + column + 9 + 22  # record header, then channel, sequence and times
-            payload = head[at : at + length - 31]
-            codec = channel.codec
-            if channel.kind == "array":
-                if length != channel.record_length or not np.array_equal(
-                    payload[: codec.data_at], codec.template[: codec.data_at]
-                ):
-                    return None
-                base = at + codec.data_at
-                if channel.topic == TIME_TOPIC:
-                    time = np.ndarray((m,), "<f8", data, base, (row,))
-                    continue
-                if channel.topic == "/run/energy":
-                    for i, term in enumerate(self.terms):
-                        view = np.ndarray((m,), "V8", data, base + 8 * i, (row,))
-                        values.append((f"energy/{term}", None, view))
-                    continue
-                if codec.count:
-                    view = np.ndarray((m,), f"V{8 * codec.count}", data, base, (row,))
-                    values.append((channel.keys[0], None, view))
-            elif channel.kind == "joints":
-                fixed = _joint_fixed(codec)
-                if length != channel.record_length or not np.array_equal(
-                    payload[fixed], codec.template[fixed]
-                ):
-                    return None
-                nj = len(codec.names)
-                for key, offset in zip(channel.keys, codec.fields_at, strict=True):
-                    if nj:
-                        view = np.ndarray((m,), f"V{8 * nj}", data, at + offset, (row,))
-                        values.append((key, None, view))
-            else:
-                poses = self._tf_layout(codec, length - 31)
-                if poses is None:
-                    return None
-                where, expected, offsets = poses
-                if not np.array_equal(payload[where], expected):
-                    return None
-                # x y z and qx qy qz qw, each double after its one-byte protobuf tag
-                for i, offset in enumerate(offsets):
-                    position = np.ndarray((m, 3), "V8", data, at + offset + 3, (row, 9))
-                    rotation = np.ndarray((m, 4), "V8", data, at + offset + 32, (row, 9))
-                    values += [("body_position", i, position), ("body_quaternion", i, rotation)]
-        if time is None:
-            return None
-        return _Part(time, values)
-
-    def _tf_layout(self, codec: FrameTransformsCodec, length: int):
-        """(positions, bytes) of the fixed bytes of a /tf payload of that length, pose offsets."""
-        if length not in self._tf_checks:
-            layout = codec._fixed_layout(length)
-            if layout is None:
-                self._tf_checks[length] = None
-            else:
-                template, dtype = layout
-                expected = template.copy()
-                fixed = np.ones(length, dtype=bool)
-                offsets = []
-                tags = np.zeros(_POSE_DTYPE.itemsize, dtype=bool)
-                pose = np.zeros(1, dtype=_POSE_DTYPE)
-                pose_fields = _POSE_DTYPE.fields
-                if pose_fields is None:  # a structured dtype, always has fields
-                    raise RuntimeError("internal error: _POSE_DTYPE has no fields")
-                for name, spec in pose_fields.items():
-                    if name.endswith(("_tag", "_len")):
-                        tags[spec[1]] = True
-                pose["t_tag"], pose["t_len"] = 0x22, 27
-                pose["r_tag"], pose["r_len"] = 0x2A, 36
-                for i, key in enumerate("xyz"):
-                    pose[f"{key}_tag"] = 0x09 + 8 * i
-                for i, key in enumerate(("qx", "qy", "qz", "qw")):
-                    pose[f"{key}_tag"] = 0x09 + 8 * i
-                pose_bytes = pose.view(np.uint8)
-                for name in dtype.names:
-                    sub, offset = dtype.fields[name][:2]
-                    fixed[offset : offset + sub.itemsize] = False
-                    if name.startswith("pose"):
-                        offsets.append(offset)
-                        block = slice(offset, offset + _POSE_DTYPE.itemsize)
-                        fixed[block] = tags
-                        expected[block] = pose_bytes
-                where = np.flatnonzero(fixed)
-                self._tf_checks[length] = (where, expected[where], offsets)
-        return self._tf_checks[length]
-
-    # slow path: record by record -------------------------------------------------------------
-
-    def _records(self, data: bytes, wanted: list[_Channel], where: str) -> list[_Part]:
-        """Samples of a chunk in any layout: records gathered by channel, aligned on sequence.
-
-        A sample whose records are split between this chunk and the next (another tool's
-        chunking) is kept in ``self.carry`` and completed by the next chunk.
-        """
-        scan, self.carry = self.carry or Scan(), None
-        try:
-            mcap_file._chunk_messages(scan, data, where)
-        except ValueError as err:
-            raise DamagedChunk(str(err)) from err
-        time = self.by_topic.get(TIME_TOPIC)
-        if time is None:
-            return []
-        channels = [time, *wanted]
-        gathered: dict[int, tuple[np.ndarray, list[bytes]]] = {}
-        for channel in channels:
-            blocks = scan.messages.get(channel.id, [])
-            seqs = np.concatenate([b[0] for b in blocks]) if blocks else np.zeros(0, np.int64)
-            flat = [bytes(p) for b in blocks for p in b[2]]
-            order = np.argsort(seqs, kind="stable")
-            gathered[channel.id] = (seqs[order], [flat[i] for i in order])
-        tf = self.by_topic.get(TF_TOPIC)
-        common = gathered[time.id][0]  # channels[0]: the time channel, never /tf
-        for channel in channels[1:]:
-            if channel is not tf:
-                common = np.intersect1d(common, gathered[channel.id][0])
-        posed = np.zeros(0, np.int64)
-        if tf in wanted:
-            # a sample is complete with its pose, if it has one; hold back from the first
-            # sample whose pose is still to come (in the next chunk)
-            posed = common[common % self.pose_stride == 0]
-            missing = posed[~np.isin(posed, gathered[tf.id][0])]
-            if len(missing):
-                common, posed = common[common < missing[0]], posed[posed < missing[0]]
-        last = common[-1] if len(common) else -1
-        carry = Scan()
-        for channel_id, (seqs, payloads) in gathered.items():
-            rest = np.flatnonzero(~np.isin(seqs, common) & (seqs > last))
-            if len(rest):
-                block = (seqs[rest], np.zeros(len(rest), np.uint64), [payloads[i] for i in rest])
-                carry.messages[channel_id].append(block)
-        self.carry = carry if carry.messages else None
-        if not len(common):
-            return []
-        values: list[tuple[str, int | None, np.ndarray]] = []
-        sparse: list[tuple[str, np.ndarray, np.ndarray]] = []
-        time_values = np.zeros(0)
-        for channel in channels:
-            seqs, payloads = gathered[channel.id]
-            if channel is tf:
-                rows = np.searchsorted(seqs, posed)
-                found = channel.codec.decode([payloads[i] for i in rows], channel.topic)
-                at = np.searchsorted(common, posed)
-                sparse += [("body_position", at, found[0]), ("body_quaternion", at, found[1])]
-                continue
-            rows = np.searchsorted(seqs, common)
-            found = channel.codec.decode([payloads[i] for i in rows], channel.topic)
-            if channel.kind == "joints":
-                values += [(k, None, v) for k, v in zip(channel.keys, found, strict=True)]
-            elif channel.topic == TIME_TOPIC:
-                time_values = found.reshape(-1)
-            elif channel.topic == "/run/energy":
-                values += [(f"energy/{t}", None, found[:, i]) for i, t in enumerate(self.terms)]
-            else:
-                shape = self.shapes[channel.keys[0]]
-                values.append((channel.keys[0], None, found.reshape(-1, *shape)))
-        return [_Part(time_values, values, common, sparse)]
-
-
-def _walk_row(data: bytes, pos: int) -> list[tuple[int, int, int]] | None:
-    """(channel, offset in the row, record length) of the message records of one row.
-
-    A row ends where a channel comes again, at a record that is not a message, or at the end.
-    """
-    columns = []
-    seen = set()
-    at = pos
-    size = len(data)
-    while at + 9 + 22 <= size and data[at] == Opcode.MESSAGE:
-        length = int.from_bytes(data[at + 1 : at + 9], "little")
-        channel = int.from_bytes(data[at + 9 : at + 11], "little")
-        if channel in seen or length < 22 or at + 9 + length > size:
-            break
-        seen.add(channel)
-        columns.append((channel, at - pos, 9 + length))
-        at += 9 + length
-    if not columns or (at < size and data[at] == Opcode.MESSAGE and not _repeats(data, at, seen)):
-        return None
-    return columns
-
-
-def _repeats(data: bytes, at: int, seen: set[int]) -> bool:
-    return int.from_bytes(data[at + 9 : at + 11], "little") in seen
-
-
-#: Fixed-byte positions by payload layout (size, stamp offset, value offsets, joint count). Keyed
-#: by the layout, not the codec: a codec's id() is reused once it is garbage-collected, and a
-#: cache keyed by it handed a later log's codec another log's positions (an IndexError).
-_JOINT_FIXED: dict[tuple[int, int, tuple[int, ...], int], np.ndarray] = {}
-
-
-def _joint_fixed(codec: JointStateCodec) -> np.ndarray:
-    """Positions of the fixed bytes of a JointState payload (all but stamp and values)."""
-    key = (codec.size, codec.stamp_at, tuple(codec.fields_at), len(codec.names))
-    if key not in _JOINT_FIXED:
-        fixed = np.ones(codec.size, dtype=bool)
-        fixed[codec.stamp_at : codec.stamp_at + 8] = False
-        for at in codec.fields_at:
-            fixed[at : at + 8 * len(codec.names)] = False
-        _JOINT_FIXED[key] = np.flatnonzero(fixed)
-    return _JOINT_FIXED[key]
-
-
-# --- the arrays a read fills ---------------------------------------------------------------------
-
-
-#: Destinations that have a value only at some samples (poses, at the pose rate): NaN elsewhere
-#: while a read fills them, then only the samples that have one.
-_SPARSE = POSE_ARRAYS
-
-
-class _Sink:
-    """Preallocated arrays of the destinations read; unread ones stay empty."""
-
-    def __init__(self, shapes: dict[str, tuple[int, ...]], keys: list[str], capacity: int):
-        self.shapes = shapes
-        self.keys = keys
-        self.n = 0
-        self.capacity = capacity
-        self.arrays = {
-            k: self._allocate(k, capacity if k in keys else 0, s) for k, s in shapes.items()
-        }
-
-    @staticmethod
-    def _allocate(key: str, n: int, shape: tuple[int, ...]) -> np.ndarray:
-        return np.full((n, *shape), np.nan) if key in _SPARSE else np.empty((n, *shape))
-
-    def put(self, part: _Part, rows: slice | np.ndarray, count: int) -> None:
-        """Copy ``count`` samples (``rows`` of the part) after those already there.
-
-        Views of raw bytes (``V`` dtypes: a sample's doubles as one block, or one double) are
-        copied as bytes, which numpy does much faster than unaligned float64 with odd strides.
-        """
-        if self.n + count > self.capacity:
-            self._grow(self.n + count)
-        n, end = self.n, self.n + count
-        arrays = self.arrays
-        arrays["time"][n:end] = part.time[rows]
-        for key, sub, view in part.values:
-            target = arrays[key][n:end] if sub is None else arrays[key][n:end, sub]
-            if view.dtype.kind == "V":
-                target = target.reshape(count, -1).view(view.dtype).reshape(count, *view.shape[1:])
-            target[...] = view[rows]
-        for key, at, values in part.sparse:
-            if key not in self.keys:
-                continue
-            if isinstance(rows, slice):
-                first = rows.start or 0
-                inside = (at >= first) & (at < first + count)
-                arrays[key][n + at[inside] - first] = values[inside]
-            else:
-                where = np.minimum(np.searchsorted(rows, at), len(rows) - 1)
-                inside = rows[where] == at
-                arrays[key][n + where[inside]] = values[inside]
-        self.n = end
-
-    def _grow(self, needed: int) -> None:
-        """More room (a count from the index was missing or wrong: damaged or foreign file)."""
-        self.capacity = max(needed, 2 * self.capacity)
-        for key in self.keys:
-            old = self.arrays[key]
-            new = self._allocate(key, self.capacity, old.shape[1:])
-            new[: self.n] = old[: self.n]
-            self.arrays[key] = new
-
-    def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
-        """The samples so far as a Result (views of the arrays; the poses copied)."""
-        arrays = {k: v[: self.n] for k, v in self.arrays.items()}
-        position = arrays["body_position"]
-        if position.shape[1]:  # the samples that have a pose: NaN at the others
-            rows = np.flatnonzero(np.isfinite(position[:, 0, 0]))
-        else:  # no links: a pose (of none) at every sample read
-            rows = np.arange(len(position))
-        arrays["pose_rows"] = rows
-        for key in _SPARSE:
-            arrays[key] = arrays[key][rows]
-        return result_of(arrays, names, terms)
-
-
 # --- the reader ---------------------------------------------------------------------------------
-
-
-class _Buffers:
-    """Decompression buffers used again once nothing refers to them (thread-safe).
-
-    A chunk's column blocks are views of its buffer; when the last view is gone (its samples
-    are copied), only this list holds the buffer, and the next chunk decompresses into it.
-    """
-
-    #: references to a free buffer while ``take`` looks at it: the list, the loop variable and
-    #: the argument of getrefcount
-    _FREE = 3
-
-    def __init__(self) -> None:
-        self._all: list[np.ndarray] = []
-        self._lock = threading.Lock()
-
-    def take(self, size: int) -> np.ndarray | None:
-        """A free buffer larger than ``size`` bytes (None when size is unknown)."""
-        if size <= 0:
-            return None
-        with self._lock:
-            for buffer in self._all:
-                if buffer.size > size and sys.getrefcount(buffer) == self._FREE:
-                    return buffer
-            buffer = np.empty(size + size // 8 + 64, dtype=np.uint8)
-            self._all.append(buffer)
-            return buffer
-
-
-def _json_values(record: dict[str, str]) -> dict[str, Any]:
-    out = {}
-    for key, text in record.items():
-        try:
-            out[key] = json.loads(text)
-        except json.JSONDecodeError:
-            out[key] = text
-    return out
 
 
 class LogReader:
@@ -816,7 +180,7 @@ class LogReader:
                 f"({FORMAT_VERSION}); install the pinwind version that wrote it "
                 f"({ident.get('pinwind_version', '?')}) or newer",
             )
-        self.metadata = {name: _json_values(rec) for name, rec in records.items()}
+        self.metadata = {name: json_values(rec) for name, rec in records.items()}
         for required in ("pinwind.run", "pinwind.model"):
             if required not in self.metadata:
                 why = f": {self.problem}" if self.problem else ""
@@ -825,9 +189,9 @@ class LogReader:
         self.names = {k: list(model.get(k, [])) for k in (*NAMES_OF.values(), "body_names")}
         self.channels = {c.topic: dict(c.metadata) for c in contents.channels.values()}
         run = self.metadata["pinwind.run"]
-        self._layout = _Layout(
-            contents.channels, self.names, run.get("pose_stride", run.get("log_stride", 1))
-        )
+        self._layout = ArrayLayout(self.names, run.get("pose_stride", run.get("log_stride", 1)))
+        #: formats 1 and 2: the codecs of the ROS 2 topics, whose rows of records hold the arrays
+        self._rows = RowLayout(contents.channels, self._layout)
         #: format 3: the arrays are read from the columns (None: from the ROS 2 topics)
         self._columns: ColumnLayout | None = None
         for channel in contents.channels.values():
@@ -838,13 +202,13 @@ class LogReader:
                     )
                 except ValueError as err:
                     raise LogError(where, f"unexpected message contents: {err}") from err
-        if self._columns is None and TIME_TOPIC not in self._layout.by_topic and contents.chunks:
+        if self._columns is None and TIME_TOPIC not in self._rows.by_topic and contents.chunks:
             raise LogError(where, "unexpected message contents: the log has no /run/time channel")
         end = self.metadata.get("pinwind.end")
         self.complete = end is not None and contents.data_end and not self.problem
         self._end_damaged = end is None and "pinwind.end" in contents.metadata
         self._attachments: dict[str, bytes] | None = None
-        self._buffers = _Buffers()
+        self._buffers = ChunkBuffers()
 
     # --- file ----------------------------------------------------------------------------------
 
@@ -922,7 +286,7 @@ class LogReader:
             placed = None
             if self._columns is not None and capacity:
                 placed = self._read_columns(chunks, keys, start, stop, lost)
-            sink: _Sink | ColumnSink
+            sink: RowSink | ColumnSink
             if placed is not None:
                 sink = placed
             else:  # rows of records, or columns whose counts were not all known
@@ -1018,11 +382,11 @@ class LogReader:
         length = max(end - first, 0.0)
         return lambda t: progress(min(max(float(t) - first, 0.0), length), length)
 
-    def _sink(self, keys: list[str], capacity: int) -> _Sink | ColumnSink:
+    def _sink(self, keys: list[str], capacity: int) -> RowSink | ColumnSink:
         """The arrays a read of ``keys`` fills, room for ``capacity`` samples to start with."""
         if self._columns is not None:
             return ColumnSink(self._columns, self._layout.shapes, keys, capacity)
-        return _Sink(self._layout.shapes, keys, capacity)
+        return RowSink(self._layout.shapes, keys, capacity)
 
     def _sample_chunks(self, topics: tuple[str, ...] | None) -> list[ChunkRef]:
         """Chunks that hold samples (the time channel), or whose index is unknown, in file order.
@@ -1034,7 +398,7 @@ class LogReader:
         if self._columns is not None:
             wanted = self._columns.channel
         else:
-            time = self._layout.by_topic.get(TIME_TOPIC)
+            time = self._rows.by_topic.get(TIME_TOPIC)
             if time is None:
                 return []
             wanted = time.id
@@ -1049,7 +413,7 @@ class LogReader:
         chunks = [c for c in self._sample_chunks(topics) if c.end_ns >= lo and c.start_ns <= hi]
         if not counts:
             return chunks, 0
-        time = self._layout.by_topic[TIME_TOPIC].id if chunks else 0
+        time = self._rows.by_topic[TIME_TOPIC].id if chunks else 0
         capacity = 0
         for chunk in chunks:
             inside = lo <= chunk.start_ns and chunk.end_ns <= hi
@@ -1058,7 +422,7 @@ class LogReader:
                     self._descriptor(), chunk.index[time], time, count_only=inside
                 )
             except (KeyError, ValueError):  # no index (cut file) or a damaged one: estimate
-                capacity += max(1, (chunk.length * 8) // self._row_estimate())
+                capacity += max(1, (chunk.length * 8) // self._rows.row_bytes())
                 continue
             if isinstance(found, int):  # count_only=inside: the count
                 capacity += found
@@ -1138,7 +502,7 @@ class LogReader:
 
         n = 0
         damaged = []
-        for chunk, _, filled, damage in self._chunk_data(chunks, [], load):
+        for chunk, _, filled, damage in read_ahead(chunks, load, []):
             if damage:
                 damaged.append(
                     f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -1152,14 +516,10 @@ class LogReader:
         lost += damaged
         return sink
 
-    def _row_estimate(self) -> int:
-        """A lower bound of the bytes of one sample's records (to estimate counts)."""
-        return max(1, sum(c.record_length for c in self._layout.by_topic.values()))
-
     def _parts(self, chunks, topics, start, stop, lost) -> Iterator[tuple[Any, Any, int]]:
         """(part, rows in the window, count) of every chunk, read ahead by the reading threads."""
         if self._columns is not None:
-            for chunk, _, blocks, damage in self._chunk_data(chunks, [], self._load_columns):
+            for chunk, _, blocks, damage in read_ahead(chunks, self._load_columns, []):
                 if damage:
                     lost.append(
                         f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to "
@@ -1172,11 +532,9 @@ class LogReader:
                         yield block, rows, count
             return
         wanted = [
-            self._layout.by_topic[t]
-            for t in topics
-            if t in self._layout.by_topic and t != TIME_TOPIC
+            self._rows.by_topic[t] for t in topics if t in self._rows.by_topic and t != TIME_TOPIC
         ]
-        for chunk, data, found, damage in self._chunk_data(chunks, wanted):
+        for chunk, data, found, damage in read_ahead(chunks, self._load_rows, wanted):
             if damage:
                 lost.append(
                     f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -1184,7 +542,7 @@ class LogReader:
                 continue
             where = f"the chunk at byte {chunk.offset}"
             try:
-                parts = self._layout.rows(data, wanted, where, found)
+                parts = self._rows.rows(data, wanted, where, found)
             except DamagedChunk as err:
                 lost.append(
                     f"{err}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -1208,43 +566,14 @@ class LogReader:
         except DamagedChunk as err:
             return b"", [], str(err)
 
-    def _chunk_data(
-        self, chunks: list[ChunkRef], wanted: list[_Channel], load=None
-    ) -> Iterator[tuple]:
-        """(chunk, its records, their rows or None, "" or why it is damaged), in order.
-
-        ``READ_THREADS`` threads read ahead: they read, decompress, CRC-check the chunks and run
-        ``load`` on them (find their rows, or copy their columns) while the chunk is in their
-        cache.
-        """
-        if not chunks:
-            return
-        load = load or self._load
-        with ThreadPoolExecutor(READ_THREADS, thread_name_prefix="pinwind-read") as pool:
-            pending: deque = deque()
-            ahead = iter(chunks)
-            try:
-                for chunk in ahead:
-                    pending.append((chunk, pool.submit(load, chunk, wanted)))
-                    if len(pending) > READ_AHEAD:
-                        break
-                while pending:
-                    chunk, future = pending.popleft()
-                    following = next(ahead, None)
-                    if following is not None:
-                        pending.append((following, pool.submit(load, following, wanted)))
-                    yield (chunk, *future.result())
-            finally:
-                for _, future in pending:
-                    future.cancel()
-
-    def _load(self, chunk: ChunkRef, wanted: list[_Channel]) -> tuple[bytes, Any, str]:
+    def _load_rows(self, chunk: ChunkRef, wanted: list[RowChannel]) -> tuple[bytes, Any, str]:
+        """A chunk's records and their rows (None: not rows), or why it is damaged (thread-safe)."""
         try:
             # no buffer given: the records come as bytes
             data = cast(bytes, mcap_file.read_chunk(self._descriptor(), chunk))
         except DamagedChunk as err:
             return b"", None, str(err)
-        return data, self._layout.find_rows(data, wanted), ""
+        return data, self._rows.find_rows(data, wanted), ""
 
     def _check_memory(self, capacity: int, keys: list[str]) -> None:
         needed = self._bytes_of(capacity, keys)
@@ -1264,7 +593,9 @@ class LogReader:
         if self._columns is not None:  # formats 1 and 2 fill the poses at every sample first
             log_stride = max(1, int(self.metadata["pinwind.run"].get("log_stride", 1)))
             poses = capacity // max(1, self._layout.pose_stride // log_stride) + 1
-        return 8 * sum((poses if k in _SPARSE else capacity) * math.prod(shapes[k]) for k in keys)
+        return 8 * sum(
+            (poses if k in POSE_ARRAYS else capacity) * math.prod(shapes[k]) for k in keys
+        )
 
     def _too_large(self, capacity: int | None, keys: list[str]) -> LogTooLarge:
         needed = self._bytes_needed(capacity, keys)

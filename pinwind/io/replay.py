@@ -1,6 +1,6 @@
 """Replay a log in Rerun from the file alone: the machine turning in 3D, forces, plots.
 
-``replay`` reads a log (``io/mcap_log.py``) and sends Rerun:
+``replay`` reads a log (``io/log_writer.py``) and sends Rerun:
 
 - ``gearbox/<link>``: the world pose of every link over time (``Transform3D``); under it the
   gears, visuals, shafts, bearings and angle marks of ``io/replay_scene.py``, which also sends

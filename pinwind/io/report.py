@@ -103,7 +103,8 @@ def report_log(
         InputError: the window holds no sample; the message gives the time span of the log.
         LogError: the log cannot be read (``pinwind.io.log_reader.LogReader``).
     """
-    from pinwind.io.log_reader import CHANNELS, LogReader
+    from pinwind.io.log_channels import CHANNELS
+    from pinwind.io.log_reader import LogReader
 
     channels = [topic for topic in CHANNELS if topic != "/tf"]
     stats = RunningStatistics()

@@ -1,6 +1,6 @@
 """``pinwind.simulate`` with a log: run a gearbox and write the run to an MCAP file as it goes.
 
-This thin layer builds the ``McapLogger`` (``io/mcap_log.py``) and hands it to
+This thin layer builds the ``McapLogger`` (``io/log_writer.py``) and hands it to
 ``pinwind.dynamics.simulate.simulate`` as its observer, so the physics stays unaware of files.
 """
 
@@ -16,7 +16,8 @@ from pinwind.analysis.run_statistics import StatisticsObserver
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.simulate import observers_of
 from pinwind.dynamics.simulate import simulate as _simulate
-from pinwind.io.mcap_log import MAX_LOG_BYTES, POSE_RATE, VIEW_RATE, McapLogger
+from pinwind.io.log_size import MAX_LOG_BYTES
+from pinwind.io.log_writer import POSE_RATE, VIEW_RATE, McapLogger
 from pinwind.model.gearbox import Gearbox
 
 #: Folder of logs given without one (``log=True`` or a bare file name).

@@ -14,7 +14,8 @@ from pinwind.analysis.run_statistics import RunningStatistics
 from pinwind.dynamics import _native, series
 from pinwind.dynamics.series import Plot, Series
 from pinwind.io.export import export_log
-from pinwind.io.log_reader import CHANNELS, open_log
+from pinwind.io.log_channels import CHANNELS
+from pinwind.io.log_reader import open_log
 from pinwind.io.panels import log_panels
 from pinwind.io.report import report_log, report_tables
 from tests.conftest import MODELS

@@ -22,9 +22,9 @@ DT = 1e-3
 DURATION = 0.25
 #: Samples per observer call (and per MCAP chunk) in the shared run: 251 samples → 100, 100, 51.
 CHUNK = 100
-#: Link poses go to the log at 100 Hz (pinwind.io.mcap_log.POSE_RATE): every 10th sample of 1 ms.
+#: Link poses go to the log at 100 Hz (pinwind.io.log_writer.POSE_RATE): every 10th sample of 1 ms.
 POSE_EVERY = 10
-#: The viewers' topics too (pinwind.io.mcap_log.VIEW_RATE, 100 Hz); /pinwind/columns has all.
+#: The viewers' topics too (pinwind.io.log_writer.VIEW_RATE, 100 Hz); /pinwind/columns has all.
 VIEW_EVERY = 10
 
 

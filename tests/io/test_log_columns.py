@@ -11,8 +11,9 @@ from numpy.testing import assert_array_equal
 import pinwind
 from pinwind.dynamics._native import fill_rows, shuffle_series, unshuffle_series
 from pinwind.io import mcap_file
+from pinwind.io.log_channels import CHANNELS
 from pinwind.io.log_columns import ColumnSink, decode_chunk
-from pinwind.io.log_reader import CHANNELS, LogReader
+from pinwind.io.log_reader import LogReader
 from tests.io.conftest import DT, TORQUES
 
 #: Lengths below, at and past the 16 values of one vector step, and long runs with a tail.

@@ -16,12 +16,12 @@ import pytest
 import pinwind
 from pinwind.dynamics.simulate import simulate
 from pinwind.errors import LogRecovered, LogTooLargeToWrite, LogWriteFailed
-from pinwind.io import mcap_log, run
+from pinwind.io import log_size, run
 from pinwind.io.log_reader import LogReader
-from pinwind.io.mcap_log import McapLogger
+from pinwind.io.log_writer import McapLogger
 from tests.io.conftest import CHUNK, DT, DURATION, TORQUES, column_chunks
 from tests.io.test_cli_log import ENV, SIMULATE
-from tests.io.test_mcap_log import assert_same_arrays
+from tests.io.test_log_writer import assert_same_arrays
 
 #: Values per sample of the planetary stage's Result (6 joints, 6 meshes, 10 links, 9 energy
 #: terms): time, 4 joint series, 10 mesh scalars and 2 mesh vectors, 4 bearing vectors, link
@@ -75,7 +75,7 @@ def test_suggested_log_rate_gives_a_log_within_the_limit(planetary, tmp_path):
 
 
 def test_log_larger_than_the_free_disk_space_is_refused(planetary, tmp_path, monkeypatch):
-    monkeypatch.setattr(mcap_log, "_free_space", lambda folder: 30_000)
+    monkeypatch.setattr(log_size, "_free_space", lambda folder: 30_000)
     with pytest.raises(
         LogTooLargeToWrite, match=r"more than the free space on its disk \(3e-05 GB"
     ):

@@ -11,18 +11,17 @@ from mcap.reader import make_reader
 import pinwind
 from pinwind.dynamics.result import concatenate
 from pinwind.errors import LogError, LogRecovered
-from pinwind.io import log_reader, mcap_file
+from pinwind.io import log_legacy, log_reader, mcap_file
+from pinwind.io.log_channels import CHANNELS, UnknownChannel
 from pinwind.io.log_reader import (
-    CHANNELS,
     LogDamaged,
     LogReader,
     LogTooLarge,
-    UnknownChannel,
     iter_log,
     read_log,
 )
 from tests.io.conftest import CHUNK, column_chunks
-from tests.io.test_mcap_log import assert_same_arrays
+from tests.io.test_log_writer import assert_same_arrays
 
 
 def rows_of(res: pinwind.Result, rows) -> pinwind.Result:
@@ -379,7 +378,7 @@ def test_joint_state_fixed_bytes_are_all_but_the_stamp_and_three_value_arrays():
 
     for names in (["a", "b"], ["a", "b", "c", "d", "e"], ["sun"]):
         codec = JointStateCodec(names, "world")
-        fixed = log_reader._joint_fixed(codec)
+        fixed = log_legacy._joint_fixed(codec)
         assert fixed.max() < codec.size
         assert len(fixed) == codec.size - 8 - 3 * 8 * len(names)
         del codec

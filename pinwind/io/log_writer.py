@@ -1,4 +1,4 @@
-"""MCAP logs of runs: the writer (a ``RunObserver``).
+"""The log writer: ``McapLogger``, a ``RunObserver`` that writes a run to an MCAP file.
 
 A log is one self-contained MCAP file (docs/log_format.md, its topics in ``io/log_format.py``):
 the model file as an attachment and on ``/robot_description``, metadata records (versions, model
@@ -17,24 +17,19 @@ about 4 µs per message, which at 18 messages per sample would be 30 % of a driv
 from __future__ import annotations
 
 import errno
-import functools
 import json
 import math
 import os
-import platform
 import queue
 import shlex
-import shutil
 import signal
 import sys
 import threading
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
-from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import BinaryIO
 
 import numpy as np
 from mcap.opcode import Opcode
@@ -46,7 +41,6 @@ from pinwind.errors import (
     LogError,
     LogExists,
     LogRecovered,
-    LogTooLargeToWrite,
     LogWriteFailed,
 )
 from pinwind.io import messages
@@ -64,6 +58,9 @@ from pinwind.io.log_format import (
     array_topics,
     mask_bytes,
 )
+from pinwind.io.log_metadata import json_record, utc_now, versions
+from pinwind.io.log_model import model_geometry, model_names
+from pinwind.io.log_size import MAX_LOG_BYTES, check_log_fits, estimate_log_size
 from pinwind.io.mcap_file import (
     RECORD_HEADER,
     McapWriter,
@@ -83,42 +80,6 @@ VIEW_RATE = 100.0
 #: Chunk compression and its level.
 COMPRESSION = "zstd"
 COMPRESSION_LEVEL = -1
-#: Largest log a run writes without ``allow_large_log`` (``--allow-large-log``) [bytes].
-MAX_LOG_BYTES = 20e9
-
-
-def _utc_now() -> str:
-    return datetime.now(UTC).isoformat(timespec="seconds")
-
-
-def _plain(value: Any) -> Any:
-    """JSON fallback: numpy scalars and arrays as numbers and lists, anything else as text."""
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    return str(value)
-
-
-def _json_record(values: dict[str, Any]) -> dict[str, str]:
-    """MCAP metadata holds strings: every value is stored as JSON."""
-    return {
-        key: json.dumps(value, ensure_ascii=False, default=_plain) for key, value in values.items()
-    }
-
-
-@functools.cache
-def _versions() -> dict[str, str]:
-    """Versions of Python and the packages a log records (looked up once per process)."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    out = {"python": platform.python_version()}
-    for dist in ("pinwind", "pin", "proxsuite", "numpy", "mcap", "protobuf", "rerun-sdk"):
-        try:
-            out[dist] = version(dist)
-        except PackageNotFoundError:
-            out[dist] = "not installed"
-    return out
 
 
 @contextmanager
@@ -165,113 +126,6 @@ def _resolve_rate(dt: float | None, log_rate: float | None, what: str = "log") -
         )
     stride = max(1, round(sample_rate / log_rate))
     return stride, sample_rate / stride
-
-
-# --- how large a log will be ---------------------------------------------------------------------
-
-#: What a log takes per value, record and file, measured on the Saleh, Cai and CART models
-#: (docs/log_format.md, "Size and cost"): the values compress to 0.2-0.35 of their 8 bytes, so
-#: counting half of them keeps the estimate on the high side; a record's header and CDR layout
-#: compress to a few bytes, and each has a 16-byte message-index entry (not compressed); a file
-#: has schemas, metadata and the summary, and the model text twice.
-_VALUE_FRACTION = 0.5
-_RECORD_BYTES = 6
-_FILE_BYTES = 24_000
-
-
-@dataclass(frozen=True)
-class LogEstimate:
-    """How large a log will be (an estimate on the high side).
-
-    Attributes:
-        samples: samples logged.
-        posed: samples with link poses (/tf).
-        bytes: size of the file [bytes].
-        per_sample: bytes per logged sample, poses included.
-    """
-
-    samples: int
-    posed: int
-    bytes: int
-    per_sample: float
-
-
-def estimate_log_size(
-    result: Result,
-    *,
-    samples: int,
-    stride: int,
-    pose_stride: int,
-    view_stride: int | None = None,
-    model_bytes: int = 0,
-) -> LogEstimate:
-    """Size of the log of a run of ``samples`` samples, estimated on the high side [bytes].
-
-    Every ``stride``-th sample is logged (``/pinwind/columns``), every ``view_stride``-th also on
-    the viewers' topics (default: every logged one), with its link poses every
-    ``pose_stride``-th; ``result`` gives the shapes (names) of the arrays, ``model_bytes`` the
-    length of the model file (stored twice). Every float64 counts ``_VALUE_FRACTION`` of its 8
-    bytes, every viewers' record its message-index entry (16 bytes, uncompressed) and
-    ``_RECORD_BYTES`` of compressed framing.
-    """
-    view_stride = stride if view_stride is None else view_stride
-    doubles = len(result.energy)
-    records = 1  # /joints
-    for name in Result.ARRAYS:
-        if name in POSE_ARRAYS:
-            continue
-        doubles += int(np.prod(getattr(result, name).shape[1:], dtype=int))
-    for topic in array_topics():
-        names = getattr(result, NAMES_OF[topic.element], None) if topic.element else None
-        if topic.element in ("", "term") or names:  # topics of an empty family are left out
-            records += 1
-    logged = -(-samples // stride)
-    viewed = -(-samples // view_stride)
-    posed = -(-samples // pose_stride)
-    bodies = len(result.body_names)
-    per_sample = 8 * _VALUE_FRACTION * doubles
-    per_view = 8 * _VALUE_FRACTION * doubles + records * (16 + _RECORD_BYTES)
-    # /tf for the viewers, and the same poses with their time on /pinwind/poses
-    per_pose = 8 * _VALUE_FRACTION * (15 * bodies + 1) + 16 + _RECORD_BYTES * (1 + bodies)
-    total = logged * per_sample + viewed * per_view + posed * per_pose
-    total += _FILE_BYTES + 2 * model_bytes
-    return LogEstimate(
-        samples=logged,
-        posed=posed,
-        bytes=int(total),
-        per_sample=(total - _FILE_BYTES - 2 * model_bytes) / max(logged, 1),
-    )
-
-
-def result_bytes(result: Result) -> int:
-    """Memory of a Result's arrays [bytes]."""
-    return sum(getattr(result, name).nbytes for name in Result.ARRAYS) + sum(
-        values.nbytes for values in result.energy.values()
-    )
-
-
-def _free_space(folder: Path) -> int | None:
-    """Free bytes on the file system that holds ``folder`` (or its nearest existing parent)."""
-    folder = folder.absolute()
-    while not folder.exists() and folder != folder.parent:
-        folder = folder.parent
-    try:
-        return shutil.disk_usage(folder).free
-    except OSError:
-        return None
-
-
-def _fitting_rate(estimate: LogEstimate, limit: float, rate: float) -> float:
-    """A log rate [Hz] whose log fits in 90 % of ``limit``, from the estimate at ``rate`` [Hz].
-
-    Two significant digits, rounded down.
-    """
-    fixed = estimate.bytes - estimate.samples * estimate.per_sample
-    wanted = 0.9 * rate * (limit - fixed) / max(estimate.bytes - fixed, 1)
-    if wanted <= 0:
-        return 0.0
-    digits = 10.0 ** (math.floor(math.log10(wanted)) - 1)
-    return math.floor(wanted / digits) * digits
 
 
 class _RowLayout:
@@ -447,7 +301,7 @@ class McapLogger:
             model_bytes=len(gearbox.source_text.encode("utf-8")),
         )
         if self.max_bytes is not None:
-            self._check_size(result, rate, self.max_bytes)
+            check_log_fits(self.path, self.estimate, result, rate=rate, max_bytes=self.max_bytes)
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as err:
@@ -478,44 +332,16 @@ class McapLogger:
         """The file, unbuffered: every write reaches the OS at once, a failed one can be cut."""
         return open(self.path, "wb" if self.overwrite else "xb", buffering=0)  # noqa: SIM115
 
-    def _check_size(self, result: Result, rate: float, max_bytes: float) -> None:
-        """Refuse a log larger than ``max_bytes`` or the free space of its file system."""
-        estimate = self.estimate
-        free = _free_space(self.path.parent)
-        limits = [(float(max_bytes), "the limit for one log")]
-        if free is not None:
-            limits.append((float(free), "the free space on its disk"))
-        limit, what = min(limits)
-        if estimate.bytes <= limit:
-            return
-        raise LogTooLargeToWrite(
-            str(self.path),
-            log_bytes=estimate.bytes,
-            limit_bytes=limit,
-            limit=what,
-            result_bytes=result_bytes(result),
-            samples=estimate.samples,
-            fitting_rate=_fitting_rate(estimate, limit, rate),
-        )
-
     def _start(self, stream: BinaryIO, gearbox, result: Result, rate: float) -> None:
         meta = result.metadata
         f = self._file = McapWriter(
             stream, compression=self.compression, compression_level=self.compression_level
         )
-        versions = dict(_versions())
-        f.start(library=f"pinwind {versions['pinwind']} (mcap {versions['mcap']})")
+        recorded = dict(versions())
+        f.start(library=f"pinwind {recorded['pinwind']} (mcap {recorded['mcap']})")
 
-        self._terms = list(result.energy)
-        names = {
-            "joint_names": list(result.joint_names),
-            "mesh_names": list(result.mesh_names),
-            "bearing_names": list(result.bearing_names),
-            "body_names": list(result.body_names),
-            "energy_terms": self._terms,
-            "generator_names": list(result.generator_names),
-            "rotor_names": list(result.rotor_names),
-        }
+        names = model_names(result)
+        self._terms = names["energy_terms"]
         view_rate = rate * self.stride / self.view_stride
         array_schema = f.schema(messages.FLOAT64_MULTI_ARRAY)
         joint_schema = f.schema(messages.JOINT_STATE)
@@ -645,10 +471,10 @@ class McapLogger:
             {
                 "format": FORMAT,
                 "format_version": str(FORMAT_VERSION),
-                "pinwind_version": versions["pinwind"],
-                "created_utc": _utc_now(),
+                "pinwind_version": recorded["pinwind"],
+                "created_utc": utc_now(),
                 "command": self.command,
-                "versions": json.dumps(versions),
+                "versions": json.dumps(recorded),
             },
         )
         run = {k: v for k, v in meta.items() if k not in ("status", "wall_time_s")}
@@ -662,8 +488,8 @@ class McapLogger:
             pose_rate_hz=pose_rate,
             log_estimate_bytes=self.estimate.bytes,
         )
-        f.metadata("pinwind.run", _json_record(run))
-        f.metadata("pinwind.model", _json_record({**names, **model_geometry(gearbox)}))
+        f.metadata("pinwind.run", json_record(run))
+        f.metadata("pinwind.model", json_record({**names, **model_geometry(gearbox)}))
         payload = messages.encode_string(gearbox.source_text)
         record = message_records(
             model_channel,
@@ -833,7 +659,7 @@ class McapLogger:
             status = f"{status}; {self._write_error()}"
         f.metadata(
             "pinwind.end",
-            _json_record(
+            json_record(
                 {
                     "status": status,
                     "cause": cause,
@@ -841,7 +667,7 @@ class McapLogger:
                     "samples_logged": self.samples_logged,
                     "log_error": str(self._failed) if self._failed else "",
                     "wall_time_s": result.metadata.get("wall_time_s"),
-                    "ended_utc": _utc_now(),
+                    "ended_utc": utc_now(),
                 }
             ),
         )
@@ -1022,59 +848,3 @@ class McapLogger:
         if tf_index:
             index[self._tf_channel] = np.concatenate(tf_index)
         return data, index
-
-
-def model_geometry(gearbox) -> dict[str, Any]:
-    """Gears, meshes and bearings of a model, for the ``pinwind.model`` record (and replay).
-
-    Gear centres and axes are in the frame of the link that carries the gear; radii, widths and
-    distances in m, angles in rad.
-    """
-    import pinocchio as pin
-
-    model = gearbox.model
-    gears = {}
-    for name, gear in gearbox.gears.items():
-        spec = gear.spec
-        frame = model.frames[model.getFrameId(spec.link, pin.BODY)]
-        joint_from_link = frame.placement
-        gears[name] = {
-            "link": spec.link,
-            "teeth": spec.teeth,
-            "module": spec.module,
-            "face_width": spec.face_width,
-            "pressure_angle": spec.pressure_angle,
-            "helix_angle": spec.helix_angle,
-            "profile_shift": spec.profile_shift,
-            "internal": spec.internal,
-            "pitch_radius": spec.teeth * spec.module / (2.0 * math.cos(spec.helix_angle)),
-            "centre_in_link": joint_from_link.actInv(gear.centre_in_joint).tolist(),
-            "axis_in_link": (joint_from_link.rotation.T @ gear.axis_in_joint).tolist(),
-        }
-    meshes = {
-        m.name: {
-            "gear_a": m.gear_a.name,
-            "gear_b": m.gear_b.name,
-            "working_pressure_angle": m.working_pressure_angle,
-            "centre_distance": m.centre_distance,
-            "working_radius_a": m.working_radius_a,
-            "working_radius_b": m.working_radius_b,
-        }
-        for m in gearbox.meshes
-    }
-    source_joints = getattr(getattr(gearbox, "source", None), "joints", {}) or {}
-    bearings = {
-        name: {
-            "parent": source_joints.get(name, {}).get("parent", ""),
-            "child": source_joints.get(name, {}).get("child", ""),
-        }
-        for name in gearbox.joint_names
-    }
-    return {
-        "model_name": gearbox.name,
-        "root_link": getattr(getattr(gearbox, "source", None), "root_link", ""),
-        "locked_joints": list(gearbox.locked_joints),
-        "gears": gears,
-        "meshes": meshes,
-        "bearings": bearings,
-    }

@@ -18,9 +18,9 @@ import pinwind
 from pinwind.dynamics.result import POSE_ARRAYS
 from pinwind.errors import InputError, InvalidLogRate, LogError, LogExists, LogRecovered
 from pinwind.gears.contact import pairs_in_contact
-from pinwind.io import mcap_log
+from pinwind.io import log_writer
 from pinwind.io.log_reader import LogDamaged, LogReader, open_log
-from pinwind.io.mcap_log import McapLogger
+from pinwind.io.log_writer import McapLogger
 from pinwind.io.messages import decode_string
 from pinwind.io.run import log_path
 from tests.io.conftest import (
@@ -442,7 +442,7 @@ def test_foreign_mcap_is_refused_naming_its_topics(tmp_path):
 
 def test_log_of_a_newer_format_is_refused(planetary, tmp_path, monkeypatch):
     path = tmp_path / "future.mcap"
-    monkeypatch.setattr(mcap_log, "FORMAT_VERSION", 99)
+    monkeypatch.setattr(log_writer, "FORMAT_VERSION", 99)
     pinwind.simulate(planetary, duration=0.01, dt=DT, torques=TORQUES, log=path)
     monkeypatch.undo()
     with pytest.raises(LogError, match="format version 99 is newer than this pinwind reads"):
@@ -482,7 +482,7 @@ def test_a_writer_slower_than_the_steps_holds_the_run_back_instead_of_queueing_b
         planetary, duration=blocks * 10 * DT, dt=DT, torques=TORQUES, log=path, chunk=10
     )
     assert len(waiting) == blocks + 1  # the last block holds the final sample alone
-    assert max(waiting) <= mcap_log.MAX_QUEUED_BLOCKS
+    assert max(waiting) <= log_writer.MAX_QUEUED_BLOCKS
     assert_same_arrays(pinwind.read_log(path), res)
 
 
