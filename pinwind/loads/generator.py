@@ -44,7 +44,7 @@ class ConstantTorque:
     def native(self, index: int) -> _native.GeneratorSpec:
         """The compiled spec on velocity index ``index``."""
         g = _native.GeneratorSpec()
-        g.index, g.law, g.torque = index, 0, float(self.torque)
+        g.index, g.law, g.torque = index, _native.GeneratorLaw.constant, float(self.torque)
         return g
 
 
@@ -60,7 +60,7 @@ class LinearSlip:
     def native(self, index: int) -> _native.GeneratorSpec:
         """The compiled spec on velocity index ``index``."""
         g = _native.GeneratorSpec()
-        g.index, g.law = index, 1
+        g.index, g.law = index, _native.GeneratorLaw.linear_slip
         g.slope, g.sync_speed = float(self.slope), float(self.sync_speed)
         return g
 
@@ -80,7 +80,7 @@ class VariableSpeed:
     def native(self, index: int) -> _native.GeneratorSpec:
         """The compiled spec on velocity index ``index``."""
         g = _native.GeneratorSpec()
-        g.index, g.law = index, 2
+        g.index, g.law = index, _native.GeneratorLaw.variable_speed
         g.gain, g.rated_power = float(self.gain), float(self.rated_power)
         return g
 
@@ -140,7 +140,9 @@ class InductionMachine:
         """The compiled spec on velocity index ``index``."""
         g = _native.GeneratorSpec()
         g.index = index
-        g.law = 4 if self.dynamic else 3
+        g.law = (
+            _native.GeneratorLaw.induction_dq if self.dynamic else _native.GeneratorLaw.induction
+        )
         g.stator_resistance = float(self.stator_resistance)
         g.rotor_resistance = float(self.rotor_resistance)
         g.stator_leakage = float(self.stator_leakage)

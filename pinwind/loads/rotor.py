@@ -144,12 +144,12 @@ class Rotor:
         r.index, r.wind_column = index, wind_column
         r.radius, r.air_density, r.pitch = float(self.radius), float(self.air_density), self.pitch
         if isinstance(self.cp, CpTable):
-            r.cp_model = 1
+            r.cp_model = _native.CpModel.table
             r.table_tsr = [float(x) for x in self.cp.tsr]
             r.table_pitch = [float(x) for x in self.cp.pitch]
             r.table_cp = [float(c) for row in self.cp.cp for c in row]
         else:
-            r.cp_model = 0
+            r.cp_model = _native.CpModel.heier
             r.cp_scale = float(self.cp.scale)
         return r
 
