@@ -7,6 +7,8 @@ Every struct is filled from Python (``dynamics/stepper.py``, ``dynamics/complian
 matrices); lists of ints are Pinocchio joint or velocity indices.
 """
 
+import enum
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -24,13 +26,44 @@ class SolverSettings:
     iterative: bool  # redundant rows by proxsuite instead of the Schur pseudo-inverse
     def __init__(self) -> None: ...
 
+class JointType(enum.Enum):
+    """A joint pinwind models: revolute about an axis of the joint frame, or about any axis."""
+
+    revolute_x = 0
+    revolute_y = 1
+    revolute_z = 2
+    revolute_unaligned = 3
+
+class GeneratorLaw(enum.Enum):
+    """A generator law (``cpp/generator.hpp``; ``loads/generator.py``)."""
+
+    constant = 0
+    linear_slip = 1
+    variable_speed = 2  # K ω², constant power above rated
+    induction = 3  # steady-state induction machine
+    induction_dq = 4  # Krause's dq induction machine
+
+class CpModel(enum.Enum):
+    """How a rotor's power coefficient is computed (``cpp/rotor.hpp``)."""
+
+    heier = 0  # Heier's analytical C_p times cp_scale
+    table = 1  # bilinear in the table C_p(λ, β)
+
+class RunCode(enum.Enum):
+    """How a block of steps ended (``cpp/stepper.hpp``)."""
+
+    completed = 0
+    diverged = 1
+    solver_failed = 2
+    conflicting_constraints = 3
+
 class JointTree:
     """The Pinocchio model as arrays: one entry per joint (revolute bearings only)."""
 
     names: list[str]
     parent: list[int]
-    type: list[int]  # 0, 1, 2 = revolute about x, y, z of the joint frame; 3 = unaligned
-    axis: Matrix  # (joints, 3) axis of type-3 joints
+    type: list[JointType]
+    axis: Matrix  # (joints, 3) axis of revolute_unaligned joints
     placement: list[Matrix]  # 4 × 4 placement in the parent joint's frame
     mass: Vector  # [kg]
     com: Matrix  # (joints, 3) centre of mass in the joint frame [m]
@@ -103,14 +136,10 @@ class TorsionalSpringSpec:
     def __init__(self) -> None: ...
 
 class GeneratorSpec:
-    """A generator law on one joint (``cpp/generator.hpp``; ``loads/generator.py``).
-
-    law: 0 constant, 1 linear slip, 2 variable speed (K ω², constant power above rated),
-    3 steady-state induction machine, 4 dq induction machine (Krause).
-    """
+    """A generator law on one joint (``cpp/generator.hpp``; ``loads/generator.py``)."""
 
     index: int
-    law: int
+    law: GeneratorLaw
     torque: float  # [N·m]
     slope: float  # [N·m·s/rad]
     sync_speed: float  # [rad/s]
@@ -129,16 +158,13 @@ class GeneratorSpec:
     def __init__(self) -> None: ...
 
 class RotorSpec:
-    """Rotor aerodynamics on one joint (``cpp/rotor.hpp``; ``loads/rotor.py``).
-
-    cp_model: 0 Heier's analytical C_p times cp_scale, 1 the table C_p(λ, β).
-    """
+    """Rotor aerodynamics on one joint (``cpp/rotor.hpp``; ``loads/rotor.py``)."""
 
     index: int
     radius: float  # [m]
     air_density: float  # [kg/m³]
     pitch: float  # [rad]
-    cp_model: int
+    cp_model: CpModel
     cp_scale: float
     table_tsr: list[float]
     table_pitch: list[float]  # [rad]
@@ -219,53 +245,82 @@ class StepperSpec:
     solver: SolverSettings
     def __init__(self) -> None: ...
 
-class OutputArrays:
-    """The arrays of one block of samples, written in place (a Result's, row-major)."""
+class Family(enum.Enum):
+    """The elements a series has one column per (``cpp/series.hpp``)."""
 
-    time: Vector
-    angle: Matrix
-    speed: Matrix
-    acceleration: Matrix
-    torque: Matrix
-    mesh_normal: Matrix
-    mesh_tangential: Matrix
-    mesh_radial: Matrix
-    mesh_axial: Matrix
-    mesh_flank: Matrix
-    transmission_error: Matrix
-    mesh_force_on_b: NDArray[np.float64]
-    pitch_point: NDArray[np.float64]
-    mesh_deflection: Matrix
-    mesh_contact_position: Matrix
-    mesh_pairs: Matrix
-    mesh_single_tooth_force: Matrix
-    bearing_force: NDArray[np.float64]
-    bearing_moment: NDArray[np.float64]
-    bearing_force_local: NDArray[np.float64]
-    bearing_moment_local: NDArray[np.float64]
-    body_position: NDArray[np.float64]
-    body_quaternion: NDArray[np.float64]
-    constraint_residual: Vector
-    kinetic: Vector
-    potential_spring: Vector
-    work_applied: Vector
-    work_drivers: Vector
-    work_springs: Vector
-    work_gravity: Vector
-    work_constraints: Vector
-    dissipated: Vector
-    generator_torque: Matrix
-    rotor_torque: Matrix
-    rotor_power: Matrix
-    rotor_tip_speed_ratio: Matrix
-    rotor_power_coefficient: Matrix
-    rotor_wind_speed: Matrix
+    run = 0  # one: the run itself
+    joint = 1  # one per velocity
+    mesh = 2
+    bearing = 3  # one per joint
+    body = 4  # one per recorded link
+    generator = 5
+    rotor = 6
+
+class Series(enum.Enum):
+    """Every series the compiled run writes, named as the Result's array or ledger term.
+
+    Declared once in ``cpp/series.hpp``, with its family and components (``series_layout``).
+    """
+
+    time = 0
+    angle = 1
+    speed = 2
+    acceleration = 3
+    torque = 4
+    mesh_normal = 5
+    mesh_tangential = 6
+    mesh_radial = 7
+    mesh_axial = 8
+    mesh_flank = 9
+    transmission_error = 10
+    mesh_force_on_b = 11
+    pitch_point = 12
+    mesh_deflection = 13
+    mesh_contact_position = 14
+    mesh_pairs = 15
+    mesh_single_tooth_force = 16
+    bearing_force = 17
+    bearing_moment = 18
+    bearing_force_local = 19
+    bearing_moment_local = 20
+    body_position = 21
+    body_quaternion = 22
+    constraint_residual = 23
+    kinetic = 24
+    potential_spring = 25
+    work_applied = 26
+    work_drivers = 27
+    work_springs = 28
+    work_gravity = 29
+    work_constraints = 30
+    dissipated = 31
+    generator_torque = 32
+    rotor_torque = 33
+    rotor_power = 34
+    rotor_tip_speed_ratio = 35
+    rotor_power_coefficient = 36
+    rotor_wind_speed = 37
+
+def series_layout(series: Series) -> tuple[Family, int]:
+    """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""
+
+class OutputArrays:
+    """The arrays of one block of samples, one per ``Series``, written in place.
+
+    Series s of family F with c components is a row-major float64 array of
+    samples × count(F) × c values (a Result's array); a family without elements needs none.
+    """
+
     def __init__(self) -> None: ...
+    def set(self, series: Series, values: NDArray[np.float64]) -> None:
+        """The array the run writes ``series`` into."""
+    def __setitem__(self, series: Series, values: NDArray[np.float64]) -> None: ...
+    def __getitem__(self, series: Series) -> NDArray[np.float64] | None: ...
 
 class RunStatus:
-    """How a block ended: code 0 completed, 1 diverged, 2 solver failed, 3 conflicting rows."""
+    """How a block ended, and where (the step and time the error names)."""
 
-    code: int
+    code: RunCode
     sample: int
     step: int
     time: float
@@ -274,6 +329,14 @@ class RunStatus:
     primal: float
     dual: float
     iterations: int
+
+class Assembly:
+    """The terms of a step's equations of motion at one state (``cpp/stepper.hpp``)."""
+
+    mass: Matrix  # M(q) (nv, nv) [kg·m²]
+    bias: Vector  # b = C(q, v) v + g(q) (nv,) [N·m]
+    jac: Matrix  # J (rows, nv): rigid meshes in file order, then drivers and locks
+    gamma: Vector  # γ = J̇ v (rows,) [m/s² or rad/s²]
 
 class Stepper:
     """One run of the compiled step loop."""
@@ -291,27 +354,33 @@ class Stepper:
         """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; inputs (k1 − k0, columns)."""
     def mass_matrix(self, q: Vector) -> Matrix:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
+    def assemble(self, q: Vector, v: Vector) -> Assembly:
+        """M, b, J and γ of the step at (q, v), with the rows' current flanks; no step taken."""
+
+class MeshRows:
+    """Rows of all meshes at one state, split in their tangential and radial parts.
+
+    For flank s the row is ``cos_a * s * jac_t + sin_a * eps * jac_r`` (same for the bias);
+    ``row_*``, ``bias_*`` and ``normal_*`` are formed by ``cpp/mesh_rows.hpp`` flank_row and
+    line_of_action, the functions the step loop uses. Read-only views.
+    """
+
+    jac_t: Matrix  # (m, nv) row part along t
+    jac_r: Matrix  # (m, nv) row part along r̂
+    bias_t: Vector  # (m,) parts of ċ − J q̈
+    bias_r: Vector
+    tangent: Matrix  # (m, 3) unit t in world
+    radial: Matrix  # (m, 3) unit r̂ in world
+    pitch_point: Matrix  # (m, 3) P in world [m]
+    axis: Matrix  # (m, 3) unit axis k of gear A in world
+    row_front: Matrix  # (m, nv) row J of the front (+1) flank
+    row_back: Matrix  # (m, nv) row J of the back (−1) flank
+    bias_front: Vector  # (m,) their biases
+    bias_back: Vector
+    normal_front: Matrix  # (m, 3) their lines of action n in world
+    normal_back: Matrix
 
 def mesh_rows(
     meshes: MeshConstants, jac: Matrix, djac: Matrix, v: Vector, origin: Matrix, rot: Matrix
-) -> tuple[
-    Matrix,
-    Matrix,
-    Vector,
-    Vector,
-    Matrix,
-    Matrix,
-    Matrix,
-    Matrix,
-    Matrix,
-    Matrix,
-    Vector,
-    Vector,
-    Matrix,
-    Matrix,
-]:
-    """Rows of every mesh at one state.
-
-    J_t, J_r, γ_t, γ_r, t, r̂, P, k, then the rows, biases and lines of action of the front (+1)
-    and back (−1) flanks.
-    """
+) -> MeshRows:
+    """Rows of every mesh at one state (``MeshRows``)."""

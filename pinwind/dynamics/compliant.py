@@ -224,7 +224,7 @@ def mesh_setup(
     paths, compliant, rigid = [], [], []
     for i, mesh in enumerate(meshes):
         a, b = mesh.gear_a, mesh.gear_b
-        k, r_hat, t = rows.axis[i], rows.radial_dir[i], rows.tangent[i]
+        k, r_hat, t = rows.axis[i], rows.radial[i], rows.tangent[i]
         point = rows.pitch_point[i]
         centre_a = data.oMi[a.joint_id].act(a.centre_in_joint)
         centre_b = data.oMi[b.joint_id].act(b.centre_in_joint)

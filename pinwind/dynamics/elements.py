@@ -126,14 +126,14 @@ def _check_finite(law: Any, where: str) -> None:
 def _constant_torque_spec(law: ConstantTorque, index: int) -> _native.GeneratorSpec:
     """The compiled spec on velocity index ``index``."""
     g = _native.GeneratorSpec()
-    g.index, g.law, g.torque = index, 0, float(law.torque)
+    g.index, g.law, g.torque = index, _native.GeneratorLaw.constant, float(law.torque)
     return g
 
 
 def _linear_slip_spec(law: LinearSlip, index: int) -> _native.GeneratorSpec:
     """The compiled spec on velocity index ``index``."""
     g = _native.GeneratorSpec()
-    g.index, g.law = index, 1
+    g.index, g.law = index, _native.GeneratorLaw.linear_slip
     g.slope, g.sync_speed = float(law.slope), float(law.sync_speed)
     return g
 
@@ -141,7 +141,7 @@ def _linear_slip_spec(law: LinearSlip, index: int) -> _native.GeneratorSpec:
 def _variable_speed_spec(law: VariableSpeed, index: int) -> _native.GeneratorSpec:
     """The compiled spec on velocity index ``index``."""
     g = _native.GeneratorSpec()
-    g.index, g.law = index, 2
+    g.index, g.law = index, _native.GeneratorLaw.variable_speed
     g.gain, g.rated_power = float(law.gain), float(law.rated_power)
     return g
 
@@ -150,7 +150,7 @@ def _induction_machine_spec(machine: InductionMachine, index: int) -> _native.Ge
     """The compiled spec on velocity index ``index``."""
     g = _native.GeneratorSpec()
     g.index = index
-    g.law = 4 if machine.dynamic else 3
+    g.law = _native.GeneratorLaw.induction_dq if machine.dynamic else _native.GeneratorLaw.induction
     g.stator_resistance = float(machine.stator_resistance)
     g.rotor_resistance = float(machine.rotor_resistance)
     g.stator_leakage = float(machine.stator_leakage)
@@ -183,12 +183,12 @@ def rotor_spec(rotor: Rotor, index: int, wind_column: int) -> _native.RotorSpec:
     r.index, r.wind_column = index, wind_column
     r.radius, r.air_density, r.pitch = float(rotor.radius), float(rotor.air_density), rotor.pitch
     if isinstance(rotor.cp, CpTable):
-        r.cp_model = 1
+        r.cp_model = _native.CpModel.table
         r.table_tsr = [float(x) for x in rotor.cp.tsr]
         r.table_pitch = [float(x) for x in rotor.cp.pitch]
         r.table_cp = [float(c) for row in rotor.cp.cp for c in row]
     else:
-        r.cp_model = 0
+        r.cp_model = _native.CpModel.heier
         r.cp_scale = float(rotor.cp.scale)
     return r
 

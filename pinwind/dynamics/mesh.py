@@ -23,8 +23,6 @@ parts so that switching the loaded flank s costs nothing.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import pinocchio as pin
 
@@ -40,39 +38,10 @@ def joint_placements(model: pin.Model, data: pin.Data) -> np.ndarray:
     return out
 
 
-@dataclass
-class MeshRows:
-    """Rows of all meshes at one state, split in their tangential and radial parts.
-
-    For flank s the row is ``cos_a * s * jac_t + sin_a * eps * jac_r`` (same for ``bias``); the
-    compiled code forms it (``cpp/mesh_rows.hpp`` flank_row, line_of_action, the functions the
-    step loop uses) for both flanks.
-
-    Attributes:
-        jac_t, jac_r: (m, nv) row parts along t and r̂.
-        bias_t, bias_r: (m,) parts of ċ − J q̈.
-        tangent, radial_dir: (m, 3) unit t and r̂ in world.
-        pitch_point: (m, 3) P in world [m].
-        axis: (m, 3) unit axis k of gear A in world.
-        row_front, row_back: (m, nv) rows J of the front (+1) and back (−1) flanks.
-        bias_front, bias_back: (m,) their biases.
-        normal_front, normal_back: (m, 3) their lines of action n in world.
-    """
-
-    jac_t: np.ndarray
-    jac_r: np.ndarray
-    bias_t: np.ndarray
-    bias_r: np.ndarray
-    tangent: np.ndarray
-    radial_dir: np.ndarray
-    pitch_point: np.ndarray
-    axis: np.ndarray
-    row_front: np.ndarray
-    row_back: np.ndarray
-    bias_front: np.ndarray
-    bias_back: np.ndarray
-    normal_front: np.ndarray
-    normal_back: np.ndarray
+#: Rows of all meshes at one state (``MeshSet.evaluate``), split in their tangential and radial
+#: parts and formed for both flanks by the compiled code (``cpp/mesh_rows.hpp``): for flank s the
+#: row is ``cos_a * s * jac_t + sin_a * eps * jac_r`` (same for the bias). Fields: ``_native.pyi``.
+MeshRows = _native.MeshRows
 
 
 class MeshSet:
@@ -151,7 +120,7 @@ class MeshSet:
         ids = self.joint_ids
         nv = model.nv
         # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
-        parts = _native.mesh_rows(
+        return _native.mesh_rows(
             self.constants,
             np.reshape(data.J, (6, nv)),
             np.reshape(data.dJ, (6, nv)),
@@ -159,7 +128,6 @@ class MeshSet:
             np.ascontiguousarray(placements[ids, :3, 3]).reshape(-1, 3),
             np.ascontiguousarray(placements[ids, :3, :3]).reshape(-1, 9),
         )
-        return MeshRows(*(np.asarray(p) for p in parts))
 
     def set_velocity(self, v: np.ndarray) -> None:
         """Joint velocity the next ``evaluate`` uses."""

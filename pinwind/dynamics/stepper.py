@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from pinwind.dynamics import _native, series
+from pinwind.dynamics import _native
 from pinwind.dynamics.compliant import IMPLICIT_THETA, MeshSetup
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.mesh import MeshSet
@@ -29,7 +29,11 @@ from pinwind.model.gearbox import Gearbox
 #: 1 + max |v| [m/s or rad/s].
 PROJECTION_TOL = 1e-14
 
-_REVOLUTE = {"JointModelRX": 0, "JointModelRY": 1, "JointModelRZ": 2}
+_REVOLUTE = {
+    "JointModelRX": _native.JointType.revolute_x,
+    "JointModelRY": _native.JointType.revolute_y,
+    "JointModelRZ": _native.JointType.revolute_z,
+}
 
 
 def joint_tree(gearbox: Gearbox, gravity: np.ndarray) -> _native.JointTree:
@@ -47,7 +51,7 @@ def joint_tree(gearbox: Gearbox, gravity: np.ndarray) -> _native.JointTree:
             types.append(_REVOLUTE[kind])
             axes.append(np.zeros(3))
         elif kind == "JointModelRevoluteUnaligned":
-            types.append(3)
+            types.append(_native.JointType.revolute_unaligned)
             axes.append(np.asarray(joint.extract().axis, dtype=float))
         else:
             raise MalformedModel(
@@ -68,6 +72,15 @@ def joint_tree(gearbox: Gearbox, gravity: np.ndarray) -> _native.JointTree:
     tree.armature = np.asarray(model.armature, dtype=float).copy()
     tree.gravity = np.asarray(gravity, dtype=float)
     return tree
+
+
+def series_array(block: Result, name: str) -> np.ndarray:
+    """The array of ``block`` that the compiled series ``name`` is written into, in place.
+
+    ``_native.Series`` names each series as the Result does: an attribute, or a term of the
+    energy ledger.
+    """
+    return block.energy[name] if name in block.energy else getattr(block, name)
 
 
 def body_frames(model: pin.Model) -> list[int]:
@@ -173,11 +186,8 @@ class CompiledStepper:
             samples.
         """
         out = _native.OutputArrays()
-        for s in series.compiled():
-            setattr(out, s.name, getattr(block, s.name))
-        for name, values in block.energy.items():
-            if name != "numerical":  # derived in Python from the spring terms
-                setattr(out, name, values)
+        for member in _native.Series:
+            out[member] = series_array(block, member.name)
         if inputs is None:
             inputs = np.zeros((stop - start, self.input_columns))
         status = self._stepper.run(
@@ -189,13 +199,13 @@ class CompiledStepper:
             np.ascontiguousarray(inputs, dtype=float),
         )
         code = status.code
-        if code == 0:
+        if code == _native.RunCode.completed:
             return status.sample
         step, time = status.step, status.time
         err: Diverged | SolverFailed | ConflictingConstraints
-        if code == 1:
+        if code == _native.RunCode.diverged:
             err = Diverged(step, time, status.what)
-        elif code == 2:
+        elif code == _native.RunCode.solver_failed:
             err = SolverFailed(
                 step,
                 time,
@@ -213,3 +223,11 @@ class CompiledStepper:
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
         return self._stepper.mass_matrix(np.asarray(q, dtype=float))
+
+    def assemble(self, q: np.ndarray, v: np.ndarray) -> _native.Assembly:
+        """The step's M, b, J and γ at angles q [rad] and speeds v [rad/s], without a step.
+
+        The rows are the rigid meshes' (on their current flanks) in file order, then the speed
+        drivers and locks, as the compiled step stacks them.
+        """
+        return self._stepper.assemble(np.asarray(q, dtype=float), np.asarray(v, dtype=float))

@@ -114,10 +114,14 @@ def test_a_declared_series_is_in_the_export_and_a_plot_panel(rated_run, tmp_path
 
 
 def test_the_compiled_step_writes_exactly_the_series_declared_without_derive():
-    arrays = _native.OutputArrays()
-    written = {n for n in dir(arrays) if not n.startswith("_")}
+    compiled = {m.name for m in _native.Series}
     ledger = {t.name for t in series.ENERGY_TERMS} - {"numerical"}  # numerical: Python's
-    assert {s.name for s in series.compiled()} == written - ledger
+    assert {s.name for s in series.compiled()} == compiled - ledger
+    for s in series.compiled():
+        family, components = _native.series_layout(getattr(_native.Series, s.name))
+        assert (family.name, components) == (s.family, s.width), s.name
+    for term in ledger:
+        assert _native.series_layout(getattr(_native.Series, term)) == (_native.Family.run, 1)
 
 
 def test_a_series_declared_twice_or_without_derive_is_refused():

@@ -1,4 +1,4 @@
-"""The compiled step loop: its copy of the model, and runs cut into chunks."""
+"""The compiled step loop: its copy of the model, its assembly, its series, runs in chunks."""
 
 from __future__ import annotations
 
@@ -7,10 +7,11 @@ import pinocchio as pin
 import pytest
 
 import pinwind
+from pinwind.dynamics import _native
 from pinwind.dynamics.compliant import mesh_setup
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
-from pinwind.dynamics.stepper import CompiledStepper
+from pinwind.dynamics.stepper import CompiledStepper, series_array
 from tests.conftest import MODELS
 
 SHIPPED = sorted(p.name for p in MODELS.glob("*.urdf"))
@@ -63,3 +64,92 @@ def test_chunk_size_does_not_change_a_run():
     pieces = pinwind.simulate(gb, chunk=7, **kwargs)
     for name, value in _fields(whole).items():
         np.testing.assert_array_equal(_fields(pieces)[name], value, err_msg=name)
+
+
+def _stepper(gb: pinwind.Gearbox, driver_index: list[int]) -> CompiledStepper:
+    return CompiledStepper(
+        gb,
+        2,
+        gb.neutral(),
+        np.zeros(gb.model.nv),
+        dt=1e-3,
+        gravity=gb.gravity,
+        driver_index=driver_index,
+        driver_names=[gb.joint_names[i] for i in driver_index],
+        settings=SolverSettings(),
+        meshes=mesh_setup(gb, gb.meshes, driver_index=driver_index, dt=1e-3),
+    )
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_assembly_has_pinocchios_mass_matrix_and_bias_forces(name):
+    """M is Pinocchio's CRBA and b = C(q, v) v + g(q) its RNEA at zero acceleration."""
+    gb = pinwind.load(MODELS / name)
+    model = gb.model.copy()
+    model.gravity = pin.Motion(np.asarray(gb.gravity, dtype=float), np.zeros(3))
+    data = model.createData()
+    stepper = _stepper(gb, [])
+    rng = np.random.default_rng(11)
+    for _ in range(3):
+        q = rng.uniform(-np.pi, np.pi, model.nq)
+        v = rng.uniform(-30.0, 30.0, model.nv)
+        assembly = stepper.assemble(q, v)
+        mass = pin.crba(model, data, q)
+        mass = np.triu(mass) + np.triu(mass, 1).T
+        np.testing.assert_allclose(assembly.mass, mass, rtol=0, atol=1e-12 * abs(mass).max())
+        bias = pin.rnea(model, data, q, v, np.zeros(model.nv))
+        # Coaxial gears under axial gravity have b ≈ 0: an absolute floor of 1e-10 N·m.
+        scale = max(1.0, abs(bias).max())
+        np.testing.assert_allclose(assembly.bias, bias, rtol=0, atol=1e-10 * scale)
+
+
+def test_spur_mesh_row_is_base_radii_and_driver_row_is_unit():
+    """Fixed axes: the mesh row is (r_b,A, r_b,B) with r_b = m z cos α / 2, γ = 0; J v = 0 at
+    the gear ratio; a speed driver's row is e_i."""
+    gb = pinwind.load(MODELS / "cai_spur_pair.urdf")
+    nv = gb.model.nv
+    a, b = gb.v_index("gear1"), gb.v_index("gear2")
+    out = gb.v_index("output_shaft")
+    stepper = _stepper(gb, [out])
+    base_a = 0.5 * 3e-3 * 40 * np.cos(np.radians(20.0))
+    base_b = 0.5 * 3e-3 * 80 * np.cos(np.radians(20.0))
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        q = rng.uniform(-np.pi, np.pi, gb.model.nq)
+        v = rng.uniform(-10.0, 10.0, nv)
+        assembly = stepper.assemble(q, v)
+        assert assembly.jac.shape == (2, nv)
+        mesh = assembly.jac[0]
+        expected = np.zeros(nv)
+        expected[a], expected[b] = base_a, base_b
+        np.testing.assert_allclose(abs(mesh), expected, rtol=1e-12, atol=1e-15)
+        assert mesh[a] * mesh[b] > 0.0  # external pair: the gears turn opposite ways
+        driver = np.zeros(nv)
+        driver[out] = 1.0
+        np.testing.assert_array_equal(assembly.jac[1], driver)
+        np.testing.assert_allclose(assembly.gamma, 0.0, rtol=0, atol=1e-9)
+        on_manifold = v.copy()
+        on_manifold[b] = -v[a] * 40 / 80
+        np.testing.assert_allclose(mesh @ on_manifold, 0.0, rtol=0, atol=1e-12 * abs(v).max())
+
+
+def test_every_compiled_series_has_a_result_array_of_its_layout():
+    """The compiled table of series (cpp/series.hpp) names each Result array or ledger term,
+    with the shape of its family's count and its components."""
+    gb = pinwind.load(MODELS / "cai_spur_pair.urdf")
+    res = pinwind.simulate(gb, duration=3e-3, dt=1e-3, torques={"input_shaft": 10.0})
+    counts = {
+        _native.Family.run: 1,
+        _native.Family.joint: len(res.joint_names),
+        _native.Family.mesh: len(res.mesh_names),
+        _native.Family.bearing: len(res.bearing_names),
+        _native.Family.body: len(res.body_names),
+        _native.Family.generator: len(res.generator_names),
+        _native.Family.rotor: len(res.rotor_names),
+    }
+    names = [series.name for series in _native.Series]
+    assert set(Result.ARRAYS) <= set(names)
+    for series in _native.Series:
+        family, components = _native.series_layout(series)
+        values = series_array(res, series.name)
+        assert values.size == len(res) * counts[family] * components, series.name

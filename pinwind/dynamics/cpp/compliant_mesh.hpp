@@ -207,18 +207,17 @@ class CompliantMeshes : public Element {
   }
 
   void record(const StepView& s, long k, const Outputs& out) const override {
-    const long nm = static_cast<long>(s.meshes.count());
     for (size_t i = 0; i < specs_.size(); ++i) {
-      const long idx = k * nm + specs_[i].mesh;
-      record_mesh_force(out, s.meshes, s.rows, k, specs_[i].mesh, normal_[i], last_flank_[i]);
+      const long m = specs_[i].mesh;
+      record_mesh_force(out, s.meshes, s.rows, k, m, normal_[i], last_flank_[i]);
       const int f = state_[i] != 0 ? (state_[i] > 0 ? 0 : 1) : (last_flank_[i] > 0 ? 0 : 1);
       const PathState& p = path_[2 * i + f];
-      out.mesh_deflection[idx] =
+      out.at(Series::mesh_deflection, k, m) =
           state_[i] != 0 ? delta_(i, f) : std::max(delta_(i, 0), delta_(i, 1));
-      out.transmission_error[idx] = delta_(i, 0);
-      out.mesh_contact_position[idx] = paths_[i].roll_start + p.entering;
-      out.mesh_pairs[idx] = p.pairs;
-      out.mesh_single_tooth_force[idx] = normal_[i] * p.share;
+      out.at(Series::transmission_error, k, m) = delta_(i, 0);
+      out.at(Series::mesh_contact_position, k, m) = paths_[i].roll_start + p.entering;
+      out.at(Series::mesh_pairs, k, m) = p.pairs;
+      out.at(Series::mesh_single_tooth_force, k, m) = normal_[i] * p.share;
     }
   }
 

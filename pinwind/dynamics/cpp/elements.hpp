@@ -1,6 +1,9 @@
 // The element interface of the step loop: everything that adds forces per step (torsional
-// springs, bearing damping, compliant meshes, generator and rotor laws) is an Element.
-// The stepper iterates them; it does not know any by name (design.md §2 "Elements").
+// springs, bearing damping, compliant meshes, generator and rotor laws) is an Element; the
+// rows the accelerations satisfy exactly (rigid meshes, speed drivers) are Constraints
+// (constraints.hpp). The stepper builds both from its registries and iterates them; it does not
+// know any by name (design.md §2 "Elements"). Elements write their outputs by series
+// (series.hpp) and book their work in the energy ledger's named terms (EnergyLedger below).
 //
 // A step at (q_k, v_k) with time step h finds a_k from
 //
@@ -20,44 +23,24 @@
 #include <pinocchio/multibody.hpp>
 
 #include "mesh_rows.hpp"
+#include "series.hpp"
 
 namespace pinwind {
-
-// Where each sample's outputs go: row-major arrays of the Result, n samples long.
-struct Outputs {
-  double *time, *angle, *speed, *acceleration, *torque;
-  double *mesh_normal, *mesh_tangential, *mesh_radial, *mesh_axial, *mesh_flank;
-  double *transmission_error, *mesh_force_on_b, *pitch_point;
-  double *mesh_deflection, *mesh_contact_position, *mesh_pairs, *mesh_single_tooth_force;
-  double *bearing_force, *bearing_moment, *bearing_force_local, *bearing_moment_local;
-  double *body_position, *body_quaternion, *constraint_residual;
-  double *kinetic, *potential_spring;
-  // Cumulative work [J]: applied, drivers, springs, gravity, constraints, dissipated.
-  double* work[6];
-  long samples;
-  // Per generator and per rotor, in the order of their specs: (n, generators) and (n, rotors).
-  double* generator_torque = nullptr;  // T_gen on the shaft [N·m], > 0 generating
-  double *rotor_torque = nullptr, *rotor_power = nullptr;  // [N·m], [W]
-  double *rotor_tip_speed_ratio = nullptr, *rotor_power_coefficient = nullptr;  // λ, C_p [-]
-  double* rotor_wind_speed = nullptr;  // [m/s]
-  long generators = 0, rotors = 0;
-};
 
 // Writes mesh m's forces of sample k (n_meshes per sample) for F_n on flank s: the same
 // outputs for rigid and compliant meshes.
 inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const MeshRows& rows,
                               long k, Eigen::Index m, double normal, double flank) {
-  const long i = k * static_cast<long>(mc.count()) + static_cast<long>(m);
   const double tangential = normal * mc.cos_a[m];
-  out.mesh_normal[i] = normal;
-  out.mesh_tangential[i] = tangential;
-  out.mesh_radial[i] = normal * mc.sin_a[m];
-  out.mesh_axial[i] = tangential * std::abs(mc.tan_beta[m]);
-  out.mesh_flank[i] = flank;
+  out.at(Series::mesh_normal, k, m) = normal;
+  out.at(Series::mesh_tangential, k, m) = tangential;
+  out.at(Series::mesh_radial, k, m) = normal * mc.sin_a[m];
+  out.at(Series::mesh_axial, k, m) = tangential * std::abs(mc.tan_beta[m]);
+  out.at(Series::mesh_flank, k, m) = flank;
   const Vec3 f = tooth_force_on_b(mc, rows, m, flank, normal);
   for (int c = 0; c < 3; ++c) {
-    out.mesh_force_on_b[3 * i + c] = f[c];
-    out.pitch_point[3 * i + c] = rows.pitch_point(m, c);
+    out.at(Series::mesh_force_on_b, k, m, c) = f[c];
+    out.at(Series::pitch_point, k, m, c) = rows.pitch_point(m, c);
   }
 }
 
@@ -71,6 +54,9 @@ struct StepView {
   const MeshRows& rows;  // every mesh's geometry and rows at (q, v)
   double time = 0.0;                // t_k [s]
   const double* inputs = nullptr;   // this sample's input columns (wind speed, ...), or null
+  // This sample's driver speeds at t_k and t_{k+1} [rad/s] (constraints.hpp SpeedDrivers).
+  const double* target_now = nullptr;
+  const double* target_next = nullptr;
 };
 
 // Work of an element's forces over one step [J], split as the energy ledger keeps it.
@@ -78,6 +64,27 @@ struct StepWork {
   double elastic = 0.0;      // conservative (spring) forces: joins work_springs
   double dissipated = 0.0;   // damping: joins dissipated (counted positive when lost)
   double applied = 0.0;      // external loads (rotor, generator): joins work_applied
+};
+
+// The energy ledger: the cumulative work of each kind of force since t = 0 [J]. With the
+// kinetic and stored energies it closes the balance of a run (Result.energy).
+struct EnergyLedger {
+  double applied = 0.0;      // applied torques and the elements' external loads (rotor, generator)
+  double drivers = 0.0;      // speed drivers and locks
+  double springs = 0.0;      // the elements' conservative forces (springs, compliant meshes)
+  double gravity = 0.0;
+  double constraints = 0.0;  // rigid mesh rows: zero but for the rows' drift over a step
+  double dissipated = 0.0;   // damping, counted positive when lost
+
+  EnergyLedger& operator+=(const EnergyLedger& w) {
+    applied += w.applied;
+    drivers += w.drivers;
+    springs += w.springs;
+    gravity += w.gravity;
+    constraints += w.constraints;
+    dissipated += w.dissipated;
+    return *this;
+  }
 };
 
 // Forces on bodies (for the bearing reactions by RNEA): a force f [N] applied at world point p
@@ -112,7 +119,7 @@ class Element {
     (void)v_mid;
     return {};
   }
-  // Writes the element's outputs of sample k.
+  // Writes the element's outputs of sample k (series.hpp: out.at(Series::..., k, element)).
   virtual void record(const StepView&, long, const Outputs&) const {}
   // Moves the element's own states (generator fluxes, ...) from t_k to t_{k+1}, given v_{k+1}.
   virtual void advance(const StepView&, const Eigen::VectorXd& v_next) { (void)v_next; }

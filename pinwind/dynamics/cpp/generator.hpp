@@ -1,13 +1,13 @@
 // Generator laws on one joint (the output shaft): the torque the generator puts on the shaft,
 // τ = −T_gen, with T_gen > 0 when generating (pinwind/loads/generator.py documents each law):
 //
-//   kConstant        T_gen = T₀
-//   kLinearSlip      T_gen = k (ω − ω_sync)
-//   kVariableSpeed   T_gen = K ω|ω| below rated speed, P_rated/|ω| (sign of ω) above
-//   kInduction       steady-state induction machine from its equivalent circuit (per phase:
+//   constant         T_gen = T₀
+//   linear_slip      T_gen = k (ω − ω_sync)
+//   variable_speed   T_gen = K ω|ω| below rated speed, P_rated/|ω| (sign of ω) above
+//   induction        steady-state induction machine from its equivalent circuit (per phase:
 //                    R_s + jX_ls in series with jX_m ∥ (R_r'/s + jX_lr')), motor convention
 //                    τ = 3 |I_r'|² R_r' / (s ω_s),  s = (ω_s − ω)/ω_s,  ω_s = 2π f / p
-//   kInductionDq     Krause's dq model in the synchronous frame (001_2d0e0f624d8db633.txt),
+//   induction_dq     Krause's dq model in the synchronous frame (001_2d0e0f624d8db633.txt),
 //                    flux linkages λ = (λ_qs, λ_ds, λ'_qr, λ'_dr) as states:
 //                      dλ/dt = u − R L⁻¹ λ − W(ω_r) λ,  u = (√2 V_ph, 0, 0, 0)
 //                      τ = (3/2) p (λ_ds i_qs − λ_qs i_ds),  i = L⁻¹ λ,  ω_r = p ω
@@ -26,6 +26,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <iterator>
+#include <memory>
 
 #include <Eigen/Dense>
 
@@ -33,15 +35,17 @@
 
 namespace pinwind {
 
+// The generator laws (module comment), bound to Python as _native.GeneratorLaw.
+enum class GeneratorLaw { constant, linear_slip, variable_speed, induction, induction_dq };
+
 struct GeneratorSpec {
-  enum Law { kConstant = 0, kLinearSlip, kVariableSpeed, kInduction, kInductionDq };
   long index = 0;             // velocity index of the generator joint
-  long law = kConstant;
-  double torque = 0.0;        // kConstant: T₀ [N·m]
-  double slope = 0.0;         // kLinearSlip: k [N·m·s/rad]
-  double sync_speed = 0.0;    // kLinearSlip: ω_sync [rad/s]
-  double gain = 0.0;          // kVariableSpeed: K [N·m·s²/rad²]
-  double rated_power = 0.0;   // kVariableSpeed: P_rated [W] (0: no limit)
+  GeneratorLaw law = GeneratorLaw::constant;
+  double torque = 0.0;        // constant: T₀ [N·m]
+  double slope = 0.0;         // linear_slip: k [N·m·s/rad]
+  double sync_speed = 0.0;    // linear_slip: ω_sync [rad/s]
+  double gain = 0.0;          // variable_speed: K [N·m·s²/rad²]
+  double rated_power = 0.0;   // variable_speed: P_rated [W] (0: no limit)
   // Induction machine, per phase, referred to the stator.
   double stator_resistance = 0.0;  // R_s [Ω]
   double rotor_resistance = 0.0;   // R_r' [Ω]
@@ -52,7 +56,7 @@ struct GeneratorSpec {
   double frequency = 0.0;          // grid frequency f [Hz]
   long pole_pairs = 2;             // p
   double phases = 3.0;
-  bool steady_start = false;       // kInductionDq: start at the steady-state fluxes of ω(0)
+  bool steady_start = false;       // induction_dq: start at the steady-state fluxes of ω(0)
 };
 
 // Steady-state torque of the induction machine on the shaft at speed ω [N·m], motor
@@ -77,26 +81,26 @@ inline double induction_torque(const GeneratorSpec& g, double omega) {
 }
 
 // The laws of the shaft speed alone.
-class GeneratorLaw : public JointTorqueElement {
+class ShaftSpeedGenerator : public JointTorqueElement {
  public:
   // slot: this generator's column in the per-generator outputs.
-  GeneratorLaw(const GeneratorSpec& g, long slot)
+  ShaftSpeedGenerator(const GeneratorSpec& g, long slot)
       : JointTorqueElement(g.index), g_(g), slot_(slot) {}
 
   // Torque on the shaft τ(ω) [N·m].
   double operator()(double omega) const {
     switch (g_.law) {
-      case GeneratorSpec::kConstant:
+      case GeneratorLaw::constant:
         return -g_.torque;
-      case GeneratorSpec::kLinearSlip:
+      case GeneratorLaw::linear_slip:
         return -g_.slope * (omega - g_.sync_speed);
-      case GeneratorSpec::kVariableSpeed: {
+      case GeneratorLaw::variable_speed: {
         const double w = std::abs(omega);
         double t = g_.gain * w * w;
         if (g_.rated_power > 0.0 && t * w > g_.rated_power) t = g_.rated_power / w;
         return omega >= 0.0 ? -t : t;
       }
-      case GeneratorSpec::kInduction:
+      case GeneratorLaw::induction:
         return induction_torque(g_, omega);
       default:
         return 0.0;
@@ -111,7 +115,7 @@ class GeneratorLaw : public JointTorqueElement {
   // Also T_gen = −τ over the step, the generator's own output.
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    out.generator_torque[k * out.generators + slot_] = -applied();
+    out.at(Series::generator_torque, k, slot_) = -applied();
   }
 
  private:
@@ -191,7 +195,7 @@ class InductionMachineDq : public JointTorqueElement {
   // Also T_gen = −τ over the step (the electromagnetic torque of the end-of-step fluxes).
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    out.generator_torque[k * out.generators + slot_] = -applied();
+    out.at(Series::generator_torque, k, slot_) = -applied();
   }
 
   void advance(const StepView& s, const Eigen::VectorXd& v_next) override {
@@ -249,5 +253,23 @@ class InductionMachineDq : public JointTorqueElement {
   Flux flux_{};
   bool first_ = true;
 };
+
+// The element of each generator law, indexed by GeneratorLaw.
+using GeneratorFactory = std::unique_ptr<Element> (*)(const GeneratorSpec&, long slot);
+
+template <class Law>
+std::unique_ptr<Element> make_generator(const GeneratorSpec& g, long slot) {
+  return std::make_unique<Law>(g, slot);
+}
+
+inline constexpr GeneratorFactory kGeneratorElements[] = {
+    make_generator<ShaftSpeedGenerator>,  // constant
+    make_generator<ShaftSpeedGenerator>,  // linear_slip
+    make_generator<ShaftSpeedGenerator>,  // variable_speed
+    make_generator<ShaftSpeedGenerator>,  // induction
+    make_generator<InductionMachineDq>,   // induction_dq
+};
+static_assert(std::size(kGeneratorElements) ==
+              static_cast<size_t>(GeneratorLaw::induction_dq) + 1);
 
 }  // namespace pinwind

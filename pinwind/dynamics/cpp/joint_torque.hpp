@@ -72,8 +72,8 @@ class JointTorqueElement : public Element {
   }
 
   // The torque joins the joint's recorded torque (applied + drivers + elements).
-  void record(const StepView& s, long k, const Outputs& out) const override {
-    out.torque[k * static_cast<long>(s.v.size()) + index_] += applied_;
+  void record(const StepView&, long k, const Outputs& out) const override {
+    out.at(Series::torque, k, index_) += applied_;
   }
 
   double applied() const { return applied_; }

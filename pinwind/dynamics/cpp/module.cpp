@@ -7,10 +7,12 @@
 #include <nanobind/eigen/dense.h>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -18,6 +20,7 @@
 
 #include "byte_planes.hpp"
 #include "column_statistics.hpp"
+#include "series.hpp"
 #include "stepper.hpp"
 
 namespace nb = nanobind;
@@ -161,12 +164,15 @@ void fill_rows(const nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::de
 
 using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>;
 
+// The joints pinwind models: revolute about an axis of the joint frame, or about any axis.
+enum class JointType { revolute_x, revolute_y, revolute_z, revolute_unaligned };
+
 // The Pinocchio joint tree, body inertias and gravity (pinwind/dynamics/stepper.py joint_tree).
 struct JointTree {
   std::vector<std::string> names;
   std::vector<long> parent;
-  std::vector<long> type;       // 0, 1, 2 = revolute about x, y, z; 3 = unaligned axis
-  Rows3 axis;                   // axis of type-3 joints in the joint frame
+  std::vector<JointType> type;
+  Rows3 axis;                   // axis of revolute_unaligned joints in the joint frame
   std::vector<Mat4> placement;  // joint placement in the parent joint's frame
   Eigen::VectorXd mass;         // [kg]
   Rows3 com;                    // centre of mass in the joint frame [m]
@@ -196,19 +202,12 @@ struct StepperSpec {
   SolverSettings solver;
 };
 
-// The Result's arrays the run writes into (row-major, float64, n samples long).
+// The Result's arrays the run writes into (row-major, float64, n samples long): one per series
+// (series.hpp), set from Python by series.
 struct OutputArrays {
-  Array time, angle, speed, acceleration, torque;
-  Array mesh_normal, mesh_tangential, mesh_radial, mesh_axial, mesh_flank;
-  Array transmission_error, mesh_force_on_b, pitch_point;
-  Array mesh_deflection, mesh_contact_position, mesh_pairs, mesh_single_tooth_force;
-  Array bearing_force, bearing_moment, bearing_force_local, bearing_moment_local;
-  Array body_position, body_quaternion, constraint_residual;
-  Array kinetic, potential_spring;
-  Array work_applied, work_drivers, work_springs, work_gravity, work_constraints, dissipated;
-  Array generator_torque;  // (n, generators)
-  Array rotor_torque, rotor_power, rotor_tip_speed_ratio, rotor_power_coefficient,
-      rotor_wind_speed;  // (n, rotors)
+  std::array<Array, kSeriesCount> arrays;
+
+  Array& operator[](Series s) { return arrays[static_cast<size_t>(s)]; }
 };
 
 pinocchio::SE3 placement(const Mat4& h) {
@@ -240,16 +239,16 @@ pinocchio::Model build_model(const JointTree& t) {
     const auto p = static_cast<pinocchio::JointIndex>(t.parent[i]);
     pinocchio::JointIndex id;
     switch (t.type[i]) {
-      case 0:
+      case JointType::revolute_x:
         id = model.addJoint(p, pinocchio::JointModelRX(), placement_i, t.names[i]);
         break;
-      case 1:
+      case JointType::revolute_y:
         id = model.addJoint(p, pinocchio::JointModelRY(), placement_i, t.names[i]);
         break;
-      case 2:
+      case JointType::revolute_z:
         id = model.addJoint(p, pinocchio::JointModelRZ(), placement_i, t.names[i]);
         break;
-      case 3:
+      case JointType::revolute_unaligned:
         id = model.addJoint(p, pinocchio::JointModelRevoluteUnaligned(Vec3(t.axis.row(r))),
                             placement_i, t.names[i]);
         break;
@@ -319,10 +318,9 @@ StepperSetup setup(const StepperSpec& spec) {
     if (g.index < 0 || static_cast<size_t>(g.index) >= nv) {
       throw std::invalid_argument("bad generator joint index");
     }
-    if (g.law < GeneratorSpec::kConstant || g.law > GeneratorSpec::kInductionDq) {
-      throw std::invalid_argument("bad generator law");
-    }
-    if (g.law >= GeneratorSpec::kInduction && (g.pole_pairs < 1 || !(g.frequency > 0.0))) {
+    const bool induction =
+        g.law == GeneratorLaw::induction || g.law == GeneratorLaw::induction_dq;
+    if (induction && (g.pole_pairs < 1 || !(g.frequency > 0.0))) {
       throw std::invalid_argument("induction machine: pole_pairs ≥ 1 and frequency > 0");
     }
   }
@@ -333,7 +331,7 @@ StepperSetup setup(const StepperSpec& spec) {
     if (r.wind_column < 0 || r.wind_column >= spec.input_columns) {
       throw std::invalid_argument("rotor wind_column outside the input columns");
     }
-    if (r.cp_model == RotorSpec::kTable &&
+    if (r.cp_model == CpModel::table &&
         (r.table_tsr.empty() || r.table_pitch.empty() ||
          r.table_cp.size() != r.table_tsr.size() * r.table_pitch.size())) {
       throw std::invalid_argument("rotor table: table_cp must hold tsr × pitch values");
@@ -360,64 +358,65 @@ StepperSetup setup(const StepperSpec& spec) {
   return s;
 }
 
-// Pointers into the block's arrays, checked against the block length n and the model's sizes.
-Outputs outputs(const OutputArrays& out, size_t n, size_t nv, size_t nj, size_t nm, size_t nb,
-                size_t ng, size_t nr) {
-  auto ptr = [](const char* name, const Array& a, size_t size) {
+// Pointers into the block's arrays, each checked against the block length n, its family's count
+// and its components (series.hpp); a family without elements needs no arrays.
+Outputs outputs(const OutputArrays& out, size_t n, const std::array<long, kFamilies>& counts) {
+  Outputs o;
+  o.samples = static_cast<long>(n);
+  o.counts = counts;
+  for (size_t i = 0; i < kSeriesCount; ++i) {
+    const SeriesLayout& l = kSeriesLayouts[i];
+    const Array& a = out.arrays[i];
+    const size_t count = static_cast<size_t>(counts[static_cast<size_t>(l.family)]);
+    if (count == 0 && !a.is_valid()) continue;
+    const size_t size = n * count * static_cast<size_t>(l.components);
     if (!a.is_valid() || a.size() != size) {
-      throw std::invalid_argument(std::string("out.") + name + " must hold " +
+      throw std::invalid_argument(std::string("out[Series.") + l.name + "] must hold " +
                                   std::to_string(size) + " float64 values");
     }
-    return a.data();
-  };
-  Outputs o{};
-  o.samples = static_cast<long>(n);
-  o.time = ptr("time", out.time, n);
-  o.angle = ptr("angle", out.angle, n * nv);
-  o.speed = ptr("speed", out.speed, n * nv);
-  o.acceleration = ptr("acceleration", out.acceleration, n * nv);
-  o.torque = ptr("torque", out.torque, n * nv);
-  o.mesh_normal = ptr("mesh_normal", out.mesh_normal, n * nm);
-  o.mesh_tangential = ptr("mesh_tangential", out.mesh_tangential, n * nm);
-  o.mesh_radial = ptr("mesh_radial", out.mesh_radial, n * nm);
-  o.mesh_axial = ptr("mesh_axial", out.mesh_axial, n * nm);
-  o.mesh_flank = ptr("mesh_flank", out.mesh_flank, n * nm);
-  o.transmission_error = ptr("transmission_error", out.transmission_error, n * nm);
-  o.mesh_force_on_b = ptr("mesh_force_on_b", out.mesh_force_on_b, 3 * n * nm);
-  o.pitch_point = ptr("pitch_point", out.pitch_point, 3 * n * nm);
-  o.mesh_deflection = ptr("mesh_deflection", out.mesh_deflection, n * nm);
-  o.mesh_contact_position = ptr("mesh_contact_position", out.mesh_contact_position, n * nm);
-  o.mesh_pairs = ptr("mesh_pairs", out.mesh_pairs, n * nm);
-  o.mesh_single_tooth_force = ptr("mesh_single_tooth_force", out.mesh_single_tooth_force, n * nm);
-  o.bearing_force = ptr("bearing_force", out.bearing_force, 3 * n * nj);
-  o.bearing_moment = ptr("bearing_moment", out.bearing_moment, 3 * n * nj);
-  o.bearing_force_local = ptr("bearing_force_local", out.bearing_force_local, 3 * n * nj);
-  o.bearing_moment_local = ptr("bearing_moment_local", out.bearing_moment_local, 3 * n * nj);
-  o.body_position = ptr("body_position", out.body_position, 3 * n * nb);
-  o.body_quaternion = ptr("body_quaternion", out.body_quaternion, 4 * n * nb);
-  o.constraint_residual = ptr("constraint_residual", out.constraint_residual, n);
-  o.kinetic = ptr("kinetic", out.kinetic, n);
-  o.potential_spring = ptr("potential_spring", out.potential_spring, n);
-  o.work[0] = ptr("work_applied", out.work_applied, n);
-  o.work[1] = ptr("work_drivers", out.work_drivers, n);
-  o.work[2] = ptr("work_springs", out.work_springs, n);
-  o.work[3] = ptr("work_gravity", out.work_gravity, n);
-  o.work[4] = ptr("work_constraints", out.work_constraints, n);
-  o.work[5] = ptr("dissipated", out.dissipated, n);
-  // Per-element outputs: none to write (and no array needed) without such elements.
-  auto element_ptr = [&](const char* name, const Array& a, size_t count) {
-    return count ? ptr(name, a, n * count) : nullptr;
-  };
-  o.generators = static_cast<long>(ng);
-  o.rotors = static_cast<long>(nr);
-  o.generator_torque = element_ptr("generator_torque", out.generator_torque, ng);
-  o.rotor_torque = element_ptr("rotor_torque", out.rotor_torque, nr);
-  o.rotor_power = element_ptr("rotor_power", out.rotor_power, nr);
-  o.rotor_tip_speed_ratio = element_ptr("rotor_tip_speed_ratio", out.rotor_tip_speed_ratio, nr);
-  o.rotor_power_coefficient =
-      element_ptr("rotor_power_coefficient", out.rotor_power_coefficient, nr);
-  o.rotor_wind_speed = element_ptr("rotor_wind_speed", out.rotor_wind_speed, nr);
+    o.columns[i] = count ? a.data() : nullptr;
+  }
   return o;
+}
+
+// Rows of every mesh at one state for Python (pinwind/dynamics/mesh.py): their t and r̂ parts,
+// the geometry, and both flanks' rows, biases and lines of action, from the step loop's own
+// functions.
+struct MeshRowSet {
+  RowMat jac_t, jac_r;              // (meshes, nv)
+  Eigen::VectorXd bias_t, bias_r;   // (meshes,)
+  RowMat tangent, radial, pitch_point, axis;  // (meshes, 3) in world
+  RowMat row_front, row_back;       // J of the front (+1) and back (−1) flanks
+  Eigen::VectorXd bias_front, bias_back;
+  RowMat normal_front, normal_back;  // their lines of action n in world
+};
+
+MeshRowSet mesh_rows(const MeshConstants& mc, const Eigen::MatrixXd& jac,
+                     const Eigen::MatrixXd& djac, const Eigen::VectorXd& v, const RowMat& origin,
+                     const RowMat& rot) {
+  check_meshes(mc, static_cast<size_t>(v.size()));
+  std::vector<Vec3> o(mc.joint_ids.size());
+  std::vector<Eigen::Matrix3d> r(mc.joint_ids.size());
+  for (size_t i = 0; i < o.size(); ++i) {
+    o[i] = origin.row(static_cast<Eigen::Index>(i)).transpose();
+    r[i] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+        rot.row(static_cast<Eigen::Index>(i)).data());
+  }
+  const Eigen::Index nm = mc.count(), nv = v.size();
+  MeshRows rows;
+  rows.resize(nm, nv);
+  evaluate_mesh_rows(mc, jac, djac, v, o, r, rows);
+  MeshRowSet out{rows.jac_t, rows.jac_r, rows.bias_t, rows.bias_r,
+                 rows.tangent, rows.radial, rows.pitch_point, rows.axis,
+                 RowMat(nm, nv), RowMat(nm, nv), Eigen::VectorXd(nm), Eigen::VectorXd(nm),
+                 RowMat(nm, 3), RowMat(nm, 3)};
+  for (Eigen::Index m = 0; m < nm; ++m) {
+    flank_row(mc, rows, m, 1.0, out.row_front.row(m), out.bias_front[m]);
+    flank_row(mc, rows, m, -1.0, out.row_back.row(m), out.bias_back[m]);
+    out.normal_front.row(m) = line_of_action(mc, rows, m, 1.0).transpose();
+    out.normal_back.row(m) = line_of_action(mc, rows, m, -1.0).transpose();
+  }
+  return out;
 }
 
 // A run of the step loop; each call to run() writes one block of samples into the arrays it
@@ -427,13 +426,16 @@ class PyStepper {
   PyStepper(const StepperSpec& spec, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
             long samples) {
     StepperSetup s = setup(spec);
-    nv_ = static_cast<size_t>(s.model.nv);
-    nj_ = static_cast<size_t>(s.model.njoints - 1);
-    nm_ = static_cast<size_t>(s.meshes.count());
-    nb_ = s.frame_parent.size();
-    ng_ = s.generators.size();
-    nr_ = s.rotors.size();
-    if (static_cast<size_t>(q0.size()) != nv_ || static_cast<size_t>(v0.size()) != nv_) {
+    const auto nv = static_cast<long>(s.model.nv);
+    auto count = [&](Family f) -> long& { return counts_[static_cast<size_t>(f)]; };
+    count(Family::run) = 1;
+    count(Family::joint) = nv;
+    count(Family::mesh) = static_cast<long>(s.meshes.count());
+    count(Family::bearing) = static_cast<long>(s.model.njoints - 1);
+    count(Family::body) = static_cast<long>(s.frame_parent.size());
+    count(Family::generator) = static_cast<long>(s.generators.size());
+    count(Family::rotor) = static_cast<long>(s.rotors.size());
+    if (q0.size() != nv || v0.size() != nv) {
       throw std::invalid_argument("q0 and v0 must have nv values");
     }
     inputs_ = s.input_columns;
@@ -446,15 +448,22 @@ class PyStepper {
     if (inputs_ && (inputs.rows() != k1 - k0 || inputs.cols() != inputs_)) {
       throw std::invalid_argument("run: inputs must be (k1 - k0, input_columns)");
     }
-    const Outputs o = outputs(out, static_cast<size_t>(k1 - k0), nv_, nj_, nm_, nb_, ng_, nr_);
+    const Outputs o = outputs(out, static_cast<size_t>(k1 - k0), counts_);
     nb::gil_scoped_release release;
     return stepper_->run(k0, k1, torque, target, o, inputs);
   }
 
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
+  Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+    if (q.size() != counts_[static_cast<size_t>(Family::joint)] || v.size() != q.size()) {
+      throw std::invalid_argument("assemble: q and v must have nv values");
+    }
+    return stepper_->assemble(q, v);
+  }
+
  private:
-  size_t nv_ = 0, nj_ = 0, nm_ = 0, nb_ = 0, ng_ = 0, nr_ = 0;
+  std::array<long, kFamilies> counts_{};  // elements per family (series.hpp)
   long inputs_ = 0;
   std::unique_ptr<Stepper> stepper_;
 };
@@ -472,6 +481,29 @@ NB_MODULE(_native, m) {
       .def_rw("eps_rel", &SolverSettings::eps_rel)
       .def_rw("max_iter", &SolverSettings::max_iter)
       .def_rw("iterative", &SolverSettings::iterative);
+
+  nb::enum_<JointType>(m, "JointType")
+      .value("revolute_x", JointType::revolute_x)
+      .value("revolute_y", JointType::revolute_y)
+      .value("revolute_z", JointType::revolute_z)
+      .value("revolute_unaligned", JointType::revolute_unaligned);
+
+  nb::enum_<GeneratorLaw>(m, "GeneratorLaw")
+      .value("constant", GeneratorLaw::constant)
+      .value("linear_slip", GeneratorLaw::linear_slip)
+      .value("variable_speed", GeneratorLaw::variable_speed)
+      .value("induction", GeneratorLaw::induction)
+      .value("induction_dq", GeneratorLaw::induction_dq);
+
+  nb::enum_<CpModel>(m, "CpModel")
+      .value("heier", CpModel::heier)
+      .value("table", CpModel::table);
+
+  nb::enum_<RunCode>(m, "RunCode")
+      .value("completed", RunCode::completed)
+      .value("diverged", RunCode::diverged)
+      .value("solver_failed", RunCode::solver_failed)
+      .value("conflicting_constraints", RunCode::conflicting_constraints);
 
   nb::class_<JointTree>(m, "JointTree")
       .def(nb::init<>())
@@ -621,46 +653,37 @@ NB_MODULE(_native, m) {
       .def_rw("implicit_theta", &StepperSpec::implicit_theta)
       .def_rw("solver", &StepperSpec::solver);
 
+  nb::enum_<Family>(m, "Family")
+      .value("run", Family::run)
+      .value("joint", Family::joint)
+      .value("mesh", Family::mesh)
+      .value("bearing", Family::bearing)
+      .value("body", Family::body)
+      .value("generator", Family::generator)
+      .value("rotor", Family::rotor);
+
+  auto series = nb::enum_<Series>(m, "Series");
+  for (size_t i = 0; i < kSeriesCount; ++i) {
+    series.value(kSeriesLayouts[i].name, static_cast<Series>(i));
+  }
+
+  m.def(
+      "series_layout",
+      [](Series s) { return std::make_pair(layout(s).family, layout(s).components); },
+      "series"_a, "The family of a series and its components (1 scalar, 3 vector, 4 quaternion).");
+
+  auto set_array = [](OutputArrays& out, Series s, Array values) { out[s] = std::move(values); };
   nb::class_<OutputArrays>(m, "OutputArrays")
       .def(nb::init<>())
-      .def_rw("time", &OutputArrays::time)
-      .def_rw("angle", &OutputArrays::angle)
-      .def_rw("speed", &OutputArrays::speed)
-      .def_rw("acceleration", &OutputArrays::acceleration)
-      .def_rw("torque", &OutputArrays::torque)
-      .def_rw("mesh_normal", &OutputArrays::mesh_normal)
-      .def_rw("mesh_tangential", &OutputArrays::mesh_tangential)
-      .def_rw("mesh_radial", &OutputArrays::mesh_radial)
-      .def_rw("mesh_axial", &OutputArrays::mesh_axial)
-      .def_rw("mesh_flank", &OutputArrays::mesh_flank)
-      .def_rw("transmission_error", &OutputArrays::transmission_error)
-      .def_rw("mesh_force_on_b", &OutputArrays::mesh_force_on_b)
-      .def_rw("pitch_point", &OutputArrays::pitch_point)
-      .def_rw("mesh_deflection", &OutputArrays::mesh_deflection)
-      .def_rw("mesh_contact_position", &OutputArrays::mesh_contact_position)
-      .def_rw("mesh_pairs", &OutputArrays::mesh_pairs)
-      .def_rw("mesh_single_tooth_force", &OutputArrays::mesh_single_tooth_force)
-      .def_rw("bearing_force", &OutputArrays::bearing_force)
-      .def_rw("bearing_moment", &OutputArrays::bearing_moment)
-      .def_rw("bearing_force_local", &OutputArrays::bearing_force_local)
-      .def_rw("bearing_moment_local", &OutputArrays::bearing_moment_local)
-      .def_rw("body_position", &OutputArrays::body_position)
-      .def_rw("body_quaternion", &OutputArrays::body_quaternion)
-      .def_rw("constraint_residual", &OutputArrays::constraint_residual)
-      .def_rw("kinetic", &OutputArrays::kinetic)
-      .def_rw("potential_spring", &OutputArrays::potential_spring)
-      .def_rw("work_applied", &OutputArrays::work_applied)
-      .def_rw("work_drivers", &OutputArrays::work_drivers)
-      .def_rw("work_springs", &OutputArrays::work_springs)
-      .def_rw("work_gravity", &OutputArrays::work_gravity)
-      .def_rw("work_constraints", &OutputArrays::work_constraints)
-      .def_rw("dissipated", &OutputArrays::dissipated)
-      .def_rw("generator_torque", &OutputArrays::generator_torque)
-      .def_rw("rotor_torque", &OutputArrays::rotor_torque)
-      .def_rw("rotor_power", &OutputArrays::rotor_power)
-      .def_rw("rotor_tip_speed_ratio", &OutputArrays::rotor_tip_speed_ratio)
-      .def_rw("rotor_power_coefficient", &OutputArrays::rotor_power_coefficient)
-      .def_rw("rotor_wind_speed", &OutputArrays::rotor_wind_speed);
+      .def("set", set_array, "series"_a, "values"_a,
+           "The array the run writes series into (row-major float64, written in place).")
+      .def("__setitem__", set_array, "series"_a, "values"_a)
+      .def(
+          "__getitem__",
+          [](OutputArrays& out, Series s) -> nb::object {
+            return out[s].is_valid() ? nb::cast(out[s]) : nb::none();
+          },
+          "series"_a);
 
   nb::class_<RunStatus>(m, "RunStatus")
       .def_ro("code", &RunStatus::code)
@@ -673,54 +696,38 @@ NB_MODULE(_native, m) {
       .def_ro("dual", &RunStatus::dual)
       .def_ro("iterations", &RunStatus::iterations);
 
+  nb::class_<Assembly>(m, "Assembly")
+      .def_ro("mass", &Assembly::mass)
+      .def_ro("bias", &Assembly::bias)
+      .def_ro("jac", &Assembly::jac)
+      .def_ro("gamma", &Assembly::gamma);
+
   nb::class_<PyStepper>(m, "Stepper")
       .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
            "spec"_a, "q0"_a, "v0"_a, "samples"_a)
       .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a, "out"_a, "inputs"_a,
            "Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; returns the status.")
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
-           "Joint-space inertia at q, from this module's copy of the model [kg·m²].");
+           "Joint-space inertia at q, from this module's copy of the model [kg·m²].")
+      .def("assemble", &PyStepper::assemble, "q"_a, "v"_a,
+           "M, b, J and γ of the step at (q, v), with the rows' current flanks.");
 
-  m.def(
-      "mesh_rows",
-      [](const MeshConstants& mc, const Eigen::MatrixXd& jac, const Eigen::MatrixXd& djac,
-         const Eigen::VectorXd& v, const RowMat& origin, const RowMat& rot) {
-        check_meshes(mc, static_cast<size_t>(v.size()));
-        std::vector<Vec3> o(mc.joint_ids.size());
-        std::vector<Eigen::Matrix3d> r(mc.joint_ids.size());
-        for (size_t i = 0; i < o.size(); ++i) {
-          o[i] = origin.row(static_cast<Eigen::Index>(i)).transpose();
-          r[i] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
-              rot.row(static_cast<Eigen::Index>(i)).data());
-        }
-        MeshRows rows;
-        rows.resize(mc.count(), v.size());
-        evaluate_mesh_rows(mc, jac, djac, v, o, r, rows);
-        // Both flanks' rows, biases and lines of action, from the step loop's own functions.
-        RowMat row_front(mc.count(), v.size()), row_back(mc.count(), v.size());
-        Eigen::VectorXd bias_front(mc.count()), bias_back(mc.count());
-        Rows3 normal_front(mc.count(), 3), normal_back(mc.count(), 3);
-        for (Eigen::Index m = 0; m < mc.count(); ++m) {
-          flank_row(mc, rows, m, 1.0, row_front.row(m), bias_front[m]);
-          flank_row(mc, rows, m, -1.0, row_back.row(m), bias_back[m]);
-          normal_front.row(m) = line_of_action(mc, rows, m, 1.0).transpose();
-          normal_back.row(m) = line_of_action(mc, rows, m, -1.0).transpose();
-        }
-        nb::list out;
-        for (auto& a : {rows.jac_t, rows.jac_r}) out.append(nb::cast(RowMat(a)));
-        out.append(nb::cast(Eigen::VectorXd(rows.bias_t)));
-        out.append(nb::cast(Eigen::VectorXd(rows.bias_r)));
-        for (auto* a : {&rows.tangent, &rows.radial, &rows.pitch_point, &rows.axis}) {
-          out.append(nb::cast(RowMat(*a)));
-        }
-        out.append(nb::cast(row_front));
-        out.append(nb::cast(row_back));
-        out.append(nb::cast(bias_front));
-        out.append(nb::cast(bias_back));
-        out.append(nb::cast(RowMat(normal_front)));
-        out.append(nb::cast(RowMat(normal_back)));
-        return nb::tuple(out);
-      },
-      "meshes"_a, "jac"_a, "djac"_a, "v"_a, "origin"_a, "rot"_a,
-      "Rows of every mesh at one state, split and per flank (pinwind/dynamics/mesh.py).");
+  nb::class_<MeshRowSet>(m, "MeshRows")
+      .def_ro("jac_t", &MeshRowSet::jac_t)
+      .def_ro("jac_r", &MeshRowSet::jac_r)
+      .def_ro("bias_t", &MeshRowSet::bias_t)
+      .def_ro("bias_r", &MeshRowSet::bias_r)
+      .def_ro("tangent", &MeshRowSet::tangent)
+      .def_ro("radial", &MeshRowSet::radial)
+      .def_ro("pitch_point", &MeshRowSet::pitch_point)
+      .def_ro("axis", &MeshRowSet::axis)
+      .def_ro("row_front", &MeshRowSet::row_front)
+      .def_ro("row_back", &MeshRowSet::row_back)
+      .def_ro("bias_front", &MeshRowSet::bias_front)
+      .def_ro("bias_back", &MeshRowSet::bias_back)
+      .def_ro("normal_front", &MeshRowSet::normal_front)
+      .def_ro("normal_back", &MeshRowSet::normal_back);
+
+  m.def("mesh_rows", &mesh_rows, "meshes"_a, "jac"_a, "djac"_a, "v"_a, "origin"_a, "rot"_a,
+        "Rows of every mesh at one state, split and per flank (pinwind/dynamics/mesh.py).");
 }

@@ -3,14 +3,14 @@
 //
 //     τ = P/ω = ½ ρ π R² v³ C_p(λ, β) / ω = ½ ρ π R³ v² C_p(λ, β) / λ,   λ = ω R / v
 //
-// with C_p from Heier's analytical fit (kHeier, β in degrees inside the fit):
+// with C_p from Heier's analytical fit (CpModel::heier, β in degrees inside the fit):
 //
 //     C_p = s c₁ (c₂/λ_i − c₃ β − c₄) e^(−c₅/λ_i) + s c₆ λ,   1/λ_i = 1/(λ + 0.08 β) − 0.035/(β³ + 1)
 //
 // (c = 0.5176, 116, 0.4, 5, 21, 0.0068; s a calibration scale), or bilinear in a table
-// C_p(λ, β) (kTable, clamped at its edges). Below λ_min = 0.1 (start-up) the torque is held at
-// its value at λ_min, where C_p/λ of a table would grow without bound. No wind (v ≤ 0), no
-// torque. The wind speed is the sample's input column ``wind_column``: no Python call per step.
+// C_p(λ, β) (CpModel::table, clamped at its edges). Below λ_min = 0.1 (start-up) the torque is
+// held at its value at λ_min, where C_p/λ of a table would grow without bound. No wind (v ≤ 0),
+// no torque. The wind speed is the sample's input column ``wind_column``: no Python call per step.
 // The rotor's inertia is added to the joint (Pinocchio armature) on the Python side.
 #pragma once
 
@@ -22,14 +22,16 @@
 
 namespace pinwind {
 
+// How C_p(λ, β) is computed (module comment), bound to Python as _native.CpModel.
+enum class CpModel { heier, table };
+
 struct RotorSpec {
-  enum CpModel { kHeier = 0, kTable };
   long index = 0;              // velocity index of the rotor joint
   double radius = 0.0;         // R [m]
   double air_density = 1.225;  // ρ [kg/m³]
   double pitch = 0.0;          // β [rad]
-  long cp_model = kHeier;
-  double cp_scale = 1.0;       // s (kHeier)
+  CpModel cp_model = CpModel::heier;
+  double cp_scale = 1.0;       // s (heier)
   std::vector<double> table_tsr;    // λ grid, increasing
   std::vector<double> table_pitch;  // β grid [rad], increasing (one entry: C_p(λ) only)
   std::vector<double> table_cp;     // C_p, row-major (λ, β)
@@ -78,7 +80,7 @@ inline double table_cp(const RotorSpec& r, double tsr) {
 }
 
 inline double rotor_cp(const RotorSpec& r, double tsr) {
-  return r.cp_model == RotorSpec::kTable ? table_cp(r, tsr) : heier_cp(tsr, r.pitch, r.cp_scale);
+  return r.cp_model == CpModel::table ? table_cp(r, tsr) : heier_cp(tsr, r.pitch, r.cp_scale);
 }
 
 // The rotor's operating point: tip-speed ratio λ (held at λ_min below it), C_p(λ, β) and the
@@ -122,12 +124,11 @@ class RotorAerodynamics : public JointTorqueElement {
   // P = τ(ω_k) ω_k = ½ ρ π R² v³ C_p, λ, C_p and the wind speed.
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    const long i = k * out.rotors + slot_;
-    out.rotor_torque[i] = applied();
-    out.rotor_power[i] = point_.torque * s.v[index_];
-    out.rotor_tip_speed_ratio[i] = point_.tsr;
-    out.rotor_power_coefficient[i] = point_.cp;
-    out.rotor_wind_speed[i] = wind_;
+    out.at(Series::rotor_torque, k, slot_) = applied();
+    out.at(Series::rotor_power, k, slot_) = point_.torque * s.v[index_];
+    out.at(Series::rotor_tip_speed_ratio, k, slot_) = point_.tsr;
+    out.at(Series::rotor_power_coefficient, k, slot_) = point_.cp;
+    out.at(Series::rotor_wind_speed, k, slot_) = wind_;
   }
 
  private:

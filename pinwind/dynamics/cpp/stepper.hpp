@@ -1,19 +1,30 @@
 // Time integration of a gearbox: assemble, solve, record, step (pinwind/dynamics/simulate.py
 // documents the scheme; this is its compiled inner loop).
 //
-// Each step k, at state (q_k, v_k) and time t_k = k·dt:
+// The stepper knows no kind of force or row by name. It holds
 //
-// 1. assemble M (CRBA), b (RNEA at a = 0), τ (applied torques and the elements' explicit
-//    forces), the elements' implicit parts (compliant meshes, elements.hpp) and the constraint
-//    rows J, γ: one row per rigid mesh (mesh_rows.hpp), per speed driver and per locked bearing;
-// 2. solve the equality QP with proxsuite (constrained_qp.hpp): a_k and λ_k, the rigid mesh
-//    forces [N] and driver torques [N·m], read from the duals through the name → row map (rows
-//    0..r−1 are the rigid meshes in file order, then the drivers); elements with contact
-//    conditions settle their active set, solving again when it changes;
-// 3. bearing reactions by RNEA with the tooth forces at the pitch points;
-// 4. semi-implicit Euler: v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ v_{k+1} dt.
+// - Elements (elements.hpp): forces, explicit or implicit in the step (torsional springs,
+//   bearing damping, compliant meshes, generator and rotor laws);
+// - Constraints (constraints.hpp): rows J a = r with multipliers λ (rigid meshes, speed
+//   drivers and locks), stacked in the order of their list;
+//
+// both built from the registries kElementKinds and kConstraintKinds below, and iterates them.
+// Outputs go into one array per series (series.hpp), the energy ledger's terms are named
+// (EnergyLedger, elements.hpp). Each step k, at state (q_k, v_k) and time t_k = k·dt:
+//
+// 1. assemble (assemble_positions, assemble_velocities; Stepper::assemble for tests): M (CRBA),
+//    b (RNEA at a = 0), J and γ of the constraints' rows; then τ (applied torques and the
+//    elements' explicit forces) and the elements' implicit parts;
+// 2. solve the equality QP with proxsuite (constrained_qp.hpp): a_k and λ_k, read by each
+//    constraint from its own rows; constraints switch rows that λ shows wrong (a rigid mesh's
+//    loaded flank) and elements with contact conditions settle their active sets, solving
+//    again while any asks;
+// 3. bearing reactions by RNEA with the constraints' and elements' forces on the bodies;
+// 4. semi-implicit Euler (advance): v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ v_{k+1} dt, with
+//    each force's work booked in the ledger.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -28,19 +39,22 @@
 
 #include "compliant_mesh.hpp"
 #include "constrained_qp.hpp"
+#include "constraints.hpp"
 #include "elements.hpp"
 #include "generator.hpp"
 #include "mesh_path.hpp"
 #include "mesh_rows.hpp"
 #include "rotor.hpp"
+#include "series.hpp"
 #include "torsional_spring.hpp"
 
 namespace pinwind {
 
 // What stopped a run: the Python side raises the matching PinwindError.
+enum class RunCode { completed, diverged, solver_failed, conflicting_constraints };
+
 struct RunStatus {
-  enum Code { kCompleted = 0, kDiverged, kSolverFailed, kConflictingConstraints };
-  int code = kCompleted;
+  RunCode code = RunCode::completed;
   long sample = 0;  // samples [0, sample) are final
   long step = 0;    // the step and time the error names
   double time = 0.0;
@@ -71,6 +85,77 @@ struct StepperSetup {
   SolverSettings solver;
 };
 
+using Elements = std::vector<std::unique_ptr<Element>>;
+using Constraints = std::vector<std::unique_ptr<Constraint>>;
+
+// The registry of element kinds: each adds the elements of its kind that the setup asks for.
+// The stepper builds its elements from this table in its order, the order their forces are
+// summed in (which the results' last bits depend on).
+struct ElementKind {
+  const char* name;
+  void (*add)(const StepperSetup&, Elements&);
+};
+
+inline const ElementKind kElementKinds[] = {
+    {"torsional_springs",
+     [](const StepperSetup& s, Elements& out) {
+       if (!s.springs.empty()) out.push_back(std::make_unique<TorsionalSprings>(s.springs));
+     }},
+    {"bearing_damping",
+     [](const StepperSetup& s, Elements& out) {
+       if (s.bearing_damping.size() && s.bearing_damping.cwiseAbs().maxCoeff() > 0.0) {
+         out.push_back(std::make_unique<BearingDamping>(s.bearing_damping));
+       }
+     }},
+    {"compliant_meshes",
+     [](const StepperSetup& s, Elements& out) {
+       if (s.compliant_meshes.empty()) return;
+       out.push_back(std::make_unique<CompliantMeshes>(s.compliant_meshes, s.paths,
+                                                       s.implicit_theta, s.model.nv));
+     }},
+    {"generators",
+     [](const StepperSetup& s, Elements& out) {
+       for (size_t i = 0; i < s.generators.size(); ++i) {
+         const GeneratorSpec& g = s.generators[i];
+         out.push_back(kGeneratorElements[static_cast<size_t>(g.law)](g, static_cast<long>(i)));
+       }
+     }},
+    {"rotors",
+     [](const StepperSetup& s, Elements& out) {
+       for (size_t i = 0; i < s.rotors.size(); ++i) {
+         out.push_back(std::make_unique<RotorAerodynamics>(s.rotors[i], static_cast<long>(i)));
+       }
+     }},
+};
+
+// The registry of constraint kinds, in the order of their rows: the rigid meshes in file order,
+// then the speed drivers and locks (the name → row map of the multipliers).
+struct ConstraintKind {
+  const char* name;
+  void (*add)(const StepperSetup&, Constraints&);
+};
+
+inline const ConstraintKind kConstraintKinds[] = {
+    {"rigid_meshes",
+     [](const StepperSetup& s, Constraints& out) {
+       if (s.rigid_meshes.empty()) return;
+       out.push_back(std::make_unique<RigidMeshes>(s.rigid_meshes, s.paths));
+     }},
+    {"speed_drivers",
+     [](const StepperSetup& s, Constraints& out) {
+       if (s.driver_index.empty()) return;
+       out.push_back(std::make_unique<SpeedDrivers>(s.driver_index, s.model.nv));
+     }},
+};
+
+// The terms of the step's equations of motion at one state (solve() documents them).
+struct Assembly {
+  Eigen::MatrixXd mass;   // M(q) [kg·m²]
+  Eigen::VectorXd bias;   // b = C(q, v) v + g(q) [N·m]
+  Eigen::MatrixXd jac;    // J (rows × nv): the constraints' rows in the stepper's order
+  Eigen::VectorXd gamma;  // γ = J̇ v [m/s² or rad/s²]
+};
+
 class Stepper : private BodyForces {
  public:
   // samples: how many samples the whole run has (the last one is recorded, not stepped from).
@@ -80,42 +165,21 @@ class Stepper : private BodyForces {
         samples_(samples),
         nv_(s_.model.nv),
         nm_(s_.meshes.count()),
-        nr_(static_cast<Eigen::Index>(s_.rigid_meshes.size())),
-        nd_(static_cast<Eigen::Index>(s_.driver_index.size())),
-        rows_(nr_ + nd_),
+        rows_(static_cast<Eigen::Index>(s_.rigid_meshes.size() + s_.driver_index.size())),
         qp_(nv_, rows_, s_.solver),
         q_(q0),
         q_next_(q0),
         v_(v0) {
-    driver_jac_.setZero(nd_, nv_);
-    for (Eigen::Index i = 0; i < nd_; ++i) driver_jac_(i, s_.driver_index[i]) = 1.0;
-    flank_.setOnes(nr_);
-    te_.setZero(nr_);
     rows_data_.resize(nm_, nv_);
     origin_.resize(s_.meshes.joint_ids.size());
     rot_.resize(s_.meshes.joint_ids.size());
     fext_.assign(s_.model.njoints, pinocchio::Force::Zero());
-    if (!s_.springs.empty()) {
-      elements_.push_back(std::make_unique<TorsionalSprings>(s_.springs));
-    }
-    if (s_.bearing_damping.size() && s_.bearing_damping.cwiseAbs().maxCoeff() > 0.0) {
-      elements_.push_back(std::make_unique<BearingDamping>(s_.bearing_damping));
-    }
-    if (!s_.compliant_meshes.empty()) {
-      elements_.push_back(std::make_unique<CompliantMeshes>(s_.compliant_meshes, s_.paths,
-                                                            s_.implicit_theta, nv_));
-    }
-    for (size_t i = 0; i < s_.generators.size(); ++i) {
-      const auto& g = s_.generators[i];
-      const long slot = static_cast<long>(i);
-      if (g.law == GeneratorSpec::kInductionDq) {
-        elements_.push_back(std::make_unique<InductionMachineDq>(g, slot));
-      } else {
-        elements_.push_back(std::make_unique<GeneratorLaw>(g, slot));
-      }
-    }
-    for (size_t i = 0; i < s_.rotors.size(); ++i) {
-      elements_.push_back(std::make_unique<RotorAerodynamics>(s_.rotors[i], static_cast<long>(i)));
+    for (const auto& kind : kElementKinds) kind.add(s_, elements_);
+    for (const auto& kind : kConstraintKinds) kind.add(s_, constraints_);
+    Eigen::Index offset = 0;
+    for (const auto& c : constraints_) {
+      offset_.push_back(offset);
+      offset += c->size();
     }
     jac_.setZero(rows_, nv_);
     bias_.setZero(rows_);
@@ -136,12 +200,9 @@ class Stepper : private BodyForces {
       time_ = t;
       inputs_ = s_.input_columns ? inputs.row(k - k0).data() : nullptr;
       tau_applied_ = torque.row(k - k0).transpose();
-      target_now_.setZero(rows_);
-      target_next_.setZero(rows_);
-      if (nd_) {
-        target_now_.tail(nd_) = target.row(k - k0).transpose();
-        target_next_.tail(nd_) = target.row(k - k0 + 1).transpose();
-      }
+      target_row_ = target.cols() ? target.row(k - k0).data() : nullptr;
+      target_next_row_ = target.cols() ? target.row(k - k0 + 1).data() : nullptr;
+      targets();
       if (!solve(k, t, st)) return st;
       if (!std::isfinite(a_.squaredNorm() + lam_.squaredNorm())) {
         return fail(st, k, t, "the accelerations or constraint forces are not finite");
@@ -168,16 +229,49 @@ class Stepper : private BodyForces {
     return mass_;
   }
 
+  // The step's assembly alone at (q, v), with the rows' current flanks (for checks against
+  // Pinocchio's own and finite differences); the run's state is kept.
+  Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+    const Eigen::VectorXd q_run = q_, v_run = v_;
+    q_ = q;
+    v_ = v;
+    assemble_positions();
+    assemble_velocities();
+    Assembly out{mass_, nle_, jac_, bias_};
+    q_ = q_run;
+    v_ = v_run;
+    return out;
+  }
+
  private:
   static RunStatus& fail(RunStatus& st, long step, double time, const std::string& what) {
-    st.code = RunStatus::kDiverged;
+    st.code = RunCode::diverged;
     st.step = step;
     st.time = time;
     st.what = what;
     return st;
   }
 
-  StepView view() const { return {q_, v_, s_.dt, data_, s_.meshes, rows_data_, time_, inputs_}; }
+  StepView view() const {
+    return {q_,     v_,      s_.dt,       data_,           s_.meshes, rows_data_,
+            time_, inputs_, target_row_, target_next_row_};
+  }
+
+  // Constraint c's rows in the stacked J, γ, targets and λ.
+  auto rows_of(Eigen::MatrixXd& m, size_t c) {
+    return m.middleRows(offset_[c], constraints_[c]->size());
+  }
+  auto rows_of(Eigen::VectorXd& x, size_t c) { return x.segment(offset_[c], constraints_[c]->size()); }
+
+  // The velocity targets of this sample's rows at t_k and t_{k+1}.
+  void targets() {
+    target_now_.setZero(rows_);
+    target_next_.setZero(rows_);
+    const StepView sv = view();
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      constraints_[c]->targets(sv, rows_of(target_now_, c), rows_of(target_next_, c));
+    }
+  }
 
   // Joint placements, world Jacobian J and the meshes' geometry and rows: what depends on the
   // angles only.
@@ -305,12 +399,12 @@ class Stepper : private BodyForces {
     mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
   }
 
-  // J and γ of the rigid meshes' loaded flanks, then the driver rows.
+  // J and γ of every constraint's rows.
   void constraint_matrix() {
-    for (Eigen::Index r = 0; r < nr_; ++r) {
-      flank_row(s_.meshes, rows_data_, s_.rigid_meshes[r], flank_[r], jac_.row(r), bias_[r]);
+    const StepView sv = view();
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
     }
-    if (nd_) jac_.bottomRows(nd_) = driver_jac_;
   }
 
   double residual() {
@@ -335,7 +429,7 @@ class Stepper : private BodyForces {
     const double scale = 1.0 + target_now_.cwiseAbs().maxCoeff() +
                          jac_.cwiseAbs().maxCoeff() * v_.cwiseAbs().maxCoeff();
     if (left > 1e-9 * scale) {
-      st.code = RunStatus::kConflictingConstraints;
+      st.code = RunCode::conflicting_constraints;
       st.step = k;
       st.time = t;
       st.residual = left;
@@ -351,7 +445,7 @@ class Stepper : private BodyForces {
       return false;
     }
     if (!sol.solved) {
-      st.code = RunStatus::kSolverFailed;
+      st.code = RunCode::solver_failed;
       st.step = k;
       st.time = t;
       st.what = sol.status;
@@ -378,11 +472,23 @@ class Stepper : private BodyForces {
     return check(k, t, *sol, st) ? sol : nullptr;
   }
 
-  // Dynamics at (q, v, t): a, λ and the forces the recorder and the integrator need.
-  bool solve(long k, double t, RunStatus& st) {
+  // What depends on the angles: the kinematics, M and J.
+  void assemble_positions() {
     kinematics();
     mass_from_jacobian();
     constraint_matrix();
+  }
+
+  // What depends on the speeds too: the bias forces b and the rows' γ.
+  void assemble_velocities() {
+    velocity_kinematics();
+    constraint_matrix();
+    bias_forces();
+  }
+
+  // Dynamics at (q, v, t): a, λ and the forces the recorder and the integrator need.
+  bool solve(long k, double t, RunStatus& st) {
+    assemble_positions();
     residual_ = residual();
     if (residual_ > s_.projection_tol * (1.0 + v_.cwiseAbs().maxCoeff())) {
       // Post-stabilisation: J changed over the last step, or the run starts off the
@@ -390,9 +496,7 @@ class Stepper : private BodyForces {
       if (!project(k, t, st)) return false;
       residual_ = residual();
     }
-    velocity_kinematics();
-    constraint_matrix();
-    bias_forces();
+    assemble_velocities();
     const Eigen::VectorXd& nle = nle_;
     const StepView sv = view();
     elements_force_.setZero(nv_);
@@ -404,33 +508,22 @@ class Stepper : private BodyForces {
     const QpSolution* sol = solve_qp(k, t, st);
     if (!sol) return false;
     lam_ = sol->multipliers;
-    // A negative rigid tooth force means the other flank carries the load: switch those rows to
-    // it. With fixed axes the other flank's row is the opposite row and λ just flips sign;
-    // otherwise solve again (a switch can move load between meshes, so repeat, a few times).
-    // Elements with contact (compliant meshes) settle their active sets in the same loop.
+    // Constraints switch rows their multipliers show wrong (a rigid mesh pulling: the other
+    // flank carries the load), either carrying the solution over or asking for another solve (a
+    // switch can move load between meshes, so repeat, a few times). Elements with contact
+    // (compliant meshes) settle their active sets in the same loop.
     constexpr int kPasses = 8;
     for (int pass = 0; pass < kPasses; ++pass) {
-      bool any = false, all_free = true;
-      for (Eigen::Index r = 0; r < nr_; ++r) {
-        if (lam_[r] < 0.0) {
-          any = true;
-          all_free = all_free && flank_flip_is_free(s_.rigid_meshes[r]);
-        }
+      RowSwitch change = RowSwitch::none;
+      for (size_t c = 0; c < constraints_.size(); ++c) {
+        change = std::max(change, constraints_[c]->switch_rows(sv, rows_of(lam_, c)));
       }
       bool settled = true;
       const bool last = pass + 1 == kPasses;
       for (auto& e : elements_) settled = !e->settle(sv, sol->acceleration, last) && settled;
-      if (!any && settled) break;
-      for (Eigen::Index r = 0; r < nr_; ++r) {
-        if (lam_[r] < 0.0) flank_[r] = -flank_[r];
-      }
+      if (change == RowSwitch::none && settled) break;
       constraint_matrix();
-      if (all_free && settled) {
-        for (Eigen::Index r = 0; r < nr_; ++r) {
-          if (lam_[r] < 0.0) lam_[r] = -lam_[r];
-        }
-        break;
-      }
+      if (change != RowSwitch::solve && settled) break;
       sol = solve_qp(k, t, st);
       if (!sol) return false;
       lam_ = sol->multipliers;
@@ -443,14 +536,6 @@ class Stepper : private BodyForces {
     return true;
   }
 
-  // Whether mesh m's other flank has the opposite row (fixed axes): λ just changes sign. When
-  // the radial part of the row vanishes in joint space it vanishes at every state (the axes
-  // cannot move apart), so its bias, the time derivative, vanishes too.
-  bool flank_flip_is_free(Eigen::Index m) const {
-    const double scale = rows_data_.jac_t.row(m).cwiseAbs().maxCoeff() + 1e-300;
-    return rows_data_.jac_r.row(m).cwiseAbs().maxCoeff() <= 1e-12 * scale;
-  }
-
   // Adds a force f applied at world point p to joint j's external force (world axes, about the
   // world origin, as joint_forces() takes it).
   void add(long j, const Vec3& p, const Vec3& f) override {
@@ -458,110 +543,100 @@ class Stepper : private BodyForces {
     fext_[j].angular() += p.cross(f);
   }
 
-  // Tooth forces on the gears, and the bearing reactions by RNEA with them applied at the
-  // pitch points: data.f[j] is the spatial force joint j transmits from its parent to its
-  // child, in the joint frame about the joint origin (the reduced-coordinate form of
-  // 000_3b7c4a8fe52a6eee.txt eqs. 16, 18, 23 and 26).
+  // The constraints' and elements' forces on the bodies (the tooth forces at the pitch
+  // points), and the bearing reactions by RNEA with them: data.f[j] is the spatial force joint
+  // j transmits from its parent to its child, in the joint frame about the joint origin.
   void bearing_reactions() {
-    const auto& mc = s_.meshes;
     for (auto& f : fext_) f.setZero();
-    for (Eigen::Index r = 0; r < nr_; ++r) {
-      const Eigen::Index m = s_.rigid_meshes[r];
-      const Vec3 f = tooth_force_on_b(mc, rows_data_, m, flank_[r], lam_[r]);
-      const Vec3 p = rows_data_.pitch_point.row(m).transpose();
-      add(mc.joint_b[m], p, f);
-      add(mc.joint_a[m], p, -f);
-    }
     const StepView sv = view();
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      constraints_[c]->add_body_forces(sv, rows_of(lam_, c), *this);
+    }
     for (const auto& e : elements_) e->add_body_forces(sv, *this);
     joint_forces();
-  }
-
-  // Forces of the rigid meshes from the loaded flanks' multipliers, with where the teeth are
-  // along the path of contact (the compliant meshes' element records its own).
-  void record_rigid_meshes(long k) {
-    const auto& mc = s_.meshes;
-    for (Eigen::Index r = 0; r < nr_; ++r) {
-      const Eigen::Index m = s_.rigid_meshes[r];
-      const auto& path = s_.paths[static_cast<size_t>(m)];
-      const double angle = gear_a_angle(mc, rows_data_, path, data_.oMi[mc.joint_a[m]].rotation(), m);
-      const PathState p = path_state(path, angle, flank_[r]);
-      record_mesh_force(out_, mc, rows_data_, k, m, lam_[r], flank_[r]);
-      const long i = k * nm_ + m;
-      out_.transmission_error[i] = te_[r];
-      out_.mesh_deflection[i] = 0.0;
-      out_.mesh_contact_position[i] = path.roll_start + p.entering;
-      out_.mesh_pairs[i] = p.pairs;
-      out_.mesh_single_tooth_force[i] = lam_[r] * p.share;
-    }
   }
 
   // Writes the state of the step into row k of the block's outputs.
   void record(long k, double t) {
     const Eigen::Index nj = s_.model.njoints - 1;
-    out_.time[k] = t;
-    Eigen::Map<Eigen::VectorXd>(out_.angle + k * nv_, nv_) = q_;
-    Eigen::Map<Eigen::VectorXd>(out_.speed + k * nv_, nv_) = v_;
-    Eigen::Map<Eigen::VectorXd>(out_.acceleration + k * nv_, nv_) = a_;
-    driver_torque_.setZero(nv_);
-    for (Eigen::Index i = 0; i < nd_; ++i) driver_torque_[s_.driver_index[i]] += lam_[nr_ + i];
-    Eigen::Map<Eigen::VectorXd>(out_.torque + k * nv_, nv_) = tau_applied_ + driver_torque_;
-    record_rigid_meshes(k);
+    out_.at(Series::time, k, 0) = t;
+    joint_row(Series::angle, k) = q_;
+    joint_row(Series::speed, k) = v_;
+    joint_row(Series::acceleration, k) = a_;
+    joint_row(Series::torque, k) = tau_applied_;
     const StepView sv = view();
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      constraints_[c]->record(sv, k, rows_of(lam_, c), out_);
+    }
     for (const auto& e : elements_) e->record(sv, k, out_);
     for (Eigen::Index j = 1; j <= nj; ++j) {
-      const long i = 3 * (k * nj + j - 1);
       const auto& f = data_.f[j];
       const auto& rot = data_.oMi[j].rotation();
-      Eigen::Map<Vec3>(out_.bearing_force_local + i) = f.linear();
-      Eigen::Map<Vec3>(out_.bearing_moment_local + i) = f.angular();
+      vector(Series::bearing_force_local, k, j - 1) = f.linear();
+      vector(Series::bearing_moment_local, k, j - 1) = f.angular();
       // World axes; the moment stays about the bearing centre.
-      Eigen::Map<Vec3>(out_.bearing_force + i) = rot * f.linear();
-      Eigen::Map<Vec3>(out_.bearing_moment + i) = rot * f.angular();
+      vector(Series::bearing_force, k, j - 1) = rot * f.linear();
+      vector(Series::bearing_moment, k, j - 1) = rot * f.angular();
     }
     const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
     for (Eigen::Index b = 0; b < nb; ++b) {
       // Each link is rigid on a joint: its pose is the joint's placement times a constant one.
       const pinocchio::SE3 pose = data_.oMi[s_.frame_parent[b]] * s_.frame_placement[b];
-      Eigen::Map<Vec3>(out_.body_position + 3 * (k * nb + b)) = pose.translation();
+      vector(Series::body_position, k, b) = pose.translation();
       const Eigen::Quaterniond quat(pose.rotation());
-      Eigen::Map<Eigen::Vector4d>(out_.body_quaternion + 4 * (k * nb + b)) = quat.coeffs();
+      Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, k, b)) = quat.coeffs();
     }
-    out_.constraint_residual[k] = residual_;
+    out_.at(Series::constraint_residual, k, 0) = residual_;
     mv_.noalias() = mass_ * v_;
-    out_.kinetic[k] = 0.5 * v_.dot(mv_);
+    out_.at(Series::kinetic, k, 0) = 0.5 * v_.dot(mv_);
     double potential = 0.0;
     for (const auto& e : elements_) potential += e->potential(sv);
-    out_.potential_spring[k] = potential;
-    for (int i = 0; i < 6; ++i) out_.work[i][k] = work_[i];
+    out_.at(Series::potential_spring, k, 0) = potential;
+    out_.at(Series::work_applied, k, 0) = ledger_.applied;
+    out_.at(Series::work_drivers, k, 0) = ledger_.drivers;
+    out_.at(Series::work_springs, k, 0) = ledger_.springs;
+    out_.at(Series::work_gravity, k, 0) = ledger_.gravity;
+    out_.at(Series::work_constraints, k, 0) = ledger_.constraints;
+    out_.at(Series::dissipated, k, 0) = ledger_.dissipated;
+  }
+
+  // Sample k of a joint series, as a vector of nv.
+  Eigen::Map<Eigen::VectorXd> joint_row(Series s, long k) const {
+    return Eigen::Map<Eigen::VectorXd>(&out_.at(s, k, 0), nv_);
+  }
+
+  // Element e of sample k of a 3-vector series.
+  Eigen::Map<Vec3> vector(Series s, long k, long e) const {
+    return Eigen::Map<Vec3>(&out_.at(s, k, e));
   }
 
   // Semi-implicit Euler, with the work of each force over the step at the mid-step speed (with
   // which the kinetic-energy change of a step equals the work of its forces when M is constant)
-  // and the transmission error along the rigid rows.
+  // and the constraints' own states (the transmission error along the rigid rows).
   void advance() {
     v_next_ = v_ + a_ * s_.dt;
     mid_ = (0.5 * s_.dt) * (v_ + v_next_);
-    if (nr_) jv_.head(nr_).noalias() = jac_.topRows(nr_) * mid_;
     StepWork elements;
     const StepView sv = view();
-    const Eigen::VectorXd v_mid = mid_ / s_.dt;
+    v_mid_ = mid_ / s_.dt;
     for (const auto& e : elements_) {
-      const StepWork w = e->work(sv, v_next_, v_mid);
+      const StepWork w = e->work(sv, v_next_, v_mid_);
       elements.elastic += w.elastic;
       elements.dissipated += w.dissipated;
       elements.applied += w.applied;
     }
-    const double work[6] = {
-        tau_applied_.dot(mid_) + elements.applied,
-        driver_torque_.dot(mid_),
-        elements.elastic,
-        -gravity_.dot(mid_),
-        nr_ ? lam_.head(nr_).dot(jv_.head(nr_)) : 0.0,
-        elements.dissipated,
-    };
-    for (int i = 0; i < 6; ++i) work_[i] += work[i];
-    for (Eigen::Index r = 0; r < nr_; ++r) te_[r] += jac_.row(r).dot(v_next_ * s_.dt);
+    EnergyLedger step;
+    step.applied = tau_applied_.dot(mid_) + elements.applied;
+    step.springs = elements.elastic;
+    step.gravity = -gravity_.dot(mid_);
+    step.dissipated = elements.dissipated;
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      constraints_[c]->work(sv, rows_of(jac_, c), rows_of(lam_, c), mid_, step);
+    }
+    ledger_ += step;
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      constraints_[c]->advance(sv, rows_of(jac_, c), v_next_);
+    }
     for (auto& e : elements_) e->advance(sv, v_next_);
     pinocchio::integrate(s_.model, q_, v_next_ * s_.dt, q_next_);
     q_ = q_next_;
@@ -572,12 +647,13 @@ class Stepper : private BodyForces {
   pinocchio::Data data_;
   long samples_;
   Outputs out_{};
-  double work_[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // cumulative work of each ledger term [J]
-  Eigen::Index nv_, nm_, nr_, nd_, rows_;
+  EnergyLedger ledger_;
+  Eigen::Index nv_, nm_, rows_;
   ConstrainedQp qp_;
   std::vector<std::unique_ptr<Element>> elements_;
-  Eigen::VectorXd q_, q_next_, v_, v_next_, mid_;
-  Eigen::VectorXd flank_, te_;
+  std::vector<std::unique_ptr<Constraint>> constraints_;
+  std::vector<Eigen::Index> offset_;  // each constraint's first row
+  Eigen::VectorXd q_, q_next_, v_, v_next_, mid_, v_mid_;
   MeshRows rows_data_;
   std::vector<Vec3> origin_;
   std::vector<Eigen::Matrix3d> rot_;
@@ -587,13 +663,14 @@ class Stepper : private BodyForces {
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_, weight_;
   Eigen::VectorXd nle_;
   Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;
-  Eigen::MatrixXd driver_jac_, jac_, mass_, hessian_;
+  Eigen::MatrixXd jac_, mass_, hessian_;
   Eigen::VectorXd bias_, target_now_, target_next_, jv_, mv_;
   Eigen::VectorXd tau_applied_, elements_force_, gravity_, force_explicit_, force_, rhs_;
-  Eigen::VectorXd a_, lam_, driver_torque_;
+  Eigen::VectorXd a_, lam_;
   double residual_ = 0.0;
   double time_ = 0.0;
   const double* inputs_ = nullptr;
+  const double *target_row_ = nullptr, *target_next_row_ = nullptr;
 };
 
 }  // namespace pinwind

@@ -1,0 +1,104 @@
+// The series a run writes, declared once: each one's name, family and components, in one table
+// (PINWIND_SERIES) from which come the Series enum, its Python binding (_native.Series, with
+// _native.series_layout), the size check of each array handed in and the Outputs the step loop
+// writes through.
+//
+// A series of family F with c components is a row-major (samples, count(F), c) array, c = 1
+// leaving the last axis out: count(run) = 1, count(joint) = nv, count(bearing) = the joints,
+// count(mesh), count(body) = the recorded links, count(generator), count(rotor) = the elements'.
+// Its name is the Result's (pinwind/dynamics/result.py; the ledger's terms are keys of
+// Result.energy), where its unit, frame and meaning are documented.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+namespace pinwind {
+
+// The families of elements a series has one column per.
+enum class Family { run, joint, mesh, bearing, body, generator, rotor };
+inline constexpr std::size_t kFamilies = 7;
+
+// X(name, family, components).
+#define PINWIND_SERIES(X)                       \
+  X(time, run, 1)                               \
+  X(angle, joint, 1)                            \
+  X(speed, joint, 1)                            \
+  X(acceleration, joint, 1)                     \
+  X(torque, joint, 1)                           \
+  X(mesh_normal, mesh, 1)                       \
+  X(mesh_tangential, mesh, 1)                   \
+  X(mesh_radial, mesh, 1)                       \
+  X(mesh_axial, mesh, 1)                        \
+  X(mesh_flank, mesh, 1)                        \
+  X(transmission_error, mesh, 1)                \
+  X(mesh_force_on_b, mesh, 3)                   \
+  X(pitch_point, mesh, 3)                       \
+  X(mesh_deflection, mesh, 1)                   \
+  X(mesh_contact_position, mesh, 1)             \
+  X(mesh_pairs, mesh, 1)                        \
+  X(mesh_single_tooth_force, mesh, 1)           \
+  X(bearing_force, bearing, 3)                  \
+  X(bearing_moment, bearing, 3)                 \
+  X(bearing_force_local, bearing, 3)            \
+  X(bearing_moment_local, bearing, 3)           \
+  X(body_position, body, 3)                     \
+  X(body_quaternion, body, 4)                   \
+  X(constraint_residual, run, 1)                \
+  X(kinetic, run, 1)                            \
+  X(potential_spring, run, 1)                   \
+  X(work_applied, run, 1)                       \
+  X(work_drivers, run, 1)                       \
+  X(work_springs, run, 1)                       \
+  X(work_gravity, run, 1)                       \
+  X(work_constraints, run, 1)                   \
+  X(dissipated, run, 1)                         \
+  X(generator_torque, generator, 1)             \
+  X(rotor_torque, rotor, 1)                     \
+  X(rotor_power, rotor, 1)                      \
+  X(rotor_tip_speed_ratio, rotor, 1)            \
+  X(rotor_power_coefficient, rotor, 1)          \
+  X(rotor_wind_speed, rotor, 1)
+
+enum class Series {
+#define PINWIND_SERIES_NAME(name, family, components) name,
+  PINWIND_SERIES(PINWIND_SERIES_NAME)
+#undef PINWIND_SERIES_NAME
+};
+
+// A series' declaration: its name, family and components (1 scalar, 3 vector, 4 quaternion).
+struct SeriesLayout {
+  const char* name;
+  Family family;
+  int components;
+};
+
+inline constexpr SeriesLayout kSeriesLayouts[] = {
+#define PINWIND_SERIES_LAYOUT(name, family, components) \
+  {#name, Family::family, components},
+    PINWIND_SERIES(PINWIND_SERIES_LAYOUT)
+#undef PINWIND_SERIES_LAYOUT
+};
+inline constexpr std::size_t kSeriesCount = sizeof(kSeriesLayouts) / sizeof(kSeriesLayouts[0]);
+
+inline constexpr const SeriesLayout& layout(Series s) {
+  return kSeriesLayouts[static_cast<std::size_t>(s)];
+}
+
+// Where each sample's outputs go: a pointer per series into row-major arrays of one block of
+// `samples` samples (null for a family without elements), and the element count per family.
+struct Outputs {
+  std::array<double*, kSeriesCount> columns{};
+  std::array<long, kFamilies> counts{};
+  long samples = 0;
+
+  double* column(Series s) const { return columns[static_cast<std::size_t>(s)]; }
+  long count(Family f) const { return counts[static_cast<std::size_t>(f)]; }
+  // The entry of element e, component c, of sample k of series s.
+  double& at(Series s, long k, long e, int c = 0) const {
+    const SeriesLayout& l = layout(s);
+    return column(s)[(k * count(l.family) + e) * l.components + c];
+  }
+};
+
+}  // namespace pinwind
