@@ -18,6 +18,7 @@ into the same values. Keys (units at the edge, like the flags; ``-`` and ``_`` a
     mesh = { all = "rigid" }                       # rigid | compliant
     position_error = { planet1 = [20.0, 0.0] }     # tangential, radial [µm]
     wind = "kaimal(mean=10, turbulence_intensity=0.1, seed=1)"   # [m/s]: a number or a signal
+    rho_inf = 0.9                                  # time step's spectral radius ρ∞ (1 keeps energy)
     out = "saleh2017_rated.mcap"                   # log (a bare name goes in logs/)
     log_rate = 100.0                               # [Hz]
     force = false                                  # replace an existing log
@@ -60,6 +61,7 @@ from pinwind.loads.signals import Scaled, Signal
 from pinwind.units import RAD_S_PER_RPM
 
 if TYPE_CHECKING:
+    from pinwind.dynamics.integrator import Integrator
     from pinwind.dynamics.result import Result
     from pinwind.model.gearbox import Gearbox
 
@@ -80,6 +82,7 @@ KEYS: dict[str, tuple[str, str, str]] = {
     "generator": ("generators", "", "generator laws"),
     "rotor": ("rotors", "", "rotor aerodynamics"),
     "wind": ("signal", "m/s", "wind speed at the rotors"),
+    "rho_inf": ("fraction", "0 to 1", "the time step's spectral radius ρ∞ (1 keeps energy)"),
     "out": ("path", "", "log file"),
     "log_rate": ("number", "Hz", "logged samples per second"),
     "pose_rate": ("number", "Hz", "logged link poses per second"),
@@ -165,6 +168,7 @@ class Scenario:
         generators: joint → generator law (``loads/generator.py``).
         rotors: joint → ``Rotor`` (``loads/rotor.py``).
         wind: wind speed at the rotors [m/s], or None.
+        integrator: the time step (``dynamics/integrator.py``), or None for the default.
         values: the plain values it was built from, keys normalised: what the log records and
             ``--from-log`` rebuilds it from (also the log settings: ``out``, ``log_rate``,
             ``keep``, ...); empty for a scenario made in Python.
@@ -183,6 +187,7 @@ class Scenario:
     generators: Mapping[str, GeneratorLaw] = field(default_factory=dict)
     rotors: Mapping[str, Rotor] = field(default_factory=dict)
     wind: Signal | float | None = None
+    integrator: Integrator | None = None
     values: dict[str, Any] = field(default_factory=dict)
     source: str = "Python"
     base: Path = field(default_factory=Path.cwd)
@@ -234,6 +239,8 @@ class Scenario:
         if self.rotors:
             kwargs["rotors"] = self.rotors
             kwargs["wind"] = self.wind
+        if self.integrator is not None:
+            kwargs["integrator"] = self.integrator
         return kwargs
 
     def record(self) -> dict[str, Any]:
@@ -309,6 +316,7 @@ class _Builder:
             generators=generators,
             rotors=rotors,
             wind=wind,
+            integrator=self.integrator(),
             values=v,
             source=self.source,
             base=self.base,
@@ -342,6 +350,8 @@ class _Builder:
             raise self.fail(key, f"must be a file name (text); got {value!r}")
         if kind == "number":
             self._number(key, value, unit, positive=self.flags is None)
+        if kind == "fraction" and not 0.0 <= self._number(key, value, unit) <= 1.0:
+            raise self.fail(key, f"is {value}; give a number from {unit}")
         if kind == "bool" and not isinstance(value, bool):
             raise self.fail(key, f"must be true or false; got {value!r}")
         if kind == "keep" and not (
@@ -389,6 +399,14 @@ class _Builder:
             except InputError as err:
                 raise self.fail((name, joint), _strip(str(err), f"{name}.{joint}: ")) from err
         return out
+
+    def integrator(self) -> Integrator | None:
+        """The time step with ``rho_inf``, or None for the default."""
+        if "rho_inf" not in self.values:
+            return None
+        from pinwind.dynamics.integrator import Integrator
+
+        return Integrator(rho_infinity=float(self.values["rho_inf"]))
 
     def wind(self) -> Signal | None:
         """The wind signal [m/s], or None."""

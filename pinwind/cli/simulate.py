@@ -151,6 +151,14 @@ def simulate(
             "kaimal(mean=10, turbulence_intensity=0.1, seed=1).",
         ),
     ] = None,
+    rho_inf: Annotated[
+        float | None,
+        typer.Option(
+            "--rho-inf",
+            help="Spectral radius ρ∞ of the time step, 0 to 1: 1 keeps energy (trapezoidal "
+            "rule), smaller damps the modes dt does not resolve. Default 0.9.",
+        ),
+    ] = None,
 ) -> None:
     """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
     import pinwind
@@ -165,6 +173,7 @@ def simulate(
         "generator": generator_values(generator),
         "rotor": rotor_values(rotor),
         "wind": None if wind is None else number_or_text(wind),
+        "rho_inf": rho_inf,
         "log_rate": log_rate,
         "pose_rate": pose_rate,
         "view_rate": view_rate,

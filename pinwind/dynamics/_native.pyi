@@ -241,7 +241,7 @@ class StepperSpec:
     frame_placement: list[Matrix]
     dt: float  # [s]
     projection_tol: float
-    implicit_theta: float
+    rho_infinity: float
     solver: SolverSettings
     def __init__(self) -> None: ...
 

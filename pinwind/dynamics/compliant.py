@@ -19,11 +19,11 @@ x the roll position of the tooth pairs along the path of contact (``cpp/mesh_pat
 
 Why implicit. Mesh stiffnesses of 1e8 to 5e9 N/m on gears of a few kilograms to a tonne put
 modes in the kHz; an explicit spring would need steps of microseconds. The compiled element
-takes the force at the end of the step (θ = ½ of the way in deflection, the end-of-step speed
-for damping), which makes it linear in the step's acceleration, so it enters the same proxsuite
-solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is stable at any step; a step too
-coarse to resolve the highest mesh mode is run, with one warning naming the mode's frequency
-and the step that resolves it (``RESOLVING_STEPS`` per period).
+takes the force at the time step's weighted state (mid-step for ρ∞ = 1; ``dynamics/
+integrator.py``), which makes it linear in the step's acceleration, so it enters the same
+proxsuite solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is second order and stable
+at any step; a step too coarse to resolve the highest mesh mode is run, with one warning naming
+the mode's frequency and the step that resolves it (``RESOLVING_STEPS`` per period).
 
 Position errors of gear centres (planet pin errors) shift the overlaps by n·(e_A − e_B): a
 constant offset in the carrier's frame that makes the planets share the load unequally.
@@ -54,10 +54,6 @@ from pinwind.model.phasing import direction_at
 
 #: Steps per period of the highest mesh mode below which a run warns that the step is coarse.
 RESOLVING_STEPS = 10
-
-#: θ of the implicit mesh force (cpp/compliant_mesh.hpp): ½ damps the mesh modes least.
-IMPLICIT_THETA = 0.5
-
 
 @dataclass(frozen=True)
 class MeshSetup:

@@ -10,7 +10,10 @@ Each step k, at state (q_k, v_k) and time t_k = k·dt:
    [N] and driver torques [N·m] read from the duals through the name → row map (the meshes in
    file order, then the speed drivers, then the locked bearings);
 3. bearing reactions by RNEA with the tooth forces at the pitch points;
-4. semi-implicit Euler: v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ v_{k+1} dt. The rows ask for
+4. the generalized-α step (``dynamics/integrator.py``, ``cpp/time_step.hpp``): a_k is the step's
+   mean acceleration, v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ Δq with Δq = (v_k + v_{k+1}) dt/2 for
+   ρ∞ = 1, and the stiff elements' forces at the method's weighted state (mid-step for ρ∞ = 1):
+   second order, with numerical dissipation of the unresolved modes set by ρ∞. The rows ask for
    J a = γ + (target(t_{k+1}) − target(t_k))/dt: the acceleration the constraints demand, with the
    speed drivers' change over the step. When J v drifts from the target (J changed during the
    step, or rounding) by more than ``PROJECTION_TOL``, v is projected back onto J v = target in the
@@ -21,8 +24,9 @@ Each step k, at state (q_k, v_k) and time t_k = k·dt:
 The energy ledger uses the mid-step speed (v_k + v_{k+1})/2, with which the kinetic-energy change
 of a step equals the work of the step's forces exactly when M is constant. The springs (torsional
 and compliant meshes) store ``potential_spring``; what their forces' work over the steps misses of
-its change is the integrator's own loss, ``numerical`` = −(ΔU_spring + W_springs) (first order in
-dt for the implicit meshes, ``dynamics/compliant.py``), so that
+its change is the integrator's own loss, ``numerical`` = −(ΔU_spring + W_springs) (zero to
+rounding for constant-stiffness springs with ρ∞ = 1; with ρ∞ < 1 it also holds the work of the
+method's inertia memory, its dissipation of the unresolved modes), so that
 
     Δkinetic + ΔU_spring
         = W_applied + W_drivers + W_gravity + W_constraints − dissipated − numerical.
@@ -44,6 +48,7 @@ import numpy as np
 from pinwind.dynamics import series
 from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
 from pinwind.dynamics.elements import LoadElements, load_elements
+from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
@@ -256,6 +261,7 @@ def simulate(
     initial_speeds: Mapping[str, float] | None = None,
     gravity: np.ndarray | None = None,
     solver: SolverSettings | None = None,
+    integrator: Integrator | None = None,
     progress: bool | None = None,
     observer: RunObserver | Sequence[RunObserver] | None = None,
     chunk: int | None = None,
@@ -280,6 +286,8 @@ def simulate(
             the gear meshes impose (``dynamics.ratios.train_speeds``).
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
+        integrator: the time step and its numerical dissipation (``Integrator``; default
+            ``Integrator()``: generalized-α with ρ∞ = 0.9).
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
         observer: one or several observers that receive the samples as they are computed:
             the MCAP logger (``io/log_writer.McapLogger``), the run statistics
@@ -360,6 +368,12 @@ def simulate(
         g = np.asarray(gearbox.gravity, dtype=float)
 
     settings = solver or SolverSettings()
+    if integrator is not None and not isinstance(integrator, Integrator):
+        raise InputError(
+            f"integrator={integrator!r}: give a pinwind.dynamics.Integrator, "
+            "e.g. Integrator(rho_infinity=1.0)"
+        )
+    method = integrator or Integrator()
     # Rows after the meshes: the speed drivers, then the locked bearings (held at zero speed).
     drivers = speed_loads + [JointLoad(j, gearbox.v_index(j), 0.0) for j in gearbox.locked_joints]
     mesh_setup_ = mesh_setup(
@@ -399,7 +413,7 @@ def simulate(
         "initial_speeds": {ld.joint: ld.description for ld in init},
         "locked_joints": list(gearbox.locked_joints),
         "solver": settings.as_dict(),
-        "integrator": "semi-implicit Euler with velocity projection",
+        "integrator": method.as_dict(),
         "meshes": _mesh_metadata(mesh_setup_),
         "highest_mesh_mode_hz": mesh_setup_.highest_mode,
         "samples_simulated": samples,
@@ -434,6 +448,7 @@ def simulate(
         settings=settings,
         meshes=mesh_setup_,
         loads=elements,
+        integrator=method,
     )
     observers = observers_of(observer)
     for o in observers:

@@ -17,7 +17,8 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics import _native
-from pinwind.dynamics.compliant import IMPLICIT_THETA, MeshSetup
+from pinwind.dynamics.compliant import MeshSetup
+from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
@@ -103,6 +104,7 @@ class CompiledStepper:
         meshes: the run's rigid and compliant meshes (``dynamics/compliant.py``).
         loads: the generator and rotor elements (``dynamics/elements.py``): their compiled specs,
             the rotors' inertia added to their joints, and the number of input columns.
+        integrator: the time step (``dynamics/integrator.py``); default ``Integrator()``.
     """
 
     def __init__(
@@ -119,6 +121,7 @@ class CompiledStepper:
         settings: SolverSettings,
         meshes: MeshSetup,
         loads: LoadElements | None = None,
+        integrator: Integrator | None = None,
     ):
         model = gearbox.model
         frames = body_frames(model)
@@ -150,7 +153,7 @@ class CompiledStepper:
         spec.frame_placement = [model.frames[f].placement.homogeneous for f in frames]
         spec.dt = float(dt)
         spec.projection_tol = PROJECTION_TOL
-        spec.implicit_theta = IMPLICIT_THETA
+        spec.rho_infinity = float((integrator or Integrator()).rho_infinity)
         solver = _native.SolverSettings()
         solver.eps_abs = float(settings.eps_abs)
         solver.eps_rel = float(settings.eps_rel)

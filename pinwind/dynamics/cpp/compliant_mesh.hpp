@@ -18,15 +18,18 @@
 //
 // Implicit force. Stiff meshes (1e8 to 5e9 N/m on gears of a few kg) put modes in the kHz,
 // where an explicit spring is stable only at tiny steps. The force over the step is taken at
-// the end-of-step speed and at θ of the way to the end-of-step deflection:
+// the time step's weighted state (time_step.hpp): deflection δ_n − J (dq₀ + κ_q ā), speed
+// −J (v_n + κ_v ā),
 //
-//     F = k (δ_k − θ h J v_{k+1}) − c J v_{k+1},   v_{k+1} = v_k + h a
-//       = b − w J a,   b = k δ_k − (θ h k + c) J v_k,   w = h (θ h k + c),
+//     F = k (δ_n − J dq₀ − κ_q J ā) − c J (v_n + κ_v ā)
+//       = b − w J ā,   b = k (δ_n − J dq₀) − c J v_n,   w = k κ_q + c κ_v,
 //
 // so the mesh adds w JᵀJ to the QP's Hessian and Jᵀ b to its force: the same proxsuite solve
-// gives its force at the end of the step (a soft constraint with compliance 1/(h(θhk + c));
-// as k → ∞ it becomes the rigid row). θ = ½ is stable at any step for θ ≥ ½ and damps the
-// mesh mode least; its numerical dissipation is O(h) over a fixed time.
+// gives its force over the step (a soft constraint with compliance 1/w; as k → ∞ it becomes
+// the rigid row). With ρ∞ = 1 (the trapezoidal rule: κ_q = h²/4, κ_v = h/2, dq₀ = h v_n/2)
+// w = h (h k/4 + c/2) and F = k (δ_n + δ_{n+1})/2 − c J (v_n + v_{n+1})/2 for a constant J: the
+// mesh keeps its energy to rounding, where the former semi-implicit Euler step (w = h (h k/2 +
+// c)) acted as an extra dashpot k h/2.
 #pragma once
 
 #include <cmath>
@@ -58,8 +61,8 @@ inline double involute(double angle) { return std::tan(angle) - angle; }
 class CompliantMeshes : public Element {
  public:
   CompliantMeshes(std::vector<CompliantMeshSpec> specs, const std::vector<MeshPathSpec>& paths,
-                  double theta, Eigen::Index nv)
-      : specs_(std::move(specs)), theta_(theta) {
+                  Eigen::Index nv)
+      : specs_(std::move(specs)) {
     const size_t n = specs_.size();
     for (const auto& s : specs_) paths_.push_back(paths[static_cast<size_t>(s.mesh)]);
     state_.assign(n, 0);
@@ -73,7 +76,6 @@ class CompliantMeshes : public Element {
     normal_.setZero(n);
     elastic_.setZero(n);
     viscous_.setZero(n);
-    jv_next_.setZero(n);
   }
 
   void prepare(const StepView& s) override {
@@ -142,8 +144,8 @@ class CompliantMeshes : public Element {
           const double flank = f == 0 ? 1.0 : -1.0;
           const auto& row = row_[2 * i + f];
           const double k = stiffness(i, f);
-          const double jv = row.dot(s.v + s.dt * a);
-          const double trial = k * (delta_(i, f) - theta_ * s.dt * jv) - specs_[i].damping * jv;
+          const double trial = k * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a)) -
+                               specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
           if (trial > 0.0) {
             state_[i] = static_cast<int>(flank);
             changed = true;
@@ -157,15 +159,15 @@ class CompliantMeshes : public Element {
     // Final forces of the step.
     for (size_t i = 0; i < specs_.size(); ++i) {
       if (state_[i] == 0) {
-        normal_[i] = elastic_[i] = viscous_[i] = jv_next_[i] = 0.0;
+        normal_[i] = elastic_[i] = viscous_[i] = 0.0;
         continue;
       }
       const int f = state_[i] > 0 ? 0 : 1;
       last_flank_[i] = state_[i];
       const double k = stiffness(i, f);
-      jv_next_[i] = row_[2 * i + f].dot(s.v + s.dt * a);
-      elastic_[i] = k * (delta_(i, f) - theta_ * s.dt * jv_next_[i]);
-      viscous_[i] = -specs_[i].damping * jv_next_[i];
+      const auto& row = row_[2 * i + f];
+      elastic_[i] = k * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a));
+      viscous_[i] = -specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
       normal_[i] = std::max(0.0, elastic_[i] + viscous_[i]);
     }
     return false;
@@ -229,20 +231,20 @@ class CompliantMeshes : public Element {
   void coefficients(const StepView& s, size_t i) {
     if (state_[i] == 0) return;
     const int f = state_[i] > 0 ? 0 : 1;
-    const double k = stiffness(i, f), c = specs_[i].damping, h = s.dt;
-    b_[i] = k * delta_(i, f) - (theta_ * h * k + c) * row_[2 * i + f].dot(s.v);
-    w_[i] = h * (theta_ * h * k + c);
+    const double k = stiffness(i, f), c = specs_[i].damping;
+    const auto& row = row_[2 * i + f];
+    b_[i] = k * (delta_(i, f) - row.dot(s.dq_free)) - c * row.dot(s.v);
+    w_[i] = k * s.weights.position_gain + c * s.weights.speed_gain;
   }
 
   std::vector<CompliantMeshSpec> specs_;
   std::vector<MeshPathSpec> paths_;
-  double theta_;
   std::vector<int> state_;           // +1 front flank, −1 back flank, 0 no contact
   std::vector<double> last_flank_;   // the flank last in contact
   Eigen::Matrix<double, Eigen::Dynamic, 2> delta_;  // overlaps δ_f, δ_b [m]
   std::vector<Eigen::RowVectorXd> row_;             // J of each flank
   std::vector<PathState> path_;
-  Eigen::VectorXd b_, w_, normal_, elastic_, viscous_, jv_next_;
+  Eigen::VectorXd b_, w_, normal_, elastic_, viscous_;
   bool first_ = true;
 };
 

@@ -69,10 +69,11 @@ class Constraint {
   // Adds the work of Jᵀ λ over the step, Δq = (v_k + v_{k+1}) h / 2, to its ledger term.
   virtual void work(const StepView&, ConstRows jac, ConstValues lambda,
                     const Eigen::VectorXd& dq, EnergyLedger& ledger) const = 0;
-  // Moves its own states (the transmission error) from t_k to t_{k+1}, given v_{k+1}.
-  virtual void advance(const StepView&, ConstRows jac, const Eigen::VectorXd& v_next) {
+  // Moves its own states (the transmission error) from t_k to t_{k+1}, given the step's
+  // displacement Δq = q_{k+1} ⊖ q_k (time_step.hpp).
+  virtual void advance(const StepView&, ConstRows jac, const Eigen::VectorXd& dq) {
     (void)jac;
-    (void)v_next;
+    (void)dq;
   }
 };
 
@@ -161,8 +162,8 @@ class RigidMeshes : public Constraint {
     ledger.constraints += lambda.dot(jv_);
   }
 
-  void advance(const StepView& s, ConstRows jac, const Eigen::VectorXd& v_next) override {
-    for (Eigen::Index r = 0; r < size(); ++r) te_[r] += jac.row(r).dot(v_next * s.dt);
+  void advance(const StepView&, ConstRows jac, const Eigen::VectorXd& dq) override {
+    for (Eigen::Index r = 0; r < size(); ++r) te_[r] += jac.row(r).dot(dq);
   }
 
  private:

@@ -5,15 +5,16 @@
 // know any by name (design.md §2 "Elements"). Elements write their outputs by series
 // (series.hpp) and book their work in the energy ledger's named terms (EnergyLedger below).
 //
-// A step at (q_k, v_k) with time step h finds a_k from
+// A step at (q_n, v_n) with time step h finds the step's mean acceleration ā from
 //
-//     (M + Σ W_e) a = τ − b + Σ f_e + Jᵀ λ,     J a = r      (rigid rows: constrained_qp.hpp)
+//     (c₁ M + Σ W_e) ā = τ − b − c₂ M a_n + Σ f_e + Jᵀ λ,     J ā = r   (constrained_qp.hpp)
 //
-// where each element contributes an explicit force f_e and, if it is stiff, an implicit part
-// W_e: its force over the step is f_e − W_e a, linear in the step's acceleration because
-// v_{k+1} = v_k + h a and q_{k+1} = q_k ⊕ h v_{k+1} (semi-implicit Euler). Elements with a
-// contact condition (teeth never pull) settle their active set after each solve; the stepper
-// solves again while any element changes its set.
+// (the generalized-α method, time_step.hpp, which derives c₁, c₂ and the gains below), where
+// each element contributes an explicit force f_e and, if it is stiff, an implicit part W_e: its
+// force is taken at the weighted state q_n ⊕ (dq₀ + κ_q ā), v_n + κ_v ā (StepView::weights,
+// dq_free), f_e − W_e ā, linear in the step's acceleration. Elements with a contact condition
+// (teeth never pull) settle their active set after each solve; the stepper solves again while
+// any element changes its set.
 #pragma once
 
 #include <cmath>
@@ -24,6 +25,7 @@
 
 #include "mesh_rows.hpp"
 #include "series.hpp"
+#include "time_step.hpp"
 
 namespace pinwind {
 
@@ -52,6 +54,8 @@ struct StepView {
   const pinocchio::Data& data;  // joint placements oMi at q
   const MeshConstants& meshes;
   const MeshRows& rows;  // every mesh's geometry and rows at (q, v)
+  const StepWeights& weights;     // the time step's weights (time_step.hpp)
+  const Eigen::VectorXd& dq_free; // dq₀: the weighted state's displacement from q at ā = 0
   double time = 0.0;                // t_k [s]
   const double* inputs = nullptr;   // this sample's input columns (wind speed, ...), or null
   // This sample's driver speeds at t_k and t_{k+1} [rad/s] (constraints.hpp SpeedDrivers).
@@ -121,7 +125,7 @@ class Element {
   }
   // Writes the element's outputs of sample k (series.hpp: out.at(Series::..., k, element)).
   virtual void record(const StepView&, long, const Outputs&) const {}
-  // Moves the element's own states (generator fluxes, ...) from t_k to t_{k+1}, given v_{k+1}.
+  // Moves the element's own states (generator fluxes, ...) from t_n to t_{n+1}, given v_{n+1}.
   virtual void advance(const StepView&, const Eigen::VectorXd& v_next) { (void)v_next; }
 };
 

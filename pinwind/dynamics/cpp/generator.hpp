@@ -18,9 +18,10 @@
 //                    mechanics' 1 ms), the map is stable for every h (|eig e^{Ah}| < 1), and
 //                    its fixed point −A⁻¹u is the exact steady state, so the torque settles on
 //                    the equivalent circuit's.
-// The torque of the first four is a law of the shaft speed, taken linearly implicit
-// (joint_torque.hpp); the dq machine's is that of its end-of-step fluxes, linear in the step's
-// acceleration through the speed at mid-step, taken implicitly the same way.
+// The torque of the first four is a law of the shaft speed, taken linearly implicit at the time
+// step's weighted speed (joint_torque.hpp); the dq machine's is that of its fluxes at the
+// weighted time, linear in the step's acceleration through the speed at mid-step, taken
+// implicitly the same way.
 #pragma once
 
 #include <algorithm>
@@ -107,9 +108,11 @@ class ShaftSpeedGenerator : public JointTorqueElement {
     }
   }
 
-  TorqueSlope evaluate(const StepView& s) const override {
+  TorqueSlope evaluate(const StepView& s, double accel) const override {
     const double scale = std::abs(g_.sync_speed) + 2.0 * M_PI * g_.frequency + 1.0;
-    return torque_and_slope(*this, s.v[index_], scale);
+    const double gain = s.weights.speed_gain;
+    const TorqueSlope ts = torque_and_slope(*this, s.v[index_] + gain * accel, scale);
+    return {ts.torque, ts.slope * gain};
   }
 
   // Also T_gen = −τ over the step, the generator's own output.
@@ -177,28 +180,31 @@ class InductionMachineDq : public JointTorqueElement {
     JointTorqueElement::prepare(s);
   }
 
-  // The torque over the step is the one of the end-of-step fluxes, λ_{k+1}(ω_mid), with
-  // ω_mid = ω_k + (h/2) a: linear in a through dτ/dω_mid (h/2), taken implicitly like the laws
-  // of the shaft speed. Explicit in the fluxes, a machine whose slip stiffness is large next to
-  // its shaft's inertia (many poles, a light shaft) would be unstable at the mechanical step.
-  TorqueSlope evaluate(const StepView& s) const override {
-    const double w = s.v[index_];
+  // The torque over the step is the fluxes' at the time step's weighted time,
+  // (1 − αf) τ(λ_{n+1}) + αf τ(λ_n) (time_step.hpp; the mid-step mean for ρ∞ = 1), with
+  // λ_{n+1} from a step at ω_mid = ω_n + (h/2) ā: linear in ā through dτ/dω_mid, taken
+  // implicitly like the laws of the shaft speed. Explicit in the fluxes, a machine whose slip
+  // stiffness is large next to its shaft's inertia (many poles, a light shaft) would be
+  // unstable at the mechanical step.
+  TorqueSlope evaluate(const StepView& s, double accel) const override {
+    const double w = s.v[index_] + 0.5 * s.dt * accel;
     const double d = 1e-6 * (std::abs(w) + we_ / pole_pairs_);
     const double t0 = torque(step(w, s.dt));
     const double t1 = torque(step(w + d, s.dt));
-    // dτ/da = dτ/dω_mid · h/2; JointTorqueElement multiplies the slope it gets by h.
-    return {t0, 0.5 * (t1 - t0) / d};
+    const double end = s.weights.force_new;
+    return {end * t0 + (1.0 - end) * torque(flux_), end * 0.5 * s.dt * (t1 - t0) / d};
   }
 
   bool lagged() const override { return false; }
 
-  // Also T_gen = −τ over the step (the electromagnetic torque of the end-of-step fluxes).
+  // Also T_gen = −τ over the step (the electromagnetic torque at the weighted time).
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
     out.at(Series::generator_torque, k, slot_) = -applied();
   }
 
   void advance(const StepView& s, const Eigen::VectorXd& v_next) override {
+    JointTorqueElement::advance(s, v_next);
     flux_ = step(0.5 * (s.v[index_] + v_next[index_]), s.dt);
   }
 

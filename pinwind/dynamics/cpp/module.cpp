@@ -198,7 +198,7 @@ struct StepperSpec {
   std::vector<Mat4> frame_placement;
   double dt = 1e-3;
   double projection_tol = 1e-14;
-  double implicit_theta = 0.5;
+  double rho_infinity = 1.0;  // the time step's spectral radius (time_step.hpp)
   SolverSettings solver;
 };
 
@@ -353,7 +353,7 @@ StepperSetup setup(const StepperSpec& spec) {
   for (const auto& h : spec.frame_placement) s.frame_placement.push_back(placement(h));
   s.dt = spec.dt;
   s.projection_tol = spec.projection_tol;
-  s.implicit_theta = spec.implicit_theta;
+  s.rho_infinity = spec.rho_infinity;
   s.solver = spec.solver;
   return s;
 }
@@ -650,7 +650,7 @@ NB_MODULE(_native, m) {
       .def_rw("frame_placement", &StepperSpec::frame_placement)
       .def_rw("dt", &StepperSpec::dt)
       .def_rw("projection_tol", &StepperSpec::projection_tol)
-      .def_rw("implicit_theta", &StepperSpec::implicit_theta)
+      .def_rw("rho_infinity", &StepperSpec::rho_infinity)
       .def_rw("solver", &StepperSpec::solver);
 
   nb::enum_<Family>(m, "Family")

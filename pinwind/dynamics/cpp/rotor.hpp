@@ -110,31 +110,33 @@ class RotorAerodynamics : public JointTorqueElement {
   RotorAerodynamics(RotorSpec spec, long slot)
       : JointTorqueElement(spec.index), r_(std::move(spec)), slot_(slot) {}
 
-  // τ(ω_k) and its central difference (torque_and_slope), keeping the operating point.
-  TorqueSlope evaluate(const StepView& s) const override {
+  // τ at the weighted speed ω_n + κ_v ā and its central difference (torque_and_slope), keeping
+  // the wind speed for the record.
+  TorqueSlope evaluate(const StepView& s, double accel) const override {
     wind_ = s.inputs ? s.inputs[r_.wind_column] : 0.0;
-    const double omega = s.v[index_];
+    const double gain = s.weights.speed_gain;
+    const double omega = s.v[index_] + gain * accel;
     const double d = 1e-6 * (std::abs(omega) + std::max(wind_, 1.0) / r_.radius);
-    point_ = rotor_point(r_, omega, wind_);
-    return {point_.torque,
-            (rotor_torque(r_, omega + d, wind_) - rotor_torque(r_, omega - d, wind_)) / (2.0 * d)};
+    return {rotor_torque(r_, omega, wind_), gain * (rotor_torque(r_, omega + d, wind_) -
+                                                    rotor_torque(r_, omega - d, wind_)) /
+                                                (2.0 * d)};
   }
 
   // Also the rotor's own outputs: the torque over the step, and at the sample the power
   // P = τ(ω_k) ω_k = ½ ρ π R² v³ C_p, λ, C_p and the wind speed.
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
+    const RotorPoint point = rotor_point(r_, s.v[index_], wind_);
     out.at(Series::rotor_torque, k, slot_) = applied();
-    out.at(Series::rotor_power, k, slot_) = point_.torque * s.v[index_];
-    out.at(Series::rotor_tip_speed_ratio, k, slot_) = point_.tsr;
-    out.at(Series::rotor_power_coefficient, k, slot_) = point_.cp;
+    out.at(Series::rotor_power, k, slot_) = point.torque * s.v[index_];
+    out.at(Series::rotor_tip_speed_ratio, k, slot_) = point.tsr;
+    out.at(Series::rotor_power_coefficient, k, slot_) = point.cp;
     out.at(Series::rotor_wind_speed, k, slot_) = wind_;
   }
 
  private:
   RotorSpec r_;
   long slot_;
-  mutable RotorPoint point_;
   mutable double wind_ = 0.0;
 };
 

@@ -20,8 +20,10 @@
 //    loaded flank) and elements with contact conditions settle their active sets, solving
 //    again while any asks;
 // 3. bearing reactions by RNEA with the constraints' and elements' forces on the bodies;
-// 4. semi-implicit Euler (advance): v_{k+1} = v_k + a_k dt, q_{k+1} = q_k ⊕ v_{k+1} dt, with
-//    each force's work booked in the ledger.
+// 4. the generalized-α step (advance; time_step.hpp derives it): with a_k the step's mean
+//    acceleration, v_{k+1} = v_k + a_k dt and q_{k+1} = q_k ⊕ Δq, Δq = h (v_k + v_{k+1})/2 for
+//    ρ∞ = 1, with each force's work booked in the ledger. The elements take their forces at the
+//    method's weighted state, the QP's Hessian is c₁ M and its force carries −c₂ M a_n.
 #pragma once
 
 #include <algorithm>
@@ -46,6 +48,7 @@
 #include "mesh_rows.hpp"
 #include "rotor.hpp"
 #include "series.hpp"
+#include "time_step.hpp"
 #include "torsional_spring.hpp"
 
 namespace pinwind {
@@ -81,7 +84,7 @@ struct StepperSetup {
   std::vector<pinocchio::SE3> frame_placement;
   double dt = 1e-3;
   double projection_tol = 1e-14;
-  double implicit_theta = 0.5;     // compliant_mesh.hpp
+  double rho_infinity = 1.0;       // the time step's spectral radius ρ∞ (time_step.hpp)
   SolverSettings solver;
 };
 
@@ -110,8 +113,7 @@ inline const ElementKind kElementKinds[] = {
     {"compliant_meshes",
      [](const StepperSetup& s, Elements& out) {
        if (s.compliant_meshes.empty()) return;
-       out.push_back(std::make_unique<CompliantMeshes>(s.compliant_meshes, s.paths,
-                                                       s.implicit_theta, s.model.nv));
+       out.push_back(std::make_unique<CompliantMeshes>(s.compliant_meshes, s.paths, s.model.nv));
      }},
     {"generators",
      [](const StepperSetup& s, Elements& out) {
@@ -167,6 +169,7 @@ class Stepper : private BodyForces {
         nm_(s_.meshes.count()),
         rows_(static_cast<Eigen::Index>(s_.rigid_meshes.size() + s_.driver_index.size())),
         qp_(nv_, rows_, s_.solver),
+        method_(s_.rho_infinity),
         q_(q0),
         q_next_(q0),
         v_(v0) {
@@ -185,6 +188,8 @@ class Stepper : private BodyForces {
     bias_.setZero(rows_);
     jv_.setZero(rows_);
     mv_.setZero(nv_);
+    dq_free_.setZero(nv_);
+    accel_memory_.setZero(nv_);
   }
 
   // Steps samples [k0, k1), writing sample k into row k − k0 of out. torque: (k1 − k0, nv)
@@ -253,8 +258,8 @@ class Stepper : private BodyForces {
   }
 
   StepView view() const {
-    return {q_,     v_,      s_.dt,       data_,           s_.meshes, rows_data_,
-            time_, inputs_, target_row_, target_next_row_};
+    return {q_,       v_,          s_.dt,     data_,  s_.meshes,   rows_data_,
+            weights_, dq_free_,    time_,     inputs_, target_row_, target_next_row_};
   }
 
   // Constraint c's rows in the stacked J, γ, targets and λ.
@@ -459,7 +464,7 @@ class Stepper : private BodyForces {
 
   // The QP's Hessian and force for the elements' current active sets, then the solve.
   const QpSolution* solve_qp(long k, double t, RunStatus& st) {
-    hessian_ = mass_;
+    hessian_ = weights_.inertia * mass_;
     force_ = force_explicit_;
     const StepView sv = view();
     for (auto& e : elements_) e->add_implicit(sv, hessian_, force_);
@@ -498,6 +503,9 @@ class Stepper : private BodyForces {
     }
     assemble_velocities();
     const Eigen::VectorXd& nle = nle_;
+    // The time step's weights and the weighted state's displacement at ā = 0 (time_step.hpp).
+    weights_ = StepWeights(method_, s_.dt, first_step_);
+    dq_free_ = weights_.force_new * (s_.dt * v_ + weights_.memory_gain * accel_memory_);
     const StepView sv = view();
     elements_force_.setZero(nv_);
     for (auto& e : elements_) {
@@ -505,6 +513,7 @@ class Stepper : private BodyForces {
       e->add_force(sv, elements_force_);
     }
     force_explicit_ = tau_applied_ + elements_force_ - nle;
+    if (weights_.memory != 0.0) force_explicit_.noalias() -= weights_.memory * (mass_ * accel_memory_);
     const QpSolution* sol = solve_qp(k, t, st);
     if (!sol) return false;
     lam_ = sol->multipliers;
@@ -610,15 +619,19 @@ class Stepper : private BodyForces {
     return Eigen::Map<Vec3>(&out_.at(s, k, e));
   }
 
-  // Semi-implicit Euler, with the work of each force over the step at the mid-step speed (with
-  // which the kinetic-energy change of a step equals the work of its forces when M is constant)
-  // and the constraints' own states (the transmission error along the rigid rows).
+  // The generalized-α step (time_step.hpp), with the work of each force over the step at the
+  // mid-step speed (with which the kinetic-energy change of a step equals the work of its forces
+  // when M is constant) and the constraints' own states (the transmission error along the rigid
+  // rows).
   void advance() {
-    v_next_ = v_ + a_ * s_.dt;
-    mid_ = (0.5 * s_.dt) * (v_ + v_next_);
+    const double h = s_.dt;
+    v_next_ = v_ + a_ * h;
+    mid_ = (0.5 * h) * (v_ + v_next_);
+    dq_ = h * v_ + weights_.step_gain * a_;
+    if (weights_.memory_gain != 0.0) dq_ += weights_.memory_gain * accel_memory_;
     StepWork elements;
     const StepView sv = view();
-    v_mid_ = mid_ / s_.dt;
+    v_mid_ = mid_ / h;
     for (const auto& e : elements_) {
       const StepWork w = e->work(sv, v_next_, v_mid_);
       elements.elastic += w.elastic;
@@ -628,6 +641,13 @@ class Stepper : private BodyForces {
     EnergyLedger step;
     step.applied = tau_applied_.dot(mid_) + elements.applied;
     step.springs = elements.elastic;
+    // M ā = f + Jᵀλ + c₂ M (ā − a_n): the inertia's memory does work on the kinetic energy
+    // that no force does, the method's own dissipation. It joins the springs' work, so that
+    // ``numerical`` = −(ΔU_spring + W_springs) holds all of the integrator's loss.
+    if (weights_.memory != 0.0) {
+      mv_.noalias() = mass_ * (a_ - accel_memory_);
+      step.springs += weights_.memory * mv_.dot(mid_);
+    }
     step.gravity = -gravity_.dot(mid_);
     step.dissipated = elements.dissipated;
     for (size_t c = 0; c < constraints_.size(); ++c) {
@@ -635,10 +655,17 @@ class Stepper : private BodyForces {
     }
     ledger_ += step;
     for (size_t c = 0; c < constraints_.size(); ++c) {
-      constraints_[c]->advance(sv, rows_of(jac_, c), v_next_);
+      constraints_[c]->advance(sv, rows_of(jac_, c), dq_);
     }
     for (auto& e : elements_) e->advance(sv, v_next_);
-    pinocchio::integrate(s_.model, q_, v_next_ * s_.dt, q_next_);
+    // a_{n+1} = (ā − (1 − γ) a_n)/γ; the first step takes a_n = ā.
+    if (first_step_) {
+      accel_memory_ = a_;
+    } else {
+      accel_memory_ = (a_ - (1.0 - method_.gamma) * accel_memory_) / method_.gamma;
+    }
+    first_step_ = false;
+    pinocchio::integrate(s_.model, q_, dq_, q_next_);
     q_ = q_next_;
     v_ = v_next_;
   }
@@ -653,6 +680,10 @@ class Stepper : private BodyForces {
   std::vector<std::unique_ptr<Element>> elements_;
   std::vector<std::unique_ptr<Constraint>> constraints_;
   std::vector<Eigen::Index> offset_;  // each constraint's first row
+  GeneralizedAlpha method_;
+  StepWeights weights_;
+  bool first_step_ = true;
+  Eigen::VectorXd dq_free_, dq_, accel_memory_;  // dq₀, Δq and a_n (time_step.hpp)
   Eigen::VectorXd q_, q_next_, v_, v_next_, mid_, v_mid_;
   MeshRows rows_data_;
   std::vector<Vec3> origin_;

@@ -1,6 +1,12 @@
 // Torsional spring-dampers between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA",
-// k = GJ/L): torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and the opposite on joint 2.
-// Explicit: shaft modes are slow next to mesh modes.
+// k = GJ/L): torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and the opposite on joint 2, and
+// viscous bearing damping. Both are taken at the time step's weighted state (time_step.hpp),
+// linear in the step's acceleration ā like a compliant mesh (compliant_mesh.hpp): with
+// Δθ = θ₁ − θ₂ − θ₀ and the same differences of dq₀, ω and ā,
+//
+//     τ₁ = −k (Δθ_n + Δdq₀ + κ_q Δā) − c (Δω_n + κ_v Δā),   W = (k κ_q + c κ_v) (e₁ − e₂)(e₁ − e₂)ᵀ,
+//
+// so that the step stays second order and, with ρ∞ = 1, keeps the spring's energy.
 #pragma once
 
 #include <vector>
@@ -21,21 +27,36 @@ class TorsionalSprings : public Element {
   explicit TorsionalSprings(std::vector<TorsionalSpringSpec> springs)
       : springs_(std::move(springs)) {}
 
-  void prepare(const StepView& s) override {
-    elastic_.setZero(s.q.size());
-    damping_.setZero(s.q.size());
+  void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
     for (const auto& sp : springs_) {
-      const double torque = -sp.stiffness * twist(sp, s.q);
-      elastic_[sp.index_1] += torque;
-      elastic_[sp.index_2] -= torque;
-      const double friction = -sp.damping * (s.v[sp.index_1] - s.v[sp.index_2]);
-      damping_[sp.index_1] += friction;
-      damping_[sp.index_2] -= friction;
+      const long i = sp.index_1, j = sp.index_2;
+      const double w = sp.stiffness * s.weights.position_gain + sp.damping * s.weights.speed_gain;
+      hessian(i, i) += w;
+      hessian(j, j) += w;
+      hessian(i, j) -= w;
+      hessian(j, i) -= w;
+      const double torque = -sp.stiffness * (twist(sp, s.q) + s.dq_free[i] - s.dq_free[j]) -
+                            sp.damping * (s.v[i] - s.v[j]);
+      force[i] += torque;
+      force[j] -= torque;
     }
   }
 
-  void add_force(const StepView&, Eigen::VectorXd& force) override {
-    force += elastic_ + damping_;
+  bool settle(const StepView& s, const Eigen::VectorXd& a, bool) override {
+    elastic_.setZero(s.q.size());
+    damping_.setZero(s.q.size());
+    for (const auto& sp : springs_) {
+      const long i = sp.index_1, j = sp.index_2;
+      const double da = a[i] - a[j];
+      const double torque = -sp.stiffness * (twist(sp, s.q) + s.dq_free[i] - s.dq_free[j] +
+                                             s.weights.position_gain * da);
+      elastic_[i] += torque;
+      elastic_[j] -= torque;
+      const double friction = -sp.damping * (s.v[i] - s.v[j] + s.weights.speed_gain * da);
+      damping_[i] += friction;
+      damping_[j] -= friction;
+    }
+    return false;
   }
 
   double potential(const StepView& s) const override {
@@ -61,13 +82,19 @@ class TorsionalSprings : public Element {
   Eigen::VectorXd elastic_, damping_;
 };
 
-// Viscous bearing damping −c ω on each joint [N·m].
+// Viscous bearing damping −c ω on each joint [N·m], at the weighted speed v_n + κ_v ā.
 class BearingDamping : public Element {
  public:
   explicit BearingDamping(Eigen::VectorXd damping) : damping_(std::move(damping)) {}
 
-  void prepare(const StepView& s) override { torque_ = -damping_.cwiseProduct(s.v); }
-  void add_force(const StepView&, Eigen::VectorXd& force) override { force += torque_; }
+  void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
+    hessian.diagonal() += s.weights.speed_gain * damping_;
+    force -= damping_.cwiseProduct(s.v);
+  }
+  bool settle(const StepView& s, const Eigen::VectorXd& a, bool) override {
+    torque_ = -damping_.cwiseProduct(s.v + s.weights.speed_gain * a);
+    return false;
+  }
   StepWork work(const StepView& s, const Eigen::VectorXd&,
                 const Eigen::VectorXd& v_mid) const override {
     return {0.0, -torque_.dot(v_mid) * s.dt};
