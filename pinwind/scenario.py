@@ -18,7 +18,7 @@ into the same values. Keys (units at the edge, like the flags; ``-`` and ``_`` a
     mesh = { all = "rigid" }                       # rigid | compliant
     position_error = { planet1 = [20.0, 0.0] }     # tangential, radial [µm]
     wind = "kaimal(mean=10, turbulence_intensity=0.1, seed=1)"   # [m/s]: a number or a signal
-    rho_inf = 0.9                                  # time step's spectral radius ρ∞ (1 keeps energy)
+    rho_inf = 1.0                                  # time step's spectral radius ρ∞ (1 keeps energy)
     out = "saleh2017_rated.mcap"                   # log (a bare name goes in logs/)
     log_rate = 100.0                               # [Hz]
     force = false                                  # replace an existing log

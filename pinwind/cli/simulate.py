@@ -156,7 +156,7 @@ def simulate(
         typer.Option(
             "--rho-inf",
             help="Spectral radius ρ∞ of the time step, 0 to 1: 1 keeps energy (trapezoidal "
-            "rule), smaller damps the modes dt does not resolve. Default 0.9.",
+            "rule, the default), smaller damps the modes dt does not resolve.",
         ),
     ] = None,
 ) -> None:

@@ -287,7 +287,7 @@ def simulate(
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
         integrator: the time step and its numerical dissipation (``Integrator``; default
-            ``Integrator()``: generalized-α with ρ∞ = 0.9).
+            ``Integrator()``: generalized-α with ρ∞ = 1, the trapezoidal rule).
         progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
         observer: one or several observers that receive the samples as they are computed:
             the MCAP logger (``io/log_writer.McapLogger``), the run statistics
