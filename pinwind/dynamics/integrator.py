@@ -85,7 +85,7 @@ class Integrator:
         return 0.25 * (1.0 - self.alpha_m + self.alpha_f) ** 2
 
     def as_dict(self) -> dict:
-        """Settings for metadata (``result.metadata["integrator"]``): the scheme and its constants."""
+        """The scheme and its constants, for ``result.metadata["integrator"]``."""
         trapezoidal = math.isclose(self.rho_infinity, 1.0)
         return {
             "integrator": (

@@ -18,8 +18,8 @@ import pinocchio as pin
 
 from pinwind.dynamics import _native
 from pinwind.dynamics.compliant import MeshSetup
-from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.elements import LoadElements
+from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
