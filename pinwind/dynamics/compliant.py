@@ -55,6 +55,7 @@ from pinwind.model.phasing import direction_at
 #: Steps per period of the highest mesh mode below which a run warns that the step is coarse.
 RESOLVING_STEPS = 10
 
+
 @dataclass(frozen=True)
 class MeshSetup:
     """Everything the step loop needs to know about the meshes of one run.
