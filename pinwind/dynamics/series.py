@@ -160,7 +160,7 @@ _BUILT_IN: tuple[Series, ...] = (
            logged=False,
            plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm")),
     Series("acceleration", _J, "acceleration", "rad/s^2",
-           "joint acceleration over the step that starts at the sample", short="accel."),
+           "joint acceleration at the sample", short="accel."),
     Series("torque", _J, "torque", "N*m",
            "applied torque plus speed-driver or lock torque on the joint", logged=False,
            plot=Plot("torque", "torques and power", "joint torques, applied + driver/lock "

@@ -20,9 +20,10 @@
 //    loaded flank) and elements with contact conditions settle their active sets, solving
 //    again while any asks;
 // 3. bearing reactions by RNEA with the constraints' and elements' forces on the bodies;
-// 4. the generalized-α step (advance; time_step.hpp derives it): with a_k the step's mean
-//    acceleration, v_{k+1} = v_k + a_k dt and q_{k+1} = q_k ⊕ Δq, Δq = h (v_k + v_{k+1})/2 for
-//    ρ∞ = 1, with each force's work booked in the ledger. The elements take their forces at the
+// 4. the generalized-α step (advance; time_step.hpp derives it): with ā the step's mean
+//    acceleration, v_{k+1} = v_k + ā dt and q_{k+1} = q_k ⊕ Δq, Δq = h (v_k + v_{k+1})/2 for
+//    ρ∞ = 1, with each force's work booked in the ledger. The recorded acceleration is the
+//    method's a_k, the acceleration at the sample. The elements take their forces at the
 //    method's weighted state, the QP's Hessian is c₁ M and its force carries −c₂ M a_n.
 #pragma once
 
@@ -502,10 +503,23 @@ class Stepper : private BodyForces {
       residual_ = residual();
     }
     assemble_velocities();
-    const Eigen::VectorXd& nle = nle_;
+    if (first_step_) {
+      // The consistent start a_0: the dynamics at the first sample (time_step.hpp).
+      weights_ = StepWeights();
+      dq_free_.setZero(nv_);
+      if (!dynamics(k, t, st)) return false;
+      accel_memory_ = a_;
+      first_step_ = false;
+    }
     // The time step's weights and the weighted state's displacement at ā = 0 (time_step.hpp).
-    weights_ = StepWeights(method_, s_.dt, first_step_);
+    weights_ = StepWeights(method_, s_.dt);
     dq_free_ = weights_.force_new * (s_.dt * v_ + weights_.memory_gain * accel_memory_);
+    return dynamics(k, t, st);
+  }
+
+  // The step's ā and λ for the current weights, at the assembled state.
+  bool dynamics(long k, double t, RunStatus& st) {
+    const Eigen::VectorXd& nle = nle_;
     const StepView sv = view();
     elements_force_.setZero(nv_);
     for (auto& e : elements_) {
@@ -571,7 +585,7 @@ class Stepper : private BodyForces {
     out_.at(Series::time, k, 0) = t;
     joint_row(Series::angle, k) = q_;
     joint_row(Series::speed, k) = v_;
-    joint_row(Series::acceleration, k) = a_;
+    joint_row(Series::acceleration, k) = accel_memory_;  // a_k, at the sample
     joint_row(Series::torque, k) = tau_applied_;
     const StepView sv = view();
     for (size_t c = 0; c < constraints_.size(); ++c) {
@@ -658,13 +672,8 @@ class Stepper : private BodyForces {
       constraints_[c]->advance(sv, rows_of(jac_, c), dq_);
     }
     for (auto& e : elements_) e->advance(sv, v_next_);
-    // a_{n+1} = (ā − (1 − γ) a_n)/γ; the first step takes a_n = ā.
-    if (first_step_) {
-      accel_memory_ = a_;
-    } else {
-      accel_memory_ = (a_ - (1.0 - method_.gamma) * accel_memory_) / method_.gamma;
-    }
-    first_step_ = false;
+    // a_{n+1} = (ā − (1 − γ) a_n)/γ.
+    accel_memory_ = (a_ - (1.0 - method_.gamma) * accel_memory_) / method_.gamma;
     pinocchio::integrate(s_.model, q_, dq_, q_next_);
     q_ = q_next_;
     v_ = v_next_;

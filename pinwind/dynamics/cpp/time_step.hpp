@@ -35,8 +35,10 @@
 // element force at mid-step, the trapezoidal rule (implicit midpoint on linear elements): no
 // numerical dissipation, a compliant mesh's weight W = h (h k/4 + c/2) JᵀJ, and the period of a
 // mode of ω lengthened by (ωh)²/12. ρ∞ < 1 damps the modes the step does not resolve and keeps
-// second order in those it does. The first step has no a_n: it takes a_n = ā (c₁ = 1, c₂ = 0,
-// Δq = h v_n + h² ā/2).
+// second order in those it does. The method starts from consistent accelerations a_0, the
+// dynamics at the first sample (forces at (q_0, v_0), no weights: StepWeights()), and carries
+// a_n, the accelerations at the samples: for ρ∞ = 1 and linear forces a_{n+1} = 2 ā − a_n is
+// M⁻¹ f(q_{n+1}, v_{n+1}) exactly, since M ā is the mean of the forces at both ends.
 #pragma once
 
 #include <algorithm>
@@ -57,24 +59,25 @@ struct GeneralizedAlpha {
   }
 };
 
-// One step's weights (module comment), for step size h; first: no a_n yet.
+// One step's weights (module comment), for step size h; the default ones give the dynamics at
+// the sample itself (forces at (q_n, v_n), M a = f): the consistent start a_0.
 struct StepWeights {
   double inertia = 1.0;        // c₁
   double memory = 0.0;         // c₂ (of M a_n)
-  double force_new = 0.5;      // 1 − αf: the weight of the end-of-step state in the forces
+  double force_new = 0.0;      // 1 − αf: the weight of the end-of-step state in the forces
   double position_gain = 0.0;  // κ_q [s²]
   double speed_gain = 0.0;     // κ_v [s]
   double step_gain = 0.0;      // h² β/γ [s²]: ā in Δq
   double memory_gain = 0.0;    // h² (½ − β/γ) [s²]: a_n in Δq
 
   StepWeights() = default;
-  StepWeights(const GeneralizedAlpha& g, double h, bool first) {
-    const double ratio = first ? 0.5 : g.beta / g.gamma;
-    inertia = first ? 1.0 : (1.0 - g.alpha_m) / g.gamma;
+  StepWeights(const GeneralizedAlpha& g, double h) {
+    const double ratio = g.beta / g.gamma;
+    inertia = (1.0 - g.alpha_m) / g.gamma;
     memory = 1.0 - inertia;
     force_new = 1.0 - g.alpha_f;
     step_gain = h * h * ratio;
-    memory_gain = first ? 0.0 : h * h * (0.5 - ratio);
+    memory_gain = h * h * (0.5 - ratio);
     position_gain = force_new * step_gain;
     speed_gain = force_new * h;
   }
