@@ -111,21 +111,26 @@ def test_compliant_forces_converge_to_the_rigid_ones_as_one_over_stiffness():
     omega, ramp = 2 * math.pi * 20, 0.02
 
     def torque(t):
-        # A smooth start, so no free vibration is left to mask the quasi-static error.
+        # A smooth start: little free vibration of the mesh mode beside the quasi-static error.
         return math.sin(0.5 * math.pi * min(t / ramp, 1.0)) ** 2 * (5.0 + 2.0 * math.sin(omega * t))
 
     run = dict(duration=0.1, dt=1e-5, torques={"a": torque}, speeds={"b": 0.0}, gravity=np.zeros(3))
-    rigid = pinwind.simulate(gb, **run).mesh("m").normal
-    late = slice(len(rigid) // 2, None)
+    res = pinwind.simulate(gb, **run)
+    rigid, time = res.mesh("m").normal, res.time
+    late = slice(len(rigid) // 2, len(rigid) - 1)  # one period of the load, 0.05 … 0.1 s
+    mass = J_A / R_BA**2  # gear a on its line of action (gear b is held) [kg]
     errors = []
     for k in (1e8, 1e9, 1e10):
         res = pinwind.simulate(gb, meshes={"m": _constant(k, damping=100.0)}, **run)
-        force = res.mesh("m").normal
-        errors.append(np.abs(force[late] - rigid[late]).max() / np.abs(rigid[late]).max())
-    # Inertia and damping forces of a compliant mesh both scale with 1/k: ten times stiffer,
-    # ten times closer.
-    ratios = np.array(errors[:-1]) / np.array(errors[1:])
-    assert np.all((ratios > 7.0) & (ratios < 14.0)), errors
+        deviation = res.mesh("m").normal[late] - rigid[late]
+        errors.append(np.abs(deviation).max() / np.abs(rigid[late]).max())
+        # Quasi-statically F = F_r − m δ̈, δ = F/k: F − F_r = −(m/k) F̈_r, with F_r = τ/R_b and
+        # τ = 5 + 2 sin ωt: (m/k) 2ω²/R_b sin ωt, ten times smaller for a ten times stiffer mesh
+        # (the damping enters at 1/k²). The start-up's free vibration (the mesh mode, kHz) keeps
+        # no component at the load's 20 Hz over a whole period.
+        in_phase = 2.0 * np.mean(deviation * np.sin(omega * time[late]))
+        expected = mass / _mean_stiffness(k) * 2.0 * omega**2 / R_BA
+        np.testing.assert_allclose(in_phase, expected, rtol=1e-3)
     assert errors[-1] < 1e-5
 
 
