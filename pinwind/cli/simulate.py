@@ -200,6 +200,7 @@ def _run_and_report(
     from pinwind import scenario as sc
     from pinwind.analysis import load_sharing
     from pinwind.analysis.summary import summary_tables
+    from pinwind.dynamics.time_step import dt_advice
 
     before = _stamp(log) if log is not None else None
     previous = signal.signal(signal.SIGTERM, raise_terminated)
@@ -232,6 +233,13 @@ def _run_and_report(
         f"({res.metadata['wall_time_s'] / max(steps, 1) * 1e6:.0f} µs/step); "
         f"max |J v| = {residual:.2e}"
     )
+    if res.metadata.get("highest_mesh_mode_hz", 0.0) > 0.0:
+        advice = dt_advice(
+            res.metadata["highest_mesh_mode_hz"],
+            dt,
+            res.metadata.get("highest_mesh_mode_damping_ratio", 0.0),
+        )
+        say(advice.text())
     stride = res.metadata.get("keep_stride", 1)
     if stride > 1:
         say(
