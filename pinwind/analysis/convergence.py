@@ -114,8 +114,7 @@ class DtRow:
 
     @property
     def verdict(self) -> str:
-        """One line: ``converged to 0.3 %`` (the value at dt against dt/4) or
-        ``not converged: halve dt``."""
+        """``converged to 0.3 %`` (the value at dt against dt/4) or ``not converged: halve dt``."""
         if self.converged:
             return f"converged to {100 * self.error:.2g} %"
         return "not converged: halve dt"

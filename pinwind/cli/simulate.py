@@ -335,8 +335,10 @@ def _check_dt_and_report(
         )
         columns = (group, "", "dt", "dt/2", "dt/4", "Δ½ %", "Δ¼ %", "p", "off %", "verdict")
         for i, name in enumerate(columns):
-            justify = "left" if i in (0, 1, len(columns) - 1) else "right"
-            table.add_column(name, justify=justify, overflow="fold", no_wrap=i == 0)
+            left = i in (0, 1, len(columns) - 1)
+            table.add_column(
+                name, justify="left" if left else "right", overflow="fold", no_wrap=i == 0
+            )
         for row in rows:
             table.add_row(
                 escape(row.element),
