@@ -140,3 +140,18 @@ def test_a_scenario_file_takes_the_same_check(tmp_path):
         f"{a}_{b}" for a, b in (("sun", "planet1"), ("sun", "planet2"), ("sun", "planet3"),
                                 ("planet1", "ring"), ("planet2", "ring"), ("planet3", "ring"))
     }  # fmt: skip
+
+
+def test_the_default_window_widens_to_three_mesh_periods():
+    gb = loads(two_gear_urdf(), "pair.urdf")
+    speed = 100.0  # gear B [rad/s]: a mesh period is 2π / (40 × 100) s, 1.57 ms
+    period = 2 * math.pi / (40 * speed)
+    check = check_dt(
+        gb, dt=2e-5, duration=0.01, torques={"a": 1.0}, speeds={"b": speed},
+        gravity=np.zeros(3), meshes={"all": "compliant"}, progress=False,
+    )  # fmt: skip
+    start, end = check.window
+    assert end == pytest.approx(0.01, rel=1e-12)
+    # The last 10 % (1 ms) holds less than one period; the window starts at the tooth change
+    # three periods before the end's last one: between 3 and 4 periods long.
+    assert 3 * period - 2e-5 <= end - start <= 4 * period + 2e-5
