@@ -21,9 +21,11 @@ Why implicit. Mesh stiffnesses of 1e8 to 5e9 N/m on gears of a few kilograms to 
 modes in the kHz; an explicit spring would need steps of microseconds. The compiled element
 takes the force at the end of the step (θ = ½ of the way in deflection, the end-of-step speed
 for damping), which makes it linear in the step's acceleration, so it enters the same proxsuite
-solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is stable at any step; a step too
-coarse to resolve the highest mesh mode is run, with one warning naming the mode's frequency
-and the step that resolves it (``RESOLVING_STEPS`` per period).
+solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is stable at any step, but it damps
+the mesh modes numerically (``dynamics/time_step.py``: ζ_num = ω dt / 4). The run's metadata
+and summary name the highest mesh mode, its numerical damping ratio at the chosen dt beside its
+physical one, and the dt that keeps the numerical one below a tenth of the physical; a run whose
+numerical damping of that mode exceeds the physical one warns with the same line.
 
 Position errors of gear centres (planet pin errors) shift the overlaps by n·(e_A − e_B): a
 constant offset in the carrier's frame that makes the planets share the load unequally.
@@ -41,6 +43,7 @@ import pinocchio as pin
 
 from pinwind.dynamics import _native
 from pinwind.dynamics.mesh import MeshSet
+from pinwind.dynamics.time_step import DEFAULT_SCHEME, dt_advice
 from pinwind.errors import InputError, PinwindWarning, UnknownElement
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
@@ -52,11 +55,8 @@ from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gear, Gearbox, Mesh
 from pinwind.model.phasing import direction_at
 
-#: Steps per period of the highest mesh mode below which a run warns that the step is coarse.
-RESOLVING_STEPS = 10
-
 #: θ of the implicit mesh force (cpp/compliant_mesh.hpp): ½ damps the mesh modes least.
-IMPLICIT_THETA = 0.5
+IMPLICIT_THETA = DEFAULT_SCHEME.implicit_theta
 
 
 @dataclass(frozen=True)
@@ -69,6 +69,7 @@ class MeshSetup:
         paths: every mesh's path-of-contact constants (compiled struct).
         compliant: the compliant meshes' constants (compiled structs).
         highest_mode: frequency of the highest mesh mode [Hz] (0 without compliant meshes).
+        highest_mode_damping: that mode's damping ratio from the mesh dashpots [-].
     """
 
     meshes: list[Mesh]
@@ -76,6 +77,7 @@ class MeshSetup:
     paths: list[_native.MeshPathSpec]
     compliant: list[_native.CompliantMeshSpec]
     highest_mode: float
+    highest_mode_damping: float = 0.0
 
     def compliance(self, spec: _native.CompliantMeshSpec) -> tuple[Mesh, MeshCompliance]:
         """The mesh of a compliant spec and its compliance."""
@@ -285,9 +287,9 @@ def mesh_setup(
                     if math.isfinite(m_eq)
                     else 0.0
                 )
-        frequency = highest_mesh_mode(mass, constraints, ms, rows, setup)
-        setup = MeshSetup(meshes, rigid, paths, compliant, frequency)
-        _warn_if_coarse(frequency, dt)
+        frequency, damping = highest_mesh_mode_and_damping(mass, constraints, rows, setup)
+        setup = MeshSetup(meshes, rigid, paths, compliant, frequency, damping)
+        _warn_if_damped_numerically(frequency, dt, damping)
     return setup
 
 
@@ -418,8 +420,19 @@ def highest_mesh_mode(mass, constraints, ms: MeshSet, rows, setup: MeshSetup) ->
 
     Generalised eigenvalues of (Σ k_max JᵢᵀJᵢ, M) over the motions the rigid rows allow.
     """
+    return highest_mesh_mode_and_damping(mass, constraints, rows, setup)[0]
+
+
+def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> tuple[float, float]:
+    """Frequency [Hz] and damping ratio [-] of the highest mesh-spring mode at its stiffest.
+
+    Generalised eigenvalues of (K, M), K = Σ k_max JᵢᵀJᵢ, over the motions the rigid rows allow;
+    the damping ratio of that mode φ is φᵀ C φ / (2 ω φᵀ M φ) with C = Σ cᵢ JᵢᵀJᵢ, the mesh
+    dashpots (the damping the mode has physically, whatever the step).
+    """
     nv = mass.shape[0]
     stiffness = np.zeros((nv, nv))
+    damping = np.zeros((nv, nv))
     for spec, path in ((s, setup.paths[s.mesh]) for s in setup.compliant):
         row = rows.row_front[spec.mesh]
         k_max = spec.stiffness
@@ -434,22 +447,28 @@ def highest_mesh_mode(mass, constraints, ms: MeshSet, rows, setup: MeshSetup) ->
                 for xi in x
             )
         stiffness += k_max * np.outer(row, row)
+        damping += spec.damping * np.outer(row, row)
     basis = _free_motions(constraints, nv)
     if basis.shape[1] == 0:
-        return 0.0
+        return 0.0, 0.0
     from scipy.linalg import eigh
 
-    omega2 = eigh(basis.T @ stiffness @ basis, basis.T @ mass @ basis, eigvals_only=True)
-    return math.sqrt(max(float(omega2.max()), 0.0)) / (2.0 * math.pi)
+    m = basis.T @ mass @ basis
+    omega2, modes = eigh(basis.T @ stiffness @ basis, m)
+    omega = math.sqrt(max(float(omega2[-1]), 0.0))
+    if omega == 0.0:
+        return 0.0, 0.0
+    phi = modes[:, -1]
+    ratio = float(phi @ basis.T @ damping @ basis @ phi) / (2.0 * omega * float(phi @ m @ phi))
+    return omega / (2.0 * math.pi), ratio
 
 
-def _warn_if_coarse(frequency: float, dt: float) -> None:
-    if frequency * dt * RESOLVING_STEPS > 1.0:
+def _warn_if_damped_numerically(frequency: float, dt: float, physical_ratio: float) -> None:
+    """Warn when the step damps the highest mesh mode more than its dashpots do."""
+    advice = dt_advice(frequency, dt, physical_ratio)
+    if advice.numerical_ratio > physical_ratio:
         warnings.warn(
-            f"dt = {dt:.3g} s does not resolve the highest mesh mode at {frequency:.4g} Hz "
-            f"({1.0 / (frequency * dt):.3g} steps per period); the run is stable but that mode "
-            f"is damped numerically. dt ≤ {1.0 / (RESOLVING_STEPS * frequency):.2g} s resolves "
-            f"it with {RESOLVING_STEPS} steps per period",
+            advice.text() + "; the step, not the mesh damping, sets how much that mode responds",
             PinwindWarning,
             stacklevel=4,
         )

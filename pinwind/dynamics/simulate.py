@@ -402,6 +402,7 @@ def simulate(
         "integrator": "semi-implicit Euler with velocity projection",
         "meshes": _mesh_metadata(mesh_setup_),
         "highest_mesh_mode_hz": mesh_setup_.highest_mode,
+        "highest_mesh_mode_damping_ratio": mesh_setup_.highest_mode_damping,
         "samples_simulated": samples,
         "keep_stride": stride,
         **elements.metadata,
