@@ -12,7 +12,9 @@ x the roll position of the tooth pairs along the path of contact (``cpp/mesh_pat
 
 - k(x): the sum over the tooth pairs in contact of one pair's stiffness, c′b in the single-pair
   zone and 0.875 c′b each in the double-pair zones (mean ISO 6336-1 c_γα b,
-  ``gears/mesh_stiffness.py``), a user table (003 Fig. 8), or the constant c_γα b;
+  ``gears/mesh_stiffness.py``); for helical gears in proportion to the total length of the
+  contact lines (``contact_line_pair_stiffness``, same mean); a user table (003 Fig. 8), or the
+  constant c_γα b. Stiffnesses act along the transverse line of action;
 - backlash j: the back flank's overlap is δ_b = −(rolling part) + (radial part) − j, no force in
   between;
 - the single-tooth force F k₁/k (003 §2.4) of the pair entering the mesh.
@@ -47,6 +49,7 @@ from pinwind.dynamics.time_step import DEFAULT_SCHEME, dt_advice
 from pinwind.errors import InputError, PinwindWarning, UnknownElement
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
+    contact_line_pair_stiffness,
     mesh_stiffness,
     pair_stiffness_along_path,
     single_pair_stiffness,
@@ -306,15 +309,19 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.M
     if path is None:
         spec.roll_start = math.nan
         return spec
+    # A helical pair touches over the roll span g_α + Δ (``overlap_span``), its position taken
+    # in the front face section, Δ/2 ahead of the mid-face section where P and the reference
+    # directions lie.
+    overlap = overlap_span(mesh)
     spec.base_pitch = path.base_pitch
-    spec.path_length = path.length
-    spec.roll_start = path.start_roll_1
+    spec.path_length = path.length + overlap
+    spec.roll_start = path.start_roll_1 - 0.5 * overlap
     spec.roll_radius_a = mesh.base_radius_a
     # Tooth 0 of gear A has its front flank at the pitch point when its reference direction
     # points at the pitch point. Its back flank (the other side of the tooth) is then the
     # tooth thickness behind, on the back line of action (the mirror image of the front one
     # about the centre line): r_b,A times the thickness angle further along the path.
-    pitch = (path.pitch_roll_1 - path.start_roll_1) % path.base_pitch
+    pitch = (path.pitch_roll_1 - path.start_roll_1 + 0.5 * overlap) % path.base_pitch
     spec.entering_front = pitch
     spec.entering_back = (pitch + mesh.base_radius_a * tooth_a) % path.base_pitch
     # ψ_A is measured from the centre line towards B's centre (cpp/mesh_path.hpp gear_a_angle);
@@ -344,11 +351,33 @@ def single_pair(mesh: Mesh) -> float:
     return single_pair_stiffness(_stiffness_pair(mesh))
 
 
+def _follows_contact_lines(mesh: Mesh) -> bool:
+    """Whether the mesh stiffness follows the contact-line length: a helical mesh on ``path``."""
+    c = mesh.compliance
+    if c is not None and (c.pair_stiffness is not None or c.variation == "constant"):
+        return False
+    return mesh.path is not None and mesh.path.overlap_ratio > 0.0
+
+
+def overlap_span(mesh: Mesh) -> float:
+    """Roll length Δ = b tan β_b = ε_β p_bt a helical pair stays in contact beyond g_α [m].
+
+    0 unless the mesh stiffness follows the contact lines (``contact_line_pair_stiffness``):
+    with a user table or a constant stiffness the path is the transverse one, g_α.
+    """
+    if not _follows_contact_lines(mesh) or mesh.path is None:
+        return 0.0
+    return mesh.path.overlap_ratio * mesh.path.base_pitch
+
+
 def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
     """Stiffness of one tooth pair along the path of contact (positions [m], [N/m]).
 
-    None where the mesh stiffness is constant. A rigid mesh gets the ISO shape too: its ratios
-    split the force between the pairs for the single-tooth force.
+    Positions run from A over g_α + ``overlap_span``. None where the mesh stiffness is constant.
+    Spur: the ISO shape (``pair_stiffness_along_path``); helical: in proportion to the pair's
+    contact-line length (``contact_line_pair_stiffness``), with ISO's mean c′b (0.75 ε_α + 0.25)
+    either way. A rigid mesh gets the shape too: its ratios split the force between the pairs
+    for the single-tooth force.
     """
     c = mesh.compliance
     if c is not None and c.pair_stiffness is not None:
@@ -356,10 +385,15 @@ def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
         return s, k
     if c is not None and c.variation == "constant":
         return None
-    if mesh.path is None or not 1.0 <= mesh.path.contact_ratio <= 2.0:
+    path = mesh.path
+    if path is None:
         return None
     single = single_pair(mesh) if c is not None else 1.0
-    return pair_stiffness_along_path(mesh.path, single)
+    if _follows_contact_lines(mesh):
+        return contact_line_pair_stiffness(path, single * (0.75 * path.contact_ratio + 0.25))
+    if not 1.0 <= path.contact_ratio <= 2.0:
+        return None
+    return pair_stiffness_along_path(path, single)
 
 
 def mean_mesh_stiffness(mesh: Mesh) -> float:
@@ -371,11 +405,12 @@ def mean_mesh_stiffness(mesh: Mesh) -> float:
     path = mesh.path
     if table is not None and path is not None:
         s, k = table
+        length = path.length + overlap_span(mesh)
         x = np.linspace(0.0, path.base_pitch, 2001)[:-1]
         total = sum(
-            np.where(x + j * path.base_pitch <= path.length + 1e-12, 1.0, 0.0)
+            np.where(x + j * path.base_pitch <= length + 1e-12, 1.0, 0.0)
             * np.interp(x + j * path.base_pitch, s, k)
-            for j in range(int(path.length / path.base_pitch) + 1)
+            for j in range(int(length / path.base_pitch) + 1)
         )
         return float(np.mean(total))
     c = mesh.compliance

@@ -35,7 +35,7 @@ inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const
   out.at(Series::mesh_normal, k, m) = normal;
   out.at(Series::mesh_tangential, k, m) = tangential;
   out.at(Series::mesh_radial, k, m) = normal * mc.sin_a[m];
-  out.at(Series::mesh_axial, k, m) = tangential * std::abs(mc.tan_beta[m]);
+  out.at(Series::mesh_axial, k, m) = normal * std::abs(mc.tan_beta_b[m]);  // tooth_force_on_b
   out.at(Series::mesh_flank, k, m) = flank;
   const Vec3 f = tooth_force_on_b(mc, rows, m, flank, normal);
   for (int c = 0; c < 3; ++c) {
