@@ -146,11 +146,12 @@ class RigidMeshes : public Constraint {
           gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
       const PathState p = path_state(path, angle, flank_[r]);
       record_mesh_force(out, mc, s.rows, k, m, lambda[r], flank_[r]);
-      out.at(Series::transmission_error, k, m) = te_[r];
-      out.at(Series::mesh_deflection, k, m) = 0.0;
-      out.at(Series::mesh_contact_position, k, m) = path.roll_start + p.entering;
-      out.at(Series::mesh_pairs, k, m) = p.pairs;
-      out.at(Series::mesh_single_tooth_force, k, m) = lambda[r] * p.share;
+      const long e = out.entry(Family::mesh, k, m);
+      out.at(Series::transmission_error, e) = te_[r];
+      out.at(Series::mesh_deflection, e) = 0.0;
+      out.at(Series::mesh_contact_position, e) = path.roll_start + p.entering;
+      out.at(Series::mesh_pairs, e) = p.pairs;
+      out.at(Series::mesh_single_tooth_force, e) = lambda[r] * p.share;
     }
   }
 
@@ -162,7 +163,8 @@ class RigidMeshes : public Constraint {
   }
 
   void advance(const StepView& s, ConstRows jac, const Eigen::VectorXd& v_next) override {
-    for (Eigen::Index r = 0; r < size(); ++r) te_[r] += jac.row(r).dot(v_next * s.dt);
+    const double h = s.dt;
+    for (Eigen::Index r = 0; r < size(); ++r) te_[r] += jac.row(r).dot(v_next * h);
   }
 
  private:
@@ -205,7 +207,9 @@ class SpeedDrivers : public Constraint {
   }
 
   void record(const StepView&, long k, ConstValues lambda, const Outputs& out) const override {
-    for (Eigen::Index i = 0; i < size(); ++i) out.at(Series::torque, k, index_[i]) += lambda[i];
+    for (Eigen::Index i = 0; i < size(); ++i) {
+      out.at(Series::torque, out.entry(Family::joint, k, index_[i])) += lambda[i];
+    }
   }
 
   void work(const StepView&, ConstRows, ConstValues lambda, const Eigen::VectorXd& dq,
