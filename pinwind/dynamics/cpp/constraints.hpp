@@ -47,6 +47,9 @@ class Constraint {
   virtual Eigen::Index size() const = 0;
   // J (k × nv) and γ (k) at the state of the view (its mesh rows evaluated).
   virtual void rows(const StepView&, RowsBlock jac, ValuesBlock bias) const = 0;
+  // Whether J and γ are the same at every state (and for every λ): the stepper then asks for
+  // them once.
+  virtual bool constant_rows() const { return false; }
   // The velocity targets w(t_k) and w(t_{k+1}); left 0 by default.
   virtual void targets(const StepView&, ValuesBlock now, ValuesBlock next) const {
     (void)now;
@@ -82,7 +85,7 @@ class Constraint {
 // λ means the other flank carries the load: the row switches to it. Writes the mesh forces,
 // transmission error (∫ J v dt along the loaded flank [m]), contact position, pairs and
 // single-tooth force; its work joins work_constraints (zero but for the rows' drift).
-class RigidMeshes : public Constraint {
+class RigidMeshes final : public Constraint {
  public:
   // meshes: the indices of the rigid meshes in the model's mesh list, in row order.
   RigidMeshes(std::vector<long> meshes, const std::vector<MeshPathSpec>& paths)
@@ -185,7 +188,7 @@ class RigidMeshes : public Constraint {
 // Speed drivers and locked bearings: row e_i on velocity i, J v = w(t), w the driver's speed
 // [rad/s] (0 for a lock), bias 0. λ is the torque the driver puts on its joint [N·m]; it joins
 // the joint's recorded torque, and its work joins work_drivers.
-class SpeedDrivers : public Constraint {
+class SpeedDrivers final : public Constraint {
  public:
   // index: velocity index of each driver and lock, in row order.
   SpeedDrivers(std::vector<long> index, Eigen::Index nv) : index_(std::move(index)) {
@@ -199,6 +202,8 @@ class SpeedDrivers : public Constraint {
     for (Eigen::Index i = 0; i < size(); ++i) jac(i, index_[i]) = 1.0;
     bias.setZero();
   }
+
+  bool constant_rows() const override { return true; }
 
   void targets(const StepView& s, ValuesBlock now, ValuesBlock next) const override {
     if (!size()) return;

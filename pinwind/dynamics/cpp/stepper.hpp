@@ -179,10 +179,19 @@ class Stepper {
     Eigen::Index offset = 0;
     for (const auto& c : constraints_) {
       offset_.push_back(offset);
+      size_.push_back(c->size());
       offset += c->size();
     }
     jac_.setZero(rows_, nv_);
     bias_.setZero(rows_);
+    const StepView sv = view();
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      if (constraints_[c]->constant_rows()) {
+        constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
+      } else {
+        varying_.push_back(c);
+      }
+    }
     jv_.setZero(rows_);
     mv_.setZero(nv_);
   }
@@ -258,10 +267,12 @@ class Stepper {
   }
 
   // Constraint c's rows in the stacked J, γ, targets and λ.
-  auto rows_of(Eigen::MatrixXd& m, size_t c) {
-    return m.middleRows(offset_[c], constraints_[c]->size());
+  Eigen::MatrixXd::RowsBlockXpr rows_of(Eigen::MatrixXd& m, size_t c) {
+    return m.middleRows(offset_[c], size_[c]);
   }
-  auto rows_of(Eigen::VectorXd& x, size_t c) { return x.segment(offset_[c], constraints_[c]->size()); }
+  Eigen::VectorXd::SegmentReturnType rows_of(Eigen::VectorXd& x, size_t c) {
+    return x.segment(offset_[c], size_[c]);
+  }
 
   // The velocity targets of this sample's rows at t_k and t_{k+1}.
   void targets() {
@@ -399,12 +410,10 @@ class Stepper {
     mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
   }
 
-  // J and γ of every constraint's rows.
+  // J and γ of every constraint's rows (constant ones are set at construction).
   void constraint_matrix() {
     const StepView sv = view();
-    for (size_t c = 0; c < constraints_.size(); ++c) {
-      constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
-    }
+    for (const size_t c : varying_) constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
   }
 
   double residual() {
@@ -645,7 +654,8 @@ class Stepper {
   ConstrainedQp qp_;
   std::vector<std::unique_ptr<Element>> elements_;
   std::vector<std::unique_ptr<Constraint>> constraints_;
-  std::vector<Eigen::Index> offset_;  // each constraint's first row
+  std::vector<Eigen::Index> offset_, size_;  // each constraint's first row and row count
+  std::vector<size_t> varying_;  // the constraints whose rows depend on the state
   Eigen::VectorXd q_, q_next_, v_, v_next_, mid_, v_mid_;
   MeshRows rows_data_;
   std::vector<Vec3> origin_;
