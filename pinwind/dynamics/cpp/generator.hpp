@@ -115,7 +115,7 @@ class ShaftSpeedGenerator : public JointTorqueElement {
   // Also T_gen = −τ over the step, the generator's own output.
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    out.at(Series::generator_torque, k, slot_) = -applied();
+    out.at(Series::generator_torque, out.entry(Family::generator, k, slot_)) = -applied();
   }
 
  private:
@@ -195,7 +195,7 @@ class InductionMachineDq : public JointTorqueElement {
   // Also T_gen = −τ over the step (the electromagnetic torque of the end-of-step fluxes).
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    out.at(Series::generator_torque, k, slot_) = -applied();
+    out.at(Series::generator_torque, out.entry(Family::generator, k, slot_)) = -applied();
   }
 
   void advance(const StepView& s, const Eigen::VectorXd& v_next) override {

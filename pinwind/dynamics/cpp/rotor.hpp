@@ -124,11 +124,12 @@ class RotorAerodynamics : public JointTorqueElement {
   // P = τ(ω_k) ω_k = ½ ρ π R² v³ C_p, λ, C_p and the wind speed.
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    out.at(Series::rotor_torque, k, slot_) = applied();
-    out.at(Series::rotor_power, k, slot_) = point_.torque * s.v[index_];
-    out.at(Series::rotor_tip_speed_ratio, k, slot_) = point_.tsr;
-    out.at(Series::rotor_power_coefficient, k, slot_) = point_.cp;
-    out.at(Series::rotor_wind_speed, k, slot_) = wind_;
+    const long e = out.entry(Family::rotor, k, slot_);
+    out.at(Series::rotor_torque, e) = applied();
+    out.at(Series::rotor_power, e) = point_.torque * s.v[index_];
+    out.at(Series::rotor_tip_speed_ratio, e) = point_.tsr;
+    out.at(Series::rotor_power_coefficient, e) = point_.cp;
+    out.at(Series::rotor_wind_speed, e) = wind_;
   }
 
  private:

@@ -96,10 +96,12 @@ struct Outputs {
 
   double* column(Series s) const { return columns[static_cast<std::size_t>(s)]; }
   long count(Family f) const { return counts[static_cast<std::size_t>(f)]; }
-  // The entry of element e, component c, of sample k of series s.
-  double& at(Series s, long k, long e, int c = 0) const {
-    const SeriesLayout& l = layout(s);
-    return column(s)[(k * count(l.family) + e) * l.components + c];
+  // The entry of element e of sample k in every series of family f: the i of at(), computed
+  // once for the element's series.
+  long entry(Family f, long k, long e = 0) const { return k * count(f) + e; }
+  // Component c of entry i of series s (its components a constant: no table look-up).
+  double& at(Series s, long i, int c = 0) const {
+    return column(s)[i * layout(s).components + c];
   }
 };
 
