@@ -7,8 +7,8 @@ Two runs from the scenario files in ``scenarios/`` (``pinwind run FILE`` runs th
    ``pinwind/loads/rotor.py``) in a steady 10 m/s wind, braked on the sun by the slip law of a
    6-pole 60 Hz induction generator behind the two parallel stages, from the rated 14.2 rpm.
 2. ``saleh2017_drivetrain.toml``: the full drivetrain (83/23 and 103/26 parallel stages) under the
-   same rotor in a turbulent 10 m/s wind (IEC Kaimal, 10 %, seed 1) with the generator law on the
-   high-speed shaft.
+   same rotor in a turbulent 10 m/s wind (IEC Kaimal, 10 %, seed 1, averaged over the rotor disc)
+   with the generator law on the high-speed shaft.
 
 Figures (PNG) like 000's: Figs. 5-6 (rotor torque and speed), Fig. 8 (speeds of the planetary
 stage), Figs. 11-12 (ring reaction forces and moments in world axes, with weight) and Fig. 13
@@ -124,7 +124,7 @@ def comparison(planetary: pinwind.Result, drivetrain: pinwind.Result) -> list[tu
          "spans ±500 kN·m, its curves cannot be read from the text"),
         ("rotor torque swing [MN·m]", float("nan"), (turbulent.max() - turbulent.min()) / 1e6,
          "000's blades are flexible (oscillation in Figs. 5-6); ours are rigid and the swing "
-         "comes from turbulence (10 %, a point series: a rotor average would swing less)"),
+         "comes from turbulence (10 %, averaged over the rotor disc)"),
     ]  # fmt: skip
 
 

@@ -241,5 +241,35 @@ def rotor_values(items: list[str] | None) -> dict[str, Any]:
             for joint, text in parse_pairs(items, "--rotor").items()}  # fmt: skip
 
 
+def parse_window(text: str) -> tuple[float, float]:
+    """``--check-window A:B`` → (A, B) [s]."""
+    start, sep, end = text.partition(":")
+    if not sep:
+        raise InputError(f'--check-window "{text}" must look like START:END in seconds, e.g. 9:10')
+    return parse_number(start, "--check-window", "s"), parse_number(end, "--check-window", "s")
+
+
+CheckDtOption = Annotated[
+    bool,
+    typer.Option(
+        "--check-dt",
+        help="Instead of one run, rerun at dt, dt/2 and dt/4 and print, over a window, how the "
+        "mesh and bearing forces change and the observed order: is the run converged in dt? "
+        "No log is written.",
+    ),
+]
+CheckWindowOption = Annotated[
+    str | None,
+    typer.Option(
+        "--check-window",
+        help="START:END window [s] that --check-dt compares; default the last 10 % of the run "
+        "(at least 3 mesh periods).",
+    ),
+]
+JsonOption = Annotated[
+    bool, typer.Option("--json", help="With --check-dt: print JSON instead of the table.")
+]
+
+
 #: Scenario keys whose signals come from these options: their errors name the option.
 FLAGS = {"torque": "--torque", "speed": "--speed"}

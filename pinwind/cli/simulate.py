@@ -6,6 +6,7 @@ default) and print speeds, mesh forces, bearing reactions and load sharing.
 
 from __future__ import annotations
 
+import math
 import shlex
 import signal
 import sys
@@ -14,6 +15,7 @@ from typing import Annotated, Any, cast
 
 import typer
 from rich.markup import escape
+from rich.table import Table
 
 from pinwind.cli.app import (
     Terminated,
@@ -26,8 +28,11 @@ from pinwind.cli.app import (
 )
 from pinwind.cli.flags import (
     FLAGS,
+    CheckDtOption,
+    CheckWindowOption,
     DurationOption,
     InitialSpeedOption,
+    JsonOption,
     SpeedOption,
     StepOption,
     TorqueOption,
@@ -36,6 +41,7 @@ from pinwind.cli.flags import (
     mesh_values,
     number_or_text,
     parse_keep,
+    parse_window,
     position_error_values,
     rotor_values,
 )
@@ -159,6 +165,9 @@ def simulate(
             "rule, the default), smaller damps the modes dt does not resolve.",
         ),
     ] = None,
+    check_dt: CheckDtOption = False,
+    check_window: CheckWindowOption = None,
+    as_json: JsonOption = False,
 ) -> None:
     """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
     import pinwind
@@ -182,8 +191,13 @@ def simulate(
     }
     values |= {k: v for k, v in optional.items() if v is not None and v != {}}
     scenario = sc.build(values, flags=FLAGS)
+    window = None if check_window is None else parse_window(check_window)
     with warnings_as_lines():
         gearbox = pinwind.load(model)
+    if check_dt:
+        _check_dt_and_report(scenario, gearbox, str(model), window, progress=progress,
+                             as_json=as_json)  # fmt: skip
+        return
     log = None if no_log else log_path(out if out is not None else True, gearbox.name)
     command = shlex.join(["pinwind", *sys.argv[1:]])
     _run_and_report(
@@ -209,6 +223,8 @@ def _run_and_report(
     from pinwind import scenario as sc
     from pinwind.analysis import load_sharing
     from pinwind.analysis.summary import summary_tables
+    from pinwind.dynamics.integrator import Integrator
+    from pinwind.dynamics.time_step import dt_advice
 
     before = _stamp(log) if log is not None else None
     previous = signal.signal(signal.SIGTERM, raise_terminated)
@@ -241,6 +257,14 @@ def _run_and_report(
         f"({res.metadata['wall_time_s'] / max(steps, 1) * 1e6:.0f} µs/step); "
         f"max |J v| = {residual:.2e}"
     )
+    if res.metadata.get("highest_mesh_mode_hz", 0.0) > 0.0:
+        advice = dt_advice(
+            res.metadata["highest_mesh_mode_hz"],
+            dt,
+            res.metadata.get("highest_mesh_mode_damping_ratio", 0.0),
+            Integrator(rho_infinity=res.metadata["integrator"]["rho_infinity"]),
+        )
+        say(advice.text())
     stride = res.metadata.get("keep_stride", 1)
     if stride > 1:
         say(
@@ -265,6 +289,94 @@ def _run_and_report(
         say(f"log: {escape(str(log))} ({log.stat().st_size / 1e6:.2f} MB)")
 
 
+#: Short names of the quantities in the --check-dt tables.
+_SHORT = {
+    "normal force RMS": "F_n RMS",
+    "normal force max": "F_n max",
+    "single-tooth force max": "F_1 max",
+    "|force| RMS": "|F| RMS",
+    "|force| max": "|F| max",
+}
+
+
+def _check_dt_and_report(
+    scenario, gearbox, label: str, window, *, progress, as_json: bool, check_joints=False
+) -> None:
+    """Rerun a scenario at dt, dt/2 and dt/4 and print the convergence table (``--check-dt``)."""
+    import json
+
+    from pinwind.analysis.convergence import check_dt
+    from pinwind.analysis.summary import PLAIN_BOX, TERMINAL_BOX
+
+    if check_joints:
+        scenario.check_joints(list(gearbox.joint_names), list(gearbox.locked_joints))
+    kwargs = scenario.simulate_kwargs()
+    dt = kwargs.pop("dt")
+    previous = signal.signal(signal.SIGTERM, raise_terminated)
+    try:
+        with warnings_as_lines():
+            check = check_dt(gearbox, dt=dt, window=window, progress=progress, **kwargs)
+    except Terminated as err:
+        err_console.print(f"terminated ({escape(str(err))})")
+        raise typer.Exit(code=143) from err
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    if as_json:
+        print(json.dumps(check.as_dict(), indent=2))
+        return
+    start, end = check.window
+    say(
+        f"[bold]{escape(gearbox.name)}[/bold] from {escape(label)}: dt check over "
+        f"{start:g}–{end:g} s at dt = {dt:g}, {dt / 2:g} and {dt / 4:g} s; converged: the value "
+        f"at dt within {100 * check.tolerance:g} % of the one at dt/4"
+    )
+    plain = not console.is_terminal
+    for group, title in (("mesh", "mesh forces"), ("bearing", "bearing forces")):
+        rows = [row for row in check.rows if row.group == group]
+        if not rows:
+            continue
+        table = Table(
+            title=f"{title} over the window [kN]",
+            box=PLAIN_BOX if plain else TERMINAL_BOX,
+            title_style=None if plain else "bold",
+            header_style=None if plain else "bold",
+            show_edge=False,
+            pad_edge=False,
+            collapse_padding=True,
+        )
+        columns = (group, "", "dt", "dt/2", "dt/4", "Δ½ %", "Δ¼ %", "p", "off %", "verdict")
+        for i, name in enumerate(columns):
+            left = i in (0, 1, len(columns) - 1)
+            table.add_column(
+                name, justify="left" if left else "right", overflow="fold", no_wrap=i == 0
+            )
+        for row in rows:
+            table.add_row(
+                escape(row.element),
+                _SHORT[row.quantity],
+                *(f"{v / 1e3:.4g}" for v in row.values),
+                f"{100 * row.change_half:+.2f}",
+                f"{100 * row.change_quarter:+.2f}",
+                "-" if math.isnan(row.order) else f"{row.order:.2f}",
+                f"{100 * row.error:.2f}",
+                "converged" if row.converged else "halve dt",
+            )
+        console.print()
+        console.print(table)
+    say(
+        "; ".join(f"{short} = {long}" for long, short in _SHORT.items())
+        + "; Δ½, Δ¼: changes dt → dt/2 → dt/4; p: observed order; off: |value at dt − value "
+        f"at dt/4| / value at dt/4, converged when ≤ {100 * check.tolerance:g} %"
+    )
+    # The verdict of each quantity, in words, is in --json (and DtRow.verdict).
+    bad = sum(not row.converged for row in check.rows)
+    say(
+        "every quantity is converged"
+        if bad == 0
+        else f"{bad} of {len(check.rows)} quantities are not converged: halve dt"
+    )
+
+
 @app.command("run")
 def run_scenario(
     scenario_file: Annotated[
@@ -283,6 +395,9 @@ def run_scenario(
     progress: Annotated[
         bool | None, typer.Option("--progress/--no-progress", help="Progress bar.")
     ] = None,
+    check_dt: CheckDtOption = False,
+    check_window: CheckWindowOption = None,
+    as_json: JsonOption = False,
 ) -> None:
     """Run a scenario file, or repeat a logged run with --from-log LOG."""
     import pinwind
@@ -305,6 +420,11 @@ def run_scenario(
             gearbox = pinwind.load(path)
             label = str(scenario_file)
             target = out if out is not None else scenario.values.get("out", True)
+    if check_dt:
+        window = None if check_window is None else parse_window(check_window)
+        _check_dt_and_report(scenario, gearbox, label, window, progress=progress,
+                             as_json=as_json, check_joints=True)  # fmt: skip
+        return
     skip = no_log or (out is None and bool(scenario.values.get("no_log", False)))
     log = None if skip else log_path(target, gearbox.name)
     if from_log is not None and log is not None and log.resolve() == from_log.resolve():

@@ -87,7 +87,7 @@ class MeshConstants:
     cos_a: Vector
     sin_a: Vector
     eps: Vector
-    tan_beta: Vector
+    tan_beta_b: Vector
     joint_a: list[int]
     joint_b: list[int]
     def __init__(self) -> None: ...

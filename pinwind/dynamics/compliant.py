@@ -12,7 +12,9 @@ x the roll position of the tooth pairs along the path of contact (``cpp/mesh_pat
 
 - k(x): the sum over the tooth pairs in contact of one pair's stiffness, c′b in the single-pair
   zone and 0.875 c′b each in the double-pair zones (mean ISO 6336-1 c_γα b,
-  ``gears/mesh_stiffness.py``), a user table (003 Fig. 8), or the constant c_γα b;
+  ``gears/mesh_stiffness.py``); for helical gears in proportion to the total length of the
+  contact lines (``contact_line_pair_stiffness``, same mean); a user table (003 Fig. 8), or the
+  constant c_γα b. Stiffnesses act along the transverse line of action;
 - backlash j: the back flank's overlap is δ_b = −(rolling part) + (radial part) − j, no force in
   between;
 - the single-tooth force F k₁/k (003 §2.4) of the pair entering the mesh.
@@ -22,8 +24,11 @@ modes in the kHz; an explicit spring would need steps of microseconds. The compi
 takes the force at the time step's weighted state (mid-step for ρ∞ = 1; ``dynamics/
 integrator.py``), which makes it linear in the step's acceleration, so it enters the same
 proxsuite solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is second order and stable
-at any step; a step too coarse to resolve the highest mesh mode is run, with one warning naming
-the mode's frequency and the step that resolves it (``RESOLVING_STEPS`` per period).
+at any step; with ρ∞ < 1 it damps the modes it does not resolve (``dynamics/time_step.py``). The
+run's metadata and summary name the highest mesh mode, its numerical damping ratio at the chosen
+dt beside its physical one, and the dt that keeps the numerical one below a tenth of the
+physical; a run whose numerical damping of that mode exceeds the physical one warns with the
+same line.
 
 Position errors of gear centres (planet pin errors) shift the overlaps by n·(e_A − e_B): a
 constant offset in the carrier's frame that makes the planets share the load unequally.
@@ -40,10 +45,13 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics import _native
+from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
+from pinwind.dynamics.time_step import DEFAULT_SCHEME, dt_advice
 from pinwind.errors import InputError, PinwindWarning, UnknownElement
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
+    contact_line_pair_stiffness,
     mesh_stiffness,
     pair_stiffness_along_path,
     single_pair_stiffness,
@@ -51,9 +59,6 @@ from pinwind.gears.mesh_stiffness import (
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gear, Gearbox, Mesh
 from pinwind.model.phasing import direction_at
-
-#: Steps per period of the highest mesh mode below which a run warns that the step is coarse.
-RESOLVING_STEPS = 10
 
 
 @dataclass(frozen=True)
@@ -66,6 +71,7 @@ class MeshSetup:
         paths: every mesh's path-of-contact constants (compiled struct).
         compliant: the compliant meshes' constants (compiled structs).
         highest_mode: frequency of the highest mesh mode [Hz] (0 without compliant meshes).
+        highest_mode_damping: that mode's damping ratio from the mesh dashpots [-].
     """
 
     meshes: list[Mesh]
@@ -73,6 +79,7 @@ class MeshSetup:
     paths: list[_native.MeshPathSpec]
     compliant: list[_native.CompliantMeshSpec]
     highest_mode: float
+    highest_mode_damping: float = 0.0
 
     def compliance(self, spec: _native.CompliantMeshSpec) -> tuple[Mesh, MeshCompliance]:
         """The mesh of a compliant spec and its compliance."""
@@ -194,6 +201,7 @@ def mesh_setup(
     driver_index: list[int],
     dt: float,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
+    scheme: Integrator = DEFAULT_SCHEME,
 ) -> MeshSetup:
     """Constants of every mesh for the compiled step loop, at the reference pose.
 
@@ -203,6 +211,7 @@ def mesh_setup(
         dt: time step [s] (for the coarse-step warning).
         position_errors: gear name → (tangential, radial) position error [m], replacing the
             model file's.
+        scheme: the run's time step (for the numerical-damping warning).
     """
     errors = {name: g.spec.position_error for name, g in gearbox.gears.items()}
     for name, value in (position_errors or {}).items():
@@ -282,9 +291,9 @@ def mesh_setup(
                     if math.isfinite(m_eq)
                     else 0.0
                 )
-        frequency = highest_mesh_mode(mass, constraints, ms, rows, setup)
-        setup = MeshSetup(meshes, rigid, paths, compliant, frequency)
-        _warn_if_coarse(frequency, dt)
+        frequency, damping = highest_mesh_mode_and_damping(mass, constraints, rows, setup)
+        setup = MeshSetup(meshes, rigid, paths, compliant, frequency, damping)
+        _warn_if_damped_numerically(frequency, dt, damping, scheme)
     return setup
 
 
@@ -301,15 +310,19 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.M
     if path is None:
         spec.roll_start = math.nan
         return spec
+    # A helical pair touches over the roll span g_α + Δ (``overlap_span``), its position taken
+    # in the front face section, Δ/2 ahead of the mid-face section where P and the reference
+    # directions lie.
+    overlap = overlap_span(mesh)
     spec.base_pitch = path.base_pitch
-    spec.path_length = path.length
-    spec.roll_start = path.start_roll_1
+    spec.path_length = path.length + overlap
+    spec.roll_start = path.start_roll_1 - 0.5 * overlap
     spec.roll_radius_a = mesh.base_radius_a
     # Tooth 0 of gear A has its front flank at the pitch point when its reference direction
     # points at the pitch point. Its back flank (the other side of the tooth) is then the
     # tooth thickness behind, on the back line of action (the mirror image of the front one
     # about the centre line): r_b,A times the thickness angle further along the path.
-    pitch = (path.pitch_roll_1 - path.start_roll_1) % path.base_pitch
+    pitch = (path.pitch_roll_1 - path.start_roll_1 + 0.5 * overlap) % path.base_pitch
     spec.entering_front = pitch
     spec.entering_back = (pitch + mesh.base_radius_a * tooth_a) % path.base_pitch
     # ψ_A is measured from the centre line towards B's centre (cpp/mesh_path.hpp gear_a_angle);
@@ -339,11 +352,33 @@ def single_pair(mesh: Mesh) -> float:
     return single_pair_stiffness(_stiffness_pair(mesh))
 
 
+def _follows_contact_lines(mesh: Mesh) -> bool:
+    """Whether the mesh stiffness follows the contact-line length: a helical mesh on ``path``."""
+    c = mesh.compliance
+    if c is not None and (c.pair_stiffness is not None or c.variation == "constant"):
+        return False
+    return mesh.path is not None and mesh.path.overlap_ratio > 0.0
+
+
+def overlap_span(mesh: Mesh) -> float:
+    """Roll length Δ = b tan β_b = ε_β p_bt a helical pair stays in contact beyond g_α [m].
+
+    0 unless the mesh stiffness follows the contact lines (``contact_line_pair_stiffness``):
+    with a user table or a constant stiffness the path is the transverse one, g_α.
+    """
+    if not _follows_contact_lines(mesh) or mesh.path is None:
+        return 0.0
+    return mesh.path.overlap_ratio * mesh.path.base_pitch
+
+
 def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
     """Stiffness of one tooth pair along the path of contact (positions [m], [N/m]).
 
-    None where the mesh stiffness is constant. A rigid mesh gets the ISO shape too: its ratios
-    split the force between the pairs for the single-tooth force.
+    Positions run from A over g_α + ``overlap_span``. None where the mesh stiffness is constant.
+    Spur: the ISO shape (``pair_stiffness_along_path``); helical: in proportion to the pair's
+    contact-line length (``contact_line_pair_stiffness``), with ISO's mean c′b (0.75 ε_α + 0.25)
+    either way. A rigid mesh gets the shape too: its ratios split the force between the pairs
+    for the single-tooth force.
     """
     c = mesh.compliance
     if c is not None and c.pair_stiffness is not None:
@@ -351,10 +386,15 @@ def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
         return s, k
     if c is not None and c.variation == "constant":
         return None
-    if mesh.path is None or not 1.0 <= mesh.path.contact_ratio <= 2.0:
+    path = mesh.path
+    if path is None:
         return None
     single = single_pair(mesh) if c is not None else 1.0
-    return pair_stiffness_along_path(mesh.path, single)
+    if _follows_contact_lines(mesh):
+        return contact_line_pair_stiffness(path, single * (0.75 * path.contact_ratio + 0.25))
+    if not 1.0 <= path.contact_ratio <= 2.0:
+        return None
+    return pair_stiffness_along_path(path, single)
 
 
 def mean_mesh_stiffness(mesh: Mesh) -> float:
@@ -366,11 +406,12 @@ def mean_mesh_stiffness(mesh: Mesh) -> float:
     path = mesh.path
     if table is not None and path is not None:
         s, k = table
+        length = path.length + overlap_span(mesh)
         x = np.linspace(0.0, path.base_pitch, 2001)[:-1]
         total = sum(
-            np.where(x + j * path.base_pitch <= path.length + 1e-12, 1.0, 0.0)
+            np.where(x + j * path.base_pitch <= length + 1e-12, 1.0, 0.0)
             * np.interp(x + j * path.base_pitch, s, k)
-            for j in range(int(path.length / path.base_pitch) + 1)
+            for j in range(int(length / path.base_pitch) + 1)
         )
         return float(np.mean(total))
     c = mesh.compliance
@@ -415,8 +456,19 @@ def highest_mesh_mode(mass, constraints, ms: MeshSet, rows, setup: MeshSetup) ->
 
     Generalised eigenvalues of (Σ k_max JᵢᵀJᵢ, M) over the motions the rigid rows allow.
     """
+    return highest_mesh_mode_and_damping(mass, constraints, rows, setup)[0]
+
+
+def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> tuple[float, float]:
+    """Frequency [Hz] and damping ratio [-] of the highest mesh-spring mode at its stiffest.
+
+    Generalised eigenvalues of (K, M), K = Σ k_max JᵢᵀJᵢ, over the motions the rigid rows allow;
+    the damping ratio of that mode φ is φᵀ C φ / (2 ω φᵀ M φ) with C = Σ cᵢ JᵢᵀJᵢ, the mesh
+    dashpots (the damping the mode has physically, whatever the step).
+    """
     nv = mass.shape[0]
     stiffness = np.zeros((nv, nv))
+    damping = np.zeros((nv, nv))
     for spec, path in ((s, setup.paths[s.mesh]) for s in setup.compliant):
         row = rows.row_front[spec.mesh]
         k_max = spec.stiffness
@@ -431,22 +483,30 @@ def highest_mesh_mode(mass, constraints, ms: MeshSet, rows, setup: MeshSetup) ->
                 for xi in x
             )
         stiffness += k_max * np.outer(row, row)
+        damping += spec.damping * np.outer(row, row)
     basis = _free_motions(constraints, nv)
     if basis.shape[1] == 0:
-        return 0.0
+        return 0.0, 0.0
     from scipy.linalg import eigh
 
-    omega2 = eigh(basis.T @ stiffness @ basis, basis.T @ mass @ basis, eigvals_only=True)
-    return math.sqrt(max(float(omega2.max()), 0.0)) / (2.0 * math.pi)
+    m = basis.T @ mass @ basis
+    omega2, modes = eigh(basis.T @ stiffness @ basis, m)
+    omega = math.sqrt(max(float(omega2[-1]), 0.0))
+    if omega == 0.0:
+        return 0.0, 0.0
+    phi = modes[:, -1]
+    ratio = float(phi @ basis.T @ damping @ basis @ phi) / (2.0 * omega * float(phi @ m @ phi))
+    return omega / (2.0 * math.pi), ratio
 
 
-def _warn_if_coarse(frequency: float, dt: float) -> None:
-    if frequency * dt * RESOLVING_STEPS > 1.0:
+def _warn_if_damped_numerically(
+    frequency: float, dt: float, physical_ratio: float, scheme: Integrator
+) -> None:
+    """Warn when the step damps the highest mesh mode more than its dashpots do."""
+    advice = dt_advice(frequency, dt, physical_ratio, scheme)
+    if advice.numerical_ratio > physical_ratio:
         warnings.warn(
-            f"dt = {dt:.3g} s does not resolve the highest mesh mode at {frequency:.4g} Hz "
-            f"({1.0 / (frequency * dt):.3g} steps per period); the run is stable but that mode "
-            f"is damped numerically. dt ≤ {1.0 / (RESOLVING_STEPS * frequency):.2g} s resolves "
-            f"it with {RESOLVING_STEPS} steps per period",
+            advice.text() + "; the step, not the mesh damping, sets how much that mode responds",
             PinwindWarning,
             stacklevel=4,
         )

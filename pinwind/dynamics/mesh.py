@@ -70,7 +70,7 @@ class MeshSet:
         alpha = np.array([m.working_pressure_angle for m in meshes])
         self.cos_a = np.cos(alpha)
         self.sin_a = np.sin(alpha)
-        self.tan_beta = np.tan(np.array([m.helix_angle for m in meshes]))
+        self.tan_beta_b = np.tan(np.array([m.base_helix_angle for m in meshes]))
         self.mu = np.array([m.pitch_fraction for m in meshes])
         self.sigma = np.array([m.line_sign for m in meshes])
         self.eps = np.array([m.radial_sign for m in meshes])
@@ -96,7 +96,7 @@ class MeshSet:
         constants.cos_a = self.cos_a
         constants.sin_a = self.sin_a
         constants.eps = self.eps
-        constants.tan_beta = self.tan_beta
+        constants.tan_beta_b = self.tan_beta_b
         constants.joint_a = self.joint_a.tolist()
         constants.joint_b = self.joint_b.tolist()
 

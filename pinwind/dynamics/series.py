@@ -175,7 +175,7 @@ _BUILT_IN: tuple[Series, ...] = (
            plot=Plot("mesh_radial", "force components",
                      "mesh force components: radial F_r (separating) [kN]", "kN",
                      relative_to="mesh_normal")),
-    Series("mesh_axial", _M, "axial", "N", "F_a = F_t tan(beta)",
+    Series("mesh_axial", _M, "axial", "N", "F_a = F_n tan(beta_b)",
            plot=Plot("mesh_axial", "force components",
                      "mesh force components: axial F_a [kN]", "kN",
                      relative_to="mesh_normal")),

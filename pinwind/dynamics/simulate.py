@@ -382,6 +382,7 @@ def simulate(
         driver_index=[d.v_index for d in drivers],
         dt=dt,
         position_errors=position_errors,
+        scheme=method,
     )
     frames = body_frames(model)
     body_names = [model.frames[f].name for f in frames]
@@ -416,6 +417,7 @@ def simulate(
         "integrator": method.as_dict(),
         "meshes": _mesh_metadata(mesh_setup_),
         "highest_mesh_mode_hz": mesh_setup_.highest_mode,
+        "highest_mesh_mode_damping_ratio": mesh_setup_.highest_mode_damping,
         "samples_simulated": samples,
         "keep_stride": stride,
         **elements.metadata,
@@ -663,8 +665,9 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
 
 #: Likely causes of a run whose speeds become absurd, for the message.
 DIVERGENCE_CAUSES = (
-    "Likely causes: dt too large for the stiffest spring (explicit integration), negative "
-    "damping, or a torque with nothing to hold the speed (no generator load or speed driver)"
+    "Likely causes: a load whose torque grows with the speed (a generator law with a negative "
+    "gain or slope), negative damping, or a torque with nothing to hold the speed (no "
+    "generator load or speed driver)"
 )
 
 

@@ -35,6 +35,7 @@ from pinwind.gears.involute import (
 )
 from pinwind.gears.materials import MATERIALS, Material
 from pinwind.gears.mesh_stiffness import (
+    contact_line_pair_stiffness,
     mesh_stiffness,
     pair_stiffness_along_path,
     single_pair_stiffness,
@@ -66,6 +67,7 @@ __all__ = [
     "check_gear",
     "check_pair",
     "check_planetary",
+    "contact_line_pair_stiffness",
     "half_tooth_angle",
     "hertz_along_path",
     "hertz_pressure",

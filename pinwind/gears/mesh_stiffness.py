@@ -160,3 +160,53 @@ def pair_stiffness_along_path(
     s = np.array([0.0, b, b, d, d, g])
     k = np.array([double, double, single_pair, single_pair, double, double])
     return s, k
+
+
+def contact_line_pair_stiffness(
+    path: PathOfContact, mean_stiffness: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Stiffness of one helical tooth pair as it rolls, proportional to its contact-line length.
+
+    The tooth pairs of a helical mesh touch along straight lines in the plane of action, the
+    rectangle g_α long (transverse) and b wide (axial), each line inclined at the base helix
+    angle β_b to the axis. A pair whose contact point in the front face section sits at y from A
+    touches, at axial position z ∈ [0, b], at y − z tan β_b; it is in contact where that lies in
+    [0, g_α]. So one pair stays in contact over the roll span g_α + Δ, Δ = b tan β_b = ε_β p_bt
+    (total contact ratio ε_γ = ε_α + ε_β), and its contact line is
+
+        ℓ(y) = [min(y, Δ) − max(0, y − g_α)] / sin β_b,   0 ≤ y ≤ g_α + Δ
+
+    long: a trapezoid that rises while the line enters the face, stays flat and falls as it
+    leaves. The mesh stiffness follows the total length L(y) = Σ_j ℓ(y + j p_bt) of the lines in
+    contact (ISO 6336-1 takes the mesh stiffness per unit contact length); its mean over a base
+    pitch is ∫ℓ dy / p_bt = g_α b / (p_bt cos β_b). The pair stiffness is ℓ scaled so that the
+    summed stiffness has the mean ``mean_stiffness``:
+
+        k(y) = mean_stiffness · p_bt · [min(y, Δ) − max(0, y − g_α)] / (g_α Δ)
+
+    With ε_β a whole number L is constant; for a spur pair (Δ → 0) it becomes the count of pairs
+    in contact. Stiffness along the transverse line of action, like `mesh_stiffness`.
+
+    Args:
+        path: the pair's path of contact, with its overlap ratio ε_β > 0.
+        mean_stiffness: mean mesh stiffness [N/m], e.g. c_γα b from `mesh_stiffness`.
+
+    Returns:
+        (y, k): roll position of the pair from A in the front face section [m] and its stiffness
+        [N/m] at the four corners of the trapezoid, exact under linear interpolation; 0 outside
+        [0, g_α + Δ].
+
+    Raises:
+        InputError: ε_β ≤ 0 (a spur pair has no inclined contact lines).
+    """
+    if not path.overlap_ratio > 0.0:
+        raise InputError(
+            f"contact_line_pair_stiffness needs a helical pair (ε_β > 0), got ε_β = "
+            f"{path.overlap_ratio:g}; use pair_stiffness_along_path for spur gears"
+        )
+    g, p = path.length, path.base_pitch
+    overlap = path.overlap_ratio * p
+    y = np.array([0.0, min(g, overlap), max(g, overlap), g + overlap])
+    height = min(g, overlap)
+    k = np.array([0.0, height, height, 0.0]) * mean_stiffness * p / (g * overlap)
+    return y, k

@@ -7,10 +7,10 @@ model without building it (docs/log_format.md, "Metadata records").
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from pinwind.dynamics.result import Result
+from pinwind.gears.involute import pitch_radius
 
 
 def model_names(result: Result) -> dict[str, list[str]]:
@@ -49,7 +49,7 @@ def model_geometry(gearbox) -> dict[str, Any]:
             "helix_angle": spec.helix_angle,
             "profile_shift": spec.profile_shift,
             "internal": spec.internal,
-            "pitch_radius": spec.teeth * spec.module / (2.0 * math.cos(spec.helix_angle)),
+            "pitch_radius": pitch_radius(spec.teeth, spec.module, spec.helix_angle),
             "centre_in_link": joint_from_link.actInv(gear.centre_in_joint).tolist(),
             "axis_in_link": (joint_from_link.rotation.T @ gear.axis_in_joint).tolist(),
         }

@@ -26,11 +26,14 @@ class MeshCompliance:
     """The spring-damper of a compliant mesh: F_n = k(x) δ + c δ̇ on the flank in contact, ≥ 0.
 
     Attributes:
-        stiffness: single-pair stiffness c′·b [N/m] (ISO 6336-1 c′ times the face width b);
+        stiffness: single-pair stiffness c′·b [N/m] (ISO 6336-1 c′ times the face width b),
+            along the transverse line of action (helical gears too: F_n and δ are transverse);
             None: ISO 6336-1 method B from the gear data (``gears/mesh_stiffness.py``).
         variation: ``"path"``: the mesh stiffness is the sum over the tooth pairs in contact as
-            they roll along the path of contact (c′b with one pair, 1.75 c′b with two, whose
-            mean is ISO's c_γα b); ``"constant"``: the mean mesh stiffness c_γα b throughout.
+            they roll along the path of contact (spur: c′b with one pair, 1.75 c′b with two;
+            helical: in proportion to the total contact-line length, ``gears/mesh_stiffness.py``
+            ``contact_line_pair_stiffness``; mean ISO's c_γα b either way); ``"constant"``: the
+            mean mesh stiffness c_γα b throughout.
         pair_stiffness: stiffness of one tooth pair along the path of contact, as (positions
             from the path start A [m], stiffness [N/m]), e.g. a FEM curve as in
             003_83d3049daebcd276.txt Fig. 8; replaces ``stiffness`` and ``variation``.

@@ -31,7 +31,7 @@ from pinwind.errors import (
 )
 from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
-from pinwind.gears.involute import pitch_radius
+from pinwind.gears.involute import base_helix_angle, pitch_radius
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.phasing import mesh_point, tooth_phases
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
@@ -111,6 +111,11 @@ class Mesh:
     def face_width(self) -> float:
         """Face width in contact, the narrower gear's [m]."""
         return min(self.gear_a.spec.face_width, self.gear_b.spec.face_width)
+
+    @property
+    def base_helix_angle(self) -> float:
+        """β_b of gear A, tan β_b = tan β cos α_t [rad] (signed like ``helix_angle``)."""
+        return base_helix_angle(self.gear_a.spec.pressure_angle, self.helix_angle)
 
 
 @dataclass(frozen=True)

@@ -255,3 +255,20 @@ def test_equal_planets_without_position_errors_carry_equal_mean_loads():
     for kind in ("sun_planet{}", "planet{}_ring"):
         means = np.array([res.mesh(kind.format(i)).normal[late].mean() for i in (1, 2, 3)])
         np.testing.assert_allclose(means / means.mean(), 1.0, rtol=0, atol=5e-3, err_msg=kind)
+
+
+def test_the_step_counts_the_pairs_in_contact_as_the_rating_does():
+    # Two implementations of one count, in two languages: the compiled step's (cpp/mesh_path.hpp,
+    # the mesh_pairs series) and gears.contact.pairs_in_contact (the ISO rating's). Over a turn
+    # of the DTU stage they must agree at every sample of every mesh.
+    import pinwind
+    from pinwind.gears.contact import pairs_in_contact
+
+    gb = pinwind.load(MODELS / "dtu500_planetary.urdf")
+    res = pinwind.simulate(gb, duration=0.05, dt=1e-4, speeds={"carrier": 2.0}, torques={})
+    for i, mesh in enumerate(gb.meshes):
+        entering = res.mesh_contact_position[:, i] - mesh.path.start_roll_1
+        assert {1.0, 2.0} <= set(res.mesh_pairs[:, i])  # single and double zones visited
+        np.testing.assert_array_equal(
+            res.mesh_pairs[:, i], pairs_in_contact(mesh.path, entering), err_msg=mesh.name
+        )

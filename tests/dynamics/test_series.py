@@ -129,3 +129,42 @@ def test_a_series_declared_twice_or_without_derive_is_refused():
         series.declare(Series("mesh_normal", "mesh", "normal", "N", "again", derive=line_load))
     with pytest.raises(ValueError, match="give derive="):
         series.declare(Series("mesh_extra", "mesh", "extra", "N", "no derive"))
+
+
+def test_a_compliant_runs_mesh_series_are_in_the_export_and_the_report(tmp_path):
+    # The compliant mesh's own series (deflection, contact position, pairs, single-tooth
+    # force) reach the export and the report like every other one; they used to be dropped.
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    path = tmp_path / "compliant.mcap"
+    res = pinwind.simulate(
+        gb,
+        duration=0.004,
+        dt=2e-5,
+        torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
+        meshes={"all": "compliant"},
+        log=path,
+    )
+    mesh = res.mesh("sun_planet1")
+    assert np.ptp(mesh.deflection) > 0 and set(np.unique(mesh.pairs)) <= {1.0, 2.0}
+    out = tmp_path / "compliant.csv"
+    export_log(path, out)
+    with open(out, newline="") as f:
+        table = list(csv.DictReader(f))
+    for quantity, unit, values in (
+        ("deflection", "_m", mesh.deflection),
+        ("contact_position", "_m", mesh.contact_position),
+        ("pairs", "", mesh.pairs),
+        ("single_tooth_force", "_N", mesh.single_tooth_force),
+    ):
+        column = [float(r[f"mesh/sun_planet1/{quantity}{unit}"]) for r in table]
+        np.testing.assert_array_equal(column, values, err_msg=quantity)
+    rows = {r.quantity: r for r in report_log(path).rows if r.element == "sun_planet1"}
+    for quantity, values in (
+        ("deflection", mesh.deflection),
+        ("contact position", mesh.contact_position),
+        ("pairs", mesh.pairs),
+        ("single tooth force", mesh.single_tooth_force),
+    ):
+        np.testing.assert_allclose(
+            [rows[quantity].min, rows[quantity].max], [values.min(), values.max()], rtol=0
+        )

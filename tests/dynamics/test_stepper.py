@@ -12,7 +12,9 @@ from pinwind.dynamics.compliant import mesh_setup
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, series_array
+from pinwind.model.gearbox import loads
 from tests.conftest import MODELS
+from tests.dynamics.test_mesh_rows import SWING_ARM
 
 SHIPPED = sorted(p.name for p in MODELS.glob("*.urdf"))
 
@@ -153,3 +155,21 @@ def test_every_compiled_series_has_a_result_array_of_its_layout():
         family, components = _native.series_layout(series)
         values = series_array(res, series.name)
         assert values.size == len(res) * counts[family] * components, series.name
+
+
+def test_assembled_mesh_bias_is_the_time_derivative_of_its_row():
+    """γ = J̇ v: central differences of the assembled row along q̇ = v, on the swing arm whose
+    gear centre moves (its row changes with the angles)."""
+    gb = loads(SWING_ARM, path="swing_arm.urdf")
+    model = gb.model
+    stepper = _stepper(gb, [])
+    rng = np.random.default_rng(5)
+    h = 1e-6
+    for _ in range(3):
+        q = rng.uniform(-0.3, 0.3, model.nq)
+        v = rng.uniform(-2.0, 2.0, model.nv)
+        ahead = stepper.assemble(pin.integrate(model, q, v * h), v).jac
+        behind = stepper.assemble(pin.integrate(model, q, -v * h), v).jac
+        gamma = stepper.assemble(q, v).gamma
+        assert abs(gamma).max() > 1e-3  # the row does change
+        np.testing.assert_allclose(gamma, (ahead - behind) / (2 * h) @ v, rtol=1e-6, atol=1e-9)

@@ -11,6 +11,7 @@ from pinwind.errors import InputError, InvalidGearTrain
 from pinwind.gears.contact import PathOfContact, pairs_in_contact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
+    contact_line_pair_stiffness,
     mesh_stiffness,
     pair_stiffness_along_path,
     single_pair_stiffness,
@@ -244,3 +245,75 @@ def test_nonpositive_face_width_is_rejected():
         single_pair_stiffness(
             GearPair(20, 40, module=5e-3, pressure_angle=ALPHA_20, face_width=0.0)
         )
+
+
+def helical_path(epsilon_alpha: float, epsilon_beta: float) -> PathOfContact:
+    """A path of contact with unit base pitch and the given transverse and overlap ratios."""
+    return PathOfContact(
+        base_pitch=1.0,
+        length=epsilon_alpha,
+        contact_ratio=epsilon_alpha,
+        overlap_ratio=epsilon_beta,
+        start_roll_1=0.1,
+        pitch_roll_1=0.8,
+        single_start=epsilon_alpha - 1.0,
+        single_end=1.0,
+        tip_radius_1=1.0,
+        tip_radius_2=2.0,
+        working_pressure_angle=ALPHA_20,
+    )
+
+
+@pytest.mark.parametrize(
+    ("epsilon_alpha", "epsilon_beta"), [(1.5, 1.09), (1.62, 0.45), (1.3, 2.0), (2.2, 0.8)]
+)
+def test_helical_summed_stiffness_follows_the_contact_line_length(epsilon_alpha, epsilon_beta):
+    # Plane of action g_α = ε_α p_bt long, face width b; a pair's contact line is inclined at β_b
+    # across the face, so the pair at y (front section) touches at y − z tan β_b for z ∈ [0, b].
+    # L(y): the measure of the face where that lies on [0, g_α], summed over the pairs (here by
+    # midpoint quadrature across the face, not the trapezoid), over its mean b ε_α.
+    path = helical_path(epsilon_alpha, epsilon_beta)
+    mean = 3.0e9
+    y_table, k_table = contact_line_pair_stiffness(path, mean)
+    overlap = epsilon_beta  # b tan β_b = ε_β p_bt, p_bt = 1; measure z in units of b tan β_b
+    z = (np.arange(4000) + 0.5) / 4000 * overlap
+    phases = np.linspace(0.0, 1.0, 101)
+    pairs = np.arange(int(epsilon_alpha + epsilon_beta) + 2)
+    lengths = np.array(
+        [
+            sum(np.mean((x + j - z >= 0.0) & (x + j - z <= epsilon_alpha)) for j in pairs)
+            for x in phases
+        ]
+    )
+    stiffness = np.array(
+        [sum(np.interp(x + j, y_table, k_table, right=0.0) for j in pairs) for x in phases]
+    )
+    np.testing.assert_allclose(stiffness / mean, lengths / epsilon_alpha, atol=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("epsilon_alpha", "epsilon_beta"), [(1.5, 1.09), (1.62, 0.45), (1.8, 1.6), (1.3, 2.0)]
+)
+def test_helical_stiffness_extremes_match_the_minimum_contact_length(epsilon_alpha, epsilon_beta):
+    # With n_α, n_β the fractional parts of ε_α, ε_β, the total contact-line length over its mean
+    # ranges over 1 + [max(0, n_α + n_β − 1) − n_α n_β] / (ε_α ε_β) (the minimum is AGMA 908's
+    # L_min = (ε_α b − n_α n_β p_x or (1 − n_α)(1 − n_β) p_x) / cos β_b) to
+    # 1 + [min(n_α, n_β) − n_α n_β] / (ε_α ε_β); ε_β = 1.09, ε_α = 1.5 gives 0.9725–1.0275.
+    path = helical_path(epsilon_alpha, epsilon_beta)
+    mean = 2.0e9
+    y_table, k_table = contact_line_pair_stiffness(path, mean)
+    phases = np.linspace(0.0, 1.0, 20_001)
+    stiffness = sum(np.interp(phases + j, y_table, k_table, right=0.0) for j in range(5))
+    n_a, n_b = epsilon_alpha % 1.0, epsilon_beta % 1.0
+    spread = epsilon_alpha * epsilon_beta
+    low = 1.0 + (max(0.0, n_a + n_b - 1.0) - n_a * n_b) / spread
+    high = 1.0 + (min(n_a, n_b) - n_a * n_b) / spread
+    np.testing.assert_allclose(
+        [stiffness.min(), stiffness.max()], [low * mean, high * mean], rtol=1e-9
+    )
+    np.testing.assert_allclose(np.mean(stiffness[:-1]), mean, rtol=1e-6)
+
+
+def test_contact_line_stiffness_refuses_a_spur_pair():
+    with pytest.raises(InputError, match="ε_β > 0"):
+        contact_line_pair_stiffness(helical_path(1.6, 0.0), 1e9)

@@ -212,14 +212,15 @@ class CompliantMeshes : public Element {
     for (size_t i = 0; i < specs_.size(); ++i) {
       const long m = specs_[i].mesh;
       record_mesh_force(out, s.meshes, s.rows, k, m, normal_[i], last_flank_[i]);
+      const long e = out.entry(Family::mesh, k, m);
       const int f = state_[i] != 0 ? (state_[i] > 0 ? 0 : 1) : (last_flank_[i] > 0 ? 0 : 1);
       const PathState& p = path_[2 * i + f];
-      out.at(Series::mesh_deflection, k, m) =
+      out.at(Series::mesh_deflection, e) =
           state_[i] != 0 ? delta_(i, f) : std::max(delta_(i, 0), delta_(i, 1));
-      out.at(Series::transmission_error, k, m) = delta_(i, 0);
-      out.at(Series::mesh_contact_position, k, m) = paths_[i].roll_start + p.entering;
-      out.at(Series::mesh_pairs, k, m) = p.pairs;
-      out.at(Series::mesh_single_tooth_force, k, m) = normal_[i] * p.share;
+      out.at(Series::transmission_error, e) = delta_(i, 0);
+      out.at(Series::mesh_contact_position, e) = paths_[i].roll_start + p.entering;
+      out.at(Series::mesh_pairs, e) = p.pairs;
+      out.at(Series::mesh_single_tooth_force, e) = normal_[i] * p.share;
     }
   }
 

@@ -47,6 +47,9 @@ class Constraint {
   virtual Eigen::Index size() const = 0;
   // J (k × nv) and γ (k) at the state of the view (its mesh rows evaluated).
   virtual void rows(const StepView&, RowsBlock jac, ValuesBlock bias) const = 0;
+  // Whether J and γ are the same at every state (and for every λ): the stepper then asks for
+  // them once.
+  virtual bool constant_rows() const { return false; }
   // The velocity targets w(t_k) and w(t_{k+1}); left 0 by default.
   virtual void targets(const StepView&, ValuesBlock now, ValuesBlock next) const {
     (void)now;
@@ -83,7 +86,7 @@ class Constraint {
 // λ means the other flank carries the load: the row switches to it. Writes the mesh forces,
 // transmission error (∫ J v dt along the loaded flank [m]), contact position, pairs and
 // single-tooth force; its work joins work_constraints (zero but for the rows' drift).
-class RigidMeshes : public Constraint {
+class RigidMeshes final : public Constraint {
  public:
   // meshes: the indices of the rigid meshes in the model's mesh list, in row order.
   RigidMeshes(std::vector<long> meshes, const std::vector<MeshPathSpec>& paths)
@@ -147,11 +150,12 @@ class RigidMeshes : public Constraint {
           gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
       const PathState p = path_state(path, angle, flank_[r]);
       record_mesh_force(out, mc, s.rows, k, m, lambda[r], flank_[r]);
-      out.at(Series::transmission_error, k, m) = te_[r];
-      out.at(Series::mesh_deflection, k, m) = 0.0;
-      out.at(Series::mesh_contact_position, k, m) = path.roll_start + p.entering;
-      out.at(Series::mesh_pairs, k, m) = p.pairs;
-      out.at(Series::mesh_single_tooth_force, k, m) = lambda[r] * p.share;
+      const long e = out.entry(Family::mesh, k, m);
+      out.at(Series::transmission_error, e) = te_[r];
+      out.at(Series::mesh_deflection, e) = 0.0;
+      out.at(Series::mesh_contact_position, e) = path.roll_start + p.entering;
+      out.at(Series::mesh_pairs, e) = p.pairs;
+      out.at(Series::mesh_single_tooth_force, e) = lambda[r] * p.share;
     }
   }
 
@@ -184,7 +188,7 @@ class RigidMeshes : public Constraint {
 // Speed drivers and locked bearings: row e_i on velocity i, J v = w(t), w the driver's speed
 // [rad/s] (0 for a lock), bias 0. λ is the torque the driver puts on its joint [N·m]; it joins
 // the joint's recorded torque, and its work joins work_drivers.
-class SpeedDrivers : public Constraint {
+class SpeedDrivers final : public Constraint {
  public:
   // index: velocity index of each driver and lock, in row order.
   SpeedDrivers(std::vector<long> index, Eigen::Index nv) : index_(std::move(index)) {
@@ -199,6 +203,8 @@ class SpeedDrivers : public Constraint {
     bias.setZero();
   }
 
+  bool constant_rows() const override { return true; }
+
   void targets(const StepView& s, ValuesBlock now, ValuesBlock next) const override {
     if (!size()) return;
     now = Eigen::Map<const Eigen::VectorXd>(s.target_now, size());
@@ -206,7 +212,9 @@ class SpeedDrivers : public Constraint {
   }
 
   void record(const StepView&, long k, ConstValues lambda, const Outputs& out) const override {
-    for (Eigen::Index i = 0; i < size(); ++i) out.at(Series::torque, k, index_[i]) += lambda[i];
+    for (Eigen::Index i = 0; i < size(); ++i) {
+      out.at(Series::torque, out.entry(Family::joint, k, index_[i])) += lambda[i];
+    }
   }
 
   void work(const StepView&, ConstRows, ConstValues lambda, const Eigen::VectorXd& dq,

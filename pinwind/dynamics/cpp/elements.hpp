@@ -34,15 +34,16 @@ namespace pinwind {
 inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const MeshRows& rows,
                               long k, Eigen::Index m, double normal, double flank) {
   const double tangential = normal * mc.cos_a[m];
-  out.at(Series::mesh_normal, k, m) = normal;
-  out.at(Series::mesh_tangential, k, m) = tangential;
-  out.at(Series::mesh_radial, k, m) = normal * mc.sin_a[m];
-  out.at(Series::mesh_axial, k, m) = tangential * std::abs(mc.tan_beta[m]);
-  out.at(Series::mesh_flank, k, m) = flank;
+  const long e = out.entry(Family::mesh, k, m);
+  out.at(Series::mesh_normal, e) = normal;
+  out.at(Series::mesh_tangential, e) = tangential;
+  out.at(Series::mesh_radial, e) = normal * mc.sin_a[m];
+  out.at(Series::mesh_axial, e) = normal * std::abs(mc.tan_beta_b[m]);  // tooth_force_on_b
+  out.at(Series::mesh_flank, e) = flank;
   const Vec3 f = tooth_force_on_b(mc, rows, m, flank, normal);
   for (int c = 0; c < 3; ++c) {
-    out.at(Series::mesh_force_on_b, k, m, c) = f[c];
-    out.at(Series::pitch_point, k, m, c) = rows.pitch_point(m, c);
+    out.at(Series::mesh_force_on_b, e, c) = f[c];
+    out.at(Series::pitch_point, e, c) = rows.pitch_point(m, c);
   }
 }
 
@@ -91,12 +92,16 @@ struct EnergyLedger {
   }
 };
 
-// Forces on bodies (for the bearing reactions by RNEA): a force f [N] applied at world point p
-// to the body of joint j.
-class BodyForces {
- public:
-  virtual ~BodyForces() = default;
-  virtual void add(long joint, const Vec3& point, const Vec3& force) = 0;
+// Forces on bodies (for the bearing reactions by RNEA): per joint, the spatial force of what
+// is applied to its body, in world axes about the world origin.
+struct BodyForces {
+  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) of_joint;
+
+  // Adds a force f [N] applied at world point p to the body of joint j.
+  void add(long joint, const Vec3& point, const Vec3& force) {
+    of_joint[joint].linear() += force;
+    of_joint[joint].angular() += point.cross(force);
+  }
 };
 
 class Element {
@@ -123,7 +128,7 @@ class Element {
     (void)v_mid;
     return {};
   }
-  // Writes the element's outputs of sample k (series.hpp: out.at(Series::..., k, element)).
+  // Writes the element's outputs of sample k (series.hpp: out.at(Series::x, out.entry(...))).
   virtual void record(const StepView&, long, const Outputs&) const {}
   // Moves the element's own states (generator fluxes, ...) from t_n to t_{n+1}, given v_{n+1}.
   virtual void advance(const StepView&, const Eigen::VectorXd& v_next) { (void)v_next; }

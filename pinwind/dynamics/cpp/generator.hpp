@@ -118,7 +118,7 @@ class ShaftSpeedGenerator : public JointTorqueElement {
   // Also T_gen = −τ over the step, the generator's own output.
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    out.at(Series::generator_torque, k, slot_) = -applied();
+    out.at(Series::generator_torque, out.entry(Family::generator, k, slot_)) = -applied();
   }
 
  private:
@@ -200,7 +200,7 @@ class InductionMachineDq : public JointTorqueElement {
   // Also T_gen = −τ over the step (the electromagnetic torque at the weighted time).
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    out.at(Series::generator_torque, k, slot_) = -applied();
+    out.at(Series::generator_torque, out.entry(Family::generator, k, slot_)) = -applied();
   }
 
   void advance(const StepView& s, const Eigen::VectorXd& v_next) override {

@@ -86,7 +86,7 @@ class JointTorqueElement : public Element {
 
   // The torque joins the joint's recorded torque (applied + drivers + elements).
   void record(const StepView&, long k, const Outputs& out) const override {
-    out.at(Series::torque, k, index_) += applied_;
+    out.at(Series::torque, out.entry(Family::joint, k, index_)) += applied_;
   }
 
   double applied() const { return applied_; }

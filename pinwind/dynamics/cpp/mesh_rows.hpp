@@ -33,8 +33,9 @@ struct MeshConstants {
   Eigen::VectorXd mu;        // pitch point P = C_A + mu (C_B − C_A)⊥
   Eigen::VectorXd sigma;     // r̂ = sigma (C_B − C_A)⊥ / |·|
   RowMat support;            // support(i, k) = 1 when velocity k moves the body of slot i
-  // Working pressure angle α_w (cos, sin), ε (−1 when A is internal), tan β of gear A.
-  Eigen::VectorXd cos_a, sin_a, eps, tan_beta;
+  // Working pressure angle α_w (cos, sin), ε (−1 when A is internal), tan β_b of gear A (base
+  // helix angle, signed like β).
+  Eigen::VectorXd cos_a, sin_a, eps, tan_beta_b;
   std::vector<long> joint_a, joint_b;  // Pinocchio joint ids of gear A and gear B
 
   Index count() const { return static_cast<Index>(slot_a.size()); }
@@ -196,14 +197,23 @@ void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double fl
   bias = ct * rows.bias_t[m] + cr * rows.bias_r[m];
 }
 
-// Tooth force on gear B [N] in world for the normal force F_n on flank s: F_n n plus, for
-// helical teeth, the axial thrust. The tooth line of a right-hand gear A runs along
-// cos β k + sin β t at P, so the force on B, normal to it, has the axial part −s F_t tan β k.
+// Tooth force on gear B [N] in world for the transverse force F_bt (``normal``, along n) on
+// flank s: F_bt n plus, for helical teeth, the axial thrust −s F_bt tan β_b k.
+//
+// Why β_b: the flanks of a helical pair touch along straight contact lines in the plane of
+// action (tangent to both base cylinders), inclined at the base helix angle β_b to the axis;
+// tan β_b = tan β cos α_t with α_t the reference transverse pressure angle. The contact force
+// F_n is normal to the flanks, so it lies in the plane of action perpendicular to the contact
+// lines: its part in the transverse plane, along the transverse line of action, is
+// F_bt = F_n cos β_b and its axial part F_a = F_n sin β_b = F_bt tan β_b. The base cylinders
+// alone fix both, so F_a does not depend on the centre distance. Only at the reference centre
+// distance (α_w = α_t) is it F_t tan β; a profile-shifted pair at its working centre distance
+// has F_a = F_tw tan β cos α_t / cos α_w. A right-hand gear A (tooth line along cos β k +
+// sin β t at P) pushes B towards −s k.
 inline Vec3 tooth_force_on_b(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
                              double normal) {
-  const double tangential = normal * mc.cos_a[m];
   return normal * line_of_action(mc, rows, m, flank) -
-         (flank * tangential * mc.tan_beta[m]) * rows.axis.row(m).transpose();
+         (flank * normal * mc.tan_beta_b[m]) * rows.axis.row(m).transpose();
 }
 
 }  // namespace pinwind

@@ -274,7 +274,7 @@ void check_meshes(const MeshConstants& mc, size_t nv) {
   check_size("meshes.cos_a", mc.cos_a, nm);
   check_size("meshes.sin_a", mc.sin_a, nm);
   check_size("meshes.eps", mc.eps, nm);
-  check_size("meshes.tan_beta", mc.tan_beta, nm);
+  check_size("meshes.tan_beta_b", mc.tan_beta_b, nm);
   check_size("meshes.joint_a", mc.joint_a, nm);
   check_size("meshes.joint_b", mc.joint_b, nm);
   if (static_cast<size_t>(mc.centre_a.rows()) != nm ||
@@ -532,7 +532,7 @@ NB_MODULE(_native, m) {
       .def_rw("cos_a", &MeshConstants::cos_a)
       .def_rw("sin_a", &MeshConstants::sin_a)
       .def_rw("eps", &MeshConstants::eps)
-      .def_rw("tan_beta", &MeshConstants::tan_beta)
+      .def_rw("tan_beta_b", &MeshConstants::tan_beta_b)
       .def_rw("joint_a", &MeshConstants::joint_a)
       .def_rw("joint_b", &MeshConstants::joint_b);
 

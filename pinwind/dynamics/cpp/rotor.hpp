@@ -127,11 +127,12 @@ class RotorAerodynamics : public JointTorqueElement {
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
     const RotorPoint point = rotor_point(r_, s.v[index_], wind_);
-    out.at(Series::rotor_torque, k, slot_) = applied();
-    out.at(Series::rotor_power, k, slot_) = point.torque * s.v[index_];
-    out.at(Series::rotor_tip_speed_ratio, k, slot_) = point.tsr;
-    out.at(Series::rotor_power_coefficient, k, slot_) = point.cp;
-    out.at(Series::rotor_wind_speed, k, slot_) = wind_;
+    const long e = out.entry(Family::rotor, k, slot_);
+    out.at(Series::rotor_torque, e) = applied();
+    out.at(Series::rotor_power, e) = point.torque * s.v[index_];
+    out.at(Series::rotor_tip_speed_ratio, e) = point.tsr;
+    out.at(Series::rotor_power_coefficient, e) = point.cp;
+    out.at(Series::rotor_wind_speed, e) = wind_;
   }
 
  private:

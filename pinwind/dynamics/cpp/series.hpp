@@ -6,8 +6,10 @@
 // A series of family F with c components is a row-major (samples, count(F), c) array, c = 1
 // leaving the last axis out: count(run) = 1, count(joint) = nv, count(bearing) = the joints,
 // count(mesh), count(body) = the recorded links, count(generator), count(rotor) = the elements'.
-// Its name is the Result's (pinwind/dynamics/result.py; the ledger's terms are keys of
-// Result.energy), where its unit, frame and meaning are documented.
+// Its name is the Result's; its unit, frame, meaning and how every consumer shows it are declared
+// in the Python schema (pinwind/dynamics/series.py; the ledger's terms are keys of
+// Result.energy), and tests/dynamics/test_series.py checks that this table and that schema
+// agree.
 #pragma once
 
 #include <array>
@@ -94,10 +96,12 @@ struct Outputs {
 
   double* column(Series s) const { return columns[static_cast<std::size_t>(s)]; }
   long count(Family f) const { return counts[static_cast<std::size_t>(f)]; }
-  // The entry of element e, component c, of sample k of series s.
-  double& at(Series s, long k, long e, int c = 0) const {
-    const SeriesLayout& l = layout(s);
-    return column(s)[(k * count(l.family) + e) * l.components + c];
+  // The entry of element e of sample k in every series of family f: the i of at(), computed
+  // once for the element's series.
+  long entry(Family f, long k, long e = 0) const { return k * count(f) + e; }
+  // Component c of entry i of series s (its components a constant: no table look-up).
+  double& at(Series s, long i, int c = 0) const {
+    return column(s)[i * layout(s).components + c];
   }
 };
 

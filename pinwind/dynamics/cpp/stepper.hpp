@@ -159,7 +159,7 @@ struct Assembly {
   Eigen::VectorXd gamma;  // γ = J̇ v [m/s² or rad/s²]
 };
 
-class Stepper : private BodyForces {
+class Stepper {
  public:
   // samples: how many samples the whole run has (the last one is recorded, not stepped from).
   Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0, long samples)
@@ -177,16 +177,25 @@ class Stepper : private BodyForces {
     rows_data_.resize(nm_, nv_);
     origin_.resize(s_.meshes.joint_ids.size());
     rot_.resize(s_.meshes.joint_ids.size());
-    fext_.assign(s_.model.njoints, pinocchio::Force::Zero());
+    fext_.of_joint.assign(s_.model.njoints, pinocchio::Force::Zero());
     for (const auto& kind : kElementKinds) kind.add(s_, elements_);
     for (const auto& kind : kConstraintKinds) kind.add(s_, constraints_);
     Eigen::Index offset = 0;
     for (const auto& c : constraints_) {
       offset_.push_back(offset);
+      size_.push_back(c->size());
       offset += c->size();
     }
     jac_.setZero(rows_, nv_);
     bias_.setZero(rows_);
+    const StepView sv = view();
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      if (constraints_[c]->constant_rows()) {
+        constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
+      } else {
+        varying_.push_back(c);
+      }
+    }
     jv_.setZero(rows_);
     mv_.setZero(nv_);
     dq_free_.setZero(nv_);
@@ -264,10 +273,12 @@ class Stepper : private BodyForces {
   }
 
   // Constraint c's rows in the stacked J, γ, targets and λ.
-  auto rows_of(Eigen::MatrixXd& m, size_t c) {
-    return m.middleRows(offset_[c], constraints_[c]->size());
+  Eigen::MatrixXd::RowsBlockXpr rows_of(Eigen::MatrixXd& m, size_t c) {
+    return m.middleRows(offset_[c], size_[c]);
   }
-  auto rows_of(Eigen::VectorXd& x, size_t c) { return x.segment(offset_[c], constraints_[c]->size()); }
+  Eigen::VectorXd::SegmentReturnType rows_of(Eigen::VectorXd& x, size_t c) {
+    return x.segment(offset_[c], size_[c]);
+  }
 
   // The velocity targets of this sample's rows at t_k and t_{k+1}.
   void targets() {
@@ -370,7 +381,7 @@ class Stepper : private BodyForces {
       const int idx = model.idx_vs[i], n = model.nvs[i];
       const pinocchio::Motion::Vector6 ja = data_.J.middleCols(idx, n) * a_.segment(idx, n);
       accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(ja);
-      subtree_[i] = body_force_[i] + body_[i] * accel_[i] - fext_[i];
+      subtree_[i] = body_force_[i] + body_[i] * accel_[i] - fext_.of_joint[i];
     }
     for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
       if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
@@ -405,12 +416,10 @@ class Stepper : private BodyForces {
     mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
   }
 
-  // J and γ of every constraint's rows.
+  // J and γ of every constraint's rows (constant ones are set at construction).
   void constraint_matrix() {
     const StepView sv = view();
-    for (size_t c = 0; c < constraints_.size(); ++c) {
-      constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
-    }
+    for (const size_t c : varying_) constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
   }
 
   double residual() {
@@ -507,6 +516,8 @@ class Stepper : private BodyForces {
       // The consistent start a_0: the dynamics at the first sample (time_step.hpp).
       weights_ = StepWeights();
       dq_free_.setZero(nv_);
+      nle_step_ = nle_;
+      gravity_step_ = gravity_;
       if (!dynamics(k, t, st)) return false;
       accel_memory_ = a_;
       first_step_ = false;
@@ -514,12 +525,32 @@ class Stepper : private BodyForces {
     // The time step's weights and the weighted state's displacement at ā = 0 (time_step.hpp).
     weights_ = StepWeights(method_, s_.dt);
     dq_free_ = weights_.force_new * (s_.dt * v_ + weights_.memory_gain * accel_memory_);
-    return dynamics(k, t, st);
+    weighted_bias();
+    if (!dynamics(k, t, st)) return false;
+    nle_last_ = nle_;
+    gravity_last_ = gravity_;
+    return true;
+  }
+
+  // b and g at the step's weighted state t_{n+1−αf}, extrapolated from the last two samples:
+  // b_n + (1 − αf)(b_n − b_{n−1}), second order like the step (b at t_n alone is first order:
+  // a pendulum's gravity work was 1e-3 m g d off at dt = 1e-4 s), for the cost of two vector
+  // sums instead of a second pass over the joints at a predicted state. The first step, with
+  // no sample before it, takes b_0.
+  void weighted_bias() {
+    if (nle_last_.size() != nv_) {
+      nle_step_ = nle_;
+      gravity_step_ = gravity_;
+      return;
+    }
+    const double w = weights_.force_new;
+    nle_step_ = nle_ + w * (nle_ - nle_last_);
+    gravity_step_ = gravity_ + w * (gravity_ - gravity_last_);
   }
 
   // The step's ā and λ for the current weights, at the assembled state.
   bool dynamics(long k, double t, RunStatus& st) {
-    const Eigen::VectorXd& nle = nle_;
+    const Eigen::VectorXd& nle = nle_step_;
     const StepView sv = view();
     elements_force_.setZero(nv_);
     for (auto& e : elements_) {
@@ -559,30 +590,23 @@ class Stepper : private BodyForces {
     return true;
   }
 
-  // Adds a force f applied at world point p to joint j's external force (world axes, about the
-  // world origin, as joint_forces() takes it).
-  void add(long j, const Vec3& p, const Vec3& f) override {
-    fext_[j].linear() += f;
-    fext_[j].angular() += p.cross(f);
-  }
-
   // The constraints' and elements' forces on the bodies (the tooth forces at the pitch
   // points), and the bearing reactions by RNEA with them: data.f[j] is the spatial force joint
   // j transmits from its parent to its child, in the joint frame about the joint origin.
   void bearing_reactions() {
-    for (auto& f : fext_) f.setZero();
+    for (auto& f : fext_.of_joint) f.setZero();
     const StepView sv = view();
     for (size_t c = 0; c < constraints_.size(); ++c) {
-      constraints_[c]->add_body_forces(sv, rows_of(lam_, c), *this);
+      constraints_[c]->add_body_forces(sv, rows_of(lam_, c), fext_);
     }
-    for (const auto& e : elements_) e->add_body_forces(sv, *this);
+    for (const auto& e : elements_) e->add_body_forces(sv, fext_);
     joint_forces();
   }
 
   // Writes the state of the step into row k of the block's outputs.
   void record(long k, double t) {
     const Eigen::Index nj = s_.model.njoints - 1;
-    out_.at(Series::time, k, 0) = t;
+    out_.at(Series::time, k) = t;
     joint_row(Series::angle, k) = q_;
     joint_row(Series::speed, k) = v_;
     joint_row(Series::acceleration, k) = accel_memory_;  // a_k, at the sample
@@ -595,43 +619,43 @@ class Stepper : private BodyForces {
     for (Eigen::Index j = 1; j <= nj; ++j) {
       const auto& f = data_.f[j];
       const auto& rot = data_.oMi[j].rotation();
-      vector(Series::bearing_force_local, k, j - 1) = f.linear();
-      vector(Series::bearing_moment_local, k, j - 1) = f.angular();
+      const long e = out_.entry(Family::bearing, k, j - 1);
+      vec3(Series::bearing_force_local, e) = f.linear();
+      vec3(Series::bearing_moment_local, e) = f.angular();
       // World axes; the moment stays about the bearing centre.
-      vector(Series::bearing_force, k, j - 1) = rot * f.linear();
-      vector(Series::bearing_moment, k, j - 1) = rot * f.angular();
+      vec3(Series::bearing_force, e) = rot * f.linear();
+      vec3(Series::bearing_moment, e) = rot * f.angular();
     }
     const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
     for (Eigen::Index b = 0; b < nb; ++b) {
       // Each link is rigid on a joint: its pose is the joint's placement times a constant one.
       const pinocchio::SE3 pose = data_.oMi[s_.frame_parent[b]] * s_.frame_placement[b];
-      vector(Series::body_position, k, b) = pose.translation();
+      const long e = out_.entry(Family::body, k, b);
+      vec3(Series::body_position, e) = pose.translation();
       const Eigen::Quaterniond quat(pose.rotation());
-      Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, k, b)) = quat.coeffs();
+      Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, e)) = quat.coeffs();
     }
-    out_.at(Series::constraint_residual, k, 0) = residual_;
+    out_.at(Series::constraint_residual, k) = residual_;
     mv_.noalias() = mass_ * v_;
-    out_.at(Series::kinetic, k, 0) = 0.5 * v_.dot(mv_);
+    out_.at(Series::kinetic, k) = 0.5 * v_.dot(mv_);
     double potential = 0.0;
     for (const auto& e : elements_) potential += e->potential(sv);
-    out_.at(Series::potential_spring, k, 0) = potential;
-    out_.at(Series::work_applied, k, 0) = ledger_.applied;
-    out_.at(Series::work_drivers, k, 0) = ledger_.drivers;
-    out_.at(Series::work_springs, k, 0) = ledger_.springs;
-    out_.at(Series::work_gravity, k, 0) = ledger_.gravity;
-    out_.at(Series::work_constraints, k, 0) = ledger_.constraints;
-    out_.at(Series::dissipated, k, 0) = ledger_.dissipated;
+    out_.at(Series::potential_spring, k) = potential;
+    out_.at(Series::work_applied, k) = ledger_.applied;
+    out_.at(Series::work_drivers, k) = ledger_.drivers;
+    out_.at(Series::work_springs, k) = ledger_.springs;
+    out_.at(Series::work_gravity, k) = ledger_.gravity;
+    out_.at(Series::work_constraints, k) = ledger_.constraints;
+    out_.at(Series::dissipated, k) = ledger_.dissipated;
   }
 
   // Sample k of a joint series, as a vector of nv.
   Eigen::Map<Eigen::VectorXd> joint_row(Series s, long k) const {
-    return Eigen::Map<Eigen::VectorXd>(&out_.at(s, k, 0), nv_);
+    return Eigen::Map<Eigen::VectorXd>(&out_.at(s, out_.entry(Family::joint, k)), nv_);
   }
 
-  // Element e of sample k of a 3-vector series.
-  Eigen::Map<Vec3> vector(Series s, long k, long e) const {
-    return Eigen::Map<Vec3>(&out_.at(s, k, e));
-  }
+  // Entry e of a 3-vector series.
+  Eigen::Map<Vec3> vec3(Series s, long e) const { return Eigen::Map<Vec3>(&out_.at(s, e)); }
 
   // The generalized-α step (time_step.hpp), with the work of each force over the step at the
   // mid-step speed (with which the kinetic-energy change of a step equals the work of its forces
@@ -662,7 +686,7 @@ class Stepper : private BodyForces {
       mv_.noalias() = mass_ * (a_ - accel_memory_);
       step.springs += weights_.memory * mv_.dot(mid_);
     }
-    step.gravity = -gravity_.dot(mid_);
+    step.gravity = -gravity_step_.dot(mid_);
     step.dissipated = elements.dissipated;
     for (size_t c = 0; c < constraints_.size(); ++c) {
       constraints_[c]->work(sv, rows_of(jac_, c), rows_of(lam_, c), mid_, step);
@@ -688,7 +712,8 @@ class Stepper : private BodyForces {
   ConstrainedQp qp_;
   std::vector<std::unique_ptr<Element>> elements_;
   std::vector<std::unique_ptr<Constraint>> constraints_;
-  std::vector<Eigen::Index> offset_;  // each constraint's first row
+  std::vector<Eigen::Index> offset_, size_;  // each constraint's first row and row count
+  std::vector<size_t> varying_;  // the constraints whose rows depend on the state
   GeneralizedAlpha method_;
   StepWeights weights_;
   bool first_step_ = true;
@@ -697,11 +722,12 @@ class Stepper : private BodyForces {
   MeshRows rows_data_;
   std::vector<Vec3> origin_;
   std::vector<Eigen::Matrix3d> rot_;
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) fext_;
+  BodyForces fext_;  // the constraints' and elements' forces on the bodies
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Inertia) composite_, body_;  // world inertias
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) accel_, drift_;
   PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_, weight_;
   Eigen::VectorXd nle_;
+  Eigen::VectorXd nle_step_, gravity_step_, nle_last_, gravity_last_;  // weighted_bias
   Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;
   Eigen::MatrixXd jac_, mass_, hessian_;
   Eigen::VectorXd bias_, target_now_, target_next_, jv_, mv_;

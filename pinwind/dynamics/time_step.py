@@ -1,0 +1,170 @@
+"""The time step's numerical damping of a mesh mode, and the dt that keeps it small.
+
+A step too coarse for a mode does not go unstable here (every stiff element is implicit,
+``dynamics/integrator.py``); with a spectral radius ρ∞ < 1 it damps the mode numerically,
+which lowers the dynamic forces as a physical dashpot would. What a run needs is that numerical
+damping ratio ζ_num small beside the mode's physical one: ``dt_advice`` names both at the chosen
+dt and the dt that keeps ζ_num ≤ ζ_phys / 10 (``ACCURATE_FRACTION``). ``numerical_damping_ratio``
+holds the scheme's formula, in this one place; the scheme and its settings are the run's
+``Integrator``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinwind.dynamics.integrator import Integrator
+from pinwind.errors import InputError
+
+#: ζ_num ≤ this fraction of the physical ζ: the accurate step that the advice names.
+ACCURATE_FRACTION = 0.1
+
+#: Steps per period that resolve a mode's period (not its amplitude: see ``DtAdvice``).
+RESOLVING_STEPS = 10
+
+#: The scheme every run uses unless given another: the default ``Integrator``.
+DEFAULT_SCHEME = Integrator()
+
+
+def amplification_matrix(omega_h: float, scheme: Integrator) -> np.ndarray:
+    """The step's amplification matrix on an undamped mode ẍ = −ω² x, state (x, h v, h² a).
+
+    Chung & Hulbert 1993 eqs. 2-3: (1 − αm) a_{n+1} + αm a_n = −ω² ((1 − αf) x_{n+1} + αf x_n)
+    with the Newmark updates of x and v, written B y_{n+1} = A y_n; returns B⁻¹ A.
+    """
+    am, af = scheme.alpha_m, scheme.alpha_f
+    gamma, beta = scheme.gamma, scheme.beta
+    w2 = omega_h * omega_h
+    b = np.array([[1.0, 0.0, -beta], [0.0, 1.0, -gamma], [w2 * (1.0 - af), 0.0, 1.0 - am]])
+    a = np.array([[1.0, 1.0, 0.5 - beta], [0.0, 1.0, 1.0 - gamma], [-w2 * af, 0.0, -am]])
+    return np.linalg.solve(b, a)
+
+
+def numerical_damping_ratio(omega: float, dt: float, scheme: Integrator = DEFAULT_SCHEME) -> float:
+    """Damping ratio the step adds to an undamped mode of angular frequency ω [-].
+
+    ``"generalized-alpha"``: from the principal root λ of the amplification matrix
+    (``amplification_matrix``), the one of largest modulus, the spectral radius ρ(ωh). Writing
+    λ = exp(ω̄h (−ζ + i √(1 − ζ²))) for the discrete mode (Hilber, Hughes & Taylor 1977):
+
+        ζ_num = −ln |λ| / √(ln² |λ| + arg² λ).
+
+    At ρ∞ = 1 (the trapezoidal rule) |λ| = 1 at every ωh: ζ_num = 0. For ρ∞ < 1 it grows as
+    (ωh)³ while ωh is small (the method is second order) and tends to
+    −ln ρ∞ / √(ln² ρ∞ + π²) as ωh → ∞.
+
+    Args:
+        omega: angular frequency of the mode [rad/s].
+        dt: time step [s].
+        scheme: the step's scheme and settings.
+    """
+    if scheme.scheme != "generalized-alpha":
+        raise InputError(f'no numerical damping formula for the scheme "{scheme.scheme}"')
+    if scheme.rho_infinity == 1.0 or omega * dt == 0.0:
+        return 0.0
+    roots = np.linalg.eigvals(amplification_matrix(omega * dt, scheme))
+    root = roots[np.argmax(np.abs(roots))]
+    log_modulus = math.log(abs(root))
+    return max(-log_modulus / math.hypot(log_modulus, abs(float(np.angle(root)))), 0.0)
+
+
+def dt_for_damping_ratio(omega: float, ratio: float, scheme: Integrator) -> float:
+    """The largest dt whose numerical damping ratio of a mode is ``ratio`` [s].
+
+    Found by bisection on ``numerical_damping_ratio`` (which grows with dt in every scheme),
+    so that a new scheme needs no inverse formula. 0 when ``ratio`` ≤ 0; infinite when no dt
+    reaches it (ρ∞ = 1 adds no damping at any dt).
+    """
+    if ratio <= 0.0 or omega <= 0.0:
+        return 0.0
+    low, high = 0.0, 1.0 / omega
+    while numerical_damping_ratio(omega, high, scheme) < ratio:
+        if high > 1e6 / omega:
+            return math.inf
+        low, high = high, 2.0 * high
+    for _ in range(100):
+        middle = 0.5 * (low + high)
+        if numerical_damping_ratio(omega, middle, scheme) <= ratio:
+            low = middle
+        else:
+            high = middle
+    return low
+
+
+@dataclass(frozen=True)
+class DtAdvice:
+    """The accuracy of a dt for the highest mesh mode.
+
+    Attributes:
+        frequency: the highest mesh mode [Hz].
+        dt: the run's time step [s].
+        physical_ratio: the mode's damping ratio from the mesh dashpots [-].
+        numerical_ratio: the damping ratio the step adds at dt [-].
+        accurate_dt: the dt that keeps ζ_num ≤ ``ACCURATE_FRACTION`` ζ_phys [s]; 0 when the
+            mode has no physical damping; infinite when the scheme adds no damping.
+        scheme: the step's scheme.
+    """
+
+    frequency: float
+    dt: float
+    physical_ratio: float
+    numerical_ratio: float
+    accurate_dt: float
+    scheme: Integrator = DEFAULT_SCHEME
+
+    @property
+    def steps_per_period(self) -> float:
+        """Steps per period of the mode at dt."""
+        return 1.0 / (self.frequency * self.dt)
+
+    @property
+    def accurate(self) -> bool:
+        """ζ_num ≤ ``ACCURATE_FRACTION`` ζ_phys."""
+        return self.numerical_ratio <= ACCURATE_FRACTION * self.physical_ratio
+
+    def text(self) -> str:
+        """One line: the mode, both damping ratios, and the dt that keeps the numerical small."""
+        line = (
+            f"highest mesh mode {self.frequency:.4g} Hz: at dt = {self.dt:.3g} s "
+            f"({self.steps_per_period:.3g} steps per period) the step damps it with "
+            f"ζ_num = {self.numerical_ratio:.3g} beside its physical ζ = {self.physical_ratio:.3g}"
+        )
+        if math.isinf(self.accurate_dt):
+            return line + (
+                f" (ρ∞ = {self.scheme.rho_infinity:g} keeps the amplitude at any dt; "
+                f"dt ≤ {1.0 / (RESOLVING_STEPS * self.frequency):.2g} s, {RESOLVING_STEPS} "
+                "steps per period, resolves its period)"
+            )
+        if self.physical_ratio > 0.0:
+            return line + (
+                f"; dt ≤ {self.accurate_dt:.2g} s keeps ζ_num below a tenth of the physical one"
+            )
+        resolving = 1.0 / (RESOLVING_STEPS * self.frequency)
+        omega = 2.0 * math.pi * self.frequency
+        at_resolving = numerical_damping_ratio(omega, resolving, self.scheme)
+        return line + (
+            "; the mode has no physical damping, so all its damping is numerical and shrinks "
+            f"with dt (dt ≤ {resolving:.2g} s, {RESOLVING_STEPS} steps per period, still damps "
+            f"it with ζ_num ≈ {at_resolving:.2g})"
+        )
+
+
+def dt_advice(
+    frequency: float,
+    dt: float,
+    physical_ratio: float,
+    scheme: Integrator = DEFAULT_SCHEME,
+) -> DtAdvice:
+    """The accuracy of dt for a mode of ``frequency`` [Hz] with damping ratio ``physical_ratio``."""
+    omega = 2.0 * math.pi * frequency
+    return DtAdvice(
+        frequency=frequency,
+        dt=dt,
+        physical_ratio=physical_ratio,
+        numerical_ratio=numerical_damping_ratio(omega, dt, scheme),
+        accurate_dt=dt_for_damping_ratio(omega, ACCURATE_FRACTION * physical_ratio, scheme),
+        scheme=scheme,
+    )
