@@ -72,20 +72,28 @@ def test_torque_that_turns_non_finite_mid_run_names_the_step_and_time(pair):
         pinwind.simulate(pair, duration=0.01, dt=1e-3, torques={"a": torque})
 
 
-def test_unstable_time_step_stops_with_the_step_and_time():
-    # Cai's shaft springs (k = 442.3 N·m/rad on ~1e-3 kg·m²) ring at ~600 rad/s: explicit
-    # integration with dt = 10 ms (ω dt ≫ 2) grows without bound until it overflows.
-    from tests.conftest import MODELS
+def test_runaway_load_stops_with_the_step_and_time(pair):
+    # A diverging run stops naming the step and time. Every stiff part is implicit, so no dt
+    # makes a stable model diverge; a physically unstable load does: a K ω² law with K < 0
+    # motors the shaft with +|K| ω², so J_eq ω̇ = |K| ω² and ω = ω₀ / (1 − |K| ω₀ t / J_eq), which
+    # passes every bound before t* = J_eq / (|K| ω₀). two_gear_urdf: J_eq = I_a + I_b / 4 =
+    # 0.003 kg·m² on gear a; ω₀ = 10 rad/s and |K| = 3e-4 N·m·s² give t* = 1 s, and the speed
+    # reaches the plausible bound 1e5 rad/s at t* (1 − ω₀ / 1e5) = 0.9999 s.
+    from pinwind.loads.generator import VariableSpeed
 
-    gb = pinwind.load(MODELS / "cai_spur_pair.urdf")
-    with pytest.raises(Diverged, match=r"diverged at step \d+ \(t = [0-9.e+-]+ s\).*Reduce dt"):
+    j_eq, gain, omega0 = 0.0015 + 0.006 / 4, 3e-4, 10.0
+    blow_up = j_eq / (gain * omega0)
+    with pytest.raises(
+        Diverged, match=r"diverged at step \d+ \(t = [0-9.e+-]+ s\).*Reduce dt"
+    ) as info:
         pinwind.simulate(
-            gb,
-            duration=100.0,
-            dt=1e-2,
-            speeds={"input_shaft": 20.0},
-            torques={"output_shaft": -49.0},
+            pair,
+            duration=2.0,
+            dt=1e-3,
+            generators={"a": VariableSpeed(gain=-gain)},
+            initial_speeds={"a": omega0},
         )
+    np.testing.assert_allclose(info.value.time, blow_up * (1 - omega0 / 1e5), rtol=1e-2)
 
 
 def test_a_fixed_ring_cannot_be_driven():
