@@ -27,8 +27,8 @@ proxsuite solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is seco
 at any step; with ρ∞ < 1 it damps the modes it does not resolve (``dynamics/time_step.py``). The
 run's metadata and summary name the highest mesh mode, its numerical damping ratio at the chosen
 dt beside its physical one, and the dt that keeps the numerical one below a tenth of the
-physical; a run whose numerical damping of that mode exceeds the physical one warns with the
-same line.
+physical; a run whose numerical damping of that mode exceeds the physical one, or that takes
+fewer than ``RESOLVING_STEPS`` steps per period of it, warns with the same line.
 
 Position errors of gear centres (planet pin errors) shift the overlaps by n·(e_A − e_B): a
 constant offset in the carrier's frame that makes the planets share the load unequally.
@@ -47,7 +47,7 @@ import pinocchio as pin
 from pinwind.dynamics import _native
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
-from pinwind.dynamics.time_step import DEFAULT_SCHEME, dt_advice
+from pinwind.dynamics.time_step import DEFAULT_SCHEME, RESOLVING_STEPS, dt_advice
 from pinwind.errors import InputError, PinwindWarning, UnknownElement
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
@@ -502,11 +502,20 @@ def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> 
 def _warn_if_damped_numerically(
     frequency: float, dt: float, physical_ratio: float, scheme: Integrator
 ) -> None:
-    """Warn when the step damps the highest mesh mode more than its dashpots do."""
+    """Warn when the step damps the highest mesh mode more than its dashpots do, or resolves it.
+
+    Not resolving it means fewer than ``RESOLVING_STEPS`` steps per period: stable, but its
+    period and response are the step's, not the mesh's.
+    """
     advice = dt_advice(frequency, dt, physical_ratio, scheme)
     if advice.numerical_ratio > physical_ratio:
-        warnings.warn(
-            advice.text() + "; the step, not the mesh damping, sets how much that mode responds",
-            PinwindWarning,
-            stacklevel=4,
-        )
+        why = "the step, not the mesh damping, sets how much that mode responds"
+    elif frequency > 0.0 and advice.steps_per_period < RESOLVING_STEPS:
+        why = "the step does not resolve that mode, so it sets its period and response"
+    else:
+        return
+    warnings.warn(
+        advice.text() + "; " + why,
+        PinwindWarning,
+        stacklevel=4,
+    )
