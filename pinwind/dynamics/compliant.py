@@ -502,9 +502,9 @@ def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> 
 def _warn_if_damped_numerically(
     frequency: float, dt: float, physical_ratio: float, scheme: Integrator
 ) -> None:
-    """Warn when the step damps the highest mesh mode more than its dashpots do, or too coarsely.
+    """Warn when the step damps the highest mesh mode more than its dashpots, or steps it coarsely.
 
-    Too coarse is fewer than ``RESOLVING_STEPS`` steps per period: stable, but its
+    Coarsely: fewer than ``RESOLVING_STEPS`` steps per period; stable, but then its
     period and response are the step's, not the mesh's.
     """
     advice = dt_advice(frequency, dt, physical_ratio, scheme)
