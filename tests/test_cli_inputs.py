@@ -81,6 +81,14 @@ def test_duration_and_dt_are_seconds_and_log_rate_is_hertz():
             ["--speed", "carrier=14.2", "--initial-speed", "carrier=10"],
             'joint "carrier" is given both in --speed and in --initial-speed',
         ),
+        (
+            ["--torque", "carrier=1e6", "--speed", "carrier=14.2"],
+            'joint "carrier" is given both --torque carrier=1e6 and --speed carrier=14.2',
+        ),
+        (
+            ["--torque", "carrier=1e6", "--speed-sine", "carrier=14.2,1,1"],
+            'joint "carrier" is given both --torque carrier=1e6 and --speed-sine',
+        ),
         (["--torque", "ring=1e5"], 'joint "ring" is a fixed mount'),
         (
             ["--duration", "1", "--dt", "0.3"],
