@@ -103,3 +103,13 @@ def test_contradictory_options_exit_2_with_one_line(args, message):
     assert message in out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
     assert "Traceback" not in out.stderr
+
+
+def test_latin1_torque_table_exits_2_with_one_line():
+    with open("torque.csv", "wb") as f:
+        f.write("time,Drehmoment in N·m\n0,1e5\n1,1e5\n".encode("latin-1"))
+    out = run("simulate", PLANETARY, "--no-progress", "--torque", "carrier=csv(file='torque.csv')")
+    assert out.returncode == 2, out.stdout
+    # "time,Drehmoment in N" is 20 bytes: the Latin-1 middle dot (0xb7) is byte 20.
+    assert "torque.csv: byte 20 (0xb7) is not UTF-8" in out.stderr
+    assert out.stderr.count("\n") == 1, out.stderr
