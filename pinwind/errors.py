@@ -361,6 +361,25 @@ class LogWriteFailed(LogError):
         )
 
 
+class ExportFailed(PinwindError):
+    """A table could not be written; nothing is left at its path.
+
+    A missing folder, a file where a folder should be, no permission, a full disk.
+
+    Attributes:
+        path: the table asked for.
+        cause: what the operating system said.
+    """
+
+    def __init__(self, path: str, cause: str):
+        self.path = str(path)
+        self.cause = cause
+        super().__init__(
+            f"{self.path}: cannot write the table ({cause}); nothing was written. Give --out a "
+            "path in an existing folder you can write to, with free space"
+        )
+
+
 # --- replay --------------------------------------------------------------------------------------
 
 
