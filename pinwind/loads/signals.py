@@ -352,7 +352,8 @@ def check_covers(signal: Any, duration: float, where: str) -> None:
     Warns:
         TableStartsLate: naming the source, its first time and the run's start (0 s).
     """
-    for table in _tables(signal):
+    tables = _tables(signal)
+    for table in tables:
         if table.start > 0.0:
             warnings.warn(
                 TableStartsLate(where, table.source, table.start, 0.0, float(table.samples[0])),
@@ -360,9 +361,9 @@ def check_covers(signal: Any, duration: float, where: str) -> None:
             )
     end = getattr(signal, "end", math.inf)
     if end < duration - 1e-9 * max(duration, 1.0):
-        table = _last_table(signal)
-        if table is not None:
-            source = f"{table.source} ends at row {table.rows[-1]} (t = {table.end:g} s)"
+        last = min(tables, key=lambda t: t.end, default=None)
+        if last is not None:
+            source = f"{last.source} ends at row {last.rows[-1]} (t = {last.end:g} s)"
         else:
             source = f"it ends at t = {end:g} s"
         raise InputError(
@@ -372,6 +373,7 @@ def check_covers(signal: Any, duration: float, where: str) -> None:
 
 
 def _tables(signal: Any) -> list[Table]:
+    """The tables a signal reads, through its sums and scalings."""
     if isinstance(signal, Table):
         return [signal]
     if isinstance(signal, Scaled):
@@ -380,15 +382,3 @@ def _tables(signal: Any) -> list[Table]:
         return [t for term in signal.terms for t in _tables(term)]
     inner = getattr(signal, "table", None)
     return [inner] if isinstance(inner, Table) else []
-
-
-def _last_table(signal: Any) -> Table | None:
-    if isinstance(signal, Table):
-        return signal
-    if isinstance(signal, Scaled):
-        return _last_table(signal.signal)
-    if isinstance(signal, Sum):
-        tables = [t for t in map(_last_table, signal.terms) if t is not None]
-        return min(tables, key=lambda t: t.end, default=None)
-    inner = getattr(signal, "table", None)
-    return inner if isinstance(inner, Table) else None
