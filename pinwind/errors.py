@@ -136,6 +136,47 @@ class ConflictingInputs(InputError):
     """Two inputs contradict each other (one joint given twice, ...)."""
 
 
+class TableNotUtf8(InputError):
+    """A CSV table whose bytes are not UTF-8 (a Latin-1 or Windows-1252 export).
+
+    Attributes:
+        path: the file.
+        position: offset of the first byte that is not UTF-8 [bytes].
+        byte: that byte's value.
+    """
+
+    def __init__(self, path: str, position: int, byte: int):
+        self.path = str(path)
+        self.position = position
+        self.byte = byte
+        super().__init__(
+            f"{self.path}: byte {position} (0x{byte:02x}) is not UTF-8, probably a Latin-1 or "
+            "Windows-1252 export; save the table as UTF-8 (Excel: CSV UTF-8) or plain ASCII"
+        )
+
+
+class TableStartsLate(PinwindWarning):
+    """A table starts after the run does: its first value is held until its first time.
+
+    Attributes:
+        source: the table's file.
+        start: the table's first time [s].
+        run_start: the run's first time [s].
+        value: the value held before ``start``.
+    """
+
+    def __init__(self, where: str, source: str, start: float, run_start: float, value: float):
+        self.source = source
+        self.start = start
+        self.run_start = run_start
+        self.value = value
+        super().__init__(
+            f"{where}: {source} starts at t = {start:g} s but the run starts at "
+            f"t = {run_start:g} s; its first value {value:g} is held until then. Add a row at "
+            f"t = {run_start:g} s to say what it is before"
+        )
+
+
 class InvalidGearTrain(InputError):
     """Builder arguments describe a gear train that cannot exist (teeth, module, layout)."""
 
@@ -317,6 +358,25 @@ class LogWriteFailed(LogError):
             path,
             f"writing the log failed{when} ({cause}), so the run was stopped; {holds}. Free "
             "some disk space or log less (--log-rate, --no-log)",
+        )
+
+
+class ExportFailed(PinwindError):
+    """A table could not be written; nothing is left at its path.
+
+    A missing folder, a file where a folder should be, no permission, a full disk.
+
+    Attributes:
+        path: the table asked for.
+        cause: what the operating system said.
+    """
+
+    def __init__(self, path: str, cause: str):
+        self.path = str(path)
+        self.cause = cause
+        super().__init__(
+            f"{self.path}: cannot write the table ({cause}); nothing was written. Give --out a "
+            "path in an existing folder you can write to, with free space"
         )
 
 

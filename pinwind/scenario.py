@@ -89,6 +89,7 @@ KEYS: dict[str, tuple[str, str, str]] = {
     "view_rate": ("number", "Hz", "samples per second on the topics viewers plot"),
     "allow_large_log": ("bool", "", "write a log above the size limit"),
     "keep": ("keep", "all, last, auto or N", "samples the Result keeps in memory"),
+    "skip_start": ("number", "s", "start-up span left out of the statistics and load sharing"),
     "force": ("bool", "", "replace an existing log"),
     "no_log": ("bool", "", "write no log"),
 }
@@ -574,6 +575,7 @@ def run(
         view_rate=v.get("view_rate", VIEW_RATE),
         allow_large_log=v.get("allow_large_log", False),
         keep=v.get("keep", "auto"),
+        skip_start=v.get("skip_start", 0.0),
         overwrite=v.get("force", False) if force is None else force,
         command=command,
         progress=progress,

@@ -81,6 +81,14 @@ def test_duration_and_dt_are_seconds_and_log_rate_is_hertz():
             ["--speed", "carrier=14.2", "--initial-speed", "carrier=10"],
             'joint "carrier" is given both in --speed and in --initial-speed',
         ),
+        (
+            ["--torque", "carrier=1e6", "--speed", "carrier=14.2"],
+            'joint "carrier" is given both --torque carrier=1e6 and --speed carrier=14.2',
+        ),
+        (
+            ["--torque", "carrier=1e6", "--speed-sine", "carrier=14.2,1,1"],
+            'joint "carrier" is given both --torque carrier=1e6 and --speed-sine',
+        ),
         (["--torque", "ring=1e5"], 'joint "ring" is a fixed mount'),
         (
             ["--duration", "1", "--dt", "0.3"],
@@ -95,3 +103,13 @@ def test_contradictory_options_exit_2_with_one_line(args, message):
     assert message in out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
     assert "Traceback" not in out.stderr
+
+
+def test_latin1_torque_table_exits_2_with_one_line():
+    with open("torque.csv", "wb") as f:
+        f.write("time,Drehmoment in N·m\n0,1e5\n1,1e5\n".encode("latin-1"))
+    out = run("simulate", PLANETARY, "--no-progress", "--torque", "carrier=csv(file='torque.csv')")
+    assert out.returncode == 2, out.stdout
+    # "time,Drehmoment in N" is 20 bytes: the Latin-1 middle dot (0xb7) is byte 20.
+    assert "torque.csv: byte 20 (0xb7) is not UTF-8" in out.stderr
+    assert out.stderr.count("\n") == 1, out.stderr

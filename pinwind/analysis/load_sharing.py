@@ -55,13 +55,19 @@ class LoadSharing:
         )
 
 
-def load_sharing(result: Result, gearbox: Gearbox) -> list[LoadSharing]:
+def load_sharing(
+    result: Result, gearbox: Gearbox, *, skip_start: float | None = None
+) -> list[LoadSharing]:
     """K_γ and the shares of every gear that meshes with two or more gears of equal size.
 
     Args:
         result: a run of ``gearbox``.
         gearbox: the model (for which meshes share a gear).
+        skip_start: samples before this time [s] count as not loaded (NaN): a start-up span;
+            default the run's ``metadata["statistics_from_s"]``, else none.
     """
+    if skip_start is None:
+        skip_start = float(result.metadata.get("statistics_from_s", 0.0))
     out = []
     for gear in gearbox.gears:
         meshes = [m for m in gearbox.meshes if gear in (m.gear_a.name, m.gear_b.name)]
@@ -72,7 +78,9 @@ def load_sharing(result: Result, gearbox: Gearbox) -> list[LoadSharing]:
         index = [result.mesh_names.index(m.name) for m in meshes]
         force = result.mesh_normal[:, index]
         mean = force.mean(axis=1)
-        loaded = mean > LOADED_FRACTION * max(float(mean.max(initial=0.0)), 1e-300)
+        after = result.time >= skip_start
+        largest = float(mean[after].max(initial=0.0))
+        loaded = after & (mean > LOADED_FRACTION * max(largest, 1e-300))
         share = np.full_like(force, np.nan)
         share[loaded] = force[loaded] / mean[loaded, None]
         factor = np.where(loaded, np.nanmax(np.where(loaded[:, None], share, 0.0), axis=1), np.nan)

@@ -241,15 +241,24 @@ class StatisticsObserver:
 
     Args:
         fold: fold every sample (True), none (False), or (None, the default) only when the
-            Result does not keep every sample (``keep``), so that the peaks between the kept
-            samples count.
+            Result does not keep every sample (``keep``) or ``skip_start`` is given, so that
+            the peaks between the kept samples count.
+        skip_start: the samples before this time [s] are left out: the start-up of a run that
+            starts away from its operating state (compliant meshes undeflected), whose impact
+            would otherwise set the maxima.
     """
 
     #: Blocks added and not yet folded, at most; the run keeps their arrays unchanged.
     holds: int | None = 2
 
-    def __init__(self, fold: bool | None = None):
+    def __init__(self, fold: bool | None = None, *, skip_start: float = 0.0):
+        if not (math.isfinite(skip_start) and skip_start >= 0.0):
+            raise InputError(
+                f"skip_start = {skip_start} s: give the start-up span to leave out of the "
+                "statistics, a finite time ≥ 0 [s]"
+            )
         self.fold = fold
+        self.skip_start = float(skip_start)
         self.statistics: RunningStatistics | None = None
         self._pool: ThreadPoolExecutor | None = None
         self._pending: deque[Future] = deque()
@@ -257,17 +266,34 @@ class StatisticsObserver:
     def begin(self, gearbox: Any, result: Result) -> None:
         """Starts folding when asked, or when the run keeps every N-th sample only."""
         stride = int(result.metadata.get("keep_stride", 1))
-        if self.fold if self.fold is not None else stride > 1:
+        duration = float(result.metadata.get("duration", math.inf))
+        if self.skip_start >= duration:
+            raise InputError(
+                f"skip_start = {self.skip_start:g} s leaves nothing of a {duration:g} s run; "
+                "give a start-up span shorter than the duration"
+            )
+        if self.skip_start > 0.0:
+            result.metadata["statistics_from_s"] = self.skip_start
+        default = stride > 1 or self.skip_start > 0.0
+        if self.fold if self.fold is not None else default:
             self.statistics = RunningStatistics()
             self._pool = ThreadPoolExecutor(1, thread_name_prefix="pinwind-statistics")
 
     def samples(self, block: Result, start: int) -> None:
-        """Folds a block; waits for the oldest one when ``holds`` are pending."""
-        if self._pool is None or self.statistics is None:
+        """Folds a block, its samples from ``skip_start`` on.
+
+        Waits for the oldest block when ``holds`` are pending.
+        """
+        if self._pool is None or self.statistics is None or not len(block):
             return
+        if block.time[-1] < self.skip_start:
+            return
+        rows: slice | np.ndarray = slice(None)
+        if block.time[0] < self.skip_start:
+            rows = np.flatnonzero(block.time >= self.skip_start)
         while self.holds is not None and len(self._pending) >= self.holds:
             self._pending.popleft().result()
-        self._pending.append(self._pool.submit(self.statistics.add, block))
+        self._pending.append(self._pool.submit(self.statistics.add, block, rows))
 
     def end(self, result: Result, status: str) -> None:
         """Waits for the last blocks and gives ``result`` the statistics of every one."""

@@ -64,7 +64,14 @@ def _table(title: str, columns: tuple[str, ...], plain: bool) -> Table:
 
 
 def _span(res: Result, stats: FoldedStatistics) -> str:
-    """What the statistics cover: the run, or the kept samples of a Result that has no others."""
+    """What the statistics cover.
+
+    The run, its samples after a start-up span, or the kept samples of a Result that has no
+    others.
+    """
+    skipped = res.metadata.get("statistics_from_s")
+    if skipped:
+        return f"t ≥ {skipped:g} s"
     if stats.count >= res.metadata.get("samples_simulated", stats.count):
         return "the run"
     return f"the {stats.count} kept samples"

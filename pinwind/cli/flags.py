@@ -88,12 +88,11 @@ def load_values(
 
     Raises:
         InputError: a malformed or non-finite value.
-        ConflictingInputs: a joint given twice in one option, or in two speed options.
+        ConflictingInputs: a joint given twice in one option, in two speed options, or in
+            --torque and a speed option.
     """
-    torques = {
-        k: _number_or_signal(v, "--torque", "N·m")
-        for k, v in parse_pairs(torque, "--torque").items()
-    }
+    torque_text = parse_pairs(torque, "--torque")
+    torques = {k: _number_or_signal(v, "--torque", "N·m") for k, v in torque_text.items()}
     steady = parse_pairs(speed, "--speed")
     sines = parse_pairs(speed_sine, "--speed-sine")
     initial = parse_pairs(initial_speed, "--initial-speed")
@@ -110,6 +109,14 @@ def load_values(
         mean, amplitude = (parse_number(p, "--speed-sine", "rpm") for p in parts[:2])
         frequency = parse_number(parts[2], "--speed-sine", "Hz")
         speeds[name] = f"sine(mean={mean!r}, amplitude={amplitude!r}, frequency={frequency!r})"
+    for name in torques:
+        if name in speeds:
+            flag, text = ("--speed", steady) if name in steady else ("--speed-sine", sines)
+            raise ConflictingInputs(
+                f'joint "{name}" is given both --torque {name}={torque_text[name]} and '
+                f"{flag} {name}={text[name]}; the speed driver would absorb the torque, which "
+                f"then loads no gear (every mesh force 0): give the joint either --torque or {flag}"
+            )
     values: dict[str, Any] = {}
     if torques:
         values["torque"] = torques

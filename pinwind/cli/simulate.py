@@ -126,6 +126,14 @@ def simulate(
             "either way, and the summary's min / max / RMS are over every sample.",
         ),
     ] = "auto",
+    skip_start: Annotated[
+        float | None,
+        typer.Option(
+            "--skip-start",
+            help="Leave the first S seconds (the start-up) out of the summary's min / max / RMS "
+            "and the load sharing [s].",
+        ),
+    ] = None,
     position_error: Annotated[
         list[str] | None,
         typer.Option(
@@ -188,6 +196,7 @@ def simulate(
         "view_rate": view_rate,
         "allow_large_log": allow_large_log or None,
         "keep": None if (kept := parse_keep(keep)) == "auto" else kept,
+        "skip_start": skip_start,
     }
     values |= {k: v for k, v in optional.items() if v is not None and v != {}}
     scenario = sc.build(values, flags=FLAGS)

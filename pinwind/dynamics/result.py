@@ -209,7 +209,12 @@ class Result:
         return ElementSeries(family, name, values)
 
     def joint(self, name: str) -> ElementSeries:
-        """A bearing's (joint's) angle [rad], speed [rad/s], acceleration [rad/s²], torque [N·m]."""
+        """A bearing's (joint's) angle [rad], speed [rad/s], acceleration [rad/s²], torques [N·m].
+
+        ``torque`` is the net torque from outside the gear train (applied + speed driver or lock
+        + generator + rotor; 0 at a constant speed driven against a generator alone);
+        the driver's own torque is ``torque`` + T_gen − T_rotor of the joint (docs/series.md).
+        """
         return self.element("joint", name)
 
     def mesh(self, name: str) -> ElementSeries:

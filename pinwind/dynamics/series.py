@@ -162,7 +162,9 @@ _BUILT_IN: tuple[Series, ...] = (
     Series("acceleration", _J, "acceleration", "rad/s^2",
            "joint acceleration at the sample", short="accel."),
     Series("torque", _J, "torque", "N*m",
-           "applied torque plus speed-driver or lock torque on the joint", logged=False,
+           "net torque from outside the gear train on the joint: applied + speed driver or lock "
+           "+ generator + rotor (0 at a constant speed driven against a generator)",
+           logged=False,
            plot=Plot("torque", "torques and power", "joint torques, applied + driver/lock "
                      "[kN·m]", "kN·m")),
     Series("mesh_normal", _M, "normal", "N", "tooth normal force F_n >= 0",

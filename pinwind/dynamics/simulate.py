@@ -53,7 +53,14 @@ from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
-from pinwind.errors import Diverged, InputError, NonFiniteInput, OutOfMemory, PinwindError
+from pinwind.errors import (
+    ConflictingInputs,
+    Diverged,
+    InputError,
+    NonFiniteInput,
+    OutOfMemory,
+    PinwindError,
+)
 from pinwind.loads.generator import GeneratorLaw
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.loads.rotor import Rotor
@@ -323,6 +330,7 @@ def simulate(
         InputError: unknown joint names, non-finite values, dt or duration not positive, a
             duration that dt does not divide, a torque or speed on a fixed mount, a load
             function that raises (its exception is the ``__cause__``).
+        ConflictingInputs: a joint given both a torque and a speed.
         ConflictingConstraints: initial or driver speeds that contradict the gear ratios.
         SolverFailed, Diverged: the run cannot go on; the message names the step and time.
             Diverged also when a joint turns faster than ``MAX_PLAUSIBLE_SPEED``.
@@ -342,6 +350,13 @@ def simulate(
             raise InputError(
                 f'joint "{name}" is a fixed mount (a gear on a fixed joint, held at zero speed); '
                 "a torque on it would vanish into the lock. Load one of: " + ", ".join(free)
+            )
+    for name in torques or {}:
+        if name in (speeds or {}):
+            raise ConflictingInputs(
+                f'joint "{name}" is given both torques["{name}"] and speeds["{name}"]; the speed '
+                "driver would absorb the torque, which then loads no gear (every mesh force 0): "
+                "give the joint either a torque or a speed"
             )
     for name in list(speeds or {}) + list(initial_speeds or {}):
         if name in gearbox.locked_joints:

@@ -8,20 +8,24 @@ Columns are named ``group/element/quantity_unit`` with SI units spelled out (``N
     generator/sun/torque_N_m, rotor/carrier/power_W, rotor/carrier/tip_speed_ratio, ...
 
 Parquet keeps every float64 bit for bit; CSV writes 17 significant digits, which read back to the
-same float64. A log is exported a block of samples at a time, so its size does not matter.
+same float64. A log is exported a block of samples at a time, so its size does not matter. The
+table is written under a temporary name next to it and renamed at the end, so a failed export
+(missing folder, full disk, unreadable log) leaves no partial file to block the retry.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
+from typing import BinaryIO
 
 import numpy as np
 
 from pinwind.dynamics import series
 from pinwind.dynamics.result import Result
-from pinwind.errors import InputError, LogExists
+from pinwind.errors import ExportFailed, InputError, LogExists
 
 FORMATS = ("parquet", "csv")
 
@@ -97,6 +101,7 @@ def export_log(
     Raises:
         InputError: unknown format; LogExists: ``out`` exists and ``overwrite`` is false.
         LogError: the log cannot be read.
+        ExportFailed: ``out`` cannot be written (naming it and the system's reason).
     """
     from pinwind.io.log_reader import LogReader
 
@@ -109,17 +114,28 @@ def export_log(
         )
     if out.exists() and not overwrite:
         raise LogExists(str(out))
-    with LogReader(path) as log:
-        blocks = log.blocks(block, start=start, stop=stop, channels=channels, progress=progress)
-        write = _write_parquet if format == "parquet" else _write_csv
-        return write(blocks, out)
+    # A hidden name in the same folder: the rename at the end is atomic on one file system.
+    part = out.with_name(f".{out.name}.{os.getpid()}.part")
+    write = _write_parquet if format == "parquet" else _write_csv
+    try:
+        with LogReader(path) as log, open(part, "wb") as f:
+            blocks = log.blocks(block, start=start, stop=stop, channels=channels, progress=progress)
+            written = write(blocks, f)
+        os.replace(part, out)
+    except BaseException as err:
+        with contextlib.suppress(OSError):  # the folder may not exist: there is no part then
+            part.unlink(missing_ok=True)
+        if isinstance(err, OSError):
+            raise ExportFailed(str(out), err.strerror or str(err)) from err
+        raise
+    return written
 
 
 def _block_columns(res: Result) -> list[tuple[str, np.ndarray]]:
     return list(columns(res, _fields(res.metadata["log"]["channels"])))
 
 
-def _write_parquet(blocks: Iterator[Result], out: Path) -> tuple[int, int]:
+def _write_parquet(blocks: Iterator[Result], out: BinaryIO) -> tuple[int, int]:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -141,17 +157,16 @@ def _write_parquet(blocks: Iterator[Result], out: Path) -> tuple[int, int]:
     return rows, len(names)
 
 
-def _write_csv(blocks: Iterator[Result], out: Path) -> tuple[int, int]:
+def _write_csv(blocks: Iterator[Result], out: BinaryIO) -> tuple[int, int]:
     rows = 0
     names: list[str] = []
-    with open(out, "w", encoding="utf-8", newline="") as f:
-        for res in blocks:
-            table = _block_columns(res)
-            if not names:
-                names = [name for name, _ in table]
-                f.write(",".join(names) + "\n")
-            if len(res):
-                values = np.column_stack([v for _, v in table])
-                np.savetxt(f, values, fmt="%.17g", delimiter=",")
-            rows += len(res)
+    for res in blocks:
+        table = _block_columns(res)
+        if not names:
+            names = [name for name, _ in table]
+            out.write((",".join(names) + "\n").encode("utf-8"))
+        if len(res):
+            values = np.column_stack([v for _, v in table])
+            np.savetxt(out, values, fmt="%.17g", delimiter=",", encoding="utf-8")
+        rows += len(res)
     return rows, len(names)

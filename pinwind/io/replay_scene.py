@@ -32,7 +32,7 @@ import numpy as np
 from pinwind.errors import ModelError
 from pinwind.io.panels import BEARING_ARROW_COLOR, MESH_ARROW_COLOR, body_colors
 from pinwind.model.builders.gear_bodies import RING_RIM_MODULES
-from pinwind.model.phasing import MeshPoint, interlocking_phases
+from pinwind.model.phasing import interlocking_phases, mesh_point_through
 from pinwind.model.urdf import ModelFile, VisualSpec, read_model_file
 
 #: Largest arrow of the run, as a fraction of the largest pitch radius.
@@ -140,22 +140,26 @@ def tooth_phases(model: dict, result) -> dict[str, float]:
         a, b = mesh["gear_a"], mesh["gear_b"]
         return _pitch_point(mesh, pose[a][0], pose[b][0], gears[b]["internal"])
 
-    def angle(gear: str, point: np.ndarray) -> float:
-        centre, rotation = pose[gear]
-        v = rotation.T @ (point - centre)
-        return math.atan2(v[1], v[0])
-
+    z = np.array([0.0, 0.0, 1.0])  # a gear's axis in its drawing frame (``gear_pose``)
     points = []
     for name, mesh in meshes.items():
         a, b = mesh["gear_a"], mesh["gear_b"]
         if a not in pose or b not in pose:
             continue
-        point = point_of(name, mesh)
         (ca, ra), (cb, rb) = pose[a], pose[b]
-        tangent_a = np.cross(ra[:, 2], point - ca)
-        tangent_b = np.cross(rb[:, 2], point - cb)
-        same = bool(tangent_a @ tangent_b > 0)
-        points.append(MeshPoint(a, b, angle(a, point), angle(b, point), same))
+        points.append(
+            mesh_point_through(
+                a,
+                b,
+                point_of(name, mesh),
+                centre_a=ca,
+                centre_b=cb,
+                world_from_a=ra,
+                world_from_b=rb,
+                axis_a=z,
+                axis_b=z,
+            )  # fmt: skip
+        )
     teeth = {name: g["teeth"] for name, g in gears.items()}
     phases = interlocking_phases(points, teeth)
     return {name: phases.get(name, 0.0) for name in gears}

@@ -96,6 +96,10 @@ def simulate(
             its own while the loop steps. Default: when the Result does not keep every sample
             (``keep``), so that the peaks between kept samples count. With ``keep="last"`` the
             Result holds the last sample and these statistics only.
+        skip_start: leave the samples before this time [s] out of ``result.statistics`` (a
+            start-up span: a compliant run starts undeflected, and its start-up impact would set
+            the maxima); the statistics are then folded whatever ``keep``, and
+            ``metadata["statistics_from_s"]`` records it for the summary and the load sharing.
         **kwargs: ``duration``, ``dt``, ``torques``, ``speeds``, ... as for
             ``pinwind.dynamics.simulate.simulate``.
 
@@ -113,7 +117,8 @@ def simulate(
     """
     # the statistics last: the observers' ends run in order (a log is closed first)
     observers = [*observers_of(kwargs.pop("observer", None))]
-    observers.append(StatisticsObserver(kwargs.pop("statistics", None)))
+    skip_start = kwargs.pop("skip_start", 0.0)
+    observers.append(StatisticsObserver(kwargs.pop("statistics", None), skip_start=skip_start))
     if log is None or log is False:
         return _simulate(gearbox, observer=observers, **kwargs)
     path = log_path(log, gearbox.name)

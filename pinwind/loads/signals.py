@@ -8,7 +8,7 @@ they drive: N·m for torques, m/s for wind, rpm for speeds at the CLI and in sce
 (``Scaled`` turns them into rad/s).
 
 Tables refuse rows that are unsorted, duplicated or not finite, naming the file and row, and a run
-longer than the table (``check_covers``).
+longer than the table; a table that starts after the run is warned about (``check_covers``).
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from __future__ import annotations
 import csv
 import hashlib
 import math
+import warnings
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from pinwind.errors import InputError, NonFiniteInput
+from pinwind.errors import InputError, NonFiniteInput, TableNotUtf8, TableStartsLate
 
 
 class Signal(ABC):
@@ -284,17 +285,22 @@ def read_csv(path: str | Path, column: int | str = 1, *, time_column: int | str 
     """A table from a CSV file: a time column [s] and a value column.
 
     A first row that is not numeric is taken as the header; columns are given by index (0-based)
-    or header name. Blank lines and lines starting with ``#`` are skipped.
+    or header name. Blank lines and lines starting with ``#`` are skipped. The file is UTF-8,
+    with or without the byte-order mark Excel's "CSV UTF-8" writes.
 
     Raises:
         InputError: the file is missing, a row is malformed, unsorted or duplicated (naming the
             file and row), or the column does not exist.
+        TableNotUtf8: the file is not UTF-8 (a Latin-1 export).
     """
     path = Path(path)
     try:
-        text = path.read_text()
+        # utf-8-sig: a BOM left in the first cell would make the first data row a header.
+        text = path.read_text(encoding="utf-8-sig")
     except OSError as err:
         raise InputError(f"{path}: cannot read the CSV table: {err.strerror or err}") from err
+    except UnicodeDecodeError as err:
+        raise TableNotUtf8(str(path), err.start, err.object[err.start]) from err
     header: list[str] | None = None
     times: list[float] = []
     values: list[float] = []
@@ -338,16 +344,26 @@ def _column(column: int | str, header: list[str] | None, path: Path) -> int:
 
 
 def check_covers(signal: Any, duration: float, where: str) -> None:
-    """Refuse a table signal that ends before the run does.
+    """Refuse a table signal that ends before the run does; warn if one starts after t = 0.
 
     Raises:
         InputError: naming the source, its last row and time, and the run's duration.
+
+    Warns:
+        TableStartsLate: naming the source, its first time and the run's start (0 s).
     """
+    tables = _tables(signal)
+    for table in tables:
+        if table.start > 0.0:
+            warnings.warn(
+                TableStartsLate(where, table.source, table.start, 0.0, float(table.samples[0])),
+                stacklevel=2,
+            )
     end = getattr(signal, "end", math.inf)
     if end < duration - 1e-9 * max(duration, 1.0):
-        table = _last_table(signal)
-        if table is not None:
-            source = f"{table.source} ends at row {table.rows[-1]} (t = {table.end:g} s)"
+        last = min(tables, key=lambda t: t.end, default=None)
+        if last is not None:
+            source = f"{last.source} ends at row {last.rows[-1]} (t = {last.end:g} s)"
         else:
             source = f"it ends at t = {end:g} s"
         raise InputError(
@@ -356,13 +372,13 @@ def check_covers(signal: Any, duration: float, where: str) -> None:
         )
 
 
-def _last_table(signal: Any) -> Table | None:
+def _tables(signal: Any) -> list[Table]:
+    """The tables a signal reads, through its sums and scalings."""
     if isinstance(signal, Table):
-        return signal
+        return [signal]
     if isinstance(signal, Scaled):
-        return _last_table(signal.signal)
+        return _tables(signal.signal)
     if isinstance(signal, Sum):
-        tables = [t for t in map(_last_table, signal.terms) if t is not None]
-        return min(tables, key=lambda t: t.end, default=None)
+        return [t for term in signal.terms for t in _tables(term)]
     inner = getattr(signal, "table", None)
-    return inner if isinstance(inner, Table) else None
+    return [inner] if isinstance(inner, Table) else []

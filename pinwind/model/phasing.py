@@ -178,10 +178,41 @@ def mesh_point(
             to A's axis (``Mesh.pitch_fraction``) [-].
     """
     world_axis_a = world_from_a @ axis_a
-    world_axis_b = world_from_b @ axis_b
     offset = centre_b - centre_a
     offset = offset - (offset @ world_axis_a) * world_axis_a
-    point = centre_a + pitch_fraction * offset
+    return mesh_point_through(
+        gear_a,
+        gear_b,
+        centre_a + pitch_fraction * offset,
+        centre_a=centre_a,
+        centre_b=centre_b,
+        world_from_a=world_from_a,
+        world_from_b=world_from_b,
+        axis_a=axis_a,
+        axis_b=axis_b,
+    )
+
+
+def mesh_point_through(
+    gear_a: str,
+    gear_b: str,
+    point: np.ndarray,
+    *,
+    centre_a: np.ndarray,
+    centre_b: np.ndarray,
+    world_from_a: np.ndarray,
+    world_from_b: np.ndarray,
+    axis_a: np.ndarray,
+    axis_b: np.ndarray,
+) -> MeshPoint:
+    """A mesh as the interlock sees it, given its pitch point in world [m].
+
+    The angles of the pitch point about each gear's axis from its ``zero_direction``, and
+    whether both gears' positive turns move their pitch circles the same way there; the other
+    arguments as for ``mesh_point``. The replay gives the pitch point a run logged.
+    """
+    world_axis_a = world_from_a @ axis_a
+    world_axis_b = world_from_b @ axis_b
     # The pitch point in each gear's transverse plane (helical gears may sit apart axially).
     to_a = point - centre_a
     to_b = point - centre_b

@@ -195,3 +195,35 @@ def test_the_statistics_of_one_series_are_numpy_s_and_nan_for_an_empty_one():
     assert (got["min"], got["max"], got["final"]) == (lo, hi, final)
     assert_allclose([got["mean"], got["rms"]], [mean, rms], rtol=1e-13)
     assert all(math.isnan(v) for v in statistics(np.array([])).values())
+
+
+def test_a_skipped_start_up_leaves_the_start_up_impact_out_of_the_statistics(gearbox):
+    # The compliant stage starts undeflected, so its first contact overshoots: the maximum of
+    # the whole run is the start-up's. Skipping the start-up, the statistics are numpy's over
+    # t ≥ skip of the very samples kept, and the load sharing ignores the samples before it.
+    skip = 0.01
+    res = pinwind.simulate(
+        gearbox,
+        duration=0.02,
+        dt=2e-5,
+        torques={"carrier": TORQUE, "sun": -TORQUE / 6.0},
+        meshes={"all": "compliant"},
+        keep="all",
+        skip_start=skip,
+    )
+    after = res.time >= skip
+    normal = res.mesh("sun_planet1").normal
+    assert normal.max() > normal[after].max()  # the start-up sets the whole run's maximum
+    assert_statistics(res.statistics.row("mesh", "sun_planet1", "normal"), normal[after])
+    assert res.statistics.count == np.count_nonzero(after)
+    assert res.metadata["statistics_from_s"] == skip
+    from pinwind.analysis import load_sharing
+
+    for sharing in load_sharing(res, gearbox):
+        assert np.isnan(sharing.factor[~after]).all()
+        assert np.isfinite(sharing.factor[after]).any()
+
+
+def test_a_start_up_as_long_as_the_run_is_refused(gearbox):
+    with pytest.raises(InputError, match="skip_start = 0.25 s leaves nothing of a 0.25 s run"):
+        run(gearbox, "all", skip_start=0.25)

@@ -114,6 +114,14 @@ def test_two_drivers_on_one_gear_train_is_reported_as_conflicting():
         pinwind.simulate(gb, duration=0.01, dt=1e-3, speeds={"carrier": 1.0, "sun": 1.0})
 
 
+def test_a_torque_and_a_speed_on_one_joint_are_refused_naming_both(pair):
+    # The driver would absorb the torque: it would load no gear, silently.
+    from pinwind.errors import ConflictingInputs
+
+    with pytest.raises(ConflictingInputs, match=r'"a" is given both torques\["a"\] and speeds'):
+        pinwind.simulate(pair, duration=0.01, dt=1e-3, torques={"a": 1e3}, speeds={"a": 1.0})
+
+
 def test_a_torque_on_a_fixed_mount_is_refused():
     from tests.conftest import MODELS
 

@@ -9,7 +9,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import pinwind
-from pinwind.errors import InputError, LogExists
+from pinwind.errors import ExportFailed, InputError, LogError, LogExists
 from pinwind.io.export import export_log
 from tests.io.test_cli_log import run
 
@@ -150,3 +150,36 @@ def test_cli_export_writes_the_window_and_channels_asked_for(logged_run, tmp_pat
     assert header[0] == "time_s" and "bearing/carrier/force_z_N" in header
     assert "energy/kinetic_J" in header and not any(h.startswith("mesh/") for h in header)
     assert f"wrote {out} (21 rows × {len(header)} columns)" in result.stdout.replace("\n", "")
+
+
+@pytest.mark.parametrize("fmt", ["csv", "parquet"])
+@pytest.mark.parametrize(
+    ("where", "cause"),
+    [("missing/run", "No such file or directory"), ("a_file/run", "Not a directory")],
+)
+def test_export_to_a_path_that_cannot_be_written_names_it_and_leaves_nothing(
+    logged_run, tmp_path, fmt, where, cause
+):
+    (tmp_path / "a_file").write_text("not a folder")
+    out = tmp_path / f"{where}.{fmt}"
+    with pytest.raises(ExportFailed, match=f"cannot write the table \\({cause}\\)") as err:
+        export_log(logged_run.path, out)
+    assert err.value.path == str(out)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file"]
+
+
+def test_failed_export_leaves_no_file_and_the_retry_writes_the_table(logged_run, tmp_path):
+    out = tmp_path / "run.csv"
+    with pytest.raises(LogError):
+        export_log(tmp_path / "no_such_log.mcap", out)
+    assert list(tmp_path.iterdir()) == []
+    rows, _ = export_log(logged_run.path, out)
+    assert rows == len(logged_run.result)
+
+
+def test_cli_export_to_a_missing_folder_exits_2_with_one_line(logged_run, tmp_path):
+    out = tmp_path / "missing" / "run.csv"
+    result = run("export", str(logged_run.path), "-o", str(out))
+    assert result.returncode == 2, result.stdout
+    assert f"{out}: cannot write the table (No such file or directory)" in result.stderr
+    assert result.stderr.count("\n") == 1, result.stderr

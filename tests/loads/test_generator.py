@@ -102,6 +102,21 @@ def test_driver_reaction_of_a_driven_pair_balances_the_generator_torque(
     assert_allclose(res.joint("a").torque[-1] * speed_a, t_gen * w_b, rtol=1e-9, atol=1e-12)
 
 
+def test_driver_and_generator_on_one_joint_net_torque_is_zero_and_driver_gives_t_gen(pair_urdf):
+    gb = pair(pair_urdf)
+    t_gen, speed, duration = 1.5e3, -200.0, 0.05  # N·m braking a, rad/s, s
+    res = pinwind.simulate(gb, duration=duration, dt=1e-3, speeds={"a": speed},
+                           generators={"a": ConstantTorque(t_gen)})  # fmt: skip
+    # b carries no load at constant speed: no mesh force, so τ_driver − T_gen = I·α = 0.
+    net = res.joint("a").torque
+    assert_allclose(net[1:], 0.0, atol=1e-9)
+    # The driver's torque, by the documented sum torque + T_gen, is T_gen...
+    driver = net + res.generator("a").torque
+    assert_allclose(driver[1:], t_gen, rtol=1e-12)
+    # ... and the drivers' term of the energy ledger, computed apart, is its work T_gen·ω·t.
+    assert_allclose(res.energy["work_drivers"][-1], t_gen * speed * duration, rtol=1e-6)
+
+
 def test_stiff_slip_law_runs_stably_on_a_light_shaft(pair_urdf):
     # k h / J_eq ≈ 1e4 · 1e-3 / 0.0075 ≫ 2: an explicit law would diverge at this step.
     gb = pair(pair_urdf)

@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
-from pinwind.errors import InputError, NonFiniteInput
+from pinwind.errors import InputError, NonFiniteInput, TableNotUtf8, TableStartsLate
 from pinwind.loads.openfast import read_channel
 from pinwind.loads.signal_text import parse_signal, signal_from_spec
 from pinwind.loads.signals import (
@@ -94,6 +94,41 @@ def test_bad_csv_rows_are_refused_naming_file_and_row(tmp_path, rows, message):
     path.write_text("time,torque\n" + rows)
     with pytest.raises(InputError, match=message):
         read_csv(path)
+
+
+def test_csv_with_a_utf8_byte_order_mark_keeps_its_first_row(tmp_path):
+    # Excel's "CSV UTF-8" starts the file with EF BB BF: without a header, row 1 is data.
+    path = tmp_path / "torque.csv"
+    path.write_bytes(b"\xef\xbb\xbf0,5\n1,7\n")
+    table = read_csv(path)
+    assert_allclose(table.times, [0.0, 1.0], rtol=0, atol=0)
+    assert_allclose(table.values(np.array([0.0, 0.5])), [5.0, 6.0], rtol=1e-15)
+
+
+def test_csv_with_a_byte_order_mark_finds_its_first_header_name(tmp_path):
+    path = tmp_path / "torque.csv"
+    path.write_bytes(b"\xef\xbb\xbftime,torque\n0,5\n1,7\n")
+    table = read_csv(path, "torque", time_column="time")
+    assert_allclose(table.samples, [5.0, 7.0], rtol=0, atol=0)
+
+
+def test_latin1_csv_is_refused_naming_file_and_byte(tmp_path):
+    path = tmp_path / "torque.csv"
+    path.write_bytes("time,torque µ\n0,5\n1,7\n".encode("latin-1"))
+    # "time,torque " is 12 bytes: µ (0xb5) is byte 12.
+    with pytest.raises(TableNotUtf8, match=r"torque.csv: byte 12 \(0xb5\) is not UTF-8") as err:
+        read_csv(path)
+    assert (err.value.position, err.value.byte) == (12, 0xB5)
+
+
+def test_table_starting_after_the_run_is_warned_naming_file_and_times(tmp_path, pair_urdf):
+    path = tmp_path / "torque.csv"
+    path.write_text("time,torque\n0.2,3\n1,4\n")
+    gb = loads(pair_urdf(), path="pair.urdf")
+    with pytest.warns(TableStartsLate, match=r"torque.csv starts at t = 0.2 s but the run starts "
+                      r"at t = 0 s; its first value 3 is held") as caught:  # fmt: skip
+        pinwind.simulate(gb, duration=0.01, dt=1e-3, torques={"a": read_csv(path)})
+    assert [w.message.start for w in caught if w.category is TableStartsLate] == [0.2]
 
 
 def test_run_longer_than_its_table_is_refused_naming_file_and_last_row(tmp_path, pair_urdf):
