@@ -160,7 +160,7 @@ _BUILT_IN: tuple[Series, ...] = (
            logged=False,
            plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm")),
     Series("acceleration", _J, "acceleration", "rad/s^2",
-           "joint acceleration at the sample", short="accel."),
+           "joint acceleration over the step that starts at the sample", short="accel."),
     Series("torque", _J, "torque", "N*m",
            "net torque from outside the gear train on the joint: applied + speed driver or lock "
            "+ generator + rotor (0 at a constant speed driven against a generator)",

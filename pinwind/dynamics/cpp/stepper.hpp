@@ -609,7 +609,10 @@ class Stepper {
     out_.at(Series::time, k) = t;
     joint_row(Series::angle, k) = q_;
     joint_row(Series::speed, k) = v_;
-    joint_row(Series::acceleration, k) = accel_memory_;  // a_k, at the sample
+    // ā, the step's mean acceleration: the one the multipliers and bearing reactions of the
+    // sample come from. a_k itself carries, at ρ∞ = 1, an error of alternating sign after a
+    // jump in the forces (a torque step, a flank switch) that never decays; ā does not.
+    joint_row(Series::acceleration, k) = a_;
     joint_row(Series::torque, k) = tau_applied_;
     const StepView sv = view();
     for (size_t c = 0; c < constraints_.size(); ++c) {
