@@ -29,7 +29,18 @@ M_T = M_N / math.cos(BETA)
 R1, R2 = M_T * 20 / 2, M_T * 40 / 2
 ALPHA_T = math.atan(math.tan(ALPHA) / math.cos(BETA))
 
-HELICAL = f"""<robot name="helical"><link name="housing"/>
+
+def pair_urdf(
+    centre_distance: float,
+    *,
+    name: str = "helical",
+    face_width_mm: float = 20,
+    shifts: tuple[float, float] = (0.0, 0.0),
+    mesh: str = '<mesh name="m" gear1="g1" gear2="g2"/>',
+) -> str:
+    """The 20/40-tooth helical pair (m_n 2 mm, β ±15°) at ``centre_distance`` [m]."""
+    x1, x2 = shifts
+    return f"""<robot name="{name}"><link name="housing"/>
   <link name="a"><inertial><mass value="1"/>
     <inertia ixx="1e-3" iyy="1e-3" izz="1.5e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>
   <link name="b"><inertial><mass value="2"/>
@@ -37,13 +48,18 @@ HELICAL = f"""<robot name="helical"><link name="housing"/>
   <joint name="a" type="continuous"><parent link="housing"/><child link="a"/>
     <axis xyz="0 0 1"/></joint>
   <joint name="b" type="continuous"><parent link="housing"/><child link="b"/>
-    <origin xyz="{R1 + R2!r} 0 0"/><axis xyz="0 0 1"/></joint>
+    <origin xyz="{centre_distance!r} 0 0"/><axis xyz="0 0 1"/></joint>
   <gearbox gravity="0 0 0">
-    <gear name="g1" link="a" teeth="20" module_mm="2" face_width_mm="20" helix_angle_deg="15"/>
-    <gear name="g2" link="b" teeth="40" module_mm="2" face_width_mm="20" helix_angle_deg="-15"/>
-    <mesh name="m" gear1="g1" gear2="g2"/>
+    <gear name="g1" link="a" teeth="20" module_mm="2" face_width_mm="{face_width_mm}"
+          helix_angle_deg="15" profile_shift="{x1}"/>
+    <gear name="g2" link="b" teeth="40" module_mm="2" face_width_mm="{face_width_mm}"
+          helix_angle_deg="-15" profile_shift="{x2}"/>
+    {mesh}
   </gearbox>
 </robot>"""
+
+
+HELICAL = pair_urdf(R1 + R2)
 
 
 def test_helical_tooth_force_has_the_transverse_components_and_the_axial_thrust():
@@ -84,23 +100,7 @@ def helical_pair(*, shifts: tuple[float, float], face_width_mm: float, mesh: str
     inv = math.tan(ALPHA_T) - ALPHA_T + 2.0 * math.tan(ALPHA) * (x1 + x2) / 60.0
     alpha_wt = inverse_involute(inv)
     a_w = (R1 + R2) * math.cos(ALPHA_T) / math.cos(alpha_wt)
-    text = f"""<robot name="shifted"><link name="housing"/>
-  <link name="a"><inertial><mass value="1"/>
-    <inertia ixx="1e-3" iyy="1e-3" izz="1.5e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <link name="b"><inertial><mass value="2"/>
-    <inertia ixx="4e-3" iyy="4e-3" izz="6e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <joint name="a" type="continuous"><parent link="housing"/><child link="a"/>
-    <axis xyz="0 0 1"/></joint>
-  <joint name="b" type="continuous"><parent link="housing"/><child link="b"/>
-    <origin xyz="{a_w!r} 0 0"/><axis xyz="0 0 1"/></joint>
-  <gearbox gravity="0 0 0">
-    <gear name="g1" link="a" teeth="20" module_mm="2" face_width_mm="{face_width_mm}"
-          helix_angle_deg="15" profile_shift="{x1}"/>
-    <gear name="g2" link="b" teeth="40" module_mm="2" face_width_mm="{face_width_mm}"
-          helix_angle_deg="-15" profile_shift="{x2}"/>
-    {mesh}
-  </gearbox>
-</robot>"""
+    text = pair_urdf(a_w, name="shifted", face_width_mm=face_width_mm, shifts=shifts, mesh=mesh)
     return text, alpha_wt, a_w
 
 
