@@ -99,6 +99,19 @@ class ImplausibleGear(PinwindWarning):
 # --- run inputs --------------------------------------------------------------------------------
 
 
+class EquilibriumNotReached(PinwindWarning):
+    """The static start did not converge: the run starts from the last iterate."""
+
+    def __init__(self, iterations: int, correction: float, displacement: float):
+        self.iterations, self.correction, self.displacement = iterations, correction, displacement
+        super().__init__(
+            f"the static start did not converge in {iterations} iterations (last correction "
+            f"{correction:.3g} of a displacement {displacement:.3g} rad or m); the run starts "
+            "there and its first samples carry some of the start-up vibration. Check the initial "
+            'loads, or pass initial_deflection="none" (--initial-deflection none)'
+        )
+
+
 class InputError(PinwindError):
     """An argument of a run (torques, speeds, dt, duration, ...) is invalid."""
 

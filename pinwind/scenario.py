@@ -19,6 +19,7 @@ into the same values. Keys (units at the edge, like the flags; ``-`` and ``_`` a
     position_error = { planet1 = [20.0, 0.0] }     # tangential, radial [µm]
     wind = "kaimal(mean=10, turbulence_intensity=0.1, seed=1)"   # [m/s]: a number or a signal
     rho_inf = 1.0                                  # time step's spectral radius ρ∞ (1 keeps energy)
+    initial_deflection = "static"                  # static (loaded at t = 0) | none (undeflected)
     out = "saleh2017_rated.mcap"                   # log (a bare name goes in logs/)
     log_rate = 100.0                               # [Hz]
     force = false                                  # replace an existing log
@@ -83,6 +84,11 @@ KEYS: dict[str, tuple[str, str, str]] = {
     "rotor": ("rotors", "", "rotor aerodynamics"),
     "wind": ("signal", "m/s", "wind speed at the rotors"),
     "rho_inf": ("fraction", "0 to 1", "the time step's spectral radius ρ∞ (1 keeps energy)"),
+    "initial_deflection": (
+        "choice",
+        "static, none",
+        "compliant meshes and springs start deflected under the loads of t = 0, or undeflected",
+    ),
     "out": ("path", "", "log file"),
     "log_rate": ("number", "Hz", "logged samples per second"),
     "pose_rate": ("number", "Hz", "logged link poses per second"),
@@ -170,6 +176,7 @@ class Scenario:
         rotors: joint → ``Rotor`` (``loads/rotor.py``).
         wind: wind speed at the rotors [m/s], or None.
         integrator: the time step (``dynamics/integrator.py``), or None for the default.
+        initial_deflection: ``"static"`` or ``"none"`` (``simulate``'s).
         values: the plain values it was built from, keys normalised: what the log records and
             ``--from-log`` rebuilds it from (also the log settings: ``out``, ``log_rate``,
             ``keep``, ...); empty for a scenario made in Python.
@@ -189,6 +196,7 @@ class Scenario:
     rotors: Mapping[str, Rotor] = field(default_factory=dict)
     wind: Signal | float | None = None
     integrator: Integrator | None = None
+    initial_deflection: str = "static"
     values: dict[str, Any] = field(default_factory=dict)
     source: str = "Python"
     base: Path = field(default_factory=Path.cwd)
@@ -242,6 +250,7 @@ class Scenario:
             kwargs["wind"] = self.wind
         if self.integrator is not None:
             kwargs["integrator"] = self.integrator
+        kwargs["initial_deflection"] = self.initial_deflection
         return kwargs
 
     def record(self) -> dict[str, Any]:
@@ -318,6 +327,7 @@ class _Builder:
             rotors=rotors,
             wind=wind,
             integrator=self.integrator(),
+            initial_deflection=str(v.get("initial_deflection", "static")),
             values=v,
             source=self.source,
             base=self.base,
@@ -353,6 +363,8 @@ class _Builder:
             self._number(key, value, unit, positive=self.flags is None)
         if kind == "fraction" and not 0.0 <= self._number(key, value, unit) <= 1.0:
             raise self.fail(key, f"is {value}; give a number from {unit}")
+        if kind == "choice" and value not in unit.split(", "):
+            raise self.fail(key, f"is {value!r}; choose one of: {unit}")
         if kind == "bool" and not isinstance(value, bool):
             raise self.fail(key, f"must be true or false; got {value!r}")
         if kind == "keep" and not (

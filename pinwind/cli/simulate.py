@@ -173,6 +173,15 @@ def simulate(
             "rule, the default), smaller damps the modes dt does not resolve.",
         ),
     ] = None,
+    initial_deflection: Annotated[
+        str | None,
+        typer.Option(
+            "--initial-deflection",
+            help="static (default): compliant meshes and springs start deflected under the "
+            "loads of t = 0, so maxima describe the operation; none: they start undeflected, "
+            "with the start-up impact.",
+        ),
+    ] = None,
     check_dt: CheckDtOption = False,
     check_window: CheckWindowOption = None,
     as_json: JsonOption = False,
@@ -191,6 +200,7 @@ def simulate(
         "rotor": rotor_values(rotor),
         "wind": None if wind is None else number_or_text(wind),
         "rho_inf": rho_inf,
+        "initial_deflection": initial_deflection,
         "log_rate": log_rate,
         "pose_rate": pose_rate,
         "view_rate": view_rate,

@@ -294,12 +294,13 @@ class Series(enum.Enum):
     work_gravity = 29
     work_constraints = 30
     dissipated = 31
-    generator_torque = 32
-    rotor_torque = 33
-    rotor_power = 34
-    rotor_tip_speed_ratio = 35
-    rotor_power_coefficient = 36
-    rotor_wind_speed = 37
+    work_parametric = 32
+    generator_torque = 33
+    rotor_torque = 34
+    rotor_power = 35
+    rotor_tip_speed_ratio = 36
+    rotor_power_coefficient = 37
+    rotor_wind_speed = 38
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""
@@ -352,10 +353,29 @@ class Stepper:
         inputs: Matrix,
     ) -> RunStatus:
         """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; inputs (k1 − k0, columns)."""
+    def equilibrium(
+        self,
+        torque: Matrix,
+        target: Matrix,
+        inputs: Matrix,
+        max_iterations: int,
+        tolerance: float,
+    ) -> EquilibriumStatus:
+        """Moves the start to static equilibrium under the first sample's loads."""
     def mass_matrix(self, q: Vector) -> Matrix:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
     def assemble(self, q: Vector, v: Vector) -> Assembly:
         """M, b, J and γ of the step at (q, v), with the rows' current flanks; no step taken."""
+
+class EquilibriumStatus:
+    """How a static start went (``cpp/stepper.hpp`` Stepper::equilibrium)."""
+
+    iterations: int  # Newton iterations taken
+    converged: bool  # the last correction fell below the tolerance
+    correction: float  # max |Δq| of the last iteration [rad or m]
+    displacement: float  # max |q − q₀| [rad or m]
+    residual: float  # relative residual of the last linear solve
+    flank_switches: int  # compliant meshes that handed their load to the other flank
 
 class MeshRows:
     """Rows of all meshes at one state, split in their tangential and radial parts.

@@ -89,6 +89,13 @@ def body_frames(model: pin.Model) -> list[int]:
     return [f for f in range(model.nframes) if model.frames[f].type == pin.FrameType.BODY]
 
 
+#: Newton iterations of the static start at most, and the correction, relative to the
+#: displacement, at which it stops: the stiffness follows the pairs in contact, so a start on a
+#: pair change takes a few more iterations than the one a linear train needs.
+EQUILIBRIUM_ITERATIONS = 30
+EQUILIBRIUM_TOLERANCE = 1e-7
+
+
 class CompiledStepper:
     """One run of the compiled step loop, writing into a Result's arrays.
 
@@ -222,6 +229,31 @@ class CompiledStepper:
             err = ConflictingConstraints(step, time, status.residual, self.drivers)
         err.samples = status.sample  # type: ignore[union-attr]  # read by simulate()
         raise err
+
+    def equilibrium(
+        self, torque: np.ndarray, target: np.ndarray, inputs: np.ndarray | None = None
+    ) -> _native.EquilibriumStatus:
+        """Move the start to static equilibrium under the first sample's loads.
+
+        The compliant meshes and springs are deflected so that, at the first sample, they carry
+        the forces that the same loads put on rigid meshes and locked springs while the whole
+        train accelerates as one (``cpp/stepper.hpp`` Stepper::equilibrium derives it); the
+        speeds are kept.
+
+        Args:
+            torque: (1, nv) applied joint torques at t = 0 [N·m].
+            target: (2, drivers) driver speeds at t = 0 and t = dt [rad/s].
+            inputs: (1, input_columns) the elements' inputs at t = 0 (wind speeds [m/s]).
+        """
+        if inputs is None:
+            inputs = np.zeros((1, self.input_columns))
+        return self._stepper.equilibrium(
+            np.ascontiguousarray(torque, dtype=float),
+            np.ascontiguousarray(target, dtype=float),
+            np.ascontiguousarray(inputs, dtype=float),
+            EQUILIBRIUM_ITERATIONS,
+            EQUILIBRIUM_TOLERANCE,
+        )
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""

@@ -297,7 +297,8 @@ def energy_residual(
 ) -> np.ndarray:
     """Energy balance residual [J], zero for an exact ledger (dynamics/simulate.py).
 
-    Δkinetic + ΔU_spring − (W_applied + W_drivers + W_gravity + W_constraints − dissipated
+    Δkinetic + ΔU_spring − (W_applied + W_drivers + W_gravity + W_constraints + W_parametric
+    − dissipated
     − numerical), the changes from the first sample, or from ``start`` (each term's value at the
     first sample of the run [J], for a block of a longer run).
     """
@@ -318,6 +319,7 @@ def energy_residual(
         + term("work_drivers")
         + term("work_gravity")
         + term("work_constraints")
+        + term("work_parametric")
         - term("dissipated")
         - term("numerical")
     )

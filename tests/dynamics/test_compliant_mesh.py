@@ -98,6 +98,7 @@ def test_free_vibration_frequency_is_the_closed_form_of_the_pair(dt):
         dt=dt,
         torques={"a": preload * R_BA, "b": preload * R_BB},
         gravity=np.zeros(3),
+        initial_deflection="none",
         meshes={"m": _constant(k1, damping=0.0)},
     )
     expected = math.sqrt(_mean_stiffness(k1) * (R_BA**2 / J_A + R_BB**2 / J_B)) / (2 * math.pi)
@@ -260,6 +261,7 @@ def test_implicit_meshes_lose_the_energy_the_spectral_radius_sets(rho):
             gravity=np.zeros(3),
             meshes={"m": _constant(k1, damping=0.0)},
             integrator=Integrator(rho_infinity=rho),
+            initial_deflection="none",
         )
         e = res.energy
         balance = (

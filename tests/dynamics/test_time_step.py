@@ -59,6 +59,7 @@ def _free_vibration(
         dt=dt,
         torques={"a": PRELOAD * R_BA, "b": PRELOAD * R_BB},
         gravity=np.zeros(3),
+        initial_deflection="none",
         meshes={
             "m": MeshCompliance(
                 stiffness=K_SINGLE, variation="constant", damping_ratio=damping_ratio

@@ -62,6 +62,7 @@ def _free_pair(steps_per_period: float, periods: float, *, damping: float = 0.0,
         dt=dt,
         torques={"a": PRELOAD * R_BA, "b": PRELOAD * R_BB},
         gravity=np.zeros(3),
+        initial_deflection="none",
         meshes={"m": MeshCompliance(stiffness=K_SINGLE, variation="constant", damping=damping)},
         **kw,
     )

@@ -23,10 +23,10 @@ from tests.io.conftest import CHUNK, DT, DURATION, TORQUES, column_chunks
 from tests.io.test_cli_log import ENV, SIMULATE
 from tests.io.test_log_writer import assert_same_arrays
 
-#: Values per sample of the planetary stage's Result (6 joints, 6 meshes, 10 links, 9 energy
+#: Values per sample of the planetary stage's Result (6 joints, 6 meshes, 10 links, 10 energy
 #: terms): time, 4 joint series, 10 mesh scalars and 2 mesh vectors, 4 bearing vectors, link
 #: positions and quaternions, the constraint residual, the energy terms.
-PLANETARY_VALUES = 1 + 4 * 6 + 10 * 6 + 2 * 3 * 6 + 4 * 3 * 6 + 7 * 10 + 1 + 9
+PLANETARY_VALUES = 1 + 4 * 6 + 10 * 6 + 2 * 3 * 6 + 4 * 3 * 6 + 7 * 10 + 1 + 10
 
 
 # --- refused before the run ---------------------------------------------------------------------

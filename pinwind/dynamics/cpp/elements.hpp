@@ -62,6 +62,7 @@ struct StepView {
   // This sample's driver speeds at t_k and t_{k+1} [rad/s] (constraints.hpp SpeedDrivers).
   const double* target_now = nullptr;
   const double* target_next = nullptr;
+  const Eigen::MatrixXd* mass = nullptr;  // M(q_k) [kg·m²], for elements that scale by inertia
 };
 
 // Work of an element's forces over one step [J], split as the energy ledger keeps it.
@@ -77,6 +78,7 @@ struct EnergyLedger {
   double applied = 0.0;      // applied torques and the elements' external loads (rotor, generator)
   double drivers = 0.0;      // speed drivers and locks
   double springs = 0.0;      // the elements' conservative forces (springs, compliant meshes)
+  // (the elements' parametric work is theirs to keep: Element::parametric_work)
   double gravity = 0.0;
   double constraints = 0.0;  // rigid mesh rows: zero but for the rows' drift over a step
   double dissipated = 0.0;   // damping, counted positive when lost
@@ -121,6 +123,10 @@ class Element {
   virtual void add_body_forces(const StepView&, BodyForces&) const {}
   // Stored energy at q_k [J].
   virtual double potential(const StepView&) const { return 0.0; }
+  // Work put into the stored energy by the element's own time-varying parameters since t = 0
+  // (a mesh's stiffness changing as tooth pairs enter and leave) [J]: energy the physics
+  // exchanges, not the integrator's loss.
+  virtual double parametric_work() const { return 0.0; }
   // Work over the step from (q_k, v_k) to v_{k+1}; v_mid = (v_k + v_{k+1})/2.
   virtual StepWork work(const StepView&, const Eigen::VectorXd& v_next,
                         const Eigen::VectorXd& v_mid) const {

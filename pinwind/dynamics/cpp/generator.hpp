@@ -195,7 +195,7 @@ class InductionMachineDq : public JointTorqueElement {
     return {end * t0 + (1.0 - end) * torque(flux_), end * 0.5 * s.dt * (t1 - t0) / d};
   }
 
-  bool lagged() const override { return false; }
+  bool damps_unresolved() const override { return false; }
 
   // Also T_gen = −τ over the step (the electromagnetic torque at the weighted time).
   void record(const StepView& s, long k, const Outputs& out) const override {

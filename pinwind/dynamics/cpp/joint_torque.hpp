@@ -7,18 +7,23 @@
 //     τ over the step = τ(ω_n + κ_v ā_p) − w (ā − ā_p),     w ≥ 0
 //
 // which adds w to the QP's Hessian on the joint's diagonal and τ(ω_n + κ_v ā_p) + w ā_p to its
-// force (the same device as the compliant meshes' w JᵀJ, compliant_mesh.hpp). The law's slope
-// τ' gives w = −τ' κ_v, the exact linearisation, or w = 0 for a rising law (τ' > 0, e.g. an
-// induction machine below its pull-out speed). The weight is lagged (a modified-Newton
-// Jacobian): it follows twice the steepest falling slope met so far, −2 τ' κ_v, raised only when
-// the law gets more than twice as steep, so that the Hessian, and proxsuite's factorisation of
-// it, stays the same from step to step (a rotor in turbulence crosses the peak of C_p/λ, where
-// the slope changes sign, many times a second). The error of a weight that is not the exact one
-// is (w + τ' κ_v)(ā − ā_p) = O(h²): the step stays second order. For J ω̇ = τ' ω (τ' = −λ) the
-// two-step map is stable when J + 2w > 2 λ κ_v, which w ≥ λ κ_v (the lagged weight) keeps for
-// every h; at steady state (ā = ā_p = 0) the torque is the law's exactly. Elements whose torque
-// has dynamics of its own (the dq machine's fluxes) take the exact slope of every step instead
-// (``lagged() == false``): there a weight too large distorts the coupled electromechanical mode.
+// force (the same device as the compliant meshes' w JᵀJ, compliant_mesh.hpp). The weight
+// follows the law's local slope τ' at the predicted speed, every step:
+//
+//     w = φ λ κ_v,   λ = max(−τ', 0),   φ = 1 + x/(1 + x),   x = λ κ_v / M_jj
+//
+// with M_jj the joint's inertia. Where the step resolves the law's relaxation (x ≪ 1) φ → 1,
+// the exact linearisation; the error left, (w + τ' κ_v)(ā − ā_p) = O(x h) (ā − ā_p), is of
+// second order and so is the step on a speed ramp (a rising law, τ' > 0, takes w = 0 and leaves
+// τ' κ_v (ā − ā_p) = O(h²)). Where it does not (x ≫ 1: a stiff slip law on a light shaft, time
+// constant M_jj/λ below the step) φ → 2: with the exact weight the trapezoidal rule would carry
+// the relaxation as ω_{n+1} = −ω_n, an alternation that never decays, while φ = 2 makes the
+// two-step map ω_{n+1} = (ω_n − ω_{n−1})/2, whose roots have modulus 1/√2: the unresolved
+// relaxation dies out in a few steps whatever ρ∞. At steady state (ā = ā_p = 0) the torque is
+// the law's exactly. Elements whose torque has dynamics of its own (the dq machine's fluxes)
+// take φ = 1 (``damps_unresolved() == false``): there a weight too large distorts the coupled
+// electromechanical mode. A weight that changes from step to step changes one diagonal entry of
+// the Hessian, which the direct solve absorbs without refactorising (constrained_qp.hpp).
 #pragma once
 
 #include <cmath>
@@ -47,17 +52,18 @@ class JointTorqueElement : public Element {
   // The torque over the step if the step's acceleration were ā = accel, and its slope dτ/dā
   // [N·m·s²/rad] (the law's at ω_n + κ_v ā: τ(ω) and τ'(ω) κ_v).
   virtual TorqueSlope evaluate(const StepView& s, double accel) const = 0;
-  // Whether the implicit weight may lag the slope (module comment).
-  virtual bool lagged() const { return true; }
+  // Whether the weight grows to damp a relaxation the step does not resolve (module comment).
+  virtual bool damps_unresolved() const { return true; }
 
   void prepare(const StepView& s) override {
     const TorqueSlope ts = evaluate(s, predicted_);
     const double exact = ts.slope < 0.0 ? -ts.slope : 0.0;
-    if (!lagged()) {
-      weight_ = exact;
-    } else if (exact > weight_) {
-      weight_ = 2.0 * exact;
+    double factor = 1.0;
+    if (damps_unresolved() && s.mass != nullptr && (*s.mass)(index_, index_) > 0.0) {
+      const double x = exact / (*s.mass)(index_, index_);
+      factor = 1.0 + x / (1.0 + x);
     }
+    weight_ = factor * exact;
     torque_ = ts.torque + weight_ * predicted_;
     applied_ = torque_;
   }

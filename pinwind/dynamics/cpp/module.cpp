@@ -455,6 +455,17 @@ class PyStepper {
 
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
+  EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
+                                long max_iterations, double tolerance) {
+    const long nv = counts_[static_cast<size_t>(Family::joint)];
+    if (torque.rows() != 1 || torque.cols() != nv || target.rows() != 2 ||
+        (inputs_ && (inputs.rows() != 1 || inputs.cols() != inputs_))) {
+      throw std::invalid_argument(
+          "equilibrium: torque (1, nv), target (2, drivers), inputs (1, input_columns)");
+    }
+    return stepper_->equilibrium(torque, target, inputs, max_iterations, tolerance);
+  }
+
   Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
     if (q.size() != counts_[static_cast<size_t>(Family::joint)] || v.size() != q.size()) {
       throw std::invalid_argument("assemble: q and v must have nv values");
@@ -696,6 +707,14 @@ NB_MODULE(_native, m) {
       .def_ro("dual", &RunStatus::dual)
       .def_ro("iterations", &RunStatus::iterations);
 
+  nb::class_<EquilibriumStatus>(m, "EquilibriumStatus")
+      .def_ro("iterations", &EquilibriumStatus::iterations)
+      .def_ro("converged", &EquilibriumStatus::converged)
+      .def_ro("correction", &EquilibriumStatus::correction)
+      .def_ro("displacement", &EquilibriumStatus::displacement)
+      .def_ro("residual", &EquilibriumStatus::residual)
+      .def_ro("flank_switches", &EquilibriumStatus::flank_switches);
+
   nb::class_<Assembly>(m, "Assembly")
       .def_ro("mass", &Assembly::mass)
       .def_ro("bias", &Assembly::bias)
@@ -707,6 +726,9 @@ NB_MODULE(_native, m) {
            "spec"_a, "q0"_a, "v0"_a, "samples"_a)
       .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a, "out"_a, "inputs"_a,
            "Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; returns the status.")
+      .def("equilibrium", &PyStepper::equilibrium, "torque"_a, "target"_a, "inputs"_a,
+           "max_iterations"_a, "tolerance"_a,
+           "Moves the start to static equilibrium under the first sample's loads.")
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].")
       .def("assemble", &PyStepper::assemble, "q"_a, "v"_a,

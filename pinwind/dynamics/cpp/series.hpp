@@ -55,6 +55,7 @@ inline constexpr std::size_t kFamilies = 7;
   X(work_gravity, run, 1)                       \
   X(work_constraints, run, 1)                   \
   X(dissipated, run, 1)                         \
+  X(work_parametric, run, 1)                    \
   X(generator_torque, generator, 1)             \
   X(rotor_torque, rotor, 1)                     \
   X(rotor_power, rotor, 1)                      \

@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/QR>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/jacobian.hpp>
 #include <pinocchio/algorithm/joint-configuration.hpp>
@@ -151,6 +152,16 @@ inline const ConstraintKind kConstraintKinds[] = {
      }},
 };
 
+// How a static start went (Stepper::equilibrium).
+struct EquilibriumStatus {
+  long iterations = 0;       // Newton iterations taken
+  bool converged = false;    // the last correction fell below the tolerance
+  double correction = 0.0;   // max |Δq| of the last iteration [rad or m]
+  double displacement = 0.0; // max |q − q₀| over the joints [rad or m]
+  double residual = 0.0;     // relative residual of the last linear solve
+  long flank_switches = 0;   // compliant meshes that handed their load to the other flank
+};
+
 // The terms of the step's equations of motion at one state (solve() documents them).
 struct Assembly {
   Eigen::MatrixXd mass;   // M(q) [kg·m²]
@@ -244,6 +255,74 @@ class Stepper {
     return mass_;
   }
 
+  // Moves the run's start q₀ to static equilibrium under the first sample's loads (torque:
+  // (1, nv) applied torques at t = 0, target: (2, drivers) driver speeds at t₀ and t₁, inputs:
+  // (1, input_columns)), the speeds held: the compliant meshes and springs deflected so that
+  // they carry, at the first sample, the forces the same loads put on rigid meshes and locked
+  // springs. With the constraints' rows J (rigid meshes, drivers, locks), the elements' stiffness
+  // K = −∂f/∂q (their implicit weights under StepWeights::static_solve) and the force
+  // F = τ + Σ f_e − b at q, each Newton iteration solves
+  //
+  //     M ā + K Δq − Jᵀ λ = F,   J ā = r,   J Δq = 0,   K ā = 0
+  //
+  // for the acceleration ā the whole train shares (no element's deflection changes: K ā = 0),
+  // the displacement Δq and the multipliers, in the least-norm sense (Δq has no part along the
+  // train's free motion, which the loads do not determine), then q ← q ⊕ Δq. A compliant mesh
+  // whose force would pull hands it to the other flank (closing the backlash). The stiffness
+  // follows the pairs in contact at each q, so the iteration ends when Δq stops changing.
+  EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
+                                long max_iterations, double tolerance) {
+    EquilibriumStatus st;
+    time_ = 0.0;
+    inputs_ = s_.input_columns ? inputs.row(0).data() : nullptr;
+    tau_applied_ = torque.row(0).transpose();
+    target_row_ = target.cols() ? target.row(0).data() : nullptr;
+    target_next_row_ = target.cols() ? target.row(1).data() : nullptr;
+    targets();
+    const Eigen::VectorXd q_start = q_;
+    weights_ = StepWeights::static_solve();
+    dq_free_.setZero(nv_);
+    RunStatus unused;
+    constexpr int kPasses = 8;
+    for (long it = 0; it < max_iterations; ++it) {
+      assemble_positions();
+      if (residual() > s_.projection_tol * (1.0 + v_.cwiseAbs().maxCoeff()) &&
+          !project(0, 0.0, unused)) {
+        break;
+      }
+      assemble_velocities();
+      const StepView sv = view();
+      elements_force_.setZero(nv_);
+      for (auto& e : elements_) {
+        e->prepare(sv);
+        e->add_force(sv, elements_force_);
+      }
+      Eigen::VectorXd dq;
+      for (int pass = 0; pass < kPasses; ++pass) {
+        hessian_.setZero(nv_, nv_);
+        force_ = tau_applied_ + elements_force_ - nle_;
+        for (auto& e : elements_) e->add_implicit(sv, hessian_, force_);
+        dq = static_displacement(st);
+        bool settled = true;
+        for (auto& e : elements_) settled = !e->settle(sv, dq, pass + 1 == kPasses) && settled;
+        if (settled) break;
+        ++st.flank_switches;
+      }
+      pinocchio::integrate(s_.model, q_, dq, q_next_);
+      q_ = q_next_;
+      st.iterations = it + 1;
+      st.correction = dq.cwiseAbs().maxCoeff();
+      Eigen::VectorXd moved(nv_);
+      pinocchio::difference(s_.model, q_start, q_, moved);
+      st.displacement = moved.cwiseAbs().maxCoeff();
+      if (st.correction <= tolerance * st.displacement || st.correction == 0.0) {
+        st.converged = true;
+        break;
+      }
+    }
+    return st;
+  }
+
   // The step's assembly alone at (q, v), with the rows' current flanks (for checks against
   // Pinocchio's own and finite differences); the run's state is kept.
   Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
@@ -268,8 +347,9 @@ class Stepper {
   }
 
   StepView view() const {
-    return {q_,       v_,          s_.dt,     data_,  s_.meshes,   rows_data_,
-            weights_, dq_free_,    time_,     inputs_, target_row_, target_next_row_};
+    return {q_,       v_,          s_.dt,     data_,   s_.meshes,   rows_data_,
+            weights_, dq_free_,    time_,     inputs_, target_row_, target_next_row_,
+            &mass_};
   }
 
   // Constraint c's rows in the stacked J, γ, targets and λ.
@@ -548,6 +628,33 @@ class Stepper {
     gravity_step_ = gravity_ + w * (gravity_ - gravity_last_);
   }
 
+  // Δq of one Newton iteration of equilibrium() from M, J, γ, the stiffness in hessian_ and
+  // the force in force_: the least-norm solution of the stacked system, with Δq scaled by
+  // κ = max|K| / max|M| so that both blocks weigh alike in the rank decision.
+  Eigen::VectorXd static_displacement(EquilibriumStatus& st) {
+    const double mass_scale = mass_.cwiseAbs().maxCoeff();
+    const double stiffness_scale = hessian_.cwiseAbs().maxCoeff();
+    if (!(stiffness_scale > 0.0)) return Eigen::VectorXd::Zero(nv_);
+    const double kappa = stiffness_scale / mass_scale;
+    const Eigen::Index n = nv_, r = rows_;
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n + 2 * r, 2 * n + r);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * n + 2 * r);
+    a.topLeftCorner(n, n) = mass_;
+    a.block(0, n, n, n) = hessian_ / kappa;
+    a.block(0, 2 * n, n, r) = -jac_.transpose();
+    a.block(n, 0, r, n) = jac_;
+    a.block(n + r, n, r, n) = jac_;
+    a.block(n + 2 * r, 0, n, n) = hessian_ / kappa;
+    b.head(n) = force_;
+    b.segment(n, r) = (target_next_ - target_now_) / s_.dt - bias_;
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+    cod.setThreshold(1e-12);
+    cod.compute(a);
+    const Eigen::VectorXd x = cod.solve(b);
+    st.residual = (a * x - b).norm() / std::max(b.norm(), 1e-300);
+    return x.segment(n, n) / kappa;
+  }
+
   // The step's ā and λ for the current weights, at the assembled state.
   bool dynamics(long k, double t, RunStatus& st) {
     const Eigen::VectorXd& nle = nle_step_;
@@ -650,6 +757,9 @@ class Stepper {
     out_.at(Series::work_gravity, k) = ledger_.gravity;
     out_.at(Series::work_constraints, k) = ledger_.constraints;
     out_.at(Series::dissipated, k) = ledger_.dissipated;
+    double parametric = 0.0;
+    for (const auto& e : elements_) parametric += e->parametric_work();
+    out_.at(Series::work_parametric, k) = parametric;
   }
 
   // Sample k of a joint series, as a vector of nv.

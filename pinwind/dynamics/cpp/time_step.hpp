@@ -69,8 +69,22 @@ struct StepWeights {
   double speed_gain = 0.0;     // κ_v [s]
   double step_gain = 0.0;      // h² β/γ [s²]: ā in Δq
   double memory_gain = 0.0;    // h² (½ − β/γ) [s²]: a_n in Δq
+  bool statics = false;        // the weights of a static solve (statics() below)
 
   StepWeights() = default;
+
+  // The weights of a static solve (Stepper::equilibrium): the unknown is a displacement Δq
+  // instead of an acceleration, each element's force is taken at q ⊕ Δq with the speeds held,
+  // so its implicit weight W_e is its stiffness −∂f_e/∂q and its force at Δq = 0 the force at q.
+  // Elements with contact keep a flank in contact (they switch flanks, never open).
+  static StepWeights static_solve() {
+    StepWeights w;
+    w.inertia = 0.0;
+    w.position_gain = 1.0;
+    w.statics = true;
+    return w;
+  }
+
   StepWeights(const GeneralizedAlpha& g, double h) {
     const double ratio = g.beta / g.gamma;
     inertia = (1.0 - g.alpha_m) / g.gamma;
