@@ -206,7 +206,7 @@ class InvalidSNCurve(InputError):
         value: its value.
     """
 
-    def __init__(self, parameter: str, value: float, requirement: str, fix: str):
+    def __init__(self, parameter: str, value: object, requirement: str, fix: str):
         self.parameter = parameter
         self.value = value
         super().__init__(f"S-N curve: {parameter} is {value!r} but must be {requirement}; {fix}")
