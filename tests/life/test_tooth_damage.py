@@ -15,11 +15,12 @@ from pinwind.life.tooth_damage import (
     entering_teeth,
     gear_tooth_damage,
     histories_damage,
+    mesh_teeth,
     tooth_histories,
 )
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
-from tests.conftest import two_gear_urdf
+from tests.conftest import MODELS, two_gear_urdf
 
 #: N(s) = (1000 MPa / s)³: 100 MPa fails in 10³ cycles.
 ROUND = SNCurve(reference_stress=1000e6, slope_exponent=3.0)
@@ -38,8 +39,10 @@ def synthetic_mesh(*, teeth: int, revolutions: int, first_tooth: int, load: floa
     roll = np.arange(0.6, 0.6 + revolutions * teeth - 1.0, 1.0 / 40.0)
     x = roll % 1.0
     pairs = np.where(x < 0.5, 2, 1)
+    tooth = entering_teeth(x, base_pitch=1.0, teeth=teeth, first_tooth=first_tooth)
     contacts = ToothContacts(
-        tooth=entering_teeth(x, base_pitch=1.0, teeth=teeth, first_tooth=first_tooth),
+        tooth=tooth,
+        leading_tooth=(tooth - 1) % teeth,
         entering=np.where(pairs == 2, load / 2, load),
         leading=np.full(x.size, load / 2),
         pairs=pairs,
@@ -86,6 +89,7 @@ def test_heaviest_loaded_tooth_is_the_worst():
     heavy = (contacts.tooth == 3) & (np.arange(contacts.tooth.size) > 10 * 40)
     doubled = ToothContacts(
         tooth=contacts.tooth,
+        leading_tooth=contacts.leading_tooth,
         entering=np.where(heavy, 2.0, 1.0) * contacts.entering,
         leading=contacts.leading,
         pairs=contacts.pairs,
@@ -101,7 +105,13 @@ def test_heaviest_loaded_tooth_is_the_worst():
 
 def test_three_pairs_in_contact_raise():
     contacts = synthetic_mesh(teeth=10, revolutions=1, first_tooth=0, load=1.0)
-    three = ToothContacts(contacts.tooth, contacts.entering, contacts.leading, contacts.pairs + 1)
+    three = ToothContacts(
+        contacts.tooth,
+        contacts.leading_tooth,
+        contacts.entering,
+        contacts.leading,
+        contacts.pairs + 1,
+    )
     with pytest.raises(InputError, match="contact ratio below 2"):
         tooth_histories([three], teeth=10)
 
@@ -122,9 +132,14 @@ def test_compliant_pair_at_constant_speed_gives_one_cycle_per_tooth_pass():
         gravity=np.zeros(3),
         meshes={"m": MeshCompliance(stiffness=1e9, damping_ratio=0.1)},
     )
+    # Tooth j + 1 sits a pitch ahead of tooth j in the positive sense: the pinion, turning
+    # positively, brings tooth j − 1 in next; the wheel turns the other way.
+    for gear, teeth, step in (("g1", 20, -1), ("g2", 40, 1)):
+        changes = np.diff(mesh_teeth(result, gearbox, "m", gear).tooth)
+        np.testing.assert_array_equal(np.unique(changes % teeth), [0, step % teeth])
     curve = SNCurve(reference_stress=10e9, slope_exponent=3.0)
     for gear, teeth, most in (("g1", 20, 2), ("g2", 40, 1)):
-        damage = gear_tooth_damage(result, gearbox, gear, curve=curve, time_factor=1.0)
+        (damage,) = gear_tooth_damage(result, gearbox, gear, curve=curve, time_factor=1.0)
         threshold = 0.5 * damage.peak_stress.max()
         passes = np.array([np.sum(c.counts[c.ranges > threshold]) for c in damage.cycles])
         assert passes.shape == (teeth,)
@@ -137,3 +152,54 @@ def test_gear_without_a_mesh_raises():
     result = pinwind.simulate(gearbox, duration=1e-3, dt=1e-4, torques={"a": 1.0})
     with pytest.raises(InputError, match="g1, g2"):
         gear_tooth_damage(result, gearbox, "g3", curve=ROUND, time_factor=1.0)
+
+
+@pytest.fixture(scope="module")
+def dtu_run():
+    """The DTU stage (sun 20, planets 35, ring 91; 003) with rigid meshes, carrier driven at
+    2 rad/s against a sun torque: each planet turns 91/35 · 2 = 5.2 rad/s on the carrier."""
+    gearbox = pinwind.load(MODELS / "dtu500_planetary.urdf")
+    result = pinwind.simulate(
+        gearbox, duration=1.5, dt=1e-4, speeds={"carrier": 2.0}, torques={"sun": -2000.0}
+    )
+    return gearbox, result
+
+
+def test_sun_and_ring_teeth_at_the_three_planets_are_a_third_of_a_turn_apart(dtu_run):
+    """Planets 120° apart meet sun teeth 20/3 = 6.7 apart and ring teeth 91/3 = 30.3 apart
+    (the nearest whole teeth, either side), all on one flank of each gear."""
+    gearbox, result = dtu_run
+    for gear, meshes, teeth in (
+        ("sun", ("sun_planet1", "sun_planet2", "sun_planet3"), 20),
+        ("ring", ("planet1_ring", "planet2_ring", "planet3_ring"), 91),
+    ):
+        found = [mesh_teeth(result, gearbox, mesh, gear) for mesh in meshes]
+        first = [int(f.tooth[0]) for f in found]
+        for k, f in ((1, first[1]), (2, first[2])):
+            gap = (f - first[0]) % teeth
+            assert math.floor(k * teeth / 3) - 1 <= gap <= math.ceil(k * teeth / 3) + 1, first
+        assert len({int(x) for f in found for x in np.unique(f.flank)}) == 1
+
+
+def test_planet_teeth_meet_the_sun_and_the_ring_half_a_turn_apart_on_opposite_flanks(dtu_run):
+    """A planet's sun and ring contacts lie on opposite sides of its centre, so a tooth that
+    enters the sun mesh enters the ring mesh about half a turn on the carrier later or earlier:
+    π / 5.2 rad/s = 0.604 s, to within one mesh period 2π / (35 · 5.2) = 0.035 s (the two
+    paths of contact are not exactly opposite); its number there is 35/2 = 17.5 ± 1.5 away.
+    Pushing on the sun side and on the ring side, the two meshes load opposite flanks."""
+    gearbox, result = dtu_run
+    sun = mesh_teeth(result, gearbox, "sun_planet1", "planet1")
+    ring = mesh_teeth(result, gearbox, "planet1_ring", "planet1")
+    assert int(np.unique(sun.flank)[0]) == -int(np.unique(ring.flank)[0])
+    assert 16 <= (int(ring.tooth[0]) - int(sun.tooth[0])) % 35 <= 19
+    half_turn, period = math.pi / 5.2, 2 * math.pi / (35 * 5.2)
+
+    def entries(tooth: np.ndarray) -> dict[int, float]:
+        changed = np.flatnonzero(np.diff(tooth) != 0) + 1
+        return {int(tooth[k]): float(result.time[k]) for k in changed}
+
+    at_sun, at_ring = entries(sun.tooth), entries(ring.tooth)
+    common = sorted(set(at_sun) & set(at_ring))
+    assert len(common) >= 10
+    delays = np.abs([at_ring[j] - at_sun[j] for j in common])
+    np.testing.assert_allclose(delays, half_turn, rtol=0, atol=period)
