@@ -383,7 +383,7 @@ def gear_tooth_damage(
     contacts: list[tuple[ToothContacts, np.ndarray]] = []
     teeth = 0
     for i, mesh in enumerate(gearbox.meshes):
-        if gear not in (mesh.gear_a.name, mesh.gear_b.name) or mesh.path is None:
+        if gear not in (mesh.gear_a.name, mesh.gear_b.name):
             continue
         entering_teeth_of = mesh_teeth(result, gearbox, mesh.name, gear)
         teeth = (mesh.gear_a if mesh.gear_a.name == gear else mesh.gear_b).spec.teeth
@@ -393,7 +393,7 @@ def gear_tooth_damage(
         normal = np.abs(result.mesh_normal[:, i])
         entering = contact_stress(pair, force=single, position=position)
         leading = contact_stress(
-            pair, force=normal - single, position=position + mesh.path.base_pitch
+            pair, force=normal - single, position=position + pair.path.base_pitch
         )
         contact = ToothContacts(
             tooth=entering_teeth_of.tooth,
@@ -405,10 +405,7 @@ def gear_tooth_damage(
         contacts.append((contact, entering_teeth_of.flank))
     if not contacts:
         names = sorted({g.name for m in gearbox.meshes for g in (m.gear_a, m.gear_b)})
-        raise InputError(
-            f'no mesh with a path of contact has a gear "{gear}"; meshed gears are: '
-            f"{', '.join(names)}"
-        )
+        raise InputError(f'no mesh has a gear "{gear}"; meshed gears are: {", ".join(names)}')
     rated = []
     for side in (1, -1):
         if not any(np.any(flank == side) for _, flank in contacts):
