@@ -211,9 +211,13 @@ class GearPair:
         """Flank radii of curvature (ρ1, ρ2) at roll distance ``roll_1`` from T1 [m].
 
         ρ1 = u, ρ2 = |T1T2| − u for an external pair and −(|T1T2| + u) for an internal
-        gear 2 (concave flank); ``roll_1`` a float or an array (003_83d3049daebcd276.txt Fig. 10).
+        gear 2 (concave flank); for an internal gear 1, whose T1 lies |T1T2| behind T2,
+        ρ1 = −u and ρ2 = u − |T1T2|. ``roll_1`` a float or an array
+        (003_83d3049daebcd276.txt Fig. 10).
         """
         line = self.tangency_distance
+        if self.internal_1:
+            return -roll_1, roll_1 - line
         return roll_1, (-(line + roll_1) if self.internal_2 else line - roll_1)
 
     @property

@@ -1,0 +1,124 @@
+"""S-N curve and Palmgren-Miner damage (Jørgensen 2014 eqs. 2, 3, 23; Tables 4-5)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pinwind.errors import InputError, InvalidSNCurve
+from pinwind.life.cycles import rainflow_cycles
+from pinwind.life.sn_curve import SNCurve, jorgensen_2014_curve, miner_damage
+
+#: A curve with round numbers: N(s) = (1000 MPa / s)^3, so 100 MPa fails in 10³ cycles.
+ROUND = SNCurve(reference_stress=1000e6, slope_exponent=3.0, reference_cycles=1.0)
+
+
+def pulsating(peak: float, cycles: int) -> np.ndarray:
+    """0 → peak → 0 repeated ``cycles`` times: a tooth loaded once per mesh pass."""
+    return np.array([0.0, *([peak, 0.0] * cycles)])
+
+
+def test_constant_amplitude_damage_is_cycles_over_cycles_to_failure():
+    """50 pulsating cycles of range 100 MPa on N = (1000/100)³ = 1000: D = 50 / 1000."""
+    cycles = rainflow_cycles(pulsating(100e6, 50))
+    np.testing.assert_allclose(miner_damage(cycles, ROUND), 50 / 1000, rtol=1e-12)
+
+
+def test_damage_read_at_the_amplitude_uses_half_the_range():
+    """Amplitude 50 MPa: N = (1000/50)³ = 8000, D = 50 / 8000."""
+    cycles = rainflow_cycles(pulsating(100e6, 50))
+    np.testing.assert_allclose(
+        miner_damage(cycles, ROUND, stress="amplitude"), 50 / 8000, rtol=1e-12
+    )
+
+
+def test_damage_scales_with_the_time_factor():
+    """The same 50 cycles standing for 40 times as long: D = 40 · 50 / 1000 = 2."""
+    cycles = rainflow_cycles(pulsating(100e6, 50)).scaled(40.0)
+    np.testing.assert_allclose(miner_damage(cycles, ROUND), 2.0, rtol=1e-12)
+
+
+def test_stresses_below_the_endurance_limit_do_no_damage():
+    curve = SNCurve(reference_stress=1000e6, slope_exponent=3.0, endurance_limit=150e6)
+    cycles = rainflow_cycles(pulsating(100e6, 50))
+    assert miner_damage(cycles, curve) == 0.0
+
+
+def test_ignoring_the_endurance_limit_counts_cycles_on_the_sloped_line():
+    curve = SNCurve(reference_stress=1000e6, slope_exponent=3.0, endurance_limit=150e6)
+    cycles = rainflow_cycles(pulsating(100e6, 50))
+    np.testing.assert_allclose(
+        miner_damage(cycles, curve, use_endurance_limit=False), 50 / 1000, rtol=1e-12
+    )
+
+
+def test_two_level_history_adds_the_damage_of_each_level():
+    """10 cycles at 200 MPa (N = 125) then 100 at 100 MPa (N = 1000): D = 10/125 + 100/1000."""
+    history = np.concatenate([pulsating(200e6, 10), pulsating(100e6, 100)[1:]])
+    np.testing.assert_allclose(
+        miner_damage(rainflow_cycles(history), ROUND), 10 / 125 + 100 / 1000, rtol=1e-12
+    )
+
+
+def test_table_4_points_give_the_curve_of_eq_23():
+    """003 Table 4: 3·10⁴ cycles at 1400 MPa and 10⁶ at 500 MPa; eq. 23 prints s0 = 28.9 GPa
+    and m = 3.4, both rounded, so they must agree to the printed digits."""
+    curve = SNCurve.through_points(cycles_1=3e4, stress_1=1400e6, cycles_2=1e6, stress_2=500e6)
+    np.testing.assert_allclose(curve.slope_exponent, 3.4, rtol=0, atol=0.01)
+    np.testing.assert_allclose(curve.reference_stress, 28.9e9, rtol=0, atol=0.05e9)
+    np.testing.assert_allclose(curve.stress([3e4, 1e6]), [1400e6, 500e6], rtol=1e-12)
+
+
+def test_003_presets_pass_through_table_4_and_carry_table_5_limits():
+    """eq. 23 with its rounded s0 and m passes within 1 % of both Table 4 points."""
+    limits = {"sun": 800e6, "planet": 800e6, "ring": 550e6}
+    for gear, limit in limits.items():
+        for location in ("contact", "root"):
+            curve = jorgensen_2014_curve(gear, location=location)
+            np.testing.assert_allclose(curve.endurance_limit, limit, rtol=0, atol=0)
+            np.testing.assert_allclose(curve.stress([3e4, 1e6]), [1400e6, 500e6], rtol=0.01)
+
+
+def test_cycles_to_failure_follow_eq_3():
+    """N = N0 (s0/s)^m with N0 = 10⁶ at s0 = 300 MPa and m = 5: 600 MPa fails in 10⁶/32."""
+    curve = SNCurve(reference_stress=300e6, slope_exponent=5.0, reference_cycles=1e6)
+    np.testing.assert_allclose(curve.cycles_to_failure(600e6), 1e6 / 32, rtol=1e-12)
+    assert math.isinf(float(curve.cycles_to_failure(0.0)))
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("slope_exponent", 0.0, "slope exponent m"),
+        ("slope_exponent", -3.4, "slope exponent m"),
+        ("slope_exponent", math.nan, "slope exponent m"),
+        ("reference_stress", math.inf, "reference stress s0"),
+        ("reference_cycles", 0.0, "reference cycles N0"),
+        ("endurance_limit", -1.0, "endurance limit"),
+        ("endurance_limit", math.nan, "endurance limit"),
+    ],
+)
+def test_bad_sn_curve_raises_and_keeps_the_value(field, value, message):
+    arguments = {"reference_stress": 28.9e9, "slope_exponent": 3.4, "endurance_limit": 800e6}
+    arguments[field] = value
+    with pytest.raises(InvalidSNCurve, match=message) as caught:
+        SNCurve(**arguments)
+    assert caught.value.parameter.startswith(message)
+    assert caught.value.value == value or math.isnan(value)
+
+
+def test_points_of_a_rising_curve_raise():
+    with pytest.raises(InvalidSNCurve, match="falling curve"):
+        SNCurve.through_points(cycles_1=1e6, stress_1=1400e6, cycles_2=3e4, stress_2=1200e6)
+
+
+def test_unknown_preset_gear_names_the_known_ones():
+    with pytest.raises(InputError, match="sun, planet, ring"):
+        jorgensen_2014_curve("carrier")
+
+
+def test_unknown_cycle_stress_raises():
+    with pytest.raises(InputError, match="range"):
+        miner_damage(rainflow_cycles(pulsating(1.0, 2)), ROUND, stress="peak")  # type: ignore[arg-type]
