@@ -365,8 +365,11 @@ def series_values(
 
     Raises:
         UnknownElement: no element of the series' family has that name.
+        InputError: an element for a series with one value per run.
     """
     names = result.names(s.family)
+    if s.family == "run" and element is not None:
+        raise InputError(f'series "{s.name}" has one value per run; drop ":{element}"')
     if s.family == "run":
         picked = [("", getattr(result, s.name))]
     elif element is None:
@@ -442,7 +445,7 @@ def spectrum_of_log(
         wanted = list(series)
         if not wanted:
             has_meshes = reader.metadata.get("pinwind.model", {}).get("mesh_names")
-            wanted = ["mesh_normal" if has_meshes or gearbox and gearbox.meshes else "speed"]
+            wanted = ["mesh_normal" if has_meshes else "speed"]
         chosen = [parse_series(text) for text in wanted]
         channels = sorted({"/joints", *(_channel(s) for s, _ in chosen)})
         result = reader.read(start=start, stop=stop, channels=channels)

@@ -85,6 +85,7 @@ def test_bad_input_is_one_line_and_exit_2(planetary_log, args, message):
         ({"segment": 0.005}, InputError, "a segment of 0.005 s is 5 samples"),
         ({"segment": -1.0}, InputError, "give a positive segment length"),
         ({"start": 0.49}, InputError, "a segment needs 16 to 11"),
+        ({"series": ["constraint_residual:sun"]}, InputError, "one value per run"),
     ],
 )
 def test_bad_elements_and_segments_are_refused_naming_the_fix(planetary_log, options, error,
