@@ -93,7 +93,7 @@ class InvalidMount(ModelError):
 
 
 class InvalidBearingRating(ModelError):
-    """A bearing's ISO 281 data that give no life (``life/bearing_life.py``).
+    """A bearing's ISO 281 data that give no life (``model/bearing.py``, ``life/bearing_life.py``).
 
     A type without an ISO 281 life exponent, a dynamic load rating C that is not a positive
     finite number, negative load factors, or a rating on a joint that is not a rolling bearing.

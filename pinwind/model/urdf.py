@@ -540,7 +540,11 @@ def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:
             "continuous joint of the rolling bearing",
             path=path,
         )
-    factors = {a: _number(path, el, a, where=where) for a in ("e", "y1", "x2", "y2") if el.get(a)}
+    factors = {
+        a: _number(path, el, a, where=where)
+        for a in ("e", "y1", "x2", "y2")
+        if el.get(a) is not None
+    }
     rating_kn = el.get("rating_c_kN")
     return bearing_rating(
         joint,

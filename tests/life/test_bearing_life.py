@@ -163,3 +163,15 @@ def test_bearing_on_a_fixed_joint_is_refused():
     )
     with pytest.raises(InvalidBearingRating, match="fixed joint"):
         loads(text, path="pair.urdf")
+
+
+def test_catalogue_factors_in_the_model_file_replace_the_type_defaults():
+    text = two_gear_urdf().replace(
+        "</gearbox>",
+        '<bearing joint="a" type="Tapered_Roller" rating_c_kN="10" e="0.3" y2="2.0"/></gearbox>',
+    )
+    rating = loads(text, path="pair.urdf").source.bearings["a"]
+    assert rating.kind == "tapered_roller"
+    np.testing.assert_allclose([rating.dynamic_load_rating, rating.e, rating.x2, rating.y2],
+                               [10e3, 0.3, 0.4, 2.0], rtol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(rating.exponent, 10.0 / 3.0, rtol=1e-12)
