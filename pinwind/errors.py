@@ -92,6 +92,21 @@ class InvalidMount(ModelError):
     """
 
 
+class InvalidBearingRating(ModelError):
+    """A bearing's ISO 281 data that give no life (``model/bearing.py``, ``life/bearing_life.py``).
+
+    A type without an ISO 281 life exponent, a dynamic load rating C that is not a positive
+    finite number, negative load factors, or a rating on a joint that is not a rolling bearing.
+
+    Attributes:
+        bearing: the joint the rating is for.
+    """
+
+    def __init__(self, bearing: str, message: str, *, path: str = "<python>"):
+        self.bearing = bearing
+        super().__init__(path, f'<bearing joint="{bearing}">', message)
+
+
 class ImplausibleGear(PinwindWarning):
     """A gear's mass or inertia is far from the steel cylinder its teeth and face width imply."""
 

@@ -1,1 +1,6 @@
-"""Fatigue life: rainflow cycles, S-N curves and Palmgren-Miner damage over a site's wind."""
+"""Life: fatigue of gear teeth and bearings from a run's load histories, and load spectra.
+
+Rainflow cycles, S-N curves and Palmgren-Miner damage over a site's wind (``cycles``,
+``sn_curve``, ``site``, ``contact_stress``, ``tooth_damage``), ISO 281 bearing life
+(``bearing_life``) and LDD/LRD load spectra (``load_spectrum``).
+"""

@@ -15,6 +15,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.errors import (
+    InvalidBearingRating,
     InvalidGearGeometry,
     InvalidInertia,
     InvalidMount,
@@ -22,6 +23,7 @@ from pinwind.errors import (
     UnknownName,
 )
 from pinwind.gears.involute import half_tooth_angle
+from pinwind.model.bearing import BearingRating, bearing_rating
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 
 
@@ -108,6 +110,8 @@ class ModelFile:
     gears: dict[str, GearSpec] = field(default_factory=dict)
     meshes: list[MeshSpec] = field(default_factory=list)
     springs: list[SpringSpec] = field(default_factory=list)
+    #: Joint name → its rolling bearing's ISO 281 data (``<bearing>``; the others are not rated).
+    bearings: dict[str, BearingRating] = field(default_factory=dict)
     visuals: list[VisualSpec] = field(default_factory=list)
     gravity: np.ndarray | None = None
     root_link: str = ""
@@ -516,6 +520,41 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
                 path, where, f"stiffness {k:g} N·m/rad and damping {c:g} N·m·s/rad must be ≥ 0"
             )
         out.springs.append(SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0)))
+    for el in box.findall("bearing"):
+        rating = _bearing(path, el, out)
+        out.bearings[rating.joint] = rating
+
+
+def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:
+    """A ``<bearing>``: the ISO 281 type and rating of the rolling bearing of a joint."""
+    joint = _required(path, el, "joint")
+    where = f'<bearing joint="{joint}">'
+    if joint not in out.joints:
+        raise UnknownName(path, where, "joint", joint, out.joints)
+    if joint in out.bearings:
+        raise MalformedModel(path, where, f'joint "{joint}" is rated twice; keep one <bearing>')
+    if out.joints[joint]["type"] == "fixed":
+        raise InvalidBearingRating(
+            joint,
+            "is a fixed joint, a rigid mount that does not turn; rate the revolute or "
+            "continuous joint of the rolling bearing",
+            path=path,
+        )
+    factors = {
+        a: _number(path, el, a, where=where)
+        for a in ("e", "y1", "x2", "y2")
+        if el.get(a) is not None
+    }
+    rating_kn = el.get("rating_c_kN")
+    return bearing_rating(
+        joint,
+        _required(path, el, "type").lower(),
+        dynamic_load_rating=None if rating_kn is None else 1e3 * _number(
+            path, el, "rating_c_kN", where=where
+        ),
+        path=path,
+        **factors,
+    )  # fmt: skip
 
 
 def _position_error(path: str, el: ET.Element) -> tuple[float, float]:

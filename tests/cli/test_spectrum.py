@@ -1,0 +1,94 @@
+"""``pinwind spectrum LOG``: the mesh frequency of a shipped model, the figure, bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import pinwind
+from pinwind.analysis.spectrum import spectrum_of_log
+from pinwind.errors import InputError, UnknownElement
+from tests.conftest import MODELS
+
+CARRIER_RPM = 14.2
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "pinwind", *args], capture_output=True, text=True, timeout=300
+    )
+
+
+@pytest.fixture(scope="module")
+def planetary_log(tmp_path_factory) -> Path:
+    """Half a second of the Saleh stage at 14.2 rpm on the carrier, logged at 1 kHz."""
+    path = tmp_path_factory.mktemp("logs") / "planetary.mcap"
+    gearbox = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    pinwind.simulate(
+        gearbox, duration=0.5, dt=1e-3, speeds={"carrier": CARRIER_RPM * 2 * math.pi / 60},
+        torques={"sun": -1.0e6 / 6.0}, log=path,
+    )  # fmt: skip
+    return path
+
+
+def test_spectrum_lists_the_mesh_frequency_of_the_ring_teeth_and_carrier_speed(planetary_log):
+    # The ring (120 teeth) is fixed: its teeth pass each planet 120 times per carrier turn.
+    mesh_hz = 120 * CARRIER_RPM / 60.0
+    out = run("spectrum", str(planetary_log), "--json", "--series", "mesh_normal:sun_planet1")
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    (mesh,) = report["mesh_frequencies"]
+    assert len(mesh["meshes"]) == 6
+    assert mesh["frequency_Hz"] == pytest.approx(mesh_hz, rel=1e-9)
+    shafts = {s["joint"]: s["frequency_Hz"] for s in report["shaft_frequencies"]}
+    assert shafts["sun"] == pytest.approx(6 * CARRIER_RPM / 60.0, rel=1e-9)
+    assert report["sample_rate_Hz"] == pytest.approx(1000.0, rel=1e-9)
+    assert [s["element"] for s in report["spectra"]] == ["sun_planet1"]
+
+    table = run("spectrum", str(planetary_log))
+    assert table.returncode == 0, table.stderr
+    assert f"{mesh_hz:.6g}" in table.stdout and "planet3_ring" in table.stdout
+
+
+def test_spectrum_writes_the_figure(planetary_log, tmp_path):
+    png = tmp_path / "psd.png"
+    out = run("spectrum", str(planetary_log), "--series", "bearing_force:carrier",
+              "--series", "speed:sun", "--png", str(png))  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert f"wrote {png}" in out.stdout.replace("\n", "")
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--series", "mesh_nromal"], 'unknown series "mesh_nromal"'),
+        (["--segment", "2"], "a segment of 2 s is 2000 samples"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(planetary_log, args, message):
+    out = run("spectrum", str(planetary_log), *args)
+    assert out.returncode == 2, out.stdout
+    assert message in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize(
+    "options, error, message",
+    [
+        ({"series": ["mesh_normal:sun_planet9"]}, UnknownElement, 'no mesh named "sun_planet9"'),
+        ({"segment": 0.005}, InputError, "a segment of 0.005 s is 5 samples"),
+        ({"segment": -1.0}, InputError, "give a positive segment length"),
+        ({"start": 0.49}, InputError, "a segment needs 16 to 11"),
+        ({"series": ["constraint_residual:sun"]}, InputError, "one value per run"),
+    ],
+)
+def test_bad_elements_and_segments_are_refused_naming_the_fix(planetary_log, options, error,
+                                                              message):  # fmt: skip
+    with pytest.raises(error, match=message):
+        spectrum_of_log(planetary_log, **options)
