@@ -308,6 +308,10 @@ class LogRecovered(PinwindWarning):
     """A log was cut short (crash, kill, full disk); the samples before the cut were recovered."""
 
 
+class SamplesNotLogged(LogRecovered):
+    """A log's end record counts samples the run simulated that never reached the log."""
+
+
 class LogTooLargeToWrite(LogError):
     """A run's log would be larger than the limit for one log or the free disk space.
 

@@ -31,7 +31,7 @@ from typing import Any, cast
 import numpy as np
 
 from pinwind.dynamics.result import POSE_ARRAYS, Result
-from pinwind.errors import InputError, LogError, LogRecovered
+from pinwind.errors import InputError, LogError, LogRecovered, SamplesNotLogged
 from pinwind.io import mcap_file
 from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
 from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
@@ -209,6 +209,8 @@ class LogReader:
         self._end_damaged = end is None and "pinwind.end" in contents.metadata
         self._attachments: dict[str, bytes] | None = None
         self._buffers = ChunkBuffers()
+        #: what the end record says the run simulated but did not log, else ""
+        self.not_logged = _not_logged(end, run.get("log_stride", 1))
 
     # --- file ----------------------------------------------------------------------------------
 
@@ -621,6 +623,9 @@ class LogReader:
         if end is not None:
             status = end.get("status", "unknown")
             run["wall_time_s"] = end.get("wall_time_s")
+            # the run record holds the samples planned; the end record those simulated
+            if "samples_simulated" in end:
+                run["samples_simulated"] = end["samples_simulated"]
         elif self._end_damaged:
             status = "unknown: the end-status record is damaged"
         else:
@@ -641,6 +646,7 @@ class LogReader:
             "channels": list(topics),
             "window": [start, stop],
             "damage": [*self._damage, *lost],
+            "not_logged": self.not_logged,
         }
         result.metadata = run
         result.status = status
@@ -655,6 +661,8 @@ class LogReader:
                 LogDamaged,
                 stacklevel=4,
             )
+        if self.not_logged:
+            warnings.warn(f"{self.path}: {self.not_logged}", SamplesNotLogged, stacklevel=4)
         if not self.complete and not self._end_damaged:
             warnings.warn(
                 f"{self.path}: {self.problem or 'no end-status record'}; recovered {count} "
@@ -662,6 +670,29 @@ class LogReader:
                 LogRecovered,
                 stacklevel=4,
             )
+
+
+def _not_logged(end: dict[str, Any] | None, stride: int) -> str:
+    """The samples the end record counts as simulated but not logged, in words ("" for none).
+
+    Every sample a run simulates is handed to its log, even on Ctrl-C; a difference means the
+    log lost samples without a write error (it used to drop the block in hand on Ctrl-C).
+
+    Sample k of a run is logged when k mod stride = 0: n simulated samples log ⌈n / stride⌉.
+    """
+    if not end or "samples_simulated" not in end or "samples_logged" not in end:
+        return ""
+    if end.get("log_error"):  # a failed write: the status already says what the file holds
+        return ""
+    simulated, logged = int(end["samples_simulated"]), int(end["samples_logged"])
+    stride = max(1, int(stride))
+    expected = -(-simulated // stride)
+    if logged >= expected:
+        return ""
+    return (
+        f"the run simulated {simulated} samples but logged {logged} of the {expected} it "
+        f"should have (log stride {stride}): {expected - logged} logged samples are missing"
+    )
 
 
 def _span(result: Result) -> tuple[float, float] | None:

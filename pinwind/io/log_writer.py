@@ -22,12 +22,9 @@ import math
 import os
 import queue
 import shlex
-import signal
 import sys
 import threading
 import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import BinaryIO
 
@@ -43,6 +40,7 @@ from pinwind.errors import (
     LogRecovered,
     LogWriteFailed,
 )
+from pinwind.interrupts import interrupts_deferred
 from pinwind.io import messages
 from pinwind.io.log_format import (
     COLUMNS_ENCODING,
@@ -80,29 +78,6 @@ VIEW_RATE = 100.0
 #: Chunk compression and its level.
 COMPRESSION = "zstd"
 COMPRESSION_LEVEL = -1
-
-
-@contextmanager
-def _interrupts_deferred() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM while a chunk and its bookkeeping are written.
-
-    Ctrl-C raises between any two bytecodes; one landing between a write and the offsets that
-    index it would leave a summary that does not match the file. Signals that arrive meanwhile
-    are raised again, to their own handlers, once the block is done.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    caught: list[int] = []
-    held = (signal.SIGINT, signal.SIGTERM)
-    previous = {s: signal.signal(s, lambda signum, frame: caught.append(signum)) for s in held}
-    try:
-        yield
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        for signum in caught:
-            signal.raise_signal(signum)
 
 
 def _resolve_rate(dt: float | None, log_rate: float | None, what: str = "log") -> tuple[int, float]:
@@ -635,7 +610,7 @@ class McapLogger:
         in_flight = sys.exc_info()[1]
         cause = f"{type(in_flight).__name__}: {in_flight}" if in_flight is not None else ""
         try:
-            with _interrupts_deferred():
+            with interrupts_deferred():
                 self._stop_writer()
                 self._finish(result, status, cause)
         except Exception as err:
