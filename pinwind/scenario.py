@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from pinwind.errors import InputError
+from pinwind.errors import InputError, LogError
 from pinwind.loads.generator import LAWS, GeneratorLaw
 from pinwind.loads.input_files import InputFile, check_unchanged
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
@@ -618,8 +618,9 @@ def from_log(path: str | Path, *, accept_changed_inputs: bool = False) -> tuple[
             differ from the recorded ones (the new log records the new fingerprints).
 
     Raises:
-        LogError: not a pinwind log; InputError: a log written without a scenario (before
-            scenarios existed, or by ``pinwind.simulate`` from Python).
+        LogError: not a pinwind log, its model attachment is damaged or missing, or its
+            ``pinwind.run`` record fails its checksum; InputError: a log written without a
+            scenario (before scenarios existed, or by ``pinwind.simulate`` from Python).
         InputFileChanged: a file the run read has changed or is gone since.
     """
     from pinwind.io.log_reader import LogReader
@@ -628,6 +629,14 @@ def from_log(path: str | Path, *, accept_changed_inputs: bool = False) -> tuple[
     with LogReader(path) as reader:
         run_meta = reader.metadata["pinwind.run"]
         attachments = reader.attachments
+        model_problem = reader.model_problem
+        if "pinwind.run" in reader.failed_records:
+            raise LogError(
+                str(path),
+                f"the 'pinwind.run' metadata record {reader.failed_records['pinwind.run']}: "
+                "the scenario, dt and loads it holds may not be the run's; it cannot be "
+                "repeated from this file, restore it from a copy",
+            )
     record = run_meta.get("scenario")
     if not record:
         raise InputError(
@@ -635,7 +644,7 @@ def from_log(path: str | Path, *, accept_changed_inputs: bool = False) -> tuple[
             "only runs of `pinwind simulate` and `pinwind run` can be repeated"
         )
     if not attachments:
-        raise InputError(f"{path}: the log holds no model file")
+        raise LogError(str(path), f"{model_problem}; the run cannot be repeated without it")
     if not accept_changed_inputs:
         check_unchanged(list(run_meta.get("input_files", [])), skip=("scenario",))
     text = next(iter(attachments.values())).decode("utf-8")

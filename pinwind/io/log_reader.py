@@ -37,7 +37,7 @@ from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
 from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
 from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_OF
 from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
-from pinwind.io.log_metadata import json_values
+from pinwind.io.log_metadata import checksum_problem, json_values
 from pinwind.io.log_threads import ChunkBuffers, read_ahead
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
 from pinwind.io.messages import PayloadError
@@ -49,6 +49,14 @@ class LogDamaged(LogRecovered):
     Every intact chunk was read; the message says what is damaged and which simulation time
     range was lost.
     """
+
+
+#: What each pinwind metadata record holds, for the message when it fails its checksum.
+_RECORD_HOLDS = {
+    "pinwind": "format, pinwind version, command",
+    "pinwind.run": "dt, duration, log_stride, loads, solver, scenario",
+    "pinwind.end": "status, samples simulated and logged",
+}
 
 
 class LogTooLarge(LogError):
@@ -161,6 +169,7 @@ class LogReader:
                         f"({err}): the file is corrupted",
                     ) from err
                 self._damage.append(f"the '{name}' metadata record at byte {offset} is damaged")
+        self.checksums = self._check_records(records)
         ident = records.get("pinwind")
         if ident is None and self.problem and contents.library.startswith("pinwind"):
             raise LogError(where, f"{self.problem}, before the run's metadata: nothing to recover")
@@ -208,9 +217,48 @@ class LogReader:
         self.complete = end is not None and contents.data_end and not self.problem
         self._end_damaged = end is None and "pinwind.end" in contents.metadata
         self._attachments: dict[str, bytes] | None = None
+        #: attachment name → why it could not be read (its CRC fails, ...)
+        self.damaged_attachments: dict[str, str] = {}
         self._buffers = ChunkBuffers()
         #: what the end record says the run simulated but did not log, else ""
         self.not_logged = _not_logged(end, run.get("log_stride", 1))
+
+    def _check_records(self, records: dict[str, dict[str, str]]) -> str:
+        """Check the pinwind records' CRC-32 (and remove it); say how they fared.
+
+        A failed ``pinwind.model`` is refused: its names say which series is which joint, mesh
+        or bearing, and an edited name would put one element's data under another's. Another
+        failed record is read with a ``LogDamaged`` warning naming it (``dt``, ``log_stride``,
+        the end status may be wrong); ``--from-log`` refuses a failed ``pinwind.run``.
+
+        Raises:
+            LogError: the ``pinwind.model`` record fails its check.
+        """
+        where = str(self.path)
+        verdicts = {
+            name: checksum_problem(record)
+            for name, record in records.items()
+            if name == "pinwind" or name.startswith("pinwind.")
+        }
+        #: record name → why it fails its checksum
+        self.failed_records = {name: why for name, why in verdicts.items() if why}
+        for name, why in self.failed_records.items():
+            if name == "pinwind.model":
+                raise LogError(
+                    where,
+                    f"the 'pinwind.model' metadata record {why}: the names of the joints, meshes "
+                    "and bearings cannot be trusted to say whose data is whose; the file is "
+                    "corrupted, restore it from a copy",
+                )
+            self._damage.append(
+                f"the '{name}' metadata record {why}: its values ({_RECORD_HOLDS.get(name, '')}) "
+                "may be wrong"
+            )
+        if self.failed_records:
+            return "failed: " + ", ".join(self.failed_records)
+        if verdicts and all(v is None for v in verdicts.values()):
+            return "none: written by a pinwind that recorded no metadata checksums"
+        return "verified"
 
     # --- file ----------------------------------------------------------------------------------
 
@@ -234,7 +282,10 @@ class LogReader:
 
     @property
     def attachments(self) -> dict[str, bytes]:
-        """Attachment name → bytes (the model file); a damaged attachment is left out."""
+        """Attachment name → bytes (the model file); a damaged attachment is left out.
+
+        ``damaged_attachments`` then says which and why.
+        """
         if self._attachments is None:
             self._attachments = {}
             for name, (offset, length) in self._contents.attachments.items():
@@ -243,6 +294,7 @@ class LogReader:
                         self._descriptor(), offset, length
                     )
                 except Exception as err:  # CRC, struct: damaged
+                    self.damaged_attachments[name] = str(err)
                     self._damage.append(f"attachment '{name}' is damaged ({err})")
         return self._attachments
 
@@ -250,6 +302,13 @@ class LogReader:
     def model_text(self) -> str:
         """The model file as attached to the log."""
         return _model_text(self.attachments)
+
+    @property
+    def model_problem(self) -> str:
+        """Why the log gives no model file (damaged, or none attached), ``""`` when it does."""
+        if self.attachments:
+            return ""
+        return _model_problem(self.damaged_attachments)
 
     @property
     def span(self) -> tuple[float, float] | None:
@@ -647,6 +706,7 @@ class LogReader:
             "window": [start, stop],
             "damage": [*self._damage, *lost],
             "not_logged": self.not_logged,
+            "metadata_checksums": self.checksums,
         }
         result.metadata = run
         result.status = status
@@ -779,6 +839,8 @@ class LogFile:
         channels: topic → channel metadata.
         complete: the file has its end-status record and footer.
         problem: what was wrong with a file that was cut short, else ``""``.
+        model_problem: why the log gives no model file (its attachment is damaged, or there is
+            none), else ``""``.
     """
 
     path: Path
@@ -788,6 +850,7 @@ class LogFile:
     channels: dict[str, dict[str, str]]
     complete: bool
     problem: str = ""
+    model_problem: str = ""
 
     @property
     def model(self) -> dict[str, Any]:
@@ -798,6 +861,14 @@ class LogFile:
     def model_text(self) -> str:
         """The model file as attached to the log."""
         return _model_text(self.attachments)
+
+
+def _model_problem(damaged: dict[str, str]) -> str:
+    """Why a log without a readable attachment gives no model file."""
+    if damaged:
+        name, why = next(iter(damaged.items()))
+        return f"the model file attached to the log ('{name}') is damaged ({why})"
+    return "the log holds no model file"
 
 
 def _model_text(attachments: dict[str, bytes]) -> str:
@@ -835,4 +906,5 @@ def open_log(
             channels=log.channels,
             complete=log.complete,
             problem=log.problem,
+            model_problem=log.model_problem,
         )

@@ -56,7 +56,7 @@ from pinwind.io.log_format import (
     array_topics,
     mask_bytes,
 )
-from pinwind.io.log_metadata import json_record, utc_now, versions
+from pinwind.io.log_metadata import json_record, utc_now, versions, with_checksum
 from pinwind.io.log_model import model_geometry, model_names
 from pinwind.io.log_size import MAX_LOG_BYTES, check_log_fits, estimate_log_size
 from pinwind.io.mcap_file import (
@@ -443,14 +443,16 @@ class McapLogger:
         )
         f.metadata(
             "pinwind",
-            {
-                "format": FORMAT,
-                "format_version": str(FORMAT_VERSION),
-                "pinwind_version": recorded["pinwind"],
-                "created_utc": utc_now(),
-                "command": self.command,
-                "versions": json.dumps(recorded),
-            },
+            with_checksum(
+                {
+                    "format": FORMAT,
+                    "format_version": str(FORMAT_VERSION),
+                    "pinwind_version": recorded["pinwind"],
+                    "created_utc": utc_now(),
+                    "command": self.command,
+                    "versions": json.dumps(recorded),
+                }
+            ),
         )
         run = {k: v for k, v in meta.items() if k not in ("status", "wall_time_s")}
         run.update(
@@ -463,8 +465,10 @@ class McapLogger:
             pose_rate_hz=pose_rate,
             log_estimate_bytes=self.estimate.bytes,
         )
-        f.metadata("pinwind.run", json_record(run))
-        f.metadata("pinwind.model", json_record({**names, **model_geometry(gearbox)}))
+        f.metadata("pinwind.run", with_checksum(json_record(run)))
+        f.metadata(
+            "pinwind.model", with_checksum(json_record({**names, **model_geometry(gearbox)}))
+        )
         payload = messages.encode_string(gearbox.source_text)
         record = message_records(
             model_channel,
@@ -634,16 +638,18 @@ class McapLogger:
             status = f"{status}; {self._write_error()}"
         f.metadata(
             "pinwind.end",
-            json_record(
-                {
-                    "status": status,
-                    "cause": cause,
-                    "samples_simulated": result.metadata.get("samples_simulated", len(result)),
-                    "samples_logged": self.samples_logged,
-                    "log_error": str(self._failed) if self._failed else "",
-                    "wall_time_s": result.metadata.get("wall_time_s"),
-                    "ended_utc": utc_now(),
-                }
+            with_checksum(
+                json_record(
+                    {
+                        "status": status,
+                        "cause": cause,
+                        "samples_simulated": result.metadata.get("samples_simulated", len(result)),
+                        "samples_logged": self.samples_logged,
+                        "log_error": str(self._failed) if self._failed else "",
+                        "wall_time_s": result.metadata.get("wall_time_s"),
+                        "ended_utc": utc_now(),
+                    }
+                )
             ),
         )
         f.finish()
