@@ -206,6 +206,24 @@ class InputFileChanged(InputError):
         )
 
 
+class SchedulerUnreachable(InputError):
+    """The Dask scheduler given to a sweep cannot be reached.
+
+    Attributes:
+        address: the address as given (``--scheduler``).
+        reason: what the connection attempt said.
+    """
+
+    def __init__(self, address: str, reason: str):
+        self.address = address
+        self.reason = reason
+        super().__init__(
+            f'--scheduler "{address}": cannot reach a Dask scheduler there ({reason}); start one '
+            "(dask scheduler, it listens on tcp://HOST:8786) and give its address, or leave out "
+            "--scheduler to sweep on this machine's cores"
+        )
+
+
 class InvalidGearTrain(InputError):
     """Builder arguments describe a gear train that cannot exist (teeth, module, layout)."""
 
