@@ -326,6 +326,10 @@ class LogRecovered(PinwindWarning):
     """A log was cut short (crash, kill, full disk); the samples before the cut were recovered."""
 
 
+class LogBeingWritten(PinwindWarning):
+    """A log read while its run is still writing it: it holds the samples written so far."""
+
+
 class SamplesNotLogged(LogRecovered):
     """A log's end record counts samples the run simulated that never reached the log."""
 

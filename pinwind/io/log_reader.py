@@ -31,12 +31,19 @@ from typing import Any, cast
 import numpy as np
 
 from pinwind.dynamics.result import POSE_ARRAYS, Result
-from pinwind.errors import InputError, LogError, LogRecovered, SamplesNotLogged
+from pinwind.errors import (
+    InputError,
+    LogBeingWritten,
+    LogError,
+    LogRecovered,
+    SamplesNotLogged,
+)
 from pinwind.io import mcap_file
 from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
 from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
 from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_OF
 from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
+from pinwind.io.log_lock import held_by_writer
 from pinwind.io.log_metadata import checksum_problem, json_values
 from pinwind.io.log_threads import ChunkBuffers, read_ahead
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
@@ -142,6 +149,8 @@ class LogReader:
     def _open(self) -> None:
         where = str(self.path)
         fd = self._descriptor()
+        #: a run is still writing the file (it holds the log's lock, ``io/log_lock.py``)
+        self.being_written = held_by_writer(fd)
         self.size = os.fstat(fd).st_size
         start = mcap_file.read_at(fd, 0, len(MAGIC))
         if start != MAGIC:
@@ -687,6 +696,11 @@ class LogReader:
                 run["samples_simulated"] = end["samples_simulated"]
         elif self._end_damaged:
             status = "unknown: the end-status record is damaged"
+        elif self.being_written:
+            status = (
+                "being written: the run is in progress (no end-status record yet); read up to "
+                "the last complete block written"
+            )
         else:
             status = (
                 "log cut short: no end-status record (the run was killed or the file "
@@ -723,13 +737,41 @@ class LogReader:
             )
         if self.not_logged:
             warnings.warn(f"{self.path}: {self.not_logged}", SamplesNotLogged, stacklevel=4)
-        if not self.complete and not self._end_damaged:
+        if not self.complete and self.being_written:
+            warnings.warn(
+                f"{self.path}: still being written by a run in progress: read the {count} "
+                "samples written so far"
+                + (f" (t = {span[0]:.6g} to {span[1]:.6g} s)" if span else "")
+                + "; read it again when the run has ended",
+                LogBeingWritten,
+                stacklevel=4,
+            )
+        elif not self.complete and not self._end_damaged:
             warnings.warn(
                 f"{self.path}: {self.problem or 'no end-status record'}; recovered {count} "
-                f"samples" + (f" (t = {span[0]:.6g} to {span[1]:.6g} s)" if span else ""),
+                f"samples"
+                + (f" (t = {span[0]:.6g} to {span[1]:.6g} s)" if span else "")
+                + self._time_lost(),
                 LogRecovered,
                 stacklevel=4,
             )
+
+    def _time_lost(self) -> str:
+        """The span of the run that a cut file does not hold, in words (after a "; ")."""
+        duration = self.metadata["pinwind.run"].get("duration")
+        if isinstance(duration, bool) or not isinstance(duration, int | float):
+            return ""
+        span = self.span
+        if span is None:
+            return f"; all {duration:g} s of the run are lost (or were never simulated)"
+        last = span[1]
+        if last >= duration * (1 - 1e-12):
+            return ""
+        return (
+            f"; t = {last:.6g} to {duration:.6g} s, {duration - last:.6g} s of the "
+            f"{duration:g} s run, is not in the file (lost, or never simulated if the run was "
+            "stopped there)"
+        )
 
 
 def _not_logged(end: dict[str, Any] | None, stride: int) -> str:

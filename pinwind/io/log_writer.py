@@ -56,6 +56,7 @@ from pinwind.io.log_format import (
     array_topics,
     mask_bytes,
 )
+from pinwind.io.log_lock import hold_for_writing
 from pinwind.io.log_metadata import json_record, utc_now, versions, with_checksum
 from pinwind.io.log_model import model_geometry, model_names
 from pinwind.io.log_size import MAX_LOG_BYTES, check_log_fits, estimate_log_size
@@ -291,6 +292,7 @@ class McapLogger:
             raise LogExists(str(self.path)) from err
         except OSError as err:
             raise LogError(str(self.path), f"cannot write the log: {err.strerror}") from err
+        hold_for_writing(stream.fileno())  # a reader meanwhile says "being written"
         try:
             self._start(stream, gearbox, result, rate)
         except BaseException:
