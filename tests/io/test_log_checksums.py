@@ -113,3 +113,14 @@ def test_damaged_model_attachment_is_reported_as_damaged_not_missing(tmp_path):
     with pytest.raises(LogError, match=r"model file attached to the log .* is damaged") as err:
         sc.from_log(path)
     assert "no model file" not in str(err.value)
+
+
+def test_from_log_refuses_a_run_record_that_fails_its_crc32(tmp_path):
+    scenario = sc.build({"model": str(PLANETARY), "duration": 0.02, "torque": {"carrier": 1e5}})
+    sc.run(scenario, out=tmp_path / "run.mcap")
+    path = tmp_path / "run.mcap"
+    with LogReader(path) as reader:
+        where = reader._contents.metadata["pinwind.run"]
+    _edit(path, where, _entry("dt", "0.001"), _entry("dt", "0.003"))
+    with pytest.raises(LogError, match="'pinwind.run' metadata record fails its CRC-32 check"):
+        sc.from_log(path)
