@@ -205,6 +205,53 @@ class TableStartsLate(PinwindWarning):
         )
 
 
+class InputFileChanged(InputError):
+    """A file a logged run read (a CSV or OpenFAST table) differs from the one the log recorded.
+
+    Attributes:
+        where: the input that read it (``torque.carrier``, ``wind``).
+        path: the file, as the run was given it.
+        recorded: the SHA-256 and size [bytes] the log recorded, as (hex, bytes).
+        current: the file's SHA-256 and size now, or None when it is missing.
+    """
+
+    def __init__(
+        self, where: str, path: str, recorded: tuple[str, int], current: tuple[str, int] | None
+    ):
+        self.where = where
+        self.path = str(path)
+        self.recorded = recorded
+        self.current = current
+        now = (
+            "is missing now"
+            if current is None
+            else f"is sha256 {current[0]} ({current[1]} bytes) now"
+        )
+        super().__init__(
+            f"{where}: {self.path} has changed since the run was logged: the log recorded sha256 "
+            f"{recorded[0]} ({recorded[1]} bytes), the file {now}; restore the file to "
+            "repeat the run, or pass --accept-changed-inputs to run with the file as it is"
+        )
+
+
+class SchedulerUnreachable(InputError):
+    """The Dask scheduler given to a sweep cannot be reached.
+
+    Attributes:
+        address: the address as given (``--scheduler``).
+        reason: what the connection attempt said.
+    """
+
+    def __init__(self, address: str, reason: str):
+        self.address = address
+        self.reason = reason
+        super().__init__(
+            f'--scheduler "{address}": cannot reach a Dask scheduler there ({reason}); start one '
+            "(dask scheduler, it listens on tcp://HOST:8786) and give its address, or leave out "
+            "--scheduler to sweep on this machine's cores"
+        )
+
+
 class InvalidGearTrain(InputError):
     """Builder arguments describe a gear train that cannot exist (teeth, module, layout)."""
 
@@ -336,6 +383,14 @@ class LogExists(LogError):
 
 class LogRecovered(PinwindWarning):
     """A log was cut short (crash, kill, full disk); the samples before the cut were recovered."""
+
+
+class LogBeingWritten(PinwindWarning):
+    """A log read while its run is still writing it: it holds the samples written so far."""
+
+
+class SamplesNotLogged(LogRecovered):
+    """A log's end record counts samples the run simulated that never reached the log."""
 
 
 class LogTooLargeToWrite(LogError):

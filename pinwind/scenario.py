@@ -46,6 +46,7 @@ the valid choices.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import re
 import tomllib
@@ -54,8 +55,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from pinwind.errors import InputError
+from pinwind.errors import InputError, LogError
 from pinwind.loads.generator import LAWS, GeneratorLaw
+from pinwind.loads.input_files import InputFile, check_unchanged
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
 from pinwind.loads.signal_text import signal_from_spec
 from pinwind.loads.signals import Scaled, Signal
@@ -183,6 +185,8 @@ class Scenario:
         source: where the values come from (a file name, ``"command line"``, ``"log LOG"``).
         base: folder that relative file names in the values are relative to.
         text: the TOML text, for line numbers in messages.
+        input_files: the fingerprint of every file the scenario read (its own TOML file, the
+            tables its signals read): the log records them, ``--from-log`` compares them.
     """
 
     duration: float = 1.0
@@ -201,6 +205,7 @@ class Scenario:
     source: str = "Python"
     base: Path = field(default_factory=Path.cwd)
     text: str | None = None
+    input_files: tuple[InputFile, ...] = ()
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         """The error for a key: file, key, line and the message."""
@@ -298,6 +303,7 @@ class _Builder:
     ):
         self.values: dict[str, Any] = dict(values)
         self.source, self.base, self.text, self.flags = source, base, text, flags
+        self.files: list[InputFile] = []
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         return _error(self.source, self.text, key, message)
@@ -332,6 +338,7 @@ class _Builder:
             source=self.source,
             base=self.base,
             text=self.text,
+            input_files=tuple(self.files),
         )
 
     # --- checking ------------------------------------------------------------------------------
@@ -404,13 +411,17 @@ class _Builder:
         flag = (self.flags or {}).get(name)
         out: dict[str, Signal] = {}
         for joint, spec in self.values.get(name, {}).items():
+            files: list[InputFile] = []
             if flag is not None:  # the flag's own message, as the command line always said it
-                out[joint] = signal_from_spec(spec, base=self.base, where=flag)
-                continue
-            try:
-                out[joint] = signal_from_spec(spec, base=self.base, where=f"{name}.{joint}")
-            except InputError as err:
-                raise self.fail((name, joint), _strip(str(err), f"{name}.{joint}: ")) from err
+                out[joint] = signal_from_spec(spec, base=self.base, where=flag, files=files)
+            else:
+                try:
+                    out[joint] = signal_from_spec(
+                        spec, base=self.base, where=f"{name}.{joint}", files=files
+                    )
+                except InputError as err:
+                    raise self.fail((name, joint), _strip(str(err), f"{name}.{joint}: ")) from err
+            self.files += [dataclasses.replace(f, where=f"{name}.{joint}") for f in files]
         return out
 
     def integrator(self) -> Integrator | None:
@@ -426,7 +437,9 @@ class _Builder:
         if "wind" not in self.values:
             return None
         try:
-            return signal_from_spec(self.values["wind"], base=self.base, where="wind")
+            return signal_from_spec(
+                self.values["wind"], base=self.base, where="wind", files=self.files
+            )
         except InputError as err:
             raise self.fail(("wind",), _strip(str(err), "wind: ")) from err
 
@@ -533,7 +546,9 @@ def load_scenario(path: str | Path, *, changes: Mapping[str, Any] | None = None)
         m = re.search(r"line (\d+)", str(err))
         raise ScenarioError(str(path), "-", int(m.group(1)) if m else 0,
                             f"not valid TOML: {err}") from err  # fmt: skip
-    return build({**values, **(changes or {})}, source=str(path), base=path.parent, text=text)
+    scenario = build({**values, **(changes or {})}, source=str(path), base=path.parent, text=text)
+    own = InputFile.of(path, where="scenario")
+    return dataclasses.replace(scenario, input_files=(own, *scenario.input_files))
 
 
 def from_record(record: Mapping[str, Any], source: str) -> Scenario:
@@ -591,20 +606,34 @@ def run(
         overwrite=v.get("force", False) if force is None else force,
         command=command,
         progress=progress,
-        metadata={"scenario": scenario.record()} if v else None,
+        metadata={
+            "scenario": scenario.record(),
+            "input_files": [f.record() for f in scenario.input_files],
+        }
+        if v
+        else None,
         **scenario.simulate_kwargs(),
     )
 
 
-def from_log(path: str | Path) -> tuple[Scenario, Any]:
+def from_log(path: str | Path, *, accept_changed_inputs: bool = False) -> tuple[Scenario, Any]:
     """The scenario and the model a log stored: repeat the run with ``run(scenario, gearbox=...)``.
 
     The model is rebuilt from the file the log holds (not from the model path, which may have
-    changed since); files the signals read are checked against the sha256 the log keeps.
+    changed since). The files the signals read are compared with the fingerprints the log
+    recorded (``input_files``) before anything is built; the scenario file itself is not read
+    again (its values are in the log). A log written before fingerprints were recorded is
+    repeated without that check.
+
+    Args:
+        accept_changed_inputs: repeat the run with the files as they are now, even when they
+            differ from the recorded ones (the new log records the new fingerprints).
 
     Raises:
-        LogError: not a pinwind log; InputError: a log written without a scenario (before
-            scenarios existed, or by ``pinwind.simulate`` from Python).
+        LogError: not a pinwind log, its model attachment is damaged or missing, or its
+            ``pinwind.run`` record fails its checksum; InputError: a log written without a
+            scenario (before scenarios existed, or by ``pinwind.simulate`` from Python).
+        InputFileChanged: a file the run read has changed or is gone since.
     """
     from pinwind.io.log_reader import LogReader
     from pinwind.model.gearbox import loads
@@ -612,6 +641,14 @@ def from_log(path: str | Path) -> tuple[Scenario, Any]:
     with LogReader(path) as reader:
         run_meta = reader.metadata["pinwind.run"]
         attachments = reader.attachments
+        model_problem = reader.model_problem
+        if "pinwind.run" in reader.failed_records:
+            raise LogError(
+                str(path),
+                f"the 'pinwind.run' metadata record {reader.failed_records['pinwind.run']}: "
+                "the scenario, dt and loads it holds may not be the run's; it cannot be "
+                "repeated from this file, restore it from a copy",
+            )
     record = run_meta.get("scenario")
     if not record:
         raise InputError(
@@ -619,7 +656,9 @@ def from_log(path: str | Path) -> tuple[Scenario, Any]:
             "only runs of `pinwind simulate` and `pinwind run` can be repeated"
         )
     if not attachments:
-        raise InputError(f"{path}: the log holds no model file")
+        raise LogError(str(path), f"{model_problem}; the run cannot be repeated without it")
+    if not accept_changed_inputs:
+        check_unchanged(list(run_meta.get("input_files", [])), skip=("scenario",))
     text = next(iter(attachments.values())).decode("utf-8")
     gearbox = loads(text, path=str(run_meta.get("model_path", "model.urdf")))
     return from_record(record, source=f"log {path}"), gearbox

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import shutil
@@ -293,3 +294,65 @@ def test_every_generator_law_is_logged_under_the_name_it_was_given(law, params):
         assert_allclose(logged["sync_speed"], 2 * math.pi, rtol=1e-15)
     if law == "induction-dq":
         assert logged["dynamic"] is True and logged["poles"] == 6
+
+
+TABLE_SCENARIO = """model = "model.urdf"
+duration = 0.2
+dt = 1e-3
+initial_speed = { carrier = 14.0 }
+out = "table.mcap"
+
+[torque]
+carrier = "csv(file='torque.csv', column=1)"
+"""
+
+
+def test_input_files_are_fingerprinted_in_the_log(tmp_path):
+    path = write(tmp_path, TABLE_SCENARIO)
+    table = b"t,torque\n0,0\n1,1e5\n"
+    (tmp_path / "torque.csv").write_bytes(table)
+    out = pinwind_cli("run", str(path), "--no-progress", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    files = pinwind.read_log(tmp_path / "logs/table.mcap").metadata["input_files"]
+    by_input = {f["where"]: f for f in files}
+    assert set(by_input) == {"scenario", "torque.carrier"}
+    assert by_input["torque.carrier"]["path"] == "torque.csv"  # as the scenario gave it
+    assert by_input["torque.carrier"]["sha256"] == hashlib.sha256(table).hexdigest()
+    assert by_input["torque.carrier"]["bytes"] == len(table)
+    assert by_input["scenario"]["sha256"] == hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def test_from_log_refuses_a_table_changed_since_the_run(tmp_path):
+    path = write(tmp_path, TABLE_SCENARIO)
+    table = tmp_path / "torque.csv"
+    table.write_text("t,torque\n0,0\n1,1e5\n")
+    assert pinwind_cli("run", str(path), "--no-progress", cwd=tmp_path).returncode == 0
+    recorded = hashlib.sha256(table.read_bytes()).hexdigest()
+    # unchanged: repeated
+    same = pinwind_cli("run", "--from-log", "logs/table.mcap", "--out", "same.mcap",
+                       "--no-progress", cwd=tmp_path)  # fmt: skip
+    assert same.returncode == 0, same.stderr
+    # one digit edited: refused before the run, naming the file and both fingerprints
+    table.write_text("t,torque\n0,0\n1,2e5\n")
+    edited = hashlib.sha256(table.read_bytes()).hexdigest()
+    out = pinwind_cli("run", "--from-log", "logs/table.mcap", "--out", "edited.mcap",
+                      "--no-progress", cwd=tmp_path)  # fmt: skip
+    assert out.returncode == 2, out.stderr
+    message = " ".join(out.stderr.split())
+    assert "InputFileChanged" in message or "torque.csv has changed" in message
+    assert "torque.carrier: torque.csv has changed" in message
+    assert recorded in message and edited in message
+    assert "Traceback" not in out.stderr
+    assert not (tmp_path / "logs/edited.mcap").exists()
+    # gone: refused too
+    table.rename(tmp_path / "moved.csv")
+    gone = pinwind_cli("run", "--from-log", "logs/table.mcap", "--out", "gone.mcap",
+                       "--no-progress", cwd=tmp_path)  # fmt: skip
+    assert gone.returncode == 2 and "is missing now" in " ".join(gone.stderr.split())
+    # accepted on purpose: runs with the file as it is and records its new fingerprint
+    (tmp_path / "moved.csv").rename(table)
+    accepted = pinwind_cli("run", "--from-log", "logs/table.mcap", "--out", "accepted.mcap",
+                           "--accept-changed-inputs", "--no-progress", cwd=tmp_path)  # fmt: skip
+    assert accepted.returncode == 0, accepted.stderr
+    files = pinwind.read_log(tmp_path / "logs/accepted.mcap").metadata["input_files"]
+    assert [f["sha256"] for f in files if f["where"] == "torque.carrier"] == [edited]

@@ -19,11 +19,13 @@ from __future__ import annotations
 
 import json
 import math
+import socket
 import time
 import traceback
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import Any
 
 from pinwind.analysis.sweep_design import StageDesign, SweepSettings
 from pinwind.analysis.sweep_parallel import ParallelDesign, enumerate_parallel
@@ -32,7 +34,7 @@ from pinwind.analysis.sweep_planetary import (
     PlanetaryDesign,
     enumerate_planetary,
 )
-from pinwind.errors import InputError
+from pinwind.errors import InputError, SchedulerUnreachable
 
 __all__ = [
     "SERIAL_BELOW",
@@ -264,6 +266,35 @@ def _run_local(
     return f"processes ({n})"
 
 
+#: How long a sweep tries to reach a Dask scheduler before it gives up [s] (Dask's own: 30 s).
+SCHEDULER_TIMEOUT = 10.0
+
+
+def _connect(client_type: type, address: str) -> Any:
+    """A ``distributed.Client`` of the scheduler at ``address``, or one line saying why not.
+
+    A TCP address is tried with a plain socket first: a refused port or an unknown host fails
+    at once instead of after Dask's connection retries.
+
+    Raises:
+        SchedulerUnreachable: nothing answers there, or the address cannot be read.
+    """
+    protocol, _, rest = address.rpartition("://")
+    if protocol in ("", "tcp", "tls"):
+        host, _, port = rest.rpartition(":")
+        if not host:  # no port given: Dask's default
+            host, port = rest, "8786"
+        try:
+            socket.create_connection((host.strip("[]"), int(port)), SCHEDULER_TIMEOUT).close()
+        except (OSError, ValueError) as err:
+            reason = getattr(err, "strerror", None) or str(err) or type(err).__name__
+            raise SchedulerUnreachable(address, reason) from err
+    try:
+        return client_type(address, timeout=f"{SCHEDULER_TIMEOUT:g}s")
+    except (OSError, ValueError, TypeError) as err:  # timeouts are OSErrors
+        raise SchedulerUnreachable(address, str(err) or type(err).__name__) from err
+
+
 def _run_dask(
     todo: list[StageDesign],
     settings: SweepSettings,
@@ -275,7 +306,7 @@ def _run_dask(
     except ImportError as err:  # pragma: no cover - distributed is a dependency
         raise InputError("--scheduler needs dask.distributed: pip install distributed") from err
     own = not isinstance(scheduler, Client)
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    client = scheduler if isinstance(scheduler, Client) else _connect(Client, str(scheduler))
     try:
         futures = client.map(evaluate, todo, settings=settings, pure=False)
         for future in as_completed(futures):
@@ -380,7 +411,16 @@ def query(
         sf_column: which safety factor (default the smallest AGMA one of the design).
         minimise: a column to minimise (``"centre_distance_mm"``, ``"module_mm"``, ...); only
             the designs at its smallest value are returned.
+
+    Raises:
+        InputError: ``sf_column`` or ``minimise`` is not a column of the table.
     """
+    rows = list(rows)
+    if min_sf is not None and rows and sf_column not in rows[0]:
+        raise InputError(
+            f'--sf "{sf_column}": not a column of the sweep table; safety-factor columns are '
+            + ", ".join(c for c in rows[0] if "SF" in c or "_S_" in c)
+        )
     keep = []
     for row in rows:
         if row.get("status") != "ok":

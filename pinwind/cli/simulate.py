@@ -405,6 +405,14 @@ def run_scenario(
         Path | None,
         typer.Option("--from-log", help="Repeat the run a log holds, bit for bit."),
     ] = None,
+    accept_changed_inputs: Annotated[
+        bool,
+        typer.Option(
+            "--accept-changed-inputs",
+            help="With --from-log: repeat the run even when a table it read (CSV, OpenFAST) "
+            "has changed since; otherwise such a run is refused.",
+        ),
+    ] = False,
     out: Annotated[
         Path | None,
         typer.Option("--out", "-o", help="MCAP log to write (default: the scenario's out)."),
@@ -425,9 +433,11 @@ def run_scenario(
 
     if (scenario_file is None) == (from_log is None):
         raise InputError("give a scenario file or --from-log LOG (one of them)")
+    if accept_changed_inputs and from_log is None:
+        raise InputError("--accept-changed-inputs goes with --from-log LOG only")
     with warnings_as_lines():
         if from_log is not None:
-            scenario, gearbox = sc.from_log(from_log)
+            scenario, gearbox = sc.from_log(from_log, accept_changed_inputs=accept_changed_inputs)
             label = f"the run logged in {from_log}"
             target = out if out is not None else True  # never the logged file itself
         else:

@@ -63,6 +63,7 @@ from pinwind.errors import (
     OutOfMemory,
     PinwindError,
 )
+from pinwind.interrupts import interrupts_deferred
 from pinwind.loads.generator import GeneratorLaw
 from pinwind.loads.inputs import JointLoad, Signal, joint_loads
 from pinwind.loads.rotor import Rotor
@@ -487,8 +488,7 @@ def simulate(
             _static_start(stepper, torque_loads, drivers, elements, dt, model.nv)
         )
     observers = observers_of(observer)
-    for o in observers:
-        o.begin(gearbox, res)
+    begun: list[RunObserver] = []  # the observers to end, whatever stops the run
     holds = [getattr(o, "holds", None) for o in observers]
     status = "completed"
     done = 0
@@ -499,81 +499,90 @@ def simulate(
     spares: list[Result] = []
     started = wallclock.perf_counter()
     try:
+        for o in observers:
+            # begun and listed at once: a Ctrl-C in between would leave a log never ended
+            with interrupts_deferred():
+                o.begin(gearbox, res)
+                begun.append(o)
         torque_columns = [ld.v_index for ld in torque_loads]
         for start in range(0, samples, chunk):
-            stop = min(start + chunk, samples)
-            torque, bad_torque = _signal_table(
-                torque_loads, start, stop, dt, torque_columns, model.nv
-            )
-            # Step k asks for the driver speeds at t_k and t_{k+1}.
-            target, bad_target = _signal_table(
-                drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
-            )
-            error = cause = None
-            if bad_torque is not None:
-                k, load, cause = bad_torque
-                stop = k
-                error = _signal_error("torques", load, k, dt, cause, "N·m")
-            if bad_target is not None and max(bad_target[0] - 1, 0) < stop:
-                k, load, cause = bad_target
-                stop = max(k - 1, 0)
-                error = _signal_error("speeds", load, k, dt, cause, "rad/s")
-            inputs = None
-            if elements.wind is not None:
-                wind_speed = elements.wind.values(np.arange(start, stop) * dt)
-                inputs = np.asarray(wind_speed, dtype=float).reshape(-1, 1)
-                nonfinite = np.flatnonzero(~np.isfinite(inputs[:, 0]))
-                if nonfinite.size and start + int(nonfinite[0]) < stop:
-                    k = start + int(nonfinite[0])
+            # A block is stepped and handed to the observers whole: Ctrl-C or SIGTERM waits for the
+            # hand-over (it used to drop the block between the step and the log: samples counted
+            # as simulated that no log held). The compiled step checks no signal anyway.
+            with interrupts_deferred():
+                stop = min(start + chunk, samples)
+                torque, bad_torque = _signal_table(
+                    torque_loads, start, stop, dt, torque_columns, model.nv
+                )
+                # Step k asks for the driver speeds at t_k and t_{k+1}.
+                target, bad_target = _signal_table(
+                    drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
+                )
+                error = cause = None
+                if bad_torque is not None:
+                    k, load, cause = bad_torque
                     stop = k
-                    error = NonFiniteInput(
-                        f"wind is {wind_speed[k - start]} m/s at step {k} (t = {k * dt:.6g} s); "
-                        "the wind speed must be finite"
-                    )
-                inputs = inputs[: stop - start]
-            if direct:  # the compiled loop writes the kept arrays in place: no copy
-                block = res.rows(start, stop)
-            elif None not in holds:  # blocks are dropped once observed: buffers in turn
-                if not spares:
-                    spares = [
-                        _allocate(gearbox, chunk, body_names, elements, empty=True)
-                        for _ in range(1 + max((h for h in holds if h is not None), default=0))
-                    ]
-                block = spares[start // chunk % len(spares)].rows(0, stop - start)
-            else:  # an observer keeps the blocks (the log's writer thread): new arrays
-                block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
-            done = start
-            failure: PinwindError | None = None
-            try:
-                done = stepper.run(
-                    start, stop, torque[: stop - start], target[: stop - start + 1], block,
-                    inputs,
-                )  # fmt: skip
-            except PinwindError as err:
-                done = getattr(err, "samples", start)
-                failure = err
-            absurd = _implausible(block, start, done)
-            if absurd is not None:
-                done = absurd[0]
-            # Samples start:done are final whatever happened: keep and hand them over.
-            if done > start:
-                part = block if done == stop else block.truncated(done - start)
-                if spring0 is None:
-                    spring0 = float(part.energy["potential_spring"][0])
-                _numerical_loss(part.energy, spring0)
-                _derive(part, gearbox)
-                if not direct:
-                    _keep(res, part, start, kept)
-                for o in observers:
-                    o.samples(part, start)
-            if absurd is not None:
-                raise _diverged(absurd, dt) from failure
-            if failure is not None:
-                raise failure
-            if error is not None:
-                raise error from (cause if isinstance(cause, Exception) else None)
-            if bar is not None:
-                bar.advance(stop - start)
+                    error = _signal_error("torques", load, k, dt, cause, "N·m")
+                if bad_target is not None and max(bad_target[0] - 1, 0) < stop:
+                    k, load, cause = bad_target
+                    stop = max(k - 1, 0)
+                    error = _signal_error("speeds", load, k, dt, cause, "rad/s")
+                inputs = None
+                if elements.wind is not None:
+                    wind_speed = elements.wind.values(np.arange(start, stop) * dt)
+                    inputs = np.asarray(wind_speed, dtype=float).reshape(-1, 1)
+                    nonfinite = np.flatnonzero(~np.isfinite(inputs[:, 0]))
+                    if nonfinite.size and start + int(nonfinite[0]) < stop:
+                        k = start + int(nonfinite[0])
+                        stop = k
+                        error = NonFiniteInput(
+                            f"wind is {wind_speed[k - start]} m/s at step {k} "
+                            f"(t = {k * dt:.6g} s); the wind speed must be finite"
+                        )
+                    inputs = inputs[: stop - start]
+                if direct:  # the compiled loop writes the kept arrays in place: no copy
+                    block = res.rows(start, stop)
+                elif None not in holds:  # blocks are dropped once observed: buffers in turn
+                    if not spares:
+                        spares = [
+                            _allocate(gearbox, chunk, body_names, elements, empty=True)
+                            for _ in range(1 + max((h for h in holds if h is not None), default=0))
+                        ]
+                    block = spares[start // chunk % len(spares)].rows(0, stop - start)
+                else:  # an observer keeps the blocks (the log's writer thread): new arrays
+                    block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
+                done = start
+                failure: PinwindError | None = None
+                try:
+                    done = stepper.run(
+                        start, stop, torque[: stop - start], target[: stop - start + 1], block,
+                        inputs,
+                    )  # fmt: skip
+                except PinwindError as err:
+                    done = getattr(err, "samples", start)
+                    failure = err
+                absurd = _implausible(block, start, done)
+                if absurd is not None:
+                    done = absurd[0]
+                # Samples start:done are final whatever happened: keep and hand them over.
+                if done > start:
+                    part = block if done == stop else block.truncated(done - start)
+                    if spring0 is None:
+                        spring0 = float(part.energy["potential_spring"][0])
+                    _numerical_loss(part.energy, spring0)
+                    _derive(part, gearbox)
+                    if not direct:
+                        _keep(res, part, start, kept)
+                    for o in observers:
+                        o.samples(part, start)
+                if absurd is not None:
+                    raise _diverged(absurd, dt) from failure
+                if failure is not None:
+                    raise failure
+                if error is not None:
+                    raise error from (cause if isinstance(cause, Exception) else None)
+                if bar is not None:
+                    bar.advance(stop - start)
     except KeyboardInterrupt:
         status = f"interrupted at step {done} (t = {done * dt:.6g} s)"
         raise
@@ -588,7 +597,7 @@ def simulate(
         res.metadata["samples_simulated"] = done
         res.status = status
         final = res if status == "completed" else res.truncated(int(np.searchsorted(kept, done)))
-        _end_all(observers, final, status)
+        _end_all(begun, final, status)
     return final
 
 

@@ -31,13 +31,20 @@ from typing import Any, cast
 import numpy as np
 
 from pinwind.dynamics.result import POSE_ARRAYS, Result
-from pinwind.errors import InputError, LogError, LogRecovered
+from pinwind.errors import (
+    InputError,
+    LogBeingWritten,
+    LogError,
+    LogRecovered,
+    SamplesNotLogged,
+)
 from pinwind.io import mcap_file
 from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
 from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
 from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_OF
 from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
-from pinwind.io.log_metadata import json_values
+from pinwind.io.log_lock import held_by_writer
+from pinwind.io.log_metadata import checksum_problem, json_values
 from pinwind.io.log_threads import ChunkBuffers, read_ahead
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
 from pinwind.io.messages import PayloadError
@@ -49,6 +56,14 @@ class LogDamaged(LogRecovered):
     Every intact chunk was read; the message says what is damaged and which simulation time
     range was lost.
     """
+
+
+#: What each pinwind metadata record holds, for the message when it fails its checksum.
+_RECORD_HOLDS = {
+    "pinwind": "format, pinwind version, command",
+    "pinwind.run": "dt, duration, log_stride, loads, solver, scenario",
+    "pinwind.end": "status, samples simulated and logged",
+}
 
 
 class LogTooLarge(LogError):
@@ -134,6 +149,8 @@ class LogReader:
     def _open(self) -> None:
         where = str(self.path)
         fd = self._descriptor()
+        #: a run is still writing the file (it holds the log's lock, ``io/log_lock.py``)
+        self.being_written = held_by_writer(fd)
         self.size = os.fstat(fd).st_size
         start = mcap_file.read_at(fd, 0, len(MAGIC))
         if start != MAGIC:
@@ -161,6 +178,7 @@ class LogReader:
                         f"({err}): the file is corrupted",
                     ) from err
                 self._damage.append(f"the '{name}' metadata record at byte {offset} is damaged")
+        self.checksums = self._check_records(records)
         ident = records.get("pinwind")
         if ident is None and self.problem and contents.library.startswith("pinwind"):
             raise LogError(where, f"{self.problem}, before the run's metadata: nothing to recover")
@@ -208,7 +226,48 @@ class LogReader:
         self.complete = end is not None and contents.data_end and not self.problem
         self._end_damaged = end is None and "pinwind.end" in contents.metadata
         self._attachments: dict[str, bytes] | None = None
+        #: attachment name → why it could not be read (its CRC fails, ...)
+        self.damaged_attachments: dict[str, str] = {}
         self._buffers = ChunkBuffers()
+        #: what the end record says the run simulated but did not log, else ""
+        self.not_logged = _not_logged(end, run.get("log_stride", 1))
+
+    def _check_records(self, records: dict[str, dict[str, str]]) -> str:
+        """Check the pinwind records' CRC-32 (and remove it); say how they fared.
+
+        A failed ``pinwind.model`` is refused: its names say which series is which joint, mesh
+        or bearing, and an edited name would put one element's data under another's. Another
+        failed record is read with a ``LogDamaged`` warning naming it (``dt``, ``log_stride``,
+        the end status may be wrong); ``--from-log`` refuses a failed ``pinwind.run``.
+
+        Raises:
+            LogError: the ``pinwind.model`` record fails its check.
+        """
+        where = str(self.path)
+        verdicts = {
+            name: checksum_problem(record)
+            for name, record in records.items()
+            if name == "pinwind" or name.startswith("pinwind.")
+        }
+        #: record name → why it fails its checksum
+        self.failed_records = {name: why for name, why in verdicts.items() if why}
+        for name, why in self.failed_records.items():
+            if name == "pinwind.model":
+                raise LogError(
+                    where,
+                    f"the 'pinwind.model' metadata record {why}: the names of the joints, meshes "
+                    "and bearings cannot be trusted to say whose data is whose; the file is "
+                    "corrupted, restore it from a copy",
+                )
+            self._damage.append(
+                f"the '{name}' metadata record {why}: its values ({_RECORD_HOLDS.get(name, '')}) "
+                "may be wrong"
+            )
+        if self.failed_records:
+            return "failed: " + ", ".join(self.failed_records)
+        if verdicts and all(v is None for v in verdicts.values()):
+            return "none: written by a pinwind that recorded no metadata checksums"
+        return "verified"
 
     # --- file ----------------------------------------------------------------------------------
 
@@ -232,7 +291,10 @@ class LogReader:
 
     @property
     def attachments(self) -> dict[str, bytes]:
-        """Attachment name → bytes (the model file); a damaged attachment is left out."""
+        """Attachment name → bytes (the model file); a damaged attachment is left out.
+
+        ``damaged_attachments`` then says which and why.
+        """
         if self._attachments is None:
             self._attachments = {}
             for name, (offset, length) in self._contents.attachments.items():
@@ -241,6 +303,7 @@ class LogReader:
                         self._descriptor(), offset, length
                     )
                 except Exception as err:  # CRC, struct: damaged
+                    self.damaged_attachments[name] = str(err)
                     self._damage.append(f"attachment '{name}' is damaged ({err})")
         return self._attachments
 
@@ -248,6 +311,13 @@ class LogReader:
     def model_text(self) -> str:
         """The model file as attached to the log."""
         return _model_text(self.attachments)
+
+    @property
+    def model_problem(self) -> str:
+        """Why the log gives no model file (damaged, or none attached), ``""`` when it does."""
+        if self.attachments:
+            return ""
+        return _model_problem(self.damaged_attachments)
 
     @property
     def span(self) -> tuple[float, float] | None:
@@ -621,8 +691,16 @@ class LogReader:
         if end is not None:
             status = end.get("status", "unknown")
             run["wall_time_s"] = end.get("wall_time_s")
+            # the run record holds the samples planned; the end record those simulated
+            if "samples_simulated" in end:
+                run["samples_simulated"] = end["samples_simulated"]
         elif self._end_damaged:
             status = "unknown: the end-status record is damaged"
+        elif self.being_written:
+            status = (
+                "being written: the run is in progress (no end-status record yet); read up to "
+                "the last complete block written"
+            )
         else:
             status = (
                 "log cut short: no end-status record (the run was killed or the file "
@@ -641,6 +719,8 @@ class LogReader:
             "channels": list(topics),
             "window": [start, stop],
             "damage": [*self._damage, *lost],
+            "not_logged": self.not_logged,
+            "metadata_checksums": self.checksums,
         }
         result.metadata = run
         result.status = status
@@ -655,13 +735,66 @@ class LogReader:
                 LogDamaged,
                 stacklevel=4,
             )
-        if not self.complete and not self._end_damaged:
+        if self.not_logged:
+            warnings.warn(f"{self.path}: {self.not_logged}", SamplesNotLogged, stacklevel=4)
+        if not self.complete and self.being_written:
+            warnings.warn(
+                f"{self.path}: still being written by a run in progress: read the {count} "
+                "samples written so far"
+                + (f" (t = {span[0]:.6g} to {span[1]:.6g} s)" if span else "")
+                + "; read it again when the run has ended",
+                LogBeingWritten,
+                stacklevel=4,
+            )
+        elif not self.complete and not self._end_damaged:
             warnings.warn(
                 f"{self.path}: {self.problem or 'no end-status record'}; recovered {count} "
-                f"samples" + (f" (t = {span[0]:.6g} to {span[1]:.6g} s)" if span else ""),
+                f"samples"
+                + (f" (t = {span[0]:.6g} to {span[1]:.6g} s)" if span else "")
+                + self._time_lost(),
                 LogRecovered,
                 stacklevel=4,
             )
+
+    def _time_lost(self) -> str:
+        """The span of the run that a cut file does not hold, in words (after a "; ")."""
+        duration = self.metadata["pinwind.run"].get("duration")
+        if isinstance(duration, bool) or not isinstance(duration, int | float):
+            return ""
+        span = self.span
+        if span is None:
+            return f"; all {duration:g} s of the run are lost (or were never simulated)"
+        last = span[1]
+        if last >= duration * (1 - 1e-12):
+            return ""
+        return (
+            f"; t = {last:.6g} to {duration:.6g} s, {duration - last:.6g} s of the "
+            f"{duration:g} s run, is not in the file (lost, or never simulated if the run was "
+            "stopped there)"
+        )
+
+
+def _not_logged(end: dict[str, Any] | None, stride: int) -> str:
+    """The samples the end record counts as simulated but not logged, in words ("" for none).
+
+    Every sample a run simulates is handed to its log, even on Ctrl-C; a difference means the
+    log lost samples without a write error (it used to drop the block in hand on Ctrl-C).
+
+    Sample k of a run is logged when k mod stride = 0: n simulated samples log ⌈n / stride⌉.
+    """
+    if not end or "samples_simulated" not in end or "samples_logged" not in end:
+        return ""
+    if end.get("log_error"):  # a failed write: the status already says what the file holds
+        return ""
+    simulated, logged = int(end["samples_simulated"]), int(end["samples_logged"])
+    stride = max(1, int(stride))
+    expected = -(-simulated // stride)
+    if logged >= expected:
+        return ""
+    return (
+        f"the run simulated {simulated} samples but logged {logged} of the {expected} it "
+        f"should have (log stride {stride}): {expected - logged} logged samples are missing"
+    )
 
 
 def _span(result: Result) -> tuple[float, float] | None:
@@ -748,6 +881,8 @@ class LogFile:
         channels: topic → channel metadata.
         complete: the file has its end-status record and footer.
         problem: what was wrong with a file that was cut short, else ``""``.
+        model_problem: why the log gives no model file (its attachment is damaged, or there is
+            none), else ``""``.
     """
 
     path: Path
@@ -757,6 +892,7 @@ class LogFile:
     channels: dict[str, dict[str, str]]
     complete: bool
     problem: str = ""
+    model_problem: str = ""
 
     @property
     def model(self) -> dict[str, Any]:
@@ -767,6 +903,14 @@ class LogFile:
     def model_text(self) -> str:
         """The model file as attached to the log."""
         return _model_text(self.attachments)
+
+
+def _model_problem(damaged: dict[str, str]) -> str:
+    """Why a log without a readable attachment gives no model file."""
+    if damaged:
+        name, why = next(iter(damaged.items()))
+        return f"the model file attached to the log ('{name}') is damaged ({why})"
+    return "the log holds no model file"
 
 
 def _model_text(attachments: dict[str, bytes]) -> str:
@@ -804,4 +948,5 @@ def open_log(
             channels=log.channels,
             complete=log.complete,
             problem=log.problem,
+            model_problem=log.model_problem,
         )

@@ -22,12 +22,9 @@ import math
 import os
 import queue
 import shlex
-import signal
 import sys
 import threading
 import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import BinaryIO
 
@@ -43,6 +40,7 @@ from pinwind.errors import (
     LogRecovered,
     LogWriteFailed,
 )
+from pinwind.interrupts import interrupts_deferred
 from pinwind.io import messages
 from pinwind.io.log_format import (
     COLUMNS_ENCODING,
@@ -58,7 +56,8 @@ from pinwind.io.log_format import (
     array_topics,
     mask_bytes,
 )
-from pinwind.io.log_metadata import json_record, utc_now, versions
+from pinwind.io.log_lock import hold_for_writing
+from pinwind.io.log_metadata import json_record, utc_now, versions, with_checksum
 from pinwind.io.log_model import model_geometry, model_names
 from pinwind.io.log_size import MAX_LOG_BYTES, check_log_fits, estimate_log_size
 from pinwind.io.mcap_file import (
@@ -80,29 +79,6 @@ VIEW_RATE = 100.0
 #: Chunk compression and its level.
 COMPRESSION = "zstd"
 COMPRESSION_LEVEL = -1
-
-
-@contextmanager
-def _interrupts_deferred() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM while a chunk and its bookkeeping are written.
-
-    Ctrl-C raises between any two bytecodes; one landing between a write and the offsets that
-    index it would leave a summary that does not match the file. Signals that arrive meanwhile
-    are raised again, to their own handlers, once the block is done.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    caught: list[int] = []
-    held = (signal.SIGINT, signal.SIGTERM)
-    previous = {s: signal.signal(s, lambda signum, frame: caught.append(signum)) for s in held}
-    try:
-        yield
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
-        for signum in caught:
-            signal.raise_signal(signum)
 
 
 def _resolve_rate(dt: float | None, log_rate: float | None, what: str = "log") -> tuple[int, float]:
@@ -316,6 +292,7 @@ class McapLogger:
             raise LogExists(str(self.path)) from err
         except OSError as err:
             raise LogError(str(self.path), f"cannot write the log: {err.strerror}") from err
+        hold_for_writing(stream.fileno())  # a reader meanwhile says "being written"
         try:
             self._start(stream, gearbox, result, rate)
         except BaseException:
@@ -468,14 +445,16 @@ class McapLogger:
         )
         f.metadata(
             "pinwind",
-            {
-                "format": FORMAT,
-                "format_version": str(FORMAT_VERSION),
-                "pinwind_version": recorded["pinwind"],
-                "created_utc": utc_now(),
-                "command": self.command,
-                "versions": json.dumps(recorded),
-            },
+            with_checksum(
+                {
+                    "format": FORMAT,
+                    "format_version": str(FORMAT_VERSION),
+                    "pinwind_version": recorded["pinwind"],
+                    "created_utc": utc_now(),
+                    "command": self.command,
+                    "versions": json.dumps(recorded),
+                }
+            ),
         )
         run = {k: v for k, v in meta.items() if k not in ("status", "wall_time_s")}
         run.update(
@@ -488,8 +467,10 @@ class McapLogger:
             pose_rate_hz=pose_rate,
             log_estimate_bytes=self.estimate.bytes,
         )
-        f.metadata("pinwind.run", json_record(run))
-        f.metadata("pinwind.model", json_record({**names, **model_geometry(gearbox)}))
+        f.metadata("pinwind.run", with_checksum(json_record(run)))
+        f.metadata(
+            "pinwind.model", with_checksum(json_record({**names, **model_geometry(gearbox)}))
+        )
         payload = messages.encode_string(gearbox.source_text)
         record = message_records(
             model_channel,
@@ -635,7 +616,7 @@ class McapLogger:
         in_flight = sys.exc_info()[1]
         cause = f"{type(in_flight).__name__}: {in_flight}" if in_flight is not None else ""
         try:
-            with _interrupts_deferred():
+            with interrupts_deferred():
                 self._stop_writer()
                 self._finish(result, status, cause)
         except Exception as err:
@@ -659,16 +640,18 @@ class McapLogger:
             status = f"{status}; {self._write_error()}"
         f.metadata(
             "pinwind.end",
-            json_record(
-                {
-                    "status": status,
-                    "cause": cause,
-                    "samples_simulated": result.metadata.get("samples_simulated", len(result)),
-                    "samples_logged": self.samples_logged,
-                    "log_error": str(self._failed) if self._failed else "",
-                    "wall_time_s": result.metadata.get("wall_time_s"),
-                    "ended_utc": utc_now(),
-                }
+            with_checksum(
+                json_record(
+                    {
+                        "status": status,
+                        "cause": cause,
+                        "samples_simulated": result.metadata.get("samples_simulated", len(result)),
+                        "samples_logged": self.samples_logged,
+                        "log_error": str(self._failed) if self._failed else "",
+                        "wall_time_s": result.metadata.get("wall_time_s"),
+                        "ended_utc": utc_now(),
+                    }
+                )
             ),
         )
         f.finish()

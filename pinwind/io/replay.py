@@ -230,6 +230,7 @@ def _log_file(reader: LogReader, result: Result) -> LogFile:
         channels=reader.channels,
         complete=reader.complete,
         problem=reader.problem,
+        model_problem=reader.model_problem,
     )
 
 

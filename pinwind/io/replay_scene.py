@@ -252,14 +252,15 @@ class Scene:
     notes: list[str] = field(default_factory=list)
 
 
-def _model_file(text: str) -> tuple[ModelFile | None, str]:
+def _model_file(text: str, problem: str = "") -> tuple[ModelFile | None, str]:
     """The log's model text read by the model's reader, or (None, why it could not be).
 
     The text was loaded when the run was made; a log of an older pinwind may hold one that
-    today's reader refuses, and the replay then draws without the model's shapes.
+    today's reader refuses, and the replay then draws without the model's shapes. ``problem``:
+    why the log gives no text (a damaged attachment).
     """
     if not text:
-        return None, "the log holds no model text"
+        return None, problem or "the log holds no model text"
     try:
         return read_model_file("<model of the log>", text), ""
     except ModelError as err:
@@ -345,7 +346,7 @@ def send_scene(
     res = log.result.posed()  # the frames drawn: samples with a pose
     model = log.model
     gears: dict = model.get("gears", {})
-    source, unread = _model_file(log.model_text)
+    source, unread = _model_file(log.model_text, log.model_problem)
     visuals = source.visuals if source else []
     joints = source.joints if source else {}
     root = model.get("root_link", "")

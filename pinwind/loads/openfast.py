@@ -23,7 +23,7 @@ def read_output(path: str | Path) -> tuple[np.ndarray, list[str], list[str]]:
     """(data, channel names, units) of an OpenFAST output file; column 0 is ``Time``.
 
     Raises:
-        InputError: the file is missing or openfast-io cannot read it.
+        InputError: the file is missing, openfast-io cannot read it, or it has no data rows.
     """
     path = Path(path)
     if not path.is_file():
@@ -39,9 +39,18 @@ def read_output(path: str | Path) -> tuple[np.ndarray, list[str], list[str]]:
         raise InputError(
             f"{path}: openfast-io cannot read it as an OpenFAST output file ({err})"
         ) from err
+    names = list(info["attribute_names"])
+    # openfast-io gives a 1-D array for a file of one data row, and an empty one without rows
+    table = np.asarray(data, dtype=float).reshape(-1, len(names))
+    if not len(table):
+        raise InputError(
+            f"{path}: the OpenFAST output has its header (channels {', '.join(names)}) but no "
+            "data rows, as when OpenFAST stopped before its first output; give a file with at "
+            "least two rows of samples"
+        )
     return (
-        np.asarray(data, dtype=float),
-        list(info["attribute_names"]),
+        table,
+        names,
         list(info["attribute_units"]),
     )
 

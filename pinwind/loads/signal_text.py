@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from pinwind.errors import InputError, NonFiniteInput
+from pinwind.loads.input_files import InputFile
 from pinwind.loads.openfast import read_channel
 from pinwind.loads.signals import (
     Constant,
@@ -53,13 +54,21 @@ _OPTIONAL = {"phase", "column", "time_column", "sha256", "scale", "duration", "s
              "length_scale", "hub_height", "rotor_radius"}  # fmt: skip
 
 
-def signal_from_spec(spec: Any, *, base: Path | None = None, where: str = "signal") -> Signal:
+def signal_from_spec(
+    spec: Any,
+    *,
+    base: Path | None = None,
+    where: str = "signal",
+    files: list[InputFile] | None = None,
+) -> Signal:
     """A signal from a number, a text (``parse_signal``), a dict with ``type``, or a list (sum).
 
     Args:
         spec: the description.
         base: folder that relative file names are relative to (the scenario file's).
         where: the option or key, for messages.
+        files: the fingerprint of every file the signal reads is appended to it (the log
+            records them).
 
     Raises:
         InputError: an unknown kind or parameter, naming the valid ones.
@@ -69,9 +78,9 @@ def signal_from_spec(spec: Any, *, base: Path | None = None, where: str = "signa
     if isinstance(spec, int | float):
         return Constant(float(spec))
     if isinstance(spec, str):
-        return parse_signal(spec, base=base, where=where)
+        return parse_signal(spec, base=base, where=where, files=files)
     if isinstance(spec, list | tuple):
-        terms = tuple(signal_from_spec(s, base=base, where=where) for s in spec)
+        terms = tuple(signal_from_spec(s, base=base, where=where, files=files) for s in spec)
         if not terms:
             raise InputError(f"{where}: an empty list is not a signal")
         return terms[0] if len(terms) == 1 else Sum(terms)
@@ -79,18 +88,28 @@ def signal_from_spec(spec: Any, *, base: Path | None = None, where: str = "signa
         params = dict(spec)
         kind = params.pop("type", None)
         if kind == "sum":
-            return signal_from_spec(params.get("terms", []), base=base, where=where)
+            return signal_from_spec(params.get("terms", []), base=base, where=where, files=files)
         if kind == "scaled":
-            inner = signal_from_spec(params.get("signal"), base=base, where=where)
+            inner = signal_from_spec(params.get("signal"), base=base, where=where, files=files)
             return Scaled(inner, float(params.get("factor", 1.0)))
         if kind == "table":
             return Table(params["times"], params["values"], source=where)
-        return make_signal(kind, params, base=base, where=where)
+        return make_signal(kind, params, base=base, where=where, files=files)
     raise InputError(f"{where}: {spec!r} is not a signal; give a number or a signal")
 
 
-def make_signal(kind: Any, params: dict[str, Any], *, base: Path | None, where: str) -> Signal:
-    """A signal of a kind from its parameters (checked against ``KINDS``)."""
+def make_signal(
+    kind: Any,
+    params: dict[str, Any],
+    *,
+    base: Path | None,
+    where: str,
+    files: list[InputFile] | None = None,
+) -> Signal:
+    """A signal of a kind from its parameters (checked against ``KINDS``).
+
+    ``files``: a file the signal reads is fingerprinted into it.
+    """
     if kind not in KINDS:
         raise InputError(
             f'{where}: unknown signal "{kind}"; signals are: {", ".join(KINDS)}, or a number'
@@ -132,18 +151,32 @@ def make_signal(kind: Any, params: dict[str, Any], *, base: Path | None, where: 
             f"{where}: {path} has changed since the run was logged (sha256 differs); restore "
             "the file to repeat the run"
         )
+    signal: Signal
     if kind == "csv":
-        return read_csv(path, params.get("column", 1), time_column=params.get("time_column", 0))
-    return read_channel(path, str(params["channel"]), scale=float(params.get("scale", 1.0)))
+        signal = read_csv(path, params.get("column", 1), time_column=params.get("time_column", 0))
+    else:
+        signal = read_channel(path, str(params["channel"]), scale=float(params.get("scale", 1.0)))
+    if files is not None:
+        files.append(InputFile.of(path, given=str(params["file"]), where=where))
+    return signal
 
 
-def parse_signal(text: str, *, base: Path | None = None, where: str = "signal") -> Signal:
-    """A signal from its text form (module docstring): numbers, kinds with keywords, sums."""
+def parse_signal(
+    text: str,
+    *,
+    base: Path | None = None,
+    where: str = "signal",
+    files: list[InputFile] | None = None,
+) -> Signal:
+    """A signal from its text form (module docstring): numbers, kinds with keywords, sums.
+
+    ``files``: the fingerprint of every file the signal reads is appended to it.
+    """
     try:
         tree = ast.parse(text.strip(), mode="eval")
     except SyntaxError as err:
         raise InputError(f'{where}: cannot read "{text}" as a signal: {err.msg}') from err
-    return _signal_node(tree.body, text, base, where)
+    return _signal_node(tree.body, text, base, where, files)
 
 
 def _literal(node: ast.AST, text: str, where: str) -> Any:
@@ -155,10 +188,12 @@ def _literal(node: ast.AST, text: str, where: str) -> Any:
         ) from err
 
 
-def _signal_node(node: ast.AST, text: str, base: Path | None, where: str) -> Signal:
+def _signal_node(
+    node: ast.AST, text: str, base: Path | None, where: str, files: list[InputFile] | None
+) -> Signal:
     if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add):
-        left = _signal_node(node.left, text, base, where)
-        return left + _signal_node(node.right, text, base, where)
+        left = _signal_node(node.left, text, base, where, files)
+        return left + _signal_node(node.right, text, base, where, files)
     if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
         if node.args:
             raise InputError(
@@ -173,7 +208,7 @@ def _signal_node(node: ast.AST, text: str, base: Path | None, where: str) -> Sig
                     "not as **{...}"
                 )
             params[kw.arg] = _literal(kw.value, text, where)
-        return make_signal(node.func.id, params, base=base, where=where)
+        return make_signal(node.func.id, params, base=base, where=where, files=files)
     value = _literal(node, text, where)
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise InputError(f'{where}: "{text}" is not a number or a signal')

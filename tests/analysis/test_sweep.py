@@ -1,8 +1,10 @@
 """Planetary design sweep: Table 5 of 000_3b7c4a8fe52a6eee.txt, eq. 41 queries, backends, resume."""
 
 import math
+import socket
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -17,6 +19,7 @@ from pinwind.analysis.sweep import (
     read_table,
     run_sweep,
 )
+from pinwind.errors import InputError, SchedulerUnreachable
 
 # Table 5 of 000_3b7c4a8fe52a6eee.txt, transcribed from the seed text:
 # (#, centre distance [mm], module [mm], sun, planet, ring).
@@ -164,3 +167,27 @@ def test_sweep_command_writes_a_table_that_query_reads(tmp_path):
     assert picked.returncode == 0 and picked.stdout.startswith("#1: a = 420 mm")
     none = cli("sweep", "query", "designs.parquet", "--min-sf", "5")
     assert none.returncode == 1 and "no design" in none.stdout
+
+
+def test_query_with_an_unknown_safety_factor_column_is_one_line_naming_the_columns(tmp_path):
+    (tmp_path / "t.csv").write_text(
+        "number,status,centre_distance_mm,module_mm,ratio,agma_SF_min,iso_S_min\n"
+        "1,ok,420,10,6.2,1.5,1.3\n"
+    )
+    with pytest.raises(InputError, match='--sf "agma_SF_mn": not a column'):
+        query(read_table(tmp_path / "t.csv"), min_sf=1, sf_column="agma_SF_mn")
+    out = subprocess.run([sys.executable, "-m", "pinwind", "sweep", "query", "t.csv", "--min-sf",
+                          "1", "--sf", "agma_SF_mn"], capture_output=True, text=True,
+                         timeout=300, cwd=tmp_path)  # fmt: skip
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert "columns are agma_SF_min, iso_S_min" in " ".join(out.stderr.split())
+
+
+def test_unreachable_dask_scheduler_fails_at_once_in_one_line():
+    with socket.socket() as probe:  # a port nothing listens on once closed
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    started = time.perf_counter()
+    with pytest.raises(SchedulerUnreachable, match=f'"tcp://127.0.0.1:{port}": cannot reach'):
+        run_sweep(_designs()[:1], SweepSettings(), scheduler=f"tcp://127.0.0.1:{port}")
+    assert time.perf_counter() - started < 5.0  # Dask's own retries took 30 s

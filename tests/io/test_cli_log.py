@@ -10,13 +10,14 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import pinwind
-from pinwind.errors import LogRecovered
+from pinwind.errors import LogBeingWritten, LogRecovered
 from pinwind.io.log_reader import open_log
 from tests.io.conftest import PLANETARY, VIEW_EVERY, rrd_columns
 
@@ -251,3 +252,29 @@ def test_report_of_a_cut_log_warns_in_one_line_and_reports_the_recovered_samples
     assert out.stderr.startswith("warning: ") and "recovered" in out.stderr
     assert "Traceback" not in out.stderr
     assert json.loads(out.stdout)["status"].startswith("log cut short")
+
+
+def test_log_being_written_reads_as_in_progress_and_once_killed_as_cut_with_the_time_lost(
+    tmp_path,
+):
+    log = tmp_path / "live.mcap"
+    proc = _start_long_run(log)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            live = open_log(log)
+        kinds = {type(w.message) for w in caught}
+        assert LogBeingWritten in kinds and LogRecovered not in kinds
+        assert live.result.status.startswith("being written: the run is in progress")
+        assert len(live.result) >= 2000
+    finally:
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.communicate(timeout=60)
+    # The lock dies with the run: now the file is a cut log, and the warning says which span of
+    # the 1000 s run it lacks, from its last sample to the run's end.
+    with pytest.warns(LogRecovered) as caught:
+        data = open_log(log)
+    last = float(data.result.time[-1])
+    message = " ".join(str(w.message) for w in caught)
+    assert f"t = {last:.6g} to 1000 s, {1000 - last:.6g} s of the 1000 s run" in message
+    assert data.result.status.startswith("log cut short")
