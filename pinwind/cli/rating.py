@@ -55,7 +55,7 @@ def rate(
         materials = {g: chosen for g in gearbox.gears} | materials
     with warnings_as_lines():
         res = sc.run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
-    rating = rate_result(gearbox, res, at=at, materials=materials)
+        rating = rate_result(gearbox, res, at=at, materials=materials)
     if as_json:
         print(json.dumps(rating.as_dict(), indent=1))
         return
