@@ -1,4 +1,4 @@
-"""The compliant mesh's dashpot: a damped pair's free vibration decays at its physical damping ratio.
+"""The compliant mesh's dashpot: a damped pair's free vibration decays at its damping ratio.
 
 The pair of ``tests/conftest.two_gear_urdf`` (20/40 teeth, module 2 mm, 20°, J_A = 0.0015 and
 J_B = 0.006 kg·m²) with one mesh of constant stiffness is a two-inertia oscillator along the line
