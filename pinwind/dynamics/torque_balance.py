@@ -94,10 +94,10 @@ def imbalances(
         r = int(np.argmax(np.abs(work)))
         if work[r] == 0.0:
             continue
-        net = float(work.sum()) / mode[r]
+        net = float(work.sum() / mode[r])
         if abs(net) <= tolerance * float(np.abs(work).max()) / abs(mode[r]):
             continue
-        others = [j for j in np.flatnonzero(mode) if j != r]
+        others = [int(j) for j in np.flatnonzero(mode) if j != r]
         if not others:  # a joint alone in its mode: only its own torque could balance it
             others = [r]
         loaded = [j for j in others if tau[j] != 0.0]
