@@ -48,7 +48,8 @@ def rate(
 
     values = {"model": str(model), "duration": duration, "dt": dt}
     scenario = sc.build(values | load_values(torque, speed, None, initial_speed), flags=FLAGS)
-    gearbox = pinwind.load(model)
+    with warnings_as_lines():
+        gearbox = pinwind.load(model)
     materials = parse_pairs(material, "--material")
     if "all" in materials:
         chosen = materials.pop("all")

@@ -22,7 +22,7 @@ from pinwind.errors import (
 )
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.rating_agma import agma_rating
-from tests.conftest import MODELS
+from tests.conftest import MODELS, two_gear_urdf
 
 TORQUES = {"carrier": 1e6, "sun": -1e6 / 6}
 
@@ -174,3 +174,23 @@ def test_rate_command_warns_of_an_unbalanced_run_in_one_line_each(tmp_path):
     assert len(lines) == 2 and all(line.startswith("warning: ") for line in lines)
     assert "do not balance through the gear train" in lines[0]
     assert "the train accelerates at t = 0.01 s" in lines[1]
+
+
+def test_rate_command_refuses_a_model_with_pointed_teeth_in_one_line(tmp_path):
+    # g1: 12 teeth with x = 0.9 on a 12/60 pair of module 2 mm, at the centre distance of its
+    # shifts (pinwind refuses the model otherwise); its flanks cross below the tip.
+    text = two_gear_urdf(teeth=("12", "60"), centre_distance=0.0736651).replace(
+        'face_width_mm="20" internal="false"/>', 'face_width_mm="20" internal="false" '
+        'profile_shift="0.9"/>', 1,
+    )  # fmt: skip
+    model = tmp_path / "pointed.urdf"
+    model.write_text(text, encoding="utf-8")
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "rate", str(model), "--torque", "a=10", "--torque",
+         "b=-50", "--initial-speed", "a=100"],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 2, out.stderr
+    errors = [line for line in out.stderr.splitlines() if line.startswith("error: ")]
+    assert len(errors) == 1 and "Traceback" not in out.stderr
+    assert "g1 (12 teeth, x = +0.900)" in errors[0] and "pointed teeth" in errors[0]
