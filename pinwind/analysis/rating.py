@@ -238,11 +238,13 @@ def _warn_if_not_steady(gearbox: Gearbox, result: Result, at: str) -> None:
 
     if not len(result):
         return
-    names = list(result.joint_names)
     torque = result.torque.mean(axis=0) if at == "mean" else result.torque[-1]
     speed = result.speed.mean(axis=0) if at == "mean" else result.speed[-1]
-    damping = np.array([gearbox.model.damping[gearbox.v_index(n)] for n in names])
-    net = dict(zip(names, (torque - damping * speed).tolist(), strict=True))
+    net = {
+        name: float(torque[i] - gearbox.model.damping[gearbox.v_index(name)] * speed[i])
+        for i, name in enumerate(result.joint_names)
+        if name in gearbox.joint_names
+    }
     when = "on average over the run" if at == "mean" else f"at t = {result.time[-1]:g} s"
     for found in imbalances(gearbox, net, tolerance=STEADY_TOLERANCE):
         warnings.warn(
