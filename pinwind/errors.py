@@ -252,8 +252,36 @@ class SchedulerUnreachable(InputError):
         )
 
 
+class TorquesUnbalanced(PinwindWarning):
+    """The applied torques leave a net torque along a gear train that nothing holds.
+
+    The train accelerates for the whole run (``dynamics/torque_balance.py``); the message names
+    the net torque, at which joint, and the torque that balances it from the model's ratio.
+    """
+
+
+class StepTooCoarse(PinwindWarning):
+    """The time step leaves too few samples in the run, or does not resolve the model's modes."""
+
+
 class InvalidGearTrain(InputError):
     """Builder arguments describe a gear train that cannot exist (teeth, module, layout)."""
+
+
+class PointedTeeth(InvalidGearTrain):
+    """A gear's flanks meet below its tip circle: no rating method applies to such a tooth."""
+
+
+class UndercutGear(PinwindWarning):
+    """A rated gear is undercut: the bending ratings assume a full flank above the base circle."""
+
+
+class RatingOfTransient(PinwindWarning):
+    """A rating's loads and speed come from a run that accelerates at the rated sample."""
+
+
+class RatingAtZeroSpeed(PinwindWarning):
+    """A rating at pitch-line speed 0: the dynamic factors take their static value."""
 
 
 class PlanetsCollide(InvalidGearTrain):

@@ -17,13 +17,21 @@ planet's meshes (the planet's joint speed is relative to the carrier), a little 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pinwind.errors import InputError
+from pinwind.errors import (
+    InputError,
+    PointedTeeth,
+    RatingAtZeroSpeed,
+    RatingOfTransient,
+    UndercutGear,
+)
+from pinwind.gears.checks import check_pair as check_gear_pair
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.hertz import hertz_along_path
 from pinwind.gears.involute import pitch_radius
@@ -146,6 +154,7 @@ def rate_pair(
             f"mesh {mesh or pair.names}: the normal force is {normal_force} N; a rating needs a "
             "loaded mesh (apply torques so that the teeth carry load)"
         )
+    _check_geometry(pair, mesh or "–".join(pair.names))
     load = MeshLoad(pair.tangential_force(normal_force), pitch_line_speed, normal_force)
     hertz = hertz_along_path(pair, normal_force)
     return MeshRating(
@@ -184,6 +193,7 @@ def rate(
     """
     if at not in ("last", "max", "mean"):
         raise InputError(f'at = "{at}"; choose "last", "max" or "mean"')
+    _warn_if_not_steady(gearbox, result, at)
     ratings = []
     for mesh in gearbox.meshes:
         normal = result.mesh(mesh.name).normal
@@ -195,7 +205,77 @@ def rate(
         ratings.append(
             rate_pair(pair, force, pitch_line_speed=speed, iso=iso, agma=agma, mesh=mesh.name)
         )
+    if ratings and max(r.load.pitch_line_speed for r in ratings) < STANDSTILL_SPEED:
+        warnings.warn(
+            RatingAtZeroSpeed(
+                "the run stands still at the rated sample: every pitch-line speed is below "
+                f"{STANDSTILL_SPEED * 1e6:g} µm/s, so "
+                "the dynamic factors (ISO K_v, AGMA K_v) are ≈ 1, their static value, and the "
+                "rating leaves out the dynamic load of the operating speed; start the run at "
+                "that speed (initial_speeds, --initial-speed carrier=14.2)"
+            ),
+            stacklevel=2,
+        )
     return GearboxRating(ratings, summarise(ratings))
+
+
+#: Pitch-line speed [m/s] below which a rating is at standstill (its dynamic factors ≈ 1).
+STANDSTILL_SPEED = 1e-6
+
+#: A rated sample whose net torque along the train exceeds this fraction of the largest torque
+#: on it is a transient (``_warn_if_not_steady``).
+STEADY_TOLERANCE = 0.05
+
+
+def _warn_if_not_steady(gearbox: Gearbox, result: Result, at: str) -> None:
+    """Warn when the train accelerates at the rated sample (the mean of the run for "mean").
+
+    The net torques from outside the train (``Result.torque``: applied, drivers, generators,
+    rotors) less the bearing damping leave J_eq dω/dt along each mode of the train
+    (``dynamics/torque_balance.py``); a steady load leaves nothing.
+    """
+    from pinwind.dynamics.torque_balance import imbalances
+
+    if not len(result):
+        return
+    torque = result.torque.mean(axis=0) if at == "mean" else result.torque[-1]
+    speed = result.speed.mean(axis=0) if at == "mean" else result.speed[-1]
+    net = {
+        name: float(torque[i] - gearbox.model.damping[gearbox.v_index(name)] * speed[i])
+        for i, name in enumerate(result.joint_names)
+        if name in gearbox.joint_names
+    }
+    when = "on average over the run" if at == "mean" else f"at t = {result.time[-1]:g} s"
+    for found in imbalances(gearbox, net, tolerance=STEADY_TOLERANCE):
+        warnings.warn(
+            RatingOfTransient(
+                f"the train accelerates {when}: the torques on it leave {found.net_torque:.4g} "
+                f'N·m at joint "{found.joint}" (referred through the gear ratios), so the rated '
+                "mesh forces and pitch-line speeds are those of a transient, not of a steady "
+                "load; rate a run whose torques balance (simulate warns when they do not)"
+            ),
+            stacklevel=3,
+        )
+
+
+def _check_geometry(pair: GearPair, label: str) -> None:
+    """Refuse pointed teeth and warn of an undercut gear (``gears.checks.check_pair``).
+
+    Raises:
+        PointedTeeth: a gear's tip thickness is not positive.
+    """
+    for finding in check_gear_pair(pair):
+        if finding.check == "tip_thickness" and finding.severity == "error":
+            raise PointedTeeth(f"mesh {label}: {finding.message}; no rating applies to it")
+        if finding.check == "undercut":
+            warnings.warn(
+                UndercutGear(
+                    f"mesh {label}: {finding.message}. The ratings (AGMA 908 J, ISO Y_F) take "
+                    "the full involute flank, which an undercut tooth has lost at its root: "
+                    "its bending safety factors are too high"
+                ),
+                stacklevel=4,
+            )
 
 
 def summarise(ratings: list[MeshRating]) -> dict[str, GearSummary]:

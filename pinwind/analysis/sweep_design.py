@@ -23,6 +23,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
+from pinwind.errors import InputError
 from pinwind.units import rpm_to_rad_s
 
 if TYPE_CHECKING:
@@ -56,6 +57,19 @@ class SweepSettings:
     material: str = "18CrNiMo7-6"
     duration: float = 0.01
     dt: float = 1e-3
+
+    def __post_init__(self) -> None:
+        """Refuse settings no design could be rated with, before any row is computed."""
+        alpha = math.degrees(self.pressure_angle)
+        if not (math.isfinite(alpha) and 0.0 < alpha < 45.0):
+            raise InputError(
+                f"--pressure-angle is {alpha:g}°; every design would fail: give a pressure "
+                "angle in (0, 45)° (20° is the ISO 53 standard; 000 uses 24.5°)"
+            )
+        width = self.face_width if self.face_width_factor is None else self.face_width_factor
+        if not (math.isfinite(width) and width > 0.0):
+            option = "--face-width" if self.face_width_factor is None else "--face-width-factor"
+            raise InputError(f"{option} is {width:g}; give a finite positive number")
 
     def width(self, module: float) -> float:
         """Face width of a design of module ``module`` [m]."""

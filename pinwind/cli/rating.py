@@ -48,14 +48,15 @@ def rate(
 
     values = {"model": str(model), "duration": duration, "dt": dt}
     scenario = sc.build(values | load_values(torque, speed, None, initial_speed), flags=FLAGS)
-    gearbox = pinwind.load(model)
+    with warnings_as_lines():
+        gearbox = pinwind.load(model)
     materials = parse_pairs(material, "--material")
     if "all" in materials:
         chosen = materials.pop("all")
         materials = {g: chosen for g in gearbox.gears} | materials
     with warnings_as_lines():
         res = sc.run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
-    rating = rate_result(gearbox, res, at=at, materials=materials)
+        rating = rate_result(gearbox, res, at=at, materials=materials)
     if as_json:
         print(json.dumps(rating.as_dict(), indent=1))
         return

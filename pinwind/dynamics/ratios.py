@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 import pinocchio as pin
@@ -26,7 +26,7 @@ def speed_ratio(gearbox: Gearbox, output: str, reference: str) -> float:
     for name in (output, reference):
         if name not in gearbox.joint_names:
             raise UnknownJoint(name, "speed_ratio", gearbox.joint_names)
-    rows = np.vstack([_mesh_rows(gearbox), _selector(gearbox, gearbox.locked_joints)])
+    rows = np.vstack([mesh_rows(gearbox), selector(gearbox, gearbox.locked_joints)])
     _, sv, vt = np.linalg.svd(rows)
     rank = _rank(sv)
     free = gearbox.model.nv - rank
@@ -60,8 +60,8 @@ def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
     for name in given:
         if name not in gearbox.joint_names:
             raise UnknownJoint(name, "initial speeds", gearbox.joint_names)
-    jac = _mesh_rows(gearbox)
-    a = np.vstack([jac, _selector(gearbox, [*gearbox.locked_joints, *given])])
+    jac = mesh_rows(gearbox)
+    a = np.vstack([jac, selector(gearbox, [*gearbox.locked_joints, *given])])
     b = np.concatenate(
         [np.zeros(len(jac)), np.zeros(len(gearbox.locked_joints)), list(given.values())]
     )
@@ -82,7 +82,49 @@ def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
     return particular
 
 
-def _mesh_rows(gearbox: Gearbox) -> np.ndarray:
+def train_modes(
+    gearbox: Gearbox, held: Iterable[str] = (), extra_rows: np.ndarray | None = None
+) -> np.ndarray:
+    """The motions the gear train allows at the reference pose, one mode per row, (f, nv).
+
+    Joint speeds v with J v = 0 for every mesh, the locked bearings and the joints ``held`` at
+    zero speed, and ``extra_rows`` @ v = 0 (e.g. torsional springs kept undeflected). The basis
+    is in reduced row echelon form: each mode turns its own pivot joint at speed 1 with the other
+    modes' pivot joints still, so that trains that share no joint get modes of their own.
+    """
+    rows = [mesh_rows(gearbox), selector(gearbox, [*gearbox.locked_joints, *held])]
+    if extra_rows is not None:
+        rows.append(np.asarray(extra_rows, dtype=float).reshape(-1, gearbox.model.nv))
+    a = np.vstack(rows)
+    nv = gearbox.model.nv
+    if a.shape[0] == 0:
+        return np.eye(nv)
+    _, sv, vt = np.linalg.svd(a)
+    return _row_echelon(vt[_rank(sv) :])
+
+
+def _row_echelon(basis: np.ndarray) -> np.ndarray:
+    """Reduced row echelon form of the rows of ``basis`` (Gauss-Jordan, partial pivoting)."""
+    b = basis.copy()
+    scale = float(np.abs(b).max()) if b.size else 0.0
+    pivot_row = 0
+    for column in range(b.shape[1]):
+        if pivot_row == b.shape[0]:
+            break
+        best = pivot_row + int(np.argmax(np.abs(b[pivot_row:, column])))
+        if abs(b[best, column]) <= 1e-9 * scale:
+            continue
+        b[[pivot_row, best]] = b[[best, pivot_row]]
+        b[pivot_row] /= b[pivot_row, column]
+        for other in range(b.shape[0]):
+            if other != pivot_row:
+                b[other] -= b[other, column] * b[pivot_row]
+        pivot_row += 1
+    b[np.abs(b) < 1e-12] = 0.0
+    return b
+
+
+def mesh_rows(gearbox: Gearbox) -> np.ndarray:
     """The mesh rows J (J v = 0) at the reference pose, (meshes, nv).
 
     The rows of the flanks the step loop starts on (+1); with fixed axes both flanks agree.
@@ -97,7 +139,7 @@ def _mesh_rows(gearbox: Gearbox) -> np.ndarray:
     return jac
 
 
-def _selector(gearbox: Gearbox, names: list[str]) -> np.ndarray:
+def selector(gearbox: Gearbox, names: list[str]) -> np.ndarray:
     """Rows that pick the speeds of the joints ``names``, (len(names), nv)."""
     rows = np.zeros((len(names), gearbox.model.nv))
     for i, name in enumerate(names):

@@ -46,7 +46,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from pinwind.dynamics import series
+from pinwind.dynamics import _native, series
 from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
 from pinwind.dynamics.elements import LoadElements, load_elements
 from pinwind.dynamics.integrator import Integrator
@@ -54,6 +54,9 @@ from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
+from pinwind.dynamics.time_step import coarse_step_notes
+from pinwind.dynamics.torque_balance import imbalances, representative_torque
+from pinwind.dynamics.torsional_modes import highest_spring_mode
 from pinwind.errors import (
     ConflictingInputs,
     Diverged,
@@ -62,6 +65,8 @@ from pinwind.errors import (
     NonFiniteInput,
     OutOfMemory,
     PinwindError,
+    StepTooCoarse,
+    TorquesUnbalanced,
 )
 from pinwind.interrupts import interrupts_deferred
 from pinwind.loads.generator import GeneratorLaw
@@ -414,6 +419,10 @@ def simulate(
         position_errors=position_errors,
         scheme=method,
     )
+    _warn_if_unbalanced(gearbox, torque_loads, speed_loads, elements, duration)
+    spring_mode = highest_spring_mode(gearbox, [d.joint for d in speed_loads])
+    for note in coarse_step_notes(duration, dt, spring_mode):
+        warnings.warn(StepTooCoarse(note), stacklevel=2)
     frames = body_frames(model)
     body_names = [model.frames[f].name for f in frames]
     samples = steps + 1
@@ -639,6 +648,35 @@ def _static_start(
         "displacement": float(status.displacement),
         "flank_switches": int(status.flank_switches),
     }
+
+
+def _warn_if_unbalanced(
+    gearbox: Gearbox,
+    torque_loads: list[JointLoad],
+    speed_loads: list[JointLoad],
+    elements: LoadElements,
+    duration: float,
+) -> None:
+    """Warn when the applied torques leave a net torque along a mode nothing holds.
+
+    Speed drivers, generators, rotors and damped bearings hold (or resist) the modes they act
+    on (``dynamics/torque_balance.py``); a torque signal counts by its ``representative_torque``.
+    """
+    held = [ld.joint for ld in speed_loads] + elements.rotor_names
+    held += [n for n in gearbox.joint_names if gearbox.model.damping[gearbox.v_index(n)] > 0.0]
+    torques: dict[str, float] = {}
+    for ld in torque_loads:
+        value = representative_torque(ld.signal, duration)
+        if not math.isfinite(value):
+            return  # the run itself reports the non-finite torque with its step
+        torques[ld.joint] = torques.get(ld.joint, 0.0) + value
+    for spec, name in zip(elements.generators, elements.generator_names, strict=True):
+        if spec.law == _native.GeneratorLaw.constant:  # T_gen > 0 generating brakes the joint
+            torques[name] = torques.get(name, 0.0) - spec.torque
+        else:  # a law whose torque grows with the speed holds the train at some speed
+            held.append(name)
+    for imbalance in imbalances(gearbox, torques, held=held):
+        warnings.warn(TorquesUnbalanced(imbalance.text()), stacklevel=3)
 
 
 def _end_all(observers: list[RunObserver], final: Result, status: str) -> None:

@@ -168,3 +168,35 @@ def dt_advice(
         accurate_dt=dt_for_damping_ratio(omega, ACCURATE_FRACTION * physical_ratio, scheme),
         scheme=scheme,
     )
+
+
+def coarse_step_notes(duration: float, dt: float, spring_mode: float = 0.0) -> list[str]:
+    """What a dt too coarse for the run or the model misses, one line each (empty: nothing).
+
+    A run of fewer than ``RESOLVING_STEPS`` steps cannot show how its loads change (``--dt 1``
+    on a 2 s run gives two steps); a dt longer than half the period of the highest
+    torsional-spring mode (``torsional_modes.highest_spring_mode``, ``spring_mode`` [Hz]) has
+    fewer samples than the Nyquist rate of that oscillation, so the run cannot show it at all.
+    The compliant meshes' modes are ``compliant._warn_if_damped_numerically``'s.
+
+    Args:
+        duration: simulated time [s]; dt: time step [s].
+        spring_mode: frequency of the highest torsional-spring mode [Hz] (0: none).
+    """
+    notes = []
+    steps = round(duration / dt)
+    if steps < RESOLVING_STEPS:
+        notes.append(
+            f"dt = {dt:g} s leaves {steps} step{'s' if steps != 1 else ''} in the {duration:g} s "
+            f"run: too few samples to show how the loads change; give dt ≤ "
+            f"{duration / RESOLVING_STEPS:.3g} s (at least {RESOLVING_STEPS} steps)"
+        )
+    if spring_mode > 0.0 and dt > 0.5 / spring_mode:
+        period = 1.0 / spring_mode
+        notes.append(
+            f"dt = {dt:g} s is longer than half the period of the highest torsional-spring mode "
+            f"({spring_mode:.4g} Hz, period {period:.3g} s): the samples cannot show that "
+            f"oscillation and the step sets its response; dt ≤ {period / RESOLVING_STEPS:.2g} s "
+            f"({RESOLVING_STEPS} steps per period) resolves it"
+        )
+    return notes

@@ -175,6 +175,15 @@ def check_gear(
     limit = MIN_TIP_THICKNESS["case_hardened" if case_hardened else "through_hardened"] * module
     if math.isfinite(s_an) and s_an < limit:
         pointed = s_an <= 0.0
+        need = (
+            f"{limit * 1e3:.3f} mm ({limit / module:.1f} m_n"
+            f"{', case hardened' if case_hardened else ''})"
+        )
+        verdict = (
+            f"not positive: the flanks cross below the tip (pointed teeth); it needs {need}"
+            if pointed
+            else f"below {need}"
+        )
         findings.append(
             Finding(
                 "tip_thickness",
@@ -183,10 +192,7 @@ def check_gear(
                 s_an,
                 limit,
                 f"{name} ({teeth} teeth, x = {profile_shift:+.3f}): tip thickness "
-                f"{s_an * 1e3:.3f} mm is {'not positive (pointed teeth)' if pointed else 'below'}"
-                f" {limit * 1e3:.3f} mm ({limit / module:.1f} m_n"
-                f"{', case hardened' if case_hardened else ''}); reduce the profile shift or "
-                "shorten the tip",
+                f"{s_an * 1e3:.3f} mm is {verdict}; reduce the profile shift or shorten the tip",
             )
         )
     return findings

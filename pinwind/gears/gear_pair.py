@@ -85,9 +85,26 @@ class GearPair:
             raise InvalidGearTrain(
                 "two internal gears cannot mesh; set internal_1 or internal_2, not both"
             )
+        label = f"{self.names[0]}–{self.names[1]}"
+        for what, value in (
+            ("module", self.module),
+            ("face width", self.face_width),
+            ("profile shift x1", self.profile_shift_1),
+            ("profile shift x2", self.profile_shift_2),
+            ("helix angle", self.helix_angle),
+            ("pressure angle", self.pressure_angle),
+        ):
+            if not math.isfinite(value):
+                raise InvalidGearTrain(f"{label}: the {what} is {value}; give a finite number")
         if self.module <= 0 or self.face_width <= 0:
             raise InvalidGearTrain(
-                f"module ({self.module} m) and face width ({self.face_width} m) must be positive"
+                f"{label}: module ({self.module} m) and face width ({self.face_width} m) must be "
+                "positive"
+            )
+        if not 0.0 < self.pressure_angle < math.radians(45.0):
+            raise InvalidGearTrain(
+                f"{label}: the pressure angle is {math.degrees(self.pressure_angle):g}°; it must "
+                "lie in (0, 45)° (20° is the ISO 53 standard; 000 uses 24.5°)"
             )
         object.__setattr__(self, "material_1", material(self.material_1))
         object.__setattr__(self, "material_2", material(self.material_2))

@@ -2,16 +2,27 @@
 
 import json
 import math
+import re
 import subprocess
 import sys
+import warnings
 
 import pytest
+from numpy.testing import assert_allclose
 
 import pinwind
-from pinwind.analysis.rating import rate
+from pinwind.analysis.rating import rate, rate_pair
+from pinwind.errors import (
+    InvalidGearTrain,
+    PinwindWarning,
+    PointedTeeth,
+    RatingAtZeroSpeed,
+    RatingOfTransient,
+    UndercutGear,
+)
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.rating_agma import agma_rating
-from tests.conftest import MODELS
+from tests.conftest import MODELS, two_gear_urdf
 
 TORQUES = {"carrier": 1e6, "sun": -1e6 / 6}
 
@@ -72,3 +83,114 @@ def test_rate_command_refuses_a_joint_both_driven_and_given_a_start_speed(tmp_pa
     )  # fmt: skip
     assert out.returncode == 2
     assert "--speed" in out.stderr and "--initial-speed" in out.stderr and "carrier" in out.stderr
+
+
+# --- implausible runs and gears (issue 25 item 6) -----------------------------------------------
+
+#: Saleh's carrier at its rated 14.2 rpm [rad/s].
+CARRIER_SPEED = 14.2 * 2 * math.pi / 60
+
+
+def test_rating_an_accelerating_run_warns_with_the_net_torque_at_the_carrier(saleh):
+    gb, _ = saleh
+    unbalanced = pinwind.simulate(
+        gb, duration=0.01, dt=1e-3, torques={"carrier": 1e6},
+        initial_speeds={"carrier": CARRIER_SPEED},
+    )  # fmt: skip
+    with pytest.warns(RatingOfTransient, match=r'leave 1e\+06 N·m at joint "carrier"'):
+        rate(gb, unbalanced)
+
+
+def test_rating_a_steady_run_at_speed_warns_nothing(saleh):
+    gb, _ = saleh
+    steady = pinwind.simulate(
+        gb, duration=0.01, dt=1e-3, torques=TORQUES, initial_speeds={"carrier": CARRIER_SPEED}
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PinwindWarning)
+        rate(gb, steady)
+
+
+def test_rating_a_run_at_standstill_warns_that_the_dynamic_factors_are_static(saleh):
+    gb, res = saleh  # balanced torques, no initial speed: every joint stands still
+    with pytest.warns(RatingAtZeroSpeed, match="pitch-line speed is below 1 µm/s"):
+        rating = rate(gb, res)
+    for m in rating.meshes:
+        assert_allclose([m.iso.factors.K_v, m.agma.factors.K_v], 1.0, rtol=1e-6)
+
+
+def test_rating_an_undercut_pinion_warns_with_the_undercut_limit():
+    # 15 teeth at 20°: x_min = 1 − 15 sin²20° / 2 = 0.1227 (DIN 3960, ISO 53 profile A tool)
+    pair = GearPair(15, 30, module=0.003, pressure_angle=math.radians(20.0), face_width=0.02)
+    x_min = 1.0 - 15 * math.sin(math.radians(20.0)) ** 2 / 2.0
+    with pytest.warns(UndercutGear, match=re.escape(f"unless x ≥ {x_min:+.3f}")):
+        rate_pair(pair, 1000.0, pitch_line_speed=5.0)
+
+
+def test_rating_pointed_teeth_is_refused_naming_the_gear():
+    # 12 teeth with x = 0.9: the flanks cross below the tip circle (s_at < 0)
+    pair = GearPair(
+        12, 60, module=0.003, pressure_angle=math.radians(20.0), face_width=0.02,
+        profile_shift_1=0.9, names=("pinion", "wheel"),
+    )  # fmt: skip
+    with pytest.raises(PointedTeeth, match=r"pinion \(12 teeth, x = \+0.900\).*pointed teeth"):
+        rate_pair(pair, 1000.0, pitch_line_speed=5.0)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"face_width": math.nan}, "pinion–wheel: the face width is nan"),
+        ({"pressure_angle": 0.0}, "pinion–wheel: the pressure angle is 0°"),
+    ],
+)
+def test_a_pair_with_a_nan_face_width_or_no_pressure_angle_is_refused(change, message):
+    values = {"module": 0.003, "pressure_angle": math.radians(20.0), "face_width": 0.02} | change
+    with pytest.raises(InvalidGearTrain, match=message):
+        GearPair(20, 40, **values)
+
+
+def test_sweep_with_a_zero_pressure_angle_is_refused_before_any_row(tmp_path):
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "sweep", "planetary", "--center-distance", "540",
+         "--module", "15", "--ratio", "6:6.4", "--pressure-angle", "0", "-o",
+         str(tmp_path / "designs.csv"), "--workers", "1"],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 2, out.stderr
+    assert out.stderr.count("\n") == 1 and "--pressure-angle is 0°" in out.stderr
+    assert not (tmp_path / "designs.csv").exists()
+
+
+def test_rate_command_warns_of_an_unbalanced_run_in_one_line_each(tmp_path):
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "rate", str(MODELS / "saleh2017_planetary.urdf"),
+         "--torque", "carrier=1e6", "--initial-speed", "carrier=14.2", "--duration", "0.01",
+         "--json"],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    lines = out.stderr.splitlines()
+    assert len(lines) == 2 and all(line.startswith("warning: ") for line in lines)
+    assert "do not balance through the gear train" in lines[0]
+    assert "the train accelerates at t = 0.01 s" in lines[1]
+
+
+def test_rate_command_refuses_a_model_with_pointed_teeth_in_one_line(tmp_path):
+    # g1: 12 teeth with x = 0.9 on a 12/60 pair of module 2 mm, at the centre distance of its
+    # shifts (pinwind refuses the model otherwise); its flanks cross below the tip.
+    text = two_gear_urdf(teeth=("12", "60"), centre_distance=0.0736651).replace(
+        'face_width_mm="20" internal="false"/>', 'face_width_mm="20" internal="false" '
+        'profile_shift="0.9"/>', 1,
+    )  # fmt: skip
+    model = tmp_path / "pointed.urdf"
+    model.write_text(text, encoding="utf-8")
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "rate", str(model), "--torque", "a=10", "--torque",
+         "b=-50", "--initial-speed", "a=100"],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 2, out.stderr
+    errors = [line for line in out.stderr.splitlines() if line.startswith("error: ")]
+    assert len(errors) == 1 and "Traceback" not in out.stderr
+    assert "g1 (12 teeth, x = +0.900)" in errors[0] and "pointed teeth" in errors[0]
