@@ -177,6 +177,15 @@ def test_build_into_a_missing_folder_is_one_line_without_traceback(tmp_path):
     assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
 
 
+def test_build_of_planets_that_cannot_be_spaced_equally_warns_in_one_line(tmp_path):
+    # (24 + 118)/4 = 35.5 is not a whole number: the builder's warning, without its source line.
+    out = run("build", "planetary", "--sun", "24", "--planet", "47", "--ring", "118",
+              "--planets", "4", "-o", str(tmp_path / "m.urdf"))  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert "(24 + 118)/4 = 35.5 is not a whole number" in out.stderr
+    assert out.stderr.count("\n") == 1 and "planetary.py" not in out.stderr
+
+
 def test_help_keeps_the_units_in_brackets_and_every_option_whole():
     out = run("simulate", "--help")
     assert out.returncode == 0, out.stderr

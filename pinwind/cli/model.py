@@ -76,16 +76,17 @@ def build_planetary(
             raise InputError(f'--parallel "{item}" must be WHEEL/PINION teeth, e.g. 83/23') from err
         if not sep:
             raise InputError(f'--parallel "{item}" must be WHEEL/PINION teeth, e.g. 83/23')
-    path = write_planetary(
-        output,
-        sun=sun,
-        planet=planet,
-        ring=ring,
-        planets=planets,
-        module=module * 1e-3,
-        pressure_angle=math.radians(pressure_angle),
-        face_width=face_width * 1e-3,
-        parallel=stages,
-        name=name,
-    )
+    with warnings_as_lines():  # the builder's warnings as one line each, not with its source
+        path = write_planetary(
+            output,
+            sun=sun,
+            planet=planet,
+            ring=ring,
+            planets=planets,
+            module=module * 1e-3,
+            pressure_angle=math.radians(pressure_angle),
+            face_width=face_width * 1e-3,
+            parallel=stages,
+            name=name,
+        )
     say(f"wrote {escape(str(path))}")
