@@ -522,6 +522,23 @@ class ExportFailed(PinwindError):
         )
 
 
+class FigureFailed(PinwindError):
+    """A figure could not be written; no partial file is left at its path.
+
+    Attributes:
+        path: the figure (or folder) asked for.
+        cause: what the operating system said.
+    """
+
+    def __init__(self, path: str, cause: str):
+        self.path = str(path)
+        self.cause = cause
+        super().__init__(
+            f"{self.path}: cannot write the figure ({cause}); the figures written before it are "
+            "kept. Give --out-dir a folder you can write to, with free space"
+        )
+
+
 # --- replay --------------------------------------------------------------------------------------
 
 

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from pinwind.errors import InputError
+from pinwind.errors import FigureFailed, InputError
 from pinwind.io.log_reader import LogReader
 from pinwind.io.overview import DecimatedPanel, PanelOverview
 from pinwind.io.panels import GROUPS, model_of_log
@@ -123,6 +123,7 @@ def plot_log(
     Raises:
         LogError: the log cannot be read.
         InputError: an unknown format, or no sample in the window.
+        FigureFailed: a figure or the folder cannot be written (a full disk, no permission).
     """
     import matplotlib
 
@@ -156,7 +157,10 @@ def plot_log(
                 f"the run's duration {duration} s"
             )
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise FigureFailed(str(out), err.strerror or str(err)) from err
     all_panels = overview.panels()
     note = caption(meta, status, path, shown, start, stop)
     written = []
@@ -175,7 +179,19 @@ def plot_log(
         fig.tight_layout(rect=(0, 0.45 / (1.0 + 2.3 * rows), 1, 1))
         fig.text(0.01, 0.005, note, fontsize=6.5, va="bottom", ha="left", color="0.25")
         file = out / f"{number:02d}_{group.replace(' ', '_')}.{format}"
-        fig.savefig(file, dpi=dpi)
+        _save(fig, file, dpi)
         plt.close(fig)
         written.append(file)
     return written
+
+
+def _save(fig: Any, file: Path, dpi: int) -> None:
+    """Writes a figure under a hidden name renamed at the end, so that a full disk or a failed
+    write leaves no partial figure; raises ``FigureFailed`` naming the file."""
+    part = file.with_name(f".{file.name}.{os.getpid()}.part")
+    try:
+        fig.savefig(part, dpi=dpi, format=file.suffix.lstrip("."))
+        os.replace(part, file)
+    except OSError as err:
+        part.unlink(missing_ok=True)
+        raise FigureFailed(str(file), err.strerror or str(err)) from err

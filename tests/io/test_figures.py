@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pinwind.errors import InputError
+from pinwind.errors import FigureFailed, InputError
 from pinwind.io.figures import plot_log
 from tests.io.test_cli_log import run
 
@@ -58,6 +58,31 @@ def test_svg_and_pdf_by_format_and_window(logged_run, tmp_path):
     pdf = plot_log(logged_run.path, tmp_path, format="PDF", groups=["energy"])
     assert pdf[0].name == "09_energy.pdf"
     assert pdf[0].read_bytes()[:5] == b"%PDF-"
+
+
+def test_a_full_disk_stops_the_plot_in_one_error_and_leaves_no_partial_figure(
+    logged_run, tmp_path, monkeypatch
+):
+    import errno
+
+    from matplotlib.figure import Figure
+
+    written = []
+
+    def savefig(self, fname, **kwargs):  # the second figure meets a full disk
+        if written:
+            with open(fname, "wb") as f:
+                f.write(b"partial")
+            raise OSError(errno.ENOSPC, "No space left on device")
+        written.append(fname)
+        with open(fname, "wb") as f:
+            f.write(b"png")
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    with pytest.raises(FigureFailed, match="No space left on device") as failed:
+        plot_log(logged_run.path, tmp_path)
+    assert failed.value.path.endswith("02_torques_and_power.png")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["01_speeds.png"]
 
 
 def test_unknown_format_is_refused(logged_run, tmp_path):
