@@ -186,8 +186,11 @@ def plot_log(
 
 
 def _save(fig: Any, file: Path, dpi: int) -> None:
-    """Writes a figure under a hidden name renamed at the end, so that a full disk or a failed
-    write leaves no partial figure; raises ``FigureFailed`` naming the file."""
+    """Writes a figure under a hidden name, renamed at the end.
+
+    A full disk or a failed write then leaves no partial figure; raises ``FigureFailed`` naming
+    the file.
+    """
     part = file.with_name(f".{file.name}.{os.getpid()}.part")
     try:
         fig.savefig(part, dpi=dpi, format=file.suffix.lstrip("."))
