@@ -301,32 +301,35 @@ class PlanetsCollide(InvalidGearTrain):
 # --- fatigue life ------------------------------------------------------------------------------
 
 
-class InvalidSNCurve(InputError):
-    """An S-N curve parameter that cannot describe a fatigue curve.
+class InvalidFatigueInput(InputError):
+    """A fatigue input (an S-N curve, a wind site) with a parameter that cannot hold.
 
     Attributes:
         parameter: the parameter at fault, e.g. ``"slope exponent m"``.
         value: its value.
     """
 
-    def __init__(self, parameter: str, value: object, requirement: str, fix: str):
-        self.parameter = parameter
-        self.value = value
-        super().__init__(f"S-N curve: {parameter} is {value!r} but must be {requirement}; {fix}")
-
-
-class InvalidWindSite(InputError):
-    """Wind-site data (Weibull parameters, bins, hours, turbulence) that cannot hold.
-
-    Attributes:
-        parameter: the parameter at fault, e.g. ``"Weibull shape k"``.
-        value: its value.
-    """
+    #: What the parameter belongs to, the message's first words.
+    subject = "fatigue input"
 
     def __init__(self, parameter: str, value: object, requirement: str, fix: str):
         self.parameter = parameter
         self.value = value
-        super().__init__(f"wind site: {parameter} is {value!r} but must be {requirement}; {fix}")
+        super().__init__(
+            f"{self.subject}: {parameter} is {value!r} but must be {requirement}; {fix}"
+        )
+
+
+class InvalidSNCurve(InvalidFatigueInput):
+    """An S-N curve parameter that cannot describe a fatigue curve."""
+
+    subject = "S-N curve"
+
+
+class InvalidWindSite(InvalidFatigueInput):
+    """Wind-site data (Weibull parameters, bins, hours, turbulence) that cannot hold."""
+
+    subject = "wind site"
 
 
 # --- running -----------------------------------------------------------------------------------

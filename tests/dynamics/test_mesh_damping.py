@@ -25,33 +25,13 @@ from pinwind.dynamics import Integrator
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
+from tests.dynamics.test_time_stepping import K_MESH, K_SINGLE, MASS, OMEGA, R_BA, R_BB
 
-MODULE, ALPHA = 0.002, math.radians(20.0)
-Z_A, Z_B = 20, 40
-J_A, J_B = 0.0015, 0.006
-R_BA = Z_A * MODULE * math.cos(ALPHA) / 2
-R_BB = Z_B * MODULE * math.cos(ALPHA) / 2
-BASE_PITCH = math.pi * MODULE * math.cos(ALPHA)
-K_SINGLE = 1e8
 #: Tooth force of the torque pulse [N].
 PULSE = 1000.0
 ZETA = 0.05
 STEPS_PER_PERIOD = 100
 PERIODS = 6
-
-
-def _contact_ratio() -> float:
-    """ε_α by hand: (√(r_a1² − r_b1²) + √(r_a2² − r_b2²) − a sin α) / p_b."""
-    r_a1, r_a2 = Z_A * MODULE / 2 + MODULE, Z_B * MODULE / 2 + MODULE
-    a = (Z_A + Z_B) * MODULE / 2
-    length = math.sqrt(r_a1**2 - R_BA**2) + math.sqrt(r_a2**2 - R_BB**2) - a * math.sin(ALPHA)
-    return length / BASE_PITCH
-
-
-#: ISO 6336-1's mean mesh stiffness c_γα = c′ (0.75 ε_α + 0.25) of a constant variation [N/m].
-K_MESH = K_SINGLE * (0.75 * _contact_ratio() + 0.25)
-MASS = 1.0 / (R_BA**2 / J_A + R_BB**2 / J_B)
-OMEGA = math.sqrt(K_MESH / MASS)
 #: The damped period 2π / (ω √(1 − ζ²)) [s].
 PERIOD = 2 * math.pi / (OMEGA * math.sqrt(1 - ZETA**2))
 
