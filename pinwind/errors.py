@@ -506,40 +506,44 @@ class LogWriteFailed(LogError):
         )
 
 
-class ExportFailed(PinwindError):
-    """A table could not be written; nothing is left at its path.
+class OutputFailed(PinwindError):
+    """An output file (a table, a figure) could not be written; no partial file is left.
 
     A missing folder, a file where a folder should be, no permission, a full disk.
 
     Attributes:
-        path: the table asked for.
+        path: the file asked for.
         cause: what the operating system said.
     """
+
+    #: What was being written, and what is left and how to fix it (the message's words).
+    what = "the output"
+    advice = "nothing was written. Give a path in an existing folder you can write to"
 
     def __init__(self, path: str, cause: str):
         self.path = str(path)
         self.cause = cause
-        super().__init__(
-            f"{self.path}: cannot write the table ({cause}); nothing was written. Give --out a "
-            "path in an existing folder you can write to, with free space"
-        )
+        super().__init__(f"{self.path}: cannot write {self.what} ({cause}); {self.advice}")
 
 
-class FigureFailed(PinwindError):
-    """A figure could not be written; no partial file is left at its path.
+class ExportFailed(OutputFailed):
+    """A table could not be written (``pinwind export``); nothing is left at its path."""
 
-    Attributes:
-        path: the figure (or folder) asked for.
-        cause: what the operating system said.
-    """
+    what = "the table"
+    advice = (
+        "nothing was written. Give --out a path in an existing folder you can write to, with "
+        "free space"
+    )
 
-    def __init__(self, path: str, cause: str):
-        self.path = str(path)
-        self.cause = cause
-        super().__init__(
-            f"{self.path}: cannot write the figure ({cause}); the figures written before it are "
-            "kept. Give --out-dir a folder you can write to, with free space"
-        )
+
+class FigureFailed(OutputFailed):
+    """A figure could not be written (``pinwind plot``); no partial file is left at its path."""
+
+    what = "the figure"
+    advice = (
+        "the figures written before it are kept. Give --out-dir a folder you can write to, with "
+        "free space"
+    )
 
 
 # --- replay --------------------------------------------------------------------------------------
