@@ -247,3 +247,22 @@ def test_summary_counts_every_step_when_only_some_samples_are_kept():
         " ".join(proc.stdout.split())
     )
     assert "Gear meshes over the run" in proc.stdout
+
+
+def test_modes_lists_the_shaft_and_mesh_modes_of_the_cai_pair():
+    out = run("modes", str(MODELS / "cai_spur_pair.urdf"), "--json")
+    assert out.returncode == 0, out.stderr
+    import json
+
+    modes = [m for m in json.loads(out.stdout) if m["frequency_hz"] > 0.0]
+    # Two shaft-spring modes and the mesh mode; the mesh mode's strain is all in the mesh.
+    assert len(modes) == 3
+    assert max(modes[-1]["strain_share"], key=modes[-1]["strain_share"].get) == "gear_pair"
+
+
+def test_campbell_refuses_a_speed_range_without_a_colon_in_one_line():
+    out = run("campbell", str(MODELS / "cai_spur_pair.urdf"), "--joint", "input_shaft",
+              "--speed-range", "400")  # fmt: skip
+    assert out.returncode == 2
+    assert '--speed-range "400": give A:B in rpm' in out.stderr
+    assert "Traceback" not in out.stderr

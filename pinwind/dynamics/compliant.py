@@ -47,6 +47,12 @@ import pinocchio as pin
 from pinwind.dynamics import _native
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
+from pinwind.dynamics.normal_modes import (
+    SpringElement,
+    element_matrices,
+    free_motions,
+    natural_modes,
+)
 from pinwind.dynamics.time_step import DEFAULT_SCHEME, RESOLVING_STEPS, dt_advice
 from pinwind.errors import InputError, PinwindWarning, UnknownElement
 from pinwind.gears.gear_pair import GearPair
@@ -199,7 +205,7 @@ def mesh_setup(
     meshes: list[Mesh],
     *,
     driver_index: list[int],
-    dt: float,
+    dt: float | None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
     scheme: Integrator = DEFAULT_SCHEME,
 ) -> MeshSetup:
@@ -208,7 +214,7 @@ def mesh_setup(
     Args:
         meshes: the run's meshes (``mesh_choices``).
         driver_index: velocity indices of the speed drivers and locks (for the mesh modes).
-        dt: time step [s] (for the coarse-step warning).
+        dt: time step [s] (for the coarse-step warning); None: no run, no warning.
         position_errors: gear name → (tangential, radial) position error [m], replacing the
             model file's.
         scheme: the run's time step (for the numerical-damping warning).
@@ -293,7 +299,8 @@ def mesh_setup(
                 )
         frequency, damping = highest_mesh_mode_and_damping(mass, constraints, rows, setup)
         setup = MeshSetup(meshes, rigid, paths, compliant, frequency, damping)
-        _warn_if_damped_numerically(frequency, dt, damping, scheme)
+        if dt is not None:
+            _warn_if_damped_numerically(frequency, dt, damping, scheme)
     return setup
 
 
@@ -429,21 +436,12 @@ def _rigid_rows(rows, rigid: list[int], driver_index: list[int], nv: int):
     return np.array(out).reshape(-1, nv)
 
 
-def _free_motions(constraints: np.ndarray, nv: int) -> np.ndarray:
-    """Basis (nv, f) of the motions the rigid rows and drivers allow."""
-    if constraints.shape[0] == 0:
-        return np.eye(nv)
-    _, sv, vt = np.linalg.svd(constraints)
-    rank = int(np.sum(sv > 1e-10 * sv[0]))
-    return vt[rank:].T
-
-
 def effective_mass(mass: np.ndarray, constraints: np.ndarray, row: np.ndarray) -> float:
     """Mass along a mesh's line of action [kg]: 1 / (J M⁻¹ Jᵀ) over the allowed motions.
 
     Infinite when the allowed motions cannot deflect the mesh (the rigid rows fix it).
     """
-    basis = _free_motions(constraints, mass.shape[0])
+    basis = free_motions(constraints, mass.shape[0])
     j = row @ basis
     if basis.shape[1] == 0 or np.linalg.norm(j) <= 1e-9 * np.linalg.norm(row):
         return math.inf
@@ -466,11 +464,8 @@ def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> 
     the damping ratio of that mode φ is φᵀ C φ / (2 ω φᵀ M φ) with C = Σ cᵢ JᵢᵀJᵢ, the mesh
     dashpots (the damping the mode has physically, whatever the step).
     """
-    nv = mass.shape[0]
-    stiffness = np.zeros((nv, nv))
-    damping = np.zeros((nv, nv))
+    elements = []
     for spec, path in ((s, setup.paths[s.mesh]) for s in setup.compliant):
-        row = rows.row_front[spec.mesh]
         k_max = spec.stiffness
         if len(path.pair_stiffness):
             x = np.linspace(0.0, path.base_pitch, 400)
@@ -482,21 +477,13 @@ def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> 
                 )
                 for xi in x
             )
-        stiffness += k_max * np.outer(row, row)
-        damping += spec.damping * np.outer(row, row)
-    basis = _free_motions(constraints, nv)
-    if basis.shape[1] == 0:
+        row = rows.row_front[spec.mesh]
+        elements.append(SpringElement(str(spec.mesh), "mesh", k_max, spec.damping, row))
+    stiffness, damping = element_matrices(elements, mass.shape[0])
+    modes = natural_modes(mass, stiffness, damping, constraints)
+    if not modes:
         return 0.0, 0.0
-    from scipy.linalg import eigh
-
-    m = basis.T @ mass @ basis
-    omega2, modes = eigh(basis.T @ stiffness @ basis, m)
-    omega = math.sqrt(max(float(omega2[-1]), 0.0))
-    if omega == 0.0:
-        return 0.0, 0.0
-    phi = modes[:, -1]
-    ratio = float(phi @ basis.T @ damping @ basis @ phi) / (2.0 * omega * float(phi @ m @ phi))
-    return omega / (2.0 * math.pi), ratio
+    return modes[-1].frequency, modes[-1].damping_ratio
 
 
 def _warn_if_damped_numerically(

@@ -41,7 +41,9 @@ def speed_ratio(gearbox: Gearbox, output: str, reference: str) -> float:
     return float(mode[gearbox.v_index(output)] / ref)
 
 
-def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
+def train_speeds(
+    gearbox: Gearbox, given: Mapping[str, float], *, through_springs: bool = False
+) -> np.ndarray:
     """Joint speeds [rad/s] at the reference pose that the gear meshes allow, with ``given`` held.
 
     The given joints keep their speeds exactly, the locked bearings stay at zero, and every other
@@ -51,6 +53,8 @@ def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
 
     Args:
         given: joint name → speed [rad/s] (relative to the parent body).
+        through_springs: the torsional springs hold their two joints at one speed too (the
+            mean running speeds of spring-coupled shafts).
 
     Raises:
         UnknownJoint: a name is not a bearing of the gearbox.
@@ -61,6 +65,11 @@ def train_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
         if name not in gearbox.joint_names:
             raise UnknownJoint(name, "initial speeds", gearbox.joint_names)
     jac = mesh_rows(gearbox)
+    if through_springs and gearbox.springs:
+        twist = np.zeros((len(gearbox.springs), gearbox.model.nv))
+        for i, spring in enumerate(gearbox.springs):
+            twist[i, spring.v_index_1], twist[i, spring.v_index_2] = 1.0, -1.0
+        jac = np.vstack([jac, twist])
     a = np.vstack([jac, selector(gearbox, [*gearbox.locked_joints, *given])])
     b = np.concatenate(
         [np.zeros(len(jac)), np.zeros(len(gearbox.locked_joints)), list(given.values())]

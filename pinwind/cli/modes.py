@@ -1,0 +1,156 @@
+"""``pinwind modes`` and ``pinwind campbell``: natural modes of a model and its Campbell diagram."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich import box
+from rich.markup import escape
+from rich.table import Table
+
+from pinwind.cli.app import app, console, say, warnings_as_lines
+from pinwind.cli.flags import mesh_values
+from pinwind.errors import InputError
+from pinwind.units import RAD_S_PER_RPM
+
+MeshOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--mesh",
+        help="NAME=rigid|compliant (all for every mesh), repeatable. Default: all=compliant.",
+    ),
+]
+HoldOption = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--hold",
+        help="JOINT held at its speed (a speed driver, a stiff grid-connected generator); "
+        "repeatable.",
+    ),
+]
+
+
+def _meshes(mesh: list[str] | None) -> dict[str, str]:
+    return mesh_values(mesh) or {"all": "compliant"}
+
+
+def _shares(shares: dict[str, float], most: int = 3) -> str:
+    """The largest shares as ``name 52 %, ...``."""
+    ranked = sorted(shares.items(), key=lambda kv: -abs(kv[1]))[:most]
+    return ", ".join(f"{name} {100 * value:.0f} %" for name, value in ranked if abs(value) >= 0.01)
+
+
+@app.command()
+def modes(
+    model: Annotated[Path, typer.Argument(help="Model file (URDF with a <gearbox> element).")],
+    mesh: MeshOption = None,
+    hold: HoldOption = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
+) -> None:
+    """Natural frequencies, damping ratios and energy shares of a model's torsional modes.
+
+    Linearised at the reference pose: compliant meshes at their mean stiffness, torsional
+    springs, bearing damping; rigid meshes, held joints and locked bearings as constraints.
+    """
+    import pinwind
+    from pinwind.dynamics.linearisation import linearise
+
+    with warnings_as_lines():
+        gearbox = pinwind.load(model)
+        found = linearise(gearbox, meshes=_meshes(mesh), held=hold or ()).modes()
+    if as_json:
+        print(json.dumps([
+            {"frequency_hz": m.frequency, "damping_ratio": m.damping_ratio,
+             "kinetic_share": m.kinetic_share, "strain_share": m.strain_share}
+            for m in found
+        ], indent=1))  # fmt: skip
+        return
+    plain = not console.is_terminal
+    table = Table(
+        title=f"natural modes of {escape(gearbox.name)}", box=box.ASCII if plain else box.SIMPLE
+    )
+    for column in ("#", "f [Hz]", "ζ [%]", "moves (kinetic energy)", "works (strain energy)"):
+        table.add_column(column, justify="right" if column in ("#", "f [Hz]", "ζ [%]") else "left")
+    for i, m in enumerate(found, start=1):
+        if m.rigid:
+            table.add_row(str(i), "0 (rigid)", "-", escape(_shares(m.kinetic_share)), "-")
+            continue
+        table.add_row(
+            str(i),
+            f"{m.frequency:.5g}",
+            f"{100 * m.damping_ratio:.3g}",
+            escape(_shares(m.kinetic_share)),
+            escape(_shares(m.strain_share)),
+        )
+    console.print(table)
+
+
+@app.command()
+def campbell(
+    model: Annotated[Path, typer.Argument(help="Model file (URDF with a <gearbox> element).")],
+    joint: Annotated[str, typer.Option(help="Input joint whose speed the diagram runs over.")],
+    speed_range: Annotated[
+        str, typer.Option("--speed-range", help="A:B input speed range [rpm], e.g. 0:20.")
+    ],
+    mesh: MeshOption = None,
+    hold: HoldOption = None,
+    harmonics: Annotated[int, typer.Option(help="Mesh-frequency harmonics drawn.")] = 3,
+    png: Annotated[Path | None, typer.Option("--png", help="Write the diagram here.")] = None,
+    csv_out: Annotated[
+        Path | None, typer.Option("--csv", help="Write the crossings as CSV here.")
+    ] = None,
+) -> None:
+    """Natural frequencies against the input speed with the mesh and shaft orders; crossings.
+
+    Lists every speed inside the range where an excitation (a mesh frequency or its harmonic,
+    a shaft's order 1) meets a natural frequency.
+    """
+    import pinwind
+    from pinwind.analysis.campbell import campbell as diagram_of
+    from pinwind.analysis.campbell import write_figure
+
+    low, sep, high = speed_range.partition(":")
+    try:
+        bounds = (float(low) * RAD_S_PER_RPM, float(high) * RAD_S_PER_RPM)
+    except ValueError as err:
+        raise InputError(f'--speed-range "{speed_range}": give A:B in rpm, e.g. 0:20') from err
+    if not sep:
+        raise InputError(f'--speed-range "{speed_range}": give A:B in rpm, e.g. 0:20')
+    with warnings_as_lines():
+        gearbox = pinwind.load(model)
+        diagram = diagram_of(
+            gearbox, joint, bounds, meshes=_meshes(mesh), held=hold or (), harmonics=harmonics
+        )
+    rpm = 1.0 / RAD_S_PER_RPM
+    plain = not console.is_terminal
+    table = Table(
+        title=f"crossings for {escape(joint)} at {speed_range} rpm",
+        box=box.ASCII if plain else box.SIMPLE,
+    )
+    for column in ("speed [rpm]", "mode [Hz]", "excitation"):
+        table.add_column(column, justify="left" if column == "excitation" else "right")
+    for c in diagram.crossings:
+        table.add_row(f"{c.speed * rpm:.4g}", f"{c.frequency:.5g}", escape(c.excitation.label))
+    say(
+        "natural frequencies [Hz]: "
+        + ", ".join(f"{m.frequency:.5g}" for m in diagram.modes)
+        + f"; {len(diagram.crossings)} crossings in the range"
+    )
+    if diagram.crossings:
+        console.print(table)
+    if csv_out is not None:
+        with open(csv_out, "w", newline="", encoding="utf-8") as f:
+            writer = csv.writer(f)
+            writer.writerow(["speed_rpm", "mode_hz", "excitation", "harmonic"])
+            for c in diagram.crossings:
+                writer.writerow(
+                    [c.speed * rpm, c.frequency, c.excitation.label, c.excitation.harmonic]
+                )
+        say(f"wrote {escape(str(csv_out))}")
+    if png is not None:
+        write_figure(diagram, str(png), speed_unit=rpm, unit="rpm")
+        say(f"wrote {escape(str(png))}")

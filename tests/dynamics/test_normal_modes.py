@@ -1,0 +1,84 @@
+"""Natural modes of the linearised train (``dynamics/linearisation.py``, ``normal_modes.py``).
+
+Closed forms, each derived here:
+
+- the compliant pair of ``tests/conftest.two_gear_urdf``: one elastic mode, ω² = k (r_b,A²/J_A +
+  r_b,B²/J_B) with k the mean mesh stiffness, ζ = c / (2 √(k m)), m = 1/(r_b,A²/J_A + r_b,B²/J_B);
+  in it the gears turn against each other with J θ̇ ∝ r_b, so gear A holds the kinetic-energy
+  share (r_b,A²/J_A) / (r_b,A²/J_A + r_b,B²/J_B); the mesh holds all the strain energy;
+- two discs J on a torsional spring k: ω² = 2k/J;
+- a planetary stage with identical, equally spaced planets and the sun held: the planets' own
+  mode (planets turning against each other, carrier still) is (N − 1)-fold, N = 3.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import pinwind
+from pinwind.dynamics.linearisation import linearise
+from pinwind.errors import UnknownJoint
+from pinwind.model.compliance import MeshCompliance
+from pinwind.model.gearbox import loads
+from tests.conftest import two_gear_urdf
+from tests.dynamics.test_time_stepping import J_A, J_B, K_MESH, K_SINGLE, MASS, R_BA, R_BB
+from tests.dynamics.test_torsional_spring import J, _shafts_urdf
+
+
+def _pair_modes(damping: float = 0.0):
+    gb = loads(two_gear_urdf(inertia_a=("0.002", "0.002", "0.003")), "pair.urdf")
+    compliance = MeshCompliance(stiffness=K_SINGLE, variation="constant", damping=damping)
+    return linearise(gb, meshes={"m": compliance}).modes()
+
+
+def test_a_compliant_pair_has_one_elastic_mode_at_the_closed_form_frequency():
+    j_a = 0.003
+    modes = _pair_modes(damping=300.0)
+    rigid, elastic = modes
+    assert rigid.rigid and not elastic.rigid
+    a, b = R_BA**2 / j_a, R_BB**2 / J_B
+    omega = math.sqrt(K_MESH * (a + b))
+    np.testing.assert_allclose(elastic.frequency, omega / (2 * math.pi), rtol=1e-12)
+    np.testing.assert_allclose(
+        elastic.damping_ratio, 300.0 / (2 * math.sqrt(K_MESH / (a + b))), rtol=1e-12
+    )
+    np.testing.assert_allclose(elastic.kinetic_share["a"], a / (a + b), rtol=1e-12)
+    np.testing.assert_allclose(elastic.strain_share["m"], 1.0, rtol=1e-12)
+
+
+def test_the_pair_mode_is_the_one_a_free_vibration_run_rings_at():
+    # tests/dynamics/test_compliant_mesh.py measures the run's frequency; here the same pair.
+    gb = loads(two_gear_urdf(), "pair.urdf")
+    compliance = MeshCompliance(stiffness=K_SINGLE, variation="constant", damping=0.0)
+    (mode,) = [m for m in linearise(gb, meshes={"m": compliance}).modes() if not m.rigid]
+    np.testing.assert_allclose(mode.frequency, math.sqrt(K_MESH / MASS) / (2 * math.pi), rtol=1e-12)
+    assert J_A != J_B  # the closed form does not rest on equal inertias
+
+
+def test_two_discs_on_a_torsional_spring_ring_at_root_two_k_over_j():
+    k = 800.0
+    gb = loads(_shafts_urdf(stiffness=k), "shafts.urdf")
+    (mode,) = [m for m in linearise(gb).modes() if not m.rigid]
+    np.testing.assert_allclose(mode.frequency, math.sqrt(2 * k / J) / (2 * math.pi), rtol=1e-12)
+    np.testing.assert_allclose(mode.kinetic_share["a"], 0.5, rtol=1e-12)
+
+
+def test_identical_planets_have_a_planet_mode_of_multiplicity_n_minus_one():
+    gb = pinwind.load("models/dtu500_planetary.urdf")
+    modes = linearise(gb, meshes={"all": "compliant"}, held=["sun"]).modes()
+    frequencies = np.array([m.frequency for m in modes])
+    pairs = [(i, j) for i in range(len(modes)) for j in range(i + 1, len(modes))
+             if math.isclose(frequencies[i], frequencies[j], rel_tol=1e-9)]  # fmt: skip
+    assert len(pairs) == 1  # one double mode, N − 1 = 2
+    for i in pairs[0]:
+        shares = modes[i].kinetic_share
+        assert abs(shares["carrier"]) < 1e-9 and abs(shares["sun"]) < 1e-9
+
+
+def test_a_held_joint_the_model_does_not_have_is_refused_naming_the_joints():
+    gb = loads(two_gear_urdf(), "pair.urdf")
+    with pytest.raises(UnknownJoint, match='unknown joint "generator"'):
+        linearise(gb, held=["generator"])
