@@ -3,7 +3,8 @@
 Units at this edge are the ones drivetrain engineers type: rpm, mm, degrees; everything is turned
 into SI before it reaches the library. One module per family of verbs, each registering its
 commands on ``app`` (``cli/app.py``): ``simulate`` (simulate, run), ``logs`` (replay, plot,
-report, export), ``model`` (info, build), ``rating`` (rate), ``sweep`` (sweep ...); ``flags``
+report, export), ``model`` (info, build), ``rating`` (rate), ``sweep`` (sweep ...), ``fatigue``
+(fatigue); ``flags``
 turns the flags of a run into scenario values. ``simulate`` logs every run to an MCAP file
 (``logs/`` by default) that ``replay`` and ``report`` read back on their own.
 """
@@ -19,7 +20,7 @@ from rich.markup import escape
 from pinwind.cli import simulate  # noqa: F401
 
 # isort: split
-from pinwind.cli import logs, model, rating, sweep  # noqa: F401
+from pinwind.cli import fatigue, logs, model, rating, sweep  # noqa: F401
 from pinwind.cli.app import app, err_console
 from pinwind.errors import PinwindError
 
