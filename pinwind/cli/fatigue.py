@@ -59,7 +59,7 @@ def fatigue(
         )
     columns = (BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
     with Progress(*columns, console=err_console, transient=True, disable=as_json) as bar:
-        task = bar.add_task("cases", total=len(fset.cases()))
+        task = bar.add_task("cases", total=len({c.name for c in fset.cases()}))
         run = run_cases(
             fset,
             workers=workers,

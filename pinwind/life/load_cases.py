@@ -137,8 +137,11 @@ class LoadCase:
 
     @property
     def name(self) -> str:
-        """The file stem of the case's log and reduction."""
-        return f"v{self.speed:05.2f}_t{self.level:02d}_ti{self.turbulence:.4f}_s{self.seed}"
+        """The file stem of the case's log and reduction.
+
+        It names the run's inputs only: two levels with the same intensity in a bin share it.
+        """
+        return f"v{self.speed:05.2f}_ti{self.turbulence:.4f}_s{self.seed}"
 
 
 @dataclass(frozen=True)
@@ -794,7 +797,7 @@ class FatigueRun:
 
     Attributes:
         computed: names of the cases run in this call (the others were reused).
-        total: cases in the set.
+        total: distinct cases in the set (`LoadCase.name`).
         backend: ``"serial"``, ``"processes (N)"`` or ``"dask (ADDRESS)"`` (`run_tasks`).
         wall_time: seconds for this call.
     """
@@ -828,10 +831,11 @@ def run_cases(
 
     start = time.perf_counter()
     cases = fatigue.cases()
-    todo = [c for c in cases if not case_done(fatigue, c)]
-    finished, computed = len(cases) - len(todo), []
+    unique = {c.name: c for c in cases}
+    todo = [c for c in unique.values() if not case_done(fatigue, c)]
+    finished, computed = len(unique) - len(todo), []
     if progress:
-        progress(finished, len(cases))
+        progress(finished, len(unique))
 
     def accept(reduced: CaseCycles) -> None:
         nonlocal finished
@@ -839,7 +843,7 @@ def run_cases(
         computed.append(reduced.case.name)
         finished += 1
         if progress:
-            progress(finished, len(cases))
+            progress(finished, len(unique))
 
     backend = run_tasks(
         run_case,
@@ -849,4 +853,4 @@ def run_cases(
         scheduler=scheduler,
         fatigue=fatigue,
     )
-    return FatigueRun(computed, len(cases), backend, time.perf_counter() - start)
+    return FatigueRun(computed, len(unique), backend, time.perf_counter() - start)
