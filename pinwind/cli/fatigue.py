@@ -136,8 +136,10 @@ def _print_tables(damage: SetDamage) -> None:
             totals = [damage.by_kind(variant, k)[kind][1] for k in range(len(damage.levels))]
             table.add_row(kind, variant, *(f"{t:.3g}" for t in totals))
         if kind in ("sun", "planet", "ring"):
-            paper = JORGENSEN_2014_TABLE_8[kind]
-            table.add_row("", "003", *("" if i is None else f"{paper[i]:.3g}" for i in paper_at))
+            totals_003 = JORGENSEN_2014_TABLE_8[kind]
+            table.add_row(
+                "", "003", *("" if i is None else f"{totals_003[i]:.3g}" for i in paper_at)
+            )
     console.print(table)
     table = Table(title="Largest von Mises contact stress [MPa] (003: 600-700 at 20 m/s, 10 %)")
     table.add_column("gear")

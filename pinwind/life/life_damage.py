@@ -114,7 +114,7 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
         v: [{} for _ in range(levels)] for v in VARIANTS
     }
     peaks: list[dict[str, float]] = [defaultdict(float) for _ in range(levels)]
-    ranges = [
+    ranges: list[list[defaultdict[str, np.ndarray]]] = [
         [defaultdict(lambda: np.zeros(RANGE_EDGES.size - 1)) for _ in range(bins)]
         for _ in range(levels)
     ]
@@ -129,11 +129,13 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
             teeth[flank.gear] = flank.teeth
             curve = fatigue.curves[flank.gear]
             for variant, limited in VARIANTS.items():
-                table = sums[variant][case.level]
+                per_flank = sums[variant][case.level]
                 key = (flank.gear, flank.flank)
-                if key not in table:
-                    table[key] = np.zeros((bins, flank.teeth))
-                table[key][case.bin] += factor * flank.damage(curve, use_endurance_limit=limited)
+                if key not in per_flank:
+                    per_flank[key] = np.zeros((bins, flank.teeth))
+                per_flank[key][case.bin] += factor * flank.damage(
+                    curve, use_endurance_limit=limited
+                )
             peaks[case.level][flank.gear] = max(
                 peaks[case.level][flank.gear], float(np.max(flank.peaks, initial=0.0))
             )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -19,7 +20,7 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
     x = 100 * np.array(damage.intensities)
-    colours = {}
+    colours: dict[str, Any] = {}
     for variant, style in zip(VARIANTS, ("o-", "s:"), strict=True):
         kinds: dict[str, list[float]] = {}
         for level in range(len(damage.levels)):

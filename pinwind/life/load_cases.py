@@ -265,7 +265,7 @@ class FatigueSet:
 
     def case_key(self, case: LoadCase) -> str:
         """What a case's reduction was made from: its run values and how they were read."""
-        record = {
+        record: dict[str, Any] = {
             "values": self.case_values(case),
             "skip_start": self.skip_start,
             "mesh_stiffness": self.mesh_stiffness,
@@ -652,7 +652,7 @@ class CaseCycles:
 
     def save(self, path: Path) -> None:
         """Write it as ``.npz`` (written whole under another name, then renamed)."""
-        arrays: dict[str, np.ndarray] = {}
+        arrays: dict[str, Any] = {}
         for i, f in enumerate(self.flanks):
             arrays |= {
                 f"{i}_tooth": f.tooth,
@@ -668,7 +668,8 @@ class CaseCycles:
             "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
         }
         partial = path.with_name(path.name + ".partial.npz")
-        np.savez_compressed(partial, meta=np.array(json.dumps(meta)), **arrays)
+        arrays["meta"] = np.array(json.dumps(meta))
+        np.savez_compressed(partial, **arrays)
         partial.replace(path)
 
     @classmethod
@@ -751,7 +752,8 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     scenario = build(fatigue.case_values(case), source=fatigue.source, base=fatigue.base)
     if fatigue.mesh_stiffness is not None or fatigue.mesh_damping is not None:
         compliance = MeshCompliance(stiffness=fatigue.mesh_stiffness, damping=fatigue.mesh_damping)
-        scenario = dataclasses.replace(scenario, meshes={"all": compliance})
+        meshes: dict[str, Any] = {"all": compliance}
+        scenario = dataclasses.replace(scenario, meshes=meshes)
     gearbox = load(scenario.model_path())
     fatigue.out.mkdir(parents=True, exist_ok=True)
     with warnings.catch_warnings():

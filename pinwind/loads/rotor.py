@@ -139,7 +139,9 @@ def power_curve_cp(
     cp = power / (0.5 * air_density * math.pi * radius**2 * wind**3)
     order = np.argsort(speed * radius / wind)
     tsr = speed * radius / wind
-    return CpTable(tsr=tuple(float(x) for x in tsr[order]), cp=tuple(float(c) for c in cp[order]))
+    return CpTable(
+        tsr=tuple(float(x) for x in tsr[order]), cp=tuple((float(c),) for c in cp[order])
+    )
 
 
 @dataclass(frozen=True)
