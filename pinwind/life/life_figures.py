@@ -65,6 +65,10 @@ def plot_range_cycles(
             continue
         above = np.cumsum(counts[::-1])[::-1]  # cycles with a range at or above each edge
         ax.step(RANGE_EDGES[:-1] / 1e6, above, where="post", label=f"{speed:g} m/s")
+    counted = [c for b in damage.range_cycles[level] for g, c in b.items() if g == gear]
+    reached = np.flatnonzero(np.sum(counted, axis=0)) if counted else np.zeros(0, dtype=int)
+    if reached.size:
+        ax.set_xlim(0.0, 1.1 * RANGE_EDGES[reached[-1] + 1] / 1e6)
     ax.set_xlabel("von Mises contact-stress range [MPa]")
     ax.set_ylabel("cycles per tooth over the bin's hours, range ≥ x")
     ax.set_yscale("log")

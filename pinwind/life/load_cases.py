@@ -429,6 +429,9 @@ class _SetReader:
         model = model if model.is_absolute() else self.path.parent / model
         if not model.is_file():
             raise self.fail(("model",), f"{model} does not exist")
+        # Absolute, so that a case's inputs (`FatigueSet.case_key`) do not depend on the folder
+        # the scenario file is read from.
+        self.values["model"] = str(model.resolve())
         return load(model)
 
     def number(self, key: tuple[str, ...], value: Any, above: float | None) -> float:
