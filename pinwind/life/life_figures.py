@@ -38,6 +38,11 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     ax.set_xlabel("turbulence intensity [%]")
     ax.set_ylabel("damage over the design life [-]")
     ax.set_yscale("symlog", linthresh=1e-3)
+    highest = max(
+        (float(np.max(np.asarray(line.get_ydata(), dtype=float))) for line in ax.get_lines()),
+        default=1.0,
+    )
+    ax.set_ylim(0.0, 3.0 * max(highest, 1.0))  # damage is never negative
     ax.legend(fontsize=7, ncol=2)
     ax.grid(alpha=0.3)
     fig.tight_layout()
