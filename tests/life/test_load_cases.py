@@ -191,3 +191,20 @@ def test_figures_of_a_set_are_written(tmp_path):
         plot_range_cycles(damage, tmp_path / "figs" / "ranges.png"),
     ):
         assert path.stat().st_size > 1000
+
+
+def test_dask_backend_gives_the_damage_of_a_run_in_this_process(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    here = load_fatigue_set(fatigue_toml(tmp_path))
+    run_cases(here, workers=1)
+    there = dataclasses.replace(here, out=tmp_path / "dask")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:  # fmt: skip
+        with distributed.Client(cluster) as client:
+            run = run_cases(there, scheduler=client)
+    assert run.backend.startswith("dask") and len(run.computed) == 2
+    for variant in ("limit", "no limit"):
+        a = set_damage(here).damage[variant][0]
+        b = set_damage(there).damage[variant][0]
+        for gear in a:
+            assert_allclose(b[gear].per_bin, a[gear].per_bin, rtol=0, atol=0)
