@@ -370,7 +370,7 @@ class _SetReader:
                 raise self.fail(("fatigue", "mesh_damping"), "must be ≥ 0 N·s/m")
         openfast = self.openfast(settings.get("openfast"))
         out = Path(str(settings.get("out", self.path.stem)))
-        out = out if out.is_absolute() else self.path.parent / out
+        out = (out if out.is_absolute() else self.path.parent / out).resolve()
         if self.quick:
             out = out.with_name(out.name + "_quick")
         meshes = self.values.setdefault("mesh", {"all": "compliant"})
