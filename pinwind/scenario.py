@@ -103,7 +103,7 @@ KEYS: dict[str, tuple[str, str, str]] = {
 }
 
 ROTOR_KEYS = ("preset", "radius", "inertia", "air_density", "pitch_deg", "cp_scale", "cp_table")
-ROTOR_PRESETS = {"saleh2017": Rotor.saleh2017}
+ROTOR_PRESETS = {"saleh2017": Rotor.saleh2017, "jorgensen2014": Rotor.jorgensen2014}
 
 
 class ScenarioError(InputError):
@@ -505,7 +505,8 @@ class _Builder:
             try:
                 out[joint] = ROTOR_PRESETS[preset](**kwargs) if preset else Rotor(**kwargs)
             except TypeError as err:
-                raise self.fail(key, 'give preset = "saleh2017" or at least radius [m]') from err
+                raise self.fail(key, "give a preset (" + ", ".join(ROTOR_PRESETS)
+                                + ") or at least radius [m]") from err  # fmt: skip
             except InputError as err:
                 raise self.fail(key, str(err)) from err
         return out

@@ -25,7 +25,7 @@ import traceback
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from pinwind.analysis.sweep_design import StageDesign, SweepSettings
 from pinwind.analysis.sweep_parallel import ParallelDesign, enumerate_parallel
@@ -55,10 +55,14 @@ __all__ = [
     "read_checkpoint",
     "read_table",
     "run_sweep",
+    "run_tasks",
     "settings_dict",
     "stage_of",
     "write_table",
 ]
+
+#: What a task of `run_tasks` returns.
+T = TypeVar("T")
 
 #: Below this many designs a default sweep runs in this process (see `run_sweep`).
 SERIAL_BELOW = 256
@@ -225,12 +229,15 @@ def run_sweep(
         if progress:
             progress(finished, total)
 
+    n = workers or (1 if len(todo) < SERIAL_BELOW else os.cpu_count() or 1)
+    # Batches of a few designs per task: each design takes milliseconds, so one task per design
+    # would spend its time in inter-process traffic; small batches keep the progress bar live.
+    size = max(1, min(16, len(todo) // (8 * n)))
     try:
-        if scheduler is not None:
-            backend = _run_dask(todo, settings, scheduler, accept)
-        else:
-            n = workers or (1 if len(todo) < SERIAL_BELOW else os.cpu_count() or 1)
-            backend = _run_local(todo, settings, n, accept)
+        backend = run_tasks(
+            evaluate, todo, accept=accept, workers=n, scheduler=scheduler, batch_size=size,
+            settings=settings,
+        )  # fmt: skip
     finally:
         if sink is not None:
             sink.close()
@@ -238,27 +245,68 @@ def run_sweep(
     return SweepRun(ordered, len(todo), time.perf_counter() - start, backend)
 
 
-def _run_local(
-    todo: list[StageDesign], settings: SweepSettings, n: int, accept: Callable[[dict], None]
+def run_tasks(
+    task: Callable[..., T],
+    items: Sequence[Any],
+    *,
+    accept: Callable[[T], None],
+    workers: int = 1,
+    scheduler: str | object | None = None,
+    batch_size: int = 1,
+    **common: Any,
 ) -> str:
-    if n <= 1 or len(todo) <= 1:
-        for d in todo:
-            accept(evaluate(d, settings))
+    """Run ``task(item, **common)`` for every item here, on local processes or on Dask.
+
+    The one executor of pinwind's many-run commands (the design sweeps, ``pinwind fatigue``).
+    ``task`` must be a module-level function (it is pickled to the workers) that imports what
+    it needs and returns plain values; results arrive in ``accept`` as they finish, in any order.
+
+    Args:
+        task: the function run on each item.
+        items: the items, one task each (``batch_size`` per task on local processes).
+        accept: called with each result, in this process.
+        workers: local worker processes; 1 (or a single item) runs in this process.
+        scheduler: a Dask scheduler address (``tcp://host:8786``) or a ``distributed.Client``;
+            overrides ``workers``.
+        batch_size: items per local task.
+        **common: keyword arguments of every call.
+
+    Returns:
+        The backend: ``"serial"``, ``"processes (N)"`` or ``"dask (ADDRESS)"``.
+    """
+    if scheduler is not None:
+        return _run_dask(task, items, common, scheduler, accept)
+    return _run_local(task, items, common, workers, batch_size, accept)
+
+
+def _run_batch(task: Callable[..., T], batch: Sequence[Any], common: dict[str, Any]) -> list[T]:
+    """``task`` on each item of a batch (one local worker task)."""
+    return [task(item, **common) for item in batch]
+
+
+def _run_local(
+    task: Callable[..., T],
+    items: Sequence[Any],
+    common: dict[str, Any],
+    n: int,
+    size: int,
+    accept: Callable[[T], None],
+) -> str:
+    if n <= 1 or len(items) <= 1:
+        for item in items:
+            accept(task(item, **common))
         return "serial"
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     # "spawn" keeps the workers free of the parent's threads (rerun, dask) and their locks.
-    # Batches of a few designs per task: each design takes milliseconds, so one task per design
-    # would spend its time in inter-process traffic; small batches keep the progress bar live.
-    size = max(1, min(16, len(todo) // (8 * n)))
-    batches = [todo[i : i + size] for i in range(0, len(todo), size)]
+    batches = [items[i : i + size] for i in range(0, len(items), size)]
     with ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn")) as pool:
-        futures = [pool.submit(evaluate_batch, batch, settings) for batch in batches]
+        futures = [pool.submit(_run_batch, task, batch, common) for batch in batches]
         try:
             for future in as_completed(futures):
-                for row in future.result():
-                    accept(row)
+                for result in future.result():
+                    accept(result)
         except BaseException:
             for future in futures:
                 future.cancel()
@@ -296,10 +344,11 @@ def _connect(client_type: type, address: str) -> Any:
 
 
 def _run_dask(
-    todo: list[StageDesign],
-    settings: SweepSettings,
+    task: Callable[..., T],
+    items: Sequence[Any],
+    common: dict[str, Any],
     scheduler: str | object,
-    accept: Callable[[dict], None],
+    accept: Callable[[T], None],
 ) -> str:
     try:
         from distributed import Client, as_completed
@@ -308,7 +357,7 @@ def _run_dask(
     own = not isinstance(scheduler, Client)
     client = scheduler if isinstance(scheduler, Client) else _connect(Client, str(scheduler))
     try:
-        futures = client.map(evaluate, todo, settings=settings, pure=False)
+        futures = client.map(task, items, pure=False, **common)
         for future in as_completed(futures):
             accept(future.result())
     finally:

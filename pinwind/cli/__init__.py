@@ -4,9 +4,9 @@ Units at this edge are the ones drivetrain engineers type: rpm, mm, degrees; eve
 into SI before it reaches the library. One module per family of verbs, each registering its
 commands on ``app`` (``cli/app.py``): ``simulate`` (simulate, run), ``logs`` (replay, plot,
 report, export), ``model`` (info, build), ``rating`` (rate), ``spectrum`` (spectrum),
-``modes`` (modes, campbell), ``sweep`` (sweep ...); ``flags`` turns the flags of a run into
-scenario values. ``simulate`` logs every run to an MCAP file (``logs/`` by default) that
-``replay`` and ``report`` read back on their own.
+``modes`` (modes, campbell), ``sweep`` (sweep ...), ``fatigue`` (fatigue); ``flags`` turns
+the flags of a run into scenario values. ``simulate`` logs every run to an MCAP file
+(``logs/`` by default) that ``replay`` and ``report`` read back on their own.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from rich.markup import escape
 from pinwind.cli import simulate  # noqa: F401
 
 # isort: split
-from pinwind.cli import logs, model, modes, rating, spectrum, sweep  # noqa: F401
+from pinwind.cli import fatigue, logs, model, modes, rating, spectrum, sweep  # noqa: F401
 from pinwind.cli.app import app, err_console
 from pinwind.errors import PinwindError
 

@@ -18,6 +18,16 @@ on a 3.7 m hub give R = 41 + 3.7/2 = 42.85 m; at 14.2 rpm in 10 m/s, λ = 6.37. 
 (``calibrated_scale``), the one number fitted. 000 does not give the rotor's inertia: we take
 the NREL 5 MW rotor's 3.8e7 kg·m² (61.5 m blades) scaled by (41 / 61.5)⁵ (mass ∝ L³, inertia
 ∝ m L²): 5.0e6 kg·m².
+
+003_83d3049daebcd276.txt's 500 kW turbine (``Rotor.jorgensen2014``): 003 names it (500 kW, 41 m
+rotor, stall-regulated, FLEX5 for its aerodynamics) but gives neither its C_p nor its power
+curve. We take R = 41 / 2 = 20.5 m, the fixed speed 27.1 rpm of 41 m, 500 kW stall rotors, and
+an ASSUMED power curve typical of such machines (``JORGENSEN2014_POWER_CURVE``: C_p,max 0.36 near
+8 m/s, 500 kW reached at 16 m/s, a stall plateau to 19 m/s, falling to 440 kW at 25 m/s), turned
+into a C_p(λ) table at 27.1 rpm (C_p = P / (½ ρ π R² v³), λ = ω R / v): a rotor held at that
+speed by its generator gives that power curve in steady wind. It is not a fitted or measured
+curve; the damage it gives is the trend, not 003's numbers (docs/fatigue.md). Inertia: the NREL
+5 MW rotor's 3.8e7 kg·m² scaled by (20.5 / 63)⁵ (as for 000's rotor): 1.4e5 kg·m².
 """
 
 from __future__ import annotations
@@ -37,6 +47,21 @@ SALEH2017_RADIUS = 41.0 + 3.7 / 2
 SALEH2017_RATED = {"torque": 1e6, "speed": rpm_to_rad_s(14.2), "wind": 10.0}
 #: Rotor inertia [kg·m²]: NREL 5 MW rotor (3.8e7 kg·m², R 63 m, blades 61.5 m) × (41/61.5)⁵.
 SALEH2017_INERTIA = round(3.8e7 * (41.0 / 61.5) ** 5, -5)
+
+
+#: 003's rotor radius [m] (41 m diameter) and its fixed speed [rad/s] (module docstring).
+JORGENSEN2014_RADIUS = 41.0 / 2
+JORGENSEN2014_SPEED = rpm_to_rad_s(27.1)
+#: Assumed power curve of a 500 kW, 41 m stall-regulated rotor at 27.1 rpm: wind speed [m/s],
+#: aerodynamic power [kW] (module docstring; not from 003, which gives none).
+JORGENSEN2014_POWER_CURVE = (
+    (4.0, 8.0), (5.0, 30.0), (6.0, 60.0), (7.0, 100.0), (8.0, 150.0), (9.0, 205.0),
+    (10.0, 265.0), (11.0, 325.0), (12.0, 380.0), (13.0, 425.0), (14.0, 460.0), (15.0, 485.0),
+    (16.0, 500.0), (17.0, 505.0), (18.0, 505.0), (19.0, 500.0), (20.0, 490.0), (22.0, 470.0),
+    (25.0, 440.0),
+)  # fmt: skip
+#: Rotor inertia [kg·m²]: NREL 5 MW rotor (3.8e7 kg·m², R 63 m) × (20.5/63)⁵.
+JORGENSEN2014_INERTIA = round(3.8e7 * (JORGENSEN2014_RADIUS / 63.0) ** 5, -4)
 
 
 def heier_cp(tsr, pitch: float = 0.0, scale: float = 1.0):
@@ -101,6 +126,24 @@ class CpTable:
             raise InputError("Cp table: every value must be finite")
 
 
+def power_curve_cp(
+    curve: tuple[tuple[float, float], ...], *, radius: float, speed: float, air_density: float
+) -> CpTable:
+    """C_p(λ) of a fixed-speed rotor from its power curve (wind [m/s], power [kW]).
+
+    C_p = P / (½ ρ π R² v³) at λ = ω R / v: the table that gives back the power curve when the
+    rotor turns at ``speed`` [rad/s] in a steady wind.
+    """
+    wind = np.array([v for v, _ in curve], dtype=float)
+    power = np.array([p for _, p in curve], dtype=float) * 1e3
+    cp = power / (0.5 * air_density * math.pi * radius**2 * wind**3)
+    order = np.argsort(speed * radius / wind)
+    tsr = speed * radius / wind
+    return CpTable(
+        tsr=tuple(float(x) for x in tsr[order]), cp=tuple((float(c),) for c in cp[order])
+    )
+
+
 @dataclass(frozen=True)
 class Rotor:
     """A wind-turbine rotor on one joint.
@@ -135,6 +178,22 @@ class Rotor:
             inertia=SALEH2017_INERTIA,
             air_density=1.225,
             cp=HeierCp(SALEH2017_CP_SCALE),
+        )
+        return cls(**{**values, **changes})
+
+    @classmethod
+    def jorgensen2014(cls, **changes: Any) -> Rotor:
+        """003_83d3049daebcd276.txt's 500 kW, 41 m stall rotor, assumed (module docstring)."""
+        values = dict(
+            radius=JORGENSEN2014_RADIUS,
+            inertia=JORGENSEN2014_INERTIA,
+            air_density=1.225,
+            cp=power_curve_cp(
+                JORGENSEN2014_POWER_CURVE,
+                radius=JORGENSEN2014_RADIUS,
+                speed=JORGENSEN2014_SPEED,
+                air_density=1.225,
+            ),
         )
         return cls(**{**values, **changes})
 

@@ -1,0 +1,172 @@
+"""Damage over the design life per gear, per wind bin and per turbulence level, from a fatigue set.
+
+Jørgensen 2014 (003_83d3049daebcd276.txt) Tables 7-8. The cycles of each case
+(`pinwind.life.load_cases.CaseCycles`, counted in T = T_sim − skip_start seconds) stand for
+the h hours of the case's wind bin: its damage counts h · 3600 / T times (Table 2), divided
+among the bin's seeds (each seed is one sample of the same hours). Each tooth flank has its own
+sum over the bins; a gear's damage is that of its worst tooth flank, and its damage per bin is
+that flank's, so that the bins add up to the total (Table 7's rows). 003 instead rates one
+point of the path of one mesh and spreads it over the teeth (Table 3): its numbers are a mean
+tooth's at that point, ours the worst tooth's at its most stressed point.
+
+The damage is computed for each S-N variant: ``"limit"`` (the curve as given, cycles below the
+endurance limit do nothing) and ``"no limit"`` (the sloped line extended to zero stress).
+Memory is flat in the number of cases: one case's cycles are read at a time.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinwind.life.load_cases import RANGE_EDGES, CaseCycles, FatigueSet, gear_kind
+
+#: The S-N variants the damage is computed for: name → whether the endurance limit applies.
+VARIANTS = {"limit": True, "no limit": False}
+
+#: Jørgensen 2014 Table 7: damage per wind bin (6, 8, ..., 20 m/s) at TI = 10 %, and the sum.
+JORGENSEN_2014_TABLE_7 = {
+    "sun": ((0.0, 0.0, 0.0, 0.0, 0.2185, 0.3727, 0.0869, 0.0132), 0.69),
+    "planet": ((0.0, 0.0, 0.0, 0.0, 0.0416, 0.0710, 0.0166, 0.0025), 0.13),
+    "ring": ((0.0, 0.0, 0.0, 0.0116, 0.0177, 0.0125, 0.0028, 0.0004), 0.05),
+}
+#: Jørgensen 2014 Table 8: total damage at turbulence intensities 8, 10, ..., 20 %.
+JORGENSEN_2014_TABLE_8 = {
+    "turbulence": (0.08, 0.10, 0.12, 0.14, 0.16, 0.18, 0.20),
+    "sun": (0.65, 0.69, 0.75, 0.85, 1.10, 1.60, 2.00),
+    "planet": (0.12, 0.13, 0.14, 0.16, 0.21, 0.30, 0.38),
+    "ring": (0.05, 0.05, 0.05, 0.05, 0.07, 0.10, 0.11),
+}
+
+
+@dataclass(frozen=True)
+class GearDamage:
+    """A gear's damage over the design life at one turbulence level, one S-N variant.
+
+    Attributes:
+        gear: the gear.
+        per_bin: damage of its worst tooth flank in each wind bin [-], (bins,).
+        total: that flank's damage over all bins [-] (the sum of ``per_bin``).
+        tooth: the worst tooth's number.
+        flank: its flank (+1, −1).
+        peak_stress: largest von Mises contact stress of any of its teeth in the cases [Pa].
+    """
+
+    gear: str
+    per_bin: np.ndarray
+    total: float
+    tooth: int
+    flank: int
+    peak_stress: float
+
+
+@dataclass(frozen=True)
+class SetDamage:
+    """The damage of a fatigue set.
+
+    Attributes:
+        speeds: the wind bins' speeds [m/s], (bins,).
+        hours: their hours [h], (bins,).
+        levels: the turbulence levels' labels.
+        intensities: each level's mean turbulence intensity over the bins [-].
+        gears: the rated gears.
+        damage: variant → level index → gear → `GearDamage`.
+        range_cycles: level index → bin → gear → cycles per tooth over the bin's hours in each
+            stress-range bin of `RANGE_EDGES` [-], (len(RANGE_EDGES) − 1,).
+    """
+
+    speeds: np.ndarray
+    hours: np.ndarray
+    levels: tuple[str, ...]
+    intensities: tuple[float, ...]
+    gears: tuple[str, ...]
+    damage: dict[str, list[dict[str, GearDamage]]]
+    range_cycles: list[list[dict[str, np.ndarray]]]
+
+    def by_kind(self, variant: str, level: int) -> dict[str, tuple[np.ndarray, float]]:
+        """(per bin, total) for each gear kind: the planets' mean as 003's "planet*".
+
+        Gears that are no sun, planet or ring keep their own names.
+        """
+        groups: dict[str, list[GearDamage]] = defaultdict(list)
+        for gear, d in self.damage[variant][level].items():
+            groups[gear_kind(gear) or gear].append(d)
+        return {
+            kind: (np.mean([d.per_bin for d in ds], axis=0), float(np.mean([d.total for d in ds])))
+            for kind, ds in groups.items()
+        }
+
+
+def set_damage(fatigue: FatigueSet) -> SetDamage:
+    """The damage of every gear over the design life, from the cases' reductions.
+
+    Raises:
+        InputError: a case has no reduction (run the cases first: `load_cases.run_cases`).
+    """
+    from pinwind.errors import InputError
+
+    site = fatigue.site
+    bins, levels = len(site.bins), len(fatigue.levels)
+    # variant → level → (gear, flank) → (bins, teeth) damage
+    sums: dict[str, list[dict[tuple[str, int], np.ndarray]]] = {
+        v: [{} for _ in range(levels)] for v in VARIANTS
+    }
+    peaks: list[dict[str, float]] = [defaultdict(float) for _ in range(levels)]
+    ranges: list[list[defaultdict[str, np.ndarray]]] = [
+        [defaultdict(lambda: np.zeros(RANGE_EDGES.size - 1)) for _ in range(bins)]
+        for _ in range(levels)
+    ]
+    teeth: dict[str, int] = {}
+    for case in fatigue.cases():
+        path = fatigue.cycles_path(case)
+        if not path.is_file():
+            raise InputError(f"{path}: case {case.name} has not run; run the fatigue set first")
+        reduced = CaseCycles.load(path)
+        factor = site.bins[case.bin].hours * 3600.0 / reduced.counted_seconds / len(fatigue.seeds)
+        for flank in reduced.flanks:
+            teeth[flank.gear] = flank.teeth
+            curve = fatigue.curves[flank.gear]
+            for variant, limited in VARIANTS.items():
+                per_flank = sums[variant][case.level]
+                key = (flank.gear, flank.flank)
+                if key not in per_flank:
+                    per_flank[key] = np.zeros((bins, flank.teeth))
+                per_flank[key][case.bin] += factor * flank.damage(
+                    curve, use_endurance_limit=limited
+                )
+            peaks[case.level][flank.gear] = max(
+                peaks[case.level][flank.gear], float(np.max(flank.peaks, initial=0.0))
+            )
+            counted, _ = np.histogram(flank.ranges, RANGE_EDGES, weights=flank.counts)
+            ranges[case.level][case.bin][flank.gear] += factor * counted / flank.teeth
+    damage: dict[str, list[dict[str, GearDamage]]] = {}
+    for variant in VARIANTS:
+        damage[variant] = []
+        for level in range(levels):
+            gears = {}
+            for gear in fatigue.gears:
+                flanks = {k: v for k, v in sums[variant][level].items() if k[0] == gear}
+                if not flanks:
+                    continue
+                (_, side), table = max(flanks.items(), key=lambda kv: float(kv[1].sum(0).max()))
+                tooth = int(np.argmax(table.sum(axis=0)))
+                gears[gear] = GearDamage(
+                    gear,
+                    table[:, tooth],
+                    float(table[:, tooth].sum()),
+                    tooth,
+                    side,
+                    peaks[level][gear],
+                )
+            damage[variant].append(gears)
+    return SetDamage(
+        speeds=site.speeds,
+        hours=site.hours,
+        levels=tuple(level.label for level in fatigue.levels),
+        intensities=tuple(float(np.mean(level.intensities)) for level in fatigue.levels),
+        gears=tuple(g for g in fatigue.gears if g in teeth),
+        damage=damage,
+        range_cycles=[[dict(b) for b in level] for level in ranges],
+    )

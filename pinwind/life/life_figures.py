@@ -1,0 +1,88 @@
+"""PNG figures of a fatigue set's damage, like Jørgensen 2014 (003) Figs. 14-15."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pinwind.life.life_damage import JORGENSEN_2014_TABLE_8, VARIANTS, SetDamage
+from pinwind.life.load_cases import RANGE_EDGES
+
+
+def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
+    """Total damage per gear kind against turbulence intensity (Fig. 15), 003's Table 8 dashed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    x = 100 * np.array(damage.intensities)
+    colours: dict[str, Any] = {}
+    for variant, style in zip(VARIANTS, ("o-", "s:"), strict=True):
+        kinds: dict[str, list[float]] = {}
+        for level in range(len(damage.levels)):
+            for kind, (_, total) in damage.by_kind(variant, level).items():
+                kinds.setdefault(kind, []).append(total)
+        for kind, totals in kinds.items():
+            line = ax.plot(x, totals, style, color=colours.get(kind), label=f"{kind} ({variant})")
+            colours[kind] = line[0].get_color()
+    paper = 100 * np.array(JORGENSEN_2014_TABLE_8["turbulence"])
+    for kind in ("sun", "planet", "ring"):
+        if kind in colours:
+            ax.plot(paper, JORGENSEN_2014_TABLE_8[kind], "--", color=colours[kind],
+                    label=f"{kind} (003 Table 8)")  # fmt: skip
+    ax.axhline(1.0, color="k", lw=0.8)
+    ax.set_xlabel("turbulence intensity [%]")
+    ax.set_ylabel("damage over the design life [-]")
+    ax.set_yscale("symlog", linthresh=1e-3)
+    highest = max(
+        (float(np.max(np.asarray(line.get_ydata(), dtype=float))) for line in ax.get_lines()),
+        default=1.0,
+    )
+    ax.set_ylim(0.0, 3.0 * max(highest, 1.0))  # damage is never negative
+    ax.legend(fontsize=7, ncol=2)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_range_cycles(
+    damage: SetDamage, path: Path, *, level: int = 0, gear: str | None = None
+) -> Path:
+    """Cycles per tooth over the life above each stress range, one line per wind bin (Fig. 14b)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    gear = gear or damage.gears[0]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for speed, bins in zip(damage.speeds, damage.range_cycles[level], strict=True):
+        counts = bins.get(gear)
+        if counts is None or not np.any(counts):
+            continue
+        above = np.cumsum(counts[::-1])[::-1]  # cycles with a range at or above each edge
+        ax.step(RANGE_EDGES[:-1] / 1e6, above, where="post", label=f"{speed:g} m/s")
+    counted = [c for b in damage.range_cycles[level] for g, c in b.items() if g == gear]
+    reached = np.flatnonzero(np.sum(counted, axis=0)) if counted else np.zeros(0, dtype=int)
+    if reached.size:
+        ax.set_xlim(0.0, 1.1 * RANGE_EDGES[reached[-1] + 1] / 1e6)
+    ax.set_xlabel("von Mises contact-stress range [MPa]")
+    ax.set_ylabel("cycles per tooth over the bin's hours, range ≥ x")
+    ax.set_yscale("log")
+    ax.set_title(f"{gear}, turbulence {damage.levels[level]}")
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -1,0 +1,68 @@
+"""``pinwind fatigue``: each bad input is one message and exit 2; ``--quick`` end to end."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import pytest
+from numpy.testing import assert_allclose
+
+from pinwind.cli import main
+from tests.life.test_load_cases import fatigue_toml
+from tests.test_cli import run
+
+
+def fatigue_exit(args: list[str], monkeypatch, capsys) -> tuple[int, str]:
+    """Run ``pinwind fatigue ARGS`` in this process: (exit code, stderr)."""
+    monkeypatch.setattr(sys, "argv", ["pinwind", "fatigue", *args])
+    with pytest.raises(SystemExit) as caught:
+        main()
+    return caught.value.code, capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("dtu500_planetary.urdf", "no_such_model.urdf", "model: "),
+        ("hours = [1000, 250]", "hours = [1000]", "one value per bin (2 bins)"),
+        ("m = 3.0", "m = 0.0", "slope exponent m is 0.0 but must be finite and positive"),
+        ("endurance_limit_mpa = 0.0", "endurance_limit_mpa = -5.0", "endurance limit [Pa] is -5"),
+        ("turbulence = 0.1", "turbulence = 0.0", "must be finite and positive"),
+        (
+            "[fatigue.site]",
+            '[fatigue.openfast]\nfiles = "of/v{speed:g}.outb"\njoint = "carrier"\n[fatigue.site]',
+            "of/v10.outb (case v10.00_ti0.1000_s3) does not exist",
+        ),
+    ],
+)
+def test_bad_fatigue_input_is_one_message_and_exit_2(
+    tmp_path, monkeypatch, capsys, old, new, message
+):
+    path = fatigue_toml(tmp_path)
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new))
+    code, err = fatigue_exit([str(path)], monkeypatch, capsys)
+    assert code == 2
+    assert message in err, err
+    assert err.strip().count("\n") == 0, err
+    assert str(path) in err
+
+
+def test_quick_run_prints_damage_whose_bins_add_up_to_the_total(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    quick = "[fatigue.quick]\nduration = 0.03\n"
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text() + quick)
+    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1")
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    assert report["cases"] == 2
+    assert len(report["computed"]) == 2
+    assert report["hours"] == [1000.0, 250.0]
+    for level in report["damage"]["no limit"]:
+        for gear in level.values():
+            assert_allclose(sum(gear["per_bin"]), gear["total"], rtol=1e-12)
+    assert (tmp_path / "cases_quick").is_dir()
+    assert len(list((tmp_path / "cases_quick").glob("*.mcap"))) == 2

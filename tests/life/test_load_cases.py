@@ -1,0 +1,210 @@
+"""Fatigue sets: hours of the bins, damage from the cases' cycles by hand, resumability, bad input.
+
+The damage of a set is checked against Palmgren-Miner by hand on cycles written here: with
+N(s) = N0 (s0 / s)^m, a cycle of range s counts (s / s0)^m / N0, times the bin's
+h · 3600 / T_counted.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from pinwind.dynamics.elements import rotor_power_coefficient
+from pinwind.life.life_damage import set_damage
+from pinwind.life.load_cases import (
+    CaseCycles,
+    FlankCycles,
+    load_fatigue_set,
+    run_cases,
+)
+from pinwind.loads.rotor import JORGENSEN2014_POWER_CURVE, Rotor
+from pinwind.scenario import ScenarioError
+from tests.conftest import MODELS
+
+MODEL = (MODELS / "dtu500_planetary.urdf").as_posix()
+
+
+def fatigue_toml(tmp_path: Path, fatigue: str = "", run: str = "", site: str = "") -> Path:
+    """A fatigue set of the DTU 500 kW stage: two bins, one level, one seed, 0.04 s cases."""
+    site = site or "speeds = [10, 16]\nhours = [1000, 250]"
+    text = textwrap.dedent(
+        f"""\
+        model = "{MODEL}"
+        dt = 2e-5
+        initial_speed = {{ carrier = 27.1 }}
+        log_rate = 1000.0
+        {run}
+        [rotor.carrier]
+        preset = "jorgensen2014"
+
+        [generator.sun]
+        law = "linear-slip"
+        slope = 203568.04
+        sync_rpm = 148.91584
+
+        [fatigue]
+        out = "cases"
+        duration = 0.04
+        sample_rate = 50000.0
+        turbulence = 0.1
+        seeds = [3]
+        hub_height = 36.0
+        {fatigue}
+        [fatigue.site]
+        {site}
+
+        [fatigue.sn_curve]
+        s0_mpa = 1000.0
+        m = 3.0
+        endurance_limit_mpa = 0.0
+        """
+    )
+    path = tmp_path / "set.toml"
+    path.write_text(text)
+    return path
+
+
+def test_given_hours_per_bin_sum_to_the_sets_total(tmp_path):
+    fset = load_fatigue_set(fatigue_toml(tmp_path, site="speeds = [6, 8, 10]\nhours = [4, 5, 6]"))
+    assert_allclose(fset.site.total_hours, 15.0, rtol=0, atol=1e-12)
+    assert len(fset.cases()) == 3
+
+
+def test_weibull_site_hours_are_the_design_life_times_the_probability_in_range(tmp_path):
+    site = "scale = 6.62\nshape = 2.19\nedges = [5, 7, 9]\ndesign_life_years = 20"
+    fset = load_fatigue_set(fatigue_toml(tmp_path, site=site))
+    # T [h] · (F(9) − F(5)), F(v) = 1 − exp(−(v/A)^k), by hand
+    expected = 20 * 365 * 24 * (math.exp(-((5 / 6.62) ** 2.19)) - math.exp(-((9 / 6.62) ** 2.19)))
+    assert_allclose(fset.site.total_hours, expected, rtol=1e-12)
+
+
+def test_jorgensen2014_rotor_gives_its_power_curve_at_27_1_rpm():
+    rotor = Rotor.jorgensen2014()
+    omega = 27.1 * 2 * math.pi / 60
+    for wind, power_kw in JORGENSEN2014_POWER_CURVE[2:-2]:
+        cp = rotor_power_coefficient(rotor, omega * rotor.radius / wind)
+        power = 0.5 * 1.225 * math.pi * 20.5**2 * wind**3 * cp
+        assert_allclose(power, power_kw * 1e3, rtol=1e-9)
+
+
+def write_cycles(fset, case, tooth, ranges_mpa, counts, counted_seconds):
+    """A case reduction for the sun (20 teeth, one flank) with these cycles."""
+    flank = FlankCycles(
+        gear="sun",
+        flank=1,
+        teeth=20,
+        tooth=np.asarray(tooth),
+        ranges=np.asarray(ranges_mpa, dtype=float) * 1e6,
+        counts=np.asarray(counts, dtype=float),
+        peaks=np.zeros(20),
+    )
+    fset.out.mkdir(parents=True, exist_ok=True)
+    CaseCycles(case, fset.case_key(case), counted_seconds, 0.0, (flank,)).save(
+        fset.cycles_path(case)
+    )
+
+
+def test_two_case_set_damage_is_the_sum_of_the_cases_miner_sums_by_hand(tmp_path):
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    low, high = fset.cases()  # 10 m/s (1000 h), 16 m/s (250 h)
+    write_cycles(fset, low, [4, 4, 7], [500, 300, 800], [1.0, 0.5, 1.0], 2.0)
+    write_cycles(fset, high, [4, 7], [600, 900], [2.0, 1.0], 4.0)
+    damage = set_damage(fset).damage["no limit"][0]["sun"]
+    # tooth 4: (0.5³ + 0.5·0.3³)·1000·3600/2 + 2·0.6³·250·3600/4
+    tooth_4 = (0.5**3 + 0.5 * 0.3**3) * 1000 * 1800 + 2 * 0.6**3 * 250 * 900
+    # tooth 7: 0.8³·1000·3600/2 + 0.9³·250·3600/4
+    tooth_7 = 0.8**3 * 1000 * 1800 + 0.9**3 * 250 * 900
+    assert damage.tooth == (4 if tooth_4 > tooth_7 else 7)
+    assert_allclose(damage.total, max(tooth_4, tooth_7), rtol=1e-12)
+    worst = (0.5**3 + 0.5 * 0.3**3, 2 * 0.6**3) if tooth_4 > tooth_7 else (0.8**3, 0.9**3)
+    assert_allclose(damage.per_bin, [worst[0] * 1000 * 1800, worst[1] * 250 * 900], rtol=1e-12)
+
+
+def test_cycles_below_the_endurance_limit_do_no_damage_in_a_set(tmp_path):
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    limited = {g: dataclasses.replace(c, endurance_limit=850e6) for g, c in fset.curves.items()}
+    fset = dataclasses.replace(fset, curves=limited)
+    low, high = fset.cases()
+    write_cycles(fset, low, [1], [840], [1.0], 1.0)
+    write_cycles(fset, high, [1], [860], [1.0], 1.0)
+    damage = set_damage(fset).damage["limit"][0]["sun"]
+    assert_allclose(damage.per_bin, [0.0, 0.86**3 * 250 * 3600], rtol=1e-12)
+
+
+def test_rerun_computes_only_the_case_whose_log_was_deleted(tmp_path, monkeypatch):
+    import pinwind.life.load_cases as load_cases
+
+    calls = []
+    original = load_cases.run_case
+
+    def counted(case, fatigue):
+        calls.append(case.name)
+        return original(case, fatigue)
+
+    monkeypatch.setattr(load_cases, "run_case", counted)
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    first = run_cases(fset, workers=1)
+    assert sorted(first.computed) == sorted(c.name for c in fset.cases())
+    gone = fset.cases()[1]
+    fset.log_path(gone).unlink()
+    second = run_cases(fset, workers=1)
+    assert second.computed == [gone.name]
+    assert calls == [*first.computed, gone.name]
+    assert run_cases(fset, workers=1).computed == []
+    assert set_damage(fset).damage["no limit"][0]["sun"].total > 0.0
+
+
+@pytest.mark.parametrize(
+    ("fatigue", "site", "message"),
+    [
+        ("", "speeds = [10, 16]\nhours = [1000, nan]", "the hours of the 16 m/s bin is nan"),
+        ("turbulence = -0.1", "", "turbulence intensity of the 10 m/s bin is -0.1"),
+    ],
+)
+def test_bad_site_input_names_its_key(tmp_path, fatigue, site, message):
+    text = fatigue_toml(tmp_path, site=site).read_text()
+    if fatigue:
+        text = text.replace("turbulence = 0.1", fatigue)
+    (tmp_path / "set.toml").write_text(text)
+    with pytest.raises(ScenarioError, match="fatigue") as caught:
+        load_fatigue_set(tmp_path / "set.toml")
+    assert message in str(caught.value)
+
+
+def test_figures_of_a_set_are_written(tmp_path):
+    from pinwind.life.life_figures import plot_damage_vs_turbulence, plot_range_cycles
+
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    low, high = fset.cases()
+    write_cycles(fset, low, [4], [500], [1.0], 2.0)
+    write_cycles(fset, high, [4], [600], [1.0], 2.0)
+    damage = set_damage(fset)
+    for path in (
+        plot_damage_vs_turbulence(damage, tmp_path / "figs" / "turbulence.png"),
+        plot_range_cycles(damage, tmp_path / "figs" / "ranges.png"),
+    ):
+        assert path.stat().st_size > 1000
+
+
+def test_dask_backend_gives_the_damage_of_a_run_in_this_process(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    here = load_fatigue_set(fatigue_toml(tmp_path))
+    run_cases(here, workers=1)
+    there = dataclasses.replace(here, out=tmp_path / "dask")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:  # fmt: skip
+        with distributed.Client(cluster) as client:
+            run = run_cases(there, scheduler=client)
+    assert run.backend.startswith("dask") and len(run.computed) == 2
+    for variant in ("limit", "no limit"):
+        a = set_damage(here).damage[variant][0]
+        b = set_damage(there).damage[variant][0]
+        for gear in a:
+            assert_allclose(b[gear].per_bin, a[gear].per_bin, rtol=0, atol=0)
