@@ -298,7 +298,7 @@ _DERIVED: tuple[Series, ...] = (
     Series("bearing_torque", _B, "torque", "N*m",
            "transmitted torque: the moment on the child body along the bearing axis (signed; "
            "the shaft's torque, not a bearing load)",
-           label="transmitted torque", short="T along axis",
+           label="transmitted torque", short="T axis",
            derive=bearing_load.transmitted_torque),
 )  # fmt: skip
 
