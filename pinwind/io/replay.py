@@ -374,27 +374,39 @@ def check_port_free(port: int, option: str) -> None:
             raise PortInUse(port, option) from err
 
 
-#: The viewer binary that ``RecordingStream.spawn`` looks for on PATH.
+#: The Rerun viewer program that rerun-sdk installs beside the Python interpreter.
 VIEWER = "rerun"
 
 
-def check_viewer_can_open() -> None:
-    """Raise ``NoViewer`` when spawning the Rerun viewer would fail or hang here.
+def viewer_program() -> str | None:
+    """The Rerun viewer to spawn: on PATH, else beside this Python (a venv not activated)."""
+    found = shutil.which(VIEWER)
+    if found is None:
+        found = shutil.which(VIEWER, path=str(Path(sys.executable).parent))
+    return found
+
+
+def check_viewer_can_open() -> str:
+    """The viewer program to spawn, or ``NoViewer`` when spawning it would fail or hang here.
 
     Without a display (Linux and the BSDs: neither DISPLAY nor WAYLAND_DISPLAY set, as on a
     headless or SSH machine) the viewer cannot open a window and never binds its port, so that
-    ``spawn`` waits for ever; without the ``rerun`` binary on PATH ``spawn`` fails with a long
+    ``spawn`` waits for ever; without the ``rerun`` program ``spawn`` fails with a long
     traceback. macOS and Windows always have a display.
 
     Raises:
         NoViewer: the reason, and the ``--save``/``--serve`` alternatives.
     """
-    if shutil.which(VIEWER) is None:
-        raise NoViewer(f"no `{VIEWER}` program on PATH (activate the venv pinwind is installed in)")
+    program = viewer_program()
+    if program is None:
+        raise NoViewer(
+            f"no `{VIEWER}` program on PATH or beside {sys.executable} (install rerun-sdk)"
+        )
     if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")) and not (
         os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
     ):
         raise NoViewer("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)")
+    return program
 
 
 def replay(
@@ -448,8 +460,7 @@ def replay(
             )
         check_port_free(grpc_port, "--grpc-port")
         check_port_free(web_port, "--web-port")
-    elif save is None:
-        check_viewer_can_open()
+    viewer = check_viewer_can_open() if save is None and not serve else None
     with LogReader(path) as reader:
         window = _window(reader, start, stop)
         recording = rr.RecordingStream(application_id="pinwind_replay", recording_id=uuid.uuid4())
@@ -466,7 +477,7 @@ def replay(
             except Exception as err:  # rerun's own error for a port taken meanwhile, ...
                 raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
         else:
-            recording.spawn()
+            rr.spawn(executable_path=viewer, recording=recording)
         sent, scene = send_log(
             reader, recording, points=points, window=window, block=block, progress=progress
         )

@@ -11,6 +11,9 @@ from pathlib import Path
 
 import pytest
 
+import pinwind.io.replay as replay_module
+from pinwind.errors import NoViewer
+
 #: The issue's bound: a headless replay ends within this time [s], not at a kill.
 WITHIN_S = 15.0
 
@@ -45,15 +48,23 @@ def test_replay_without_a_display_ends_at_once_with_one_line_naming_save_and_ser
     assert "display" in out.stderr
 
 
-def test_replay_without_the_viewer_on_path_ends_with_one_line_naming_save_and_serve(
-    logged_run, tmp_path
+def test_replay_without_a_viewer_program_is_refused_in_one_line_naming_save_and_serve(
+    logged_run, monkeypatch
 ):
-    env = {**os.environ, "DISPLAY": ":0", "PATH": str(tmp_path)}  # an empty folder
-    assert shutil.which("rerun", path=env["PATH"]) is None
-    out, seconds = replay_with_env(logged_run.path, env)
-    assert out.returncode == 2
-    assert seconds < WITHIN_S
-    assert "Traceback" not in out.stderr
-    assert len(out.stderr.strip().splitlines()) == 1
-    assert "--save" in out.stderr and "--serve" in out.stderr
-    assert "rerun" in out.stderr
+    # No such program on PATH nor beside the interpreter; a display is there.
+    monkeypatch.setattr(replay_module, "VIEWER", "no-such-rerun-viewer")
+    monkeypatch.setenv("DISPLAY", ":0")
+    started = time.monotonic()
+    with pytest.raises(NoViewer) as refused:
+        replay_module.replay(logged_run.path)
+    assert time.monotonic() - started < WITHIN_S
+    message = str(refused.value)
+    assert "\n" not in message
+    assert "--save" in message and "--serve" in message and "no-such-rerun-viewer" in message
+
+
+def test_the_viewer_beside_the_interpreter_is_found_when_path_lacks_it(monkeypatch, tmp_path):
+    # A venv used without activating it: .venv/bin/pinwind with .venv/bin not on PATH.
+    monkeypatch.setenv("PATH", str(tmp_path))
+    beside = shutil.which("rerun", path=str(Path(sys.executable).parent))
+    assert replay_module.viewer_program() == beside
