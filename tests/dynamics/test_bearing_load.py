@@ -107,3 +107,40 @@ def test_export_has_radial_axial_tilting_and_torque_columns_of_every_bearing(tmp
             assert f"bearing/{name}/{column}" in table[0], (name, column)
     ring = [float(row["bearing/ring/torque_N_m"]) for row in table]
     np.testing.assert_allclose(ring, -(CARRIER_TORQUE + SUN_TORQUE), rtol=1e-9)
+
+
+def test_a_log_written_before_the_bearing_loads_were_declared_derives_them_on_read(tmp_path):
+    from pinwind.dynamics import series
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    log = tmp_path / "older.mcap"
+    names = ("bearing_radial", "bearing_axial", "bearing_tilting", "bearing_torque")
+    declared = [series.get(name) for name in names]
+    for name in names:
+        series.withdraw(name)
+    try:
+        pinwind.simulate(
+            gb, duration=0.005, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
+            log=log,
+        )  # fmt: skip
+    finally:
+        for s in declared:
+            series.declare(s)
+    back = pinwind.read_log(log)
+    np.testing.assert_allclose(
+        back.bearing("ring").torque, -(CARRIER_TORQUE + SUN_TORQUE), rtol=1e-9
+    )
+    np.testing.assert_allclose(
+        np.hypot(back.bearing_radial, back.bearing_axial),
+        np.linalg.norm(back.bearing_force, axis=-1),
+        rtol=1e-12,
+    )
+    # Streamed in blocks too; and NaN where the inputs were not read.
+    from pinwind.io import iter_log
+
+    blocks = list(iter_log(log, block=2))
+    np.testing.assert_array_equal(
+        np.concatenate([b.bearing_torque for b in blocks]), back.bearing_torque
+    )
+    alone = pinwind.read_log(log, channels="/bearings/torque")
+    assert np.isnan(alone.bearing_torque).all()
