@@ -563,3 +563,15 @@ class PortInUse(InputError):
 
 class ServeFailed(PinwindError):
     """Rerun could not start its servers."""
+
+
+class NoViewer(PinwindError):
+    """``pinwind replay`` cannot open the Rerun viewer here: no display, or no viewer binary."""
+
+    def __init__(self, reason: str):
+        self.reason = reason
+        super().__init__(
+            f"cannot open the Rerun viewer: {reason}; write a recording with --save run.rrd "
+            "(open it with `rerun run.rrd` on a machine with a display) or serve the web "
+            "viewer with --serve (then open the address it prints in a browser)"
+        )

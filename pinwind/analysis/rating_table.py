@@ -1,4 +1,10 @@
-"""Rich tables of a `GearboxRating`: one row per mesh and gear, stresses in MPa."""
+"""Rich tables of a `GearboxRating`: one row per gear of each mesh, stresses in MPa.
+
+Three tables that fit 80 columns with no cell cut: ISO 6336, AGMA 2001 with Hertz, and the
+smallest safety factors per gear; the mesh tables name the standard, its edition and method
+as ``gears/rating_iso.py`` and ``gears/rating_agma.py`` implement them, and the application
+factor, accuracy and reliability used.
+"""
 
 from __future__ import annotations
 
@@ -6,23 +12,89 @@ from rich.table import Table
 
 from pinwind.analysis.rating import GearboxRating
 
+#: The standards, editions and methods of each table, as the rating modules implement them
+#: (their docstrings give every factor and default).
+ISO_METHOD = (
+    "ISO 6336-2 (pitting) and ISO 6336-3 (tooth root), method B factors; K_v by "
+    "ISO 6336-1:1996 method C; life, lubrication and roughness factors 1"
+)
+AGMA_METHOD = (
+    "AGMA 2001-D04 in SI units (Shigley 10th ed.); J by AGMA 908-B89 (internal gears: "
+    "1/(Y_F Y_S) of ISO 6336-3); Y_N = Z_N = 1; p_max: largest Hertz line-contact pressure "
+    "along the path of contact"
+)
+
+
+def _iso_caption(rating: GearboxRating) -> str:
+    """The ISO method and the choices of the first mesh (the command line's are every mesh's)."""
+    if not rating.meshes:
+        return ISO_METHOD
+    f = rating.meshes[0].iso.factors
+    return (
+        f"{ISO_METHOD}; K_A = {f.K_A:g}, accuracy grade {f.accuracy_grade}, misalignment "
+        f"F_βy = {f.misalignment * 1e6:g} µm"
+    )
+
+
+def _agma_caption(rating: GearboxRating) -> str:
+    """The AGMA method and the choices of the first mesh."""
+    if not rating.meshes:
+        return AGMA_METHOD
+    f = rating.meshes[0].agma.factors
+    return (
+        f"{AGMA_METHOD}; K_o = {f.K_o:g}, Q_v = {f.quality}, reliability {f.reliability:g} "
+        f"(K_R = {f.K_R:.3g})"
+    )
+
 
 def _ok(passes: bool) -> str:
     return "[green]pass[/green]" if passes else "[bold red]FAIL[/bold red]"
 
 
-def rating_tables(rating: GearboxRating, title: str = "") -> list[Table]:
-    """A mesh table (one row per gear of each mesh) and a table of the smallest factors per gear."""
-    meshes = Table(title=f"mesh ratings {title}".strip(), title_justify="left")
-    for column in (
-        "mesh", "gear", "F_n kN", "v m/s", "ISO σ_H", "S_H", "ISO σ_F", "S_F",
-        "AGMA σ_c", "S_H", "AGMA σ", "S_F", "Hertz p_max", "",
-    ):  # fmt: skip
-        meshes.add_column(column, justify="left" if column in ("mesh", "gear") else "right")
+def _table(title: str, caption: str, plain: bool) -> Table:
+    """An empty table in the style of ``pinwind report``: no outer edge, a rule under the head."""
+    from pinwind.analysis.summary import PLAIN_BOX, TERMINAL_BOX
+
+    return Table(
+        title=title,
+        caption=caption,
+        title_justify="left",
+        caption_justify="left",
+        box=PLAIN_BOX if plain else TERMINAL_BOX,
+        show_edge=False,
+        pad_edge=False,
+        title_style=None if plain else "bold",
+        header_style=None if plain else "bold",
+    )
+
+
+def _columns(table: Table, names: tuple[str, ...]) -> None:
+    for name in names:
+        table.add_column(
+            name, justify="left" if name in ("mesh", "gear") else "right", no_wrap=True
+        )
+
+
+def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False) -> list[Table]:
+    """The ISO 6336 and the AGMA 2001/Hertz mesh tables and the smallest factors per gear.
+
+    Each mesh table has a row per gear of each mesh (stresses in MPa; S = permissible / actual,
+    ≥ 1 passes) and names the standard, edition, method and main factors in its caption.
+
+    Args:
+        rating: the rating (``analysis.rating.rate``).
+        title: what was rated (model, time), after each mesh table's standard.
+        plain: ASCII rules and no styles, for pipes and files.
+    """
+    at = f" — {title}" if title else ""
+    iso = _table(f"ISO 6336 mesh ratings{at}", _iso_caption(rating), plain)
+    _columns(iso, ("mesh", "gear", "F_n kN", "v m/s", "σ_H MPa", "S_H", "σ_F MPa", "S_F"))
+    agma = _table(f"AGMA 2001 and Hertz mesh ratings{at}", _agma_caption(rating), plain)
+    _columns(agma, ("mesh", "gear", "σ_c MPa", "S_H", "σ MPa", "S_F", "p_max MPa", ""))
     for m in rating.meshes:
         for i, gear in enumerate(m.pair.names):
             first = i == 0
-            meshes.add_row(
+            iso.add_row(
                 m.mesh if first else "",
                 gear,
                 f"{m.normal_force / 1e3:.1f}" if first else "",
@@ -31,6 +103,10 @@ def rating_tables(rating: GearboxRating, title: str = "") -> list[Table]:
                 f"{m.iso.S_H[i]:.2f}",
                 f"{m.iso.sigma_F[i] * 1e-6:.0f}",
                 f"{m.iso.S_F[i]:.2f}",
+            )
+            agma.add_row(
+                m.mesh if first else "",
+                gear,
                 f"{m.agma.contact_stress[i] * 1e-6:.0f}",
                 f"{m.agma.S_H[i]:.2f}",
                 f"{m.agma.bending_stress[i] * 1e-6:.0f}",
@@ -38,10 +114,10 @@ def rating_tables(rating: GearboxRating, title: str = "") -> list[Table]:
                 f"{m.hertz_p_max * 1e-6:.0f}" if first else "",
                 _ok(m.passes) if first else "",
             )
-    meshes.caption = "stresses in MPa; S = permissible (allowable) / actual, ≥ 1 passes"
-    gears = Table(title="smallest safety factors per gear", title_justify="left")
-    for column in ("gear", "ISO S_H", "ISO S_F", "AGMA S_H", "AGMA S_F", "Hertz p_max MPa", ""):
-        gears.add_column(column, justify="left" if column == "gear" else "right")
+    gears = _table(
+        "smallest safety factors per gear", "S = permissible / actual, ≥ 1 passes", plain
+    )
+    _columns(gears, ("gear", "ISO S_H", "ISO S_F", "AGMA S_H", "AGMA S_F", "p_max MPa", ""))
     for g in rating.gears.values():
         gears.add_row(
             g.gear,
@@ -52,4 +128,4 @@ def rating_tables(rating: GearboxRating, title: str = "") -> list[Table]:
             f"{g.hertz_p_max * 1e-6:.0f}",
             _ok(g.passes),
         )
-    return [meshes, gears]
+    return [iso, agma, gears]

@@ -30,6 +30,35 @@ app = typer.Typer(
 build_app = typer.Typer(
     help="Write parametric gearbox models.", no_args_is_help=True, rich_markup_mode=None
 )
+
+
+def _print_version(value: bool) -> None:
+    """``--version``: print the installed version of pinwind and stop."""
+    if not value:
+        return
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        installed = version("pinwind")
+    except PackageNotFoundError:  # run from a checkout on PYTHONPATH, never pip-installed
+        installed = "not installed (run from a source tree)"
+    print(f"pinwind {installed}")
+    raise typer.Exit()
+
+
+@app.callback()
+def _options(
+    version: bool = typer.Option(
+        False,
+        "--version",
+        callback=_print_version,
+        is_eager=True,
+        help="Print the installed version of pinwind and exit.",
+    ),
+) -> None:
+    """Loads inside wind-turbine gearboxes: gear-mesh forces and bearing reactions."""
+
+
 app.add_typer(build_app, name="build")
 sweep_app = typer.Typer(
     help="Design sweeps: enumerate, simulate, rate, query.", no_args_is_help=True

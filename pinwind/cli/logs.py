@@ -117,8 +117,20 @@ def report(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
     start: WindowStart = None,
     stop: WindowStop = None,
+    all_rows: Annotated[
+        bool,
+        typer.Option(
+            "--all",
+            help="Every quantity, axis and statistic (RMS too), not only the engineer's table.",
+        ),
+    ] = False,
 ) -> None:
-    """Min, max, mean, RMS and final value of every quantity in a log."""
+    """Min, max, mean and final value of the speeds, torques and forces in a log (--all: all).
+
+    The default table has each joint's speed and torque, each mesh's forces and each bearing's
+    |F|, |M|, radial and axial force, tilting moment and transmitted torque; --all adds every
+    axis, angle, acceleration and the RMS. --json always gives everything, in SI units.
+    """
     from pinwind.io.report import report_dict, report_log, report_tables
 
     with warnings_as_lines(), _reading(log, "reading") as progress:
@@ -132,7 +144,8 @@ def report(
         f"{res.metadata['log']['stride']} sample(s); model sha256 "
         f"{str(res.metadata.get('model_sha256'))[:12]}"
     )
-    for table in report_tables(res, start, stop, plain=not console.is_terminal):
+    tables = report_tables(res, start, stop, plain=not console.is_terminal, all_rows=all_rows)
+    for table in tables:
         console.print()
         console.print(table)
 

@@ -60,6 +60,8 @@ def rate(
     if as_json:
         print(json.dumps(rating.as_dict(), indent=1))
         return
-    for table in rating_tables(rating, title=f"{gearbox.name} at t = {res.time[-1]:g} s"):
+    title = f"{gearbox.name} at t = {res.time[-1]:g} s"
+    for table in rating_tables(rating, title=title, plain=not console.is_terminal):
+        console.print()
         console.print(table)
     console.print("all meshes pass" if rating.passes else "[bold red]some meshes fail[/bold red]")

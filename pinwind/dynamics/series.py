@@ -24,6 +24,8 @@ from typing import Any, Literal
 
 import numpy as np
 
+from pinwind.dynamics import bearing_load
+
 #: Kinds of element a series has values for; ``run``: one value per sample.
 Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor"]
 
@@ -99,6 +101,8 @@ class Series:
         label: its name in the statistics and the report (default: ``quantity`` in words).
         short: its label in the printed report tables (default: ``label``).
         statistics: folded into the run statistics and the report.
+        headline: in the engineer's table that ``pinwind report`` prints by default (False:
+            only with ``--all``); a vector shows there its magnitude only.
         plot: its panel, or None.
         derive: None for a series the compiled step writes; else the function that computes
             it from a block's other series, in Python, before the block is logged.
@@ -116,6 +120,7 @@ class Series:
     label: str = ""
     short: str = ""
     statistics: bool = True
+    headline: bool = True
     plot: Plot | None = None
     derive: Derive | None = None
 
@@ -155,12 +160,14 @@ _B: Family = "bearing"
 _BUILT_IN: tuple[Series, ...] = (
     Series("time", "run", "time", "s", "sample time (exact; log time is rounded to 1 ns)",
            statistics=False),
-    Series("angle", _J, "angle", "rad", "joint angle, unwrapped", logged=False),
+    Series("angle", _J, "angle", "rad", "joint angle, unwrapped", logged=False,
+           headline=False),
     Series("speed", _J, "speed", "rad/s", "joint speed relative to the parent body",
            logged=False,
            plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm")),
     Series("acceleration", _J, "acceleration", "rad/s^2",
-           "joint acceleration over the step that starts at the sample", short="accel."),
+           "joint acceleration over the step that starts at the sample", short="accel.",
+           headline=False),
     Series("torque", _J, "torque", "N*m",
            "net torque from outside the gear train on the joint: applied + speed driver or lock "
            "+ generator + rotor (0 at a constant speed driven against a generator)",
@@ -182,13 +189,13 @@ _BUILT_IN: tuple[Series, ...] = (
                      "mesh force components: axial F_a [kN]", "kN",
                      relative_to="mesh_normal")),
     Series("mesh_flank", _M, "flank", "1",
-           "loaded flank s = +1 when A turning positively drives B, else -1"),
+           "loaded flank s = +1 when A turning positively drives B, else -1", headline=False),
     Series("transmission_error", _M, "transmission_error", "m",
            "position mismatch along the line of action", short="TE",
            plot=Plot("transmission_error", "mesh deflection",
                      "transmission error along the line of action [µm]", "µm")),
     Series("mesh_force_on_b", _M, "force_on_b", "N", "tooth force on gear B", "xyz", "world",
-           label="force on B (world)", short="F on B"),
+           label="force on B (world)", short="F on B", headline=False),
     Series("pitch_point", _M, "pitch_point", "m", "pitch point", "xyz", "world",
            statistics=False),
     Series("mesh_deflection", _M, "deflection", "m",
@@ -198,8 +205,8 @@ _BUILT_IN: tuple[Series, ...] = (
                      "µm", drop_zero=True)),
     Series("mesh_contact_position", _M, "contact_position", "m",
            "roll position of the entering tooth pair from gear A's base tangency point",
-           short="contact"),
-    Series("mesh_pairs", _M, "pairs", "1", "tooth pairs in contact"),
+           short="contact", headline=False),
+    Series("mesh_pairs", _M, "pairs", "1", "tooth pairs in contact", headline=False),
     Series("mesh_single_tooth_force", _M, "single_tooth_force", "N",
            "normal force on the entering tooth pair, F_n k1/k", short="F 1 tooth",
            plot=Plot("single_tooth_force", "mesh forces",
@@ -217,10 +224,10 @@ _BUILT_IN: tuple[Series, ...] = (
                      magnitude=True)),
     Series("bearing_force_local", _B, "force_local", "N",
            "force on the child body at the bearing centre", "xyz", "joint",
-           label="force (joint frame)", short="F joint"),
+           label="force (joint frame)", short="F joint", headline=False),
     Series("bearing_moment_local", _B, "moment_local", "N*m",
            "moment on the child body about the bearing centre", "xyz", "joint",
-           label="moment (joint frame)", short="M joint"),
+           label="moment (joint frame)", short="M joint", headline=False),
     Series("body_position", "body", "position", "m", "link frame origin", "xyz", "world",
            per="pose", logged=False, statistics=False),
     Series("body_quaternion", "body", "quaternion", "1", "link orientation, scalar last",
@@ -277,7 +284,25 @@ ENERGY_TERMS: tuple[EnergyTerm, ...] = (
     EnergyTerm("numerical", "the integrator's own loss: W_parametric − (ΔU_spring + W_springs)"),
 )
 
-_SCHEMA: list[Series] = list(_BUILT_IN)
+#: Series computed in Python from the compiled ones (``derive``), after them in the Result.
+_DERIVED: tuple[Series, ...] = (
+    Series("bearing_radial", _B, "radial", "N",
+           "radial force: the force on the child body normal to the bearing axis, >= 0",
+           label="radial force", short="F radial", derive=bearing_load.radial_force),
+    Series("bearing_axial", _B, "axial", "N",
+           "axial force: the force on the child body along the bearing axis (signed)",
+           label="axial force", short="F axial", derive=bearing_load.axial_force),
+    Series("bearing_tilting", _B, "tilting", "N*m",
+           "tilting moment: the moment on the child body normal to the bearing axis, >= 0",
+           label="tilting moment", short="M tilting", derive=bearing_load.tilting_moment),
+    Series("bearing_torque", _B, "torque", "N*m",
+           "transmitted torque: the moment on the child body along the bearing axis (signed; "
+           "the shaft's torque, not a bearing load)",
+           label="transmitted torque", short="T axis",
+           derive=bearing_load.transmitted_torque),
+)  # fmt: skip
+
+_SCHEMA: list[Series] = [*_BUILT_IN, *_DERIVED]
 
 
 def schema() -> tuple[Series, ...]:

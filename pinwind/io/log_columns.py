@@ -23,6 +23,7 @@ from mcap.opcode import Opcode
 
 from pinwind.dynamics._native import fill_rows, unshuffle_series
 from pinwind.dynamics.result import POSE_ARRAYS, Result
+from pinwind.dynamics.series import get as declared_series
 from pinwind.io.log_format import COLUMNS_LAYOUT, mask_bytes
 from pinwind.io.mcap_file import DamagedChunk
 
@@ -78,7 +79,9 @@ class ColumnLayout:
             pose_at += count
         for key, shape in shapes.items():
             if key not in at:
-                if math.prod(shape):
+                # A series computed in Python that a log written before its declaration lacks
+                # is derived again on read (``LogReader``).
+                if math.prod(shape) and not _derived(key):
                     raise ValueError(f"the columns hold no '{key}'")
                 continue
             if at[key][2] != shape:
@@ -89,6 +92,14 @@ class ColumnLayout:
         if "time" not in at or at["time"][0] != 0:
             raise ValueError("the columns do not start with the time")
         return cls(channel, width, pose_at, at)
+
+
+def _derived(key: str) -> bool:
+    """A Result array computed in Python from the others (``Series.derive``)."""
+    try:
+        return declared_series(key).derive is not None
+    except KeyError:  # an energy term or the poses' row numbers
+        return False
 
 
 @dataclass

@@ -30,6 +30,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from pinwind.dynamics import series
 from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import (
     InputError,
@@ -220,6 +221,19 @@ class LogReader:
                     )
                 except ValueError as err:
                     raise LogError(where, f"unexpected message contents: {err}") from err
+        #: series computed in Python that this log lacks (written before they were declared):
+        #: ``_finish`` derives them again from the series read and the log's model
+        self._absent = [
+            s
+            for s in series.schema()
+            if s.derive is not None
+            and (
+                s.name not in self._columns.at
+                if self._columns is not None
+                else s.topic not in self.channels
+            )
+        ]
+        self._gearbox: Any = None
         if self._columns is None and TIME_TOPIC not in self._rows.by_topic and contents.chunks:
             raise LogError(where, "unexpected message contents: the log has no /run/time channel")
         end = self.metadata.get("pinwind.end")
@@ -684,8 +698,34 @@ class LogReader:
             "(pinwind.io.iter_log)",
         )
 
+    def _derive_absent(self, result: Result) -> None:
+        """Fill the derived series this log lacks (``_absent``) that were asked for.
+
+        They are computed from the series read and the model the log carries, as the run did;
+        NaN when their inputs were not read or the model no longer loads.
+        """
+        n = len(result)
+        wanted = [s for s in self._absent if n and len(getattr(result, s.name)) == n]
+        if not wanted:
+            return
+        if self._gearbox is None:
+            from pinwind.errors import PinwindError
+            from pinwind.model.gearbox import loads
+
+            try:
+                self._gearbox = loads(self.model_text, path=str(self.path))
+            except PinwindError:
+                self._gearbox = False  # the model no longer loads: NaN, as for unread inputs
+        for s in wanted:
+            target, derive = getattr(result, s.name), s.derive
+            try:
+                target[...] = derive(result, self._gearbox) if derive and self._gearbox else np.nan
+            except ValueError:  # an input not read (channels=): its array has no samples
+                target[...] = np.nan
+
     def _finish(self, result: Result, topics, start, stop, lost: list[str]) -> None:
         """Run metadata, end status and log details on a Result read from this log."""
+        self._derive_absent(result)
         run = dict(self.metadata["pinwind.run"])
         end = self.metadata.get("pinwind.end")
         if end is not None:

@@ -20,7 +20,9 @@ from __future__ import annotations
 import math
 import os
 import re
+import shutil
 import socket
+import sys
 import time
 import uuid
 from collections.abc import Callable
@@ -30,7 +32,7 @@ from urllib.parse import quote
 import numpy as np
 
 from pinwind.dynamics.result import Result, concatenate
-from pinwind.errors import InputError, PortInUse, ServeFailed
+from pinwind.errors import InputError, NoViewer, PortInUse, ServeFailed
 from pinwind.io.log_reader import LogFile, LogReader
 from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview
 from pinwind.io.panels import GROUPS, Panel, legend_layout, model_of_log
@@ -372,6 +374,41 @@ def check_port_free(port: int, option: str) -> None:
             raise PortInUse(port, option) from err
 
 
+#: The Rerun viewer program that rerun-sdk installs beside the Python interpreter.
+VIEWER = "rerun"
+
+
+def viewer_program() -> str | None:
+    """The Rerun viewer to spawn: on PATH, else beside this Python (a venv not activated)."""
+    found = shutil.which(VIEWER)
+    if found is None:
+        found = shutil.which(VIEWER, path=str(Path(sys.executable).parent))
+    return found
+
+
+def check_viewer_can_open() -> str:
+    """The viewer program to spawn, or ``NoViewer`` when spawning it would fail or hang here.
+
+    Without a display (Linux and the BSDs: neither DISPLAY nor WAYLAND_DISPLAY set, as on a
+    headless or SSH machine) the viewer cannot open a window and never binds its port, so that
+    ``spawn`` waits for ever; without the ``rerun`` program ``spawn`` fails with a long
+    traceback. macOS and Windows always have a display.
+
+    Raises:
+        NoViewer: the reason, and the ``--save``/``--serve`` alternatives.
+    """
+    program = viewer_program()
+    if program is None:
+        raise NoViewer(
+            f"no `{VIEWER}` program on PATH or beside {sys.executable} (install rerun-sdk)"
+        )
+    if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")) and not (
+        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    ):
+        raise NoViewer("no display (neither DISPLAY nor WAYLAND_DISPLAY is set)")
+    return program
+
+
 def replay(
     path: str | os.PathLike,
     *,
@@ -406,6 +443,7 @@ def replay(
         InputError: both ``save`` and ``serve`` given, ports without ``serve``, or a window
             without samples.
         PortInUse: a port is taken.
+        NoViewer: neither ``save`` nor ``serve``, and no display or no viewer binary here.
     """
     import rerun as rr
 
@@ -422,6 +460,7 @@ def replay(
             )
         check_port_free(grpc_port, "--grpc-port")
         check_port_free(web_port, "--web-port")
+    viewer = check_viewer_can_open() if save is None and not serve else None
     with LogReader(path) as reader:
         window = _window(reader, start, stop)
         recording = rr.RecordingStream(application_id="pinwind_replay", recording_id=uuid.uuid4())
@@ -438,7 +477,7 @@ def replay(
             except Exception as err:  # rerun's own error for a port taken meanwhile, ...
                 raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
         else:
-            recording.spawn()
+            rr.spawn(executable_path=viewer, recording=recording)
         sent, scene = send_log(
             reader, recording, points=points, window=window, block=block, progress=progress
         )

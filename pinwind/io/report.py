@@ -4,7 +4,10 @@ For each quantity of each joint, mesh and bearing: min, max, mean, RMS and final
 window (``analysis/run_statistics``; the columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2), in
 SI units (``report_dict``, ``--json``); the printed tables use the units of ``pinwind
 simulate``: rpm, kN, kN·m. Vectors give one row per world or joint-frame component plus one for
-the magnitude.
+the magnitude. By default the printed tables are the engineer's: the series of each element that
+``Series.headline`` marks (speeds, torques, mesh forces, bearing forces and moments about the
+bearing axis), vectors by their magnitude only, and no row that is zero throughout; ``all_rows``
+(``pinwind report --all``) prints every row and every statistic.
 Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has them).
 """
 
@@ -155,7 +158,7 @@ _TITLES = {
     "mesh": "Gear meshes: tooth forces and transmission error",
     "bearing": "Bearing reactions on the child body",
     "load": "Generators and rotors",
-    "run": "Run: constraint residual and energy ledger",
+    "run": "Run: constraint residual and energy ledger [kJ]",
 }
 
 
@@ -170,7 +173,13 @@ DISPLAY_UNITS = {
     "W": ("kW", 1e-3),
     "rad/s^2": ("rad/s²", 1.0),
     "1": ("-", 1.0),
+    "m/s or rad/s": ("m/s, rad/s", 1.0),
 }
+
+#: Statistics of the engineer's table (the final value last, as in ``--all``).
+HEADLINE_STATISTICS = ("min", "max", "mean", "final")
+#: Characters of a number cell (``_short``); with the widest label the tables fit 80 columns.
+NUMBER_WIDTH = 9
 
 
 def _labels() -> dict[str, str]:
@@ -181,10 +190,31 @@ def _labels() -> dict[str, str]:
     return {s.title: s.short for s in series.schema() if s.short}
 
 
+def _headline() -> dict[tuple[str, str], bool]:
+    """(report group, statistics label) → in the engineer's table (``Series.headline``)."""
+    groups = {"generator": "load", "rotor": "load"}
+    return {(groups.get(s.family, s.family), s.title): s.headline for s in series.schema()}
+
+
+def _in_headline(row: Row, headline: dict[tuple[str, str], bool]) -> bool:
+    """A row of the engineer's table: a headline series, a vector's magnitude, not all zero."""
+    if not headline.get((row.group, row.quantity), True):
+        return False
+    if row.component and row.component != "|.|":
+        return False
+    return not (row.min == 0.0 and row.max == 0.0)
+
+
 def _short(value: float) -> str:
-    """A number in at most 10 characters: 6 significant digits, or 4 in exponent form."""
+    """A number in at most ``NUMBER_WIDTH`` (9) characters.
+
+    6 significant digits, or fewer in exponent form (4 when positive, 3 when negative).
+    """
     text = f"{value:.6g}"
-    return text if len(text) <= 10 else f"{value:.3e}"
+    if len(text) <= NUMBER_WIDTH:
+        return text
+    text = f"{value:.3e}"
+    return text if len(text) <= NUMBER_WIDTH else f"{value:.2e}"
 
 
 def report_tables(
@@ -193,26 +223,49 @@ def report_tables(
     stop: float | None = None,
     *,
     plain: bool = False,
+    all_rows: bool = False,
 ) -> list[Table]:
     """The report as rich tables, one per group, in the units of ``pinwind simulate``.
 
     Speeds in rpm, forces in kN, torques and moments in kN·m, transmission error in µm, energy
     in kJ; each element's name heads its rows, and each row names its quantity, axis and unit
-    ("F world x [kN]"). ``report_dict`` stays SI. Numbers are never cut.
+    ("F world x [kN]"). ``report_dict`` stays SI. Neither numbers nor labels are ever cut, and
+    the tables fit 80 columns.
 
     Args:
         res: a Result (statistics over the window) or a streamed ``report_log`` Report.
         plain: ASCII rules and no styles, for pipes and files.
+        all_rows: every row and statistic; by default the engineer's table (min, max, mean,
+            final of the ``Series.headline`` series, vectors by magnitude, no all-zero row).
     """
     from pinwind.analysis.summary import PLAIN_BOX, TERMINAL_BOX
 
     rep = _as_report(res, start, stop)
     span = f"t = {rep.first:.6g} to {rep.last:.6g} s, {rep.samples} samples"
+    statistics = STATISTICS if all_rows else HEADLINE_STATISTICS
+    headline = _headline()
+    labels = _labels()
     tables = []
     for group, title in _TITLES.items():
-        members = [r for r in rep.rows if r.group == group]
+        members = [
+            r for r in rep.rows if r.group == group and (all_rows or _in_headline(r, headline))
+        ]
         if not members:
             continue
+        cells: list[tuple[str, list[str]]] = []  # (label, numbers); no numbers: an element
+        element = None
+        for r in members:
+            if r.element != element and group != "run":
+                element = r.element
+                cells.append((element, []))
+            unit, factor = DISPLAY_UNITS.get(r.unit, (r.unit, 1.0))
+            label = labels.get(r.quantity, r.quantity)
+            if group == "run" and r.quantity == "energy":
+                text = f"  {r.element}"  # the title gives the unit: kJ
+            else:
+                axis = f" {r.component}" if r.component else ""
+                text = f"  {label}{axis} [{unit}]"
+            cells.append((text, [_short(getattr(r, stat) * factor) for stat in statistics]))
         table = Table(
             title=escape(f"{title} ({span})"),
             box=PLAIN_BOX if plain else TERMINAL_BOX,
@@ -221,25 +274,14 @@ def report_tables(
             title_style=None if plain else "bold",
             header_style=None if plain else "bold",
         )
-        # 15 + 5 × 10 characters, one space either side of each column: within 80 columns.
-        table.add_column("element/quantity", width=15, overflow="fold")
-        for stat in STATISTICS:
+        # The widest label, then 9 characters a number, a space either side of each column and
+        # a rule between: 20 + 5 × 9 + 15 (--all) or 32 + 4 × 9 + 12 within 80 columns.
+        width = max(len("element/quantity"), *(len(text) for text, _ in cells))
+        table.add_column("element/quantity", width=width, no_wrap=True)
+        for stat in statistics:
             name = "RMS" if stat == "rms" else stat
-            table.add_column(name, justify="right", width=10, no_wrap=True)
-        element = None
-        labels = _labels()
-        for r in members:
-            if r.element != element and group != "run":
-                element = r.element
-                table.add_row(escape(element), *([""] * len(STATISTICS)))
-            unit, factor = DISPLAY_UNITS.get(r.unit, (r.unit, 1.0))
-            label = labels.get(r.quantity, r.quantity)
-            if group == "run" and r.quantity == "energy":
-                label = r.element
-            axis = f" {r.component}" if r.component else ""
-            table.add_row(
-                escape(f"  {label}{axis} [{unit}]"),
-                *(_short(getattr(r, stat) * factor) for stat in STATISTICS),
-            )
+            table.add_column(name, justify="right", width=NUMBER_WIDTH, no_wrap=True)
+        for text, numbers in cells:
+            table.add_row(escape(text), *(numbers or [""] * len(statistics)))
         tables.append(table)
     return tables

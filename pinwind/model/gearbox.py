@@ -191,6 +191,10 @@ class Gearbox:
         """Index of a bearing in the velocity vector."""
         return self.model.joints[self.model.getJointId(joint)].idx_v
 
+    def joint_axis(self, joint: str) -> np.ndarray:
+        """Unit axis of a bearing (joint) in its joint frame [-]."""
+        return self._joint_axis(self.model.getJointId(joint))
+
     def mesh(self, name: str) -> Mesh:
         """The mesh of that name.
 

@@ -46,6 +46,10 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
             out[f"bearing/{name}/moment_{axis}_N_m"] = b.moment[:, k]
             out[f"bearing/{name}/force_local_{axis}_N"] = b.force_local[:, k]
             out[f"bearing/{name}/moment_local_{axis}_N_m"] = b.moment_local[:, k]
+        out[f"bearing/{name}/radial_N"] = b.radial
+        out[f"bearing/{name}/axial_N"] = b.axial
+        out[f"bearing/{name}/tilting_N_m"] = b.tilting
+        out[f"bearing/{name}/torque_N_m"] = b.torque
     for name in res.body_names:
         # a row per sample: the poses at the samples that have one, NaN at the others
         body = res.body(name)

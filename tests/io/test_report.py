@@ -62,7 +62,8 @@ def test_report_covers_every_joint_mesh_and_bearing(logged_run):
     per_bearing = {
         (r.quantity, r.component) for r in rows if r.element == "carrier" and r.group == "bearing"
     }
-    assert len(per_bearing) == 16  # force and moment, world and joint frame, x y z |.|
+    # force and moment, world and joint frame, x y z |.|; radial, axial, tilting, torque
+    assert len(per_bearing) == 16 + 4
 
 
 def test_report_window_without_samples_names_the_log_span(logged_run):

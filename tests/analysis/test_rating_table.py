@@ -1,0 +1,57 @@
+"""``pinwind rate``'s tables: 80 columns with no cell cut, and the standards they rate by named."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+from rich.console import Console
+
+import pinwind
+from pinwind.analysis.rating import rate
+from pinwind.analysis.rating_table import rating_tables
+from tests.conftest import MODELS
+
+COLUMNS = 80
+
+
+@pytest.fixture(scope="module")
+def printed() -> dict[bool, str]:
+    """The tables of Saleh's stage at 1 MN·m, as a terminal and as a pipe 80 columns wide."""
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    res = pinwind.simulate(gb, duration=0.005, dt=1e-3, torques={"carrier": 1e6, "sun": -1e6 / 6})
+    rating = rate(gb, res)
+    out = {}
+    for plain in (False, True):
+        console = Console(
+            file=io.StringIO(), width=COLUMNS, force_terminal=not plain, color_system=None
+        )
+        for table in rating_tables(rating, title="saleh2017_planetary at t = 0.005 s", plain=plain):
+            console.print(table)
+        out[plain] = console.file.getvalue()
+    return out
+
+
+def test_rating_tables_fit_80_columns_with_no_cell_cut(printed):
+    for text in printed.values():
+        assert max(len(line) for line in text.splitlines()) <= COLUMNS
+        assert "…" not in text
+        for whole in ("sun_planet1", "planet3_ring", "planet2", "σ_H MPa", "AGMA S_F"):
+            assert whole in text, whole
+
+
+def test_rating_tables_name_the_standards_editions_and_methods(printed):
+    # What gears/rating_iso.py and gears/rating_agma.py implement (their module docstrings).
+    text = " ".join(printed[True].split())  # captions wrap: compare words
+    for named in (
+        "ISO 6336-2",
+        "ISO 6336-3",
+        "method B",
+        "ISO 6336-1:1996 method C",
+        "AGMA 2001-D04",
+        "AGMA 908-B89",
+        "K_A = 1",
+        "Q_v = 10",
+        "reliability 0.99",
+    ):
+        assert named in text, named

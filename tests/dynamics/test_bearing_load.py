@@ -1,0 +1,146 @@
+"""Bearing loads about the bearing axis: radial, axial, tilting; the transmitted torque apart."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import pinwind
+from pinwind.dynamics import bearing_load
+from tests.conftest import MODELS
+
+#: Saleh 2017's planetary stage held at rest by balanced torques: carrier 1 MN·m, sun −1/6 of it.
+CARRIER_TORQUE = 1e6
+SUN_TORQUE = -CARRIER_TORQUE / 6.0
+
+
+def _block(force: list[float], moment: list[float], axis: list[float]):
+    """One sample of one bearing ``b`` whose axis in its joint frame is ``axis``."""
+    block = SimpleNamespace(
+        bearing_names=["b"],
+        bearing_force_local=np.array([[force]], dtype=float),
+        bearing_moment_local=np.array([[moment]], dtype=float),
+    )
+    gearbox = SimpleNamespace(joint_axis=lambda name: np.array(axis, dtype=float))
+    return block, gearbox
+
+
+def test_force_splits_into_radial_normal_to_the_axis_and_axial_along_it():
+    # F = (3, 4, 12) N: about z, |(3, 4)| = 5 N radial and 12 N axial; about x, the other way.
+    block, gb = _block([3.0, 4.0, 12.0], [0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    np.testing.assert_allclose(bearing_load.radial_force(block, gb), [[5.0]], rtol=1e-15)
+    np.testing.assert_allclose(bearing_load.axial_force(block, gb), [[12.0]], rtol=1e-15)
+    block, gb = _block([3.0, 4.0, 12.0], [0.0, 0.0, 0.0], [-1.0, 0.0, 0.0])
+    np.testing.assert_allclose(
+        bearing_load.radial_force(block, gb), [[np.hypot(4.0, 12.0)]], rtol=1e-15
+    )
+    np.testing.assert_allclose(bearing_load.axial_force(block, gb), [[-3.0]], rtol=1e-15)
+
+
+def test_moment_splits_into_tilting_normal_to_the_axis_and_torque_along_it():
+    # M = (6, -8, 500) N·m about y: 500 and 6 tilt it (|(6, 500)|), −8 N·m turns the shaft.
+    block, gb = _block([0.0, 0.0, 0.0], [6.0, -8.0, 500.0], [0.0, 1.0, 0.0])
+    np.testing.assert_allclose(
+        bearing_load.tilting_moment(block, gb), [[np.hypot(6.0, 500.0)]], rtol=1e-15
+    )
+    np.testing.assert_allclose(bearing_load.transmitted_torque(block, gb), [[-8.0]], rtol=1e-15)
+
+
+@pytest.fixture(scope="module")
+def at_rest():
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    res = pinwind.simulate(
+        gb, duration=0.01, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE}
+    )
+    return res
+
+
+def test_ring_mount_transmits_the_reaction_torque_of_the_stage(at_rest):
+    # Moment balance of the stage about its axis: T_ring + T_carrier + T_sun = 0.
+    np.testing.assert_allclose(
+        at_rest.bearing("ring").torque, -(CARRIER_TORQUE + SUN_TORQUE), rtol=1e-9
+    )
+    np.testing.assert_allclose(at_rest.bearing("carrier").torque, CARRIER_TORQUE, rtol=1e-9)
+    np.testing.assert_allclose(at_rest.bearing("sun").torque, SUN_TORQUE, rtol=1e-9)
+    for planet in ("planet1", "planet2", "planet3"):
+        np.testing.assert_allclose(at_rest.bearing(planet).torque, 0.0, atol=1e-6)
+
+
+def test_spur_stage_bearings_carry_no_axial_force_and_no_tilting_moment(at_rest):
+    # Spur teeth push in the plane of the gears: nothing along the axes, nothing tilts them.
+    np.testing.assert_allclose(at_rest.bearing_axial, 0.0, atol=1e-6)
+    np.testing.assert_allclose(at_rest.bearing_tilting, 0.0, atol=1e-6)
+
+
+def test_radial_and_axial_add_up_to_the_force_and_tilting_and_torque_to_the_moment(at_rest):
+    b = at_rest
+    np.testing.assert_allclose(
+        np.hypot(b.bearing_radial, b.bearing_axial),
+        np.linalg.norm(b.bearing_force, axis=-1),
+        rtol=1e-12,
+    )
+    np.testing.assert_allclose(
+        np.hypot(b.bearing_tilting, b.bearing_torque),
+        np.linalg.norm(b.bearing_moment, axis=-1),
+        rtol=1e-12,
+    )
+
+
+def test_export_has_radial_axial_tilting_and_torque_columns_of_every_bearing(tmp_path):
+    import csv
+
+    from pinwind.io.export import export_log
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    log = tmp_path / "rest.mcap"
+    pinwind.simulate(
+        gb, duration=0.005, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE}, log=log
+    )
+    out = tmp_path / "rest.csv"
+    export_log(log, out)
+    with open(out, newline="", encoding="utf-8") as f:
+        table = list(csv.DictReader(f))
+    for name in ("carrier", "planet1", "planet2", "planet3", "ring", "sun"):
+        for column in ("radial_N", "axial_N", "tilting_N_m", "torque_N_m"):
+            assert f"bearing/{name}/{column}" in table[0], (name, column)
+    ring = [float(row["bearing/ring/torque_N_m"]) for row in table]
+    np.testing.assert_allclose(ring, -(CARRIER_TORQUE + SUN_TORQUE), rtol=1e-9)
+
+
+def test_a_log_written_before_the_bearing_loads_were_declared_derives_them_on_read(tmp_path):
+    from pinwind.dynamics import series
+
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    log = tmp_path / "older.mcap"
+    names = ("bearing_radial", "bearing_axial", "bearing_tilting", "bearing_torque")
+    declared = [series.get(name) for name in names]
+    for name in names:
+        series.withdraw(name)
+    try:
+        pinwind.simulate(
+            gb, duration=0.005, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
+            log=log,
+        )  # fmt: skip
+    finally:
+        for s in declared:
+            series.declare(s)
+    back = pinwind.read_log(log)
+    np.testing.assert_allclose(
+        back.bearing("ring").torque, -(CARRIER_TORQUE + SUN_TORQUE), rtol=1e-9
+    )
+    np.testing.assert_allclose(
+        np.hypot(back.bearing_radial, back.bearing_axial),
+        np.linalg.norm(back.bearing_force, axis=-1),
+        rtol=1e-12,
+    )
+    # Streamed in blocks too; and NaN where the inputs were not read.
+    from pinwind.io import iter_log
+
+    blocks = list(iter_log(log, block=2))
+    np.testing.assert_array_equal(
+        np.concatenate([b.bearing_torque for b in blocks]), back.bearing_torque
+    )
+    alone = pinwind.read_log(log, channels="/bearings/torque")
+    assert np.isnan(alone.bearing_torque).all()

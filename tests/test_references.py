@@ -1,0 +1,47 @@
+"""The docs cite the sources by author and year; one page lists them, one page the limitations."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+#: The seed files and the DOI of each source (docs/references.md; Kelso 2011 is a thesis).
+SEEDS = {
+    "000_3b7c4a8fe52a6eee.txt": "10.1155/2017/4027834",
+    "001_2d0e0f624d8db633.txt": "10.1007/978-3-319-99272-3_36",
+    "002_bb0c67d52fe8a188.txt": None,
+    "003_83d3049daebcd276.txt": "10.4173/mic.2014.2.4",
+}
+SEED_NAME = re.compile(r"\b00[0-3]_[0-9a-f]{16}\.txt")
+
+
+def test_readme_and_docs_cite_sources_by_author_and_year_not_by_file_name():
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    for page in pages:
+        if page.name == "references.md":
+            continue
+        assert not SEED_NAME.search(page.read_text(encoding="utf-8")), page.name
+
+
+def test_references_list_each_source_with_its_doi_beside_its_file_name():
+    rows = [
+        line
+        for line in (ROOT / "docs" / "references.md").read_text(encoding="utf-8").splitlines()
+        if line.startswith("| ") and SEED_NAME.search(line)
+    ]
+    assert len(rows) == len(SEEDS)
+    for seed, doi in SEEDS.items():
+        (row,) = [r for r in rows if seed in r]
+        if doi is not None:
+            assert doi in row, seed
+    for cite in ("Saleh 2017", "Kelso 2011", "Jørgensen 2014", "IFToMM 2018"):
+        assert any(cite in r for r in rows), cite
+
+
+def test_limitations_page_names_what_is_rigid_and_the_open_issue_that_adds_it():
+    text = (ROOT / "docs" / "limitations.md").read_text(encoding="utf-8")
+    for named in ("Bearings", "ideal revolute", "Housing", "Friction", "issue 22", "issue 24"):
+        assert named in text, named
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert "docs/references.md" in readme and "docs/limitations.md" in readme
