@@ -26,32 +26,32 @@ def axes_in_joint(block: Any, gearbox: Any) -> np.ndarray:
     return np.array([gearbox.joint_axis(name) for name in block.bearing_names]).reshape(-1, 3)
 
 
-def _along(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
-    """v·k of vectors (samples, bearings, 3) and axes (bearings, 3)."""
+def along_axis(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """v·k of vectors (samples, bearings, 3) and unit axes (bearings, 3)."""
     return np.einsum("sbi,bi->sb", vectors, axes)
 
 
-def _across(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
-    """|v − (v·k) k| of vectors (samples, bearings, 3) and axes (bearings, 3)."""
-    normal = vectors - _along(vectors, axes)[..., None] * axes
+def across_axis(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """|v − (v·k) k| of vectors (samples, bearings, 3) and unit axes (bearings, 3)."""
+    normal = vectors - along_axis(vectors, axes)[..., None] * axes
     return np.linalg.norm(normal, axis=-1)
 
 
 def radial_force(block: Any, gearbox: Any) -> np.ndarray:
     """Radial force F_r ≥ 0 [N]: the reaction force normal to the bearing axis."""
-    return _across(block.bearing_force_local, axes_in_joint(block, gearbox))
+    return across_axis(block.bearing_force_local, axes_in_joint(block, gearbox))
 
 
 def axial_force(block: Any, gearbox: Any) -> np.ndarray:
     """Axial force F·k [N]: the reaction force along the bearing axis, signed along k."""
-    return _along(block.bearing_force_local, axes_in_joint(block, gearbox))
+    return along_axis(block.bearing_force_local, axes_in_joint(block, gearbox))
 
 
 def tilting_moment(block: Any, gearbox: Any) -> np.ndarray:
     """Tilting moment ≥ 0 [N·m]: the reaction moment normal to the bearing axis."""
-    return _across(block.bearing_moment_local, axes_in_joint(block, gearbox))
+    return across_axis(block.bearing_moment_local, axes_in_joint(block, gearbox))
 
 
 def transmitted_torque(block: Any, gearbox: Any) -> np.ndarray:
     """Transmitted torque M·k [N·m]: the reaction moment along the bearing axis, signed along k."""
-    return _along(block.bearing_moment_local, axes_in_joint(block, gearbox))
+    return along_axis(block.bearing_moment_local, axes_in_joint(block, gearbox))

@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from pinwind.dynamics.bearing_load import across_axis, along_axis
 from pinwind.errors import InvalidBearingRating
 from pinwind.model.bearing import BearingRating
 
@@ -67,10 +68,9 @@ def radial_and_axial(force_in_joint: np.ndarray, axis: np.ndarray) -> tuple[np.n
         force_in_joint: force on the bearing, joint frame [N], (n, 3).
         axis: the joint axis in the joint frame (any length).
     """
-    k = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-    along = force_in_joint @ k
-    radial = np.linalg.norm(force_in_joint - along[:, None] * k, axis=1)
-    return radial, np.abs(along)
+    k = (np.asarray(axis, dtype=float) / np.linalg.norm(axis)).reshape(1, 3)
+    forces = np.asarray(force_in_joint, dtype=float)[:, None, :]
+    return across_axis(forces, k)[:, 0], np.abs(along_axis(forces, k)[:, 0])
 
 
 def equivalent_load(loads: np.ndarray, weights: np.ndarray, exponent: float) -> float:
@@ -199,7 +199,6 @@ def bearing_lives(result: Any, gearbox: Any) -> list[BearingLife]:
     ratings: Mapping[str, BearingRating] = gearbox.source.bearings
     lives = []
     for i, name in enumerate(result.bearing_names):
-        joint = gearbox.source.joints.get(name, {})
         lives.append(
             life_of_history(
                 name,
@@ -207,7 +206,7 @@ def bearing_lives(result: Any, gearbox: Any) -> list[BearingLife]:
                 time=result.time,
                 force_in_joint=result.bearing_force_local[:, i],
                 speed=result.speed[:, result.joint_names.index(name)],
-                axis=joint.get("axis", np.array([0.0, 0.0, 1.0])),
+                axis=gearbox.joint_axis(name),
             )
         )
     return lives
