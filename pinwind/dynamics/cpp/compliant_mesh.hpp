@@ -177,13 +177,14 @@ class CompliantMeshes : public Element {
           const double trial = k * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a)) -
                                specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
           if (trial > 0.0) {
+            // b and w of a mesh in contact already hold for this state (prepare).
             state_[i] = static_cast<int>(flank);
+            coefficients(s, i);
             changed = true;
             break;
           }
         }
       }
-      if (state_[i] != 0) coefficients(s, i);
     }
     if (changed) return true;
     // Final forces of the step.
