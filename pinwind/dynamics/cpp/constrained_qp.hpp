@@ -205,11 +205,21 @@ class ConstrainedQp {
   }
 
   // Factorises M (and the Schur complement over the current rows); forgets the responses.
+  //
+  // Compliant meshes change M every step (their weights follow the mesh stiffness), so this
+  // runs once per step there: M⁻¹ J_bᵀ column by column and S_b by lazy products, because at
+  // these sizes (nv of 6 to 20, a few rows) Eigen's blocked matrix solve and GEMM spend more
+  // on packing and temporaries than on the arithmetic.
   void factorise(const Eigen::MatrixXd& mass) {
     direct_mass_ = mass;
     mass_ldlt_.compute(mass);
-    minv_jt_ = mass_ldlt_.solve(reduced_jac_.transpose());
-    schur_ldlt_.compute(reduced_jac_ * minv_jt_);
+    minv_jt_.resize(reduced_jac_.cols(), reduced_jac_.rows());
+    for (Eigen::Index r = 0; r < reduced_jac_.rows(); ++r) {
+      minv_jt_.col(r) = mass_ldlt_.solve(reduced_jac_.row(r).transpose());
+    }
+    schur_.resize(reduced_jac_.rows(), reduced_jac_.rows());
+    schur_.noalias() = reduced_jac_.lazyProduct(minv_jt_);
+    schur_ldlt_.compute(schur_);
     direct_ready_ = true;
     responses_.clear();
     changed_.clear();
@@ -335,7 +345,7 @@ class ConstrainedQp {
   QpSolution solution_;
   // Direct solve of full-rank rows.
   bool direct_ready_ = false;
-  Eigen::MatrixXd direct_mass_, minv_jt_;
+  Eigen::MatrixXd direct_mass_, minv_jt_, schur_;
   Eigen::LDLT<Eigen::MatrixXd> mass_ldlt_, schur_ldlt_;
   Eigen::MatrixXd row_basis_, reduced_jac_;
   Eigen::VectorXd free_, reduced_rhs_, mu_;

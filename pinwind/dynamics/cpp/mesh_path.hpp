@@ -76,11 +76,12 @@ inline PathState path_state(const MeshPathSpec& p, double angle_a, double flank)
     st.share = 1.0 / st.pairs;
     return st;
   }
-  st.stiffness = 0.0;
-  for (int j = 0; j < st.pairs; ++j) {
+  const double entering = pair_stiffness_at(p, st.entering);
+  st.stiffness = entering;
+  for (int j = 1; j < st.pairs; ++j) {
     st.stiffness += pair_stiffness_at(p, st.entering + j * p.base_pitch);
   }
-  st.share = pair_stiffness_at(p, st.entering) / st.stiffness;
+  st.share = entering / st.stiffness;
   return st;
 }
 
