@@ -525,6 +525,24 @@ def _strip(message: str, prefix: str) -> str:
     return message[len(prefix) :] if message.startswith(prefix) else message
 
 
+def read_toml(path: Path) -> tuple[str, dict[str, Any]]:
+    """A TOML file's text and values.
+
+    Raises:
+        ScenarioError: the file cannot be read, or is not valid TOML (naming its line).
+    """
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise ScenarioError(str(path), "-", 0, f"cannot read it: {err.strerror or err}") from err
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        m = re.search(r"line (\d+)", str(err))
+        raise ScenarioError(str(path), "-", int(m.group(1)) if m else 0,
+                            f"not valid TOML: {err}") from err  # fmt: skip
+
+
 def load_scenario(path: str | Path, *, changes: Mapping[str, Any] | None = None) -> Scenario:
     """Read a scenario file and build it.
 
@@ -537,16 +555,7 @@ def load_scenario(path: str | Path, *, changes: Mapping[str, Any] | None = None)
         ScenarioError: unreadable TOML, unknown key, wrong type, missing model, ...
     """
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise ScenarioError(str(path), "-", 0, f"cannot read it: {err.strerror or err}") from err
-    try:
-        values = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        m = re.search(r"line (\d+)", str(err))
-        raise ScenarioError(str(path), "-", int(m.group(1)) if m else 0,
-                            f"not valid TOML: {err}") from err  # fmt: skip
+    text, values = read_toml(path)
     scenario = build({**values, **(changes or {})}, source=str(path), base=path.parent, text=text)
     own = InputFile.of(path, where="scenario")
     return dataclasses.replace(scenario, input_files=(own, *scenario.input_files))

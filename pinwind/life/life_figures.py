@@ -45,12 +45,7 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     ax.set_ylim(0.0, 3.0 * max(highest, 1.0))  # damage is never negative
     ax.legend(fontsize=7, ncol=2)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path)
 
 
 def plot_range_cycles(
@@ -80,6 +75,13 @@ def plot_range_cycles(
     ax.set_title(f"{gear}, turbulence {damage.levels[level]}")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def _save(fig: Any, path: Path) -> Path:
+    """Writes a figure at 120 dpi, making its folder, and closes it."""
+    import matplotlib.pyplot as plt
+
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

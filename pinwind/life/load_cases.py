@@ -56,7 +56,6 @@ import hashlib
 import json
 import math
 import time
-import tomllib
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -73,7 +72,7 @@ from pinwind.life.site import (
     weibull_site,
 )
 from pinwind.life.sn_curve import SNCurve, jorgensen_2014_curve
-from pinwind.scenario import ScenarioError, build, key_line
+from pinwind.scenario import ScenarioError, build, key_line, read_toml
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
@@ -293,14 +292,7 @@ def load_fatigue_set(path: str | Path, *, quick: bool = False) -> FatigueSet:
             endurance limit, a turbulence intensity ≤ 0, an unknown key, ...
     """
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise ScenarioError(str(path), "-", 0, f"cannot read it: {err.strerror or err}") from err
-    try:
-        values = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise ScenarioError(str(path), "-", 0, f"not valid TOML: {err}") from err
+    text, values = read_toml(path)
     return _SetReader(path, text, values, quick).fatigue_set()
 
 
