@@ -47,7 +47,11 @@ def test_rated_tangential_force_is_the_sun_torque_over_three_sun_radii(saleh):
     direct = agma_rating(pair, sun.load)
     assert sun.agma.bending_stress == pytest.approx(direct.bending_stress, rel=1e-12)
     assert set(rating.gears) == {"sun", "planet1", "planet2", "planet3", "ring"}
-    assert rating.gears["sun"].S_H_agma == pytest.approx(min(sun.agma.S_H), rel=1e-12)
+    # A gear's factor is the smallest over its meshes (the three sun meshes carry equal loads
+    # only up to the rounding of the planets' share).
+    sun_meshes = [m for m in rating.meshes if m.mesh.startswith("sun")]
+    smallest = min(min(m.agma.S_H) for m in sun_meshes)
+    assert rating.gears["sun"].S_H_agma == pytest.approx(smallest, rel=1e-12)
 
 
 def test_unloaded_mesh_cannot_be_rated(saleh):
