@@ -628,8 +628,8 @@ def _static_start(
     """Moves the stepper's start to static equilibrium under the loads of t = 0.
 
     Returns what ``metadata["initial_deflection"]`` records: iterations, whether it converged,
-    the largest joint displacement [rad or m] and the flank switches. Warns
-    (``EquilibriumNotReached``) when it did not converge.
+    the largest joint displacement [rad or m], the flank switches and the last linear solve's
+    relative residual. Warns (``EquilibriumNotReached``) when it did not converge.
     """
     torque, _ = _signal_table(torque_loads, 0, 1, dt, [ld.v_index for ld in torque_loads], nv)
     target, _ = _signal_table(drivers, 0, 2, dt, list(range(len(drivers))), len(drivers))
@@ -647,6 +647,7 @@ def _static_start(
         "converged": bool(status.converged),
         "displacement": float(status.displacement),
         "flank_switches": int(status.flank_switches),
+        "residual": float(status.residual),
     }
 
 

@@ -79,6 +79,17 @@ def test_two_discs_on_a_torsional_spring_ring_at_root_two_k_over_j():
     np.testing.assert_allclose(mode.kinetic_share["a"], 0.5, rtol=1e-12)
 
 
+def test_bearing_and_spring_dampers_give_the_modal_damping_ratio_by_hand():
+    # Mode φ = (1, −1)/√(2J) (mass-normalised): a dashpot c_b on bearing a alone gives
+    # φᵀCφ = c_b/(2J), the spring's c_s on the twist (e_a − e_b) gives 2 c_s/J; ζ = φᵀCφ/(2ω).
+    k, c_b, c_s = 800.0, 0.3, 0.1
+    gb = loads(_shafts_urdf(stiffness=k, bearing_damping=c_b, spring_damping=c_s), "shafts.urdf")
+    (mode,) = [m for m in linearise(gb).modes() if not m.rigid]
+    omega = math.sqrt(2 * k / J)
+    expected = (c_b / (2 * J) + 2 * c_s / J) / (2 * omega)
+    np.testing.assert_allclose(mode.damping_ratio, expected, rtol=1e-12)
+
+
 def test_identical_planets_have_a_planet_mode_of_multiplicity_n_minus_one():
     gb = pinwind.load("models/dtu500_planetary.urdf")
     modes = linearise(gb, meshes={"all": "compliant"}, held=["sun"]).modes()
