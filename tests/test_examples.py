@@ -10,6 +10,8 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 import pinwind
+from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.mesh_stiffness import single_pair_stiffness
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -102,3 +104,47 @@ def test_dtu500_single_tooth_force_at_the_example_dt_is_within_one_percent_of_dt
     for name, (std, peak) in coarse.items():
         assert_allclose(std, fine[name][0], rtol=0.01, err_msg=f"{name} standard deviation")
         assert_allclose(peak, fine[name][1], rtol=0.01, err_msg=f"{name} maximum")
+
+
+def _fall_in_one_step(omega: float, zeta: float, dt: float) -> float:
+    """Fraction of a force step ΔF that a damped mode's response loses over one step after it.
+
+    Released from a static deflection ΔF/k with no speed, the mode's force above its new
+    static value is ΔF e^{−ζωt} (cos ω_d t − ζ/√(1 − ζ²) sin ω_d t) (spring plus dashpot
+    c = 2ζωm): a peak sampled up to one step after the step lies this far below it.
+    """
+    omega_d = omega * math.sqrt(1 - zeta**2)
+    left = math.exp(-zeta * omega * dt) * (
+        math.cos(omega_d * dt) - zeta / math.sqrt(1 - zeta**2) * math.sin(omega_d * dt)
+    )
+    return 1.0 - left
+
+
+def test_kelso_cai_pair_maxima_converge_with_dt_to_the_second_pair_s_engagement():
+    module = _load("kelso2011_cai_spur_pair")
+    dts = (1e-5, 5e-6)  # the example's dt and its half
+    stats = [
+        module.main(["--duration", "0.2", "--runs", "1", "--dt", str(dt)])["200 rpm"] for dt in dts
+    ]
+    # When a second tooth pair comes into contact the mesh stiffness jumps from c′b to 1.75 c′b
+    # (ISO 6336-1) at the same deflection: the force jumps from the static F_s = 49 N·m / r_b2
+    # to 1.75 F_s, and gear 1's pitch point takes 0.75 F_s r_b1 r_1 / J_1 (its shaft spring
+    # still holds F_s r_b1). The damped mesh mode then settles before the next step.
+    r_b1 = 0.060 * math.cos(math.radians(20.0))
+    r_b2, inertia = 2 * r_b1, 0.003  # J_1 = J_2, Table 3-1: gear 0.002 + half shaft 0.001
+    static = 49.0 / r_b2
+    jump, kick = 1.75 * static, 0.75 * static * r_b1 * 0.060 / inertia
+    # The mesh mode with two pairs in contact, ω² = 1.75 c′b (r_b1²/J_1 + r_b2²/J_2); the
+    # damping ratio 0.068 of the mean stiffness is a bound on the two-pair one.
+    pair = GearPair(teeth_1=40, teeth_2=80, module=0.003, pressure_angle=math.radians(20.0),
+                    face_width=0.015)  # fmt: skip
+    omega = math.sqrt(1.75 * single_pair_stiffness(pair) * (r_b1**2 + r_b2**2) / inertia)
+    fall = [_fall_in_one_step(omega, module.MESH_DAMPING_RATIO, dt) for dt in dts]
+    for (accel, force, _, _), lag in zip(stats, fall, strict=True):
+        assert force["min"] > 0.0  # the teeth never separate: no rattle through the backlash
+        assert_allclose(force["max"], jump, atol=lag * (jump - static))
+        assert_allclose(accel["max"], kick, atol=lag * kick)
+    # So the maxima at dt and dt/2 agree within what one step at dt can lag the peak.
+    (accel, force, _, _), (accel_half, force_half, _, _) = stats
+    assert abs(force["max"] - force_half["max"]) <= fall[0] * (jump - static)
+    assert abs(accel["max"] - accel_half["max"]) <= fall[0] * kick
