@@ -154,6 +154,30 @@ def test_frequency_is_the_closed_form_and_its_error_is_second_order(rho):
     np.testing.assert_allclose(errors[0] / errors[1], 4.0, rtol=0.15)
 
 
+def _trapezoidal_frequency_error(steps_per_period: float) -> float:
+    """ω̄/ω − 1 of the trapezoidal rule on an undamped mode: it turns (√k x, √m x') by
+    θ = 2 atan(ωh/2) a step, so ω̄ = (2/h) atan(ωh/2) (Hairer & Wanner, Solving ODEs II, §V.1)."""
+    omega_h = 2 * math.pi / steps_per_period
+    return 2 / omega_h * math.atan(omega_h / 2) - 1
+
+
+def test_trapezoidal_frequency_error_is_dahlquists_limit_and_26_steps_keep_half_a_percent():
+    # An A-stable linear multistep method is at most second order, and the trapezoidal rule has
+    # the smallest error constant among them (Dahlquist 1963): no unconditionally stable
+    # second-order step of this family does better than this error at a given dt.
+    error = {}
+    for steps in (20, 40, 26):
+        x, xdot, dt, _ = _free_pair(steps, 10, integrator=Integrator(rho_infinity=1.0))
+        error[steps] = _frequency(x, xdot, dt) / OMEGA - 1.0
+    # At 20 steps per period the error is the closed form's, −0.81 %, not worse.
+    np.testing.assert_allclose(error[20], _trapezoidal_frequency_error(20), rtol=1e-3)
+    assert error[20] < -5e-3
+    # Second order: halving dt shrinks it four times.
+    np.testing.assert_allclose(error[20] / error[40], 4.0, rtol=0.05)
+    # 26 steps per period are the fewest that keep the frequency within 0.5 %.
+    assert abs(error[26]) <= 5e-3 < abs(_trapezoidal_frequency_error(25))
+
+
 @pytest.mark.parametrize("rho", [1.0, 0.9])
 def test_damped_pair_decays_at_the_physical_damping_ratio_at_20_steps_per_period(rho):
     zeta = 0.05
