@@ -54,7 +54,7 @@ from pinwind.dynamics.normal_modes import (
     natural_modes,
 )
 from pinwind.dynamics.time_step import DEFAULT_SCHEME, RESOLVING_STEPS, dt_advice
-from pinwind.errors import InputError, PinwindWarning, UnknownElement
+from pinwind.errors import InputError, PinwindWarning, StepTooCoarse, UnknownElement
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
     contact_line_pair_stiffness,
@@ -502,8 +502,4 @@ def _warn_if_damped_numerically(
         why = "the step does not resolve that mode, so it sets its period and response"
     else:
         return
-    warnings.warn(
-        advice.text() + "; " + why,
-        PinwindWarning,
-        stacklevel=4,
-    )
+    warnings.warn(StepTooCoarse(advice.text() + "; " + why), stacklevel=4)

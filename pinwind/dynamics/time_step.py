@@ -7,6 +7,14 @@ damping ratio ζ_num small beside the mode's physical one: ``dt_advice`` names b
 dt and the dt that keeps ζ_num ≤ ζ_phys / 10 (``ACCURATE_FRACTION``). ``numerical_damping_ratio``
 holds the scheme's formula, in this one place; the scheme and its settings are the run's
 ``Integrator``.
+
+What no setting removes is the error of the mode's frequency: the trapezoidal rule (ρ∞ = 1)
+lowers it to ω̄ = (2/h) atan(ωh/2), −0.81 % at 20 steps per period. By Dahlquist's second
+barrier (Dahlquist 1963; Hairer & Wanner, Solving ODEs II, §V.1) an A-stable linear multistep
+method is at most second order and the trapezoidal rule has the smallest error constant (1/12)
+among them, so no unconditionally stable second-order step of this family does better at a
+given dt; the cheapest cure is more steps. ``frequency_error`` gives it at dt and the advice names
+the dt that keeps it within ``FREQUENCY_TOLERANCE`` (26 steps per period at ρ∞ = 1).
 """
 
 from __future__ import annotations
@@ -24,6 +32,9 @@ ACCURATE_FRACTION = 0.1
 
 #: Steps per period that resolve a mode's period (not its amplitude: see ``DtAdvice``).
 RESOLVING_STEPS = 10
+
+#: |ω̄/ω − 1| ≤ this: the step that keeps a mode's frequency accurate [-] (issue 22's check).
+FREQUENCY_TOLERANCE = 0.005
 
 #: The scheme every run uses unless given another: the default ``Integrator``.
 DEFAULT_SCHEME = Integrator()
@@ -71,13 +82,59 @@ def numerical_damping_ratio(omega: float, dt: float, scheme: Integrator = DEFAUL
     return max(-log_modulus / math.hypot(log_modulus, abs(float(np.angle(root)))), 0.0)
 
 
+def frequency_error(omega: float, dt: float, scheme: Integrator = DEFAULT_SCHEME) -> float:
+    """Relative error ω̄/ω − 1 of the frequency of a mode of angular frequency ω at dt [-].
+
+    ω̄h = |ln λ| of the principal root λ of the amplification matrix (``amplification_matrix``,
+    the complex root of largest modulus; ``numerical_damping_ratio``). At ρ∞ = 1 (the
+    trapezoidal rule) |λ| = 1 and arg λ = 2 atan(ωh/2): ω̄ = (2/h) atan(ωh/2), the error
+    −(ωh)²/12 while ωh is small (module docstring). Negative: the step lengthens the period;
+    −1 when the step no longer oscillates the mode at all (no complex root).
+    """
+    if scheme.scheme != "generalized-alpha":
+        raise InputError(f'no frequency error formula for the scheme "{scheme.scheme}"')
+    omega_h = omega * dt
+    if omega_h == 0.0:
+        return 0.0
+    roots = np.linalg.eigvals(amplification_matrix(omega_h, scheme))
+    oscillating = roots[np.abs(roots.imag) > 1e-12 * np.abs(roots)]
+    if oscillating.size == 0:
+        return -1.0
+    root = oscillating[np.argmax(np.abs(oscillating))]
+    return abs(complex(np.log(root))) / omega_h - 1.0
+
+
+def dt_for_frequency_error(
+    omega: float, tolerance: float = FREQUENCY_TOLERANCE, scheme: Integrator = DEFAULT_SCHEME
+) -> float:
+    """The largest dt that keeps a mode's frequency error |ω̄/ω − 1| within ``tolerance`` [s].
+
+    Found by bisection on ``frequency_error`` (whose size grows with dt), as
+    ``dt_for_damping_ratio``. 0 when ``tolerance`` ≤ 0.
+    """
+    if tolerance <= 0.0 or omega <= 0.0:
+        return 0.0
+    low, high = 0.0, 1.0 / omega
+    while abs(frequency_error(omega, high, scheme)) <= tolerance:
+        low, high = high, 2.0 * high
+    for _ in range(100):
+        middle = 0.5 * (low + high)
+        if abs(frequency_error(omega, middle, scheme)) <= tolerance:
+            low = middle
+        else:
+            high = middle
+    return low
+
+
 def dt_for_damping_ratio(omega: float, ratio: float, scheme: Integrator) -> float:
     """The largest dt whose numerical damping ratio of a mode is ``ratio`` [s].
 
     Found by bisection on ``numerical_damping_ratio`` (which grows with dt in every scheme),
-    so that a new scheme needs no inverse formula. 0 when ``ratio`` ≤ 0; infinite when no dt
-    reaches it (ρ∞ = 1 adds no damping at any dt).
+    so that a new scheme needs no inverse formula. Infinite when no dt reaches it (ρ∞ = 1 adds
+    no damping at any dt); else 0 when ``ratio`` ≤ 0.
     """
+    if scheme.rho_infinity == 1.0:
+        return math.inf
     if ratio <= 0.0 or omega <= 0.0:
         return 0.0
     low, high = 0.0, 1.0 / omega
@@ -103,9 +160,11 @@ class DtAdvice:
         dt: the run's time step [s].
         physical_ratio: the mode's damping ratio from the mesh dashpots [-].
         numerical_ratio: the damping ratio the step adds at dt [-].
-        accurate_dt: the dt that keeps ζ_num ≤ ``ACCURATE_FRACTION`` ζ_phys [s]; 0 when the
-            mode has no physical damping; infinite when the scheme adds no damping.
+        accurate_dt: the dt that keeps ζ_num ≤ ``ACCURATE_FRACTION`` ζ_phys [s]; infinite when
+            the scheme adds no damping; else 0 when the mode has no physical damping.
         scheme: the step's scheme.
+        frequency_error: ω̄/ω − 1 of the mode at dt [-] (``frequency_error``).
+        frequency_dt: the dt that keeps |ω̄/ω − 1| ≤ ``FREQUENCY_TOLERANCE`` [s].
     """
 
     frequency: float
@@ -114,6 +173,8 @@ class DtAdvice:
     numerical_ratio: float
     accurate_dt: float
     scheme: Integrator = DEFAULT_SCHEME
+    frequency_error: float = 0.0
+    frequency_dt: float = math.inf
 
     @property
     def steps_per_period(self) -> float:
@@ -126,7 +187,26 @@ class DtAdvice:
         return self.numerical_ratio <= ACCURATE_FRACTION * self.physical_ratio
 
     def text(self) -> str:
-        """One line: the mode, both damping ratios, and the dt that keeps the numerical small."""
+        """One line: the mode, its damping ratios and frequency error, and the dt that bounds them.
+
+        The numerical and the physical damping ratio with the dt that keeps the first below a
+        tenth of the second, then the mode's frequency error at dt with the dt that keeps it
+        within ``FREQUENCY_TOLERANCE``.
+        """
+        return self._damping_text() + self._frequency_text()
+
+    def _frequency_text(self) -> str:
+        if self.frequency <= 0.0 or self.dt <= 0.0:
+            return ""
+        steps = 1.0 / (self.frequency * self.frequency_dt)
+        return (
+            f"; its frequency in the step is {100 * self.frequency_error:.2g} % off, "
+            f"dt ≤ {self.frequency_dt:.2g} s ({steps:.3g} steps per period) keeps it within "
+            f"{100 * FREQUENCY_TOLERANCE:g} % (the trapezoidal rule, ρ∞ = 1, errs least of "
+            "the unconditionally stable second-order steps: docs/limitations.md)"
+        )
+
+    def _damping_text(self) -> str:
         line = (
             f"highest mesh mode {self.frequency:.4g} Hz: at dt = {self.dt:.3g} s "
             f"({self.steps_per_period:.3g} steps per period) the step damps it with "
@@ -167,6 +247,8 @@ def dt_advice(
         numerical_ratio=numerical_damping_ratio(omega, dt, scheme),
         accurate_dt=dt_for_damping_ratio(omega, ACCURATE_FRACTION * physical_ratio, scheme),
         scheme=scheme,
+        frequency_error=frequency_error(omega, dt, scheme),
+        frequency_dt=dt_for_frequency_error(omega, FREQUENCY_TOLERANCE, scheme),
     )
 
 

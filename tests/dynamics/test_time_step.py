@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 import pinwind
 from pinwind.dynamics.integrator import Integrator
@@ -23,7 +24,7 @@ from pinwind.dynamics.time_step import (
     dt_for_damping_ratio,
     numerical_damping_ratio,
 )
-from pinwind.errors import InputError, PinwindWarning
+from pinwind.errors import InputError, PinwindWarning, StepTooCoarse
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
@@ -184,3 +185,26 @@ def test_a_step_that_damps_less_than_the_physics_does_not_warn(recwarn):
         integrator=Integrator(rho_infinity=0.0),
     )
     assert not [w for w in recwarn if "mesh mode" in str(w.message)]
+
+
+def test_coarse_step_warns_step_too_coarse_with_the_frequency_error_and_the_dt_that_bounds_it():
+    dt = 2 * math.pi / OMEGA / 8  # 8 steps per period: fewer than the 10 that resolve it
+    with pytest.warns(StepTooCoarse) as record:
+        _free_vibration(dt, periods=1, damping_ratio=0.05)
+    (message,) = (str(w.message) for w in record if "mesh mode" in str(w.message))
+    # The trapezoidal rule (ρ∞ = 1) turns the mode by 2 atan(ωh/2) a step: ω̄ = (2/h) atan(ωh/2).
+    error = 2 / (OMEGA * dt) * math.atan(OMEGA * dt / 2) - 1
+    assert f"frequency in the step is {100 * error:.2g} % off" in message
+    # The dt at which that error is 0.5 %, solved by hand from the same closed form.
+    omega_h = brentq(lambda x: 2 / x * math.atan(x / 2) - 0.995, 1e-3, 1.0)
+    assert f"dt ≤ {omega_h / OMEGA:.2g} s" in message
+    assert f"({2 * math.pi / omega_h:.3g} steps per period) keeps it within 0.5 %" in message
+
+
+def test_energy_conserving_step_is_not_said_to_damp_an_undamped_mode():
+    # ρ∞ = 1 adds no damping at any dt (|λ| = 1): an undamped mode's damping is not numerical.
+    advice = dt_advice(OMEGA / (2 * math.pi), 2 * math.pi / OMEGA / 8, 0.0)
+    assert advice.numerical_ratio == 0.0
+    assert math.isinf(advice.accurate_dt)
+    assert "keeps the amplitude at any dt" in advice.text()
+    assert "all its damping is numerical" not in advice.text()
