@@ -27,8 +27,9 @@ proxsuite solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is seco
 at any step; with ρ∞ < 1 it damps the modes it does not resolve (``dynamics/time_step.py``). The
 run's metadata and summary name the highest mesh mode, its numerical damping ratio at the chosen
 dt beside its physical one, and the dt that keeps the numerical one below a tenth of the
-physical; a run whose numerical damping of that mode exceeds the physical one, or that takes
-fewer than ``RESOLVING_STEPS`` steps per period of it, warns with the same line.
+physical, then its frequency error at dt and the dt that keeps it within 0.5 %; a run whose
+numerical damping of that mode exceeds the physical one, or that takes fewer than
+``RESOLVING_STEPS`` steps per period of it, warns with the same line (``StepTooCoarse``).
 
 Position errors of gear centres (planet pin errors) shift the overlaps by n·(e_A − e_B): a
 constant offset in the carrier's frame that makes the planets share the load unequally.
