@@ -71,7 +71,7 @@ from pinwind.life.site import (
     site_from_hours,
     weibull_site,
 )
-from pinwind.life.sn_curve import SNCurve, jorgensen_2014_curve
+from pinwind.life.sn_curve import FatigueCurve, SNCurve, jorgensen_2014_curve
 from pinwind.scenario import ScenarioError, build, key_line, read_toml
 
 if TYPE_CHECKING:
@@ -621,7 +621,7 @@ class FlankCycles:
     counts: np.ndarray
     peaks: np.ndarray
 
-    def damage(self, curve: SNCurve, *, use_endurance_limit: bool = True) -> np.ndarray:
+    def damage(self, curve: FatigueCurve, *, use_endurance_limit: bool = True) -> np.ndarray:
         """Palmgren-Miner damage of each tooth from these cycles, time factor 1 [-], (teeth,)."""
         life = curve.cycles_to_failure(self.ranges, use_endurance_limit=use_endurance_limit)
         return np.bincount(self.tooth, weights=self.counts / life, minlength=self.teeth)

@@ -45,7 +45,7 @@ from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.materials import Material
 from pinwind.life.contact_stress import contact_stress
 from pinwind.life.cycles import Cycles, rainflow_cycles
-from pinwind.life.sn_curve import SNCurve, miner_damage
+from pinwind.life.sn_curve import FatigueCurve, miner_damage
 from pinwind.model.phasing import zero_direction
 
 if TYPE_CHECKING:
@@ -208,7 +208,7 @@ def histories_damage(
     histories: Sequence[np.ndarray],
     *,
     gear: str,
-    curve: SNCurve,
+    curve: FatigueCurve,
     time_factor: float,
     use_endurance_limit: bool = True,
     flank: int = 0,
@@ -352,7 +352,7 @@ def gear_tooth_damage(
     gearbox: Gearbox,
     gear: str,
     *,
-    curve: SNCurve,
+    curve: FatigueCurve,
     time_factor: float,
     materials: Mapping[str, Material | str] | None = None,
     use_endurance_limit: bool = True,
