@@ -103,8 +103,8 @@ def _print_tables(damage: SetDamage) -> None:
     paper_speeds = np.arange(6.0, 21.0, 2.0)
     for variant in VARIANTS:
         table = Table(
-            title=f"Contact damage per wind bin at turbulence {damage.levels[level]}, S-N {variant} "
-            "(003 Table 7 shape; worst tooth flank, planet = mean of the planets)"
+            title=f"Contact damage per wind bin at turbulence {damage.levels[level]}, "
+            f"S-N {variant} (003 Table 7 shape; worst tooth flank, planet = mean of the planets)"
         )
         table.add_column("gear")
         for speed in damage.speeds:

@@ -269,7 +269,8 @@ class IsoLifeCurve(FatigueCurve):
             log_n[0] + first * (x - log_s[0]),
             np.where(x < log_s[-1], log_n[-1] + last * (x - log_s[-1]), inside),
         )
-        return np.where(damaging, np.exp(log_life), np.inf)
+        with np.errstate(over="ignore"):  # far below the strength N overflows to ∞: no damage
+            return np.where(damaging, np.exp(log_life), np.inf)
 
     def scaled(self, factor: float) -> IsoLifeCurve:
         """The strength times ``factor`` (`FatigueCurve.scaled`)."""
