@@ -1,4 +1,4 @@
-"""``pinwind fatigue``: gear-tooth contact damage over a site's wind from a fatigue set."""
+"""``pinwind fatigue``: gear-tooth contact and root damage over a site's wind from a fatigue set."""
 
 from __future__ import annotations
 
@@ -13,14 +13,11 @@ from rich.table import Table
 from pinwind.cli.app import app, console, err_console, say
 
 if TYPE_CHECKING:
-    from pinwind.life.life_damage import SetDamage
+    from pinwind.life.life_damage import GearDamage, SetDamage
     from pinwind.life.load_cases import FatigueRun, FatigueSet
 
 #: What the printout says pinwind does not rate here, and why.
-NOT_RATED = (
-    "not rated here: ISO 6336-2's own S-N curves (Z_NT) are not in pinwind yet; root stress "
-    "(003 §4.1 finds it far below its limit); bearing L10h (pinwind.life.bearing_life)"
-)
+NOT_RATED = "not rated here: bearing L10h (pinwind.life.bearing_life)"
 
 
 @app.command()
@@ -106,8 +103,8 @@ def _print_tables(damage: SetDamage) -> None:
     paper_speeds = np.arange(6.0, 21.0, 2.0)
     for variant in VARIANTS:
         table = Table(
-            title=f"Damage per wind bin at turbulence {damage.levels[level]}, S-N {variant} "
-            "(003 Table 7 shape; worst tooth flank, planet = mean of the planets)"
+            title=f"Contact damage per wind bin at turbulence {damage.levels[level]}, "
+            f"S-N {variant} (003 Table 7 shape; worst tooth flank, planet = mean of the planets)"
         )
         table.add_column("gear")
         for speed in damage.speeds:
@@ -119,7 +116,7 @@ def _print_tables(damage: SetDamage) -> None:
             if paper and np.array_equal(damage.speeds, paper_speeds) and variant == "limit":
                 table.add_row("  003", *(f"{d:.3g}" for d in paper[0]), f"{paper[1]:.3g}")
         console.print(table)
-    table = Table(title="Total damage per turbulence level (003 Table 8 shape)")
+    table = Table(title="Total contact damage per turbulence level (003 Table 8 shape)")
     table.add_column("gear")
     table.add_column("S-N")
     for label in damage.levels:
@@ -141,13 +138,36 @@ def _print_tables(damage: SetDamage) -> None:
                 "", "003", *("" if i is None else f"{totals_003[i]:.3g}" for i in paper_at)
             )
     console.print(table)
-    table = Table(title="Largest von Mises contact stress [MPa] (003: 600-700 at 20 m/s, 10 %)")
+    table = Table(
+        title="Root damage per turbulence level (worst fillet; ISO 6336-3 root stress unless "
+        "a table is given; 003 §4.1: none)"
+    )
     table.add_column("gear")
+    table.add_column("S-N")
+    for label in damage.levels:
+        table.add_column(label, justify="right")
+    for kind in damage.by_kind("limit", 0, location="root") if damage.root_damage else ():
+        for variant in VARIANTS:
+            totals = [
+                damage.by_kind(variant, k, location="root")[kind][1]
+                for k in range(len(damage.levels))
+            ]
+            table.add_row(kind, variant, *(f"{t:.3g}" for t in totals))
+    console.print(table)
+    table = Table(
+        title="Largest stress [MPa]: von Mises contact (003: 600-700 at 20 m/s, 10 %) and root "
+        "(003: about 60)"
+    )
+    table.add_column("gear")
+    table.add_column("stress")
     for label in damage.levels:
         table.add_column(label, justify="right")
     for gear in damage.gears:
-        peaks = [damage.damage["limit"][k][gear].peak_stress for k in range(len(damage.levels))]
-        table.add_row(gear, *(f"{p / 1e6:.0f}" for p in peaks))
+        for location, by_level in (("contact", damage.damage), ("root", damage.root_damage)):
+            if not by_level or gear not in by_level["limit"][0]:
+                continue
+            peaks = [by_level["limit"][k][gear].peak_stress for k in range(len(damage.levels))]
+            table.add_row(gear, location, *(f"{p / 1e6:.0f}" for p in peaks))
     console.print(table)
 
 
@@ -155,20 +175,15 @@ def _as_dict(
     fset: FatigueSet, run: FatigueRun, damage: SetDamage, figures: list[Path]
 ) -> dict[str, Any]:
     """The whole result as plain values (units in the keys)."""
-    from pinwind.life.life_damage import JORGENSEN_2014_TABLE_7, JORGENSEN_2014_TABLE_8
+    from pinwind.life.life_damage import (
+        JORGENSEN_2014_TABLE_7,
+        JORGENSEN_2014_TABLE_8,
+        LOCATIONS,
+        VARIANTS,
+    )
 
-    return {
-        "scenario": fset.source,
-        "out": str(fset.out),
-        "cases": run.total,
-        "computed": run.computed,
-        "backend": run.backend,
-        "wall_time_s": run.wall_time,
-        "speeds_m_s": damage.speeds.tolist(),
-        "hours": damage.hours.tolist(),
-        "levels": list(damage.levels),
-        "intensities": list(damage.intensities),
-        "damage": {
+    def by_variant(table: dict[str, list[dict[str, GearDamage]]]) -> dict[str, Any]:
+        return {
             variant: [
                 {
                     gear: {
@@ -182,8 +197,25 @@ def _as_dict(
                 }
                 for level in levels
             ]
-            for variant, levels in damage.damage.items()
-        },
+            for variant, levels in table.items()
+        }
+
+    return {
+        "scenario": fset.source,
+        "out": str(fset.out),
+        "cases": run.total,
+        "computed": run.computed,
+        "backend": run.backend,
+        "wall_time_s": run.wall_time,
+        "speeds_m_s": damage.speeds.tolist(),
+        "hours": damage.hours.tolist(),
+        "levels": list(damage.levels),
+        "intensities": list(damage.intensities),
+        "variants": VARIANTS,
+        "stresses": LOCATIONS,
+        "damage": by_variant(damage.damage),
+        "root_damage": by_variant(damage.root_damage),
+        "root_stress": {gear: model.describe() for gear, model in fset.root_stress.items()},
         "jorgensen_2014": {
             "table_7": {
                 k: {"per_bin": list(v[0]), "total": v[1]} for k, v in JORGENSEN_2014_TABLE_7.items()

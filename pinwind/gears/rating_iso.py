@@ -322,9 +322,7 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> Resolv
     forms = [form_factors(pair, gear) for gear in (1, 2)]
     y_f = _given_or(given.Y_F, lambda: (forms[0][0], forms[1][0]))
     y_s = _given_or(given.Y_S, lambda: (forms[0][1], forms[1][1]))
-    y_beta = _given_or(
-        given.Y_beta, lambda: 1.0 - min(eps_b, 1.0) * min(math.degrees(beta), 30.0) / 120.0
-    )
+    y_beta = _given_or(given.Y_beta, lambda: root_helix_factor(eps_b, beta))
     y_x = _given_or(
         given.Y_X,
         lambda: _per_gear(lambda i: size_factor(pair.module, pair.materials[i].case_hardened)),
@@ -469,6 +467,11 @@ def transverse_load_factor(
             / f_th
         )
     return min(max(k, 1.0), limit)
+
+
+def root_helix_factor(overlap_ratio: float, helix_angle: float) -> float:
+    """Y_β = 1 − ε_β β/120° (ISO 6336-3), ε_β taken as 1 above 1 and β as 30° above 30°."""
+    return 1.0 - min(overlap_ratio, 1.0) * min(math.degrees(helix_angle), 30.0) / 120.0
 
 
 def size_factor(module: float, case_hardened: bool) -> float:

@@ -1,6 +1,6 @@
 """Life: fatigue of gear teeth and bearings from a run's load histories, and load spectra.
 
 Rainflow cycles, S-N curves and Palmgren-Miner damage over a site's wind (``cycles``,
-``sn_curve``, ``site``, ``contact_stress``, ``tooth_damage``), ISO 281 bearing life
-(``bearing_life``) and LDD/LRD load spectra (``load_spectrum``).
+``sn_curve``, ``site``, ``contact_stress``, ``root_stress``, ``tooth_damage``), ISO 281 bearing
+life (``bearing_life``) and LDD/LRD load spectra (``load_spectrum``).
 """

@@ -79,14 +79,24 @@ def contact_stress(
             f"force {np.shape(force)} and contact position {np.shape(position)} must have the "
             "same number of samples"
         ) from err
-    rho_1, rho_2 = (np.asarray(r, dtype=float) for r in pair.flank_radii(roll))
-    # An involute starts at its base circle: past a tangency point the flank's radius changes
-    # sign (external flanks are convex, ρ > 0; internal ones concave, ρ < 0) and there is no
-    # contact there.
-    on_flanks = (np.where(pair.internal_1, -rho_1, rho_1) > 0.0) & (
-        np.where(pair.internal_2, -rho_2, rho_2) > 0.0
-    )
+    rho_1, rho_2, on_flanks = on_involutes(pair, roll)
     with np.errstate(invalid="ignore", divide="ignore"):
         p = hertz_pressure(load, rho_1, rho_2, pair.face_width, *pair.materials)
     p = np.where(on_flanks & np.isfinite(load), p, np.nan)
     return ContactStress(rho_1=rho_1, rho_2=rho_2, p_max=p, von_mises=VON_MISES_RATIO * p)
+
+
+def on_involutes(pair: GearPair, roll: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(ρ1, ρ2, on): flank radii of curvature [m] and contact on both involutes, per roll.
+
+    ``roll`` is the distance from gear 1's base tangency point [m] (`GearPair.flank_radii`).
+
+    An involute starts at its base circle: past a tangency point the flank's radius changes
+    sign (external flanks are convex, ρ > 0; internal ones concave, ρ < 0) and there is no
+    contact there.
+    """
+    rho_1, rho_2 = (np.asarray(r, dtype=float) for r in pair.flank_radii(np.asarray(roll)))
+    on = (np.where(pair.internal_1, -rho_1, rho_1) > 0.0) & (
+        np.where(pair.internal_2, -rho_2, rho_2) > 0.0
+    )
+    return rho_1, rho_2, on

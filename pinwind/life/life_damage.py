@@ -9,22 +9,37 @@ that flank's, so that the bins add up to the total (Table 7's rows). 003 instead
 point of the path of one mesh and spreads it over the teeth (Table 3): its numbers are a mean
 tooth's at that point, ours the worst tooth's at its most stressed point.
 
-The damage is computed for each S-N variant: ``"limit"`` (the curve as given, cycles below the
-endurance limit do nothing) and ``"no limit"`` (the sloped line extended to zero stress).
-Memory is flat in the number of cases: one case's cycles are read at a time.
+The damage is computed for each S-N variant (`VARIANTS`): ``"limit"`` (the set's curve as
+given, cycles below the endurance limit do nothing), ``"no limit"`` (its sloped line extended to
+zero stress) and ``"iso 6336"`` (ISO 6336's own curves of each gear's material, σ_Hlim Z_NT and
+σ_Flim Y_ST Y_NT, with the standard's falling line beyond the knee, `pinwind.life.sn_curve`),
+for the contact (von Mises) stress and for the root stress of each fillet. An ISO root curve of
+a gear whose teeth a case loads on both flanks (a planet) is taken at 0.7 of its strength
+(reversed bending, ISO 6336-5). Memory is flat in the number of cases: one case's cycles are
+read at a time.
 """
 
 from __future__ import annotations
 
 from collections import defaultdict
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinwind.life.load_cases import RANGE_EDGES, CaseCycles, FatigueSet, gear_kind
+from pinwind.life.load_cases import RANGE_EDGES, CaseCycles, FatigueSet, FlankCycles, gear_kind
+from pinwind.life.sn_curve import REVERSED_BENDING_FACTOR, FatigueCurve, IsoLifeCurve
 
-#: The S-N variants the damage is computed for: name → whether the endurance limit applies.
-VARIANTS = {"limit": True, "no limit": False}
+#: The S-N variants the damage is computed for: name → what it is.
+VARIANTS = {
+    "limit": "the set's S-N curve with its endurance limit",
+    "no limit": "the set's S-N curve without an endurance limit",
+    "iso 6336": "ISO 6336-2 Z_NT / ISO 6336-3 Y_NT curves of the gear's material, 0.85 at 1e10",
+}
+#: The stresses rated: name → what it is.
+LOCATIONS = {
+    "contact": "von Mises contact stress σ_vM = 0.65 p_max at the moving contact point",
+    "root": "root stress σ_F of the fillet on the loaded flank's side",
+}
 
 #: Jørgensen 2014 Table 7: damage per wind bin (6, 8, ..., 20 m/s) at TI = 10 %, and the sum.
 JORGENSEN_2014_TABLE_7 = {
@@ -51,7 +66,8 @@ class GearDamage:
         total: that flank's damage over all bins [-] (the sum of ``per_bin``).
         tooth: the worst tooth's number.
         flank: its flank (+1, −1).
-        peak_stress: largest von Mises contact stress of any of its teeth in the cases [Pa].
+        peak_stress: largest stress of any of its teeth in the cases [Pa] (von Mises contact
+            stress, or root stress).
     """
 
     gear: str
@@ -72,7 +88,7 @@ class SetDamage:
         levels: the turbulence levels' labels.
         intensities: each level's mean turbulence intensity over the bins [-].
         gears: the rated gears.
-        damage: variant → level index → gear → `GearDamage`.
+        damage: variant → level index → gear → `GearDamage` of the contact stress.
         range_cycles: level index → bin → gear → cycles per tooth over the bin's hours in each
             stress-range bin of `RANGE_EDGES` [-], (len(RANGE_EDGES) − 1,).
     """
@@ -84,19 +100,42 @@ class SetDamage:
     gears: tuple[str, ...]
     damage: dict[str, list[dict[str, GearDamage]]]
     range_cycles: list[list[dict[str, np.ndarray]]]
+    root_damage: dict[str, list[dict[str, GearDamage]]] = field(default_factory=dict)
 
-    def by_kind(self, variant: str, level: int) -> dict[str, tuple[np.ndarray, float]]:
+    def by_kind(
+        self, variant: str, level: int, *, location: str = "contact"
+    ) -> dict[str, tuple[np.ndarray, float]]:
         """(per bin, total) for each gear kind: the planets' mean as 003's "planet*".
 
         Gears that are no sun, planet or ring keep their own names.
+
+        Args:
+            location: ``"contact"`` (`damage`) or ``"root"`` (`root_damage`).
         """
+        table = self.damage if location == "contact" else self.root_damage
         groups: dict[str, list[GearDamage]] = defaultdict(list)
-        for gear, d in self.damage[variant][level].items():
+        for gear, d in table[variant][level].items():
             groups[gear_kind(gear) or gear].append(d)
         return {
             kind: (np.mean([d.per_bin for d in ds], axis=0), float(np.mean([d.total for d in ds])))
             for kind, ds in groups.items()
         }
+
+
+def _curve(
+    fatigue: FatigueSet, gear: str, variant: str, location: str, both_flanks: bool
+) -> tuple[FatigueCurve, bool]:
+    """(curve, whether its endurance limit applies) of a gear in a variant and location."""
+    if variant == "iso 6336":
+        curves = fatigue.iso_curves if location == "contact" else fatigue.iso_root_curves
+        limited = False
+    else:
+        curves = fatigue.curves if location == "contact" else fatigue.root_curves
+        limited = variant == "limit"
+    curve = curves.get(gear) or fatigue.curves[gear]
+    if location == "root" and both_flanks and isinstance(curve, IsoLifeCurve):
+        curve = curve.scaled(REVERSED_BENDING_FACTOR)
+    return curve, limited
 
 
 def set_damage(fatigue: FatigueSet) -> SetDamage:
@@ -109,11 +148,13 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
 
     site = fatigue.site
     bins, levels = len(site.bins), len(fatigue.levels)
-    # variant → level → (gear, flank) → (bins, teeth) damage
-    sums: dict[str, list[dict[tuple[str, int], np.ndarray]]] = {
-        v: [{} for _ in range(levels)] for v in VARIANTS
+    # location → variant → level → (gear, flank) → (bins, teeth) damage
+    sums: dict[str, dict[str, list[dict[tuple[str, int], np.ndarray]]]] = {
+        where: {v: [{} for _ in range(levels)] for v in VARIANTS} for where in LOCATIONS
     }
-    peaks: list[dict[str, float]] = [defaultdict(float) for _ in range(levels)]
+    peaks: dict[str, list[dict[str, float]]] = {
+        where: [defaultdict(float) for _ in range(levels)] for where in LOCATIONS
+    }
     ranges: list[list[defaultdict[str, np.ndarray]]] = [
         [defaultdict(lambda: np.zeros(RANGE_EDGES.size - 1)) for _ in range(bins)]
         for _ in range(levels)
@@ -125,22 +166,59 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
             raise InputError(f"{path}: case {case.name} has not run; run the fatigue set first")
         reduced = CaseCycles.load(path)
         factor = site.bins[case.bin].hours * 3600.0 / reduced.counted_seconds / len(fatigue.seeds)
-        for flank in reduced.flanks:
-            teeth[flank.gear] = flank.teeth
-            curve = fatigue.curves[flank.gear]
-            for variant, limited in VARIANTS.items():
-                per_flank = sums[variant][case.level]
-                key = (flank.gear, flank.flank)
-                if key not in per_flank:
-                    per_flank[key] = np.zeros((bins, flank.teeth))
-                per_flank[key][case.bin] += factor * flank.damage(
-                    curve, use_endurance_limit=limited
+        for location, group in (("contact", reduced.flanks), ("root", reduced.roots)):
+            loaded = _loaded_flanks(group)
+            for flank in group:
+                teeth[flank.gear] = flank.teeth
+                for variant in VARIANTS:
+                    curve, limited = _curve(
+                        fatigue, flank.gear, variant, location, loaded[flank.gear] == {1, -1}
+                    )
+                    per_flank = sums[location][variant][case.level]
+                    key = (flank.gear, flank.flank)
+                    if key not in per_flank:
+                        per_flank[key] = np.zeros((bins, flank.teeth))
+                    per_flank[key][case.bin] += factor * flank.damage(
+                        curve, use_endurance_limit=limited
+                    )
+                peaks[location][case.level][flank.gear] = max(
+                    peaks[location][case.level][flank.gear],
+                    float(np.max(flank.peaks, initial=0.0)),
                 )
-            peaks[case.level][flank.gear] = max(
-                peaks[case.level][flank.gear], float(np.max(flank.peaks, initial=0.0))
-            )
-            counted, _ = np.histogram(flank.ranges, RANGE_EDGES, weights=flank.counts)
-            ranges[case.level][case.bin][flank.gear] += factor * counted / flank.teeth
+                if location == "contact":
+                    counted, _ = np.histogram(flank.ranges, RANGE_EDGES, weights=flank.counts)
+                    ranges[case.level][case.bin][flank.gear] += factor * counted / flank.teeth
+    damage = {
+        where: _worst_flanks(fatigue, sums[where], peaks[where], levels) for where in LOCATIONS
+    }
+    return SetDamage(
+        speeds=site.speeds,
+        hours=site.hours,
+        levels=tuple(level.label for level in fatigue.levels),
+        intensities=tuple(float(np.mean(level.intensities)) for level in fatigue.levels),
+        gears=tuple(g for g in fatigue.gears if g in teeth),
+        damage=damage["contact"],
+        range_cycles=[[dict(b) for b in level] for level in ranges],
+        root_damage=damage["root"],
+    )
+
+
+def _loaded_flanks(group: tuple[FlankCycles, ...]) -> dict[str, set[int]]:
+    """Gear → the flanks a case loads (with any cycle)."""
+    loaded: dict[str, set[int]] = defaultdict(set)
+    for flank in group:
+        if flank.counts.size:
+            loaded[flank.gear].add(flank.flank)
+    return loaded
+
+
+def _worst_flanks(
+    fatigue: FatigueSet,
+    sums: dict[str, list[dict[tuple[str, int], np.ndarray]]],
+    peaks: list[dict[str, float]],
+    levels: int,
+) -> dict[str, list[dict[str, GearDamage]]]:
+    """Variant → level → gear → the damage of its worst tooth flank."""
     damage: dict[str, list[dict[str, GearDamage]]] = {}
     for variant in VARIANTS:
         damage[variant] = []
@@ -161,12 +239,4 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
                     peaks[level][gear],
                 )
             damage[variant].append(gears)
-    return SetDamage(
-        speeds=site.speeds,
-        hours=site.hours,
-        levels=tuple(level.label for level in fatigue.levels),
-        intensities=tuple(float(np.mean(level.intensities)) for level in fatigue.levels),
-        gears=tuple(g for g in fatigue.gears if g in teeth),
-        damage=damage,
-        range_cycles=[[dict(b) for b in level] for level in ranges],
-    )
+    return damage

@@ -21,7 +21,7 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(7, 4.5))
     x = 100 * np.array(damage.intensities)
     colours: dict[str, Any] = {}
-    for variant, style in zip(VARIANTS, ("o-", "s:"), strict=True):
+    for variant, style in zip(VARIANTS, ("o-", "s:", "^-."), strict=True):
         kinds: dict[str, list[float]] = {}
         for level in range(len(damage.levels)):
             for kind, (_, total) in damage.by_kind(variant, level).items():

@@ -27,7 +27,17 @@ set is read from a scenario file (``load_fatigue_set``): the run keys of any sce
     [fatigue.sn_curve]                  # preset = "jorgensen2014" (eq. 23, Table 5 per gear) or
     s0_mpa = 28900                      # s0 [MPa], m, n0 and the endurance limit [MPa]: one
     m = 3.4                             # value or one per gear ({ sun = 800, ring = 550 })
-    endurance_limit_mpa = 800
+    endurance_limit_mpa = 800           # or preset = "iso6336" (or "iso6336_pitting_permitted"):
+                                        # ISO 6336's curves of each gear's material, σ_Hlim and
+                                        # σ_Flim from it or sigma_h_lim_mpa, sigma_f_lim_mpa
+
+    [fatigue.materials]                 # gear materials (pinwind.gears.materials keys): E and ν
+    ring = "42CrMo4"                    # of the contact, the ISO curves; per gear or kind
+                                        # (default 18CrNiMo7-6)
+
+    [fatigue.root_stress]               # root stress per unit force from FEM, per gear or kind
+    sun = { position_mm = [30, 40, 50], mpa_per_kn = [0.5, 0.6, 0.7] }   # (or fraction = [...]
+                                        # of the active flank); gears not named: ISO 6336-3
 
     [fatigue.openfast]                  # instead of rotor and wind: one OpenFAST output per
     files = "runs/v{speed:g}_ti{turbulence:g}_s{seed}.outb"   # case, its channel on a joint
@@ -41,7 +51,9 @@ set is read from a scenario file (``load_fatigue_set``): the run keys of any sce
 One load case is a wind bin × a turbulence level × a seed (`LoadCase`). Each case is run like
 any scenario (its values are in its log, which ``pinwind run --from-log`` repeats), with a log
 in the output folder and, beside it, its reduction (`CaseCycles`, ``.npz``): the rainflow cycles
-of every tooth flank of every meshed gear (`pinwind.life.tooth_damage`) from ``skip_start`` on.
+of every tooth flank of every meshed gear (`pinwind.life.tooth_damage`) from ``skip_start`` on,
+of the contact (von Mises) stress and of the root stress of the fillet on the flank's side
+(`pinwind.life.root_stress`).
 A rerun computes only the cases whose log is missing or incomplete or whose reduction is missing
 or was made from other inputs. Cycles are kept, not damage, so that any S-N curve is applied
 afterwards, and the damage is linear in the counts: a case's life damage is its counted
@@ -64,6 +76,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pinwind.errors import InputError, PinwindError
+from pinwind.gears.hertz import VON_MISES_RATIO
+from pinwind.gears.materials import DEFAULT_MATERIAL, MATERIALS
+from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
 from pinwind.life.site import (
     TURBULENCE_CLASSES,
     WindSite,
@@ -71,7 +86,13 @@ from pinwind.life.site import (
     site_from_hours,
     weibull_site,
 )
-from pinwind.life.sn_curve import SNCurve, jorgensen_2014_curve
+from pinwind.life.sn_curve import (
+    FatigueCurve,
+    SNCurve,
+    iso6336_contact_curve,
+    iso6336_root_curve,
+    jorgensen_2014_curve,
+)
 from pinwind.scenario import ScenarioError, build, key_line, read_toml
 
 if TYPE_CHECKING:
@@ -92,11 +113,14 @@ FATIGUE_KEYS: dict[str, str] = {
     "mesh_damping": "mesh damping [N·s/m]",
     "site": "wind bins: speeds and hours, or a Weibull distribution",
     "sn_curve": "S-N curve: a preset or s0_mpa, m, n0, endurance_limit_mpa",
+    "materials": "gear materials (pinwind.gears.materials), one or per gear or kind",
+    "root_stress": "root stress tables per gear or kind (default: ISO 6336-3 method B)",
     "openfast": "one OpenFAST output per case instead of rotor and wind",
     "quick": "what --quick changes",
 }
-#: S-N curve presets: gear kind → curve (Jørgensen 2014 eq. 23 and Table 5).
-SN_PRESETS = ("jorgensen2014",)
+#: S-N curve presets: Jørgensen 2014 eq. 23 and Table 5 per gear kind (for contact and root, as
+#: 003 applies it), or ISO 6336-2 and -3's life-factor curves of each gear's material.
+SN_PRESETS = ("jorgensen2014", "iso6336", "iso6336_pitting_permitted")
 #: Gear kinds the presets know, found as the start of a gear's name (``planet2`` is a planet).
 GEAR_KINDS = ("sun", "planet", "ring")
 #: Edges of the cycle-range histogram kept per case and gear, for the figures [Pa].
@@ -181,8 +205,14 @@ class FatigueSet:
         skip_start: start-up left out of the counted history [s].
         sample_rate: samples per second of the stress histories [Hz].
         out: the folder of the case logs and reductions.
-        curves: gear → its S-N curve.
+        curves: gear → S-N curve of its contact stress (read at the von Mises stress).
         gears: the meshed gears, in the model's order.
+        root_curves: gear → S-N curve of its root stress (default: its contact curve).
+        iso_curves: gear → ISO 6336-2's σ_Hlim Z_NT, read at the von Mises stress (the
+            ``iso 6336`` variant of `pinwind.life.life_damage`).
+        iso_root_curves: gear → ISO 6336-3's σ_Flim Y_ST Y_NT, loaded on one flank.
+        materials: gear → its material (``pinwind.gears.materials`` key).
+        root_stress: gear → its root-stress model.
         wind: ``"disc"`` or ``"point"``.
         hub_height: [m].
         rotor_joint: the joint of the rotor, or None (OpenFAST input).
@@ -201,7 +231,7 @@ class FatigueSet:
     skip_start: float
     sample_rate: float
     out: Path
-    curves: dict[str, SNCurve]
+    curves: dict[str, FatigueCurve]
     gears: tuple[str, ...]
     wind: str = "disc"
     hub_height: float = 80.0
@@ -210,6 +240,11 @@ class FatigueSet:
     mesh_stiffness: float | None = None
     mesh_damping: float | None = None
     openfast: OpenFastInput | None = None
+    root_curves: dict[str, FatigueCurve] = field(default_factory=dict)
+    iso_curves: dict[str, FatigueCurve] = field(default_factory=dict)
+    iso_root_curves: dict[str, FatigueCurve] = field(default_factory=dict)
+    materials: dict[str, str] = field(default_factory=dict)
+    root_stress: dict[str, RootStress] = field(default_factory=dict)
 
     @property
     def counted_seconds(self) -> float:
@@ -269,6 +304,9 @@ class FatigueSet:
             "skip_start": self.skip_start,
             "mesh_stiffness": self.mesh_stiffness,
             "mesh_damping": self.mesh_damping,
+            "reduction": "contact and root cycles of each tooth flank",
+            "materials": self.materials,
+            "root_stress": {g: r.describe() for g, r in self.root_stress.items()},
         }
         record["values"].pop("out")
         text = json.dumps(record, sort_keys=True, default=str)
@@ -375,6 +413,8 @@ class _SetReader:
         rotor_joint = rotor_radius = None
         if openfast is None:
             rotor_joint, rotor_radius = self.rotor()
+        materials = self.materials(settings.get("materials", DEFAULT_MATERIAL), gears)
+        curves = self.curves(settings.get("sn_curve", {}), gears, materials)
         fatigue = FatigueSet(
             values=self.values,
             source=str(self.path),
@@ -386,7 +426,7 @@ class _SetReader:
             skip_start=skip,
             sample_rate=rate,
             out=out,
-            curves=self.curves(settings.get("sn_curve", {}), gears),
+            curves=curves.contact,
             gears=gears,
             wind=wind,
             hub_height=hub,
@@ -395,6 +435,11 @@ class _SetReader:
             mesh_stiffness=stiffness,
             mesh_damping=damping,
             openfast=openfast,
+            root_curves=curves.root,
+            iso_curves=curves.iso_contact,
+            iso_root_curves=curves.iso_root,
+            materials=materials,
+            root_stress=self.root_stress(settings.get("root_stress", {}), gears),
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
             if openfast is not None and not openfast.file(case, fatigue.base).is_file():
@@ -537,22 +582,110 @@ class _SetReader:
         ((joint, rotor),) = scenario.rotors.items()
         return joint, rotor.radius
 
-    def curves(self, table: Any, gears: tuple[str, ...]) -> dict[str, SNCurve]:
-        """Each gear's S-N curve: a preset, or one curve with endurance limits per gear."""
+    def per_gear(self, key: tuple[str, ...], value: Any, gear: str) -> Any:
+        """``value``, or its entry for ``gear`` (or its kind) when it is a table."""
+        if not isinstance(value, Mapping):
+            return value
+        kind = gear_kind(gear)
+        chosen = value.get(gear, value.get(kind, None) if kind else None)
+        if chosen is None:
+            raise self.fail(
+                key, f'no value for "{gear}"; give one per gear (or per kind: sun, planet, ring)'
+            )
+        return chosen
+
+    def materials(self, given: Any, gears: tuple[str, ...]) -> dict[str, str]:
+        """Each gear's material key: one for all, or per gear or kind (default for the rest)."""
+        key = ("fatigue", "materials")
+        out = {}
+        for gear in gears:
+            kind = gear_kind(gear)
+            name = given
+            if isinstance(given, Mapping):
+                name = given.get(gear, given.get(kind, DEFAULT_MATERIAL) if kind else None)
+                name = DEFAULT_MATERIAL if name is None else name
+            if name not in MATERIALS:
+                raise self.fail(
+                    key, f'"{name}" ({gear}) is unknown; materials are: ' + ", ".join(MATERIALS)
+                )
+            out[gear] = str(name)
+        return out
+
+    def root_stress(self, table: Any, gears: tuple[str, ...]) -> dict[str, RootStress]:
+        """Each gear's root-stress model: its table (by gear or kind), else ISO 6336-3."""
+        key = ("fatigue", "root_stress")
+        if not isinstance(table, Mapping):
+            raise self.fail(key, "must be a table of gears (or kinds) → tables")
+        for name in table:
+            if name not in gears and name not in GEAR_KINDS:
+                raise self.fail(
+                    key + (name,), "is no meshed gear or kind; gears are: " + ", ".join(gears)
+                )
+        out: dict[str, RootStress] = {}
+        for gear in gears:
+            kind = gear_kind(gear)
+            spec = table.get(gear, table.get(kind) if kind else None)
+            if spec is None:
+                out[gear] = ISO_ROOT_STRESS
+                continue
+            name = gear if gear in table else str(kind)
+            if not isinstance(spec, Mapping) or not set(spec) <= {
+                "position_mm",
+                "fraction",
+                "mpa_per_kn",
+            }:
+                raise self.fail(
+                    key + (name,), "give position_mm (or fraction) and mpa_per_kn, as lists"
+                )
+            try:
+                out[gear] = table_root_stress(**spec)
+            except (PinwindError, TypeError, ValueError) as err:
+                raise self.fail(key + (name,), str(err)) from err
+        return out
+
+    def curves(self, table: Any, gears: tuple[str, ...], materials: dict[str, str]) -> SetCurves:
+        """Each gear's S-N curves: a preset, or one curve with endurance limits per gear."""
         key = ("fatigue", "sn_curve")
         if not isinstance(table, Mapping):
             raise self.fail(key, "must be a table: preset, or s0_mpa, m, n0, endurance_limit_mpa")
         table = {k.replace("-", "_"): v for k, v in table.items()}
+        iso_keys = {"preset", "sigma_h_lim_mpa", "sigma_f_lim_mpa"}
+        preset = table.get("preset", SN_PRESETS[0] if not table else None)
+        permitted = preset == "iso6336_pitting_permitted"
+        try:
+            iso_contact: dict[str, FatigueCurve] = {
+                g: iso6336_contact_curve(
+                    materials[g],
+                    pitting_permitted=permitted,
+                    sigma_H_lim=self.strength(table, "sigma_h_lim_mpa", g),
+                ).scaled(VON_MISES_RATIO)
+                for g in gears
+            }
+            iso_root: dict[str, FatigueCurve] = {
+                g: iso6336_root_curve(
+                    materials[g], sigma_F_lim=self.strength(table, "sigma_f_lim_mpa", g)
+                )
+                for g in gears
+            }
+        except InputError as err:
+            raise self.fail(key, str(err)) from err
+        if preset is not None and preset.startswith("iso6336"):
+            if preset not in SN_PRESETS or not set(table) <= iso_keys:
+                raise self.fail(
+                    key + ("preset",),
+                    f"is {preset!r}; presets are: {', '.join(SN_PRESETS)} (an ISO one with "
+                    "sigma_h_lim_mpa, sigma_f_lim_mpa)",
+                )
+            return SetCurves(iso_contact, iso_root, iso_contact, iso_root)
         if "preset" in table or not table:
-            preset = table.get("preset", SN_PRESETS[0])
             if preset not in SN_PRESETS or len(table) > 1:
                 raise self.fail(
                     key + ("preset",),
                     f"is {preset!r}; presets are: "
                     + ", ".join(SN_PRESETS)
-                    + " (alone in the table)",
+                    + " (jorgensen2014 alone in the table)",
                 )
-            out = {}
+            out: dict[str, FatigueCurve] = {}
             for gear in gears:
                 kind = gear_kind(gear)
                 if kind is None:
@@ -562,23 +695,14 @@ class _SetReader:
                         "is none of them: give s0_mpa, m and endurance_limit_mpa",
                     )
                 out[gear] = jorgensen_2014_curve(kind)
-            return out
+            return SetCurves(out, dict(out), iso_contact, iso_root)
         allowed = {"s0_mpa", "m", "n0", "endurance_limit_mpa"}
         if not {"s0_mpa", "m"} <= set(table) or not set(table) <= allowed:
             raise self.fail(key, "give s0_mpa and m (and n0, endurance_limit_mpa), or a preset")
         limits = table.get("endurance_limit_mpa", 0.0)
         out = {}
         for gear in gears:
-            limit = limits
-            if isinstance(limits, Mapping):
-                kind = gear_kind(gear)
-                limit = limits.get(gear, limits.get(kind, None) if kind else None)
-                if limit is None:
-                    raise self.fail(
-                        key + ("endurance_limit_mpa",),
-                        f'no value for "{gear}"; '
-                        "give one per gear (or per kind: sun, planet, ring)",
-                    )
+            limit = self.per_gear(key + ("endurance_limit_mpa",), limits, gear)
             try:
                 out[gear] = SNCurve(
                     reference_stress=float(table["s0_mpa"]) * 1e6,
@@ -588,7 +712,24 @@ class _SetReader:
                 )
             except (PinwindError, TypeError, ValueError) as err:
                 raise self.fail(key, str(err)) from err
-        return out
+        return SetCurves(out, dict(out), iso_contact, iso_root)
+
+    def strength(self, table: Mapping[str, Any], name: str, gear: str) -> float | None:
+        """An ISO strength key [MPa] of the S-N table for a gear, in Pa; None if not given."""
+        if name not in table:
+            return None
+        value = self.per_gear(("fatigue", "sn_curve", name), table[name], gear)
+        return self.number(("fatigue", "sn_curve", name), value, 0.0) * 1e6
+
+
+@dataclass(frozen=True)
+class SetCurves:
+    """The S-N curves of a fatigue set's gears (`FatigueSet`): gear → curve of each kind."""
+
+    contact: dict[str, FatigueCurve]
+    root: dict[str, FatigueCurve]
+    iso_contact: dict[str, FatigueCurve]
+    iso_root: dict[str, FatigueCurve]
 
 
 def gear_kind(gear: str) -> str | None:
@@ -605,10 +746,12 @@ class FlankCycles:
 
     Attributes:
         gear: the gear.
-        flank: +1 or −1 (`pinwind.life.tooth_damage.EnteringTeeth.flank`).
+        flank: +1 or −1 (`pinwind.life.tooth_damage.EnteringTeeth.flank`); of a root, the
+            loaded flank whose side's fillet it is.
         teeth: the gear's tooth count.
         tooth: the tooth of each cycle, (n,).
-        ranges: the von Mises contact-stress range of each cycle [Pa], (n,).
+        ranges: the stress range of each cycle [Pa], (n,): von Mises contact stress, or the
+            root stress σ_F.
         counts: 1 or 0.5 (half cycles), (n,).
         peaks: the largest stress of each tooth [Pa], (teeth,).
     """
@@ -621,7 +764,7 @@ class FlankCycles:
     counts: np.ndarray
     peaks: np.ndarray
 
-    def damage(self, curve: SNCurve, *, use_endurance_limit: bool = True) -> np.ndarray:
+    def damage(self, curve: FatigueCurve, *, use_endurance_limit: bool = True) -> np.ndarray:
         """Palmgren-Miner damage of each tooth from these cycles, time factor 1 [-], (teeth,)."""
         life = curve.cycles_to_failure(self.ranges, use_endurance_limit=use_endurance_limit)
         return np.bincount(self.tooth, weights=self.counts / life, minlength=self.teeth)
@@ -636,7 +779,8 @@ class CaseCycles:
         key: `FatigueSet.case_key` of the inputs it was made from.
         counted_seconds: length of the counted history [s].
         wall_time: seconds the case took to run and reduce.
-        flanks: the cycles of each loaded flank of each gear.
+        flanks: the contact-stress cycles of each loaded flank of each gear.
+        roots: the root-stress cycles of the fillet of each loaded flank of each gear.
     """
 
     case: LoadCase
@@ -644,23 +788,26 @@ class CaseCycles:
     counted_seconds: float
     wall_time: float
     flanks: tuple[FlankCycles, ...] = field(default_factory=tuple)
+    roots: tuple[FlankCycles, ...] = field(default_factory=tuple)
 
     def save(self, path: Path) -> None:
         """Write it as ``.npz`` (written whole under another name, then renamed)."""
         arrays: dict[str, Any] = {}
-        for i, f in enumerate(self.flanks):
-            arrays |= {
-                f"{i}_tooth": f.tooth,
-                f"{i}_ranges": f.ranges,
-                f"{i}_counts": f.counts,
-                f"{i}_peaks": f.peaks,
-            }
+        for prefix, group in (("", self.flanks), ("root_", self.roots)):
+            for i, f in enumerate(group):
+                arrays |= {
+                    f"{prefix}{i}_tooth": f.tooth,
+                    f"{prefix}{i}_ranges": f.ranges,
+                    f"{prefix}{i}_counts": f.counts,
+                    f"{prefix}{i}_peaks": f.peaks,
+                }
         meta = {
             "case": dataclasses.asdict(self.case),
             "key": self.key,
             "counted_seconds": self.counted_seconds,
             "wall_time": self.wall_time,
             "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
+            "roots": [[f.gear, f.flank, f.teeth] for f in self.roots],
         }
         partial = path.with_name(path.name + ".partial.npz")
         arrays["meta"] = np.array(json.dumps(meta))
@@ -677,17 +824,20 @@ class CaseCycles:
         try:
             with np.load(path) as data:
                 meta = json.loads(str(data["meta"]))
-                flanks = tuple(
-                    FlankCycles(
-                        gear,
-                        flank,
-                        teeth,
-                        data[f"{i}_tooth"],
-                        data[f"{i}_ranges"],
-                        data[f"{i}_counts"],
-                        data[f"{i}_peaks"],
+                flanks, roots = (
+                    tuple(
+                        FlankCycles(
+                            gear,
+                            flank,
+                            teeth,
+                            data[f"{prefix}{i}_tooth"],
+                            data[f"{prefix}{i}_ranges"],
+                            data[f"{prefix}{i}_counts"],
+                            data[f"{prefix}{i}_peaks"],
+                        )
+                        for i, (gear, flank, teeth) in enumerate(meta.get(group, []))
                     )
-                    for i, (gear, flank, teeth) in enumerate(meta["flanks"])
+                    for prefix, group in (("", "flanks"), ("root_", "roots"))
                 )
         except (OSError, ValueError, KeyError) as err:
             raise InputError(f"{path}: not a fatigue case reduction ({err}); delete it") from err
@@ -697,14 +847,27 @@ class CaseCycles:
             meta["counted_seconds"],
             meta["wall_time"],
             flanks,
+            roots,
         )
 
 
-def case_cycles(result: Result, gearbox: Gearbox, gears: Iterable[str]) -> list[FlankCycles]:
+def case_cycles(
+    result: Result,
+    gearbox: Gearbox,
+    gears: Iterable[str],
+    *,
+    materials: Mapping[str, str] | None = None,
+    root_stress: Mapping[str, RootStress] | None = None,
+) -> list[FlankCycles]:
     """The rainflow cycles of every flank of every tooth of ``gears`` in a run.
 
     The histories are those of `pinwind.life.tooth_damage.gear_tooth_damage` (von Mises
-    contact stress at the moving contact point, per tooth over all its meshes).
+    contact stress at the moving contact point, per tooth over all its meshes), or with
+    ``root_stress`` (gear → model) its root stress.
+
+    Args:
+        materials: gear → material key (default `materials.DEFAULT_MATERIAL`).
+        root_stress: count the root stress of each gear with its model instead.
     """
     from pinwind.life.sn_curve import SNCurve
     from pinwind.life.tooth_damage import gear_tooth_damage
@@ -713,7 +876,16 @@ def case_cycles(result: Result, gearbox: Gearbox, gears: Iterable[str]) -> list[
     unit = SNCurve(reference_stress=1.0, slope_exponent=1.0)
     out = []
     for gear in gears:
-        for rated in gear_tooth_damage(result, gearbox, gear, curve=unit, time_factor=1.0):
+        rated_flanks = gear_tooth_damage(
+            result,
+            gearbox,
+            gear,
+            curve=unit,
+            time_factor=1.0,
+            materials=materials,
+            root_stress=None if root_stress is None else root_stress[gear],
+        )
+        for rated in rated_flanks:
             tooth = np.concatenate(
                 [np.full(c.ranges.size, j, dtype=np.int32) for j, c in enumerate(rated.cycles)]
             )
@@ -761,13 +933,21 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         )
     first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
     counted = result.rows(first, len(result))
-    flanks = case_cycles(counted, gearbox, fatigue.gears)
+    flanks = case_cycles(counted, gearbox, fatigue.gears, materials=fatigue.materials)
+    roots = case_cycles(
+        counted,
+        gearbox,
+        fatigue.gears,
+        materials=fatigue.materials,
+        root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
+    )
     return CaseCycles(
         case,
         fatigue.case_key(case),
         fatigue.counted_seconds,
         time.perf_counter() - start,
         tuple(flanks),
+        tuple(roots),
     )
 
 

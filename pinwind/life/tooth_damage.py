@@ -45,7 +45,8 @@ from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.materials import Material
 from pinwind.life.contact_stress import contact_stress
 from pinwind.life.cycles import Cycles, rainflow_cycles
-from pinwind.life.sn_curve import SNCurve, miner_damage
+from pinwind.life.root_stress import RootStress
+from pinwind.life.sn_curve import FatigueCurve, miner_damage
 from pinwind.model.phasing import zero_direction
 
 if TYPE_CHECKING:
@@ -208,7 +209,7 @@ def histories_damage(
     histories: Sequence[np.ndarray],
     *,
     gear: str,
-    curve: SNCurve,
+    curve: FatigueCurve,
     time_factor: float,
     use_endurance_limit: bool = True,
     flank: int = 0,
@@ -352,17 +353,20 @@ def gear_tooth_damage(
     gearbox: Gearbox,
     gear: str,
     *,
-    curve: SNCurve,
+    curve: FatigueCurve,
     time_factor: float,
     materials: Mapping[str, Material | str] | None = None,
     use_endurance_limit: bool = True,
+    root_stress: RootStress | None = None,
 ) -> tuple[ToothDamage, ...]:
-    """Contact-stress damage of every tooth of a gear over all its meshes in a compliant run.
+    """Contact- or root-stress damage of every tooth of a gear over all its meshes in a run.
 
-    The stress is σ_vM ≈ 0.65 p_max of the Hertz pressure at the moving contact point
-    (`pinwind.life.contact_stress`, Jørgensen 2014 eqs. 20-22), the S-N curve's stress. Each
-    flank of the teeth is its own surface: a planet's sun mesh and ring mesh load opposite
-    flanks and are rated apart (Jørgensen 2014 §3.1 joins them into one 60 s history).
+    The contact stress is σ_vM ≈ 0.65 p_max of the Hertz pressure at the moving contact point
+    (`pinwind.life.contact_stress`, Jørgensen 2014 eqs. 20-22). Each flank of the teeth is its
+    own surface: a planet's sun mesh and ring mesh load opposite flanks and are rated apart
+    (Jørgensen 2014 §3.1 joins them into one 60 s history). With ``root_stress`` the stress is
+    instead that of the root fillet on the loaded flank's side (`pinwind.life.root_stress`),
+    each fillet rated apart as each flank is.
 
     Args:
         result: the run (every sample of it).
@@ -372,9 +376,11 @@ def gear_tooth_damage(
         time_factor: life seconds per simulated second, h · 3600 / T_sim (`site.time_factor`).
         materials: gear name → material (default `materials.DEFAULT_MATERIAL`).
         use_endurance_limit: False to count cycles below the endurance limit too.
+        root_stress: rate the tooth root with this model instead of the flank's contact.
 
     Returns:
-        The damage of each flank in contact during the run, the most damaged first.
+        The damage of each flank (or its root fillet) in contact during the run, the most
+        damaged first.
 
     Raises:
         InputError: no mesh has the gear, or as `mesh_teeth`; a contact ratio of 2 or more.
@@ -391,15 +397,19 @@ def gear_tooth_damage(
         position = result.mesh_contact_position[:, i]
         single = np.abs(result.mesh_single_tooth_force[:, i])
         normal = np.abs(result.mesh_normal[:, i])
-        entering = contact_stress(pair, force=single, position=position)
-        leading = contact_stress(
-            pair, force=normal - single, position=position + pair.path.base_pitch
-        )
+        ahead = position + pair.path.base_pitch
+        if root_stress is None:
+            entering = contact_stress(pair, force=single, position=position).von_mises
+            leading = contact_stress(pair, force=normal - single, position=ahead).von_mises
+        else:
+            side = 1 if gear == mesh.gear_a.name else 2
+            entering = root_stress.stress(pair, side, force=single, position=position)
+            leading = root_stress.stress(pair, side, force=normal - single, position=ahead)
         contact = ToothContacts(
             tooth=entering_teeth_of.tooth,
             leading_tooth=entering_teeth_of.leading_tooth,
-            entering=np.nan_to_num(entering.von_mises),
-            leading=np.nan_to_num(leading.von_mises),
+            entering=np.nan_to_num(entering),
+            leading=np.nan_to_num(leading),
             pairs=result.mesh_pairs[:, i],
         )
         contacts.append((contact, entering_teeth_of.flank))

@@ -66,3 +66,25 @@ def test_quick_run_prints_damage_whose_bins_add_up_to_the_total(tmp_path, monkey
             assert_allclose(sum(gear["per_bin"]), gear["total"], rtol=1e-12)
     assert (tmp_path / "cases_quick").is_dir()
     assert len(list((tmp_path / "cases_quick").glob("*.mcap"))) == 2
+
+
+def test_json_reports_root_damage_and_the_iso_variant_for_every_gear(tmp_path, monkeypatch):
+    """Root damage beside the contact's, each in the limit / no limit / iso 6336 variants, its
+    bins adding up to the total, and each gear's root-stress model named."""
+    monkeypatch.chdir(tmp_path)
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text() + "[fatigue.quick]\nduration = 0.03\n")
+    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1")
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    gears = {"sun", "planet1", "planet2", "planet3", "ring"}
+    for table in ("damage", "root_damage"):
+        assert set(report[table]) == {"limit", "no limit", "iso 6336"}
+        for levels in report[table].values():
+            assert set(levels[0]) == gears
+            for gear in levels[0].values():
+                assert_allclose(sum(gear["per_bin"]), gear["total"], rtol=1e-12)
+                assert gear["peak_stress_MPa"] > 0.0
+    assert set(report["root_stress"]) == gears
+    assert "ISO 6336-3" in report["root_stress"]["sun"]
+    assert "root" not in report["not_rated"]

@@ -138,6 +138,122 @@ def test_cycles_below_the_endurance_limit_do_no_damage_in_a_set(tmp_path):
     assert_allclose(damage.per_bin, [0.0, 0.86**3 * 250 * 3600], rtol=1e-12)
 
 
+def flank(gear, side, teeth, tooth, ranges_mpa, counts):
+    """Cycles of one flank (or its root fillet) of a gear."""
+    return FlankCycles(
+        gear=gear,
+        flank=side,
+        teeth=teeth,
+        tooth=np.asarray(tooth),
+        ranges=np.asarray(ranges_mpa, dtype=float) * 1e6,
+        counts=np.asarray(counts, dtype=float),
+        peaks=np.zeros(teeth),
+    )
+
+
+def iso_toml(tmp_path: Path, sn_curve: str) -> Path:
+    """The two-bin set with another ``[fatigue.sn_curve]`` table."""
+    path = fatigue_toml(tmp_path)
+    text = path.read_text()
+    start = text.index("[fatigue.sn_curve]")
+    path.write_text(text[:start] + "[fatigue.sn_curve]\n" + sn_curve)
+    return path
+
+
+# ISO 6336 for 18CrNiMo7-6 (case carburised; σ_Hlim 1500, σ_Flim 500 MPa), by hand:
+# contact, Table 2: Z_NT from 1.6 at 10⁵ to 1 at 5·10⁷, so N(Z) = 5·10⁷ Z^(−ln 500 / ln 1.6),
+# read at σ_vM = 0.65 σ_H; root, Table 3: σ_FE = 2 σ_Flim = 1000 MPa, Y_NT from 2.5 at 10³ to
+# 1 at 3·10⁶, N(Y) = 3·10⁶ Y^(−ln 3000 / ln 2.5); reversed bending (both flanks): 0.7 σ_FE.
+
+
+def contact_life(z_nt: float) -> float:
+    return 5e7 * z_nt ** (-math.log(500.0) / math.log(1.6))
+
+
+def root_life(y_nt: float) -> float:
+    return 3e6 * y_nt ** (-math.log(3000.0) / math.log(2.5))
+
+
+def test_iso_variant_damage_of_contact_and_root_cycles_by_hand(tmp_path):
+    """One 16 m/s case (250 h, 4 s counted): a sun contact cycle at Z_NT = 1.3, a sun root
+    cycle at Y_NT = 1.5 on one flank, and a planet root cycle at 1.5 · 0.7 σ_FE on each flank."""
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    low, high = fset.cases()
+    fset.out.mkdir(parents=True, exist_ok=True)
+    CaseCycles(low, fset.case_key(low), 2.0, 0.0).save(fset.cycles_path(low))
+    contact = (flank("sun", 1, 20, [2], [0.65 * 1.3 * 1500], [1.0]),)
+    roots = (
+        flank("sun", 1, 20, [2], [1500], [1.0]),
+        flank("planet1", 1, 35, [5], [0.7 * 1.5 * 1000], [1.0]),
+        flank("planet1", -1, 35, [5], [0.7 * 1.5 * 1000], [1.0]),
+    )
+    CaseCycles(high, fset.case_key(high), 4.0, 0.0, contact, roots).save(fset.cycles_path(high))
+    damage = set_damage(fset)
+    time_factor = 250 * 3600 / 4.0
+    sun = damage.damage["iso 6336"][0]["sun"]
+    assert_allclose(sun.per_bin, [0.0, time_factor / contact_life(1.3)], rtol=1e-9)
+    root = damage.root_damage["iso 6336"][0]
+    assert_allclose(root["sun"].total, time_factor / root_life(1.5), rtol=1e-9)
+    assert_allclose(root["planet1"].total, time_factor / root_life(1.5), rtol=1e-9)
+    assert root["sun"].tooth == 2 and root["planet1"].tooth == 5
+    # The set's own curve (N = (1000 MPa / s)³) rates the root cycles as it rates the contact.
+    assert_allclose(
+        damage.root_damage["no limit"][0]["sun"].total, 1.5**3 * time_factor, rtol=1e-12
+    )
+
+
+def test_iso6336_preset_rates_contact_and_root_with_iso_curves(tmp_path):
+    """preset = "iso6336" with σ_Hlim = 1400 MPa for the sun: its contact curve reaches
+    0.65 · 1400 MPa at 5·10⁷ cycles; its root curve σ_FE = 1000 MPa at 3·10⁶."""
+    fset = load_fatigue_set(
+        iso_toml(tmp_path, 'preset = "iso6336"\nsigma_h_lim_mpa = { sun = 1400, planet = 1500, '
+                 "ring = 1500 }\n")
+    )  # fmt: skip
+    assert_allclose(fset.curves["sun"].stress(5e7), 0.65 * 1400e6, rtol=1e-12)
+    assert_allclose(fset.curves["ring"].stress(1e5), 0.65 * 1.6 * 1500e6, rtol=1e-12)
+    assert_allclose(fset.root_curves["sun"].stress(3e6), 1000e6, rtol=1e-12)
+    permitted = load_fatigue_set(iso_toml(tmp_path, 'preset = "iso6336_pitting_permitted"\n'))
+    assert_allclose(permitted.curves["sun"].stress(1e7), 0.65 * 1.3 * 1500e6, rtol=1e-12)
+
+
+def test_materials_set_the_iso_curves_per_gear_kind(tmp_path):
+    """A through-hardened 42CrMo4 ring (σ_Hlim 770, σ_Flim 310 MPa): its ISO root curve is
+    ISO 6336-3's St, V row, 2.5 at 10⁴ cycles."""
+    path = fatigue_toml(tmp_path, fatigue='[fatigue.materials]\nring = "42CrMo4"\n')
+    fset = load_fatigue_set(path)
+    assert fset.materials["ring"] == "42CrMo4" and fset.materials["planet1"] == "18CrNiMo7-6"
+    assert_allclose(fset.iso_root_curves["ring"].stress(1e4), 2.5 * 620e6, rtol=1e-12)
+    assert_allclose(fset.iso_curves["ring"].stress(5e7), 0.65 * 770e6, rtol=1e-12)
+
+
+def test_root_stress_table_changes_the_case_inputs(tmp_path):
+    """A table for the sun replaces ISO 6336-3 there, and its cases' reductions are redone."""
+    plain = load_fatigue_set(fatigue_toml(tmp_path))
+    table = "[fatigue.root_stress]\nsun = { position_mm = [30, 50], mpa_per_kn = [2, 4] }\n"
+    tabled = load_fatigue_set(fatigue_toml(tmp_path, fatigue=table))
+    assert_allclose(tabled.root_stress["sun"].stress_per_force, [2e3, 4e3], rtol=1e-12)
+    assert "ISO 6336-3" in tabled.root_stress["ring"].describe()
+    case = plain.cases()[0]
+    assert plain.case_key(case) != tabled.case_key(case)
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [
+        ('[fatigue.materials]\nsun = "unobtainium"\n', '"unobtainium" (sun) is unknown'),
+        (
+            "[fatigue.root_stress]\nsun = { position_mm = [30], mpa_per_kn = [2] }\n",
+            "two or more positions",
+        ),
+        ("[fatigue.root_stress]\nmoon = { fraction = [0, 1], mpa_per_kn = [2, 3] }\n", "moon"),
+    ],
+)
+def test_bad_material_or_root_table_names_its_key(tmp_path, table, message):
+    with pytest.raises(ScenarioError, match="fatigue") as caught:
+        load_fatigue_set(fatigue_toml(tmp_path, fatigue=table))
+    assert message in str(caught.value)
+
+
 def test_rerun_computes_only_the_case_whose_log_was_deleted(tmp_path, monkeypatch):
     import pinwind.life.load_cases as load_cases
 

@@ -9,7 +9,14 @@ import pytest
 
 from pinwind.errors import InputError, InvalidSNCurve
 from pinwind.life.cycles import rainflow_cycles
-from pinwind.life.sn_curve import SNCurve, jorgensen_2014_curve, miner_damage
+from pinwind.life.sn_curve import (
+    IsoLifeCurve,
+    SNCurve,
+    iso6336_contact_curve,
+    iso6336_root_curve,
+    jorgensen_2014_curve,
+    miner_damage,
+)
 
 #: A curve with round numbers: N(s) = (1000 MPa / s)^3, so 100 MPa fails in 10³ cycles.
 ROUND = SNCurve(reference_stress=1000e6, slope_exponent=3.0, reference_cycles=1.0)
@@ -122,3 +129,81 @@ def test_unknown_preset_gear_names_the_known_ones():
 def test_unknown_cycle_stress_raises():
     with pytest.raises(InputError, match="range"):
         miner_damage(rainflow_cycles(pulsating(1.0, 2)), ROUND, stress="peak")  # type: ignore[arg-type]
+
+
+# --- ISO 6336's own curves --------------------------------------------------------------------
+# ISO 6336-2:2006 Table 2, case-hardened steel (Eh), no pitting: Z_NT = 1.6 up to 10⁵ cycles,
+# (5·10⁷/N)^0.0756 to 5·10⁷, then 1 (optimum conditions) or falling to 0.85 at 10¹⁰.
+# ISO 6336-3:2006 Table 3, Eh root: Y_NT = 2.5 up to 10³, (3·10⁶/N)^0.115 to 3·10⁶, 0.85 at 10¹⁰.
+# 18CrNiMo7-6 (materials.py): σ_Hlim = 1500 MPa, σ_Flim = 500 MPa; σ_FE = 2 σ_Flim.
+
+
+def test_iso_contact_curve_passes_through_the_knee_points_of_iso_6336_2():
+    curve = iso6336_contact_curve("18CrNiMo7-6")
+    knees = np.array([1e5, 5e7, 1e10])
+    np.testing.assert_allclose(curve.stress(knees), 1500e6 * np.array([1.6, 1.0, 0.85]), rtol=1e-12)
+    np.testing.assert_allclose(
+        curve.cycles_to_failure(1500e6 * np.array([1.6, 1.0, 0.85]), use_endurance_limit=False),
+        knees,
+        rtol=1e-9,
+    )
+    # Static plateau below 10⁵ cycles; the standard's rounded exponent 0.0756 between the knees.
+    np.testing.assert_allclose(curve.stress([1.0, 1e3]), 2400e6, rtol=1e-12)
+    np.testing.assert_allclose(curve.stress(1e6), 1500e6 * 50**0.0756, rtol=1e-3)
+
+
+def test_iso_root_curve_passes_through_the_knee_points_of_iso_6336_3():
+    curve = iso6336_root_curve("18CrNiMo7-6")
+    np.testing.assert_allclose(
+        curve.stress([1e3, 3e6, 1e10]), 1000e6 * np.array([2.5, 1.0, 0.85]), rtol=1e-12
+    )
+    np.testing.assert_allclose(curve.stress(1e5), 1000e6 * 30**0.115, rtol=3e-3)
+    idler = iso6336_root_curve("18CrNiMo7-6", reversed_bending=True)
+    np.testing.assert_allclose(idler.stress(3e6), 0.7 * 1000e6, rtol=1e-12)
+
+
+def test_miner_on_the_iso_contact_curve_for_a_constant_history_by_hand():
+    """1000 cycles at Z_NT = 1.3: N = 5·10⁷ · 1.3^(−ln 500 / ln 1.6) on the sloped line."""
+    curve = iso6336_contact_curve("18CrNiMo7-6")
+    cycles = rainflow_cycles(pulsating(1.3 * 1500e6, 1000))
+    life = 5e7 * 1.3 ** (-math.log(500.0) / math.log(1.6))
+    np.testing.assert_allclose(miner_damage(cycles, curve), 1000 / life, rtol=1e-9)
+
+
+def test_iso_curve_below_its_strength_does_no_damage_with_the_limit_and_falls_without_it():
+    """0.9 σ_Hlim: none on the optimum line; on the line to 0.85 at 10¹⁰, N = 5·10⁷ · 0.9^(−k)."""
+    curve = iso6336_contact_curve("18CrNiMo7-6")
+    cycles = rainflow_cycles(pulsating(0.9 * 1500e6, 1000))
+    assert miner_damage(cycles, curve) == 0.0
+    k = math.log(1e10 / 5e7) / math.log(1 / 0.85)
+    np.testing.assert_allclose(
+        miner_damage(cycles, curve, use_endurance_limit=False),
+        1000 / (5e7 * 0.9 ** (-k)),
+        rtol=1e-9,
+    )
+
+
+def test_curve_scaled_to_von_mises_fails_at_the_same_cycles():
+    curve = iso6336_contact_curve("18CrNiMo7-6")
+    stresses = np.array([2000e6, 1600e6, 1400e6])
+    np.testing.assert_allclose(
+        curve.scaled(0.65).cycles_to_failure(0.65 * stresses, use_endurance_limit=False),
+        curve.cycles_to_failure(stresses, use_endurance_limit=False),
+        rtol=1e-12,
+    )
+
+
+def test_pitting_permitted_row_and_nitrided_rows():
+    permitted = iso6336_contact_curve("18CrNiMo7-6", pitting_permitted=True)
+    np.testing.assert_allclose(
+        permitted.stress([6e5, 1e7, 1e9]), 1500e6 * np.array([1.6, 1.3, 1.0]), rtol=1e-12
+    )
+    nitrided = iso6336_contact_curve("34CrNiMo6")
+    np.testing.assert_allclose(nitrided.stress([1e5, 2e6]), [1300e6, 1000e6], rtol=1e-12)
+    with pytest.raises(InputError, match='no "some pitting permitted" row'):
+        iso6336_contact_curve("34CrNiMo6", pitting_permitted=True)
+
+
+def test_life_factor_knees_that_do_not_fall_are_refused():
+    with pytest.raises(InvalidSNCurve, match="falling through 1"):
+        IsoLifeCurve(1e9, ((1e5, 1.6), (5e7, 1.7)))

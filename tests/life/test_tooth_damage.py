@@ -9,6 +9,9 @@ import pytest
 
 import pinwind
 from pinwind.errors import InputError
+from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.rating_iso import form_factors
+from pinwind.life.root_stress import ISO_ROOT_STRESS
 from pinwind.life.sn_curve import SNCurve
 from pinwind.life.tooth_damage import (
     ToothContacts,
@@ -145,6 +148,45 @@ def test_compliant_pair_at_constant_speed_gives_one_cycle_per_tooth_pass():
         assert passes.shape == (teeth,)
         assert 28 <= passes.sum() <= 32, passes
         assert passes.min() >= most - 1 and passes.max() <= most, passes
+
+
+def test_root_stress_histories_peak_at_the_largest_tooth_force_times_iso_factors():
+    """The 20/40 pair against 10 N·m: each gear's largest root stress is the largest force a
+    tooth pair carries times ISO 6336-3's cos α/(b m) Y_F Y_S of that gear (b = 20 mm,
+    m = 2 mm), and each pass of a tooth is one large root cycle, as for the contact (the small
+    cycles within a pass differ: the root stress goes as F, the contact stress as √F)."""
+    gearbox = loads(two_gear_urdf(), "pair.urdf")
+    result = pinwind.simulate(
+        gearbox,
+        duration=0.05,
+        dt=2e-5,
+        speeds={"a": 2 * math.pi * 200 / 20},
+        torques={"b": 10.0},
+        gravity=np.zeros(3),
+        meshes={"m": MeshCompliance(stiffness=1e9, damping_ratio=0.1)},
+    )
+    single = np.abs(result.mesh_single_tooth_force[:, 0])
+    leading = np.where(result.mesh_pairs[:, 0] == 2, np.abs(result.mesh_normal[:, 0]) - single, 0)
+    largest = float(np.max(np.maximum(single, leading)))
+    mesh = gearbox.meshes[0]
+    pair = GearPair.from_gears(mesh.gear_a.spec, mesh.gear_b.spec)
+    curve = SNCurve(reference_stress=10e9, slope_exponent=3.0)
+    for gear, index in (("g1", 1), ("g2", 2)):
+        y_f, y_s = form_factors(pair, index)
+        (root,) = gear_tooth_damage(
+            result, gearbox, gear, curve=curve, time_factor=1.0, root_stress=ISO_ROOT_STRESS
+        )
+        (contact,) = gear_tooth_damage(result, gearbox, gear, curve=curve, time_factor=1.0)
+        np.testing.assert_allclose(
+            root.peak_stress.max(),
+            largest * math.cos(math.radians(20.0)) / (0.020 * 0.002) * y_f * y_s,
+            rtol=1e-9,
+        )
+        passes = [
+            [np.sum(c.counts[c.ranges > 0.5 * d.peak_stress.max()]) for c in d.cycles]
+            for d in (root, contact)
+        ]
+        np.testing.assert_array_equal(passes[0], passes[1])
 
 
 def test_gear_without_a_mesh_raises():
