@@ -16,7 +16,7 @@ no backlash (the teeth in contact on the front flank).
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pinocchio as pin
@@ -24,6 +24,13 @@ import pinocchio as pin
 from pinwind.dynamics.compliant import mesh_choices, mesh_setup
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.normal_modes import Mode, SpringElement, element_matrices, natural_modes
+from pinwind.dynamics.planetary_modes import (
+    Coordinate,
+    PlanetaryStage,
+    coordinates,
+    mode_kinds,
+    planetary_stages,
+)
 from pinwind.errors import UnknownJoint
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
@@ -38,6 +45,8 @@ class Linearisation:
         mass, stiffness, damping: M [kg·m²], K [N·m/rad], C [N·m·s/rad], (nv, nv).
         constraints: J (r, nv): rigid meshes, held joints, locked bearings.
         elements: the springs K is made of (meshes, torsional springs).
+        coordinates: each coordinate's kind (rotation, translation) and axis.
+        stages: the planetary stages, whose modes are classified (``planetary_modes.py``).
     """
 
     joint_names: list[str]
@@ -46,10 +55,12 @@ class Linearisation:
     damping: np.ndarray
     constraints: np.ndarray
     elements: list[SpringElement]
+    coordinates: list[Coordinate] = field(default_factory=list)
+    stages: list[PlanetaryStage] = field(default_factory=list)
 
     def modes(self) -> list[Mode]:
-        """The natural modes, lowest first (rigid ones at 0 Hz)."""
-        return natural_modes(
+        """The natural modes, lowest first (rigid ones at 0 Hz), each with its class."""
+        found = natural_modes(
             self.mass,
             self.stiffness,
             self.damping,
@@ -57,6 +68,16 @@ class Linearisation:
             joint_names=self.joint_names,
             elements=self.elements,
         )
+        kinds = mode_kinds(
+            self.stages,
+            self.coordinates,
+            [m.shape for m in found],
+            self.mass,
+            self.stiffness,
+            self.damping,
+            self.constraints,
+        )
+        return [replace(m, kind=k) for m, k in zip(found, kinds, strict=True)]
 
 
 def linearise(
@@ -112,5 +133,12 @@ def linearise(
     damping += np.diag(np.asarray(model.damping, dtype=float))
     order = sorted(names, key=gearbox.v_index)
     return Linearisation(
-        order, mass, stiffness, damping, np.array(constraints).reshape(-1, nv), elements
+        order,
+        mass,
+        stiffness,
+        damping,
+        np.array(constraints).reshape(-1, nv),
+        elements,
+        coordinates(gearbox),
+        planetary_stages(gearbox),
     )

@@ -23,6 +23,8 @@ from scipy.linalg import eigh
 
 #: ω² below this fraction of the largest one is a rigid mode (no spring resists it).
 RIGID_TOLERANCE = 1e-9
+#: Frequencies this close (relative) are one repeated (degenerate) frequency.
+REPEATED_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -55,6 +57,9 @@ class Mode:
         kinetic_share: joint name → share of the mode's kinetic energy [-] (sums to 1).
         strain_share: element name → share of the mode's strain energy [-] (sums to 1 when
             the elements hold all the stiffness).
+        kind: for a train with planetary stages, the class of mode Lin & Parker give
+            (``rotational``, ``translational``, ``planet`` or ``unclassified``;
+            ``dynamics/planetary_modes.py``); ``""`` without a stage.
     """
 
     frequency: float
@@ -62,6 +67,7 @@ class Mode:
     shape: np.ndarray
     kinetic_share: dict[str, float]
     strain_share: dict[str, float]
+    kind: str = ""
 
     @property
     def rigid(self) -> bool:
@@ -132,3 +138,20 @@ def natural_modes(
             )
         )
     return out
+
+
+def repeated_groups(modes: list[Mode]) -> list[list[Mode]]:
+    """The modes grouped by repeated frequency (``REPEATED_TOLERANCE``), lowest first.
+
+    A repeated frequency's shapes are any basis of its eigenspace, so only what the group shares
+    (its frequency, its multiplicity, the sum of its energy shares) describes it.
+    """
+    groups: list[list[Mode]] = []
+    for mode in sorted(modes, key=lambda m: m.frequency):
+        if groups and math.isclose(
+            groups[-1][0].frequency, mode.frequency, rel_tol=REPEATED_TOLERANCE
+        ):
+            groups[-1].append(mode)
+        else:
+            groups.append([mode])
+    return groups
