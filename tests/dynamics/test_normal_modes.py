@@ -8,7 +8,10 @@ Closed forms, each derived here:
   share (r_b,A²/J_A) / (r_b,A²/J_A + r_b,B²/J_B); the mesh holds all the strain energy;
 - two discs J on a torsional spring k: ω² = 2k/J;
 - a planetary stage with identical, equally spaced planets and the sun held: the planets' own
-  mode (planets turning against each other, carrier still) is (N − 1)-fold, N = 3.
+  mode (planets turning against each other, carrier still) is (N − 1)-fold, N = 3;
+- a linear train released from rest under a step torque rings at its natural frequencies: the
+  peaks of a mesh deflection's spectrum (Hann window, the peak's bin refined by a parabola
+  through the log magnitudes of its neighbours, Δf/100 or better) are the modes' frequencies.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import numpy as np
 import pytest
 
 import pinwind
+from pinwind.dynamics import Integrator
 from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import UnknownJoint
 from pinwind.model.compliance import MeshCompliance
@@ -69,6 +73,57 @@ def test_the_pair_mode_is_the_one_a_free_vibration_run_rings_at():
     x, xdot, dt, _ = _free_pair(200, 10)
     np.testing.assert_allclose(_frequency(x, xdot, dt) / (2 * math.pi), mode.frequency, rtol=5e-3)
     assert J_A != J_B  # the closed form does not rest on equal inertias
+
+
+def _spectral_peaks(x: np.ndarray, dt: float, count: int) -> list[float]:
+    """Frequencies [Hz] of the ``count`` largest peaks of x's spectrum, lowest first."""
+    magnitude = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(len(x))))
+    log = np.log(magnitude + 1e-300 * magnitude.max())
+    peaks = [
+        i
+        for i in range(1, len(magnitude) - 1)
+        if magnitude[i] > magnitude[i - 1] and magnitude[i] > magnitude[i + 1]
+    ]
+    peaks = sorted(peaks, key=lambda i: -magnitude[i])[:count]
+    out = []
+    for i in peaks:
+        a, b, c = log[i - 1], log[i], log[i + 1]
+        out.append((i + 0.5 * (a - c) / (a - 2 * b + c)) / (len(x) * dt))
+    return sorted(out)
+
+
+def test_the_pair_mode_is_the_peak_of_a_free_vibration_spectrum():
+    gb = loads(two_gear_urdf(), "pair.urdf")
+    compliance = MeshCompliance(stiffness=K_SINGLE, variation="constant", damping=0.0)
+    (mode,) = [m for m in linearise(gb, meshes={"m": compliance}).modes() if not m.rigid]
+    x, _, dt, _ = _free_pair(100, 200, integrator=Integrator(rho_infinity=1.0))
+    (peak,) = _spectral_peaks(x, dt, 1)
+    np.testing.assert_allclose(peak, math.sqrt(K_MESH / MASS) / (2 * math.pi), rtol=5e-3)
+    np.testing.assert_allclose(peak, mode.frequency, rtol=5e-3)
+
+
+@pytest.mark.filterwarnings("ignore::pinwind.errors.TorquesUnbalanced")
+def test_three_modes_of_a_stage_are_the_peaks_of_a_free_vibration_spectrum():
+    # The Saleh stage with constant, undamped mesh springs; a step torque on planet 1 alone
+    # reaches every mode (the train also turns as a whole, which no mesh deflection sees).
+    gb = pinwind.load("models/saleh2017_planetary.urdf")
+    compliance = MeshCompliance(variation="constant", damping=0.0)
+    modes = [m for m in linearise(gb, meshes={"all": compliance}).modes() if not m.rigid]
+    expected = sorted({round(m.frequency, 6) for m in modes})
+    assert len(expected) == 3  # two rotational modes and the double planet mode
+    dt = 5e-6  # ≥ 100 steps per period of the highest mode (1.9 kHz)
+    res = pinwind.simulate(
+        gb,
+        duration=0.2,
+        dt=dt,
+        torques={"planet1": 1e4},
+        gravity=np.zeros(3),
+        initial_deflection="none",
+        meshes={"all": compliance},
+        integrator=Integrator(rho_infinity=1.0),
+    )
+    peaks = _spectral_peaks(res.mesh("sun_planet1").transmission_error, dt, 3)
+    np.testing.assert_allclose(peaks, expected, rtol=5e-3)
 
 
 def test_two_discs_on_a_torsional_spring_ring_at_root_two_k_over_j():
