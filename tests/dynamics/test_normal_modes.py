@@ -9,6 +9,10 @@ Closed forms, each derived here:
 - two discs J on a torsional spring k: ω² = 2k/J;
 - a planetary stage with identical, equally spaced planets and the sun held: the planets' own
   mode (planets turning against each other, carrier still) is (N − 1)-fold, N = 3;
+- at an operating speed the velocity terms C(q, v) v add nothing on torsional coordinates: bodies
+  turn about their own axes of symmetry, so M(q) is the same at every pose and every Christoffel
+  symbol vanishes; a planet whose centre of mass is off its axis makes M depend on its angle, and
+  then they act;
 - a linear train released from rest under a step torque rings at its natural frequencies: the
   peaks of a mesh deflection's spectrum (Hann window, the peak's bin refined by a parabola
   through the log magnitudes of its neighbours, Δf/100 or better) are the modes' frequencies.
@@ -17,14 +21,16 @@ Closed forms, each derived here:
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import pinwind
 from pinwind.dynamics import Integrator
-from pinwind.dynamics.linearisation import linearise
-from pinwind.errors import UnknownJoint
+from pinwind.dynamics.linearisation import MAX_SPEED, linearise
+from pinwind.errors import SpeedOutOfRange, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
@@ -161,3 +167,50 @@ def test_a_held_joint_the_model_does_not_have_is_refused_naming_the_joints():
     gb = loads(two_gear_urdf(), "pair.urdf")
     with pytest.raises(UnknownJoint, match='unknown joint "generator"'):
         linearise(gb, held=["generator"])
+
+
+def test_at_speed_the_torsional_coordinates_feel_no_gyroscopic_or_centrifugal_terms():
+    gb = pinwind.load("models/cart600_gearbox.urdf")
+    # Why: the inertia matrix does not depend on the pose (seeded random poses).
+    data = gb.model.createData()
+    at_rest = pin.crba(gb.model, data, gb.neutral()).copy()
+    for q in np.random.default_rng(7).uniform(-np.pi, np.pi, (5, gb.model.nq)):
+        np.testing.assert_allclose(pin.crba(gb.model, data, q), at_rest, atol=1e-9)
+    omega = 2.0  # rad/s on the carrier
+    lin = linearise(gb, meshes={"all": "compliant"}, speeds={"carrier": omega})
+    fastest = np.abs(lin.speed).max()
+    assert fastest > omega  # the output shafts turn faster
+    scale = np.abs(lin.mass).max()
+    np.testing.assert_allclose(lin.gyroscopic, 0.0, atol=1e-12 * scale * fastest)
+    np.testing.assert_allclose(lin.centrifugal, 0.0, atol=1e-12 * scale * fastest**2)
+    rest = linearise(gb, meshes={"all": "compliant"}).modes()
+    np.testing.assert_allclose(
+        [m.frequency for m in lin.modes()], [m.frequency for m in rest], rtol=1e-12
+    )
+
+
+def test_modes_at_speed_of_an_unbalanced_planet_are_refused_naming_it():
+    text = Path("models/saleh2017_planetary.urdf").read_text()
+    link = text.index('<link name="planet1">')
+    origin = text.index('<origin xyz="0 0 0"', link)
+    text = text[:origin] + '<origin xyz="0.01 0 0"' + text[origin + len('<origin xyz="0 0 0"') :]
+    gb = loads(text, "unbalanced.urdf")
+    assert linearise(gb).modes()  # at rest the velocity terms are zero
+    with pytest.raises(SpeedOutOfRange, match="act on .*planet1.*linearise at speed 0"):
+        linearise(gb, speeds={"carrier": 2.0}).modes()
+
+
+@pytest.mark.parametrize(
+    ("speed", "message"),
+    [(-1.0, "give 0 or more"), (math.nan, "give 0 or more"), (MAX_SPEED, "beyond the 1e\\+05")],
+)
+def test_a_speed_outside_the_linearisation_s_range_is_refused(speed, message):
+    gb = pinwind.load("models/saleh2017_planetary.urdf")
+    with pytest.raises(SpeedOutOfRange, match=message):
+        linearise(gb, speeds={"carrier": speed})
+
+
+def test_the_speed_bound_is_the_one_a_run_calls_diverged():
+    from pinwind.dynamics.simulate import MAX_PLAUSIBLE_SPEED
+
+    assert MAX_SPEED == MAX_PLAUSIBLE_SPEED
