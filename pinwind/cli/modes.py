@@ -13,9 +13,10 @@ from rich.markup import escape
 from rich.table import Table
 
 from pinwind.cli.app import app, console, say, warnings_as_lines
-from pinwind.cli.flags import mesh_values
+from pinwind.cli.flags import mesh_values, parse_number, parse_pairs
 from pinwind.dynamics.normal_modes import Mode, repeated_groups
 from pinwind.errors import InputError
+from pinwind.model.gearbox import Gearbox
 from pinwind.units import RAD_S_PER_RPM
 
 MeshOption = Annotated[
@@ -54,31 +55,60 @@ def modes(
     model: Annotated[Path, typer.Argument(help="Model file (URDF with a <gearbox> element).")],
     mesh: MeshOption = None,
     hold: HoldOption = None,
+    speed: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--speed",
+            help="JOINT=RPM operating speed (≥ 0; the other joints through the gear ratios), "
+            "repeatable. Default: at rest.",
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
+    animate: Annotated[
+        int | None,
+        typer.Option(
+            "--animate",
+            help="Animate mode N (its number in the list) in a Rerun recording; with --save.",
+        ),
+    ] = None,
+    save: Annotated[
+        Path | None, typer.Option("--save", help="Write the --animate recording (.rrd) here.")
+    ] = None,
 ) -> None:
     """Natural frequencies, damping ratios and energy shares of a model's torsional modes.
 
-    Linearised at the reference pose: compliant meshes at their mean stiffness, torsional
-    springs, bearing damping; rigid meshes, held joints and locked bearings as constraints.
-    A repeated frequency is one row (its modes' mean shares); with a planetary stage, each
-    mode's class (Lin & Parker 1999: rotational, translational, planet).
+    Linearised at the reference pose and the operating speed: compliant meshes at their mean
+    stiffness, torsional springs, bearing damping; rigid meshes, held joints and locked bearings
+    as constraints. A repeated frequency is one row (its modes' mean shares); with a planetary
+    stage, each mode's class (Lin & Parker 1999: rotational, translational, planet).
     """
     import pinwind
     from pinwind.dynamics.linearisation import linearise
 
+    speeds = {
+        name: parse_number(value, "--speed", "rpm") * RAD_S_PER_RPM
+        for name, value in parse_pairs(speed, "--speed").items()
+    }
+    if (animate is None) != (save is None):
+        raise InputError("--animate N and --save FILE.rrd go together (open it with: rerun FILE)")
     with warnings_as_lines():
         gearbox = pinwind.load(model)
-        found = linearise(gearbox, meshes=_meshes(mesh), held=hold or ()).modes()
+        found = linearise(gearbox, meshes=_meshes(mesh), held=hold or (), speeds=speeds).modes()
+    if animate is not None and not 1 <= animate <= len(found):
+        raise InputError(f"--animate {animate}: {gearbox.name} has modes 1 to {len(found)}")
     if as_json:
         print(json.dumps([
             {"frequency_hz": m.frequency, "damping_ratio": m.damping_ratio, "kind": m.kind,
              "kinetic_share": m.kinetic_share, "strain_share": m.strain_share}
             for m in found
         ], indent=1))  # fmt: skip
+        _animate(gearbox, found, animate, save, quiet=True)
         return
     plain = not console.is_terminal
+    at = ", ".join(f"{name} {value}" for name, value in parse_pairs(speed, "--speed").items())
     table = Table(
-        title=f"natural modes of {escape(gearbox.name)}", box=box.ASCII if plain else box.SIMPLE
+        title=f"natural modes of {escape(gearbox.name)}" + (f" at {escape(at)} rpm" if at else ""),
+        box=box.ASCII if plain else box.SIMPLE,
     )
     kinds = any(m.kind for m in found)
     columns = ["#", "f [Hz]", "ζ [%]", *(["kind"] if kinds else []), "moves (kinetic energy)"]
@@ -98,6 +128,20 @@ def modes(
             row += [_shares(group, "kinetic_share"), _shares(group, "strain_share")]
         table.add_row(*(escape(cell) for cell in row))
     console.print(table)
+    _animate(gearbox, found, animate, save)
+
+
+def _animate(
+    gearbox: Gearbox, found: list[Mode], number: int | None, save: Path | None, quiet: bool = False
+) -> None:
+    """Write mode ``number``'s animation to ``save`` (``io/mode_animation.py``) when asked."""
+    if number is None or save is None:
+        return
+    from pinwind.io.mode_animation import save_mode_animation
+
+    path = save_mode_animation(gearbox, found[number - 1], save, number=number)
+    if not quiet:
+        say(f"wrote {escape(str(path))}")
 
 
 @app.command()
