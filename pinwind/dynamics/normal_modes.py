@@ -19,7 +19,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import eigh
 
 #: ω² below this fraction of the largest one is a rigid mode (no spring resists it).
 RIGID_TOLERANCE = 1e-9
@@ -93,6 +92,19 @@ def element_matrices(elements: list[SpringElement], nv: int) -> tuple[np.ndarray
     return stiffness, damping
 
 
+def _generalised_eigh(k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues (ascending) and eigenvectors of K y = λ M y, M symmetric positive definite.
+
+    With M = L Lᵀ (Cholesky), the symmetric problem L⁻¹ K L⁻ᵀ z = λ z and y = L⁻ᵀ z; numpy's, as
+    scipy.linalg's import alone costs more than the modes of a gearbox.
+    """
+    lower = np.linalg.cholesky(m)
+    half = np.linalg.solve(lower, k)
+    reduced = np.linalg.solve(lower, half.T)
+    values, z = np.linalg.eigh(0.5 * (reduced + reduced.T))
+    return values, np.linalg.solve(lower.T, z)
+
+
 def natural_modes(
     mass: np.ndarray,
     stiffness: np.ndarray,
@@ -115,7 +127,7 @@ def natural_modes(
     if basis.shape[1] == 0:
         return []
     m = basis.T @ mass @ basis
-    omega2, vectors = eigh(basis.T @ stiffness @ basis, m)
+    omega2, vectors = _generalised_eigh(basis.T @ stiffness @ basis, m)
     largest = max(float(omega2[-1]), 0.0)
     names = joint_names or [str(i) for i in range(nv)]
     out = []
