@@ -32,15 +32,10 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics.compliant import mesh_choices, mesh_setup
+from pinwind.dynamics.coordinates import Coordinate, coordinates
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.normal_modes import Mode, SpringElement, element_matrices, natural_modes
-from pinwind.dynamics.planetary_modes import (
-    Coordinate,
-    PlanetaryStage,
-    coordinates,
-    mode_kinds,
-    planetary_stages,
-)
+from pinwind.dynamics.planetary_modes import PlanetaryStage, mode_kinds, planetary_stages
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import SpeedOutOfRange, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
@@ -184,6 +179,7 @@ def linearise(
     stiffness, damping = element_matrices(elements, nv)
     damping += np.diag(np.asarray(model.damping, dtype=float))
     gyroscopic, centrifugal = speed_terms(gearbox, speed)
+    coords = coordinates(gearbox)
     order = sorted(names, key=gearbox.v_index)
     return Linearisation(
         order,
@@ -192,8 +188,8 @@ def linearise(
         damping,
         np.array(constraints).reshape(-1, nv),
         elements,
-        coordinates(gearbox),
-        planetary_stages(gearbox),
+        coords,
+        planetary_stages(gearbox, coords),
         speed,
         gyroscopic,
         centrifugal,

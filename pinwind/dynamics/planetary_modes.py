@@ -15,8 +15,9 @@ The classes follow from the stage's cyclic symmetry: turning the stage by one pl
 the stage axis, their rotations kept) maps a mode onto a mode of the same frequency. A rotational
 mode is left unchanged by that turn; a translational mode keeps the central members from turning;
 a planet mode keeps them still. The classification reads only each coordinate's kind (a rotation
-or a translation) and its axis, so it holds for torsional models and for models whose bearings
-let bodies translate (prismatic coordinates between a body's parent and its rotation).
+or a translation) and its axis (``dynamics/coordinates.py``), so it holds for torsional models
+and for models whose bearings let bodies translate (prismatic coordinates between a body's parent
+and its rotation).
 
 The stage is found from the meshes: the ring is an internal gear, the planets the bodies whose
 gears mesh with it, the sun the body whose gear meshes with the planets, the carrier the body the
@@ -32,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from pinwind.dynamics.coordinates import Coordinate
 from pinwind.model.gearbox import Gearbox
 
 #: A coordinate (scaled by √M_jj) below this fraction of the mode's largest stands still; also the
@@ -44,19 +46,6 @@ ROTATIONAL, TRANSLATIONAL, PLANET, UNCLASSIFIED = (
     "planet",
     "unclassified",
 )
-
-
-@dataclass(frozen=True)
-class Coordinate:
-    """One coordinate of the velocity vector as a motion of its body.
-
-    Attributes:
-        kind: ``"rotation"`` or ``"translation"``.
-        axis: unit axis of the rotation or direction of the translation, world, reference pose.
-    """
-
-    kind: str
-    axis: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -83,30 +72,13 @@ class PlanetaryStage:
     symmetry: np.ndarray | None
 
 
-def coordinates(gearbox: Gearbox) -> list[Coordinate]:
-    """Each velocity coordinate's kind and axis at the reference pose, in velocity order."""
-    model = gearbox.model
-    data = model.createData()
-    pin.computeJointJacobians(model, data, gearbox.neutral())
-    out: list[Coordinate | None] = [None] * model.nv
-    for jid in range(1, model.njoints):
-        joint = model.joints[jid]
-        jac = np.reshape(
-            pin.getJointJacobian(model, data, jid, pin.LOCAL_WORLD_ALIGNED), (6, model.nv)
-        )
-        for k in range(joint.nv):
-            col = jac[:, joint.idx_v + k]
-            turns = bool(np.linalg.norm(col[3:]) > 0.0)
-            axis = col[3:] if turns else col[:3]
-            kind = "rotation" if turns else "translation"
-            out[joint.idx_v + k] = Coordinate(kind, axis / np.linalg.norm(axis))
-    return [c for c in out if c is not None]
+def planetary_stages(gearbox: Gearbox, coords: list[Coordinate]) -> list[PlanetaryStage]:
+    """The planetary stages of ``gearbox``, one per internal gear that planets mesh with.
 
-
-def planetary_stages(gearbox: Gearbox) -> list[PlanetaryStage]:
-    """The planetary stages of ``gearbox``, one per internal gear that planets mesh with."""
+    Args:
+        coords: the model's coordinates (``coordinates.coordinates(gearbox)``).
+    """
     model = gearbox.model
-    coords = coordinates(gearbox)
     data = model.createData()
     pin.forwardKinematics(model, data, gearbox.neutral())
     joint_of = {name: g.joint_id for name, g in gearbox.gears.items()}

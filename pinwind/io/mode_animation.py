@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from pinwind.dynamics.coordinates import coordinates
 from pinwind.dynamics.normal_modes import Mode
-from pinwind.dynamics.planetary_modes import coordinates
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.stepper import body_frames
 from pinwind.io.log_model import model_geometry

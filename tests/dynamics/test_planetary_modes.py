@@ -22,6 +22,7 @@ import pinocchio as pin
 import pytest
 
 import pinwind
+from pinwind.dynamics.coordinates import coordinates
 from pinwind.dynamics.linearisation import linearise
 from pinwind.model.builders import planetary_urdf
 from pinwind.model.gearbox import Gearbox, loads
@@ -134,3 +135,10 @@ def test_a_planet_moved_off_its_place_leaves_the_stage_unclassified():
     )
     modes = linearise(gb, meshes={"all": "compliant"}).modes()
     assert {m.kind for m in modes} == {"unclassified"}
+
+
+def test_every_bearing_of_a_stage_is_a_rotation_about_the_stage_axis():
+    gb = _stage(3)  # every joint of the builder's stage turns about z, with rpy = 0
+    coords = coordinates(gb)
+    assert [c.kind for c in coords] == ["rotation"] * gb.model.nv
+    np.testing.assert_allclose(np.abs([c.axis for c in coords]), [[0, 0, 1]] * gb.model.nv)
