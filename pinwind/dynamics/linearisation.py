@@ -17,7 +17,9 @@ carrier, so the kinetic energy ½ vᵀ M v has an M that does not depend on q an
 symbol is zero; the modes are those at rest at every speed. Translational coordinates (a planet
 moving in its bearing on the turning carrier) would feel Coriolis and centripetal terms; their
 modes at speed (a quadratic eigenproblem with a gyroscopic G) are pending, and a linearisation at
-a speed where these terms act is refused (``SpeedOutOfRange``) rather than solved without them.
+a speed where these terms would move the frequencies (``SPEED_TERMS_TOLERANCE``) is refused
+(``SpeedOutOfRange``) rather than solved without them. (G is ∂(C v)/∂v, not Pinocchio's Coriolis
+matrix C(q, v₀): the two differ by (∂C/∂v) v₀.)
 The mean stiffness stands for its variation along the path, and there is no backlash (the teeth
 in contact on the front flank).
 """
@@ -46,8 +48,11 @@ from pinwind.units import rad_s_to_rpm
 #: beyond which a run is called diverged (≈ 955 000 rpm; a 10 mm pinion's pitch-line speed would
 #: be 1000 m/s).
 MAX_SPEED = 1e5
-#: Velocity terms (G Ω, K_Ω) below this fraction of the inertia's (|M| Ω, |M| Ω²) are rounding.
-SPEED_TERMS_TOLERANCE = 1e-9
+#: Velocity terms that would move the natural frequencies by less than this fraction are left out
+#: (the modes are printed to 5 digits): K_Ω against |K|, G against √(|K| |M|) (G ω against K at
+#: the train's frequency scale ω = √(|K|/|M|)); with no stiffness at all (every mesh rigid), any
+#: term above rounding (10⁻⁹ of |M| Ω and |M| Ω²) counts.
+SPEED_TERMS_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -107,8 +112,13 @@ class Linearisation:
     def _check_speed_terms(self) -> None:
         omega = float(np.abs(self.speed).max(initial=0.0))
         inertia = float(np.abs(self.mass).max(initial=0.0))
-        g = np.abs(self.gyroscopic).max(axis=0, initial=0.0) / (inertia * omega or 1.0)
-        k = np.abs(self.centrifugal).max(axis=0, initial=0.0) / (inertia * omega**2 or 1.0)
+        stiffness = float(np.abs(self.stiffness).max(initial=0.0))
+        if stiffness > 0.0:
+            g_scale, k_scale = math.sqrt(stiffness * inertia), stiffness
+        else:
+            g_scale, k_scale = 1e-3 * inertia * omega, 1e-3 * inertia * omega**2
+        g = np.abs(self.gyroscopic).max(axis=0, initial=0.0) / (g_scale or 1.0)
+        k = np.abs(self.centrifugal).max(axis=0, initial=0.0) / (k_scale or 1.0)
         acted = np.flatnonzero(np.maximum(g, k) > SPEED_TERMS_TOLERANCE)
         if acted.size:
             names = ", ".join(self.joint_names[j] for j in acted)
