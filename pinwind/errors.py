@@ -164,6 +164,14 @@ class ConflictingInputs(InputError):
     """Two inputs contradict each other (one joint given twice, ...)."""
 
 
+class SpeedOutOfRange(InputError):
+    """A linearisation asked at a speed where it does not hold.
+
+    A speed negative or not finite, a joint faster than a gear can turn, or one where the velocity
+    terms that the modes leave out act (``dynamics/linearisation.py``).
+    """
+
+
 class TableNotUtf8(InputError):
     """A CSV table whose bytes are not UTF-8 (a Latin-1 or Windows-1252 export).
 

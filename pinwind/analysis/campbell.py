@@ -1,10 +1,13 @@
 """The Campbell diagram: natural frequencies against the input speed, with the excitation orders.
 
 The natural frequencies come from the linearisation at the reference pose
-(``dynamics/linearisation.py``): torsional, without gyroscopic terms, so they do not change with
-the speed. The excitations do: every mesh frequency (teeth of gear A times its speed relative to
-the line of centres, ``analysis/spectrum.gearbox_frequencies``) and its harmonics, and every
-shaft's order 1, each proportional to the input speed Ω through the train's ratios
+(``dynamics/linearisation.py``), taken at the top of the speed range: the velocity terms grow with
+the speed, so where they vanish there (torsional coordinates, where they are zero at every speed)
+the frequencies do not change over the range, and where they act the linearisation refuses the
+range (``SpeedOutOfRange``). The excitations do change: every mesh frequency (teeth of gear A
+times its speed relative to the line of centres, ``analysis/spectrum.gearbox_frequencies``) and
+its harmonics, and every shaft's order 1, each proportional to the input speed Ω through the
+train's ratios
 (``dynamics/ratios.train_speeds``). A line h·f₁·Ω meets a mode f_n at Ω* = f_n / (h f₁): the
 crossings inside the operating range are the resonances an IEC 61400-4 check asks about.
 """
@@ -106,6 +109,8 @@ def campbell(
     Raises:
         UnknownJoint: ``joint`` is not a joint of the model.
         InputError: a speed range that is not 0 ≤ low < high, or harmonics < 1.
+        SpeedOutOfRange: a joint beyond ``linearisation.MAX_SPEED`` at the top of the range, or
+            velocity terms that act there (module docstring).
     """
     if joint not in gearbox.joint_names:
         raise UnknownJoint(joint, "the input joint", gearbox.joint_names)
@@ -116,7 +121,8 @@ def campbell(
         )
     if harmonics < 1:
         raise InputError(f"harmonics = {harmonics}: give at least 1")
-    modes = [m for m in linearise(gearbox, meshes=meshes, held=held).modes() if not m.rigid]
+    top = linearise(gearbox, meshes=meshes, held=held, speeds={joint: high})
+    modes = [m for m in top.modes() if not m.rigid]
     lines = excitation_orders(gearbox, joint, harmonics)
     crossings = [
         Crossing(line, i, mode.frequency, mode.frequency / line.per_speed)

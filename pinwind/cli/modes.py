@@ -13,8 +13,10 @@ from rich.markup import escape
 from rich.table import Table
 
 from pinwind.cli.app import app, console, say, warnings_as_lines
-from pinwind.cli.flags import mesh_values
+from pinwind.cli.flags import mesh_values, parse_number, parse_pairs
+from pinwind.dynamics.normal_modes import Mode, repeated_groups
 from pinwind.errors import InputError
+from pinwind.model.gearbox import Gearbox
 from pinwind.units import RAD_S_PER_RPM
 
 MeshOption = Annotated[
@@ -38,9 +40,13 @@ def _meshes(mesh: list[str] | None) -> dict[str, str]:
     return mesh_values(mesh) or {"all": "compliant"}
 
 
-def _shares(shares: dict[str, float], most: int = 3) -> str:
-    """The largest shares as ``name 52 %, ...``."""
-    ranked = sorted(shares.items(), key=lambda kv: -abs(kv[1]))[:most]
+def _shares(group: list[Mode], which: str, most: int = 3) -> str:
+    """The largest shares of a group of modes (their mean) as ``name 52 %, ...``."""
+    total: dict[str, float] = {}
+    for mode in group:
+        for name, value in getattr(mode, which).items():
+            total[name] = total.get(name, 0.0) + value / len(group)
+    ranked = sorted(total.items(), key=lambda kv: -abs(kv[1]))[:most]
     return ", ".join(f"{name} {100 * value:.0f} %" for name, value in ranked if abs(value) >= 0.01)
 
 
@@ -49,44 +55,93 @@ def modes(
     model: Annotated[Path, typer.Argument(help="Model file (URDF with a <gearbox> element).")],
     mesh: MeshOption = None,
     hold: HoldOption = None,
+    speed: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--speed",
+            help="JOINT=RPM operating speed (≥ 0; the other joints through the gear ratios), "
+            "repeatable. Default: at rest.",
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of a table.")] = False,
+    animate: Annotated[
+        int | None,
+        typer.Option(
+            "--animate",
+            help="Animate mode N (its number in the list) in a Rerun recording; with --save.",
+        ),
+    ] = None,
+    save: Annotated[
+        Path | None, typer.Option("--save", help="Write the --animate recording (.rrd) here.")
+    ] = None,
 ) -> None:
     """Natural frequencies, damping ratios and energy shares of a model's torsional modes.
 
-    Linearised at the reference pose: compliant meshes at their mean stiffness, torsional
-    springs, bearing damping; rigid meshes, held joints and locked bearings as constraints.
+    Linearised at the reference pose and the operating speed: compliant meshes at their mean
+    stiffness, torsional springs, bearing damping; rigid meshes, held joints and locked bearings
+    as constraints. A repeated frequency is one row (its modes' mean shares); with a planetary
+    stage, each mode's class (Lin & Parker 1999: rotational, translational, planet).
     """
     import pinwind
     from pinwind.dynamics.linearisation import linearise
 
+    speeds = {
+        name: parse_number(value, "--speed", "rpm") * RAD_S_PER_RPM
+        for name, value in parse_pairs(speed, "--speed").items()
+    }
+    if (animate is None) != (save is None):
+        raise InputError("--animate N and --save FILE.rrd go together (open it with: rerun FILE)")
     with warnings_as_lines():
         gearbox = pinwind.load(model)
-        found = linearise(gearbox, meshes=_meshes(mesh), held=hold or ()).modes()
+        found = linearise(gearbox, meshes=_meshes(mesh), held=hold or (), speeds=speeds).modes()
+    if animate is not None and not 1 <= animate <= len(found):
+        raise InputError(f"--animate {animate}: {gearbox.name} has modes 1 to {len(found)}")
     if as_json:
         print(json.dumps([
-            {"frequency_hz": m.frequency, "damping_ratio": m.damping_ratio,
+            {"frequency_hz": m.frequency, "damping_ratio": m.damping_ratio, "kind": m.kind,
              "kinetic_share": m.kinetic_share, "strain_share": m.strain_share}
             for m in found
         ], indent=1))  # fmt: skip
+        _animate(gearbox, found, animate, save, quiet=True)
         return
     plain = not console.is_terminal
+    at = ", ".join(f"{name} {value}" for name, value in parse_pairs(speed, "--speed").items())
     table = Table(
-        title=f"natural modes of {escape(gearbox.name)}", box=box.ASCII if plain else box.SIMPLE
+        title=f"natural modes of {escape(gearbox.name)}" + (f" at {escape(at)} rpm" if at else ""),
+        box=box.ASCII if plain else box.SIMPLE,
     )
-    for column in ("#", "f [Hz]", "ζ [%]", "moves (kinetic energy)", "works (strain energy)"):
+    kinds = any(m.kind for m in found)
+    columns = ["#", "f [Hz]", "ζ [%]", *(["kind"] if kinds else []), "moves (kinetic energy)"]
+    for column in [*columns, "works (strain energy)"]:
         table.add_column(column, justify="right" if column in ("#", "f [Hz]", "ζ [%]") else "left")
-    for i, m in enumerate(found, start=1):
+    first = 1
+    for group in repeated_groups(found):
+        m, last = group[0], first + len(group) - 1
+        number = str(first) if last == first else f"{first}-{last}"
+        first = last + 1
+        kind = [f"{m.kind} ×{len(group)}" if len(group) > 1 else m.kind] if kinds else []
         if m.rigid:
-            table.add_row(str(i), "0 (rigid)", "-", escape(_shares(m.kinetic_share)), "-")
-            continue
-        table.add_row(
-            str(i),
-            f"{m.frequency:.5g}",
-            f"{100 * m.damping_ratio:.3g}",
-            escape(_shares(m.kinetic_share)),
-            escape(_shares(m.strain_share)),
-        )
+            row = [number, "0 (rigid)", "-", *kind, _shares(group, "kinetic_share"), "-"]
+        else:
+            zeta = sum(x.damping_ratio for x in group) / len(group)
+            row = [number, f"{m.frequency:.5g}", f"{100 * zeta:.3g}", *kind]
+            row += [_shares(group, "kinetic_share"), _shares(group, "strain_share")]
+        table.add_row(*(escape(cell) for cell in row))
     console.print(table)
+    _animate(gearbox, found, animate, save)
+
+
+def _animate(
+    gearbox: Gearbox, found: list[Mode], number: int | None, save: Path | None, quiet: bool = False
+) -> None:
+    """Write mode ``number``'s animation to ``save`` (``io/mode_animation.py``) when asked."""
+    if number is None or save is None:
+        return
+    from pinwind.io.mode_animation import save_mode_animation
+
+    path = save_mode_animation(gearbox, found[number - 1], save, number=number)
+    if not quiet:
+        say(f"wrote {escape(str(path))}")
 
 
 @app.command()

@@ -19,10 +19,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import eigh
 
 #: ω² below this fraction of the largest one is a rigid mode (no spring resists it).
 RIGID_TOLERANCE = 1e-9
+#: Frequencies this close (relative) are one repeated (degenerate) frequency.
+REPEATED_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -55,6 +56,9 @@ class Mode:
         kinetic_share: joint name → share of the mode's kinetic energy [-] (sums to 1).
         strain_share: element name → share of the mode's strain energy [-] (sums to 1 when
             the elements hold all the stiffness).
+        kind: for a train with planetary stages, the class of mode Lin & Parker give
+            (``rotational``, ``translational``, ``planet`` or ``unclassified``;
+            ``dynamics/planetary_modes.py``); ``""`` without a stage.
     """
 
     frequency: float
@@ -62,6 +66,7 @@ class Mode:
     shape: np.ndarray
     kinetic_share: dict[str, float]
     strain_share: dict[str, float]
+    kind: str = ""
 
     @property
     def rigid(self) -> bool:
@@ -87,6 +92,19 @@ def element_matrices(elements: list[SpringElement], nv: int) -> tuple[np.ndarray
     return stiffness, damping
 
 
+def _generalised_eigh(k: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues (ascending) and eigenvectors of K y = λ M y, M symmetric positive definite.
+
+    With M = L Lᵀ (Cholesky), the symmetric problem L⁻¹ K L⁻ᵀ z = λ z and y = L⁻ᵀ z; numpy's, as
+    scipy.linalg's import alone costs more than the modes of a gearbox.
+    """
+    lower = np.linalg.cholesky(m)
+    half = np.linalg.solve(lower, k)
+    reduced = np.linalg.solve(lower, half.T)
+    values, z = np.linalg.eigh(0.5 * (reduced + reduced.T))
+    return values, np.linalg.solve(lower.T, z)
+
+
 def natural_modes(
     mass: np.ndarray,
     stiffness: np.ndarray,
@@ -109,7 +127,7 @@ def natural_modes(
     if basis.shape[1] == 0:
         return []
     m = basis.T @ mass @ basis
-    omega2, vectors = eigh(basis.T @ stiffness @ basis, m)
+    omega2, vectors = _generalised_eigh(basis.T @ stiffness @ basis, m)
     largest = max(float(omega2[-1]), 0.0)
     names = joint_names or [str(i) for i in range(nv)]
     out = []
@@ -132,3 +150,20 @@ def natural_modes(
             )
         )
     return out
+
+
+def repeated_groups(modes: list[Mode]) -> list[list[Mode]]:
+    """The modes grouped by repeated frequency (``REPEATED_TOLERANCE``), lowest first.
+
+    A repeated frequency's shapes are any basis of its eigenspace, so only what the group shares
+    (its frequency, its multiplicity, the sum of its energy shares) describes it.
+    """
+    groups: list[list[Mode]] = []
+    for mode in sorted(modes, key=lambda m: m.frequency):
+        if groups and math.isclose(
+            groups[-1][0].frequency, mode.frequency, rel_tol=REPEATED_TOLERANCE
+        ):
+            groups[-1].append(mode)
+        else:
+            groups.append([mode])
+    return groups

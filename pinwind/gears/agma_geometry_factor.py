@@ -36,7 +36,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair
@@ -241,6 +240,9 @@ def lewis_section(
             f"no root fillet found for {teeth:g} teeth (profile shift {profile_shift})"
         )
     lo, hi = scan[max(k - 1, 0)], scan[min(k + 1, len(scan) - 1)]
+    # Imported here: scipy.optimize takes longer to import than a model takes to load.
+    from scipy.optimize import minimize_scalar
+
     best = minimize_scalar(lambda p: -float(ratio(p)[0]), bounds=(lo, hi), method="bounded",
                            options={"xatol": 1e-12})  # fmt: skip
     xi, eta = fillet(teeth, profile_shift, roll=np.array([best.x]), **kwargs)

@@ -11,7 +11,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 
 def involute(angle: float) -> float:
@@ -20,8 +19,26 @@ def involute(angle: float) -> float:
 
 
 def inverse_involute(value: float) -> float:
-    """The angle α in (0, π/2) whose involute is ``value`` [rad]."""
-    return float(brentq(lambda a: involute(a) - value, 1e-9, np.pi / 2 - 1e-9, xtol=1e-15))
+    """The angle α in (0, π/2) whose involute is ``value`` [rad].
+
+    Newton's method on f(α) = tan α − α − value, f′ = tan² α, from α₀ = min(∛(3 value),
+    atan(value + π/2)), which lies at or above the root (inv α ≥ α³/3, and tan α = value + α <
+    value + π/2): f is increasing and convex on (0, π/2), so the iterates fall monotonically onto
+    the root, to rounding, in a few steps. (Without scipy.optimize, whose import costs more than
+    a ``pinwind modes`` run.)
+
+    Raises:
+        ValueError: ``value`` not finite or ≤ 0 (no angle in (0, π/2) has that involute).
+    """
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"no pressure angle in (0, 90)° has the involute {value:g}")
+    alpha = min(math.cbrt(3.0 * value), math.atan(value + math.pi / 2))
+    for _ in range(100):
+        step = (math.tan(alpha) - alpha - value) / math.tan(alpha) ** 2
+        if step <= 4.0 * math.ulp(alpha):
+            break
+        alpha -= step
+    return alpha
 
 
 def transverse_pressure_angle(pressure_angle: float, helix_angle: float) -> float:

@@ -47,6 +47,7 @@ __all__ = [
     "blueprint",
     "line_widths",
     "replay",
+    "send_frames",
     "send_log",
     "tooth_outline",
 ]
@@ -319,11 +320,11 @@ def send_log(
             send_scalars(path, times, values)
         sent.append(panel)
 
-    scene = _send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
+    scene = send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
     return sent, scene
 
 
-def _send_frames(view: LogFile | None, recording) -> Scene:
+def send_frames(view: LogFile | None, recording) -> Scene:
     """The machine, its poses at the frames of ``view.result``, labels, arrows and legend."""
     import rerun as rr
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from pinwind.analysis.campbell import campbell
-from pinwind.errors import InputError
+from pinwind.errors import InputError, SpeedOutOfRange
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
@@ -50,3 +50,8 @@ def test_a_range_below_every_crossing_lists_none():
 def test_an_empty_speed_range_is_refused():
     with pytest.raises(InputError, match="0 ≤ lowest < highest"):
         _diagram(10.0, 5.0)
+
+
+def test_a_range_beyond_the_speed_a_gear_can_turn_at_is_refused():
+    with pytest.raises(SpeedOutOfRange, match="beyond the 1e\\+05 rad/s"):
+        _diagram(0.0, 2e5)
