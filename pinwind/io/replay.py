@@ -12,7 +12,10 @@
   [kN·m], load sharing [-], energy [kJ]), each series in its colour.
 
 Everything is on the ``time`` timeline (simulated seconds), laid out by a blueprint: the 3D view
-and its legend beside the plots, in tabs, with y ranges that do not magnify rounding.
+and its legend beside the plots, in tabs, with y ranges that do not magnify rounding. The viewer
+opens on that timeline, paused at the start of the run: a live viewer gets a first layout (the
+3D view from the default camera) before any data, and the machine comes before the plots, so
+that the first frame stands in place while the rest loads.
 """
 
 from __future__ import annotations
@@ -36,7 +39,13 @@ from pinwind.errors import InputError, NoViewer, PortInUse, ServeFailed
 from pinwind.io.log_reader import LogFile, LogReader
 from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview
 from pinwind.io.panels import GROUPS, Panel, legend_layout, model_of_log
-from pinwind.io.replay_scene import ARROW_FRACTION, Scene, send_scene, tooth_outline
+from pinwind.io.replay_scene import (
+    ARROW_FRACTION,
+    Scene,
+    first_view,
+    send_scene,
+    tooth_outline,
+)
 
 __all__ = [
     "ARROW_FRACTION",
@@ -45,6 +54,7 @@ __all__ = [
     "MinMaxDecimator",
     "Overview",
     "blueprint",
+    "first_layout",
     "line_widths",
     "replay",
     "send_log",
@@ -57,6 +67,45 @@ GRPC_PORT = 9876
 WEB_PORT = 9090
 
 
+def time_panel():
+    """The time panel: on the ``time`` timeline (not Rerun's ``log_time``), paused, collapsed.
+
+    Paused, the viewer stays at the first sample as data arrive (following would jump to the
+    end of what has loaded).
+    """
+    import rerun.blueprint as rrb
+
+    return rrb.TimePanel(state="collapsed", timeline=TIMELINE, play_state="paused")
+
+
+def _eye(scene: Scene | None):
+    import rerun.blueprint as rrb
+
+    if scene is None:
+        return None
+    return rrb.EyeControls3D(
+        position=scene.camera_position, look_target=scene.camera_target, eye_up=[0, 1, 0]
+    )
+
+
+def first_layout(scene: Scene | None = None):
+    """The layout sent before the data: the 3D view from ``scene``'s camera, and its legend.
+
+    The viewer shows it while the log loads (the plots come with ``blueprint`` at the end).
+    """
+    import rerun.blueprint as rrb
+
+    return rrb.Blueprint(
+        rrb.Vertical(
+            rrb.Spatial3DView(origin="gearbox", name="gearbox", eye_controls=_eye(scene)),
+            rrb.TextDocumentView(origin="gearbox/scale", name="legend"),
+            row_shares=[4, 1],
+        ),
+        time_panel(),
+        collapse_panels=True,
+    )
+
+
 def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
     """The layout: the 3D machine and its legend beside the plots, grouped in tabs.
 
@@ -64,7 +113,8 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
     ``panels.y_range`` (no magnified rounding), its legend sits in the corner where the data
     leave it the most room (``panels.legend_layout``), and hovering shows
     every series at that time. ``scene`` gives the default camera. Without arguments: the
-    speed, mesh-force and bearing-force plots with automatic ranges.
+    speed, mesh-force and bearing-force plots with automatic ranges. The time panel is on
+    ``time``, paused (``time_panel``).
     """
     import rerun.blueprint as rrb
 
@@ -98,21 +148,17 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
             if views:
                 tabs.append(rrb.Vertical(*views, name=group))
         plots = rrb.Tabs(*tabs)
-    eye = None
-    if scene is not None:
-        eye = rrb.EyeControls3D(
-            position=scene.camera_position, look_target=scene.camera_target, eye_up=[0, 1, 0]
-        )
     return rrb.Blueprint(
         rrb.Horizontal(
             rrb.Vertical(
-                rrb.Spatial3DView(origin="gearbox", name="gearbox", eye_controls=eye),
+                rrb.Spatial3DView(origin="gearbox", name="gearbox", eye_controls=_eye(scene)),
                 rrb.TextDocumentView(origin="gearbox/scale", name="legend"),
                 row_shares=[4, 1],
             ),
             plots,
             column_shares=[3, 2],
         ),
+        time_panel(),
         collapse_panels=True,
     )
 
@@ -297,6 +343,8 @@ def send_log(
     if last is not None:
         frames.append(last)
 
+    # The machine first: the viewer draws it while the plots load.
+    scene = _send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
     sent: list[Panel] = []
     for kept in overview.panels():
         panel = kept.panel
@@ -318,8 +366,6 @@ def send_log(
                 times, values = times[outside], values[outside]
             send_scalars(path, times, values)
         sent.append(panel)
-
-    scene = _send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
     return sent, scene
 
 
@@ -432,8 +478,10 @@ def replay(
     (unless ``wait`` is false). The viewer gets an overview of at most ``points`` samples per
     series that keeps each series' extremes, and every sample from ``start`` to ``stop`` [s].
     The log is streamed in blocks of ``block`` samples (``send_log``, which reports to
-    ``progress``): memory does not grow with the length of the log. The layout (blueprint) is
-    sent last, once the y ranges of the whole run are known.
+    ``progress``): memory does not grow with the length of the log. A live viewer (spawned or
+    served) gets a first layout before the data (the 3D view from the default camera, the
+    ``time`` timeline paused at the start); the whole layout (blueprint) comes last, once the y
+    ranges of the whole run are known.
 
     Returns:
         The .rrd path when saving, else None.
@@ -478,6 +526,8 @@ def replay(
                 raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
         else:
             rr.spawn(executable_path=viewer, recording=recording)
+        if out is None:  # a viewer that draws as data arrive; a file gets one layout
+            rr.send_blueprint(first_layout(_first_scene(reader)), recording=recording)
         sent, scene = send_log(
             reader, recording, points=points, window=window, block=block, progress=progress
         )
@@ -494,6 +544,17 @@ def replay(
         except KeyboardInterrupt:
             pass
     return None
+
+
+def _first_scene(reader: LogReader) -> Scene | None:
+    """The default camera on the log's first sample, or None for a log without samples."""
+    span = reader.span
+    if span is None:
+        return None
+    first = reader.read(start=span[0], stop=span[0])
+    if not len(first.pose_rows):
+        return None
+    return first_view(_log_file(reader, first))
 
 
 def _window(
