@@ -1,4 +1,4 @@
-"""The commands on models: ``info`` (check and list a model) and ``build planetary``."""
+"""The commands on models: ``info`` (check and list), ``view`` (look at it) and ``build``."""
 
 from __future__ import annotations
 
@@ -90,3 +90,30 @@ def build_planetary(
             name=name,
         )
     say(f"wrote {escape(str(path))}")
+
+
+@app.command()
+def view(
+    model: Annotated[Path, typer.Argument(help="Gearbox model file.")],
+    save: Annotated[
+        Path | None, typer.Option("--save", help="Write a Rerun .rrd file instead of viewing.")
+    ] = None,
+    serve: Annotated[
+        bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
+    ] = False,
+    web_port: Annotated[
+        int | None, typer.Option(help="Web viewer port (with --serve; default 9090).")
+    ] = None,
+    grpc_port: Annotated[
+        int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
+    ] = None,
+) -> None:
+    """Look at a model before simulating it: its bodies at rest and lines of action, in Rerun."""
+    from pinwind.io.model_view import view_model
+
+    with warnings_as_lines():
+        out = view_model(
+            model, save=save, serve=serve, web_port=web_port, grpc_port=grpc_port, announce=say
+        )
+    if out is not None:
+        say(f"wrote {escape(str(out))}")

@@ -29,6 +29,7 @@ import sys
 import time
 import uuid
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import quote
 
@@ -53,6 +54,7 @@ __all__ = [
     "FramePicker",
     "MinMaxDecimator",
     "Overview",
+    "Sink",
     "blueprint",
     "first_layout",
     "line_widths",
@@ -455,6 +457,106 @@ def check_viewer_can_open() -> str:
     return program
 
 
+@dataclass
+class Sink:
+    """Where a recording goes: an .rrd file, the web viewer, or a viewer spawned here.
+
+    ``save``: the .rrd; ``serve``: Rerun's gRPC data server on ``grpc_port`` and its web viewer
+    on ``web_port``; ``viewer``: the program spawned otherwise.
+    """
+
+    save: Path | None
+    serve: bool
+    web_port: int
+    grpc_port: int
+    viewer: str | None
+    url: str = ""
+
+    @classmethod
+    def check(
+        cls,
+        *,
+        save: str | os.PathLike | None,
+        serve: bool,
+        web_port: int | None,
+        grpc_port: int | None,
+    ) -> Sink:
+        """The sink of the options, checked before any work (a headless machine fails fast).
+
+        Raises:
+            InputError: both ``save`` and ``serve``, ports without ``serve``, or equal ports.
+            PortInUse: a port is taken.
+            NoViewer: neither ``save`` nor ``serve``, and no display or no viewer binary here.
+        """
+        if save is not None and serve:
+            raise InputError("give either --save FILE or --serve, not both")
+        if not serve and (web_port is not None or grpc_port is not None):
+            raise InputError("--web-port and --grpc-port go with --serve")
+        web_port = WEB_PORT if web_port is None else web_port
+        grpc_port = GRPC_PORT if grpc_port is None else grpc_port
+        if serve:
+            if web_port == grpc_port:
+                raise InputError(
+                    f"--web-port and --grpc-port are both {web_port}; give two different ports"
+                )
+            check_port_free(grpc_port, "--grpc-port")
+            check_port_free(web_port, "--web-port")
+        viewer = check_viewer_can_open() if save is None and not serve else None
+        return cls(
+            save=None if save is None else Path(save),
+            serve=serve,
+            web_port=web_port,
+            grpc_port=grpc_port,
+            viewer=viewer,
+        )
+
+    @property
+    def live(self) -> bool:
+        """A viewer draws the data as they arrive (not a file)."""
+        return self.save is None
+
+    def connect(self, recording) -> None:
+        """Send ``recording`` to the sink: open the file, start the servers or spawn the viewer.
+
+        Raises:
+            ServeFailed: the servers do not start (a port taken meanwhile, ...).
+        """
+        import rerun as rr
+
+        if self.save is not None:
+            self.save.parent.mkdir(parents=True, exist_ok=True)
+            recording.save(self.save)
+        elif self.serve:
+            try:
+                self.url = recording.serve_grpc(grpc_port=self.grpc_port)
+                rr.serve_web_viewer(web_port=self.web_port, open_browser=False, connect_to=self.url)
+            except Exception as err:  # rerun's own error for a port taken meanwhile, ...
+                raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
+        else:
+            rr.spawn(executable_path=self.viewer, recording=recording)
+
+    def finish(
+        self, recording, *, announce: Callable[[str], None] = print, wait: bool = True
+    ) -> Path | None:
+        """Flush; close the file and return its path, or announce the served address and wait.
+
+        Served, the call blocks (the servers live as long as it does) until Ctrl-C, unless
+        ``wait`` is false.
+        """
+        recording.flush()
+        if self.save is not None:
+            recording.disconnect()
+            return self.save
+        if self.serve:
+            announce(f"open {viewer_url(self.web_port, self.url)} (Ctrl-C to stop)")
+            try:
+                while wait:
+                    time.sleep(3600)
+            except KeyboardInterrupt:
+                pass
+        return None
+
+
 def replay(
     path: str | os.PathLike,
     *,
@@ -495,55 +597,19 @@ def replay(
     """
     import rerun as rr
 
-    if save is not None and serve:
-        raise InputError("give either --save FILE or --serve, not both")
-    if not serve and (web_port is not None or grpc_port is not None):
-        raise InputError("--web-port and --grpc-port go with --serve")
-    web_port = WEB_PORT if web_port is None else web_port
-    grpc_port = GRPC_PORT if grpc_port is None else grpc_port
-    if serve:
-        if web_port == grpc_port:
-            raise InputError(
-                f"--web-port and --grpc-port are both {web_port}; give two different ports"
-            )
-        check_port_free(grpc_port, "--grpc-port")
-        check_port_free(web_port, "--web-port")
-    viewer = check_viewer_can_open() if save is None and not serve else None
+    sink = Sink.check(save=save, serve=serve, web_port=web_port, grpc_port=grpc_port)
     with LogReader(path) as reader:
         window = _window(reader, start, stop)
         recording = rr.RecordingStream(application_id="pinwind_replay", recording_id=uuid.uuid4())
         recording.send_recording_name(Path(path).name)
-        out = None
-        if save is not None:
-            out = Path(save)
-            out.parent.mkdir(parents=True, exist_ok=True)
-            recording.save(out)
-        elif serve:
-            try:
-                url = recording.serve_grpc(grpc_port=grpc_port)
-                rr.serve_web_viewer(web_port=web_port, open_browser=False, connect_to=url)
-            except Exception as err:  # rerun's own error for a port taken meanwhile, ...
-                raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
-        else:
-            rr.spawn(executable_path=viewer, recording=recording)
-        if out is None:  # a viewer that draws as data arrive; a file gets one layout
+        sink.connect(recording)
+        if sink.live:  # a viewer that draws as data arrive; a file gets one layout
             rr.send_blueprint(first_layout(_first_scene(reader)), recording=recording)
         sent, scene = send_log(
             reader, recording, points=points, window=window, block=block, progress=progress
         )
     rr.send_blueprint(blueprint(sent, scene), recording=recording)
-    recording.flush()
-    if out is not None:
-        recording.disconnect()
-        return out
-    if serve:
-        announce(f"open {viewer_url(web_port, url)} (Ctrl-C to stop)")
-        try:
-            while wait:
-                time.sleep(3600)
-        except KeyboardInterrupt:
-            pass
-    return None
+    return sink.finish(recording, announce=announce, wait=wait)
 
 
 def _first_scene(reader: LogReader) -> Scene | None:
