@@ -38,7 +38,7 @@ import numpy as np
 from pinwind.dynamics.result import Result, concatenate
 from pinwind.errors import InputError, NoViewer, PortInUse, ServeFailed
 from pinwind.io.log_reader import LogFile, LogReader
-from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview
+from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview, coincident_groups
 from pinwind.io.panels import GROUPS, Panel, legend_layout, model_of_log
 from pinwind.io.replay_scene import (
     ARROW_FRACTION,
@@ -237,29 +237,8 @@ def line_widths(
     so that every one shows as a stripe of its colour. Other lines get ``LINE_WIDTH``.
     """
     k = len(names)
-    group = list(range(k))
-
-    def root(i: int) -> int:
-        while group[i] != i:
-            i = group[i]
-        return i
-
-    seen = np.isfinite(low)
-    for i in range(k):
-        for j in range(i + 1, k):
-            if not np.array_equal(seen[:, i], seen[:, j]) or not seen[:, i].any():
-                continue
-            both = seen[:, i]
-            if (
-                np.max(np.abs(low[both, i] - low[both, j])) <= tolerance
-                and np.max(np.abs(high[both, i] - high[both, j])) <= tolerance
-            ):
-                group[root(j)] = root(i)
     widths = [LINE_WIDTH] * k
-    members: dict[int, list[int]] = {}
-    for i in range(k):
-        members.setdefault(root(i), []).append(i)
-    for together in members.values():
+    for together in coincident_groups(low, high, tolerance):
         together.sort(key=lambda i: _natural_key(names[i]))
         for rank, i in enumerate(together):
             widths[i] = LINE_WIDTH + STRIPE_WIDTH * (len(together) - 1 - rank)

@@ -90,20 +90,9 @@ def test_a_live_viewer_gets_the_layout_and_camera_before_any_sample(logged_run, 
 
 
 @pytest.fixture(scope="module")
-def drivetrain_replay(tmp_path_factory) -> tuple[Gearbox, object]:
-    folder = tmp_path_factory.mktemp("drivetrain")
-    gearbox = pinwind.load(MODELS / "saleh2017_drivetrain.urdf")
-    pinwind.simulate(
-        gearbox,
-        duration=0.01,
-        dt=1e-3,
-        speeds={"carrier": 1.0},
-        torques={"stage2_pinion": -1.0e4},
-        log=folder / "drivetrain.mcap",
-        progress=False,
-    )
-    rrd = replay(folder / "drivetrain.mcap", save=folder / "drivetrain.rrd")
-    return gearbox, rrd
+def drivetrain_replay(drivetrain_run, tmp_path_factory) -> tuple[Gearbox, object]:
+    rrd = replay(drivetrain_run.path, save=tmp_path_factory.mktemp("drivetrain") / "d.rrd")
+    return pinwind.load(MODELS / "saleh2017_drivetrain.urdf"), rrd
 
 
 def _gear_solids(gearbox: Gearbox) -> dict[str, tuple[np.ndarray, np.ndarray, float, float]]:
