@@ -26,7 +26,7 @@ from pinwind.io.replay import TIMELINE, Sink, first_layout
 from pinwind.io.replay_scene import Scene, send_scene
 from pinwind.model.gearbox import Gearbox
 
-__all__ = ["lines_of_action", "rest_pose", "view_model"]
+__all__ = ["lines_of_action", "rest_pose", "send_model", "view_model"]
 
 
 def rest_pose(gearbox: Gearbox) -> Result:
