@@ -574,7 +574,7 @@ class ServeFailed(PinwindError):
 
 
 class NoViewer(PinwindError):
-    """``pinwind replay`` cannot open the Rerun viewer here: no display, or no viewer binary."""
+    """``pinwind replay``/``view`` cannot open the Rerun viewer: no display, or no viewer binary."""
 
     def __init__(self, reason: str):
         self.reason = reason

@@ -36,8 +36,15 @@ def statistics(values: np.ndarray) -> dict[str, float]:
 
 
 def _input_joint(res: Result) -> str | None:
+    """The joint the ratios are taken to: the first with a speed, torque, rotor or generator.
+
+    A wind-driven run has only a rotor and a generator.
+    """
     for key in ("speeds", "torques"):
         names = list(res.metadata.get(key, {}))
+        if names:
+            return names[0]
+    for names in (res.rotor_names, res.generator_names):
         if names:
             return names[0]
     return None

@@ -495,6 +495,63 @@ def query(
     return keep
 
 
+def best_found(
+    rows: Iterable[dict],
+    *,
+    centre_distance: float | None = None,
+    ratio: float | None = None,
+    ratio_tolerance: float = 0.05,
+    module: float | None = None,
+    min_sf: float | None = None,
+    sf_column: str = "agma_SF_min",
+) -> list[str]:
+    """What each criterion of a ``query`` finds on its own, for a query no design meets.
+
+    Per criterion given, over the designs that ran (status ok): the best value (the largest
+    safety factor, the nearest centre distance, ratio or module), its design number, and how
+    many designs meet that criterion alone. One line each, in the CLI's units and flags.
+    """
+    ok = [r for r in rows if r.get("status") == "ok"]
+    if not ok:
+        return ["no design of the table ran (none has status ok)"]
+
+    def nearest(column: str, target: float) -> dict:
+        return min(ok, key=lambda r: abs(float(r[column]) - target))
+
+    lines = []
+    if min_sf is not None:
+        best = max(ok, key=lambda r: float(r[sf_column]))
+        meet = sum(float(r[sf_column]) > min_sf for r in ok)
+        lines.append(
+            f"--min-sf {min_sf:g}: the largest {sf_column} is {float(best[sf_column]):.3f} "
+            f"(#{int(best['number'])}); {meet} design(s) exceed {min_sf:g}"
+        )
+    if ratio is not None:
+        best = nearest("ratio", ratio)
+        meet = sum(abs(float(r["ratio"]) - ratio) <= ratio_tolerance for r in ok)
+        lines.append(
+            f"--ratio {ratio:g}: the nearest ratio is {float(best['ratio']):.4g} "
+            f"(#{int(best['number'])}); {meet} design(s) within ±{ratio_tolerance:g}"
+        )
+    if centre_distance is not None:
+        target = centre_distance * 1e3
+        best = nearest("centre_distance_mm", target)
+        meet = sum(round(float(r["centre_distance_mm"]) * 1e3) == round(target * 1e3) for r in ok)
+        lines.append(
+            f"--center-distance {target:g}: the nearest is {float(best['centre_distance_mm']):g} "
+            f"mm (#{int(best['number'])}); {meet} design(s) at it"
+        )
+    if module is not None:
+        target = module * 1e3
+        best = nearest("module_mm", target)
+        meet = sum(round(float(r["module_mm"]) * 1e3) == round(target * 1e3) for r in ok)
+        lines.append(
+            f"--module {target:g}: the nearest is {float(best['module_mm']):g} mm "
+            f"(#{int(best['number'])}); {meet} design(s) at it"
+        )
+    return lines
+
+
 def design_from_row(row: dict) -> StageDesign:
     """The design of a row, of the row's kind."""
     return stage_of(row).from_row(row)

@@ -7,11 +7,51 @@ one.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
+
+#: Labels of designs at one module closer than this fraction of the plot's y span would overprint
+#: (a 6 pt label on a plot about 250 pt high): they are merged into one.
+LABEL_GAP = 0.04
+
+
+def _numbers_text(numbers: list[int]) -> str:
+    """#11–#14 for consecutive design numbers, else #3, #7, #9."""
+    numbers = sorted(numbers)
+    if len(numbers) > 1 and numbers == list(range(numbers[0], numbers[-1] + 1)):
+        return f"#{numbers[0]}–#{numbers[-1]}"
+    return ", ".join(f"#{n}" for n in numbers)
+
+
+def design_labels(
+    numbers: Sequence[int], x: Sequence[float], y: Sequence[float]
+) -> list[tuple[str, float, float]]:
+    """(text, x, y) of the design labels of a plot, none overprinting another.
+
+    Designs at the same x whose y values lie within ``LABEL_GAP`` of the y span of each other
+    (in a chain) share one label, placed at the highest of them.
+    """
+    span = (max(y) - min(y)) if y else 0.0
+    gap = LABEL_GAP * span if span > 0 else 0.0
+    out = []
+    for column in sorted(set(x)):
+        points = sorted((b, n) for n, a, b in zip(numbers, x, y, strict=True) if a == column)
+        group = [points[0]]
+        for point in points[1:]:
+            if point[0] - group[-1][0] <= gap:
+                group.append(point)
+                continue
+            out.append((_numbers_text([n for _, n in group]), column, group[-1][0]))
+            group = [point]
+        out.append((_numbers_text([n for _, n in group]), column, group[-1][0]))
+    return out
 
 
 def plot_sweep(rows: list[dict], out_dir: Path) -> list[Path]:
-    """One PNG per quantity against the module, workable designs labelled by number."""
+    """One PNG per quantity against the module, workable designs labelled by number.
+
+    Designs whose labels would overprint share one (``design_labels``: #11–#14).
+    """
     import matplotlib
 
     from pinwind.analysis.sweep import stage_of
@@ -39,9 +79,8 @@ def plot_sweep(rows: list[dict], out_dir: Path) -> list[Path]:
             [b for b, p in zip(y, passes, strict=True) if not p],
             marker="x", color="tab:red", label="some AGMA SF ≤ 1",
         )  # fmt: skip
-        for r, a, b in zip(ok, x, y, strict=True):
-            ax.annotate(f"#{int(r['number'])}", (a, b), fontsize=6, xytext=(3, 2),
-                        textcoords="offset points")  # fmt: skip
+        for text, a, b in design_labels([int(r["number"]) for r in ok], x, y):
+            ax.annotate(text, (a, b), fontsize=6, xytext=(3, 2), textcoords="offset points")
         if unity:
             ax.axhline(1.0, color="grey", linewidth=0.8, linestyle="--")
         ax.set_xlabel("module [mm]")

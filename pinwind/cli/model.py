@@ -1,4 +1,4 @@
-"""The commands on models: ``info`` (check and list a model) and ``build planetary``."""
+"""The commands on models: ``info`` (check and list), ``view`` (look at it) and ``build``."""
 
 from __future__ import annotations
 
@@ -59,12 +59,41 @@ def build_planetary(
         list[str] | None,
         typer.Option(help="Parallel stage WHEEL/PINION teeth, e.g. 83/23 (repeatable)."),
     ] = None,
+    parallel_module_mm: Annotated[
+        list[float] | None,
+        typer.Option(
+            "--parallel-module-mm",
+            help="Normal module of the parallel stages [mm]: once for all, or once per stage "
+            "(default: sized from each stage's torque to the planetary's tooth load).",
+        ),
+    ] = None,
+    parallel_face_width_mm: Annotated[
+        list[float] | None,
+        typer.Option(
+            "--parallel-face-width-mm",
+            help="Face width of the parallel stages [mm]: once for all, or once per stage "
+            "(default: as many modules wide as the planetary).",
+        ),
+    ] = None,
+    parallel_helix_deg: Annotated[
+        list[float] | None,
+        typer.Option(
+            "--parallel-helix-deg",
+            help="Helix angle of each parallel wheel [deg] (its pinion the opposite hand): once "
+            "for all, or once per stage (default 0, spur).",
+        ),
+    ] = None,
     name: Annotated[str, typer.Option(help="Model name.")] = "planetary",
     output: Annotated[Path, typer.Option("--output", "-o", help="Output URDF file.")] = Path(
         "planetary.urdf"
     ),
 ) -> None:
-    """Write a planetary stage (+ parallel stages) with inertias from steel geometry."""
+    """Write a planetary stage (+ parallel stages) with inertias from steel geometry.
+
+    Each parallel stage has its own module, face width and helix angle (--parallel-module-mm,
+    --parallel-face-width-mm, --parallel-helix-deg: once for every stage or once per stage, in
+    the order of --parallel).
+    """
     from pinwind.model.builders import write_planetary
 
     stages = []
@@ -87,6 +116,63 @@ def build_planetary(
             pressure_angle=math.radians(pressure_angle),
             face_width=face_width * 1e-3,
             parallel=stages,
+            parallel_module=_per_stage(
+                "--parallel-module-mm", parallel_module_mm, 1e-3, len(stages)
+            ),
+            parallel_face_width=_per_stage(
+                "--parallel-face-width-mm", parallel_face_width_mm, 1e-3, len(stages)
+            ),
+            parallel_helix_angle=_per_stage(
+                "--parallel-helix-deg", parallel_helix_deg, math.pi / 180.0, len(stages)
+            )
+            or 0.0,
             name=name,
         )
     say(f"wrote {escape(str(path))}")
+
+
+def _per_stage(
+    option: str, values: list[float] | None, to_si: float, stages: int
+) -> float | list[float] | None:
+    """A repeated per-stage option in SI: None when not given, one value for all, or a list.
+
+    Raises:
+        InputError: neither one value nor one per stage.
+    """
+    if not values:
+        return None
+    if len(values) not in (1, stages):
+        raise InputError(
+            f"{option} given {len(values)} times for {stages} --parallel stage(s); give it once "
+            "for every stage or once per stage, in the order of --parallel"
+        )
+    if len(values) == 1:
+        return values[0] * to_si
+    return [v * to_si for v in values]
+
+
+@app.command()
+def view(
+    model: Annotated[Path, typer.Argument(help="Gearbox model file.")],
+    save: Annotated[
+        Path | None, typer.Option("--save", help="Write a Rerun .rrd file instead of viewing.")
+    ] = None,
+    serve: Annotated[
+        bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
+    ] = False,
+    web_port: Annotated[
+        int | None, typer.Option(help="Web viewer port (with --serve; default 9090).")
+    ] = None,
+    grpc_port: Annotated[
+        int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
+    ] = None,
+) -> None:
+    """Look at a model before simulating it: its bodies at rest and lines of action, in Rerun."""
+    from pinwind.io.model_view import view_model
+
+    with warnings_as_lines():
+        out = view_model(
+            model, save=save, serve=serve, web_port=web_port, grpc_port=grpc_port, announce=say
+        )
+    if out is not None:
+        say(f"wrote {escape(str(out))}")

@@ -292,18 +292,22 @@ def sweep_query(
 
     columns = {"center-distance": "centre_distance_mm", "centre-distance": "centre_distance_mm",
                "module": "module_mm", "ratio": "ratio"}  # fmt: skip
+    table_rows = sw.read_table(table)
+    distance_m = None if center_distance is None else center_distance * 1e-3
+    module_m = None if module is None else module * 1e-3
     rows = sw.query(
-        sw.read_table(table),
-        centre_distance=None if center_distance is None else center_distance * 1e-3,
-        ratio=ratio,
-        ratio_tolerance=ratio_tolerance,
-        module=None if module is None else module * 1e-3,
-        min_sf=min_sf,
-        sf_column=sf,
+        table_rows, centre_distance=distance_m, ratio=ratio, ratio_tolerance=ratio_tolerance,
+        module=module_m, min_sf=min_sf, sf_column=sf,
         minimise=columns.get(minimise, minimise) if minimise else None,
-    )
+    )  # fmt: skip
     if not rows:
-        console.print("no design satisfies every criterion")
+        console.print("no design satisfies every criterion; each alone finds:", highlight=False)
+        found = sw.best_found(
+            table_rows, centre_distance=distance_m, ratio=ratio, ratio_tolerance=ratio_tolerance,
+            module=module_m, min_sf=min_sf, sf_column=sf,
+        )  # fmt: skip
+        for line in found:
+            console.print(f"  {line}", highlight=False, soft_wrap=True)
         raise typer.Exit(code=1)
     for r in rows:
         console.print(

@@ -7,15 +7,20 @@ seconds on a shared axis. Files are numbered by the group's place in ``GROUPS``.
 says in its caption which model and log it comes from and how the run was made (dt, loads,
 status, pinwind version, model hash), so that a figure pasted in a report keeps its provenance.
 The y ranges follow ``panels.y_range`` (no magnified rounding); colours are distinct within a
-subplot and equal to the replay's; legends sit to the right, outside the data; identical series
-are drawn with different dashes and widths so that none hides another.
+subplot and equal to the replay's; legends sit to the right, outside the data. Series that lie on
+top of each other (identical planets) are drawn with nested widths and dashes, and the legend
+says which coincide. Shafts whose speeds differ by more than ``SPEED_BAND`` get subplots of their
+own, so that a fast shaft does not flatten the slow ones. The transmission error of a rigid mesh
+is zero by construction: it is drawn at zero with a note, not its numerical drift.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import textwrap
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +28,7 @@ import numpy as np
 
 from pinwind.errors import FigureFailed, InputError
 from pinwind.io.log_reader import LogReader
-from pinwind.io.overview import DecimatedPanel, PanelOverview
+from pinwind.io.overview import DecimatedPanel, PanelOverview, coincident_groups
 from pinwind.io.panels import GROUPS, model_of_log
 
 #: Figure formats, by file extension.
@@ -32,8 +37,49 @@ FORMATS = ("png", "svg", "pdf")
 MAX_POINTS = 4000
 #: Samples read from the log at a time.
 BLOCK = 20_000
-#: (dash pattern, line width) per series in a subplot: identical lines stay visible.
+#: (dash pattern, line width) of the lines of a group that coincide, the first drawn first
+#: (underneath): identical lines stay visible. A line alone is ``_ALONE``.
 _STYLES = (("-", 2.6), ((0, (5, 2)), 1.9), ((0, (1, 1.5)), 1.5), ((0, (6, 2, 1, 2)), 1.2))
+_ALONE = ("-", 1.6)
+#: Two series of a subplot coincide when their min and max in every time span differ by at most
+#: this fraction of the subplot's y range (as in the replay).
+COINCIDENT_FRACTION = 0.01
+#: Largest ratio of the fastest to the slowest (non-zero) speed of one subplot.
+SPEED_BAND = 10.0
+#: A speed below this fraction of the fastest is a standstill (a locked joint's rounding noise).
+STANDSTILL = 1e-9
+#: Speed panels, split in bands of ``SPEED_BAND``.
+SPEED_PANELS = ("speed", "body_speed")
+#: A number in a caption: digits with a decimal point, not part of a word or a version.
+_NUMBER = re.compile(r"(?<![\w.])-?\d+\.\d+(?:e[-+]?\d+)?(?![\w.])")
+
+
+def rounded(text: str) -> str:
+    """``text`` with every decimal number to 4 significant digits (15.750374768772428 → 15.75)."""
+    return _NUMBER.sub(lambda m: f"{float(m.group()):.4g}", text)
+
+
+def _settings(values: dict[str, Any]) -> str:
+    """A load's settings as ``key value`` pairs (a rotor's radius, a generator's law, ...)."""
+    return ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in values.items())
+
+
+def loads_text(meta: dict[str, Any]) -> list[str]:
+    """Every load of a run as its metadata records them.
+
+    Torques, speeds (driven and initial), rotors, generators and the wind.
+    """
+    loads = [f"{k}: {v}" for k, v in (meta.get("torques") or {}).items()]
+    loads += [f"{k}: speed {v}" for k, v in (meta.get("speeds") or {}).items()]
+    loads += [
+        f"{k}: initial speed {v} rad/s" for k, v in (meta.get("initial_speeds") or {}).items()
+    ]
+    loads += [f"{k}: rotor ({_settings(v)})" for k, v in (meta.get("rotors") or {}).items()]
+    loads += [f"{k}: generator ({_settings(v)})" for k, v in (meta.get("generators") or {}).items()]
+    wind = meta.get("wind")
+    if wind:
+        loads.append(f"wind: {_settings(wind) if isinstance(wind, dict) else wind}")
+    return loads
 
 
 def caption(
@@ -53,8 +99,7 @@ def caption(
         shown: times of the first and last sample drawn [s].
         start, stop: the window asked for [s].
     """
-    loads = [f"{k}: {v}" for k, v in (meta.get("torques") or {}).items()]
-    loads += [f"{k}: speed {v}" for k, v in (meta.get("speeds") or {}).items()]
+    loads = loads_text(meta)
     window = ""
     if shown is not None:
         window = f"; shown t = {shown[0]:.6g} to {shown[1]:.6g} s"
@@ -66,13 +111,38 @@ def caption(
         f"logged every {meta.get('log', {}).get('stride', 1)} sample(s){window}; "
         f"loads: {'; '.join(loads) or 'none'}; pinwind {meta.get('pinwind_version', '?')}"
     )
-    return "\n".join(textwrap.wrap(text, 150))
+    return "\n".join(textwrap.wrap(rounded(text), 150))
+
+
+def together(names: Sequence[str]) -> str:
+    """Names of coinciding series, compact: sun_planet1, sun_planet2, sun_planet3 → sun_planet1–3.
+
+    Names that differ only in consecutive numbers are contracted; others are listed.
+    """
+    parts = [re.fullmatch(r"(\D*)(\d+)(.*)", name) for name in names]
+    if all(parts):
+        found = [(m.group(1), int(m.group(2)), m.group(3)) for m in parts if m]
+        numbers = [n for _, n, _ in found]
+        if len({(a, c) for a, _, c in found}) == 1 and numbers == list(
+            range(numbers[0], numbers[0] + len(numbers))
+        ):
+            prefix, _, suffix = found[0]
+            return f"{prefix}{numbers[0]}–{numbers[-1]}{suffix}"
+    return ", ".join(names)
 
 
 def _draw(ax, kept: DecimatedPanel) -> None:
+    from matplotlib.lines import Line2D
+
     panel = kept.panel
+    low, high = panel.y_range()
+    groups = coincident_groups(kept.low, kept.high, COINCIDENT_FRACTION * (high - low))
+    style = {}
+    for group in groups:
+        for rank, i in enumerate(group):
+            style[i] = _STYLES[rank % len(_STYLES)] if len(group) > 1 else _ALONE
     for k, (series, times) in enumerate(zip(panel.series, kept.times, strict=True)):
-        dash, width = _STYLES[k % len(_STYLES)] if len(panel.series) > 1 else _STYLES[0]
+        dash, width = style[k]
         ax.plot(
             times,
             series.values,
@@ -81,14 +151,104 @@ def _draw(ax, kept: DecimatedPanel) -> None:
             linewidth=width,
             label=series.name,
         )
-    ax.set_ylim(*panel.y_range())
+    handles, labels = ax.get_legend_handles_labels()
+    for group in groups:
+        # A legend entry without a line (not drawn in the axes) says why some lines seem
+        # missing; zeros get a note instead.
+        if len(group) > 1 and any(np.any(panel.series[i].values) for i in group):
+            names = [panel.series[i].name for i in group]
+            handles.append(Line2D([], [], linestyle="none"))
+            labels.append(f"{together(names)} coincide")
+    for note in panel.notes:
+        ax.text(0.01, 0.97, note, transform=ax.transAxes, fontsize=7, va="top", color="0.2")
+    ax.set_ylim(low, high)
     ax.set_title(panel.title, fontsize=9, loc="left")
     ax.set_ylabel(f"[{panel.unit}]", fontsize=8)
     ax.grid(True, linewidth=0.3)
     ax.tick_params(labelsize=7)
     ax.ticklabel_format(axis="y", useOffset=False)
     ax.legend(
-        loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False, borderaxespad=0
+        handles,
+        labels,
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize=7,
+        frameon=False,
+        borderaxespad=0,
+    )
+
+
+def speed_bands(kept: DecimatedPanel) -> list[DecimatedPanel]:
+    """A speed panel split so that no subplot's speeds differ by more than ``SPEED_BAND``.
+
+    Series in increasing order of their largest |speed|; a band takes series while the largest
+    stays within ``SPEED_BAND`` times the band's smallest non-zero one (a locked joint, zero
+    but for rounding, below ``STANDSTILL`` of the fastest, joins the slowest band). Each band
+    keeps the panel's order of series; a panel that needs one band is returned as it is.
+    """
+    panel = kept.panel
+    peak = [float(np.max(np.abs(s.values), initial=0.0)) for s in panel.series]
+    negligible = STANDSTILL * max(peak, default=0.0)
+    bands: list[list[int]] = []
+    floor = 0.0
+    for i in sorted(range(len(peak)), key=lambda i: peak[i]):
+        if bands and (floor == 0.0 or peak[i] <= SPEED_BAND * floor):
+            bands[-1].append(i)
+        else:
+            bands.append([i])
+            floor = 0.0
+        if floor == 0.0 and peak[i] > negligible:
+            floor = peak[i]
+    if len(bands) <= 1:
+        return [kept]
+    out = []
+    for number, band in enumerate(bands, start=1):
+        band.sort()
+        top = max(peak[i] for i in band)
+        out.append(
+            DecimatedPanel(
+                replace(
+                    panel,
+                    series=[panel.series[i] for i in band],
+                    title=f"{panel.title}, {number} of {len(bands)}: up to {top:.4g} {panel.unit}",
+                ),
+                [kept.times[i] for i in band],
+                kept.low[:, band],
+                kept.high[:, band],
+            )
+        )
+    return out
+
+
+def rigid_meshes_at_zero(kept: DecimatedPanel, rigid: set[str]) -> DecimatedPanel:
+    """The transmission-error panel with the rigid meshes' series at zero, and a note.
+
+    A rigid mesh keeps its teeth in contact by construction (a constraint row): its
+    transmission error is zero, and what the log holds is the solver's numerical drift.
+    """
+    panel = kept.panel
+    drawn = [s for s in panel.series if s.name in rigid]
+    if not drawn:
+        return kept
+    drift = max(float(np.max(np.abs(s.values), initial=0.0)) for s in drawn)
+    series = [
+        replace(s, values=np.zeros_like(s.values)) if s.name in rigid else s for s in panel.series
+    ]
+    which = (
+        "rigid meshes"
+        if len(drawn) == len(panel.series)
+        else f"rigid meshes {together([s.name for s in drawn])}"
+    )
+    note = (
+        f"{which}: no transmission error (drawn at 0; the log's numerical drift, "
+        f"≤ {drift:.1g} {panel.unit}, is not a result)"
+    )
+    index = [i for i, s in enumerate(panel.series) if s.name in rigid]
+    low, high = kept.low.copy(), kept.high.copy()
+    low[:, index] = np.where(np.isfinite(low[:, index]), 0.0, low[:, index])
+    high[:, index] = np.where(np.isfinite(high[:, index]), 0.0, high[:, index])
+    return DecimatedPanel(
+        replace(panel, series=series, notes=[*panel.notes, note]), kept.times, low, high
     )
 
 
@@ -161,7 +321,12 @@ def plot_log(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         raise FigureFailed(str(out), err.strerror or str(err)) from err
-    all_panels = overview.panels()
+    rigid = {n for n, spec in (meta.get("meshes") or {}).items() if spec.get("type") == "rigid"}
+    all_panels = []
+    for kept in overview.panels():
+        if kept.panel.key == "transmission_error":
+            kept = rigid_meshes_at_zero(kept, rigid)
+        all_panels += speed_bands(kept) if kept.panel.key in SPEED_PANELS else [kept]
     note = caption(meta, status, path, shown, start, stop)
     written = []
     for number, group in enumerate(GROUPS, start=1):

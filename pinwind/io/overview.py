@@ -124,6 +124,39 @@ class Overview:
         return [(time, values[:, s]) for s in range(values.shape[1])]
 
 
+def coincident_groups(low: np.ndarray, high: np.ndarray, tolerance: float) -> list[list[int]]:
+    """Series that would draw as one line: groups of series indices, each in increasing order.
+
+    Two series coincide when they have samples in the same time spans and their min and max
+    (``low``, ``high``: (spans, series), ``MinMaxDecimator``) differ by at most ``tolerance``
+    in every one of them; groups are closed under that relation. Every series is in one group
+    (a series alone is a group of one); groups in the order of their first series.
+    """
+    k = low.shape[1]
+    group = list(range(k))
+
+    def root(i: int) -> int:
+        while group[i] != i:
+            i = group[i]
+        return i
+
+    seen = np.isfinite(low)
+    for i in range(k):
+        for j in range(i + 1, k):
+            if not np.array_equal(seen[:, i], seen[:, j]) or not seen[:, i].any():
+                continue
+            both = seen[:, i]
+            if (
+                np.max(np.abs(low[both, i] - low[both, j])) <= tolerance
+                and np.max(np.abs(high[both, i] - high[both, j])) <= tolerance
+            ):
+                group[root(j)] = root(i)
+    members: dict[int, list[int]] = {}
+    for i in range(k):
+        members.setdefault(root(i), []).append(i)
+    return list(members.values())
+
+
 @dataclass
 class DecimatedPanel:
     """A panel of the whole run as the overview keeps it.

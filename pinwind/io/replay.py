@@ -12,7 +12,10 @@
   [kN·m], load sharing [-], energy [kJ]), each series in its colour.
 
 Everything is on the ``time`` timeline (simulated seconds), laid out by a blueprint: the 3D view
-and its legend beside the plots, in tabs, with y ranges that do not magnify rounding.
+and its legend beside the plots, in tabs, with y ranges that do not magnify rounding. The viewer
+opens on that timeline, paused at the start of the run: a live viewer gets a first layout (the
+3D view from the default camera) before any data, and the machine comes before the plots, so
+that the first frame stands in place while the rest loads.
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ import sys
 import time
 import uuid
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import quote
 
@@ -34,9 +38,15 @@ import numpy as np
 from pinwind.dynamics.result import Result, concatenate
 from pinwind.errors import InputError, NoViewer, PortInUse, ServeFailed
 from pinwind.io.log_reader import LogFile, LogReader
-from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview
+from pinwind.io.overview import MinMaxDecimator, Overview, PanelOverview, coincident_groups
 from pinwind.io.panels import GROUPS, Panel, legend_layout, model_of_log
-from pinwind.io.replay_scene import ARROW_FRACTION, Scene, send_scene, tooth_outline
+from pinwind.io.replay_scene import (
+    ARROW_FRACTION,
+    Scene,
+    first_view,
+    send_scene,
+    tooth_outline,
+)
 
 __all__ = [
     "ARROW_FRACTION",
@@ -44,7 +54,9 @@ __all__ = [
     "FramePicker",
     "MinMaxDecimator",
     "Overview",
+    "Sink",
     "blueprint",
+    "first_layout",
     "line_widths",
     "replay",
     "send_frames",
@@ -58,6 +70,45 @@ GRPC_PORT = 9876
 WEB_PORT = 9090
 
 
+def time_panel():
+    """The time panel: on the ``time`` timeline (not Rerun's ``log_time``), paused, collapsed.
+
+    Paused, the viewer stays at the first sample as data arrive (following would jump to the
+    end of what has loaded).
+    """
+    import rerun.blueprint as rrb
+
+    return rrb.TimePanel(state="collapsed", timeline=TIMELINE, play_state="paused")
+
+
+def _eye(scene: Scene | None):
+    import rerun.blueprint as rrb
+
+    if scene is None:
+        return None
+    return rrb.EyeControls3D(
+        position=scene.camera_position, look_target=scene.camera_target, eye_up=[0, 1, 0]
+    )
+
+
+def first_layout(scene: Scene | None = None):
+    """The layout sent before the data: the 3D view from ``scene``'s camera, and its legend.
+
+    The viewer shows it while the log loads (the plots come with ``blueprint`` at the end).
+    """
+    import rerun.blueprint as rrb
+
+    return rrb.Blueprint(
+        rrb.Vertical(
+            rrb.Spatial3DView(origin="gearbox", name="gearbox", eye_controls=_eye(scene)),
+            rrb.TextDocumentView(origin="gearbox/scale", name="legend"),
+            row_shares=[4, 1],
+        ),
+        time_panel(),
+        collapse_panels=True,
+    )
+
+
 def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
     """The layout: the 3D machine and its legend beside the plots, grouped in tabs.
 
@@ -65,7 +116,8 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
     ``panels.y_range`` (no magnified rounding), its legend sits in the corner where the data
     leave it the most room (``panels.legend_layout``), and hovering shows
     every series at that time. ``scene`` gives the default camera. Without arguments: the
-    speed, mesh-force and bearing-force plots with automatic ranges.
+    speed, mesh-force and bearing-force plots with automatic ranges. The time panel is on
+    ``time``, paused (``time_panel``).
     """
     import rerun.blueprint as rrb
 
@@ -99,21 +151,17 @@ def blueprint(panels: list[Panel] | None = None, scene: Scene | None = None):
             if views:
                 tabs.append(rrb.Vertical(*views, name=group))
         plots = rrb.Tabs(*tabs)
-    eye = None
-    if scene is not None:
-        eye = rrb.EyeControls3D(
-            position=scene.camera_position, look_target=scene.camera_target, eye_up=[0, 1, 0]
-        )
     return rrb.Blueprint(
         rrb.Horizontal(
             rrb.Vertical(
-                rrb.Spatial3DView(origin="gearbox", name="gearbox", eye_controls=eye),
+                rrb.Spatial3DView(origin="gearbox", name="gearbox", eye_controls=_eye(scene)),
                 rrb.TextDocumentView(origin="gearbox/scale", name="legend"),
                 row_shares=[4, 1],
             ),
             plots,
             column_shares=[3, 2],
         ),
+        time_panel(),
         collapse_panels=True,
     )
 
@@ -190,29 +238,8 @@ def line_widths(
     so that every one shows as a stripe of its colour. Other lines get ``LINE_WIDTH``.
     """
     k = len(names)
-    group = list(range(k))
-
-    def root(i: int) -> int:
-        while group[i] != i:
-            i = group[i]
-        return i
-
-    seen = np.isfinite(low)
-    for i in range(k):
-        for j in range(i + 1, k):
-            if not np.array_equal(seen[:, i], seen[:, j]) or not seen[:, i].any():
-                continue
-            both = seen[:, i]
-            if (
-                np.max(np.abs(low[both, i] - low[both, j])) <= tolerance
-                and np.max(np.abs(high[both, i] - high[both, j])) <= tolerance
-            ):
-                group[root(j)] = root(i)
     widths = [LINE_WIDTH] * k
-    members: dict[int, list[int]] = {}
-    for i in range(k):
-        members.setdefault(root(i), []).append(i)
-    for together in members.values():
+    for together in coincident_groups(low, high, tolerance):
         together.sort(key=lambda i: _natural_key(names[i]))
         for rank, i in enumerate(together):
             widths[i] = LINE_WIDTH + STRIPE_WIDTH * (len(together) - 1 - rank)
@@ -298,6 +325,8 @@ def send_log(
     if last is not None:
         frames.append(last)
 
+    # The machine first: the viewer draws it while the plots load.
+    scene = send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
     sent: list[Panel] = []
     for kept in overview.panels():
         panel = kept.panel
@@ -319,8 +348,6 @@ def send_log(
                 times, values = times[outside], values[outside]
             send_scalars(path, times, values)
         sent.append(panel)
-
-    scene = send_frames(_log_file(reader, concatenate(frames)) if frames else None, recording)
     return sent, scene
 
 
@@ -410,6 +437,106 @@ def check_viewer_can_open() -> str:
     return program
 
 
+@dataclass
+class Sink:
+    """Where a recording goes: an .rrd file, the web viewer, or a viewer spawned here.
+
+    ``save``: the .rrd; ``serve``: Rerun's gRPC data server on ``grpc_port`` and its web viewer
+    on ``web_port``; ``viewer``: the program spawned otherwise.
+    """
+
+    save: Path | None
+    serve: bool
+    web_port: int
+    grpc_port: int
+    viewer: str | None
+    url: str = ""
+
+    @classmethod
+    def check(
+        cls,
+        *,
+        save: str | os.PathLike | None,
+        serve: bool,
+        web_port: int | None,
+        grpc_port: int | None,
+    ) -> Sink:
+        """The sink of the options, checked before any work (a headless machine fails fast).
+
+        Raises:
+            InputError: both ``save`` and ``serve``, ports without ``serve``, or equal ports.
+            PortInUse: a port is taken.
+            NoViewer: neither ``save`` nor ``serve``, and no display or no viewer binary here.
+        """
+        if save is not None and serve:
+            raise InputError("give either --save FILE or --serve, not both")
+        if not serve and (web_port is not None or grpc_port is not None):
+            raise InputError("--web-port and --grpc-port go with --serve")
+        web_port = WEB_PORT if web_port is None else web_port
+        grpc_port = GRPC_PORT if grpc_port is None else grpc_port
+        if serve:
+            if web_port == grpc_port:
+                raise InputError(
+                    f"--web-port and --grpc-port are both {web_port}; give two different ports"
+                )
+            check_port_free(grpc_port, "--grpc-port")
+            check_port_free(web_port, "--web-port")
+        viewer = check_viewer_can_open() if save is None and not serve else None
+        return cls(
+            save=None if save is None else Path(save),
+            serve=serve,
+            web_port=web_port,
+            grpc_port=grpc_port,
+            viewer=viewer,
+        )
+
+    @property
+    def live(self) -> bool:
+        """A viewer draws the data as they arrive (not a file)."""
+        return self.save is None
+
+    def connect(self, recording) -> None:
+        """Send ``recording`` to the sink: open the file, start the servers or spawn the viewer.
+
+        Raises:
+            ServeFailed: the servers do not start (a port taken meanwhile, ...).
+        """
+        import rerun as rr
+
+        if self.save is not None:
+            self.save.parent.mkdir(parents=True, exist_ok=True)
+            recording.save(self.save)
+        elif self.serve:
+            try:
+                self.url = recording.serve_grpc(grpc_port=self.grpc_port)
+                rr.serve_web_viewer(web_port=self.web_port, open_browser=False, connect_to=self.url)
+            except Exception as err:  # rerun's own error for a port taken meanwhile, ...
+                raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
+        else:
+            rr.spawn(executable_path=self.viewer, recording=recording)
+
+    def finish(
+        self, recording, *, announce: Callable[[str], None] = print, wait: bool = True
+    ) -> Path | None:
+        """Flush; close the file and return its path, or announce the served address and wait.
+
+        Served, the call blocks (the servers live as long as it does) until Ctrl-C, unless
+        ``wait`` is false.
+        """
+        recording.flush()
+        if self.save is not None:
+            recording.disconnect()
+            return self.save
+        if self.serve:
+            announce(f"open {viewer_url(self.web_port, self.url)} (Ctrl-C to stop)")
+            try:
+                while wait:
+                    time.sleep(3600)
+            except KeyboardInterrupt:
+                pass
+        return None
+
+
 def replay(
     path: str | os.PathLike,
     *,
@@ -433,8 +560,10 @@ def replay(
     (unless ``wait`` is false). The viewer gets an overview of at most ``points`` samples per
     series that keeps each series' extremes, and every sample from ``start`` to ``stop`` [s].
     The log is streamed in blocks of ``block`` samples (``send_log``, which reports to
-    ``progress``): memory does not grow with the length of the log. The layout (blueprint) is
-    sent last, once the y ranges of the whole run are known.
+    ``progress``): memory does not grow with the length of the log. A live viewer (spawned or
+    served) gets a first layout before the data (the 3D view from the default camera, the
+    ``time`` timeline paused at the start); the whole layout (blueprint) comes last, once the y
+    ranges of the whole run are known.
 
     Returns:
         The .rrd path when saving, else None.
@@ -448,53 +577,30 @@ def replay(
     """
     import rerun as rr
 
-    if save is not None and serve:
-        raise InputError("give either --save FILE or --serve, not both")
-    if not serve and (web_port is not None or grpc_port is not None):
-        raise InputError("--web-port and --grpc-port go with --serve")
-    web_port = WEB_PORT if web_port is None else web_port
-    grpc_port = GRPC_PORT if grpc_port is None else grpc_port
-    if serve:
-        if web_port == grpc_port:
-            raise InputError(
-                f"--web-port and --grpc-port are both {web_port}; give two different ports"
-            )
-        check_port_free(grpc_port, "--grpc-port")
-        check_port_free(web_port, "--web-port")
-    viewer = check_viewer_can_open() if save is None and not serve else None
+    sink = Sink.check(save=save, serve=serve, web_port=web_port, grpc_port=grpc_port)
     with LogReader(path) as reader:
         window = _window(reader, start, stop)
         recording = rr.RecordingStream(application_id="pinwind_replay", recording_id=uuid.uuid4())
         recording.send_recording_name(Path(path).name)
-        out = None
-        if save is not None:
-            out = Path(save)
-            out.parent.mkdir(parents=True, exist_ok=True)
-            recording.save(out)
-        elif serve:
-            try:
-                url = recording.serve_grpc(grpc_port=grpc_port)
-                rr.serve_web_viewer(web_port=web_port, open_browser=False, connect_to=url)
-            except Exception as err:  # rerun's own error for a port taken meanwhile, ...
-                raise ServeFailed(f"cannot start the Rerun servers: {err}") from err
-        else:
-            rr.spawn(executable_path=viewer, recording=recording)
+        sink.connect(recording)
+        if sink.live:  # a viewer that draws as data arrive; a file gets one layout
+            rr.send_blueprint(first_layout(_first_scene(reader)), recording=recording)
         sent, scene = send_log(
             reader, recording, points=points, window=window, block=block, progress=progress
         )
     rr.send_blueprint(blueprint(sent, scene), recording=recording)
-    recording.flush()
-    if out is not None:
-        recording.disconnect()
-        return out
-    if serve:
-        announce(f"open {viewer_url(web_port, url)} (Ctrl-C to stop)")
-        try:
-            while wait:
-                time.sleep(3600)
-        except KeyboardInterrupt:
-            pass
-    return None
+    return sink.finish(recording, announce=announce, wait=wait)
+
+
+def _first_scene(reader: LogReader) -> Scene | None:
+    """The default camera on the log's first sample, or None for a log without samples."""
+    span = reader.span
+    if span is None:
+        return None
+    first = reader.read(start=span[0], stop=span[0])
+    if not len(first.pose_rows):
+        return None
+    return first_view(_log_file(reader, first))
 
 
 def _window(

@@ -334,6 +334,13 @@ def camera(model: dict, result, visuals: list[VisualSpec]) -> tuple[np.ndarray, 
     return target + 2.4 * radius * direction, target, radius
 
 
+def first_view(log) -> Scene:
+    """The default camera on the first frame of ``log`` (a ``LogFile``), before the rest loads."""
+    source, _ = _model_file(log.model_text, log.model_problem)
+    eye, target, _ = camera(log.model, log.result.posed(), source.visuals if source else [])
+    return Scene(camera_position=eye, camera_target=target)
+
+
 def send_scene(
     log, recording, send: Callable[[str, Any], None], colors: dict | None = None
 ) -> Scene:

@@ -113,3 +113,21 @@ def rrd_columns(rrd: Path) -> dict[str, dict[str, list]]:
                 batch.column(name)
             )
     return columns
+
+
+@pytest.fixture(scope="session")
+def drivetrain_run(tmp_path_factory) -> LoggedRun:
+    """Saleh's drivetrain (planetary + parallel stages 83/23, 103/26) for 10 ms: carrier at
+    1 rad/s, 10 kN·m on the high-speed pinion."""
+    path = tmp_path_factory.mktemp("logs") / "drivetrain.mcap"
+    gearbox = pinwind.load(MODELS / "saleh2017_drivetrain.urdf")
+    result = pinwind.simulate(
+        gearbox,
+        duration=0.01,
+        dt=1e-3,
+        speeds={"carrier": 1.0},
+        torques={"stage2_pinion": -1.0e4},
+        log=path,
+        progress=False,
+    )
+    return LoggedRun(result, path)

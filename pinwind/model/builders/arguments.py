@@ -84,3 +84,19 @@ def per_stage(
     if len(values) != n:
         raise InvalidGearTrain(f"{name} has {len(values)} values for {n} parallel stages")
     return [positive(f"{name}[{k}]", v, "m") for k, v in enumerate(values)]
+
+
+def helix_angles(name: str, value: float | Sequence[float], n: int) -> list[float]:
+    """One helix angle [rad] per parallel stage: one value for all, or n values, |β| < 45°."""
+    if isinstance(value, (int, float)):
+        betas = [float(value)] * n
+    else:
+        betas = [float(b) for b in value]
+        if len(betas) != n:
+            raise InvalidGearTrain(f"{name} has {len(betas)} values for {n} stages")
+    for beta in betas:
+        if not (math.isfinite(beta) and abs(beta) < math.pi / 4.0):
+            raise InvalidGearTrain(
+                f"{name} = {math.degrees(beta):g}°; give |β| < 45° (0 for spur gears)"
+            )
+    return betas

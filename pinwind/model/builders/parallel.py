@@ -11,7 +11,8 @@ the wheel, gear2 the pinion. (A wheel on its own link welded to the shaft by a f
 not work: the loader keeps a fixed joint that carries a gear as a locked bearing.)
 
 Default mass properties: steel cylinders of pitch diameter × face width
-(``gear_bodies.steel_gear``).
+(``gear_bodies.steel_gear``). Default modules after a planetary stage: those whose teeth carry the
+planetary's load per face width and module (``load_matched_modules``).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import numpy as np
 from pinwind.errors import InvalidGearTrain
 from pinwind.gears.involute import pitch_radius
 from pinwind.model.builders.arguments import (
+    helix_angles,
     inertia_table,
     per_stage,
     pressure_angle_rad,
@@ -31,6 +33,39 @@ from pinwind.model.builders.arguments import (
 )
 from pinwind.model.builders.gear_bodies import MassProperties, steel_gear
 from pinwind.model.builders.urdf_writer import Train, TrainGear, TrainJoint
+
+#: Default modules of parallel stages are rounded up to a multiple of this [m].
+MODULE_STEP = 0.5e-3
+
+
+def load_matched_modules(
+    stages: Sequence[tuple[int, int]], *, module: float, sun_teeth: int, planets: int
+) -> list[float]:
+    """Modules [m] of parallel stages after a planetary stage, sized from each stage's torque.
+
+    Each stage's teeth get the tooth load intensity F_t/(b m) of the sun–planet meshes (the
+    root bending stress is about Y F_t/(b m)), with faces as wide in modules as the planetary's
+    (b_k/m_k = b/m, so F_t/(b m) ∝ F_t/m²). The sun passes its torque T_s through ``planets``
+    meshes on its pitch diameter m z_sun: F_t = 2 T_s/(planets m z_sun). Stage k's wheel carries
+    T_k = T_s Π_{j<k} z_pinion,j/z_wheel,j in one mesh on m_k z_wheel,k. Equal F_t/m² gives
+
+        m_k = m (planets z_sun T_k / (T_s z_wheel,k))^(1/3),
+
+    rounded up to ``MODULE_STEP`` (never a higher load than the planetary's).
+
+    Args:
+        stages: (wheel teeth, pinion teeth) per stage, input side first.
+        module: module of the planetary stage [m].
+        sun_teeth: sun tooth count.
+        planets: number of planets.
+    """
+    out = []
+    torque = 1.0  # T_k / T_s
+    for wheel, pinion in stages:
+        exact = module * (planets * sun_teeth * torque / wheel) ** (1.0 / 3.0)
+        out.append(math.ceil(exact / MODULE_STEP - 1e-9) * MODULE_STEP)
+        torque *= pinion / wheel
+    return out
 
 
 def add_parallel_stages(
@@ -128,17 +163,7 @@ def parallel_urdf(
     table = inertia_table(inertias, allowed)
     modules = per_stage("module", module, math.nan, len(stages))
     widths = per_stage("face_width", face_width, math.nan, len(stages))
-    if isinstance(helix_angle, (int, float)):
-        betas = [float(helix_angle)] * len(stages)
-    else:
-        betas = [float(b) for b in helix_angle]
-        if len(betas) != len(stages):
-            raise InvalidGearTrain(f"helix_angle has {len(betas)} values for {len(stages)} stages")
-    for beta in betas:
-        if not (math.isfinite(beta) and abs(beta) < math.pi / 4.0):
-            raise InvalidGearTrain(
-                f"helix_angle = {math.degrees(beta):g}°; give |β| < 45° (0 for spur gears)"
-            )
+    betas = helix_angles("helix_angle", helix_angle, len(stages))
     train = Train(name, "pinwind.model.builders.parallel_urdf")
     train.link("housing")
     train.joints.append(TrainJoint("input", "continuous", "housing", "input", (0.0, 0.0, 0.0)))

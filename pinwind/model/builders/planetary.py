@@ -30,6 +30,7 @@ from pathlib import Path
 from pinwind.errors import InputError, InvalidGearTrain, PinwindWarning
 from pinwind.gears.involute import pitch_radius, tip_radius
 from pinwind.model.builders.arguments import (
+    helix_angles,
     inertia_table,
     per_stage,
     positive,
@@ -49,7 +50,7 @@ from pinwind.model.builders.gear_bodies import (
     steel_gear,
     steel_ring_gear,
 )
-from pinwind.model.builders.parallel import add_parallel_stages
+from pinwind.model.builders.parallel import add_parallel_stages, load_matched_modules
 from pinwind.model.builders.urdf_writer import Train, TrainGear, TrainJoint
 from pinwind.model.gearbox import CENTRE_DISTANCE_RTOL
 
@@ -69,6 +70,7 @@ def planetary_urdf(
     inertias: Mapping[str, MassProperties] | None = None,
     parallel_module: float | Sequence[float] | None = None,
     parallel_face_width: float | Sequence[float] | None = None,
+    parallel_helix_angle: float | Sequence[float] = 0.0,
 ) -> str:
     """URDF text of a planetary stage with fixed ring, plus optional parallel stages.
 
@@ -89,14 +91,17 @@ def planetary_urdf(
         inertias: body → (mass [kg], Ixx = Iyy [kg·m²], Izz [kg·m²]) about the centre of mass;
             bodies ``sun``, ``planet``, ``ring``, ``carrier``, ``pin`` (adds pins) and
             ``stage{k}_wheel`` / ``stage{k}_pinion``.
-        parallel_module: module [m] of the parallel stages, one value or one per stage
-            (default: ``module``).
+        parallel_module: normal module [m] of the parallel stages, one value or one per stage
+            (default: sized from each stage's torque, ``parallel.load_matched_modules``).
         parallel_face_width: face width [m] of the parallel stages, one value or one per stage
-            (default: ``face_width``).
+            (default: as many modules as the planetary's, b_k = m_k · face_width/module).
+        parallel_helix_angle: helix angle β [rad] of each parallel stage's wheel (its pinion
+            gets −β), one value or one per stage; 0 (spur) by default.
 
     Raises:
-        InvalidGearTrain: non-positive teeth, module or width; a ring that does not fit sun and
-            planets (z_ring ≠ z_sun + 2 z_planet without profile shift, or unequal working
+        InvalidGearTrain: non-positive teeth, module or width, |β| ≥ 45°, a per-stage list of
+            the wrong length; a ring that does not fit sun and planets (z_ring ≠ z_sun +
+            2 z_planet without profile shift, or unequal working
             centre distances with it).
         PlanetsCollide: neighbouring planets overlap.
 
@@ -117,8 +122,15 @@ def planetary_urdf(
     allowed = ["sun", "planet", "ring", "carrier", "pin"]
     allowed += [f"stage{k}_{g}" for k in range(1, len(stages) + 1) for g in ("wheel", "pinion")]
     table = inertia_table(inertias, allowed)
-    modules = per_stage("parallel_module", parallel_module, module, len(stages))
-    widths = per_stage("parallel_face_width", parallel_face_width, face_width, len(stages))
+    if parallel_module is None:
+        modules = load_matched_modules(stages, module=module, sun_teeth=sun, planets=planets)
+    else:
+        modules = per_stage("parallel_module", parallel_module, math.nan, len(stages))
+    if parallel_face_width is None:
+        widths = [m_k * face_width / module for m_k in modules]
+    else:
+        widths = per_stage("parallel_face_width", parallel_face_width, math.nan, len(stages))
+    betas = helix_angles("parallel_helix_angle", parallel_helix_angle, len(stages))
 
     if ring <= planet:
         raise InvalidGearTrain(f"ring ({ring} teeth) must have more teeth than a planet ({planet})")
@@ -203,6 +215,7 @@ def planetary_urdf(
         modules=modules,
         face_widths=widths,
         inertias=table,
+        helix_angles=betas,
     )
     return train.render()
 

@@ -1,0 +1,41 @@
+"""``pinwind sweep query`` when no design meets every criterion: the best of each, alone."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+#: Three designs: none has a safety factor above 1, and the one near ratio 3.5 failed.
+TABLE = (
+    "number,status,centre_distance_mm,module_mm,ratio,agma_SF_min,iso_S_min\n"
+    "1,ok,420,10,6.2,0.977,1.3\n"
+    "2,ok,600,8,3.6,0.62,0.9\n"
+    "3,failed,600,10,3.5,,\n"
+)
+
+
+def query(tmp_path, *criteria: str) -> subprocess.CompletedProcess:
+    (tmp_path / "designs.csv").write_text(TABLE)
+    return subprocess.run(
+        [sys.executable, "-m", "pinwind", "sweep", "query", "designs.csv", *criteria],
+        capture_output=True, text=True, timeout=300, cwd=tmp_path,
+    )  # fmt: skip
+
+
+def test_no_design_meeting_every_criterion_names_the_best_value_of_each(tmp_path):
+    out = query(tmp_path, "--minimise", "center-distance", "--min-sf", "1", "--ratio", "3.5")
+    assert out.returncode == 1
+    text = " ".join(out.stdout.split())
+    assert "no design satisfies every criterion" in text
+    # The largest SF of the designs that ran is design 1's 0.977; none exceeds 1.
+    assert "the largest agma_SF_min is 0.977 (#1); 0 design(s) exceed 1" in text
+    # Design 3 (ratio 3.5) failed: the nearest ratio that ran is design 2's 3.6.
+    assert "the nearest ratio is 3.6 (#2); 0 design(s) within ±0.05" in text
+
+
+def test_the_best_of_a_criterion_that_some_designs_meet_counts_them(tmp_path):
+    out = query(tmp_path, "--center-distance", "600", "--module", "10")
+    assert out.returncode == 1
+    text = " ".join(out.stdout.split())
+    assert "--center-distance 600: the nearest is 600 mm (#2); 1 design(s) at it" in text
+    assert "--module 10: the nearest is 10 mm (#1); 1 design(s) at it" in text
