@@ -41,7 +41,9 @@ set is read from a scenario file (``load_fatigue_set``): the run keys of any sce
 One load case is a wind bin × a turbulence level × a seed (`LoadCase`). Each case is run like
 any scenario (its values are in its log, which ``pinwind run --from-log`` repeats), with a log
 in the output folder and, beside it, its reduction (`CaseCycles`, ``.npz``): the rainflow cycles
-of every tooth flank of every meshed gear (`pinwind.life.tooth_damage`) from ``skip_start`` on.
+of every tooth flank of every meshed gear (`pinwind.life.tooth_damage`) from ``skip_start`` on,
+and each bearing's ISO 281 load sums (`pinwind.life.bearing_life.BearingLoadSum`), which the set
+adds over its bins into each bearing's L10h over the site's life (`pinwind.life.set_bearing_life`).
 A rerun computes only the cases whose log is missing or incomplete or whose reduction is missing
 or was made from other inputs. Cycles are kept, not damage, so that any S-N curve is applied
 afterwards, and the damage is linear in the counts: a case's life damage is its counted
@@ -64,6 +66,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pinwind.errors import InputError, PinwindError
+from pinwind.life.bearing_life import BearingLoadSum
 from pinwind.life.site import (
     TURBULENCE_CLASSES,
     WindSite,
@@ -76,6 +79,7 @@ from pinwind.scenario import ScenarioError, build, key_line, read_toml
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
+    from pinwind.model.bearing import BearingRating
     from pinwind.model.gearbox import Gearbox
 
 #: The keys of the ``[fatigue]`` table, with what they are.
@@ -189,6 +193,7 @@ class FatigueSet:
         rotor_radius: its radius [m], or None.
         mesh_stiffness, mesh_damping: the meshes' compliance if given [N/m], [N·s/m].
         openfast: OpenFAST input instead of rotor and wind, or None.
+        bearings: the model's rated bearings (``<bearing>``): joint → its ISO 281 data.
     """
 
     values: dict[str, Any]
@@ -210,6 +215,7 @@ class FatigueSet:
     mesh_stiffness: float | None = None
     mesh_damping: float | None = None
     openfast: OpenFastInput | None = None
+    bearings: Mapping[str, BearingRating] = field(default_factory=dict)
 
     @property
     def counted_seconds(self) -> float:
@@ -269,6 +275,11 @@ class FatigueSet:
             "skip_start": self.skip_start,
             "mesh_stiffness": self.mesh_stiffness,
             "mesh_damping": self.mesh_damping,
+            # The load sums depend on each bearing's type and load factors (not on C).
+            "bearings": {
+                name: [r.kind, r.exponent, r.e, r.y1, r.x2, r.y2]
+                for name, r in sorted(self.bearings.items())
+            },
         }
         record["values"].pop("out")
         text = json.dumps(record, sort_keys=True, default=str)
@@ -395,6 +406,7 @@ class _SetReader:
             mesh_stiffness=stiffness,
             mesh_damping=damping,
             openfast=openfast,
+            bearings=dict(gearbox.source.bearings),
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
             if openfast is not None and not openfast.file(case, fatigue.base).is_file():
@@ -637,6 +649,7 @@ class CaseCycles:
         counted_seconds: length of the counted history [s].
         wall_time: seconds the case took to run and reduce.
         flanks: the cycles of each loaded flank of each gear.
+        bearings: each bearing's ISO 281 load sums over the counted history.
     """
 
     case: LoadCase
@@ -644,6 +657,7 @@ class CaseCycles:
     counted_seconds: float
     wall_time: float
     flanks: tuple[FlankCycles, ...] = field(default_factory=tuple)
+    bearings: tuple[BearingLoadSum, ...] = field(default_factory=tuple)
 
     def save(self, path: Path) -> None:
         """Write it as ``.npz`` (written whole under another name, then renamed)."""
@@ -661,6 +675,7 @@ class CaseCycles:
             "counted_seconds": self.counted_seconds,
             "wall_time": self.wall_time,
             "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
+            "bearings": [dataclasses.asdict(b) for b in self.bearings],
         }
         partial = path.with_name(path.name + ".partial.npz")
         arrays["meta"] = np.array(json.dumps(meta))
@@ -668,8 +683,12 @@ class CaseCycles:
         partial.replace(path)
 
     @classmethod
-    def load(cls, path: Path) -> CaseCycles:
+    def load(cls, path: Path, *, with_flanks: bool = True) -> CaseCycles:
         """Read one written by `save`.
+
+        Args:
+            with_flanks: read the tooth cycles too (without: ``flanks`` is empty, and only the
+                small record of the case and its bearing sums is read).
 
         Raises:
             InputError: not readable as one.
@@ -687,9 +706,10 @@ class CaseCycles:
                         data[f"{i}_counts"],
                         data[f"{i}_peaks"],
                     )
-                    for i, (gear, flank, teeth) in enumerate(meta["flanks"])
+                    for i, (gear, flank, teeth) in enumerate(meta["flanks"] if with_flanks else [])
                 )
-        except (OSError, ValueError, KeyError) as err:
+                bearings = tuple(BearingLoadSum(**b) for b in meta.get("bearings", []))
+        except (OSError, ValueError, KeyError, TypeError) as err:
             raise InputError(f"{path}: not a fatigue case reduction ({err}); delete it") from err
         return cls(
             LoadCase(**meta["case"]),
@@ -697,6 +717,7 @@ class CaseCycles:
             meta["counted_seconds"],
             meta["wall_time"],
             flanks,
+            bearings,
         )
 
 
@@ -732,13 +753,16 @@ def case_cycles(result: Result, gearbox: Gearbox, gears: Iterable[str]) -> list[
 
 
 def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
-    """Simulate one case with its log and reduce it to its tooth cycles (a worker's task).
+    """Simulate one case with its log and reduce it (a worker's task).
+
+    The reduction is its tooth cycles and its bearings' load sums, both from ``skip_start`` on.
 
     Runs in this process, a local worker or a Dask worker (whose output folder must be the
     one the caller reads: a shared file system).
     """
     import warnings
 
+    from pinwind.life.bearing_life import bearing_load_sums
     from pinwind.model.compliance import MeshCompliance
     from pinwind.model.gearbox import load
     from pinwind.scenario import run
@@ -762,12 +786,14 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
     counted = result.rows(first, len(result))
     flanks = case_cycles(counted, gearbox, fatigue.gears)
+    bearings = bearing_load_sums(counted, gearbox)
     return CaseCycles(
         case,
         fatigue.case_key(case),
         fatigue.counted_seconds,
         time.perf_counter() - start,
         tuple(flanks),
+        tuple(bearings),
     )
 
 

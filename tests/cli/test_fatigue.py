@@ -66,3 +66,29 @@ def test_quick_run_prints_damage_whose_bins_add_up_to_the_total(tmp_path, monkey
             assert_allclose(sum(gear["per_bin"]), gear["total"], rtol=1e-12)
     assert (tmp_path / "cases_quick").is_dir()
     assert len(list((tmp_path / "cases_quick").glob("*.mcap"))) == 2
+
+
+def test_quick_run_gives_each_rated_bearing_its_l10h_and_lists_the_others_as_not_rated(
+    tmp_path, monkeypatch
+):
+    from pinwind.model.gearbox import load
+    from tests.life.test_load_cases import MODEL
+
+    monkeypatch.chdir(tmp_path)
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text() + "[fatigue.quick]\nduration = 0.03\n")
+    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1")
+    assert out.returncode == 0, out.stderr
+    (lives,) = json.loads(out.stdout)["bearings"]
+    ratings = load(MODEL).source.bearings
+    assert {b["bearing"] for b in lives if b["rated"]} == set(ratings)
+    for life in lives:
+        if not life["rated"]:
+            assert life["l10_h"] is None
+            continue
+        # L10h is L10 at the mean speed over the site's hours (1250 h)
+        per_hour = life["revolutions"] / 1250.0
+        assert_allclose(life["l10_h"], life["l10_million_rev"] * 1e6 / per_hour, rtol=1e-9)
+        c = ratings[life["bearing"]].dynamic_load_rating
+        assert_allclose(life["l10_million_rev"], (c / life["equivalent_load_N"]) ** (10 / 3),
+                        rtol=1e-9)  # fmt: skip
