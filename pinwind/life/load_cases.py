@@ -66,7 +66,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pinwind.errors import InputError, PinwindError
-from pinwind.life.bearing_life import BearingLoadSum
+from pinwind.life.bearing_life import BearingLoadSum, bearing_load_sums
 from pinwind.life.site import (
     TURBULENCE_CLASSES,
     WindSite,
@@ -193,7 +193,8 @@ class FatigueSet:
         rotor_radius: its radius [m], or None.
         mesh_stiffness, mesh_damping: the meshes' compliance if given [N/m], [N·s/m].
         openfast: OpenFAST input instead of rotor and wind, or None.
-        bearings: the model's rated bearings (``<bearing>``): joint → its ISO 281 data.
+        bearings: the model's ``<bearing>`` elements: joint → its ISO 281 data (without C:
+            not rated).
     """
 
     values: dict[str, Any]
@@ -762,7 +763,6 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     """
     import warnings
 
-    from pinwind.life.bearing_life import bearing_load_sums
     from pinwind.model.compliance import MeshCompliance
     from pinwind.model.gearbox import load
     from pinwind.scenario import run
