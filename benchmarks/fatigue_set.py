@@ -81,7 +81,6 @@ def child(path: Path, workers: int) -> None:
     damage = set_damage(fset)
     lives = set_bearing_lives(fset)
     wall = time.perf_counter() - start
-    planet = next(life for life in lives[0] if life.joint == "planet1")
     print(
         json.dumps(
             {
@@ -93,7 +92,11 @@ def child(path: Path, workers: int) -> None:
                 "worker_peak_mb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
                 "case_wall_s": sorted(_case_walls(fset)),
                 "sun_damage_no_limit": damage.damage["no limit"][0]["sun"].total,
-                "planet1_l10h": planet.l10h,
+                "bearings": {
+                    life.joint: [life.equivalent_load / 1e3, life.l10h]
+                    for life in lives[0]
+                    if life.rated
+                },
             }
         )
     )
@@ -177,8 +180,12 @@ def main() -> None:
             f"MB; case wall {min(report['case_wall_s']):.1f}-{max(report['case_wall_s']):.1f} s "
             f"({before} before; {machine()} after)"
         )
-        print(f"  sun damage (no limit) {report['sun_damage_no_limit']:.4g}, "
-              f"planet1 L10h {report['planet1_l10h']:.4g} h")  # fmt: skip
+        bearings = ", ".join(
+            f"{joint} {load:.3g} kN, {hours:.3g} h"
+            for joint, (load, hours) in report["bearings"].items()
+        )
+        print(f"  sun damage (no limit) {report['sun_damage_no_limit']:.4g}; bearings P_eq, L10h: "
+              f"{bearings}")  # fmt: skip
 
 
 if __name__ == "__main__":
