@@ -155,9 +155,33 @@ def cai_spur_pair() -> str:
 # --- DTU 500 kW (003_83d3049daebcd276.txt §2.1, Table 6) -----------------------------------------
 
 
+#: ISO 281 ratings of the DTU stage's bearings, ASSUMED (003 gives none; models/README.md):
+#: joint → (type, C [kN]). SKF EC-design cylindrical roller bearings of plausible bore: each
+#: planet on two NU 2228 EC (140 x 250 x 68 mm, C = 655 kN each) side by side, rated as one
+#: unit with ISO 281's C = i^(7/9) C_1 for i = 2; the sun shaft on an NU 226 EC
+#: (130 x 230 x 40 mm, 415 kN); the carrier on an NU 1964 EC (320 x 440 x 56 mm, 693 kN).
+DTU500_BEARINGS = {
+    **{f"planet{i}": ("cylindrical_roller", round(2.0 ** (7.0 / 9.0) * 655.0)) for i in (1, 2, 3)},
+    "sun": ("cylindrical_roller", 415),
+    "carrier": ("cylindrical_roller", 693),
+}
+
+
+def with_bearings(text: str, bearings: dict[str, tuple[str, float]]) -> str:
+    """Model text with a ``<bearing>`` element per joint (type, C [kN]) in its ``<gearbox>``."""
+    elements = "".join(
+        f'    <bearing joint="{joint}" type="{kind}" rating_c_kN="{c_kn:g}" />\n'
+        for joint, (kind, c_kn) in bearings.items()
+    )
+    return text.replace("  </gearbox>", elements + "  </gearbox>")
+
+
 def dtu500_planetary() -> str:
-    """Profile-shifted 20/35/91 planetary stage; module 10 mm and 20° from Table 6."""
-    return planetary_urdf(
+    """Profile-shifted 20/35/91 planetary stage; module 10 mm and 20° from Table 6.
+
+    Its bearings are rated with `DTU500_BEARINGS` (assumed).
+    """
+    text = planetary_urdf(
         name="dtu500_planetary",
         sun=20,
         planet=35,
@@ -168,6 +192,7 @@ def dtu500_planetary() -> str:
         face_width=0.210,
         profile_shift=(0.582, 0.419, -0.840),
     )
+    return with_bearings(text, DTU500_BEARINGS)
 
 
 MODELS: dict[str, Callable[[], str]] = {

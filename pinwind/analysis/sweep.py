@@ -302,9 +302,12 @@ def _run_local(
     # "spawn" keeps the workers free of the parent's threads (rerun, dask) and their locks.
     batches = [items[i : i + size] for i in range(0, len(items), size)]
     with ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn")) as pool:
-        futures = [pool.submit(_run_batch, task, batch, common) for batch in batches]
+        futures = {pool.submit(_run_batch, task, batch, common) for batch in batches}
         try:
             for future in as_completed(futures):
+                # A finished future keeps its results: let it go, so that memory stays flat in
+                # the number of items (a fatigue case's cycles are tens of MB).
+                futures.discard(future)
                 for result in future.result():
                     accept(result)
         except BaseException:
@@ -358,8 +361,12 @@ def _run_dask(
     client = scheduler if isinstance(scheduler, Client) else _connect(Client, str(scheduler))
     try:
         futures = client.map(task, items, pure=False, **common)
-        for future in as_completed(futures):
-            accept(future.result())
+        pending = as_completed(futures)
+        del futures  # held by ``pending`` until each is yielded
+        for future in pending:
+            result = future.result()
+            future.release()  # the worker may drop its copy now
+            accept(result)
     finally:
         if own:
             client.close()

@@ -8,16 +8,15 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import numpy as np
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from pinwind.cli.app import app, console, err_console, say
 
 if TYPE_CHECKING:
+    from pinwind.life.bearing_life import BearingLife
     from pinwind.life.life_damage import GearDamage, SetDamage
     from pinwind.life.load_cases import FatigueRun, FatigueSet
-
-#: What the printout says pinwind does not rate here, and why.
-NOT_RATED = "not rated here: bearing L10h (pinwind.life.bearing_life)"
 
 
 @app.command()
@@ -46,6 +45,7 @@ def fatigue(
 
     from pinwind.life.life_damage import set_damage
     from pinwind.life.load_cases import load_fatigue_set, run_cases
+    from pinwind.life.set_bearing_life import set_bearing_lives
 
     fset = load_fatigue_set(scenario, quick=quick)
     if not as_json:
@@ -64,6 +64,7 @@ def fatigue(
             progress=lambda n, total: bar.update(task, completed=n),
         )
     damage = set_damage(fset)
+    bearings = set_bearing_lives(fset)
     paths = []
     if figures is not None:
         from pinwind.life.life_figures import plot_damage_vs_turbulence, plot_range_cycles
@@ -74,14 +75,16 @@ def fatigue(
             plot_range_cycles(damage, figures / "range_cycles.png", level=level),
         ]
     if as_json:
-        print(json.dumps(_as_dict(fset, run, damage, paths), indent=1))
+        report = _as_dict(fset, run, damage, paths)
+        report["bearings"] = [[life.as_dict() for life in level] for level in bearings]
+        print(json.dumps(report, indent=1))
         return
     say(
         f"{len(run.computed)} computed on {run.backend} in {run.wall_time:.1f} s, "
         f"{run.total - len(run.computed)} reused"
     )
     _print_tables(damage)
-    say(NOT_RATED)
+    _print_bearings(damage, bearings)
     for path in paths:
         say(f"wrote {path}")
 
@@ -222,6 +225,37 @@ def _as_dict(
             },
             "table_8": {k: list(v) for k, v in JORGENSEN_2014_TABLE_8.items()},
         },  # fmt: skip
-        "not_rated": NOT_RATED,
         "figures": [str(p) for p in figures],
     }
+
+
+def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> None:
+    """Each bearing's ISO 281 life over the site's hours, per turbulence level."""
+    hours = float(damage.hours.sum())
+    for label, lives in zip(damage.levels, bearings, strict=True):
+        table = Table(
+            title=f"Bearing life (ISO 281) over the site's {hours:.0f} h at turbulence {label}: "
+            "P_eq revolution-weighted over the bins"
+        )
+        columns = ("C [kN]", "P_eq [kN]", "mean rpm", "L10 [10⁶ rev]", "L10h [h]")
+        table.add_column("bearing")
+        table.add_column("type")
+        for column in columns:  # escaped: rich reads "[kN]" as a style
+            table.add_column(escape(column), justify="right")
+        for life in lives:
+            rating = life.rating
+            if rating is None or rating.dynamic_load_rating is None:
+                kind = rating.kind if rating else "-"
+                load = "" if np.isnan(life.equivalent_load) else f"{life.equivalent_load / 1e3:.3g}"
+                table.add_row(life.joint, kind, "not rated", load, f"{life.mean_speed_rpm:.4g}")
+                continue
+            table.add_row(
+                life.joint,
+                rating.kind,
+                f"{rating.dynamic_load_rating / 1e3:.4g}",
+                f"{life.equivalent_load / 1e3:.3g}",
+                f"{life.mean_speed_rpm:.4g}",
+                f"{life.l10:.4g}",
+                f"{life.l10h:.4g}",
+            )
+        console.print(table)

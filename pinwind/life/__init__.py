@@ -2,5 +2,6 @@
 
 Rainflow cycles, S-N curves and Palmgren-Miner damage over a site's wind (``cycles``,
 ``sn_curve``, ``site``, ``contact_stress``, ``root_stress``, ``tooth_damage``), ISO 281 bearing
-life (``bearing_life``) and LDD/LRD load spectra (``load_spectrum``).
+life (``bearing_life``; over a fatigue set's bins: ``set_bearing_life``) and LDD/LRD load
+spectra (``load_spectrum``).
 """

@@ -8,7 +8,9 @@ p-th power mean
 
     P_eq = (Σ P_i^p n_i / Σ n_i)^(1/p)
 
-(Palmgren–Miner on revolutions), n_i the revolutions at P_i. From a run: F_r is the part of the
+(Palmgren–Miner on revolutions), n_i the revolutions at P_i. Its sums Σ P_i^p n_i and Σ n_i
+(`BearingLoadSum`) add over histories: a fatigue set adds those of its cases, each scaled to
+its wind bin's hours (``life/set_bearing_life.py``). From a run: F_r is the part of the
 bearing force (``bearing_force_local``, joint frame) normal to the joint axis, F_a the part along
 it, and the revolutions are ∫|ω| dt of the joint speed (trapezoid rule over the samples), which
 pinwind gives relative to the parent body: a planet bearing turns at the planet's speed relative
@@ -20,6 +22,7 @@ elements (docs/model_format.md); a bearing without C is "not rated".
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -73,21 +76,21 @@ def radial_and_axial(force_in_joint: np.ndarray, axis: np.ndarray) -> tuple[np.n
     return across_axis(forces, k)[:, 0], np.abs(along_axis(forces, k)[:, 0])
 
 
-def equivalent_load(loads: np.ndarray, weights: np.ndarray, exponent: float) -> float:
-    """The constant load of equal life: (Σ P_i^p w_i / Σ w_i)^(1/p) [N].
+def load_power_sum(loads: np.ndarray, weights: np.ndarray, exponent: float) -> float:
+    """Σ P_i^p w_i: the p-th power sum of loads P_i [N] weighted by w_i (revolutions or seconds).
 
-    Args:
-        loads: dynamic equivalent loads P_i [N].
-        weights: revolutions (or any measure) at each load, ≥ 0, not all zero.
-        exponent: life exponent p.
+    Sums of parts of a history (or of cases standing for hours) add; `mean_load` turns one
+    back into a load. Unscaled: a MN load to the power 10/3 is 1e20, far from overflow.
     """
     loads, weights = np.asarray(loads, dtype=float), np.asarray(weights, dtype=float)
-    scale = float(loads.max()) if loads.size else 0.0
-    if scale <= 0.0:
+    return float(np.sum(loads**exponent * weights))
+
+
+def mean_load(power_sum: float, weight: float, exponent: float) -> float:
+    """The constant load of equal life, (Σ P_i^p w_i / Σ w_i)^(1/p) [N]; 0 for no weight."""
+    if weight <= 0.0:
         return 0.0
-    # Scaled by the largest load: P^(10/3) of MN loads would overflow nothing, but stays exact.
-    mean = float(np.sum((loads / scale) ** exponent * weights) / np.sum(weights))
-    return scale * mean ** (1.0 / exponent)
+    return (power_sum / weight) ** (1.0 / exponent)
 
 
 def sample_weights(time: np.ndarray) -> np.ndarray:
@@ -112,9 +115,10 @@ class BearingLife:
         equivalent_load: P_eq [N], revolution-weighted (time-weighted if it did not turn);
             NaN without a rating.
         revolutions: revolutions in the run [rev].
-        duration: the run's duration [s].
+        duration: the time the loads stand for [s]: a run's duration, or a site's operating
+            hours over its design life (``life/set_bearing_life.py``).
         l10: basic rating life [10⁶ rev] (NaN when not rated).
-        l10h: basic rating life [h] at the run's mean speed (inf if it did not turn).
+        l10h: basic rating life [h] at the mean speed over ``duration`` (inf if it did not turn).
     """
 
     joint: str
@@ -132,7 +136,7 @@ class BearingLife:
 
     @property
     def mean_speed_rpm(self) -> float:
-        """Mean speed over the run [rpm] (its revolutions over its duration)."""
+        """Mean speed [rpm]: its revolutions over its duration."""
         return 60.0 * self.revolutions / self.duration if self.duration > 0 else math.nan
 
     def as_dict(self) -> dict[str, Any]:
@@ -142,12 +146,124 @@ class BearingLife:
             "rated": self.rated,
             "type": self.rating.kind if self.rating else None,
             "dynamic_load_rating_N": self.rating.dynamic_load_rating if self.rating else None,
-            "equivalent_load_N": self.equivalent_load,
+            "equivalent_load_N": None if math.isnan(self.equivalent_load) else self.equivalent_load,
             "revolutions": self.revolutions,
             "mean_speed_rpm": self.mean_speed_rpm,
             "l10_million_rev": self.l10 if self.rated else None,
             "l10_h": self.l10h if self.rated else None,
         }
+
+
+@dataclass(frozen=True)
+class BearingLoadSum:
+    """What ISO 281 needs of a bearing's load history, in sums that add over histories.
+
+    A fatigue set scales each case's sums to the hours its wind bin stands for (`times`) and adds
+    them over the bins (`plus`): P_eq over the site's life is then
+    (Σ P_i^p n_i / Σ n_i)^(1/p) over all of them, the revolution-weighted rule of ISO 281.
+
+    Attributes:
+        joint: the bearing.
+        exponent: life exponent p of the power sums (NaN when the model gives no type).
+        power_sum: Σ P_i^p n_i, n_i the revolutions at P_i [N^p·rev] (NaN without a type).
+        revolutions: Σ n_i [rev].
+        time_power_sum: Σ P_i^p Δt_i [N^p·s], which weights a bearing that does not turn.
+        seconds: Σ Δt_i, the history's duration [s].
+    """
+
+    joint: str
+    exponent: float
+    power_sum: float
+    revolutions: float
+    time_power_sum: float
+    seconds: float
+
+    def times(self, factor: float) -> BearingLoadSum:
+        """The sums of ``factor`` repetitions of the history (``factor`` ≥ 0)."""
+        return dataclasses.replace(
+            self,
+            power_sum=self.power_sum * factor,
+            revolutions=self.revolutions * factor,
+            time_power_sum=self.time_power_sum * factor,
+            seconds=self.seconds * factor,
+        )
+
+    def plus(self, other: BearingLoadSum) -> BearingLoadSum:
+        """The sums of this history followed by ``other`` (of the same bearing and p)."""
+        return dataclasses.replace(
+            self,
+            power_sum=self.power_sum + other.power_sum,
+            revolutions=self.revolutions + other.revolutions,
+            time_power_sum=self.time_power_sum + other.time_power_sum,
+            seconds=self.seconds + other.seconds,
+        )
+
+    @property
+    def equivalent_load(self) -> float:
+        """P_eq [N], revolution-weighted (time-weighted if it did not turn); NaN without a type."""
+        if math.isnan(self.exponent):
+            return math.nan
+        if self.revolutions > 0.0:
+            return mean_load(self.power_sum, self.revolutions, self.exponent)
+        return mean_load(self.time_power_sum, self.seconds, self.exponent)
+
+
+def load_sum_of_history(
+    joint: str,
+    rating: BearingRating | None,
+    *,
+    time: np.ndarray,
+    force_in_joint: np.ndarray,
+    speed: np.ndarray,
+    axis: np.ndarray,
+) -> BearingLoadSum:
+    """A bearing's ISO 281 sums from its force and speed histories.
+
+    Args:
+        joint: the bearing's name.
+        rating: its ISO 281 data; None when the model declares no type (sums of loads NaN).
+        time: sample times [s], (n,).
+        force_in_joint: bearing force on the child body, joint frame [N], (n, 3).
+        speed: joint speed relative to the parent [rad/s], (n,).
+        axis: joint axis in the joint frame.
+    """
+    weights = sample_weights(time)
+    turns = weights * np.abs(speed) / (2.0 * math.pi)  # revolutions per sample [rev]
+    exponent = power_sum = time_power_sum = math.nan
+    if rating is not None:
+        radial, axial = radial_and_axial(np.asarray(force_in_joint, dtype=float), axis)
+        loads = dynamic_equivalent_load(rating, radial, axial)
+        exponent = rating.exponent
+        power_sum = load_power_sum(loads, turns, exponent)
+        time_power_sum = load_power_sum(loads, weights, exponent)
+    return BearingLoadSum(
+        joint, exponent, power_sum, float(turns.sum()), time_power_sum, float(weights.sum())
+    )
+
+
+def life_of_load_sum(rating: BearingRating | None, load_sum: BearingLoadSum) -> BearingLife:
+    """A bearing's life from its sums: L10 at P_eq, L10h at their mean speed.
+
+    Raises:
+        InvalidBearingRating: the sums are of another life exponent than the rating's.
+    """
+    if rating is not None and not math.isclose(load_sum.exponent, rating.exponent):
+        raise InvalidBearingRating(
+            load_sum.joint,
+            f"its load sums are of p = {load_sum.exponent:g}, its type's p is "
+            f"{rating.exponent:g}; recompute them from the run",
+        )
+    p_eq = l10 = l10h = math.nan
+    if rating is not None:
+        p_eq = load_sum.equivalent_load
+    if rating is not None and rating.rated:
+        l10 = basic_rating_life(rating, p_eq)
+        seconds = load_sum.seconds
+        per_hour = load_sum.revolutions / seconds * 3600.0 if seconds > 0 else 0.0
+        l10h = l10 * 1e6 / per_hour if per_hour > 0.0 else math.inf
+    return BearingLife(
+        load_sum.joint, rating, p_eq, load_sum.revolutions, load_sum.seconds, l10, l10h
+    )
 
 
 def life_of_history(
@@ -159,31 +275,32 @@ def life_of_history(
     speed: np.ndarray,
     axis: np.ndarray,
 ) -> BearingLife:
-    """A bearing's life from its force and speed histories.
+    """A bearing's life from its force and speed histories (`load_sum_of_history`'s args)."""
+    load_sum = load_sum_of_history(
+        joint, rating, time=time, force_in_joint=force_in_joint, speed=speed, axis=axis
+    )
+    return life_of_load_sum(rating, load_sum)
+
+
+def bearing_load_sums(result: Any, gearbox: Any) -> list[BearingLoadSum]:
+    """ISO 281 sums of every bearing of a run, in the order of ``result.bearing_names``.
 
     Args:
-        joint: the bearing's name.
-        rating: its ISO 281 data; None when the model declares no type (P_eq is then NaN).
-        time: sample times [s], (n,).
-        force_in_joint: bearing force on the child body, joint frame [N], (n, 3).
-        speed: joint speed relative to the parent [rad/s], (n,).
-        axis: joint axis in the joint frame.
+        result: the run (``Result``: time, joint speed, ``bearing_force_local``).
+        gearbox: the model it ran (``Gearbox``; its file's ``<bearing>`` elements and joint axes).
     """
-    weights = sample_weights(time)
-    turns = weights * np.abs(speed) / (2.0 * math.pi)  # revolutions per sample [rev]
-    revolutions = float(turns.sum())
-    duration = float(time[-1] - time[0]) if len(time) else 0.0
-    p_eq = l10 = l10h = math.nan
-    if rating is not None:
-        radial, axial = radial_and_axial(np.asarray(force_in_joint, dtype=float), axis)
-        loads = dynamic_equivalent_load(rating, radial, axial)
-        # A bearing that does not turn has no revolutions to weight by: its loads count by time.
-        p_eq = equivalent_load(loads, turns if revolutions > 0.0 else weights, rating.exponent)
-    if rating is not None and rating.rated:
-        l10 = basic_rating_life(rating, p_eq)
-        per_hour = revolutions / duration * 3600.0 if duration > 0 else 0.0
-        l10h = l10 * 1e6 / per_hour if per_hour > 0.0 else math.inf
-    return BearingLife(joint, rating, p_eq, revolutions, duration, l10, l10h)
+    ratings: Mapping[str, BearingRating] = gearbox.source.bearings
+    return [
+        load_sum_of_history(
+            name,
+            ratings.get(name),
+            time=result.time,
+            force_in_joint=result.bearing_force_local[:, i],
+            speed=result.speed[:, result.joint_names.index(name)],
+            axis=gearbox.joint_axis(name),
+        )
+        for i, name in enumerate(result.bearing_names)
+    ]
 
 
 def bearing_lives(result: Any, gearbox: Any) -> list[BearingLife]:
@@ -197,16 +314,4 @@ def bearing_lives(result: Any, gearbox: Any) -> list[BearingLife]:
         gearbox: the model it ran (``Gearbox``; its file's ``<bearing>`` elements and joint axes).
     """
     ratings: Mapping[str, BearingRating] = gearbox.source.bearings
-    lives = []
-    for i, name in enumerate(result.bearing_names):
-        lives.append(
-            life_of_history(
-                name,
-                ratings.get(name),
-                time=result.time,
-                force_in_joint=result.bearing_force_local[:, i],
-                speed=result.speed[:, result.joint_names.index(name)],
-                axis=gearbox.joint_axis(name),
-            )
-        )
-    return lives
+    return [life_of_load_sum(ratings.get(s.joint), s) for s in bearing_load_sums(result, gearbox)]

@@ -53,7 +53,9 @@ any scenario (its values are in its log, which ``pinwind run --from-log`` repeat
 in the output folder and, beside it, its reduction (`CaseCycles`, ``.npz``): the rainflow cycles
 of every tooth flank of every meshed gear (`pinwind.life.tooth_damage`) from ``skip_start`` on,
 of the contact (von Mises) stress and of the root stress of the fillet on the flank's side
-(`pinwind.life.root_stress`).
+(`pinwind.life.root_stress`), and each bearing's ISO 281 load sums
+(`pinwind.life.bearing_life.BearingLoadSum`), which the set adds over its bins into each
+bearing's L10h over the site's life (`pinwind.life.set_bearing_life`).
 A rerun computes only the cases whose log is missing or incomplete or whose reduction is missing
 or was made from other inputs. Cycles are kept, not damage, so that any S-N curve is applied
 afterwards, and the damage is linear in the counts: a case's life damage is its counted
@@ -78,6 +80,7 @@ import numpy as np
 from pinwind.errors import InputError, PinwindError
 from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import DEFAULT_MATERIAL, MATERIALS
+from pinwind.life.bearing_life import BearingLoadSum, bearing_load_sums
 from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
 from pinwind.life.site import (
     TURBULENCE_CLASSES,
@@ -97,6 +100,7 @@ from pinwind.scenario import ScenarioError, build, key_line, read_toml
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
+    from pinwind.model.bearing import BearingRating
     from pinwind.model.gearbox import Gearbox
 
 #: The keys of the ``[fatigue]`` table, with what they are.
@@ -219,6 +223,8 @@ class FatigueSet:
         rotor_radius: its radius [m], or None.
         mesh_stiffness, mesh_damping: the meshes' compliance if given [N/m], [N·s/m].
         openfast: OpenFAST input instead of rotor and wind, or None.
+        bearings: the model's ``<bearing>`` elements: joint → its ISO 281 data (without C:
+            not rated).
     """
 
     values: dict[str, Any]
@@ -245,6 +251,7 @@ class FatigueSet:
     iso_root_curves: dict[str, FatigueCurve] = field(default_factory=dict)
     materials: dict[str, str] = field(default_factory=dict)
     root_stress: dict[str, RootStress] = field(default_factory=dict)
+    bearings: Mapping[str, BearingRating] = field(default_factory=dict)
 
     @property
     def counted_seconds(self) -> float:
@@ -307,6 +314,11 @@ class FatigueSet:
             "reduction": "contact and root cycles of each tooth flank",
             "materials": self.materials,
             "root_stress": {g: r.describe() for g, r in self.root_stress.items()},
+            # The load sums depend on each bearing's type and load factors (not on C).
+            "bearings": {
+                name: [r.kind, r.exponent, r.e, r.y1, r.x2, r.y2]
+                for name, r in sorted(self.bearings.items())
+            },
         }
         record["values"].pop("out")
         text = json.dumps(record, sort_keys=True, default=str)
@@ -440,6 +452,7 @@ class _SetReader:
             iso_root_curves=curves.iso_root,
             materials=materials,
             root_stress=self.root_stress(settings.get("root_stress", {}), gears),
+            bearings=dict(gearbox.source.bearings),
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
             if openfast is not None and not openfast.file(case, fatigue.base).is_file():
@@ -781,6 +794,7 @@ class CaseCycles:
         wall_time: seconds the case took to run and reduce.
         flanks: the contact-stress cycles of each loaded flank of each gear.
         roots: the root-stress cycles of the fillet of each loaded flank of each gear.
+        bearings: each bearing's ISO 281 load sums over the counted history.
     """
 
     case: LoadCase
@@ -789,6 +803,7 @@ class CaseCycles:
     wall_time: float
     flanks: tuple[FlankCycles, ...] = field(default_factory=tuple)
     roots: tuple[FlankCycles, ...] = field(default_factory=tuple)
+    bearings: tuple[BearingLoadSum, ...] = field(default_factory=tuple)
 
     def save(self, path: Path) -> None:
         """Write it as ``.npz`` (written whole under another name, then renamed)."""
@@ -808,6 +823,7 @@ class CaseCycles:
             "wall_time": self.wall_time,
             "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
             "roots": [[f.gear, f.flank, f.teeth] for f in self.roots],
+            "bearings": [dataclasses.asdict(b) for b in self.bearings],
         }
         partial = path.with_name(path.name + ".partial.npz")
         arrays["meta"] = np.array(json.dumps(meta))
@@ -815,8 +831,12 @@ class CaseCycles:
         partial.replace(path)
 
     @classmethod
-    def load(cls, path: Path) -> CaseCycles:
+    def load(cls, path: Path, *, with_flanks: bool = True) -> CaseCycles:
         """Read one written by `save`.
+
+        Args:
+            with_flanks: read the tooth cycles too (without: ``flanks`` is empty, and only the
+                small record of the case and its bearing sums is read).
 
         Raises:
             InputError: not readable as one.
@@ -835,11 +855,14 @@ class CaseCycles:
                             data[f"{prefix}{i}_counts"],
                             data[f"{prefix}{i}_peaks"],
                         )
-                        for i, (gear, flank, teeth) in enumerate(meta.get(group, []))
+                        for i, (gear, flank, teeth) in enumerate(
+                            meta.get(group, []) if with_flanks else []
+                        )
                     )
                     for prefix, group in (("", "flanks"), ("root_", "roots"))
                 )
-        except (OSError, ValueError, KeyError) as err:
+                bearings = tuple(BearingLoadSum(**b) for b in meta.get("bearings", []))
+        except (OSError, ValueError, KeyError, TypeError) as err:
             raise InputError(f"{path}: not a fatigue case reduction ({err}); delete it") from err
         return cls(
             LoadCase(**meta["case"]),
@@ -848,6 +871,7 @@ class CaseCycles:
             meta["wall_time"],
             flanks,
             roots,
+            bearings,
         )
 
 
@@ -904,7 +928,9 @@ def case_cycles(
 
 
 def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
-    """Simulate one case with its log and reduce it to its tooth cycles (a worker's task).
+    """Simulate one case with its log and reduce it (a worker's task).
+
+    The reduction is its tooth cycles and its bearings' load sums, both from ``skip_start`` on.
 
     Runs in this process, a local worker or a Dask worker (whose output folder must be the
     one the caller reads: a shared file system).
@@ -941,6 +967,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         materials=fatigue.materials,
         root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
     )
+    bearings = bearing_load_sums(counted, gearbox)
     return CaseCycles(
         case,
         fatigue.case_key(case),
@@ -948,6 +975,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         time.perf_counter() - start,
         tuple(flanks),
         tuple(roots),
+        tuple(bearings),
     )
 
 

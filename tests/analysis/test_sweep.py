@@ -191,3 +191,43 @@ def test_unreachable_dask_scheduler_fails_at_once_in_one_line():
     with pytest.raises(SchedulerUnreachable, match=f'"tcp://127.0.0.1:{port}": cannot reach'):
         run_sweep(_designs()[:1], SweepSettings(), scheduler=f"tcp://127.0.0.1:{port}")
     assert time.perf_counter() - started < 5.0  # Dask's own retries took 30 s
+
+
+class _Payload:
+    """A task's result whose lifetime a weak reference can watch."""
+
+    def __init__(self, item: int):
+        self.item = item
+
+
+def _payload(item: int) -> _Payload:
+    return _Payload(item)
+
+
+@pytest.mark.parametrize("backend", ["processes", "dask"])
+def test_executor_lets_each_result_go_once_accepted(backend):
+    # Memory flat in the number of items: no result is held after ``accept`` returns.
+    import gc
+    import weakref
+
+    from pinwind.analysis.sweep import run_tasks
+
+    refs: list[weakref.ref] = []
+    still_held = []
+
+    def accept(result: _Payload) -> None:
+        gc.collect()
+        still_held.append(sum(ref() is not None for ref in refs))
+        refs.append(weakref.ref(result))
+
+    items = list(range(6))
+    if backend == "processes":
+        run_tasks(_payload, items, accept=accept, workers=2)
+    else:
+        distributed = pytest.importorskip("distributed")
+        with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                      dashboard_address=None) as cluster:  # fmt: skip
+            with distributed.Client(cluster) as client:
+                run_tasks(_payload, items, accept=accept, scheduler=client)
+    assert len(still_held) == len(items)
+    assert still_held == [0] * len(items)

@@ -87,4 +87,30 @@ def test_json_reports_root_damage_and_the_iso_variant_for_every_gear(tmp_path, m
                 assert gear["peak_stress_MPa"] > 0.0
     assert set(report["root_stress"]) == gears
     assert "ISO 6336-3" in report["root_stress"]["sun"]
-    assert "root" not in report["not_rated"]
+    assert "not_rated" not in report  # contact, root and bearings are all rated
+
+
+def test_quick_run_gives_each_rated_bearing_its_l10h_and_lists_the_others_as_not_rated(
+    tmp_path, monkeypatch
+):
+    from pinwind.model.gearbox import load
+    from tests.life.test_load_cases import MODEL
+
+    monkeypatch.chdir(tmp_path)
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text() + "[fatigue.quick]\nduration = 0.03\n")
+    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1")
+    assert out.returncode == 0, out.stderr
+    (lives,) = json.loads(out.stdout)["bearings"]
+    ratings = load(MODEL).source.bearings
+    assert {b["bearing"] for b in lives if b["rated"]} == set(ratings)
+    for life in lives:
+        if not life["rated"]:
+            assert life["l10_h"] is None
+            continue
+        # L10h is L10 at the mean speed over the site's hours (1250 h)
+        per_hour = life["revolutions"] / 1250.0
+        assert_allclose(life["l10_h"], life["l10_million_rev"] * 1e6 / per_hour, rtol=1e-9)
+        c = ratings[life["bearing"]].dynamic_load_rating
+        assert_allclose(life["l10_million_rev"], (c / life["equivalent_load_N"]) ** (10 / 3),
+                        rtol=1e-9)  # fmt: skip
