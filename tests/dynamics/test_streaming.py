@@ -47,6 +47,17 @@ def test_keeping_every_nth_sample_gives_those_samples_of_the_whole_run(planetary
     assert res.metadata["samples_simulated"] == len(everything)
 
 
+def test_without_statistics_the_kept_samples_get_their_bearing_loads_all_the_same(
+    planetary, everything
+):
+    # No observer reads the blocks: the bearing loads (derived in Python) are derived for the
+    # kept samples alone, and equal those of the whole run there.
+    res = pinwind.simulate(planetary, duration=2.5, keep=7, chunk=300, statistics=False, **RUN)
+    rows = np.append(np.arange(0, len(everything), 7), len(everything) - 1)
+    _same_rows(res, everything, rows)
+    assert res.statistics is None
+
+
 def test_keeping_the_last_sample_gives_the_final_state(planetary, everything):
     res = pinwind.simulate(planetary, duration=2.5, keep="last", **RUN)
     _same_rows(res, everything, np.array([len(everything) - 1]))
