@@ -381,10 +381,20 @@ class Stepper {
     if (nm_) evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
   }
 
+  // The spatial motion Σ cols_c x_c over joint i's velocities idx … idx + n − 1: a fixed-size
+  // product for a one-degree-of-freedom joint (every joint of a gearbox but a free flyer),
+  // where Eigen's general product of a dynamic block costs more than the arithmetic.
+  template <class Cols>
+  static pinocchio::Motion::Vector6 joint_product(const Cols& cols, const Eigen::VectorXd& x,
+                                                  int idx, int n) {
+    if (n == 1) return cols.col(idx) * x[idx];
+    return cols.middleCols(idx, n) * x.segment(idx, n);
+  }
+
   // What depends on the speeds too, at the final (projected) v: the world spatial velocity of
   // joint i is that of its parent plus J_i v_i, so the time variation dJ_i = v_i ×(motion) J_i
   // (what computeJointJacobiansTimeVariation computes) follows from J without another pass over
-  // the joint placements; then the meshes' bias.
+  // the joint placements; then the rigid meshes' bias.
   void velocity_kinematics() {
     const auto& model = s_.model;
     const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
@@ -394,16 +404,15 @@ class Stepper {
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
       const auto parent = model.parents[i];
-      const pinocchio::Motion::Vector6 twist = data_.J.middleCols(idx, n) * v_.segment(idx, n);
-      data_.ov[i] = data_.ov[parent] + pinocchio::Motion(twist);
+      data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
       for (int c = idx; c < idx + n; ++c) {
         data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
       }
-      const pinocchio::Motion::Vector6 dj = data_.dJ.middleCols(idx, n) * v_.segment(idx, n);
-      drift_[i] = drift_[parent] + pinocchio::Motion(dj);
+      drift_[i] = drift_[parent] + pinocchio::Motion(joint_product(data_.dJ, v_, idx, n));
     }
-    if (nm_) {
-      // The twist and the acceleration at q̈ = 0 of each gear's body are those of its joint.
+    if (!s_.rigid_meshes.empty()) {
+      // Only rigid rows have a bias γ (compliant meshes read J alone). The twist and the
+      // acceleration at q̈ = 0 of each gear's body are those of its joint.
       const auto& ids = s_.meshes.joint_ids;
       rows_data_.twist.resize(ids.size());
       rows_data_.accel.resize(ids.size());
@@ -428,9 +437,10 @@ class Stepper {
     body_force_.resize(nj);
     subtree_.resize(nj);
     weight_.resize(nj);
+    // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
+    const pinocchio::Motion up = -model.gravity;
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-      // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
-      weight_[i] = body_[i] * (-model.gravity);
+      weight_[i] = body_[i] * up;
       body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
       subtree_[i] = body_force_[i];
     }
@@ -438,9 +448,14 @@ class Stepper {
     gravity_.resize(nv_);
     for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
-      const auto cols = data_.J.middleCols(idx, n);
-      nle_.segment(idx, n).noalias() = cols.transpose() * subtree_[i].toVector();
-      gravity_.segment(idx, n).noalias() = cols.transpose() * weight_[i].toVector();
+      if (n == 1) {
+        nle_[idx] = data_.J.col(idx).dot(subtree_[i].toVector());
+        gravity_[idx] = data_.J.col(idx).dot(weight_[i].toVector());
+      } else {
+        const auto cols = data_.J.middleCols(idx, n);
+        nle_.segment(idx, n).noalias() = cols.transpose() * subtree_[i].toVector();
+        gravity_.segment(idx, n).noalias() = cols.transpose() * weight_[i].toVector();
+      }
       const auto parent = model.parents[i];
       if (parent > 0) {
         subtree_[parent] += subtree_[i];
@@ -459,8 +474,7 @@ class Stepper {
     accel_[0].setZero();
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
-      const pinocchio::Motion::Vector6 ja = data_.J.middleCols(idx, n) * a_.segment(idx, n);
-      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(ja);
+      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
       subtree_[i] = body_force_[i] + body_[i] * accel_[i] - fext_.of_joint[i];
     }
     for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
@@ -488,8 +502,12 @@ class Stepper {
       for (int c = idx; c < idx + n; ++c) {
         momenta_.col(c) = (composite_[i] * pinocchio::Motion(data_.J.col(c))).toVector();
       }
-      mass_.block(idx, idx, n, sub).noalias() =
-          data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+      if (n == 1) {
+        for (int c = idx; c < idx + sub; ++c) mass_(idx, c) = data_.J.col(idx).dot(momenta_.col(c));
+      } else {
+        mass_.block(idx, idx, n, sub).noalias() =
+            data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+      }
       if (model.parents[i] > 0) composite_[model.parents[i]] += composite_[i];
     }
     mass_.diagonal() += model.armature;
