@@ -213,13 +213,24 @@ class Stepper {
     accel_memory_.setZero(nv_);
   }
 
-  // Steps samples [k0, k1), writing sample k into row k − k0 of out. torque: (k1 − k0, nv)
-  // applied torques [N·m] at t_k; target: (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k
-  // and t_{k1} (locks 0); inputs: (k1 − k0, input_columns) the elements' inputs at t_k.
+  // The samples of [k0, k1) a run keeping every stride-th sample from 0 and the last records.
+  long kept_rows(long k0, long k1, long stride) const {
+    if (stride <= 1) return k1 - k0;
+    const long last = (k1 == samples_ && (samples_ - 1) % stride != 0) ? 1 : 0;
+    return (k1 + stride - 1) / stride - (k0 + stride - 1) / stride + last;
+  }
+
+  // Steps samples [k0, k1), writing sample k into row k − k0 of out; with stride > 1 only every
+  // stride-th sample from 0 and the run's last are recorded (their bearing reactions computed),
+  // into consecutive rows of out. torque: (k1 − k0, nv) applied torques [N·m] at t_k; target:
+  // (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k and t_{k1} (locks 0); inputs:
+  // (k1 − k0, input_columns) the elements' inputs at t_k.
   RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target, const Outputs& out,
-                const RowMat& inputs) {
+                const RowMat& inputs, long stride = 1) {
     RunStatus st;
     out_ = out;
+    stride = std::max(stride, 1L);
+    const long row0 = (k0 + stride - 1) / stride;  // the kept index of out's first row
     for (long k = k0; k < k1; ++k) {
       const double t = k * s_.dt;
       st.sample = k;
@@ -233,8 +244,10 @@ class Stepper {
       if (!std::isfinite(a_.squaredNorm() + lam_.squaredNorm())) {
         return fail(st, k, t, "the accelerations or constraint forces are not finite");
       }
-      bearing_reactions();
-      record(k - k0, t);
+      if (k % stride == 0 || k + 1 == samples_) {
+        bearing_reactions();
+        record((k + stride - 1) / stride - row0, t);
+      }
       if (k + 1 == samples_) {
         st.sample = k + 1;
         return st;
