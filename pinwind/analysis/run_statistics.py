@@ -279,6 +279,11 @@ class StatisticsObserver:
             self.statistics = RunningStatistics()
             self._pool = ThreadPoolExecutor(1, thread_name_prefix="pinwind-statistics")
 
+    @property
+    def reads(self) -> bool:
+        """Whether ``samples`` reads the blocks: when folding (after ``begin``)."""
+        return self._pool is not None
+
     def samples(self, block: Result, start: int) -> None:
         """Folds a block, its samples from ``skip_start`` on.
 

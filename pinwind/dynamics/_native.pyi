@@ -351,8 +351,13 @@ class Stepper:
         target: Matrix,
         out: OutputArrays,
         inputs: Matrix,
+        stride: int = 1,
     ) -> RunStatus:
-        """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; inputs (k1 − k0, columns)."""
+        """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; inputs (k1 − k0, columns).
+
+        With stride > 1 only every stride-th sample from 0 and the run's last are recorded, in
+        consecutive rows of out.
+        """
     def equilibrium(
         self,
         torque: Matrix,

@@ -34,7 +34,8 @@ def along_axis(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
 def across_axis(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
     """|v − (v·k) k| of vectors (samples, bearings, 3) and unit axes (bearings, 3)."""
     normal = vectors - along_axis(vectors, axes)[..., None] * axes
-    return np.linalg.norm(normal, axis=-1)
+    # The sum of squares by einsum: np.linalg.norm over a last axis of 3 takes twice as long.
+    return np.sqrt(np.einsum("sbi,sbi->sb", normal, normal))
 
 
 def radial_force(block: Any, gearbox: Any) -> np.ndarray:

@@ -85,7 +85,10 @@ class RunObserver(Protocol):
     An observer may say, as ``holds``, how many later blocks it may still read a block during
     (its arrays must not change until then): 0 when it is done with a block once ``samples``
     returns. Without it (or None) it may keep the blocks, and the run gives it new arrays every
-    block.
+    block. An observer that reads no block (statistics folding nothing) may say so, after
+    ``begin``, with ``reads`` False: when no observer reads the blocks, the run records the
+    samples the Result keeps only (``keep``; the others are stepped, not recorded) and hands
+    no block over.
     """
 
     def begin(self, gearbox: Gearbox, result: Result) -> None:
@@ -148,18 +151,19 @@ def block_samples(samples: int) -> int:
 MAX_PLAUSIBLE_SPEED = 1e5
 
 
-def _implausible(block: Result, start: int, stop: int) -> tuple[int, str] | None:
-    """First sample of start:stop whose joint speed is beyond ``MAX_PLAUSIBLE_SPEED``.
+def _implausible(block: Result, samples: np.ndarray) -> tuple[int, str] | None:
+    """First sample whose joint speed is beyond ``MAX_PLAUSIBLE_SPEED``.
 
-    ``block`` holds samples start, start + 1, … in its rows. Returns (sample, what) or None; the
-    C++ loop only stops on NaN or infinity, by which time the log holds speeds of 1e146 rad/s.
+    ``block``'s first rows hold ``samples`` (increasing indices). Returns (sample, what) or
+    None; the C++ loop only stops on NaN or infinity, by which time the log holds speeds of
+    1e146 rad/s.
     """
-    speeds = np.abs(block.speed[: stop - start])
+    speeds = np.abs(block.speed[: len(samples)])
     bad = np.flatnonzero((speeds > MAX_PLAUSIBLE_SPEED).any(axis=1))
     if not bad.size:
         return None
     row = int(bad[0])
-    k = start + row
+    k = int(samples[row])
     j = int(np.argmax(np.abs(block.speed[row])))
     value = block.speed[row, j]
     return k, (
@@ -348,7 +352,8 @@ def simulate(
         ConflictingInputs: a joint given both a torque and a speed.
         ConflictingConstraints: initial or driver speeds that contradict the gear ratios.
         SolverFailed, Diverged: the run cannot go on; the message names the step and time.
-            Diverged also when a joint turns faster than ``MAX_PLAUSIBLE_SPEED``.
+            Diverged also when a joint turns faster than ``MAX_PLAUSIBLE_SPEED`` at a recorded
+            sample (the kept ones only when no observer reads the blocks).
         OutOfMemory: the result arrays do not fit in memory.
     """
     duration = _check_positive("duration", duration, "s")
@@ -513,6 +518,10 @@ def simulate(
             with interrupts_deferred():
                 o.begin(gearbox, res)
                 begun.append(o)
+        read = any(getattr(o, "reads", True) for o in observers)
+        # No observer reads the blocks: the compiled loop records the kept samples alone, into
+        # the Result's own rows (keep="last" keeps the last sample but not the first: blocks).
+        sparse = not direct and not read and stride < samples
         torque_columns = [ld.v_index for ld in torque_loads]
         for start in range(0, samples, chunk):
             # A block is stepped and handed to the observers whole: Ctrl-C or SIGTERM waits for the
@@ -549,8 +558,9 @@ def simulate(
                             f"(t = {k * dt:.6g} s); the wind speed must be finite"
                         )
                     inputs = inputs[: stop - start]
-                if direct:  # the compiled loop writes the kept arrays in place: no copy
-                    block = res.rows(start, stop)
+                lo, hi = (int(i) for i in np.searchsorted(kept, [start, stop]))
+                if direct or sparse:  # the compiled loop writes the kept arrays in place
+                    block = res.rows(lo, hi)
                 elif None not in holds:  # blocks are dropped once observed: buffers in turn
                     if not spares:
                         spares = [
@@ -565,25 +575,32 @@ def simulate(
                 try:
                     done = stepper.run(
                         start, stop, torque[: stop - start], target[: stop - start + 1], block,
-                        inputs,
+                        inputs, stride=stride if sparse else 1,
                     )  # fmt: skip
                 except PinwindError as err:
                     done = getattr(err, "samples", start)
                     failure = err
-                absurd = _implausible(block, start, done)
+                # The sample of each row of the block.
+                recorded = kept[lo:hi] if sparse else np.arange(start, stop)
+                absurd = _implausible(block, recorded[recorded < done])
                 if absurd is not None:
                     done = absurd[0]
                 # Samples start:done are final whatever happened: keep and hand them over.
-                if done > start:
-                    part = block if done == stop else block.truncated(done - start)
+                final_rows = int(np.searchsorted(recorded, done))
+                if done > start and final_rows:
+                    part = block if final_rows == len(block) else block.truncated(final_rows)
                     if spring0 is None:
                         spring0 = float(part.energy["potential_spring"][0])
                     _numerical_loss(part.energy, spring0)
-                    _derive(part, gearbox)
-                    if not direct:
-                        _keep(res, part, start, kept)
-                    for o in observers:
-                        o.samples(part, start)
+                    if direct or sparse or read:
+                        _derive(part, gearbox)
+                    if not (direct or sparse):
+                        lo, hi = _keep(res, part, start, kept)
+                        if not read and hi > lo:  # keep="last": the last sample only
+                            _derive(res.rows(lo, hi), gearbox)
+                    if not sparse:
+                        for o in observers:
+                            o.samples(part, start)
                 if absurd is not None:
                     raise _diverged(absurd, dt) from failure
                 if failure is not None:
@@ -761,16 +778,24 @@ def _kept_samples(samples: int, stride: int) -> np.ndarray:
     return kept
 
 
-def _keep(res: Result, block: Result, start: int, kept: np.ndarray) -> None:
-    """Copies the kept samples of a block (samples start … start + len(block) − 1) into res."""
-    lo, hi = np.searchsorted(kept, [start, start + len(block)])
+def _keep(res: Result, block: Result, start: int, kept: np.ndarray) -> tuple[int, int]:
+    """Copies the kept samples of a block (samples start … start + len(block) − 1) into res.
+
+    Returns the rows lo:hi of res that they fill.
+    """
+    lo, hi = (int(i) for i in np.searchsorted(kept, [start, start + len(block)]))
     if hi == lo:
-        return
-    rows = kept[lo:hi] - start
+        return lo, hi
+    picked = kept[lo:hi] - start
+    step = int(picked[1] - picked[0]) if hi - lo > 1 else 1
+    rows: slice | np.ndarray = picked
+    if np.all(np.diff(picked) == step):  # every N-th sample: a strided copy, twice as fast
+        rows = slice(int(picked[0]), int(picked[-1]) + 1, step)
     for name in Result.ARRAYS:
         getattr(res, name)[lo:hi] = getattr(block, name)[rows]
     for name, values in block.energy.items():
         res.energy[name][lo:hi] = values[rows]
+    return lo, hi
 
 
 def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:

@@ -180,13 +180,17 @@ class CompiledStepper:
         target: np.ndarray,
         block: Result,
         inputs: np.ndarray | None = None,
+        stride: int = 1,
     ) -> int:
         """Step samples start:stop into rows 0 … stop − start − 1 of ``block``.
 
         Returns ``stop``, or raises with the samples before it final.
 
         Args:
-            block: a Result of stop − start samples whose arrays are filled in place.
+            block: a Result of stop − start samples whose arrays are filled in place; with
+                ``stride`` > 1, of the samples of start:stop that a run keeping every stride-th
+                sample from 0 and its last one keeps (``simulate``'s ``keep``), the only ones
+                recorded (the step loop skips the others' bearing reactions and outputs).
             torque: (stop − start, nv) applied joint torques at each sample's time [N·m].
             target: (stop − start + 1, drivers) driver speeds at those times and the next [rad/s].
             inputs: (stop − start, input_columns) the elements' inputs (wind speeds [m/s]).
@@ -207,6 +211,7 @@ class CompiledStepper:
             np.ascontiguousarray(target),
             out,
             np.ascontiguousarray(inputs, dtype=float),
+            int(stride),
         )
         code = status.code
         if code == _native.RunCode.completed:

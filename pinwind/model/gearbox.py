@@ -162,6 +162,7 @@ class Gearbox:
             raise MalformedModel(
                 source.path, "<robot>", f"Pinocchio cannot build the model: {err}"
             ) from err
+        self._axes: dict[int, np.ndarray] = {}  # _joint_axis, per joint id
         for jid in range(1, self.model.njoints):
             if self.model.joints[jid].nv != 1:
                 raise MalformedModel(source.path, "<robot>", "only 1-DoF bearings are supported")
@@ -342,13 +343,16 @@ class Gearbox:
         return notes
 
     def _joint_axis(self, joint_id: int) -> np.ndarray:
-        data = self.model.createData()
-        q = pin.neutral(self.model)
-        pin.computeJointJacobians(self.model, data, q)
-        # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
-        jac = np.reshape(pin.getJointJacobian(self.model, data, joint_id, pin.LOCAL), (6, -1))
-        col = jac[:, self.model.joints[joint_id].idx_v]
-        return col[3:] / np.linalg.norm(col[3:])
+        # The joint's type fixes its axis: found once (the bearing loads ask every block of a run).
+        if joint_id not in self._axes:
+            data = self.model.createData()
+            q = pin.neutral(self.model)
+            pin.computeJointJacobians(self.model, data, q)
+            # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
+            jac = np.reshape(pin.getJointJacobian(self.model, data, joint_id, pin.LOCAL), (6, -1))
+            col = jac[:, self.model.joints[joint_id].idx_v]
+            self._axes[joint_id] = col[3:] / np.linalg.norm(col[3:])
+        return self._axes[joint_id].copy()
 
     def _mesh(
         self, name: str, gear_a: str, gear_b: str, compliance: MeshCompliance | None = None

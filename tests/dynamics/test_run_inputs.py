@@ -175,6 +175,16 @@ def test_speed_beyond_the_plausible_bound_stops_the_run_at_the_first_absurd_samp
     assert np.abs(kept.speed).max() <= 1e5
 
 
+def test_a_run_recording_every_tenth_sample_stops_at_the_first_recorded_absurd_one(pair):
+    # As above, ω_a passes 1e5 rad/s at sample 116; keeping every 10th sample with nothing else
+    # reading the blocks, only samples 0, 10, 20, ... are recorded: the first absurd one is 120.
+    torque, dt = 2600.0, 1e-3
+    with pytest.raises(Diverged, match=r'diverged at step 120 .*joint "a" turns at') as info:
+        pinwind.simulate(pair, duration=1.0, dt=dt, torques={"a": torque}, keep=10,
+                         statistics=False)  # fmt: skip
+    assert info.value.step == 120
+
+
 def test_initial_speed_of_the_carrier_starts_the_whole_train_at_rated_speed():
     from tests.conftest import MODELS
 

@@ -47,6 +47,21 @@ def test_keeping_every_nth_sample_gives_those_samples_of_the_whole_run(planetary
     assert res.metadata["samples_simulated"] == len(everything)
 
 
+@pytest.mark.parametrize("keep", [7, 600, "last"])
+def test_without_statistics_the_kept_samples_equal_those_of_the_whole_run(
+    planetary, everything, keep
+):
+    # No observer reads the blocks: the step loop records the kept samples alone (keep=600:
+    # some blocks of 300 keep none) and the bearing loads, derived in Python, are derived for
+    # them alone; all equal the whole run's at those samples.
+    res = pinwind.simulate(planetary, duration=2.5, keep=keep, chunk=300, statistics=False, **RUN)
+    n = len(everything)
+    rows = np.array([n - 1]) if keep == "last" else np.append(np.arange(0, n, keep), n - 1)
+    _same_rows(res, everything, rows)
+    assert res.statistics is None
+    assert res.metadata["samples_simulated"] == n
+
+
 def test_keeping_the_last_sample_gives_the_final_state(planetary, everything):
     res = pinwind.simulate(planetary, duration=2.5, keep="last", **RUN)
     _same_rows(res, everything, np.array([len(everything) - 1]))

@@ -181,7 +181,8 @@ class ConstrainedQp {
     const bool refactor = rows_changed || !direct_ready_ || !diagonal_change(mass);
     if (refactor) factorise(mass);
     free_ = mass_ldlt_.solve(force);
-    reduced_rhs_.noalias() = row_basis_.transpose() * rhs;
+    projected_rhs_.noalias() = row_basis_.transpose() * rhs;
+    reduced_rhs_ = projected_rhs_;
     reduced_rhs_.noalias() -= reduced_jac_ * free_;
     mu_ = schur_ldlt_.solve(reduced_rhs_);
     out.acceleration = free_;
@@ -191,11 +192,13 @@ class ConstrainedQp {
       return solve_direct(mass, force, reduced_jac_, rhs, false);
     }
     out.multipliers.noalias() = row_basis_ * mu_;
-    out.primal_residual = (reduced_jac_ * out.acceleration - row_basis_.transpose() * rhs)
-                              .cwiseAbs()
-                              .maxCoeff();
-    out.dual_residual =
-        (mass * out.acceleration - force - reduced_jac_.transpose() * mu_).cwiseAbs().maxCoeff();
+    // The residuals in work vectors: a product inside a larger expression would allocate.
+    primal_.noalias() = reduced_jac_ * out.acceleration;
+    out.primal_residual = (primal_ - projected_rhs_).cwiseAbs().maxCoeff();
+    dual_.noalias() = mass * out.acceleration;
+    dual_ -= force;
+    dual_.noalias() -= reduced_jac_.transpose() * mu_;
+    out.dual_residual = dual_.cwiseAbs().maxCoeff();
     out.iterations = 0;
     out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
     out.status = "direct";
@@ -348,7 +351,8 @@ class ConstrainedQp {
   Eigen::MatrixXd direct_mass_, minv_jt_, schur_;
   Eigen::LDLT<Eigen::MatrixXd> mass_ldlt_, schur_ldlt_;
   Eigen::MatrixXd row_basis_, reduced_jac_;
-  Eigen::VectorXd free_, reduced_rhs_, mu_;
+  Eigen::VectorXd free_, projected_rhs_, reduced_rhs_, mu_;
+  Eigen::VectorXd primal_, dual_;  // solve_direct's residuals
   // Diagonal entries where M differs from the factorised M₀, and the responses to them.
   static constexpr size_t kMaxCorrections = 2;
   std::vector<std::pair<Eigen::Index, double>> changed_;

@@ -443,14 +443,16 @@ class PyStepper {
   }
 
   RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target,
-                const OutputArrays& out, const RowMat& inputs) {
+                const OutputArrays& out, const RowMat& inputs, long stride) {
     if (k1 < k0) throw std::invalid_argument("run: k1 < k0");
+    if (stride < 1) throw std::invalid_argument("run: stride < 1");
     if (inputs_ && (inputs.rows() != k1 - k0 || inputs.cols() != inputs_)) {
       throw std::invalid_argument("run: inputs must be (k1 - k0, input_columns)");
     }
-    const Outputs o = outputs(out, static_cast<size_t>(k1 - k0), counts_);
+    const long rows = stepper_->kept_rows(k0, k1, stride);
+    const Outputs o = outputs(out, static_cast<size_t>(rows), counts_);
     nb::gil_scoped_release release;
-    return stepper_->run(k0, k1, torque, target, o, inputs);
+    return stepper_->run(k0, k1, torque, target, o, inputs, stride);
   }
 
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
@@ -725,7 +727,9 @@ NB_MODULE(_native, m) {
       .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
            "spec"_a, "q0"_a, "v0"_a, "samples"_a)
       .def("run", &PyStepper::run, "k0"_a, "k1"_a, "torque"_a, "target"_a, "out"_a, "inputs"_a,
-           "Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; returns the status.")
+           "stride"_a = 1,
+           "Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out (stride > 1: only every "
+           "stride-th sample from 0 and the run's last, in consecutive rows); returns the status.")
       .def("equilibrium", &PyStepper::equilibrium, "torque"_a, "target"_a, "inputs"_a,
            "max_iterations"_a, "tolerance"_a,
            "Moves the start to static equilibrium under the first sample's loads.")

@@ -213,13 +213,24 @@ class Stepper {
     accel_memory_.setZero(nv_);
   }
 
-  // Steps samples [k0, k1), writing sample k into row k − k0 of out. torque: (k1 − k0, nv)
-  // applied torques [N·m] at t_k; target: (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k
-  // and t_{k1} (locks 0); inputs: (k1 − k0, input_columns) the elements' inputs at t_k.
+  // The samples of [k0, k1) a run keeping every stride-th sample from 0 and the last records.
+  long kept_rows(long k0, long k1, long stride) const {
+    if (stride <= 1) return k1 - k0;
+    const long last = (k1 == samples_ && (samples_ - 1) % stride != 0) ? 1 : 0;
+    return (k1 + stride - 1) / stride - (k0 + stride - 1) / stride + last;
+  }
+
+  // Steps samples [k0, k1), writing sample k into row k − k0 of out; with stride > 1 only every
+  // stride-th sample from 0 and the run's last are recorded (their bearing reactions computed),
+  // into consecutive rows of out. torque: (k1 − k0, nv) applied torques [N·m] at t_k; target:
+  // (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k and t_{k1} (locks 0); inputs:
+  // (k1 − k0, input_columns) the elements' inputs at t_k.
   RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target, const Outputs& out,
-                const RowMat& inputs) {
+                const RowMat& inputs, long stride = 1) {
     RunStatus st;
     out_ = out;
+    stride = std::max(stride, 1L);
+    const long row0 = (k0 + stride - 1) / stride;  // the kept index of out's first row
     for (long k = k0; k < k1; ++k) {
       const double t = k * s_.dt;
       st.sample = k;
@@ -233,8 +244,10 @@ class Stepper {
       if (!std::isfinite(a_.squaredNorm() + lam_.squaredNorm())) {
         return fail(st, k, t, "the accelerations or constraint forces are not finite");
       }
-      bearing_reactions();
-      record(k - k0, t);
+      if (k % stride == 0 || k + 1 == samples_) {
+        bearing_reactions();
+        record((k + stride - 1) / stride - row0, t);
+      }
       if (k + 1 == samples_) {
         st.sample = k + 1;
         return st;
@@ -381,10 +394,20 @@ class Stepper {
     if (nm_) evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
   }
 
+  // The spatial motion Σ cols_c x_c over joint i's velocities idx … idx + n − 1: a fixed-size
+  // product for a one-degree-of-freedom joint (every joint of a gearbox but a free flyer),
+  // where Eigen's general product of a dynamic block costs more than the arithmetic.
+  template <class Cols>
+  static pinocchio::Motion::Vector6 joint_product(const Cols& cols, const Eigen::VectorXd& x,
+                                                  int idx, int n) {
+    if (n == 1) return cols.col(idx) * x[idx];
+    return cols.middleCols(idx, n) * x.segment(idx, n);
+  }
+
   // What depends on the speeds too, at the final (projected) v: the world spatial velocity of
   // joint i is that of its parent plus J_i v_i, so the time variation dJ_i = v_i ×(motion) J_i
   // (what computeJointJacobiansTimeVariation computes) follows from J without another pass over
-  // the joint placements; then the meshes' bias.
+  // the joint placements; then the rigid meshes' bias.
   void velocity_kinematics() {
     const auto& model = s_.model;
     const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
@@ -394,16 +417,15 @@ class Stepper {
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
       const auto parent = model.parents[i];
-      const pinocchio::Motion::Vector6 twist = data_.J.middleCols(idx, n) * v_.segment(idx, n);
-      data_.ov[i] = data_.ov[parent] + pinocchio::Motion(twist);
+      data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
       for (int c = idx; c < idx + n; ++c) {
         data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
       }
-      const pinocchio::Motion::Vector6 dj = data_.dJ.middleCols(idx, n) * v_.segment(idx, n);
-      drift_[i] = drift_[parent] + pinocchio::Motion(dj);
+      drift_[i] = drift_[parent] + pinocchio::Motion(joint_product(data_.dJ, v_, idx, n));
     }
-    if (nm_) {
-      // The twist and the acceleration at q̈ = 0 of each gear's body are those of its joint.
+    if (!s_.rigid_meshes.empty()) {
+      // Only rigid rows have a bias γ (compliant meshes read J alone). The twist and the
+      // acceleration at q̈ = 0 of each gear's body are those of its joint.
       const auto& ids = s_.meshes.joint_ids;
       rows_data_.twist.resize(ids.size());
       rows_data_.accel.resize(ids.size());
@@ -428,9 +450,10 @@ class Stepper {
     body_force_.resize(nj);
     subtree_.resize(nj);
     weight_.resize(nj);
+    // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
+    const pinocchio::Motion up = -model.gravity;
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-      // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
-      weight_[i] = body_[i] * (-model.gravity);
+      weight_[i] = body_[i] * up;
       body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
       subtree_[i] = body_force_[i];
     }
@@ -438,9 +461,14 @@ class Stepper {
     gravity_.resize(nv_);
     for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
-      const auto cols = data_.J.middleCols(idx, n);
-      nle_.segment(idx, n).noalias() = cols.transpose() * subtree_[i].toVector();
-      gravity_.segment(idx, n).noalias() = cols.transpose() * weight_[i].toVector();
+      if (n == 1) {
+        nle_[idx] = data_.J.col(idx).dot(subtree_[i].toVector());
+        gravity_[idx] = data_.J.col(idx).dot(weight_[i].toVector());
+      } else {
+        const auto cols = data_.J.middleCols(idx, n);
+        nle_.segment(idx, n).noalias() = cols.transpose() * subtree_[i].toVector();
+        gravity_.segment(idx, n).noalias() = cols.transpose() * weight_[i].toVector();
+      }
       const auto parent = model.parents[i];
       if (parent > 0) {
         subtree_[parent] += subtree_[i];
@@ -459,8 +487,7 @@ class Stepper {
     accel_[0].setZero();
     for (pinocchio::JointIndex i = 1; i < nj; ++i) {
       const int idx = model.idx_vs[i], n = model.nvs[i];
-      const pinocchio::Motion::Vector6 ja = data_.J.middleCols(idx, n) * a_.segment(idx, n);
-      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(ja);
+      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
       subtree_[i] = body_force_[i] + body_[i] * accel_[i] - fext_.of_joint[i];
     }
     for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
@@ -488,8 +515,12 @@ class Stepper {
       for (int c = idx; c < idx + n; ++c) {
         momenta_.col(c) = (composite_[i] * pinocchio::Motion(data_.J.col(c))).toVector();
       }
-      mass_.block(idx, idx, n, sub).noalias() =
-          data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+      if (n == 1) {
+        for (int c = idx; c < idx + sub; ++c) mass_(idx, c) = data_.J.col(idx).dot(momenta_.col(c));
+      } else {
+        mass_.block(idx, idx, n, sub).noalias() =
+            data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+      }
       if (model.parents[i] > 0) composite_[model.parents[i]] += composite_[i];
     }
     mass_.diagonal() += model.armature;
