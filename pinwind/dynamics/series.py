@@ -24,7 +24,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from pinwind.dynamics import bearing_load
+from pinwind.dynamics import bearing_load, bearing_springs
 
 #: Kinds of element a series has values for; ``run``: one value per sample.
 Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor"]
@@ -300,6 +300,14 @@ _DERIVED: tuple[Series, ...] = (
            "the shaft's torque, not a bearing load)",
            label="transmitted torque", short="T axis",
            derive=bearing_load.transmitted_torque),
+    Series("bearing_displacement", _B, "displacement", "m",
+           "compliant bearing: the body's displacement in the bearing (radial: the orbit); "
+           "ideal: 0", "xyz", "joint", label="displacement in the bearing", short="orbit",
+           headline=False, derive=bearing_springs.displacement),
+    Series("bearing_elastic_force", _B, "elastic_force", "N",
+           "compliant bearing: the bearing springs' force on the body; ideal or floating: 0",
+           "xyz", "joint", label="elastic force", short="F spring", headline=False,
+           derive=bearing_springs.elastic_force),
 )  # fmt: skip
 
 _SCHEMA: list[Series] = [*_BUILT_IN, *_DERIVED]
