@@ -3,7 +3,8 @@
 // its bearing joint; docs/model_format.md "Compliant bearings"). Per bearing, on the
 // coordinates of those joints (the displacement of the body in the bearing, joint frame):
 //
-//     radial   F = −k max(|r| − c, 0) r/|r|       r = (x, y) [m], clearance c ≥ 0 [m]
+//     radial   F = −k max(|r| − c, 0) r/|r| − c_r ṙ (the damper in contact only)
+//              r = (x, y) [m], clearance c ≥ 0 [m]
 //     axial    F_z = −k_a z,   tilt   M = −k_t θ   (linear)
 //
 // Like the torsional springs (torsional_spring.hpp) the forces are taken at the time step's
@@ -13,9 +14,11 @@
 //     K = k [(1 − c/|r₀|) I + (c/|r₀|) r̂ r̂ᵀ]       (K = k I without clearance: exact),
 //
 // and the contact (|r| > c) is an active set that settle() updates after each solve, as a
-// compliant mesh's contact loss is. Without clearance the step is the torsional springs' one,
-// second order and, with ρ∞ = 1, energy-keeping. The bearings' viscous damping is the joints'
-// own (BearingDamping, torsional_spring.hpp).
+// compliant mesh's contact loss is; the radial damper, at the weighted speed ṙ_n + κ_v ā, acts
+// in contact only (a rolling element loses touch with the race inside the clearance). Without
+// clearance the step is the torsional springs' one, second order and, with ρ∞ = 1,
+// energy-keeping. The axial and tilt dampers are the slides' own viscous damping
+// (BearingDamping, torsional_spring.hpp).
 #pragma once
 
 #include <algorithm>
@@ -31,6 +34,7 @@ namespace pinwind {
 struct BearingSpringSpec {
   long index_x = -1, index_y = -1;  // velocity indices of the radial slides (−1: none)
   double radial_stiffness = 0.0;    // k [N/m]
+  double radial_damping = 0.0;      // c_r [N·s/m]
   double clearance = 0.0;           // radial clearance c [m]
   long index_axial = -1;            // velocity index of the axial slide (−1: none)
   double axial_stiffness = 0.0;     // k_a [N/m]
@@ -48,7 +52,7 @@ class BearingSprings : public Element {
         force0_(specs_.size(), Eigen::Vector2d::Zero()) {}
 
   void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
-    const double kq = s.weights.position_gain;
+    const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
     for (size_t b = 0; b < specs_.size(); ++b) {
       const BearingSpringSpec& sp = specs_[b];
       for (const auto& [i, k] : linear(sp)) {
@@ -58,24 +62,30 @@ class BearingSprings : public Element {
       if (sp.index_x < 0) continue;
       linearise(b, start(sp, s));
       const long ix = sp.index_x, iy = sp.index_y;
-      hessian(ix, ix) += kq * stiffness_[b](0, 0);
+      const double c = touching(b) ? sp.radial_damping : 0.0;
+      hessian(ix, ix) += kq * stiffness_[b](0, 0) + kv * c;
       hessian(ix, iy) += kq * stiffness_[b](0, 1);
       hessian(iy, ix) += kq * stiffness_[b](1, 0);
-      hessian(iy, iy) += kq * stiffness_[b](1, 1);
-      force[ix] += force0_[b][0];
-      force[iy] += force0_[b][1];
+      hessian(iy, iy) += kq * stiffness_[b](1, 1) + kv * c;
+      force[ix] += force0_[b][0] - c * s.v[ix];
+      force[iy] += force0_[b][1] - c * s.v[iy];
     }
   }
 
   bool settle(const StepView& s, const Eigen::VectorXd& a, bool last) override {
-    const double kq = s.weights.position_gain;
+    const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
     bool changed = false;
     elastic_.setZero(s.q.size());
+    damping_.setZero(s.q.size());
     for (size_t b = 0; b < specs_.size(); ++b) {
       const BearingSpringSpec& sp = specs_[b];
       for (const auto& [i, k] : linear(sp)) elastic_[i] -= k * (s.q[i] + s.dq_free[i] + kq * a[i]);
       if (sp.index_x < 0) continue;
       const Eigen::Vector2d step(a[sp.index_x], a[sp.index_y]);
+      if (touching(b)) {
+        damping_[sp.index_x] = -sp.radial_damping * (s.v[sp.index_x] + kv * step[0]);
+        damping_[sp.index_y] = -sp.radial_damping * (s.v[sp.index_y] + kv * step[1]);
+      }
       if (sp.clearance > 0.0) {
         const Eigen::Vector2d r = start(sp, s) + kq * step;
         const bool touching = r.norm() > sp.clearance;
@@ -106,7 +116,7 @@ class BearingSprings : public Element {
 
   StepWork work(const StepView& s, const Eigen::VectorXd&,
                 const Eigen::VectorXd& v_mid) const override {
-    return {elastic_.dot(v_mid) * s.dt, 0.0, 0.0};
+    return {elastic_.dot(v_mid) * s.dt, -damping_.dot(v_mid) * s.dt, 0.0};
   }
 
  private:
@@ -123,6 +133,9 @@ class BearingSprings : public Element {
     if (sp.index_tilt_y >= 0) out.push_back({sp.index_tilt_y, sp.tilt_stiffness});
     return out;
   }
+
+  // Bearing b's radial spring and damper act: in contact, or always without clearance.
+  bool touching(size_t b) const { return specs_[b].clearance <= 0.0 || contact_[b]; }
 
   // r₀: the radial displacement at the weighted state with ā = 0 [m].
   static Eigen::Vector2d start(const BearingSpringSpec& sp, const StepView& s) {
@@ -162,7 +175,7 @@ class BearingSprings : public Element {
   std::vector<Eigen::Vector2d> direction_;   // the last contact normal r̂
   std::vector<Eigen::Matrix2d> stiffness_;   // K(r₀) of the current step
   std::vector<Eigen::Vector2d> force0_;      // F(r₀) of the current step [N]
-  Eigen::VectorXd elastic_;                  // the settled spring forces, per joint [N or N·m]
+  Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces [N or N·m]
 };
 
 }  // namespace pinwind

@@ -628,6 +628,7 @@ NB_MODULE(_native, m) {
       .def_rw("index_x", &BearingSpringSpec::index_x)
       .def_rw("index_y", &BearingSpringSpec::index_y)
       .def_rw("radial_stiffness", &BearingSpringSpec::radial_stiffness)
+      .def_rw("radial_damping", &BearingSpringSpec::radial_damping)
       .def_rw("clearance", &BearingSpringSpec::clearance)
       .def_rw("index_axial", &BearingSpringSpec::index_axial)
       .def_rw("axial_stiffness", &BearingSpringSpec::axial_stiffness)
