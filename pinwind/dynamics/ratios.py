@@ -98,9 +98,10 @@ def train_modes(
     """The motions the gear train allows at the reference pose, one mode per row, (f, nv).
 
     Joint speeds v with J v = 0 for every mesh, the locked bearings, the compliant bearings'
-    slides and the joints ``held`` at zero speed, and ``extra_rows`` @ v = 0 (e.g. torsional springs kept undeflected). The basis
-    is in reduced row echelon form: each mode turns its own pivot joint at speed 1 with the other
-    modes' pivot joints still, so that trains that share no joint get modes of their own.
+    slides and the joints ``held`` at zero speed, and ``extra_rows`` @ v = 0 (e.g. torsional
+    springs kept undeflected). The basis is in reduced row echelon form: each mode turns its own
+    pivot joint at speed 1 with the other modes' pivot joints still, so that trains that share no
+    joint get modes of their own.
     """
     rows = [
         mesh_rows(gearbox),

@@ -68,8 +68,11 @@ def test_a_disc_released_under_gravity_swings_at_sqrt_k_over_m_about_its_sag():
     y = res.bearing("disc").displacement[:, 1]
     omega = math.sqrt(STIFFNESS / MASS)
     np.testing.assert_allclose(_crossing_period(res.time, y + sag), 2 * math.pi / omega, rtol=2e-4)
-    # Released at rest from the bearing centre: y = −sag (1 − cos ωt), down to twice the sag.
-    np.testing.assert_allclose(y, -sag * (1 - np.cos(omega * res.time)), atol=2e-3 * sag)
+    # Released at rest from the bearing centre: y = −sag (1 − cos ω̃t), down to twice the sag,
+    # with the trapezoidal step's frequency ω̃ = (2/h) atan(ωh/2) (its only error: the period).
+    h = res.time[1]
+    discrete = 2.0 / h * math.atan(omega * h / 2.0)
+    np.testing.assert_allclose(y, -sag * (1 - np.cos(discrete * res.time)), atol=1e-6 * sag)
     np.testing.assert_allclose(res.bearing("disc").displacement[:, [0, 2]], 0.0, atol=1e-15)
 
 
@@ -222,14 +225,19 @@ def test_a_floating_sun_shares_a_pin_error_better_than_a_fixed_one_as_the_networ
         gb = _saleh(floating)
         res = _stage_run(gb, errors)
         expected = _network_forces(gb, errors)
-        np.testing.assert_allclose(res.mesh_normal[-1], expected, rtol=1e-5)
+        # The network is linear about the reference pose; the run's geometry follows the sun's
+        # and planets' displacements (µm on a 180 mm sun): agreement to 1e-4.
+        np.testing.assert_allclose(res.mesh_normal[-1], expected, rtol=1e-4)
         sun = {s.gear: s for s in load_sharing(res, gb)}["sun"]
         np.testing.assert_allclose(
-            sun.factor[-1], expected[:3].max() / expected[:3].mean(), rtol=1e-5
+            sun.factor[-1], expected[:3].max() / expected[:3].mean(), rtol=1e-4
         )
         factors[floating] = sun.factor[-1]
     assert factors[True] < factors[False]
     assert factors[False] > 1.01
+    # Three planets and a sun free to move in its plane: three meshes, three sun coordinates,
+    # so the floating sun takes up the pin error and the planets share alike.
+    np.testing.assert_allclose(factors[True], 1.0, atol=1e-4)
 
 
 @pytest.mark.parametrize(

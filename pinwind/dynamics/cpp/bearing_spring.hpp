@@ -88,10 +88,10 @@ class BearingSprings : public Element {
       }
       if (sp.clearance > 0.0) {
         const Eigen::Vector2d r = start(sp, s) + kq * step;
-        const bool touching = r.norm() > sp.clearance;
-        if (touching != contact_[b] && !last) {
-          contact_[b] = touching;
-          if (touching) direction_[b] = r.normalized();
+        const bool now = r.norm() > sp.clearance;
+        if (now != contact_[b] && !last) {
+          contact_[b] = now;
+          if (now) direction_[b] = r.normalized();
           changed = true;
         }
       }
