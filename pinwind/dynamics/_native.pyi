@@ -148,6 +148,7 @@ class BearingSpringSpec:
     index_x: int
     index_y: int
     radial_stiffness: float  # [N/m]
+    radial_damping: float  # [N·s/m], in contact only
     clearance: float  # [m]
     index_axial: int
     axial_stiffness: float  # [N/m]

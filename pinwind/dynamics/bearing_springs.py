@@ -2,9 +2,10 @@
 
 A compliant bearing's body moves on massless slides in the bearing (``model/bearing_compliance.py``
 derives the model); the compiled element ``cpp/bearing_spring.hpp`` holds the slides (radial law
-with clearance, linear axial and tilt springs) and the slides' own viscous damping is the
-bearing's damper. ``bearing_spring_specs`` gives the compiled specs. The bearing's reaction stays
-the RNEA one of its revolute joint (``bearing_force_local``); two series add
+with clearance and its damper, in contact only; linear axial and tilt springs), and the axial and
+tilt slides' own viscous damping is their damper. ``bearing_spring_specs`` gives the compiled
+specs. The bearing's reaction stays the RNEA one of its revolute joint (``bearing_force_local``);
+two series add
 
 - ``bearing_displacement``: the body's displacement in the bearing, u x + w y + k z [m] in the
   bearing's joint frame (the orbit is its radial part); 0 for an ideal bearing;
@@ -35,6 +36,7 @@ def bearing_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
         if not c.floating:
             spec.index_x, spec.index_y = index["radial_x"], index["radial_y"]
             spec.radial_stiffness, spec.clearance = float(c.radial_stiffness), float(c.clearance)
+            spec.radial_damping = float(c.radial_damping)
         if "axial" in index:
             spec.index_axial, spec.axial_stiffness = index["axial"], float(c.axial_stiffness)
         if "tilt_x" in index:

@@ -9,10 +9,11 @@ between the housing and the revolute joint, which keeps its name and every serie
 
 (prismatic joints along two radial axes u, w of the joint frame and along its axis k, and
 hinges about u and w through the bearing centre), and ``dynamics/bearing_springs.py`` holds the
-slides with the bearing's springs (``cpp/bearing_spring.hpp``) and its dampers (the slides' own
-viscous damping):
+slides with the bearing's springs and radial damper (``cpp/bearing_spring.hpp``) and its axial
+and tilt dampers (the slides' own viscous damping):
 
     radial  F = −k max(|r| − c, 0) r/|r| − c_r ṙ        r the displacement in (u, w) [m]
+            (the damper in contact, |r| > c, only)
     axial   F = −k_a z − c_a ż,      tilt  M = −k_t θ − c_t θ̇   (θ about u and about w)
 
 A floating bearing has radial slides without spring or damper: its body (a floating sun) is

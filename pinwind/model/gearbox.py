@@ -656,7 +656,9 @@ def _add_slides(
         ET.SubElement(el, "child", link=link_name)
         ET.SubElement(el, "axis", xyz=" ".join(repr(float(x)) for x in directions[slide]))
         ET.SubElement(el, "limit", lower="-1e30", upper="1e30", effort="0", velocity="0")
-        ET.SubElement(el, "dynamics", damping=repr(compliance.damping(slide)))
+        # The radial damper acts in contact only: the bearing's element carries it.
+        damping = 0.0 if slide.startswith("radial") else compliance.damping(slide)
+        ET.SubElement(el, "dynamics", damping=repr(damping))
         ET.SubElement(root, "link", name=link_name)
         parent.set("link", link_name)
         out[slide] = slide_name
