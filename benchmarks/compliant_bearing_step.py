@@ -9,7 +9,8 @@ the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only
 
 Measured 2026-11-27 on the shared, loaded 2-core machine (5000 steps, 3 repeats; noisy): one
 compliant bearing (sun or carrier, nv 6 -> 8) 0.9-1.4; all five turning bearings (nv 6 -> 16)
-2.7-3.5, the dense step's cost growing with nv (M, the QP), not the bearing element's own.
+2.7-3.5: over the budget; the dense step (M, the QP) grows with nv, which is the likely cause
+(not profiled).
 
 Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
 """
