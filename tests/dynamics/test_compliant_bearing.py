@@ -61,6 +61,36 @@ def test_a_disc_on_a_linear_bearing_has_its_translational_mode_at_sqrt_k_over_m(
         )
 
 
+def test_axial_and_tilt_springs_give_sqrt_ka_over_m_and_sqrt_kt_over_i_and_the_damper_its_ratio():
+    axial, tilt, damping = 4e6, 1e4, 100.0
+    gb = loads(
+        disc_urdf(
+            f'radial_stiffness="{STIFFNESS!r}" radial_damping="{damping!r}" '
+            f'axial_stiffness="{axial!r}" tilt_stiffness="{tilt!r}"'
+        )
+    )
+    modes = {
+        max(m.kinetic_share, key=m.kinetic_share.get): m
+        for m in linearise(gb).modes()
+        if not m.rigid
+    }
+    hz = 1 / (2 * math.pi)
+    i_radial = 0.1  # the disc's Ixx = Iyy [kg·m²] about its centre, the bearing centre
+    expected = {
+        "disc_radial_x": math.sqrt(STIFFNESS / MASS) * hz,
+        "disc_radial_y": math.sqrt(STIFFNESS / MASS) * hz,
+        "disc_axial": math.sqrt(axial / MASS) * hz,
+        "disc_tilt_x": math.sqrt(tilt / i_radial) * hz,
+        "disc_tilt_y": math.sqrt(tilt / i_radial) * hz,
+    }
+    assert set(modes) == set(expected)
+    for name, frequency in expected.items():
+        np.testing.assert_allclose(modes[name].frequency, frequency, rtol=1e-9, err_msg=name)
+    ratio = damping / (2 * math.sqrt(STIFFNESS * MASS))  # ζ = c / (2 √(k m))
+    np.testing.assert_allclose(modes["disc_radial_x"].damping_ratio, ratio, rtol=1e-9)
+    np.testing.assert_allclose(modes["disc_axial"].damping_ratio, 0.0, atol=0.0)
+
+
 def test_a_disc_released_under_gravity_swings_at_sqrt_k_over_m_about_its_sag():
     gb = loads(disc_urdf(f'radial_stiffness="{STIFFNESS!r}"'))
     res = _run(gb, duration=0.4, dt=1e-4, initial_deflection="none")
