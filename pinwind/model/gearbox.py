@@ -175,6 +175,7 @@ class Gearbox:
     """
 
     def __init__(self, source: ModelFile):
+        self._axes: dict[int, np.ndarray] = {}
         self.path = source.path
         self.name = source.robot_name
         self.source_text = source.text
@@ -222,7 +223,11 @@ class Gearbox:
 
     def joint_axis(self, joint: str) -> np.ndarray:
         """Unit axis of a bearing (joint) in its joint frame [-]."""
-        return self._joint_axis(self.model.getJointId(joint))
+        # Kept once found: the bearing loads of every block of a run ask for every joint's.
+        joint_id = self.model.getJointId(joint)
+        if joint_id not in self._axes:
+            self._axes[joint_id] = self._joint_axis(joint_id)
+        return self._axes[joint_id].copy()
 
     def mesh(self, name: str) -> Mesh:
         """The mesh of that name.
