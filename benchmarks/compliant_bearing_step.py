@@ -7,10 +7,11 @@ slides per bearing, ``docs/model_format.md`` "Compliant bearings"): every turnin
 speed driver on the output. The runs are interleaved A/B ``--repeats`` times and the median ratio of
 the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only the last sample.
 
-Measured 2026-11-27 on the shared, loaded 2-core machine (5000 steps, 3 repeats; noisy): one
-compliant bearing (sun or carrier, nv 6 -> 8) 0.9-1.4; all five turning bearings (nv 6 -> 16)
-2.7-3.5: over the budget; the dense step (M, the QP) grows with nv, which is the likely cause
-(not profiled).
+Measured 2026-11-27 on the shared, loaded 2-core machine (10000 steps, 3 repeats; noisy, pairwise
+ratios spread ±0.4): all five turning bearings compliant (nv 6 -> 16) 1.64 (saleh2017_planetary)
+and 1.47 (dtu500_planetary); one (sun or carrier, nv 6 -> 8) 0.86-1.60. Before Gearbox.joint_axis
+kept its axes, the bearing loads' derive asked Pinocchio for every joint's axis in every block
+(2.7-3.5 with five bearings).
 
 Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
 """
