@@ -107,6 +107,36 @@ class InvalidBearingRating(ModelError):
         super().__init__(path, f'<bearing joint="{bearing}">', message)
 
 
+class InvalidBearingCompliance(ModelError):
+    """A compliant bearing's stiffness, damping or clearance that is negative or not a number.
+
+    Attributes:
+        bearing: the joint of the bearing.
+        attribute: the attribute at fault (``radial_stiffness``).
+        value: its value as read.
+    """
+
+    def __init__(self, bearing: str, attribute: str, value: float, message: str, *, path: str):
+        self.bearing = bearing
+        self.attribute = attribute
+        self.value = value
+        super().__init__(path, f'<bearing joint="{bearing}">', message)
+
+
+class UnheldMember(ModelError):
+    """A floating member that nothing holds: a motion no mesh, spring or row resists.
+
+    Attributes:
+        bearing: the floating bearing's joint.
+        motion: joint coordinate → its part of the free motion (unit vector) [m or rad].
+    """
+
+    def __init__(self, bearing: str, motion: dict[str, float], message: str, *, path: str):
+        self.bearing = bearing
+        self.motion = motion
+        super().__init__(path, f'<bearing joint="{bearing}">', message)
+
+
 class ImplausibleGear(PinwindWarning):
     """A gear's mass or inertia is far from the steel cylinder its teeth and face width imply."""
 

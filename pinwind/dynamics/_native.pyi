@@ -27,12 +27,19 @@ class SolverSettings:
     def __init__(self) -> None: ...
 
 class JointType(enum.Enum):
-    """A joint pinwind models: revolute about an axis of the joint frame, or about any axis."""
+    """A joint pinwind models: revolute or prismatic, along an axis of the joint frame or any.
+
+    The prismatic joints are the slides of compliant bearings (``model/gearbox.py``).
+    """
 
     revolute_x = 0
     revolute_y = 1
     revolute_z = 2
     revolute_unaligned = 3
+    prismatic_x = 4
+    prismatic_y = 5
+    prismatic_z = 6
+    prismatic_unaligned = 7
 
 class GeneratorLaw(enum.Enum):
     """A generator law (``cpp/generator.hpp``; ``loads/generator.py``)."""
@@ -135,6 +142,21 @@ class TorsionalSpringSpec:
     preload_angle: float  # [rad]
     def __init__(self) -> None: ...
 
+class BearingSpringSpec:
+    """A compliant bearing's springs on its slides (``cpp/bearing_spring.hpp``); −1: none."""
+
+    index_x: int
+    index_y: int
+    radial_stiffness: float  # [N/m]
+    radial_damping: float  # [N·s/m], in contact only
+    clearance: float  # [m]
+    index_axial: int
+    axial_stiffness: float  # [N/m]
+    index_tilt_x: int
+    index_tilt_y: int
+    tilt_stiffness: float  # [N·m/rad]
+    def __init__(self) -> None: ...
+
 class GeneratorSpec:
     """A generator law on one joint (``cpp/generator.hpp``; ``loads/generator.py``)."""
 
@@ -232,6 +254,7 @@ class StepperSpec:
     rigid_meshes: list[int]
     compliant_meshes: list[CompliantMeshSpec]
     springs: list[TorsionalSpringSpec]
+    bearing_springs: list[BearingSpringSpec]
     generators: list[GeneratorSpec]
     rotors: list[RotorSpec]
     input_columns: int  # per-sample inputs of the elements (wind speeds)

@@ -5,8 +5,10 @@ given); the stiffness and damping are those of the linear elements a run has: ea
 mesh a spring of its mean mesh stiffness (``compliant.mean_mesh_stiffness``: c_γα b for the ISO
 shape, the mean of a pair table) and its dashpot along the front flank's row (the line of action
 of ``cpp/mesh_rows.hpp``, the same the step uses), each torsional spring k (e₁ − e₂), each damped
-bearing c on its joint. The rigid meshes, the held joints (speed drivers) and the locked bearings
-are rows. ``normal_modes.natural_modes`` solves the eigenproblem.
+bearing c on its joint, each compliant bearing's slide its spring and damper
+(``bearing_elements``). The rigid meshes, the held joints (speed drivers) and the locked bearings
+are rows; a floating bearing that nothing holds is refused. ``normal_modes.natural_modes``
+solves the eigenproblem.
 
 The linearisation is about the reference pose at an operating speed v₀ (the given joints' speeds,
 the others through the gear ratios). The speed enters through the velocity terms of the equations
@@ -39,7 +41,7 @@ from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.normal_modes import Mode, SpringElement, element_matrices, natural_modes
 from pinwind.dynamics.planetary_modes import PlanetaryStage, mode_kinds, planetary_stages
 from pinwind.dynamics.ratios import train_speeds
-from pinwind.errors import SpeedOutOfRange, UnknownJoint
+from pinwind.errors import SpeedOutOfRange, UnheldMember, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
 from pinwind.units import rad_s_to_rpm
@@ -61,9 +63,10 @@ class Linearisation:
 
     Attributes:
         joint_names: the coordinates, in the order of the velocity vector.
-        mass, stiffness, damping: M [kg·m²], K [N·m/rad], C [N·m·s/rad], (nv, nv).
+        mass, stiffness, damping: M [kg·m²], K [N·m/rad], C [N·m·s/rad], (nv, nv) (kg, N/m
+            and N·s/m on a compliant bearing's slides).
         constraints: J (r, nv): rigid meshes, held joints, locked bearings.
-        elements: the springs K is made of (meshes, torsional springs).
+        elements: the springs K is made of (meshes, torsional springs, bearing slides).
         coordinates: each coordinate's kind (rotation, translation) and axis.
         stages: the planetary stages, whose modes are classified (``planetary_modes.py``).
         speed: v₀ (nv,), the operating joint speeds [rad/s].
@@ -186,12 +189,16 @@ def linearise(
         row = np.zeros(nv)
         row[spring.v_index_1], row[spring.v_index_2] = 1.0, -1.0
         elements.append(SpringElement(spring.name, "spring", spring.stiffness, spring.damping, row))
+    elements += bearing_elements(gearbox)
     stiffness, damping = element_matrices(elements, nv)
-    damping += np.diag(np.asarray(model.damping, dtype=float))
+    # The joints' viscous damping, but the slides': their bearings' elements carry it.
+    bearing_damping = np.asarray(model.damping, dtype=float).copy()
+    bearing_damping[[gearbox.v_index(s) for s in gearbox.slide_joints]] = 0.0
+    damping += np.diag(bearing_damping)
     gyroscopic, centrifugal = speed_terms(gearbox, speed)
     coords = coordinates(gearbox)
     order = sorted(names, key=gearbox.v_index)
-    return Linearisation(
+    out = Linearisation(
         order,
         mass,
         stiffness,
@@ -204,6 +211,8 @@ def linearise(
         gyroscopic,
         centrifugal,
     )
+    _check_held(gearbox, out)
+    return out
 
 
 def operating_speed(gearbox: Gearbox, speeds: Mapping[str, float]) -> np.ndarray:
@@ -246,3 +255,62 @@ def speed_terms(gearbox: Gearbox, speed: np.ndarray) -> tuple[np.ndarray, np.nda
     at_rest = np.array(data.dtau_dq)
     pin.computeRNEADerivatives(model, data, q, speed, zero)
     return np.array(data.dtau_dv), np.array(data.dtau_dq) - at_rest
+
+
+def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
+    """The compliant bearings' springs and dampers, one per slide (``<joint>_<slide>``).
+
+    A bearing with a radial clearance counts as loaded (the clearance taken up, stiffness k);
+    a floating bearing's radial slides have none.
+    """
+    nv = gearbox.model.nv
+    out = []
+    for bearing in gearbox.compliant_bearings.values():
+        c = bearing.compliance
+        for slide, name in bearing.slides.items():
+            k, damping = c.stiffness(slide), c.damping(slide)
+            if k == 0.0 and damping == 0.0:
+                continue
+            row = np.zeros(nv)
+            row[bearing.v_index[slide]] = 1.0
+            out.append(SpringElement(name, "bearing", k, damping, row))
+    return out
+
+
+#: Share of a rigid mode's motion on a floating bearing's slides above which that bearing is
+#: unheld (a whole-train rotation has none).
+UNHELD_SHARE = 1e-6
+
+
+def _check_held(gearbox: Gearbox, lin: Linearisation) -> None:
+    """Refuse a floating bearing whose body a motion no mesh, spring or row resists moves.
+
+    Raises:
+        UnheldMember: names the bearing and the free motion (its largest joint coordinates).
+    """
+    floating = [b for b in gearbox.compliant_bearings.values() if b.compliance.floating]
+    if not floating:
+        return
+    for mode in lin.modes():
+        if not mode.rigid:
+            continue
+        for bearing in floating:
+            radial = mode.shape[[bearing.v_index[s] for s in ("radial_x", "radial_y")]]
+            if float(radial @ radial) <= UNHELD_SHARE * float(mode.shape @ mode.shape):
+                continue
+            unit = mode.shape / np.linalg.norm(mode.shape)
+            motion = {
+                lin.joint_names[i]: float(unit[i])
+                for i in np.argsort(-np.abs(unit))
+                if abs(unit[i]) > 1e-3
+            }
+            text = ", ".join(f"{name} {value:+.3g}" for name, value in list(motion.items())[:6])
+            raise UnheldMember(
+                bearing.joint,
+                motion,
+                f'the floating bearing "{bearing.joint}" lets its body move freely: no mesh, '
+                f"spring or row resists the motion ({text}; joint coordinates, m and rad, "
+                "unit length). Give the bearing a radial_stiffness, or meshes that centre it "
+                "(a sun between three or more planets)",
+                path=str(gearbox.path),
+            )

@@ -32,7 +32,7 @@ class SpringElement:
 
     Attributes:
         name: the mesh or spring name.
-        kind: ``"mesh"`` or ``"spring"``.
+        kind: ``"mesh"``, ``"spring"`` or ``"bearing"`` (a compliant bearing's slide).
         stiffness: k [N/m or N·m/rad].
         damping: c [N·s/m or N·m·s/rad].
         row: J (nv,): the deflection (or twist) per joint coordinate [m or rad per rad].

@@ -26,7 +26,9 @@ def speed_ratio(gearbox: Gearbox, output: str, reference: str) -> float:
     for name in (output, reference):
         if name not in gearbox.joint_names:
             raise UnknownJoint(name, "speed_ratio", gearbox.joint_names)
-    rows = np.vstack([mesh_rows(gearbox), selector(gearbox, gearbox.locked_joints)])
+    # The compliant bearings' slides do not turn with the train.
+    held = [*gearbox.locked_joints, *gearbox.slide_joints]
+    rows = np.vstack([mesh_rows(gearbox), selector(gearbox, held)])
     _, sv, vt = np.linalg.svd(rows)
     rank = _rank(sv)
     free = gearbox.model.nv - rank
@@ -70,10 +72,9 @@ def train_speeds(
         for i, spring in enumerate(gearbox.springs):
             twist[i, spring.v_index_1], twist[i, spring.v_index_2] = 1.0, -1.0
         jac = np.vstack([jac, twist])
-    a = np.vstack([jac, selector(gearbox, [*gearbox.locked_joints, *given])])
-    b = np.concatenate(
-        [np.zeros(len(jac)), np.zeros(len(gearbox.locked_joints)), list(given.values())]
-    )
+    still = [*gearbox.locked_joints, *gearbox.slide_joints]  # the slides start at rest
+    a = np.vstack([jac, selector(gearbox, [*still, *given])])
+    b = np.concatenate([np.zeros(len(jac)), np.zeros(len(still)), list(given.values())])
     particular = np.linalg.lstsq(a, b, rcond=None)[0]
     mismatch = float(np.abs(a @ particular - b).max()) if len(b) else 0.0
     scale = 1.0 + float(np.abs(b).max()) if len(b) else 1.0
@@ -96,12 +97,16 @@ def train_modes(
 ) -> np.ndarray:
     """The motions the gear train allows at the reference pose, one mode per row, (f, nv).
 
-    Joint speeds v with J v = 0 for every mesh, the locked bearings and the joints ``held`` at
-    zero speed, and ``extra_rows`` @ v = 0 (e.g. torsional springs kept undeflected). The basis
-    is in reduced row echelon form: each mode turns its own pivot joint at speed 1 with the other
-    modes' pivot joints still, so that trains that share no joint get modes of their own.
+    Joint speeds v with J v = 0 for every mesh, the locked bearings, the compliant bearings'
+    slides and the joints ``held`` at zero speed, and ``extra_rows`` @ v = 0 (e.g. torsional
+    springs kept undeflected). The basis is in reduced row echelon form: each mode turns its own
+    pivot joint at speed 1 with the other modes' pivot joints still, so that trains that share no
+    joint get modes of their own.
     """
-    rows = [mesh_rows(gearbox), selector(gearbox, [*gearbox.locked_joints, *held])]
+    rows = [
+        mesh_rows(gearbox),
+        selector(gearbox, [*gearbox.locked_joints, *gearbox.slide_joints, *held]),
+    ]
     if extra_rows is not None:
         rows.append(np.asarray(extra_rows, dtype=float).reshape(-1, gearbox.model.nv))
     a = np.vstack(rows)

@@ -24,7 +24,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from pinwind.dynamics import bearing_load
+from pinwind.dynamics import bearing_load, bearing_springs
 
 #: Kinds of element a series has values for; ``run``: one value per sample.
 Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor"]
@@ -286,6 +286,14 @@ ENERGY_TERMS: tuple[EnergyTerm, ...] = (
 
 #: Series computed in Python from the compiled ones (``derive``), after them in the Result.
 _DERIVED: tuple[Series, ...] = (
+    Series("bearing_displacement", _B, "displacement", "m",
+           "compliant bearing: the body's displacement in the bearing (radial: the orbit); "
+           "ideal: 0", "xyz", "joint", label="displacement in the bearing", short="orbit",
+           headline=False, derive=bearing_springs.displacement),
+    Series("bearing_elastic_force", _B, "elastic_force", "N",
+           "compliant bearing: the bearing springs' force on the body; ideal or floating: 0",
+           "xyz", "joint", label="elastic force", short="F spring", headline=False,
+           derive=bearing_springs.elastic_force),
     Series("bearing_radial", _B, "radial", "N",
            "radial force: the force on the child body normal to the bearing axis, >= 0",
            label="radial force", short="F radial", derive=bearing_load.radial_force),

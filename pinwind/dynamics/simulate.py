@@ -50,6 +50,7 @@ from pinwind.dynamics import _native, series
 from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
 from pinwind.dynamics.elements import LoadElements, load_elements
 from pinwind.dynamics.integrator import Integrator
+from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
@@ -424,6 +425,9 @@ def simulate(
         position_errors=position_errors,
         scheme=method,
     )
+    if any(b.compliance.floating for b in gearbox.compliant_bearings.values()):
+        # A floating member nothing holds is refused here, naming its free motion.
+        linearise(gearbox, meshes=meshes, held=[ld.joint for ld in speed_loads])
     _warn_if_unbalanced(gearbox, torque_loads, speed_loads, elements, duration)
     spring_mode = highest_spring_mode(gearbox, [d.joint for d in speed_loads])
     for note in coarse_step_notes(duration, dt, spring_mode):
@@ -497,7 +501,9 @@ def simulate(
         integrator=method,
     )
     res.metadata["initial_deflection"] = {"mode": initial_deflection}
-    if initial_deflection == "static" and (mesh_setup_.compliant or gearbox.springs):
+    if initial_deflection == "static" and (
+        mesh_setup_.compliant or gearbox.springs or gearbox.compliant_bearings
+    ):
         res.metadata["initial_deflection"].update(
             _static_start(stepper, torque_loads, drivers, elements, dt, model.nv)
         )

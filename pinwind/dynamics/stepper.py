@@ -17,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics import _native
+from pinwind.dynamics.bearing_springs import bearing_spring_specs
 from pinwind.dynamics.compliant import MeshSetup
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.integrator import Integrator
@@ -30,10 +31,20 @@ from pinwind.model.gearbox import Gearbox
 #: 1 + max |v| [m/s or rad/s].
 PROJECTION_TOL = 1e-14
 
-_REVOLUTE = {
+#: Pinocchio's joints along or about an axis of the joint frame: the bearings, and the
+#: compliant bearings' slides and tilt hinges (``model/gearbox.py``).
+_ALIGNED = {
     "JointModelRX": _native.JointType.revolute_x,
     "JointModelRY": _native.JointType.revolute_y,
     "JointModelRZ": _native.JointType.revolute_z,
+    "JointModelPX": _native.JointType.prismatic_x,
+    "JointModelPY": _native.JointType.prismatic_y,
+    "JointModelPZ": _native.JointType.prismatic_z,
+}
+#: Pinocchio's joints about or along any axis.
+_UNALIGNED = {
+    "JointModelRevoluteUnaligned": _native.JointType.revolute_unaligned,
+    "JointModelPrismaticUnaligned": _native.JointType.prismatic_unaligned,
 }
 
 
@@ -48,11 +59,11 @@ def joint_tree(gearbox: Gearbox, gravity: np.ndarray) -> _native.JointTree:
     for j in joints:
         joint = model.joints[j]
         kind = joint.shortname()
-        if kind in _REVOLUTE:
-            types.append(_REVOLUTE[kind])
+        if kind in _ALIGNED:
+            types.append(_ALIGNED[kind])
             axes.append(np.zeros(3))
-        elif kind == "JointModelRevoluteUnaligned":
-            types.append(_native.JointType.revolute_unaligned)
+        elif kind in _UNALIGNED:
+            types.append(_UNALIGNED[kind])
             axes.append(np.asarray(joint.extract().axis, dtype=float))
         else:
             raise MalformedModel(
@@ -145,6 +156,7 @@ class CompiledStepper:
             sp.stiffness, sp.damping, sp.preload_angle = s.stiffness, s.damping, s.preload_angle
             springs.append(sp)
         spec.springs = springs
+        spec.bearing_springs = bearing_spring_specs(gearbox)
         if loads is not None:
             spec.generators = loads.generators
             spec.rotors = loads.rotors

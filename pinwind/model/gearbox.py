@@ -32,6 +32,7 @@ from pinwind.errors import (
 from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.involute import base_helix_angle, pitch_radius
+from pinwind.model.bearing_compliance import SLIDES, BearingCompliance
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.phasing import mesh_point, tooth_phases
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
@@ -119,6 +120,26 @@ class Mesh:
 
 
 @dataclass(frozen=True)
+class CompliantBearing:
+    """A bearing whose body translates (and tilts) in it on massless slides (``BearingCompliance``).
+
+    Attributes:
+        joint: the bearing's revolute joint (its name, series and reaction as an ideal one's).
+        compliance: its stiffness, damping and clearance.
+        slides: slide (``radial_x``, ...) → the name of its joint in the Pinocchio model.
+        v_index: slide → its index in the velocity vector.
+        axes_in_joint: (3, 3) rows u, w, k: the radial axes and the bearing axis in the
+            bearing's joint frame (the frame of the displacement and elastic force series).
+    """
+
+    joint: str
+    compliance: BearingCompliance
+    slides: dict[str, str]
+    v_index: dict[str, int]
+    axes_in_joint: np.ndarray
+
+
+@dataclass(frozen=True)
 class TorsionalSpring:
     """Torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and its opposite on joint 2."""
 
@@ -144,29 +165,37 @@ class Gearbox:
             frame at the reference pose [rad], meshing teeth interlocked (``model/phasing.py``).
         meshes: the meshes, in file order.
         springs: torsional spring-dampers.
-        joint_names: the bearings, in the order of the velocity vector (one DoF each).
+        compliant_bearings: joint name → its compliant or floating bearing (its slides).
+        slide_joints: the slides of the compliant bearings (joints of ``joint_names``).
+        joint_names: the bearings and the compliant bearings' slides, in the order of the
+            velocity vector (one DoF each).
         locked_joints: bearings held at zero speed (gears on fixed mounts, e.g. the ring).
         gravity: gravity in world [m/s²].
         source_text: the model file as read (logged with every run).
     """
 
     def __init__(self, source: ModelFile):
+        self._axes: dict[int, np.ndarray] = {}
         self.path = source.path
         self.name = source.robot_name
         self.source_text = source.text
         self.source = source
-        pin_xml, self.locked_joints = _pinocchio_urdf(source)
+        pin_xml, self.locked_joints, slides = _pinocchio_urdf(source)
         try:
             self.model = pin.buildModelFromXML(pin_xml)
         except Exception as err:  # Pinocchio raises plain RuntimeError/ValueError here
             raise MalformedModel(
                 source.path, "<robot>", f"Pinocchio cannot build the model: {err}"
             ) from err
-        self._axes: dict[int, np.ndarray] = {}  # _joint_axis, per joint id
         for jid in range(1, self.model.njoints):
             if self.model.joints[jid].nv != 1:
                 raise MalformedModel(source.path, "<robot>", "only 1-DoF bearings are supported")
         self.joint_names = [self.model.names[j] for j in range(1, self.model.njoints)]
+        self.compliant_bearings = {
+            joint: self._compliant_bearing(joint, source.compliant_bearings[joint], names)
+            for joint, names in slides.items()
+        }
+        self.slide_joints = [n for b in self.compliant_bearings.values() for n in b.slides.values()]
         self._check_axial_inertia()
         self.gears = {name: self._attach(spec) for name, spec in source.gears.items()}
         #: Plausibility notes (``ImplausibleGear``), issued as warnings by ``load``/``loads``.
@@ -218,6 +247,19 @@ class Gearbox:
         )
 
     # --- construction ----------------------------------------------------------------------------
+
+    def _compliant_bearing(
+        self, joint: str, compliance: BearingCompliance, slides: dict[str, str]
+    ) -> CompliantBearing:
+        k = self._joint_axis(self.model.getJointId(joint))
+        u, w = (self._joint_axis(self.model.getJointId(slides[s])) for s in SLIDES[:2])
+        return CompliantBearing(
+            joint=joint,
+            compliance=compliance,
+            slides=slides,
+            v_index={s: self.v_index(name) for s, name in slides.items()},
+            axes_in_joint=np.array([u, w, k]),
+        )
 
     def _default_gravity(self) -> np.ndarray:
         """9.81 m/s² perpendicular to the shafts: along −y unless the shafts lie along y."""
@@ -287,7 +329,10 @@ class Gearbox:
 
     def _check_axial_inertia(self) -> None:
         """Refuse a bearing whose body (its links welded together) has no inertia about its axis."""
+        slides = set(self.slide_joints)
         for jid in range(1, self.model.njoints):
+            if self.model.names[jid] in slides:
+                continue  # massless: the body is on the bearing's revolute joint after them
             inertia = self.model.inertias[jid]
             k = self._joint_axis(jid)
             c = np.asarray(inertia.lever)
@@ -351,7 +396,10 @@ class Gearbox:
             # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
             jac = np.reshape(pin.getJointJacobian(self.model, data, joint_id, pin.LOCAL), (6, -1))
             col = jac[:, self.model.joints[joint_id].idx_v]
-            self._axes[joint_id] = col[3:] / np.linalg.norm(col[3:])
+            if np.linalg.norm(col[3:]) == 0.0:  # a compliant bearing's slide: its direction
+                self._axes[joint_id] = col[:3] / np.linalg.norm(col[:3])
+            else:
+                self._axes[joint_id] = col[3:] / np.linalg.norm(col[3:])
         return self._axes[joint_id].copy()
 
     def _mesh(
@@ -529,15 +577,16 @@ def _flank_radius(meshes: list[Mesh], name: str) -> float | None:
     return None
 
 
-def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:
-    """The URDF text Pinocchio builds from, and the joints to lock.
+def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str], dict[str, dict[str, str]]]:
+    """The URDF text Pinocchio builds from, the joints to lock and the compliant bearings' slides.
 
     Continuous joints become revolute (one angle coordinate, unwrapped, instead of cos/sin), and a
     fixed joint whose child carries a gear and whose parent stands still (the ground, or a body
     welded to it) becomes a revolute joint about the gear axis that the simulation locks, so the
     mount reaction of a ring gear is a bearing reaction like any other. A gear on a link welded to
     a moving body (a gear shrunk onto a shaft link) keeps its weld: it turns with that body, as if
-    it were on that body's link.
+    it were on that body's link. A compliant or floating bearing gets its slides before its
+    revolute joint (``_add_slides``).
     """
     root = ET.fromstring(source.text)
     geared_links = {g.link: g for g in source.gears.values()}
@@ -562,9 +611,74 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str]]:
             for old in joint.findall("limit"):
                 joint.remove(old)
             ET.SubElement(joint, "limit", lower="-1e30", upper="1e30", effort="0", velocity="0")
+    slides = {
+        name: _add_slides(source, root, name, compliance)
+        for name, compliance in source.compliant_bearings.items()
+    }
     for box in root.findall("gearbox"):
         root.remove(box)
-    return ET.tostring(root, encoding="unicode"), locked
+    return ET.tostring(root, encoding="unicode"), locked, slides
+
+
+def _add_slides(
+    source: ModelFile, root: ET.Element, name: str, compliance: BearingCompliance
+) -> dict[str, str]:
+    """Put a compliant bearing's slides between its parent and its revolute joint ``name``.
+
+    The first slide takes the joint's origin, the others and the joint itself sit at the one
+    before (identity origins), so at zero displacement the body is where the ideal bearing puts
+    it; massless links join them. Returns slide → joint name (``<joint>_<slide>``).
+
+    Raises:
+        MalformedModel: a slide's name is taken by a joint or link of the file.
+    """
+    joint = next(j for j in root.findall("joint") if j.get("name") == name)
+    axis = np.asarray(source.joints[name]["axis"], dtype=float)
+    k = axis / np.linalg.norm(axis)
+    u, w = _radial_axes(k)
+    directions = {"radial_x": u, "radial_y": w, "axial": k, "tilt_x": u, "tilt_y": w}
+    parent = cast(ET.Element, joint.find("parent"))
+    origin = joint.find("origin")
+    out = {}
+    for slide in compliance.slides:
+        slide_name = f"{name}_{slide}"
+        link_name = f"{slide_name}_link"
+        for taken, kind in ((slide_name, "joint"), (link_name, "link")):
+            if taken in source.joints or taken in source.links:
+                raise MalformedModel(
+                    source.path,
+                    f'<bearing joint="{name}">',
+                    f'the compliant bearing\'s {slide} slide needs the {kind} name "{taken}", '
+                    "which the file already uses; rename that element",
+                )
+        kind = "revolute" if slide.startswith("tilt") else "prismatic"
+        el = ET.SubElement(root, "joint", name=slide_name, type=kind)
+        if origin is not None:
+            el.append(origin)
+            joint.remove(origin)
+            origin = None
+        ET.SubElement(el, "parent", link=cast(str, parent.get("link")))
+        ET.SubElement(el, "child", link=link_name)
+        ET.SubElement(el, "axis", xyz=" ".join(repr(float(x)) for x in directions[slide]))
+        ET.SubElement(el, "limit", lower="-1e30", upper="1e30", effort="0", velocity="0")
+        # The radial damper acts in contact only: the bearing's element carries it.
+        damping = 0.0 if slide.startswith("radial") else compliance.damping(slide)
+        ET.SubElement(el, "dynamics", damping=repr(damping))
+        ET.SubElement(root, "link", name=link_name)
+        parent.set("link", link_name)
+        out[slide] = slide_name
+    return out
+
+
+def _radial_axes(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit radial axes u, w of a bearing of unit axis k, with u × w = k.
+
+    u is the joint frame's x axis (or its y axis when k lies along x) made normal to k.
+    """
+    seed = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = seed - (seed @ axis) * axis
+    u /= np.linalg.norm(u)
+    return u, np.cross(axis, u)
 
 
 def _moving_links(source: ModelFile) -> set[str]:

@@ -10,11 +10,13 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 import pinocchio as pin
 
 from pinwind.errors import (
+    InvalidBearingCompliance,
     InvalidBearingRating,
     InvalidGearGeometry,
     InvalidInertia,
@@ -24,6 +26,7 @@ from pinwind.errors import (
 )
 from pinwind.gears.involute import half_tooth_angle
 from pinwind.model.bearing import BearingRating, bearing_rating
+from pinwind.model.bearing_compliance import BearingCompliance
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 
 
@@ -112,6 +115,9 @@ class ModelFile:
     springs: list[SpringSpec] = field(default_factory=list)
     #: Joint name → its rolling bearing's ISO 281 data (``<bearing>``; the others are not rated).
     bearings: dict[str, BearingRating] = field(default_factory=dict)
+    #: Joint name → how its bearing lets the body move (``<bearing radial_stiffness=...>`` or
+    #: ``floating="true"``); the others are ideal (revolute joints).
+    compliant_bearings: dict[str, BearingCompliance] = field(default_factory=dict)
     visuals: list[VisualSpec] = field(default_factory=list)
     gravity: np.ndarray | None = None
     root_link: str = ""
@@ -520,19 +526,81 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
                 path, where, f"stiffness {k:g} N·m/rad and damping {c:g} N·m·s/rad must be ≥ 0"
             )
         out.springs.append(SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0)))
+    seen: set[str] = set()
     for el in box.findall("bearing"):
-        rating = _bearing(path, el, out)
-        out.bearings[rating.joint] = rating
+        joint = _required(path, el, "joint")
+        where = f'<bearing joint="{joint}">'
+        if joint not in out.joints:
+            raise UnknownName(path, where, "joint", joint, out.joints)
+        if joint in seen:
+            raise MalformedModel(path, where, f'joint "{joint}" is rated twice; keep one <bearing>')
+        seen.add(joint)
+        compliance = _bearing_compliance(path, el, joint, out)
+        if compliance is not None:
+            out.compliant_bearings[joint] = compliance
+        if compliance is None or el.get("type") is not None:
+            rating = _bearing(path, el, out)
+            out.bearings[rating.joint] = rating
+
+
+#: The attributes of a compliant ``<bearing>`` (docs/model_format.md "Compliant bearings").
+_BEARING_COMPLIANCE = (
+    "radial_stiffness",
+    "radial_damping",
+    "radial_clearance_mm",
+    "axial_stiffness",
+    "axial_damping",
+    "tilt_stiffness",
+    "tilt_damping",
+)
+
+
+def _bearing_compliance(
+    path: str, el: ET.Element, joint: str, out: ModelFile
+) -> BearingCompliance | None:
+    """A ``<bearing>``'s compliance (or floating), None for an ideal (rigid) bearing."""
+    given = [a for a in _BEARING_COMPLIANCE if el.get(a) is not None]
+    floating = _bool(path, el, "floating")
+    if not given and not floating:
+        return None
+    where = f'<bearing joint="{joint}">'
+    if out.joints[joint]["type"] == "fixed":
+        raise MalformedModel(
+            path,
+            where,
+            "is a fixed joint, a rigid mount; a compliant or floating bearing is a revolute or "
+            "continuous joint",
+        )
+    values: dict[str, float] = {}
+    for attr in given:
+        raw = cast(str, el.get(attr))
+        try:
+            values[attr] = float(raw)
+        except ValueError as err:
+            raise MalformedModel(path, where, f'attribute {attr}="{raw}" is not a number') from err
+    compliance = BearingCompliance(
+        radial_stiffness=values.get("radial_stiffness", 0.0),
+        radial_damping=values.get("radial_damping", 0.0),
+        clearance=values.get("radial_clearance_mm", 0.0) * 1e-3,
+        axial_stiffness=values.get("axial_stiffness"),
+        axial_damping=values.get("axial_damping", 0.0),
+        tilt_stiffness=values.get("tilt_stiffness"),
+        tilt_damping=values.get("tilt_damping", 0.0),
+        floating=floating,
+    )
+    problems = compliance.problems()
+    if problems:
+        attribute, value, _ = problems[0]
+        raise InvalidBearingCompliance(
+            joint, attribute, value, "; ".join(p[2] for p in problems), path=path
+        )
+    return compliance
 
 
 def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:
     """A ``<bearing>``: the ISO 281 type and rating of the rolling bearing of a joint."""
     joint = _required(path, el, "joint")
     where = f'<bearing joint="{joint}">'
-    if joint not in out.joints:
-        raise UnknownName(path, where, "joint", joint, out.joints)
-    if joint in out.bearings:
-        raise MalformedModel(path, where, f'joint "{joint}" is rated twice; keep one <bearing>')
     if out.joints[joint]["type"] == "fixed":
         raise InvalidBearingRating(
             joint,

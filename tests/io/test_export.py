@@ -50,6 +50,9 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         out[f"bearing/{name}/axial_N"] = b.axial
         out[f"bearing/{name}/tilting_N_m"] = b.tilting
         out[f"bearing/{name}/torque_N_m"] = b.torque
+        for k, axis in enumerate("xyz"):  # a compliant bearing's series (0 for ideal ones)
+            out[f"bearing/{name}/displacement_{axis}_m"] = b.displacement[:, k]
+            out[f"bearing/{name}/elastic_force_{axis}_N"] = b.elastic_force[:, k]
     for name in res.body_names:
         # a row per sample: the poses at the samples that have one, NaN at the others
         body = res.body(name)

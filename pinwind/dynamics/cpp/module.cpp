@@ -164,15 +164,25 @@ void fill_rows(const nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::de
 
 using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::RowMajor>;
 
-// The joints pinwind models: revolute about an axis of the joint frame, or about any axis.
-enum class JointType { revolute_x, revolute_y, revolute_z, revolute_unaligned };
+// The joints pinwind models: revolute about an axis of the joint frame, or about any axis, and
+// the prismatic slides of compliant bearings (along an axis of the joint frame, or any axis).
+enum class JointType {
+  revolute_x,
+  revolute_y,
+  revolute_z,
+  revolute_unaligned,
+  prismatic_x,
+  prismatic_y,
+  prismatic_z,
+  prismatic_unaligned
+};
 
 // The Pinocchio joint tree, body inertias and gravity (pinwind/dynamics/stepper.py joint_tree).
 struct JointTree {
   std::vector<std::string> names;
   std::vector<long> parent;
   std::vector<JointType> type;
-  Rows3 axis;                   // axis of revolute_unaligned joints in the joint frame
+  Rows3 axis;                   // axis of *_unaligned joints in the joint frame
   std::vector<Mat4> placement;  // joint placement in the parent joint's frame
   Eigen::VectorXd mass;         // [kg]
   Rows3 com;                    // centre of mass in the joint frame [m]
@@ -189,6 +199,7 @@ struct StepperSpec {
   std::vector<long> rigid_meshes;
   std::vector<CompliantMeshSpec> compliant_meshes;
   std::vector<TorsionalSpringSpec> springs;
+  std::vector<BearingSpringSpec> bearing_springs;
   std::vector<GeneratorSpec> generators;
   std::vector<RotorSpec> rotors;
   long input_columns = 0;
@@ -250,6 +261,19 @@ pinocchio::Model build_model(const JointTree& t) {
         break;
       case JointType::revolute_unaligned:
         id = model.addJoint(p, pinocchio::JointModelRevoluteUnaligned(Vec3(t.axis.row(r))),
+                            placement_i, t.names[i]);
+        break;
+      case JointType::prismatic_x:
+        id = model.addJoint(p, pinocchio::JointModelPX(), placement_i, t.names[i]);
+        break;
+      case JointType::prismatic_y:
+        id = model.addJoint(p, pinocchio::JointModelPY(), placement_i, t.names[i]);
+        break;
+      case JointType::prismatic_z:
+        id = model.addJoint(p, pinocchio::JointModelPZ(), placement_i, t.names[i]);
+        break;
+      case JointType::prismatic_unaligned:
+        id = model.addJoint(p, pinocchio::JointModelPrismaticUnaligned(Vec3(t.axis.row(r))),
                             placement_i, t.names[i]);
         break;
       default:
@@ -314,6 +338,16 @@ StepperSetup setup(const StepperSpec& spec) {
       throw std::invalid_argument("bad spring joint index");
     }
   }
+  for (const auto& b : spec.bearing_springs) {
+    for (long i : {b.index_x, b.index_y, b.index_axial, b.index_tilt_x, b.index_tilt_y}) {
+      if (i < -1 || i >= static_cast<long>(nv)) {
+        throw std::invalid_argument("bad bearing spring joint index");
+      }
+    }
+    if ((b.index_x < 0) != (b.index_y < 0) || (b.index_tilt_x < 0) != (b.index_tilt_y < 0)) {
+      throw std::invalid_argument("bearing spring: radial and tilt joints come in pairs");
+    }
+  }
   for (const auto& g : spec.generators) {
     if (g.index < 0 || static_cast<size_t>(g.index) >= nv) {
       throw std::invalid_argument("bad generator joint index");
@@ -344,6 +378,7 @@ StepperSetup setup(const StepperSpec& spec) {
   s.rigid_meshes = spec.rigid_meshes;
   s.compliant_meshes = spec.compliant_meshes;
   s.springs = spec.springs;
+  s.bearing_springs = spec.bearing_springs;
   s.generators = spec.generators;
   s.rotors = spec.rotors;
   s.input_columns = spec.input_columns;
@@ -499,7 +534,11 @@ NB_MODULE(_native, m) {
       .value("revolute_x", JointType::revolute_x)
       .value("revolute_y", JointType::revolute_y)
       .value("revolute_z", JointType::revolute_z)
-      .value("revolute_unaligned", JointType::revolute_unaligned);
+      .value("revolute_unaligned", JointType::revolute_unaligned)
+      .value("prismatic_x", JointType::prismatic_x)
+      .value("prismatic_y", JointType::prismatic_y)
+      .value("prismatic_z", JointType::prismatic_z)
+      .value("prismatic_unaligned", JointType::prismatic_unaligned);
 
   nb::enum_<GeneratorLaw>(m, "GeneratorLaw")
       .value("constant", GeneratorLaw::constant)
@@ -586,6 +625,19 @@ NB_MODULE(_native, m) {
       .def_rw("damping", &TorsionalSpringSpec::damping)
       .def_rw("preload_angle", &TorsionalSpringSpec::preload_angle);
 
+  nb::class_<BearingSpringSpec>(m, "BearingSpringSpec")
+      .def(nb::init<>())
+      .def_rw("index_x", &BearingSpringSpec::index_x)
+      .def_rw("index_y", &BearingSpringSpec::index_y)
+      .def_rw("radial_stiffness", &BearingSpringSpec::radial_stiffness)
+      .def_rw("radial_damping", &BearingSpringSpec::radial_damping)
+      .def_rw("clearance", &BearingSpringSpec::clearance)
+      .def_rw("index_axial", &BearingSpringSpec::index_axial)
+      .def_rw("axial_stiffness", &BearingSpringSpec::axial_stiffness)
+      .def_rw("index_tilt_x", &BearingSpringSpec::index_tilt_x)
+      .def_rw("index_tilt_y", &BearingSpringSpec::index_tilt_y)
+      .def_rw("tilt_stiffness", &BearingSpringSpec::tilt_stiffness);
+
   nb::class_<GeneratorSpec>(m, "GeneratorSpec")
       .def(nb::init<>())
       .def_rw("index", &GeneratorSpec::index)
@@ -654,6 +706,7 @@ NB_MODULE(_native, m) {
       .def_rw("rigid_meshes", &StepperSpec::rigid_meshes)
       .def_rw("compliant_meshes", &StepperSpec::compliant_meshes)
       .def_rw("springs", &StepperSpec::springs)
+      .def_rw("bearing_springs", &StepperSpec::bearing_springs)
       .def_rw("generators", &StepperSpec::generators)
       .def_rw("rotors", &StepperSpec::rotors)
       .def_rw("input_columns", &StepperSpec::input_columns)

@@ -41,6 +41,7 @@
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
+#include "bearing_spring.hpp"
 #include "compliant_mesh.hpp"
 #include "constrained_qp.hpp"
 #include "constraints.hpp"
@@ -77,6 +78,7 @@ struct StepperSetup {
   std::vector<long> rigid_meshes;        // meshes that are constraint rows, in row order
   std::vector<CompliantMeshSpec> compliant_meshes;
   std::vector<TorsionalSpringSpec> springs;
+  std::vector<BearingSpringSpec> bearing_springs;  // compliant bearings (bearing_spring.hpp)
   std::vector<GeneratorSpec> generators;  // generator.hpp
   std::vector<RotorSpec> rotors;          // rotor.hpp
   long input_columns = 0;                 // per-sample inputs the elements read (wind speeds)
@@ -110,6 +112,12 @@ inline const ElementKind kElementKinds[] = {
      [](const StepperSetup& s, Elements& out) {
        if (s.bearing_damping.size() && s.bearing_damping.cwiseAbs().maxCoeff() > 0.0) {
          out.push_back(std::make_unique<BearingDamping>(s.bearing_damping));
+       }
+     }},
+    {"bearing_springs",
+     [](const StepperSetup& s, Elements& out) {
+       if (!s.bearing_springs.empty()) {
+         out.push_back(std::make_unique<BearingSprings>(s.bearing_springs));
        }
      }},
     {"compliant_meshes",

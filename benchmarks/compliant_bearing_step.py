@@ -1,0 +1,105 @@
+"""Cost of compliant bearings against ideal ones on the same compliant-mesh model, in one run.
+
+For each model, ``pinwind.simulate`` with every mesh compliant (as ``compliant_step.py``) and ideal
+bearings, then the same with compliant bearings (radial stiffness 2e9 N/m, damping 1e4 N·s/m: two
+slides per bearing, ``docs/model_format.md`` "Compliant bearings"): every turning bearing, or one
+(``--bearings all sun carrier``: one case each), under the same loads: a torque on the input and a
+speed driver on the output. The runs are interleaved A/B ``--repeats`` times and the median ratio of
+the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only the last sample.
+
+Measured 2026-11-27 on the shared, loaded 2-core machine (10000 steps, 3 repeats; noisy, pairwise
+ratios spread ±0.4): all five turning bearings compliant (nv 6 -> 16) 1.64 (saleh2017_planetary)
+and 1.47 (dtu500_planetary); one (sun or carrier, nv 6 -> 8) 0.86-1.60. Before Gearbox.joint_axis
+kept its axes, the bearing loads' derive asked Pinocchio for every joint's axis in every block
+(2.7-3.5 with five bearings).
+
+Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+import warnings
+from pathlib import Path
+
+import pinwind
+from pinwind.errors import PinwindWarning
+from pinwind.model.gearbox import loads
+
+ROOT = Path(__file__).resolve().parents[1]
+#: model → (input joint, input torque [N·m], output joint held at speed, its speed [rad/s])
+CASES = {
+    "saleh2017_planetary": ("carrier", 1e6, "sun", 8.92),
+    "dtu500_planetary": ("carrier", 1.76e5, "sun", 15.75),
+}
+#: The compliance given to every turning bearing.
+BEARING = 'radial_stiffness="2e9" radial_damping="1e4"'
+
+
+def with_compliant_bearings(gb, joints: list[str] | None = None) -> pinwind.Gearbox:
+    """The model with bearings ``joints`` made compliant (default: every one that turns)."""
+    if joints is None:
+        joints = [j for j in gb.joint_names if j not in gb.locked_joints]
+    lines = "".join(f'  <bearing joint="{j}" {BEARING}/>\n' for j in joints)
+    text = gb.source_text
+    for j in set(gb.source.bearings) & set(joints):  # a rated bearing keeps its rating
+        text = text.replace(f'<bearing joint="{j}"', f'<bearing joint="{j}" {BEARING}', 1)
+        lines = lines.replace(f'  <bearing joint="{j}" {BEARING}/>\n', "")
+    return loads(text.replace("</gearbox>", lines + "</gearbox>"), str(gb.path))
+
+
+def time_per_step(gb, steps: int, dt: float, case) -> float:
+    joint_in, torque, joint_out, speed = case
+    started = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        pinwind.simulate(
+            gb,
+            duration=steps * dt,
+            dt=dt,
+            torques={joint_in: torque},
+            speeds={joint_out: speed},
+            meshes={"all": "compliant"},
+            keep="last",
+            progress=False,
+        )
+    return (time.perf_counter() - started) / steps
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=int, default=20_000)
+    parser.add_argument("--dt", type=float, default=2e-5)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--models", nargs="*", default=list(CASES))
+    parser.add_argument(
+        "--bearings",
+        nargs="*",
+        default=["all", "sun", "carrier"],
+        help="which bearings are compliant, one case each: all (every one that turns) or a joint",
+    )
+    args = parser.parse_args()
+
+    print(f"{args.steps} steps of {args.dt:g} s, {args.repeats} interleaved A/B repeats")
+    print(f"{'model, compliant bearings':34} {'mesh µs':>9} {'+bearings µs':>13} {'ratio':>6}")
+    for name, which in ((m, b) for m in args.models for b in args.bearings):
+        ideal = pinwind.load(ROOT / "models" / f"{name}.urdf")
+        compliant = with_compliant_bearings(ideal, None if which == "all" else [which])
+        case = CASES[name]
+        a, b = [], []
+        time_per_step(compliant, 1000, args.dt, case)  # warm up
+        for _ in range(args.repeats):
+            a.append(time_per_step(ideal, args.steps, args.dt, case))
+            b.append(time_per_step(compliant, args.steps, args.dt, case))
+        ratios = [y / x for x, y in zip(a, b, strict=True)]
+        label = f"{name}, {which} (nv {ideal.model.nv} -> {compliant.model.nv})"
+        print(
+            f"{label:34} {statistics.median(a) * 1e6:9.2f} {statistics.median(b) * 1e6:13.2f} "
+            f"{statistics.median(ratios):6.2f}   (pairwise {min(ratios):.2f}–{max(ratios):.2f})"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,181 @@
+// Compliant bearings: the springs that hold a body in its bearing (pinwind/model/gearbox.py
+// gives the body two radial slides, an axial slide and two tilt hinges between the housing and
+// its bearing joint; docs/model_format.md "Compliant bearings"). Per bearing, on the
+// coordinates of those joints (the displacement of the body in the bearing, joint frame):
+//
+//     radial   F = −k max(|r| − c, 0) r/|r| − c_r ṙ (the damper in contact only)
+//              r = (x, y) [m], clearance c ≥ 0 [m]
+//     axial    F_z = −k_a z,   tilt   M = −k_t θ   (linear)
+//
+// Like the torsional springs (torsional_spring.hpp) the forces are taken at the time step's
+// weighted state r_n + dq₀ + κ_q ā, linear in ā: the radial law is linearised about
+// r₀ = r_n + dq₀, F ≈ F(r₀) − K(r₀) κ_q ā with the tangent stiffness
+//
+//     K = k [(1 − c/|r₀|) I + (c/|r₀|) r̂ r̂ᵀ]       (K = k I without clearance: exact),
+//
+// and the contact (|r| > c) is an active set that settle() updates after each solve, as a
+// compliant mesh's contact loss is; the radial damper, at the weighted speed ṙ_n + κ_v ā, acts
+// in contact only (a rolling element loses touch with the race inside the clearance). Without
+// clearance the step is the torsional springs' one, second order and, with ρ∞ = 1,
+// energy-keeping. The axial and tilt dampers are the slides' own viscous damping
+// (BearingDamping, torsional_spring.hpp).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "elements.hpp"
+
+namespace pinwind {
+
+struct BearingSpringSpec {
+  long index_x = -1, index_y = -1;  // velocity indices of the radial slides (−1: none)
+  double radial_stiffness = 0.0;    // k [N/m]
+  double radial_damping = 0.0;      // c_r [N·s/m]
+  double clearance = 0.0;           // radial clearance c [m]
+  long index_axial = -1;            // velocity index of the axial slide (−1: none)
+  double axial_stiffness = 0.0;     // k_a [N/m]
+  long index_tilt_x = -1, index_tilt_y = -1;  // the tilt hinges (−1: none)
+  double tilt_stiffness = 0.0;                // k_t [N·m/rad]
+};
+
+class BearingSprings : public Element {
+ public:
+  explicit BearingSprings(std::vector<BearingSpringSpec> specs)
+      : specs_(std::move(specs)),
+        contact_(specs_.size(), false),
+        direction_(specs_.size(), Eigen::Vector2d(1.0, 0.0)),
+        stiffness_(specs_.size(), Eigen::Matrix2d::Zero()),
+        force0_(specs_.size(), Eigen::Vector2d::Zero()) {}
+
+  void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
+    const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
+    for (size_t b = 0; b < specs_.size(); ++b) {
+      const BearingSpringSpec& sp = specs_[b];
+      for (const auto& [i, k] : linear(sp)) {
+        hessian(i, i) += kq * k;
+        force[i] -= k * (s.q[i] + s.dq_free[i]);
+      }
+      if (sp.index_x < 0) continue;
+      linearise(b, start(sp, s));
+      const long ix = sp.index_x, iy = sp.index_y;
+      const double c = touching(b) ? sp.radial_damping : 0.0;
+      hessian(ix, ix) += kq * stiffness_[b](0, 0) + kv * c;
+      hessian(ix, iy) += kq * stiffness_[b](0, 1);
+      hessian(iy, ix) += kq * stiffness_[b](1, 0);
+      hessian(iy, iy) += kq * stiffness_[b](1, 1) + kv * c;
+      force[ix] += force0_[b][0] - c * s.v[ix];
+      force[iy] += force0_[b][1] - c * s.v[iy];
+    }
+  }
+
+  bool settle(const StepView& s, const Eigen::VectorXd& a, bool last) override {
+    const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
+    bool changed = false;
+    elastic_.setZero(s.q.size());
+    damping_.setZero(s.q.size());
+    for (size_t b = 0; b < specs_.size(); ++b) {
+      const BearingSpringSpec& sp = specs_[b];
+      for (const auto& [i, k] : linear(sp)) elastic_[i] -= k * (s.q[i] + s.dq_free[i] + kq * a[i]);
+      if (sp.index_x < 0) continue;
+      const Eigen::Vector2d step(a[sp.index_x], a[sp.index_y]);
+      if (touching(b)) {
+        damping_[sp.index_x] = -sp.radial_damping * (s.v[sp.index_x] + kv * step[0]);
+        damping_[sp.index_y] = -sp.radial_damping * (s.v[sp.index_y] + kv * step[1]);
+      }
+      if (sp.clearance > 0.0) {
+        const Eigen::Vector2d r = start(sp, s) + kq * step;
+        const bool now = r.norm() > sp.clearance;
+        if (now != contact_[b] && !last) {
+          contact_[b] = now;
+          if (now) direction_[b] = r.normalized();
+          changed = true;
+        }
+      }
+      const Eigen::Vector2d f = force0_[b] - kq * (stiffness_[b] * step);
+      elastic_[sp.index_x] += f[0];
+      elastic_[sp.index_y] += f[1];
+    }
+    return changed;
+  }
+
+  double potential(const StepView& s) const override {
+    double energy = 0.0;
+    for (const BearingSpringSpec& sp : specs_) {
+      for (const auto& [i, k] : linear(sp)) energy += 0.5 * k * s.q[i] * s.q[i];
+      if (sp.index_x < 0) continue;
+      const double over =
+          std::max(std::hypot(s.q[sp.index_x], s.q[sp.index_y]) - sp.clearance, 0.0);
+      energy += 0.5 * sp.radial_stiffness * over * over;
+    }
+    return energy;
+  }
+
+  StepWork work(const StepView& s, const Eigen::VectorXd&,
+                const Eigen::VectorXd& v_mid) const override {
+    return {elastic_.dot(v_mid) * s.dt, -damping_.dot(v_mid) * s.dt, 0.0};
+  }
+
+ private:
+  struct Linear {
+    long index;
+    double stiffness;
+  };
+
+  // The bearing's linear springs: axial slide and tilt hinges, those it has.
+  static std::vector<Linear> linear(const BearingSpringSpec& sp) {
+    std::vector<Linear> out;
+    if (sp.index_axial >= 0) out.push_back({sp.index_axial, sp.axial_stiffness});
+    if (sp.index_tilt_x >= 0) out.push_back({sp.index_tilt_x, sp.tilt_stiffness});
+    if (sp.index_tilt_y >= 0) out.push_back({sp.index_tilt_y, sp.tilt_stiffness});
+    return out;
+  }
+
+  // Bearing b's radial spring and damper act: in contact, or always without clearance.
+  bool touching(size_t b) const { return specs_[b].clearance <= 0.0 || contact_[b]; }
+
+  // r₀: the radial displacement at the weighted state with ā = 0 [m].
+  static Eigen::Vector2d start(const BearingSpringSpec& sp, const StepView& s) {
+    return {s.q[sp.index_x] + s.dq_free[sp.index_x], s.q[sp.index_y] + s.dq_free[sp.index_y]};
+  }
+
+  // F(r₀) and the tangent stiffness K(r₀) of bearing b's radial law, for its contact state.
+  void linearise(size_t b, const Eigen::Vector2d& r) {
+    const BearingSpringSpec& sp = specs_[b];
+    const double k = sp.radial_stiffness, c = sp.clearance;
+    if (c <= 0.0) {
+      stiffness_[b] = k * Eigen::Matrix2d::Identity();
+      force0_[b] = -k * r;
+      return;
+    }
+    if (!contact_[b]) {
+      stiffness_[b].setZero();
+      force0_[b].setZero();
+      return;
+    }
+    const double n = r.norm();
+    if (n > c) {
+      const Eigen::Vector2d u = r / n;
+      direction_[b] = u;
+      stiffness_[b] = k * ((1.0 - c / n) * Eigen::Matrix2d::Identity() + (c / n) * u * u.transpose());
+      force0_[b] = -k * (n - c) * u;
+    } else {
+      // Entering contact within the step: the wall's normal is where the body meets it.
+      const Eigen::Vector2d& u = direction_[b];
+      stiffness_[b] = k * u * u.transpose();
+      force0_[b] = -k * (u.dot(r) - c) * u;
+    }
+  }
+
+  std::vector<BearingSpringSpec> specs_;
+  std::vector<bool> contact_;                // radial contact (clearance taken up), per bearing
+  std::vector<Eigen::Vector2d> direction_;   // the last contact normal r̂
+  std::vector<Eigen::Matrix2d> stiffness_;   // K(r₀) of the current step
+  std::vector<Eigen::Vector2d> force0_;      // F(r₀) of the current step [N]
+  Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces [N or N·m]
+};
+
+}  // namespace pinwind

@@ -1,0 +1,295 @@
+"""Compliant and floating bearings: a disc on a linear bearing, clearance, a floating sun."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import pinwind
+from pinwind.analysis import load_sharing
+from pinwind.dynamics.linearisation import linearise
+from pinwind.dynamics.mesh import MeshSet
+from pinwind.errors import InvalidBearingCompliance, PinwindWarning, UnheldMember
+from pinwind.model.compliance import MeshCompliance
+from pinwind.model.gearbox import loads
+from tests.conftest import MODELS
+
+MASS, STIFFNESS, G = 10.0, 1e6, 9.81
+
+
+def disc_urdf(bearing: str) -> str:
+    """A 10 kg disc on bearing "disc" (axis z) at the ground, gravity along −y."""
+    return f"""<robot name="disc">
+  <link name="ground"/>
+  <link name="disc"><inertial><mass value="{MASS!r}"/>
+    <inertia ixx="0.1" iyy="0.1" izz="0.2" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="disc" type="continuous"><parent link="ground"/><child link="disc"/>
+    <origin xyz="0.1 0.2 0"/><axis xyz="0 0 1"/></joint>
+  <gearbox gravity="0 {-G!r} 0">
+    <bearing joint="disc" {bearing}/>
+  </gearbox>
+</robot>"""
+
+
+def _run(gb, **kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        return pinwind.simulate(gb, **kwargs)
+
+
+def _crossing_period(t: np.ndarray, x: np.ndarray) -> float:
+    """Mean period of x(t) from its upward zero crossings, linearly interpolated [s]."""
+    up = np.flatnonzero((x[:-1] < 0.0) & (x[1:] >= 0.0))
+    times = t[up] - x[up] * (t[up + 1] - t[up]) / (x[up + 1] - x[up])
+    return float(np.mean(np.diff(times)))
+
+
+def test_a_disc_on_a_linear_bearing_has_its_translational_mode_at_sqrt_k_over_m():
+    gb = loads(disc_urdf(f'radial_stiffness="{STIFFNESS!r}"'))
+    modes = [m for m in linearise(gb).modes() if not m.rigid]
+    expected = math.sqrt(STIFFNESS / MASS) / (2 * math.pi)
+    np.testing.assert_allclose([m.frequency for m in modes], [expected, expected], rtol=1e-12)
+    for m in modes:  # all the mode's strain energy is in the bearing's radial springs
+        np.testing.assert_allclose(
+            m.strain_share["disc_radial_x"] + m.strain_share["disc_radial_y"], 1.0, rtol=1e-12
+        )
+
+
+def test_axial_and_tilt_springs_give_sqrt_ka_over_m_and_sqrt_kt_over_i_and_the_damper_its_ratio():
+    axial, tilt, damping = 4e6, 1e4, 100.0
+    gb = loads(
+        disc_urdf(
+            f'radial_stiffness="{STIFFNESS!r}" radial_damping="{damping!r}" '
+            f'axial_stiffness="{axial!r}" tilt_stiffness="{tilt!r}"'
+        )
+    )
+    modes = {
+        max(m.kinetic_share, key=m.kinetic_share.get): m
+        for m in linearise(gb).modes()
+        if not m.rigid
+    }
+    hz = 1 / (2 * math.pi)
+    i_radial = 0.1  # the disc's Ixx = Iyy [kg·m²] about its centre, the bearing centre
+    expected = {
+        "disc_radial_x": math.sqrt(STIFFNESS / MASS) * hz,
+        "disc_radial_y": math.sqrt(STIFFNESS / MASS) * hz,
+        "disc_axial": math.sqrt(axial / MASS) * hz,
+        "disc_tilt_x": math.sqrt(tilt / i_radial) * hz,
+        "disc_tilt_y": math.sqrt(tilt / i_radial) * hz,
+    }
+    assert set(modes) == set(expected)
+    for name, frequency in expected.items():
+        np.testing.assert_allclose(modes[name].frequency, frequency, rtol=1e-9, err_msg=name)
+    ratio = damping / (2 * math.sqrt(STIFFNESS * MASS))  # ζ = c / (2 √(k m))
+    np.testing.assert_allclose(modes["disc_radial_x"].damping_ratio, ratio, rtol=1e-9)
+    np.testing.assert_allclose(modes["disc_axial"].damping_ratio, 0.0, atol=0.0)
+
+
+def test_a_disc_released_under_gravity_swings_at_sqrt_k_over_m_about_its_sag():
+    gb = loads(disc_urdf(f'radial_stiffness="{STIFFNESS!r}"'))
+    res = _run(gb, duration=0.4, dt=1e-4, initial_deflection="none")
+    sag = MASS * G / STIFFNESS
+    y = res.bearing("disc").displacement[:, 1]
+    omega = math.sqrt(STIFFNESS / MASS)
+    np.testing.assert_allclose(_crossing_period(res.time, y + sag), 2 * math.pi / omega, rtol=2e-4)
+    # Released at rest from the bearing centre: y = −sag (1 − cos ω̃t), down to twice the sag,
+    # with the trapezoidal step's frequency ω̃ = (2/h) atan(ωh/2) (its only error: the period).
+    h = res.time[1]
+    discrete = 2.0 / h * math.atan(omega * h / 2.0)
+    np.testing.assert_allclose(y, -sag * (1 - np.cos(discrete * res.time)), atol=1e-6 * sag)
+    np.testing.assert_allclose(res.bearing("disc").displacement[:, [0, 2]], 0.0, atol=1e-15)
+
+
+def test_the_static_start_puts_the_disc_at_its_sag_m_g_over_k_carried_by_the_bearing():
+    gb = loads(disc_urdf(f'radial_stiffness="{STIFFNESS!r}" radial_damping="500"'))
+    res = _run(gb, duration=0.01, dt=1e-4)
+    bearing = res.bearing("disc")
+    np.testing.assert_allclose(bearing.displacement[:, 1], -MASS * G / STIFFNESS, rtol=1e-9)
+    # The spring holds the weight, and the bearing's reaction on the disc is that force.
+    np.testing.assert_allclose(bearing.elastic_force[:, 1], MASS * G, rtol=1e-9)
+    np.testing.assert_allclose(bearing.force_local[:, 1], MASS * G, rtol=1e-9)
+    np.testing.assert_allclose(bearing.force_local[:, [0, 2]], 0.0, atol=1e-9)
+
+
+def test_inside_its_clearance_the_disc_falls_freely_then_rests_at_clearance_plus_sag():
+    clearance = 50e-6
+    gb = loads(
+        disc_urdf(
+            f'radial_stiffness="{STIFFNESS!r}" radial_damping="1500" '
+            f'radial_clearance_mm="{clearance * 1e3!r}"'
+        )
+    )
+    res = _run(gb, duration=0.3, dt=1e-5, initial_deflection="none")
+    bearing = res.bearing("disc")
+    radius = np.hypot(bearing.displacement[:, 0], bearing.displacement[:, 1])
+    inside = radius < clearance
+    assert inside.sum() > 100
+    # No force while |r| < c: the disc falls as a free body, y = −g t²/2.
+    np.testing.assert_allclose(bearing.elastic_force[inside], 0.0, atol=0.0)
+    t = res.time[inside]
+    np.testing.assert_allclose(bearing.displacement[inside, 1], -0.5 * G * t**2, atol=1e-10)
+    # At rest it presses on the bearing with its weight: |r| = c + m g / k.
+    np.testing.assert_allclose(radius[-1], clearance + MASS * G / STIFFNESS, rtol=1e-6)
+    np.testing.assert_allclose(bearing.force_local[-1, 1], MASS * G, rtol=1e-6)
+
+
+def test_an_ideal_bearing_has_no_displacement_and_no_elastic_force():
+    gb = loads(disc_urdf('type="deep_groove_ball" rating_c_kN="100"'))
+    res = _run(gb, duration=0.001, dt=1e-4)
+    assert res.joint_names == ["disc"]
+    np.testing.assert_allclose(res.bearing_displacement, 0.0, atol=0.0)
+    np.testing.assert_allclose(res.bearing_elastic_force, 0.0, atol=0.0)
+    np.testing.assert_allclose(res.bearing("disc").force_local[:, 1], MASS * G, rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("attributes", "attribute"),
+    [
+        ('radial_stiffness="-1e6"', "radial_stiffness"),
+        ('radial_stiffness="nan"', "radial_stiffness"),
+        ('radial_stiffness="1e6" radial_clearance_mm="-0.01"', "radial_clearance_mm"),
+        ('radial_stiffness="1e6" radial_clearance_mm="nan"', "radial_clearance_mm"),
+        ('radial_stiffness="1e6" axial_stiffness="-5"', "axial_stiffness"),
+    ],
+)
+def test_a_negative_or_nan_bearing_stiffness_or_clearance_is_refused_with_its_value(
+    attributes, attribute
+):
+    with pytest.raises(InvalidBearingCompliance, match=attribute) as err:
+        loads(disc_urdf(attributes))
+    assert err.value.bearing == "disc"
+    assert err.value.attribute == attribute
+    assert not err.value.value >= 0.0  # negative or NaN, kept
+
+
+def test_a_floating_disc_with_nothing_to_hold_it_is_refused_naming_its_free_motion():
+    gb = loads(disc_urdf('floating="true"'))
+    with pytest.raises(UnheldMember, match="disc_radial_") as err:
+        linearise(gb)
+    assert err.value.bearing == "disc"
+    assert set(err.value.motion) <= {"disc_radial_x", "disc_radial_y"}
+    with pytest.raises(UnheldMember):
+        _run(gb, duration=0.001, dt=1e-4)
+
+
+# --- a floating sun in a planetary stage ----------------------------------------------------------
+
+K_PAIR, SUN_TORQUE = 5e9, 1e5
+
+
+def _saleh(floating: bool):
+    text = (MODELS / "saleh2017_planetary.urdf").read_text()
+    if floating:
+        text = text.replace("</gearbox>", '  <bearing joint="sun" floating="true"/>\n</gearbox>')
+    return loads(text, "saleh.urdf")
+
+
+def _stage_run(gb, errors):
+    compliance = MeshCompliance(stiffness=K_PAIR, variation="constant", damping_ratio=0.3)
+    return _run(
+        gb,
+        duration=0.03,
+        dt=1e-5,
+        torques={"sun": SUN_TORQUE},
+        speeds={"carrier": 0.0},
+        gravity=np.zeros(3),
+        meshes={"all": compliance},
+        position_errors=errors,
+    )
+
+
+def _network_forces(gb, errors) -> np.ndarray:
+    """Mesh forces of the stage's linear stiffness network at rest (carrier held).
+
+    Each mesh a spring k_m = c_γα b along its row J_m (front flank for the sun meshes, back for
+    the ring meshes); a pin error e of a planet shifts its meshes' deflections by n_m·e. The
+    free coordinates are the sun's and planets' angles and, for a floating sun, its two radial
+    slides: Jᵀ K (J dq − offsets) = τ, F = K (offsets − J dq).
+    """
+    model = gb.model
+    data = model.createData()
+    pin.computeJointJacobiansTimeVariation(model, data, gb.neutral(), np.zeros(model.nv))
+    ms = MeshSet(gb)
+    rows = ms.evaluate(model, data)
+    flank = np.array([1.0 if m.name.startswith("sun") else -1.0 for m in gb.meshes])
+    jac, _ = ms.combine(rows, flank)
+    normal = ms.line_of_action(rows, flank)
+    axis = np.array([0.0, 0.0, 1.0])
+    offsets = np.zeros(len(gb.meshes))
+    for i, m in enumerate(gb.meshes):
+        for gear, sign in ((m.gear_a, 1.0), (m.gear_b, -1.0)):
+            if gear.name in errors:
+                centre = data.oMi[gear.joint_id].translation
+                radial = centre / np.linalg.norm(centre)
+                tangential, radial_error = errors[gear.name]
+                e = tangential * np.cross(axis, radial) + radial_error * radial
+                offsets[i] += sign * normal[i] @ e
+    free = [gb.v_index(j) for j in ("sun", "planet1", "planet2", "planet3", *gb.slide_joints)]
+    k = np.array([K_PAIR * (0.75 * m.path.contact_ratio + 0.25) for m in gb.meshes])
+    jf = jac[:, free]
+    tau = np.zeros(len(free))
+    tau[0] = SUN_TORQUE
+    dq = np.linalg.solve(jf.T @ (k[:, None] * jf), tau + jf.T @ (k * offsets))
+    return k * (offsets - jf @ dq)
+
+
+def test_a_floating_sun_in_a_perfect_stage_shares_the_load_equally():
+    gb = _saleh(floating=True)
+    res = _stage_run(gb, {})
+    sun = {s.gear: s for s in load_sharing(res, gb)}["sun"]
+    np.testing.assert_allclose(sun.factor[-1], 1.0, atol=1e-9)
+    np.testing.assert_allclose(res.bearing("sun").displacement[-1], 0.0, atol=1e-12)
+    np.testing.assert_allclose(res.mesh_normal[-1], _network_forces(gb, {}), rtol=1e-7)
+
+
+def test_a_floating_sun_shares_a_pin_error_better_than_a_fixed_one_as_the_network_says():
+    errors = {"planet1": (10e-6, 0.0)}
+    factors = {}
+    for floating in (False, True):
+        gb = _saleh(floating)
+        res = _stage_run(gb, errors)
+        expected = _network_forces(gb, errors)
+        # The network is linear about the reference pose; the run's geometry follows the sun's
+        # and planets' displacements (µm on a 180 mm sun): agreement to 1e-4.
+        np.testing.assert_allclose(res.mesh_normal[-1], expected, rtol=1e-4)
+        sun = {s.gear: s for s in load_sharing(res, gb)}["sun"]
+        np.testing.assert_allclose(
+            sun.factor[-1], expected[:3].max() / expected[:3].mean(), rtol=1e-4
+        )
+        factors[floating] = sun.factor[-1]
+    assert factors[True] < factors[False]
+    assert factors[False] > 1.01
+    # Three planets and a sun free to move in its plane: three meshes, three sun coordinates,
+    # so the floating sun takes up the pin error and the planets share alike.
+    np.testing.assert_allclose(factors[True], 1.0, atol=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("bearing", "command", "message"),
+    [
+        ('radial_stiffness="-1e6"', "simulate", "radial_stiffness is -1e+06 N/m; give a finite"),
+        ('radial_stiffness="1e6" radial_clearance_mm="nan"', "simulate", "radial_clearance_mm"),
+        ('floating="true"', "simulate", 'the floating bearing "disc" lets its body move freely'),
+        ('floating="true"', "modes", "disc_radial_"),
+    ],
+)
+def test_bad_bearing_compliance_exits_2_in_one_line(tmp_path, bearing, command, message):
+    model = tmp_path / "disc.urdf"
+    model.write_text(disc_urdf(bearing))
+    args = ["--duration", "0.01", "--dt", "1e-3", "--no-log"] if command == "simulate" else []
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", command, str(model), *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+    )
+    assert out.returncode == 2, out.stderr
+    assert message in out.stderr
+    assert out.stderr.count("\n") == 1, out.stderr
