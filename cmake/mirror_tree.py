@@ -20,7 +20,9 @@ def mirror(source: Path, target: Path) -> int:
     """Make ``target`` hold exactly ``source``'s files; returns how many files were written."""
     written = 0
     kept: set[Path] = set()
-    for folder, _, names in os.walk(source):
+    for folder, folders, names in os.walk(source):
+        # Python's bytecode caches are rewritten by every environment and compile nothing.
+        folders[:] = [f for f in folders if f != "__pycache__"]
         out = target / Path(folder).relative_to(source)
         out.mkdir(parents=True, exist_ok=True)
         for name in names:
