@@ -115,7 +115,7 @@ def comparison(planetary: pinwind.Result, drivetrain: pinwind.Result) -> list[tu
          "one calibration: Heier's C_p × 1.0291 so that the rotor gives 1 MN·m at 14.2 rpm"),
         ("sun–planet F_t [kN]", 412.0, ft / 1e3,
          "torque balance of the sun: (1e6/6)/(3 · 0.18 m) = 308.6 kN; 412 kN is 4/3 of it and "
-         "cannot be derived from the stated geometry (README)"),
+         "cannot be derived from the stated geometry (docs/validation.md)"),
         ("ring reaction force [kN]", float("nan"), ring_force / 1e3,
          "the ring's weight, 1238 kg · 9.81 = 12.1 kN (the planets' tooth forces cancel); "
          "000 Fig. 11's axis spans 0-13 kN"),

@@ -878,7 +878,8 @@ def read_log(
 
     Args:
         path: the log (MCAP file).
-        start, stop: keep the samples with start ≤ t ≤ stop [s] (open ends when None).
+        start: keep the samples with t ≥ start [s] (from the first when None).
+        stop: keep the samples with t ≤ stop [s] (to the last when None).
         channels: topics to read (``CHANNELS``: ``/joints``, ``/meshes/normal``, ``/tf``, ...,
             or a folder such as ``/bearings``); ``/run/time`` is always read. The arrays of the
             others are empty (0 samples). Default: every channel.

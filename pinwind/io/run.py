@@ -91,17 +91,19 @@ def simulate(
         command: the command line to record in the log (default: this call, as text).
         allow_large_log: write the log even when its estimated size is above ``MAX_LOG_BYTES``
             (20 GB) or the free disk space.
-        statistics: fold every simulated sample into ``result.statistics``: min, max, mean,
-            RMS and final value of every series (``analysis/run_statistics``), on a thread of
-            its own while the loop steps. Default: when the Result does not keep every sample
-            (``keep``), so that the peaks between kept samples count. With ``keep="last"`` the
-            Result holds the last sample and these statistics only.
-        skip_start: leave the samples before this time [s] out of ``result.statistics`` (a
-            start-up span: a compliant run starts undeflected, and its start-up impact would set
-            the maxima); the statistics are then folded whatever ``keep``, and
-            ``metadata["statistics_from_s"]`` records it for the summary and the load sharing.
         **kwargs: ``duration``, ``dt``, ``torques``, ``speeds``, ... as for
-            ``pinwind.dynamics.simulate.simulate``.
+            ``pinwind.dynamics.simulate.simulate``, and these two for the statistics:
+
+            - ``statistics``: fold every simulated sample into ``result.statistics``: min, max,
+              mean, RMS and final value of every series (``analysis/run_statistics``), on a
+              thread of its own while the loop steps. Default: when the Result does not keep
+              every sample (``keep``), so that the peaks between kept samples count. With
+              ``keep="last"`` the Result holds the last sample and these statistics only.
+            - ``skip_start``: leave the samples before this time [s] out of
+              ``result.statistics`` (a start-up span: a compliant run starts undeflected, and
+              its start-up impact would set the maxima); the statistics are then folded
+              whatever ``keep``, and ``metadata["statistics_from_s"]`` records it for the
+              summary and the load sharing.
 
     Returns:
         The Result; ``result.metadata["log_path"]`` names the log when one was written.

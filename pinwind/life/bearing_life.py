@@ -48,7 +48,7 @@ def dynamic_equivalent_load(
 
 
 def basic_rating_life(rating: BearingRating, load: float) -> float:
-    """Basic rating life L10 = (C / P)^p at a constant equivalent load P [N] [10⁶ rev].
+    """Basic rating life L10 = (C / P)^p at a constant equivalent load P [N], in [10⁶ rev].
 
     Infinite at P = 0.
 

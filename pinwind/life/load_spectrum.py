@@ -93,7 +93,8 @@ def load_spectrum(
         time: sample times [s], (n,), increasing.
         bins: a number of equal bins from min T to max T, or the bin edges [N·m] (increasing;
             they must hold every sample, so that the spectra sum to the run).
-        joint, source: the shaft and where its torque comes from, for the record.
+        joint: the shaft, for the record.
+        source: where its torque comes from, for the record.
 
     Raises:
         NonFiniteInput: a torque or speed is NaN or infinite (a series the log does not hold).

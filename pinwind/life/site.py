@@ -119,7 +119,8 @@ def weibull_site(
         edges: increasing bin edges [m/s], (n + 1,) (Jørgensen 2014: 5, 7, ..., 21).
         design_life_years: T / `HOURS_PER_YEAR` [years].
         availability: a, the fraction of the time in the operating range that the turbine runs.
-        cut_in, cut_out: operating range [m/s]; the outer edges if None.
+        cut_in: start of the operating range [m/s]; the first edge if None.
+        cut_out: end of the operating range [m/s]; the last edge if None.
         turbulence: see `bin_turbulence`.
 
     Raises:

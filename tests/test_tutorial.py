@@ -1,0 +1,128 @@
+"""docs/tutorial.md runs as written, and its output shows the numbers it derives by hand.
+
+Every ```bash block runs in order in one empty folder (``pinwind`` is ``python -m pinwind``), then
+every ```python block; each must exit 0. The checks take the tooth counts, torques and speeds
+from the tutorial's own commands, so the page and the test cannot drift apart.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from numpy.testing import assert_allclose
+
+ROOT = Path(__file__).resolve().parent.parent
+TUTORIAL = ROOT / "docs" / "tutorial.md"
+BLOCK = re.compile(r"^```(bash|python)\n(.*?)^```$", re.MULTILINE | re.DOTALL)
+
+
+def flag(command: str, name: str) -> float:
+    """The number after ``--name`` (``--name 18``) or ``--name JOINT=`` in a command."""
+    (value,) = re.findall(rf"--{name}[ =](-?[0-9.]+(?:e[-+]?[0-9]+)?)", command)
+    return float(value)
+
+
+def row(output: str, name: str) -> list[str]:
+    """The cells of the first table row of ``name`` in a command's output (in any column)."""
+    return next(line.split() for line in output.splitlines() if line.split()[:1] == [name])
+
+
+@pytest.fixture(scope="module")
+def tutorial(tmp_path_factory) -> dict[str, str]:
+    """Run the tutorial; each block's output keyed by its code."""
+    folder = tmp_path_factory.mktemp("tutorial")
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHON": sys.executable}
+    prelude = 'set -euo pipefail\npinwind() { "$PYTHON" -m pinwind "$@"; }\n'
+    outputs: dict[str, str] = {}
+    blocks = BLOCK.findall(TUTORIAL.read_text(encoding="utf-8"))
+    for language, code in sorted(blocks, key=lambda block: block[0] != "bash"):
+        command = (
+            ["bash", "-c", prelude + code] if language == "bash" else [sys.executable, "-c", code]
+        )
+        out = subprocess.run(
+            command, capture_output=True, text=True, timeout=300, cwd=folder, env=env
+        )
+        assert out.returncode == 0, f"{code}\n{out.stdout}\n{out.stderr}"
+        outputs[code] = out.stdout
+    outputs["folder"] = str(folder)
+    return outputs
+
+
+def output_of(tutorial: dict[str, str], start: str) -> tuple[str, str]:
+    """The block that starts with ``start``: (its code, its output)."""
+    (key,) = [key for key in tutorial if key.startswith(start)]
+    return key, tutorial[key]
+
+
+def test_tutorial_commands_all_run(tutorial):
+    assert len(tutorial) - 1 == len(BLOCK.findall(TUTORIAL.read_text(encoding="utf-8")))
+
+
+def test_hand_written_pair_turns_at_the_tooth_ratio_and_carries_torque_over_radius(tutorial):
+    text = TUTORIAL.read_text(encoding="utf-8")
+    wheel, pinion = (int(z) for z in re.findall(r'teeth="([0-9]+)"', text)[:2])
+    module = 10e-3  # module_mm="10" of both gears
+    _, info = output_of(tutorial, "cat > pair.urdf")
+    assert f"output {-wheel / pinion:.4f}" in info
+    assert f"a_w = {module * (wheel + pinion) / 2 * 1e3:.4f} mm" in info
+    command, out = output_of(tutorial, "pinwind simulate pair.urdf")
+    speed_in, torque_in = flag(command, "initial-speed input"), flag(command, "torque input")
+    # Power balance: T_out = -T_in ω_in / ω_out = T_in z_pinion / z_wheel.
+    assert_allclose(flag(command, "torque output"), torque_in * pinion / wheel, rtol=1e-12)
+    assert f"{-speed_in * wheel / pinion:.4f}" in row(out, "output")
+    tangential = torque_in / (module * wheel / 2)
+    cells = row(out, "wheel_pinion")
+    alpha = math.radians(20)  # the default pressure angle; no profile shift
+    for force in (tangential / math.cos(alpha), tangential, tangential * math.tan(alpha)):
+        assert f"{force / 1e3:.4f}" in cells, force
+
+
+def test_built_stage_has_the_ratio_of_its_tooth_counts(tutorial):
+    command, info = output_of(tutorial, "pinwind build planetary")
+    sun, planet, ring = (flag(command, name) for name in ("sun", "planet", "ring"))
+    assert f"sun {1 + ring / sun:g}" in info
+    assert f"planet1 {-ring / planet:g}" in info
+    assert f"a_w = {flag(command, 'module') * (sun + planet) / 2:.4f} mm" in info
+
+
+def test_stage_run_balances_torques_and_shares_the_sun_torque_equally(tutorial):
+    build, _ = output_of(tutorial, "pinwind build planetary")
+    sun, ring, module = (flag(build, name) for name in ("sun", "ring", "module"))
+    command, out = output_of(tutorial, "pinwind simulate stage.urdf")
+    carrier_rpm = flag(command, "initial-speed carrier")
+    torque_carrier, torque_sun = flag(command, "torque carrier"), flag(command, "torque sun")
+    assert_allclose(torque_sun, -torque_carrier / (1 + ring / sun), rtol=1e-12)
+    assert f"{carrier_rpm * (1 + ring / sun):.4f}" in row(out, "sun")
+    # The ring holds what the carrier and sun torques leave: -(T_c + T_s).
+    assert f"{-(torque_carrier + torque_sun) / 1e3:.4f}" in row(out, "ring")
+    tangential = -torque_sun / (3 * module * 1e-3 * sun / 2)
+    for mesh in ("sun_planet1", "sun_planet2", "sun_planet3", "planet1_ring"):
+        assert f"{tangential / 1e3:.4f}" in row(out, mesh), mesh
+
+
+def test_exported_table_holds_every_sample_of_the_normal_force(tutorial):
+    build, _ = output_of(tutorial, "pinwind build planetary")
+    sun, module = flag(build, "sun"), flag(build, "module")
+    command, _ = output_of(tutorial, "pinwind simulate stage.urdf")
+    normal = (
+        -flag(command, "torque sun") / (3 * module * 1e-3 * sun / 2) / math.cos(math.radians(20))
+    )
+    with open(Path(tutorial["folder"]) / "mesh_forces.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    assert len(rows) == round(flag(command, "duration") / flag(command, "dt")) + 1
+    forces = [float(value) for r in rows for key, value in r.items() if key != "time_s"]
+    assert len(forces) == 6 * len(rows)
+    assert_allclose(forces, normal, rtol=1e-9)
+
+
+def test_python_block_prints_ratio_force_ratio_and_equal_sharing(tutorial):
+    _, out = output_of(tutorial, "import math")
+    values = [float(line.rsplit(" ", 1)[1]) for line in out.splitlines()]
+    assert_allclose(values, [5.0, 1.0, 1.0], rtol=1e-9)
