@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import math
+from pathlib import Path
 from typing import Annotated, Any
 
 import typer
@@ -280,3 +281,18 @@ JsonOption = Annotated[
 
 #: Scenario keys whose signals come from these options: their errors name the option.
 FLAGS = {"torque": "--torque", "speed": "--speed"}
+
+
+# The Rerun viewer's options, shared by `replay` and `view`.
+SaveOption = Annotated[
+    Path | None, typer.Option("--save", help="Write a Rerun .rrd file instead of viewing.")
+]
+ServeOption = Annotated[
+    bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
+]
+WebPortOption = Annotated[
+    int | None, typer.Option(help="Web viewer port (with --serve; default 9090).")
+]
+GrpcPortOption = Annotated[
+    int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
+]

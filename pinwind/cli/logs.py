@@ -12,6 +12,7 @@ import typer
 from rich.markup import escape
 
 from pinwind.cli.app import app, console, err_console, say, warnings_as_lines
+from pinwind.cli.flags import GrpcPortOption, SaveOption, ServeOption, WebPortOption
 
 #: The time window of commands that read a log: --from T0 --to T1 [s], both inclusive.
 WindowStart = Annotated[
@@ -52,18 +53,10 @@ def _reading(log: Path, what: str) -> Iterator[Callable[[float, float], None]]:
 @app.command()
 def replay(
     log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
-    save: Annotated[
-        Path | None, typer.Option("--save", help="Write a Rerun .rrd file instead of viewing.")
-    ] = None,
-    serve: Annotated[
-        bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
-    ] = False,
-    web_port: Annotated[
-        int | None, typer.Option(help="Web viewer port (with --serve; default 9090).")
-    ] = None,
-    grpc_port: Annotated[
-        int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
-    ] = None,
+    save: SaveOption = None,
+    serve: ServeOption = False,
+    web_port: WebPortOption = None,
+    grpc_port: GrpcPortOption = None,
     start: Annotated[
         float | None, typer.Option("--from", help="Send every sample from this time on [s].")
     ] = None,

@@ -10,6 +10,7 @@ import typer
 from rich.markup import escape
 
 from pinwind.cli.app import app, build_app, say, warnings_as_lines
+from pinwind.cli.flags import GrpcPortOption, SaveOption, ServeOption, WebPortOption
 from pinwind.errors import InputError
 
 
@@ -154,18 +155,10 @@ def _per_stage(
 @app.command()
 def view(
     model: Annotated[Path, typer.Argument(help="Gearbox model file.")],
-    save: Annotated[
-        Path | None, typer.Option("--save", help="Write a Rerun .rrd file instead of viewing.")
-    ] = None,
-    serve: Annotated[
-        bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
-    ] = False,
-    web_port: Annotated[
-        int | None, typer.Option(help="Web viewer port (with --serve; default 9090).")
-    ] = None,
-    grpc_port: Annotated[
-        int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
-    ] = None,
+    save: SaveOption = None,
+    serve: ServeOption = False,
+    web_port: WebPortOption = None,
+    grpc_port: GrpcPortOption = None,
 ) -> None:
     """Look at a model before simulating it: its bodies at rest and lines of action, in Rerun."""
     from pinwind.io.model_view import view_model
