@@ -183,6 +183,14 @@ def test_iso_curve_below_its_strength_does_no_damage_with_the_limit_and_falls_wi
     )
 
 
+def test_iso_curve_beyond_10_to_the_10_cycles_continues_the_falling_line():
+    """Past the last knee the line from (5·10⁷, 1) to (10¹⁰, 0.85) goes on: at 10¹² cycles
+    Z_NT = 0.85^(ln(10¹²/5·10⁷) / ln(10¹⁰/5·10⁷)), below 0.85, not above it."""
+    curve = iso6336_contact_curve("18CrNiMo7-6")
+    factor = 0.85 ** (math.log(1e12 / 5e7) / math.log(1e10 / 5e7))
+    np.testing.assert_allclose(curve.stress(1e12), factor * 1500e6, rtol=1e-12)
+
+
 def test_curve_scaled_to_von_mises_fails_at_the_same_cycles():
     curve = iso6336_contact_curve("18CrNiMo7-6")
     stresses = np.array([2000e6, 1600e6, 1400e6])
