@@ -540,20 +540,18 @@ def best_found(
             f"--ratio {ratio:g}: the nearest ratio is {float(best['ratio']):.4g} "
             f"(#{int(best['number'])}); {meet} design(s) within ±{ratio_tolerance:g}"
         )
-    if centre_distance is not None:
-        target = centre_distance * 1e3
-        best = nearest("centre_distance_mm", target)
-        meet = sum(round(float(r["centre_distance_mm"]) * 1e3) == round(target * 1e3) for r in ok)
+    # Lengths: the table's columns are in mm; "at it" to the µm, as query matches them.
+    for flag, column, length in (
+        ("--center-distance", "centre_distance_mm", centre_distance),
+        ("--module", "module_mm", module),
+    ):
+        if length is None:
+            continue
+        target = length * 1e3
+        best = nearest(column, target)
+        meet = sum(round(float(r[column]) * 1e3) == round(target * 1e3) for r in ok)
         lines.append(
-            f"--center-distance {target:g}: the nearest is {float(best['centre_distance_mm']):g} "
-            f"mm (#{int(best['number'])}); {meet} design(s) at it"
-        )
-    if module is not None:
-        target = module * 1e3
-        best = nearest("module_mm", target)
-        meet = sum(round(float(r["module_mm"]) * 1e3) == round(target * 1e3) for r in ok)
-        lines.append(
-            f"--module {target:g}: the nearest is {float(best['module_mm']):g} mm "
+            f"{flag} {target:g}: the nearest is {float(best[column]):g} mm "
             f"(#{int(best['number'])}); {meet} design(s) at it"
         )
     return lines
