@@ -1,21 +1,26 @@
 """The Campbell diagram: natural frequencies against the input speed, with the excitation orders.
 
 The natural frequencies come from the linearisation at the reference pose
-(``dynamics/linearisation.py``), taken at the top of the speed range: the velocity terms grow with
-the speed, so where they vanish there (torsional coordinates, where they are zero at every speed)
-the frequencies do not change over the range, and where they act the linearisation refuses the
-range (``SpeedOutOfRange``). The excitations do change: every mesh frequency (teeth of gear A
-times its speed relative to the line of centres, ``analysis/spectrum.gearbox_frequencies``) and
-its harmonics, and every shaft's order 1, each proportional to the input speed Ω through the
-train's ratios
-(``dynamics/ratios.train_speeds``). A line h·f₁·Ω meets a mode f_n at Ω* = f_n / (h f₁): the
-crossings inside the operating range are the resonances an IEC 61400-4 check asks about.
+(``dynamics/linearisation.py``), taken once at the top of the speed range and scaled down to each
+speed (G grows with the speed, K_Ω with its square, nothing else changes:
+``Linearisation.at_speed_scale``). Where the velocity terms vanish (torsional coordinates, where
+they are zero at every speed) the frequencies do not change over the range and are solved once;
+where they act (a body spinning while it tilts in a compliant bearing: forward and backward whirl
+split apart with speed) they are solved at ``points`` speeds across the range. The excitations
+change too: every mesh frequency (teeth of gear A times its speed relative to the line of
+centres, ``analysis/spectrum.gearbox_frequencies``) and its harmonics, and every shaft's order 1,
+each proportional to the input speed Ω through the train's ratios
+(``dynamics/ratios.train_speeds``). A line h·f₁·Ω meets a mode f_n(Ω) where f_n(Ω) = h f₁ Ω: at
+Ω* = f_n / (h f₁) for a constant mode, and for one that moves with speed at the root of
+f_n(Ω) − h f₁ Ω between two sampled speeds where it changes sign (Brent's method, the n-th lowest
+frequency being continuous in Ω). The crossings inside the operating range are the resonances an
+IEC 61400-4 check asks about.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,15 +55,17 @@ class Crossing:
 
     Attributes:
         excitation: the line.
-        mode: index of the mode (in ``CampbellDiagram.modes``).
-        frequency: the mode's frequency [Hz].
+        mode: index of the mode (in ``CampbellDiagram.modes``: by frequency, lowest first).
+        frequency: the mode's frequency there [Hz].
         speed: the input speed where they meet [rad/s].
+        whirl: the mode's whirl there (``forward``, ``backward`` or ``""``).
     """
 
     excitation: Excitation
     mode: int
     frequency: float
     speed: float
+    whirl: str = ""
 
 
 @dataclass(frozen=True)
@@ -68,9 +75,12 @@ class CampbellDiagram:
     Attributes:
         joint: the input joint whose speed Ω the diagram runs over.
         speeds: (lowest, highest) input speed [rad/s].
-        modes: the elastic modes (rigid ones left out), lowest first.
+        modes: the elastic modes (rigid ones left out) at the top of the range, lowest first.
         excitations: the lines.
         crossings: every line meeting a mode inside the range, by speed.
+        speed_grid: the input speeds the modes were solved at [rad/s] (the top alone when they
+            do not change with speed).
+        frequencies: (len(speed_grid), len(modes)) the elastic modes' frequencies at each [Hz].
     """
 
     joint: str
@@ -78,6 +88,8 @@ class CampbellDiagram:
     modes: list[Mode]
     excitations: list[Excitation]
     crossings: list[Crossing]
+    speed_grid: np.ndarray
+    frequencies: np.ndarray
 
 
 def excitation_orders(gearbox: Gearbox, joint: str, harmonics: int = 3) -> list[Excitation]:
@@ -103,14 +115,18 @@ def campbell(
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     held: Iterable[str] = (),
     harmonics: int = 3,
+    points: int = 101,
 ) -> CampbellDiagram:
     """The Campbell diagram of ``gearbox`` for input ``joint`` over ``speed_range`` [rad/s].
 
+    Args:
+        points: speeds sampled across the range when the modes change with speed (≥ 2).
+
     Raises:
         UnknownJoint: ``joint`` is not a joint of the model.
-        InputError: a speed range that is not 0 ≤ low < high, or harmonics < 1.
+        InputError: a speed range that is not 0 ≤ low < high, harmonics < 1 or points < 2.
         SpeedOutOfRange: a joint beyond ``linearisation.MAX_SPEED`` at the top of the range, or
-            velocity terms that act there (module docstring).
+            equations whose coefficients change as the train turns (``linearisation.py``).
     """
     if joint not in gearbox.joint_names:
         raise UnknownJoint(joint, "the input joint", gearbox.joint_names)
@@ -121,23 +137,62 @@ def campbell(
         )
     if harmonics < 1:
         raise InputError(f"harmonics = {harmonics}: give at least 1")
+    if points < 2:
+        raise InputError(f"points = {points}: give at least 2 speeds across the range")
     top = linearise(gearbox, meshes=meshes, held=held, speeds={joint: high})
-    modes = [m for m in top.modes() if not m.rigid]
+    found = top.modes()
+    modes = [m for m in found if not m.rigid]
     lines = excitation_orders(gearbox, joint, harmonics)
-    crossings = [
-        Crossing(line, i, mode.frequency, mode.frequency / line.per_speed)
-        for line in lines
-        for i, mode in enumerate(modes)
-        if low <= mode.frequency / line.per_speed <= high
-    ]
+    if not top.speed_terms_act():
+        crossings = [
+            Crossing(line, i, mode.frequency, mode.frequency / line.per_speed, mode.whirl)
+            for line in lines
+            for i, mode in enumerate(modes)
+            if low <= mode.frequency / line.per_speed <= high
+        ]
+        crossings.sort(key=lambda c: c.speed)
+        grid = np.array([high])
+        frequencies = np.array([[m.frequency for m in modes]])
+        return CampbellDiagram(joint, (low, high), modes, lines, crossings, grid, frequencies)
+
+    def modes_at(speed: float) -> list[Mode]:
+        return top.at_speed_scale(speed / high).modes()
+
+    rigid = len(found) - len(modes)
+    grid = np.linspace(low, high, points)
+    table = np.array([[m.frequency for m in modes_at(x)] for x in grid])
+    crossings = []
+    for line in lines:
+        for n in range(rigid, table.shape[1]):
+            gap = table[:, n] - line.per_speed * grid
+            for a in range(points - 1):
+                if gap[a] == 0.0 and table[a, n] > 0.0:
+                    speed = float(grid[a])
+                elif gap[a] * gap[a + 1] < 0.0:
+                    speed = _root(
+                        lambda x, n=n, p=line.per_speed: modes_at(x)[n].frequency - p * x,
+                        float(grid[a]),
+                        float(grid[a + 1]),
+                    )
+                else:
+                    continue
+                mode = modes_at(speed)[n]
+                crossings.append(Crossing(line, n - rigid, mode.frequency, speed, mode.whirl))
     crossings.sort(key=lambda c: c.speed)
-    return CampbellDiagram(joint, (low, high), modes, lines, crossings)
+    return CampbellDiagram(joint, (low, high), modes, lines, crossings, grid, table[:, rigid:])
+
+
+def _root(gap: Callable[[float], float], a: float, b: float) -> float:
+    """The speed in [a, b] where ``gap`` changes sign (Brent's method, to 1e-12 relative)."""
+    import scipy.optimize
+
+    return float(scipy.optimize.brentq(gap, a, b, xtol=1e-12 * b, rtol=1e-12))
 
 
 def write_figure(
     diagram: CampbellDiagram, out: str, *, speed_unit: float = 1.0, unit: str = "rad/s"
 ) -> None:
-    """A PNG of the diagram: modes as horizontal lines, excitations as rays, crossings marked.
+    """A PNG of the diagram: modes as lines or curves, excitations as rays, crossings marked.
 
     Args:
         speed_unit: input speed per rad/s in the axis's unit (e.g. 60/2π for rpm).
@@ -150,8 +205,11 @@ def write_figure(
     low, high = diagram.speeds
     top = 1.2 * max([m.frequency for m in diagram.modes] or [1.0])
     fig, ax = plt.subplots(figsize=(9, 6))
-    for mode in diagram.modes:
-        ax.axhline(mode.frequency, color="0.4", lw=1.0)
+    if len(diagram.speed_grid) == 1:
+        for mode in diagram.modes:
+            ax.axhline(mode.frequency, color="0.4", lw=1.0)
+    else:
+        ax.plot(diagram.speed_grid * speed_unit, diagram.frequencies, color="0.4", lw=1.0)
     x = np.array([low, high])
     for line in diagram.excitations:
         ax.plot(x * speed_unit, line.per_speed * x, lw=1.0, label=line.label)

@@ -260,7 +260,8 @@ def _velocity_rows(gearbox: Gearbox) -> tuple[dict[str, np.ndarray], dict[str, n
         return centre, jac[:3] - pin.skew(lever) @ jac[3:]
 
     shafts = {}
-    for name in gearbox.joint_names:
+    # A compliant bearing's slides are no shafts: they move the body, not turn it.
+    for name in (n for n in gearbox.joint_names if n not in gearbox.slide_joints):
         jid = model.getJointId(name)
         column = jacobian(jid)[3:, model.joints[jid].idx_v]
         shafts[name] = axis(jid, column / np.linalg.norm(column)) @ jacobian(jid)[3:]
@@ -301,7 +302,7 @@ def gearbox_frequencies(gearbox: Gearbox, speeds: np.ndarray) -> list[Marker]:
         by_frequency.setdefault(same, []).append(mesh.name)
     markers = [Marker("mesh", tuple(names), f) for f, names in by_frequency.items()]
     for name in gearbox.joint_names:
-        if name in gearbox.locked_joints:
+        if name in gearbox.locked_joints or name not in shafts:
             continue
         f = float(np.mean(np.abs(v @ shafts[name]))) / (2.0 * math.pi)
         markers.append(Marker("shaft", (name,), f))

@@ -13,15 +13,22 @@ solves the eigenproblem.
 The linearisation is about the reference pose at an operating speed v₀ (the given joints' speeds,
 the others through the gear ratios). The speed enters through the velocity terms of the equations
 of motion, C(q, v) v: linearised about v₀ they give a gyroscopic matrix G = ∂(C v)/∂v and a
-centrifugal stiffness ∂(C v)/∂q (Pinocchio's RNEA derivatives). On today's coordinates both vanish
+centrifugal stiffness K_Ω = ∂(C v)/∂q (Pinocchio's RNEA derivatives; G is not Pinocchio's
+Coriolis matrix C(q, v₀): the two differ by (∂C/∂v) v₀). On torsional coordinates both vanish
 exactly: every body turns about its own axis of symmetry, fixed or carried at a fixed radius by the
 carrier, so the kinetic energy ½ vᵀ M v has an M that does not depend on q and every Christoffel
-symbol is zero; the modes are those at rest at every speed. Translational coordinates (a planet
-moving in its bearing on the turning carrier) would feel Coriolis and centripetal terms; their
-modes at speed (a quadratic eigenproblem with a gyroscopic G) are pending, and a linearisation at
-a speed where these terms would move the frequencies (``SPEED_TERMS_TOLERANCE``) is refused
-(``SpeedOutOfRange``) rather than solved without them. (G is ∂(C v)/∂v, not Pinocchio's Coriolis
-matrix C(q, v₀): the two differ by (∂C/∂v) v₀.)
+symbol is zero; the modes are those at rest at every speed. A body that spins while it tilts in a
+compliant bearing feels its polar inertia's gyroscopic moment (G ≠ 0): its modes at speed solve
+the quadratic eigenproblem (M λ² + (C + G) λ + K + K_Ω) φ = 0 (``gyroscopic_modes.py``), the
+others the symmetric one (``normal_modes.py``), exact and faster, whenever the velocity terms
+would move no frequency by ``SPEED_TERMS_TOLERANCE``.
+
+Modes at speed need equations whose coefficients stay constant while the train turns at v₀. They
+do not when M or a mesh row depends on the angle of a turning joint: a body whose centre of mass
+or inertia is off its axis (M changes as it turns), or a body translating on slides fixed to the
+ground that meshes with planets the carrier carries round (the line of action turns). The
+equations are then periodic in time, which no modal analysis covers, and such a linearisation is
+refused (``SpeedOutOfRange``, ``TURNING_TOLERANCE``).
 The mean stiffness stands for its variation along the path, and there is no backlash (the teeth
 in contact on the front flank).
 """
@@ -37,7 +44,8 @@ import pinocchio as pin
 
 from pinwind.dynamics.compliant import mesh_choices, mesh_setup
 from pinwind.dynamics.coordinates import Coordinate, coordinates
-from pinwind.dynamics.mesh import MeshSet
+from pinwind.dynamics.gyroscopic_modes import WhirlPair, gyroscopic_modes, whirl
+from pinwind.dynamics.mesh import MeshRows, MeshSet
 from pinwind.dynamics.normal_modes import Mode, SpringElement, element_matrices, natural_modes
 from pinwind.dynamics.planetary_modes import PlanetaryStage, mode_kinds, planetary_stages
 from pinwind.dynamics.ratios import train_speeds
@@ -51,10 +59,13 @@ from pinwind.units import rad_s_to_rpm
 #: be 1000 m/s).
 MAX_SPEED = 1e5
 #: Velocity terms that would move the natural frequencies by less than this fraction are left out
-#: (the modes are printed to 5 digits): K_Ω against |K|, G against √(|K| |M|) (G ω against K at
-#: the train's frequency scale ω = √(|K|/|M|)); with no stiffness at all (every mesh rigid), any
-#: term above rounding (10⁻⁹ of |M| Ω and |M| Ω²) counts.
+#: (the modes are printed to 5 digits, and the symmetric solve takes them): K_Ω against |K|, G
+#: against √(|K| |M|) (G ω against K at the train's frequency scale ω = √(|K|/|M|)); with no
+#: stiffness at all (every mesh rigid), any term above rounding (10⁻⁹ of |M| Ω and |M| Ω²) counts.
 SPEED_TERMS_TOLERANCE = 1e-6
+#: Change of M (against |M|) or of a mesh row (against its largest entry) per radian a turning
+#: joint turns above which the linearisation at speed is refused (module docstring).
+TURNING_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -72,6 +83,8 @@ class Linearisation:
         speed: v₀ (nv,), the operating joint speeds [rad/s].
         gyroscopic: G = ∂(C(q, v) v)/∂v at v₀ [N·m·s/rad], (nv, nv); zero on torsional models.
         centrifugal: ∂(C(q, v) v)/∂q at v₀ [N·m/rad], (nv, nv); zero on torsional models.
+        whirl_pairs: the compliant bearings' radial and tilt pairs and their bodies' spin at v₀,
+            whose orbits give a mode's whirl (``gyroscopic_modes.py``).
     """
 
     joint_names: list[str]
@@ -85,22 +98,35 @@ class Linearisation:
     speed: np.ndarray
     gyroscopic: np.ndarray
     centrifugal: np.ndarray
+    whirl_pairs: list[WhirlPair]
 
     def modes(self) -> list[Mode]:
-        """The natural modes, lowest first (rigid ones at 0 Hz), each with its class.
+        """The natural modes, lowest first (rigid ones at 0 Hz), each with its class and whirl.
 
-        Raises:
-            SpeedOutOfRange: the velocity terms act at this speed (module docstring).
+        The symmetric solve when the velocity terms move no frequency, the quadratic one at
+        speed otherwise (module docstring).
         """
-        self._check_speed_terms()
-        found = natural_modes(
-            self.mass,
-            self.stiffness,
-            self.damping,
-            self.constraints,
-            joint_names=self.joint_names,
-            elements=self.elements,
-        )
+        if self.speed_terms_act():
+            found = gyroscopic_modes(
+                self.mass,
+                self.stiffness,
+                self.damping,
+                self.constraints,
+                gyroscopic=self.gyroscopic,
+                centrifugal=self.centrifugal,
+                joint_names=self.joint_names,
+                elements=self.elements,
+            )
+            found = [replace(m, whirl=whirl(m, self.whirl_pairs)) for m in found]
+        else:
+            found = natural_modes(
+                self.mass,
+                self.stiffness,
+                self.damping,
+                self.constraints,
+                joint_names=self.joint_names,
+                elements=self.elements,
+            )
         kinds = mode_kinds(
             self.stages,
             self.coordinates,
@@ -112,7 +138,8 @@ class Linearisation:
         )
         return [replace(m, kind=k) for m, k in zip(found, kinds, strict=True)]
 
-    def _check_speed_terms(self) -> None:
+    def speed_terms_act(self) -> bool:
+        """G or K_Ω would move a frequency by ``SPEED_TERMS_TOLERANCE`` or more."""
         omega = float(np.abs(self.speed).max(initial=0.0))
         inertia = float(np.abs(self.mass).max(initial=0.0))
         stiffness = float(np.abs(self.stiffness).max(initial=0.0))
@@ -120,16 +147,23 @@ class Linearisation:
             g_scale, k_scale = math.sqrt(stiffness * inertia), stiffness
         else:
             g_scale, k_scale = 1e-3 * inertia * omega, 1e-3 * inertia * omega**2
-        g = np.abs(self.gyroscopic).max(axis=0, initial=0.0) / (g_scale or 1.0)
-        k = np.abs(self.centrifugal).max(axis=0, initial=0.0) / (k_scale or 1.0)
-        acted = np.flatnonzero(np.maximum(g, k) > SPEED_TERMS_TOLERANCE)
-        if acted.size:
-            names = ", ".join(self.joint_names[j] for j in acted)
-            raise SpeedOutOfRange(
-                f"at the operating speed (fastest joint {omega:.4g} rad/s) gyroscopic and "
-                f"centrifugal terms act on {names}; modes at speed with them are pending "
-                "(issue 24): linearise at speed 0"
-            )
+        g = float(np.abs(self.gyroscopic).max(initial=0.0)) / (g_scale or 1.0)
+        k = float(np.abs(self.centrifugal).max(initial=0.0)) / (k_scale or 1.0)
+        return max(g, k) > SPEED_TERMS_TOLERANCE
+
+    def at_speed_scale(self, factor: float) -> Linearisation:
+        """The same linearisation at ``factor`` times the operating speed (factor ≥ 0).
+
+        G = ∂(C v)/∂v is linear in v₀ and K_Ω = ∂(C v)/∂q quadratic (C(q, v) v is quadratic in
+        v), and nothing else depends on the speed: a Campbell diagram linearises once.
+        """
+        return replace(
+            self,
+            speed=factor * self.speed,
+            gyroscopic=factor * self.gyroscopic,
+            centrifugal=factor**2 * self.centrifugal,
+            whirl_pairs=[replace(p, spin=factor * p.spin) for p in self.whirl_pairs],
+        )
 
 
 def linearise(
@@ -152,7 +186,9 @@ def linearise(
 
     Raises:
         UnknownJoint: a held joint, inertia or speed on a joint the model does not have.
-        SpeedOutOfRange: a speed negative or not finite, or a joint beyond ``MAX_SPEED``.
+        SpeedOutOfRange: a speed negative or not finite, a joint beyond ``MAX_SPEED``, or
+            equations whose coefficients change as the train turns (module docstring).
+        UnheldMember: a floating bearing that nothing holds.
     """
     names = list(gearbox.joint_names)
     for name in [*held, *(added_inertia or {})]:
@@ -170,10 +206,11 @@ def linearise(
     setup = mesh_setup(gearbox, choices, driver_index=driver_index, dt=None)
     data = model.createData()
     q = gearbox.neutral()
-    pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(nv))
-    rows = MeshSet(gearbox, choices).evaluate(model, data)
-    mass = pin.crba(model, data, q)
-    mass = np.triu(mass) + np.triu(mass, 1).T
+    mesh_set = MeshSet(gearbox, choices)
+    rows = _mesh_rows(mesh_set, model, data, q)
+    bodies_mass = _mass(model, data, q)
+    _check_turning(gearbox, mesh_set, speed, bodies_mass, rows.row_front)
+    mass = bodies_mass.copy()
     for name, inertia in (added_inertia or {}).items():
         mass[gearbox.v_index(name), gearbox.v_index(name)] += inertia
     constraints = [rows.row_front[i] for i in setup.rigid]
@@ -210,6 +247,7 @@ def linearise(
         speed,
         gyroscopic,
         centrifugal,
+        whirl_pairs(gearbox, coords, speed),
     )
     _check_held(gearbox, out)
     return out
@@ -240,6 +278,86 @@ def operating_speed(gearbox: Gearbox, speeds: Mapping[str, float]) -> np.ndarray
             "diverged); give a lower speed"
         )
     return v
+
+
+def _mass(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
+    """The bodies' joint-space inertia M(q) (CRBA, its upper triangle mirrored)."""
+    mass = pin.crba(model, data, q)
+    return np.triu(mass) + np.triu(mass, 1).T
+
+
+def _mesh_rows(mesh_set: MeshSet, model: pin.Model, data: pin.Data, q: np.ndarray) -> MeshRows:
+    """The meshes' rows at pose ``q``, at rest."""
+    pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(model.nv))
+    return mesh_set.evaluate(model, data)
+
+
+def _check_turning(
+    gearbox: Gearbox,
+    mesh_set: MeshSet,
+    speed: np.ndarray,
+    mass: np.ndarray,
+    mesh_rows: np.ndarray,
+) -> None:
+    """Refuse a linearisation at ``speed`` whose M or mesh rows change as a turning joint turns.
+
+    Each joint turning at v₀ is turned 1 rad alone: M against |M| and the mesh rows against
+    their largest entry (module docstring). A finite turn, as M may be at an extremum at the
+    reference pose (a centre of mass off the axis, radially outward: ∂M/∂q = 0 there).
+
+    Raises:
+        SpeedOutOfRange: names the joints whose turning changes the equations.
+    """
+    turning = np.flatnonzero(speed)
+    if turning.size == 0:
+        return
+    model, data = gearbox.model, gearbox.model.createData()
+    q = gearbox.neutral()
+    mass_scale = float(np.abs(mass).max())
+    row_scale = float(np.abs(mesh_rows).max(initial=0.0))
+    names = sorted(gearbox.joint_names, key=gearbox.v_index)
+    changing = []
+    for j in turning:
+        unit = np.zeros(model.nv)
+        unit[j] = 1.0
+        turned = pin.integrate(model, q, unit)
+        changed = np.abs(_mass(model, data, turned) - mass).max() > TURNING_TOLERANCE * mass_scale
+        if row_scale > 0.0 and not changed:
+            turned_rows = _mesh_rows(mesh_set, model, data, turned).row_front
+            changed = np.abs(turned_rows - mesh_rows).max() > TURNING_TOLERANCE * row_scale
+        if changed:
+            changing.append(names[j])
+    if changing:
+        listed = ", ".join(changing)
+        raise SpeedOutOfRange(
+            f"at the operating speed (fastest joint {np.abs(speed).max():.4g} rad/s) the "
+            f"velocity terms act on {listed} with coefficients that change as "
+            f"{'it turns' if len(changing) == 1 else 'they turn'} (a centre of mass or inertia "
+            "off the joint axis, or slides fixed to the ground under meshes that a carrier "
+            "carries round): the linear equations are periodic in time and have no modes at "
+            "speed; balance the body, or linearise at speed 0"
+        )
+
+
+def whirl_pairs(gearbox: Gearbox, coords: list[Coordinate], speed: np.ndarray) -> list[WhirlPair]:
+    """Each compliant bearing's radial and tilt pairs with its body's spin at ``speed``.
+
+    The spin is the body's angular velocity (Pinocchio's, at the bearing's revolute joint, world
+    axes) along k = u × w of the pair's coordinates.
+    """
+    model, data = gearbox.model, gearbox.model.createData()
+    pin.forwardKinematics(model, data, gearbox.neutral(), speed)
+    out = []
+    for bearing in gearbox.compliant_bearings.values():
+        jid = model.getJointId(bearing.joint)
+        angular = pin.getVelocity(model, data, jid, pin.LOCAL_WORLD_ALIGNED).angular
+        for u, w in (("radial_x", "radial_y"), ("tilt_x", "tilt_y")):
+            if u not in bearing.v_index:
+                continue
+            iu, iw = bearing.v_index[u], bearing.v_index[w]
+            k = np.cross(coords[iu].axis, coords[iw].axis)
+            out.append(WhirlPair(bearing.joint, (iu, iw), float(angular @ k)))
+    return out
 
 
 def speed_terms(gearbox: Gearbox, speed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -291,7 +409,9 @@ def _check_held(gearbox: Gearbox, lin: Linearisation) -> None:
     floating = [b for b in gearbox.compliant_bearings.values() if b.compliance.floating]
     if not floating:
         return
-    for mode in lin.modes():
+    # Which motion no spring resists does not depend on the speed: the modes at rest tell.
+    at_rest = natural_modes(lin.mass, lin.stiffness, lin.damping, lin.constraints)
+    for mode in at_rest:
         if not mode.rigid:
             continue
         for bearing in floating:

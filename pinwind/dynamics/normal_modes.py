@@ -50,8 +50,8 @@ class Mode:
     """One natural mode.
 
     Attributes:
-        frequency: undamped natural frequency [Hz] (0 for a rigid mode).
-        damping_ratio: ζ from the dashpots [-].
+        frequency: undamped natural frequency [Hz] (0 for a rigid mode); at speed |λ|/2π.
+        damping_ratio: ζ from the dashpots [-]; at speed −Re λ/|λ|.
         shape: φ (nv,), mass-normalised (φᵀ M φ = 1 kg·m²), joint coordinates.
         kinetic_share: joint name → share of the mode's kinetic energy [-] (sums to 1).
         strain_share: element name → share of the mode's strain energy [-] (sums to 1 when
@@ -59,6 +59,10 @@ class Mode:
         kind: for a train with planetary stages, the class of mode Lin & Parker give
             (``rotational``, ``translational``, ``planet`` or ``unclassified``;
             ``dynamics/planetary_modes.py``); ``""`` without a stage.
+        whirl: ``forward`` or ``backward`` when a spinning body orbits in its bearing with or
+            against its spin (``dynamics/gyroscopic_modes.py``); ``""`` otherwise.
+        complex_shape: φ (nv,) complex, φᴴ M φ = 1, the motion Re(φ e^{λt}) of a mode at speed
+            (``gyroscopic_modes.py``); ``None`` for the real modes of the symmetric solve.
     """
 
     frequency: float
@@ -67,6 +71,8 @@ class Mode:
     kinetic_share: dict[str, float]
     strain_share: dict[str, float]
     kind: str = ""
+    whirl: str = ""
+    complex_shape: np.ndarray | None = None
 
     @property
     def rigid(self) -> bool:
