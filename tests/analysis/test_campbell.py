@@ -3,6 +3,11 @@
 For the 20/40 pair of ``tests/conftest.two_gear_urdf`` driven at Ω on gear A (fixed axes), the
 mesh frequency is z_A Ω / 2π exactly, its harmonic h that times h, and the line meets a mode f_n
 at Ω* = 2π f_n / (h z_A).
+
+For the spinning rotor of ``tests/dynamics/test_gyroscopic_modes.py`` (J_p < J_t), the tilt modes
+split with the spin Ω into ω_f,b(Ω) = (± J_p Ω + √((J_p Ω)² + 4 J_t k_t)) / (2 J_t), and the 1×
+line (the rotor's shaft order, ω = Ω) meets them where J_t Ω² ∓ J_p Ω² − k_t = 0:
+Ω_f = √(k_t / (J_t − J_p)) (forward whirl) and Ω_b = √(k_t / (J_t + J_p)) (backward whirl).
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ from pinwind.errors import InputError, SpeedOutOfRange
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
+from tests.dynamics.test_gyroscopic_modes import ROTORS, TILT, rotor, whirl_frequencies
 from tests.dynamics.test_time_stepping import K_MESH, K_SINGLE, MASS
 
 Z_A = 20
@@ -55,3 +61,27 @@ def test_an_empty_speed_range_is_refused():
 def test_a_range_beyond_the_speed_a_gear_can_turn_at_is_refused():
     with pytest.raises(SpeedOutOfRange, match="beyond the 1e\\+05 rad/s"):
         _diagram(0.0, 2e5)
+
+
+def test_a_spinning_rotor_s_campbell_diagram_splits_and_meets_the_1x_line_where_omega_f_is_omega():
+    polar, transverse = ROTORS[0]
+    top = 400.0  # rad/s, beyond both crossings
+    diagram = campbell(rotor(polar, transverse), "rotor", (0.0, top), points=41)
+    # The split: the tilt curves at each sampled speed are the closed form's two branches.
+    split = diagram.frequencies[:, :2] * 2 * math.pi
+    expected = np.array(
+        [sorted(whirl_frequencies(polar, transverse, x)) for x in diagram.speed_grid]
+    )
+    np.testing.assert_allclose(split, expected, rtol=1e-6)
+    one = [c for c in diagram.crossings if c.excitation.label == "shaft rotor"]
+    by_whirl = {c.whirl: c.speed for c in one}
+    np.testing.assert_allclose(
+        by_whirl["forward"], math.sqrt(TILT / (transverse - polar)), rtol=1e-9
+    )
+    np.testing.assert_allclose(
+        by_whirl["backward"], math.sqrt(TILT / (transverse + polar)), rtol=1e-9
+    )
+    for c in one:  # on the 1× line: the mode's frequency is the speed
+        np.testing.assert_allclose(c.frequency * 2 * math.pi, c.speed, rtol=1e-9)
+    # No line for the bearing's slides: they do not turn.
+    assert {e.label for e in diagram.excitations} == {"shaft rotor"}
