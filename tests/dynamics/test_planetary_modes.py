@@ -10,12 +10,27 @@ carrier free and N identical, equally spaced planets (one rotation each): N + 2 
   N − 1 independent shapes at one frequency.
 - Rotational modes: the N + 2 − (N − 1) = 3 others (the rigid rotation among them), single,
   every planet turning alike.
+
+With compliant bearings on sun, carrier, ring and planets every body also translates (and, with
+axial and tilt springs, moves axially and tilts). Turning the stage by one planet spacing 2π/N
+splits the motions by their wave number k about the stage (Lin & Parker 1999): each central
+member's rotation and axial motion are unchanged by the turn (k = 0), its radial translation and
+its tilt each a pair turning with it (k = ±1); the N planets' p coordinates (each in its own
+bearing) take every k = 0 … N − 1. The central members couple only to k = 0 and ±1, so
+
+- rotational modes (k = 0): c₀ + p, single, c₀ the central members' invariant coordinates;
+- translational modes (k = ±1): c₁ + p pairs, double, c₁ the central members' pairs;
+- planet modes (k = 2 … N − 2, central members still, the same p equations for every k): p
+  frequencies of multiplicity N − 3 (none for N = 3).
+
+They add up to c₀ + 2 c₁ + N p, the coordinates the rows leave free.
 """
 
 from __future__ import annotations
 
 import math
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -142,3 +157,65 @@ def test_every_bearing_of_a_stage_is_a_rotation_about_the_stage_axis():
     coords = coordinates(gb)
     assert [c.kind for c in coords] == ["rotation"] * gb.model.nv
     np.testing.assert_allclose(np.abs([c.axis for c in coords]), [[0, 0, 1]] * gb.model.nv)
+
+
+def _compliant_stage(planets: int) -> Gearbox:
+    """The stage with every body in a compliant radial bearing (Lin & Parker's planar model).
+
+    The ring turns on a continuous joint (fixed in the model file) so that it can take a bearing;
+    the linearisation holds its rotation (``held``), the stiff torque support Lin & Parker's ring
+    has.
+    """
+    if planets == 3:
+        text = Path("models/saleh2017_planetary.urdf").read_text()
+    else:
+        sun, planet, ring = TEETH[planets]
+        text = planetary_urdf(
+            sun=sun, planet=planet, ring=ring, planets=planets, module=MODULE,
+            pressure_angle=ALPHA, face_width=0.1, name=f"stage{planets}",
+        )  # fmt: skip
+    text = text.replace(
+        '<joint name="ring" type="fixed">',
+        '<joint name="ring" type="continuous"><axis xyz="0 0 1"/>',
+    )
+    members = ["sun", "carrier", "ring", *(f"planet{i}" for i in range(1, planets + 1))]
+    bearings = "".join(f'<bearing joint="{m}" radial_stiffness="1e9"/>' for m in members)
+    return loads(text.replace("</gearbox>", bearings + "</gearbox>"), f"stage{planets}.urdf")
+
+
+@pytest.mark.parametrize("planets", [3, 4, 5])
+def test_with_compliant_bearings_the_mode_classes_have_lin_and_parker_s_counts_and_multiplicities(
+    planets,
+):
+    gb = _compliant_stage(planets)
+    modes = linearise(gb, meshes={"all": "compliant"}, held=["ring"]).modes()
+    # Module docstring: sun and carrier turn (the ring's rotation held), each body translates in
+    # its bearing's plane (one pair), a planet also turns.
+    invariant, central_pairs, planet = 2, 3, 3
+    expected = {
+        "rotational": invariant + planet,
+        "translational": 2 * (central_pairs + planet),
+        "planet": (planets - 3) * planet,
+    }
+    assert len(modes) == invariant + 2 * central_pairs + planets * planet
+    assert Counter(m.kind for m in modes) == {k: n for k, n in expected.items() if n}
+    multiplicity = {"rotational": 1, "translational": 2, "planet": planets - 3}
+    for group in _groups([m.frequency for m in modes]):
+        kinds = {modes[i].kind for i in group}
+        assert len(kinds) == 1
+        assert len(group) == multiplicity[kinds.pop()]
+
+
+def test_translational_modes_keep_the_central_members_from_turning_and_planet_modes_still():
+    gb = _compliant_stage(4)
+    lin = linearise(gb, meshes={"all": "compliant"}, held=["ring"])
+    central = [gb.v_index(n) for n in ("sun", "carrier")]
+    translations = [gb.v_index(f"{n}_radial_{a}") for n in ("sun", "carrier", "ring") for a in "xy"]
+    for mode in lin.modes():
+        phi = mode.shape * np.sqrt(np.diag(lin.mass))  # √J and √m: one unit
+        scale = np.abs(phi).max()
+        if mode.kind == "translational":
+            np.testing.assert_allclose(phi[central], 0.0, atol=1e-6 * scale)
+            assert np.abs(phi[translations]).max() > 1e-3 * scale
+        elif mode.kind == "planet":
+            np.testing.assert_allclose(phi[central + translations], 0.0, atol=1e-6 * scale)
