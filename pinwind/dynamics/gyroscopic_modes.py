@@ -16,10 +16,11 @@ is solved in first-order (state-space) form on the 2f pencil
 ``scipy.linalg.eig``. The eigenvalues come in conjugate pairs; each pair λ, λ̄ with Im λ > 0 is a
 mode whose motion is Re(φ e^{λt}): natural frequency |λ|/2π (the undamped one when C = 0, since λ
 is then imaginary; the damped one is |Im λ|/2π = f √(1 − ζ²)) and damping ratio ζ = −Re λ/|λ|.
-Real eigenvalues pair up, by size, into overdamped modes (f = √(λ₁λ₂)/2π, ζ ≥ 1) and zero ones
-into rigid modes (0 Hz). Energy shares as in ``normal_modes.py``, time-averaged over the complex
-shape: joint j's kinetic share Re(φ̄ⱼ (M φ)ⱼ) / φᴴ M φ, element e's strain share
-kₑ |Jₑ φ|² / φᴴ K φ.
+Real eigenvalues pair up, by size, into overdamped modes (f = √(λ₁λ₂)/2π, ζ ≥ 1), zero ones
+into rigid modes (0 Hz), and a positive with a negative one into a divergence (f = √|λ₁λ₂|/2π,
+ζ = −1: a centrifugal softening beyond the stiffness). Energy shares as in ``normal_modes.py``,
+time-averaged over the complex shape: joint j's kinetic share Re(φ̄ⱼ (M φ)ⱼ) / φᴴ M φ, element
+e's strain share kₑ |Jₑ φ|² / φᴴ K φ.
 
 The orbit of a body translating (or tilting) in a bearing on its two radial coordinates u, w
 (``radial_x``, ``radial_y``; or the tilts about them, whose axis tip traces (θ_w, −θ_u), turned a
@@ -116,12 +117,14 @@ def gyroscopic_modes(
     out = []
     for i in oscillating:
         lam = complex(values[i])
-        out.append(_mode(basis @ vectors[:f, i], abs(lam), -lam.real / abs(lam), mass,
-                         stiffness, names, elements))  # fmt: skip
+        ratio = -lam.real / abs(lam) + 0.0  # + 0.0: no −0 printed for an undamped mode
+        out.append(_mode(basis @ vectors[:f, i], abs(lam), ratio, mass, stiffness, names, elements))
     for a, b in zip(real[0::2], real[1::2], strict=False):
         rigid = min(size[a], size[b]) <= rigid_below
         omega = 0.0 if rigid else math.sqrt(float(size[a] * size[b]))
         ratio = 0.0 if rigid else -float(values[a].real + values[b].real) / (2.0 * omega)
+        if not rigid and values[a].real * values[b].real < 0.0:
+            ratio = -1.0  # a divergence (K + K_Ω not positive): one root grows as e^{|λ|t}
         out.append(_mode(basis @ vectors[:f, a], omega, ratio, mass, stiffness, names, elements))
     return sorted(out, key=lambda mode: mode.frequency)
 
