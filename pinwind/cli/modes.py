@@ -75,12 +75,14 @@ def modes(
         Path | None, typer.Option("--save", help="Write the --animate recording (.rrd) here.")
     ] = None,
 ) -> None:
-    """Natural frequencies, damping ratios and energy shares of a model's torsional modes.
+    """Natural frequencies, damping ratios and energy shares of a model's modes.
 
     Linearised at the reference pose and the operating speed: compliant meshes at their mean
-    stiffness, torsional springs, bearing damping; rigid meshes, held joints and locked bearings
-    as constraints. A repeated frequency is one row (its modes' mean shares); with a planetary
-    stage, each mode's class (Lin & Parker 1999: rotational, translational, planet).
+    stiffness, torsional springs, compliant bearings, bearing damping, and at speed the
+    gyroscopic and centrifugal terms; rigid meshes, held joints and locked bearings as
+    constraints. A repeated frequency is one row (its modes' mean shares); with a planetary
+    stage, each mode's class (Lin & Parker 1999: rotational, translational, planet); at speed,
+    a spinning body's orbit in its bearing whirls forward or backward.
     """
     import pinwind
     from pinwind.dynamics.linearisation import linearise
@@ -99,7 +101,7 @@ def modes(
     if as_json:
         print(json.dumps([
             {"frequency_hz": m.frequency, "damping_ratio": m.damping_ratio, "kind": m.kind,
-             "kinetic_share": m.kinetic_share, "strain_share": m.strain_share}
+             "whirl": m.whirl, "kinetic_share": m.kinetic_share, "strain_share": m.strain_share}
             for m in found
         ], indent=1))  # fmt: skip
         _animate(gearbox, found, animate, save, quiet=True)
@@ -111,7 +113,9 @@ def modes(
         box=box.ASCII if plain else box.SIMPLE,
     )
     kinds = any(m.kind for m in found)
-    columns = ["#", "f [Hz]", "ζ [%]", *(["kind"] if kinds else []), "moves (kinetic energy)"]
+    whirls = any(m.whirl for m in found)
+    columns = ["#", "f [Hz]", "ζ [%]", *(["kind"] if kinds else []), *(["whirl"] if whirls else [])]
+    columns.append("moves (kinetic energy)")
     for column in [*columns, "works (strain energy)"]:
         table.add_column(column, justify="right" if column in ("#", "f [Hz]", "ζ [%]") else "left")
     first = 1
@@ -120,6 +124,7 @@ def modes(
         number = str(first) if last == first else f"{first}-{last}"
         first = last + 1
         kind = [f"{m.kind} ×{len(group)}" if len(group) > 1 else m.kind] if kinds else []
+        kind += [" / ".join(sorted({x.whirl or "-" for x in group}))] if whirls else []
         if m.rigid:
             row = [number, "0 (rigid)", "-", *kind, _shares(group, "kinetic_share"), "-"]
         else:
@@ -154,6 +159,13 @@ def campbell(
     mesh: MeshOption = None,
     hold: HoldOption = None,
     harmonics: Annotated[int, typer.Option(help="Mesh-frequency harmonics drawn.")] = 3,
+    points: Annotated[
+        int,
+        typer.Option(
+            help="Speeds sampled across the range when the modes change with speed "
+            "(gyroscopic terms)."
+        ),
+    ] = 101,
     png: Annotated[Path | None, typer.Option("--png", help="Write the diagram here.")] = None,
     csv_out: Annotated[
         Path | None, typer.Option("--csv", help="Write the crossings as CSV here.")
@@ -162,7 +174,8 @@ def campbell(
     """Natural frequencies against the input speed with the mesh and shaft orders; crossings.
 
     Lists every speed inside the range where an excitation (a mesh frequency or its harmonic,
-    a shaft's order 1) meets a natural frequency.
+    a shaft's order 1) meets a natural frequency, with the mode's whirl there when a spinning
+    body's gyroscopic terms move the modes with speed.
     """
     import pinwind
     from pinwind.analysis.campbell import campbell as diagram_of
@@ -178,7 +191,13 @@ def campbell(
     with warnings_as_lines():
         gearbox = pinwind.load(model)
         diagram = diagram_of(
-            gearbox, joint, bounds, meshes=_meshes(mesh), held=hold or (), harmonics=harmonics
+            gearbox,
+            joint,
+            bounds,
+            meshes=_meshes(mesh),
+            held=hold or (),
+            harmonics=harmonics,
+            points=points,
         )
     rpm = 1.0 / RAD_S_PER_RPM
     plain = not console.is_terminal
@@ -186,12 +205,19 @@ def campbell(
         title=f"crossings for {escape(joint)} at {speed_range} rpm",
         box=box.ASCII if plain else box.SIMPLE,
     )
-    for column in ("speed [rpm]", "mode [Hz]", "excitation"):
-        table.add_column(column, justify="left" if column == "excitation" else "right")
+    whirls = any(c.whirl for c in diagram.crossings)
+    for column in ("speed [rpm]", "mode [Hz]", *(["whirl"] if whirls else []), "excitation"):
+        table.add_column(
+            column, justify="right" if column in ("speed [rpm]", "mode [Hz]") else "left"
+        )
     for c in diagram.crossings:
-        table.add_row(f"{c.speed * rpm:.4g}", f"{c.frequency:.5g}", escape(c.excitation.label))
+        whirl = [c.whirl or "-"] if whirls else []
+        table.add_row(
+            f"{c.speed * rpm:.4g}", f"{c.frequency:.5g}", *whirl, escape(c.excitation.label)
+        )
+    top = f" at {float(high):g} rpm" if len(diagram.speed_grid) > 1 else ""
     say(
-        "natural frequencies [Hz]: "
+        f"natural frequencies [Hz]{top}: "
         + ", ".join(f"{m.frequency:.5g}" for m in diagram.modes)
         + f"; {len(diagram.crossings)} crossings in the range"
     )
@@ -200,10 +226,10 @@ def campbell(
     if csv_out is not None:
         with open(csv_out, "w", newline="", encoding="utf-8") as f:
             writer = csv.writer(f)
-            writer.writerow(["speed_rpm", "mode_hz", "excitation", "harmonic"])
+            writer.writerow(["speed_rpm", "mode_hz", "excitation", "harmonic", "whirl"])
             for c in diagram.crossings:
                 writer.writerow(
-                    [c.speed * rpm, c.frequency, c.excitation.label, c.excitation.harmonic]
+                    [c.speed * rpm, c.frequency, c.excitation.label, c.excitation.harmonic, c.whirl]
                 )
         say(f"wrote {escape(str(csv_out))}")
     if png is not None:

@@ -44,6 +44,8 @@ from pinwind.dynamics.normal_modes import (
     free_motions,
 )
 
+#: |Re λ| below this fraction of the largest |λ| is the eigensolver's rounding: ζ = 0.
+DAMPING_ROUNDING = 1e-10
 #: An orbit whose mean angular momentum is below this fraction of its size is a line (no whirl).
 LINE_TOLERANCE = 1e-6
 FORWARD, BACKWARD = "forward", "backward"
@@ -117,7 +119,9 @@ def gyroscopic_modes(
     out = []
     for i in oscillating:
         lam = complex(values[i])
-        ratio = -lam.real / abs(lam) + 0.0  # + 0.0: no −0 printed for an undamped mode
+        # Below the eigensolver's rounding (relative to the largest |λ|) there is no damping.
+        undamped = abs(lam.real) <= DAMPING_ROUNDING * float(size.max())
+        ratio = 0.0 if undamped else -lam.real / abs(lam)
         out.append(_mode(basis @ vectors[:f, i], abs(lam), ratio, mass, stiffness, names, elements))
     for a, b in zip(real[0::2], real[1::2], strict=False):
         rigid = min(size[a], size[b]) <= rigid_below
@@ -164,7 +168,9 @@ def whirl(mode: Mode, pairs: list[WhirlPair]) -> str:
     """``forward``, ``backward`` or ``""``: the whirl of the spinning pair that moves most.
 
     The pair of ``pairs`` with the largest kinetic-energy share in the mode decides; ``""`` when
-    the mode has no complex shape, no spinning pair moves, or its orbit is a line.
+    the mode has no complex shape, no spinning pair moves, or its orbit is a line. (A repeated
+    frequency's shapes are any basis of its eigenspace, and so are their orbits:
+    ``Linearisation.modes`` gives such modes none.)
     """
     phi = mode.complex_shape
     if phi is None:

@@ -46,7 +46,13 @@ from pinwind.dynamics.compliant import mesh_choices, mesh_setup
 from pinwind.dynamics.coordinates import Coordinate, coordinates
 from pinwind.dynamics.gyroscopic_modes import WhirlPair, gyroscopic_modes, whirl
 from pinwind.dynamics.mesh import MeshRows, MeshSet
-from pinwind.dynamics.normal_modes import Mode, SpringElement, element_matrices, natural_modes
+from pinwind.dynamics.normal_modes import (
+    Mode,
+    SpringElement,
+    element_matrices,
+    natural_modes,
+    repeated_groups,
+)
 from pinwind.dynamics.planetary_modes import PlanetaryStage, mode_kinds, planetary_stages
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import SpeedOutOfRange, UnheldMember, UnknownJoint
@@ -117,7 +123,11 @@ class Linearisation:
                 joint_names=self.joint_names,
                 elements=self.elements,
             )
-            found = [replace(m, whirl=whirl(m, self.whirl_pairs)) for m in found]
+            single = [g[0] for g in repeated_groups(found) if len(g) == 1]
+            found = [
+                replace(m, whirl=whirl(m, self.whirl_pairs)) if any(m is x for x in single) else m
+                for m in found
+            ]
         else:
             found = natural_modes(
                 self.mass,

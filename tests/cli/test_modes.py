@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import csv
 import json
+import math
 import subprocess
 import sys
 
@@ -10,6 +12,7 @@ import numpy as np
 
 from pinwind.io.mode_animation import AMPLITUDE
 from tests.conftest import MODELS
+from tests.dynamics.test_gyroscopic_modes import ROTORS, TILT, rotor_urdf, whirl_frequencies
 from tests.io.conftest import rrd_columns
 
 
@@ -84,3 +87,37 @@ def test_modes_at_a_speed_outside_the_range_of_validity_exit_2_in_one_line():
         out = run("modes", model, "--speed", speed)
         assert out.returncode == 2
         assert message in out.stderr and len(out.stderr.strip().splitlines()) == 1
+
+
+def test_modes_of_a_spinning_rotor_list_its_forward_and_backward_whirl(tmp_path):
+    # The Jeffcott closed form of tests/dynamics/test_gyroscopic_modes.py at 3000 rpm.
+    polar, transverse = ROTORS[0]
+    model = tmp_path / "rotor.urdf"
+    model.write_text(rotor_urdf(polar, transverse))
+    out = run("modes", str(model), "--speed", "rotor=3000", "--json")
+    assert out.returncode == 0, out.stderr
+    found = {m["whirl"]: m["frequency_hz"] for m in json.loads(out.stdout) if m["whirl"]}
+    forward, backward = whirl_frequencies(polar, transverse, 3000 * 2 * math.pi / 60)
+    np.testing.assert_allclose(found["forward"], forward / (2 * math.pi), rtol=1e-6)
+    np.testing.assert_allclose(found["backward"], backward / (2 * math.pi), rtol=1e-6)
+    table = run("modes", str(model), "--speed", "rotor=3000").stdout
+    assert "forward" in table and "backward" in table
+
+
+def test_campbell_of_a_spinning_rotor_writes_the_whirl_of_each_crossing(tmp_path):
+    polar, transverse = ROTORS[0]
+    model = tmp_path / "rotor.urdf"
+    model.write_text(rotor_urdf(polar, transverse))
+    csv_path = tmp_path / "crossings.csv"
+    out = run("campbell", str(model), "--joint", "rotor", "--speed-range", "0:2500",
+              "--points", "21", "--csv", str(csv_path))  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.DictReader(csv_path.open()))
+    rpm = {r["whirl"]: float(r["speed_rpm"]) for r in rows if r["whirl"]}
+    per_rpm = 60 / (2 * math.pi)
+    np.testing.assert_allclose(
+        rpm["forward"], math.sqrt(TILT / (transverse - polar)) * per_rpm, rtol=1e-9
+    )
+    np.testing.assert_allclose(
+        rpm["backward"], math.sqrt(TILT / (transverse + polar)) * per_rpm, rtol=1e-9
+    )
