@@ -6,8 +6,9 @@
   importing pinwind and the CLI, loading the model, linearising and solving.
 - A Campbell diagram of ``--speeds`` input speeds: ``campbell`` itself (one linearisation at
   the top of the range: the modes of torsional coordinates do not change with speed), and the
-  cost if every speed were linearised and solved (``linearise(speeds=...).modes()`` at each),
-  which a model whose gyroscopic terms act would need; ``pinwind campbell`` as a process too.
+  cost if every speed were linearised and solved (``linearise(speeds=...).modes()`` at each;
+  a model whose gyroscopic terms act linearises once and solves at each of ``--points``
+  speeds, cheaper than this); ``pinwind campbell`` as a process too.
 - The cores this process gets asking for two (``machine.parallel_capacity``): below 2 while other
   work shares the machine, when wall times are longer than the CPU times.
 

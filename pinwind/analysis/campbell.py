@@ -169,11 +169,7 @@ def campbell(
                 if gap[a] == 0.0 and table[a, n] > 0.0:
                     speed = float(grid[a])
                 elif gap[a] * gap[a + 1] < 0.0:
-                    speed = _root(
-                        lambda x, n=n, p=line.per_speed: modes_at(x)[n].frequency - p * x,
-                        float(grid[a]),
-                        float(grid[a + 1]),
-                    )
+                    speed = _root(modes_at, n, line.per_speed, float(grid[a]), float(grid[a + 1]))
                 else:
                     continue
                 mode = modes_at(speed)[n]
@@ -182,9 +178,17 @@ def campbell(
     return CampbellDiagram(joint, (low, high), modes, lines, crossings, grid, table[:, rigid:])
 
 
-def _root(gap: Callable[[float], float], a: float, b: float) -> float:
-    """The speed in [a, b] where ``gap`` changes sign (Brent's method, to 1e-12 relative)."""
+def _root(
+    modes_at: Callable[[float], list[Mode]], n: int, per_speed: float, a: float, b: float
+) -> float:
+    """The speed in [a, b] where mode n meets the line ``per_speed`` · Ω (Brent's method).
+
+    Mode n is the n-th lowest at each speed (``modes_at``); to 1e-12 relative.
+    """
     import scipy.optimize
+
+    def gap(speed: float) -> float:
+        return modes_at(speed)[n].frequency - per_speed * speed
 
     return float(scipy.optimize.brentq(gap, a, b, xtol=1e-12 * b, rtol=1e-12))
 
