@@ -318,7 +318,8 @@ def _check_turning(
     Raises:
         SpeedOutOfRange: names the joints whose turning changes the equations.
     """
-    turning = np.flatnonzero(speed)
+    # Joints the ratios leave at a rounding's speed (a fixed ring's 1e-13 rad/s) do not turn.
+    turning = np.flatnonzero(np.abs(speed) > 1e-9 * float(np.abs(speed).max(initial=0.0)))
     if turning.size == 0:
         return
     model, data = gearbox.model, gearbox.model.createData()
