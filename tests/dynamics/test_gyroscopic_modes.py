@@ -15,20 +15,25 @@ J_p Ω ω − k_t = 0, so the forward and backward whirl frequencies are
 both √(k_t/J_t) at Ω = 0. The centre translates as m ẍ + k x = 0 whatever the spin (the centre of
 mass on the axis feels no Coriolis force in fixed axes): √(k/m) at every speed. A radial damper c
 makes the translation m ẍ + c ẋ + k x = 0: λ = −c/2m ± i √(k/m − (c/2m)²), so |λ| = √(k/m) and
-−Re λ/|λ| = c / (2 √(k m)).
+−Re λ/|λ| = c / (2 √(k m)). The same rotor, spun up and struck, rings at both whirl frequencies
+(the peaks of its tilt's spectrum, ``test_normal_modes._spectral_peaks``).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+import pinwind
+from pinwind.dynamics import Integrator
 from pinwind.dynamics.linearisation import linearise
-from pinwind.errors import SpeedOutOfRange
+from pinwind.errors import PinwindWarning, SpeedOutOfRange
 from pinwind.model.gearbox import Gearbox, loads
+from tests.dynamics.test_normal_modes import _spectral_peaks
 
 MASS, RADIAL, TILT = 10.0, 1e6, 1e4
 #: (J_p, J_t) [kg·m²]: a long rotor (J_p < J_t, whose forward whirl meets the 1× line) and a
@@ -149,3 +154,31 @@ def test_a_stage_whose_sun_translates_in_the_ground_is_refused_at_speed_naming_t
     assert linearise(gb, meshes={"all": "compliant"}).modes()  # at rest: no time
     with pytest.raises(SpeedOutOfRange, match="act on carrier.*linearise at speed 0"):
         linearise(gb, meshes={"all": "compliant"}, speeds={"carrier": 10.0})
+
+
+def test_the_whirl_frequencies_are_the_peaks_of_the_spinning_rotor_s_free_vibration():
+    # The rotor spun up to 300 rad/s, free, its tilt struck by a 1 ms moment: its axis rings at
+    # both whirl frequencies. 2e-4 s steps, ≥ 140 per period: the trapezoidal rule's frequency
+    # error (ωh)²/12 < 2e-4.
+    polar, transverse = ROTORS[0]
+    spin, dt = 300.0, 2e-4
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        res = pinwind.simulate(
+            rotor(polar, transverse),
+            duration=10.0,
+            dt=dt,
+            gravity=np.zeros(3),
+            initial_deflection="none",
+            initial_speeds={"rotor": spin},
+            torques={"rotor_tilt_x": lambda t: 100.0 if t < 1e-3 else 0.0},
+            integrator=Integrator(rho_infinity=1.0),
+        )
+    peaks = _spectral_peaks(np.asarray(res.joint("rotor_tilt_x").angle), dt, 2)
+    forward, backward = whirl_frequencies(polar, transverse, spin)
+    np.testing.assert_allclose(
+        peaks, [backward / (2 * math.pi), forward / (2 * math.pi)], rtol=5e-3
+    )
+    modes = linearise(rotor(polar, transverse), speeds={"rotor": spin}).modes()
+    tilt = sorted(m.frequency for m in _tilt_modes(modes))
+    np.testing.assert_allclose(peaks, tilt, rtol=5e-3)
