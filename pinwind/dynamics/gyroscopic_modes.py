@@ -46,8 +46,12 @@ from pinwind.dynamics.normal_modes import (
 
 #: |Re λ| below this fraction of the largest |λ| is the eigensolver's rounding: ζ = 0.
 DAMPING_ROUNDING = 1e-10
-#: An orbit whose mean angular momentum is below this fraction of its size is a line (no whirl).
-LINE_TOLERANCE = 1e-6
+#: An orbit of semi-axes a ≥ b with 2ab/(a² + b²) below this (b < 2.5 % of a: the slight
+#: ellipse Coriolis forces give a planet's near-straight orbit on a turning carrier) is a line,
+#: without whirl; a circular whirl has 1.
+LINE_TOLERANCE = 0.05
+#: A pair with less than this share of the mode's kinetic energy does not move in it.
+MOVING_SHARE = 1e-6
 FORWARD, BACKWARD = "forward", "backward"
 
 
@@ -184,10 +188,11 @@ def whirl(mode: Mode, pairs: list[WhirlPair]) -> str:
         return sum(abs(mode.kinetic_share[names[j]]) for j in p.coordinates)
 
     pair = max(moving, key=share)
-    if share(pair) <= LINE_TOLERANCE:
+    if share(pair) <= MOVING_SHARE:
         return ""
     u, w = (complex(phi[j]) for j in pair.coordinates)
+    # 2 Im(u w̄) / (|u|² + |w|²) = 2ab/(a² + b²), signed by the orbit's sense about u × w.
     sense = (u * w.conjugate()).imag
-    if abs(sense) <= LINE_TOLERANCE * (abs(u) ** 2 + abs(w) ** 2):
+    if abs(2.0 * sense) <= LINE_TOLERANCE * (abs(u) ** 2 + abs(w) ** 2):
         return ""
     return FORWARD if sense * pair.spin > 0.0 else BACKWARD
