@@ -1,6 +1,7 @@
-"""A natural mode animated in Rerun: the bodies at q₀ + A sin(ωt) φ, drawn by the replay scene.
+"""A natural mode animated in Rerun: the bodies at q₀ + A Re(φ e^{iωt}), drawn by the replay scene.
 
-The mode's shape φ (``dynamics/normal_modes.py``) is scaled so that its largest motion is visible
+The mode's shape φ (``dynamics/normal_modes.py``; real, or complex for a mode at speed,
+``gyroscopic_modes.py``) is scaled so that its largest motion is visible
 and small: a rotation turns the largest pitch circle by ``AMPLITUDE`` of its radius along the
 circle, a translation moves its body by ``AMPLITUDE`` of that radius. The bodies' poses follow
 from the joint coordinates by Pinocchio's forward kinematics, as a run's do, and go to Rerun as
@@ -44,12 +45,15 @@ def mode_motion(gearbox: Gearbox, mode: Mode, *, periods: int = 3) -> Result:
     model, data = gearbox.model, gearbox.model.createData()
     largest = max((g.spec.module * g.spec.teeth / 2 for g in gearbox.gears.values()), default=0.1)
     reach = [largest if c.kind == "rotation" else 1.0 for c in coordinates(gearbox)]
-    scale = float(np.max(np.abs(mode.shape) * reach))
+    # A mode at speed moves as Re(φ e^{iωt}) (a whirl's orbit is an ellipse); a real φ as
+    # Re(−i φ e^{iωt}) = sin(ωt) φ.
+    shape = -1j * mode.shape if mode.complex_shape is None else mode.complex_shape
+    scale = float(np.max(np.abs(shape) * reach))
     amplitude = AMPLITUDE * largest / scale if scale > 0.0 else 0.0
     n = periods * FRAMES_PER_PERIOD + 1
     time = np.linspace(0.0, float(periods), n)  # one period per second
     q0 = gearbox.neutral()
-    q = q0[None, :] + amplitude * np.sin(2.0 * math.pi * time)[:, None] * mode.shape[None, :]
+    q = q0[None, :] + amplitude * np.real(np.exp(2j * math.pi * time)[:, None] * shape[None, :])
     frames = body_frames(model)
     position = np.zeros((n, len(frames), 3))
     quaternion = np.zeros((n, len(frames), 4))

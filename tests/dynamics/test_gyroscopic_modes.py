@@ -32,6 +32,7 @@ import pinwind
 from pinwind.dynamics import Integrator
 from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import PinwindWarning, SpeedOutOfRange
+from pinwind.io.mode_animation import mode_motion
 from pinwind.model.gearbox import Gearbox, loads
 from tests.dynamics.test_normal_modes import _spectral_peaks
 
@@ -182,3 +183,15 @@ def test_the_whirl_frequencies_are_the_peaks_of_the_spinning_rotor_s_free_vibrat
     modes = linearise(rotor(polar, transverse), speeds={"rotor": spin}).modes()
     tilt = sorted(m.frequency for m in _tilt_modes(modes))
     np.testing.assert_allclose(peaks, tilt, rtol=5e-3)
+
+
+def test_an_animated_whirl_mode_turns_the_rotor_s_axis_round_a_circle():
+    # A circular whirl: the tilt angles keep one magnitude through the animation.
+    modes = linearise(rotor(*ROTORS[0]), speeds={"rotor": 300.0}).modes()
+    (forward,) = [m for m in modes if m.whirl == "forward"]
+    gb = rotor(*ROTORS[0])
+    motion = mode_motion(gb, forward, periods=1)
+    tilt = motion.angle[:, [motion.joint_names.index(f"rotor_tilt_{a}") for a in "xy"]]
+    radius = np.hypot(tilt[:, 0], tilt[:, 1])
+    np.testing.assert_allclose(radius, radius.max(), rtol=1e-9)
+    assert radius.max() > 0.0
