@@ -502,7 +502,7 @@ def simulate(
     )
     res.metadata["initial_deflection"] = {"mode": initial_deflection}
     if initial_deflection == "static" and (
-        mesh_setup_.compliant or gearbox.springs or gearbox.compliant_bearings
+        mesh_setup_.compliant or gearbox.springs or gearbox.slide_joints
     ):
         res.metadata["initial_deflection"].update(
             _static_start(stepper, torque_loads, drivers, elements, dt, model.nv)
