@@ -308,18 +308,11 @@ _DERIVED: tuple[Series, ...] = (
            "the shaft's torque, not a bearing load)",
            label="transmitted torque", short="T axis",
            derive=bearing_load.transmitted_torque),
-    Series("support_bedplate_displacement", "run", "bedplate_displacement", "m",
-           "support: the bedplate's displacement on its tower modes; rigid support: 0", "xyz",
-           "world", label="bedplate displacement", short="bedplate", headline=False,
-           derive=support_springs.bedplate_displacement),
-    Series("support_housing_displacement", "run", "housing_displacement", "m",
-           "support: the housing's displacement on its mounts, relative to the bedplate; rigid "
-           "support: 0", "xyz", "world", label="housing displacement", short="housing",
-           headline=False, derive=support_springs.housing_displacement),
-    Series("support_housing_roll", "run", "housing_roll", "rad",
-           "support: the housing's roll about the shaft axis on its torque arms, relative to "
-           "the bedplate; rigid support: 0", label="housing roll", short="roll",
-           headline=False, derive=support_springs.housing_roll),
+    Series("bearing_support_displacement", _B, "support_displacement", "m",
+           "support slide: its translation (a tower slide moves the bedplate, a mount slide the "
+           "housing on it); roll hinge and other bearings: 0", "xyz", "world",
+           label="support displacement", short="support", headline=False,
+           derive=support_springs.displacement),
 )  # fmt: skip
 
 _SCHEMA: list[Series] = [*_BUILT_IN, *_DERIVED]

@@ -4,17 +4,13 @@ The support's slides (``model/support.py``: the tower modes' slides under the be
 mounts' slides and roll hinge under the housing) are each held by a linear spring F = −k q, the
 linear term of the compiled bearing springs (``cpp/bearing_spring.hpp``, an axial slide's law);
 their dampers are the slides' own viscous damping. ``support_spring_specs`` gives the compiled
-specs; three series (``derive`` functions of ``dynamics/series.py``, (block, gearbox) → array)
-say where the support has moved:
-
-- ``support_bedplate_displacement``: the bedplate's displacement on its tower modes [m], world,
-  (samples, 3);
-- ``support_housing_displacement``: the housing's displacement on its mounts, relative to the
-  bedplate [m], world, (samples, 3);
-- ``support_housing_roll``: the housing's roll about the shaft axis on its torque arms, relative
-  to the bedplate [rad], (samples,).
-
-All three are 0 for a rigid support (the default).
+specs. The slides are bearings of the run (``bearing_names``): their reactions are the tower's
+and the mounts' forces on what they carry (``bearing_force``), and the series
+``bearing_support_displacement`` (a ``derive`` function of ``dynamics/series.py``: (block,
+gearbox) → (samples, bearings, 3)) is each prismatic slide's translation q a in world [m]: the
+bedplate's displacement is the sum over the ``support_tower_*`` slides, the housing's on the
+bedplate the sum over the ``support_mount_*`` ones; the roll is the ``angle`` of
+``support_mount_roll`` [rad]. All are 0 for a rigid support (the default).
 
 A torque applied to a shaft that turns in the housing (``simulate(torques=...)``, the rotor's)
 acts on it from the ground, not from the housing, when the housing can roll: the torque arms
@@ -45,31 +41,18 @@ def support_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
     return out
 
 
-def _translation(block: Any, gearbox: Any, prefix: str) -> np.ndarray:
-    """Σ q_s axis_s over the slides whose name starts with ``prefix``, world [m]."""
-    out = np.zeros((len(block.time), 3))
+def displacement(block: Any, gearbox: Any) -> np.ndarray:
+    """Each support slide's translation q a [m], (samples, bearings, 3), world (module docstring).
+
+    0 for the roll hinge (its coordinate is its ``angle`` [rad]) and every other bearing.
+    """
+    out = np.zeros((len(block.time), len(block.bearing_names), 3))
     for name, slide in gearbox.support_slides.items():
-        if name.startswith(prefix) and slide.kind == "prismatic":
+        if slide.kind == "prismatic" and name in block.bearing_names:
             axis = gearbox.world_from_housing @ slide.axis
-            out += np.outer(block.angle[:, block.joint_names.index(name)], axis)
+            column = block.angle[:, block.joint_names.index(name)]
+            out[:, block.bearing_names.index(name)] = np.outer(column, axis)
     return out
-
-
-def bedplate_displacement(block: Any, gearbox: Any) -> np.ndarray:
-    """The bedplate's displacement on its tower modes [m], (samples, 3), world."""
-    return _translation(block, gearbox, "support_tower_")
-
-
-def housing_displacement(block: Any, gearbox: Any) -> np.ndarray:
-    """The housing's displacement on its mounts, relative to the bedplate [m], (samples, 3)."""
-    return _translation(block, gearbox, "support_mount_")
-
-
-def housing_roll(block: Any, gearbox: Any) -> np.ndarray:
-    """The housing's roll about the shaft axis on its mounts [rad], (samples,)."""
-    if "support_mount_roll" not in gearbox.support_slides:
-        return np.zeros(len(block.time))
-    return np.array(block.angle[:, block.joint_names.index("support_mount_roll")], dtype=float)
 
 
 def roll_share(gearbox: Any) -> np.ndarray | None:
