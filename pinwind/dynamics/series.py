@@ -24,7 +24,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from pinwind.dynamics import bearing_load, bearing_springs, support_springs
+from pinwind.dynamics import bearing_load, bearing_springs
 
 #: Kinds of element a series has values for; ``run``: one value per sample.
 Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor"]
@@ -308,11 +308,6 @@ _DERIVED: tuple[Series, ...] = (
            "the shaft's torque, not a bearing load)",
            label="transmitted torque", short="T axis",
            derive=bearing_load.transmitted_torque),
-    Series("bearing_support_displacement", _B, "support_displacement", "m",
-           "support slide: its translation (a tower slide moves the bedplate, a mount slide the "
-           "housing on it); roll hinge and other bearings: 0", "xyz", "world",
-           label="support displacement", short="support", headline=False,
-           derive=support_springs.displacement),
 )  # fmt: skip
 
 _SCHEMA: list[Series] = [*_BUILT_IN, *_DERIVED]

@@ -4,13 +4,10 @@ The support's slides (``model/support.py``: the tower modes' slides under the be
 mounts' slides and roll hinge under the housing) are each held by a linear spring F = −k q, the
 linear term of the compiled bearing springs (``cpp/bearing_spring.hpp``, an axial slide's law);
 their dampers are the slides' own viscous damping. ``support_spring_specs`` gives the compiled
-specs. The slides are bearings of the run (``bearing_names``): their reactions are the tower's
-and the mounts' forces on what they carry (``bearing_force``), and the series
-``bearing_support_displacement`` (a ``derive`` function of ``dynamics/series.py``: (block,
-gearbox) → (samples, bearings, 3)) is each prismatic slide's translation q a in world [m]: the
-bedplate's displacement is the sum over the ``support_tower_*`` slides, the housing's on the
-bedplate the sum over the ``support_mount_*`` ones; the roll is the ``angle`` of
-``support_mount_roll`` [rad]. All are 0 for a rigid support (the default).
+specs. The slides are joints and bearings of the run, so their series say where the support
+has moved and what it carries, with no series of their own: a slide's ``angle`` is its
+displacement along its axis [m] (the roll hinge's its roll [rad]), its ``bearing_force`` the
+tower's or the mounts' force on what they carry. A rigid support (the default) has no slides.
 
 A torque applied to a shaft that turns in the housing (``simulate(torques=...)``, the rotor's)
 acts on it from the ground, not from the housing, when the housing can roll: the torque arms
@@ -38,20 +35,6 @@ def support_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
         spec = _native.BearingSpringSpec()
         spec.index_axial, spec.axial_stiffness = gearbox.v_index(name), float(slide.stiffness)
         out.append(spec)
-    return out
-
-
-def displacement(block: Any, gearbox: Any) -> np.ndarray:
-    """Each support slide's translation q a [m], (samples, bearings, 3), world (module docstring).
-
-    0 for the roll hinge (its coordinate is its ``angle`` [rad]) and every other bearing.
-    """
-    out = np.zeros((len(block.time), len(block.bearing_names), 3))
-    for name, slide in gearbox.support_slides.items():
-        if slide.kind == "prismatic" and name in block.bearing_names:
-            axis = gearbox.world_from_housing @ slide.axis
-            column = block.angle[:, block.joint_names.index(name)]
-            out[:, block.bearing_names.index(name)] = np.outer(column, axis)
     return out
 
 
