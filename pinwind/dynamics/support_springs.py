@@ -41,8 +41,8 @@ def support_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
 def roll_share(gearbox: Any) -> np.ndarray | None:
     """Share f (nv,): a joint torque τ applied acts on the roll hinge as f @ τ (module docstring).
 
-    f_j = a_j · a_roll for the joints on the housing (a_j their axes, world, at rest), 0 for the
-    others; None without a roll hinge.
+    f_j = a_j · a_roll for the joints on the housing, directly or through a compliant bearing's
+    slides (a_j their axes, world, at rest), 0 for the others; None without a roll hinge.
     """
     if "support_mount_roll" not in gearbox.support_slides:
         return None
@@ -52,10 +52,15 @@ def roll_share(gearbox: Any) -> np.ndarray | None:
     roll = model.getJointId("support_mount_roll")
     roll_axis = data.oMi[roll].rotation @ gearbox.joint_axis("support_mount_roll")
     housing = model.getJointId(list(gearbox.support_slides)[-1])
+    # A shaft in a compliant bearing hangs on the housing through its bearing's slides.
+    slides = {model.getJointId(n) for n in gearbox.slide_joints if n not in gearbox.support_slides}
     out = np.zeros(model.nv)
     for name in gearbox.joint_names:
         jid = model.getJointId(name)
-        if model.parents[jid] == housing and name not in gearbox.support_slides:
+        parent = model.parents[jid]
+        while parent in slides:
+            parent = model.parents[parent]
+        if parent == housing and name not in gearbox.slide_joints:
             axis = data.oMi[jid].rotation @ gearbox.joint_axis(name)
             out[gearbox.v_index(name)] = float(axis @ roll_axis)
     return out

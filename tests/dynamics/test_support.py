@@ -113,13 +113,16 @@ def test_each_tower_direction_sees_its_own_modal_mass_plus_the_gearbox():
     np.testing.assert_allclose(found[-3:], expected, rtol=1e-10)
 
 
-def test_the_torque_arms_roll_by_the_housing_torque_over_k_roll():
+@pytest.mark.parametrize("bearing", ["", '<bearing joint="a" radial_stiffness="1e8"/>'])
+def test_the_torque_arms_roll_by_the_housing_torque_over_k_roll(bearing):
     # Shaft a takes 10 N·m and shaft b 20 N·m from the ground (the 20/40 pair balances them:
     # 10 ω − 20 ω/2 = 0): the torque arms carry their sum, less the moment of b's weight at
-    # 60 mm from the roll axis, m_b g x_b.
+    # 60 mm from the roll axis, m_b g x_b; shaft a in a rigid or a compliant bearing.
     k_roll = 1e4
     gb = _load(
-        supported_pair(f'<support housing="housing"><mount stiffness_roll="{k_roll!r}"/></support>')
+        supported_pair(
+            f'<support housing="housing"><mount stiffness_roll="{k_roll!r}"/></support>{bearing}'
+        )
     )
     res = _run(gb, duration=0.01, dt=1e-4, torques={"a": 10.0, "b": 20.0}, meshes={"all": "rigid"})
     torque = 10.0 + 20.0 - 2.0 * G * CENTRE_DISTANCE
