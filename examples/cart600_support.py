@@ -76,7 +76,7 @@ import pinwind
 from pinwind.analysis.spectrum import power_spectral_density, spectral_peaks
 from pinwind.dynamics.elements import induction_torque
 from pinwind.dynamics.ratios import speed_ratio
-from pinwind.errors import PinwindWarning
+from pinwind.errors import EquilibriumNotReached
 from pinwind.loads.generator import InductionMachine
 from pinwind.loads.signals import Step
 from pinwind.model.compliance import MeshCompliance
@@ -166,7 +166,9 @@ def run(
         weight = (TOWER_MASS + gearbox_mass(gearbox)) * float(np.linalg.norm(gearbox.gravity))
         torques["support_tower_vertical"] = Step(0.5 * dt, weight, 0.0)
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PinwindWarning)  # the model file's plausibility notes
+        # The static start stops a correction of ~3e-9 short of its tolerance (relative 1e-6;
+        # a flank of a mesh alternates): the vibration left is far below the tower's.
+        warnings.simplefilter("ignore", EquilibriumNotReached)
         return pinwind.simulate(
             gearbox,
             duration=duration,
