@@ -123,6 +123,24 @@ class InvalidBearingCompliance(ModelError):
         super().__init__(path, f'<bearing joint="{bearing}">', message)
 
 
+class InvalidSupport(ModelError):
+    """A support's mount or tower-mode value that is negative, zero or not a number.
+
+    A mount's stiffness or damping, a tower mode's frequency, modal mass or damping ratio.
+
+    Attributes:
+        housing: the support's housing link.
+        attribute: the attribute at fault (``stiffness_roll``, ``vertical mass``).
+        value: its value as read.
+    """
+
+    def __init__(self, housing: str, attribute: str, value: float, message: str, *, path: str):
+        self.housing = housing
+        self.attribute = attribute
+        self.value = value
+        super().__init__(path, f'<support housing="{housing}">', message)
+
+
 class UnheldMember(ModelError):
     """A floating member that nothing holds: a motion no mesh, spring or row resists.
 

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 import pinwind
+from pinwind.analysis.spectrum import spectral_peaks
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import single_pair_stiffness
 
@@ -148,3 +149,27 @@ def test_kelso_cai_pair_maxima_converge_with_dt_to_the_second_pair_s_engagement(
     (accel, force, _, _), (accel_half, force_half, _, _) = stats
     assert abs(force["max"] - force_half["max"]) <= fall[0] * (jump - static)
     assert abs(accel["max"] - accel_half["max"]) <= fall[0] * kick
+
+
+def test_cart600_support_shows_the_tower_mode_and_raises_the_carrier_bearing_load(tmp_path):
+    module = _load("cart600_support")
+    duration = 1.0
+    results = module.main(["--duration", str(duration), "--figures", str(tmp_path)])
+    assert (tmp_path / "cart600_support_psd.png").stat().st_size > 10_000
+    gearbox_mass = module.gearbox_mass(module.model(flexible=False))
+    m = module.TOWER_MASS
+    # The tower alone at f √((m + M)/m) carries the gearbox at f = 7.3 Hz: k = m (2π f_alone)².
+    k = m * (2 * math.pi * module.TOWER_FREQUENCY) ** 2 * (m + gearbox_mass) / m
+    coupled = math.sqrt(k / (m + gearbox_mass)) / (2 * math.pi)
+    resolution = 2.0 / duration  # Welch segments of half the run
+    for pair in results.values():
+        peak = spectral_peaks(*module.psd(pair["flexible"], "carrier"), count=1)[0]
+        assert_allclose(peak.frequency, coupled, atol=resolution)
+        # The bedplate's acceleration a (at most g: the tower released from its unloaded shape
+        # swings by its sag) adds m a to the vertical load of the carrier's bearing, m the
+        # carrier and its three planets: the RMS grows, and the mean stays, to that amplitude's
+        # mean over the run, m g / (π f T) at most for a cosine at f.
+        rigid, flex = (module.vertical_force(pair[n], "carrier") for n in ("rigid", "flexible"))
+        assert np.sqrt(np.mean(flex**2)) > 1.02 * np.sqrt(np.mean(rigid**2))
+        carried = (1300.0 + 3 * 329.319966626) * 9.81
+        assert_allclose(flex.mean(), rigid.mean(), atol=carried / (math.pi * coupled * duration))

@@ -5,7 +5,7 @@ given); the stiffness and damping are those of the linear elements a run has: ea
 mesh a spring of its mean mesh stiffness (``compliant.mean_mesh_stiffness``: c_γα b for the ISO
 shape, the mean of a pair table) and its dashpot along the front flank's row (the line of action
 of ``cpp/mesh_rows.hpp``, the same the step uses), each torsional spring k (e₁ − e₂), each damped
-bearing c on its joint, each compliant bearing's slide its spring and damper
+bearing c on its joint, each compliant bearing's and support slide its spring and damper
 (``bearing_elements``). The rigid meshes, the held joints (speed drivers) and the locked bearings
 are rows; a floating bearing that nothing holds is refused. ``normal_modes.natural_modes``
 solves the eigenproblem.
@@ -387,7 +387,10 @@ def speed_terms(gearbox: Gearbox, speed: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
-    """The compliant bearings' springs and dampers, one per slide (``<joint>_<slide>``).
+    """The compliant bearings' and the support's springs and dampers, one per slide.
+
+    A compliant bearing's slides are ``<joint>_<slide>``, the support's ``support_tower_<dir>``
+    and ``support_mount_<axis>`` (``model/support.py``).
 
     A bearing with a radial clearance counts as loaded (the clearance taken up, stiffness k);
     a floating bearing's radial slides have none.
@@ -403,6 +406,10 @@ def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
             row = np.zeros(nv)
             row[bearing.v_index[slide]] = 1.0
             out.append(SpringElement(name, "bearing", k, damping, row))
+    for name, support in gearbox.support_slides.items():
+        row = np.zeros(nv)
+        row[gearbox.v_index(name)] = 1.0
+        out.append(SpringElement(name, "support", support.stiffness, support.damping, row))
     return out
 
 

@@ -32,7 +32,8 @@ class SpringElement:
 
     Attributes:
         name: the mesh or spring name.
-        kind: ``"mesh"``, ``"spring"`` or ``"bearing"`` (a compliant bearing's slide).
+        kind: ``"mesh"``, ``"spring"``, ``"bearing"`` (a compliant bearing's slide) or
+            ``"support"`` (a support slide: a tower mode or a mount).
         stiffness: k [N/m or N·m/rad].
         damping: c [N·s/m or N·m·s/rad].
         row: J (nv,): the deflection (or twist) per joint coordinate [m or rad per rad].

@@ -55,6 +55,7 @@ from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
+from pinwind.dynamics.support_springs import from_ground, roll_share
 from pinwind.dynamics.time_step import coarse_step_notes
 from pinwind.dynamics.torque_balance import imbalances, representative_torque
 from pinwind.dynamics.torsional_modes import highest_spring_mode
@@ -502,10 +503,10 @@ def simulate(
     )
     res.metadata["initial_deflection"] = {"mode": initial_deflection}
     if initial_deflection == "static" and (
-        mesh_setup_.compliant or gearbox.springs or gearbox.compliant_bearings
+        mesh_setup_.compliant or gearbox.springs or gearbox.slide_joints
     ):
         res.metadata["initial_deflection"].update(
-            _static_start(stepper, torque_loads, drivers, elements, dt, model.nv)
+            _static_start(gearbox, stepper, torque_loads, drivers, elements, dt)
         )
     observers = observers_of(observer)
     begun: list[RunObserver] = []  # the observers to end, whatever stops the run
@@ -529,6 +530,7 @@ def simulate(
         # the Result's own rows (keep="last" keeps the last sample but not the first: blocks).
         sparse = not direct and not read and stride < samples
         torque_columns = [ld.v_index for ld in torque_loads]
+        roll = roll_share(gearbox)
         for start in range(0, samples, chunk):
             # A block is stepped and handed to the observers whole: Ctrl-C or SIGTERM waits for the
             # hand-over (it used to drop the block between the step and the log: samples counted
@@ -538,6 +540,7 @@ def simulate(
                 torque, bad_torque = _signal_table(
                     torque_loads, start, stop, dt, torque_columns, model.nv
                 )
+                torque = from_ground(gearbox, roll, torque)
                 # Step k asks for the driver speeds at t_k and t_{k+1}.
                 target, bad_target = _signal_table(
                     drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
@@ -641,12 +644,12 @@ INITIAL_DEFLECTIONS = {
 
 
 def _static_start(
+    gearbox: Gearbox,
     stepper: CompiledStepper,
     torque_loads: list[JointLoad],
     drivers: list[JointLoad],
     elements: LoadElements,
     dt: float,
-    nv: int,
 ) -> dict[str, object]:
     """Moves the stepper's start to static equilibrium under the loads of t = 0.
 
@@ -654,7 +657,9 @@ def _static_start(
     the largest joint displacement [rad or m], the flank switches and the last linear solve's
     relative residual. Warns (``EquilibriumNotReached``) when it did not converge.
     """
+    nv = gearbox.model.nv
     torque, _ = _signal_table(torque_loads, 0, 1, dt, [ld.v_index for ld in torque_loads], nv)
+    torque = from_ground(gearbox, roll_share(gearbox), torque)
     target, _ = _signal_table(drivers, 0, 2, dt, list(range(len(drivers))), len(drivers))
     inputs = None
     if elements.wind is not None:

@@ -24,6 +24,7 @@ from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
+from pinwind.dynamics.support_springs import support_spring_specs
 from pinwind.errors import ConflictingConstraints, Diverged, MalformedModel, SolverFailed
 from pinwind.model.gearbox import Gearbox
 
@@ -156,7 +157,7 @@ class CompiledStepper:
             sp.stiffness, sp.damping, sp.preload_angle = s.stiffness, s.damping, s.preload_angle
             springs.append(sp)
         spec.springs = springs
-        spec.bearing_springs = bearing_spring_specs(gearbox)
+        spec.bearing_springs = [*bearing_spring_specs(gearbox), *support_spring_specs(gearbox)]
         if loads is not None:
             spec.generators = loads.generators
             spec.rotors = loads.rotors

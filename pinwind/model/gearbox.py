@@ -35,6 +35,7 @@ from pinwind.gears.involute import base_helix_angle, pitch_radius
 from pinwind.model.bearing_compliance import SLIDES, BearingCompliance
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.phasing import mesh_point, tooth_phases
+from pinwind.model.support import Support, SupportSlide
 from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 
 #: Relative tolerance between the centre distance in the file and the one the gear data give.
@@ -170,6 +171,10 @@ class Gearbox:
         joint_names: the bearings and the compliant bearings' slides, in the order of the
             velocity vector (one DoF each).
         locked_joints: bearings held at zero speed (gears on fixed mounts, e.g. the ring).
+        support_slides: joint name → the support's slides (``model/support.py``), from the
+            ground to the housing; empty for a housing that is the ground.
+        world_from_housing: the housing frame's rotation at rest, (3, 3) (the frame of the
+            support slides' axes).
         gravity: gravity in world [m/s²].
         source_text: the model file as read (logged with every run).
     """
@@ -181,6 +186,10 @@ class Gearbox:
         self.source_text = source.text
         self.source = source
         pin_xml, self.locked_joints, slides = _pinocchio_urdf(source)
+        self.world_from_housing, support = _support_chain(source)
+        if support:
+            pin_xml = _add_support(source, pin_xml, support)
+        self.support_slides = {s.name: s for s in support}
         try:
             self.model = pin.buildModelFromXML(pin_xml)
         except Exception as err:  # Pinocchio raises plain RuntimeError/ValueError here
@@ -196,6 +205,7 @@ class Gearbox:
             for joint, names in slides.items()
         }
         self.slide_joints = [n for b in self.compliant_bearings.values() for n in b.slides.values()]
+        self.slide_joints += list(self.support_slides)
         self._check_axial_inertia()
         self.gears = {name: self._attach(spec) for name, spec in source.gears.items()}
         #: Plausibility notes (``ImplausibleGear``), issued as warnings by ``load``/``loads``.
@@ -266,12 +276,7 @@ class Gearbox:
         data = self.model.createData()
         pin.forwardKinematics(self.model, data, pin.neutral(self.model))
         axes = [data.oMi[g.joint_id].rotation @ g.axis_in_joint for g in self.gears.values()]
-        shaft = axes[0] if axes else np.array([0.0, 0.0, 1.0])
-        down = np.array([0.0, -1.0, 0.0])
-        if abs(shaft @ down) > 0.9:
-            down = np.array([0.0, 0.0, -1.0])
-        down = down - (down @ shaft) * shaft
-        return 9.81 * down / np.linalg.norm(down)
+        return 9.81 * _default_down(axes[0] if axes else np.array([0.0, 0.0, 1.0]))
 
     def _attach(self, spec: GearSpec) -> Gear:
         where = f'<gear name="{spec.name}">'
@@ -566,6 +571,103 @@ class Gearbox:
             damping=spec.damping,
             preload_angle=spec.preload_angle,
         )
+
+
+def _default_down(shaft: np.ndarray) -> np.ndarray:
+    """The default direction of gravity for a shaft axis (world), unit.
+
+    −y made normal to the shaft, or −z when the shaft lies along y.
+    """
+    down = np.array([0.0, -1.0, 0.0])
+    if abs(shaft @ down) > 0.9:
+        down = np.array([0.0, 0.0, -1.0])
+    down = down - (down @ shaft) * shaft
+    return down / np.linalg.norm(down)
+
+
+def _support_chain(source: ModelFile) -> tuple[np.ndarray, list[SupportSlide]]:
+    """The housing's rotation at rest (world from housing) and the support's slides.
+
+    The tower's vertical is against the file's gravity, or against the default gravity of the
+    support's shaft axis, expressed in the housing's frame.
+    """
+    root = ET.fromstring(source.text)
+    world_from_housing = np.eye(3)
+    if source.support is None:
+        return world_from_housing, []
+    link = source.support.housing
+    while link != source.root_link:  # read_model_file checked: fixed joints up to the root
+        name = _parent_joint(source, link)
+        origin = root.find(f"joint[@name='{name}']/origin")
+        rpy = origin.get("rpy", "0 0 0") if origin is not None else "0 0 0"
+        world_from_housing = pin.rpy.rpyToMatrix(*map(float, rpy.split())) @ world_from_housing
+        link = source.joints[name]["parent"]
+    gravity = source.gravity
+    if gravity is None or np.linalg.norm(gravity) == 0.0:
+        down = _default_down(world_from_housing @ source.support.shaft_axis)
+    else:
+        down = gravity / np.linalg.norm(gravity)
+    return world_from_housing, source.support.slides(-(world_from_housing.T @ down))
+
+
+def _parent_joint(source: ModelFile, link: str) -> str:
+    """The joint whose child is ``link`` (not the root link)."""
+    return next(n for n, j in source.joints.items() if j["child"] == link)
+
+
+def _add_support(source: ModelFile, text: str, slides: list[SupportSlide]) -> str:
+    """Put the support's slides between the housing and its parent (or a new ground link).
+
+    The first slide takes the origin of the housing's fixed joint (which it replaces), the others
+    sit at the one before, and a fixed joint ``support_housing`` welds the housing to the last
+    one: at rest the housing is where the file puts it. A tower slide's link carries its share of
+    the modal masses (a point mass at the slide's origin).
+
+    Raises:
+        MalformedModel: a slide's name is taken by a joint or link of the file.
+    """
+    support = cast(Support, source.support)
+    root = ET.fromstring(text)
+    names = [s.name for s in slides] + [f"{s.name}_link" for s in slides] + ["support_housing"]
+    if support.housing == source.root_link:
+        names.append("support_ground")
+    for taken in names:
+        if taken in source.joints or taken in source.links:
+            raise MalformedModel(
+                source.path,
+                f'<support housing="{support.housing}">',
+                f'the support needs the name "{taken}", which the file already uses; rename that '
+                "element",
+            )
+    if support.housing == source.root_link:
+        ET.SubElement(root, "link", name="support_ground")
+        parent, origin = "support_ground", None
+    else:
+        name = _parent_joint(source, support.housing)
+        fixed = cast(ET.Element, root.find(f"joint[@name='{name}']"))
+        parent, origin = source.joints[name]["parent"], fixed.find("origin")
+        root.remove(fixed)
+    for slide in slides:
+        child = f"{slide.name}_link"
+        el = ET.SubElement(root, "joint", name=slide.name, type=slide.kind)
+        if origin is not None:
+            el.append(origin)
+            origin = None
+        ET.SubElement(el, "parent", link=parent)
+        ET.SubElement(el, "child", link=child)
+        ET.SubElement(el, "axis", xyz=" ".join(repr(float(x)) for x in slide.axis))
+        ET.SubElement(el, "limit", lower="-1e30", upper="1e30", effort="0", velocity="0")
+        ET.SubElement(el, "dynamics", damping=repr(slide.damping))
+        link = ET.SubElement(root, "link", name=child)
+        if slide.mass > 0.0:
+            inertial = ET.SubElement(link, "inertial")
+            ET.SubElement(inertial, "mass", value=repr(slide.mass))
+            ET.SubElement(inertial, "inertia", ixx="0", iyy="0", izz="0", ixy="0", ixz="0", iyz="0")
+        parent = child
+    weld = ET.SubElement(root, "joint", name="support_housing", type="fixed")
+    ET.SubElement(weld, "parent", link=parent)
+    ET.SubElement(weld, "child", link=support.housing)
+    return ET.tostring(root, encoding="unicode")
 
 
 def _flank_radius(meshes: list[Mesh], name: str) -> float | None:

@@ -21,6 +21,7 @@ from pinwind.errors import (
     InvalidGearGeometry,
     InvalidInertia,
     InvalidMount,
+    InvalidSupport,
     MalformedModel,
     UnknownName,
 )
@@ -28,6 +29,7 @@ from pinwind.gears.involute import half_tooth_angle
 from pinwind.model.bearing import BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import BearingCompliance
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
+from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
 
 
 @dataclass(frozen=True)
@@ -121,6 +123,8 @@ class ModelFile:
     visuals: list[VisualSpec] = field(default_factory=list)
     gravity: np.ndarray | None = None
     root_link: str = ""
+    #: The housing's mounts and tower modes (``<support>``); None: the housing is the ground.
+    support: Support | None = None
 
 
 def _describe(el: ET.Element) -> str:
@@ -541,6 +545,93 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         if compliance is None or el.get("type") is not None:
             rating = _bearing(path, el, out)
             out.bearings[rating.joint] = rating
+    supports = box.findall("support")
+    if len(supports) > 1:
+        raise MalformedModel(path, "<support>", "a model has at most one <support> element")
+    if supports:
+        out.support = _support(path, supports[0], out)
+
+
+def _raw_number(path: str, el: ET.Element, attr: str, where: str, default: float) -> float:
+    """A number attribute as read, NaN and infinities included (the caller says what is wrong)."""
+    raw = el.get(attr)
+    if raw is None:
+        return default
+    try:
+        return float(raw)
+    except ValueError as err:
+        raise MalformedModel(path, where, f'attribute {attr}="{raw}" is not a number') from err
+
+
+def _support(path: str, el: ET.Element, out: ModelFile) -> Support:
+    """A ``<support>``: the housing's mounts and the tower modes (docs/model_format.md)."""
+    housing = _required(path, el, "housing")
+    where = f'<support housing="{housing}">'
+    if housing not in out.links:
+        raise UnknownName(path, where, "link", housing, out.links)
+    link = housing
+    while link != out.root_link:
+        joint = next(n for n, j in out.joints.items() if j["child"] == link)
+        if out.joints[joint]["type"] != "fixed":
+            raise InvalidMount(
+                path,
+                where,
+                f'the housing "{housing}" turns on joint "{joint}"; the housing is the body the '
+                "ring and the bearings are fixed to: the root link, or a link welded (fixed "
+                "joints) to it",
+            )
+        link = out.joints[joint]["parent"]
+    axis = _vector(path, el, "shaft_axis", "0 0 1", where=where)
+    if np.linalg.norm(axis) < 1e-12:
+        raise MalformedModel(path, where, 'shaft_axis="0 0 0" has no direction; e.g. "0 0 1"')
+    stiffness: dict[str, float] = {}
+    damping: dict[str, float] = {}
+    for mount in el.findall("mount"):
+        for name in MOUNT_AXES:
+            if mount.get(f"stiffness_{name}") is not None:
+                stiffness[name] = _raw_number(path, mount, f"stiffness_{name}", where, 0.0)
+            if mount.get(f"damping_{name}") is not None:
+                damping[name] = _raw_number(path, mount, f"damping_{name}", where, 0.0)
+    modes: list[TowerMode] = []
+    for mode in el.findall("tower_mode"):
+        direction = _required(path, mode, "direction")
+        if direction not in DIRECTIONS:
+            raise MalformedModel(
+                path,
+                where,
+                f'<tower_mode direction="{direction}">: the directions are {", ".join(DIRECTIONS)}',
+            )
+        if any(m.direction == direction for m in modes):
+            raise MalformedModel(
+                path,
+                where,
+                f'two tower modes in direction "{direction}"; pinwind takes one mode per '
+                "direction (the first)",
+            )
+        for attr in ("frequency_hz", "mass"):
+            _required(path, mode, attr)
+        modes.append(
+            TowerMode(
+                direction=direction,
+                frequency=_raw_number(path, mode, "frequency_hz", where, math.nan),
+                mass=_raw_number(path, mode, "mass", where, math.nan),
+                damping_ratio=_raw_number(path, mode, "damping_ratio", where, 0.0),
+            )
+        )
+    support = Support(
+        housing=housing,
+        shaft_axis=axis / np.linalg.norm(axis),
+        mount_stiffness=stiffness,
+        mount_damping=damping,
+        tower_modes=tuple(modes),
+    )
+    problems = support.problems()
+    if problems:
+        attribute, value, _ = problems[0]
+        raise InvalidSupport(
+            housing, attribute, value, "; ".join(p[2] for p in problems), path=path
+        )
+    return support
 
 
 #: The attributes of a compliant ``<bearing>`` (docs/model_format.md "Compliant bearings").
