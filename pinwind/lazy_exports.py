@@ -5,7 +5,9 @@ modes`` never loads the log reader or the simulation loop, ``pinwind --version``
 A package writes its exports as ordinary imports under ``if TYPE_CHECKING:``, which mypy and IDEs
 read, and ``lazy_exports`` reads the same block (as scientific-python's ``lazy_loader`` reads a
 package's ``.pyi`` stub): the first access to a name imports its module and keeps the value in the
-package, so later accesses are plain attribute reads.
+package, so later accesses are plain attribute reads. A submodule is an attribute too, imported
+on first use (``import pinwind`` once imported every subpackage: ``pinwind.analysis.load_sharing``
+after ``import pinwind`` keeps working).
 
 Some exports share their name with the submodule that defines them (``pinwind.dynamics.simulate``
 the function in ``pinwind/dynamics/simulate.py``, ``pinwind.gears.involute``). The import system
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 import ast
 import importlib
+import importlib.util
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -70,13 +73,14 @@ def lazy_exports(package: str) -> tuple[Callable[[str], Any], Callable[[], list[
     module.__class__ = LazyPackage
 
     def __getattr__(name: str) -> Any:
-        try:
+        if name in sources:
             source, original = sources[name]
-        except KeyError:
-            raise AttributeError(f"module {package!r} has no attribute {name!r}") from None
-        value = getattr(importlib.import_module(source), original)
-        namespace[name] = value
-        return value
+            value = getattr(importlib.import_module(source), original)
+            namespace[name] = value
+            return value
+        if name.isidentifier() and importlib.util.find_spec(f"{package}.{name}") is not None:
+            return importlib.import_module(f"{package}.{name}")  # which binds it on the package
+        raise AttributeError(f"module {package!r} has no attribute {name!r}")
 
     def __dir__() -> list[str]:
         return sorted({*namespace, *sources})

@@ -94,6 +94,19 @@ def test_an_export_named_like_its_submodule_stays_the_export():
     )
 
 
+def test_subpackages_are_attributes_of_pinwind_after_import_pinwind_alone():
+    # The tutorial's ``pinwind.analysis.load_sharing(res, gb)``: the eager ``import pinwind``
+    # imported every subpackage, the lazy one imports them on first access.
+    loaded_after(
+        "import pinwind\n"
+        "from types import FunctionType, ModuleType\n"
+        "assert isinstance(pinwind.analysis.load_sharing, FunctionType)\n"
+        "assert isinstance(pinwind.dynamics.series, ModuleType)\n"
+        "assert pinwind.units.RAD_S_PER_RPM > 0\n"
+        "assert not hasattr(pinwind, 'analysis.load_sharing')\n"
+    )
+
+
 @pytest.mark.parametrize("name", LAZY_PACKAGES)
 def test_every_exported_name_is_declared_and_resolves(name: str):
     package = importlib.import_module(name)
