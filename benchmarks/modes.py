@@ -2,7 +2,9 @@
 
 - ``pinwind modes MODEL`` and ``pinwind --version`` as a user runs them, a fresh process each
   time: median, best and worst wall time of ``--repeats`` runs, and the median CPU time (user +
-  system, which depends less on what else the machine is doing), with the load average.
+  system, which depends less on what else the machine is doing), with the load average. From
+  compiled modules, as an installed pinwind runs (one uncounted run writes the bytecode cache);
+  ``--compile-each-run`` keeps PYTHONDONTWRITEBYTECODE, which this shared environment sets.
 - In this process, what ``pinwind modes`` spends its time on, in the order the command meets it:
   typer and rich (the CLI library), ``import pinwind`` and the CLI app (every verb module, which
   import their heavy modules inside their commands: ``lazy_exports.py``), pydantic (which typer
@@ -17,6 +19,7 @@
   work shares the machine, when wall times are longer than the CPU times.
 
     python benchmarks/modes.py [--model models/cart600_gearbox.urdf] [--repeats 10] [--speeds 100]
+                               [--source OTHER_CHECKOUT] [--compile-each-run]
 """
 
 from __future__ import annotations
@@ -99,12 +102,24 @@ def main() -> None:
         help="the pinwind tree to time (default this checkout; another checkout, e.g. a `git "
         "archive` of main with its _native module copied in, compares before and after)",
     )
+    parser.add_argument(
+        "--compile-each-run",
+        action="store_true",
+        help="keep PYTHONDONTWRITEBYTECODE as set (default: unset, as an installed pinwind runs "
+        "from its compiled modules)",
+    )
     args = parser.parse_args()
     source = args.source.resolve()
+    if not args.compile_each_run:
+        os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
     os.environ["PYTHONPATH"] = os.pathsep.join([str(source), os.environ.get("PYTHONPATH", "")])
     sys.path.insert(0, str(source))
 
-    print(f"{source}: cores given when asking for two: {parallel_capacity():.2f}, {load_average()}")
+    cache = "compiled each run" if os.environ.get("PYTHONDONTWRITEBYTECODE") else "bytecode cached"
+    print(
+        f"{source} ({cache}): cores given when asking for two: {parallel_capacity():.2f}, "
+        f"{load_average()}"
+    )
     for label, command in (
         (f"pinwind modes {Path(args.model).name}", ["modes", args.model]),
         ("pinwind --version", ["--version"]),
