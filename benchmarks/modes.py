@@ -10,7 +10,9 @@
   import their heavy modules inside their commands: ``lazy_exports.py``), pydantic (which typer
   imports to convert the arguments when a command runs), the modules of ``modes`` (numpy,
   Pinocchio, the model, the linearisation), typer building the commands of every verb from their
-  signatures, loading the model, linearising and solving.
+  signatures, loading the model, linearising and solving; then the whole command once more in
+  this process, everything imported (typer building the commands and converting the arguments
+  with pydantic, the model, the modes, the table).
 - A Campbell diagram of ``--speeds`` input speeds: ``campbell`` itself (one linearisation at
   the top of the range: the modes of torsional coordinates do not change with speed), and the
   cost if every speed were linearised and solved (``linearise(speeds=...).modes()`` at each),
@@ -25,6 +27,8 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import os
 import resource
 import statistics
@@ -151,6 +155,12 @@ def main() -> None:
     steps.done("load the model")
     modes = linearise(gearbox, meshes={"all": "compliant"}).modes()
     steps.done(f"linearise + modes ({len(modes)} modes)")
+    from pinwind.cli import main as pinwind_main
+
+    sys.argv = ["pinwind", "modes", args.model]
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
+        pinwind_main()
+    steps.done("whole command again, all imported (typer, work, table)")
     steps.print()
 
     from pinwind.analysis.campbell import campbell
