@@ -1,9 +1,18 @@
 """Cost of ``pinwind modes`` and of a Campbell diagram (issue 24: < 1 s and < 10 s).
 
-- ``pinwind modes MODEL`` as a user runs it, a fresh process each time: best and median wall
-  time of ``--repeats`` runs, and the process's CPU time (user + system, which depends less on
-  what else the machine is doing); then, in this process, what the command spends its time on:
-  importing pinwind and the CLI, loading the model, linearising and solving.
+- ``pinwind modes MODEL`` and ``pinwind --version`` as a user runs them, a fresh process each
+  time: median, best and worst wall time of ``--repeats`` runs, and the median CPU time (user +
+  system, which depends less on what else the machine is doing), with the load average. From
+  compiled modules, as an installed pinwind runs (one uncounted run writes the bytecode cache);
+  ``--compile-each-run`` keeps PYTHONDONTWRITEBYTECODE, which this shared environment sets.
+- In this process, what ``pinwind modes`` spends its time on, in the order the command meets it:
+  typer and rich (the CLI library), ``import pinwind`` and the CLI app (every verb module, which
+  import their heavy modules inside their commands: ``lazy_exports.py``), pydantic (which typer
+  imports to convert the arguments when a command runs), the modules of ``modes`` (numpy,
+  Pinocchio, the model, the linearisation), typer building the commands of every verb from their
+  signatures, loading the model, linearising and solving; then the whole command once more in
+  this process, everything imported (typer building the commands and converting the arguments
+  with pydantic, the model, the modes, the table).
 - A Campbell diagram of ``--speeds`` input speeds: ``campbell`` itself (one linearisation at
   the top of the range: the modes of torsional coordinates do not change with speed), and the
   cost if every speed were linearised and solved (``linearise(speeds=...).modes()`` at each;
@@ -12,12 +21,15 @@
 - The cores this process gets asking for two (``machine.parallel_capacity``): below 2 while other
   work shares the machine, when wall times are longer than the CPU times.
 
-    python benchmarks/modes.py [--model models/cart600_gearbox.urdf] [--repeats 5] [--speeds 100]
+    python benchmarks/modes.py [--model models/cart600_gearbox.urdf] [--repeats 10] [--speeds 100]
+                               [--source OTHER_CHECKOUT] [--compile-each-run]
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import os
 import resource
 import statistics
@@ -31,14 +43,14 @@ from machine import parallel_capacity
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def process_times(args: list[str], repeats: int) -> tuple[list[float], list[float]]:
-    """Wall and CPU times [s] of ``python -m pinwind ARGS`` run ``repeats`` times."""
+def process_times(args: list[str], repeats: int, source: Path) -> tuple[list[float], list[float]]:
+    """Wall and CPU times [s] of ``python -m pinwind ARGS``, ``repeats`` runs in ``source``."""
     walls, cpus = [], []
     for _ in range(repeats):
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         subprocess.run(
-            [sys.executable, "-m", "pinwind", *args], check=True, capture_output=True, cwd=ROOT
+            [sys.executable, "-m", "pinwind", *args], check=True, capture_output=True, cwd=source
         )
         walls.append(time.perf_counter() - start)
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -46,38 +58,113 @@ def process_times(args: list[str], repeats: int) -> tuple[list[float], list[floa
     return walls, cpus
 
 
+def process_line(label: str, walls: list[float], cpus: list[float]) -> str:
+    """Median, best and worst wall time and median CPU time of a command's runs."""
+    return (
+        f"{label}: wall median {statistics.median(walls):.3f} s (best {min(walls):.3f}, worst "
+        f"{max(walls):.3f}), CPU median {statistics.median(cpus):.3f} s ({len(walls)} runs)"
+    )
+
+
+def load_average() -> str:
+    """The 1-minute load average: how many processes wanted the machine's 2 cores."""
+    return f"load average {os.getloadavg()[0]:.1f}"
+
+
+class Steps:
+    """Wall and CPU time [s] of consecutive steps in this process."""
+
+    def __init__(self) -> None:
+        self.rows: list[tuple[str, float, float]] = []
+        self.wall, self.cpu = time.perf_counter(), time.process_time()
+
+    def done(self, label: str) -> None:
+        """Close the step that started at the previous ``done`` (or at creation)."""
+        wall, cpu = time.perf_counter(), time.process_time()
+        self.rows.append((label, wall - self.wall, cpu - self.cpu))
+        self.wall, self.cpu = wall, cpu
+
+    def print(self) -> None:
+        """One line per step, then the total."""
+        for label, wall, cpu in self.rows:
+            print(f"  {label:<54} {wall:7.3f} s (CPU {cpu:.3f} s)")
+        wall = sum(row[1] for row in self.rows)
+        cpu = sum(row[2] for row in self.rows)
+        print(f"  {'total':<54} {wall:7.3f} s (CPU {cpu:.3f} s)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--model", default=str(ROOT / "models" / "cart600_gearbox.urdf"))
     parser.add_argument("--joint", default="carrier")
     parser.add_argument("--rpm", type=float, default=30.0, help="top of the Campbell range")
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--repeats", type=int, default=10)
     parser.add_argument("--speeds", type=int, default=100)
-    args = parser.parse_args()
-    os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
-
-    print(f"cores given when asking for two: {parallel_capacity():.2f}")
-    walls, cpus = process_times(["modes", args.model], args.repeats)
-    print(
-        f"pinwind modes {Path(args.model).name}: wall best {min(walls):.3f} s, median "
-        f"{statistics.median(walls):.3f} s; CPU best {min(cpus):.3f} s ({args.repeats} runs)"
+    parser.add_argument(
+        "--source",
+        type=Path,
+        default=ROOT,
+        help="the pinwind tree to time (default this checkout; another checkout, e.g. a `git "
+        "archive` of main with its _native module copied in, compares before and after)",
     )
+    parser.add_argument(
+        "--compile-each-run",
+        action="store_true",
+        help="keep PYTHONDONTWRITEBYTECODE as set (default: unset, as an installed pinwind runs "
+        "from its compiled modules)",
+    )
+    args = parser.parse_args()
+    source = args.source.resolve()
+    if not args.compile_each_run:
+        os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+    os.environ["PYTHONPATH"] = os.pathsep.join([str(source), os.environ.get("PYTHONPATH", "")])
+    sys.path.insert(0, str(source))
 
-    start, cpu = time.perf_counter(), time.process_time()
+    cache = "compiled each run" if os.environ.get("PYTHONDONTWRITEBYTECODE") else "bytecode cached"
+    print(
+        f"{source} ({cache}): cores given when asking for two: {parallel_capacity():.2f}, "
+        f"{load_average()}"
+    )
+    for label, command in (
+        (f"pinwind modes {Path(args.model).name}", ["modes", args.model]),
+        ("pinwind --version", ["--version"]),
+    ):
+        walls, cpus = process_times(command, args.repeats, source)
+        print(process_line(label, walls, cpus) + f"; {load_average()}")
+
+    print("in process, what pinwind modes spends its time on:")
+    steps = Steps()
+    import rich.table  # noqa: F401
+    import typer.main
+
+    steps.done("import typer, rich (the CLI library)")
     import pinwind
-    from pinwind.analysis.campbell import campbell
-    from pinwind.cli import app  # noqa: F401  (the command imports the CLI too)
+
+    steps.done("import pinwind")
+    from pinwind.cli import app
+
+    steps.done("import pinwind.cli (the app: every verb module)")
+    import typer._adapters  # noqa: F401
+
+    steps.done("import typer._adapters (pydantic: typer's conversions)")
     from pinwind.dynamics.linearisation import linearise
 
-    imported, imported_cpu = time.perf_counter(), time.process_time()
+    steps.done("import the modes modules (numpy, Pinocchio, model)")
+    typer.main.get_command(app)
+    steps.done("typer builds the click commands of every verb")
     gearbox = pinwind.load(args.model)
-    loaded = time.perf_counter()
+    steps.done("load the model")
     modes = linearise(gearbox, meshes={"all": "compliant"}).modes()
-    solved = time.perf_counter()
-    print(
-        f"  in process: import {imported - start:.3f} s (CPU {imported_cpu - cpu:.3f} s), load "
-        f"{loaded - imported:.3f} s, linearise + modes {solved - loaded:.4f} s ({len(modes)} modes)"
-    )
+    steps.done(f"linearise + modes ({len(modes)} modes)")
+    from pinwind.cli import main as pinwind_main
+
+    sys.argv = ["pinwind", "modes", args.model]
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
+        pinwind_main()
+    steps.done("whole command again, all imported (typer, work, table)")
+    steps.print()
+
+    from pinwind.analysis.campbell import campbell
 
     top = args.rpm * 2 * 3.141592653589793 / 60
     start, cpu = time.perf_counter(), time.process_time()
@@ -96,11 +183,9 @@ def main() -> None:
     walls, cpus = process_times(
         ["campbell", args.model, "--joint", args.joint, "--speed-range", f"0:{args.rpm:g}"],
         args.repeats,
+        source,
     )
-    print(
-        f"pinwind campbell: wall best {min(walls):.3f} s, median {statistics.median(walls):.3f} s;"
-        f" CPU best {min(cpus):.3f} s"
-    )
+    print(process_line("pinwind campbell", walls, cpus) + f"; {load_average()}")
 
 
 if __name__ == "__main__":

@@ -7,14 +7,15 @@ Speeds come in and go out in rpm at the edges (command line, scenario files, tab
 from __future__ import annotations
 
 import math
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
-import numpy as np
+if TYPE_CHECKING:  # numpy only in annotations: the command line reads these without numpy
+    import numpy as np
 
 #: One revolution per minute in rad/s: 2π/60.
 RAD_S_PER_RPM = 2.0 * math.pi / 60.0
 
-Speed = TypeVar("Speed", float, np.ndarray)
+Speed = TypeVar("Speed", float, "np.ndarray")
 
 
 def rpm_to_rad_s(speed_rpm: Speed) -> Speed:

@@ -30,7 +30,6 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-from scipy import signal
 
 from pinwind.dynamics import series as schema
 from pinwind.dynamics.result import Result
@@ -192,6 +191,8 @@ def power_spectral_density(
     Hann window, segments of ``segment_samples`` overlapping by half, each segment's mean
     removed.
     """
+    from scipy import signal  # scipy only here and in the peaks: ``campbell`` does without
+
     return signal.welch(
         np.asarray(values, dtype=float), fs=sample_rate, window="hann",
         nperseg=segment_samples, noverlap=segment_samples // 2, detrend="constant",
@@ -207,6 +208,8 @@ def spectral_peaks(
     Peaks below ``floor`` times the strongest amplitude are left out; the zero-frequency bin
     is never a peak.
     """
+    from scipy import signal
+
     if len(frequency) < 3:
         return []
     step = float(frequency[1] - frequency[0])

@@ -6,7 +6,6 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
-import numpy as np
 import typer
 from rich.markup import escape
 from rich.table import Table
@@ -96,6 +95,8 @@ def _reference_level(damage: SetDamage) -> int:
 
 def _print_tables(damage: SetDamage) -> None:
     """Table 7 (per bin, reference level) and Table 8 (per level) shapes, 003's rows beside."""
+    import numpy as np
+
     from pinwind.life.life_damage import (
         JORGENSEN_2014_TABLE_7,
         JORGENSEN_2014_TABLE_8,
@@ -231,6 +232,8 @@ def _as_dict(
 
 def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> None:
     """Each bearing's ISO 281 life over the site's hours, per turbulence level."""
+    import numpy as np
+
     hours = float(damage.hours.sum())
     for label, lives in zip(damage.levels, bearings, strict=True):
         table = Table(

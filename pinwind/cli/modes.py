@@ -5,7 +5,7 @@ from __future__ import annotations
 import csv
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich import box
@@ -14,10 +14,12 @@ from rich.table import Table
 
 from pinwind.cli.app import app, console, say, warnings_as_lines
 from pinwind.cli.flags import mesh_values, parse_number, parse_pairs
-from pinwind.dynamics.normal_modes import Mode, repeated_groups
 from pinwind.errors import InputError
-from pinwind.model.gearbox import Gearbox
 from pinwind.units import RAD_S_PER_RPM
+
+if TYPE_CHECKING:
+    from pinwind.dynamics.normal_modes import Mode
+    from pinwind.model.gearbox import Gearbox
 
 MeshOption = Annotated[
     list[str] | None,
@@ -86,6 +88,7 @@ def modes(
     """
     import pinwind
     from pinwind.dynamics.linearisation import linearise
+    from pinwind.dynamics.normal_modes import repeated_groups
 
     speeds = {
         name: parse_number(value, "--speed", "rpm") * RAD_S_PER_RPM
