@@ -31,30 +31,32 @@ def roller_bearing(clearance_mm=0.0, extra=""):
     )
 
 
-def carried(delta, clearance=0.0):
-    """The vertical load the rollers carry when the disc sits δ [m] down (Harris's sum).
+def carried(delta, clearance=0.0, rollers=ROLLERS, load=1.5 * math.pi):
+    """The load the rollers carry when the disc sits δ [m] off along the load (Harris's sum).
 
-    Rollers at ψ_j = 2πj/Z from the bearing's x axis; the one at 270° points down, along the
-    weight; each presses with K_n (δ cos φ − c)ⁿ, φ its angle from straight down.
+    Rollers at ψ_j = 2πj/Z from the bearing's x axis, the load (the weight) at ``load`` from it
+    (270°: straight down); each presses with K_n (δ cos φ − c)ⁿ, φ its angle from the load.
     """
     total = 0.0
-    for j in range(ROLLERS):
-        phi = 2 * math.pi * j / ROLLERS - 1.5 * math.pi
+    for j in range(rollers):
+        phi = 2 * math.pi * j / rollers - load
         compression = delta * math.cos(phi) - clearance
         if compression > 0.0:
             total += KN * compression**LINE * math.cos(phi)
     return total
 
 
-def sag(mass=MASS, clearance=0.0):
+def sag(mass=MASS, clearance=0.0, **where):
     """δ with m g = F_r(δ) [m]."""
-    return brentq(lambda d: carried(d, clearance) - mass * G, clearance, 1.0, xtol=1e-18)
+    return brentq(lambda d: carried(d, clearance, **where) - mass * G, clearance, 1.0, xtol=1e-18)
 
 
-def vertical_stiffness(delta, clearance=0.0):
+def vertical_stiffness(delta, clearance=0.0, **where):
     """dF_r/dδ at δ [N/m], central difference of the sum."""
     h = 1e-6 * delta
-    return (carried(delta + h, clearance) - carried(delta - h, clearance)) / (2 * h)
+    return (carried(delta + h, clearance, **where) - carried(delta - h, clearance, **where)) / (
+        2 * h
+    )
 
 
 def _run(gb, **kwargs):
@@ -102,29 +104,42 @@ def test_inside_its_clearance_the_disc_falls_freely_then_rests_at_the_clearance_
 
 
 def test_the_disc_swings_about_its_sag_at_the_tangent_stiffness_frequency():
-    # A small push from the static start: a linear swing at √(K/m), K = dF_r/dδ at the sag.
+    # A small downward force added after the static start: a linear swing about the new sag at
+    # √(K/m), K = dF_r/dδ there.
     gb = loads(disc_urdf(roller_bearing()))
-    delta = sag()
-    omega = math.sqrt(vertical_stiffness(delta) / MASS)
-    push = 1e-4 * delta * omega  # amplitude 1e-4 of the sag [m/s]
-    res = _run(gb, duration=0.2, dt=1e-5, initial_speeds={"disc_radial_y": push})
-    y = res.bearing("disc").displacement[:, 1] + delta
+    push = 1e-4 * MASS * G  # [N]
+    centre = sag(mass=MASS + push / G)
+    omega = math.sqrt(vertical_stiffness(centre) / MASS)
+    res = _run(
+        gb,
+        duration=0.1,
+        dt=1e-5,
+        torques={"disc_radial_y": lambda t: 0.0 if t < 5e-6 else -push},
+    )
+    y = res.bearing("disc").displacement[:, 1] + centre
     up = np.flatnonzero((y[:-1] < 0.0) & (y[1:] >= 0.0))
+    assert len(up) > 10
     times = res.time[up] - y[up] * (res.time[up + 1] - res.time[up]) / (y[up + 1] - y[up])
     np.testing.assert_allclose(np.mean(np.diff(times)), 2 * math.pi / omega, rtol=2e-4)
 
 
 def test_the_modes_linearise_the_rollers_about_the_sag():
-    modes = [m for m in linearise(loads(disc_urdf(roller_bearing()))).modes() if not m.rigid]
-    delta = sag()
-    # Across the weight: the rollers at φ pressed by δ cos φ, each n K_n (δ cos φ)^(n−1) sin² φ.
+    # Ten rollers, the weight along −x: no roller at 90° from the load, where one that touches
+    # by rounding alone would add stiffness across it (line contact: K ∝ δ^(1/9)).
+    rollers = 10
+    text = disc_urdf(roller_bearing().replace(f'rollers="{ROLLERS}"', f'rollers="{rollers}"'))
+    text = text.replace(f'gravity="0 {-G!r} 0"', f'gravity="{-G!r} 0 0"')
+    modes = [m for m in linearise(loads(text)).modes() if not m.rigid]
+    where = {"rollers": rollers, "load": math.pi}
+    delta = sag(**where)
+    # Across the load: the rollers at φ pressed by δ cos φ, each n K_n (δ cos φ)^(n−1) sin² φ.
     across = sum(
         LINE * KN * (delta * math.cos(phi)) ** (LINE - 1) * math.sin(phi) ** 2
-        for phi in (2 * math.pi * j / ROLLERS - 1.5 * math.pi for j in range(ROLLERS))
+        for phi in (2 * math.pi * j / rollers - math.pi for j in range(rollers))
         if math.cos(phi) > 0.0
     )
     expected = sorted(
-        math.sqrt(k / MASS) / (2 * math.pi) for k in (vertical_stiffness(delta), across)
+        math.sqrt(k / MASS) / (2 * math.pi) for k in (vertical_stiffness(delta, **where), across)
     )
     np.testing.assert_allclose(sorted(m.frequency for m in modes), expected, rtol=1e-6)
 
