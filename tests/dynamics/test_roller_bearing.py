@@ -123,6 +123,26 @@ def test_the_disc_swings_about_its_sag_at_the_tangent_stiffness_frequency():
     np.testing.assert_allclose(np.mean(np.diff(times)), 2 * math.pi / omega, rtol=2e-4)
 
 
+def test_an_undamped_disc_on_rollers_keeps_its_energy_and_stores_the_rollers_integral():
+    res = _run(
+        loads(disc_urdf(roller_bearing())), duration=0.05, dt=1e-5, initial_deflection="none"
+    )
+    energy = {k: np.asarray(v)[-1] for k, v in res.energy.items()}
+    # Each roller stores ∫ K_n δⁿ dδ = K_n δⁿ⁺¹/(n + 1) at the last sample's displacement.
+    x, y = res.bearing("disc").displacement[-1, :2]
+    stored = 0.0
+    for j in range(ROLLERS):
+        psi = 2 * math.pi * j / ROLLERS
+        compression = x * math.cos(psi) + y * math.sin(psi)
+        if compression > 0.0:
+            stored += KN * compression ** (LINE + 1) / (LINE + 1)
+    np.testing.assert_allclose(energy["potential_spring"], stored, rtol=1e-9)
+    # Released from the centre, what gravity did is in the motion and the rollers.
+    np.testing.assert_allclose(
+        energy["kinetic"] + energy["potential_spring"], energy["work_gravity"], rtol=1e-5
+    )
+
+
 def test_the_modes_linearise_the_rollers_about_the_sag():
     # Ten rollers, the weight along −x: no roller at 90° from the load, where one that touches
     # by rounding alone would add stiffness across it (line contact: K ∝ δ^(1/9)).
