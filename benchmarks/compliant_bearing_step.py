@@ -13,6 +13,20 @@ and 1.47 (dtu500_planetary); one (sun or carrier, nv 6 -> 8) 0.86-1.60. Before G
 kept its axes, the bearing loads' derive asked Pinocchio for every joint's axis in every block
 (2.7-3.5 with five bearings).
 
+Where the time goes (valgrind --tool=callgrind, saleh2017_planetary, all five bearings, 5000
+steps; instructions per step, ideal -> compliant bearings): the step loop 41.6k -> 92.5k (2.2x,
+as the wall-clock ratio). Of the +50.9k, the bearing springs themselves (BearingSprings: force,
+tangent, settle, energy) are 2.1k; the rest is nv 6 -> 16 (and 6 -> 16 joints): the QP solve
++17.7k (the LDLT factorisation of the 16x16 Hessian and the Schur complement, redone every step
+as the compliant meshes change H: 4.7k -> 19.7k), the meshes' implicit terms on the larger H
++3.8k and their prepare +1.9k, M by composite inertias +6.0k, b +4.5k, the Jacobians and mesh
+geometry +5.2k, velocity kinematics +1.5k, the bearing reactions (RNEA) +2.4k, the sample's
+record +3.4k and advance +1.4k, and the per-block statistics (fold_block) +4.7k. At 1.5x the
+step could grow by 20.8k only, less than the kinematics, M, b and recording of the ten slide
+joints take before any solve (about 22k): the budget needs fewer joints (the two slides and the
+revolute as one planar joint would cut the per-joint passes, not the nv-sized solve), not a
+cheaper bearing element.
+
 Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
 """
 

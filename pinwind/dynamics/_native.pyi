@@ -142,6 +142,12 @@ class TorsionalSpringSpec:
     preload_angle: float  # [rad]
     def __init__(self) -> None: ...
 
+class BearingLaw(enum.Enum):
+    """A compliant bearing's radial law (``cpp/bearing_spring.hpp``)."""
+
+    linear = 0
+    roller_sum = 1
+
 class BearingSpringSpec:
     """A compliant bearing's springs on its slides (``cpp/bearing_spring.hpp``); −1: none."""
 
@@ -155,6 +161,10 @@ class BearingSpringSpec:
     index_tilt_x: int
     index_tilt_y: int
     tilt_stiffness: float  # [N·m/rad]
+    law: BearingLaw
+    rollers: int  # Z, roller_sum
+    contact_stiffness: float  # K_n [N/m^n], roller_sum
+    load_exponent: float  # n, roller_sum
     def __init__(self) -> None: ...
 
 class GeneratorSpec:

@@ -1,16 +1,18 @@
 """Compliant bearings in a run: their compiled springs and their two output series.
 
 A compliant bearing's body moves on massless slides in the bearing (``model/bearing_compliance.py``
-derives the model); the compiled element ``cpp/bearing_spring.hpp`` holds the slides (radial law
-with clearance and its damper, in contact only; linear axial and tilt springs), and the axial and
+derives the model); the compiled element ``cpp/bearing_spring.hpp`` holds the slides (radial law,
+linear or Harris's roller sum, with clearance and its damper, in contact only; linear axial and
+tilt springs), and the axial and
 tilt slides' own viscous damping is their damper. ``bearing_spring_specs`` gives the compiled
 specs. The bearing's reaction stays the RNEA one of its revolute joint (``bearing_force_local``);
 two series add
 
 - ``bearing_displacement``: the body's displacement in the bearing, u x + w y + k z [m] in the
   bearing's joint frame (the orbit is its radial part); 0 for an ideal bearing;
-- ``bearing_elastic_force``: the bearing springs' force on the body, −k max(|r| − c, 0) r̂ radially
-  and −k_a z axially [N], same frame; 0 for an ideal or a floating bearing.
+- ``bearing_elastic_force``: the bearing springs' force on the body, the radial law's
+  (``BearingCompliance.radial_force``: −k max(|r| − c, 0) r̂ or the roller sum) radially and
+  −k_a z axially [N], same frame; 0 for an ideal or a floating bearing.
 
 Both are ``derive`` functions of the schema (``dynamics/series.py``): (block, gearbox) → array
 (samples, bearings, 3), from the block's joint coordinates (the slides' ``angle`` [m]).
@@ -37,6 +39,10 @@ def bearing_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
             spec.index_x, spec.index_y = index["radial_x"], index["radial_y"]
             spec.radial_stiffness, spec.clearance = float(c.radial_stiffness), float(c.clearance)
             spec.radial_damping = float(c.radial_damping)
+            if c.law == "roller_sum":
+                spec.law = _native.BearingLaw.roller_sum
+                spec.rollers, spec.load_exponent = c.rollers, float(c.load_exponent)
+                spec.contact_stiffness = float(c.contact_stiffness)
         if "axial" in index:
             spec.index_axial, spec.axial_stiffness = index["axial"], float(c.axial_stiffness)
         if "tilt_x" in index:
@@ -74,11 +80,8 @@ def elastic_force(block: Any, gearbox: Any) -> np.ndarray:
             continue
         c = bearing.compliance
         xyz = _coordinates(block, bearing)
-        radius = np.hypot(xyz[:, 0], xyz[:, 1])
-        over = np.maximum(radius - c.clearance, 0.0)
-        scale = np.divide(over, radius, out=np.zeros_like(radius), where=radius > 0.0)
         force = np.zeros_like(xyz)
-        force[:, :2] = -c.radial_stiffness * scale[:, None] * xyz[:, :2]
+        force[:, :2] = c.radial_force(xyz[:, :2])
         force[:, 2] = -(c.axial_stiffness or 0.0) * xyz[:, 2]
         out[:, block.bearing_names.index(name)] = force @ bearing.axes_in_joint
     return out

@@ -57,7 +57,7 @@ from pinwind.dynamics.planetary_modes import PlanetaryStage, mode_kinds, planeta
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import SpeedOutOfRange, UnheldMember, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
-from pinwind.model.gearbox import Gearbox
+from pinwind.model.gearbox import CompliantBearing, Gearbox
 from pinwind.units import rad_s_to_rpm
 
 #: Fastest joint speed a linearisation is asked at [rad/s]: ``simulate``'s plausibility bound,
@@ -392,14 +392,25 @@ def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
     A compliant bearing's slides are ``<joint>_<slide>``, the support's ``support_tower_<dir>``
     and ``support_mount_<axis>`` (``model/support.py``).
 
-    A bearing with a radial clearance counts as loaded (the clearance taken up, stiffness k);
-    a floating bearing's radial slides have none.
+    A linear bearing with a radial clearance counts as loaded (the clearance taken up, stiffness
+    k); a floating bearing's radial slides have none. A roller-sum bearing is linearised about
+    its static deflection under the model's weight (``roller_sum_elements``).
     """
     nv = gearbox.model.nv
-    out = []
+    out: list[SpringElement] = []
+    gravity = None
     for bearing in gearbox.compliant_bearings.values():
         c = bearing.compliance
         for slide, name in bearing.slides.items():
+            if c.law == "roller_sum" and slide.startswith("radial"):
+                if slide == "radial_x":
+                    if gravity is None:
+                        data = gearbox.model.createData()
+                        gravity = pin.computeGeneralizedGravity(
+                            gearbox.model, data, gearbox.neutral()
+                        )
+                    out += roller_sum_elements(bearing, gravity, nv)
+                continue
             k, damping = c.stiffness(slide), c.damping(slide)
             if k == 0.0 and damping == 0.0:
                 continue
@@ -410,6 +421,32 @@ def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
         row = np.zeros(nv)
         row[gearbox.v_index(name)] = 1.0
         out.append(SpringElement(name, "support", support.stiffness, support.damping, row))
+    return out
+
+
+def roller_sum_elements(
+    bearing: CompliantBearing, gravity: np.ndarray, nv: int
+) -> list[SpringElement]:
+    """A roller-sum bearing's radial law linearised about its loaded position: two springs.
+
+    The position is the static deflection r under the model's weight, F(r) = g on the radial
+    slides (g the generalised gravity at the reference pose; the loads of a run's torques are
+    not in it), and the tangent K(r) (``model/roller_sum.py``) splits into springs along its
+    principal directions, named ``<joint>_radial_x`` for the one nearer the slide x and
+    ``<joint>_radial_y``, each with the radial damper (in contact: a loaded bearing).
+    """
+    c = bearing.compliance
+    index = [bearing.v_index["radial_x"], bearing.v_index["radial_y"]]
+    tangent = c.radial_tangent(c.static_deflection(-gravity[index]))
+    values, vectors = np.linalg.eigh(tangent)
+    values = np.maximum(values, 0.0)  # K is positive semi-definite: rounding only
+    damping = c.radial_damping if np.any(tangent) else 0.0
+    order = np.argsort(-np.abs(vectors[0]), kind="stable")
+    out = []
+    for column, name in zip(order, ("radial_x", "radial_y"), strict=True):
+        row = np.zeros(nv)
+        row[index] = vectors[:, column]
+        out.append(SpringElement(bearing.slides[name], "bearing", values[column], damping, row))
     return out
 
 

@@ -27,9 +27,10 @@ from pinwind.errors import (
 )
 from pinwind.gears.involute import half_tooth_angle
 from pinwind.model.bearing import BearingRating, bearing_rating
-from pinwind.model.bearing_compliance import BearingCompliance
+from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
+from pinwind.model.roller_sum import CONTACT_EXPONENTS
 
 
 @dataclass(frozen=True)
@@ -643,6 +644,8 @@ _BEARING_COMPLIANCE = (
     "axial_damping",
     "tilt_stiffness",
     "tilt_damping",
+    "rollers",
+    "contact_stiffness",
 )
 
 
@@ -652,9 +655,23 @@ def _bearing_compliance(
     """A ``<bearing>``'s compliance (or floating), None for an ideal (rigid) bearing."""
     given = [a for a in _BEARING_COMPLIANCE if el.get(a) is not None]
     floating = _bool(path, el, "floating")
-    if not given and not floating:
+    law = el.get("law")
+    if not given and not floating and law is None:
         return None
     where = f'<bearing joint="{joint}">'
+    law = (law or "linear").strip()
+    if law not in RADIAL_LAWS:
+        raise MalformedModel(
+            path, where, f'law="{law}" is not a bearing law; give one of {", ".join(RADIAL_LAWS)}'
+        )
+    contact = el.get("contact", "line").strip()
+    if contact not in CONTACT_EXPONENTS:
+        raise MalformedModel(
+            path,
+            where,
+            f'contact="{contact}" is not a contact kind; give one of '
+            f"{', '.join(CONTACT_EXPONENTS)} (rollers: line, balls: point)",
+        )
     if out.joints[joint]["type"] == "fixed":
         raise MalformedModel(
             path,
@@ -669,6 +686,11 @@ def _bearing_compliance(
             values[attr] = float(raw)
         except ValueError as err:
             raise MalformedModel(path, where, f'attribute {attr}="{raw}" is not a number') from err
+    rollers = values.get("rollers", 0.0)
+    if not (math.isfinite(rollers) and rollers == int(rollers)):
+        raise MalformedModel(
+            path, where, f'rollers="{el.get("rollers")}" is not a whole number of rolling elements'
+        )
     compliance = BearingCompliance(
         radial_stiffness=values.get("radial_stiffness", 0.0),
         radial_damping=values.get("radial_damping", 0.0),
@@ -678,6 +700,10 @@ def _bearing_compliance(
         tilt_stiffness=values.get("tilt_stiffness"),
         tilt_damping=values.get("tilt_damping", 0.0),
         floating=floating,
+        law=law,
+        rollers=int(rollers),
+        contact_stiffness=values.get("contact_stiffness", 0.0),
+        load_exponent=CONTACT_EXPONENTS[contact],
     )
     problems = compliance.problems()
     if problems:

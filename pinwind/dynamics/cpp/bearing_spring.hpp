@@ -3,22 +3,32 @@
 // its bearing joint; docs/model_format.md "Compliant bearings"). Per bearing, on the
 // coordinates of those joints (the displacement of the body in the bearing, joint frame):
 //
-//     radial   F = −k max(|r| − c, 0) r/|r| − c_r ṙ (the damper in contact only)
-//              r = (x, y) [m], clearance c ≥ 0 [m]
+//     radial   linear:      F = −k max(|r| − c, 0) r/|r|
+//              roller_sum:  F = −Σ_j K_n max(r·e_j − c, 0)ⁿ e_j      (Harris & Kotzalas,
+//                           Rolling Bearing Analysis: the radial load summed over the Z rolling
+//                           elements at ψ_j = 2πj/Z from the radial axis u, e_j = (cos ψ_j,
+//                           sin ψ_j); n = 10/9 line contact, 3/2 point contact)
+//              and the damper − c_r ṙ (in contact only);  r = (x, y) [m], clearance c ≥ 0 [m]
 //     axial    F_z = −k_a z,   tilt   M = −k_t θ   (linear)
 //
 // Like the torsional springs (torsional_spring.hpp) the forces are taken at the time step's
 // weighted state r_n + dq₀ + κ_q ā, linear in ā: the radial law is linearised about
 // r₀ = r_n + dq₀, F ≈ F(r₀) − K(r₀) κ_q ā with the tangent stiffness
 //
-//     K = k [(1 − c/|r₀|) I + (c/|r₀|) r̂ r̂ᵀ]       (K = k I without clearance: exact),
+//     linear       K = k [(1 − c/|r₀|) I + (c/|r₀|) r̂ r̂ᵀ]       (K = k I without clearance: exact)
+//     roller_sum   K = Σ_j n K_n max(r₀·e_j − c, 0)ⁿ⁻¹ e_j e_jᵀ
 //
-// and the contact (|r| > c) is an active set that settle() updates after each solve, as a
-// compliant mesh's contact loss is; the radial damper, at the weighted speed ṙ_n + κ_v ā, acts
-// in contact only (a rolling element loses touch with the race inside the clearance). Without
-// clearance the step is the torsional springs' one, second order and, with ρ∞ = 1,
-// energy-keeping. The axial and tilt dampers are the slides' own viscous damping
-// (BearingDamping, torsional_spring.hpp).
+// For the linear law with clearance the contact (|r| > c) is an active set that settle()
+// updates after each solve, as a compliant mesh's contact loss is. The roller sum is smooth
+// (n > 1: each element's force and stiffness start from 0 at its contact), so its step is
+// linearly implicit (the law's error is second order in the step's Δr), and a body inside the
+// clearance feels no force until an element touches at r₀. In a static solve (Stepper::
+// equilibrium) an unloaded roller-sum bearing has no stiffness to start Newton's iteration from:
+// it starts from the stiffness with every element pressed by kStartDeflection. The radial damper,
+// at the weighted speed ṙ_n + κ_v ā, acts in contact only (a rolling element loses touch with the
+// race inside the clearance). Without clearance the linear law's step is the torsional springs'
+// one, second order and, with ρ∞ = 1, energy-keeping. The axial and tilt dampers are the slides'
+// own viscous damping (BearingDamping, torsional_spring.hpp).
 #pragma once
 
 #include <algorithm>
@@ -31,6 +41,9 @@
 
 namespace pinwind {
 
+// A compliant bearing's radial law (the header's comment).
+enum class BearingLaw { linear, roller_sum };
+
 struct BearingSpringSpec {
   long index_x = -1, index_y = -1;  // velocity indices of the radial slides (−1: none)
   double radial_stiffness = 0.0;    // k [N/m]
@@ -40,16 +53,34 @@ struct BearingSpringSpec {
   double axial_stiffness = 0.0;     // k_a [N/m]
   long index_tilt_x = -1, index_tilt_y = -1;  // the tilt hinges (−1: none)
   double tilt_stiffness = 0.0;                // k_t [N·m/rad]
+  BearingLaw law = BearingLaw::linear;        // the radial law
+  long rollers = 0;                           // Z: rolling elements (roller_sum)
+  double contact_stiffness = 0.0;             // K_n [N/mⁿ] of one element's contact (roller_sum)
+  double load_exponent = 1.0;                 // n (roller_sum)
 };
 
 class BearingSprings : public Element {
  public:
+  // A roller-sum bearing's deflection per element at which a static solve starts when no
+  // element carries load [m]: a rolling bearing deflects µm to tens of µm under its load.
+  static constexpr double kStartDeflection = 1e-6;
+
   explicit BearingSprings(std::vector<BearingSpringSpec> specs)
       : specs_(std::move(specs)),
         contact_(specs_.size(), false),
         direction_(specs_.size(), Eigen::Vector2d(1.0, 0.0)),
         stiffness_(specs_.size(), Eigen::Matrix2d::Zero()),
-        force0_(specs_.size(), Eigen::Vector2d::Zero()) {}
+        force0_(specs_.size(), Eigen::Vector2d::Zero()),
+        rollers_(specs_.size()) {
+    for (size_t b = 0; b < specs_.size(); ++b) {
+      if (specs_[b].law != BearingLaw::roller_sum) continue;
+      const long z = specs_[b].rollers;
+      for (long j = 0; j < z; ++j) {
+        const double psi = 2.0 * M_PI * static_cast<double>(j) / static_cast<double>(z);
+        rollers_[b].emplace_back(std::cos(psi), std::sin(psi));
+      }
+    }
+  }
 
   void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
     const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
@@ -60,7 +91,11 @@ class BearingSprings : public Element {
         force[i] -= k * (s.q[i] + s.dq_free[i]);
       }
       if (sp.index_x < 0) continue;
-      linearise(b, start(sp, s));
+      if (sp.law == BearingLaw::roller_sum) {
+        roller_sum(b, start(sp, s), s.weights.statics);
+      } else {
+        linearise(b, start(sp, s));
+      }
       const long ix = sp.index_x, iy = sp.index_y;
       const double c = touching(b) ? sp.radial_damping : 0.0;
       hessian(ix, ix) += kq * stiffness_[b](0, 0) + kv * c;
@@ -86,7 +121,7 @@ class BearingSprings : public Element {
         damping_[sp.index_x] = -sp.radial_damping * (s.v[sp.index_x] + kv * step[0]);
         damping_[sp.index_y] = -sp.radial_damping * (s.v[sp.index_y] + kv * step[1]);
       }
-      if (sp.clearance > 0.0) {
+      if (sp.clearance > 0.0 && sp.law == BearingLaw::linear) {
         const Eigen::Vector2d r = start(sp, s) + kq * step;
         const bool now = r.norm() > sp.clearance;
         if (now != contact_[b] && !last) {
@@ -104,9 +139,20 @@ class BearingSprings : public Element {
 
   double potential(const StepView& s) const override {
     double energy = 0.0;
-    for (const BearingSpringSpec& sp : specs_) {
+    for (size_t b = 0; b < specs_.size(); ++b) {
+      const BearingSpringSpec& sp = specs_[b];
       for (const auto& [i, k] : linear(sp)) energy += 0.5 * k * s.q[i] * s.q[i];
       if (sp.index_x < 0) continue;
+      if (sp.law == BearingLaw::roller_sum) {
+        // ∫ K_n δⁿ dδ = K_n δⁿ⁺¹ / (n + 1) per element in contact.
+        const Eigen::Vector2d r(s.q[sp.index_x], s.q[sp.index_y]);
+        const double n = sp.load_exponent;
+        for (const Eigen::Vector2d& e : rollers_[b]) {
+          const double d = e.dot(r) - sp.clearance;
+          if (d > 0.0) energy += sp.contact_stiffness * std::pow(d, n + 1.0) / (n + 1.0);
+        }
+        continue;
+      }
       const double over =
           std::max(std::hypot(s.q[sp.index_x], s.q[sp.index_y]) - sp.clearance, 0.0);
       energy += 0.5 * sp.radial_stiffness * over * over;
@@ -134,8 +180,12 @@ class BearingSprings : public Element {
     return out;
   }
 
-  // Bearing b's radial spring and damper act: in contact, or always without clearance.
-  bool touching(size_t b) const { return specs_[b].clearance <= 0.0 || contact_[b]; }
+  // Bearing b's radial spring and damper act: in contact, or always without clearance (the
+  // linear law; a roller sum's elements touch or not whatever the clearance).
+  bool touching(size_t b) const {
+    const BearingSpringSpec& sp = specs_[b];
+    return (sp.law == BearingLaw::linear && sp.clearance <= 0.0) || contact_[b];
+  }
 
   // r₀: the radial displacement at the weighted state with ā = 0 [m].
   static Eigen::Vector2d start(const BearingSpringSpec& sp, const StepView& s) {
@@ -170,11 +220,34 @@ class BearingSprings : public Element {
     }
   }
 
+  // F(r₀) and K(r₀) of bearing b's roller sum (the header's comment), its contact: whether an
+  // element carries load. A static solve from no load starts from every element pressed by
+  // kStartDeflection.
+  void roller_sum(size_t b, const Eigen::Vector2d& r, bool statics) {
+    const BearingSpringSpec& sp = specs_[b];
+    const double n = sp.load_exponent, kn = sp.contact_stiffness;
+    stiffness_[b].setZero();
+    force0_[b].setZero();
+    for (const Eigen::Vector2d& e : rollers_[b]) {
+      const double d = e.dot(r) - sp.clearance;
+      if (d <= 0.0) continue;
+      const double slope = kn * std::pow(d, n - 1.0);  // K_n δⁿ⁻¹ [N/m]
+      force0_[b] -= slope * d * e;
+      stiffness_[b] += n * slope * e * e.transpose();
+    }
+    contact_[b] = stiffness_[b].trace() > 0.0;
+    if (statics && !contact_[b]) {
+      const double slope = n * kn * std::pow(kStartDeflection, n - 1.0);
+      for (const Eigen::Vector2d& e : rollers_[b]) stiffness_[b] += slope * e * e.transpose();
+    }
+  }
+
   std::vector<BearingSpringSpec> specs_;
   std::vector<bool> contact_;                // radial contact (clearance taken up), per bearing
   std::vector<Eigen::Vector2d> direction_;   // the last contact normal r̂
   std::vector<Eigen::Matrix2d> stiffness_;   // K(r₀) of the current step
   std::vector<Eigen::Vector2d> force0_;      // F(r₀) of the current step [N]
+  std::vector<std::vector<Eigen::Vector2d>> rollers_;  // e_j of a roller sum's elements
   Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces [N or N·m]
 };
 

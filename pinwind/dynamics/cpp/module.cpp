@@ -625,6 +625,10 @@ NB_MODULE(_native, m) {
       .def_rw("damping", &TorsionalSpringSpec::damping)
       .def_rw("preload_angle", &TorsionalSpringSpec::preload_angle);
 
+  nb::enum_<BearingLaw>(m, "BearingLaw")
+      .value("linear", BearingLaw::linear)
+      .value("roller_sum", BearingLaw::roller_sum);
+
   nb::class_<BearingSpringSpec>(m, "BearingSpringSpec")
       .def(nb::init<>())
       .def_rw("index_x", &BearingSpringSpec::index_x)
@@ -636,7 +640,11 @@ NB_MODULE(_native, m) {
       .def_rw("axial_stiffness", &BearingSpringSpec::axial_stiffness)
       .def_rw("index_tilt_x", &BearingSpringSpec::index_tilt_x)
       .def_rw("index_tilt_y", &BearingSpringSpec::index_tilt_y)
-      .def_rw("tilt_stiffness", &BearingSpringSpec::tilt_stiffness);
+      .def_rw("tilt_stiffness", &BearingSpringSpec::tilt_stiffness)
+      .def_rw("law", &BearingSpringSpec::law)
+      .def_rw("rollers", &BearingSpringSpec::rollers)
+      .def_rw("contact_stiffness", &BearingSpringSpec::contact_stiffness)
+      .def_rw("load_exponent", &BearingSpringSpec::load_exponent);
 
   nb::class_<GeneratorSpec>(m, "GeneratorSpec")
       .def(nb::init<>())
