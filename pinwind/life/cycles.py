@@ -132,8 +132,7 @@ def rainflow_cycles(history: npt.ArrayLike) -> Cycles:
     # alternating series is its own reversals), except one of fewer than three values.
     turns = turning_points(values)
     found = [
-        (r, m, c)
-        for r, m, c, _, _ in rainflow.extract_cycles(turns if turns.size >= 3 else values)
+        (r, m, c) for r, m, c, _, _ in rainflow.extract_cycles(turns if turns.size >= 3 else values)
     ]
     table = np.array(found, dtype=float).reshape(-1, 3)
     return Cycles(ranges=table[:, 0], means=table[:, 1], counts=table[:, 2])
