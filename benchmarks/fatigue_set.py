@@ -179,8 +179,10 @@ def dask_rate(n_workers: int, *, duration: float, seeds: int, settings: dict) ->
             "rate": cases / wall,
             "case_wall_s": sum(r.wall_time for r in reduced) / cases,
             "case_cpu_s": sum(r.cpu_time for r in reduced) / cases,
+            "case_thread_s": sum(r.thread_time for r in reduced) / cases,
             "worker_cpu_s": workers_cpu / cases,
             "command_cpu_s": command_cpu / cases,
+            "command_cores": command_cpu / wall,
             "npz_mb": sum(fset.cycles_path(c).stat().st_size for c in fset.cases()) / cases / 1e6,
             "log_mb": sum(fset.log_path(c).stat().st_size for c in fset.cases()) / cases / 1e6,
             "before": before,
@@ -210,12 +212,17 @@ def print_dask(runs: list[dict], duration: float, settings: dict) -> None:
     for r in runs:
         (load0, free0), (load1, free1) = r["before"], r["after"]
         print(
-            f"  {r['workers']} worker(s): {r['rate']:.3f} cases/s ({r['wall_s']:.1f} s wall); per "
-            f"case: wall {r['case_wall_s']:.2f} s and CPU {r['case_cpu_s']:.2f} s in the worker "
-            f"({r['case_cpu_s'] / r['case_wall_s']:.2f} cores busy); CPU of all workers "
-            f"{r['worker_cpu_s']:.2f} s, command (client, scheduler, nannies) "
-            f"{r['command_cpu_s']:.3f} s; machine: load {load0:.2f} -> {load1:.2f}, "
-            f"{free0:.2f} -> {free1:.2f} of 2 cores free"
+            f"  {r['workers']} worker(s): {r['rate']:.3f} cases/s ({r['cases']} cases in "
+            f"{r['wall_s']:.1f} s)\n"
+            f"    a case in its worker: wall {r['case_wall_s']:.2f} s, CPU {r['case_cpu_s']:.2f} s "
+            f"= {r['case_cpu_s'] / r['case_wall_s']:.2f} cores busy; its own thread "
+            f"{r['case_thread_s']:.2f} s: it keeps {r['case_cpu_s'] / r['case_thread_s']:.2f} "
+            "cores busy on free cores (the rest: the log writer's and Dask's threads)\n"
+            f"    CPU per case: workers {r['worker_cpu_s']:.2f} s (whole processes), command "
+            f"{r['command_cpu_s']:.3f} s (client, scheduler, nannies: {r['command_cores']:.3f} "
+            "cores)\n"
+            f"    machine: load {load0:.2f} -> {load1:.2f}, {free0:.2f} -> {free1:.2f} of 2 cores "
+            "free (before -> after)"
         )
     one, two = runs
     print(
@@ -223,15 +230,16 @@ def print_dask(runs: list[dict], duration: float, settings: dict) -> None:
         f"MB) and its cycles ({one['npz_mb']:.2f} MB .npz) to the shared folder"
     )
     gain = two["rate"] / one["rate"] - 1.0
-    cpu2 = two["worker_cpu_s"] + two["command_cpu_s"]
-    # With 2 cores and cpu2 CPU seconds per case in all, 2 workers make at most 2 / cpu2 cases/s.
-    ceiling = 2.0 / cpu2 / one["rate"] - 1.0
-    slower = two["case_cpu_s"] / one["case_cpu_s"]
+    # Two workers on 2 cores share what the command leaves, at C2 worker CPU seconds a case;
+    # one worker on free cores runs a case in C1 / (cores it keeps busy) seconds of wall.
+    busy = one["case_cpu_s"] / one["case_thread_s"]
+    ceiling = (2.0 - two["command_cores"]) * one["worker_cpu_s"] / (two["worker_cpu_s"] * busy)
     print(
-        f"second worker adds {gain:.0%} of one worker's rate (goal: >= 80 %); what the CPU per "
-        f"case allows on 2 free cores: {ceiling:.0%}; a case's CPU with 2 workers / with 1: "
-        f"{slower:.2f} (above 1: the two workers slow each other, by shared caches and memory "
-        "or by cores the host shares)"
+        f"second worker adds {gain:.0%} of one worker's rate (goal: >= 80 %)\n"
+        f"  a case's CPU with 2 workers / with 1: {two['case_cpu_s'] / one['case_cpu_s']:.2f} "
+        "(above 1: the workers slow each other: shared caches, memory, host cores)\n"
+        f"  what the CPU per case allows on 2 free cores: {ceiling - 1.0:.0%} = (2 - command "
+        "cores) x workers' CPU per case with 1 / (that with 2 x cores a case keeps busy) - 1"
     )
     loads = [r[k][0] for r in runs for k in ("before", "after")]
     frees = [r[k][1] for r in runs for k in ("before", "after")]

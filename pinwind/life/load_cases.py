@@ -797,6 +797,8 @@ class CaseCycles:
         bearings: each bearing's ISO 281 load sums over the counted history.
         cpu_time: CPU seconds of the process meanwhile, all its threads (the log writer's
             too); over ``wall_time``, the cores the case kept busy (NaN: not recorded).
+        thread_time: CPU seconds of the thread that ran the case (the step loop, the
+            counting); ``cpu_time`` over it is the cores the case keeps busy on free cores.
     """
 
     case: LoadCase
@@ -807,6 +809,7 @@ class CaseCycles:
     roots: tuple[FlankCycles, ...] = field(default_factory=tuple)
     bearings: tuple[BearingLoadSum, ...] = field(default_factory=tuple)
     cpu_time: float = math.nan
+    thread_time: float = math.nan
 
     def save(self, path: Path) -> None:
         """Write it as ``.npz`` (written whole under another name, then renamed)."""
@@ -825,6 +828,7 @@ class CaseCycles:
             "counted_seconds": self.counted_seconds,
             "wall_time": self.wall_time,
             "cpu_time": self.cpu_time,
+            "thread_time": self.thread_time,
             "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
             "roots": [[f.gear, f.flank, f.teeth] for f in self.roots],
             "bearings": [dataclasses.asdict(b) for b in self.bearings],
@@ -877,6 +881,7 @@ class CaseCycles:
             roots,
             bearings,
             meta.get("cpu_time", math.nan),
+            meta.get("thread_time", math.nan),
         )
 
 
@@ -946,7 +951,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     from pinwind.model.gearbox import load
     from pinwind.scenario import run
 
-    start, cpu = time.perf_counter(), time.process_time()
+    start, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
     scenario = build(fatigue.case_values(case), source=fatigue.source, base=fatigue.base)
     if fatigue.mesh_stiffness is not None or fatigue.mesh_damping is not None:
         compliance = MeshCompliance(stiffness=fatigue.mesh_stiffness, damping=fatigue.mesh_damping)
@@ -982,6 +987,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         tuple(roots),
         tuple(bearings),
         time.process_time() - cpu,
+        time.thread_time() - own,
     )
 
 
