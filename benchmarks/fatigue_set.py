@@ -230,16 +230,18 @@ def print_dask(runs: list[dict], duration: float, settings: dict) -> None:
         f"MB) and its cycles ({one['npz_mb']:.2f} MB .npz) to the shared folder"
     )
     gain = two["rate"] / one["rate"] - 1.0
-    # Two workers on 2 cores share what the command leaves, at C2 worker CPU seconds a case;
-    # one worker on free cores runs a case in C1 / (cores it keeps busy) seconds of wall.
+    # One worker on free cores runs a case in C / b seconds of wall (b: the cores it keeps
+    # busy); two share what the command leaves of the 2 cores, at C each if they do not slow
+    # each other, at C2 / C1 times that if they do.
     busy = one["case_cpu_s"] / one["case_thread_s"]
-    ceiling = (2.0 - two["command_cores"]) * one["worker_cpu_s"] / (two["worker_cpu_s"] * busy)
+    bound = (2.0 - two["command_cores"]) / busy
+    contention = two["worker_cpu_s"] / one["worker_cpu_s"]
     print(
         f"second worker adds {gain:.0%} of one worker's rate (goal: >= 80 %)\n"
-        f"  a case's CPU with 2 workers / with 1: {two['case_cpu_s'] / one['case_cpu_s']:.2f} "
-        "(above 1: the workers slow each other: shared caches, memory, host cores)\n"
-        f"  what the CPU per case allows on 2 free cores: {ceiling - 1.0:.0%} = (2 - command "
-        "cores) x workers' CPU per case with 1 / (that with 2 x cores a case keeps busy) - 1"
+        f"  what the CPU per case allows on 2 free cores: {bound - 1.0:.0%} = (2 - command cores)"
+        f" / (cores a case keeps busy) - 1; with the workers' CPU per case with 2 / with 1 "
+        f"({contention:.2f}; above 1: the workers slow each other by shared caches, memory or "
+        f"host cores; a few % either way on a busy machine): {bound / contention - 1.0:.0%}"
     )
     loads = [r[k][0] for r in runs for k in ("before", "after")]
     frees = [r[k][1] for r in runs for k in ("before", "after")]
