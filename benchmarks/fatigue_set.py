@@ -123,26 +123,133 @@ def run_set(*, duration: float, bins: int, workers: int) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def dask_rate(n_workers: int, *, duration: float, seeds: int) -> tuple[float, int]:
-    """(cases per second, cases) of the set on a LocalCluster of ``n_workers`` warm workers."""
+def _process_cpu() -> float:
+    """CPU seconds of the calling process so far, all its threads [s]."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def _workers_cpu(client) -> float:
+    """CPU seconds of every worker process so far [s]."""
+    return sum(client.run(_process_cpu).values())
+
+
+def dask_rate(n_workers: int, *, duration: float, seeds: int, settings: dict) -> dict:
+    """The set on a LocalCluster of ``n_workers`` warm one-thread workers: rates and CPU.
+
+    Warm-up: two short cases per worker through `run_cases` (imports, the model, the first
+    run's own costs) before the clock starts. Then ``seeds`` x 8 cases of ``duration`` s, timed
+    from the submission to the last case written. CPU seconds are read from each process
+    (`resource.getrusage`, all threads): the workers, and this process, which is the command
+    (the client) and, in a LocalCluster, the scheduler and the workers' nannies too.
+    ``settings``: the Dask configuration of every process of the cluster.
+    """
+    import dask
     from distributed import Client, LocalCluster
 
-    from pinwind.life.load_cases import load_fatigue_set, run_cases
+    from pinwind.life.load_cases import CaseCycles, load_fatigue_set, run_cases
 
     with tempfile.TemporaryDirectory(prefix="pinwind_fatigue_dask_") as folder:
-        path = set_file(Path(folder), duration=duration, bins=8, seeds=seeds)
-        fset = load_fatigue_set(path)
+        (Path(folder) / "warm").mkdir()
+        warm = load_fatigue_set(
+            set_file(Path(folder) / "warm", duration=0.1, bins=2 * n_workers, seeds=1)
+        )
+        fset = load_fatigue_set(set_file(Path(folder), duration=duration, bins=8, seeds=seeds))
         with (
+            dask.config.set(settings),
             LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
                          dashboard_address=None) as cluster,
             Client(cluster) as client,
         ):  # fmt: skip
-            # Import pinwind (Pinocchio, the step loop) in every worker before the clock starts.
-            client.run(lambda: __import__("pinwind.life.load_cases"))
-            start = time.perf_counter()
+            run_cases(warm, scheduler=client)
+            before = machine_state()
+            workers_cpu = _workers_cpu(client)
+            command_cpu, start = _process_cpu(), time.perf_counter()
             run = run_cases(fset, scheduler=client)
             wall = time.perf_counter() - start
-    return len(run.computed) / wall, len(run.computed)
+            command_cpu = _process_cpu() - command_cpu
+            workers_cpu = _workers_cpu(client) - workers_cpu
+            after = machine_state()
+        reduced = [CaseCycles.load(fset.cycles_path(c), with_flanks=False) for c in fset.cases()]
+        cases = len(run.computed)
+        return {
+            "workers": n_workers,
+            "cases": cases,
+            "wall_s": wall,
+            "rate": cases / wall,
+            "case_wall_s": sum(r.wall_time for r in reduced) / cases,
+            "case_cpu_s": sum(r.cpu_time for r in reduced) / cases,
+            "case_thread_s": sum(r.thread_time for r in reduced) / cases,
+            "worker_cpu_s": workers_cpu / cases,
+            "command_cpu_s": command_cpu / cases,
+            "command_cores": command_cpu / wall,
+            "npz_mb": sum(fset.cycles_path(c).stat().st_size for c in fset.cases()) / cases / 1e6,
+            "log_mb": sum(fset.log_path(c).stat().st_size for c in fset.cases()) / cases / 1e6,
+            "before": before,
+            "after": after,
+        }
+
+
+def machine_state() -> tuple[float, float]:
+    """(load average over the last minute, cores a process gets asking for two) now."""
+    sys.path.insert(0, str(HERE))
+    from machine import parallel_capacity
+
+    return os.getloadavg()[0], parallel_capacity()
+
+
+def print_dask(runs: list[dict], duration: float, settings: dict) -> None:
+    """The two LocalCluster runs, what each case cost, and what that allows on two cores."""
+    print(
+        f"Dask LocalCluster, one thread per worker, {runs[0]['cases']} cases of {duration:g} s "
+        "(8 wind bins x seeds), warm workers; CPU = user + system of a process, all threads; "
+        + (
+            "Dask settings: pinwind.analysis.dask_workers.WORKER_CONFIG"
+            if settings
+            else "Dask's default settings"
+        )
+    )
+    for r in runs:
+        (load0, free0), (load1, free1) = r["before"], r["after"]
+        print(
+            f"  {r['workers']} worker(s): {r['rate']:.3f} cases/s ({r['cases']} cases in "
+            f"{r['wall_s']:.1f} s)\n"
+            f"    a case in its worker: wall {r['case_wall_s']:.2f} s, CPU {r['case_cpu_s']:.2f} s "
+            f"= {r['case_cpu_s'] / r['case_wall_s']:.2f} cores busy; its own thread "
+            f"{r['case_thread_s']:.2f} s: it keeps {r['case_cpu_s'] / r['case_thread_s']:.2f} "
+            "cores busy on free cores (the rest: the log writer's and Dask's threads)\n"
+            f"    CPU per case: workers {r['worker_cpu_s']:.2f} s (whole processes), command "
+            f"{r['command_cpu_s']:.3f} s (client, scheduler, nannies: {r['command_cores']:.3f} "
+            "cores)\n"
+            f"    machine: load {load0:.2f} -> {load1:.2f}, {free0:.2f} -> {free1:.2f} of 2 cores "
+            "free (before -> after)"
+        )
+    one, two = runs
+    print(
+        f"  each case sends back its name only; its worker writes its log ({one['log_mb']:.1f} "
+        f"MB) and its cycles ({one['npz_mb']:.2f} MB .npz) to the shared folder"
+    )
+    gain = two["rate"] / one["rate"] - 1.0
+    # One worker on free cores runs a case in C / b seconds of wall (b: the cores it keeps
+    # busy); two share what the command leaves of the 2 cores, at C each if they do not slow
+    # each other, at C2 / C1 times that if they do.
+    busy = one["case_cpu_s"] / one["case_thread_s"]
+    bound = (2.0 - two["command_cores"]) / busy
+    contention = two["worker_cpu_s"] / one["worker_cpu_s"]
+    print(
+        f"second worker adds {gain:.0%} of one worker's rate (goal: >= 80 %)\n"
+        f"  what the CPU per case allows on 2 free cores: {bound - 1.0:.0%} = (2 - command cores)"
+        f" / (cores a case keeps busy) - 1; with the workers' CPU per case with 2 / with 1 "
+        f"({contention:.2f}; above 1: the workers slow each other by shared caches, memory or "
+        f"host cores; a few % either way on a busy machine): {bound / contention - 1.0:.0%}"
+    )
+    loads = [r[k][0] for r in runs for k in ("before", "after")]
+    frees = [r[k][1] for r in runs for k in ("before", "after")]
+    if max(loads) > 2.5 or min(frees) < 1.8:
+        print(
+            f"  NOT a measurement of the scaling: other jobs ran (load up to {max(loads):.1f}, "
+            f"down to {min(frees):.2f} of 2 cores free): rerun on a quiet machine"
+        )
 
 
 def main() -> None:
@@ -153,21 +260,23 @@ def main() -> None:
     parser.add_argument("--dask", action="store_true", help="cases/s on a LocalCluster of 1, 2")
     parser.add_argument("--dask-duration", type=float, default=2.0, help="seconds per Dask case")
     parser.add_argument("--seeds", type=int, default=2, help="Dask: seeds per bin (8 x seeds)")
+    parser.add_argument(
+        "--dask-defaults", action="store_true", help="Dask's own settings, not WORKER_CONFIG"
+    )
     parser.add_argument("--child", type=Path, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child is not None:
         child(args.child, args.workers)
         return
     if args.dask:
-        rates = []
-        for n in (1, 2):
-            before = machine()
-            rate, cases = dask_rate(n, duration=args.dask_duration, seeds=args.seeds)
-            rates.append(rate)
-            print(f"Dask LocalCluster of {n}: {cases} cases of {args.dask_duration:g} s, "
-                  f"{rate:.3f} cases/s ({before} before; {machine()} after)")  # fmt: skip
-        gain = rates[1] / rates[0] - 1.0
-        print(f"second worker adds {gain:.0%} of one worker's rate (goal: >= 80 %)")
+        from pinwind.analysis.dask_workers import WORKER_CONFIG
+
+        settings = {} if args.dask_defaults else WORKER_CONFIG
+        runs = [
+            dask_rate(n, duration=args.dask_duration, seeds=args.seeds, settings=settings)
+            for n in (1, 2)
+        ]
+        print_dask(runs, args.dask_duration, settings)
         return
     sizes = (4, 8) if args.memory else (8,)
     for bins in sizes:

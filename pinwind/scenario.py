@@ -576,6 +576,7 @@ def run(
     command: str | None = None,
     progress: bool | None = None,
     check_joints: bool = True,
+    statistics: bool | None = None,
 ) -> Result:
     """Run a scenario: load its model (unless given), simulate, log it with its values.
 
@@ -585,6 +586,8 @@ def run(
         command: the command line to record.
         check_joints: refuse loads on unknown joints here, naming the scenario key (the command
             line leaves that to ``simulate``, whose message names the option).
+        statistics: fold every sample into ``result.statistics`` (``pinwind.io.run.simulate``;
+            default: when the Result does not keep every sample).
 
     Returns:
         The ``Result``.
@@ -613,6 +616,7 @@ def run(
         allow_large_log=v.get("allow_large_log", False),
         keep=v.get("keep", "auto"),
         skip_start=v.get("skip_start", 0.0),
+        statistics=statistics,
         overwrite=v.get("force", False) if force is None else force,
         command=command,
         progress=progress,

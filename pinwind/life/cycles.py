@@ -127,9 +127,36 @@ def rainflow_cycles(history: npt.ArrayLike) -> Cycles:
             f"the history to count has {bad.size} NaN or infinite samples (first at index "
             f"{bad[0]}); count a finite series, e.g. the part of the run before it diverged"
         )
-    found = [(r, m, c) for r, m, c, _, _ in rainflow.extract_cycles(values)]
+    # The package visits every sample in Python; only its reversals matter, found here at
+    # once. It counts a series of reversals exactly as the whole history (a strictly
+    # alternating series is its own reversals), except one of fewer than three values.
+    turns = turning_points(values)
+    found = [
+        (r, m, c) for r, m, c, _, _ in rainflow.extract_cycles(turns if turns.size >= 3 else values)
+    ]
     table = np.array(found, dtype=float).reshape(-1, 3)
     return Cycles(ranges=table[:, 0], means=table[:, 1], counts=table[:, 2])
+
+
+def turning_points(history: np.ndarray) -> np.ndarray:
+    """The reversals of a history as ``rainflow.reversals`` finds them, their values only.
+
+    The first and the last sample, and each sample where the slope changes sign: repeated
+    values are one point, and the sign test is the package's own product of the slopes before
+    and after (so that a product that underflows to zero is no reversal there either).
+
+    Args:
+        history: samples in time order, (n,).
+
+    Returns:
+        The values of its reversals in time order, (k,); fewer than three: no cycle within.
+    """
+    if history.size < 2:
+        return history[:1].copy()
+    distinct = history[np.concatenate(([True], history[1:] != history[:-1]))]
+    slope = np.diff(distinct)
+    turn = np.flatnonzero(slope[:-1] * slope[1:] < 0.0) + 1
+    return np.concatenate((distinct[:1], distinct[turn], history[-1:]))
 
 
 def _edges(

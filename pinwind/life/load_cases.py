@@ -795,6 +795,10 @@ class CaseCycles:
         flanks: the contact-stress cycles of each loaded flank of each gear.
         roots: the root-stress cycles of the fillet of each loaded flank of each gear.
         bearings: each bearing's ISO 281 load sums over the counted history.
+        cpu_time: CPU seconds of the process meanwhile, all its threads (the log writer's
+            too); over ``wall_time``, the cores the case kept busy (NaN: not recorded).
+        thread_time: CPU seconds of the thread that ran the case (the step loop, the
+            counting); ``cpu_time`` over it is the cores the case keeps busy on free cores.
     """
 
     case: LoadCase
@@ -804,6 +808,8 @@ class CaseCycles:
     flanks: tuple[FlankCycles, ...] = field(default_factory=tuple)
     roots: tuple[FlankCycles, ...] = field(default_factory=tuple)
     bearings: tuple[BearingLoadSum, ...] = field(default_factory=tuple)
+    cpu_time: float = math.nan
+    thread_time: float = math.nan
 
     def save(self, path: Path) -> None:
         """Write it as ``.npz`` (written whole under another name, then renamed)."""
@@ -821,6 +827,8 @@ class CaseCycles:
             "key": self.key,
             "counted_seconds": self.counted_seconds,
             "wall_time": self.wall_time,
+            "cpu_time": self.cpu_time,
+            "thread_time": self.thread_time,
             "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
             "roots": [[f.gear, f.flank, f.teeth] for f in self.roots],
             "bearings": [dataclasses.asdict(b) for b in self.bearings],
@@ -872,6 +880,8 @@ class CaseCycles:
             flanks,
             roots,
             bearings,
+            meta.get("cpu_time", math.nan),
+            meta.get("thread_time", math.nan),
         )
 
 
@@ -941,7 +951,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     from pinwind.model.gearbox import load
     from pinwind.scenario import run
 
-    start = time.perf_counter()
+    start, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
     scenario = build(fatigue.case_values(case), source=fatigue.source, base=fatigue.base)
     if fatigue.mesh_stiffness is not None or fatigue.mesh_damping is not None:
         compliance = MeshCompliance(stiffness=fatigue.mesh_stiffness, damping=fatigue.mesh_damping)
@@ -951,11 +961,14 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     fatigue.out.mkdir(parents=True, exist_ok=True)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
+        # No run statistics: the case counts its kept samples, and folding every step into
+        # min, max and RMS (for a summary; not logged) would take a thread beside the loop.
         result = run(
             scenario,
             gearbox=gearbox,
             progress=False,
             command=f"pinwind fatigue {fatigue.source} (case {case.name})",
+            statistics=False,
         )
     first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
     counted = result.rows(first, len(result))
@@ -976,7 +989,19 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         tuple(flanks),
         tuple(roots),
         tuple(bearings),
+        time.process_time() - cpu,
+        time.thread_time() - own,
     )
+
+
+def save_case(case: LoadCase, fatigue: FatigueSet) -> str:
+    """Run one case and write its reduction beside its log (a worker's task): the case's name.
+
+    The worker writes the ``.npz`` itself, as it writes the log, so that only the name travels
+    back and the command, which shares the cores with the workers, does not compress cycles.
+    """
+    run_case(case, fatigue).save(fatigue.cycles_path(case))
+    return case.name
 
 
 def case_done(fatigue: FatigueSet, case: LoadCase) -> bool:
@@ -1022,8 +1047,8 @@ def run_cases(
 ) -> FatigueRun:
     """Run the cases not done yet (`case_done`) on local processes or Dask, saving each.
 
-    Each case's reduction is written as soon as it arrives, so an interrupted set keeps its
-    finished cases.
+    Each worker writes its case's log and reduction (`save_case`) as soon as the case is done,
+    so an interrupted set keeps its finished cases; only the case names come back here.
 
     Args:
         workers: local worker processes (default: all cores, 1 for a single case).
@@ -1042,16 +1067,15 @@ def run_cases(
     if progress:
         progress(finished, len(unique))
 
-    def accept(reduced: CaseCycles) -> None:
+    def accept(name: str) -> None:
         nonlocal finished
-        reduced.save(fatigue.cycles_path(reduced.case))
-        computed.append(reduced.case.name)
+        computed.append(name)
         finished += 1
         if progress:
             progress(finished, len(unique))
 
     backend = run_tasks(
-        run_case,
+        save_case,
         todo,
         accept=accept,
         workers=workers or os.cpu_count() or 1,

@@ -101,3 +101,27 @@ def test_two_dimensional_history_raises():
 def test_decreasing_bin_edges_raise():
     with pytest.raises(InputError, match="increasing"):
         rainflow_cycles(ASTM_HISTORY).matrix(range_bins=[5.0, 1.0])
+
+
+def test_cycles_equal_those_the_package_counts_on_every_sample():
+    """Counting only the reversals (found with numpy) changes nothing: the same cycles, in the
+    same order, as ``rainflow.extract_cycles`` on the whole history, plateaus and a history
+    without a reversal (a ramp) included."""
+    import rainflow
+
+    rng = np.random.default_rng(7)
+    histories = [
+        np.repeat(rng.integers(-2, 3, size=40), rng.integers(1, 4, size=40)).astype(float),
+        np.concatenate([[0.0], np.abs(rng.normal(size=300)) * (rng.random(300) > 0.3), [0.0]]),
+        rng.normal(size=500),
+        np.array([1.0, 1.0, 1.0]),
+        np.array([0.0, 1.0, 2.0]),
+        np.array([0.0, 2.0]),
+    ]
+    for history in histories:
+        cycles = rainflow_cycles(history)
+        expected = [(r, m, c) for r, m, c, _, _ in rainflow.extract_cycles(history)]
+        found = list(zip(cycles.ranges, cycles.means, cycles.counts, strict=True))
+        np.testing.assert_allclose(
+            np.array(found).reshape(-1, 3), np.array(expected).reshape(-1, 3), rtol=0, atol=0
+        )
