@@ -91,6 +91,19 @@ def test_parallel_stage_gears_are_translucent_and_the_planetary_stage_opaque(tmp
             assert alpha == 255, name
 
 
+def test_a_machine_without_a_planetary_stage_has_no_translucent_gear():
+    from pinwind.io.log_model import model_geometry
+    from pinwind.io.replay_scene import parallel_stage_gears
+
+    planetary = model_geometry(pinwind.load(PLANETARY))
+    assert parallel_stage_gears(planetary) == set()  # one stage, planetary: nothing in front
+    parallel = {
+        "gears": {name: {"internal": False} for name in ("wheel", "pinion")},
+        "meshes": {"stage": {"gear_a": "wheel", "gear_b": "pinion"}},
+    }
+    assert parallel_stage_gears(parallel) == set()  # no planetary stage to show behind it
+
+
 @pytest.mark.parametrize("path", [PLANETARY, DRIVETRAIN], ids=lambda p: p.stem)
 def test_lines_of_action_touch_both_base_circles_and_pass_the_pitch_point(path):
     import pinocchio as pin
