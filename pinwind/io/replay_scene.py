@@ -6,7 +6,8 @@ the model's own reader, ``model/urdf.read_model_file``):
 - every gear as a solid with its teeth (``gear_mesh``), phased so that meshing teeth interlock
   at the pitch point in the first frame (``tooth_phases``), with a dark **angle mark** from the
   axis to the tip of tooth 0 on both faces, so that turning is visible; the carrier gets a mark
-  too;
+  too; in a machine with a planetary stage the parallel stages' gears are translucent
+  (``parallel_stage_gears``), so that the planetary stage behind them shows;
 - the model's own ``<visual>`` shapes that are not gears (carrier cheeks as wireframes so that
   they do not hide the planets, pins, shafts), a shaft through the gears of each shaft link,
   **bearings** as two rings (inner and outer race) at both ends of each turning body, and the
@@ -42,6 +43,9 @@ CAMERA_DIRECTION = np.array([0.55, 0.45, -1.0])
 MARK_COLOR = (25, 25, 25)
 LABEL_COLOR = (30, 100, 255)
 HOUSING_COLOR = (150, 150, 150)
+#: Opacity (0–255) of the parallel stages' gears in a machine with a planetary stage: the first
+#: wheel of a drivetrain is as wide as the planetary stage and sits in front of it.
+PARALLEL_STAGE_ALPHA = 90
 
 
 # --- geometry helpers ---------------------------------------------------------------------------
@@ -189,6 +193,29 @@ def outer_radius(gear: dict) -> float:
     if gear["internal"]:
         return gear["pitch_radius"] + RING_RIM_MODULES * gear["module"]
     return gear["pitch_radius"] + gear["module"]
+
+
+def parallel_stage_gears(model: dict) -> set[str]:
+    """The gears of the parallel stages of a machine that also has a planetary stage.
+
+    The meshes join gears into stages (gears on one shaft in different stages stay apart); a
+    stage with an internal gear (a ring) is planetary. Empty when no stage is planetary: a
+    parallel gearbox alone hides nothing behind it.
+    """
+    gears: dict = model.get("gears", {})
+    stage = {name: name for name in gears}
+
+    def find(name: str) -> str:
+        while stage[name] != name:
+            name = stage[name]
+        return name
+
+    for mesh in model.get("meshes", {}).values():
+        stage[find(mesh["gear_a"])] = find(mesh["gear_b"])
+    planetary = {find(name) for name, gear in gears.items() if gear["internal"]}
+    if not planetary:
+        return set()
+    return {name for name in gears if find(name) not in planetary}
 
 
 def gear_mesh(gear: dict, phase: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -369,6 +396,7 @@ def send_scene(
 
     # Bodies: poses over time (the existing ``gearbox/<link>`` transforms) come from replay.py.
     phases = tooth_phases(model, res)
+    translucent = parallel_stage_gears(model)
     line = rr.Radius.ui_points(1.0)
     mark = rr.Radius.ui_points(3.0)
     for name, gear in gears.items():
@@ -387,7 +415,7 @@ def send_scene(
                 vertex_positions=vertices,
                 triangle_indices=triangles,
                 vertex_normals=normals,
-                albedo_factor=color,
+                albedo_factor=(*color, PARALLEL_STAGE_ALPHA if name in translucent else 255),
             ),
         )
         half = 0.5 * gear["face_width"] * 1.002

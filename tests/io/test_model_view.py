@@ -66,6 +66,44 @@ def test_view_places_the_planets_at_the_centre_distance_from_the_sun(viewed):
         np.testing.assert_allclose(distance, a, rtol=1e-6)  # Rerun keeps float32
 
 
+def test_parallel_stage_gears_are_translucent_and_the_planetary_stage_opaque(tmp_path):
+    rrd = tmp_path / "drivetrain.rrd"
+    out = pinwind_cli("view", str(DRIVETRAIN), "--save", str(rrd))
+    assert out.returncode == 0, out.stderr
+    viewed = rrd_columns(rrd)
+    gearbox = pinwind.load(DRIVETRAIN)
+    # The planetary stage: the ring, the gears meshing with it (planets), and theirs (the sun).
+    partners: dict[str, set[str]] = {name: set() for name in gearbox.gears}
+    for mesh in gearbox.meshes:
+        partners[mesh.gear_a.name].add(mesh.gear_b.name)
+        partners[mesh.gear_b.name].add(mesh.gear_a.name)
+    rings = {name for name, gear in gearbox.gears.items() if gear.spec.internal}
+    planets = set().union(*(partners[ring] for ring in rings))
+    planetary = rings | planets | set().union(*(partners[p] for p in planets))
+    parallel = set(gearbox.gears) - planetary
+    assert parallel and planetary  # the drivetrain has both
+    for name, gear in gearbox.gears.items():
+        (packed,) = viewed[f"/gearbox/{gear.spec.link}/{name}/body"]["Mesh3D:albedo_factor"][0]
+        alpha = packed.as_py()[0] & 0xFF  # Rerun packs a colour as 0xRRGGBBAA
+        if name in parallel:
+            assert alpha < 255, name
+        else:
+            assert alpha == 255, name
+
+
+def test_a_machine_without_a_planetary_stage_has_no_translucent_gear():
+    from pinwind.io.log_model import model_geometry
+    from pinwind.io.replay_scene import parallel_stage_gears
+
+    planetary = model_geometry(pinwind.load(PLANETARY))
+    assert parallel_stage_gears(planetary) == set()  # one stage, planetary: nothing in front
+    parallel = {
+        "gears": {name: {"internal": False} for name in ("wheel", "pinion")},
+        "meshes": {"stage": {"gear_a": "wheel", "gear_b": "pinion"}},
+    }
+    assert parallel_stage_gears(parallel) == set()  # no planetary stage to show behind it
+
+
 @pytest.mark.parametrize("path", [PLANETARY, DRIVETRAIN], ids=lambda p: p.stem)
 def test_lines_of_action_touch_both_base_circles_and_pass_the_pitch_point(path):
     import pinocchio as pin
