@@ -18,7 +18,8 @@ examples use):
   carrier, from the ground (the air), at the speed where the generator takes P;
 - flexible: the housing on a bedplate that carries one vertical tower mode, modal mass 10 t,
   damping ratio 1 %, tuned so that the tower with the gearbox on it vibrates at 001's 7.3 Hz:
-  f_tower = 7.3 Hz · √((m + M)/m), M the gearbox's mass (the mode of ``pinwind modes``).
+  f_tower = 7.3 Hz · √((m + M)/m), M the gearbox's and the generator rotor's mass (the mode
+  of ``pinwind modes``).
 
 Prints per power and bearing the vertical force's mean and RMS, rigid and flexible, the RMS's
 change beside 001's ≈ 10 %, the orbit (the body's mean offset in its bearing and the amplitude
