@@ -11,13 +11,15 @@ examples use):
 - meshes compliant, 1e8 N/m and 1e4 N·s/m (Table 1), constant stiffness along the path;
 - the carrier, sun, planet and output (``stage1_pinion``) bearings compliant and linear, radial
   stiffness 1e9 N/m and damping 1e4 N·s/m, no clearance;
-- 001's induction generator (Table 1) on the output shaft, its equivalent circuit's steady-state
-  torque–slip curve (``--generator dq``: Krause's dq model, see the differences); the rotor
-  torque P / ω on the carrier, from the ground (the air), at the speed where the generator
-  takes P;
+- 001's induction generator (Table 1) as Krause's dq model (``--generator steady``: its
+  equivalent circuit's steady-state torque–slip curve) on its own rotor, 10 kg·m² (assumed: 001
+  gives none), joined to the output shaft by a torsional spring-damper, 1e5 N·m/rad and
+  100 N·m·s/rad (assumed), for 001's "viscous deformable joint"; the rotor torque P / ω on the
+  carrier, from the ground (the air), at the speed where the generator takes P;
 - flexible: the housing on a bedplate that carries one vertical tower mode, modal mass 10 t,
   damping ratio 1 %, tuned so that the tower with the gearbox on it vibrates at 001's 7.3 Hz:
-  f_tower = 7.3 Hz · √((m + M)/m), M the gearbox's mass (the mode of ``pinwind modes``).
+  f_tower = 7.3 Hz · √((m + M)/m), M the gearbox's and the generator rotor's mass (the mode
+  of ``pinwind modes``).
 
 Prints per power and bearing the vertical force's mean and RMS, rigid and flexible, the RMS's
 change beside 001's ≈ 10 %, the orbit (the body's mean offset in its bearing and the amplitude
@@ -44,16 +46,27 @@ Differences from 001, and why:
   from the turbulence and the rotor; the print shows it beside 001's ≈ 10 % for scale, not as a
   reproduction. Why the RMS rises: the bedplate's acceleration a adds m a to each body's vertical
   load, zero on average, so the mean stays and the RMS grows.
-- The generator's law: Krause's dq model of 001's machine (``--generator dq``) on this model
-  grows an oscillation of the output speed at ≈ 56 Hz, about −0.9 % damping (×20 in amplitude
-  per second), with the support rigid and the bearings ideal too: the 1e4 N·s/m mesh dampers
-  are too weak for the machine's electrical dynamics, which 001's viscous coupling between the
-  output shaft and the generator (not modelled here) would damp. A flexible tower's start seeds
-  it strongly, so by default the run takes the same machine's steady-state curve, which is
-  stable; ``--generator dq`` shows the growth.
-- The generator: its stator reacts on the gearbox housing (pinwind's generators act between the
-  shaft and the housing); 001's generator is a separate body joined by a viscous coupling. The
-  support here has no torque arms (no roll), so this does not change the housing's motion.
+- The generator's rotor and coupling: 001 gives neither the rotor's inertia nor the viscous
+  joint's values. Without a rotor (the dq machine directly on the output pinion, 0.019 kg·m²)
+  the run grows an oscillation of the output speed, measured at 54.9 Hz, σ = +6.42 1/s
+  (ζ = −1.86 %), the same at dt = 4e-5, 2e-5 and 1e-5 s and at ρ∞ = 1 and 0.6: physical, not
+  the step's. The machine's linearisation about its operating slip (−0.09 % at 600 kW) says
+  why: in the synchronous frame its stator flux has a lightly damped mode at the grid's 60 Hz
+  (eigenvalues −6.1 ± 376.9j 1/s), and near it the torque's response to the shaft speed,
+  Re(∂T/∂ω) at 55 Hz, is +20.7 N·m·s/rad, a negative damper (it damps, +136 N·m·s/rad, at
+  10 Hz, and +3.8 at 100 Hz). The linearised drivetrain (``pinwind.dynamics.linearisation``)
+  with the machine's four flux states gives that mode at 55.5 Hz, σ = +6.1 1/s, the run's
+  within 5 %. A rotor inertia J_g moves the electromechanical mode away from 60 Hz: joined
+  rigidly to the pinion (no damper) it is unstable below J_g ≈ 0.8 kg·m² (−0.34 % at 0.5) and
+  stable above (+0.22 % at 1 kg·m², +1.33 % at 77 Hz with 10 kg·m²). With this example's rotor
+  and coupling its modes are at 15.6 Hz (ζ = 2.6 %, the rotor on the machine's flux) and 57.8 Hz
+  (10.9 %, the coupling), and the least damped mode below 500 Hz is a purely mechanical one
+  (119 Hz, 0.92 %): the oscillation decays (``tests/test_examples.py``). The rotor is a solid
+  cylinder of radius 0.25 m (320 kg) on an ideal joint on the housing, so its weight is on the
+  tower too (001's generator sits in the nacelle on the tower).
+- The generator's stator reacts on the gearbox housing (pinwind's generators act between the
+  shaft and the housing); 001's on the nacelle. The support here has no torque arms (no roll),
+  so this does not change the housing's motion.
 - Gravity along −y, shafts along z (the model file's frame).
 
     python examples/cart600_support.py --duration 4 --figures figures/cart600_support
@@ -75,7 +88,7 @@ from scipy.optimize import brentq
 import pinwind
 from pinwind.analysis.spectrum import power_spectral_density, spectral_peaks
 from pinwind.dynamics.elements import induction_torque
-from pinwind.dynamics.ratios import speed_ratio
+from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import EquilibriumNotReached
 from pinwind.loads.generator import InductionMachine
 from pinwind.loads.signals import Step
@@ -98,6 +111,16 @@ TOWER_DAMPING = 0.01  # assumed
 POWERS = (270e3, 600e3)  # W, 001 §4
 #: 001 §5: "an increase of approximately 10 % of the load on the bearings".
 PAPER_LOAD_CHANGE = 10.0  # %
+#: The generator's rotor (001 gives no inertia; assumed: a 4-pole 600 kW induction machine's
+#: rotor is of the order of 10 kg·m²) on its own joint, coaxial with the output shaft beyond it,
+#: a solid cylinder of radius GENERATOR_RADIUS: mass 2 J / r².
+GENERATOR_INERTIA = 10.0  # kg·m², assumed
+GENERATOR_RADIUS = 0.25  # m, assumed
+#: 001's "viscous deformable joint" between the output shaft and the generator, as a torsional
+#: spring-damper (001 gives no values; assumed): 1e5 N·m/rad twists 1.8° under the 3.2 kN·m of
+#: 600 kW, a flexible coupling's order, and 100 N·m·s/rad damps the coupling's mode by ≈ 11 %.
+COUPLING_STIFFNESS = 1e5  # N·m/rad
+COUPLING_DAMPING = 100.0  # N·m·s/rad
 #: Time step [s]: 17 steps per period of the highest mode (≈ 1460 Hz, ``pinwind modes``).
 DT = 4e-5
 #: Kept samples: every 10th (2.5 kHz, far above the 7.3 Hz and the meshes' ≈ 70 Hz).
@@ -107,11 +130,15 @@ VERTICAL = 1  # world y: gravity is along −y
 
 def model(*, flexible: bool) -> Gearbox:
     """The CART 600 gearbox with compliant bearings, on a rigid or a flexible support."""
-    text = MODEL.read_text()
+    text = MODEL.read_text().replace("</robot>", generator_rotor() + "</robot>")
     extra = "".join(
         f'<bearing joint="{j}" radial_stiffness="{BEARING_STIFFNESS!r}" '
         f'radial_damping="{BEARING_DAMPING!r}"/>'
         for j in BEARINGS
+    )
+    extra += (
+        f'<torsional_spring name="coupling" joint1="stage1_pinion" joint2="generator" '
+        f'stiffness="{COUPLING_STIFFNESS!r}" damping="{COUPLING_DAMPING!r}"/>'
     )
     if flexible:
         mass = gearbox_mass(loads(text))
@@ -123,6 +150,20 @@ def model(*, flexible: bool) -> Gearbox:
         )
     head = '<gearbox gravity="0 -9.81 0">'
     return loads(text.replace(head, head + extra), path=str(MODEL))
+
+
+def generator_rotor() -> str:
+    """The generator's rotor: a link and its joint on the housing, on the output shaft's axis."""
+    mass = 2.0 * GENERATOR_INERTIA / GENERATOR_RADIUS**2
+    transverse = GENERATOR_INERTIA / 2.0  # a thin disc's: its tilt is held by an ideal joint
+    return (
+        f'<link name="generator"><inertial><origin xyz="0 0 0" rpy="0 0 0"/>'
+        f'<mass value="{mass!r}"/><inertia ixx="{transverse!r}" ixy="0" ixz="0" '
+        f'iyy="{transverse!r}" iyz="0" izz="{GENERATOR_INERTIA!r}"/></inertial></link>'
+        f'<joint name="generator" type="continuous"><parent link="housing"/>'
+        f'<child link="generator"/><origin xyz="0 0.22 0.9" rpy="0 0 0"/>'
+        f'<axis xyz="0 0 1"/></joint>'
+    )
 
 
 def gearbox_mass(gearbox: Gearbox) -> float:
@@ -145,9 +186,14 @@ def operating_point(
         machine.sync_speed,
         1.05 * machine.sync_speed,
     )
-    ratio = speed_ratio(gearbox, "stage1_pinion", "carrier")
-    carrier = speed / ratio
+    carrier = speed / output_ratio(gearbox)
     return carrier, power / carrier
+
+
+def output_ratio(gearbox: Gearbox) -> float:
+    """The output shaft's speed per carrier speed (negative: they turn opposite ways)."""
+    speeds = train_speeds(gearbox, {"carrier": 1.0})
+    return float(speeds[gearbox.v_index("stage1_pinion")])
 
 
 def run(
@@ -155,10 +201,12 @@ def run(
 ) -> pinwind.Result:
     """One run at ``power`` [W]; a flexible support's bedplate is released at t = 0.
 
-    ``dq``: Krause's dq machine started at its steady state, else the steady-state curve.
+    ``dq``: Krause's dq machine started at its steady state, else the steady-state curve; on
+    the generator's rotor, which starts at the output shaft's speed.
     """
     machine = InductionMachine.cart600(dynamic=dq, steady_start=dq)
     speed, torque = operating_point(gearbox, machine, power)
+    output = speed * output_ratio(gearbox)
     torques: dict[str, object] = {"carrier": torque}
     if "support_tower_vertical" in gearbox.support_slides:
         # The tower's force that holds the bedplate at its unloaded shape at t = 0 (the static
@@ -174,8 +222,8 @@ def run(
             duration=duration,
             dt=dt,
             torques=torques,
-            generators={"stage1_pinion": machine},
-            initial_speeds={"carrier": speed},
+            generators={"generator": machine},
+            initial_speeds={"carrier": speed, "generator": output},
             meshes={"all": MESH},
             keep=KEEP,
             statistics=False,
@@ -210,8 +258,8 @@ def main(argv: list[str] | None = None) -> dict[str, dict[str, pinwind.Result]]:
     parser.add_argument(
         "--generator",
         choices=("steady", "dq"),
-        default="steady",
-        help="the machine's steady-state curve, or Krause's dq model (see the docstring)",
+        default="dq",
+        help="Krause's dq model (001's), or the machine's steady-state curve",
     )
     args = parser.parse_args(argv)
 

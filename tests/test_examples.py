@@ -173,3 +173,51 @@ def test_cart600_support_shows_the_tower_mode_and_raises_the_carrier_bearing_loa
         assert np.sqrt(np.mean(flex**2)) > 1.02 * np.sqrt(np.mean(rigid**2))
         carried = (1300.0 + 3 * 329.319966626) * 9.81
         assert_allclose(flex.mean(), rigid.mean(), atol=carried / (math.pi * coupled * duration))
+
+
+def _equivalent_circuit_generator_torque(speed: float) -> float:
+    """001 Table 1's machine, steady state at shaft speed [rad/s]: T_gen [N·m], > 0 generating.
+
+    Per phase R_s + jX_ls in series with jX_M ∥ (R_r'/s + jX_lr'), star on 575 V, 60 Hz, 4 poles;
+    the air-gap power 3 |I_r'|² R_r'/s over the synchronous speed is the motor torque.
+    """
+    omega_e = 2 * math.pi * 60.0
+    sync = omega_e / 2
+    slip = (sync - speed) / sync
+    stator = 0.00053 + 1j * omega_e * 0.0365e-3
+    magnetizing = 1j * omega_e * 1.97e-3
+    rotor = 0.00048 / slip + 1j * omega_e * 0.052e-3
+    current = (575.0 / math.sqrt(3)) / (stator + magnetizing * rotor / (magnetizing + rotor))
+    rotor_current = current * magnetizing / (magnetizing + rotor)
+    return -3 * abs(rotor_current) ** 2 * 0.00048 / slip / sync
+
+
+def test_cart600_support_dq_generator_follows_its_steady_curve_and_does_not_grow():
+    module = _load("cart600_support")
+    gearbox = module.model(flexible=True)
+    duration = 2.0
+    for power in module.POWERS:
+        res = module.run(gearbox, power, duration=duration, dt=module.DT, dq=True)
+        last = res.time >= duration / 2
+        speed = res.joint("generator").speed[last]
+        torque = res.generator("generator").torque[last]
+        # The dq torque leaves the curve only by its fluxes' lag, within its ripple; the curve at
+        # the mean speed lies within its slope times the speed's half range of its values.
+        mean_speed = float(speed.mean())
+        curve = _equivalent_circuit_generator_torque
+        slope = (curve(mean_speed + 1e-3) - curve(mean_speed - 1e-3)) / 2e-3
+        ripple = np.ptp(torque) / 2 + abs(slope) * np.ptp(speed) / 2
+        assert_allclose(torque.mean(), curve(mean_speed), atol=ripple)
+        # The torque takes the power: T ω = P within the same ripple.
+        assert_allclose(torque.mean() * mean_speed, power, atol=ripple * mean_speed)
+        # The oscillation of the generator's speed about its mean does not grow: its envelope,
+        # the largest deviation in windows longer than the slowest period (the tower's 7.3 Hz),
+        # has a log-slope ≤ 0 over the last half.
+        window = 1.0 / module.TOWER_FREQUENCY
+        time = res.time[last]
+        starts = np.arange(time[0], time[-1] - window, window)
+        envelope = [
+            np.abs(speed - mean_speed)[(time >= a) & (time < a + window)].max() for a in starts
+        ]
+        growth = np.polyfit(starts + window / 2, np.log(envelope), 1)[0]
+        assert growth <= 0.0
