@@ -29,8 +29,8 @@ from pinwind.gears.involute import half_tooth_angle
 from pinwind.model.bearing import BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
-from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
 from pinwind.model.roller_sum import CONTACT_EXPONENTS
+from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
 
 
 @dataclass(frozen=True)
