@@ -211,6 +211,7 @@ def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> d
     """The element names of every family of a run (``series.NAMES_OF``)."""
     return {
         "joint_names": list(gearbox.joint_names),
+        "joint_kinds": gearbox.joint_kinds,
         "mesh_names": [m.name for m in gearbox.meshes],
         "bearing_names": list(gearbox.joint_names),
         "body_names": body_names,
