@@ -190,13 +190,17 @@ class Result:
         return getattr(self, schema.NAMES_OF[family]) if family in schema.NAMES_OF else []
 
     def kind_of(self, family: str, element: int) -> str:
-        """The joint kind of a family's element number ``element``: ``joint_kinds`` for a
-        joint, ``revolute`` (the declared units) for the elements of every other family."""
+        """The joint kind of a family's element number ``element``.
+
+        ``joint_kinds`` for a joint; ``revolute`` (the declared units) for every other family.
+        """
         return self.joint_kinds[element] if family == "joint" else "revolute"
 
     def unit(self, series: schema.Series, element: int) -> str:
-        """The SI unit of ``series`` on its family's element number ``element``: the declared
-        one, but a joint series on a prismatic joint's (``Series.unit_for``)."""
+        """The SI unit of ``series`` on its family's element number ``element``.
+
+        The declared one, but a joint series' on a prismatic joint (``Series.unit_for``).
+        """
         return series.unit_for(self.kind_of(series.family, element))
 
     def arrays(self) -> dict[str, np.ndarray]:

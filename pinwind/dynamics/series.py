@@ -154,9 +154,11 @@ class Series:
         return (elements, self.width) if self.components else (elements,)
 
     def unit_for(self, kind: str = "revolute") -> str:
-        """Its SI unit on an element of a joint ``kind`` (``JointKind``): ``unit`` for every
-        series but a joint series on a prismatic joint, whose unit is the length's (``rad`` →
-        ``m``, ``rad/s`` → ``m/s``, ``rad/s^2`` → ``m/s^2``, ``N*m`` → ``N``)."""
+        """Its SI unit on an element of joint kind ``kind`` (``JointKind``).
+
+        ``unit`` for every series but a joint series on a prismatic joint, whose coordinate is a
+        length: ``rad`` → ``m``, ``rad/s`` → ``m/s``, ``rad/s^2`` → ``m/s^2``, ``N*m`` → ``N``.
+        """
         if self.family == "joint" and kind == "prismatic":
             return PRISMATIC_UNITS.get(self.unit, self.unit)
         return self.unit

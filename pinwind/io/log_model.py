@@ -1,8 +1,9 @@
 """The model a log records (the ``pinwind.model`` metadata record): names and gear geometry.
 
 The names of the joints, meshes, bearings, links, energy terms and elements say what each
-element of a logged array is (and the joints' kinds, revolute or prismatic, its unit); the geometry of gears, meshes and bearings lets a replay draw the
-model without building it (docs/log_format.md, "Metadata records").
+element of a logged array is, and the joints' kinds (revolute or prismatic) its unit; the
+geometry of gears, meshes and bearings lets a replay draw the model without building it
+(docs/log_format.md, "Metadata records").
 """
 
 from __future__ import annotations

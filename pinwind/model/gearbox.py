@@ -231,8 +231,10 @@ class Gearbox:
 
     @property
     def joint_kinds(self) -> list[str]:
-        """Each joint's kind in ``joint_names`` order: ``prismatic`` (a slide along its axis) or
-        ``revolute`` (about it), as Pinocchio built it (``series.JointKind``)."""
+        """Each joint's kind, in ``joint_names`` order, as Pinocchio built it.
+
+        ``prismatic`` (a slide along its axis) or ``revolute`` (about it): ``series.JointKind``.
+        """
         return [
             "prismatic" if self.model.joints[j].shortname() in _PRISMATIC else "revolute"
             for j in range(1, self.model.njoints)
