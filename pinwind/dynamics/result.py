@@ -43,12 +43,16 @@ class ElementSeries:
     One attribute per series of its family in the schema (``dynamics/series.py``), named by the
     series' quantity, sample first: ``res.mesh("sun_planet1").normal`` is (n,) [N],
     ``res.bearing("carrier").force`` (n, 3) [N] in world axes. A body's series are at the
-    samples that have a pose, whose times are ``time``. ``units`` gives each field's SI unit.
+    samples that have a pose, whose times are ``time``. ``units`` gives each field's SI unit
+    (a slide's, ``kind`` prismatic, its own: ``Series.unit_for``).
     """
 
-    def __init__(self, family: str, name: str, values: dict[str, np.ndarray]):
+    def __init__(
+        self, family: str, name: str, values: dict[str, np.ndarray], kind: str = "revolute"
+    ):
         self.family = family
         self.name = name
+        self.kind = kind
         self._values = values
 
     def __getattr__(self, quantity: str) -> np.ndarray:
@@ -61,12 +65,12 @@ class ElementSeries:
             ) from None
 
     def __dir__(self) -> list[str]:
-        return [*self._values, "family", "name", "units"]
+        return [*self._values, "family", "name", "kind", "units"]
 
     @property
     def units(self) -> dict[str, str]:
         """Field → SI unit."""
-        out = {s.quantity: s.unit for s in schema.of_family(self.family)}
+        out = {s.quantity: s.unit_for(self.kind) for s in schema.of_family(self.family)}
         if self.family == "body":
             out["time"] = "s"
         return out
@@ -232,7 +236,7 @@ class Result:
         values = {s.quantity: getattr(self, s.name)[:, i] for s in schema.of_family(family)}
         if family == "body":
             values["time"] = self.pose_time
-        return ElementSeries(family, name, values)
+        return ElementSeries(family, name, values, self.kind_of(family, i))
 
     def joint(self, name: str) -> ElementSeries:
         """A bearing's (joint's) angle [rad], speed [rad/s], acceleration [rad/s²], torques [N·m].
