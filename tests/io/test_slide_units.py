@@ -15,8 +15,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from rich.console import Console
 
 import pinwind
+from pinwind.analysis.summary import summary_tables
 from pinwind.errors import PinwindWarning
 from pinwind.io import log_writer
 from pinwind.io.export import columns, export_log
@@ -129,8 +131,6 @@ def test_the_report_gives_a_slides_displacement_in_metres_and_prints_it_in_micro
     assert rows["disc_radial_y", "torque"]["unit"] == "N"
     assert rows["disc", "torque"]["unit"] == "N*m"
     np.testing.assert_allclose(rows["disc_radial_y", "angle"]["mean"], -SAG, rtol=1e-9)
-    from rich.console import Console
-
     console = Console(width=80, record=True)
     for table in report_tables(res, plain=True, all_rows=True):
         console.print(table)
@@ -153,3 +153,18 @@ def test_the_speed_and_torque_panels_in_rpm_and_kn_m_have_no_slide(disc_run):
     assert found["speed"] == ["disc"]
     assert found["torque"] == ["disc"]
     assert found.get("body_speed", ["disc"]) == ["disc"]
+
+
+def test_a_slides_accessor_names_its_units_metres_and_newtons(disc_run):
+    slide, bearing = disc_run.result.joint("disc_radial_y"), disc_run.result.joint("disc")
+    assert slide.units == {"angle": "m", "speed": "m/s", "acceleration": "m/s^2", "torque": "N"}
+    assert bearing.units["speed"] == "rad/s" and bearing.units["torque"] == "N*m"
+
+
+def test_the_run_summary_lists_the_slides_apart_with_the_sag_in_micrometres(disc_run):
+    joints, slides = summary_tables(disc_run.result, plain=True)[:2]
+    assert joints.columns[0]._cells == ["disc"]
+    assert str(slides.columns[1].header) == "displacement [µm]"
+    sag = dict(zip(slides.columns[0]._cells, slides.columns[1]._cells, strict=True))
+    np.testing.assert_allclose(float(sag["disc_radial_y"]), -SAG * 1e6, rtol=1e-6)
+    np.testing.assert_allclose(float(sag["disc_radial_x"]), 0.0, atol=1e-4)
