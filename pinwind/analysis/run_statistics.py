@@ -78,12 +78,17 @@ class _Field:
     vector: bool
 
 
-def _element_keys(s: series.Series, name: str, axes: tuple[str, ...]) -> list[Key]:
-    """The keys of one element's series (``axes`` of a vector, or the scalar)."""
+def _element_keys(
+    s: series.Series, name: str, axes: tuple[str, ...], kind: str = "revolute"
+) -> list[Key]:
+    """The keys of one element's series (``axes`` of a vector, or the scalar).
+
+    ``kind``: the element's joint kind, which gives a slide's joint series their unit.
+    """
     group = _GROUPS.get(s.family, s.family)
     element = f"{s.family} {name}" if s.family in _GROUPS else name
     components = axes if s.components else ("",)
-    return [(group, element, s.title, axis, s.unit) for axis in components]
+    return [(group, element, s.title, axis, s.unit_for(kind)) for axis in components]
 
 
 def _reported(family: str) -> list[series.Series]:
@@ -101,12 +106,13 @@ def _fields(res: Result) -> list[_Field]:
         if s.family == "run":
             fields.append(_Field(s.name, [("run", "", s.title, "", s.unit)], False))
             continue
-        names = res.names(s.family)
+        names = list(enumerate(res.names(s.family)))
+        kinds = [res.kind_of(s.family, i) for i, _ in names]
         if s.components:
-            keys = [k for n in names for k in _element_keys(s, n, _AXES[:3])]
-            keys += [k for n in names for k in _element_keys(s, n, _AXES[3:])]
+            keys = [k for i, n in names for k in _element_keys(s, n, _AXES[:3], kinds[i])]
+            keys += [k for i, n in names for k in _element_keys(s, n, _AXES[3:], kinds[i])]
         else:
-            keys = [k for n in names for k in _element_keys(s, n, _AXES)]
+            keys = [k for i, n in names for k in _element_keys(s, n, _AXES, kinds[i])]
         fields.append(_Field(s.name, keys, bool(s.components)))
     for term in res.energy:
         fields.append(_Field(f"energy/{term}", [("run", term, "energy", "", "J")], False))
@@ -117,9 +123,9 @@ def _report_order(res: Result) -> list[Key]:
     """Every series' key, element after element (each joint's, mesh's, bearing's together)."""
     keys: list[Key] = []
     for family in _REPORT_FAMILIES:
-        for name in res.names(family):
+        for i, name in enumerate(res.names(family)):
             for s in _reported(family):
-                keys += _element_keys(s, name, _AXES)
+                keys += _element_keys(s, name, _AXES, res.kind_of(family, i))
     keys += [("run", "", s.title, "", s.unit) for s in _reported("run")]
     keys += [("run", term, "energy", "", "J") for term in res.energy]
     return keys

@@ -482,7 +482,8 @@ def spectrum_of_log(
                 Peak(p.frequency, p.amplitude, nearest_harmonic(p.frequency, markers, tolerance))
                 for p in found
             ]
-            spectra.append(Spectrum(s.name, name, component, s.unit, freq, density, found))
+            unit = result.unit(s, result.names(s.family).index(name) if name else 0)
+            spectra.append(Spectrum(s.name, name, component, unit, freq, density, found))
     return SpectrumReport(
         Path(path), spectra, markers, rate, samples / rate,
         (float(result.time[0]), float(result.time[-1])), dict(result.metadata), result.status,
@@ -528,9 +529,10 @@ def write_figure(report: SpectrumReport, out: str | os.PathLike, *, dpi: int = 1
                 ax.text(f, 0.98, f" {h}× {m.short_label}",
                         transform=ax.get_xaxis_transform(), rotation=90, fontsize=6,
                         va="top", ha="left", color=colour)  # fmt: skip
-        unit = shown[0].unit
-        ax.set_title(f"{name}: Welch PSD [{unit}²/Hz]", fontsize=9, loc="left")
-        ax.set_ylabel(f"[{unit}²/Hz]", fontsize=8)
+        # a joint series of revolute joints and slides has two units (rad/s and m/s)
+        unit = ", ".join(f"{u}²/Hz" for u in dict.fromkeys(sp.unit for sp in shown))
+        ax.set_title(f"{name}: Welch PSD [{unit}]", fontsize=9, loc="left")
+        ax.set_ylabel(f"[{unit}]", fontsize=8)
         ax.grid(True, linewidth=0.3, which="both")
         ax.tick_params(labelsize=7)
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)

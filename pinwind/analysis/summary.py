@@ -85,7 +85,7 @@ def _span(res: Result, stats: FoldedStatistics) -> str:
 
 
 def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
-    """Tables of joint speeds and ratios, mesh forces and bearing reactions.
+    """Tables of joint speeds and ratios, slide displacements, mesh forces, bearing reactions.
 
     Each table fits 80 columns with the shipped models' names (a wider cell folds; numbers are
     never cut). Units are in the column headers.
@@ -105,7 +105,9 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
         plain,
     )
     locked = set(res.metadata.get("locked_joints", []))
-    for name in res.joint_names:
+    kinds = dict(zip(res.joint_names, res.joint_kinds, strict=True))
+    slides = [name for name in res.joint_names if kinds[name] == "prismatic"]
+    for name in (n for n in res.joint_names if kinds[n] == "revolute"):
         js = res.joint(name)
         speed = js.speed[-1]
         ratio = speed / ref_speed if abs(ref_speed) > 1e-12 else math.nan
@@ -120,6 +122,21 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             f"{js.torque[-1] / 1e3:.4f}",
         )
     tables.append(joints)
+    if slides:  # their joint series are a length, a speed along the axis and a force
+        moves = _table(
+            f"Slides (compliant bearings, support) at {final}",
+            ("slide", "displacement [µm]", "speed [mm/s]", "force [kN]"),
+            plain,
+        )
+        for name in slides:
+            js = res.joint(name)
+            moves.add_row(
+                name,
+                f"{js.angle[-1] * 1e6:.4f}",
+                f"{js.speed[-1] * 1e3:.4f}",
+                f"{js.torque[-1] / 1e3:.4f}",
+            )
+        tables.append(moves)
 
     if res.mesh_names:
         forces = _table(

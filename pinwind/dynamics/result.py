@@ -43,12 +43,16 @@ class ElementSeries:
     One attribute per series of its family in the schema (``dynamics/series.py``), named by the
     series' quantity, sample first: ``res.mesh("sun_planet1").normal`` is (n,) [N],
     ``res.bearing("carrier").force`` (n, 3) [N] in world axes. A body's series are at the
-    samples that have a pose, whose times are ``time``. ``units`` gives each field's SI unit.
+    samples that have a pose, whose times are ``time``. ``units`` gives each field's SI unit
+    (a slide's, ``kind`` prismatic, its own: ``Series.unit_for``).
     """
 
-    def __init__(self, family: str, name: str, values: dict[str, np.ndarray]):
+    def __init__(
+        self, family: str, name: str, values: dict[str, np.ndarray], kind: str = "revolute"
+    ):
         self.family = family
         self.name = name
+        self.kind = kind
         self._values = values
 
     def __getattr__(self, quantity: str) -> np.ndarray:
@@ -61,12 +65,12 @@ class ElementSeries:
             ) from None
 
     def __dir__(self) -> list[str]:
-        return [*self._values, "family", "name", "units"]
+        return [*self._values, "family", "name", "kind", "units"]
 
     @property
     def units(self) -> dict[str, str]:
         """Field → SI unit."""
-        out = {s.quantity: s.unit for s in schema.of_family(self.family)}
+        out = {s.quantity: s.unit_for(self.kind) for s in schema.of_family(self.family)}
         if self.family == "body":
             out["time"] = "s"
         return out
@@ -93,6 +97,10 @@ class Result:
         time: sample times [s], (n,).
         joint_names, mesh_names, bearing_names, body_names: element names from the model file.
         generator_names, rotor_names: joints carrying a generator law or a rotor (empty without).
+        joint_kinds: each joint's kind, in ``joint_names`` order (``series.JointKind``):
+            ``revolute``, or ``prismatic`` for a slide (a compliant bearing's or the support's),
+            whose joint series are a length [m], speed [m/s], acceleration [m/s²] and force
+            [N] (``Series.unit_for``); all revolute when not given (logs written before slides).
         pose_rows: the samples that have a link pose, increasing, (p,): every sample in a
             Result of ``simulate``, those at the log's pose rate in one read from a log. The
             body series (``body_position`` (p, bodies, 3), ``body_quaternion`` (p, bodies, 4)
@@ -124,6 +132,7 @@ class Result:
         body_names: list[str],
         generator_names: list[str] | None = None,
         rotor_names: list[str] | None = None,
+        joint_kinds: list[str] | None = None,
         energy: dict[str, np.ndarray] | None = None,
         metadata: dict[str, Any] | None = None,
         status: str = "completed",
@@ -137,6 +146,13 @@ class Result:
         self.body_names = body_names
         self.generator_names = list(generator_names or [])
         self.rotor_names = list(rotor_names or [])
+        self.joint_kinds = (
+            ["revolute"] * len(joint_names) if joint_kinds is None else list(joint_kinds)
+        )
+        if len(self.joint_kinds) != len(joint_names):
+            raise ValueError(
+                f"{len(self.joint_kinds)} joint kinds for {len(joint_names)} joints {joint_names}"
+            )
         self.energy = {} if energy is None else energy
         self.metadata = {} if metadata is None else metadata
         self.status = status
@@ -177,6 +193,20 @@ class Result:
         """The element names of a family (``joint`` → ``joint_names``); ``run`` has none."""
         return getattr(self, schema.NAMES_OF[family]) if family in schema.NAMES_OF else []
 
+    def kind_of(self, family: str, element: int) -> str:
+        """The joint kind of a family's element number ``element``.
+
+        ``joint_kinds`` for a joint; ``revolute`` (the declared units) for every other family.
+        """
+        return self.joint_kinds[element] if family == "joint" else "revolute"
+
+    def unit(self, series: schema.Series, element: int) -> str:
+        """The SI unit of ``series`` on its family's element number ``element``.
+
+        The declared one, but a joint series' on a prismatic joint (``Series.unit_for``).
+        """
+        return series.unit_for(self.kind_of(series.family, element))
+
     def arrays(self) -> dict[str, np.ndarray]:
         """Every series' array by name (``ARRAYS`` order)."""
         return {name: getattr(self, name) for name in self.ARRAYS}
@@ -206,10 +236,13 @@ class Result:
         values = {s.quantity: getattr(self, s.name)[:, i] for s in schema.of_family(family)}
         if family == "body":
             values["time"] = self.pose_time
-        return ElementSeries(family, name, values)
+        return ElementSeries(family, name, values, self.kind_of(family, i))
 
     def joint(self, name: str) -> ElementSeries:
         """A bearing's (joint's) angle [rad], speed [rad/s], acceleration [rad/s²], torques [N·m].
+
+        A slide's (``joint_kinds`` prismatic): displacement [m], speed [m/s], acceleration
+        [m/s²], force [N], under the same names.
 
         ``torque`` is the net torque from outside the gear train (applied + speed driver or lock
         + generator + rotor; 0 at a constant speed driven against a generator alone);
@@ -299,6 +332,7 @@ class Result:
             body_names=self.body_names,
             generator_names=self.generator_names,
             rotor_names=self.rotor_names,
+            joint_kinds=self.joint_kinds,
             energy=energy,
             metadata=dict(self.metadata),
             status=self.status,

@@ -52,6 +52,14 @@ TOPIC_FOLDERS: dict[str, str] = {
 #: Order of the families on the log's viewer topics (as logs have always had them).
 TOPIC_ORDER: tuple[str, ...] = ("joint", "mesh", "bearing", "run", "generator", "rotor")
 
+#: Kinds of joint (``Result.joint_kinds``): a revolute joint turns about its axis (its
+#: coordinate an angle), a prismatic one (a slide of a compliant bearing or of the support)
+#: moves along it (its coordinate a length).
+JointKind = Literal["revolute", "prismatic"]
+
+#: A joint series' unit on a prismatic joint, by its unit on a revolute one (the declared one).
+PRISMATIC_UNITS: dict[str, str] = {"rad": "m", "rad/s": "m/s", "rad/s^2": "m/s^2", "N*m": "N"}
+
 
 @dataclass(frozen=True)
 class Plot:
@@ -145,11 +153,25 @@ class Series:
             return (self.width,) if self.components else ()
         return (elements, self.width) if self.components else (elements,)
 
-    def column_unit(self) -> str:
-        """The unit as a column name suffix: ``N*m`` → ``N_m``, ``rad/s^2`` → ``rad_s2``."""
-        if self.unit == "1":
+    def unit_for(self, kind: str = "revolute") -> str:
+        """Its SI unit on an element of joint kind ``kind`` (``JointKind``).
+
+        ``unit`` for every series but a joint series on a prismatic joint, whose coordinate is a
+        length: ``rad`` → ``m``, ``rad/s`` → ``m/s``, ``rad/s^2`` → ``m/s^2``, ``N*m`` → ``N``.
+        """
+        if self.family == "joint" and kind == "prismatic":
+            return PRISMATIC_UNITS.get(self.unit, self.unit)
+        return self.unit
+
+    def column_unit(self, kind: str = "revolute") -> str:
+        """The unit as a column name suffix: ``N*m`` → ``N_m``, ``rad/s^2`` → ``rad_s2``.
+
+        ``kind``: the joint kind of the element (``unit_for``).
+        """
+        unit = self.unit_for(kind)
+        if unit == "1":
             return ""
-        return self.unit.replace("*", "_").replace("/", "_").replace("^", "").replace(" ", "_")
+        return unit.replace("*", "_").replace("/", "_").replace("^", "").replace(" ", "_")
 
 
 _J: Family = "joint"

@@ -148,8 +148,8 @@ def block_samples(samples: int) -> int:
     return max(MIN_CHUNK, min(CHUNK, samples // 20))
 
 
-#: Speed [rad/s] above which a run is stopped as diverged (≈ 955 000 rpm: no gear survives it;
-#: a 10 mm pinion would have a pitch-line speed of 1000 m/s).
+#: Speed [rad/s; m/s for a slide] above which a run is stopped as diverged (≈ 955 000 rpm: no
+#: gear survives it; a 10 mm pinion would have a pitch-line speed of 1000 m/s).
 MAX_PLAUSIBLE_SPEED = 1e5
 
 
@@ -168,6 +168,11 @@ def _implausible(block: Result, samples: np.ndarray) -> tuple[int, str] | None:
     k = int(samples[row])
     j = int(np.argmax(np.abs(block.speed[row])))
     value = block.speed[row, j]
+    if block.joint_kinds[j] == "prismatic":
+        return k, (
+            f'slide "{block.joint_names[j]}" moves at {value:.3g} m/s, beyond the plausible '
+            f"{MAX_PLAUSIBLE_SPEED:.0e} m/s"
+        )
     return k, (
         f'joint "{block.joint_names[j]}" turns at {value:.3g} rad/s '
         f"({rad_s_to_rpm(value):.3g}"
@@ -211,6 +216,7 @@ def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> d
     """The element names of every family of a run (``series.NAMES_OF``)."""
     return {
         "joint_names": list(gearbox.joint_names),
+        "joint_kinds": gearbox.joint_kinds,
         "mesh_names": [m.name for m in gearbox.meshes],
         "bearing_names": list(gearbox.joint_names),
         "body_names": body_names,

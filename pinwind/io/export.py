@@ -1,7 +1,9 @@
 """Logs as tables: one column per series, for pandas, polars, Excel and MATLAB (``pinwind export``).
 
 Columns are named ``group/element/quantity_unit`` with SI units spelled out (``N_m`` for N·m,
-``rad_s`` for rad/s), vector components before the unit, and the time first:
+``rad_s`` for rad/s), vector components before the unit, and the time first. A slide's joint
+columns (a prismatic joint of a compliant bearing or the support) are in its own units:
+``joint/sun_radial_x/angle_m``, ``speed_m_s``, ``acceleration_m_s2``, ``torque_N``.
 
     time_s, joint/sun/speed_rad_s, mesh/sun_planet1/normal_N, mesh/sun_planet1/force_on_b_x_N,
     bearing/carrier/moment_local_z_N_m, body/carrier/quaternion_w, energy/kinetic_J,
@@ -48,12 +50,14 @@ def columns(res: Result, fields: Iterable[str] | None = None) -> Iterator[tuple[
             continue
         # a row per sample, as every column: NaN at the samples without a pose (pose rate)
         values = res.pose_at_samples(s.name) if s.per == "pose" else getattr(res, s.name)
-        unit = s.column_unit()
-        suffix = f"_{unit}" if unit else ""
         if s.family == "run":
-            yield f"run/{s.quantity}{suffix}", values
+            unit = s.column_unit()
+            yield f"run/{s.quantity}{'_' + unit if unit else ''}", values
             continue
         for i, element in enumerate(res.names(s.family)):
+            # a slide's joint series are in m, m/s, m/s², N (``Series.unit_for``)
+            unit = s.column_unit(res.kind_of(s.family, i))
+            suffix = f"_{unit}" if unit else ""
             if not s.components:
                 yield f"{s.family}/{element}/{s.quantity}{suffix}", values[:, i]
             else:

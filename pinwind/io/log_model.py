@@ -1,8 +1,9 @@
 """The model a log records (the ``pinwind.model`` metadata record): names and gear geometry.
 
 The names of the joints, meshes, bearings, links, energy terms and elements say what each
-element of a logged array is; the geometry of gears, meshes and bearings lets a replay draw the
-model without building it (docs/log_format.md, "Metadata records").
+element of a logged array is, and the joints' kinds (revolute or prismatic) its unit; the
+geometry of gears, meshes and bearings lets a replay draw the model without building it
+(docs/log_format.md, "Metadata records").
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ def model_names(result: Result) -> dict[str, list[str]]:
     """The names of the elements of a run's arrays, by their key in the ``pinwind.model`` record."""
     return {
         "joint_names": list(result.joint_names),
+        "joint_kinds": list(result.joint_kinds),
         "mesh_names": list(result.mesh_names),
         "bearing_names": list(result.bearing_names),
         "body_names": list(result.body_names),

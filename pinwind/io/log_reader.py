@@ -725,6 +725,10 @@ class LogReader:
 
     def _finish(self, result: Result, topics, start, stop, lost: list[str]) -> None:
         """Run metadata, end status and log details on a Result read from this log."""
+        # logs written before the slides record no kinds: every joint of theirs is revolute
+        kinds = self.metadata["pinwind.model"].get("joint_kinds")
+        if kinds is not None:
+            result.joint_kinds = list(kinds)
         self._derive_absent(result)
         run = dict(self.metadata["pinwind.run"])
         end = self.metadata.get("pinwind.end")

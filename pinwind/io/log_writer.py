@@ -334,9 +334,12 @@ class McapLogger:
             joint_schema,
             {
                 "names": json.dumps(names["joint_names"]),
-                "position": "joint angle [rad], unwrapped (Result.angle)",
-                "velocity": "joint speed relative to the parent body [rad/s] (Result.speed)",
-                "effort": "applied plus driver or lock torque [N*m] (Result.torque)",
+                "position": "joint angle [rad], unwrapped; a slide's displacement [m] "
+                "(Result.angle)",
+                "velocity": "joint speed relative to the parent body [rad/s; a slide's m/s] "
+                "(Result.speed)",
+                "effort": "applied plus driver or lock torque [N*m; a slide's force, N] "
+                "(Result.torque)",
                 "rate_hz": repr(view_rate),
                 "stride": str(self.view_stride),
             },

@@ -238,7 +238,7 @@ GROUPS = (
 
 
 def absolute_speeds(result: Result, joints: dict[str, dict[str, Any]]) -> dict[str, np.ndarray]:
-    """Each joint's child body speed about the joint axis in the world (absolute) [rad/s].
+    """Each revolute joint's child body speed about the joint axis in the world (absolute) [rad/s].
 
     ω_child = ω_parent + θ̇ · a, a the joint axis in world (from the child's pose), summed down
     the tree from the root; a planet's absolute speed is its speed on the carrier plus the
@@ -278,12 +278,13 @@ def absolute_speeds(result: Result, joints: dict[str, dict[str, Any]]) -> dict[s
             axis = np.asarray((0.0, 0.0, 1.0) if axis is None else axis, dtype=float)
             axis = axis / np.linalg.norm(axis)
             axis_in_world = rotate(result.body_quaternion[pose, bodies[spec["child"]]], axis)
-            if name in result.joint_names:
-                speed = result.speed[:, result.joint_names.index(name)]
+            j = result.joint_names.index(name) if name in result.joint_names else -1
+            if j >= 0 and result.joint_kinds[j] == "revolute":
+                speed = result.speed[:, j]
                 child_omega = parent_omega + speed[:, None] * axis_in_world
                 out[name] = np.einsum("ij,ij->i", child_omega, axis_in_world)
             else:
-                child_omega = parent_omega  # a fixed joint
+                child_omega = parent_omega  # a fixed joint, or a slide: it adds no rotation
             omega[spec["child"]] = child_omega
             del pending[name]
             progressed = True
@@ -376,9 +377,11 @@ def panels(
         if s.family == "run":
             return [Series(s.quantity, values, color(0))]
         names = res.names(s.family)
+        # a panel's unit is the series' declared one (rpm, kN·m): no slide (m/s, N) in it
         return [
             Series(name, values[:, i], element_color(s.family, name, i))
             for i, name in enumerate(names)
+            if res.kind_of(s.family, i) == "revolute"
         ]
 
     def plotted(s: series.Series) -> np.ndarray:

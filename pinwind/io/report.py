@@ -3,11 +3,12 @@
 For each quantity of each joint, mesh and bearing: min, max, mean, RMS and final value over a time
 window (``analysis/run_statistics``; the columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2), in
 SI units (``report_dict``, ``--json``); the printed tables use the units of ``pinwind
-simulate``: rpm, kN, kN·m. Vectors give one row per world or joint-frame component plus one for
-the magnitude. By default the printed tables are the engineer's: the series of each element that
-``Series.headline`` marks (speeds, torques, mesh forces, bearing forces and moments about the
-bearing axis), vectors by their magnitude only, and no row that is zero throughout; ``all_rows``
-(``pinwind report --all``) prints every row and every statistic.
+simulate``: rpm, kN, kN·m (a slide's joint rows: µm, m/s, m/s², kN). Vectors give one row per
+world or joint-frame component plus one for the magnitude. By default the printed tables are
+the engineer's: the series of each element that ``Series.headline`` marks (speeds, torques,
+mesh forces, bearing forces and moments about the bearing axis), vectors by their magnitude
+only, and no row that is zero throughout; ``all_rows`` (``pinwind report --all``) prints every
+row and every statistic.
 Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has them).
 """
 
@@ -172,6 +173,7 @@ DISPLAY_UNITS = {
     "J": ("kJ", 1e-3),
     "W": ("kW", 1e-3),
     "rad/s^2": ("rad/s²", 1.0),
+    "m/s^2": ("m/s²", 1.0),
     "1": ("-", 1.0),
     "m/s or rad/s": ("m/s, rad/s", 1.0),
 }

@@ -42,6 +42,8 @@ from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
 CENTRE_DISTANCE_RTOL = 1e-4
 #: Largest angle between two meshing gears' axes [rad].
 AXIS_PARALLEL_TOL = 1e-6
+#: Pinocchio's prismatic joints (``JointModel.shortname()``): slides along an axis.
+_PRISMATIC = {"JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned"}
 #: Density of the solid steel disc a gear's mass and inertia are compared with [kg/m³].
 STEEL_DENSITY = 7850.0
 #: A gear link's mass or axial inertia this many times above or below that of the steel disc of
@@ -226,6 +228,17 @@ class Gearbox:
     def sha256(self) -> str:
         """SHA-256 of the model file text."""
         return hashlib.sha256(self.source_text.encode("utf-8")).hexdigest()
+
+    @property
+    def joint_kinds(self) -> list[str]:
+        """Each joint's kind, in ``joint_names`` order, as Pinocchio built it.
+
+        ``prismatic`` (a slide along its axis) or ``revolute`` (about it): ``series.JointKind``.
+        """
+        return [
+            "prismatic" if self.model.joints[j].shortname() in _PRISMATIC else "revolute"
+            for j in range(1, self.model.njoints)
+        ]
 
     def v_index(self, joint: str) -> int:
         """Index of a bearing in the velocity vector."""
