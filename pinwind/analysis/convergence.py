@@ -86,18 +86,19 @@ def observed_order(coarse: float, middle: float, fine: float) -> float:
 
 @dataclass(frozen=True)
 class DtRow:
-    """One quantity at dt, dt/2 and dt/4.
+    """One quantity at dt, dt/2 and dt/4 (or at dt and dt/2 only).
 
     Attributes:
-        group: ``mesh`` or ``bearing``.
-        element: the mesh or bearing (joint) name.
+        group: ``mesh`` or ``bearing`` (a fatigue set's: ``contact`` or ``root``).
+        element: the mesh or bearing (joint) name (a fatigue set's: the gear).
         quantity: what is compared, e.g. ``normal force RMS``.
         unit: SI unit of the values.
-        values: the quantity at dt, dt/2 and dt/4 over the window [unit].
+        values: the quantity at dt, dt/2 and dt/4 over the window [unit], or at dt and dt/2.
         change_half: relative change dt → dt/2 [-].
-        change_quarter: relative change dt/2 → dt/4 [-].
-        order: observed order p [-] (NaN: no change to measure).
-        error: |f(dt) − f(dt/4)| / |f(dt/4)|, how far the run's value is from the finest [-].
+        change_quarter: relative change dt/2 → dt/4 [-] (NaN without dt/4).
+        order: observed order p [-] (NaN: no change to measure, or no dt/4).
+        error: |f(dt) − f(finest)| / |f(finest)|, how far the run's value is from the value at
+            the finest step, dt/4 or dt/2 [-].
         converged: ``error`` ≤ the check's tolerance.
     """
 
@@ -105,7 +106,7 @@ class DtRow:
     element: str
     quantity: str
     unit: str
-    values: tuple[float, float, float]
+    values: tuple[float, ...]
     change_half: float
     change_quarter: float
     order: float
@@ -114,7 +115,7 @@ class DtRow:
 
     @property
     def verdict(self) -> str:
-        """``converged to 0.3 %`` (the value at dt against dt/4) or ``not converged: halve dt``."""
+        """``converged to 0.3 %`` (dt against the finest step) or ``not converged: halve dt``."""
         if self.converged:
             return f"converged to {100 * self.error:.2g} %"
         return "not converged: halve dt"
@@ -128,21 +129,40 @@ def dt_row(
     values: Sequence[float],
     tolerance: float = TOLERANCE,
 ) -> DtRow:
-    """The row of one quantity from its values at dt, dt/2 and dt/4."""
-    coarse, middle, fine = (float(v) for v in values)
-    error = abs(relative_change(coarse, fine))
+    """The row of one quantity from its values at dt, dt/2 and dt/4, or at dt and dt/2.
+
+    With two values the run's value is judged against the one at dt/2, and there is no order.
+    """
+    steps = tuple(float(v) for v in values)
+    if len(steps) not in (2, 3):
+        raise ValueError(f"dt_row takes the values at dt, dt/2 [and dt/4]; got {len(steps)}")
+    coarse, middle, fine = steps if len(steps) == 3 else (*steps, math.nan)
+    error = abs(relative_change(coarse, steps[-1]))
     return DtRow(
         group=group,
         element=element,
         quantity=quantity,
         unit=unit,
-        values=(coarse, middle, fine),
+        values=steps,
         change_half=relative_change(coarse, middle),
-        change_quarter=relative_change(middle, fine),
-        order=observed_order(coarse, middle, fine),
+        change_quarter=relative_change(middle, fine) if len(steps) == 3 else math.nan,
+        order=observed_order(coarse, middle, fine) if len(steps) == 3 else math.nan,
         error=error,
         converged=error <= tolerance,
     )
+
+
+def row_dict(row: DtRow) -> dict[str, Any]:
+    """A row as plain values for JSON, with its verdict (infinite and NaN values as None)."""
+
+    def plain(x: Any) -> Any:
+        if isinstance(x, float) and not math.isfinite(x):
+            return None
+        if isinstance(x, tuple | list):
+            return [plain(v) for v in x]
+        return x
+
+    return {k: plain(v) for k, v in asdict(row).items()} | {"verdict": row.verdict}
 
 
 @dataclass(frozen=True)
@@ -168,18 +188,7 @@ class DtConvergence:
 
     def as_dict(self) -> dict[str, Any]:
         """Plain values for JSON (infinite and NaN orders as None)."""
-
-        def plain(x: Any) -> Any:
-            if isinstance(x, float) and not math.isfinite(x):
-                return None
-            if isinstance(x, tuple | list):
-                return [plain(v) for v in x]
-            return x
-
-        rows = [
-            {k: plain(v) for k, v in asdict(row).items()} | {"verdict": row.verdict}
-            for row in self.rows
-        ]
+        rows = [row_dict(row) for row in self.rows]
         return {
             "dt": self.dt,
             "steps": [self.dt / r for r in REFINEMENTS],

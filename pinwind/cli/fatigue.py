@@ -14,6 +14,7 @@ from pinwind.cli.app import app, console, err_console, say
 
 if TYPE_CHECKING:
     from pinwind.life.bearing_life import BearingLife
+    from pinwind.life.damage_convergence import DamageDtCheck
     from pinwind.life.life_damage import GearDamage, SetDamage
     from pinwind.life.load_cases import FatigueRun, FatigueSet
 
@@ -34,35 +35,64 @@ def fatigue(
     scheduler: Annotated[
         str | None, typer.Option(help="Dask scheduler address, e.g. tcp://head:8786.")
     ] = None,
+    check_dt: Annotated[
+        bool,
+        typer.Option(
+            "--check-dt",
+            help="Run the set again at dt/2 (its cases beside the set's, resumable) and print "
+            "the change of each gear's damage and largest stress.",
+        ),
+    ] = False,
 ) -> None:
     """Damage per gear per wind bin and per turbulence level (Jørgensen 2014 Tables 7-8).
 
     One compliant run per wind bin x turbulence x seed, each logged in the set's output folder;
     a rerun computes only the cases whose log is missing or incomplete.
     """
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TaskID,
+        TimeRemainingColumn,
+    )
 
     from pinwind.life.life_damage import set_damage
     from pinwind.life.load_cases import load_fatigue_set, run_cases
     from pinwind.life.set_bearing_life import set_bearing_lives
 
     fset = load_fatigue_set(scenario, quick=quick)
+    half = None
+    if check_dt:
+        from pinwind.life.damage_convergence import half_step_set
+
+        half = half_step_set(fset)
     if not as_json:
         say(
             f"{len(fset.cases())} load cases ({len(fset.site.bins)} wind bins x "
             f"{len(fset.levels)} turbulence levels x {len(fset.seeds)} seeds, "
             f"{fset.duration:g} s each, counted from {fset.skip_start:g} s) in {fset.out}"
+            + ("" if half is None else f", and again at dt/2 in {half.out}")
         )
     columns = (BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+    sets = [("cases", fset)] + ([] if half is None else [("cases at dt/2", half)])
+    runs: dict[str, FatigueRun] = {}
     with Progress(*columns, console=err_console, transient=True, disable=as_json) as bar:
-        task = bar.add_task("cases", total=len({c.name for c in fset.cases()}))
-        run = run_cases(
-            fset,
-            workers=workers,
-            scheduler=scheduler,
-            progress=lambda n, total: bar.update(task, completed=n),
-        )
+        for label, each in sets:
+            task = bar.add_task(label, total=len({c.name for c in each.cases()}))
+
+            def advance(n: int, total: int, task: TaskID = task) -> None:
+                bar.update(task, completed=n)
+
+            runs[label] = run_cases(each, workers=workers, scheduler=scheduler, progress=advance)
+    run = runs["cases"]
     damage = set_damage(fset)
+    check = None
+    if half is not None:
+        from pinwind.life.damage_convergence import damage_dt_check
+
+        half_damage = set_damage(half)
+        check = damage_dt_check(damage, half_damage, dt=fset.dt, out=half.out)
     bearings = set_bearing_lives(fset)
     paths = []
     if figures is not None:
@@ -76,14 +106,26 @@ def fatigue(
     if as_json:
         report = _as_dict(fset, run, damage, paths)
         report["bearings"] = [[life.as_dict() for life in level] for level in bearings]
+        if check is not None:
+            half_run = runs["cases at dt/2"]
+            report["check_dt"] = check.as_dict() | {
+                "computed": half_run.computed,
+                "backend": half_run.backend,
+                "wall_time_s": half_run.wall_time,
+                "damage": _by_variant(half_damage.damage),
+                "root_damage": _by_variant(half_damage.root_damage),
+            }
         print(json.dumps(report, indent=1))
         return
-    say(
-        f"{len(run.computed)} computed on {run.backend} in {run.wall_time:.1f} s, "
-        f"{run.total - len(run.computed)} reused"
-    )
+    for label, done in runs.items():
+        say(
+            f"{label}: {len(done.computed)} computed on {done.backend} in "
+            f"{done.wall_time:.1f} s, {done.total - len(done.computed)} reused"
+        )
     _print_tables(damage)
     _print_bearings(damage, bearings)
+    if check is not None:
+        _print_dt_check(check)
     for path in paths:
         say(f"wrote {path}")
 
@@ -186,24 +228,6 @@ def _as_dict(
         VARIANTS,
     )
 
-    def by_variant(table: dict[str, list[dict[str, GearDamage]]]) -> dict[str, Any]:
-        return {
-            variant: [
-                {
-                    gear: {
-                        "per_bin": d.per_bin.tolist(),
-                        "total": d.total,
-                        "tooth": d.tooth,
-                        "flank": d.flank,
-                        "peak_stress_MPa": d.peak_stress / 1e6,
-                    }
-                    for gear, d in level.items()
-                }
-                for level in levels
-            ]
-            for variant, levels in table.items()
-        }
-
     return {
         "scenario": fset.source,
         "out": str(fset.out),
@@ -217,8 +241,8 @@ def _as_dict(
         "intensities": list(damage.intensities),
         "variants": VARIANTS,
         "stresses": LOCATIONS,
-        "damage": by_variant(damage.damage),
-        "root_damage": by_variant(damage.root_damage),
+        "damage": _by_variant(damage.damage),
+        "root_damage": _by_variant(damage.root_damage),
         "root_stress": {gear: model.describe() for gear, model in fset.root_stress.items()},
         "jorgensen_2014": {
             "table_7": {
@@ -228,6 +252,67 @@ def _as_dict(
         },  # fmt: skip
         "figures": [str(p) for p in figures],
     }
+
+
+def _by_variant(table: dict[str, list[dict[str, GearDamage]]]) -> dict[str, Any]:
+    """Variant → level → gear → its damage as plain values (units in the keys)."""
+    return {
+        variant: [
+            {
+                gear: {
+                    "per_bin": d.per_bin.tolist(),
+                    "total": d.total,
+                    "tooth": d.tooth,
+                    "flank": d.flank,
+                    "peak_stress_MPa": d.peak_stress / 1e6,
+                }
+                for gear, d in level.items()
+            }
+            for level in levels
+        ]
+        for variant, levels in table.items()
+    }
+
+
+def _print_dt_check(check: DamageDtCheck) -> None:
+    """Each gear's damage and largest stress at dt/2 and their change from dt, per level."""
+    from pinwind.life.damage_convergence import NEGLIGIBLE_DAMAGE, judged
+
+    for location in ("contact", "root"):
+        table = Table(
+            title=f"The same set at dt/2 = {check.dt / 2:g} s: {location} damage and largest "
+            f"{location} stress [MPa] at dt/2 (change from dt = {check.dt:g} s; converged within "
+            f"{100 * check.tolerance:g} %)"
+        )
+        table.add_column("gear")
+        table.add_column("figure")
+        for label in check.levels:
+            table.add_column(label, justify="right")
+        first = [row for row in check.rows[0] if row.group == location] if check.rows else []
+        for i, row in enumerate(first):
+            cells = []
+            for rows in check.rows:
+                same = [r for r in rows if r.group == location][i]
+                value = same.values[1] / 1e6 if same.unit == "Pa" else same.values[1]
+                text = f"{value:.0f}" if same.unit == "Pa" else f"{value:.3g}"
+                mark = "" if same.converged or not judged(same) else " !"
+                cells.append(f"{text} ({_percent(same.change_half)}){mark}")
+            table.add_row(row.element, row.quantity, *cells)
+        if first:
+            console.print(table)
+    say(
+        f"!: changes by more than {100 * check.tolerance:g} % (damage below "
+        f"{NEGLIGIBLE_DAMAGE:g} at both steps is not judged)"
+    )
+    say(f"dt check: {check.verdict}")
+
+
+def _percent(change: float) -> str:
+    """A relative change in percent, ``+1.2 %`` (``+inf %``: from zero)."""
+    percent = 100 * change
+    if not np.isfinite(percent) or abs(percent) >= 10:
+        return f"{percent:+.0f} %"
+    return f"{percent:+.2g} %"
 
 
 def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> None:

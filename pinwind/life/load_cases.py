@@ -254,6 +254,11 @@ class FatigueSet:
     bearings: Mapping[str, BearingRating] = field(default_factory=dict)
 
     @property
+    def dt(self) -> float:
+        """The cases' time step [s] (the scenario's ``dt``)."""
+        return float(self.values.get("dt", 1e-3))
+
+    @property
     def counted_seconds(self) -> float:
         """Length of each case's counted history, T_sim − skip_start [s]."""
         return self.duration - self.skip_start
@@ -277,7 +282,7 @@ class FatigueSet:
 
     def case_values(self, case: LoadCase) -> dict[str, Any]:
         """The scenario values of a case's run."""
-        dt = float(self.values.get("dt", 1e-3))
+        dt = self.dt
         values = {
             **self.values,
             "duration": self.duration,

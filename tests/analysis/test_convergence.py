@@ -52,6 +52,16 @@ def test_values_that_do_not_change_have_no_order_and_are_converged():
     assert math.isnan(row.order) and row.converged and row.error == 0.0
 
 
+def test_two_values_judge_the_run_against_dt_half_without_an_order():
+    # f(dt) = 1.0, f(dt/2) = 1.04: the run is 0.04 / 1.04 from its dt/2 value.
+    row = dt_row("contact", "sun", "damage (limit)", "-", [1.0, 1.04], tolerance=0.05)
+    np.testing.assert_allclose(row.change_half, 0.04 / 1.04, rtol=1e-12)
+    np.testing.assert_allclose(row.error, 0.04 / 1.04, rtol=1e-12)
+    assert math.isnan(row.order) and math.isnan(row.change_quarter)
+    assert row.converged
+    assert not dt_row("contact", "sun", "damage (limit)", "-", [1.0, 1.06], 0.05).converged
+
+
 def _pair_run_kwargs():
     # A compliant pair under balanced torques: it swings about 1000 N, damped.
     return dict(

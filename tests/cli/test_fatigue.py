@@ -114,3 +114,72 @@ def test_quick_run_gives_each_rated_bearing_its_l10h_and_lists_the_others_as_not
         c = ratings[life["bearing"]].dynamic_load_rating
         assert_allclose(life["l10_million_rev"], (c / life["equivalent_load_N"]) ** (10 / 3),
                         rtol=1e-9)  # fmt: skip
+
+
+def _relative_change(before: float, after: float) -> float:
+    """(after − before) / |after|, 0 when equal: the change dt → dt/2 by its definition."""
+    return 0.0 if after == before else (after - before) / abs(after)
+
+
+def test_check_dt_reruns_the_set_at_half_dt_and_reports_each_figures_change(tmp_path, monkeypatch):
+    """The dt/2 logs have half the dt and the same sample times; each row's change is the one
+    of the two sets' figures in the JSON; the text prints that change and the same verdict."""
+    import re
+
+    from pinwind import read_log
+    from pinwind.io.log_reader import LogReader
+
+    monkeypatch.chdir(tmp_path)
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text() + "[fatigue.quick]\nduration = 0.02\n")
+    out = run("fatigue", str(path), "--quick", "--json", "--check-dt", "--workers", "1")
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout)
+    check = report["check_dt"]
+    assert len(check["computed"]) == 2
+    logs = sorted((tmp_path / "cases_quick").glob("*.mcap"))
+    half_logs = sorted((tmp_path / "cases_quick_half_dt").glob("*.mcap"))
+    assert [p.name for p in half_logs] == [p.name for p in logs] and len(logs) == 2
+    for log, half_log in zip(logs, half_logs, strict=True):
+        with LogReader(log) as reader, LogReader(half_log) as half_reader:
+            dt = reader.metadata["pinwind.run"]["dt"]
+            half_dt = half_reader.metadata["pinwind.run"]["dt"]
+        assert_allclose(half_dt, dt / 2, rtol=1e-15)
+        assert_allclose(read_log(half_log).time, read_log(log).time, rtol=0, atol=1e-12)
+
+    sun_stress_change = None
+    for k, level in enumerate(check["levels"]):
+        assert len(level["rows"]) == 5 * 2 * 4  # gears x (contact, root) x (3 variants, stress)
+        for row in level["rows"]:
+            table = "damage" if row["group"] == "contact" else "root_damage"
+            if row["quantity"] == "max stress":
+                variant, key = "limit", "peak_stress_MPa"
+            else:
+                variant, key = row["quantity"].removeprefix("damage (")[:-1], "total"
+            before = report[table][variant][k][row["element"]][key]
+            after = check[table][variant][k][row["element"]][key]
+            assert_allclose(row["change_half"], _relative_change(before, after), rtol=1e-9)
+            if (row["group"], row["element"], row["quantity"]) == ("contact", "sun", "max stress"):
+                sun_stress_change = _relative_change(before, after)
+
+    text = run("fatigue", str(path), "--quick", "--check-dt", "--workers", "1")
+    assert text.returncode == 0, text.stderr
+    assert "cases at dt/2: 0 computed" in text.stdout
+    assert f"dt check: {check['verdict']}" in text.stdout
+    # The first "max stress" row is the sun's contact stress: "│ sun │ max stress │ 574 (+0.01 %) │"
+    line = next(x for x in text.stdout.splitlines() if "sun" in x and "max stress" in x)
+    printed = float(re.search(r"\(([-+][0-9.e+-]+) %\)", line).group(1))
+    assert_allclose(printed, 100 * sun_stress_change, rtol=0.05, atol=5e-4)
+
+
+def test_check_dt_with_a_sample_rate_off_the_steps_is_one_message_and_exit_2(
+    tmp_path, monkeypatch, capsys
+):
+    # 1 / (20 kHz · 20 µs) = 2.5 steps: the dt/2 histories could not be read at the same times.
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text().replace("sample_rate = 50000.0", "sample_rate = 20000.0"))
+    code, err = fatigue_exit([str(path), "--check-dt"], monkeypatch, capsys)
+    assert code == 2
+    assert "sample_rate = 20000 Hz is not a whole number of steps" in err, err
+    assert err.strip().count("\n") == 0, err
+    assert not (tmp_path / "cases").exists()  # refused before any case ran
