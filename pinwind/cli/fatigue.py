@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -310,7 +311,7 @@ def _print_dt_check(check: DamageDtCheck) -> None:
 def _percent(change: float) -> str:
     """A relative change in percent, ``+1.2 %`` (``+inf %``: from zero)."""
     percent = 100 * change
-    if not np.isfinite(percent) or abs(percent) >= 10:
+    if not math.isfinite(percent) or abs(percent) >= 10:
         return f"{percent:+.0f} %"
     return f"{percent:+.2g} %"
 
