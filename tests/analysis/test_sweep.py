@@ -208,6 +208,7 @@ def _payload(item: int) -> _Payload:
 def test_executor_lets_each_result_go_once_accepted(backend):
     # Memory flat in the number of items: no result is held after ``accept`` returns.
     import gc
+    import time
     import weakref
 
     from pinwind.analysis.sweep import run_tasks
@@ -216,8 +217,16 @@ def test_executor_lets_each_result_go_once_accepted(backend):
     still_held = []
 
     def accept(result: _Payload) -> None:
-        gc.collect()
-        still_held.append(sum(ref() is not None for ref in refs))
+        # An in-process Dask worker drops its copy when the scheduler's release reaches it, a
+        # moment after ``future.release()``: wait for that (a held result never goes).
+        deadline = time.monotonic() + 5.0
+        while True:
+            gc.collect()
+            held = sum(ref() is not None for ref in refs)
+            if held == 0 or time.monotonic() > deadline:
+                break
+            time.sleep(0.01)
+        still_held.append(held)
         refs.append(weakref.ref(result))
 
     items = list(range(6))
