@@ -29,7 +29,7 @@
 //
 // This header declares the Stepper; its work is compiled in units by concern, each including
 // only the Pinocchio templates it instantiates: the step loop (stepper_run.cpp), the static
-// equilibrium (stepper_equilibrium.cpp), the start, the checks' assembly and the mass matrix
+// equilibrium (stepper_equilibrium.cpp), the start and the checks' assembly
 // (stepper_assembly.cpp), the elements' kinds (element_kinds.cpp); the QP solves are in
 // constrained_qp.cpp. In one unit they needed 4.4 GB of compiler memory at once.
 #pragma once

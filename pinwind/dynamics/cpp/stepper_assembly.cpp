@@ -1,10 +1,7 @@
 // A Stepper's start, with the registry of the kinds of constraints it builds (its elements come
-// from element_kinds.cpp), and the assembly and mass matrix the tests check against Pinocchio
-// (stepper.hpp).
+// from element_kinds.cpp), and the assembly the tests check against Pinocchio (stepper.hpp).
 #include <memory>
 #include <utility>
-
-#include <pinocchio/algorithm/jacobian.hpp>
 
 #include "stepper.hpp"
 
@@ -71,12 +68,6 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
   mv_.setZero(nv_);
   dq_free_.setZero(nv_);
   accel_memory_.setZero(nv_);
-}
-
-Eigen::MatrixXd Stepper::mass_matrix(const Eigen::VectorXd& q) {
-  pinocchio::computeJointJacobians(s_.model, data_, q);
-  mass_from_jacobian();
-  return mass_;
 }
 
 Assembly Stepper::assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {

@@ -1,5 +1,5 @@
-// The Stepper's step loop: Stepper::run and the assembly, solve, record and step it repeats
-// (stepper.hpp documents the scheme).
+// The Stepper's step loop: Stepper::run and the assembly, solve, record and step it repeats, and
+// the mass matrix the tests check (stepper.hpp documents the scheme).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -45,6 +45,13 @@ RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& tar
   }
   st.sample = k1;
   return st;
+}
+
+// Stepper::mass_matrix, in the unit that instantiates computeJointJacobians for the step.
+Eigen::MatrixXd Stepper::mass_matrix(const Eigen::VectorXd& q) {
+  pinocchio::computeJointJacobians(s_.model, data_, q);
+  mass_from_jacobian();
+  return mass_;
 }
 
 void Stepper::targets() {
