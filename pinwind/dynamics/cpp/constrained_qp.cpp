@@ -1,0 +1,254 @@
+// The constrained step QP's solves (constrained_qp.hpp documents the method).
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <proxsuite/proxqp/dense/dense.hpp>
+
+#include "constrained_qp.hpp"
+
+namespace pinwind {
+namespace {
+
+// A power of two within a factor two of x (x > 0): dividing by it is exact.
+double power_of_two(double x) {
+  int exponent = 0;
+  std::frexp(x, &exponent);
+  return std::ldexp(1.0, exponent);
+}
+
+std::string status_name(proxsuite::proxqp::QPSolverOutput status) {
+  using proxsuite::proxqp::QPSolverOutput;
+  switch (status) {
+    case QPSolverOutput::PROXQP_SOLVED:
+      return "PROXQP_SOLVED";
+    case QPSolverOutput::PROXQP_MAX_ITER_REACHED:
+      return "PROXQP_MAX_ITER_REACHED";
+    case QPSolverOutput::PROXQP_PRIMAL_INFEASIBLE:
+      return "PROXQP_PRIMAL_INFEASIBLE";
+    case QPSolverOutput::PROXQP_DUAL_INFEASIBLE:
+      return "PROXQP_DUAL_INFEASIBLE";
+    case QPSolverOutput::PROXQP_NOT_RUN:
+      return "PROXQP_NOT_RUN";
+    default:
+      return "PROXQP_STATUS_" + std::to_string(static_cast<int>(status));
+  }
+}
+
+}  // namespace
+
+ConstrainedQp::ConstrainedQp(Eigen::Index nv, Eigen::Index rows, SolverSettings settings)
+    : nv_(nv), rows_(rows), settings_(settings) {}
+
+const QpSolution& ConstrainedQp::solve(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
+                                       const Eigen::MatrixXd& jac, const Eigen::VectorXd& rhs) {
+  QpSolution& out = solution_;
+  if (rows_ == 0) {
+    out.acceleration = mass.ldlt().solve(force);
+    out.multipliers.resize(0);
+    return out;
+  }
+  const bool rows_changed = refresh_rows(jac);
+  if (full_rank_ || !settings_.iterative) {
+    return solve_direct(mass, force, jac, rhs, rows_changed);
+  }
+  rhs_.resize(rhs.size());
+  rhs_.noalias() = range_ * rhs;
+  // Scale the QP to unit size with powers of two, which are exact in floating point: the cost
+  // by the largest inertia (so the dual residual is in rad/s² like the primal one), the
+  // unknowns by the size of the data. One absolute tolerance then means the same relative
+  // accuracy in every run, and a uniform scaling keeps the multipliers minimum-norm. A change
+  // of the data scale restarts the solve like new rows do.
+  const double previous_mass_scale = mass_scale_;
+  const bool mass_changed = refresh_mass(mass);
+  g_ = -force / mass_scale_;
+  const double size = std::max(g_.cwiseAbs().maxCoeff(), rhs_.cwiseAbs().maxCoeff());
+  const double data_scale = size > 0.0 ? power_of_two(size) : 1.0;
+  const bool restart = rows_changed || data_scale != data_scale_ ||
+                       mass_scale_ != previous_mass_scale || !qp_;
+  data_scale_ = data_scale;
+  g_ /= data_scale;
+  rhs_ /= data_scale;
+  if (restart) {
+    start(jac_cache_);
+  } else {
+    // Unchanged H and A are not passed again: proxsuite then keeps its factorisation.
+    if (mass_changed) {
+      qp_->update(h_, g_, proxsuite::nullopt, rhs_, proxsuite::nullopt, proxsuite::nullopt,
+                  proxsuite::nullopt, false);
+    } else {
+      qp_->update(proxsuite::nullopt, g_, proxsuite::nullopt, rhs_, proxsuite::nullopt,
+                  proxsuite::nullopt, proxsuite::nullopt, false);
+    }
+    qp_->solve();
+    if (qp_->results.info.status != proxsuite::proxqp::QPSolverOutput::PROXQP_SOLVED) {
+      start(jac_cache_);
+    }
+  }
+  const auto& res = qp_->results;
+  out.acceleration = data_scale * res.x;
+  out.multipliers = -(mass_scale_ * data_scale) * res.y;
+  out.solved = res.info.status == proxsuite::proxqp::QPSolverOutput::PROXQP_SOLVED;
+  out.status = status_name(res.info.status);
+  // proxsuite's residuals (∞-norms) of the scaled problem, back in SI units.
+  out.primal_residual = res.info.pri_res * data_scale;
+  out.dual_residual = res.info.dua_res * data_scale * mass_scale_;
+  out.iterations = static_cast<long>(res.info.iter);
+  return out;
+}
+
+const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
+                                              const Eigen::VectorXd& force, const Eigen::MatrixXd&,
+                                              const Eigen::VectorXd& rhs, bool rows_changed) {
+  QpSolution& out = solution_;
+  const bool refactor = rows_changed || !direct_ready_ || !diagonal_change(mass);
+  if (refactor) factorise(mass);
+  free_ = mass_ldlt_.solve(force);
+  projected_rhs_.noalias() = row_basis_.transpose() * rhs;
+  reduced_rhs_ = projected_rhs_;
+  reduced_rhs_.noalias() -= reduced_jac_ * free_;
+  mu_ = schur_ldlt_.solve(reduced_rhs_);
+  out.acceleration = free_;
+  out.acceleration.noalias() += minv_jt_ * mu_;
+  if (!changed_.empty() && !correct(out.acceleration)) {
+    factorise(mass);
+    return solve_direct(mass, force, reduced_jac_, rhs, false);
+  }
+  out.multipliers.noalias() = row_basis_ * mu_;
+  // The residuals in work vectors: a product inside a larger expression would allocate.
+  primal_.noalias() = reduced_jac_ * out.acceleration;
+  out.primal_residual = (primal_ - projected_rhs_).cwiseAbs().maxCoeff();
+  dual_.noalias() = mass * out.acceleration;
+  dual_ -= force;
+  dual_.noalias() -= reduced_jac_.transpose() * mu_;
+  out.dual_residual = dual_.cwiseAbs().maxCoeff();
+  out.iterations = 0;
+  out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
+  out.status = "direct";
+  // A later iterative step starts proxsuite afresh.
+  qp_.reset();
+  return out;
+}
+
+void ConstrainedQp::factorise(const Eigen::MatrixXd& mass) {
+  direct_mass_ = mass;
+  mass_ldlt_.compute(mass);
+  minv_jt_.resize(reduced_jac_.cols(), reduced_jac_.rows());
+  for (Eigen::Index r = 0; r < reduced_jac_.rows(); ++r) {
+    minv_jt_.col(r) = mass_ldlt_.solve(reduced_jac_.row(r).transpose());
+  }
+  schur_.resize(reduced_jac_.rows(), reduced_jac_.rows());
+  schur_.noalias() = reduced_jac_.lazyProduct(minv_jt_);
+  schur_ldlt_.compute(schur_);
+  direct_ready_ = true;
+  responses_.clear();
+  changed_.clear();
+}
+
+bool ConstrainedQp::diagonal_change(const Eigen::MatrixXd& mass) {
+  changed_.clear();
+  if (direct_mass_.rows() != mass.rows() || direct_mass_.cols() != mass.cols()) return false;
+  for (Eigen::Index j = 0; j < mass.cols(); ++j) {
+    for (Eigen::Index i = 0; i < mass.rows(); ++i) {
+      const double d = mass(i, j) - direct_mass_(i, j);
+      if (d == 0.0) continue;
+      if (i != j || changed_.size() == kMaxCorrections) return false;
+      changed_.push_back({i, d});
+    }
+  }
+  return true;
+}
+
+const std::pair<Eigen::VectorXd, Eigen::VectorXd>& ConstrainedQp::response(Eigen::Index i) {
+  for (const auto& r : responses_) {
+    if (r.first == i) return r.second;
+  }
+  Eigen::VectorXd unit = Eigen::VectorXd::Zero(direct_mass_.rows());
+  unit[i] = 1.0;
+  Eigen::VectorXd a = mass_ldlt_.solve(unit);
+  const Eigen::VectorXd mu = schur_ldlt_.solve(-(reduced_jac_ * a));
+  a.noalias() += minv_jt_ * mu;
+  responses_.push_back({i, {a, mu}});
+  return responses_.back().second;
+}
+
+bool ConstrainedQp::correct(Eigen::VectorXd& a) {
+  const auto k = static_cast<Eigen::Index>(changed_.size());
+  Eigen::MatrixXd c = Eigen::MatrixXd::Identity(k, k);
+  Eigen::VectorXd y(k);
+  for (Eigen::Index q = 0; q < k; ++q) {
+    const auto& z = response(changed_[q].first).first;
+    for (Eigen::Index p = 0; p < k; ++p) c(p, q) += z[changed_[p].first] * changed_[q].second;
+    y[q] = a[changed_[q].first];
+  }
+  if (c.diagonal().minCoeff() < 0.5) return false;
+  Eigen::VectorXd x(k);
+  if (k == 1) {
+    x[0] = y[0] / c(0, 0);
+  } else if (k == 2) {
+    const double det = c(0, 0) * c(1, 1) - c(0, 1) * c(1, 0);
+    x[0] = (c(1, 1) * y[0] - c(0, 1) * y[1]) / det;
+    x[1] = (c(0, 0) * y[1] - c(1, 0) * y[0]) / det;
+  } else {
+    x = c.partialPivLu().solve(y);
+  }
+  for (Eigen::Index q = 0; q < k; ++q) {
+    const auto& r = response(changed_[q].first);
+    const double s = changed_[q].second * x[q];
+    a.noalias() -= s * r.first;
+    mu_.noalias() -= s * r.second;
+  }
+  return true;
+}
+
+void ConstrainedQp::start(const Eigen::MatrixXd& jac) {
+  qp_ = std::make_unique<QP>(nv_, rows_, 0);
+  qp_->settings.eps_abs = settings_.eps_abs;
+  qp_->settings.eps_rel = settings_.eps_rel;
+  qp_->settings.max_iter = settings_.max_iter;
+  qp_->settings.verbose = false;
+  qp_->settings.initial_guess =
+      proxsuite::proxqp::InitialGuessStatus::EQUALITY_CONSTRAINED_INITIAL_GUESS;
+  qp_->init(h_, g_, jac, rhs_, proxsuite::nullopt, proxsuite::nullopt, proxsuite::nullopt,
+            false);
+  qp_->solve();
+  qp_->settings.initial_guess =
+      proxsuite::proxqp::InitialGuessStatus::WARM_START_WITH_PREVIOUS_RESULT;
+}
+
+bool ConstrainedQp::refresh_rows(const Eigen::MatrixXd& jac) {
+  if (jac_cache_.rows() == jac.rows() && jac_cache_.cols() == jac.cols() &&
+      (jac - jac_cache_).cwiseAbs().maxCoeff() <= 1e-12 * jac.cwiseAbs().maxCoeff()) {
+    return false;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(jac, Eigen::ComputeThinU);
+  const auto& sv = svd.singularValues();
+  Eigen::Index rank = 0;
+  if (sv.size() && sv[0] > 0.0) {
+    while (rank < sv.size() && sv[rank] > 1e-10 * sv[0]) ++rank;
+  }
+  row_basis_ = svd.matrixU().leftCols(rank);
+  range_ = row_basis_ * row_basis_.transpose();
+  reduced_jac_ = row_basis_.transpose() * jac;
+  full_rank_ = rank == jac.rows();
+  jac_cache_ = jac;
+  return true;
+}
+
+bool ConstrainedQp::refresh_mass(const Eigen::MatrixXd& mass) {
+  if (mass_cache_.size() == mass.size() &&
+      (mass - mass_cache_).cwiseAbs().maxCoeff() <= 1e-12 * mass_scale_) {
+    return false;
+  }
+  mass_cache_ = mass;
+  mass_scale_ = power_of_two(mass.cwiseAbs().maxCoeff());
+  h_ = mass / mass_scale_;
+  return true;
+}
+
+ConstrainedQp::~ConstrainedQp() = default;
+
+}  // namespace pinwind

@@ -1,0 +1,445 @@
+// The Stepper's step loop: Stepper::run and the assembly, solve, record and step it repeats, and
+// the mass matrix the tests check (stepper.hpp documents the scheme).
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <pinocchio/algorithm/jacobian.hpp>
+#include <pinocchio/algorithm/joint-configuration.hpp>
+
+#include "stepper.hpp"
+
+namespace pinwind {
+
+RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& target,
+                       const Outputs& out, const RowMat& inputs, long stride) {
+  RunStatus st;
+  out_ = out;
+  stride = std::max(stride, 1L);
+  const long row0 = (k0 + stride - 1) / stride;  // the kept index of out's first row
+  for (long k = k0; k < k1; ++k) {
+    const double t = k * s_.dt;
+    st.sample = k;
+    time_ = t;
+    inputs_ = s_.input_columns ? inputs.row(k - k0).data() : nullptr;
+    tau_applied_ = torque.row(k - k0).transpose();
+    target_row_ = target.cols() ? target.row(k - k0).data() : nullptr;
+    target_next_row_ = target.cols() ? target.row(k - k0 + 1).data() : nullptr;
+    targets();
+    if (!solve(k, t, st)) return st;
+    if (!std::isfinite(a_.squaredNorm() + lam_.squaredNorm())) {
+      return fail(st, k, t, "the accelerations or constraint forces are not finite");
+    }
+    if (k % stride == 0 || k + 1 == samples_) {
+      bearing_reactions();
+      record((k + stride - 1) / stride - row0, t);
+    }
+    if (k + 1 == samples_) {
+      st.sample = k + 1;
+      return st;
+    }
+    advance();
+    if (!std::isfinite(q_.squaredNorm() + v_.squaredNorm())) {
+      return fail(st, k + 1, t + s_.dt, "the joint angles or speeds are not finite");
+    }
+  }
+  st.sample = k1;
+  return st;
+}
+
+// Stepper::mass_matrix, in the unit that instantiates computeJointJacobians for the step.
+Eigen::MatrixXd Stepper::mass_matrix(const Eigen::VectorXd& q) {
+  pinocchio::computeJointJacobians(s_.model, data_, q);
+  mass_from_jacobian();
+  return mass_;
+}
+
+void Stepper::targets() {
+  target_now_.setZero(rows_);
+  target_next_.setZero(rows_);
+  const StepView sv = view();
+  for (size_t c = 0; c < constraints_.size(); ++c) {
+    constraints_[c]->targets(sv, rows_of(target_now_, c), rows_of(target_next_, c));
+  }
+}
+
+void Stepper::kinematics() {
+  pinocchio::computeJointJacobians(s_.model, data_, q_);
+  for (size_t i = 0; i < s_.meshes.joint_ids.size(); ++i) {
+    origin_[i] = data_.oMi[s_.meshes.joint_ids[i]].translation();
+    rot_[i] = data_.oMi[s_.meshes.joint_ids[i]].rotation();
+  }
+  if (nm_) evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
+}
+
+void Stepper::velocity_kinematics() {
+  const auto& model = s_.model;
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  drift_.resize(nj);
+  data_.ov[0].setZero();
+  drift_[0].setZero();
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    const int idx = model.idx_vs[i], n = model.nvs[i];
+    const auto parent = model.parents[i];
+    data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
+    for (int c = idx; c < idx + n; ++c) {
+      data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
+    }
+    drift_[i] = drift_[parent] + pinocchio::Motion(joint_product(data_.dJ, v_, idx, n));
+  }
+  if (!s_.rigid_meshes.empty()) {
+    // Only rigid rows have a bias γ (compliant meshes read J alone). The twist and the
+    // acceleration at q̈ = 0 of each gear's body are those of its joint.
+    const auto& ids = s_.meshes.joint_ids;
+    rows_data_.twist.resize(ids.size());
+    rows_data_.accel.resize(ids.size());
+    for (size_t i = 0; i < ids.size(); ++i) {
+      rows_data_.twist[i] = data_.ov[ids[i]].toVector();
+      rows_data_.accel[i] = drift_[ids[i]].toVector();
+    }
+    evaluate_mesh_bias_from(s_.meshes, rows_data_);
+  }
+}
+
+void Stepper::bias_forces() {
+  const auto& model = s_.model;
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  body_force_.resize(nj);
+  subtree_.resize(nj);
+  weight_.resize(nj);
+  // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
+  const pinocchio::Motion up = -model.gravity;
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    weight_[i] = body_[i] * up;
+    body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
+    subtree_[i] = body_force_[i];
+  }
+  nle_.resize(nv_);
+  gravity_.resize(nv_);
+  for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
+    const int idx = model.idx_vs[i], n = model.nvs[i];
+    if (n == 1) {
+      nle_[idx] = data_.J.col(idx).dot(subtree_[i].toVector());
+      gravity_[idx] = data_.J.col(idx).dot(weight_[i].toVector());
+    } else {
+      const auto cols = data_.J.middleCols(idx, n);
+      nle_.segment(idx, n).noalias() = cols.transpose() * subtree_[i].toVector();
+      gravity_.segment(idx, n).noalias() = cols.transpose() * weight_[i].toVector();
+    }
+    const auto parent = model.parents[i];
+    if (parent > 0) {
+      subtree_[parent] += subtree_[i];
+      weight_[parent] += weight_[i];
+    }
+  }
+}
+
+void Stepper::joint_forces() {
+  const auto& model = s_.model;
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  accel_.resize(nj);
+  accel_[0].setZero();
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    const int idx = model.idx_vs[i], n = model.nvs[i];
+    accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
+    subtree_[i] = body_force_[i] + body_[i] * accel_[i] - fext_.of_joint[i];
+  }
+  for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
+    if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
+    data_.f[i] = data_.oMi[i].actInv(subtree_[i]);
+  }
+}
+
+void Stepper::mass_from_jacobian() {
+  const auto& model = s_.model;
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  composite_.resize(nj);
+  body_.resize(nj);
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    body_[i] = composite_[i] = data_.oMi[i].act(model.inertias[i]);
+  }
+  mass_.setZero(nv_, nv_);
+  momenta_.resize(6, nv_);
+  for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
+    const int idx = model.idx_vs[i], n = model.nvs[i], sub = data_.nvSubtree[i];
+    for (int c = idx; c < idx + n; ++c) {
+      momenta_.col(c) = (composite_[i] * pinocchio::Motion(data_.J.col(c))).toVector();
+    }
+    if (n == 1) {
+      for (int c = idx; c < idx + sub; ++c) mass_(idx, c) = data_.J.col(idx).dot(momenta_.col(c));
+    } else {
+      mass_.block(idx, idx, n, sub).noalias() =
+          data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+    }
+    if (model.parents[i] > 0) composite_[model.parents[i]] += composite_[i];
+  }
+  mass_.diagonal() += model.armature;
+  mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
+}
+
+void Stepper::constraint_matrix() {
+  const StepView sv = view();
+  for (const size_t c : varying_) constraints_[c]->rows(sv, rows_of(jac_, c), rows_of(bias_, c));
+}
+
+double Stepper::residual() {
+  if (!rows_) return 0.0;
+  jv_.noalias() = jac_ * v_;
+  return (jv_ - target_now_).cwiseAbs().maxCoeff();
+}
+
+bool Stepper::project(long k, double t, RunStatus& st) {
+  const Eigen::MatrixXd minv_jt = mass_.ldlt().solve(jac_.transpose());
+  const Eigen::MatrixXd delassus = jac_ * minv_jt;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(delassus, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  Eigen::VectorXd sv = svd.singularValues();
+  const double cutoff = sv.size() ? 1e-12 * sv[0] : 0.0;
+  for (Eigen::Index i = 0; i < sv.size(); ++i) sv[i] = sv[i] > cutoff ? 1.0 / sv[i] : 0.0;
+  const Eigen::VectorXd mismatch = jac_ * v_ - target_now_;
+  const Eigen::VectorXd correction =
+      svd.matrixV() * sv.asDiagonal() * (svd.matrixU().transpose() * mismatch);
+  const Eigen::VectorXd projected = v_ - minv_jt * correction;
+  const double left = (jac_ * projected - target_now_).cwiseAbs().maxCoeff();
+  const double scale = 1.0 + target_now_.cwiseAbs().maxCoeff() +
+                       jac_.cwiseAbs().maxCoeff() * v_.cwiseAbs().maxCoeff();
+  if (left > 1e-9 * scale) {
+    st.code = RunCode::conflicting_constraints;
+    st.step = k;
+    st.time = t;
+    st.residual = left;
+    return false;
+  }
+  v_ = projected;
+  return true;
+}
+
+bool Stepper::check(long k, double t, const QpSolution& sol, RunStatus& st) {
+  if (!(std::isfinite(sol.primal_residual) && std::isfinite(sol.dual_residual))) {
+    fail(st, k, t, "the constrained-dynamics QP returned non-finite values");
+    return false;
+  }
+  if (!sol.solved) {
+    st.code = RunCode::solver_failed;
+    st.step = k;
+    st.time = t;
+    st.what = sol.status;
+    st.primal = sol.primal_residual;
+    st.dual = sol.dual_residual;
+    st.iterations = sol.iterations;
+    return false;
+  }
+  return true;
+}
+
+const QpSolution* Stepper::solve_qp(long k, double t, RunStatus& st) {
+  hessian_ = weights_.inertia * mass_;
+  force_ = force_explicit_;
+  const StepView sv = view();
+  for (auto& e : elements_) e->add_implicit(sv, hessian_, force_);
+  rhs_ = -bias_ + (target_next_ - target_now_) / s_.dt;
+  if (!std::isfinite(force_.squaredNorm() + rhs_.squaredNorm())) {
+    fail(st, k, t, "the joint forces or constraint terms are not finite");
+    return nullptr;
+  }
+  const QpSolution* sol = &qp_.solve(hessian_, force_, jac_, rhs_);
+  return check(k, t, *sol, st) ? sol : nullptr;
+}
+
+void Stepper::assemble_positions() {
+  kinematics();
+  mass_from_jacobian();
+  constraint_matrix();
+}
+
+void Stepper::assemble_velocities() {
+  velocity_kinematics();
+  constraint_matrix();
+  bias_forces();
+}
+
+bool Stepper::solve(long k, double t, RunStatus& st) {
+  assemble_positions();
+  residual_ = residual();
+  if (residual_ > s_.projection_tol * (1.0 + v_.cwiseAbs().maxCoeff())) {
+    // Post-stabilisation: J changed over the last step, or the run starts off the
+    // constraint manifold.
+    if (!project(k, t, st)) return false;
+    residual_ = residual();
+  }
+  assemble_velocities();
+  if (first_step_) {
+    // The consistent start a_0: the dynamics at the first sample (time_step.hpp).
+    weights_ = StepWeights();
+    dq_free_.setZero(nv_);
+    nle_step_ = nle_;
+    gravity_step_ = gravity_;
+    if (!dynamics(k, t, st)) return false;
+    accel_memory_ = a_;
+    first_step_ = false;
+  }
+  // The time step's weights and the weighted state's displacement at ā = 0 (time_step.hpp).
+  weights_ = StepWeights(method_, s_.dt);
+  dq_free_ = weights_.force_new * (s_.dt * v_ + weights_.memory_gain * accel_memory_);
+  weighted_bias();
+  if (!dynamics(k, t, st)) return false;
+  nle_last_ = nle_;
+  gravity_last_ = gravity_;
+  return true;
+}
+
+void Stepper::weighted_bias() {
+  if (nle_last_.size() != nv_) {
+    nle_step_ = nle_;
+    gravity_step_ = gravity_;
+    return;
+  }
+  const double w = weights_.force_new;
+  nle_step_ = nle_ + w * (nle_ - nle_last_);
+  gravity_step_ = gravity_ + w * (gravity_ - gravity_last_);
+}
+
+bool Stepper::dynamics(long k, double t, RunStatus& st) {
+  const Eigen::VectorXd& nle = nle_step_;
+  const StepView sv = view();
+  elements_force_.setZero(nv_);
+  for (auto& e : elements_) {
+    e->prepare(sv);
+    e->add_force(sv, elements_force_);
+  }
+  force_explicit_ = tau_applied_ + elements_force_ - nle;
+  if (weights_.memory != 0.0) force_explicit_.noalias() -= weights_.memory * (mass_ * accel_memory_);
+  const QpSolution* sol = solve_qp(k, t, st);
+  if (!sol) return false;
+  lam_ = sol->multipliers;
+  // Constraints switch rows their multipliers show wrong (a rigid mesh pulling: the other
+  // flank carries the load), either carrying the solution over or asking for another solve (a
+  // switch can move load between meshes, so repeat, a few times). Elements with contact
+  // (compliant meshes) settle their active sets in the same loop.
+  constexpr int kPasses = 8;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    RowSwitch change = RowSwitch::none;
+    for (size_t c = 0; c < constraints_.size(); ++c) {
+      change = std::max(change, constraints_[c]->switch_rows(sv, rows_of(lam_, c)));
+    }
+    bool settled = true;
+    const bool last = pass + 1 == kPasses;
+    for (auto& e : elements_) settled = !e->settle(sv, sol->acceleration, last) && settled;
+    if (change == RowSwitch::none && settled) break;
+    constraint_matrix();
+    if (change != RowSwitch::solve && settled) break;
+    sol = solve_qp(k, t, st);
+    if (!sol) return false;
+    lam_ = sol->multipliers;
+    if (pass + 2 == kPasses) {
+      for (auto& e : elements_) e->settle(sv, sol->acceleration, true);
+      break;
+    }
+  }
+  a_ = sol->acceleration;
+  return true;
+}
+
+void Stepper::bearing_reactions() {
+  for (auto& f : fext_.of_joint) f.setZero();
+  const StepView sv = view();
+  for (size_t c = 0; c < constraints_.size(); ++c) {
+    constraints_[c]->add_body_forces(sv, rows_of(lam_, c), fext_);
+  }
+  for (const auto& e : elements_) e->add_body_forces(sv, fext_);
+  joint_forces();
+}
+
+void Stepper::record(long k, double t) {
+  const Eigen::Index nj = s_.model.njoints - 1;
+  out_.at(Series::time, k) = t;
+  joint_row(Series::angle, k) = q_;
+  joint_row(Series::speed, k) = v_;
+  // ā, the step's mean acceleration: the one the multipliers and bearing reactions of the
+  // sample come from. a_k itself carries, at ρ∞ = 1, an error of alternating sign after a
+  // jump in the forces (a torque step, a flank switch) that never decays; ā does not.
+  joint_row(Series::acceleration, k) = a_;
+  joint_row(Series::torque, k) = tau_applied_;
+  const StepView sv = view();
+  for (size_t c = 0; c < constraints_.size(); ++c) {
+    constraints_[c]->record(sv, k, rows_of(lam_, c), out_);
+  }
+  for (const auto& e : elements_) e->record(sv, k, out_);
+  for (Eigen::Index j = 1; j <= nj; ++j) {
+    const auto& f = data_.f[j];
+    const auto& rot = data_.oMi[j].rotation();
+    const long e = out_.entry(Family::bearing, k, j - 1);
+    vec3(Series::bearing_force_local, e) = f.linear();
+    vec3(Series::bearing_moment_local, e) = f.angular();
+    // World axes; the moment stays about the bearing centre.
+    vec3(Series::bearing_force, e) = rot * f.linear();
+    vec3(Series::bearing_moment, e) = rot * f.angular();
+  }
+  const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
+  for (Eigen::Index b = 0; b < nb; ++b) {
+    // Each link is rigid on a joint: its pose is the joint's placement times a constant one.
+    const pinocchio::SE3 pose = data_.oMi[s_.frame_parent[b]] * s_.frame_placement[b];
+    const long e = out_.entry(Family::body, k, b);
+    vec3(Series::body_position, e) = pose.translation();
+    const Eigen::Quaterniond quat(pose.rotation());
+    Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, e)) = quat.coeffs();
+  }
+  out_.at(Series::constraint_residual, k) = residual_;
+  mv_.noalias() = mass_ * v_;
+  out_.at(Series::kinetic, k) = 0.5 * v_.dot(mv_);
+  double potential = 0.0;
+  for (const auto& e : elements_) potential += e->potential(sv);
+  out_.at(Series::potential_spring, k) = potential;
+  out_.at(Series::work_applied, k) = ledger_.applied;
+  out_.at(Series::work_drivers, k) = ledger_.drivers;
+  out_.at(Series::work_springs, k) = ledger_.springs;
+  out_.at(Series::work_gravity, k) = ledger_.gravity;
+  out_.at(Series::work_constraints, k) = ledger_.constraints;
+  out_.at(Series::dissipated, k) = ledger_.dissipated;
+  double parametric = 0.0;
+  for (const auto& e : elements_) parametric += e->parametric_work();
+  out_.at(Series::work_parametric, k) = parametric;
+}
+
+void Stepper::advance() {
+  const double h = s_.dt;
+  v_next_ = v_ + a_ * h;
+  mid_ = (0.5 * h) * (v_ + v_next_);
+  dq_ = h * v_ + weights_.step_gain * a_;
+  if (weights_.memory_gain != 0.0) dq_ += weights_.memory_gain * accel_memory_;
+  StepWork elements;
+  const StepView sv = view();
+  v_mid_ = mid_ / h;
+  for (const auto& e : elements_) {
+    const StepWork w = e->work(sv, v_next_, v_mid_);
+    elements.elastic += w.elastic;
+    elements.dissipated += w.dissipated;
+    elements.applied += w.applied;
+  }
+  EnergyLedger step;
+  step.applied = tau_applied_.dot(mid_) + elements.applied;
+  step.springs = elements.elastic;
+  // M ā = f + Jᵀλ + c₂ M (ā − a_n): the inertia's memory does work on the kinetic energy
+  // that no force does, the method's own dissipation. It joins the springs' work, so that
+  // ``numerical`` = −(ΔU_spring + W_springs) holds all of the integrator's loss.
+  if (weights_.memory != 0.0) {
+    mv_.noalias() = mass_ * (a_ - accel_memory_);
+    step.springs += weights_.memory * mv_.dot(mid_);
+  }
+  step.gravity = -gravity_step_.dot(mid_);
+  step.dissipated = elements.dissipated;
+  for (size_t c = 0; c < constraints_.size(); ++c) {
+    constraints_[c]->work(sv, rows_of(jac_, c), rows_of(lam_, c), mid_, step);
+  }
+  ledger_ += step;
+  for (size_t c = 0; c < constraints_.size(); ++c) {
+    constraints_[c]->advance(sv, rows_of(jac_, c), dq_);
+  }
+  for (auto& e : elements_) e->advance(sv, v_next_);
+  // a_{n+1} = (ā − (1 − γ) a_n)/γ.
+  accel_memory_ = (a_ - (1.0 - method_.gamma) * accel_memory_) / method_.gamma;
+  pinocchio::integrate(s_.model, q_, dq_, q_next_);
+  q_ = q_next_;
+  v_ = v_next_;
+}
+
+}  // namespace pinwind
