@@ -96,10 +96,9 @@ def main() -> None:
         f"{len(many)} designs:    one core {len(many) / big_1:.1f}/s, {cores} cores "
         f"{len(many) / big_n:.1f}/s (incl. pool start)"
     )
-    from distributed import Client, LocalCluster
+    from pinwind.analysis.dask_workers import local_client
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster, Client(cluster) as client:  # fmt: skip
+    with local_client(2, config={}) as client:  # Dask's own settings: designs take milliseconds
         run_sweep(items[:2], settings, scheduler=client)  # warm the workers' imports
         dask = best_of(args.repeat, lambda: run_sweep(items, settings, scheduler=client))
     print(f"Dask, 2 workers:  {dask:6.2f} s  {n / dask:7.1f} designs/s (warm workers)")

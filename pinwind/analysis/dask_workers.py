@@ -10,13 +10,21 @@ them rarer; the dashboard's profile of tasks is off.
 
 The settings must be in force where each process starts: around a ``LocalCluster`` (its
 scheduler and nannies live in the process that creates it, and a nanny hands the settings
-to its worker) with ``dask.config.set(WORKER_CONFIG)``; in a dask-jobqueue job script as
-environment variables (`worker_environment`).
+to its worker) with ``dask.config.set(WORKER_CONFIG)``, as `local_client` does; in a
+dask-jobqueue job script as environment variables (`worker_environment`).
 """
 
 from __future__ import annotations
 
-__all__ = ["WORKER_CONFIG", "worker_environment"]
+import logging
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager, suppress
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from distributed import Client
+
+__all__ = ["WORKER_CONFIG", "local_client", "worker_environment"]
 
 #: Dask configuration keys and values for one-simulation-at-a-time workers (module docstring).
 WORKER_CONFIG: dict[str, str | bool] = {
@@ -36,3 +44,50 @@ def worker_environment() -> dict[str, str]:
         "DASK_" + key.upper().replace(".", "__").replace("-", "_"): str(value)
         for key, value in WORKER_CONFIG.items()
     }
+
+
+@contextmanager
+def local_client(
+    workers: int, *, config: Mapping[str, Any] = WORKER_CONFIG, processes: bool = True
+) -> Iterator[Client]:
+    """A ``distributed.Client`` of a new LocalCluster of ``workers`` one-thread workers.
+
+    The cluster starts with the Dask settings ``config`` (`WORKER_CONFIG` unless given; ``{}``
+    for Dask's own) and no dashboard. On exit the client closes, then the cluster (its workers,
+    then its scheduler), with logging off meanwhile in this process (the scheduler and the
+    nannies) and in each worker: as a worker stops, its last heartbeat or stream read can meet
+    the scheduler's closed connection, and distributed logs that as an error with a
+    ``CommClosedError`` traceback, after every result is in. Errors of the run itself come
+    before, through the client.
+
+    Args:
+        workers: worker processes (threads of this process if not ``processes``).
+        config: Dask configuration keys and values in force while the cluster starts.
+        processes: workers in processes of their own (False: threads here, for tests).
+    """
+    import dask
+    from distributed import Client, LocalCluster
+
+    # Each process and periodic check reads the settings as it is made.
+    with dask.config.set(dict(config)):
+        cluster = LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=processes, dashboard_address=None
+        )
+        try:
+            client = Client(cluster)
+        except BaseException:
+            cluster.close()
+            raise
+    try:
+        yield client
+    finally:
+        previous = logging.root.manager.disable
+        # Workers that are gone already have nothing left to say.
+        with suppress(Exception):
+            client.run(logging.disable, logging.CRITICAL)
+        logging.disable(logging.CRITICAL)
+        try:
+            client.close()
+            cluster.close()
+        finally:
+            logging.disable(previous)
