@@ -9,8 +9,8 @@ the flags of a run into scenario values. ``simulate`` logs every run to an MCAP 
 (``logs/`` by default) that ``replay`` and ``report`` read back on their own.
 
 A command imports only its verb's module (``VERB_MODULES``): ``pinwind modes`` neither imports
-nor builds the other verbs. ``app`` (``pinwind.cli.app``), ``pinwind --help`` and a command that
-names no known verb register every verb (``cli/verbs.py``).
+nor builds the other verbs, ``pinwind --version`` none. ``app`` (``pinwind.cli.app``),
+``pinwind --help`` and a command that names no known verb register every verb (``cli/verbs.py``).
 """
 
 from __future__ import annotations
@@ -51,7 +51,10 @@ VERB_MODULES = {
 def main() -> None:
     """Entry point: run the CLI and turn pinwind errors into one clear line and exit code 2."""
     verb = sys.argv[1] if len(sys.argv) > 1 else ""
-    importlib.import_module(f"pinwind.cli.{VERB_MODULES.get(verb, 'verbs')}")
+    # ``--version`` needs no verb; ``--help``, no verb or an unknown one (its message lists the
+    # verbs) need every verb.
+    module = "app" if verb == "--version" else VERB_MODULES.get(verb, "verbs")
+    importlib.import_module(f"pinwind.cli.{module}")
     from pinwind.cli.app import app as application
     from pinwind.cli.app import err_console
 
