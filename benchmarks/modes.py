@@ -6,13 +6,14 @@
   compiled modules, as an installed pinwind runs (one uncounted run writes the bytecode cache);
   ``--compile-each-run`` keeps PYTHONDONTWRITEBYTECODE, which this shared environment sets.
 - In this process, what ``pinwind modes`` spends its time on, in the order the command meets it:
-  typer and rich (the CLI library), ``import pinwind`` and the CLI app (every verb module, which
-  import their heavy modules inside their commands: ``lazy_exports.py``), pydantic (which typer
-  imports to convert the arguments when a command runs), the modules of ``modes`` (numpy,
-  Pinocchio, the model, the linearisation), typer building the commands of every verb from their
-  signatures, loading the model, linearising and solving; then the whole command once more in
-  this process, everything imported (typer building the commands and converting the arguments
-  with pydantic, the model, the modes, the table).
+  typer and rich (the CLI library), ``import pinwind``, the CLI app with the modes verb alone
+  (``pinwind/cli/__init__.py`` imports only the invoked verb's module; the verb modules import
+  their heavy modules inside their commands: ``lazy_exports.py``), the modules of ``modes``
+  (numpy, Pinocchio, the model, the linearisation), typer building the command from its
+  signature, loading the model, linearising and solving; then the whole command once more in
+  this process, everything imported (typer building the command and converting the arguments,
+  without pydantic: ``cli/conversions.py``; the model, the modes, the table). Then whether
+  pydantic or another verb's module was imported (neither should be).
 - A Campbell diagram of ``--speeds`` input speeds: ``campbell`` itself (one linearisation at
   the top of the range: the modes of torsional coordinates do not change with speed), and the
   cost if every speed were linearised and solved (``linearise(speeds=...).modes()`` at each;
@@ -141,17 +142,15 @@ def main() -> None:
     import pinwind
 
     steps.done("import pinwind")
-    from pinwind.cli import app
+    import pinwind.cli.modes  # noqa: F401
+    from pinwind.cli.app import app
 
-    steps.done("import pinwind.cli (the app: every verb module)")
-    import typer._adapters  # noqa: F401
-
-    steps.done("import typer._adapters (pydantic: typer's conversions)")
+    steps.done("import pinwind.cli.modes (the app, the modes verb)")
     from pinwind.dynamics.linearisation import linearise
 
     steps.done("import the modes modules (numpy, Pinocchio, model)")
     typer.main.get_command(app)
-    steps.done("typer builds the click commands of every verb")
+    steps.done("typer builds the click command of modes")
     gearbox = pinwind.load(args.model)
     steps.done("load the model")
     modes = linearise(gearbox, meshes={"all": "compliant"}).modes()
@@ -163,6 +162,13 @@ def main() -> None:
         pinwind_main()
     steps.done("whole command again, all imported (typer, work, table)")
     steps.print()
+    from pinwind.cli import VERB_MODULES
+
+    others = {f"pinwind.cli.{name}" for name in VERB_MODULES.values()} - {"pinwind.cli.modes"}
+    print(
+        f"  imported: pydantic {'yes' if 'pydantic' in sys.modules else 'no'}, other verb "
+        f"modules {sorted(others & set(sys.modules)) or 'none'}"
+    )
 
     from pinwind.analysis.campbell import campbell
 
