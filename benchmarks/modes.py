@@ -24,6 +24,21 @@
 
     python benchmarks/modes.py [--model models/cart600_gearbox.urdf] [--repeats 10] [--speeds 100]
                                [--source OTHER_CHECKOUT] [--compile-each-run]
+
+Measured 2026-11-27 06:09, ``python benchmarks/modes.py --repeats 9``, bytecode cached, on the
+shared 2-core machine at load average 9.7-11.1 (0.23 cores of 2 given): ``pinwind modes
+cart600_gearbox.urdf`` wall median 2.42 s (best 1.78), CPU median 0.81 s; ``pinwind --version``
+0.90 s, CPU 0.30 s; in process (CPU): typer and rich 0.12 s, the app and the modes verb 0.04 s,
+numpy, Pinocchio and the model 0.29 s, typer building the command 0.007 s, load 0.014 s,
+linearise and solve 0.011 s, the whole command again 0.044 s (it was 0.16 s with pydantic and
+every verb's command); pydantic and the other verbs not imported. Campbell 0-30 rpm 0.015 s CPU;
+100 speeds each linearised 3.8 s wall (1.24 s CPU); ``pinwind campbell`` 2.6 s wall (0.90 s
+CPU). Before/after in the same minutes (interleaved, 15 runs each, load 10.3-11.0): ``pinwind
+modes`` CPU median 1.30 -> 0.86 s (best 0.92 -> 0.57), wall median 3.76 -> 2.43 s; summed
+``-X importtime`` of the imports, best of 7, 1.42 -> 0.92 s. Wall times on this machine are 2-4x
+the CPU times. On a quiet machine ``pinwind modes`` took 1.03-1.38 s before the lazy exports
+(12-17 % less CPU) and this change (34 % less): about 0.6-0.8 s now, an estimate, as no quiet
+period was available. benchmarks/README.md has the rest.
 """
 
 from __future__ import annotations
