@@ -6,13 +6,14 @@
   compiled modules, as an installed pinwind runs (one uncounted run writes the bytecode cache);
   ``--compile-each-run`` keeps PYTHONDONTWRITEBYTECODE, which this shared environment sets.
 - In this process, what ``pinwind modes`` spends its time on, in the order the command meets it:
-  typer and rich (the CLI library), ``import pinwind`` and the CLI app (every verb module, which
-  import their heavy modules inside their commands: ``lazy_exports.py``), pydantic (which typer
-  imports to convert the arguments when a command runs), the modules of ``modes`` (numpy,
-  Pinocchio, the model, the linearisation), typer building the commands of every verb from their
-  signatures, loading the model, linearising and solving; then the whole command once more in
-  this process, everything imported (typer building the commands and converting the arguments
-  with pydantic, the model, the modes, the table).
+  typer and rich (the CLI library), ``import pinwind``, the CLI app with the modes verb alone
+  (``pinwind/cli/__init__.py`` imports only the invoked verb's module; the verb modules import
+  their heavy modules inside their commands: ``lazy_exports.py``), the modules of ``modes``
+  (numpy, Pinocchio, the model, the linearisation), typer building the command from its
+  signature, loading the model, linearising and solving; then the whole command once more in
+  this process, everything imported (typer building the command and converting the arguments,
+  without pydantic: ``cli/conversions.py``; the model, the modes, the table). Then whether
+  pydantic or another verb's module was imported (neither should be).
 - A Campbell diagram of ``--speeds`` input speeds: ``campbell`` itself (one linearisation at
   the top of the range: the modes of torsional coordinates do not change with speed), and the
   cost if every speed were linearised and solved (``linearise(speeds=...).modes()`` at each;
@@ -23,6 +24,21 @@
 
     python benchmarks/modes.py [--model models/cart600_gearbox.urdf] [--repeats 10] [--speeds 100]
                                [--source OTHER_CHECKOUT] [--compile-each-run]
+
+Measured 2026-11-27 06:09, ``python benchmarks/modes.py --repeats 9``, bytecode cached, on the
+shared 2-core machine at load average 9.7-11.1 (0.23 cores of 2 given): ``pinwind modes
+cart600_gearbox.urdf`` wall median 2.42 s (best 1.78), CPU median 0.81 s; ``pinwind --version``
+0.90 s, CPU 0.30 s; in process (CPU): typer and rich 0.12 s, the app and the modes verb 0.04 s,
+numpy, Pinocchio and the model 0.29 s, typer building the command 0.007 s, load 0.014 s,
+linearise and solve 0.011 s, the whole command again 0.044 s (it was 0.16 s with pydantic and
+every verb's command); pydantic and the other verbs not imported. Campbell 0-30 rpm 0.015 s CPU;
+100 speeds each linearised 3.8 s wall (1.24 s CPU); ``pinwind campbell`` 2.6 s wall (0.90 s
+CPU). Before/after in the same minutes (interleaved, 15 runs each, load 10.3-11.0): ``pinwind
+modes`` CPU median 1.30 -> 0.86 s (best 0.92 -> 0.57), wall median 3.76 -> 2.43 s; summed
+``-X importtime`` of the imports, best of 7, 1.42 -> 0.92 s. Wall times on this machine are 2-4x
+the CPU times. On a quiet machine ``pinwind modes`` took 1.03-1.38 s before the lazy exports
+(12-17 % less CPU) and this change (34 % less): about 0.6-0.8 s now, an estimate, as no quiet
+period was available. benchmarks/README.md has the rest.
 """
 
 from __future__ import annotations
@@ -141,17 +157,15 @@ def main() -> None:
     import pinwind
 
     steps.done("import pinwind")
-    from pinwind.cli import app
+    import pinwind.cli.modes  # noqa: F401
+    from pinwind.cli.app import app
 
-    steps.done("import pinwind.cli (the app: every verb module)")
-    import typer._adapters  # noqa: F401
-
-    steps.done("import typer._adapters (pydantic: typer's conversions)")
+    steps.done("import pinwind.cli.modes (the app, the modes verb)")
     from pinwind.dynamics.linearisation import linearise
 
     steps.done("import the modes modules (numpy, Pinocchio, model)")
     typer.main.get_command(app)
-    steps.done("typer builds the click commands of every verb")
+    steps.done("typer builds the click command of modes")
     gearbox = pinwind.load(args.model)
     steps.done("load the model")
     modes = linearise(gearbox, meshes={"all": "compliant"}).modes()
@@ -163,6 +177,13 @@ def main() -> None:
         pinwind_main()
     steps.done("whole command again, all imported (typer, work, table)")
     steps.print()
+    from pinwind.cli import VERB_MODULES
+
+    others = {f"pinwind.cli.{name}" for name in VERB_MODULES.values()} - {"pinwind.cli.modes"}
+    print(
+        f"  imported: pydantic {'yes' if 'pydantic' in sys.modules else 'no'}, other verb "
+        f"modules {sorted(others & set(sys.modules)) or 'none'}"
+    )
 
     from pinwind.analysis.campbell import campbell
 

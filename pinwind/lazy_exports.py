@@ -13,7 +13,9 @@ Some exports share their name with the submodule that defines them (``pinwind.dy
 the function in ``pinwind/dynamics/simulate.py``, ``pinwind.gears.involute``). The import system
 binds a submodule on its package once it has run, which would put the module where the function
 was; the package's module class (``LazyPackage``) binds the function instead, as the eager
-``from pinwind.dynamics.simulate import simulate`` of the package did.
+``from pinwind.dynamics.simulate import simulate`` of the package did. A submodule named like an
+export it does not define (``pinwind.cli.app``, the module that creates the application
+``pinwind.cli.app``) is not bound at all.
 """
 
 from __future__ import annotations
@@ -49,9 +51,16 @@ class LazyPackage(ModuleType):
     _lazy_sources: dict[str, tuple[str, str]]
 
     def __setattr__(self, name: str, value: Any) -> None:
-        """Bind ``value``; a submodule that defines the export ``name`` binds that export."""
+        """Bind ``value``; a submodule never replaces the export of its name.
+
+        The submodule that defines the export ``name`` binds that export; another submodule of
+        that name is not bound (``pinwind.cli.app`` the module, beside the export ``app`` that
+        ``cli/verbs.py`` completes with every verb), and the export is imported on first use.
+        """
         source = self.__dict__.get("_lazy_sources", {}).get(name)
-        if isinstance(value, ModuleType) and source and value.__name__ == source[0]:
+        if isinstance(value, ModuleType) and source:
+            if value.__name__ != source[0]:
+                return
             value = getattr(value, source[1])
         super().__setattr__(name, value)
 

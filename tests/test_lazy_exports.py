@@ -77,6 +77,43 @@ def test_pinwind_modes_loads_no_log_plot_or_solver_library():
     assert {m for m in loaded if m.startswith(("pinwind.io", "pinwind.dynamics.simulate"))} == set()
 
 
+def test_pinwind_modes_imports_neither_pydantic_nor_the_other_verbs():
+    # Issue 24 (``pinwind modes`` < 1 s): typer converts values through pydantic, which
+    # ``cli/conversions.py`` spares plain values; the other verbs' modules are neither imported
+    # nor built into commands (``VERB_MODULES``).
+    from pinwind.cli import VERB_MODULES
+
+    model = str(MODELS / "cart600_gearbox.urdf")
+    loaded = loaded_after(
+        "import sys\n"
+        "from pinwind.cli import main\n"
+        f"sys.argv = ['pinwind', 'modes', {model!r}]\n"
+        "try:\n    main()\nexcept SystemExit as end:\n    assert not end.code, end.code\n"
+    )
+    assert "pinwind.dynamics.linearisation" in loaded  # the command did run
+    assert loaded & {"pydantic", "pydantic_core", "annotated_types", "typing_inspection"} == set()
+    others = {f"pinwind.cli.{module}" for module in VERB_MODULES.values()} - {"pinwind.cli.modes"}
+    assert others, VERB_MODULES
+    assert loaded & others == set()
+    assert {m for m in loaded if m.startswith(("pinwind.loads", "pinwind.cli.verbs"))} == set()
+
+
+def test_the_app_module_does_not_replace_the_app_with_every_verb():
+    # ``pinwind.cli.app`` is both the module that creates the application and the application
+    # with every verb (``cli/verbs.py``): a command that imported the module alone leaves it so.
+    loaded_after(
+        "import sys\n"
+        "import typer, typer.main\n"
+        "from pinwind.cli import main\n"
+        "sys.argv = ['pinwind', '--version']\n"
+        "try:\n    main()\nexcept SystemExit as end:\n    assert not end.code, end.code\n"
+        "assert 'pinwind.cli.app' in sys.modules and 'pinwind.cli.verbs' not in sys.modules\n"
+        "from pinwind.cli import app\n"
+        "assert isinstance(app, typer.Typer), app\n"
+        "assert {'modes', 'simulate', 'sweep'} <= set(typer.main.get_command(app).commands)\n"
+    )
+
+
 def test_an_export_named_like_its_submodule_stays_the_export():
     # The import system binds a submodule on its package once it has run; the eager
     # ``from pinwind.dynamics.simulate import simulate`` bound the function over it.

@@ -7,31 +7,62 @@ report, export), ``model`` (info, view, build), ``rating`` (rate), ``spectrum`` 
 ``modes`` (modes, campbell), ``sweep`` (sweep ...), ``fatigue`` (fatigue); ``flags`` turns
 the flags of a run into scenario values. ``simulate`` logs every run to an MCAP file
 (``logs/`` by default) that ``replay`` and ``report`` read back on their own.
+
+A command imports only its verb's module (``VERB_MODULES``): ``pinwind modes`` neither imports
+nor builds the other verbs, ``pinwind --version`` none. ``app`` (``pinwind.cli.app``),
+``pinwind --help`` and a command that names no known verb register every verb (``cli/verbs.py``).
 """
 
 from __future__ import annotations
 
+import importlib
 import sys
+from typing import TYPE_CHECKING
 
-from rich.markup import escape
-
-# The verb modules register their commands on ``app`` as they are imported: ``simulate`` and
-# ``run`` first, then the others, the order of ``pinwind --help``.
-from pinwind.cli import simulate  # noqa: F401
-
-# isort: split
-from pinwind.cli import fatigue, logs, model, modes, rating, spectrum, sweep  # noqa: F401
-from pinwind.cli.app import app, err_console
 from pinwind.errors import PinwindError
+from pinwind.lazy_exports import lazy_exports
+
+if TYPE_CHECKING:
+    from pinwind.cli.verbs import app
 
 __all__ = ["app", "main"]
+__getattr__, __dir__ = lazy_exports(__name__)
+
+#: The module (in ``pinwind/cli/``) that registers each verb and group of verbs on ``app``.
+VERB_MODULES = {
+    "simulate": "simulate",
+    "run": "simulate",
+    "fatigue": "fatigue",
+    "replay": "logs",
+    "plot": "logs",
+    "report": "logs",
+    "export": "logs",
+    "info": "model",
+    "build": "model",
+    "view": "model",
+    "modes": "modes",
+    "campbell": "modes",
+    "rate": "rating",
+    "spectrum": "spectrum",
+    "sweep": "sweep",
+}
 
 
 def main() -> None:
     """Entry point: run the CLI and turn pinwind errors into one clear line and exit code 2."""
+    verb = sys.argv[1] if len(sys.argv) > 1 else ""
+    # ``--version`` needs no verb; ``--help``, no verb or an unknown one (its message lists the
+    # verbs) need every verb.
+    module = "app" if verb == "--version" else VERB_MODULES.get(verb, "verbs")
+    importlib.import_module(f"pinwind.cli.{module}")
+    from pinwind.cli.app import app as application
+    from pinwind.cli.app import err_console
+
     try:
-        app()
+        application()
     except PinwindError as err:
+        from rich.markup import escape
+
         # soft_wrap: one line whatever its length (a long path must not be broken in two).
         err_console.print(
             f"[bold red]error:[/bold red] {escape(str(err))}", highlight=False, soft_wrap=True

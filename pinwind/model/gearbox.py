@@ -6,7 +6,6 @@ gear geometry in the reference pose. Everything downstream (simulate, logs, repl
 
 from __future__ import annotations
 
-import hashlib
 import math
 import warnings
 import xml.etree.ElementTree as ET
@@ -227,6 +226,8 @@ class Gearbox:
     @property
     def sha256(self) -> str:
         """SHA-256 of the model file text."""
+        import hashlib  # here: OpenSSL's load is a cost ``pinwind modes`` has no use for
+
         return hashlib.sha256(self.source_text.encode("utf-8")).hexdigest()
 
     @property

@@ -1,0 +1,16 @@
+"""The application with every verb registered: what ``pinwind --help`` and ``pinwind.cli.app`` show.
+
+Each verb module registers its commands on ``app`` as it is imported: ``simulate`` and ``run``
+first, then the others, the order of ``pinwind --help``. A command that names its verb imports
+only that verb's module (``pinwind.cli.main``).
+"""
+
+from __future__ import annotations
+
+from pinwind.cli import simulate  # noqa: F401
+
+# isort: split
+from pinwind.cli import fatigue, logs, model, modes, rating, spectrum, sweep  # noqa: F401
+from pinwind.cli.app import app
+
+__all__ = ["app"]
