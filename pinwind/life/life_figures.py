@@ -37,15 +37,25 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     ax.axhline(1.0, color="k", lw=0.8)
     ax.set_xlabel("turbulence intensity [%]")
     ax.set_ylabel("damage over the design life [-]")
-    ax.set_yscale("symlog", linthresh=1e-3)
-    highest = max(
-        (float(np.max(np.asarray(line.get_ydata(), dtype=float))) for line in ax.get_lines()),
-        default=1.0,
-    )
+    values = np.concatenate([np.asarray(line.get_ydata(), dtype=float) for line in ax.get_lines()])
+    ax.set_yscale("symlog", linthresh=damage_axis_threshold(values))
+    highest = float(np.max(values, initial=1.0))
     ax.set_ylim(0.0, 3.0 * max(highest, 1.0))  # damage is never negative
     ax.legend(fontsize=7, ncol=2)
     ax.grid(alpha=0.3)
     return _save(fig, path)
+
+
+def damage_axis_threshold(values: np.ndarray) -> float:
+    """The symlog axis' linear range: the decade below the smallest non-zero damage (at most 1e-3).
+
+    ISO 6336's curves give damages of 1e-8 to 1e-44 where the others give 0.1 to 1000: every
+    non-zero value must be drawn on the logarithmic part, and zero on the linear part below it.
+    """
+    positive = values[np.isfinite(values) & (values > 0.0)]
+    if positive.size == 0:
+        return 1e-3
+    return min(1e-3, 10.0 ** np.floor(np.log10(positive.min())))
 
 
 def plot_range_cycles(

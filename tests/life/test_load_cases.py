@@ -324,3 +324,14 @@ def test_dask_backend_gives_the_damage_of_a_run_in_this_process(tmp_path):
         b = set_damage(there).damage[variant][0]
         for gear in a:
             assert_allclose(b[gear].per_bin, a[gear].per_bin, rtol=0, atol=0)
+
+
+def test_damage_axis_draws_the_smallest_nonzero_damage_on_its_log_part():
+    from pinwind.life.life_figures import damage_axis_threshold
+
+    # ISO 6336 damages of 1e-44 beside Miner sums of hundreds: the linear range must end below
+    # 3.1e-44, i.e. at the decade 1e-44; zeros and NaN do not move it.
+    values = np.array([0.0, 641.0, 3.1e-44, 2.6e-8, np.nan])
+    assert damage_axis_threshold(values) == pytest.approx(1e-44, rel=1e-12)
+    assert damage_axis_threshold(np.array([0.0, 0.5])) == 1e-3
+    assert damage_axis_threshold(np.zeros(3)) == 1e-3
