@@ -121,8 +121,9 @@ def report(
     """Min, max, mean and final value of the speeds, torques and forces in a log (--all: all).
 
     The default table has each joint's speed and torque, each mesh's forces and each bearing's
-    |F|, |M|, radial and axial force, tilting moment and transmitted torque; --all adds every
-    axis, angle, acceleration and the RMS. --json always gives everything, in SI units.
+    radial and axial force, tilting moment, |F| and, apart, the torque its shaft transmits;
+    --all adds every axis, the world moment, angle, acceleration and the RMS. --json always
+    gives everything, in SI units.
     """
     from pinwind.io.report import report_dict, report_log, report_tables
 
