@@ -47,6 +47,17 @@ def _agma_caption(rating: GearboxRating) -> str:
     )
 
 
+#: Safety factors at or above this print as ``>100``: a gear that carries almost nothing (a
+#: stage the run leaves unloaded) has S in the thousands, which would widen the table past 80
+#: columns and tell no more (``--json`` keeps the value).
+LARGE_FACTOR = 100.0
+
+
+def _factor(value: float) -> str:
+    """A safety factor to 2 decimals, or ``>100`` from ``LARGE_FACTOR`` up."""
+    return f"{value:.2f}" if value < LARGE_FACTOR else f">{LARGE_FACTOR:.0f}"
+
+
 def _ok(passes: bool) -> str:
     return "[green]pass[/green]" if passes else "[bold red]FAIL[/bold red]"
 
@@ -70,8 +81,9 @@ def _table(title: str, caption: str, plain: bool) -> Table:
 
 def _columns(table: Table, names: tuple[str, ...]) -> None:
     for name in names:
+        # A cell too wide for the console folds onto a second line; none is cut to "…".
         table.add_column(
-            name, justify="left" if name in ("mesh", "gear") else "right", no_wrap=True
+            name, justify="left" if name in ("mesh", "gear") else "right", overflow="fold"
         )
 
 
@@ -100,17 +112,17 @@ def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False
                 f"{m.normal_force / 1e3:.1f}" if first else "",
                 f"{m.load.pitch_line_speed:.2f}" if first else "",
                 f"{m.iso.sigma_H[i] * 1e-6:.0f}",
-                f"{m.iso.S_H[i]:.2f}",
+                _factor(m.iso.S_H[i]),
                 f"{m.iso.sigma_F[i] * 1e-6:.0f}",
-                f"{m.iso.S_F[i]:.2f}",
+                _factor(m.iso.S_F[i]),
             )
             agma.add_row(
                 m.mesh if first else "",
                 gear,
                 f"{m.agma.contact_stress[i] * 1e-6:.0f}",
-                f"{m.agma.S_H[i]:.2f}",
+                _factor(m.agma.S_H[i]),
                 f"{m.agma.bending_stress[i] * 1e-6:.0f}",
-                f"{m.agma.S_F[i]:.2f}",
+                _factor(m.agma.S_F[i]),
                 f"{m.hertz_p_max * 1e-6:.0f}" if first else "",
                 _ok(m.passes) if first else "",
             )
@@ -121,10 +133,10 @@ def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False
     for g in rating.gears.values():
         gears.add_row(
             g.gear,
-            f"{g.S_H_iso:.2f}",
-            f"{g.S_F_iso:.2f}",
-            f"{g.S_H_agma:.2f}",
-            f"{g.S_F_agma:.2f}",
+            _factor(g.S_H_iso),
+            _factor(g.S_F_iso),
+            _factor(g.S_H_agma),
+            _factor(g.S_F_agma),
             f"{g.hertz_p_max * 1e-6:.0f}",
             _ok(g.passes),
         )

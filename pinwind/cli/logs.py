@@ -132,8 +132,9 @@ def report(
     if as_json:
         print(json.dumps(report_dict(res), indent=1))
         return
+    # Two lines: the log's path (as long as it is) apart, so that the run's line fits 80 columns.
+    say(f"[bold]{escape(str(res.metadata.get('model_name')))}[/bold] — {escape(str(log))}")
     say(
-        f"[bold]{escape(str(res.metadata.get('model_name')))}[/bold] — {escape(str(log))}: "
         f"{escape(res.status)}; dt = {res.metadata.get('dt'):g} s, logged every "
         f"{res.metadata['log']['stride']} sample(s); model sha256 "
         f"{str(res.metadata.get('model_sha256'))[:12]}"
