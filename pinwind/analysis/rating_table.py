@@ -18,11 +18,15 @@ ISO_METHOD = (
     "ISO 6336-2 (pitting) and ISO 6336-3 (tooth root), method B factors; K_v by "
     "ISO 6336-1:1996 method C; life, lubrication and roughness factors 1"
 )
-AGMA_METHOD = (
-    "AGMA 2001-D04 in SI units (Shigley 10th ed.); J by AGMA 908-B89 (internal gears: "
-    "1/(Y_F Y_S) of ISO 6336-3); Y_N = Z_N = 1; p_max: largest Hertz line-contact pressure "
-    "along the path of contact"
+AGMA_METHOD = "AGMA 2001-D04 in SI units (Shigley 10th ed.)"
+AGMA_DEFAULTS = (
+    "Y_N = Z_N = 1; p_max: largest Hertz line-contact pressure along the path of contact"
 )
+#: Where AGMA's bending geometry factor J comes from, by ``AgmaFactors.geometry_factor``.
+AGMA_J = {
+    "agma908": "J by AGMA 908-B89 (internal gears: 1/(Y_F Y_S) of ISO 6336-3)",
+    "iso": "J = 1/(Y_F Y_S) of ISO 6336-3",
+}
 
 
 def _iso_caption(rating: GearboxRating) -> str:
@@ -39,11 +43,11 @@ def _iso_caption(rating: GearboxRating) -> str:
 def _agma_caption(rating: GearboxRating) -> str:
     """The AGMA method and the choices of the first mesh."""
     if not rating.meshes:
-        return AGMA_METHOD
+        return f"{AGMA_METHOD}; {AGMA_DEFAULTS}"
     f = rating.meshes[0].agma.factors
     return (
-        f"{AGMA_METHOD}; K_o = {f.K_o:g}, Q_v = {f.quality}, reliability {f.reliability:g} "
-        f"(K_R = {f.K_R:.3g})"
+        f"{AGMA_METHOD}; {AGMA_J[f.geometry_factor]}; {AGMA_DEFAULTS}; K_o = {f.K_o:g}, "
+        f"Q_v = {f.quality}, reliability {f.reliability:g} (K_R = {f.K_R:.3g})"
     )
 
 
