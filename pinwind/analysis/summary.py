@@ -106,7 +106,7 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
     final = f"t = {res.time[-1]:.4g} s"
 
     joints = _table(
-        f"Bearings at {final}",
+        f"Bearings (joints) at {final}: speed, ratio and net torque",
         ("joint", "speed [rpm]", f"ratio to {ref or '-'} [-]", "torque [kN·m]"),
         plain,
     )
