@@ -84,6 +84,41 @@ def test_hand_written_pair_turns_at_the_tooth_ratio_and_carries_torque_over_radi
         assert f"{force / 1e3:.4f}" in cells, force
 
 
+def bearing_loads(output: str) -> dict[str, list[float]]:
+    """Bearing → (radial, axial, tilting, torque) of the run summary's bearing-load table."""
+    lines = output.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.strip().startswith("Bearing loads on"))
+    rows: dict[str, list[float]] = {}
+    for line in lines[start + 3 :]:  # title, header, rule
+        if not line.strip():
+            break
+        name, *cells = line.split()
+        rows[name] = [float(cell) for cell in cells]
+    return rows
+
+
+def test_pair_bearings_carry_tooth_force_and_weight_radially_and_the_shaft_torque_apart(tutorial):
+    text = TUTORIAL.read_text(encoding="utf-8")
+    wheel = int(re.findall(r'teeth="([0-9]+)"', text)[0])
+    wheel_mass, pinion_mass = (float(m) for m in re.findall(r'mass value="([0-9.]+)"', text)[:2])
+    command, out = output_of(tutorial, "pinwind simulate pair.urdf")
+    torque_in, torque_out = flag(command, "torque input"), flag(command, "torque output")
+    tangential = torque_in / (10e-3 * wheel / 2)  # module 10 mm
+    radial = tangential * math.tan(math.radians(20))
+    g = 9.81  # gravity="0 -9.81 0", across both shafts (axes along z)
+    # The pinion sits on +x of the wheel: the tangential force is vertical, the radial along x.
+    # The wheel's bearing holds its weight and the pinion's push F_t up; the pinion's holds its
+    # weight against the wheel's push down.
+    loads = bearing_loads(out)
+    expected = {
+        "input": [math.hypot(tangential + wheel_mass * g, radial), 0.0, 0.0, torque_in],
+        "output": [math.hypot(-tangential + pinion_mass * g, radial), 0.0, 0.0, torque_out],
+    }
+    for name, values in expected.items():
+        # the table prints kN and kN·m to 4 decimals
+        assert_allclose(loads[name], [v / 1e3 for v in values], atol=6e-5, err_msg=name)
+
+
 def test_built_stage_has_the_ratio_of_its_tooth_counts(tutorial):
     command, info = output_of(tutorial, "pinwind build planetary")
     sun, planet, ring = (flag(command, name) for name in ("sun", "planet", "ring"))

@@ -18,11 +18,15 @@ ISO_METHOD = (
     "ISO 6336-2 (pitting) and ISO 6336-3 (tooth root), method B factors; K_v by "
     "ISO 6336-1:1996 method C; life, lubrication and roughness factors 1"
 )
-AGMA_METHOD = (
-    "AGMA 2001-D04 in SI units (Shigley 10th ed.); J by AGMA 908-B89 (internal gears: "
-    "1/(Y_F Y_S) of ISO 6336-3); Y_N = Z_N = 1; p_max: largest Hertz line-contact pressure "
-    "along the path of contact"
+AGMA_METHOD = "AGMA 2001-D04 in SI units (Shigley 10th ed.)"
+AGMA_DEFAULTS = (
+    "Y_N = Z_N = 1; p_max: largest Hertz line-contact pressure along the path of contact"
 )
+#: Where AGMA's bending geometry factor J comes from, by ``AgmaFactors.geometry_factor``.
+AGMA_J = {
+    "agma908": "J by AGMA 908-B89 (internal gears: 1/(Y_F Y_S) of ISO 6336-3)",
+    "iso": "J = 1/(Y_F Y_S) of ISO 6336-3",
+}
 
 
 def _iso_caption(rating: GearboxRating) -> str:
@@ -39,12 +43,23 @@ def _iso_caption(rating: GearboxRating) -> str:
 def _agma_caption(rating: GearboxRating) -> str:
     """The AGMA method and the choices of the first mesh."""
     if not rating.meshes:
-        return AGMA_METHOD
+        return f"{AGMA_METHOD}; {AGMA_DEFAULTS}"
     f = rating.meshes[0].agma.factors
     return (
-        f"{AGMA_METHOD}; K_o = {f.K_o:g}, Q_v = {f.quality}, reliability {f.reliability:g} "
-        f"(K_R = {f.K_R:.3g})"
+        f"{AGMA_METHOD}; {AGMA_J[f.geometry_factor]}; {AGMA_DEFAULTS}; K_o = {f.K_o:g}, "
+        f"Q_v = {f.quality}, reliability {f.reliability:g} (K_R = {f.K_R:.3g})"
     )
+
+
+#: Safety factors at or above this print as ``>100``: a gear that carries almost nothing (a
+#: stage the run leaves unloaded) has S in the thousands, which would widen the table past 80
+#: columns and tell no more (``--json`` keeps the value).
+LARGE_FACTOR = 100.0
+
+
+def _factor(value: float) -> str:
+    """A safety factor to 2 decimals, or ``>100`` from ``LARGE_FACTOR`` up."""
+    return f"{value:.2f}" if value < LARGE_FACTOR else f">{LARGE_FACTOR:.0f}"
 
 
 def _ok(passes: bool) -> str:
@@ -70,8 +85,9 @@ def _table(title: str, caption: str, plain: bool) -> Table:
 
 def _columns(table: Table, names: tuple[str, ...]) -> None:
     for name in names:
+        # A cell too wide for the console folds onto a second line; none is cut to "…".
         table.add_column(
-            name, justify="left" if name in ("mesh", "gear") else "right", no_wrap=True
+            name, justify="left" if name in ("mesh", "gear") else "right", overflow="fold"
         )
 
 
@@ -100,17 +116,17 @@ def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False
                 f"{m.normal_force / 1e3:.1f}" if first else "",
                 f"{m.load.pitch_line_speed:.2f}" if first else "",
                 f"{m.iso.sigma_H[i] * 1e-6:.0f}",
-                f"{m.iso.S_H[i]:.2f}",
+                _factor(m.iso.S_H[i]),
                 f"{m.iso.sigma_F[i] * 1e-6:.0f}",
-                f"{m.iso.S_F[i]:.2f}",
+                _factor(m.iso.S_F[i]),
             )
             agma.add_row(
                 m.mesh if first else "",
                 gear,
                 f"{m.agma.contact_stress[i] * 1e-6:.0f}",
-                f"{m.agma.S_H[i]:.2f}",
+                _factor(m.agma.S_H[i]),
                 f"{m.agma.bending_stress[i] * 1e-6:.0f}",
-                f"{m.agma.S_F[i]:.2f}",
+                _factor(m.agma.S_F[i]),
                 f"{m.hertz_p_max * 1e-6:.0f}" if first else "",
                 _ok(m.passes) if first else "",
             )
@@ -121,10 +137,10 @@ def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False
     for g in rating.gears.values():
         gears.add_row(
             g.gear,
-            f"{g.S_H_iso:.2f}",
-            f"{g.S_F_iso:.2f}",
-            f"{g.S_H_agma:.2f}",
-            f"{g.S_F_agma:.2f}",
+            _factor(g.S_H_iso),
+            _factor(g.S_F_iso),
+            _factor(g.S_H_agma),
+            _factor(g.S_F_agma),
             f"{g.hertz_p_max * 1e-6:.0f}",
             _ok(g.passes),
         )

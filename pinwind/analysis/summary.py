@@ -15,6 +15,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from pinwind.analysis.run_statistics import RunningStatistics
+from pinwind.dynamics import series
 from pinwind.dynamics._native import fold_columns
 from pinwind.dynamics.result import FoldedStatistics, Result
 from pinwind.units import rad_s_to_rpm
@@ -85,7 +86,12 @@ def _span(res: Result, stats: FoldedStatistics) -> str:
 
 
 def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
-    """Tables of joint speeds and ratios, slide displacements, mesh forces, bearing reactions.
+    """Tables of joint speeds and ratios, slide displacements, mesh forces, bearing loads.
+
+    The bearing loads are those a bearing engineer reads (``dynamics/bearing_load.py``): radial
+    and axial force and tilting moment about the bearing's own axis, with the torque the shaft
+    transmits apart (a shaft's torque, not a load on the bearing); then the largest of each
+    over the run and of the resultant force |F|.
 
     Each table fits 80 columns with the shipped models' names (a wider cell folds; numbers are
     never cut). Units are in the column headers.
@@ -100,7 +106,7 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
     final = f"t = {res.time[-1]:.4g} s"
 
     joints = _table(
-        f"Bearings at {final}",
+        f"Bearings (joints) at {final}: speed, ratio and net torque",
         ("joint", "speed [rpm]", f"ratio to {ref or '-'} [-]", "torque [kN·m]"),
         plain,
     )
@@ -170,25 +176,38 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             )
         tables += [forces, history]
 
-    reactions = _table(
-        f"Bearing reactions on the child body at {final}, world axes",
-        ("bearing", "Fx [kN]", "Fy [kN]", "Fz [kN]", "|M| [kN·m]"),
+    # The loads of ``dynamics/bearing_load.py`` (the series bearing_radial, ...), as the
+    # report, the export and the plots give them: the shaft's torque apart from the loads.
+    at_end = _table(
+        f"Bearing loads on the child body at {final}, about the bearing axis",
+        ("bearing", "radial [kN]", "axial [kN]", "tilting |M| [kN·m]", "torque [kN·m]"),
         plain,
     )
-    history = _table(
-        f"Bearing reactions over {_span(res, stats)}: magnitude of the force",
-        ("bearing", "|F| min [kN]", "|F| max [kN]", "|F| RMS [kN]"),
+    peaks = _table(
+        f"Bearing loads over {_span(res, stats)}: largest values",
+        ("bearing", "radial [kN]", "|axial| [kN]", "tilting [kN·m]", "|F| max [kN]"),
         plain,
     )
+    # The statistics' labels of the series: "radial force", "axial force", "tilting moment".
+    label = {q: series.get(f"bearing_{q}").title for q in ("radial", "axial", "tilting", "force")}
     for name in res.bearing_names:
         b = res.bearing(name)
-        s = stats.row("bearing", name, "force (world)", "|.|")
-        fx, fy, fz = b.force[-1] / 1e3
-        reactions.add_row(
-            name, f"{fx:.4f}", f"{fy:.4f}", f"{fz:.4f}", f"{np.linalg.norm(b.moment[-1]) / 1e3:.4f}"
+        at_end.add_row(
+            name,
+            f"{b.radial[-1] / 1e3:.4f}",
+            f"{b.axial[-1] / 1e3:.4f}",
+            f"{b.tilting[-1] / 1e3:.4f}",
+            f"{b.torque[-1] / 1e3:.4f}",
         )
-        history.add_row(name, f"{s.min / 1e3:.4f}", f"{s.max / 1e3:.4f}", f"{s.rms / 1e3:.4f}")
-    tables += [reactions, history]
+        axial = stats.row("bearing", name, label["axial"])
+        peaks.add_row(
+            name,
+            f"{stats.row('bearing', name, label['radial']).max / 1e3:.4f}",
+            f"{max(abs(axial.min), abs(axial.max)) / 1e3:.4f}",
+            f"{stats.row('bearing', name, label['tilting']).max / 1e3:.4f}",
+            f"{stats.row('bearing', name, label['force'], '|.|').max / 1e3:.4f}",
+        )
+    tables += [at_end, peaks]
 
     if res.generator_names or res.rotor_names:
         loads = _table(

@@ -121,8 +121,9 @@ def report(
     """Min, max, mean and final value of the speeds, torques and forces in a log (--all: all).
 
     The default table has each joint's speed and torque, each mesh's forces and each bearing's
-    |F|, |M|, radial and axial force, tilting moment and transmitted torque; --all adds every
-    axis, angle, acceleration and the RMS. --json always gives everything, in SI units.
+    radial and axial force, tilting moment, |F| and, apart, the torque its shaft transmits;
+    --all adds every axis, the world moment, angle, acceleration and the RMS. --json always
+    gives everything, in SI units.
     """
     from pinwind.io.report import report_dict, report_log, report_tables
 
@@ -131,8 +132,9 @@ def report(
     if as_json:
         print(json.dumps(report_dict(res), indent=1))
         return
+    # Two lines: the log's path (as long as it is) apart, so that the run's line fits 80 columns.
+    say(f"[bold]{escape(str(res.metadata.get('model_name')))}[/bold] — {escape(str(log))}")
     say(
-        f"[bold]{escape(str(res.metadata.get('model_name')))}[/bold] — {escape(str(log))}: "
         f"{escape(res.status)}; dt = {res.metadata.get('dt'):g} s, logged every "
         f"{res.metadata['log']['stride']} sample(s); model sha256 "
         f"{str(res.metadata.get('model_sha256'))[:12]}"

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Annotated
 
@@ -19,6 +20,7 @@ from pinwind.cli.flags import (
     load_values,
     parse_pairs,
 )
+from pinwind.errors import InputError
 
 
 @app.command()
@@ -38,14 +40,50 @@ def rate(
     duration: DurationOption = 0.05,
     dt: StepOption = 1e-3,
     at: Annotated[str, typer.Option(help="Load level: last, max or mean of the run.")] = "last",
+    application_factor: Annotated[
+        float,
+        typer.Option(
+            "--application-factor",
+            help="ISO K_A and AGMA K_o: the overload the run's forces do not hold [-].",
+        ),
+    ] = 1.0,
+    accuracy_grade: Annotated[
+        int, typer.Option("--accuracy-grade", help="ISO 1328 accuracy grade for ISO K_v (3…12).")
+    ] = 6,
+    quality: Annotated[
+        int, typer.Option("--quality", help="AGMA transmission accuracy level Q_v for AGMA K_v.")
+    ] = 10,
+    reliability: Annotated[
+        float,
+        typer.Option("--reliability", help="AGMA reliability for K_R (0.5 … 0.9999)."),
+    ] = 0.99,
+    geometry_factor: Annotated[
+        str,
+        typer.Option(
+            "--geometry-factor",
+            help="AGMA bending geometry factor J: agma908 (AGMA 908-B89; internal gears ISO's) "
+            "or iso (1/(Y_F Y_S) of ISO 6336-3).",
+        ),
+    ] = "agma908",
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
 ) -> None:
-    """Rate every mesh (ISO 6336, AGMA 2001, Hertz) from the forces of a short simulation."""
+    """Rate every mesh (ISO 6336, AGMA 2001, Hertz) from the forces of a short simulation.
+
+    The factors the command line sets are every mesh's; the others take their documented
+    defaults (``IsoFactors``, ``AgmaFactors`` set them all from Python).
+    """
     import pinwind
     from pinwind import scenario as sc
     from pinwind.analysis.rating import rate as rate_result
     from pinwind.analysis.rating_table import rating_tables
+    from pinwind.gears.rating_agma import AgmaFactors
+    from pinwind.gears.rating_iso import IsoFactors
 
+    if not (math.isfinite(application_factor) and application_factor > 0):
+        raise InputError(
+            f"--application-factor {application_factor:g}: give a finite factor > 0 "
+            "(1: the run's forces are the actual loads)"
+        )
     values = {"model": str(model), "duration": duration, "dt": dt}
     scenario = sc.build(values | load_values(torque, speed, None, initial_speed), flags=FLAGS)
     with warnings_as_lines():
@@ -56,7 +94,19 @@ def rate(
         materials = {g: chosen for g in gearbox.gears} | materials
     with warnings_as_lines():
         res = sc.run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
-        rating = rate_result(gearbox, res, at=at, materials=materials)
+        rating = rate_result(
+            gearbox,
+            res,
+            at=at,
+            materials=materials,
+            iso=IsoFactors(K_A=application_factor, accuracy_grade=accuracy_grade),
+            agma=AgmaFactors(
+                K_o=application_factor,
+                quality=quality,
+                reliability=reliability,
+                geometry_factor=geometry_factor,
+            ),
+        )
     if as_json:
         print(json.dumps(rating.as_dict(), indent=1))
         return

@@ -393,7 +393,10 @@ def panels(
         return to_display(values, s.plot.unit)
 
     out: list[Panel] = []
-    for s in series.schema():
+    # Within a group, vectors in world axes after the loads about each element's own axis: a
+    # bearing's radial force, tilting moment and shaft torque before its world |F| and |M|
+    # (whose |M| holds the shaft's torque).
+    for s in sorted(series.schema(), key=lambda s: s.frame == "world"):
         if s.plot is None or s.per == "pose" or (s.family != "run" and not res.names(s.family)):
             continue
         p = s.plot

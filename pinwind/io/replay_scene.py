@@ -16,7 +16,9 @@ the model's own reader, ``model/urdf.read_model_file``):
   coaxial bodies at different angles so that their names do not stack;
 - force **arrows** drawn on the face of the gear (mesh forces, at the pitch point) or of the
   body (bearing forces, on the axis) toward the camera, outside the solids, one scale for every
-  arrow, the force in newtons in each arrow's label (shown on hover), each family its own entity
+  arrow, the force in newtons in each arrow's label (shown on hover; a bearing's gives its
+  radial and axial force and tilting moment about its axis, and apart the torque its shaft
+  transmits), each family its own entity
   (``gearbox/mesh_forces``, ``gearbox/bearing_forces``) so that it can be switched off;
 - the default camera (``camera``), oblique from the side opposite the parallel stages.
 """
@@ -608,8 +610,37 @@ def _send_labels(model, res, visuals, colors, root, view, send, log_static) -> N
     )
 
 
-def _kn(values: np.ndarray) -> list[str]:
-    return [f"{v:,.0f} N".replace(",", " ") for v in values]
+def _kn(values: np.ndarray, unit: str = "N") -> list[str]:
+    return [f"{v:,.0f} {unit}".replace(",", " ") for v in values]
+
+
+def _force_labels(names: list[str], forces: np.ndarray) -> list[str]:
+    """``name: |F| N`` of each arrow of each frame, frame after frame."""
+    magnitude = np.linalg.norm(forces, axis=-1)
+    return [f"{names[j]}: {text}" for row in magnitude for j, text in enumerate(_kn(row))]
+
+
+def _bearing_labels(names: list[str], res, shown: list[int]) -> list[str]:
+    """Each bearing's loads about its own axis, frame after frame.
+
+    Radial and axial force and tilting moment (``dynamics/bearing_load.py``), and apart the
+    torque its shaft transmits, which is not a load on the bearing.
+    """
+    loads = [
+        getattr(res, f"bearing_{q}")[:, shown] for q in ("radial", "axial", "tilting", "torque")
+    ]
+    return [
+        f"{name}: radial {radial}, axial {axial}, tilting {tilting}; shaft torque {torque}"
+        for frame in range(len(res))
+        for name, radial, axial, tilting, torque in zip(
+            names,
+            _kn(loads[0][frame]),
+            _kn(loads[1][frame]),
+            _kn(loads[2][frame], "N·m"),
+            _kn(loads[3][frame], "N·m"),
+            strict=True,
+        )
+    ]
 
 
 def _send_arrows(model, res, visuals, view, scene: Scene, send, log_static) -> None:
@@ -640,7 +671,7 @@ def _send_arrows(model, res, visuals, view, scene: Scene, send, log_static) -> N
                 "gearbox/mesh_forces",
                 res.pitch_point + offsets,
                 res.mesh_force_on_b,
-                list(res.mesh_names),
+                _force_labels(list(res.mesh_names), res.mesh_force_on_b),
                 MESH_ARROW_COLOR,
                 "red",
                 "tooth force on gear B of each mesh, at the pitch point, on B's face toward you",
@@ -666,11 +697,12 @@ def _send_arrows(model, res, visuals, view, scene: Scene, send, log_static) -> N
                 "gearbox/bearing_forces",
                 origins,
                 res.bearing_force[:, shown],
-                [res.bearing_names[i] for i in shown],
+                _bearing_labels([res.bearing_names[i] for i in shown], res, shown),
                 BEARING_ARROW_COLOR,
                 "olive",
                 "force of each bearing on its child body, on the body's axis at its face toward "
-                "you",
+                "you; its label gives the radial and axial force and the tilting moment about "
+                "the bearing's axis, and apart the torque the shaft transmits",
             )
         )
     if not families:
@@ -678,10 +710,8 @@ def _send_arrows(model, res, visuals, view, scene: Scene, send, log_static) -> N
     largest = max(float(np.max(np.linalg.norm(f[2], axis=-1), initial=0.0)) for f in families)
     scale = ARROW_FRACTION * largest_radius / largest if largest > 0 else 1.0
     scene.arrow_scale = scale
-    for path, origins, forces, names, color, color_name, what in families:
-        k = len(names)
-        magnitude = np.linalg.norm(forces, axis=-1)
-        labels = [f"{names[j]}: {text}" for row in magnitude for j, text in enumerate(_kn(row))]
+    for path, origins, forces, labels, color, color_name, what in families:
+        k = forces.shape[1]
         send(
             path,
             rr.Arrows3D.columns(

@@ -6,8 +6,9 @@ SI units (``report_dict``, ``--json``); the printed tables use the units of ``pi
 simulate``: rpm, kN, kN·m (a slide's joint rows: µm, m/s, m/s², kN). Vectors give one row per
 world or joint-frame component plus one for the magnitude. By default the printed tables are
 the engineer's: the series of each element that ``Series.headline`` marks (speeds, torques,
-mesh forces, bearing forces and moments about the bearing axis), vectors by their magnitude
-only, and no row that is zero throughout; ``all_rows`` (``pinwind report --all``) prints every
+mesh forces, bearing radial and axial forces and tilting moments about the bearing axis with
+the shaft's torque apart, and the bearing force |F|), vectors by their magnitude only, and no
+row that is zero throughout; ``all_rows`` (``pinwind report --all``) prints every
 row and every statistic.
 Body poses are geometry, not loads, and are left out (``pinwind.read_log`` has them).
 """

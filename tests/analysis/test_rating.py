@@ -198,3 +198,26 @@ def test_rate_command_refuses_a_model_with_pointed_teeth_in_one_line(tmp_path):
     errors = [line for line in out.stderr.splitlines() if line.startswith("error: ")]
     assert len(errors) == 1 and "Traceback" not in out.stderr
     assert "g1 (12 teeth, x = +0.900)" in errors[0] and "pointed teeth" in errors[0]
+
+
+def test_rating_a_run_started_at_rest_under_torques_balanced_to_seven_digits_warns(saleh):
+    # docs/rating.md's command: T_sun = -166666.7 N·m against T_carrier/6 = 166666.67 N·m
+    # leaves 0.2 N·m at the sun, 6 × 0.2 = 1.2 N·m at the carrier: the train creeps from rest
+    # to µm/s in 0.05 s, still a rating at standstill (dynamic factors 1).
+    gb, _ = saleh
+    creeping = pinwind.simulate(
+        gb, duration=0.05, dt=1e-3, torques={"carrier": 1e6, "sun": -166666.7}
+    )
+    with pytest.warns(RatingAtZeroSpeed, match="pitch-line speed is below 10 µm/s"):
+        rating = rate(gb, creeping)
+    speed = max(m.load.pitch_line_speed for m in rating.meshes)
+    assert 1e-6 < speed < 1e-5
+    # AGMA 2001 at Q_v = 10 (Shigley eq. 14-27): K_v = ((A + √V)/A)^B, V in ft/min
+    # (196.85 v, v in m/s; Shigley's SI form rounds it to 200), B = 0.25 (12 − Q_v)^(2/3),
+    # A = 50 + 56 (1 − B): 1 + 1.6e-4 at 5 µm/s.
+    b = 0.25 * (12 - 10) ** (2 / 3)
+    a = 50 + 56 * (1 - b)
+    for m in rating.meshes:
+        feet_per_minute = m.load.pitch_line_speed * 60 / 0.3048
+        assert_allclose(m.agma.factors.K_v, ((a + math.sqrt(feet_per_minute)) / a) ** b, rtol=1e-12)
+        assert_allclose([m.iso.factors.K_v, m.agma.factors.K_v], 1.0, rtol=3e-4)

@@ -55,3 +55,28 @@ def test_rating_tables_name_the_standards_editions_and_methods(printed):
         "reliability 0.99",
     ):
         assert named in text, named
+
+
+def test_a_stage_the_run_leaves_unloaded_prints_its_huge_safety_factors_as_over_100():
+    # The sun's torque balances the carrier's on the sun shaft itself: the parallel stages behind
+    # it carry only their inertia's share (≈ 0), so σ → 0 and S = permissible / σ → ∞. Printed
+    # whole these widen the table past 80 columns and every cell got cut to "…".
+    import warnings
+
+    gb = pinwind.load(MODELS / "saleh2017_drivetrain.urdf")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the rating of a nearly unloaded stage is the point
+        res = pinwind.simulate(
+            gb, duration=0.005, dt=1e-3, torques={"carrier": 1e6, "sun": -1e6 / 6}
+        )
+        rating = rate(gb, res)
+    stage = next(m for m in rating.meshes if m.mesh == "stage2")
+    assert min(stage.iso.S_H) > 100 and min(stage.agma.S_F) > 100
+    console = Console(file=io.StringIO(), width=COLUMNS, force_terminal=False)
+    for table in rating_tables(rating, title="saleh2017_drivetrain at t = 0.005 s", plain=True):
+        console.print(table)
+    text = console.file.getvalue()
+    assert max(len(line) for line in text.splitlines()) <= COLUMNS
+    assert "…" not in text
+    row = next(line.split() for line in text.splitlines() if line.startswith("stage2 "))
+    assert row[0:2] == ["stage2", "stage2_pinion"] and ">100" in row

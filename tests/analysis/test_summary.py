@@ -1,7 +1,8 @@
-"""The summary table of ``pinwind simulate``: speed ratios of runs driven by wind alone."""
+"""The summary tables of ``pinwind simulate``: speed ratios, and bearing loads about the axis."""
 
 from __future__ import annotations
 
+import io
 import warnings
 
 import numpy as np
@@ -11,7 +12,7 @@ from pinwind.analysis.summary import summary_tables
 from pinwind.loads.generator import LinearSlip
 from pinwind.loads.rotor import Rotor
 from pinwind.model.gearbox import loads
-from tests.conftest import two_gear_urdf
+from tests.conftest import MODELS, two_gear_urdf
 
 
 def test_ratio_column_of_a_rotor_and_generator_run_is_the_tooth_ratio():
@@ -36,3 +37,129 @@ def test_ratio_column_of_a_rotor_and_generator_run_is_the_tooth_ratio():
     # External pair of 20 and 40 teeth: b turns at −20/40 of a.
     np.testing.assert_allclose(float(ratios["b"]), -20 / 40, rtol=1e-5)
     np.testing.assert_allclose(float(ratios["a"]), 1.0, rtol=1e-12)
+
+
+#: A shaft on a bearing tilted by these roll, pitch, yaw [rad], its axis its own z; its centre of
+#: mass on the axis, OFFSET from the bearing centre; spun up by TORQUE about its axis.
+TILT_RPY = (0.3, 0.5, 0.2)
+SHAFT_MASS = 5000.0  # [kg]
+OFFSET = 0.4  # [m]
+TORQUE = 2500.0  # [N·m]
+G = 9.81  # [m/s²], along −z of the world
+
+TILTED_SHAFT = f"""<?xml version="1.0"?>
+<robot name="tilted">
+  <link name="housing"/>
+  <link name="shaft">
+    <inertial><origin xyz="0 0 {OFFSET!r}"/><mass value="{SHAFT_MASS!r}"/>
+      <inertia ixx="200" iyy="200" izz="100" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <joint name="shaft" type="continuous">
+    <parent link="housing"/><child link="shaft"/>
+    <origin xyz="0.1 -0.2 0.3" rpy="{" ".join(repr(a) for a in TILT_RPY)}"/><axis xyz="0 0 1"/>
+  </joint>
+  <gearbox/>
+</robot>
+"""
+
+
+def _table_titled(tables, start: str) -> dict[str, list[float]]:
+    """Element → the numbers of its row in the table whose title starts with ``start``."""
+    (table,) = [t for t in tables if str(t.title).startswith(start)]
+    cells = [column._cells for column in table.columns]
+    return {row[0]: [float(c) for c in row[1:]] for row in zip(*cells, strict=True)}
+
+
+def test_tilted_shafts_bearing_reads_its_weight_radially_and_axially_and_its_torque_apart():
+    # Statics by hand (the centre of mass is on the axis a, so spinning up adds no force): the
+    # bearing holds the weight W = m g upward, W a_z along the axis and W √(1 − a_z²) across;
+    # the weight's lever c = OFFSET·a gives a tilting moment OFFSET·W √(1 − a_z²) across the
+    # axis, and the moment along it is the torque that drives the shaft.
+    import pinocchio as pin
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # nothing holds the torque: the shaft spins up
+        res = pinwind.simulate(
+            loads(TILTED_SHAFT, path="tilted.urdf"),
+            duration=0.01,
+            dt=1e-3,
+            torques={"shaft": TORQUE},
+            gravity=np.array([0.0, 0.0, -G]),
+            progress=False,
+        )
+    a_z = pin.rpy.rpyToMatrix(*TILT_RPY)[2, 2]
+    weight = SHAFT_MASS * G
+    across = weight * np.sqrt(1.0 - a_z**2)
+    tables = summary_tables(res, plain=True)
+    at_end = _table_titled(tables, "Bearing loads on the child body")
+    np.testing.assert_allclose(
+        np.array(at_end["shaft"]) * 1e3,  # radial [kN], axial [kN], tilting, torque [kN·m]
+        [across, weight * a_z, OFFSET * across, TORQUE],
+        rtol=0,
+        atol=0.06,  # printed to 0.1 N, N·m
+    )
+    peaks = _table_titled(tables, "Bearing loads over")
+    np.testing.assert_allclose(
+        np.array(peaks["shaft"]) * 1e3,  # radial, |axial| [kN], tilting [kN·m], |F| [kN]
+        [across, abs(weight * a_z), OFFSET * across, weight],
+        rtol=0,
+        atol=0.06,
+    )
+
+
+def test_carrier_bearing_holds_the_weight_of_carrier_and_planets_and_the_carrier_torque():
+    # Saleh 2017's stage at constant speed under balanced torques: the three planets' mesh
+    # forces are equal and 120° apart, so they cancel on the carrier's subtree, and its bearing
+    # holds the weight of the carrier with its planets. Torque balance of the stage about its
+    # axis: the ring's mount reacts −(T_carrier + T_sun); each bearing transmits its shaft's
+    # torque (none for a planet's).
+    gearbox = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    carrier_torque, sun_torque = 1e6, -1e6 / 6
+    res = pinwind.simulate(
+        gearbox,
+        duration=0.02,
+        dt=1e-3,
+        initial_speeds={"carrier": 14.2 * np.pi / 30},
+        torques={"carrier": carrier_torque, "sun": sun_torque},
+        progress=False,
+    )
+    model = gearbox.model
+
+    def weight(joint: str) -> float:
+        """The weight of a joint's subtree [N]: the bodies its bearing carries."""
+        subtree = model.subtrees[model.getJointId(joint)]
+        return sum(model.inertias[j].mass for j in subtree) * np.linalg.norm(model.gravity.linear)
+
+    at_end = _table_titled(summary_tables(res, plain=True), "Bearing loads on the child body")
+    expected = {
+        "carrier": [weight("carrier"), 0.0, 0.0, carrier_torque],
+        "sun": [weight("sun"), 0.0, 0.0, sun_torque],
+        "ring": [weight("ring"), 0.0, 0.0, -(carrier_torque + sun_torque)],
+    }
+    for name, values in expected.items():
+        np.testing.assert_allclose(
+            np.array(at_end[name]) * 1e3, values, rtol=0, atol=0.06, err_msg=name
+        )
+
+
+def test_bearing_tables_fit_80_columns_with_the_longest_shipped_names():
+    # saleh2017_drivetrain has the longest bearing names (stage1_pinion, stage2_pinion).
+    from rich.console import Console
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # nothing holds the torque: the train spins up
+        res = pinwind.simulate(
+            pinwind.load(MODELS / "saleh2017_drivetrain.urdf"),
+            duration=0.01,
+            dt=1e-3,
+            torques={"carrier": 1e6},
+            progress=False,
+        )
+    wide = Console(width=200, record=True, file=io.StringIO())
+    for table in summary_tables(res, plain=True):
+        if str(table.title).startswith("Bearing loads"):
+            wide.print(table)
+    lines = wide.export_text().splitlines()
+    assert len(lines) >= 2 * (3 + len(res.bearing_names))  # title, header, rule, rows
+    # Their natural width, unfolded: an 80-column terminal shows every cell whole.
+    assert max(len(line.rstrip()) for line in lines) <= 80

@@ -25,7 +25,7 @@ from pinwind.io.panels import (
     log_panels,
     y_range,
 )
-from tests.io.conftest import ROTOR_RADIUS, WIND
+from tests.io.conftest import ROTOR_RADIUS, TORQUES, WIND
 
 #: A planet mesh force of the Saleh stage at rated torque [kN], with float rounding on top.
 RATED_KN = 339.512
@@ -228,3 +228,24 @@ def test_a_run_without_generator_or_rotor_has_no_such_panels(logged_run):
     keys = {p.key for p in log_panels(open_log(logged_run.path))}
     assert not {k for k in keys if k.startswith(("generator", "rotor"))}
     assert "speed" in keys and "torque" in keys
+
+
+def test_bearing_panels_show_radial_force_and_the_shaft_torque_apart(logged_run, planetary):
+    # Equal planets 120° apart: their mesh forces cancel on the carrier's subtree, whose bearing
+    # holds the weight of carrier and planets across its axis; along the axis it passes the
+    # torque applied to the carrier (1 MN·m with its ripple), the shaft's, not a bearing load.
+    # Spur teeth: no axial force, no tilting moment, so those panels are left out.
+    found = {p.key: p for p in log_panels(open_log(logged_run.path)) if p.group == "bearings"}
+    assert {"bearing_radial", "bearing_torque"} <= set(found)
+    assert "bearing_axial" not in found and "bearing_tilting" not in found
+    # The loads about the axis first, the world-axis |F| and |M| (the torque inside) after.
+    assert list(found) == ["bearing_radial", "bearing_torque", "bearing_force", "bearing_moment"]
+    model = planetary.model
+    subtree = model.subtrees[model.getJointId("carrier")]
+    weight = sum(model.inertias[j].mass for j in subtree) * np.linalg.norm(model.gravity.linear)
+    radial = {s.name: s.values for s in found["bearing_radial"].series}
+    torque = {s.name: s.values for s in found["bearing_torque"].series}
+    np.testing.assert_allclose(radial["carrier"], weight / 1e3, rtol=1e-9)
+    applied = [TORQUES["carrier"](t) for t in logged_run.result.time]
+    np.testing.assert_allclose(torque["carrier"], np.array(applied) / 1e3, rtol=1e-9)
+    np.testing.assert_allclose(torque["planet1"], 0.0, atol=1e-9)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import tracemalloc
 
 import numpy as np
@@ -566,3 +567,23 @@ def test_replay_plots_generator_torque_and_rotor_series_of_a_rotor_run(rotor_run
 def test_replay_of_a_run_without_rotor_has_no_rotor_plots(replayed):
     _, columns = replayed
     assert not [p for p in columns if p.startswith(("/plots/rotor", "/plots/generator"))]
+
+
+def test_bearing_arrow_labels_give_the_loads_about_the_axis_and_the_shaft_torque_apart(
+    replayed, logged_run, planetary
+):
+    # The planets' mesh forces are equal and 120° apart: on the carrier's subtree they cancel,
+    # and its bearing holds the weight of carrier and planets, across its axis (gravity −y, axes
+    # z). Along the axis it passes the torque applied to the carrier, the shaft's, not a load.
+    _, columns = replayed
+    first = columns["/gearbox/bearing_forces"]["Arrows3D:labels"][0].to_pylist()[0]
+    (label,) = [text for text in first if text.startswith("carrier: ")]
+    numbers = re.findall(r"(-?[0-9][0-9 ]*) N", label)
+    radial, axial, tilting, torque = (float(n.replace(" ", "")) for n in numbers)
+    model = planetary.model
+    subtree = model.subtrees[model.getJointId("carrier")]
+    weight = sum(model.inertias[j].mass for j in subtree) * np.linalg.norm(model.gravity.linear)
+    np.testing.assert_allclose(radial, weight, atol=0.5)  # printed to the newton
+    np.testing.assert_allclose([axial, tilting], 0.0, atol=0.5)
+    np.testing.assert_allclose(torque, TORQUES["carrier"](0.0), atol=0.5)
+    assert "shaft torque" in label

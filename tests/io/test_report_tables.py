@@ -65,3 +65,13 @@ def test_report_tables_fit_80_columns_with_every_label_and_number_whole(logged_r
     text = "\n".join(printed(logged_run.path, all_rows=True))
     for label in ("work_constraints", "potential_spring", "M tilting [kN·m]", "T axis [kN·m]"):
         assert label in text, label
+
+
+def test_report_command_fits_80_columns_but_for_the_line_naming_the_log(logged_run):
+    out = run("report", str(logged_run.path))
+    assert out.returncode == 0, out.stderr
+    first, *rest = out.stdout.splitlines()
+    assert str(logged_run.path) in first  # a path is as long as it is: on a line of its own
+    assert max(len(line) for line in rest) <= COLUMNS
+    assert not any("…" in line for line in rest)
+    assert rest[0].startswith("completed; dt = 0.001 s")
