@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
+from rich import box
 from rich.markup import escape
 from rich.table import Table
 
@@ -131,6 +133,34 @@ def fatigue(
         say(f"wrote {path}")
 
 
+def cell(value: float) -> str:
+    """A damage or life in at most 6 characters (``--json`` keeps every digit).
+
+    Whole numbers from 100 to 99999 (``7645``); otherwise three significant digits where they
+    fit, fewer for the tiny ISO 6336 damages (``2.6e-8``).
+    """
+    if 100 <= abs(value) < 1e5:
+        return f"{value:.0f}"  # a load rating or a life: every digit fits
+    for digits in (3, 2, 1):
+        text = re.sub(r"e\+?(-?)0*(\d)", r"e\1\2", f"{value:.{digits}g}")
+        if len(text) <= 6:
+            return text
+    return text
+
+
+def table(title: str, *columns: str, left: int = 1) -> Table:
+    """A table of ``columns``: the first ``left`` ones text, the others numbers.
+
+    Ten 6-character cells fit 80 columns (no vertical rules); a longer cell wraps, never cut.
+    """
+    grid = Table(
+        title=title, box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False, collapse_padding=True
+    )
+    for i, name in enumerate(columns):  # escaped: rich reads "[kN]" as a style
+        grid.add_column(escape(name), justify="left" if i < left else "right", overflow="fold")
+    return grid
+
+
 def _reference_level(damage: SetDamage) -> int:
     """The level nearest 10 % turbulence (003 Table 7's)."""
     return min(range(len(damage.levels)), key=lambda k: abs(damage.intensities[k] - 0.10))
@@ -149,25 +179,26 @@ def _print_tables(damage: SetDamage) -> None:
     level = _reference_level(damage)
     paper_speeds = np.arange(6.0, 21.0, 2.0)
     for variant in VARIANTS:
-        table = Table(
-            title=f"Contact damage per wind bin at turbulence {damage.levels[level]}, "
-            f"S-N {variant} (003 Table 7 shape; worst tooth flank, planet = mean of the planets)"
+        grid = table(
+            f"Contact damage per wind bin [m/s] at turbulence {damage.levels[level]}, "
+            f"S-N {variant} (003 Table 7 shape; worst tooth flank, planet = mean of the planets)",
+            "gear",
+            *(f"{speed:g}" for speed in damage.speeds),
+            "Σ",
         )
-        table.add_column("gear")
-        for speed in damage.speeds:
-            table.add_column(f"{speed:g}", justify="right")
-        table.add_column("Σ", justify="right")
         for kind, (per_bin, total) in damage.by_kind(variant, level).items():
-            table.add_row(kind, *(f"{d:.3g}" for d in per_bin), f"{total:.3g}")
+            grid.add_row(kind, *(cell(d) for d in per_bin), cell(total))
             paper = JORGENSEN_2014_TABLE_7.get(kind)
             if paper and np.array_equal(damage.speeds, paper_speeds) and variant == "limit":
-                table.add_row("  003", *(f"{d:.3g}" for d in paper[0]), f"{paper[1]:.3g}")
-        console.print(table)
-    table = Table(title="Total contact damage per turbulence level (003 Table 8 shape)")
-    table.add_column("gear")
-    table.add_column("S-N")
-    for label in damage.levels:
-        table.add_column(label, justify="right")
+                grid.add_row("  003", *(cell(d) for d in paper[0]), cell(paper[1]))
+        console.print(grid)
+    grid = table(
+        "Total contact damage per turbulence level (003 Table 8 shape)",
+        "gear",
+        "S-N",
+        *damage.levels,
+        left=2,
+    )
     kinds = list(damage.by_kind("limit", 0))
     paper_at = [
         JORGENSEN_2014_TABLE_8["turbulence"].index(round(i, 4))
@@ -178,44 +209,42 @@ def _print_tables(damage: SetDamage) -> None:
     for kind in kinds:
         for variant in VARIANTS:
             totals = [damage.by_kind(variant, k)[kind][1] for k in range(len(damage.levels))]
-            table.add_row(kind, variant, *(f"{t:.3g}" for t in totals))
+            grid.add_row(kind, variant, *(cell(t) for t in totals))
         if kind in ("sun", "planet", "ring"):
             totals_003 = JORGENSEN_2014_TABLE_8[kind]
-            table.add_row(
-                "", "003", *("" if i is None else f"{totals_003[i]:.3g}" for i in paper_at)
-            )
-    console.print(table)
-    table = Table(
-        title="Root damage per turbulence level (worst fillet; ISO 6336-3 root stress unless "
-        "a table is given; 003 §4.1: none)"
+            grid.add_row("", "003", *("" if i is None else cell(totals_003[i]) for i in paper_at))
+    console.print(grid)
+    grid = table(
+        "Root damage per turbulence level (worst fillet; ISO 6336-3 root stress unless "
+        "a table is given; 003 §4.1: none)",
+        "gear",
+        "S-N",
+        *damage.levels,
+        left=2,
     )
-    table.add_column("gear")
-    table.add_column("S-N")
-    for label in damage.levels:
-        table.add_column(label, justify="right")
     for kind in damage.by_kind("limit", 0, location="root") if damage.root_damage else ():
         for variant in VARIANTS:
             totals = [
                 damage.by_kind(variant, k, location="root")[kind][1]
                 for k in range(len(damage.levels))
             ]
-            table.add_row(kind, variant, *(f"{t:.3g}" for t in totals))
-    console.print(table)
-    table = Table(
-        title="Largest stress [MPa]: von Mises contact (003: 600-700 at 20 m/s, 10 %) and root "
-        "(003: about 60)"
+            grid.add_row(kind, variant, *(cell(t) for t in totals))
+    console.print(grid)
+    grid = table(
+        "Largest stress [MPa]: von Mises contact (003: 600-700 at 20 m/s, 10 %) and root "
+        "(003: about 60)",
+        "gear",
+        "stress",
+        *damage.levels,
+        left=2,
     )
-    table.add_column("gear")
-    table.add_column("stress")
-    for label in damage.levels:
-        table.add_column(label, justify="right")
     for gear in damage.gears:
         for location, by_level in (("contact", damage.damage), ("root", damage.root_damage)):
             if not by_level or gear not in by_level["limit"][0]:
                 continue
             peaks = [by_level["limit"][k][gear].peak_stress for k in range(len(damage.levels))]
-            table.add_row(gear, location, *(f"{p / 1e6:.0f}" for p in peaks))
-    console.print(table)
+            grid.add_row(gear, location, *(f"{p / 1e6:.0f}" for p in peaks))
+    console.print(grid)
 
 
 def _as_dict(
@@ -322,29 +351,32 @@ def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> Non
 
     hours = float(damage.hours.sum())
     for label, lives in zip(damage.levels, bearings, strict=True):
-        table = Table(
-            title=f"Bearing life (ISO 281) over the site's {hours:.0f} h at turbulence {label}: "
-            "P_eq revolution-weighted over the bins"
+        grid = table(
+            f"Bearing life (ISO 281) over the site's {hours:.0f} h at turbulence {label}: "
+            "P_eq revolution-weighted over the bins",
+            "bearing",
+            "type",
+            "C [kN]",
+            "P_eq [kN]",
+            "mean rpm",
+            "L10 [10⁶ rev]",
+            "L10h [h]",
+            left=2,
         )
-        columns = ("C [kN]", "P_eq [kN]", "mean rpm", "L10 [10⁶ rev]", "L10h [h]")
-        table.add_column("bearing")
-        table.add_column("type")
-        for column in columns:  # escaped: rich reads "[kN]" as a style
-            table.add_column(escape(column), justify="right")
         for life in lives:
             rating = life.rating
+            kind = rating.kind.replace("_", " ") if rating and rating.kind else "-"
             if rating is None or rating.dynamic_load_rating is None:
-                kind = rating.kind if rating else "-"
-                load = "" if np.isnan(life.equivalent_load) else f"{life.equivalent_load / 1e3:.3g}"
-                table.add_row(life.joint, kind, "not rated", load, f"{life.mean_speed_rpm:.4g}")
+                load = "" if np.isnan(life.equivalent_load) else cell(life.equivalent_load / 1e3)
+                grid.add_row(life.joint, kind, "not rated", load, cell(life.mean_speed_rpm))
                 continue
-            table.add_row(
+            grid.add_row(
                 life.joint,
-                rating.kind,
-                f"{rating.dynamic_load_rating / 1e3:.4g}",
-                f"{life.equivalent_load / 1e3:.3g}",
-                f"{life.mean_speed_rpm:.4g}",
-                f"{life.l10:.4g}",
-                f"{life.l10h:.4g}",
+                kind,
+                cell(rating.dynamic_load_rating / 1e3),
+                cell(life.equivalent_load / 1e3),
+                cell(life.mean_speed_rpm),
+                cell(life.l10),
+                cell(life.l10h),
             )
-        console.print(table)
+        console.print(grid)

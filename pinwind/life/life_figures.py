@@ -17,6 +17,7 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
     x = 100 * np.array(damage.intensities)
@@ -38,10 +39,16 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     ax.set_xlabel("turbulence intensity [%]")
     ax.set_ylabel("damage over the design life [-]")
     values = np.concatenate([np.asarray(line.get_ydata(), dtype=float) for line in ax.get_lines()])
-    ax.set_yscale("symlog", linthresh=damage_axis_threshold(values))
-    highest = float(np.max(values, initial=1.0))
-    ax.set_ylim(0.0, 3.0 * max(highest, 1.0))  # damage is never negative
-    ax.legend(fontsize=7, ncol=2)
+    threshold = damage_axis_threshold(values)
+    ax.set_yscale("symlog", linthresh=threshold)
+    top = 3.0 * max(float(np.nanmax(values, initial=1.0)), 1.0)
+    ax.set_ylim(0.0, top)  # damage is never negative
+    decades = np.arange(round(np.log10(threshold)), np.ceil(np.log10(top)))
+    step = max(1, int(np.ceil(len(decades) / 12)))  # at most about 12 labelled decades
+    ax.set_yticks([0.0, *(10.0 ** decades[::-1][::step])])
+    ax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    # Low in the middle: above the zero line, in the decades the ISO 6336 damages usually skip.
+    ax.legend(fontsize=7, ncol=2, loc="center", bbox_to_anchor=(0.5, 0.38))
     ax.grid(alpha=0.3)
     return _save(fig, path)
 

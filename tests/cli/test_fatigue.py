@@ -183,3 +183,37 @@ def test_check_dt_with_a_sample_rate_off_the_steps_is_one_message_and_exit_2(
     assert "sample_rate = 20000 Hz is not a whole number of steps" in err, err
     assert err.strip().count("\n") == 0, err
     assert not (tmp_path / "cases").exists()  # refused before any case ran
+
+
+@pytest.mark.parametrize(
+    "value",
+    [0.0, 641.4762694726479, 0.004253438997615594, 2.6e-8, 5.4e-44, 7645.159, 4734560.95, 1e-300],
+)
+def test_a_table_cell_holds_the_value_to_its_printed_digits_in_six_characters(value):
+    from pinwind.cli.fatigue import cell
+
+    text = cell(value)
+    digits = len(text.split("e")[0].replace(".", "").lstrip("0")) or 1
+    assert len(text) <= 6
+    # Rounded to `digits` significant digits: within half a unit of the last one.
+    assert_allclose(float(text), value, rtol=0.5 * 10.0 ** (1 - digits), atol=0)
+
+
+def test_ten_columns_of_iso_damages_fit_80_columns_with_no_cell_cut():
+    import io
+
+    from rich.console import Console
+
+    from pinwind.cli.fatigue import cell, table
+
+    speeds = [6, 8, 10, 12, 14, 16, 18, 20]
+    grid = table("per bin", "gear", *(str(s) for s in speeds), "Σ")
+    damages = [3.78e-9, 6.88e-9, 3.01e-8, 2.28e-8, 9.55e-9, 5.94e-10, 1.05e-10, 8.1e-12]
+    grid.add_row("planet", *(cell(d) for d in damages), cell(sum(damages)))
+    out = io.StringIO()
+    Console(file=out, width=80).print(grid)
+    lines = out.getvalue().splitlines()
+    assert max(len(line) for line in lines) <= 80
+    assert "…" not in out.getvalue()
+    row = next(line for line in lines if line.startswith("planet")).split()
+    assert_allclose([float(x) for x in row[1:]], [*damages, sum(damages)], rtol=0.05)
