@@ -305,9 +305,9 @@ class Stepper {
   std::vector<Vec3> origin_;
   std::vector<Eigen::Matrix3d> rot_;
   BodyForces fext_;  // the constraints' and elements' forces on the bodies
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Inertia) composite_, body_;  // world inertias
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) accel_, drift_;
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_, weight_;
+  std::vector<pinocchio::Inertia> composite_, body_;  // world inertias
+  std::vector<pinocchio::Motion> accel_, drift_;
+  std::vector<pinocchio::Force> body_force_, subtree_, weight_;
   Eigen::VectorXd nle_;
   Eigen::VectorXd nle_step_, gravity_step_, nle_last_, gravity_last_;  // weighted_bias
   Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;
