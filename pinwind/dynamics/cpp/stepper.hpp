@@ -27,11 +27,11 @@
 //    method's a_k, the acceleration at the sample. The elements take their forces at the
 //    method's weighted state, the QP's Hessian is c₁ M and its force carries −c₂ M a_n.
 //
-// This header declares the Stepper; its work is compiled in units by concern, each including
-// only the Pinocchio templates it instantiates: the step loop (stepper_run.cpp), the static
-// equilibrium (stepper_equilibrium.cpp), the start and the checks' assembly
-// (stepper_assembly.cpp), the elements' kinds (element_kinds.cpp); the QP solves are in
-// constrained_qp.cpp. In one unit they needed 4.4 GB of compiler memory at once.
+// This header declares the Stepper; its work is compiled in units by concern: the step loop
+// (stepper_run.cpp), the static equilibrium (stepper_equilibrium.cpp), the start and the checks'
+// assembly (stepper_assembly.cpp), the elements' kinds (element_kinds.cpp); the QP solves are in
+// constrained_qp.cpp, Pinocchio's algorithms behind the functions of joint_algorithms.hpp. In one
+// unit they needed 4.4 GB of compiler memory at once.
 #pragma once
 
 #include <memory>
