@@ -97,7 +97,7 @@ struct EnergyLedger {
 // Forces on bodies (for the bearing reactions by RNEA): per joint, the spatial force of what
 // is applied to its body, in world axes about the world origin.
 struct BodyForces {
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) of_joint;
+  std::vector<pinocchio::Force> of_joint;
 
   // Adds a force f [N] applied at world point p to the body of joint j.
   void add(long joint, const Vec3& point, const Vec3& force) {

@@ -6,8 +6,6 @@
 
 #include <vector>
 
-#include <Eigen/Geometry>  // the cross products of mesh_rows.hpp, which includes Eigen/Core only
-
 #include "bindings.hpp"
 #include "mesh_rows.hpp"
 #include "spec_checks.hpp"

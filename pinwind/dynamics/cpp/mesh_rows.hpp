@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // the cross products
 
 namespace pinwind {
 

@@ -27,11 +27,11 @@
 //    method's a_k, the acceleration at the sample. The elements take their forces at the
 //    method's weighted state, the QP's Hessian is c₁ M and its force carries −c₂ M a_n.
 //
-// This header declares the Stepper; its work is compiled in units by concern, each including
-// only the Pinocchio templates it instantiates: the step loop (stepper_run.cpp), the static
-// equilibrium (stepper_equilibrium.cpp), the start and the checks' assembly
-// (stepper_assembly.cpp), the elements' kinds (element_kinds.cpp); the QP solves are in
-// constrained_qp.cpp. In one unit they needed 4.4 GB of compiler memory at once.
+// This header declares the Stepper; its work is compiled in units by concern: the step loop
+// (stepper_run.cpp), the static equilibrium (stepper_equilibrium.cpp), the start and the checks'
+// assembly (stepper_assembly.cpp), the elements' kinds (element_kinds.cpp); the QP solves are in
+// constrained_qp.cpp, Pinocchio's algorithms behind the functions of joint_algorithms.hpp. In one
+// unit they needed 4.4 GB of compiler memory at once.
 #pragma once
 
 #include <memory>
@@ -305,9 +305,9 @@ class Stepper {
   std::vector<Vec3> origin_;
   std::vector<Eigen::Matrix3d> rot_;
   BodyForces fext_;  // the constraints' and elements' forces on the bodies
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Inertia) composite_, body_;  // world inertias
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Motion) accel_, drift_;
-  PINOCCHIO_ALIGNED_STD_VECTOR(pinocchio::Force) body_force_, subtree_, weight_;
+  std::vector<pinocchio::Inertia> composite_, body_;  // world inertias
+  std::vector<pinocchio::Motion> accel_, drift_;
+  std::vector<pinocchio::Force> body_force_, subtree_, weight_;
   Eigen::VectorXd nle_;
   Eigen::VectorXd nle_step_, gravity_step_, nle_last_, gravity_last_;  // weighted_bias
   Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;

@@ -1,7 +1,7 @@
 // The Stepper's static start: Stepper::equilibrium (stepper.hpp).
 #include <Eigen/QR>
-#include <pinocchio/algorithm/joint-configuration.hpp>
 
+#include "joint_algorithms.hpp"
 #include "stepper.hpp"
 
 namespace pinwind {
@@ -45,12 +45,12 @@ EquilibriumStatus Stepper::equilibrium(const RowMat& torque, const RowMat& targe
       if (settled) break;
       ++st.flank_switches;
     }
-    pinocchio::integrate(s_.model, q_, dq, q_next_);
+    integrate(s_.model, q_, dq, q_next_);
     q_ = q_next_;
     st.iterations = it + 1;
     st.correction = dq.cwiseAbs().maxCoeff();
     Eigen::VectorXd moved(nv_);
-    pinocchio::difference(s_.model, q_start, q_, moved);
+    difference(s_.model, q_start, q_, moved);
     st.displacement = moved.cwiseAbs().maxCoeff();
     if (st.correction <= tolerance * st.displacement || st.correction == 0.0) {
       st.converged = true;

@@ -4,9 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include <pinocchio/algorithm/jacobian.hpp>
-#include <pinocchio/algorithm/joint-configuration.hpp>
-
+#include "joint_algorithms.hpp"
 #include "stepper.hpp"
 
 namespace pinwind {
@@ -47,9 +45,8 @@ RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& tar
   return st;
 }
 
-// Stepper::mass_matrix, in the unit that instantiates computeJointJacobians for the step.
 Eigen::MatrixXd Stepper::mass_matrix(const Eigen::VectorXd& q) {
-  pinocchio::computeJointJacobians(s_.model, data_, q);
+  joint_jacobians(s_.model, data_, q);
   mass_from_jacobian();
   return mass_;
 }
@@ -64,7 +61,7 @@ void Stepper::targets() {
 }
 
 void Stepper::kinematics() {
-  pinocchio::computeJointJacobians(s_.model, data_, q_);
+  joint_jacobians(s_.model, data_, q_);
   for (size_t i = 0; i < s_.meshes.joint_ids.size(); ++i) {
     origin_[i] = data_.oMi[s_.meshes.joint_ids[i]].translation();
     rot_[i] = data_.oMi[s_.meshes.joint_ids[i]].rotation();
@@ -437,7 +434,7 @@ void Stepper::advance() {
   for (auto& e : elements_) e->advance(sv, v_next_);
   // a_{n+1} = (ā − (1 − γ) a_n)/γ.
   accel_memory_ = (a_ - (1.0 - method_.gamma) * accel_memory_) / method_.gamma;
-  pinocchio::integrate(s_.model, q_, dq_, q_next_);
+  integrate(s_.model, q_, dq_, q_next_);
   q_ = q_next_;
   v_ = v_next_;
 }
