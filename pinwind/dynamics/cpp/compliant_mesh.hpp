@@ -134,17 +134,13 @@ class CompliantMeshes : public Element {
     for (size_t i = 0; i < specs_.size(); ++i) {
       if (state_[i] == 0) continue;
       const auto& row = row_[2 * i + (state_[i] > 0 ? 0 : 1)];
-      // w rowᵀ row entry by entry over the row's nonzero entries (the joints that move the
-      // pair: 6 to 9 of 16 with compliant bearings): Eigen's outer-product path allocates a
-      // temporary per call, which at nv of 6 to 20 costs more than the products.
-      nonzero_.clear();
-      for (Eigen::Index c = 0; c < row.size(); ++c) {
-        if (row[c] != 0.0) nonzero_.push_back(c);
-      }
-      for (const Eigen::Index c : nonzero_) {
+      // w rowᵀ row entry by entry: Eigen's outer-product path allocates a temporary per call,
+      // which at nv of 6 to 20 costs more than the products.
+      const Eigen::Index n = row.size();
+      for (Eigen::Index c = 0; c < n; ++c) {
         const double wc = w_[i] * row[c];
         if (wc == 0.0) continue;
-        for (const Eigen::Index r : nonzero_) hessian(r, c) += row[r] * wc;
+        for (Eigen::Index r = 0; r < n; ++r) hessian(r, c) += row[r] * wc;
       }
       force.noalias() += b_[i] * row.transpose();
     }
@@ -300,7 +296,6 @@ class CompliantMeshes : public Element {
   std::vector<double> last_flank_;   // the flank last in contact
   Eigen::Matrix<double, Eigen::Dynamic, 2> delta_;  // overlaps δ_f, δ_b [m]
   std::vector<Eigen::RowVectorXd> row_;             // J of each flank
-  std::vector<Eigen::Index> nonzero_;               // add_implicit's nonzero entries of a row
   std::vector<PathState> path_;
   Eigen::VectorXd b_, w_, normal_, elastic_, viscous_;
   Eigen::Matrix<double, Eigen::Dynamic, 2> last_k_;  // each flank's stiffness at the last sample
