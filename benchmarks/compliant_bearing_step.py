@@ -10,10 +10,12 @@ the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only
 Measured 2026-11-27 on the shared 2-core machine under a load average of 8 to 14 (other
 helpers compiling; 10000 steps, 3 repeats, ``--bearings all``; the wall clock is too noisy
 there to resolve the change, pairwise ratios spread 1.0-3.0): all five turning bearings
-compliant (nv 6 -> 16), the module before and after the changes below, runs interleaved, medians
-of two runs: saleh2017_planetary 1.99 -> 1.80, dtu500_planetary 2.01 -> 1.75. Instruction
+compliant (nv 6 -> 16), the module before and after the changes below (built from 65c975f,
+whose meshes' Hessian loop cost 0.9k instructions per step more than the final one), runs
+interleaved, means of two runs' medians: saleh2017_planetary 1.99 -> 1.80, dtu500_planetary
+2.01 -> 1.75. Instruction
 counts are the steady measure (below): 2.23 -> CG_SALEH (saleh2017_planetary) and
-2.29 -> CG_DTU (dtu500_planetary), still above issue 24's 1.5.
+2.24 -> CG_DTU (dtu500_planetary), still above issue 24's 1.5.
 
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
