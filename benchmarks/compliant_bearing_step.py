@@ -13,9 +13,9 @@ there to resolve the change, pairwise ratios spread 1.0-3.0): all five turning b
 compliant (nv 6 -> 16), the module before and after the changes below (built from 65c975f,
 whose meshes' Hessian loop cost 0.9k instructions per step more than the final one), runs
 interleaved, means of two runs' medians: saleh2017_planetary 1.99 -> 1.80, dtu500_planetary
-2.01 -> 1.75. Instruction
-counts are the steady measure (below): 2.23 -> CG_SALEH (saleh2017_planetary) and
-2.24 -> CG_DTU (dtu500_planetary), still above issue 24's 1.5.
+2.01 -> 1.75. Instruction counts are the steady measure (below): 2.23 -> 2.03
+(saleh2017_planetary) and 2.24 -> 2.04 (dtu500_planetary: 41.2k -> 92.4k before, 38.0k ->
+77.6k now), still above issue 24's 1.5.
 
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
@@ -26,12 +26,12 @@ redone every step as the compliant meshes change H), M by composite inertias +6.
 the Jacobians and mesh geometry +5.2k, the meshes' implicit terms on the larger H +3.8k and
 their prepare +1.9k, velocity kinematics +1.5k, the bearing reactions (RNEA) +2.4k, the
 sample's record +3.4k and advance +1.4k; outside the step loop, the per-block statistics
-(fold_block) 1.7k. Now: CG_IDEAL -> CG_ALL. The Hessian and the Schur complement are factorised
+(fold_block) 1.7k. Now: 38.5k -> 78.0k. The Hessian and the Schur complement are factorised
 by a small Cholesky (``cpp/small_cholesky.hpp``; the QP solve 25.8k -> 16.3k, and 8.1k -> 4.9k
 with ideal bearings), and the slides, which carry no mass, skip their bodies' inertia terms in
-M, b and the bearing reactions (-4.7k). What is left of the +CG_DIFF is the per-joint passes
+M, b and the bearing reactions (-4.7k). What is left of the +39.6k is the per-joint passes
 over ten more joints (kinematics and mesh geometry, M, b, RNEA, record: about 25k) and the
-nv-sized solve: at 1.5x the step could grow by CG_BUDGET only. The budget needs fewer joints
+nv-sized solve: at 1.5x the step could grow by 19.2k only. The budget needs fewer joints
 (a radial bearing's two slides and revolute as one planar joint would run the per-joint passes
 over 6 joints, not 16), not a cheaper bearing element or solve.
 
