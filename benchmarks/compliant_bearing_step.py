@@ -7,25 +7,33 @@ slides per bearing, ``docs/model_format.md`` "Compliant bearings"): every turnin
 speed driver on the output. The runs are interleaved A/B ``--repeats`` times and the median ratio of
 the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only the last sample.
 
-Measured 2026-11-27 on the shared, loaded 2-core machine (10000 steps, 3 repeats; noisy, pairwise
-ratios spread ±0.4): all five turning bearings compliant (nv 6 -> 16) 1.64 (saleh2017_planetary)
-and 1.47 (dtu500_planetary); one (sun or carrier, nv 6 -> 8) 0.86-1.60. Before Gearbox.joint_axis
-kept its axes, the bearing loads' derive asked Pinocchio for every joint's axis in every block
-(2.7-3.5 with five bearings).
+Measured 2026-11-27 on the shared 2-core machine under a load average of 8 to 14 (other
+helpers compiling; 10000 steps, 3 repeats, ``--bearings all``; the wall clock is too noisy
+there to resolve the change, pairwise ratios spread 1.0-3.0): all five turning bearings
+compliant (nv 6 -> 16), the module before and after the changes below (built from 65c975f,
+whose meshes' Hessian loop cost 0.9k instructions per step more than the final one), runs
+interleaved, means of two runs' medians: saleh2017_planetary 1.99 -> 1.80, dtu500_planetary
+2.01 -> 1.75. Instruction counts are the steady measure (below): 2.23 -> 2.03
+(saleh2017_planetary) and 2.24 -> 2.04 (dtu500_planetary: 41.2k -> 92.4k before, 38.0k ->
+77.6k now), still above issue 24's 1.5.
 
-Where the time goes (valgrind --tool=callgrind, saleh2017_planetary, all five bearings, 5000
-steps; instructions per step, ideal -> compliant bearings): the step loop 41.6k -> 92.5k (2.2x,
-as the wall-clock ratio). Of the +50.9k, the bearing springs themselves (BearingSprings: force,
-tangent, settle, energy) are 2.1k; the rest is nv 6 -> 16 (and 6 -> 16 joints): the QP solve
-+17.7k (the LDLT factorisation of the 16x16 Hessian and the Schur complement, redone every step
-as the compliant meshes change H: 4.7k -> 19.7k), the meshes' implicit terms on the larger H
-+3.8k and their prepare +1.9k, M by composite inertias +6.0k, b +4.5k, the Jacobians and mesh
-geometry +5.2k, velocity kinematics +1.5k, the bearing reactions (RNEA) +2.4k, the sample's
-record +3.4k and advance +1.4k, and the per-block statistics (fold_block) +4.7k. At 1.5x the
-step could grow by 20.8k only, less than the kinematics, M, b and recording of the ten slide
-joints take before any solve (about 22k): the budget needs fewer joints (the two slides and the
-revolute as one planar joint would cut the per-joint passes, not the nv-sized solve), not a
-cheaper bearing element.
+Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
+3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
+-> compliant bearings). Before: 41.5k -> 92.6k. Of the +51k, the bearing springs themselves
+(BearingSprings: force, tangent, settle, energy) were 2.1k; the rest is nv 6 -> 16 (and 6 -> 16
+joints): the QP solve +17.7k (Eigen's pivoted LDLT of the 16x16 Hessian, 14.0k, and its solves,
+redone every step as the compliant meshes change H), M by composite inertias +6.0k, b +4.5k,
+the Jacobians and mesh geometry +5.2k, the meshes' implicit terms on the larger H +3.8k and
+their prepare +1.9k, velocity kinematics +1.5k, the bearing reactions (RNEA) +2.4k, the
+sample's record +3.4k and advance +1.4k; outside the step loop, the per-block statistics
+(fold_block) 1.7k. Now: 38.5k -> 78.0k. The Hessian and the Schur complement are factorised
+by a small Cholesky (``cpp/small_cholesky.hpp``; the QP solve 25.8k -> 16.3k, and 8.1k -> 4.9k
+with ideal bearings), and the slides, which carry no mass, skip their bodies' inertia terms in
+M, b and the bearing reactions (-4.7k). What is left of the +39.6k is the per-joint passes
+over ten more joints (kinematics and mesh geometry, M, b, RNEA, record: about 25k) and the
+nv-sized solve: at 1.5x the step could grow by 19.2k only. The budget needs fewer joints
+(a radial bearing's two slides and revolute as one planar joint would run the per-joint passes
+over 6 joints, not 16), not a cheaper bearing element or solve.
 
 Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
 """

@@ -235,13 +235,13 @@ def test_cli_run_hitting_a_file_size_limit_stops_in_one_line_and_keeps_its_chunk
         # The limit falls mid-chunk with room for the closing records after the last complete
         # chunk; the writer reserves none (a chunk ending within ~3 kB of the limit leaves the
         # file cut, which read_log recovers with a warning).
-        preexec_fn=_limit_file_size(1_450_000),
+        preexec_fn=_limit_file_size(1_400_000),
     )
     assert out.returncode == 2, out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
     assert out.stderr.startswith(f"error: {log}: writing the log failed at t = ")
     assert "(File too large), so the run was stopped; the file holds the " in out.stderr
-    assert log.stat().st_size <= 1_450_000
+    assert log.stat().st_size <= 1_400_000
     # cut back to its last complete chunk, the file had room for the end record and summary
     with warnings.catch_warnings():
         warnings.simplefilter("error")

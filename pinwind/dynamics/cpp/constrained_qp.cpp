@@ -106,11 +106,11 @@ const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
   QpSolution& out = solution_;
   const bool refactor = rows_changed || !direct_ready_ || !diagonal_change(mass);
   if (refactor) factorise(mass);
-  free_ = mass_ldlt_.solve(force);
+  mass_factor_.solve(force, free_);
   projected_rhs_.noalias() = row_basis_.transpose() * rhs;
   reduced_rhs_ = projected_rhs_;
   reduced_rhs_.noalias() -= reduced_jac_ * free_;
-  mu_ = schur_ldlt_.solve(reduced_rhs_);
+  schur_factor_.solve(reduced_rhs_, mu_);
   out.acceleration = free_;
   out.acceleration.noalias() += minv_jt_ * mu_;
   if (!changed_.empty() && !correct(out.acceleration)) {
@@ -135,14 +135,14 @@ const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
 
 void ConstrainedQp::factorise(const Eigen::MatrixXd& mass) {
   direct_mass_ = mass;
-  mass_ldlt_.compute(mass);
+  mass_factor_.compute(mass);
   minv_jt_.resize(reduced_jac_.cols(), reduced_jac_.rows());
   for (Eigen::Index r = 0; r < reduced_jac_.rows(); ++r) {
-    minv_jt_.col(r) = mass_ldlt_.solve(reduced_jac_.row(r).transpose());
+    mass_factor_.solve(reduced_jac_.row(r).transpose(), minv_jt_.col(r));
   }
   schur_.resize(reduced_jac_.rows(), reduced_jac_.rows());
   schur_.noalias() = reduced_jac_.lazyProduct(minv_jt_);
-  schur_ldlt_.compute(schur_);
+  schur_factor_.compute(schur_);
   direct_ready_ = true;
   responses_.clear();
   changed_.clear();
@@ -168,8 +168,8 @@ const std::pair<Eigen::VectorXd, Eigen::VectorXd>& ConstrainedQp::response(Eigen
   }
   Eigen::VectorXd unit = Eigen::VectorXd::Zero(direct_mass_.rows());
   unit[i] = 1.0;
-  Eigen::VectorXd a = mass_ldlt_.solve(unit);
-  const Eigen::VectorXd mu = schur_ldlt_.solve(-(reduced_jac_ * a));
+  Eigen::VectorXd a = mass_factor_.solve(unit);
+  const Eigen::VectorXd mu = schur_factor_.solve(-(reduced_jac_ * a));
   a.noalias() += minv_jt_ * mu;
   responses_.push_back({i, {a, mu}});
   return responses_.back().second;

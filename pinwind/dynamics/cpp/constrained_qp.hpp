@@ -38,6 +38,8 @@
 #include <Eigen/Core>
 #include <Eigen/SVD>
 
+#include "small_cholesky.hpp"
+
 namespace proxsuite::proxqp::dense {
 template <typename T>
 struct QP;
@@ -99,7 +101,7 @@ class ConstrainedQp {
   //     c = (I + Eᵀ Z D)⁻¹ Eᵀ a₀,   a = a₀ − Z D c,   μ = μ₀ − Z_μ D c
   //
   // (Woodbury's identity on the KKT system: exact, the same solution up to rounding). Any
-  // other change of M costs two small LDLT factorisations. A correction that would amplify
+  // other change of M costs two small Cholesky factorisations (small_cholesky.hpp). A correction that would amplify
   // rounding (a diagonal of I + Eᵀ Z D below ½: a weight far below M₀'s) refactorises instead.
   const QpSolution& solve_direct(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
                                  const Eigen::MatrixXd&, const Eigen::VectorXd& rhs,
@@ -145,7 +147,7 @@ class ConstrainedQp {
   // Direct solve of full-rank rows.
   bool direct_ready_ = false;
   Eigen::MatrixXd direct_mass_, minv_jt_, schur_;
-  Eigen::LDLT<Eigen::MatrixXd> mass_ldlt_, schur_ldlt_;
+  SmallCholesky mass_factor_, schur_factor_;
   Eigen::MatrixXd row_basis_, reduced_jac_;
   Eigen::VectorXd free_, projected_rhs_, reduced_rhs_, mu_;
   Eigen::VectorXd primal_, dual_;  // solve_direct's residuals

@@ -46,6 +46,9 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
   origin_.resize(s_.meshes.joint_ids.size());
   rot_.resize(s_.meshes.joint_ids.size());
   fext_.of_joint.assign(s_.model.njoints, pinocchio::Force::Zero());
+  for (const auto& inertia : s_.model.inertias) {
+    massless_.push_back(inertia.mass() == 0.0 && inertia.inertia().data().isZero(0.0));
+  }
   elements_ = build_elements(s_);
   for (const auto& kind : kConstraintKinds) kind.add(s_, constraints_);
   Eigen::Index offset = 0;

@@ -107,6 +107,11 @@ void Stepper::bias_forces() {
   // gravity as an upward acceleration of the base, plus the drift J̇ v of velocity_kinematics
   const pinocchio::Motion up = -model.gravity;
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    if (massless_[i]) {
+      weight_[i].setZero();
+      subtree_[i] = body_force_[i] = pinocchio::Force::Zero();
+      continue;
+    }
     weight_[i] = body_[i] * up;
     body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
     subtree_[i] = body_force_[i];
@@ -139,7 +144,8 @@ void Stepper::joint_forces() {
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
     accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
-    subtree_[i] = body_force_[i] + body_[i] * accel_[i] - fext_.of_joint[i];
+    subtree_[i] = body_force_[i] - fext_.of_joint[i];
+    if (!massless_[i]) subtree_[i] += body_[i] * accel_[i];
   }
   for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
     if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
@@ -153,7 +159,8 @@ void Stepper::mass_from_jacobian() {
   composite_.resize(nj);
   body_.resize(nj);
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-    body_[i] = composite_[i] = data_.oMi[i].act(model.inertias[i]);
+    body_[i] = composite_[i] =
+        massless_[i] ? pinocchio::Inertia::Zero() : data_.oMi[i].act(model.inertias[i]);
   }
   mass_.setZero(nv_, nv_);
   momenta_.resize(6, nv_);
