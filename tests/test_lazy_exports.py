@@ -63,15 +63,20 @@ def test_the_command_line_app_loads_neither_numpy_nor_pinocchio():
     assert loaded & {*HEAVY, "numpy", "pinocchio", "proxsuite"} == set()
 
 
-def test_pinwind_modes_loads_no_log_plot_or_solver_library():
-    # The whole command, run in the child: the model, the linearisation and the table.
+def loaded_by_pinwind_modes() -> set[str]:
+    """The modules a child process holds after ``pinwind modes`` on the CART 600 model."""
     model = str(MODELS / "cart600_gearbox.urdf")
-    loaded = loaded_after(
+    return loaded_after(
         "import sys\n"
         "from pinwind.cli import main\n"
         f"sys.argv = ['pinwind', 'modes', {model!r}]\n"
         "try:\n    main()\nexcept SystemExit as end:\n    assert not end.code, end.code\n"
     )
+
+
+def test_pinwind_modes_loads_no_log_plot_or_solver_library():
+    # The whole command, run in the child: the model, the linearisation and the table.
+    loaded = loaded_by_pinwind_modes()
     assert "pinwind.dynamics.linearisation" in loaded  # the command did run
     assert loaded & {*HEAVY, "proxsuite"} == set()
     assert {m for m in loaded if m.startswith(("pinwind.io", "pinwind.dynamics.simulate"))} == set()
@@ -83,13 +88,7 @@ def test_pinwind_modes_imports_neither_pydantic_nor_the_other_verbs():
     # nor built into commands (``VERB_MODULES``).
     from pinwind.cli import VERB_MODULES
 
-    model = str(MODELS / "cart600_gearbox.urdf")
-    loaded = loaded_after(
-        "import sys\n"
-        "from pinwind.cli import main\n"
-        f"sys.argv = ['pinwind', 'modes', {model!r}]\n"
-        "try:\n    main()\nexcept SystemExit as end:\n    assert not end.code, end.code\n"
-    )
+    loaded = loaded_by_pinwind_modes()
     assert "pinwind.dynamics.linearisation" in loaded  # the command did run
     assert loaded & {"pydantic", "pydantic_core", "annotated_types", "typing_inspection"} == set()
     others = {f"pinwind.cli.{module}" for module in VERB_MODULES.values()} - {"pinwind.cli.modes"}

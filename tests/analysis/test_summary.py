@@ -13,6 +13,7 @@ from pinwind.loads.generator import LinearSlip
 from pinwind.loads.rotor import Rotor
 from pinwind.model.gearbox import loads
 from tests.conftest import MODELS, two_gear_urdf
+from tests.dynamics.test_tilted_bearing import tilted_shaft_urdf
 
 
 def test_ratio_column_of_a_rotor_and_generator_run_is_the_tooth_ratio():
@@ -47,20 +48,7 @@ OFFSET = 0.4  # [m]
 TORQUE = 2500.0  # [N·m]
 G = 9.81  # [m/s²], along −z of the world
 
-TILTED_SHAFT = f"""<?xml version="1.0"?>
-<robot name="tilted">
-  <link name="housing"/>
-  <link name="shaft">
-    <inertial><origin xyz="0 0 {OFFSET!r}"/><mass value="{SHAFT_MASS!r}"/>
-      <inertia ixx="200" iyy="200" izz="100" ixy="0" ixz="0" iyz="0"/></inertial>
-  </link>
-  <joint name="shaft" type="continuous">
-    <parent link="housing"/><child link="shaft"/>
-    <origin xyz="0.1 -0.2 0.3" rpy="{" ".join(repr(a) for a in TILT_RPY)}"/><axis xyz="0 0 1"/>
-  </joint>
-  <gearbox/>
-</robot>
-"""
+TILTED_SHAFT = tilted_shaft_urdf(SHAFT_MASS, OFFSET, TILT_RPY, inertia=(200.0, 200.0, 100.0))
 
 
 def _table_titled(tables, start: str) -> dict[str, list[float]]:

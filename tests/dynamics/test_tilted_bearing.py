@@ -23,20 +23,28 @@ MASS = 12.0
 OFFSET = 0.2
 GRAVITY = np.array([0.0, 0.0, -9.81])
 
-URDF = f"""<?xml version="1.0"?>
+
+def tilted_shaft_urdf(mass: float, offset: float, rpy, inertia=(0.5, 0.5, 0.1)) -> str:
+    """A shaft of ``mass`` [kg], its centre ``offset`` [m] along its axis, on one continuous
+    joint whose axis (joint z) is tilted by roll-pitch-yaw ``rpy`` [rad] from the world's z."""
+    ixx, iyy, izz = inertia
+    return f"""<?xml version="1.0"?>
 <robot name="tilted">
   <link name="housing"/>
   <link name="shaft">
-    <inertial><origin xyz="0 0 {OFFSET!r}"/><mass value="{MASS!r}"/>
-      <inertia ixx="0.5" iyy="0.5" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+    <inertial><origin xyz="0 0 {offset!r}"/><mass value="{mass!r}"/>
+      <inertia ixx="{ixx!r}" iyy="{iyy!r}" izz="{izz!r}" ixy="0" ixz="0" iyz="0"/></inertial>
   </link>
   <joint name="shaft" type="continuous">
     <parent link="housing"/><child link="shaft"/>
-    <origin xyz="0.1 -0.2 0.3" rpy="{RPY[0]!r} {RPY[1]!r} {RPY[2]!r}"/><axis xyz="0 0 1"/>
+    <origin xyz="0.1 -0.2 0.3" rpy="{" ".join(repr(a) for a in rpy)}"/><axis xyz="0 0 1"/>
   </joint>
   <gearbox/>
 </robot>
 """
+
+
+URDF = tilted_shaft_urdf(MASS, OFFSET, RPY)
 
 
 def test_tilted_bearing_moment_is_the_weight_s_moment_in_world_and_in_joint_axes():
