@@ -17,6 +17,13 @@ interleaved, means of two runs' medians: saleh2017_planetary 1.99 -> 1.80, dtu50
 (saleh2017_planetary) and 2.24 -> 2.04 (dtu500_planetary: 41.2k -> 92.4k before, 38.0k ->
 77.6k now), still above issue 24's 1.5.
 
+On the idle machine (2026-11-27 07:34, load average 0.5, nothing else running; the module
+built from b793e7f, default arguments: 20000 steps of 20 µs, 3 interleaved repeats), time per
+step, mesh-only -> compliant bearings: all five bearings (nv 6 -> 16) 13.05 -> 22.15 µs, 1.89
+(saleh2017_planetary, pairwise 1.51-2.17) and 13.42 -> 24.52 µs, 1.80 (dtu500_planetary,
+1.71-1.97): above issue 24's 1.5; one compliant bearing (nv 6 -> 8): sun 1.16 / 1.19, carrier
+1.20 / 1.21 (within 1.5).
+
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
 -> compliant bearings). Before: 41.5k -> 92.6k. Of the +51k, the bearing springs themselves
