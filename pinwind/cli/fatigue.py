@@ -30,7 +30,11 @@ def fatigue(
     ] = False,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
     figures: Annotated[
-        Path | None, typer.Option(help="Folder for the PNG figures (003 Figs. 14-15).")
+        Path | None,
+        typer.Option(
+            help="Folder for the PNG figures (003 Figs. 14-15; the LDD and LRD of the shafts, "
+            "also as load_spectra.csv)."
+        ),
     ] = None,
     workers: Annotated[
         int | None, typer.Option(help="Local worker processes (default: all cores).")
@@ -99,12 +103,22 @@ def fatigue(
     bearings = set_bearing_lives(fset)
     paths = []
     if figures is not None:
-        from pinwind.life.life_figures import plot_damage_vs_turbulence, plot_range_cycles
+        from pinwind.life.life_figures import (
+            plot_damage_vs_turbulence,
+            plot_load_spectra,
+            plot_range_cycles,
+        )
+        from pinwind.life.set_load_spectra import set_load_spectra, write_load_spectra_csv
 
         level = _reference_level(damage)
+        spectra = set_load_spectra(fset, level)
         paths = [
             plot_damage_vs_turbulence(damage, figures / "damage_vs_turbulence.png"),
             plot_range_cycles(damage, figures / "range_cycles.png", level=level),
+            plot_load_spectra(
+                spectra, figures / "load_spectra.png", title=f"turbulence {damage.levels[level]}"
+            ),
+            write_load_spectra_csv(spectra, figures / "load_spectra.csv"),
         ]
     if as_json:
         report = _as_dict(fset, run, damage, paths)

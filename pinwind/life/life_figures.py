@@ -9,6 +9,7 @@ import numpy as np
 
 from pinwind.life.life_damage import JORGENSEN_2014_TABLE_8, VARIANTS, SetDamage
 from pinwind.life.load_cases import RANGE_EDGES
+from pinwind.life.load_spectrum import LoadSpectrum
 
 
 def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
@@ -92,6 +93,31 @@ def plot_range_cycles(
     ax.set_title(f"{gear}, turbulence {damage.levels[level]}")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def plot_load_spectra(spectra: list[LoadSpectrum], path: Path, *, title: str = "") -> Path:
+    """LDD (hours) and LRD (revolutions) against torque, one line per shaft (IEC 61400-4)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ldd, lrd) = plt.subplots(1, 2, figsize=(10, 4.2))
+    for spectrum in spectra:
+        if not np.any(spectrum.revolutions):  # a shaft that does not turn has no spectrum
+            continue
+        torque = spectrum.levels / 1e3
+        ldd.step(torque, spectrum.time / 3600.0, where="mid", label=spectrum.joint)
+        lrd.step(torque, spectrum.revolutions, where="mid", label=spectrum.joint)
+    ldd.set_ylabel("time at the torque level [h]")
+    lrd.set_ylabel("revolutions at the torque level [-]")
+    for ax, name in ((ldd, "LDD"), (lrd, "LRD")):
+        ax.set_xlabel("shaft torque [kN·m]")
+        ax.set_yscale("log")
+        ax.set_title(f"{name} {title}".strip())
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
     return _save(fig, path)
 
 

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import sys
+from pathlib import Path
 
 import pytest
 from numpy.testing import assert_allclose
@@ -55,10 +57,17 @@ def test_quick_run_prints_damage_whose_bins_add_up_to_the_total(tmp_path, monkey
     quick = "[fatigue.quick]\nduration = 0.03\n"
     path = fatigue_toml(tmp_path)
     path.write_text(path.read_text() + quick)
-    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1")
+    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1", "--figures", "figs")
     assert out.returncode == 0, out.stderr
     report = json.loads(out.stdout)
     assert report["cases"] == 2
+    # The figures, and the shafts' LDD as CSV: each shaft's hours are the site's 1250.
+    names = {Path(p).name for p in report["figures"]}
+    assert {"damage_vs_turbulence.png", "load_spectra.png", "load_spectra.csv"} <= names
+    with (tmp_path / "figs" / "load_spectra.csv").open() as table:
+        rows = list(csv.DictReader(table))
+    hours = sum(float(r["time_h"]) for r in rows if r["joint"] == "carrier")
+    assert_allclose(hours, 1250.0, rtol=1e-12)
     assert len(report["computed"]) == 2
     assert report["hours"] == [1000.0, 250.0]
     for level in report["damage"]["no limit"]:
