@@ -357,7 +357,7 @@ def parse_series(text: str) -> tuple[schema.Series, str | None]:
     return found, element.strip() or None
 
 
-def _channel(s: schema.Series) -> str:
+def series_channel(s: schema.Series) -> str:
     """The log channel that holds a series (joint series ride on ``/joints``)."""
     return s.topic if s.logged else "/joints"
 
@@ -451,7 +451,7 @@ def spectrum_of_log(
             has_meshes = reader.metadata.get("pinwind.model", {}).get("mesh_names")
             wanted = ["mesh_normal" if has_meshes else "speed"]
         chosen = [parse_series(text) for text in wanted]
-        channels = sorted({"/joints", *(_channel(s) for s, _ in chosen)})
+        channels = sorted({"/joints", *(series_channel(s) for s, _ in chosen)})
         result = reader.read(start=start, stop=stop, channels=channels)
     rate = sample_rate_of(result.time, path)
     window = float(result.time[-1] - result.time[0])

@@ -35,6 +35,16 @@ def spectrum(
         typer.Option(help="Welch segment length [s]; resolution 1/segment. Default: window/4."),
     ] = None,
     peaks: Annotated[int, typer.Option(help="Peaks listed per spectrum.")] = 5,
+    rainflow: Annotated[
+        Path | None,
+        typer.Option(
+            "--rainflow",
+            help="Also write each series' rainflow matrix (range x mean, ASTM E1049) to this CSV.",
+        ),
+    ] = None,
+    rainflow_bins: Annotated[
+        int, typer.Option("--rainflow-bins", help="Range and mean bins of the rainflow matrix.")
+    ] = 10,
     start: WindowStart = None,
     stop: WindowStop = None,
 ) -> None:
@@ -49,6 +59,16 @@ def spectrum(
         report = spectrum_of_log(
             log, series=series or (), start=start, stop=stop, segment=segment, peaks=peaks
         )
+        matrices = None
+        if rainflow is not None:
+            from pinwind.life.log_rainflow import log_rainflow_matrices, write_rainflow_csv
+
+            chosen = series or [s.series + (f":{s.element}" if s.element else "")
+                                for s in report.spectra]  # fmt: skip
+            matrices = log_rainflow_matrices(
+                log, list(dict.fromkeys(chosen)), start=start, stop=stop, bins=rainflow_bins
+            )
+            write_rainflow_csv(matrices, rainflow)
     written = write_figure(report, png) if png is not None else None
     if as_json:
         print(json.dumps(report.as_dict(), indent=1))
@@ -82,3 +102,5 @@ def spectrum(
     console.print(table)
     if written is not None:
         say(f"wrote {escape(str(written))}")
+    if rainflow is not None and matrices is not None:
+        say(f"wrote {escape(str(rainflow))}: {len(matrices)} rainflow matrices")
