@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,9 +20,14 @@ def _in_tmp(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
 
 
-def run(*args: str) -> subprocess.CompletedProcess:
+def run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    """``pinwind ARGS`` in a child process (in ``cwd`` if given), its output captured."""
     return subprocess.run(
-        [sys.executable, "-m", "pinwind", *args], capture_output=True, text=True, timeout=300
+        [sys.executable, "-m", "pinwind", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=cwd,
     )
 
 

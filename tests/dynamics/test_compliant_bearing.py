@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 import warnings
 
 import numpy as np
@@ -19,6 +17,7 @@ from pinwind.errors import InvalidBearingCompliance, PinwindWarning, UnheldMembe
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import MODELS
+from tests.test_cli import run
 
 MASS, STIFFNESS, G = 10.0, 1e6, 9.81
 
@@ -283,13 +282,7 @@ def test_bad_bearing_compliance_exits_2_in_one_line(tmp_path, bearing, command, 
     model = tmp_path / "disc.urdf"
     model.write_text(disc_urdf(bearing))
     args = ["--duration", "0.01", "--dt", "1e-3", "--no-log"] if command == "simulate" else []
-    out = subprocess.run(
-        [sys.executable, "-m", "pinwind", command, str(model), *args],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        cwd=tmp_path,
-    )
+    out = run(command, str(model), *args, cwd=tmp_path)
     assert out.returncode == 2, out.stderr
     assert message in out.stderr
     assert out.stderr.count("\n") == 1, out.stderr

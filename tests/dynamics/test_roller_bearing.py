@@ -7,8 +7,6 @@ independent of ``model/roller_sum.py`` and ``cpp/bearing_spring.hpp``.
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 import warnings
 
 import numpy as np
@@ -20,6 +18,7 @@ from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import InvalidBearingCompliance, MalformedModel, PinwindWarning
 from pinwind.model.gearbox import loads
 from tests.dynamics.test_compliant_bearing import MASS, G, disc_urdf
+from tests.test_cli import run
 
 ROLLERS, KN, LINE = 8, 1e7, 10.0 / 9.0  # 8 rollers, K_n [N/m^(10/9)], line contact
 
@@ -210,13 +209,7 @@ def test_an_unknown_law_or_contact_or_a_fractional_roller_count_is_malformed(att
 def test_a_bad_roller_sum_exits_2_in_one_line(tmp_path, bearing, message):
     model = tmp_path / "disc.urdf"
     model.write_text(disc_urdf(bearing))
-    out = subprocess.run(
-        [sys.executable, "-m", "pinwind", "modes", str(model)],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        cwd=tmp_path,
-    )
+    out = run("modes", str(model), cwd=tmp_path)
     assert out.returncode == 2, out.stderr
     assert message in out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
