@@ -270,6 +270,7 @@ class StepperSpec:
     input_columns: int  # per-sample inputs of the elements (wind speeds)
     bearing_damping: Vector  # [N·m·s/rad] per velocity
     driver_index: list[int]
+    bearing_joints: list[int]  # Pinocchio ids of the joints recorded as bearings
     frame_parent: list[int]
     frame_placement: list[Matrix]
     dt: float  # [s]
@@ -284,7 +285,7 @@ class Family(enum.Enum):
     run = 0  # one: the run itself
     joint = 1  # one per velocity
     mesh = 2
-    bearing = 3  # one per joint
+    bearing = 3  # one per bearing (StepperSpec.bearing_joints)
     body = 4  # one per recorded link
     generator = 5
     rotor = 6

@@ -218,7 +218,7 @@ def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> d
         "joint_names": list(gearbox.joint_names),
         "joint_kinds": gearbox.joint_kinds,
         "mesh_names": [m.name for m in gearbox.meshes],
-        "bearing_names": list(gearbox.joint_names),
+        "bearing_names": list(gearbox.bearing_names),
         "body_names": body_names,
         "generator_names": list(elements.generator_names),
         "rotor_names": list(elements.rotor_names),
@@ -439,7 +439,7 @@ def simulate(
     spring_mode = highest_spring_mode(gearbox, [d.joint for d in speed_loads])
     for note in coarse_step_notes(duration, dt, spring_mode):
         warnings.warn(StepTooCoarse(note), stacklevel=2)
-    frames = body_frames(model)
+    frames = body_frames(gearbox)
     body_names = [model.frames[f].name for f in frames]
     samples = steps + 1
     stride = _keep_stride(

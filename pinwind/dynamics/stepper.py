@@ -96,9 +96,19 @@ def series_array(block: Result, name: str) -> np.ndarray:
     return block.energy[name] if name in block.energy else getattr(block, name)
 
 
-def body_frames(model: pin.Model) -> list[int]:
-    """Ids of the link frames whose world poses are recorded."""
-    return [f for f in range(model.nframes) if model.frames[f].type == pin.FrameType.BODY]
+def body_frames(gearbox: Gearbox) -> list[int]:
+    """Ids of the link frames whose world poses are recorded.
+
+    Every link but the massless links of the compliant bearings' slides (``slide_links``): the
+    body in a bearing is the link on its revolute joint, and its pose holds the slides' motion.
+    """
+    model = gearbox.model
+    return [
+        f
+        for f in range(model.nframes)
+        if model.frames[f].type == pin.FrameType.BODY
+        and model.frames[f].name not in gearbox.slide_links
+    ]
 
 
 #: Newton iterations of the static start at most, and the correction, relative to the
@@ -143,7 +153,7 @@ class CompiledStepper:
         integrator: Integrator | None = None,
     ):
         model = gearbox.model
-        frames = body_frames(model)
+        frames = body_frames(gearbox)
         spec = _native.StepperSpec()
         spec.tree = joint_tree(gearbox, gravity)
         spec.meshes = MeshSet(gearbox, meshes.meshes).constants
@@ -169,6 +179,7 @@ class CompiledStepper:
         self.input_columns = loads.input_columns if loads is not None else 0
         spec.bearing_damping = np.array(model.damping, dtype=float).copy()
         spec.driver_index = list(driver_index)
+        spec.bearing_joints = [int(model.getJointId(n)) for n in gearbox.bearing_names]
         spec.frame_parent = [int(model.frames[f].parentJoint) for f in frames]
         spec.frame_placement = [model.frames[f].placement.homogeneous for f in frames]
         spec.dt = float(dt)

@@ -54,7 +54,7 @@ def mode_motion(gearbox: Gearbox, mode: Mode, *, periods: int = 3) -> Result:
     time = np.linspace(0.0, float(periods), n)  # one period per second
     q0 = gearbox.neutral()
     q = q0[None, :] + amplitude * np.real(np.exp(2j * math.pi * time)[:, None] * shape[None, :])
-    frames = body_frames(model)
+    frames = body_frames(gearbox)
     position = np.zeros((n, len(frames), 3))
     quaternion = np.zeros((n, len(frames), 4))
     for k in range(n):

@@ -41,7 +41,7 @@ def rest_pose(gearbox: Gearbox) -> Result:
     model = gearbox.model
     data = model.createData()
     pin.framesForwardKinematics(model, data, pin.neutral(model))
-    frames = body_frames(model)
+    frames = body_frames(gearbox)
     position = np.array([data.oMf[f].translation for f in frames])
     quaternion = np.array([pin.Quaternion(data.oMf[f].rotation).coeffs() for f in frames])
     return Result(

@@ -86,6 +86,8 @@ class BearingCompliance:
         r = np.asarray(displacement, dtype=float)
         if self.law == "roller_sum":
             return self.roller_sum.force(r)
+        if self.clearance == 0.0:
+            return -self.radial_stiffness * r  # the scale below is then exactly 1 (or r is 0)
         radius = np.hypot(r[..., 0], r[..., 1])
         over = np.maximum(radius - self.clearance, 0.0)
         scale = np.divide(over, radius, out=np.zeros_like(radius), where=radius > 0.0)

@@ -171,6 +171,11 @@ class Gearbox:
         slide_joints: the slides of the compliant bearings (joints of ``joint_names``).
         joint_names: the bearings and the compliant bearings' slides, in the order of the
             velocity vector (one DoF each).
+        bearing_names: the joints whose reactions are the run's bearing series: every joint
+            but a compliant bearing's slides, massless links inside the bearing whose reaction is
+            the bearing's own (its revolute joint's) in other axes.
+        slide_links: the massless links of the compliant bearings' slides, which the run's body
+            series leave out (the body is the link on the bearing's revolute joint).
         locked_joints: bearings held at zero speed (gears on fixed mounts, e.g. the ring).
         support_slides: joint name → the support's slides (``model/support.py``), from the
             ground to the housing; empty for a housing that is the ground.
@@ -206,6 +211,9 @@ class Gearbox:
             for joint, names in slides.items()
         }
         self.slide_joints = [n for b in self.compliant_bearings.values() for n in b.slides.values()]
+        bearing_slides = set(self.slide_joints)
+        self.bearing_names = [n for n in self.joint_names if n not in bearing_slides]
+        self.slide_links = {slide_link(n) for n in bearing_slides}
         self.slide_joints += list(self.support_slides)
         self._check_axial_inertia()
         self.gears = {name: self._attach(spec) for name, spec in source.gears.items()}
@@ -736,6 +744,11 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str], dict[str, dict[s
     return ET.tostring(root, encoding="unicode"), locked, slides
 
 
+def slide_link(slide: str) -> str:
+    """The name of the massless link a compliant bearing's slide ``slide`` moves."""
+    return f"{slide}_link"
+
+
 def _add_slides(
     source: ModelFile, root: ET.Element, name: str, compliance: BearingCompliance
 ) -> dict[str, str]:
@@ -758,7 +771,7 @@ def _add_slides(
     out = {}
     for slide in compliance.slides:
         slide_name = f"{name}_{slide}"
-        link_name = f"{slide_name}_link"
+        link_name = slide_link(slide_name)
         for taken, kind in ((slide_name, "joint"), (link_name, "link")):
             if taken in source.joints or taken in source.links:
                 raise MalformedModel(

@@ -39,6 +39,20 @@ def test_force_splits_into_radial_normal_to_the_axis_and_axial_along_it():
     np.testing.assert_allclose(bearing_load.axial_force(block, gb), [[-3.0]], rtol=1e-15)
 
 
+def test_each_bearing_of_each_sample_splits_about_its_own_axis():
+    # Two samples of two bearings, about z and about a tilted axis (3, 0, 4)/5: the same force
+    # splits differently on each, and the second sample is the first doubled.
+    k = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8]])
+    force = np.array([[[3.0, 4.0, 12.0], [3.0, 4.0, 12.0]]])
+    force = np.concatenate([force, 2.0 * force])
+    along = np.array([[12.0, 0.6 * 3.0 + 0.8 * 12.0]])  # F·k per bearing
+    across = np.sqrt(13.0**2 - along**2)  # |F| = 13 N
+    np.testing.assert_allclose(bearing_load.along_axis(force, k), [along[0], 2.0 * along[0]])
+    np.testing.assert_allclose(
+        bearing_load.across_axis(force, k), [across[0], 2.0 * across[0]], rtol=1e-14
+    )
+
+
 def test_moment_splits_into_tilting_normal_to_the_axis_and_torque_along_it():
     # M = (6, -8, 500) N·m about y: 500 and 6 tilt it (|(6, 500)|), −8 N·m turns the shaft.
     block, gb = _block([0.0, 0.0, 0.0], [6.0, -8.0, 500.0], [0.0, 1.0, 0.0])

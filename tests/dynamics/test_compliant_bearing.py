@@ -116,6 +116,34 @@ def test_the_static_start_puts_the_disc_at_its_sag_m_g_over_k_carried_by_the_bea
     np.testing.assert_allclose(bearing.force_local[:, [0, 2]], 0.0, atol=1e-9)
 
 
+def test_the_slides_are_joints_not_bearings_or_bodies_and_the_disc_pose_holds_its_sag():
+    gb = loads(disc_urdf(f'radial_stiffness="{STIFFNESS!r}" radial_damping="500"'))
+    res = _run(gb, duration=0.001, dt=1e-4)
+    assert res.joint_names == ["disc_radial_x", "disc_radial_y", "disc"]
+    # The slides' links are massless and their reaction is the bearing's: one bearing, the
+    # file's two links.
+    assert res.bearing_names == ["disc"]
+    assert res.body_names == ["ground", "disc"]
+    # The disc's recorded pose is its joint origin (0.1, 0.2, 0) lowered by its sag m g / k.
+    disc = res.body_names.index("disc")
+    np.testing.assert_allclose(
+        res.body_position[:, disc], [[0.1, 0.2 - MASS * G / STIFFNESS, 0.0]] * len(res.time),
+        rtol=0.0, atol=1e-12,
+    )  # fmt: skip
+
+
+def test_a_turning_disc_reads_its_weight_in_its_own_turning_frame():
+    # Driven at 20 rad/s from its sag, the disc's bearing carries its weight m g (up, world y)
+    # in the disc's joint frame, which turns by θ about z: (m g sin θ, m g cos θ, 0).
+    gb = loads(disc_urdf(f'radial_stiffness="{STIFFNESS!r}" radial_damping="500"'))
+    res = _run(gb, duration=0.05, dt=1e-4, speeds={"disc": 20.0})
+    theta = res.joint("disc").angle
+    assert theta[-1] > 0.9  # about 1 rad turned
+    expected = MASS * G * np.stack([np.sin(theta), np.cos(theta), 0.0 * theta], axis=1)
+    np.testing.assert_allclose(res.bearing("disc").force_local, expected, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(res.bearing("disc").force[:, 1], MASS * G, rtol=1e-9)
+
+
 def test_inside_its_clearance_the_disc_falls_freely_then_rests_at_clearance_plus_sag():
     clearance = 50e-6
     gb = loads(

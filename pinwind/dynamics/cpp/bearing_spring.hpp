@@ -71,8 +71,13 @@ class BearingSprings : public Element {
         direction_(specs_.size(), Eigen::Vector2d(1.0, 0.0)),
         stiffness_(specs_.size(), Eigen::Matrix2d::Zero()),
         force0_(specs_.size(), Eigen::Vector2d::Zero()),
-        rollers_(specs_.size()) {
+        rollers_(specs_.size()),
+        linear_(specs_.size()) {
     for (size_t b = 0; b < specs_.size(); ++b) {
+      const BearingSpringSpec& sp = specs_[b];
+      if (sp.index_axial >= 0) linear_[b].push_back({sp.index_axial, sp.axial_stiffness});
+      if (sp.index_tilt_x >= 0) linear_[b].push_back({sp.index_tilt_x, sp.tilt_stiffness});
+      if (sp.index_tilt_y >= 0) linear_[b].push_back({sp.index_tilt_y, sp.tilt_stiffness});
       if (specs_[b].law != BearingLaw::roller_sum) continue;
       const long z = specs_[b].rollers;
       for (long j = 0; j < z; ++j) {
@@ -86,7 +91,7 @@ class BearingSprings : public Element {
     const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
     for (size_t b = 0; b < specs_.size(); ++b) {
       const BearingSpringSpec& sp = specs_[b];
-      for (const auto& [i, k] : linear(sp)) {
+      for (const auto& [i, k] : linear_[b]) {
         hessian(i, i) += kq * k;
         force[i] -= k * (s.q[i] + s.dq_free[i]);
       }
@@ -114,7 +119,7 @@ class BearingSprings : public Element {
     damping_.setZero(s.q.size());
     for (size_t b = 0; b < specs_.size(); ++b) {
       const BearingSpringSpec& sp = specs_[b];
-      for (const auto& [i, k] : linear(sp)) elastic_[i] -= k * (s.q[i] + s.dq_free[i] + kq * a[i]);
+      for (const auto& [i, k] : linear_[b]) elastic_[i] -= k * (s.q[i] + s.dq_free[i] + kq * a[i]);
       if (sp.index_x < 0) continue;
       const Eigen::Vector2d step(a[sp.index_x], a[sp.index_y]);
       if (touching(b)) {
@@ -141,7 +146,7 @@ class BearingSprings : public Element {
     double energy = 0.0;
     for (size_t b = 0; b < specs_.size(); ++b) {
       const BearingSpringSpec& sp = specs_[b];
-      for (const auto& [i, k] : linear(sp)) energy += 0.5 * k * s.q[i] * s.q[i];
+      for (const auto& [i, k] : linear_[b]) energy += 0.5 * k * s.q[i] * s.q[i];
       if (sp.index_x < 0) continue;
       if (sp.law == BearingLaw::roller_sum) {
         // ∫ K_n δⁿ dδ = K_n δⁿ⁺¹ / (n + 1) per element in contact.
@@ -170,15 +175,6 @@ class BearingSprings : public Element {
     long index;
     double stiffness;
   };
-
-  // The bearing's linear springs: axial slide and tilt hinges, those it has.
-  static std::vector<Linear> linear(const BearingSpringSpec& sp) {
-    std::vector<Linear> out;
-    if (sp.index_axial >= 0) out.push_back({sp.index_axial, sp.axial_stiffness});
-    if (sp.index_tilt_x >= 0) out.push_back({sp.index_tilt_x, sp.tilt_stiffness});
-    if (sp.index_tilt_y >= 0) out.push_back({sp.index_tilt_y, sp.tilt_stiffness});
-    return out;
-  }
 
   // Bearing b's radial spring and damper act: in contact, or always without clearance (the
   // linear law; a roller sum's elements touch or not whatever the clearance).
@@ -248,6 +244,7 @@ class BearingSprings : public Element {
   std::vector<Eigen::Matrix2d> stiffness_;   // K(r₀) of the current step
   std::vector<Eigen::Vector2d> force0_;      // F(r₀) of the current step [N]
   std::vector<std::vector<Eigen::Vector2d>> rollers_;  // e_j of a roller sum's elements
+  std::vector<std::vector<Linear>> linear_;  // each bearing's axial slide and tilt hinges, those it has
   Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces [N or N·m]
 };
 

@@ -4,7 +4,8 @@
 // writes through.
 //
 // A series of family F with c components is a row-major (samples, count(F), c) array, c = 1
-// leaving the last axis out: count(run) = 1, count(joint) = nv, count(bearing) = the joints,
+// leaving the last axis out: count(run) = 1, count(joint) = nv, count(bearing) = the bearings
+// (StepperSpec.bearing_joints),
 // count(mesh), count(body) = the recorded links, count(generator), count(rotor) = the elements'.
 // Its name is the Result's; its unit, frame, meaning and how every consumer shows it are declared
 // in the Python schema (pinwind/dynamics/series.py; the ledger's terms are keys of

@@ -83,6 +83,7 @@ struct StepperSetup {
   long input_columns = 0;                 // per-sample inputs the elements read (wind speeds)
   Eigen::VectorXd bearing_damping;
   std::vector<long> driver_index;  // velocity index of each speed driver and lock
+  std::vector<long> bearing_joints;  // the joints whose reactions are the bearing series
   std::vector<long> frame_parent;  // body frames: parent joint and placement in it
   std::vector<pinocchio::SE3> frame_placement;
   double dt = 1e-3;
@@ -216,8 +217,9 @@ class Stepper {
   void bias_forces();
 
   // The force each joint transmits to its subtree at accelerations a_ under the external body
-  // forces fext_ (world, about the origin), in the joint frame about the joint origin as
-  // Pinocchio's rnea leaves it in data.f: the bearing reactions.
+  // forces fext_, in subtree_ (world axes, about the world origin): record() takes the bearing
+  // joints' into their joint frames about the joint origin, as Pinocchio's rnea leaves them in
+  // data.f (the slides of a compliant bearing, not recorded, are not transformed).
   void joint_forces();
 
   // Joint-space inertia M(q) from the placements and J of kinematics(), as Pinocchio's CRBA in
@@ -264,8 +266,8 @@ class Stepper {
   bool dynamics(long k, double t, RunStatus& st);
 
   // The constraints' and elements' forces on the bodies (the tooth forces at the pitch
-  // points), and the bearing reactions by RNEA with them: data.f[j] is the spatial force joint
-  // j transmits from its parent to its child, in the joint frame about the joint origin.
+  // points), and the bearing reactions by RNEA with them: subtree_[j] is the spatial force
+  // joint j transmits from its parent to its child (world axes, about the world origin).
   void bearing_reactions();
 
   // Writes the state of the step into row k of the block's outputs.

@@ -70,6 +70,7 @@ struct StepperSpec {
   long input_columns = 0;
   Eigen::VectorXd bearing_damping;
   std::vector<long> driver_index;
+  std::vector<long> bearing_joints;  // the joints recorded as bearings (Family::bearing)
   std::vector<long> frame_parent;
   std::vector<Mat4> frame_placement;
   double dt = 1e-3;
@@ -208,6 +209,9 @@ StepperSetup setup(const StepperSpec& spec) {
   }
   check_size("bearing_damping", spec.bearing_damping, nv);
   check_size("frame_placement", spec.frame_placement, spec.frame_parent.size());
+  for (const long j : spec.bearing_joints) {
+    if (j < 1 || j >= s.model.njoints) throw std::invalid_argument("bad bearing joint id");
+  }
   s.meshes = spec.meshes;
   s.paths = spec.paths;
   s.rigid_meshes = spec.rigid_meshes;
@@ -219,6 +223,7 @@ StepperSetup setup(const StepperSpec& spec) {
   s.input_columns = spec.input_columns;
   s.bearing_damping = spec.bearing_damping;
   s.driver_index = spec.driver_index;
+  s.bearing_joints = spec.bearing_joints;
   s.frame_parent = spec.frame_parent;
   for (const auto& h : spec.frame_placement) s.frame_placement.push_back(placement(h));
   s.dt = spec.dt;
@@ -261,7 +266,7 @@ class PyStepper {
     count(Family::run) = 1;
     count(Family::joint) = nv;
     count(Family::mesh) = static_cast<long>(s.meshes.count());
-    count(Family::bearing) = static_cast<long>(s.model.njoints - 1);
+    count(Family::bearing) = static_cast<long>(s.bearing_joints.size());
     count(Family::body) = static_cast<long>(s.frame_parent.size());
     count(Family::generator) = static_cast<long>(s.generators.size());
     count(Family::rotor) = static_cast<long>(s.rotors.size());
@@ -364,6 +369,7 @@ void bind_stepper(nb::module_& m) {
       .def_rw("input_columns", &StepperSpec::input_columns)
       .def_rw("bearing_damping", &StepperSpec::bearing_damping)
       .def_rw("driver_index", &StepperSpec::driver_index)
+      .def_rw("bearing_joints", &StepperSpec::bearing_joints)
       .def_rw("frame_parent", &StepperSpec::frame_parent)
       .def_rw("frame_placement", &StepperSpec::frame_placement)
       .def_rw("dt", &StepperSpec::dt)

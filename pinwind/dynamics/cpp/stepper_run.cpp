@@ -149,7 +149,6 @@ void Stepper::joint_forces() {
   }
   for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
     if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
-    data_.f[i] = data_.oMi[i].actInv(subtree_[i]);
   }
 }
 
@@ -175,7 +174,17 @@ void Stepper::mass_from_jacobian() {
       mass_.block(idx, idx, n, sub).noalias() =
           data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
     }
-    if (model.parents[i] > 0) composite_[model.parents[i]] += composite_[i];
+    const auto parent = model.parents[i];
+    if (parent > 0) {
+      // A massless parent (a compliant bearing's slide) holds its subtree alone: a copy, not
+      // Pinocchio's sum of inertias about the combined centre of mass (a division and ~40
+      // products).
+      if (massless_[parent] && composite_[parent].mass() == 0.0) {
+        composite_[parent] = composite_[i];
+      } else {
+        composite_[parent] += composite_[i];
+      }
+    }
   }
   mass_.diagonal() += model.armature;
   mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
@@ -354,7 +363,6 @@ void Stepper::bearing_reactions() {
 }
 
 void Stepper::record(long k, double t) {
-  const Eigen::Index nj = s_.model.njoints - 1;
   out_.at(Series::time, k) = t;
   joint_row(Series::angle, k) = q_;
   joint_row(Series::speed, k) = v_;
@@ -368,10 +376,12 @@ void Stepper::record(long k, double t) {
     constraints_[c]->record(sv, k, rows_of(lam_, c), out_);
   }
   for (const auto& e : elements_) e->record(sv, k, out_);
-  for (Eigen::Index j = 1; j <= nj; ++j) {
-    const auto& f = data_.f[j];
-    const auto& rot = data_.oMi[j].rotation();
-    const long e = out_.entry(Family::bearing, k, j - 1);
+  const auto& bearings = s_.bearing_joints;
+  for (size_t b = 0; b < bearings.size(); ++b) {
+    // The joint's reaction in its own frame (joint_forces leaves it in world axes).
+    const pinocchio::Force f = data_.oMi[bearings[b]].actInv(subtree_[bearings[b]]);
+    const auto& rot = data_.oMi[bearings[b]].rotation();
+    const long e = out_.entry(Family::bearing, k, static_cast<long>(b));
     vec3(Series::bearing_force_local, e) = f.linear();
     vec3(Series::bearing_moment_local, e) = f.angular();
     // World axes; the moment stays about the bearing centre.
