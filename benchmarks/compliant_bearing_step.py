@@ -7,40 +7,29 @@ slides per bearing, ``docs/model_format.md`` "Compliant bearings"): every turnin
 speed driver on the output. The runs are interleaved A/B ``--repeats`` times and the median ratio of
 the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only the last sample.
 
-Measured 2026-11-27 on the shared 2-core machine under a load average of 8 to 14 (other
-helpers compiling; 10000 steps, 3 repeats, ``--bearings all``; the wall clock is too noisy
-there to resolve the change, pairwise ratios spread 1.0-3.0): all five turning bearings
-compliant (nv 6 -> 16), the module before and after the changes below (built from 65c975f,
-whose meshes' Hessian loop cost 0.9k instructions per step more than the final one), runs
-interleaved, means of two runs' medians: saleh2017_planetary 1.99 -> 1.80, dtu500_planetary
-2.01 -> 1.75. Instruction counts are the steady measure (below): 2.23 -> 2.03
-(saleh2017_planetary) and 2.24 -> 2.04 (dtu500_planetary: 41.2k -> 92.4k before, 38.0k ->
-77.6k now), still above issue 24's 1.5.
-
-On the idle machine (2026-11-27 07:34, load average 0.5, nothing else running; the module
-built from b793e7f, default arguments: 20000 steps of 20 µs, 3 interleaved repeats), time per
-step, mesh-only -> compliant bearings: all five bearings (nv 6 -> 16) 13.05 -> 22.15 µs, 1.89
-(saleh2017_planetary, pairwise 1.51-2.17) and 13.42 -> 24.52 µs, 1.80 (dtu500_planetary,
-1.71-1.97): above issue 24's 1.5; one compliant bearing (nv 6 -> 8): sun 1.16 / 1.19, carrier
-1.20 / 1.21 (within 1.5).
+Measured 2026-11-27 09:54 on the idle 2-core machine (load average 0.14; default arguments,
+7 repeats; the module of b0aa5a9), time per step, mesh-only -> compliant bearings,
+two runs of the script one after the other: all five turning bearings (nv 6 -> 16) 1.54 and
+1.77 (saleh2017_planetary), 1.57 and 1.54 (dtu500_planetary); one compliant bearing (nv 6 -> 8):
+1.10-1.19. The machine's speed drifts by up to 2x within minutes (pairwise ratios spread
+1.2-2.0), so only the median of interleaved repeats means anything. The same script on the
+module before this session's changes (built from 35bffb5, same hour): 1.79 (saleh2017_planetary)
+and 1.93 (dtu500_planetary). Still above issue 24's 1.5 with all five bearings.
 
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
--> compliant bearings). Before: 41.5k -> 92.6k. Of the +51k, the bearing springs themselves
-(BearingSprings: force, tangent, settle, energy) were 2.1k; the rest is nv 6 -> 16 (and 6 -> 16
-joints): the QP solve +17.7k (Eigen's pivoted LDLT of the 16x16 Hessian, 14.0k, and its solves,
-redone every step as the compliant meshes change H), M by composite inertias +6.0k, b +4.5k,
-the Jacobians and mesh geometry +5.2k, the meshes' implicit terms on the larger H +3.8k and
-their prepare +1.9k, velocity kinematics +1.5k, the bearing reactions (RNEA) +2.4k, the
-sample's record +3.4k and advance +1.4k; outside the step loop, the per-block statistics
-(fold_block) 1.7k. Now: 38.5k -> 78.0k. The Hessian and the Schur complement are factorised
-by a small Cholesky (``cpp/small_cholesky.hpp``; the QP solve 25.8k -> 16.3k, and 8.1k -> 4.9k
-with ideal bearings), and the slides, which carry no mass, skip their bodies' inertia terms in
-M, b and the bearing reactions (-4.7k). What is left of the +39.6k is the per-joint passes
-over ten more joints (kinematics and mesh geometry, M, b, RNEA, record: about 25k) and the
-nv-sized solve: at 1.5x the step could grow by 19.2k only. The budget needs fewer joints
-(a radial bearing's two slides and revolute as one planar joint would run the per-joint passes
-over 6 joints, not 16), not a cheaper bearing element or solve.
+-> compliant bearings): 38.4k -> 72.6k (1.89; 41.5k -> 92.6k before the small Cholesky and the
+massless slides, 38.4k -> 77.9k before b0aa5a9). Of the +34k: the QP (its 16 x 16 Cholesky and
+solves, 11.3k per step, now factorised two rows at a time, which leaves the instructions but
+interleaves the divisions: 1.77 -> 1.20 µs for the factorisation and a solve), the mass matrix
+(+4.7k), the meshes' implicit terms on the larger Hessian (+3.8k) and the per-joint passes
+(kinematics, bias forces, reactions: about 8k). The Python side derives the bearing loads of a
+block (radial, axial, tilting, torque, displacement and spring force): 2.1 -> 1.1 µs per sample
+with five compliant bearings, now that the slides are no bearings (16 -> 6) or bodies (20 ->
+10) and the loads are derived component by component. What is left scales with nv (6 -> 16):
+at 1.5x the step could grow by 19k instructions only; the next step is a factorisation that
+uses the structure of the Hessian (each planet's chain couples to the carrier and the sun only)
+or fewer joints per bearing (a planar joint for the two slides and the revolute).
 
 Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
 """
@@ -101,7 +90,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20_000)
     parser.add_argument("--dt", type=float, default=2e-5)
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--models", nargs="*", default=list(CASES))
     parser.add_argument(
         "--bearings",
