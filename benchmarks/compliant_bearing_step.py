@@ -7,29 +7,27 @@ slides per bearing, ``docs/model_format.md`` "Compliant bearings"): every turnin
 speed driver on the output. The runs are interleaved A/B ``--repeats`` times and the median ratio of
 the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only the last sample.
 
-Measured 2026-11-27 09:54 on the idle 2-core machine (load average 0.14; default arguments,
-7 repeats; the module of b0aa5a9), time per step, mesh-only -> compliant bearings,
-two runs of the script one after the other: all five turning bearings (nv 6 -> 16) 1.54 and
-1.77 (saleh2017_planetary), 1.57 and 1.54 (dtu500_planetary); one compliant bearing (nv 6 -> 8):
-1.10-1.19. The machine's speed drifts by up to 2x within minutes (pairwise ratios spread
-1.2-2.0), so only the median of interleaved repeats means anything. The same script on the
-module before this session's changes (built from 35bffb5, same hour): 1.79 (saleh2017_planetary)
-and 1.93 (dtu500_planetary). Still above issue 24's 1.5 with all five bearings.
+Measured 2026-11-27 11:58 on the idle 2-core machine (default arguments, 7 repeats), time per
+step, mesh-only -> compliant bearings: all five turning bearings (nv 6 -> 16) 1.57 and 1.46
+(saleh2017_planetary), 1.57 and 1.58 (dtu500_planetary) in two runs of the script; one
+compliant bearing (nv 6 -> 8): 1.09-1.20. The module before this change (8b04fc5), run between
+the two: 1.59 and 1.57. The machine's speed drifts by up to 2x within minutes (pairwise ratios
+spread 1.2-2.3), so only the median of interleaved repeats means anything, and it still lands
+on both sides of issue 24's 1.5.
 
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
--> compliant bearings): 38.4k -> 72.6k (1.89; 41.5k -> 92.6k before the small Cholesky and the
-massless slides, 38.4k -> 77.9k before b0aa5a9). Of the +34k: the QP (its 16 x 16 Cholesky and
-solves, 11.3k per step, now factorised two rows at a time, which leaves the instructions but
-interleaves the divisions: 1.77 -> 1.20 µs for the factorisation and a solve), the mass matrix
-(+4.7k), the meshes' implicit terms on the larger Hessian (+3.8k) and the per-joint passes
-(kinematics, bias forces, reactions: about 8k). The Python side derives the bearing loads of a
-block (radial, axial, tilting, torque, displacement and spring force): 2.1 -> 1.1 µs per sample
-with five compliant bearings, now that the slides are no bearings (16 -> 6) or bodies (20 ->
-10) and the loads are derived component by component. What is left scales with nv (6 -> 16):
-at 1.5x the step could grow by 19k instructions only; the next step is a factorisation that
-uses the structure of the Hessian (each planet's chain couples to the carrier and the sun only)
-or fewer joints per bearing (a planar joint for the two slides and the revolute).
+-> compliant bearings): 38.5k -> 69.0k (1.79; 38.4k -> 72.6k before the slides were placed
+directly, 41.5k -> 92.6k before the small Cholesky). Of the +30.5k: the QP (its 16 x 16
+Cholesky, factorised two rows at a time, and its solves, M a = f and M x = Jᵀ now together:
+two 16 x 16 solves 704 -> 368 ns, their divisions' latency being their time), the meshes'
+implicit terms on the larger Hessian, the mass matrix, the mesh rows over more columns, and the
+per-joint passes (velocity, bias forces, joint forces). The slides are placed directly
+(cpp/joint_jacobians.cpp) and their rows of M and J̇ taken as pure translations. What is left
+scales with nv (6 -> 16); a further step would be fewer joints per bearing (a planar joint for
+the two slides and the revolute) or a factorisation ordered by the Hessian's structure without
+the cost of a permutation (an envelope order, leaves first, halved the products but its
+indexing cost as much again: tried and dropped).
 
 Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
 """

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -84,26 +86,68 @@ def _stepper(gb: pinwind.Gearbox, driver_index: list[int]) -> CompiledStepper:
     )
 
 
-@pytest.mark.parametrize("name", SHIPPED)
-def test_assembly_has_pinocchios_mass_matrix_and_bias_forces(name):
-    """M is Pinocchio's CRBA and b = C(q, v) v + g(q) its RNEA at zero acceleration."""
-    gb = pinwind.load(MODELS / name)
+def _assert_assembly_is_pinocchios(
+    gb: pinwind.Gearbox, seed: int, slides: Sequence[str] = ()
+) -> None:
+    """M is Pinocchio's CRBA and b = C(q, v) v + g(q) its RNEA at zero acceleration, at three
+    random states; ``slides`` moved by up to 1 mm at up to 1 m/s, as a loose bearing's."""
     model = gb.model.copy()
     model.gravity = pin.Motion(np.asarray(gb.gravity, dtype=float), np.zeros(3))
     data = model.createData()
     stepper = _stepper(gb, [])
-    rng = np.random.default_rng(11)
+    rng = np.random.default_rng(seed)
     for _ in range(3):
         q = rng.uniform(-np.pi, np.pi, model.nq)
         v = rng.uniform(-30.0, 30.0, model.nv)
+        for slide in slides:
+            q[gb.v_index(slide)] = rng.uniform(-1e-3, 1e-3)
+            v[gb.v_index(slide)] = rng.uniform(-1.0, 1.0)
         assembly = stepper.assemble(q, v)
         mass = pin.crba(model, data, q)
         mass = np.triu(mass) + np.triu(mass, 1).T
-        np.testing.assert_allclose(assembly.mass, mass, rtol=0, atol=1e-12 * abs(mass).max())
+        atol = 1e-12 * abs(mass).max()
+        np.testing.assert_allclose(assembly.mass, mass, rtol=0, atol=atol)
+        np.testing.assert_allclose(stepper.mass_matrix(q), mass, rtol=0, atol=atol)
         bias = pin.rnea(model, data, q, v, np.zeros(model.nv))
         # Coaxial gears under axial gravity have b ≈ 0: an absolute floor of 1e-10 N·m.
         scale = max(1.0, abs(bias).max())
         np.testing.assert_allclose(assembly.bias, bias, rtol=0, atol=1e-10 * scale)
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_assembly_has_pinocchios_mass_matrix_and_bias_forces(name):
+    """M is Pinocchio's CRBA and b = C(q, v) v + g(q) its RNEA at zero acceleration."""
+    _assert_assembly_is_pinocchios(pinwind.load(MODELS / name), seed=11)
+
+
+def _all_bearings_compliant(name: str) -> pinwind.Gearbox:
+    """The model with every turning bearing compliant radially, axially and in tilt: slides
+    along x, y and z and tilt joints under every body (nv 6 -> 36 for the planetary stage)."""
+    gb = pinwind.load(MODELS / name)
+    bearing = (
+        'radial_stiffness="2e9" axial_stiffness="1e9" tilt_stiffness="1e8" radial_damping="1e4"'
+    )
+    text, lines = gb.source_text, ""
+    for joint in (j for j in gb.joint_names if j not in gb.locked_joints):
+        if joint in gb.source.bearings:  # a rated bearing keeps its rating
+            text = text.replace(
+                f'<bearing joint="{joint}"', f'<bearing joint="{joint}" {bearing}', 1
+            )
+        else:
+            lines += f'  <bearing joint="{joint}" {bearing}/>\n'
+    return loads(text.replace("</gearbox>", lines + "</gearbox>"), str(gb.path))
+
+
+@pytest.mark.parametrize("name", ["saleh2017_planetary.urdf", "dtu500_planetary.urdf"])
+def test_compliant_bearings_keep_pinocchios_mass_matrix_and_bias_forces(name):
+    """The step places a compliant bearing's slides itself (joint_jacobians.cpp) and takes their
+    rows of M and of J̇ v as pure translations (stepper_run.cpp): M must still be Pinocchio's
+    CRBA and b its RNEA at zero acceleration, with every slide moved off its rest."""
+    gb = _all_bearings_compliant(name)
+    slides = [j for j in gb.joint_names if gb.model.joints[gb.model.getJointId(j)].shortname()
+              in ("JointModelPX", "JointModelPY", "JointModelPZ")]  # fmt: skip
+    assert len(slides) == 15  # three per turning bearing
+    _assert_assembly_is_pinocchios(gb, seed=13, slides=slides)
 
 
 def test_spur_mesh_row_is_base_radii_and_driver_row_is_unit():

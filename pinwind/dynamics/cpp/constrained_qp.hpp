@@ -107,13 +107,14 @@ class ConstrainedQp {
                                  const Eigen::MatrixXd&, const Eigen::VectorXd& rhs,
                                  bool rows_changed);
 
-  // Factorises M (and the Schur complement over the current rows); forgets the responses.
+  // Factorises M (and the Schur complement over the current rows); forgets the responses. With
+  // `force`, also solves M free_ = force.
   //
   // Compliant meshes change M every step (their weights follow the mesh stiffness), so this
   // runs once per step there: M⁻¹ J_bᵀ column by column and S_b by lazy products, because at
   // these sizes (nv of 6 to 20, a few rows) Eigen's blocked matrix solve and GEMM spend more
   // on packing and temporaries than on the arithmetic.
-  void factorise(const Eigen::MatrixXd& mass);
+  void factorise(const Eigen::MatrixXd& mass, const Eigen::VectorXd* force = nullptr);
 
   // Whether M differs from the factorised M₀ on at most kMaxCorrections diagonal entries and
   // nowhere else; fills changed_ with those entries and their differences.

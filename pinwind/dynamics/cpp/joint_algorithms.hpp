@@ -7,14 +7,24 @@
 // memory than Pinocchio's headers alone. A call per step costs nothing beside the algorithm.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 #include <pinocchio/multibody.hpp>
 
 namespace pinwind {
 
-// Joint placements data.oMi and the world Jacobian data.J at q (pinocchio::computeJointJacobians).
+// For each joint, the axis (0, 1, 2: x, y, z of its frame) of a slide: a prismatic joint along an
+// axis of its frame, placed in its parent without rotation (a compliant bearing's slides, which
+// the model's loader builds so); -1 for any other joint and for the universe.
+std::vector<int> slide_axes(const pinocchio::Model& model);
+
+// Joint placements data.oMi and the world Jacobian data.J at q, as pinocchio::computeJointJacobians
+// computes them, with the slides of slide_axes(model) placed directly: the same values, since
+// Pinocchio's products with their identity rotations are exact, without its general pose
+// products (a planetary stage with five compliant bearings has ten slides of sixteen joints).
 void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
-                     const Eigen::VectorXd& q);
+                     const Eigen::VectorXd& q, const std::vector<int>& slide_axes);
 
 // q_out = q ⊕ dq: the configuration dq [rad or m] away from q (pinocchio::integrate).
 void integrate(const pinocchio::Model& model, const Eigen::VectorXd& q,

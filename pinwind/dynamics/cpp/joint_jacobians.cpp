@@ -1,13 +1,56 @@
-// The one instantiation of pinocchio::computeJointJacobians (joint_algorithms.hpp).
+// pinocchio::computeJointJacobians with a compliant bearing's slides placed directly
+// (joint_algorithms.hpp): the one instantiation of its joint step.
+#include <string>
+
 #include <pinocchio/algorithm/jacobian.hpp>
 
 #include "joint_algorithms.hpp"
 
 namespace pinwind {
 
+std::vector<int> slide_axes(const pinocchio::Model& model) {
+  std::vector<int> axes(static_cast<size_t>(model.njoints), -1);
+  for (pinocchio::JointIndex i = 1; i < static_cast<pinocchio::JointIndex>(model.njoints); ++i) {
+    const std::string kind = model.joints[i].shortname();
+    int axis = -1;
+    if (kind == "JointModelPX") axis = 0;
+    if (kind == "JointModelPY") axis = 1;
+    if (kind == "JointModelPZ") axis = 2;
+    if (axis >= 0 && model.jointPlacements[i].rotation().isIdentity(0.0)) axes[i] = axis;
+  }
+  return axes;
+}
+
 void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
-                     const Eigen::VectorXd& q) {
-  pinocchio::computeJointJacobians(model, data, q);
+                     const Eigen::VectorXd& q, const std::vector<int>& slide_axes) {
+  // Pinocchio's own step of computeJointJacobians for every other joint (its impl namespace, as
+  // computeJointJacobians itself runs it; pyproject.toml pins pin < 5).
+  using Pass = pinocchio::impl::JointJacobiansForwardStep<
+      double, 0, pinocchio::JointCollectionDefaultTpl, Eigen::VectorXd, pinocchio::Data::Matrix6x>;
+  for (pinocchio::JointIndex i = 1; i < static_cast<pinocchio::JointIndex>(model.njoints); ++i) {
+    const int axis = slide_axes[i];
+    if (axis < 0) {
+      Pass::run(model.joints[i], data.joints[i], Pass::ArgsType(model, data, q, data.J));
+      continue;
+    }
+    // The slide's pose in its parent is its placement moved by q along the axis; in the world,
+    // the parent's rotation and the parent's pose applied to that translation.
+    pinocchio::SE3& local = data.liMi[i];
+    local.rotation().setIdentity();
+    local.translation() = model.jointPlacements[i].translation();
+    local.translation()[axis] += q[model.idx_qs[i]];
+    const auto parent = model.parents[i];
+    if (parent > 0) {
+      const pinocchio::SE3& above = data.oMi[parent];
+      data.oMi[i].rotation() = above.rotation();
+      data.oMi[i].translation() = above.translation() + above.rotation() * local.translation();
+    } else {
+      data.oMi[i] = local;
+    }
+    auto column = data.J.col(model.idx_vs[i]);
+    column.head<3>() = data.oMi[i].rotation().col(axis);
+    column.tail<3>().setZero();
+  }
 }
 
 }  // namespace pinwind

@@ -86,6 +86,42 @@ class SmallCholesky {
     }
   }
 
+  // x = H⁻¹ b and u = H⁻¹ c together: each substitution is a chain of n dependent divisions,
+  // and two interleaved take the time of one. The same values as two solve()s.
+  template <class Rhs, class Out, class Rhs2, class Out2>
+  void solve(const Rhs& b, Out&& x, const Rhs2& c, Out2&& u) const {
+    if (!cholesky_) {
+      x = ldlt_.solve(b);
+      u = ldlt_.solve(c);
+      return;
+    }
+    x = b;
+    u = c;
+    double* y = x.data();
+    double* z = u.data();
+    const Eigen::Index n = lower_t_.cols();
+    for (Eigen::Index j = 0; j < n; ++j) {  // L y = b, L z = c
+      const double* lj = lower_t_.col(j).data();
+      double s = y[j], t = z[j];
+      for (Eigen::Index k = 0; k < j; ++k) {
+        s -= lj[k] * y[k];
+        t -= lj[k] * z[k];
+      }
+      y[j] = s / diagonal_[j];
+      z[j] = t / diagonal_[j];
+    }
+    for (Eigen::Index j = n - 1; j >= 0; --j) {  // Lᵀ x = y, Lᵀ u = z
+      const double* lj = lower_t_.col(j).data();
+      const double xj = y[j] / diagonal_[j], uj = z[j] / diagonal_[j];
+      y[j] = xj;
+      z[j] = uj;
+      for (Eigen::Index k = 0; k < j; ++k) {
+        y[k] -= lj[k] * xj;
+        z[k] -= lj[k] * uj;
+      }
+    }
+  }
+
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
     Eigen::VectorXd x(b.size());
     solve(b, x);

@@ -308,6 +308,7 @@ class Stepper {
   std::vector<Eigen::Matrix3d> rot_;
   BodyForces fext_;  // the constraints' and elements' forces on the bodies
   std::vector<pinocchio::Inertia> composite_, body_;  // world inertias
+  std::vector<int> slide_axes_;  // per joint: a slide's axis, or -1 (joint_algorithms.hpp)
   std::vector<bool> massless_;  // joints whose body has no inertia (a compliant bearing's slides)
   std::vector<pinocchio::Motion> accel_, drift_;
   std::vector<pinocchio::Force> body_force_, subtree_, weight_;

@@ -3,6 +3,7 @@
 #include <memory>
 #include <utility>
 
+#include "joint_algorithms.hpp"
 #include "stepper.hpp"
 
 namespace pinwind {
@@ -46,6 +47,7 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
   origin_.resize(s_.meshes.joint_ids.size());
   rot_.resize(s_.meshes.joint_ids.size());
   fext_.of_joint.assign(s_.model.njoints, pinocchio::Force::Zero());
+  slide_axes_ = slide_axes(s_.model);
   for (const auto& inertia : s_.model.inertias) {
     massless_.push_back(inertia.mass() == 0.0 && inertia.inertia().data().isZero(0.0));
   }

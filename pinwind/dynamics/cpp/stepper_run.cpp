@@ -46,7 +46,7 @@ RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& tar
 }
 
 Eigen::MatrixXd Stepper::mass_matrix(const Eigen::VectorXd& q) {
-  joint_jacobians(s_.model, data_, q);
+  joint_jacobians(s_.model, data_, q, slide_axes_);
   mass_from_jacobian();
   return mass_;
 }
@@ -61,7 +61,7 @@ void Stepper::targets() {
 }
 
 void Stepper::kinematics() {
-  joint_jacobians(s_.model, data_, q_);
+  joint_jacobians(s_.model, data_, q_, slide_axes_);
   for (size_t i = 0; i < s_.meshes.joint_ids.size(); ++i) {
     origin_[i] = data_.oMi[s_.meshes.joint_ids[i]].translation();
     rot_[i] = data_.oMi[s_.meshes.joint_ids[i]].rotation();
@@ -79,8 +79,16 @@ void Stepper::velocity_kinematics() {
     const int idx = model.idx_vs[i], n = model.nvs[i];
     const auto parent = model.parents[i];
     data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
-    for (int c = idx; c < idx + n; ++c) {
-      data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
+    if (slide_axes_[i] >= 0) {
+      // A slide's column is a pure translation u: v × (u, 0) = (ω × u, 0), Pinocchio's cross
+      // product with its zero terms left out.
+      auto column = data_.dJ.col(idx);
+      column.head<3>() = data_.ov[i].angular().cross(data_.J.col(idx).head<3>());
+      column.tail<3>().setZero();
+    } else {
+      for (int c = idx; c < idx + n; ++c) {
+        data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
+      }
     }
     drift_[i] = drift_[parent] + pinocchio::Motion(joint_product(data_.dJ, v_, idx, n));
   }
@@ -165,14 +173,27 @@ void Stepper::mass_from_jacobian() {
   momenta_.resize(6, nv_);
   for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
     const int idx = model.idx_vs[i], n = model.nvs[i], sub = data_.nvSubtree[i];
-    for (int c = idx; c < idx + n; ++c) {
-      momenta_.col(c) = (composite_[i] * pinocchio::Motion(data_.J.col(c))).toVector();
-    }
-    if (n == 1) {
-      for (int c = idx; c < idx + sub; ++c) mass_(idx, c) = data_.J.col(idx).dot(momenta_.col(c));
+    if (slide_axes_[i] >= 0) {
+      // A slide's column is a pure translation u: its momentum is m u at the centre of mass c,
+      // (m u, c × m u), as Pinocchio's product with a zero angular part, and its row of M reads
+      // only the linear parts of the subtree's momenta.
+      const auto u = data_.J.col(idx).head<3>();
+      auto momentum = momenta_.col(idx);
+      momentum.head<3>() = composite_[i].mass() * u;
+      momentum.tail<3>() = composite_[i].lever().cross(Eigen::Vector3d(momentum.head<3>()));
+      for (int c = idx; c < idx + sub; ++c) mass_(idx, c) = u.dot(momenta_.col(c).head<3>());
     } else {
-      mass_.block(idx, idx, n, sub).noalias() =
-          data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+      for (int c = idx; c < idx + n; ++c) {
+        momenta_.col(c) = (composite_[i] * pinocchio::Motion(data_.J.col(c))).toVector();
+      }
+      if (n == 1) {
+        for (int c = idx; c < idx + sub; ++c) {
+          mass_(idx, c) = data_.J.col(idx).dot(momenta_.col(c));
+        }
+      } else {
+        mass_.block(idx, idx, n, sub).noalias() =
+            data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+      }
     }
     const auto parent = model.parents[i];
     if (parent > 0) {
