@@ -111,9 +111,10 @@ class ConstrainedQp {
   // `force`, also solves M free_ = force.
   //
   // Compliant meshes change M every step (their weights follow the mesh stiffness), so this
-  // runs once per step there: M⁻¹ J_bᵀ column by column and S_b by lazy products, because at
-  // these sizes (nv of 6 to 20, a few rows) Eigen's blocked matrix solve and GEMM spend more
-  // on packing and temporaries than on the arithmetic.
+  // runs once per step there: M⁻¹ J_bᵀ and M⁻¹ f two columns at a time (their substitutions
+  // interleaved) and S_b by lazy products, because at these sizes (nv of 6 to 20, a few rows)
+  // Eigen's blocked matrix solve and GEMM spend more on packing and temporaries than on the
+  // arithmetic.
   void factorise(const Eigen::MatrixXd& mass, const Eigen::VectorXd* force = nullptr);
 
   // Whether M differs from the factorised M₀ on at most kMaxCorrections diagonal entries and
