@@ -167,6 +167,17 @@ class BearingSpringSpec:
     load_exponent: float  # n, roller_sum
     def __init__(self) -> None: ...
 
+class BearingSlides:
+    """A compliant bearing's slides as a block reads them (``cpp/bearing_spring.hpp``); −1: none."""
+
+    bearing: int  # its column in the bearing series
+    x: int  # joint column of the radial slide along u
+    y: int  # joint column of the radial slide along w
+    z: int  # joint column of the axial slide
+    axes: Matrix  # (3, 3) rows u, w, k in the joint frame
+    spring: BearingSpringSpec  # its laws (indices unused)
+    def __init__(self) -> None: ...
+
 class GeneratorSpec:
     """A generator law on one joint (``cpp/generator.hpp``; ``loads/generator.py``)."""
 
@@ -212,6 +223,17 @@ def rotor_torque(rotor: RotorSpec, speed: float, wind: float) -> float:
 
 def rotor_cp(rotor: RotorSpec, tsr: float) -> float:
     """Power coefficient C_p at tip-speed ratio λ."""
+
+def bearing_slide_series(
+    angle: Matrix,
+    slides: list[BearingSlides],
+    displacement: Matrix,
+    elastic: Matrix | None = None,
+) -> None:
+    """Each bearing's displacement [m] and springs' elastic force [N] from joint coordinates.
+
+    ``angle`` (samples, joints) is a block's; the outputs are (samples, bearings, 3), joint frame.
+    """
 
 def fold_columns(values: Matrix, out: Matrix) -> None:
     """min, max, sum, sum of squares and last value of each column of an (m, k) block.

@@ -15,7 +15,9 @@ two series add
   −k_a z axially [N], same frame; 0 for an ideal or a floating bearing.
 
 Both are ``derive`` functions of the schema (``dynamics/series.py``): (block, gearbox) → array
-(samples, bearings, 3), from the block's joint coordinates (the slides' ``angle`` [m]).
+(samples, bearings, 3), from the block's joint coordinates (the slides' ``angle`` [m]), computed
+by ``_native.bearing_slide_series`` (``cpp/bearing_spring.hpp``): numpy's products of
+(samples, 3) by (3, 3) per bearing took as long as a tenth of the step.
 """
 
 from __future__ import annotations
@@ -27,6 +29,22 @@ import numpy as np
 from pinwind.dynamics import _native
 
 
+def _law(compliance: Any) -> _native.BearingSpringSpec:
+    """A compiled spec holding the bearing's laws (radial, axial and tilt), without its slides."""
+    c = compliance
+    spec = _native.BearingSpringSpec()
+    if not c.floating:
+        spec.radial_stiffness, spec.clearance = float(c.radial_stiffness), float(c.clearance)
+        spec.radial_damping = float(c.radial_damping)
+        if c.law == "roller_sum":
+            spec.law = _native.BearingLaw.roller_sum
+            spec.rollers, spec.load_exponent = c.rollers, float(c.load_exponent)
+            spec.contact_stiffness = float(c.contact_stiffness)
+    spec.axial_stiffness = float(c.axial_stiffness or 0.0)
+    spec.tilt_stiffness = float(c.tilt_stiffness or 0.0)
+    return spec
+
+
 def bearing_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
     """The compiled springs of the gearbox's compliant bearings (floating ones have none)."""
     out = []
@@ -34,54 +52,63 @@ def bearing_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
         c, index = bearing.compliance, bearing.v_index
         if c.floating and "axial" not in index and "tilt_x" not in index:
             continue
-        spec = _native.BearingSpringSpec()
+        spec = _law(c)
         if not c.floating:
             spec.index_x, spec.index_y = index["radial_x"], index["radial_y"]
-            spec.radial_stiffness, spec.clearance = float(c.radial_stiffness), float(c.clearance)
-            spec.radial_damping = float(c.radial_damping)
-            if c.law == "roller_sum":
-                spec.law = _native.BearingLaw.roller_sum
-                spec.rollers, spec.load_exponent = c.rollers, float(c.load_exponent)
-                spec.contact_stiffness = float(c.contact_stiffness)
         if "axial" in index:
-            spec.index_axial, spec.axial_stiffness = index["axial"], float(c.axial_stiffness)
+            spec.index_axial = index["axial"]
         if "tilt_x" in index:
             spec.index_tilt_x, spec.index_tilt_y = index["tilt_x"], index["tilt_y"]
-            spec.tilt_stiffness = float(c.tilt_stiffness)
         out.append(spec)
     return out
 
 
-def _coordinates(block: Any, bearing: Any) -> np.ndarray:
-    """The slides' (x, y, z) of a bearing over the block [m], (samples, 3) (z 0 without)."""
-    out = np.zeros((len(block.time), 3))
-    for column, slide in enumerate(("radial_x", "radial_y", "axial")):
-        if slide in bearing.slides:
-            out[:, column] = block.angle[:, block.joint_names.index(bearing.slides[slide])]
-    return out
+def _slides(block: Any, gearbox: Any) -> list[_native.BearingSlides]:
+    """The compiled description of each compliant bearing of the block.
 
-
-def displacement(block: Any, gearbox: Any) -> np.ndarray:
-    """The body's displacement in each bearing [m], (samples, bearings, 3), joint frame."""
-    out = np.zeros((len(block.time), len(block.bearing_names), 3))
-    for name, bearing in gearbox.compliant_bearings.items():
-        if name in block.bearing_names:
-            out[:, block.bearing_names.index(name)] = (
-                _coordinates(block, bearing) @ bearing.axes_in_joint
-            )
-    return out
-
-
-def elastic_force(block: Any, gearbox: Any) -> np.ndarray:
-    """The bearing springs' force on each body [N], (samples, bearings, 3), joint frame."""
-    out = np.zeros((len(block.time), len(block.bearing_names), 3))
+    Its column, its slides' joint columns, their axes in the joint frame and its laws.
+    """
+    out = []
     for name, bearing in gearbox.compliant_bearings.items():
         if name not in block.bearing_names:
             continue
-        c = bearing.compliance
-        xyz = _coordinates(block, bearing)
-        force = np.zeros_like(xyz)
-        force[:, :2] = c.radial_force(xyz[:, :2])
-        force[:, 2] = -(c.axial_stiffness or 0.0) * xyz[:, 2]
-        out[:, block.bearing_names.index(name)] = force @ bearing.axes_in_joint
+        slides = _native.BearingSlides()
+        slides.bearing = block.bearing_names.index(name)
+        for coordinate, slide in (("x", "radial_x"), ("y", "radial_y"), ("z", "axial")):
+            if slide in bearing.slides:
+                setattr(slides, coordinate, block.joint_names.index(bearing.slides[slide]))
+        slides.axes = np.asarray(bearing.axes_in_joint, dtype=float)
+        slides.spring = _law(bearing.compliance)
+        out.append(slides)
     return out
+
+
+def _series(block: Any, gearbox: Any, elastic: bool) -> np.ndarray:
+    """Displacement [m] or elastic force [N] of each bearing, (samples, bearings, 3), joint frame.
+
+    ``cpp/bearing_spring.hpp`` over the block's slide coordinates (the slides' ``angle`` [m]).
+    """
+    shape = (len(block.time), len(block.bearing_names), 3)
+    displacement = np.zeros(shape)
+    force = np.zeros(shape) if elastic else None
+    if gearbox.compliant_bearings and shape[0] and shape[1]:
+        angle = np.ascontiguousarray(block.angle, dtype=float)
+        _native.bearing_slide_series(angle, _slides(block, gearbox), displacement, force)
+    return force if force is not None else displacement
+
+
+def displacement(block: Any, gearbox: Any) -> np.ndarray:
+    """The body's displacement in each bearing [m], (samples, bearings, 3), joint frame.
+
+    u x + w y + k z from its slides' coordinates; 0 for an ideal bearing.
+    """
+    return _series(block, gearbox, elastic=False)
+
+
+def elastic_force(block: Any, gearbox: Any) -> np.ndarray:
+    """The bearing springs' force on each body [N], (samples, bearings, 3), joint frame.
+
+    The radial law (``BearingCompliance.radial_force``) at the slides' (x, y) and −k_a z
+    axially; 0 for an ideal bearing and radially for a floating one.
+    """
+    return _series(block, gearbox, elastic=True)

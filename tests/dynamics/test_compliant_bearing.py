@@ -116,6 +116,24 @@ def test_the_static_start_puts_the_disc_at_its_sag_m_g_over_k_carried_by_the_bea
     np.testing.assert_allclose(bearing.force_local[:, [0, 2]], 0.0, atol=1e-9)
 
 
+def test_a_disc_on_an_axis_along_x_reads_its_radial_and_axial_sag_in_its_joint_frame():
+    # The bearing's axis along x: its slides run along world y, z (radial) and x (axial), none
+    # of them the joint frame's x, y, z in order. Gravity (−1, −g, 0) m/s² sags the disc by
+    # m g / k along −y and by m · 1 / k_a along −x; the springs carry (1, g, 0) m.
+    axial = 4e6
+    text = disc_urdf(f'radial_stiffness="{STIFFNESS!r}" radial_damping="500" '
+                     f'axial_stiffness="{axial!r}" axial_damping="500"')
+    text = text.replace('<axis xyz="0 0 1"/>', '<axis xyz="1 0 0"/>')
+    text = text.replace(f'gravity="0 {-G!r} 0"', f'gravity="-1.0 {-G!r} 0"')
+    res = _run(loads(text), duration=0.001, dt=1e-4)
+    bearing = res.bearing("disc")
+    sag = [-MASS * 1.0 / axial, -MASS * G / STIFFNESS, 0.0]
+    np.testing.assert_allclose(bearing.displacement, [sag] * len(res.time), rtol=1e-9, atol=1e-15)
+    weight = [MASS * 1.0, MASS * G, 0.0]
+    np.testing.assert_allclose(bearing.elastic_force, [weight] * len(res.time), rtol=1e-9,
+                               atol=1e-9)  # fmt: skip
+
+
 def test_the_slides_are_joints_not_bearings_or_bodies_and_the_disc_pose_holds_its_sag():
     gb = loads(disc_urdf(f'radial_stiffness="{STIFFNESS!r}" radial_damping="500"'))
     res = _run(gb, duration=0.001, dt=1e-4)

@@ -213,8 +213,11 @@ def test_an_explicit_tooth_phase_is_kept_and_the_other_planets_still_interlock()
             dt=1e-4,
             meshes={"all": "compliant"},
             gravity=np.zeros(3),
+            # 1 N·m on the carrier presses the ring meshes' front flanks (unloaded, the flank
+            # would be rounding's choice); its deflection, ~1e-10 m, is 1e-8 of a pitch.
+            torques={"carrier": 1.0},
         )
-    # At rest in the reference pose: the flank of planet 2's tooth 0 facing its positive turn
+    # In the reference pose: the flank of planet 2's tooth 0 facing its positive turn
     # (the ring mesh's front flank) crosses the ring mesh's working pitch circle at 10° from the
     # planet's x axis; the ring mesh's pitch point lies outwards, at 120°. The front flank's
     # pair is (10° − 120°)/(360°/Z_p) pitches past the pitch point.

@@ -59,6 +59,24 @@ struct BearingSpringSpec {
   double load_exponent = 1.0;                 // n (roller_sum)
 };
 
+// A bearing's slides as a block of samples reads them (pinwind/dynamics/bearing_springs.py):
+// the series bearing_displacement and bearing_elastic_force of one bearing.
+struct BearingSlides {
+  long bearing = -1;                  // its column in the bearing series
+  long x = -1, y = -1, z = -1;        // joint columns of the radial and axial slides (−1: none)
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // rows u, w, k in the joint frame
+  BearingSpringSpec spring;           // its law (no stiffness: a floating bearing)
+};
+
+// Over samples rows of angle (row-major, stride angle_stride: the joints' coordinates [m for a
+// slide]): each bearing's displacement u x + w y + k z [m] and, if elastic is not null, its
+// springs' force on the body, the radial law at (x, y) and −k_a z axially [N], both in the
+// joint frame, into the rows of displacement and elastic (row-major (samples, bearings, 3)).
+// Bearings not in slides are left as they are.
+void bearing_slide_series(const double* angle, long samples, long angle_stride,
+                          const std::vector<BearingSlides>& slides, long bearings,
+                          double* displacement, double* elastic);
+
 class BearingSprings : public Element {
  public:
   // A roller-sum bearing's deflection per element at which a static solve starts when no
@@ -78,13 +96,38 @@ class BearingSprings : public Element {
       if (sp.index_axial >= 0) linear_[b].push_back({sp.index_axial, sp.axial_stiffness});
       if (sp.index_tilt_x >= 0) linear_[b].push_back({sp.index_tilt_x, sp.tilt_stiffness});
       if (sp.index_tilt_y >= 0) linear_[b].push_back({sp.index_tilt_y, sp.tilt_stiffness});
-      if (specs_[b].law != BearingLaw::roller_sum) continue;
-      const long z = specs_[b].rollers;
-      for (long j = 0; j < z; ++j) {
-        const double psi = 2.0 * M_PI * static_cast<double>(j) / static_cast<double>(z);
-        rollers_[b].emplace_back(std::cos(psi), std::sin(psi));
-      }
+      if (specs_[b].law == BearingLaw::roller_sum) rollers_[b] = roller_directions(sp.rollers);
     }
+  }
+
+  // e_j = (cos ψ_j, sin ψ_j), ψ_j = 2πj/Z: the directions of a roller sum's Z elements.
+  static std::vector<Eigen::Vector2d> roller_directions(long z) {
+    std::vector<Eigen::Vector2d> out;
+    for (long j = 0; j < z; ++j) {
+      const double psi = 2.0 * M_PI * static_cast<double>(j) / static_cast<double>(z);
+      out.emplace_back(std::cos(psi), std::sin(psi));
+    }
+    return out;
+  }
+
+  // F(r) [N] of sp's radial law at the displacement r [m] (the header's comment; rollers: e_j
+  // of a roller sum), whatever the step's active set.
+  static Eigen::Vector2d radial_force(const BearingSpringSpec& sp,
+                                      const std::vector<Eigen::Vector2d>& rollers,
+                                      const Eigen::Vector2d& r) {
+    if (sp.law == BearingLaw::roller_sum) {
+      Eigen::Vector2d f = Eigen::Vector2d::Zero();
+      for (const Eigen::Vector2d& e : rollers) {
+        const double d = e.dot(r) - sp.clearance;
+        if (d > 0.0) f -= sp.contact_stiffness * std::pow(d, sp.load_exponent) * e;
+      }
+      return f;
+    }
+    if (sp.clearance <= 0.0) return -sp.radial_stiffness * r;
+    const double n = std::hypot(r[0], r[1]);
+    return n > sp.clearance
+               ? Eigen::Vector2d(-sp.radial_stiffness * ((n - sp.clearance) / n) * r)
+               : Eigen::Vector2d::Zero();
   }
 
   void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
@@ -247,5 +290,30 @@ class BearingSprings : public Element {
   std::vector<std::vector<Linear>> linear_;  // each bearing's axial slide and tilt hinges, those it has
   Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces [N or N·m]
 };
+
+inline void bearing_slide_series(const double* angle, long samples, long angle_stride,
+                                 const std::vector<BearingSlides>& slides, long bearings,
+                                 double* displacement, double* elastic) {
+  std::vector<std::vector<Eigen::Vector2d>> rollers;
+  for (const BearingSlides& b : slides) {
+    rollers.push_back(b.spring.law == BearingLaw::roller_sum
+                          ? BearingSprings::roller_directions(b.spring.rollers)
+                          : std::vector<Eigen::Vector2d>());
+  }
+  for (long k = 0; k < samples; ++k) {
+    const double* row = angle + k * angle_stride;
+    for (size_t i = 0; i < slides.size(); ++i) {
+      const BearingSlides& b = slides[i];
+      const Eigen::Vector3d xyz(b.x >= 0 ? row[b.x] : 0.0, b.y >= 0 ? row[b.y] : 0.0,
+                                b.z >= 0 ? row[b.z] : 0.0);
+      const long at = 3 * (k * bearings + b.bearing);
+      Eigen::Map<Eigen::Vector3d>(displacement + at) = b.axes.transpose() * xyz;
+      if (elastic == nullptr) continue;
+      Eigen::Vector3d force(0.0, 0.0, -b.spring.axial_stiffness * xyz[2]);
+      force.head<2>() = BearingSprings::radial_force(b.spring, rollers[i], xyz.head<2>());
+      Eigen::Map<Eigen::Vector3d>(elastic + at) = b.axes.transpose() * force;
+    }
+  }
+}
 
 }  // namespace pinwind

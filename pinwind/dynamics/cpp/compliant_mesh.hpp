@@ -140,15 +140,17 @@ class CompliantMeshes : public Element {
       if (state_[i] == 0) continue;
       const auto& row = row_[2 * i + (state_[i] > 0 ? 0 : 1)];
       // w rowᵀ row entry by entry, over the span of the row's non-zero entries (the joints of
-      // the two gears' chains): Eigen's outer-product path allocates a temporary per call,
-      // which at nv of 6 to 20 costs more than the products.
+      // the two gears' chains) and in the lower triangle only (Element::add_implicit): Eigen's
+      // outer-product path allocates a temporary per call, which at nv of 6 to 20 costs more
+      // than the products.
       Eigen::Index lo = 0, hi = row.size();
       while (lo < hi && row[lo] == 0.0) ++lo;
       while (hi > lo && row[hi - 1] == 0.0) --hi;
       for (Eigen::Index c = lo; c < hi; ++c) {
         const double wc = w_[i] * row[c];
         if (wc == 0.0) continue;
-        for (Eigen::Index r = lo; r < hi; ++r) hessian(r, c) += row[r] * wc;
+        double* column = hessian.col(c).data();
+        for (Eigen::Index r = c; r < hi; ++r) column[r] += row[r] * wc;
       }
       force.noalias() += b_[i] * row.transpose();
     }

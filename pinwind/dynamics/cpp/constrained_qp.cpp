@@ -121,13 +121,12 @@ const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
     return solve_direct(mass, force, reduced_jac_, rhs, false);
   }
   out.multipliers.noalias() = row_basis_ * mu_;
-  // The residuals in work vectors: a product inside a larger expression would allocate.
+  // The residual in a work vector: a product inside a larger expression would allocate. The
+  // dual residual is that of the factorisations' substitutions, rounding, and is not formed
+  // (QpSolution); a non-finite a (a = M⁻¹ f + M⁻¹ J_bᵀ μ) marks the solve failed.
   primal_.noalias() = reduced_jac_ * out.acceleration;
-  out.primal_residual = (primal_ - projected_rhs_).cwiseAbs().maxCoeff();
-  dual_.noalias() = mass * out.acceleration;
-  dual_ -= force;
-  dual_.noalias() -= reduced_jac_.transpose() * mu_;
-  out.dual_residual = dual_.cwiseAbs().maxCoeff();
+  out.primal_residual = primal_.size() ? (primal_ - projected_rhs_).cwiseAbs().maxCoeff() : 0.0;
+  out.dual_residual = out.acceleration.allFinite() ? 0.0 : NAN;
   out.iterations = 0;
   out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
   out.status = "direct";
@@ -141,19 +140,15 @@ void ConstrainedQp::factorise(const Eigen::MatrixXd& mass, const Eigen::VectorXd
   mass_factor_.compute(mass);
   const Eigen::Index rows = reduced_jac_.rows();
   minv_jt_.resize(reduced_jac_.cols(), rows);
-  // M⁻¹ f and M⁻¹ Jᵀ two columns at a time (small_cholesky.hpp: the pair takes the time of one).
-  Eigen::Index r = 0;
-  if (force != nullptr && rows > 0) {
-    mass_factor_.solve(*force, free_, reduced_jac_.row(0).transpose(), minv_jt_.col(0));
-    r = 1;
-  } else if (force != nullptr) {
-    mass_factor_.solve(*force, free_);
+  // M⁻¹ f and M⁻¹ Jᵀ together (small_cholesky.hpp: a few columns take the time of one).
+  minv_jt_ = reduced_jac_.transpose();
+  solve_columns_.clear();
+  if (force != nullptr) {
+    free_ = *force;
+    solve_columns_.push_back(free_.data());
   }
-  for (; r + 1 < rows; r += 2) {
-    mass_factor_.solve(reduced_jac_.row(r).transpose(), minv_jt_.col(r),
-                       reduced_jac_.row(r + 1).transpose(), minv_jt_.col(r + 1));
-  }
-  if (r < rows) mass_factor_.solve(reduced_jac_.row(r).transpose(), minv_jt_.col(r));
+  for (Eigen::Index r = 0; r < rows; ++r) solve_columns_.push_back(minv_jt_.col(r).data());
+  mass_factor_.solve_in_place(solve_columns_.data(), static_cast<int>(solve_columns_.size()));
   schur_.resize(reduced_jac_.rows(), reduced_jac_.rows());
   schur_.noalias() = reduced_jac_.lazyProduct(minv_jt_);
   schur_factor_.compute(schur_);
@@ -258,8 +253,10 @@ bool ConstrainedQp::refresh_mass(const Eigen::MatrixXd& mass) {
     return false;
   }
   mass_cache_ = mass;
-  mass_scale_ = power_of_two(mass.cwiseAbs().maxCoeff());
-  h_ = mass / mass_scale_;
+  // proxsuite reads the whole Hessian; the step assembles its lower triangle (elements.hpp).
+  h_ = mass.selfadjointView<Eigen::Lower>();
+  mass_scale_ = power_of_two(h_.cwiseAbs().maxCoeff());
+  h_ /= mass_scale_;
   return true;
 }
 

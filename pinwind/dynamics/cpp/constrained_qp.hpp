@@ -60,7 +60,9 @@ struct QpSolution {
   Eigen::VectorXd acceleration;  // a [rad/s²]
   Eigen::VectorXd multipliers;   // λ [N for mesh rows, N·m for driver rows]
   double primal_residual = 0.0;  // ‖J a − r‖∞
-  double dual_residual = 0.0;    // ‖M a − (τ − b) − Jᵀ λ‖∞ [N·m]
+  // ‖M a − (τ − b) − Jᵀ λ‖∞ [N·m] of an iterative solve; a direct one gives 0 (its
+  // substitutions satisfy it to rounding), NaN for a non-finite a.
+  double dual_residual = 0.0;
   long iterations = 0;
   bool solved = true;
   std::string status = "unconstrained";
@@ -76,7 +78,8 @@ class ConstrainedQp {
 
   // Solves M a = force + Jᵀ λ, J a = rhs.
   //
-  // mass: joint-space inertia M [kg·m²]; force: τ − b [N·m]; jac: rows J; rhs: r.
+  // mass: joint-space inertia M [kg·m²], its lower triangle read (the step's Hessian is
+  // assembled there, elements.hpp); force: τ − b [N·m]; jac: rows J; rhs: r.
   const QpSolution& solve(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
                           const Eigen::MatrixXd& jac, const Eigen::VectorXd& rhs);
 
@@ -111,8 +114,8 @@ class ConstrainedQp {
   // `force`, also solves M free_ = force.
   //
   // Compliant meshes change M every step (their weights follow the mesh stiffness), so this
-  // runs once per step there: M⁻¹ J_bᵀ and M⁻¹ f two columns at a time (their substitutions
-  // interleaved) and S_b by lazy products, because at these sizes (nv of 6 to 20, a few rows)
+  // runs once per step there: M⁻¹ J_bᵀ and M⁻¹ f up to four columns at a time (their
+  // substitutions interleaved) and S_b by lazy products, because at these sizes (nv of 6 to 20, a few rows)
   // Eigen's blocked matrix solve and GEMM spend more on packing and temporaries than on the
   // arithmetic.
   void factorise(const Eigen::MatrixXd& mass, const Eigen::VectorXd* force = nullptr);
@@ -152,7 +155,8 @@ class ConstrainedQp {
   SmallCholesky mass_factor_, schur_factor_;
   Eigen::MatrixXd row_basis_, reduced_jac_;
   Eigen::VectorXd free_, projected_rhs_, reduced_rhs_, mu_;
-  Eigen::VectorXd primal_, dual_;  // solve_direct's residuals
+  Eigen::VectorXd primal_;  // solve_direct's residual J_b a
+  std::vector<double*> solve_columns_;  // factorise's right-hand sides, solved in place
   // Diagonal entries where M differs from the factorised M₀, and the responses to them.
   static constexpr size_t kMaxCorrections = 2;
   std::vector<std::pair<Eigen::Index, double>> changed_;

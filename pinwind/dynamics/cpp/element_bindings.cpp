@@ -3,7 +3,13 @@
 // bindings).
 #include <nanobind/eigen/dense.h>
 #include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/vector.h>
+
+#include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "bearing_spring.hpp"
 #include "bindings.hpp"
@@ -17,6 +23,44 @@ namespace nb = nanobind;
 using namespace nb::literals;
 
 namespace pinwind {
+namespace {
+
+using Angles = nb::ndarray<const double, nb::ndim<2>, nb::device::cpu>;
+using BearingRows = nb::ndarray<double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+
+// bearing_slide_series on a block's angle (samples, joints) into (samples, bearings, 3) arrays.
+void slide_series(const Angles& angle, const std::vector<BearingSlides>& slides,
+                  BearingRows displacement, std::optional<BearingRows> elastic) {
+  const long samples = static_cast<long>(angle.shape(0)), joints = static_cast<long>(angle.shape(1));
+  const long bearings = static_cast<long>(displacement.shape(1));
+  auto check = [&](const BearingRows& out, const char* name) {
+    if (static_cast<long>(out.shape(0)) != samples || out.shape(2) != 3) {
+      throw std::invalid_argument(std::string(name) + " must be (" + std::to_string(samples) +
+                                  ", bearings, 3)");
+    }
+  };
+  check(displacement, "displacement");
+  if (elastic) {
+    check(*elastic, "elastic");
+    if (static_cast<long>(elastic->shape(1)) != bearings) {
+      throw std::invalid_argument("elastic and displacement must have the same bearings");
+    }
+  }
+  if (joints > 1 && angle.stride(1) != 1) {
+    throw std::invalid_argument("angle: its rows must be contiguous");
+  }
+  for (const BearingSlides& b : slides) {
+    if (b.bearing < 0 || b.bearing >= bearings || b.x >= joints || b.y >= joints ||
+        b.z >= joints) {
+      throw std::invalid_argument("a bearing's column or slide is outside the arrays");
+    }
+  }
+  nb::gil_scoped_release release;
+  bearing_slide_series(angle.data(), samples, static_cast<long>(angle.stride(0)), slides,
+                       bearings, displacement.data(), elastic ? elastic->data() : nullptr);
+}
+
+}  // namespace
 
 void bind_elements(nb::module_& m) {
   nb::enum_<GeneratorLaw>(m, "GeneratorLaw")
@@ -88,6 +132,15 @@ void bind_elements(nb::module_& m) {
       .def_rw("contact_stiffness", &BearingSpringSpec::contact_stiffness)
       .def_rw("load_exponent", &BearingSpringSpec::load_exponent);
 
+  nb::class_<BearingSlides>(m, "BearingSlides")
+      .def(nb::init<>())
+      .def_rw("bearing", &BearingSlides::bearing)
+      .def_rw("x", &BearingSlides::x)
+      .def_rw("y", &BearingSlides::y)
+      .def_rw("z", &BearingSlides::z)
+      .def_rw("axes", &BearingSlides::axes)
+      .def_rw("spring", &BearingSlides::spring);
+
   nb::class_<GeneratorSpec>(m, "GeneratorSpec")
       .def(nb::init<>())
       .def_rw("index", &GeneratorSpec::index)
@@ -126,6 +179,10 @@ void bind_elements(nb::module_& m) {
   m.def("rotor_torque", &rotor_torque, "rotor"_a, "speed"_a, "wind"_a,
         "Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s].");
   m.def("rotor_cp", &rotor_cp, "rotor"_a, "tsr"_a, "Power coefficient C_p at tip-speed ratio λ.");
+  m.def("bearing_slide_series", &slide_series, "angle"_a, "slides"_a, "displacement"_a,
+        "elastic"_a = nb::none(),
+        "Each bearing's displacement [m] and its springs' elastic force [N] (joint frame) from "
+        "a block's joint coordinates, into (samples, bearings, 3) arrays (bearing_spring.hpp).");
 }
 
 }  // namespace pinwind

@@ -114,7 +114,9 @@ class Element {
   virtual void prepare(const StepView&) {}
   // Adds the explicit generalised force f_e [N·m or N] to force.
   virtual void add_force(const StepView&, Eigen::VectorXd&) {}
-  // Adds W_e to hessian and the force at a = 0 to force, for the current active set.
+  // Adds W_e to hessian and the force at a = 0 to force, for the current active set. Only the
+  // lower triangle of hessian is read (the factorisations and the residuals read no other): an
+  // element may leave the upper one out, and a caller that needs the whole matrix mirrors it.
   virtual void add_implicit(const StepView&, Eigen::MatrixXd&, Eigen::VectorXd&) {}
   // Fixes the forces for the solved acceleration a; true if the active set changed, which
   // asks for another solve. last: no more solves will follow; settle for good.

@@ -86,40 +86,14 @@ class SmallCholesky {
     }
   }
 
-  // x = H⁻¹ b and u = H⁻¹ c together: each substitution is a chain of n dependent divisions,
-  // and two interleaved take the time of one. The same values as two solve()s.
-  template <class Rhs, class Out, class Rhs2, class Out2>
-  void solve(const Rhs& b, Out&& x, const Rhs2& c, Out2&& u) const {
-    if (!cholesky_) {
-      x = ldlt_.solve(b);
-      u = ldlt_.solve(c);
-      return;
-    }
-    x = b;
-    u = c;
-    double* y = x.data();
-    double* z = u.data();
-    const Eigen::Index n = lower_t_.cols();
-    for (Eigen::Index j = 0; j < n; ++j) {  // L y = b, L z = c
-      const double* lj = lower_t_.col(j).data();
-      double s = y[j], t = z[j];
-      for (Eigen::Index k = 0; k < j; ++k) {
-        s -= lj[k] * y[k];
-        t -= lj[k] * z[k];
-      }
-      y[j] = s / diagonal_[j];
-      z[j] = t / diagonal_[j];
-    }
-    for (Eigen::Index j = n - 1; j >= 0; --j) {  // Lᵀ x = y, Lᵀ u = z
-      const double* lj = lower_t_.col(j).data();
-      const double xj = y[j] / diagonal_[j], uj = z[j] / diagonal_[j];
-      y[j] = xj;
-      z[j] = uj;
-      for (Eigen::Index k = 0; k < j; ++k) {
-        y[k] -= lj[k] * xj;
-        z[k] -= lj[k] * uj;
-      }
-    }
+  // y_k ← H⁻¹ y_k for K vectors of length n in place (K ≤ 4 at a time, y[k] their data): each
+  // substitution is a chain of n dependent divisions, and K of them interleaved take about the
+  // time of one. Each vector's operations, and so its values, are those of solve().
+  void solve_in_place(double* const* y, int count) const {
+    for (; count >= 4; count -= 4, y += 4) solve_in_place<4>(y);
+    if (count == 3) solve_in_place<3>(y);
+    if (count == 2) solve_in_place<2>(y);
+    if (count == 1) solve_in_place<1>(y);
   }
 
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
@@ -129,6 +103,35 @@ class SmallCholesky {
   }
 
  private:
+  template <int K>
+  void solve_in_place(double* const* y) const {
+    const Eigen::Index n = lower_t_.cols();
+    if (!cholesky_) {
+      for (int k = 0; k < K; ++k) {
+        Eigen::Map<Eigen::VectorXd> v(y[k], n);
+        v = ldlt_.solve(Eigen::VectorXd(v));
+      }
+      return;
+    }
+    double s[K];
+    for (Eigen::Index j = 0; j < n; ++j) {  // L z = y
+      const double* lj = lower_t_.col(j).data();
+      for (int k = 0; k < K; ++k) s[k] = y[k][j];
+      for (Eigen::Index m = 0; m < j; ++m) {
+        for (int k = 0; k < K; ++k) s[k] -= lj[m] * y[k][m];
+      }
+      for (int k = 0; k < K; ++k) y[k][j] = s[k] / diagonal_[j];
+    }
+    for (Eigen::Index j = n - 1; j >= 0; --j) {  // Lᵀ x = z
+      const double* lj = lower_t_.col(j).data();
+      for (int k = 0; k < K; ++k) s[k] = y[k][j] / diagonal_[j];
+      for (int k = 0; k < K; ++k) y[k][j] = s[k];
+      for (Eigen::Index m = 0; m < j; ++m) {
+        for (int k = 0; k < K; ++k) y[k][m] -= lj[m] * s[k];
+      }
+    }
+  }
+
   // L's diagonal entry j from row j's entries left of it; a matrix that is not positive
   // definite to working precision goes to Eigen's pivoted LDLT instead (returns false).
   bool pivot(const Eigen::MatrixXd& h, Eigen::Index j) {

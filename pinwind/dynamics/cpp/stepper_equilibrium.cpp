@@ -39,6 +39,7 @@ EquilibriumStatus Stepper::equilibrium(const RowMat& torque, const RowMat& targe
       hessian_.setZero(nv_, nv_);
       force_ = tau_applied_ + elements_force_ - nle_;
       for (auto& e : elements_) e->add_implicit(sv, hessian_, force_);
+      hessian_.triangularView<Eigen::StrictlyUpper>() = hessian_.transpose();
       dq = static_displacement(st);
       bool settled = true;
       for (auto& e : elements_) settled = !e->settle(sv, dq, pass + 1 == kPasses) && settled;
