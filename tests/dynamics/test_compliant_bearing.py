@@ -121,8 +121,10 @@ def test_a_disc_on_an_axis_along_x_reads_its_radial_and_axial_sag_in_its_joint_f
     # of them the joint frame's x, y, z in order. Gravity (−1, −g, 0) m/s² sags the disc by
     # m g / k along −y and by m · 1 / k_a along −x; the springs carry (1, g, 0) m.
     axial = 4e6
-    text = disc_urdf(f'radial_stiffness="{STIFFNESS!r}" radial_damping="500" '
-                     f'axial_stiffness="{axial!r}" axial_damping="500"')
+    text = disc_urdf(
+        f'radial_stiffness="{STIFFNESS!r}" radial_damping="500" '
+        f'axial_stiffness="{axial!r}" axial_damping="500"'
+    )
     text = text.replace('<axis xyz="0 0 1"/>', '<axis xyz="1 0 0"/>')
     text = text.replace(f'gravity="0 {-G!r} 0"', f'gravity="-1.0 {-G!r} 0"')
     res = _run(loads(text), duration=0.001, dt=1e-4)
