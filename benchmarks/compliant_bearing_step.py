@@ -7,27 +7,30 @@ slides per bearing, ``docs/model_format.md`` "Compliant bearings"): every turnin
 speed driver on the output. The runs are interleaved A/B ``--repeats`` times and the median ratio of
 the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only the last sample.
 
-Measured 2026-11-27 11:58 on the idle 2-core machine (default arguments, 7 repeats), time per
-step, mesh-only -> compliant bearings: all five turning bearings (nv 6 -> 16) 1.57 and 1.46
-(saleh2017_planetary), 1.57 and 1.58 (dtu500_planetary) in two runs of the script; one
-compliant bearing (nv 6 -> 8): 1.09-1.20. The module before this change (8b04fc5), run between
-the two: 1.59 and 1.57. The machine's speed drifts by up to 2x within minutes (pairwise ratios
-spread 1.2-2.3), so only the median of interleaved repeats means anything, and it still lands
-on both sides of issue 24's 1.5.
+Measured 2026-11-27 14:28 on the idle 2-core machine (default arguments, 7 repeats), time per
+step, mesh-only -> compliant bearings: all five turning bearings (nv 6 -> 16) 1.44 and 1.40
+(saleh2017_planetary), 1.46 and 1.43 (dtu500_planetary) in two runs of the script, and
+1.43-1.49 in the four runs before them that day; one compliant bearing (nv 6 -> 8): 1.09-1.19.
+At 11:58, before the QP's solves were taken four at a time, the dual residual dropped and the
+bearing series derived in C++: 1.46-1.58. The machine's speed drifts by up to 2x within
+minutes (pairwise ratios spread 0.8-2.1), so only the median of interleaved repeats means
+anything.
 
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
--> compliant bearings): 38.5k -> 69.0k (1.79; 38.4k -> 72.6k before the slides were placed
-directly, 41.5k -> 92.6k before the small Cholesky). Of the +30.5k: the QP (its 16 x 16
-Cholesky, factorised two rows at a time, and its solves, M a = f and M x = Jᵀ now together:
-two 16 x 16 solves 704 -> 368 ns, their divisions' latency being their time), the meshes'
-implicit terms on the larger Hessian, the mass matrix, the mesh rows over more columns, and the
-per-joint passes (velocity, bias forces, joint forces). The slides are placed directly
-(cpp/joint_jacobians.cpp) and their rows of M and J̇ taken as pure translations. What is left
-scales with nv (6 -> 16); a further step would be fewer joints per bearing (a planar joint for
-the two slides and the revolute) or a factorisation ordered by the Hessian's structure without
-the cost of a permutation (an envelope order, leaves first, halved the products but its
-indexing cost as much again: tried and dropped).
+-> compliant bearings): 37.7k -> 66.6k (1.77; 38.5k -> 69.0k before the solves were taken four
+at a time and the dual residual dropped, 41.5k -> 92.6k before the small Cholesky). Of the
++28.9k: the QP's 16 x 16 Cholesky (factorised two rows at a time) and its solves of M a = f
+and M x = Jᵀ together, the meshes' implicit terms on the larger Hessian (lower triangle only),
+the mass matrix, the mesh rows over more columns, and the per-joint passes (velocity, bias
+forces, joint forces). The slides are placed directly (cpp/joint_jacobians.cpp) and their rows
+of M and J̇ taken as pure translations. What is left scales with nv (6 -> 16). Outside the
+step, the bearings' displacement and elastic-force series are computed in C++
+(``_native.bearing_slide_series``): with numpy's (samples, 3) @ (3, 3) per bearing they took
+0.46 µs per sample, a tenth of the compliant step. Not tried: fewer joints per bearing (a
+planar joint: nq != nv). Tried and dropped: an envelope order, leaves first, halved the
+factorisation's products but its indexing cost as much again; a kinetic energy summed body by
+body (Pinocchio's vtiv) cost more than the 16 x 16 product.
 
 Run:  python benchmarks/compliant_bearing_step.py [--steps N] [--dt S] [--repeats R]
 """
