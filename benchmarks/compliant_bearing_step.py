@@ -4,17 +4,19 @@ For each model, ``pinwind.simulate`` with every mesh compliant (as ``compliant_s
 bearings, then the same with compliant bearings (radial stiffness 2e9 N/m, damping 1e4 N·s/m: two
 slides per bearing, ``docs/model_format.md`` "Compliant bearings"): every turning bearing, or one
 (``--bearings all sun carrier``: one case each), under the same loads: a torque on the input and a
-speed driver on the output. The runs are interleaved A/B ``--repeats`` times and the median ratio of
-the time per step is printed (issue 24's budget: ≤ 1.5). The Result keeps only the last sample.
+speed driver on the output. The runs are interleaved A/B ``--repeats`` times (21 by default)
+and the median ratio of the time per step is printed (issue 24's budget: ≤ 1.5). The Result
+keeps only the last sample.
 
-Measured 2026-11-27 14:28 on the idle 2-core machine (default arguments, 7 repeats), time per
-step, mesh-only -> compliant bearings: all five turning bearings (nv 6 -> 16) 1.44 and 1.40
-(saleh2017_planetary), 1.46 and 1.43 (dtu500_planetary) in two runs of the script, and
-1.43-1.49 in the four runs before them that day; one compliant bearing (nv 6 -> 8): 1.09-1.19.
-At 11:58, before the QP's solves were taken four at a time, the dual residual dropped and the
-bearing series derived in C++: 1.46-1.58. The machine's speed drifts by up to 2x within
-minutes (pairwise ratios spread 0.8-2.1), so only the median of interleaved repeats means
-anything.
+Measured 2026-11-27 on the idle 2-core machine, time per step, mesh-only -> compliant
+bearings, all five turning bearings (nv 6 -> 16): with 21 repeats (14:48, the module `pip
+install -e` builds, two runs) 1.48 and 1.44 (saleh2017_planetary), 1.42 and 1.45
+(dtu500_planetary); with 7 repeats, in eight runs from 13:50 to 14:47, 1.32-1.49, and once 1.54
+(dtu500_planetary, pairwise 1.11-1.71). One compliant bearing (nv 6 -> 8): 1.09-1.19. At 11:58,
+before the QP's solves were taken four at a time, the dual residual dropped and the bearing
+series derived in C++: 1.46-1.58 (7 repeats). The machine's speed drifts by up to 2x within
+minutes (pairwise ratios spread 0.8-2.2), so only the median of many interleaved repeats means
+anything: hence 21 by default.
 
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
@@ -91,7 +93,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=20_000)
     parser.add_argument("--dt", type=float, default=2e-5)
-    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--repeats", type=int, default=21)
     parser.add_argument("--models", nargs="*", default=list(CASES))
     parser.add_argument(
         "--bearings",
