@@ -227,12 +227,13 @@ def rotor_cp(rotor: RotorSpec, tsr: float) -> float:
 def bearing_slide_series(
     angle: Matrix,
     slides: list[BearingSlides],
-    displacement: Matrix,
+    displacement: Matrix | None,
     elastic: Matrix | None = None,
 ) -> None:
     """Each bearing's displacement [m] and springs' elastic force [N] from joint coordinates.
 
-    ``angle`` (samples, joints) is a block's; the outputs are (samples, bearings, 3), joint frame.
+    ``angle`` (samples, joints) is a block's; the outputs are (samples, bearings, 3), joint frame,
+    either None: not computed.
     """
 
 def fold_columns(values: Matrix, out: Matrix) -> None:

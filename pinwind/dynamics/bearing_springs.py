@@ -88,13 +88,15 @@ def _series(block: Any, gearbox: Any, elastic: bool) -> np.ndarray:
 
     ``cpp/bearing_spring.hpp`` over the block's slide coordinates (the slides' ``angle`` [m]).
     """
-    shape = (len(block.time), len(block.bearing_names), 3)
-    displacement = np.zeros(shape)
-    force = np.zeros(shape) if elastic else None
-    if gearbox.compliant_bearings and shape[0] and shape[1]:
+    out = np.zeros((len(block.time), len(block.bearing_names), 3))
+    if gearbox.compliant_bearings and out.size:
         angle = np.ascontiguousarray(block.angle, dtype=float)
-        _native.bearing_slide_series(angle, _slides(block, gearbox), displacement, force)
-    return force if force is not None else displacement
+        slides = _slides(block, gearbox)
+        if elastic:
+            _native.bearing_slide_series(angle, slides, None, out)
+        else:
+            _native.bearing_slide_series(angle, slides, out)
+    return out
 
 
 def displacement(block: Any, gearbox: Any) -> np.ndarray:

@@ -69,10 +69,10 @@ struct BearingSlides {
 };
 
 // Over samples rows of angle (row-major, stride angle_stride: the joints' coordinates [m for a
-// slide]): each bearing's displacement u x + w y + k z [m] and, if elastic is not null, its
-// springs' force on the body, the radial law at (x, y) and −k_a z axially [N], both in the
-// joint frame, into the rows of displacement and elastic (row-major (samples, bearings, 3)).
-// Bearings not in slides are left as they are.
+// slide]): each bearing's displacement u x + w y + k z [m] and its springs' force on the body,
+// the radial law at (x, y) and −k_a z axially [N], both in the joint frame, into the rows of
+// displacement and elastic (row-major (samples, bearings, 3); either may be null: not
+// computed). Bearings not in slides are left as they are.
 void bearing_slide_series(const double* angle, long samples, long angle_stride,
                           const std::vector<BearingSlides>& slides, long bearings,
                           double* displacement, double* elastic);
@@ -296,7 +296,7 @@ inline void bearing_slide_series(const double* angle, long samples, long angle_s
                                  double* displacement, double* elastic) {
   std::vector<std::vector<Eigen::Vector2d>> rollers;
   for (const BearingSlides& b : slides) {
-    rollers.push_back(b.spring.law == BearingLaw::roller_sum
+    rollers.push_back(elastic != nullptr && b.spring.law == BearingLaw::roller_sum
                           ? BearingSprings::roller_directions(b.spring.rollers)
                           : std::vector<Eigen::Vector2d>());
   }
@@ -307,7 +307,9 @@ inline void bearing_slide_series(const double* angle, long samples, long angle_s
       const Eigen::Vector3d xyz(b.x >= 0 ? row[b.x] : 0.0, b.y >= 0 ? row[b.y] : 0.0,
                                 b.z >= 0 ? row[b.z] : 0.0);
       const long at = 3 * (k * bearings + b.bearing);
-      Eigen::Map<Eigen::Vector3d>(displacement + at) = b.axes.transpose() * xyz;
+      if (displacement != nullptr) {
+        Eigen::Map<Eigen::Vector3d>(displacement + at) = b.axes.transpose() * xyz;
+      }
       if (elastic == nullptr) continue;
       Eigen::Vector3d force(0.0, 0.0, -b.spring.axial_stiffness * xyz[2]);
       force.head<2>() = BearingSprings::radial_force(b.spring, rollers[i], xyz.head<2>());

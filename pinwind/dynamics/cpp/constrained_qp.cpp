@@ -139,7 +139,6 @@ void ConstrainedQp::factorise(const Eigen::MatrixXd& mass, const Eigen::VectorXd
   direct_mass_ = mass;
   mass_factor_.compute(mass);
   const Eigen::Index rows = reduced_jac_.rows();
-  minv_jt_.resize(reduced_jac_.cols(), rows);
   // M⁻¹ f and M⁻¹ Jᵀ together (small_cholesky.hpp: a few columns take the time of one).
   minv_jt_ = reduced_jac_.transpose();
   solve_columns_.clear();

@@ -28,23 +28,21 @@ namespace {
 using Angles = nb::ndarray<const double, nb::ndim<2>, nb::device::cpu>;
 using BearingRows = nb::ndarray<double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
 
-// bearing_slide_series on a block's angle (samples, joints) into (samples, bearings, 3) arrays.
+// bearing_slide_series on a block's angle (samples, joints) into (samples, bearings, 3) arrays,
+// either of them None (not computed).
 void slide_series(const Angles& angle, const std::vector<BearingSlides>& slides,
-                  BearingRows displacement, std::optional<BearingRows> elastic) {
+                  std::optional<BearingRows> displacement, std::optional<BearingRows> elastic) {
   const long samples = static_cast<long>(angle.shape(0)), joints = static_cast<long>(angle.shape(1));
-  const long bearings = static_cast<long>(displacement.shape(1));
-  auto check = [&](const BearingRows& out, const char* name) {
-    if (static_cast<long>(out.shape(0)) != samples || out.shape(2) != 3) {
-      throw std::invalid_argument(std::string(name) + " must be (" + std::to_string(samples) +
-                                  ", bearings, 3)");
+  long bearings = -1;
+  for (const std::optional<BearingRows>* out : {&displacement, &elastic}) {
+    if (!*out) continue;
+    const BearingRows& rows = **out;
+    if (static_cast<long>(rows.shape(0)) != samples || rows.shape(2) != 3 ||
+        (bearings >= 0 && static_cast<long>(rows.shape(1)) != bearings)) {
+      throw std::invalid_argument("displacement and elastic must be (" + std::to_string(samples) +
+                                  ", bearings, 3), the same bearings");
     }
-  };
-  check(displacement, "displacement");
-  if (elastic) {
-    check(*elastic, "elastic");
-    if (static_cast<long>(elastic->shape(1)) != bearings) {
-      throw std::invalid_argument("elastic and displacement must have the same bearings");
-    }
+    bearings = static_cast<long>(rows.shape(1));
   }
   if (joints > 1 && angle.stride(1) != 1) {
     throw std::invalid_argument("angle: its rows must be contiguous");
@@ -57,7 +55,8 @@ void slide_series(const Angles& angle, const std::vector<BearingSlides>& slides,
   }
   nb::gil_scoped_release release;
   bearing_slide_series(angle.data(), samples, static_cast<long>(angle.stride(0)), slides,
-                       bearings, displacement.data(), elastic ? elastic->data() : nullptr);
+                       bearings, displacement ? displacement->data() : nullptr,
+                       elastic ? elastic->data() : nullptr);
 }
 
 }  // namespace
@@ -179,8 +178,8 @@ void bind_elements(nb::module_& m) {
   m.def("rotor_torque", &rotor_torque, "rotor"_a, "speed"_a, "wind"_a,
         "Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s].");
   m.def("rotor_cp", &rotor_cp, "rotor"_a, "tsr"_a, "Power coefficient C_p at tip-speed ratio λ.");
-  m.def("bearing_slide_series", &slide_series, "angle"_a, "slides"_a, "displacement"_a,
-        "elastic"_a = nb::none(),
+  m.def("bearing_slide_series", &slide_series, "angle"_a, "slides"_a, "displacement"_a.none(),
+        "elastic"_a.none() = nb::none(),
         "Each bearing's displacement [m] and its springs' elastic force [N] (joint frame) from "
         "a block's joint coordinates, into (samples, bearings, 3) arrays (bearing_spring.hpp).");
 }

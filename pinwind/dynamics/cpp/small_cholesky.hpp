@@ -65,30 +65,14 @@ class SmallCholesky {
   // x = H⁻¹ b; x may be a contiguous block (a column of a matrix).
   template <class Rhs, class Out>
   void solve(const Rhs& b, Out&& x) const {
-    if (!cholesky_) {
-      x = ldlt_.solve(b);
-      return;
-    }
     x = b;
     double* y = x.data();
-    const Eigen::Index n = lower_t_.cols();
-    for (Eigen::Index j = 0; j < n; ++j) {  // L y = b
-      const double* lj = lower_t_.col(j).data();
-      double s = y[j];
-      for (Eigen::Index k = 0; k < j; ++k) s -= lj[k] * y[k];
-      y[j] = s / diagonal_[j];
-    }
-    for (Eigen::Index j = n - 1; j >= 0; --j) {  // Lᵀ x = y
-      const double* lj = lower_t_.col(j).data();
-      const double xj = y[j] / diagonal_[j];
-      y[j] = xj;
-      for (Eigen::Index k = 0; k < j; ++k) y[k] -= lj[k] * xj;
-    }
+    solve_in_place<1>(&y);
   }
 
   // y_k ← H⁻¹ y_k for K vectors of length n in place (K ≤ 4 at a time, y[k] their data): each
   // substitution is a chain of n dependent divisions, and K of them interleaved take about the
-  // time of one. Each vector's operations, and so its values, are those of solve().
+  // time of one. Each vector's operations, and so its values, are those of a solve of its own.
   void solve_in_place(double* const* y, int count) const {
     for (; count >= 4; count -= 4, y += 4) solve_in_place<4>(y);
     if (count == 3) solve_in_place<3>(y);
