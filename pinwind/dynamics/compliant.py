@@ -3,7 +3,7 @@
 A compliant mesh is a spring-damper along the line of action of each flank (design.md §2,
 001_2d0e0f624d8db633.txt eqs. 2-6, 003_83d3049daebcd276.txt eqs. 14-19):
 
-    F_n = k(x) δ + c δ̇  on the flank in contact,   F_n ≥ 0 (teeth never pull)
+    F_n = k(x) δ + c δ̇  on each flank in contact,   F_n ≥ 0 (teeth never pull)
 
 with δ the overlap of the two flanks along the line of action computed **from the bodies'
 positions** (gear angles relative to the centre line and the centre distance; the formula is in
@@ -16,7 +16,8 @@ x the roll position of the tooth pairs along the path of contact (``cpp/mesh_pat
   contact lines (``contact_line_pair_stiffness``, same mean); a user table (003 Fig. 8), or the
   constant c_γα b. Stiffnesses act along the transverse line of action;
 - backlash j: the back flank's overlap is δ_b = −(rolling part) + (radial part) − j, no force in
-  between;
+  between; each flank pushes where it overlaps, both at once where the centres come closer than
+  the teeth allow (the contact is the gradient of Σ_flanks ½ k δ₊²);
 - the single-tooth force F k₁/k (003 §2.4) of the pair entering the mesh.
 
 Why implicit. Mesh stiffnesses of 1e8 to 5e9 N/m on gears of a few kilograms to a tonne put

@@ -295,3 +295,14 @@ class CompiledStepper:
         drivers and locks, as the compiled step stacks them.
         """
         return self._stepper.assemble(np.asarray(q, dtype=float), np.asarray(v, dtype=float))
+
+    def element_forces(self, q: np.ndarray, v: np.ndarray) -> _native.ElementForces:
+        """The elements' generalised force, tangents and stored energy at (q, v).
+
+        ``force`` is Σ f_e [N·m or N] on each joint coordinate, ``stiffness`` −∂f/∂q and
+        ``damping`` −∂f/∂v as the step takes them (the elements' implicit weights), ``potential``
+        Σ U_e [J]. Each element is built anew, as at a run's first sample (a contact is in
+        contact wherever it overlaps), so that the values are those of the state alone: the
+        force of a conservative element is −∂U/∂q, which finite differences check.
+        """
+        return self._stepper.element_forces(np.asarray(q, dtype=float), np.asarray(v, dtype=float))

@@ -116,6 +116,14 @@ struct Assembly {
   Eigen::VectorXd gamma;  // γ = J̇ v [m/s² or rad/s²]
 };
 
+// The elements' forces at one state and their derivatives (Stepper::element_forces).
+struct ElementForces {
+  Eigen::VectorXd force;      // Σ f_e: the elements' generalised force at (q, v) [N·m or N]
+  Eigen::MatrixXd stiffness;  // K = −∂f/∂q as the step takes it (the implicit weights at κ_q = 1)
+  Eigen::MatrixXd damping;    // C = −∂f/∂v likewise (at κ_v = 1)
+  double potential = 0.0;     // Σ U_e: the stored energy at q [J]
+};
+
 class Stepper {
  public:
   // samples: how many samples the whole run has (the last one is recorded, not stepped from).
@@ -160,6 +168,12 @@ class Stepper {
   // The step's assembly alone at (q, v), with the rows' current flanks (for checks against
   // Pinocchio's own and finite differences); the run's state is kept.
   Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+
+  // The elements' forces, tangents and stored energy at (q, v), each element new, as at a run's
+  // first sample (a contact in contact wherever it overlaps): for checks of each element's
+  // force against its potential and of its tangent against finite differences. The elements
+  // read no inputs (a rotor sees no wind); the run's state and elements are kept.
+  ElementForces element_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 
  private:
   static RunStatus& fail(RunStatus& st, long step, double time, const std::string& what) {

@@ -310,6 +310,13 @@ class PyStepper {
     return stepper_->assemble(q, v);
   }
 
+  ElementForces element_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+    if (q.size() != counts_[static_cast<size_t>(Family::joint)] || v.size() != q.size()) {
+      throw std::invalid_argument("element_forces: q and v must have nv values");
+    }
+    return stepper_->element_forces(q, v);
+  }
+
  private:
   std::array<long, kFamilies> counts_{};  // elements per family (series.hpp)
   long inputs_ = 0;
@@ -434,6 +441,12 @@ void bind_stepper(nb::module_& m) {
       .def_ro("jac", &Assembly::jac)
       .def_ro("gamma", &Assembly::gamma);
 
+  nb::class_<ElementForces>(m, "ElementForces")
+      .def_ro("force", &ElementForces::force)
+      .def_ro("stiffness", &ElementForces::stiffness)
+      .def_ro("damping", &ElementForces::damping)
+      .def_ro("potential", &ElementForces::potential);
+
   nb::class_<PyStepper>(m, "Stepper")
       .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
            "spec"_a, "q0"_a, "v0"_a, "samples"_a)
@@ -447,7 +460,10 @@ void bind_stepper(nb::module_& m) {
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].")
       .def("assemble", &PyStepper::assemble, "q"_a, "v"_a,
-           "M, b, J and γ of the step at (q, v), with the rows' current flanks.");
+           "M, b, J and γ of the step at (q, v), with the rows' current flanks.")
+      .def("element_forces", &PyStepper::element_forces, "q"_a, "v"_a,
+           "The elements' force, stiffness −∂f/∂q, damping −∂f/∂v and stored energy at (q, v), "
+           "each element new (in contact wherever it overlaps).");
 
 }
 
