@@ -101,6 +101,9 @@ class Linearisation:
             whose orbits give a mode's whirl (``gyroscopic_modes.py``).
         flanks: the flank each mesh is taken on, the one the static load presses
             (``loaded_flanks.py``), and the meshes no load presses.
+        added_inertia: joint name → inertia in M besides the bodies' [kg·m²] (the rotors').
+        law_damping: joint name → the generator and rotor laws' slope in C [N·m·s/rad]
+            (``Drivetrain.law_damping``).
     """
 
     joint_names: list[str]
@@ -116,6 +119,8 @@ class Linearisation:
     centrifugal: np.ndarray
     whirl_pairs: list[WhirlPair]
     flanks: FlankChoice
+    added_inertia: dict[str, float]
+    law_damping: dict[str, float]
 
     def modes(self) -> list[Mode]:
         """The natural modes, lowest first (rigid ones at 0 Hz), each with its class and whirl.
@@ -281,7 +286,8 @@ def linearise(
     bearing_damping = np.asarray(model.damping, dtype=float).copy()
     bearing_damping[[gearbox.v_index(s) for s in gearbox.slide_joints]] = 0.0
     damping += np.diag(bearing_damping)
-    for name, value in train.law_damping(at).items():
+    law_damping = train.law_damping(at)
+    for name, value in law_damping.items():
         damping[gearbox.v_index(name), gearbox.v_index(name)] += value
     gyroscopic, centrifugal = speed_terms(gearbox, speed)
     coords = coordinates(gearbox)
@@ -300,6 +306,8 @@ def linearise(
         centrifugal,
         whirl_pairs(gearbox, coords, speed),
         flanks,
+        train.added_inertia,
+        law_damping,
     )
     _check_held(gearbox, out)
     return out
