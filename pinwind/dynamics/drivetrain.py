@@ -25,7 +25,7 @@ spring-coupled shafts), and the wind at t = 0.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -253,7 +253,7 @@ def drivetrain(
     rotors: Mapping[str, Rotor] | None = None,
     wind: float | TimeSignal | None = None,
     meshes: Mapping[str, str | MeshCompliance] | None = None,
-    gravity: np.ndarray | None = None,
+    gravity: np.ndarray | Sequence[float] | None = None,
     held: Iterable[str] = (),
 ) -> Drivetrain:
     """Check a run's inputs and build its ``Drivetrain`` (``simulate``'s arguments, same names).
