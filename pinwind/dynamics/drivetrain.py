@@ -27,17 +27,12 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics.compliant import mesh_choices
-from pinwind.dynamics.elements import (
-    LoadElements,
-    induction_torque,
-    load_elements,
-    rotor_torque,
-)
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import (
     ConflictingConstraints,
@@ -46,18 +41,17 @@ from pinwind.errors import (
     NonFiniteInput,
     UnknownJoint,
 )
-from pinwind.loads.generator import (
-    ConstantTorque,
-    GeneratorLaw,
-    InductionMachine,
-    LinearSlip,
-    VariableSpeed,
-)
-from pinwind.loads.inputs import JointLoad, Signal, joint_loads
-from pinwind.loads.rotor import Rotor
-from pinwind.loads.signals import Signal as TimeSignal
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox, Mesh
+
+if TYPE_CHECKING:
+    # The laws' modules are imported where a drivetrain has laws or loads: `pinwind modes
+    # MODEL`, the gearbox alone, starts without them (tests/test_lazy_exports.py).
+    from pinwind.dynamics.elements import LoadElements
+    from pinwind.loads.generator import GeneratorLaw
+    from pinwind.loads.inputs import JointLoad, Signal
+    from pinwind.loads.rotor import Rotor
+    from pinwind.loads.signals import Signal as TimeSignal
 
 #: Relative step of the central differences that give the slope dT/dω of a law without a closed
 #: form (the induction machine's curve, the rotor's C_p): h = STEP · max(|ω|, 1 rad/s). The
@@ -77,7 +71,7 @@ class Drivetrain:
         drivers: speed drivers, each holding its joint at its speed [rad/s].
         initial_speeds: given initial speeds [rad/s].
         loads: the generator and rotor laws compiled, with the rotors' inertias
-            (``LoadElements.added_inertia``) and the wind.
+            (``LoadElements.added_inertia``) and the wind; None without laws.
         generators: joint name → generator law (``loads/generator.py``).
         rotors: joint name → ``Rotor`` (``loads/rotor.py``).
         gravity: gravity in world [m/s²].
@@ -90,7 +84,7 @@ class Drivetrain:
     torques: list[JointLoad] = field(default_factory=list)
     drivers: list[JointLoad] = field(default_factory=list)
     initial_speeds: list[JointLoad] = field(default_factory=list)
-    loads: LoadElements = field(default_factory=LoadElements)
+    loads: LoadElements | None = None
     generators: Mapping[str, GeneratorLaw] = field(default_factory=dict)
     rotors: Mapping[str, Rotor] = field(default_factory=dict)
     gravity: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -102,6 +96,8 @@ class Drivetrain:
 
         A locked bearing is a row at zero speed; the order is the compiled loop's.
         """
+        from pinwind.loads.inputs import JointLoad
+
         locks = [JointLoad(j, self.gearbox.v_index(j), 0.0) for j in self.gearbox.locked_joints]
         return [*self.drivers, *locks]
 
@@ -116,7 +112,8 @@ class Drivetrain:
     def added_inertia(self) -> dict[str, float]:
         """Joint name → inertia the run adds to it [kg·m²] (the rotors')."""
         names = sorted(self.gearbox.joint_names, key=self.gearbox.v_index)
-        return {names[i]: inertia for i, inertia in self.loads.added_inertia.items()}
+        added = self.loads.added_inertia if self.loads is not None else {}
+        return {names[i]: inertia for i, inertia in added.items()}
 
     def mass(self, q: np.ndarray | None = None) -> np.ndarray:
         """M(q) [kg·m² and kg]: the bodies' (CRBA, symmetric) plus the added inertias.
@@ -127,7 +124,7 @@ class Drivetrain:
         q = self.gearbox.neutral() if q is None else q
         mass = pin.crba(model, model.createData(), q)
         mass = np.triu(mass) + np.triu(mass, 1).T
-        for index, inertia in self.loads.added_inertia.items():
+        for index, inertia in (self.loads.added_inertia if self.loads is not None else {}).items():
             mass[index, index] += inertia
         return mass
 
@@ -152,7 +149,7 @@ class Drivetrain:
 
     def wind_at_start(self) -> float:
         """The wind speed at t = 0 [m/s] (0 without rotors)."""
-        if self.loads.wind is None:
+        if self.loads is None or self.loads.wind is None:
             return 0.0
         return float(np.asarray(self.loads.wind.values(np.zeros(1)), dtype=float)[0])
 
@@ -177,9 +174,12 @@ class Drivetrain:
         for name, law in self.generators.items():
             j = gearbox.v_index(name)
             torques.append((name, -generator_torque(law, float(speed[j]))))
-        for name, rotor in self.rotors.items():
-            j = gearbox.v_index(name)
-            torques.append((name, rotor_torque(rotor, float(speed[j]), wind)))
+        if self.rotors:
+            from pinwind.dynamics.elements import rotor_torque
+
+            for name, rotor in self.rotors.items():
+                j = gearbox.v_index(name)
+                torques.append((name, rotor_torque(rotor, float(speed[j]), wind)))
         for name, value in torques:
             load[gearbox.v_index(name)] += value
             gross[gearbox.v_index(name)] += abs(value)
@@ -275,8 +275,12 @@ def drivetrain(
     index = {name: gearbox.v_index(name) for name in gearbox.joint_names}
     free = {k: i for k, i in index.items() if k not in gearbox.locked_joints}
     probe = (0.0,)  # later failures are caught in the run, which logs the samples before them
-    torque_loads = joint_loads(
-        torques, where="torques", joint_index=index, unit="N·m", probe_times=probe
+    if torques or speeds or initial_speeds:
+        from pinwind.loads.inputs import joint_loads
+    torque_loads = (
+        []
+        if not torques
+        else joint_loads(torques, where="torques", joint_index=index, unit="N·m", probe_times=probe)
     )
     for name in torques or {}:
         if name in gearbox.locked_joints:
@@ -297,10 +301,16 @@ def drivetrain(
                 f'joint "{name}" is a fixed mount (a gear on a fixed joint, held at zero speed); '
                 "it cannot be driven or given a speed. Drive one of: " + ", ".join(free)
             )
-    speed_loads = joint_loads(
-        speeds, where="speeds", joint_index=free, unit="rad/s", probe_times=probe
+    speed_loads = (
+        []
+        if not speeds
+        else joint_loads(speeds, where="speeds", joint_index=free, unit="rad/s", probe_times=probe)
     )
-    init = joint_loads(initial_speeds, where="initial_speeds", joint_index=free, unit="rad/s")
+    init = (
+        []
+        if not initial_speeds
+        else joint_loads(initial_speeds, where="initial_speeds", joint_index=free, unit="rad/s")
+    )
     held = tuple(held)
     for name in held:
         if name not in index:
@@ -317,7 +327,7 @@ def drivetrain(
         torques=torque_loads,
         drivers=speed_loads,
         initial_speeds=init,
-        loads=load_elements(generators, rotors, wind, joint_index=free),
+        loads=_laws(generators, rotors, wind, free),
         generators=dict(generators or {}),
         rotors=dict(rotors or {}),
         gravity=g,
@@ -325,11 +335,33 @@ def drivetrain(
     )
 
 
+def _laws(
+    generators: Mapping[str, GeneratorLaw] | None,
+    rotors: Mapping[str, Rotor] | None,
+    wind: float | TimeSignal | None,
+    free: Mapping[str, int],
+) -> LoadElements | None:
+    """The laws compiled and checked (``elements.load_elements``); None without any."""
+    if not (generators or rotors):
+        return None
+    from pinwind.dynamics.elements import load_elements
+
+    return load_elements(generators, rotors, wind, joint_index=free)
+
+
 def generator_torque(law: GeneratorLaw, speed: float) -> float:
     """T_gen [N·m] of a law at shaft speed ω [rad/s], positive generating (``loads/generator.py``).
 
     The dq machine's is its steady-state curve, the torque its fluxes settle to at ω.
     """
+    from pinwind.dynamics.elements import induction_torque
+    from pinwind.loads.generator import (
+        ConstantTorque,
+        InductionMachine,
+        LinearSlip,
+        VariableSpeed,
+    )
+
     if isinstance(law, ConstantTorque):
         return float(law.torque)
     if isinstance(law, LinearSlip):
@@ -351,6 +383,8 @@ def generator_slope(law: GeneratorLaw, speed: float) -> float:
     speed); the induction machine's curve by central differences (``SLOPE_STEP``), the dq
     machine's steady-state curve (its flux dynamics are left out of the modes).
     """
+    from pinwind.loads.generator import ConstantTorque, LinearSlip, VariableSpeed
+
     if isinstance(law, ConstantTorque):
         return 0.0
     if isinstance(law, LinearSlip):
@@ -373,5 +407,7 @@ def rotor_slope(rotor: Rotor, speed: float, wind: float) -> float:
     """
     if wind <= 0.0:
         return 0.0
+    from pinwind.dynamics.elements import rotor_torque
+
     h = 1e-6 * (abs(speed) + max(wind, 1.0) / rotor.radius)
     return (rotor_torque(rotor, speed + h, wind) - rotor_torque(rotor, speed - h, wind)) / (2.0 * h)

@@ -382,7 +382,7 @@ def simulate(
     for where, lds in (("torques", torque_loads), ("speeds", speed_loads)):
         for ld in lds:
             check_covers(ld.signal, duration, f'{where}["{ld.joint}"]')
-    elements = train.loads
+    elements = train.loads if train.loads is not None else LoadElements()
     if elements.wind is not None:
         check_covers(elements.wind, duration, "wind")
     model = gearbox.model

@@ -110,3 +110,20 @@ def test_the_rotor_slope_is_the_derivative_of_the_power_over_the_speed():
     assert lin.law_damping == {"a": pytest.approx(-expected, rel=1e-6)}
     ia = _pair().v_index("a")
     np.testing.assert_allclose(lin.damping[ia, ia], -expected, rtol=1e-6)
+
+
+def test_a_run_damps_its_mesh_on_the_effective_mass_with_the_rotor_in():
+    # c = 2 ζ √(k m_eq), m_eq = 1 / (r_a² / (J_a + J_r) + r_b² / J_b) (module docstring): the
+    # run's mesh is the machine's, the rotor's inertia in.
+    from pinwind.dynamics.simulate import simulate
+
+    rotor_inertia = 0.01
+    res = simulate(
+        _pair(), duration=1e-4, dt=1e-5, meshes={"all": "compliant"},
+        rotors={"a": Rotor(radius=1.0, inertia=rotor_inertia)}, wind=0.0,
+    )  # fmt: skip
+    mesh = res.metadata["meshes"]["m"]
+    r_a, r_b = BASE_RADII
+    m_eq = 1 / (r_a**2 / (INERTIA_A + rotor_inertia) + r_b**2 / INERTIA_B)
+    expected = 2 * MeshCompliance().damping_ratio * math.sqrt(mesh["mean_stiffness"] * m_eq)
+    np.testing.assert_allclose(mesh["damping"], expected, rtol=1e-9)
