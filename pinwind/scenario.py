@@ -64,6 +64,7 @@ from pinwind.loads.signals import Scaled, Signal
 from pinwind.units import RAD_S_PER_RPM
 
 if TYPE_CHECKING:
+    from pinwind.dynamics.drivetrain import Drivetrain
     from pinwind.dynamics.integrator import Integrator
     from pinwind.dynamics.result import Result
     from pinwind.model.gearbox import Gearbox
@@ -257,6 +258,52 @@ class Scenario:
             kwargs["integrator"] = self.integrator
         kwargs["initial_deflection"] = self.initial_deflection
         return kwargs
+
+    def drivetrain(
+        self,
+        gearbox: Gearbox,
+        *,
+        meshes: Mapping[str, str] | None = None,
+        held: tuple[str, ...] = (),
+    ) -> Drivetrain:
+        """The machine a run of this scenario steps (``dynamics/drivetrain.py``).
+
+        What ``pinwind modes SCENARIO`` linearises.
+
+        Args:
+            meshes: the mesh choice, replacing the scenario's (default the scenario's).
+            held: joints held besides the scenario's speed drivers.
+
+        Raises:
+            ScenarioError: a load on a joint the model does not have, naming the key.
+        """
+        from pinwind.dynamics.drivetrain import drivetrain
+
+        self.check_joints(list(gearbox.joint_names), list(gearbox.locked_joints))
+        return drivetrain(
+            gearbox,
+            torques=self.torques,
+            speeds=self.speeds,
+            initial_speeds=self.initial_speeds,
+            generators=self.generators,
+            rotors=self.rotors,
+            wind=self.wind if self.rotors else None,
+            meshes=self.meshes if meshes is None else meshes,
+            held=held,
+        )
+
+    def load_model(self) -> Gearbox:
+        """The model file the scenario names, loaded.
+
+        Raises:
+            ScenarioError: the file does not exist (naming the ``model`` key and its line).
+        """
+        from pinwind.model.gearbox import load
+
+        path = self.model_path()
+        if not path.is_file():
+            raise self.fail(("model",), f"{path} does not exist")
+        return load(path)
 
     def record(self) -> dict[str, Any]:
         """What the log stores: the values, where they come from, the base folder."""
