@@ -56,6 +56,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pinwind.errors import InputError, LogError
+from pinwind.known_names import unknown_message, unknown_name
 from pinwind.loads.generator import LAWS, GeneratorLaw
 from pinwind.loads.input_files import InputFile, check_unchanged
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
@@ -104,6 +105,8 @@ KEYS: dict[str, tuple[str, str, str]] = {
 }
 
 ROTOR_KEYS = ("preset", "radius", "inertia", "air_density", "pitch_deg", "cp_scale", "cp_table")
+#: The keys of a rotor's ``cp_table``: tip-speed ratios, power coefficients, pitch angles [deg].
+CP_TABLE_KEYS = ("tsr", "cp", "pitch_deg")
 ROTOR_PRESETS = {"saleh2017": Rotor.saleh2017, "jorgensen2014": Rotor.jorgensen2014}
 
 
@@ -392,12 +395,10 @@ class _Builder:
 
     def check(self) -> None:
         """Check keys and types (normalising the keys)."""
-        values = {}
-        for key, value in self.values.items():
-            name = _norm(key)
-            if name not in KEYS:
-                raise self.fail((name,), f"unknown key; keys are: {', '.join(KEYS)}")
-            values[name] = value
+        values = {_norm(key): value for key, value in self.values.items()}
+        unknown = unknown_name(values, KEYS)
+        if unknown is not None:
+            raise self.fail((unknown,), unknown_message(unknown, KEYS))
         self.values = values
         if "model" not in values:
             raise self.fail(("model",), "missing: give the model file, e.g. model = "
@@ -501,10 +502,11 @@ class _Builder:
                 raise self.fail(key + ("law",), f"is {law!r}; laws are: " + ", ".join(LAWS))
             kind = LAWS[law]
             kwargs: dict[str, Any] = {}
+            unknown = unknown_name(params, kind.keys)
+            if unknown is not None:
+                raise self.fail(key + (unknown,), unknown_message(unknown, kind.keys, "parameter",
+                                                                  f" of {law}"))  # fmt: skip
             for name, value in params.items():
-                if name not in kind.keys:
-                    raise self.fail(key + (name,), f"{law} has no parameter {name!r}; its "
-                                    f"parameters are: {', '.join(kind.keys)}")  # fmt: skip
                 if name == "preset":
                     if value not in kind.presets:
                         raise self.fail(key + (name,), f"is {value!r}; presets are: "
@@ -532,10 +534,11 @@ class _Builder:
             key = ("rotor", joint)
             params = {_norm(k): v for k, v in params.items()}
             kwargs: dict[str, Any] = {}
+            unknown = unknown_name(params, ROTOR_KEYS)
+            if unknown is not None:
+                raise self.fail(key + (unknown,), unknown_message(unknown, ROTOR_KEYS, "parameter",
+                                                                  " of a rotor"))  # fmt: skip
             for name, value in params.items():
-                if name not in ROTOR_KEYS:
-                    raise self.fail(key + (name,), "unknown parameter; rotor parameters are: "
-                                    + ", ".join(ROTOR_KEYS))  # fmt: skip
                 if name == "preset":
                     if value not in ROTOR_PRESETS:
                         raise self.fail(key + (name,), f"is {value!r}; presets are: "
@@ -561,6 +564,9 @@ class _Builder:
     def _cp_table(self, key, value) -> CpTable:
         if not isinstance(value, Mapping) or not {"tsr", "cp"} <= set(value):
             raise self.fail(key, "must be { tsr = [...], cp = [...] } (and pitch_deg = [...])")
+        unknown = unknown_name(value, CP_TABLE_KEYS)
+        if unknown is not None:
+            raise self.fail(key + (unknown,), unknown_message(unknown, CP_TABLE_KEYS))
         try:
             pitch = tuple(math.radians(p) for p in value.get("pitch_deg", [0.0]))
             return CpTable(tsr=tuple(value["tsr"]), cp=tuple(value["cp"]), pitch=pitch)
