@@ -45,6 +45,7 @@ __all__ = [
     "StageDesign",
     "SweepRun",
     "SweepSettings",
+    "check_workers",
     "design_from_row",
     "design_key",
     "enumerate_parallel",
@@ -229,6 +230,7 @@ def run_sweep(
         if progress:
             progress(finished, total)
 
+    check_workers(workers)
     n = workers or (1 if len(todo) < SERIAL_BELOW else os.cpu_count() or 1)
     # Batches of a few designs per task: each design takes milliseconds, so one task per design
     # would spend its time in inter-process traffic; small batches keep the progress bar live.
@@ -243,6 +245,21 @@ def run_sweep(
             sink.close()
     ordered = [rows[k] for k in sorted(rows)]
     return SweepRun(ordered, len(todo), time.perf_counter() - start, backend)
+
+
+def check_workers(workers: int | None) -> None:
+    """Refuse a number of local worker processes below 1 (``--workers 0`` ran on all cores).
+
+    Raises:
+        InputError: naming the number and the default.
+    """
+    import os
+
+    if workers is not None and workers < 1:
+        raise InputError(
+            f"--workers {workers}: give 1 or more worker processes (1 runs in this process), "
+            f"or leave it out for one per core ({os.cpu_count() or 1} here)"
+        )
 
 
 def run_tasks(

@@ -65,10 +65,12 @@ def fatigue(
         TimeRemainingColumn,
     )
 
+    from pinwind.analysis.sweep import check_workers
     from pinwind.life.life_damage import set_damage
     from pinwind.life.load_cases import load_fatigue_set, run_cases
     from pinwind.life.set_bearing_life import set_bearing_lives
 
+    check_workers(workers)
     fset = load_fatigue_set(scenario, quick=quick)
     half = None
     if check_dt:

@@ -1110,8 +1110,9 @@ def run_cases(
     """
     import os
 
-    from pinwind.analysis.sweep import run_tasks
+    from pinwind.analysis.sweep import check_workers, run_tasks
 
+    check_workers(workers)
     start = time.perf_counter()
     cases = fatigue.cases()
     unique = {c.name: c for c in cases}

@@ -335,3 +335,14 @@ def test_ctrl_c_on_a_fatigue_set_prints_one_line_and_exits_130(tmp_path):
         f"interrupted: 0 of 2 cases of the set are finished and kept in {tmp_path / 'cases'}; "
         "the same command computes the rest\n"
     )
+
+
+@pytest.mark.parametrize("workers", ["0", "-3"])
+def test_workers_below_one_are_refused_before_any_case_runs(tmp_path, monkeypatch, capsys, workers):
+    """``--workers 0`` ran on all cores, ``--workers -3`` in this process, without a word."""
+    path = fatigue_toml(tmp_path)
+    code, err = fatigue_exit([str(path), "--workers", workers], monkeypatch, capsys)
+    assert code == 2
+    assert err.startswith(f"error: --workers {workers}: give 1 or more worker processes")
+    assert err.count("\n") == 1
+    assert not (tmp_path / "cases").exists()
