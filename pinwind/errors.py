@@ -431,6 +431,14 @@ class InvalidWindSite(InvalidFatigueInput):
     subject = "wind site"
 
 
+class CaseFileDamaged(PinwindWarning):
+    """A kept fatigue case's log or reduction is damaged (a flipped byte): the case is redone.
+
+    The log differs from the one its reduction was made from (its SHA-256), or the reduction
+    (``.npz``) fails its CRC check or cannot be read.
+    """
+
+
 # --- running -----------------------------------------------------------------------------------
 
 

@@ -14,7 +14,15 @@ from rich import box
 from rich.markup import escape
 from rich.table import Table
 
-from pinwind.cli.app import Terminated, app, console, err_console, raise_terminated, say
+from pinwind.cli.app import (
+    Terminated,
+    app,
+    console,
+    err_console,
+    raise_terminated,
+    say,
+    warnings_as_lines,
+)
 
 if TYPE_CHECKING:
     from pinwind.life.bearing_life import BearingLife
@@ -92,7 +100,10 @@ def fatigue(
     try:
         # No bar in a pipe: it would only leave empty lines in the output.
         hidden = as_json or not err_console.is_terminal
-        with Progress(*columns, console=err_console, transient=True, disable=hidden) as bar:
+        with (
+            warnings_as_lines(),
+            Progress(*columns, console=err_console, transient=True, disable=hidden) as bar,
+        ):
             for label, each in sets:
                 task = bar.add_task(label, total=len({c.name for c in each.cases()}))
 
