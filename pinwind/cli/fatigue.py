@@ -74,11 +74,17 @@ def fatigue(
     )
 
     from pinwind.analysis.sweep import check_workers
+    from pinwind.errors import InputError
+    from pinwind.io.folders import folder_problem
     from pinwind.life.life_damage import set_damage
     from pinwind.life.load_cases import load_fatigue_set, run_cases
     from pinwind.life.set_bearing_life import set_bearing_lives
 
     check_workers(workers)
+    if figures is not None and (problem := folder_problem(figures)) is not None:
+        raise InputError(
+            f"--figures {figures}: {problem}; give a folder for the figures (it is made if missing)"
+        )
     fset = load_fatigue_set(scenario, quick=quick)
     half = None
     if check_dt:

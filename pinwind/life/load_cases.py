@@ -82,6 +82,7 @@ import numpy as np
 from pinwind.errors import InputError, PinwindError
 from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import DEFAULT_MATERIAL, MATERIALS
+from pinwind.io.folders import folder_problem
 from pinwind.known_names import unknown_message, unknown_name
 from pinwind.life.bearing_life import BearingLoadSum, bearing_load_sums
 from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
@@ -453,6 +454,13 @@ class _SetReader:
         out = (out if out.is_absolute() else self.path.parent / out).resolve()
         if self.quick:
             out = out.with_name(out.name + "_quick")
+        problem = folder_problem(out)
+        if problem is not None:
+            raise self.fail(
+                ("fatigue", "out"),
+                f"{out}: {problem}; the set writes its case logs and reductions into the folder "
+                "out names: give a folder that is not a file's name, or move the file",
+            )
         meshes = self.values.setdefault("mesh", {"all": "compliant"})
         if any(kind != "compliant" for kind in meshes.values()):
             raise self.fail(

@@ -346,3 +346,30 @@ def test_workers_below_one_are_refused_before_any_case_runs(tmp_path, monkeypatc
     assert err.startswith(f"error: --workers {workers}: give 1 or more worker processes")
     assert err.count("\n") == 1
     assert not (tmp_path / "cases").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "file", "said"),
+    [
+        ([], "cases", "fatigue.out: {out}: it is a file, not a folder"),
+        (
+            ["--figures", "afile/figs"],
+            "afile",
+            "--figures afile/figs: afile is a file, not a folder",
+        ),
+    ],
+    ids=["out", "figures"],
+)
+def test_a_file_where_a_folder_goes_is_one_line_before_any_case_runs(
+    tmp_path, monkeypatch, capsys, args, file, said
+):
+    """Both used to end in a traceback (FileExistsError, NotADirectoryError), the figures' after
+    the whole set had run."""
+    monkeypatch.chdir(tmp_path)
+    path = fatigue_toml(tmp_path)
+    (tmp_path / file).write_text("a file")
+    code, err = fatigue_exit([str(path), "--workers", "1", *args], monkeypatch, capsys)
+    assert code == 2
+    assert said.format(out=tmp_path / "cases") in err
+    assert err.count("\n") == 1
+    assert list(tmp_path.glob("**/*.mcap")) == []
