@@ -280,12 +280,12 @@ def _group_alive(group: int) -> list[str]:
 
 
 def _started_set(tmp_path: Path, **popen: Any) -> subprocess.Popen:
-    """``pinwind fatigue`` of a 3 s set on two workers, in its own process group, once both
-    workers run (a case takes tens of seconds: the signal comes mid-case)."""
+    """``pinwind fatigue`` of a 10 s set on two workers, in its own process group, once both
+    workers run (a case takes a minute or more: the signal comes mid-case)."""
     import psutil
 
     path = fatigue_toml(tmp_path)
-    path.write_text(path.read_text().replace("duration = 0.04", "duration = 3.0"))
+    path.write_text(path.read_text().replace("duration = 0.04", "duration = 10.0"))
     proc = subprocess.Popen(
         [sys.executable, "-m", "pinwind", "fatigue", str(path), "--workers", "2"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
@@ -309,7 +309,8 @@ def test_a_killed_fatigue_set_leaves_no_process_of_its_group_alive(tmp_path, sig
     proc = _started_set(tmp_path)
     os.kill(proc.pid, signum)
     try:
-        _, err = proc.communicate(timeout=20)  # returns once nothing holds the output open
+        # Returns once nothing holds the output open: at once, not when the cases are done.
+        _, err = proc.communicate(timeout=15)
         time.sleep(1.0)
         assert _group_alive(proc.pid) == []
     finally:
@@ -326,7 +327,7 @@ def test_ctrl_c_on_a_fatigue_set_prints_one_line_and_exits_130(tmp_path):
     proc = _started_set(tmp_path, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     os.killpg(proc.pid, signal.SIGINT)
     try:
-        _, err = proc.communicate(timeout=20)
+        _, err = proc.communicate(timeout=15)
     finally:
         for pid in (int(p.split()[0]) for p in _group_alive(proc.pid)):
             os.kill(pid, signal.SIGKILL)
@@ -373,3 +374,19 @@ def test_a_file_where_a_folder_goes_is_one_line_before_any_case_runs(
     assert said.format(out=tmp_path / "cases") in err
     assert err.count("\n") == 1
     assert list(tmp_path.glob("**/*.mcap")) == []
+
+
+def test_a_worker_ignores_ctrl_c_and_is_killed_with_its_parent():
+    """What `_run_local`'s workers set up first: Ctrl-C is the command's to handle (a worker's
+    own KeyboardInterrupt printed a traceback), and Linux kills the worker with its parent."""
+    code = (
+        "import ctypes, os, signal\n"
+        "from pinwind.analysis.sweep import _worker_started\n"
+        "_worker_started(os.getppid())\n"
+        "death = ctypes.c_int()\n"
+        "ctypes.CDLL(None).prctl(2, ctypes.byref(death), 0, 0, 0)  # PR_GET_PDEATHSIG\n"
+        "print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN, death.value)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True", str(int(signal.SIGKILL))]
