@@ -13,7 +13,24 @@ from pinwind.known_names import nearest, unknown_message
 
 
 class PinwindError(Exception):
-    """Base class of every error pinwind raises on purpose."""
+    """Base class of every error pinwind raises on purpose.
+
+    An error survives a pickle round trip with its message and its attributes (an error in a
+    worker process reaches the command as the same one line): it is rebuilt from its message
+    and attributes, not by calling its ``__init__`` again with the message alone, which most
+    subclasses, taking the offending values, cannot take.
+    """
+
+    def __reduce__(self) -> tuple[object, ...]:
+        return (_rebuilt, (type(self), self.args, self.__dict__))
+
+
+def _rebuilt(cls: type[PinwindError], args: tuple, state: dict) -> PinwindError:
+    """An error of ``cls`` with these ``args`` (its message) and attributes (unpickling)."""
+    err = cls.__new__(cls)
+    err.args = args
+    err.__dict__.update(state)
+    return err
 
 
 class PinwindWarning(UserWarning):
@@ -412,6 +429,14 @@ class InvalidWindSite(InvalidFatigueInput):
     """Wind-site data (Weibull parameters, bins, hours, turbulence) that cannot hold."""
 
     subject = "wind site"
+
+
+class CaseFileDamaged(PinwindWarning):
+    """A kept fatigue case's log or reduction is damaged (a flipped byte): the case is redone.
+
+    The log differs from the one its reduction was made from (its SHA-256), or the reduction
+    (``.npz``) fails its CRC check or cannot be read.
+    """
 
 
 # --- running -----------------------------------------------------------------------------------

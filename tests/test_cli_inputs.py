@@ -95,6 +95,10 @@ def test_duration_and_dt_are_seconds_and_log_rate_is_hertz():
             "the nearest durations are 0.9 s and 1.2 s",
         ),
         (["--dt", "1e-3", "--log-rate", "2000"], "2000 Hz is above the sample rate"),
+        # Options of the dt check without it were ignored; --out with it wrote no log.
+        (["--check-window", "0:0.01"], "--check-window goes with --check-dt"),
+        (["--json"], "--json goes with --check-dt"),
+        (["--check-dt", "--out", "x.mcap"], "--check-dt writes no log"),
     ],
 )
 def test_contradictory_options_exit_2_with_one_line(args, message):
@@ -103,6 +107,18 @@ def test_contradictory_options_exit_2_with_one_line(args, message):
     assert message in out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
     assert "Traceback" not in out.stderr
+
+
+@pytest.mark.parametrize(
+    "args", [["--check-window", "0:0.01"], ["--check-dt", "--out", "x.mcap"]], ids=str
+)
+def test_run_refuses_the_dt_checks_options_as_simulate_does(tmp_path, args):
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(f'model = "{PLANETARY}"\nduration = 0.01\n')
+    out = run("run", str(scenario), "--no-progress", *args)
+    assert out.returncode == 2, out.stdout
+    assert "--check-" in out.stderr and out.stderr.count("\n") == 1, out.stderr
+    assert not (tmp_path / "logs").exists()
 
 
 def test_latin1_torque_table_exits_2_with_one_line():

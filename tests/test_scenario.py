@@ -160,6 +160,11 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
             "cp_table = { tsr = [4, 8], cp = [0.3, 0.45], pitch = [0] }\n",
             '{p}:5: rotor.carrier.cp_table.pitch: unknown key "pitch"; did you mean "pitch_deg"?',
         ),
+        (
+            'model = "model.urdf"\n\n[generator.sun]\nlaw = "linear-slip"\nslop = 1e6\n',
+            '{p}:5: generator.sun.slop: unknown parameter "slop"; did you mean "slope"? '
+            "parameters of linear-slip are: slope, sync_rpm",
+        ),
     ],
     ids=[
         "unknown-key",
@@ -175,6 +180,7 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
         "bad-toml",
         "rotor-without-wind",
         "cp-table-key",
+        "generator-key",
     ],
 )
 def test_bad_scenario_gets_one_line_naming_file_key_line_and_choices(

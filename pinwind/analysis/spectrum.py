@@ -467,6 +467,13 @@ def spectrum_of_log(
     markers = gearbox_frequencies(gearbox, result.speed) if gearbox is not None else []
     spectra = []
     for s, element in chosen:
+        if s.family != "run" and not result.names(s.family):
+            families = [f for f in schema.NAMES_OF if result.names(f)]
+            raise InputError(
+                f"{path}: --series {s.name}: the run has no {s.family}, so the log has no "
+                f"values of it (it was simulated without one); give a series of a kind of "
+                f"element the run has: {', '.join(families)} (docs/series.md)"
+            )
         for name, component, values in series_values(result, s, element):
             if not np.all(np.isfinite(values)):
                 raise InputError(

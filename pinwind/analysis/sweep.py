@@ -45,6 +45,7 @@ __all__ = [
     "StageDesign",
     "SweepRun",
     "SweepSettings",
+    "check_workers",
     "design_from_row",
     "design_key",
     "enumerate_parallel",
@@ -229,6 +230,7 @@ def run_sweep(
         if progress:
             progress(finished, total)
 
+    check_workers(workers)
     n = workers or (1 if len(todo) < SERIAL_BELOW else os.cpu_count() or 1)
     # Batches of a few designs per task: each design takes milliseconds, so one task per design
     # would spend its time in inter-process traffic; small batches keep the progress bar live.
@@ -243,6 +245,21 @@ def run_sweep(
             sink.close()
     ordered = [rows[k] for k in sorted(rows)]
     return SweepRun(ordered, len(todo), time.perf_counter() - start, backend)
+
+
+def check_workers(workers: int | None) -> None:
+    """Refuse a number of local worker processes below 1 (``--workers 0`` ran on all cores).
+
+    Raises:
+        InputError: naming the number and the default.
+    """
+    import os
+
+    if workers is not None and workers < 1:
+        raise InputError(
+            f"--workers {workers}: give 1 or more worker processes (1 runs in this process), "
+            f"or leave it out for one per core ({os.cpu_count() or 1} here)"
+        )
 
 
 def run_tasks(
@@ -292,29 +309,84 @@ def _run_local(
     size: int,
     accept: Callable[[T], None],
 ) -> str:
+    """``task`` on each batch of items in ``n`` worker processes (or here, for one).
+
+    An error of a task stops the items not started and waits for the running ones (their
+    results are kept: a fatigue case's files); an interrupt (Ctrl-C, or SIGTERM raised as one)
+    stops the workers at once. A worker dies with this process, even when it is killed
+    (`_worker_started`), so that none is left running, holding the command's output open.
+    """
     if n <= 1 or len(items) <= 1:
         for item in items:
             accept(task(item, **common))
         return "serial"
     import multiprocessing as mp
+    import os
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     # "spawn" keeps the workers free of the parent's threads (rerun, dask) and their locks.
     batches = [items[i : i + size] for i in range(0, len(items), size)]
-    with ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn")) as pool:
-        futures = {pool.submit(_run_batch, task, batch, common) for batch in batches}
-        try:
-            for future in as_completed(futures):
-                # A finished future keeps its results: let it go, so that memory stays flat in
-                # the number of items (a fatigue case's cycles are tens of MB).
-                futures.discard(future)
-                for result in future.result():
-                    accept(result)
-        except BaseException:
-            for future in futures:
-                future.cancel()
-            raise
+    pool = ProcessPoolExecutor(
+        max_workers=n,
+        mp_context=mp.get_context("spawn"),
+        initializer=_worker_started,
+        initargs=(os.getpid(),),
+    )
+    futures = {pool.submit(_run_batch, task, batch, common) for batch in batches}
+    try:
+        for future in as_completed(futures):
+            # A finished future keeps its results: let it go, so that memory stays flat in
+            # the number of items (a fatigue case's cycles are tens of MB).
+            futures.discard(future)
+            for result in future.result():
+                accept(result)
+    except Exception:
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    except BaseException:  # Ctrl-C, SIGTERM: the running tasks are not waited for
+        _stop_workers(pool)
+        raise
+    pool.shutdown(wait=True)
     return f"processes ({n})"
+
+
+#: Linux's prctl option that sends the calling process a signal when its parent dies.
+_PR_SET_PDEATHSIG = 1
+
+
+def _worker_started(parent: int) -> None:
+    """A worker's start: it dies with ``parent``, and leaves Ctrl-C to it.
+
+    The terminal sends Ctrl-C to every process of the command; the parent stops the workers
+    itself (`_run_local`), so a worker ignores it instead of printing its own traceback. When
+    the parent is killed (SIGKILL, which it cannot handle), Linux sends the worker SIGKILL
+    (``prctl(PR_SET_PDEATHSIG)``); elsewhere a killed parent's workers finish their task.
+    """
+    import ctypes
+    import os
+    import signal
+    import sys
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    if os.getppid() != parent:  # the parent died before the request was made
+        os._exit(1)
+
+
+def _stop_workers(pool: Any) -> None:
+    """Stop a process pool's workers now: cancel its tasks and terminate its processes."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        process.terminate()
+    for process in processes:
+        process.join(timeout=5.0)
+        if process.is_alive():
+            process.kill()
+            process.join()
+    pool.shutdown(wait=True)  # the pool's own thread sees its workers gone, and ends
 
 
 #: How long a sweep tries to reach a Dask scheduler before it gives up [s] (Dask's own: 30 s).

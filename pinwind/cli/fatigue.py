@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import signal
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -13,7 +14,15 @@ from rich import box
 from rich.markup import escape
 from rich.table import Table
 
-from pinwind.cli.app import app, console, err_console, say
+from pinwind.cli.app import (
+    Terminated,
+    app,
+    console,
+    err_console,
+    raise_terminated,
+    say,
+    warnings_as_lines,
+)
 
 if TYPE_CHECKING:
     from pinwind.life.bearing_life import BearingLife
@@ -64,10 +73,18 @@ def fatigue(
         TimeRemainingColumn,
     )
 
+    from pinwind.analysis.sweep import check_workers
+    from pinwind.errors import InputError
+    from pinwind.io.folders import folder_problem
     from pinwind.life.life_damage import set_damage
     from pinwind.life.load_cases import load_fatigue_set, run_cases
     from pinwind.life.set_bearing_life import set_bearing_lives
 
+    check_workers(workers)
+    if figures is not None and (problem := folder_problem(figures)) is not None:
+        raise InputError(
+            f"--figures {figures}: {problem}; give a folder for the figures (it is made if missing)"
+        )
     fset = load_fatigue_set(scenario, quick=quick)
     half = None
     if check_dt:
@@ -84,14 +101,36 @@ def fatigue(
     columns = (BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
     sets = [("cases", fset)] + ([] if half is None else [("cases at dt/2", half)])
     runs: dict[str, FatigueRun] = {}
-    with Progress(*columns, console=err_console, transient=True, disable=as_json) as bar:
-        for label, each in sets:
-            task = bar.add_task(label, total=len({c.name for c in each.cases()}))
+    finished = {"cases": 0, "total": 0}
+    previous = signal.signal(signal.SIGTERM, raise_terminated)
+    try:
+        # No bar in a pipe: it would only leave empty lines in the output.
+        hidden = as_json or not err_console.is_terminal
+        with (
+            warnings_as_lines(),
+            Progress(*columns, console=err_console, transient=True, disable=hidden) as bar,
+        ):
+            for label, each in sets:
+                task = bar.add_task(label, total=len({c.name for c in each.cases()}))
 
-            def advance(n: int, total: int, task: TaskID = task) -> None:
-                bar.update(task, completed=n)
+                def advance(n: int, total: int, task: TaskID = task) -> None:
+                    bar.update(task, completed=n)
+                    finished.update(cases=n, total=total)
 
-            runs[label] = run_cases(each, workers=workers, scheduler=scheduler, progress=advance)
+                runs[label] = run_cases(
+                    each, workers=workers, scheduler=scheduler, progress=advance
+                )
+    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM raised as it: one line, no traceback
+        what = f"terminated ({err})" if isinstance(err, Terminated) else "interrupted"
+        err_console.print(
+            f"{what}: {finished['cases']} of {finished['total']} cases of the set are finished "
+            f"and kept in {escape(str(fset.out))}; the same command computes the rest",
+            highlight=False,
+            soft_wrap=True,
+        )
+        raise typer.Exit(code=143 if isinstance(err, Terminated) else 130) from err
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     run = runs["cases"]
     damage = set_damage(fset)
     check = None

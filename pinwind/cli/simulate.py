@@ -191,6 +191,7 @@ def simulate(
     from pinwind import scenario as sc
     from pinwind.io.run import log_path
 
+    _check_dt_options(check_dt, check_window, as_json, out)
     values: dict[str, Any] = {"model": str(model), "duration": duration, "dt": dt}
     values |= load_values(torque, speed, speed_sine, initial_speed)
     optional = {
@@ -306,6 +307,29 @@ def _run_and_report(
             )
     if log is not None:
         say(f"log: {escape(str(log))} ({log.stat().st_size / 1e6:.2f} MB)")
+
+
+def _check_dt_options(
+    check_dt: bool, check_window: str | None, as_json: bool, out: Path | None
+) -> None:
+    """Refuse the options that ``--check-dt`` takes without it, and ``--out`` with it.
+
+    ``--check-window`` and ``--json`` only change the dt check (without it they were ignored);
+    the dt check writes no log, so ``--out`` with it wrote nothing.
+    """
+    if not check_dt:
+        for given, flag in ((check_window is not None, "--check-window"), (as_json, "--json")):
+            if given:
+                raise InputError(
+                    f"{flag} goes with --check-dt (it changes the dt check), and there is none; "
+                    f"add --check-dt, or leave out {flag}"
+                )
+    elif out is not None:
+        raise InputError(
+            f"--check-dt writes no log (it reruns the run at dt, dt/2 and dt/4 and compares "
+            f"them), so --out {out} would stay unwritten; leave out --out, or run without "
+            "--check-dt to log the run"
+        )
 
 
 #: Short names of the quantities in the --check-dt tables.
@@ -433,6 +457,7 @@ def run_scenario(
 
     if (scenario_file is None) == (from_log is None):
         raise InputError("give a scenario file or --from-log LOG (one of them)")
+    _check_dt_options(check_dt, check_window, as_json, out)
     if accept_changed_inputs and from_log is None:
         raise InputError("--accept-changed-inputs goes with --from-log LOG only")
     with warnings_as_lines():

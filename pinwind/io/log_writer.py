@@ -295,10 +295,17 @@ class McapLogger:
         hold_for_writing(stream.fileno())  # a reader meanwhile says "being written"
         try:
             self._start(stream, gearbox, result, rate)
-        except BaseException:
+        except BaseException as err:
             stream.close()
             self._file = None
             self.path.unlink(missing_ok=True)
+            if isinstance(err, OSError):  # a full disk (with allow_large_log: not foreseen)
+                raise LogError(
+                    str(self.path),
+                    f"cannot write the log's first records, its model and run metadata "
+                    f"({err.strerror or err}), so the run was not started and the file is "
+                    "removed. Free some disk space or log less (--log-rate, --no-log)",
+                ) from err
             raise
         # Chunks are encoded, compressed and written by a thread of their own, so that they
         # overlap the next samples' steps (the compiled step loop releases the GIL).

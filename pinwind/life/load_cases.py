@@ -70,6 +70,8 @@ import hashlib
 import json
 import math
 import time
+import zipfile
+import zlib
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -80,6 +82,7 @@ import numpy as np
 from pinwind.errors import InputError, PinwindError
 from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import DEFAULT_MATERIAL, MATERIALS
+from pinwind.io.folders import folder_problem
 from pinwind.known_names import unknown_message, unknown_name
 from pinwind.life.bearing_life import BearingLoadSum, bearing_load_sums
 from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
@@ -451,6 +454,13 @@ class _SetReader:
         out = (out if out.is_absolute() else self.path.parent / out).resolve()
         if self.quick:
             out = out.with_name(out.name + "_quick")
+        problem = folder_problem(out)
+        if problem is not None:
+            raise self.fail(
+                ("fatigue", "out"),
+                f"{out}: {problem}; the set writes its case logs and reductions into the folder "
+                "out names: give a folder that is not a file's name, or move the file",
+            )
         meshes = self.values.setdefault("mesh", {"all": "compliant"})
         if any(kind != "compliant" for kind in meshes.values()):
             raise self.fail(
@@ -852,6 +862,8 @@ class CaseCycles:
             too); over ``wall_time``, the cores the case kept busy (NaN: not recorded).
         thread_time: CPU seconds of the thread that ran the case (the step loop, the
             counting); ``cpu_time`` over it is the cores the case keeps busy on free cores.
+        log_sha256: SHA-256 of the case's log as the run wrote it ("": not recorded), so that
+            a log changed since (a flipped byte) is found (`case_done`).
     """
 
     case: LoadCase
@@ -863,6 +875,7 @@ class CaseCycles:
     bearings: tuple[BearingLoadSum, ...] = field(default_factory=tuple)
     cpu_time: float = math.nan
     thread_time: float = math.nan
+    log_sha256: str = ""
 
     def save(self, path: Path) -> None:
         """Write it as ``.npz`` (written whole under another name, then renamed)."""
@@ -882,6 +895,7 @@ class CaseCycles:
             "wall_time": self.wall_time,
             "cpu_time": self.cpu_time,
             "thread_time": self.thread_time,
+            "log_sha256": self.log_sha256,
             "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
             "roots": [[f.gear, f.flank, f.teeth] for f in self.roots],
             "bearings": [dataclasses.asdict(b) for b in self.bearings],
@@ -923,8 +937,11 @@ class CaseCycles:
                     for prefix, group in (("", "flanks"), ("root_", "roots"))
                 )
                 bearings = tuple(BearingLoadSum(**b) for b in meta.get("bearings", []))
-        except (OSError, ValueError, KeyError, TypeError) as err:
-            raise InputError(f"{path}: not a fatigue case reduction ({err}); delete it") from err
+        except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile, zlib.error) as err:
+            raise InputError(
+                f"{path}: not a fatigue case reduction, or a damaged one ({err}); delete it and "
+                "run the set again, which computes that case again"
+            ) from err
         return cls(
             LoadCase(**meta["case"]),
             meta["key"],
@@ -935,6 +952,7 @@ class CaseCycles:
             bearings,
             meta.get("cpu_time", math.nan),
             meta.get("thread_time", math.nan),
+            meta.get("log_sha256", ""),
         )
 
 
@@ -1034,6 +1052,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
     )
     bearings = bearing_load_sums(counted, gearbox)
+    log_sha256 = file_sha256(fatigue.log_path(case))
     return CaseCycles(
         case,
         fatigue.case_key(case),
@@ -1044,6 +1063,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         tuple(bearings),
         time.process_time() - cpu,
         time.thread_time() - own,
+        log_sha256,
     )
 
 
@@ -1057,21 +1077,57 @@ def save_case(case: LoadCase, fatigue: FatigueSet) -> str:
     return case.name
 
 
+def file_sha256(path: Path) -> str:
+    """SHA-256 of a file's bytes, as hex."""
+    with path.open("rb") as f:
+        return hashlib.file_digest(f, "sha256").hexdigest()
+
+
 def case_done(fatigue: FatigueSet, case: LoadCase) -> bool:
-    """Whether a case's log is complete and its reduction was made from the same inputs."""
+    """Whether a case's log is complete and its reduction was made from the same inputs.
+
+    A reduction that fails its CRC check or cannot be read, or a log whose SHA-256 differs from
+    the one the reduction recorded (a flipped byte), is damaged: a `CaseFileDamaged` warning
+    names the file, and the case is not done (it is computed again).
+    """
     from pinwind.io.log_reader import LogReader
 
     log, cycles = fatigue.log_path(case), fatigue.cycles_path(case)
     if not (log.is_file() and cycles.is_file()):
         return False
     try:
+        with zipfile.ZipFile(cycles) as archive:
+            bad = archive.testzip()  # every member read and checked against its CRC-32
+        if bad is not None:
+            raise zipfile.BadZipFile(f"its member {bad} fails its CRC-32 check")
+        with np.load(cycles) as data:
+            meta = json.loads(str(data["meta"]))
+        key, recorded = meta["key"], meta.get("log_sha256", "")
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile, zlib.error) as err:
+        _damaged(f"{cycles}: the kept reduction of case {case.name} is damaged ({err})")
+        return False
+    if recorded and file_sha256(log) != recorded:
+        _damaged(
+            f"{log}: the kept log of case {case.name} is not the one its reduction was made "
+            f"from (sha256 {recorded[:12]}… recorded, {file_sha256(log)[:12]}… now): it was "
+            "damaged or changed"
+        )
+        return False
+    try:
         with LogReader(log) as reader:
             complete = reader.complete
-        with np.load(cycles) as data:
-            key = json.loads(str(data["meta"]))["key"]
-    except (PinwindError, OSError, ValueError, KeyError):
+    except PinwindError:
         return False
     return complete and key == fatigue.case_key(case)
+
+
+def _damaged(what: str) -> None:
+    """Warn, at the caller of `run_cases`, that a kept case file is damaged and redone."""
+    import warnings
+
+    from pinwind.errors import CaseFileDamaged
+
+    warnings.warn(CaseFileDamaged(f"{what}; the case is computed again"), stacklevel=4)
 
 
 @dataclass
@@ -1110,12 +1166,16 @@ def run_cases(
     """
     import os
 
-    from pinwind.analysis.sweep import run_tasks
+    from pinwind.analysis.sweep import check_workers, run_tasks
 
+    check_workers(workers)
     start = time.perf_counter()
     cases = fatigue.cases()
     unique = {c.name: c for c in cases}
-    todo = [c for c in unique.values() if not case_done(fatigue, c)]
+    todo = []
+    for case in unique.values():  # a loop, not a comprehension: warnings point at the caller
+        if not case_done(fatigue, case):
+            todo.append(case)
     finished, computed = len(unique) - len(todo), []
     if progress:
         progress(finished, len(unique))

@@ -40,6 +40,19 @@ def read_output(path: str | Path) -> tuple[np.ndarray, list[str], list[str]]:
             f"{path}: openfast-io cannot read it as an OpenFAST output file ({err})"
         ) from err
     names = list(info["attribute_names"])
+    units = list(info["attribute_units"])
+    if not names or len(units) != len(names):
+        # openfast-io reads a header cut before its unit line as channels without units.
+        what = (
+            "no line of channel names"
+            if not names
+            else f"channels {', '.join(names)} and {len(units)} units"
+        )
+        raise InputError(
+            f"{path}: the file ends inside its OpenFAST header ({what}), so it holds no "
+            "samples: it was cut short (OpenFAST stopped, or a copy broke off); give the whole "
+            "output file"
+        )
     # openfast-io gives a 1-D array for a file of one data row, and an empty one without rows
     table = np.asarray(data, dtype=float).reshape(-1, len(names))
     if not len(table):
@@ -48,11 +61,7 @@ def read_output(path: str | Path) -> tuple[np.ndarray, list[str], list[str]]:
             "data rows, as when OpenFAST stopped before its first output; give a file with at "
             "least two rows of samples"
         )
-    return (
-        table,
-        names,
-        list(info["attribute_units"]),
-    )
+    return table, names, units
 
 
 def read_channel(path: str | Path, channel: str, *, scale: float = 1.0) -> Scaled:

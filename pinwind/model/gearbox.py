@@ -22,6 +22,7 @@ from pinwind.errors import (
     InvalidGearGeometry,
     InvalidInertia,
     InvalidMount,
+    InvalidSupport,
     MalformedModel,
     NonParallelAxes,
     PinwindError,
@@ -629,7 +630,37 @@ def _support_chain(source: ModelFile) -> tuple[np.ndarray, list[SupportSlide]]:
         down = _default_down(world_from_housing @ source.support.shaft_axis)
     else:
         down = gravity / np.linalg.norm(gravity)
-    return world_from_housing, source.support.slides(-(world_from_housing.T @ down))
+    up = -(world_from_housing.T @ down)
+    _check_tower_vertical(source, up)
+    return world_from_housing, source.support.slides(up)
+
+
+def _check_tower_vertical(source: ModelFile, up: np.ndarray) -> None:
+    """Refuse a vertical or side-side tower mode on a support whose shaft axis is along gravity.
+
+    Those directions are normal to the shaft axis (the vertical is ``up`` made normal to it):
+    a shaft along gravity leaves them undefined (NaN axes, which urdfdom refused with noise).
+
+    Raises:
+        InvalidSupport: naming the shaft axis, the gravity and the modes.
+    """
+    support = cast(Support, source.support)
+    modes = [m.direction for m in support.tower_modes if m.direction != "fore_aft"]
+    across = up - (up @ support.shaft_axis) * support.shaft_axis
+    if not modes or np.linalg.norm(across) > 1e-6:
+        return
+    angle = math.degrees(math.acos(min(1.0, abs(float(up @ support.shaft_axis)))))
+    axis = " ".join(f"{v:g}" for v in support.shaft_axis)
+    raise InvalidSupport(
+        support.housing,
+        "shaft_axis",
+        angle,
+        f'shaft_axis="{axis}" is along gravity ({angle:.2g}° from it), but the tower modes '
+        f"{', '.join(modes)} act normal to the shaft axis (the vertical is gravity's part "
+        "normal to it), which a shaft along gravity leaves undefined; give the main shaft's "
+        "axis (a wind turbine's is within a few degrees of horizontal), or a gravity across it",
+        path=source.path,
+    )
 
 
 def _parent_joint(source: ModelFile, link: str) -> str:

@@ -143,7 +143,10 @@ class Support:
         """Each tower direction's unit axis in the housing's frame, ``up`` against gravity."""
         fore_aft = self.shaft_axis
         vertical = up - (up @ fore_aft) * fore_aft
-        vertical = vertical / np.linalg.norm(vertical)
+        length = np.linalg.norm(vertical)
+        # A shaft along gravity has no vertical nor side-side: NaN, refused where a mode needs it
+        # (``model/gearbox.py``).
+        vertical = vertical / length if length > 0.0 else np.full(3, np.nan)
         return {
             "fore_aft": fore_aft,
             "side_side": np.cross(vertical, fore_aft),

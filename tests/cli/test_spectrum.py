@@ -125,3 +125,19 @@ def test_rainflow_csv_holds_every_cycle_the_rainflow_package_counts_in_each_seri
         largest = max(rng for rng, _, _, _, _ in cycles)
         assert largest > 0.0
         assert np.isclose(max(float(r["range_to"]) for r in mine), largest, rtol=1e-12, atol=0)
+
+
+@pytest.mark.parametrize("png", [False, True], ids=["table", "png"])
+def test_a_series_of_an_element_the_run_has_none_of_is_one_line_and_no_figure(
+    planetary_log, tmp_path, png
+):
+    """The Saleh stage runs without a generator: ``generator_torque`` printed an empty table
+    (and drew an empty figure) and exited 0."""
+    figure = tmp_path / "psd.png"
+    out = run("spectrum", str(planetary_log), "--series", "generator_torque",
+              *(["--png", str(figure)] if png else []))  # fmt: skip
+    assert out.returncode == 2, out.stdout
+    assert out.stderr.count("\n") == 1
+    assert "--series generator_torque: the run has no generator" in out.stderr
+    assert "element the run has: joint, mesh, bearing, body (docs/series.md)" in out.stderr
+    assert not figure.exists()

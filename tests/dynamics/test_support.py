@@ -239,3 +239,25 @@ def test_the_cli_refuses_a_negative_stiffness_with_one_message_and_exit_2(tmp_pa
     assert out.returncode == 2
     assert "stiffness_z is -3 N/m" in out.stderr
     assert "Traceback" not in out.stderr
+
+
+@pytest.mark.parametrize("direction", ["vertical", "side_side"])
+def test_a_tower_mode_across_a_shaft_along_gravity_is_refused_naming_the_cause(direction):
+    """shaft_axis="0 1 0" under gravity along −y: the vertical (gravity made normal to the
+    shaft) is the zero vector, and urdfdom printed NaN noise and no cause (issue 43)."""
+    text = supported_pair(
+        f'<support housing="housing" shaft_axis="0 1 0">{tower(direction, 8.0, 1e4)}</support>'
+    )
+    with pytest.raises(InvalidSupport) as caught:
+        _load(text)
+    err = caught.value
+    assert (err.attribute, err.value) == ("shaft_axis", 0.0)
+    assert str(err).startswith('<string>: <support housing="housing">: shaft_axis="0 1 0" is along')
+    assert f"the tower modes {direction} act normal to the shaft axis" in str(err)
+
+
+def test_a_fore_aft_mode_on_a_shaft_along_gravity_needs_no_vertical_and_loads():
+    text = supported_pair(
+        f'<support housing="housing" shaft_axis="0 1 0">{tower("fore_aft", 0.7, 2e4)}</support>'
+    )
+    assert "support_tower_fore_aft" in _load(text).support_slides

@@ -259,3 +259,26 @@ def test_cli_run_hitting_a_file_size_limit_stops_in_one_line_and_keeps_its_chunk
     np.testing.assert_array_equal(back.time, clean.time)
     np.testing.assert_array_equal(back.mesh_normal, clean.mesh_normal)
     np.testing.assert_array_equal(back.bearing_force_local, clean.bearing_force_local)
+
+
+@pytest.mark.parametrize("room", [0, 300], ids=["no-room", "mid-header"])
+def test_cli_run_on_a_full_disk_with_allow_large_log_is_one_line_and_no_file(
+    tmp_path, monkeypatch, capsys, room
+):
+    """--allow-large-log skips the free-space check, so a full disk met the log's first
+    records: a traceback (OSError) instead of one line. The disk is this test's: the writer's
+    file refuses its writes with ENOSPC after ``room`` bytes (a small tmpfs needs root)."""
+    from pinwind.cli import main
+
+    log = tmp_path / "full.mcap"
+    monkeypatch.setattr(McapLogger, "_open_file", lambda self: FullDisk(self.path, room))
+    monkeypatch.setattr(sys, "argv", ["pinwind", *SIMULATE, "--duration", "0.01",
+                                      "--out", str(log), "--allow-large-log"])  # fmt: skip
+    with pytest.raises(SystemExit) as exit_:
+        main()
+    err = capsys.readouterr().err
+    assert exit_.value.code == 2
+    assert err.startswith(f"error: {log}: cannot write the log's first records")
+    assert "(No space left on device), so the run was not started" in err
+    assert err.count("\n") == 1
+    assert not log.exists()

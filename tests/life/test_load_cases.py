@@ -411,3 +411,33 @@ def test_a_sample_rate_that_divides_the_step_rate_is_read_at_that_rate(tmp_path)
     keep = fset.case_values(fset.cases()[0])["keep"]
     assert keep == 20
     assert_allclose(1.0 / (keep * fset.dt), 2500.0, rtol=1e-12)
+
+
+def _flip_a_byte(path: Path) -> None:
+    """Flip every bit of the byte in the middle of a file (as a bad disk or copy does)."""
+    data = bytearray(path.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    path.write_bytes(bytes(data))
+
+
+@pytest.mark.parametrize("which", ["log", "reduction"])
+def test_a_flipped_byte_in_a_kept_case_file_has_the_case_computed_again_with_a_warning(
+    tmp_path, which
+):
+    """A flipped byte in a kept log was reused without a word; one in a kept reduction made
+    every rerun fail with BadZipFile, naming no file."""
+    from pinwind.errors import CaseFileDamaged
+    from pinwind.life.load_cases import file_sha256
+
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    run_cases(fset, workers=1)
+    case = fset.cases()[0]
+    path = fset.log_path(case) if which == "log" else fset.cycles_path(case)
+    _flip_a_byte(path)
+    with pytest.warns(CaseFileDamaged, match=f"{path}: the kept .* of case {case.name}") as caught:
+        again = run_cases(fset, workers=1)
+    assert caught[0].filename == __file__  # said at the caller of run_cases
+    assert again.computed == [case.name]
+    # Whole again: the log is the one the new reduction was made from.
+    assert CaseCycles.load(fset.cycles_path(case)).log_sha256 == file_sha256(fset.log_path(case))
+    assert run_cases(fset, workers=1).computed == []
