@@ -136,7 +136,7 @@ class TorsionalSpringSpec:
     """A torsional spring-damper between two joints (``cpp/torsional_spring.hpp``)."""
 
     index_1: int
-    index_2: int
+    index_2: int  # −1: across joint 1 alone (to the body it turns in)
     stiffness: float  # [N·m/rad]
     damping: float  # [N·m·s/rad]
     preload_angle: float  # [rad]
@@ -396,6 +396,12 @@ class Assembly:
     jac: Matrix  # J (rows, nv): rigid meshes in file order, then drivers and locks
     gamma: Vector  # γ = J̇ v (rows,) [m/s² or rad/s²]
 
+class ElementTerms:
+    """The elements' force and implicit weight at one state (``cpp/stepper.hpp``)."""
+
+    weight: Matrix  # κ_q K + κ_v C (nv, nv): K = −∂f/∂q, C = −∂f/∂v
+    force: Vector  # Σ f_e at a = 0 (nv,) [N·m or N]
+
 class Stepper:
     """One run of the compiled step loop."""
 
@@ -428,6 +434,10 @@ class Stepper:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
     def assemble(self, q: Vector, v: Vector) -> Assembly:
         """M, b, J and γ of the step at (q, v), with the rows' current flanks; no step taken."""
+    def element_terms(
+        self, q: Vector, v: Vector, position_gain: float, speed_gain: float
+    ) -> ElementTerms:
+        """The elements' force Σ f_e and weight κ_q K + κ_v C at (q, v), dq₀ = 0; no step."""
 
 class EquilibriumStatus:
     """How a static start went (``cpp/stepper.hpp`` Stepper::equilibrium)."""

@@ -232,9 +232,8 @@ def linearise(
         )
         for s in setup.compliant
     ]
-    for spring in gearbox.springs:
-        row = np.zeros(nv)
-        row[spring.v_index_1], row[spring.v_index_2] = 1.0, -1.0
+    for spring in gearbox.springs:  # to the ground too: a twist row e₁ alone
+        row = spring.twist_row(nv)
         elements.append(SpringElement(spring.name, "spring", spring.stiffness, spring.damping, row))
     elements += bearing_elements(gearbox)
     stiffness, damping = element_matrices(elements, nv)

@@ -60,6 +60,7 @@ from pinwind.dynamics.time_step import coarse_step_notes
 from pinwind.dynamics.torque_balance import imbalances, representative_torque
 from pinwind.dynamics.torsional_modes import highest_spring_mode
 from pinwind.errors import (
+    ConflictingConstraints,
     ConflictingInputs,
     Diverged,
     EquilibriumNotReached,
@@ -67,6 +68,7 @@ from pinwind.errors import (
     NonFiniteInput,
     OutOfMemory,
     PinwindError,
+    SpringsWoundAtStart,
     StepTooCoarse,
     TorquesUnbalanced,
 )
@@ -311,7 +313,8 @@ def simulate(
         speeds: joint name → prescribed joint speed [rad/s], number or callable(t); the driving
             torque is the multiplier of the driver's row (``res.joint(name).torque``).
         initial_speeds: joint name → initial speed [rad/s]; the other joints start at the speeds
-            the gear meshes impose (``dynamics.ratios.train_speeds``).
+            the gear meshes and the torsional springs give them (``start_speeds``: a rotor's
+            speed carries across a coupling to the generator).
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
         integrator: the time step and its numerical dissipation (``Integrator``; default
@@ -484,8 +487,7 @@ def simulate(
         }
 
     q = gearbox.neutral()
-    given = {ld.joint: ld(0.0) for ld in [*init, *speed_loads]}
-    v = train_speeds(gearbox, given) if given else np.zeros(model.nv)
+    v = start_speeds(gearbox, {ld.joint: ld(0.0) for ld in [*init, *speed_loads]})
 
     if progress is None:
         import sys
@@ -640,6 +642,51 @@ def simulate(
         final = res if status == "completed" else res.truncated(int(np.searchsorted(kept, done)))
         _end_all(begun, final, status)
     return final
+
+
+def start_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
+    """The joint speeds a run starts at [rad/s]: ``given``, the others as the machine turns.
+
+    Every joint takes the speed the meshes and the torsional springs give it from the given
+    ones (``train_speeds(through_springs=True)``): a rotor's speed carries across a coupling to
+    the generator, and a ring on a torsional support starts at rest, so that a steady load
+    starts steady. Given speeds that differ across a spring (both sides given, not in ratio)
+    are kept, the others following the meshes alone; a ``SpringsWoundAtStart`` warning names
+    each spring that then winds up from t = 0.
+
+    Raises:
+        ConflictingConstraints: given speeds that contradict the gear ratios.
+    """
+    nv = gearbox.model.nv
+    if not given:
+        return np.zeros(nv)
+    try:
+        return train_speeds(gearbox, given, through_springs=True)
+    except ConflictingConstraints:
+        v = train_speeds(gearbox, given)
+    wound = []
+    for spring in gearbox.springs:
+        rate = float(spring.twist_row(nv) @ v)
+        if abs(rate) > 1e-9 * (1.0 + float(np.abs(v).max())):
+            sides = f'"{spring.joint_1}" {v[spring.v_index_1]:.6g} rad/s'
+            if spring.v_index_2 is not None:
+                sides += f', "{spring.joint_2}" {v[spring.v_index_2]:.6g} rad/s'
+            else:
+                sides += " against its parent at rest"
+            wound.append(f'"{spring.name}" ({sides}: twisting at {rate:.6g} rad/s)')
+    if wound:
+        warnings.warn(
+            SpringsWoundAtStart(
+                "the initial speeds differ across the torsional spring"
+                + ("s " if len(wound) > 1 else " ")
+                + "; ".join(wound)
+                + ": each winds up from t = 0, a start-up transient in the speeds and the mesh "
+                "forces at the spring's own frequency; give one speed per train (the others "
+                "follow the ratios and springs) for a steady start"
+            ),
+            stacklevel=3,
+        )
+    return v
 
 
 #: The starts a run can take (``simulate(initial_deflection=...)``).

@@ -163,7 +163,8 @@ class CompiledStepper:
         springs = []
         for s in gearbox.springs:
             sp = _native.TorsionalSpringSpec()
-            sp.index_1, sp.index_2 = s.v_index_1, s.v_index_2
+            sp.index_1 = s.v_index_1
+            sp.index_2 = -1 if s.v_index_2 is None else s.v_index_2  # −1: to its parent body
             sp.stiffness, sp.damping, sp.preload_angle = s.stiffness, s.damping, s.preload_angle
             springs.append(sp)
         spec.springs = springs
@@ -283,6 +284,20 @@ class CompiledStepper:
             EQUILIBRIUM_ITERATIONS,
             EQUILIBRIUM_TOLERANCE,
         )
+
+    def element_terms(
+        self, q: np.ndarray, v: np.ndarray, *, position_gain: float, speed_gain: float
+    ) -> _native.ElementTerms:
+        """The elements' force Σ f_e [N·m or N] and weight κ_q K + κ_v C at (q, v), no step.
+
+        K = −∂f/∂q and C = −∂f/∂v are the tangents the implicit step takes (position_gain 1,
+        speed_gain 0 gives K alone): the checks of each element against finite differences of
+        its force. The elements are prepared at (q, v): for a stepper that does not run.
+        """
+        return self._stepper.element_terms(
+            np.asarray(q, dtype=float), np.asarray(v, dtype=float),
+            float(position_gain), float(speed_gain),
+        )  # fmt: skip
 
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""

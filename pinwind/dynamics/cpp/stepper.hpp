@@ -116,6 +116,12 @@ struct Assembly {
   Eigen::VectorXd gamma;  // γ = J̇ v [m/s² or rad/s²]
 };
 
+// The elements' forces and implicit weights at one state (Stepper::element_terms).
+struct ElementTerms {
+  Eigen::MatrixXd weight;  // Σ W_e = κ_q K + κ_v C, K = −∂f/∂q, C = −∂f/∂v (nv × nv)
+  Eigen::VectorXd force;   // Σ f_e at a = 0 [N·m or N]
+};
+
 class Stepper {
  public:
   // samples: how many samples the whole run has (the last one is recorded, not stepped from).
@@ -150,8 +156,9 @@ class Stepper {
   //     M ā + K Δq − Jᵀ λ = F,   J ā = r,   J Δq = 0,   K ā = 0
   //
   // for the acceleration ā the whole train shares (no element's deflection changes: K ā = 0),
-  // the displacement Δq and the multipliers, in the least-norm sense (Δq has no part along the
-  // train's free motion, which the loads do not determine), then q ← q ⊕ Δq. A compliant mesh
+  // the displacement Δq and the multipliers, in the least-squares sense with the system scaled
+  // (every spring takes its load, the soft ones beside the stiff too), Δq with no part along
+  // the train's free motion (which the loads do not determine), then q ← q ⊕ Δq. A compliant mesh
   // whose force would pull hands it to the other flank (closing the backlash). The stiffness
   // follows the pairs in contact at each q, so the iteration ends when Δq stops changing.
   EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
@@ -160,6 +167,13 @@ class Stepper {
   // The step's assembly alone at (q, v), with the rows' current flanks (for checks against
   // Pinocchio's own and finite differences); the run's state is kept.
   Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+
+  // The elements' force Σ f_e and implicit weight Σ W_e at (q, v) with the gains κ_q and κ_v
+  // and dq₀ = 0 (κ_q = 1, κ_v = 0: W is the tangent stiffness K; κ_q = 0, κ_v = 1: the damping
+  // C), for checks of each element's tangent against finite differences of its force. The
+  // elements are prepared at (q, v): call it on a stepper that does not run.
+  ElementTerms element_terms(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                             double position_gain, double speed_gain);
 
  private:
   static RunStatus& fail(RunStatus& st, long step, double time, const std::string& what) {
@@ -258,9 +272,14 @@ class Stepper {
   void weighted_bias();
 
   // Δq of one Newton iteration of equilibrium() from M, J, γ, the stiffness in hessian_ and
-  // the force in force_: the least-norm solution of the stacked system, with Δq scaled by
-  // κ = max|K| / max|M| so that both blocks weigh alike in the rank decision.
+  // the force in force_: the least-squares solution of the stacked system with its rows and
+  // columns equilibrated (equilibration.hpp), so that every spring takes its load whatever its
+  // stiffness beside the stiffest, less its part along the train's free motions (free_part).
   Eigen::VectorXd static_displacement(EquilibriumStatus& st);
+
+  // The part of dq along the motions that neither the elements' stiffness nor the rows resist
+  // (the null space of [K; J]), which the loads do not determine: a start is not turned by it.
+  Eigen::VectorXd free_part(const Eigen::VectorXd& dq) const;
 
   // The step's ā and λ for the current weights, at the assembled state.
   bool dynamics(long k, double t, RunStatus& st);

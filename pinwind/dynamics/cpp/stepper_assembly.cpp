@@ -87,4 +87,32 @@ Assembly Stepper::assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
   return out;
 }
 
+ElementTerms Stepper::element_terms(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                    double position_gain, double speed_gain) {
+  const Eigen::VectorXd q_run = q_, v_run = v_, dq_run = dq_free_;
+  const StepWeights weights_run = weights_;
+  q_ = q;
+  v_ = v;
+  assemble_positions();
+  assemble_velocities();
+  weights_ = StepWeights();
+  weights_.inertia = 0.0;
+  weights_.position_gain = position_gain;
+  weights_.speed_gain = speed_gain;
+  dq_free_.setZero(nv_);
+  ElementTerms out{Eigen::MatrixXd::Zero(nv_, nv_), Eigen::VectorXd::Zero(nv_)};
+  const StepView sv = view();
+  for (auto& e : elements_) {
+    e->prepare(sv);
+    e->add_force(sv, out.force);
+    e->add_implicit(sv, out.weight, out.force);
+  }
+  out.weight.triangularView<Eigen::StrictlyUpper>() = out.weight.transpose();
+  q_ = q_run;
+  v_ = v_run;
+  dq_free_ = dq_run;
+  weights_ = weights_run;
+  return out;
+}
+
 }  // namespace pinwind

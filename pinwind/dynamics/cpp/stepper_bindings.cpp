@@ -169,8 +169,8 @@ StepperSetup setup(const StepperSpec& spec) {
     }
   }
   for (const auto& sp : spec.springs) {
-    if (sp.index_1 < 0 || sp.index_2 < 0 || static_cast<size_t>(sp.index_1) >= nv ||
-        static_cast<size_t>(sp.index_2) >= nv) {
+    if (sp.index_1 < 0 || sp.index_2 < -1 || static_cast<size_t>(sp.index_1) >= nv ||
+        sp.index_2 >= static_cast<long>(nv) || sp.index_1 == sp.index_2) {
       throw std::invalid_argument("bad spring joint index");
     }
   }
@@ -310,6 +310,14 @@ class PyStepper {
     return stepper_->assemble(q, v);
   }
 
+  ElementTerms element_terms(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                             double position_gain, double speed_gain) {
+    if (q.size() != counts_[static_cast<size_t>(Family::joint)] || v.size() != q.size()) {
+      throw std::invalid_argument("element_terms: q and v must have nv values");
+    }
+    return stepper_->element_terms(q, v, position_gain, speed_gain);
+  }
+
  private:
   std::array<long, kFamilies> counts_{};  // elements per family (series.hpp)
   long inputs_ = 0;
@@ -434,6 +442,10 @@ void bind_stepper(nb::module_& m) {
       .def_ro("jac", &Assembly::jac)
       .def_ro("gamma", &Assembly::gamma);
 
+  nb::class_<ElementTerms>(m, "ElementTerms")
+      .def_ro("weight", &ElementTerms::weight)
+      .def_ro("force", &ElementTerms::force);
+
   nb::class_<PyStepper>(m, "Stepper")
       .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
            "spec"_a, "q0"_a, "v0"_a, "samples"_a)
@@ -447,7 +459,10 @@ void bind_stepper(nb::module_& m) {
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].")
       .def("assemble", &PyStepper::assemble, "q"_a, "v"_a,
-           "M, b, J and γ of the step at (q, v), with the rows' current flanks.");
+           "M, b, J and γ of the step at (q, v), with the rows' current flanks.")
+      .def("element_terms", &PyStepper::element_terms, "q"_a, "v"_a, "position_gain"_a,
+           "speed_gain"_a,
+           "The elements' force Σ f_e and implicit weight κ_q K + κ_v C at (q, v), dq₀ = 0.");
 
 }
 

@@ -1,5 +1,10 @@
 // The Stepper's static start: Stepper::equilibrium (stepper.hpp).
+#include <algorithm>
+
 #include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "equilibration.hpp"
 
 #include "joint_algorithms.hpp"
 #include "stepper.hpp"
@@ -62,27 +67,48 @@ EquilibriumStatus Stepper::equilibrium(const RowMat& torque, const RowMat& targe
 }
 
 Eigen::VectorXd Stepper::static_displacement(EquilibriumStatus& st) {
-  const double mass_scale = mass_.cwiseAbs().maxCoeff();
-  const double stiffness_scale = hessian_.cwiseAbs().maxCoeff();
-  if (!(stiffness_scale > 0.0)) return Eigen::VectorXd::Zero(nv_);
-  const double kappa = stiffness_scale / mass_scale;
+  if (!(hessian_.cwiseAbs().maxCoeff() > 0.0)) return Eigen::VectorXd::Zero(nv_);
   const Eigen::Index n = nv_, r = rows_;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n + 2 * r, 2 * n + r);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * n + 2 * r);
   a.topLeftCorner(n, n) = mass_;
-  a.block(0, n, n, n) = hessian_ / kappa;
+  a.block(0, n, n, n) = hessian_;
   a.block(0, 2 * n, n, r) = -jac_.transpose();
   a.block(n, 0, r, n) = jac_;
   a.block(n + r, n, r, n) = jac_;
-  a.block(n + 2 * r, 0, n, n) = hessian_ / kappa;
+  a.block(n + 2 * r, 0, n, n) = hessian_;
   b.head(n) = force_;
   b.segment(n, r) = (target_next_ - target_now_) / s_.dt - bias_;
+  // Scaled rows and columns (equilibration.hpp): a spring 1e8 times softer than the stiffest
+  // has its own pivot. Unscaled, the block [[M, K], [K, 0]] of a soft coordinate has the pivot
+  // K²/M, below the rank threshold for springs ~1e6 times softer than the stiffest.
+  const Equilibration scale = equilibrate(a);
+  b.array() *= scale.rows.array();
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
   cod.setThreshold(1e-12);
   cod.compute(a);
   const Eigen::VectorXd x = cod.solve(b);
   st.residual = (a * x - b).norm() / std::max(b.norm(), 1e-300);
-  return x.segment(n, n) / kappa;
+  const Eigen::VectorXd dq = scale.columns.segment(n, n).cwiseProduct(x.segment(n, n));
+  return dq - free_part(dq);
+}
+
+Eigen::VectorXd Stepper::free_part(const Eigen::VectorXd& dq) const {
+  // The motions no element and no row resists: the null space of [K; J], each row scaled to a
+  // largest entry of 1 (which leaves the null space as it is).
+  const Eigen::Index n = nv_, r = rows_;
+  Eigen::MatrixXd stacked(n + r, n);
+  stacked << hessian_, jac_;
+  for (Eigen::Index i = 0; i < stacked.rows(); ++i) {
+    const double norm = stacked.row(i).cwiseAbs().maxCoeff();
+    if (norm > 0.0) stacked.row(i) /= norm;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(stacked, Eigen::ComputeFullV);
+  svd.setThreshold(1e-10);
+  const Eigen::Index rank = svd.rank();
+  if (rank == n) return Eigen::VectorXd::Zero(n);
+  const auto free = svd.matrixV().rightCols(n - rank);
+  return free * (free.transpose() * dq);
 }
 
 }  // namespace pinwind
