@@ -272,9 +272,10 @@ class Stepper {
   void weighted_bias();
 
   // Δq of one Newton iteration of equilibrium() from M, J, γ, the stiffness in hessian_ and
-  // the force in force_: the least-squares solution of the stacked system with its rows and
-  // columns equilibrated (equilibration.hpp), so that every spring takes its load whatever its
-  // stiffness beside the stiffest, less its part along the train's free motions (free_part).
+  // the force in force_: the least-squares solution of the stacked system with each coordinate
+  // scaled by its own mass and stiffness (1/√M_ii, K_ii/M_ii), so that every spring takes its
+  // load whatever its stiffness beside the stiffest, less its part along the train's free
+  // motions (free_part).
   Eigen::VectorXd static_displacement(EquilibriumStatus& st);
 
   // The part of dq along the motions that neither the elements' stiffness nor the rows resist
