@@ -604,8 +604,7 @@ def _bearing_torsion(path: str, el: ET.Element, joint: str, out: ModelFile) -> S
         raise InvalidMount(
             path,
             where,
-            f"torsional_stiffness {k:g} N·m/rad and torsional_damping {c:g} N·m·s/rad must be "
-            "≥ 0",
+            f"torsional_stiffness {k:g} N·m/rad and torsional_damping {c:g} N·m·s/rad must be ≥ 0",
         )
     geared = any(g.link == out.joints[joint]["child"] for g in out.gears.values())
     if out.joints[joint]["type"] == "fixed" and not geared:

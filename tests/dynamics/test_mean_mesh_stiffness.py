@@ -114,5 +114,5 @@ def test_a_mean_stiffness_on_a_rigid_mesh_is_refused():
         '<mesh name="m" gear1="g1" gear2="g2"/>',
         '<mesh name="m" gear1="g1" gear2="g2" mean_stiffness="1e9"/>',
     )
-    with pytest.raises(MalformedModel, match='mean_stiffness only apply to a compliant mesh'):
+    with pytest.raises(MalformedModel, match="mean_stiffness only apply to a compliant mesh"):
         loads(text, "pair.urdf")
