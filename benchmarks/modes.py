@@ -1,8 +1,9 @@
 """Cost of ``pinwind modes`` and of a Campbell diagram (issue 24: < 1 s and < 10 s).
 
-- ``pinwind modes MODEL`` and ``pinwind --version`` as a user runs them, a fresh process each
-  time: median, best and worst wall time of ``--repeats`` runs, and the median CPU time (user +
-  system, which depends less on what else the machine is doing), with the load average. From
+- ``pinwind modes MODEL``, ``pinwind modes SCENARIO`` (the drivetrain its runs step: rotor, laws,
+  drivers, loaded flanks; issue 36) and ``pinwind --version`` as a user runs them, a fresh process
+  each time: median, best and worst wall time of ``--repeats`` runs, and the median CPU time (user
+  + system, which depends less on what else the machine is doing), with the load average. From
   compiled modules, as an installed pinwind runs (one uncounted run writes the bytecode cache);
   ``--compile-each-run`` keeps PYTHONDONTWRITEBYTECODE, which this shared environment sets.
 - In this process, what ``pinwind modes`` spends its time on, in the order the command meets it:
@@ -23,6 +24,7 @@
   work shares the machine, when wall times are longer than the CPU times.
 
     python benchmarks/modes.py [--model models/cart600_gearbox.urdf] [--repeats 10] [--speeds 100]
+                               [--scenario scenarios/saleh2017_drivetrain.toml]
                                [--source OTHER_CHECKOUT] [--compile-each-run]
 
 Measured 2026-11-27 06:09, ``python benchmarks/modes.py --repeats 9``, bytecode cached, on the
@@ -39,6 +41,12 @@ modes`` CPU median 1.30 -> 0.86 s (best 0.92 -> 0.57), wall median 3.76 -> 2.43 
 the CPU times. On a quiet machine ``pinwind modes`` took 1.03-1.38 s before the lazy exports
 (12-17 % less CPU) and this change (34 % less): about 0.6-0.8 s now, an estimate, as no quiet
 period was available. benchmarks/README.md has the rest.
+
+Measured 2027-01 (issue 36), ``python benchmarks/modes.py --repeats 5 --speeds 10``, load average
+2.1-2.4 (0.77 cores of 2 given): ``pinwind modes saleh2017_drivetrain.toml`` wall median 0.466 s
+(best 0.422), CPU 0.393 s; ``pinwind modes cart600_gearbox.urdf`` 0.433 s (CPU 0.333 s); in
+process, reading the scenario and building its drivetrain 0.063 s, linearising it and its modes
+0.012 s.
 """
 
 from __future__ import annotations
@@ -112,6 +120,11 @@ class Steps:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--model", default=str(ROOT / "models" / "cart600_gearbox.urdf"))
+    parser.add_argument(
+        "--scenario",
+        default=str(ROOT / "scenarios" / "saleh2017_drivetrain.toml"),
+        help="scenario file timed as `pinwind modes SCENARIO` (issue 36: < 1 s)",
+    )
     parser.add_argument("--joint", default="carrier")
     parser.add_argument("--rpm", type=float, default=30.0, help="top of the Campbell range")
     parser.add_argument("--repeats", type=int, default=10)
@@ -143,6 +156,7 @@ def main() -> None:
     )
     for label, command in (
         (f"pinwind modes {Path(args.model).name}", ["modes", args.model]),
+        (f"pinwind modes {Path(args.scenario).name}", ["modes", args.scenario]),
         ("pinwind --version", ["--version"]),
     ):
         walls, cpus = process_times(command, args.repeats, source)
@@ -176,6 +190,13 @@ def main() -> None:
     with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
         pinwind_main()
     steps.done("whole command again, all imported (typer, work, table)")
+    from pinwind.scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    machine = scenario.drivetrain(scenario.load_model(), meshes={"all": "compliant"})
+    steps.done("read the scenario, load its model, build its drivetrain")
+    modes = linearise(machine).modes()
+    steps.done(f"linearise the drivetrain + modes ({len(modes)} modes)")
     steps.print()
     from pinwind.cli import VERB_MODULES
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from pinwind.known_names import nearest, unknown_message
+
 
 class PinwindError(Exception):
     """Base class of every error pinwind raises on purpose."""
@@ -52,6 +54,30 @@ class UnknownName(ModelError):
             f'unknown {kind} "{name}"; {kind}s in this model are: '
             f"{', '.join(self.known) or 'none'}",
         )
+
+
+class UnknownAttribute(ModelError):
+    """An attribute (or a child element) that the element does not take: a misspelling.
+
+    ``<bearing radial_stifness="1e9"/>`` would leave the bearing rigid without a word, so it is
+    refused, naming the nearest known name (``pinwind.known_names``).
+
+    Attributes:
+        name: the attribute or element as written.
+        kind: ``"attribute"`` or ``"element"``.
+        known: the names the element takes.
+        nearest: the known name most like it, or None.
+    """
+
+    def __init__(
+        self, path: str, element: str, name: str, known: Iterable[str], *, kind: str, tag: str
+    ):
+        self.name = name
+        self.kind = kind
+        self.known = list(known)
+        self.nearest = nearest(name, self.known)
+        of = f" of <{tag}>" if kind == "attribute" else f" in <{tag}>"
+        super().__init__(path, element, unknown_message(name, self.known, kind, of))
 
 
 class InvalidGearGeometry(ModelError):

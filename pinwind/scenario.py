@@ -56,6 +56,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pinwind.errors import InputError, LogError
+from pinwind.known_names import unknown_message, unknown_name
 from pinwind.loads.generator import LAWS, GeneratorLaw
 from pinwind.loads.input_files import InputFile, check_unchanged
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
@@ -64,6 +65,7 @@ from pinwind.loads.signals import Scaled, Signal
 from pinwind.units import RAD_S_PER_RPM
 
 if TYPE_CHECKING:
+    from pinwind.dynamics.drivetrain import Drivetrain
     from pinwind.dynamics.integrator import Integrator
     from pinwind.dynamics.result import Result
     from pinwind.model.gearbox import Gearbox
@@ -103,6 +105,8 @@ KEYS: dict[str, tuple[str, str, str]] = {
 }
 
 ROTOR_KEYS = ("preset", "radius", "inertia", "air_density", "pitch_deg", "cp_scale", "cp_table")
+#: The keys of a rotor's ``cp_table``: tip-speed ratios, power coefficients, pitch angles [deg].
+CP_TABLE_KEYS = ("tsr", "cp", "pitch_deg")
 ROTOR_PRESETS = {"saleh2017": Rotor.saleh2017, "jorgensen2014": Rotor.jorgensen2014}
 
 
@@ -258,6 +262,52 @@ class Scenario:
         kwargs["initial_deflection"] = self.initial_deflection
         return kwargs
 
+    def drivetrain(
+        self,
+        gearbox: Gearbox,
+        *,
+        meshes: Mapping[str, str] | None = None,
+        held: tuple[str, ...] = (),
+    ) -> Drivetrain:
+        """The machine a run of this scenario steps (``dynamics/drivetrain.py``).
+
+        What ``pinwind modes SCENARIO`` linearises.
+
+        Args:
+            meshes: the mesh choice, replacing the scenario's (default the scenario's).
+            held: joints held besides the scenario's speed drivers.
+
+        Raises:
+            ScenarioError: a load on a joint the model does not have, naming the key.
+        """
+        from pinwind.dynamics.drivetrain import drivetrain
+
+        self.check_joints(list(gearbox.joint_names), list(gearbox.locked_joints))
+        return drivetrain(
+            gearbox,
+            torques=self.torques,
+            speeds=self.speeds,
+            initial_speeds=self.initial_speeds,
+            generators=self.generators,
+            rotors=self.rotors,
+            wind=self.wind if self.rotors else None,
+            meshes=self.meshes if meshes is None else meshes,
+            held=held,
+        )
+
+    def load_model(self) -> Gearbox:
+        """The model file the scenario names, loaded.
+
+        Raises:
+            ScenarioError: the file does not exist (naming the ``model`` key and its line).
+        """
+        from pinwind.model.gearbox import load
+
+        path = self.model_path()
+        if not path.is_file():
+            raise self.fail(("model",), f"{path} does not exist")
+        return load(path)
+
     def record(self) -> dict[str, Any]:
         """What the log stores: the values, where they come from, the base folder."""
         return {"values": copy.deepcopy(self.values), "source": self.source,
@@ -345,12 +395,10 @@ class _Builder:
 
     def check(self) -> None:
         """Check keys and types (normalising the keys)."""
-        values = {}
-        for key, value in self.values.items():
-            name = _norm(key)
-            if name not in KEYS:
-                raise self.fail((name,), f"unknown key; keys are: {', '.join(KEYS)}")
-            values[name] = value
+        values = {_norm(key): value for key, value in self.values.items()}
+        unknown = unknown_name(values, KEYS)
+        if unknown is not None:
+            raise self.fail((unknown,), unknown_message(unknown, KEYS))
         self.values = values
         if "model" not in values:
             raise self.fail(("model",), "missing: give the model file, e.g. model = "
@@ -454,10 +502,11 @@ class _Builder:
                 raise self.fail(key + ("law",), f"is {law!r}; laws are: " + ", ".join(LAWS))
             kind = LAWS[law]
             kwargs: dict[str, Any] = {}
+            unknown = unknown_name(params, kind.keys)
+            if unknown is not None:
+                raise self.fail(key + (unknown,), unknown_message(unknown, kind.keys, "parameter",
+                                                                  f" of {law}"))  # fmt: skip
             for name, value in params.items():
-                if name not in kind.keys:
-                    raise self.fail(key + (name,), f"{law} has no parameter {name!r}; its "
-                                    f"parameters are: {', '.join(kind.keys)}")  # fmt: skip
                 if name == "preset":
                     if value not in kind.presets:
                         raise self.fail(key + (name,), f"is {value!r}; presets are: "
@@ -485,10 +534,11 @@ class _Builder:
             key = ("rotor", joint)
             params = {_norm(k): v for k, v in params.items()}
             kwargs: dict[str, Any] = {}
+            unknown = unknown_name(params, ROTOR_KEYS)
+            if unknown is not None:
+                raise self.fail(key + (unknown,), unknown_message(unknown, ROTOR_KEYS, "parameter",
+                                                                  " of a rotor"))  # fmt: skip
             for name, value in params.items():
-                if name not in ROTOR_KEYS:
-                    raise self.fail(key + (name,), "unknown parameter; rotor parameters are: "
-                                    + ", ".join(ROTOR_KEYS))  # fmt: skip
                 if name == "preset":
                     if value not in ROTOR_PRESETS:
                         raise self.fail(key + (name,), f"is {value!r}; presets are: "
@@ -514,6 +564,9 @@ class _Builder:
     def _cp_table(self, key, value) -> CpTable:
         if not isinstance(value, Mapping) or not {"tsr", "cp"} <= set(value):
             raise self.fail(key, "must be { tsr = [...], cp = [...] } (and pitch_deg = [...])")
+        unknown = unknown_name(value, CP_TABLE_KEYS)
+        if unknown is not None:
+            raise self.fail(key + (unknown,), unknown_message(unknown, CP_TABLE_KEYS))
         try:
             pitch = tuple(math.radians(p) for p in value.get("pitch_deg", [0.0]))
             return CpTable(tsr=tuple(value["tsr"]), cp=tuple(value["cp"]), pitch=pitch)

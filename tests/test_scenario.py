@@ -117,7 +117,8 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
     [
         (
             'model = "model.urdf"\ndt = 1e-3\ndurtion = 2\n',
-            "{p}:3: durtion: unknown key; keys are: model, duration, dt, torque",
+            '{p}:3: durtion: unknown key "durtion"; did you mean "duration"? keys are: model, '
+            "duration, dt, torque",
         ),
         (
             'model = "model.urdf"\nduration = "2 s"\n',
@@ -134,7 +135,7 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
         ),
         (
             'model = "model.urdf"\nwind = 10\n[rotor.carrier]\npreset = "saleh2017"\nd = 8\n',
-            "{p}:5: rotor.carrier.d: unknown parameter; rotor parameters are: preset, ",
+            '{p}:5: rotor.carrier.d: unknown parameter "d"; parameters of a rotor are: preset, ',
         ),
         (
             'model = "model.urdf"\nmesh = { all = "soft" }\n',
@@ -154,6 +155,11 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
             'model = "model.urdf"\n[rotor.carrier]\npreset = "saleh2017"\n',
             "{p}: wind: missing: a rotor needs the wind speed",
         ),
+        (
+            'model = "model.urdf"\nwind = 10\n[rotor.carrier]\nradius = 40\n'
+            "cp_table = { tsr = [4, 8], cp = [0.3, 0.45], pitch = [0] }\n",
+            '{p}:5: rotor.carrier.cp_table.pitch: unknown key "pitch"; did you mean "pitch_deg"?',
+        ),
     ],
     ids=[
         "unknown-key",
@@ -168,6 +174,7 @@ def test_simulate_flags_are_stored_as_a_scenario_and_repeat_bit_for_bit(tmp_path
         "model-not-found",
         "bad-toml",
         "rotor-without-wind",
+        "cp-table-key",
     ],
 )
 def test_bad_scenario_gets_one_line_naming_file_key_line_and_choices(

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pinwind.analysis.spectrum import gearbox_frequencies
+from pinwind.dynamics.drivetrain import Drivetrain
 from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.normal_modes import Mode
 from pinwind.dynamics.ratios import train_speeds
@@ -108,7 +109,7 @@ def excitation_orders(gearbox: Gearbox, joint: str, harmonics: int = 3) -> list[
 
 
 def campbell(
-    gearbox: Gearbox,
+    machine: Gearbox | Drivetrain,
     joint: str,
     speed_range: tuple[float, float],
     *,
@@ -117,9 +118,13 @@ def campbell(
     harmonics: int = 3,
     points: int = 101,
 ) -> CampbellDiagram:
-    """The Campbell diagram of ``gearbox`` for input ``joint`` over ``speed_range`` [rad/s].
+    """The Campbell diagram of ``machine`` for input ``joint`` over ``speed_range`` [rad/s].
 
     Args:
+        machine: a gearbox alone, or the drivetrain a run steps (``dynamics/drivetrain.py``:
+            its rotor's inertia, its laws' slopes, taken at the top of the range, its drivers
+            held, its loaded flanks); ``linearisation.linearise``'s first argument.
+        meshes, held: as ``linearise`` takes them.
         points: speeds sampled across the range when the modes change with speed (≥ 2).
 
     Raises:
@@ -128,6 +133,7 @@ def campbell(
         SpeedOutOfRange: a joint beyond ``linearisation.MAX_SPEED`` at the top of the range, or
             equations whose coefficients change as the train turns (``linearisation.py``).
     """
+    gearbox = machine.gearbox if isinstance(machine, Drivetrain) else machine
     if joint not in gearbox.joint_names:
         raise UnknownJoint(joint, "the input joint", gearbox.joint_names)
     low, high = (float(x) for x in speed_range)
@@ -139,7 +145,7 @@ def campbell(
         raise InputError(f"harmonics = {harmonics}: give at least 1")
     if points < 2:
         raise InputError(f"points = {points}: give at least 2 speeds across the range")
-    top = linearise(gearbox, meshes=meshes, held=held, speeds={joint: high})
+    top = linearise(machine, meshes=meshes, held=held, speeds={joint: high})
     found = top.modes()
     modes = [m for m in found if not m.rigid]
     lines = excitation_orders(gearbox, joint, harmonics)

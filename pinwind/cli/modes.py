@@ -1,4 +1,9 @@
-"""``pinwind modes`` and ``pinwind campbell``: natural modes of a model and its Campbell diagram."""
+"""``pinwind modes`` and ``pinwind campbell``: natural modes of a machine and its Campbell diagram.
+
+Each takes a model file (the gearbox alone, unloaded) or a scenario file (TOML naming its model):
+then the machine its runs step (``dynamics/drivetrain.py``), with the rotor's inertia, the
+generator and rotor laws' slopes, the speed drivers held and the flanks its static load presses.
+"""
 
 from __future__ import annotations
 
@@ -12,14 +17,26 @@ from rich import box
 from rich.markup import escape
 from rich.table import Table
 
-from pinwind.cli.app import app, console, say, warnings_as_lines
+from pinwind.cli.app import app, console, err_console, say, warnings_as_lines
 from pinwind.cli.flags import mesh_values, parse_number, parse_pairs
 from pinwind.errors import InputError
 from pinwind.units import RAD_S_PER_RPM
 
 if TYPE_CHECKING:
+    import numpy as np
+
+    from pinwind.dynamics.drivetrain import Drivetrain
+    from pinwind.dynamics.linearisation import Linearisation
     from pinwind.dynamics.normal_modes import Mode
     from pinwind.model.gearbox import Gearbox
+
+MachineArgument = Annotated[
+    Path,
+    typer.Argument(
+        help="Model file (URDF with a <gearbox> element: the gearbox alone, unloaded), or "
+        "scenario file (TOML naming its model: with its rotor, generator, drivers and loads)."
+    ),
+]
 
 MeshOption = Annotated[
     list[str] | None,
@@ -38,8 +55,59 @@ HoldOption = Annotated[
 ]
 
 
-def _meshes(mesh: list[str] | None) -> dict[str, str]:
-    return mesh_values(mesh) or {"all": "compliant"}
+def _meshes(*layers: dict[str, str] | None) -> dict[str, str]:
+    """The mesh choice: every mesh compliant, then each layer's choices (a later one wins)."""
+    out: dict[str, str] = {"all": "compliant"}
+    for layer in layers:
+        for key, value in (layer or {}).items():
+            if key == "all":
+                out = {}
+            out[key] = value
+    return out
+
+
+def _machine(
+    path: Path, mesh: list[str] | None, hold: list[str] | None
+) -> tuple[Gearbox, Drivetrain]:
+    """The gearbox and the machine to linearise, from a model file or a scenario file.
+
+    A scenario's meshes are compliant unless it (or ``--mesh``) makes them rigid: a mesh a run
+    takes rigid has no mode of its own.
+    """
+    import pinwind
+    from pinwind.dynamics.drivetrain import drivetrain
+
+    flags = mesh_values(mesh)
+    if path.suffix.lower() == ".toml":
+        from pinwind.scenario import load_scenario
+
+        scenario = load_scenario(path)
+        gearbox = scenario.load_model()
+        meshes = _meshes(dict(scenario.meshes), flags)
+        return gearbox, scenario.drivetrain(gearbox, meshes=meshes, held=tuple(hold or ()))
+    gearbox = pinwind.load(path)
+    # The gearbox alone: no load presses a flank, not even its weight.
+    train = drivetrain(gearbox, meshes=_meshes(flags), gravity=[0.0, 0.0, 0.0], held=hold or ())
+    return gearbox, train
+
+
+def _machine_lines(lin: Linearisation, at: np.ndarray, joint_names: list[str]) -> list[str]:
+    """What the machine has besides the gearbox, and the flanks assumed without load."""
+    lines = [
+        f"rotor inertia on {name}: {value:.4g} kg·m²" for name, value in lin.added_inertia.items()
+    ]
+    if lin.law_damping:
+        point = ", ".join(
+            f"{name} {at[i] / RAD_S_PER_RPM:.4g} rpm"
+            for i, name in enumerate(joint_names)
+            if name in lin.law_damping
+        )
+        lines.append(
+            "generator and rotor slopes as dampers: "
+            + ", ".join(f"{n} {c:.4g} N·m·s/rad" for n, c in lin.law_damping.items())
+            + f" (at {point})"
+        )
+    return lines + lin.flanks.notes()
 
 
 def _shares(group: list[Mode], which: str, most: int = 3) -> str:
@@ -54,7 +122,7 @@ def _shares(group: list[Mode], which: str, most: int = 3) -> str:
 
 @app.command()
 def modes(
-    model: Annotated[Path, typer.Argument(help="Model file (URDF with a <gearbox> element).")],
+    model: MachineArgument,
     mesh: MeshOption = None,
     hold: HoldOption = None,
     speed: Annotated[
@@ -77,16 +145,17 @@ def modes(
         Path | None, typer.Option("--save", help="Write the --animate recording (.rrd) here.")
     ] = None,
 ) -> None:
-    """Natural frequencies, damping ratios and energy shares of a model's modes.
+    """Natural frequencies, damping ratios and energy shares of a machine's modes.
 
     Linearised at the reference pose and the operating speed: compliant meshes at their mean
-    stiffness, torsional springs, compliant bearings, bearing damping, and at speed the
-    gyroscopic and centrifugal terms; rigid meshes, held joints and locked bearings as
-    constraints. A repeated frequency is one row (its modes' mean shares); with a planetary
+    stiffness on the flanks the static load presses, torsional springs, compliant bearings,
+    bearing damping, and at speed the gyroscopic and centrifugal terms; rigid meshes, held
+    joints and locked bearings as constraints. From a scenario also the rotor's inertia, the
+    generator and rotor laws' slopes (dampers, at the scenario's start speeds) and its speed
+    drivers (held). A repeated frequency is one row (its modes' mean shares); with a planetary
     stage, each mode's class (Lin & Parker 1999: rotational, translational, planet); at speed,
     a spinning body's orbit in its bearing whirls forward or backward.
     """
-    import pinwind
     from pinwind.dynamics.linearisation import linearise
     from pinwind.dynamics.normal_modes import repeated_groups
 
@@ -97,11 +166,16 @@ def modes(
     if (animate is None) != (save is None):
         raise InputError("--animate N and --save FILE.rrd go together (open it with: rerun FILE)")
     with warnings_as_lines():
-        gearbox = pinwind.load(model)
-        found = linearise(gearbox, meshes=_meshes(mesh), held=hold or (), speeds=speeds).modes()
+        gearbox, train = _machine(model, mesh, hold)
+        lin = linearise(train, speeds=speeds)
+        found = lin.modes()
     if animate is not None and not 1 <= animate <= len(found):
         raise InputError(f"--animate {animate}: {gearbox.name} has modes 1 to {len(found)}")
+    at = lin.speed if speeds else train.operating_speed()
+    notes = _machine_lines(lin, at, lin.joint_names)
     if as_json:
+        for line in notes:  # stdout keeps the JSON alone
+            err_console.print(line, soft_wrap=True, highlight=False)
         print(json.dumps([
             {"frequency_hz": m.frequency, "damping_ratio": m.damping_ratio, "kind": m.kind,
              "whirl": m.whirl, "kinetic_share": m.kinetic_share, "strain_share": m.strain_share}
@@ -110,9 +184,10 @@ def modes(
         _animate(gearbox, found, animate, save, quiet=True)
         return
     plain = not console.is_terminal
-    at = ", ".join(f"{name} {value}" for name, value in parse_pairs(speed, "--speed").items())
+    given = ", ".join(f"{name} {value}" for name, value in parse_pairs(speed, "--speed").items())
     table = Table(
-        title=f"natural modes of {escape(gearbox.name)}" + (f" at {escape(at)} rpm" if at else ""),
+        title=f"natural modes of {escape(gearbox.name)}"
+        + (f" at {escape(given)} rpm" if given else ""),
         box=box.ASCII if plain else box.SIMPLE,
     )
     kinds = any(m.kind for m in found)
@@ -136,6 +211,8 @@ def modes(
             row += [_shares(group, "kinetic_share"), _shares(group, "strain_share")]
         table.add_row(*(escape(cell) for cell in row))
     console.print(table)
+    for line in notes:
+        say(escape(line))
     _animate(gearbox, found, animate, save)
 
 
@@ -154,7 +231,7 @@ def _animate(
 
 @app.command()
 def campbell(
-    model: Annotated[Path, typer.Argument(help="Model file (URDF with a <gearbox> element).")],
+    model: MachineArgument,
     joint: Annotated[str, typer.Option(help="Input joint whose speed the diagram runs over.")],
     speed_range: Annotated[
         str, typer.Option("--speed-range", help="A:B input speed range [rpm], e.g. 0:20.")
@@ -180,7 +257,6 @@ def campbell(
     a shaft's order 1) meets a natural frequency, with the mode's whirl there when a spinning
     body's gyroscopic terms move the modes with speed.
     """
-    import pinwind
     from pinwind.analysis.campbell import campbell as diagram_of
     from pinwind.analysis.campbell import write_figure
 
@@ -192,16 +268,8 @@ def campbell(
     if not sep:
         raise InputError(f'--speed-range "{speed_range}": give A:B in rpm, e.g. 0:20')
     with warnings_as_lines():
-        gearbox = pinwind.load(model)
-        diagram = diagram_of(
-            gearbox,
-            joint,
-            bounds,
-            meshes=_meshes(mesh),
-            held=hold or (),
-            harmonics=harmonics,
-            points=points,
-        )
+        _, train = _machine(model, mesh, hold)
+        diagram = diagram_of(train, joint, bounds, harmonics=harmonics, points=points)
     rpm = 1.0 / RAD_S_PER_RPM
     plain = not console.is_terminal
     table = Table(

@@ -329,35 +329,37 @@ class Series(enum.Enum):
     mesh_radial = 7
     mesh_axial = 8
     mesh_flank = 9
-    transmission_error = 10
-    mesh_force_on_b = 11
-    pitch_point = 12
-    mesh_deflection = 13
-    mesh_contact_position = 14
-    mesh_pairs = 15
-    mesh_single_tooth_force = 16
-    bearing_force = 17
-    bearing_moment = 18
-    bearing_force_local = 19
-    bearing_moment_local = 20
-    body_position = 21
-    body_quaternion = 22
-    constraint_residual = 23
-    kinetic = 24
-    potential_spring = 25
-    work_applied = 26
-    work_drivers = 27
-    work_springs = 28
-    work_gravity = 29
-    work_constraints = 30
-    dissipated = 31
-    work_parametric = 32
-    generator_torque = 33
-    rotor_torque = 34
-    rotor_power = 35
-    rotor_tip_speed_ratio = 36
-    rotor_power_coefficient = 37
-    rotor_wind_speed = 38
+    mesh_normal_front = 10
+    mesh_normal_back = 11
+    transmission_error = 12
+    mesh_force_on_b = 13
+    pitch_point = 14
+    mesh_deflection = 15
+    mesh_contact_position = 16
+    mesh_pairs = 17
+    mesh_single_tooth_force = 18
+    bearing_force = 19
+    bearing_moment = 20
+    bearing_force_local = 21
+    bearing_moment_local = 22
+    body_position = 23
+    body_quaternion = 24
+    constraint_residual = 25
+    kinetic = 26
+    potential_spring = 27
+    work_applied = 28
+    work_drivers = 29
+    work_springs = 30
+    work_gravity = 31
+    work_constraints = 32
+    dissipated = 33
+    work_parametric = 34
+    generator_torque = 35
+    rotor_torque = 36
+    rotor_power = 37
+    rotor_tip_speed_ratio = 38
+    rotor_power_coefficient = 39
+    rotor_wind_speed = 40
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""
@@ -396,12 +398,6 @@ class Assembly:
     jac: Matrix  # J (rows, nv): rigid meshes in file order, then drivers and locks
     gamma: Vector  # γ = J̇ v (rows,) [m/s² or rad/s²]
 
-class ElementTerms:
-    """The elements' force and implicit weight at one state (``cpp/stepper.hpp``)."""
-
-    weight: Matrix  # κ_q K + κ_v C (nv, nv): K = −∂f/∂q, C = −∂f/∂v
-    force: Vector  # Σ f_e at a = 0 (nv,) [N·m or N]
-
 class Stepper:
     """One run of the compiled step loop."""
 
@@ -434,10 +430,16 @@ class Stepper:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
     def assemble(self, q: Vector, v: Vector) -> Assembly:
         """M, b, J and γ of the step at (q, v), with the rows' current flanks; no step taken."""
-    def element_terms(
-        self, q: Vector, v: Vector, position_gain: float, speed_gain: float
-    ) -> ElementTerms:
-        """The elements' force Σ f_e and weight κ_q K + κ_v C at (q, v), dq₀ = 0; no step."""
+    def element_forces(self, q: Vector, v: Vector) -> ElementForces:
+        """The elements' force, tangents and stored energy at (q, v), each element new."""
+
+class ElementForces:
+    """The elements' forces at one state and their derivatives (``cpp/stepper.hpp``)."""
+
+    force: Vector  # Σ f_e at (q, v) [N·m or N]
+    stiffness: Matrix  # K = −∂f/∂q as the step takes it
+    damping: Matrix  # C = −∂f/∂v as the step takes it
+    potential: float  # Σ U_e at q [J]
 
 class EquilibriumStatus:
     """How a static start went (``cpp/stepper.hpp`` Stepper::equilibrium)."""

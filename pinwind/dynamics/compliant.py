@@ -3,7 +3,7 @@
 A compliant mesh is a spring-damper along the line of action of each flank (design.md §2,
 001_2d0e0f624d8db633.txt eqs. 2-6, 003_83d3049daebcd276.txt eqs. 14-19):
 
-    F_n = k(x) δ + c δ̇  on the flank in contact,   F_n ≥ 0 (teeth never pull)
+    F_n = k(x) δ + c δ̇  on each flank in contact,   F_n ≥ 0 (teeth never pull)
 
 with δ the overlap of the two flanks along the line of action computed **from the bodies'
 positions** (gear angles relative to the centre line and the centre distance; the formula is in
@@ -16,7 +16,8 @@ x the roll position of the tooth pairs along the path of contact (``cpp/mesh_pat
   contact lines (``contact_line_pair_stiffness``, same mean); a user table (003 Fig. 8), or the
   constant c_γα b. Stiffnesses act along the transverse line of action;
 - backlash j: the back flank's overlap is δ_b = −(rolling part) + (radial part) − j, no force in
-  between;
+  between; each flank pushes where it overlaps, both at once where the centres come closer than
+  the teeth allow (the contact is the gradient of Σ_flanks ½ k δ₊²);
 - the single-tooth force F k₁/k (003 §2.4) of the pair entering the mesh.
 
 Why implicit. Mesh stiffnesses of 1e8 to 5e9 N/m on gears of a few kilograms to a tonne put
@@ -209,6 +210,8 @@ def mesh_setup(
     dt: float | None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
     scheme: Integrator = DEFAULT_SCHEME,
+    mass: np.ndarray | None = None,
+    flank: np.ndarray | None = None,
 ) -> MeshSetup:
     """Constants of every mesh for the compiled step loop, at the reference pose.
 
@@ -219,6 +222,11 @@ def mesh_setup(
         position_errors: gear name → (tangential, radial) position error [m], replacing the
             model file's.
         scheme: the run's time step (for the numerical-damping warning).
+        mass: M [kg·m², kg] of the machine the run steps, the rotors' inertias added
+            (``Drivetrain.mass``); default the bodies' alone. The mesh modes and the damping a
+            damping ratio gives (2 ζ √(k m_eq)) are taken with it.
+        flank: ±1 per mesh, the flanks the static load presses (``loaded_flanks``): the rows
+            of the mesh modes and of m_eq; default every front flank.
     """
     errors = {name: g.spec.position_error for name, g in gearbox.gears.items()}
     for name, value in (position_errors or {}).items():
@@ -275,12 +283,14 @@ def mesh_setup(
         compliant.append(spec)
     setup = MeshSetup(meshes, rigid, paths, compliant, 0.0)
     if compliant:
-        mass = pin.crba(model, data, q)
-        mass = np.triu(mass) + np.triu(mass, 1).T
-        constraints = _rigid_rows(rows, rigid, driver_index, model.nv)
+        if mass is None:
+            mass = pin.crba(model, data, q)
+            mass = np.triu(mass) + np.triu(mass, 1).T
+        jac, _ = ms.combine(rows, np.ones(len(meshes)) if flank is None else flank)
+        constraints = _rigid_rows(jac, rigid, driver_index, model.nv)
         for spec in compliant:
             mesh, c = setup.compliance(spec)
-            row = rows.row_front[spec.mesh]
+            row = jac[spec.mesh]
             m_eq = effective_mass(mass, constraints, row)
             if not math.isfinite(m_eq):
                 warnings.warn(
@@ -298,7 +308,7 @@ def mesh_setup(
                     if math.isfinite(m_eq)
                     else 0.0
                 )
-        frequency, damping = highest_mesh_mode_and_damping(mass, constraints, rows, setup)
+        frequency, damping = highest_mesh_mode_and_damping(mass, constraints, jac, setup)
         setup = MeshSetup(meshes, rigid, paths, compliant, frequency, damping)
         if dt is not None:
             _warn_if_damped_numerically(frequency, dt, damping, scheme)
@@ -439,8 +449,9 @@ def mean_mesh_stiffness(mesh: Mesh) -> float:
     return mesh_stiffness(_stiffness_pair(mesh))
 
 
-def _rigid_rows(rows, rigid: list[int], driver_index: list[int], nv: int):
-    out = [rows.row_front[i] for i in rigid]
+def _rigid_rows(jac: np.ndarray, rigid: list[int], driver_index: list[int], nv: int):
+    """The rigid meshes' rows (of ``jac``, the rows on the loaded flanks), then the drivers'."""
+    out = [jac[i] for i in rigid]
     for j in driver_index:
         e = np.zeros(nv)
         e[j] = 1.0
@@ -461,18 +472,22 @@ def effective_mass(mass: np.ndarray, constraints: np.ndarray, row: np.ndarray) -
     return 1.0 / float(j @ np.linalg.solve(m, j))
 
 
-def highest_mesh_mode(mass, constraints, ms: MeshSet, rows, setup: MeshSetup) -> float:
+def highest_mesh_mode(mass, constraints, jac: np.ndarray, setup: MeshSetup) -> float:
     """Frequency of the highest mode of the mesh springs at their stiffest [Hz].
 
-    Generalised eigenvalues of (Σ k_max JᵢᵀJᵢ, M) over the motions the rigid rows allow.
+    Generalised eigenvalues of (Σ k_max JᵢᵀJᵢ, M) over the motions the rigid rows allow; ``jac``
+    the meshes' rows (m, nv) on their loaded flanks.
     """
-    return highest_mesh_mode_and_damping(mass, constraints, rows, setup)[0]
+    return highest_mesh_mode_and_damping(mass, constraints, jac, setup)[0]
 
 
-def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> tuple[float, float]:
+def highest_mesh_mode_and_damping(
+    mass, constraints, jac: np.ndarray, setup: MeshSetup
+) -> tuple[float, float]:
     """Frequency [Hz] and damping ratio [-] of the highest mesh-spring mode at its stiffest.
 
-    Generalised eigenvalues of (K, M), K = Σ k_max JᵢᵀJᵢ, over the motions the rigid rows allow;
+    Generalised eigenvalues of (K, M), K = Σ k_max JᵢᵀJᵢ (Jᵢ the rows of ``jac``, (m, nv), on the
+    loaded flanks), over the motions the rigid rows allow;
     the damping ratio of that mode φ is φᵀ C φ / (2 ω φᵀ M φ) with C = Σ cᵢ JᵢᵀJᵢ, the mesh
     dashpots (the damping the mode has physically, whatever the step).
     """
@@ -490,7 +505,7 @@ def highest_mesh_mode_and_damping(mass, constraints, rows, setup: MeshSetup) -> 
                 pair = np.interp(at, path.pair_position, path.pair_stiffness)
                 total += np.where(at <= path.path_length, pair, 0.0)
             k_max = float(total.max())
-        row = rows.row_front[spec.mesh]
+        row = jac[spec.mesh]
         elements.append(SpringElement(str(spec.mesh), "mesh", k_max, spec.damping, row))
     stiffness, damping = element_matrices(elements, mass.shape[0])
     modes = natural_modes(mass, stiffness, damping, constraints)

@@ -1,14 +1,19 @@
-"""A gear train linearised at its reference pose: M, K, C and the rigid rows, and its modes.
+"""A drivetrain linearised at its reference pose: M, K, C and the rigid rows, and its modes.
 
-The joint-space inertia M is Pinocchio's (CRBA at the neutral pose, with the rotors' inertia when
-given); the stiffness and damping are those of the linear elements a run has: each compliant
-mesh a spring of its mean mesh stiffness (``compliant.mean_mesh_stiffness``: c_γα b for the ISO
-shape, the mean of a pair table) and its dashpot along the front flank's row (the line of action
-of ``cpp/mesh_rows.hpp``, the same the step uses), each torsional spring k (e₁ − e₂), each damped
-bearing c on its joint, each compliant bearing's and support slide its spring and damper
-(``bearing_elements``). The rigid meshes, the held joints (speed drivers) and the locked bearings
-are rows; a floating bearing that nothing holds is refused. ``normal_modes.natural_modes``
-solves the eigenproblem.
+The machine is the one a run steps (``dynamics/drivetrain.py``): the gearbox with the run's
+rotors, generator laws, speed drivers, loads and mesh choice. The joint-space inertia M is
+Pinocchio's (CRBA at the neutral pose) plus the rotors' inertias on their joints; the stiffness
+and damping are those of the linear elements a run has: each compliant mesh a spring of its mean
+mesh stiffness (``compliant.mean_mesh_stiffness``: c_γα b for the ISO shape, the mean of a pair
+table) and its dashpot along the row of the flank the static load presses (``loaded_flanks.py``:
+the line of action of ``cpp/mesh_rows.hpp``, the same the step uses; whichever order the mesh's
+gears are written in), each torsional spring k (e₁ − e₂), each damped bearing c on its joint,
+each compliant bearing's and support slide its spring and damper (``bearing_elements``), and each
+generator and rotor law's slope as a damper on its joint (c = dT_gen/dω, −∂T_aero/∂ω at the
+operating speed and the wind at t = 0; ``Drivetrain.law_damping``). The rigid meshes (on their
+loaded flanks), the held joints (speed drivers: a driver holds its joint) and the locked
+bearings are rows; a floating bearing that nothing holds is refused.
+``normal_modes.natural_modes`` solves the eigenproblem.
 
 The linearisation is about the reference pose at an operating speed v₀ (the given joints' speeds,
 the others through the gear ratios). The speed enters through the velocity terms of the equations
@@ -30,7 +35,8 @@ ground that meshes with planets the carrier carries round (the line of action tu
 equations are then periodic in time, which no modal analysis covers, and such a linearisation is
 refused (``SpeedOutOfRange``, ``TURNING_TOLERANCE``).
 The mean stiffness stands for its variation along the path, and there is no backlash (the teeth
-in contact on the front flank).
+in contact on the loaded flank; a mesh no static load presses on the flank ``loaded_flanks``
+states).
 """
 
 from __future__ import annotations
@@ -42,9 +48,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from pinwind.dynamics.compliant import mesh_choices, mesh_setup
+from pinwind.dynamics.compliant import mean_mesh_stiffness, mesh_setup
 from pinwind.dynamics.coordinates import Coordinate, coordinates
+from pinwind.dynamics.drivetrain import Drivetrain, drivetrain
 from pinwind.dynamics.gyroscopic_modes import WhirlPair, gyroscopic_modes, whirl
+from pinwind.dynamics.loaded_flanks import FlankChoice, loaded_flanks
 from pinwind.dynamics.mesh import MeshRows, MeshSet
 from pinwind.dynamics.normal_modes import (
     Mode,
@@ -91,6 +99,11 @@ class Linearisation:
         centrifugal: ∂(C(q, v) v)/∂q at v₀ [N·m/rad], (nv, nv); zero on torsional models.
         whirl_pairs: the compliant bearings' radial and tilt pairs and their bodies' spin at v₀,
             whose orbits give a mode's whirl (``gyroscopic_modes.py``).
+        flanks: the flank each mesh is taken on, the one the static load presses
+            (``loaded_flanks.py``), and the meshes no load presses.
+        added_inertia: joint name → inertia in M besides the bodies' [kg·m²] (the rotors').
+        law_damping: joint name → the generator and rotor laws' slope in C [N·m·s/rad]
+            (``Drivetrain.law_damping``).
     """
 
     joint_names: list[str]
@@ -105,6 +118,9 @@ class Linearisation:
     gyroscopic: np.ndarray
     centrifugal: np.ndarray
     whirl_pairs: list[WhirlPair]
+    flanks: FlankChoice
+    added_inertia: dict[str, float]
+    law_damping: dict[str, float]
 
     def modes(self) -> list[Mode]:
         """The natural modes, lowest first (rigid ones at 0 Hz), each with its class and whirl.
@@ -177,70 +193,102 @@ class Linearisation:
 
 
 def linearise(
-    gearbox: Gearbox,
+    machine: Gearbox | Drivetrain,
     *,
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     held: Iterable[str] = (),
-    added_inertia: Mapping[str, float] | None = None,
     speeds: Mapping[str, float] | None = None,
 ) -> Linearisation:
-    """The train's linearisation at its reference pose and an operating speed (module docstring).
+    """The machine's linearisation at its reference pose and an operating speed (module docstring).
 
     Args:
+        machine: the drivetrain a run steps (``drivetrain.drivetrain``: the rotors' inertias,
+            the generator and rotor laws' slopes as dampers, the speed drivers held, the static
+            loads that choose the flanks), or a gearbox alone (no rotor, no law, no load).
         meshes: mesh name (or ``"all"``) → ``"rigid"``, ``"compliant"`` or a ``MeshCompliance``,
-            as ``simulate`` takes it; default the model file's choice.
-        held: joints held at their speed (a speed driver, a stiff grid-connected generator).
-        added_inertia: joint name → inertia added to it [kg·m²] (a rotor).
+            as ``simulate`` takes it, replacing the machine's choice; default the model file's
+            (a gearbox) or the drivetrain's.
+        held: joints held at their speed besides the drivetrain's drivers (a speed driver, a
+            stiff grid-connected generator).
         speeds: joint name → operating speed [rad/s] (≥ 0), the other joints at the speeds the
-            gear ratios and springs give them; default at rest.
+            gear ratios and springs give them: the velocity terms G and K_Ω are taken there, and
+            the laws' slopes and static loads at it. Default: the velocity terms at rest, the
+            laws at the drivetrain's start speeds (``Drivetrain.operating_speed``).
+
+    A gearbox alone is linearised unloaded (no torque, no weight): every mesh on the flank
+    ``loaded_flanks`` takes without load, stated in ``Linearisation.flanks.notes()``.
 
     Raises:
-        UnknownJoint: a held joint, inertia or speed on a joint the model does not have.
+        UnknownJoint: a held joint or speed on a joint the model does not have.
         SpeedOutOfRange: a speed negative or not finite, a joint beyond ``MAX_SPEED``, or
             equations whose coefficients change as the train turns (module docstring).
         UnheldMember: a floating bearing that nothing holds.
     """
+    if isinstance(machine, Drivetrain):
+        train = machine
+    else:  # the gearbox alone: no load presses a flank, not even its weight
+        train = drivetrain(machine, meshes=meshes, gravity=np.zeros(3))
+    if isinstance(machine, Drivetrain) and meshes is not None:
+        train = train.with_meshes(meshes)
+    gearbox = train.gearbox
     names = list(gearbox.joint_names)
-    for name in [*held, *(added_inertia or {})]:
+    held = list(held)
+    for name in held:
         if name not in names:
-            raise UnknownJoint(name, "held joints or added inertia", names)
+            raise UnknownJoint(name, "held joints", names)
+    if held:
+        train = replace(train, held=(*train.held, *held))
     for name in speeds or {}:
         if name not in names:
             raise UnknownJoint(name, "the operating speeds", names)
     speed = operating_speed(gearbox, speeds or {})
     model = gearbox.model
     nv = model.nv
-    driver_index = [gearbox.v_index(j) for j in held]
-    driver_index += [gearbox.v_index(j) for j in gearbox.locked_joints]
-    choices = mesh_choices(gearbox, meshes)
-    setup = mesh_setup(gearbox, choices, driver_index=driver_index, dt=None)
+    driver_index = [gearbox.v_index(j) for j in train.held_joints]
+    holds = np.eye(nv)[driver_index].reshape(-1, nv)
     data = model.createData()
     q = gearbox.neutral()
-    mesh_set = MeshSet(gearbox, choices)
+    mesh_set = MeshSet(gearbox, train.meshes)
     rows = _mesh_rows(mesh_set, model, data, q)
-    bodies_mass = _mass(model, data, q)
-    _check_turning(gearbox, mesh_set, speed, bodies_mass, rows.row_front)
-    mass = bodies_mass.copy()
-    for name, inertia in (added_inertia or {}).items():
-        mass[gearbox.v_index(name), gearbox.v_index(name)] += inertia
-    constraints = [rows.row_front[i] for i in setup.rigid]
-    for j in driver_index:
-        constraints.append(np.eye(nv)[j])
+    mass = train.mass(q)
+    others = [*_spring_elements(gearbox), *bearing_elements(gearbox)]
+    other_stiffness, other_damping = element_matrices(others, nv)
+    at = speed if speeds else train.operating_speed()
+    static = train.static_load(at)
+    flanks = loaded_flanks(
+        gearbox,
+        train.meshes,
+        rows,
+        mesh_stiffness={
+            i: mean_mesh_stiffness(m) for i, m in enumerate(train.meshes) if m.compliance
+        },
+        other_stiffness=other_stiffness,
+        holds=holds,
+        mass=mass,
+        load=static.load,
+        gross=static.gross,
+    )
+    jac, _ = mesh_set.combine(rows, flanks.flank)
+    setup = mesh_setup(
+        gearbox, train.meshes, driver_index=driver_index, dt=None, mass=mass, flank=flanks.flank
+    )
+    _check_turning(gearbox, mesh_set, speed, mass, jac, flanks.flank)
+    constraints = [*(jac[i] for i in setup.rigid), *holds]
     elements = [
         SpringElement(
-            choices[s.mesh].name, "mesh", s.stiffness, s.damping, np.array(rows.row_front[s.mesh])
+            train.meshes[s.mesh].name, "mesh", s.stiffness, s.damping, np.array(jac[s.mesh])
         )
         for s in setup.compliant
     ]
-    for spring in gearbox.springs:  # to the ground too: a twist row e₁ alone
-        row = spring.twist_row(nv)
-        elements.append(SpringElement(spring.name, "spring", spring.stiffness, spring.damping, row))
-    elements += bearing_elements(gearbox)
+    elements += others
     stiffness, damping = element_matrices(elements, nv)
     # The joints' viscous damping, but the slides': their bearings' elements carry it.
     bearing_damping = np.asarray(model.damping, dtype=float).copy()
     bearing_damping[[gearbox.v_index(s) for s in gearbox.slide_joints]] = 0.0
     damping += np.diag(bearing_damping)
+    law_damping = train.law_damping(at)
+    for name, value in law_damping.items():
+        damping[gearbox.v_index(name), gearbox.v_index(name)] += value
     gyroscopic, centrifugal = speed_terms(gearbox, speed)
     coords = coordinates(gearbox)
     order = sorted(names, key=gearbox.v_index)
@@ -257,8 +305,20 @@ def linearise(
         gyroscopic,
         centrifugal,
         whirl_pairs(gearbox, coords, speed),
+        flanks,
+        train.added_inertia,
+        law_damping,
     )
     _check_held(gearbox, out)
+    return out
+
+
+def _spring_elements(gearbox: Gearbox) -> list[SpringElement]:
+    """The torsional springs: k (e₁ − e₂), one element each (k e₁ e₁ᵀ to the ground)."""
+    out = []
+    for spring in gearbox.springs:
+        row = spring.twist_row(gearbox.model.nv)
+        out.append(SpringElement(spring.name, "spring", spring.stiffness, spring.damping, row))
     return out
 
 
@@ -307,6 +367,7 @@ def _check_turning(
     speed: np.ndarray,
     mass: np.ndarray,
     mesh_rows: np.ndarray,
+    flank: np.ndarray,
 ) -> None:
     """Refuse a linearisation at ``speed`` whose M or mesh rows change as a turning joint turns.
 
@@ -331,9 +392,11 @@ def _check_turning(
         unit = np.zeros(model.nv)
         unit[j] = 1.0
         turned = pin.integrate(model, q, unit)
-        changed = np.abs(_mass(model, data, turned) - mass).max() > TURNING_TOLERANCE * mass_scale
+        # The added inertias (rotors) are constant: M's change is the bodies'.
+        change = np.abs(_mass(model, data, turned) - _mass(model, data, q)).max()
+        changed = change > TURNING_TOLERANCE * mass_scale
         if row_scale > 0.0 and not changed:
-            turned_rows = _mesh_rows(mesh_set, model, data, turned).row_front
+            turned_rows, _ = mesh_set.combine(_mesh_rows(mesh_set, model, data, turned), flank)
             changed = np.abs(turned_rows - mesh_rows).max() > TURNING_TOLERANCE * row_scale
         if changed:
             changing.append(names[j])

@@ -47,11 +47,11 @@ from typing import Any, Protocol
 import numpy as np
 
 from pinwind.dynamics import _native, series
-from pinwind.dynamics.compliant import MeshSetup, mesh_choices, mesh_setup, single_pair
-from pinwind.dynamics.elements import LoadElements, load_elements
+from pinwind.dynamics.compliant import MeshSetup, mesh_setup, single_pair
+from pinwind.dynamics.drivetrain import drivetrain
+from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.linearisation import linearise
-from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
@@ -60,8 +60,6 @@ from pinwind.dynamics.time_step import coarse_step_notes
 from pinwind.dynamics.torque_balance import imbalances, representative_torque
 from pinwind.dynamics.torsional_modes import highest_spring_mode
 from pinwind.errors import (
-    ConflictingConstraints,
-    ConflictingInputs,
     Diverged,
     EquilibriumNotReached,
     InputError,
@@ -74,7 +72,7 @@ from pinwind.errors import (
 )
 from pinwind.interrupts import interrupts_deferred
 from pinwind.loads.generator import GeneratorLaw
-from pinwind.loads.inputs import JointLoad, Signal, joint_loads
+from pinwind.loads.inputs import JointLoad, Signal
 from pinwind.loads.rotor import Rotor
 from pinwind.loads.signals import Signal as TimeSignal
 from pinwind.loads.signals import check_covers
@@ -313,8 +311,9 @@ def simulate(
         speeds: joint name → prescribed joint speed [rad/s], number or callable(t); the driving
             torque is the multiplier of the driver's row (``res.joint(name).torque``).
         initial_speeds: joint name → initial speed [rad/s]; the other joints start at the speeds
-            the gear meshes and the torsional springs give them (``start_speeds``: a rotor's
-            speed carries across a coupling to the generator).
+            the gear meshes and the torsional springs give them
+            (``Drivetrain.operating_speed``: a rotor's speed carries across a coupling to the
+            generator; speeds given out of ratio across a spring warn, ``SpringsWoundAtStart``).
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
         integrator: the time step and its numerical dissipation (``Integrator``; default
@@ -370,48 +369,26 @@ def simulate(
     duration = _check_positive("duration", duration, "s")
     dt = _check_positive("dt", dt, "s")
     steps = _step_count(duration, dt)
-    index = {name: gearbox.v_index(name) for name in gearbox.joint_names}
-    free = {k: i for k, i in index.items() if k not in gearbox.locked_joints}
-    probe = (0.0,)  # later failures are caught in the run, which logs the samples before them
-    torque_loads = joint_loads(
-        torques, where="torques", joint_index=index, unit="N·m", probe_times=probe
+    train = drivetrain(
+        gearbox,
+        torques=torques,
+        speeds=speeds,
+        initial_speeds=initial_speeds,
+        generators=generators,
+        rotors=rotors,
+        wind=wind,
+        meshes=meshes,
+        gravity=gravity,
     )
-    for name in torques or {}:
-        if name in gearbox.locked_joints:
-            raise InputError(
-                f'joint "{name}" is a fixed mount (a gear on a fixed joint, held at zero speed); '
-                "a torque on it would vanish into the lock. Load one of: " + ", ".join(free)
-            )
-    for name in torques or {}:
-        if name in (speeds or {}):
-            raise ConflictingInputs(
-                f'joint "{name}" is given both torques["{name}"] and speeds["{name}"]; the speed '
-                "driver would absorb the torque, which then loads no gear (every mesh force 0): "
-                "give the joint either a torque or a speed"
-            )
-    for name in list(speeds or {}) + list(initial_speeds or {}):
-        if name in gearbox.locked_joints:
-            raise InputError(
-                f'joint "{name}" is a fixed mount (a gear on a fixed joint, held at zero speed); '
-                "it cannot be driven or given a speed. Drive one of: " + ", ".join(free)
-            )
-    speed_loads = joint_loads(
-        speeds, where="speeds", joint_index=free, unit="rad/s", probe_times=probe
-    )
-    init = joint_loads(initial_speeds, where="initial_speeds", joint_index=free, unit="rad/s")
+    torque_loads, speed_loads, init = train.torques, train.drivers, train.initial_speeds
     for where, lds in (("torques", torque_loads), ("speeds", speed_loads)):
         for ld in lds:
             check_covers(ld.signal, duration, f'{where}["{ld.joint}"]')
-    elements = load_elements(generators, rotors, wind, joint_index=free)
+    elements = train.loads if train.loads is not None else LoadElements()
     if elements.wind is not None:
         check_covers(elements.wind, duration, "wind")
     model = gearbox.model
-    if gravity is not None:
-        g = np.asarray(gravity, dtype=float)
-        if g.shape != (3,) or not np.all(np.isfinite(g)):
-            raise NonFiniteInput(f"gravity must be three finite numbers [m/s²]; got {gravity!r}")
-    else:
-        g = np.asarray(gearbox.gravity, dtype=float)
+    g = train.gravity
 
     if initial_deflection not in INITIAL_DEFLECTIONS:
         raise InputError(
@@ -426,20 +403,23 @@ def simulate(
         )
     method = integrator or Integrator()
     # Rows after the meshes: the speed drivers, then the locked bearings (held at zero speed).
-    drivers = speed_loads + [JointLoad(j, gearbox.v_index(j), 0.0) for j in gearbox.locked_joints]
+    drivers = train.rows
+    # The machine the run steps, linearised: its mass (the rotors' inertias in), the flanks the
+    # static load presses (the mesh modes' rows), and a floating member nothing holds refused,
+    # naming its free motion.
+    linear = linearise(train)
     mesh_setup_ = mesh_setup(
         gearbox,
-        mesh_choices(gearbox, meshes),
+        train.meshes,
         driver_index=[d.v_index for d in drivers],
         dt=dt,
         position_errors=position_errors,
         scheme=method,
+        mass=linear.mass,
+        flank=linear.flanks.flank,
     )
-    if any(b.compliance.floating for b in gearbox.compliant_bearings.values()):
-        # A floating member nothing holds is refused here, naming its free motion.
-        linearise(gearbox, meshes=meshes, held=[ld.joint for ld in speed_loads])
     _warn_if_unbalanced(gearbox, torque_loads, speed_loads, elements, duration)
-    spring_mode = highest_spring_mode(gearbox, [d.joint for d in speed_loads])
+    spring_mode = highest_spring_mode(train)
     for note in coarse_step_notes(duration, dt, spring_mode):
         warnings.warn(StepTooCoarse(note), stacklevel=2)
     frames = body_frames(gearbox)
@@ -487,7 +467,9 @@ def simulate(
         }
 
     q = gearbox.neutral()
-    v = start_speeds(gearbox, {ld.joint: ld(0.0) for ld in [*init, *speed_loads]})
+    # The machine turning: the given speeds, the others through the meshes and the springs.
+    v = train.operating_speed()
+    _warn_if_wound(gearbox, v)
 
     if progress is None:
         import sys
@@ -644,26 +626,14 @@ def simulate(
     return final
 
 
-def start_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
-    """The joint speeds a run starts at [rad/s]: ``given``, the others as the machine turns.
+def _warn_if_wound(gearbox: Gearbox, v: np.ndarray) -> None:
+    """Warn (``SpringsWoundAtStart``) for each torsional spring the start speeds ``v`` twist.
 
-    Every joint takes the speed the meshes and the torsional springs give it from the given
-    ones (``train_speeds(through_springs=True)``): a rotor's speed carries across a coupling to
-    the generator, and a ring on a torsional support starts at rest, so that a steady load
-    starts steady. Given speeds that differ across a spring (both sides given, not in ratio)
-    are kept, the others following the meshes alone; a ``SpringsWoundAtStart`` warning names
-    each spring that then winds up from t = 0.
-
-    Raises:
-        ConflictingConstraints: given speeds that contradict the gear ratios.
+    The start takes the speeds the meshes and the springs give (``Drivetrain.operating_speed``:
+    a rotor's speed carries across a coupling to the generator, a ring on its torsional support
+    starts at rest); only speeds given on both sides of a spring out of ratio twist it.
     """
     nv = gearbox.model.nv
-    if not given:
-        return np.zeros(nv)
-    try:
-        return train_speeds(gearbox, given, through_springs=True)
-    except ConflictingConstraints:
-        v = train_speeds(gearbox, given)
     wound = []
     for spring in gearbox.springs:
         rate = float(spring.twist_row(nv) @ v)
@@ -686,7 +656,6 @@ def start_speeds(gearbox: Gearbox, given: Mapping[str, float]) -> np.ndarray:
             ),
             stacklevel=3,
         )
-    return v
 
 
 #: The starts a run can take (``simulate(initial_deflection=...)``).

@@ -285,20 +285,6 @@ class CompiledStepper:
             EQUILIBRIUM_TOLERANCE,
         )
 
-    def element_terms(
-        self, q: np.ndarray, v: np.ndarray, *, position_gain: float, speed_gain: float
-    ) -> _native.ElementTerms:
-        """The elements' force Σ f_e [N·m or N] and weight κ_q K + κ_v C at (q, v), no step.
-
-        K = −∂f/∂q and C = −∂f/∂v are the tangents the implicit step takes (position_gain 1,
-        speed_gain 0 gives K alone): the checks of each element against finite differences of
-        its force. The elements are prepared at (q, v): for a stepper that does not run.
-        """
-        return self._stepper.element_terms(
-            np.asarray(q, dtype=float), np.asarray(v, dtype=float),
-            float(position_gain), float(speed_gain),
-        )  # fmt: skip
-
     def mass_matrix(self, q: np.ndarray) -> np.ndarray:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
         return self._stepper.mass_matrix(np.asarray(q, dtype=float))
@@ -310,3 +296,14 @@ class CompiledStepper:
         drivers and locks, as the compiled step stacks them.
         """
         return self._stepper.assemble(np.asarray(q, dtype=float), np.asarray(v, dtype=float))
+
+    def element_forces(self, q: np.ndarray, v: np.ndarray) -> _native.ElementForces:
+        """The elements' generalised force, tangents and stored energy at (q, v).
+
+        ``force`` is Σ f_e [N·m or N] on each joint coordinate, ``stiffness`` −∂f/∂q and
+        ``damping`` −∂f/∂v as the step takes them (the elements' implicit weights), ``potential``
+        Σ U_e [J]. Each element is built anew, as at a run's first sample (a contact is in
+        contact wherever it overlaps), so that the values are those of the state alone: the
+        force of a conservative element is −∂U/∂q, which finite differences check.
+        """
+        return self._stepper.element_forces(np.asarray(q, dtype=float), np.asarray(v, dtype=float))

@@ -80,6 +80,7 @@ import numpy as np
 from pinwind.errors import InputError, PinwindError
 from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import DEFAULT_MATERIAL, MATERIALS
+from pinwind.known_names import unknown_message, unknown_name
 from pinwind.life.bearing_life import BearingLoadSum, bearing_load_sums
 from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
 from pinwind.life.site import (
@@ -122,6 +123,27 @@ FATIGUE_KEYS: dict[str, str] = {
     "openfast": "one OpenFAST output per case instead of rotor and wind",
     "quick": "what --quick changes",
 }
+#: The keys of ``[fatigue.quick]``: the scenario's ``dt`` and any ``[fatigue]`` key.
+QUICK_KEYS = ("dt", *(k for k in FATIGUE_KEYS if k != "quick"))
+#: The keys of ``[fatigue.site]``: the given hours, or a Weibull site (`pinwind.life.site`).
+SITE_HOURS_KEYS = ("speeds", "hours")
+SITE_WEIBULL_KEYS = (
+    "scale",
+    "shape",
+    "edges",
+    "design_life_years",
+    "availability",
+    "cut_in",
+    "cut_out",
+)
+#: The keys of ``[fatigue.sn_curve]``: one curve, or a preset with ISO 6336's strengths.
+SN_CURVE_KEYS = ("s0_mpa", "m", "n0", "endurance_limit_mpa")
+SN_PRESET_KEYS = ("preset", "sigma_h_lim_mpa", "sigma_f_lim_mpa")
+#: The keys of ``[fatigue.openfast]`` (`OpenFastInput`) and of a root-stress table.
+OPENFAST_KEYS = ("files", "joint", "channel", "scale")
+ROOT_STRESS_KEYS = ("position_mm", "fraction", "mpa_per_kn")
+#: A rate is a whole number of steps when within this relative distance of one [-].
+_WHOLE = 1e-6
 #: S-N curve presets: Jørgensen 2014 eq. 23 and Table 5 per gear kind (for contact and root, as
 #: 003 applies it), or ISO 6336-2 and -3's life-factor curves of each gear's material.
 SN_PRESETS = ("jorgensen2014", "iso6336", "iso6336_pitting_permitted")
@@ -357,9 +379,18 @@ class _SetReader:
     def __init__(self, path: Path, text: str, values: dict[str, Any], quick: bool):
         self.path, self.text, self.quick = path, text, quick
         self.values = {k.replace("-", "_"): v for k, v in values.items()}
+        #: The meshed gears, once the model is read: the names of per-gear tables.
+        self.gear_names: tuple[str, ...] = ()
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         return ScenarioError(str(self.path), ".".join(key), key_line(self.text, key), message)
+
+    def known(self, key: tuple[str, ...], given: Iterable[str], known: Iterable[str]) -> None:
+        """Refuse a key of the table ``key`` that is not one of ``known``, naming the nearest."""
+        names = tuple(known)
+        unknown = unknown_name(given, names)
+        if unknown is not None:
+            raise self.fail(key + (unknown,), unknown_message(unknown, names))
 
     def fatigue_set(self) -> FatigueSet:
         table = self.values.pop("fatigue", None)
@@ -370,29 +401,28 @@ class _SetReader:
                 "pinwind.life.load_cases says its keys)",
             )
         settings = {k.replace("-", "_"): v for k, v in table.items()}
-        for key in settings:
-            if key not in FATIGUE_KEYS:
-                raise self.fail(
-                    ("fatigue", key), "unknown key; keys are: " + ", ".join(FATIGUE_KEYS)
-                )
-        quick = settings.pop("quick", {})
+        self.known(("fatigue",), settings, FATIGUE_KEYS)
+        quick = settings.pop("quick", None)
+        if quick is not None and not isinstance(quick, Mapping):
+            raise self.fail(("fatigue", "quick"), "must be a table of [fatigue] keys")
+        quick = {k.replace("-", "_"): v for k, v in (quick or {}).items()}
+        self.known(("fatigue", "quick"), quick, QUICK_KEYS)
         if self.quick:
-            if not isinstance(quick, Mapping):
-                raise self.fail(("fatigue", "quick"), "must be a table of [fatigue] keys")
+            if not quick:
+                raise self.fail(
+                    ("fatigue", "quick"),
+                    "--quick runs the set with the values of its [fatigue.quick] table, but the "
+                    "file has none, so it would run the whole set; add one (e.g. [fatigue.quick] "
+                    "with duration = 1.5), or leave out --quick",
+                )
             for key, value in quick.items():
-                key = key.replace("-", "_")
                 if key == "dt":
                     self.values["dt"] = value
-                elif key in FATIGUE_KEYS and key != "quick":
-                    settings[key] = value
                 else:
-                    raise self.fail(
-                        ("fatigue", "quick", key),
-                        "unknown key; keys are: dt, "
-                        + ", ".join(k for k in FATIGUE_KEYS if k != "quick"),
-                    )
+                    settings[key] = value
         gearbox = self.gearbox()
         gears = tuple(dict.fromkeys(g.name for m in gearbox.meshes for g in (m.gear_a, m.gear_b)))
+        self.gear_names = gears
         site = self.site(settings.get("site"))
         levels = self.levels(settings.get("turbulence", 0.1), site)
         seeds = self.seeds(settings.get("seeds", [1]))
@@ -404,6 +434,7 @@ class _SetReader:
                 f"is {skip:g} s; give 0 ≤ skip_start < duration ({duration:g} s)",
             )
         rate = self.number(("fatigue", "sample_rate"), settings.get("sample_rate", 1e4), 0.0)
+        self.check_sample_rate(rate, self.number(("dt",), self.values.get("dt", 1e-3), 0.0))
         wind = settings.get("wind", "disc")
         if wind not in ("disc", "point"):
             raise self.fail(("fatigue", "wind"), f'is {wind!r}; give "disc" or "point"')
@@ -474,6 +505,31 @@ class _SetReader:
             )
         return fatigue
 
+    def check_sample_rate(self, rate: float, dt: float) -> None:
+        """Refuse a ``sample_rate`` [Hz] above the step rate 1/dt or not a whole number of steps.
+
+        The histories are every k-th step, k = 1 / (sample_rate · dt) rounded: 3000 Hz at
+        dt = 20 µs would be read at 1 / (17 · 20 µs) = 2941 Hz, 100 kHz at 50 kHz.
+        """
+        key = ("fatigue", "sample_rate")
+        steps = 1.0 / (rate * dt)
+        if steps < 1.0 - _WHOLE:
+            raise self.fail(
+                key,
+                f"sample_rate = {rate:g} Hz is above the step rate 1/dt = {1.0 / dt:g} Hz "
+                f"(dt = {dt:g} s): the histories cannot be read more often than the run steps; "
+                f"give a sample_rate of at most {1.0 / dt:g} Hz, or a smaller dt",
+            )
+        if abs(steps - round(steps)) > _WHOLE * steps:
+            below, above = (1.0 / (n * dt) for n in (math.ceil(steps), math.floor(steps)))
+            raise self.fail(
+                key,
+                f"sample_rate = {rate:g} Hz is not a whole number of steps at dt = {dt:g} s "
+                f"(1 / (sample_rate · dt) = {steps:.4g}), so the histories would be read at "
+                f"{1.0 / (round(steps) * dt):.6g} Hz; give a sample_rate that divides "
+                f"1/dt = {1.0 / dt:g} Hz, e.g. {below:.6g} or {above:.6g} Hz",
+            )
+
     def gearbox(self) -> Gearbox:
         """The model, loaded (its file must exist)."""
         from pinwind.model.gearbox import load
@@ -511,21 +567,15 @@ class _SetReader:
                 "shape and edges (Weibull)",
             )
         table = {k.replace("-", "_"): v for k, v in table.items()}
+        self.known(key, table, SITE_HOURS_KEYS + SITE_WEIBULL_KEYS)
         try:
             if "hours" in table or "speeds" in table:
                 if set(table) != {"speeds", "hours"}:
                     raise self.fail(key, "give speeds and hours (one per bin), nothing else")
                 return site_from_hours(speeds=table["speeds"], hours=table["hours"])
-            allowed = {
-                "scale",
-                "shape",
-                "edges",
-                "design_life_years",
-                "availability",
-                "cut_in",
-                "cut_out",
-            }
-            if not {"scale", "shape", "edges"} <= set(table) or not set(table) <= allowed:
+            if not {"scale", "shape", "edges"} <= set(table) or not set(table) <= set(
+                SITE_WEIBULL_KEYS
+            ):
                 raise self.fail(
                     key,
                     "give speeds and hours, or scale, shape and edges (and "
@@ -577,6 +627,7 @@ class _SetReader:
         key = ("fatigue", "openfast")
         if not isinstance(table, Mapping) or not {"files", "joint"} <= set(table):
             raise self.fail(key, "give files (a name pattern) and joint (and channel, scale)")
+        self.known(key, table, OPENFAST_KEYS)
         try:
             return OpenFastInput(**table)
         except TypeError as err:
@@ -604,6 +655,7 @@ class _SetReader:
         """``value``, or its entry for ``gear`` (or its kind) when it is a table."""
         if not isinstance(value, Mapping):
             return value
+        self.known(key, value, self.gear_names + GEAR_KINDS)
         kind = gear_kind(gear)
         chosen = value.get(gear, value.get(kind, None) if kind else None)
         if chosen is None:
@@ -615,6 +667,8 @@ class _SetReader:
     def materials(self, given: Any, gears: tuple[str, ...]) -> dict[str, str]:
         """Each gear's material key: one for all, or per gear or kind (default for the rest)."""
         key = ("fatigue", "materials")
+        if isinstance(given, Mapping):
+            self.known(key, given, gears + GEAR_KINDS)
         out = {}
         for gear in gears:
             kind = gear_kind(gear)
@@ -634,11 +688,7 @@ class _SetReader:
         key = ("fatigue", "root_stress")
         if not isinstance(table, Mapping):
             raise self.fail(key, "must be a table of gears (or kinds) → tables")
-        for name in table:
-            if name not in gears and name not in GEAR_KINDS:
-                raise self.fail(
-                    key + (name,), "is no meshed gear or kind; gears are: " + ", ".join(gears)
-                )
+        self.known(key, table, gears + GEAR_KINDS)
         out: dict[str, RootStress] = {}
         for gear in gears:
             kind = gear_kind(gear)
@@ -647,14 +697,11 @@ class _SetReader:
                 out[gear] = ISO_ROOT_STRESS
                 continue
             name = gear if gear in table else str(kind)
-            if not isinstance(spec, Mapping) or not set(spec) <= {
-                "position_mm",
-                "fraction",
-                "mpa_per_kn",
-            }:
+            if not isinstance(spec, Mapping):
                 raise self.fail(
                     key + (name,), "give position_mm (or fraction) and mpa_per_kn, as lists"
                 )
+            self.known(key + (name,), spec, ROOT_STRESS_KEYS)
             try:
                 out[gear] = table_root_stress(**spec)
             except (PinwindError, TypeError, ValueError) as err:
@@ -667,7 +714,8 @@ class _SetReader:
         if not isinstance(table, Mapping):
             raise self.fail(key, "must be a table: preset, or s0_mpa, m, n0, endurance_limit_mpa")
         table = {k.replace("-", "_"): v for k, v in table.items()}
-        iso_keys = {"preset", "sigma_h_lim_mpa", "sigma_f_lim_mpa"}
+        self.known(key, table, SN_CURVE_KEYS + SN_PRESET_KEYS)
+        iso_keys = set(SN_PRESET_KEYS)
         preset = table.get("preset", SN_PRESETS[0] if not table else None)
         permitted = preset == "iso6336_pitting_permitted"
         try:

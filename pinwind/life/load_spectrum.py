@@ -132,8 +132,9 @@ def load_spectrum(
 def gear_torque(result: Result, gearbox: Gearbox, gear: str) -> np.ndarray:
     """Torque the teeth of ``gear`` take from all its meshes, about its axis [N·m], (n,).
 
-    On gear A of a mesh T_A = −s F_t r_w,A (F_t the tangential force, r_w the working pitch
-    radius, s the loaded flank); on gear B T_B = s F_t c_B (k_A · k_B), c_B = −r_w,B for an
+    On gear A of a mesh T_A = −F r_w,A with F = (F_n,front − F_n,back) cos α_w the tangential
+    force of the front flank less that of the back (both push in double-flank contact) and r_w
+    the working pitch radius; on gear B T_B = F c_B (k_A · k_B), c_B = −r_w,B for an
     external pair and +r_w,B with an internal gear, k the gear axes in world (docs/model_format.md
     "Mesh sign convention").
 
@@ -152,7 +153,10 @@ def gear_torque(result: Result, gearbox: Gearbox, gear: str) -> np.ndarray:
 
     total = np.zeros(len(result))
     for i, mesh in enumerate(gearbox.meshes):
-        push = result.mesh_flank[:, i] * result.mesh_tangential[:, i]  # s F_t [N]
+        # F_t on the front flank less on the back (both push in double-flank contact) [N]
+        push = (result.mesh_normal_front[:, i] - result.mesh_normal_back[:, i]) * math.cos(
+            mesh.working_pressure_angle
+        )
         if mesh.gear_a.name == gear:
             total -= push * mesh.working_radius_a
         elif mesh.gear_b.name == gear:

@@ -23,9 +23,11 @@ from pinwind.errors import (
     InvalidMount,
     InvalidSupport,
     MalformedModel,
+    UnknownAttribute,
     UnknownName,
 )
 from pinwind.gears.involute import half_tooth_angle
+from pinwind.known_names import unknown_name
 from pinwind.model.bearing import BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
@@ -318,6 +320,7 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
         ) from err
     if root.tag != "robot":
         raise MalformedModel(path, f"<{root.tag}>", "the root element must be <robot> (a URDF)")
+    _check_names(path, root)
 
     out = ModelFile(path=path, text=text, robot_name=root.get("name", "gearbox"))
     for link in root.findall("link"):
@@ -418,6 +421,28 @@ def _damping(path: str, joint: ET.Element) -> float:
             "negative damping feeds energy into the train and the run diverges",
         )
     return c
+
+
+#: The attributes of ``<gear>`` (docs/model_format.md), each read in `_read_gearbox`.
+_GEAR_ATTRIBUTES = (
+    "name",
+    "link",
+    "teeth",
+    "module_mm",
+    "pressure_angle_deg",
+    "face_width_mm",
+    "profile_shift",
+    "helix_angle_deg",
+    "internal",
+    "xyz",
+    "axis",
+    "tooth_phase_deg",
+    "position_error_um",
+)
+#: The attributes of every ``<mesh>``; a compliant one's are `_COMPLIANCE_ATTRIBUTES`.
+_MESH_ATTRIBUTES = ("name", "gear1", "gear2", "type")
+#: The attributes of ``<torsional_spring>``.
+_SPRING_ATTRIBUTES = ("name", "joint1", "joint2", "stiffness", "damping", "preload_angle")
 
 
 def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
@@ -539,7 +564,8 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         torsion = _bearing_torsion(path, el, joint, out)
         if torsion is not None:
             out.springs.append(torsion)
-        if (compliance is None and torsion is None) or el.get("type") is not None:
+        rated = any(el.get(a) is not None for a in _BEARING_RATING)
+        if (compliance is None and torsion is None) or rated:
             rating = _bearing(path, el, out)
             out.bearings[rating.joint] = rating
     supports = box.findall("support")
@@ -595,7 +621,7 @@ def _bearing_torsion(path: str, el: ET.Element, joint: str, out: ModelFile) -> S
     The spring ``<joint>_torsion`` holds the body in torsion against the body the bearing sits
     in (a ring on its torsional support, Lin & Parker 1999's k_ru), −k θ − c ω on the joint.
     """
-    if el.get("torsional_stiffness") is None and el.get("torsional_damping") is None:
+    if all(el.get(a) is None for a in _BEARING_TORSION):
         return None
     where = f'<bearing joint="{joint}">'
     k = _number(path, el, "torsional_stiffness", where=where)
@@ -626,6 +652,15 @@ def _raw_number(path: str, el: ET.Element, attr: str, where: str, default: float
         return float(raw)
     except ValueError as err:
         raise MalformedModel(path, where, f'attribute {attr}="{raw}" is not a number') from err
+
+
+#: The attributes of ``<support>``, of its ``<mount>`` (a stiffness and a damping per axis) and
+#: of its ``<tower_mode>``.
+_SUPPORT_ATTRIBUTES = ("housing", "shaft_axis")
+_MOUNT_ATTRIBUTES = tuple(
+    f"{kind}_{axis}" for kind in ("stiffness", "damping") for axis in MOUNT_AXES
+)
+_TOWER_MODE_ATTRIBUTES = ("direction", "frequency_hz", "mass", "damping_ratio")
 
 
 def _support(path: str, el: ET.Element, out: ModelFile) -> Support:
@@ -699,6 +734,13 @@ def _support(path: str, el: ET.Element, out: ModelFile) -> Support:
     return support
 
 
+#: The attributes of every ``<bearing>``: its joint and how it moves (`_bearing_compliance`).
+_BEARING_ATTRIBUTES = ("joint", "floating", "law", "contact")
+#: The attributes of a rated ``<bearing>``: ISO 281 type, rating and load factors (`_bearing`).
+_LOAD_FACTORS = ("e", "y1", "x2", "y2")
+_BEARING_RATING = ("type", "rating_c_kN", *_LOAD_FACTORS)
+#: The attributes of a ``<bearing>`` held in torsion (``_bearing_torsion``).
+_BEARING_TORSION = ("torsional_stiffness", "torsional_damping")
 #: The attributes of a compliant ``<bearing>`` (docs/model_format.md "Compliant bearings").
 _BEARING_COMPLIANCE = (
     "radial_stiffness",
@@ -789,11 +831,7 @@ def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:
             "continuous joint of the rolling bearing",
             path=path,
         )
-    factors = {
-        a: _number(path, el, a, where=where)
-        for a in ("e", "y1", "x2", "y2")
-        if el.get(a) is not None
-    }
+    factors = {a: _number(path, el, a, where=where) for a in _LOAD_FACTORS if el.get(a) is not None}
     rating_kn = el.get("rating_c_kN")
     return bearing_rating(
         joint,
@@ -879,3 +917,85 @@ _COMPLIANCE_ATTRIBUTES = (
     "damping_ratio",
     "backlash_mm",
 )
+
+
+#: The elements of ``<gearbox>`` (and those they hold): tag → (attributes, child elements). An
+#: attribute not named here is refused (`_check_names`): name a new one in the tuple beside
+#: the code that reads it.
+GEARBOX_ELEMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "gearbox": (("gravity",), ("gear", "mesh", "torsional_spring", "bearing", "support")),
+    "gear": (_GEAR_ATTRIBUTES, ()),
+    "mesh": (_MESH_ATTRIBUTES + _COMPLIANCE_ATTRIBUTES, ()),
+    "torsional_spring": (_SPRING_ATTRIBUTES, ()),
+    "bearing": (_BEARING_ATTRIBUTES + _BEARING_RATING + _BEARING_COMPLIANCE + _BEARING_TORSION, ()),
+    "support": (_SUPPORT_ATTRIBUTES, ("mount", "tower_mode")),
+    "mount": (_MOUNT_ATTRIBUTES, ()),
+    "tower_mode": (_TOWER_MODE_ATTRIBUTES, ()),
+}
+#: The attributes of the standard URDF elements whose values pinwind reads (the URDF
+#: specification's; urdfdom ignores any other, so ``<dynamics dampng="5"/>`` would be no damping).
+#: Their other child elements (``<visual>``, ``<limit>``, ``<gazebo>``, ...) are left to urdfdom.
+_URDF_ATTRIBUTES: dict[str, tuple[str, ...]] = {
+    "link": ("name",),
+    "inertial": (),
+    "joint": ("name", "type"),
+    "origin": ("xyz", "rpy"),
+    "mass": ("value",),
+    "inertia": ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"),
+    "axis": ("xyz",),
+    "dynamics": ("damping", "friction"),
+    "parent": ("link",),
+    "child": ("link",),
+}
+#: Where those elements are: a link's inertial and its parts, a joint's parts.
+_URDF_PARTS = {
+    "link": ("inertial",),
+    "inertial": ("origin", "mass", "inertia"),
+    "joint": ("origin", "axis", "dynamics", "parent", "child"),
+}
+
+
+def _label(el: ET.Element, within: str = "") -> str:
+    """An element as messages name it: ``<bearing joint="sun">``, after the one holding it."""
+    key = next((k for k in ("name", "joint", "housing", "direction") if el.get(k) is not None), "")
+    own = f'<{el.tag} {key}="{el.get(key)}">' if key else f"<{el.tag}>"
+    return f"{within} {own}" if within else own
+
+
+def _check_attributes(path: str, el: ET.Element, known: tuple[str, ...], where: str) -> None:
+    """Refuse an attribute of ``el`` that is not one of ``known``, naming the nearest."""
+    name = unknown_name(el.attrib, known)
+    if name is not None:
+        raise UnknownAttribute(path, where, name, known, kind="attribute", tag=el.tag)
+
+
+def _check_names(path: str, root: ET.Element) -> None:
+    """Refuse a misspelt element or attribute of ``<gearbox>``, or attribute of a URDF part.
+
+    Raises:
+        UnknownAttribute: naming the element, the name and the nearest known one.
+    """
+
+    def urdf(el: ET.Element, within: str) -> None:
+        where = _label(el, within)
+        _check_attributes(path, el, _URDF_ATTRIBUTES[el.tag], where)
+        for tag in _URDF_PARTS.get(el.tag, ()):
+            for part in el.findall(tag):
+                urdf(part, where)
+
+    def gearbox(el: ET.Element, within: str) -> None:
+        attributes, children = GEARBOX_ELEMENTS[el.tag]
+        where = _label(el, within)
+        _check_attributes(path, el, attributes, where)
+        for child in el:
+            if not isinstance(child.tag, str):  # a comment or processing instruction
+                continue
+            if child.tag not in children:
+                raise UnknownAttribute(path, where, child.tag, children, kind="element", tag=el.tag)
+            gearbox(child, where if el.tag != "gearbox" else "")
+
+    for tag in ("link", "joint"):
+        for el in root.findall(tag):
+            urdf(el, "")
+    for box in root.findall("gearbox"):
+        gearbox(box, "")

@@ -121,3 +121,94 @@ def test_campbell_of_a_spinning_rotor_writes_the_whirl_of_each_crossing(tmp_path
     np.testing.assert_allclose(
         rpm["backward"], math.sqrt(TILT / (transverse + polar)) * per_rpm, rtol=1e-9
     )
+
+
+def _base_radius(teeth: int, module: float) -> float:
+    """r_b = m z cos α / 2 [m] of the Saleh drivetrain's gears (α = 24.5°, no profile shift)."""
+    return module * teeth * math.cos(math.radians(24.5)) / 2
+
+
+def test_modes_of_the_saleh_drivetrain_scenario_ring_the_rotor_against_the_train():
+    # scenarios/saleh2017_drivetrain.toml puts the 5e6 kg·m² rotor (loads/rotor.py) on the
+    # carrier. Its first flexible mode swings rotor and carrier (J_r) against the train's
+    # inertia J_t reduced to the carrier, on the train's torsional stiffness k at the carrier,
+    # its meshes in series (the stiffnesses the modes list, each k r_b² reduced by the speed
+    # ratio squared): a planet pin between its sun mesh k_sp and ring mesh k_rp stiffens the
+    # carrier by 4 k_sp k_rp / (k_sp + k_rp) (r_b,s + r_b,p)² (the pin moves the sun mesh and
+    # the ring mesh the same way; the planet turns so as to balance them), three planets; then
+    # stage 1 at the sun (× 6²) and stage 2 at stage 1's pinion (× (6 · 83/23)²). The two-
+    # inertia formula f = √(k (1/J_r + 1/J_t)) / 2π puts J_t at the far end of k, where it
+    # moves most: the train's inertia nearer the carrier moves less, so the true frequency is
+    # above it (Rayleigh), by a few per cent here. Without the rotor the mode is at 317 Hz.
+    out = run("modes", str(MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml"), "--json")
+    assert out.returncode == 0, out.stderr
+    modes = json.loads(out.stdout)
+    assert "rotor inertia on carrier: 5e+06 kg·m²" in out.stderr
+    first = next(m for m in modes if m["frequency_hz"] > 0)
+    # The stiffnesses: those of the mesh elements (mean mesh stiffness c_γα b of each pair).
+    from pinwind.dynamics.linearisation import linearise
+    from pinwind.scenario import load_scenario
+
+    scenario = load_scenario(MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml")
+    gearbox = scenario.load_model()
+    k = {
+        e.name: e.stiffness
+        for e in linearise(gearbox, meshes={"all": "compliant"}).elements
+        if e.kind == "mesh"
+    }
+    arm = _base_radius(24, 0.015) + _base_radius(48, 0.015)
+    ksp, krp = k["sun_planet1"], k["planet1_ring"]
+    k_carrier = 3 * 4 * ksp * krp / (ksp + krp) * arm**2
+    k_stage1 = k["stage1"] * _base_radius(83, 0.015) ** 2 * 6**2
+    k_stage2 = k["stage2"] * _base_radius(103, 0.010) ** 2 * (6 * 83 / 23) ** 2
+    k_train = 1 / (1 / k_carrier + 1 / k_stage1 + 1 / k_stage2)
+    # Inertias from the model file and the rotor (J about each axis; planets carried at 0.54 m).
+    j_rotor = 5.0e6 + 88.264 + 3 * (1.87 + 254.3 * 0.54**2) + 3 * 1113.1 * 0.54**2
+    inertia = {name: gearbox.model.inertias[gearbox.model.getJointId(name)] for name in
+               ("sun", "planet1", "stage1_pinion", "stage2_pinion")}  # fmt: skip
+    izz = {n: float(i.inertia[2, 2] + i.mass * (i.lever[0] ** 2 + i.lever[1] ** 2))
+           for n, i in inertia.items()}  # fmt: skip
+    j_train = (
+        izz["sun"] * 6**2
+        + 3 * izz["planet1"] * 2.5**2  # planet spin relative to the carrier: −(120/48) ω_c
+        + izz["stage1_pinion"] * (6 * 83 / 23) ** 2
+        + izz["stage2_pinion"] * (6 * 83 / 23 * 103 / 26) ** 2
+    )
+    two_inertia = math.sqrt(k_train * (1 / j_rotor + 1 / j_train)) / (2 * math.pi)
+    assert two_inertia <= first["frequency_hz"] <= 1.06 * two_inertia
+    assert first["frequency_hz"] < 0.25 * 317.0
+
+
+def test_modes_of_a_scenario_do_not_depend_on_how_its_model_writes_the_meshes(tmp_path):
+    # Lin & Parker's planar stage (tests/dynamics/test_loaded_flanks.py) under a scenario: the
+    # sun driven by 2 kN·m against the carrier and the ring held by speed drivers at rest. The
+    # same machine written with every mesh's gears swapped and the mesh lines reversed.
+    from tests.dynamics.test_loaded_flanks import WRITINGS, lin_parker_text
+
+    found = []
+    for name, text in [
+        ("built", lin_parker_text()),
+        ("rewritten", WRITINGS["mesh lines reversed"](WRITINGS["all swapped"](lin_parker_text()))),
+    ]:
+        (tmp_path / f"{name}.urdf").write_text(text)
+        (tmp_path / f"{name}.toml").write_text(
+            f'model = "{name}.urdf"\ntorque = {{ sun = 2000.0 }}\n'
+            "speed = { carrier = 0.0, ring = 0.0 }\n"
+        )
+        out = run("modes", str(tmp_path / f"{name}.toml"), "--json")
+        assert out.returncode == 0, out.stderr
+        assert "no static load" not in out.stderr
+        found.append([m["frequency_hz"] for m in json.loads(out.stdout)])
+    np.testing.assert_allclose(found[1], found[0], rtol=1e-9)
+
+
+def test_campbell_of_a_scenario_draws_the_modes_with_its_rotor(tmp_path):
+    # On torsional coordinates the modes do not move with speed: the diagram's frequencies are
+    # those of ``pinwind modes SCENARIO`` (the rotor in), each once.
+    scenario = str(MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml")
+    listed = [m["frequency_hz"] for m in json.loads(run("modes", scenario, "--json").stdout)]
+    out = run("campbell", scenario, "--joint", "carrier", "--speed-range", "0:20")
+    assert out.returncode == 0, out.stderr
+    drawn = out.stdout.replace("\n", "").split("natural frequencies [Hz]: ")[1].split(";")[0]
+    expected = [f"{f:.5g}" for f in listed if f > 0]
+    assert drawn.split(", ") == expected

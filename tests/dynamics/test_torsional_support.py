@@ -104,13 +104,16 @@ def test_each_torsional_element_s_tangent_matches_central_differences_of_its_for
     q, v = rng.uniform(-1, 1, 2), rng.uniform(-5, 5, 2)
 
     def force_q(x):
-        return np.array(stepper.element_terms(x, v, position_gain=1, speed_gain=0).force)
+        return np.array(stepper.element_forces(x, v).force)
 
     def force_v(x):
-        return np.array(stepper.element_terms(q, x, position_gain=0, speed_gain=1).force)
+        return np.array(stepper.element_forces(q, x).force)
 
-    stiffness = np.array(stepper.element_terms(q, v, position_gain=1, speed_gain=0).weight)
-    damping = np.array(stepper.element_terms(q, v, position_gain=0, speed_gain=1).weight)
+    def potential(x):
+        return stepper.element_forces(x, v).potential
+
+    terms = stepper.element_forces(q, v)
+    stiffness, damping = np.array(terms.stiffness), np.array(terms.damping)
     expected_k = np.array([[700 + 1100, -700], [-700, 700 + 1900]])
     expected_c = np.array([[3 + 5, -3], [-3, 3 + 7]])
     assert_allclose(stiffness, expected_k, rtol=1e-12)  # the hand sums
@@ -123,6 +126,12 @@ def test_each_torsional_element_s_tangent_matches_central_differences_of_its_for
     arm = -1100 * (q[0] + 0.3) - 5 * v[0]
     torsion = -1900 * q[1] - 7 * v[1]
     assert_allclose(force_q(q), [shaft + arm, -shaft + torsion], rtol=1e-12)
+    # Each spring is conservative: its elastic force is −∂U/∂q, U = Σ ½ k twist².
+    elastic = np.array(stepper.element_forces(q, np.zeros(2)).force)
+    energy = 0.5 * (700 * twist**2 + 1100 * (q[0] + 0.3) ** 2 + 1900 * q[1] ** 2)
+    assert_allclose(potential(q), energy, rtol=1e-12)
+    gradient = np.array([(potential(q + h) - potential(q - h)) / 2e-6 for h in np.eye(2) * 1e-6])
+    assert_allclose(-gradient, elastic, rtol=1e-6)
     # The modes see the same K and C (dynamics/linearisation.py).
     lin = linearise(gb)
     assert_allclose(lin.stiffness, stiffness, rtol=1e-12)

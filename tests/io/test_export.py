@@ -30,6 +30,8 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         out[f"mesh/{name}/radial_N"] = m.radial
         out[f"mesh/{name}/axial_N"] = m.axial
         out[f"mesh/{name}/flank"] = m.flank
+        out[f"mesh/{name}/normal_front_N"] = m.normal_front
+        out[f"mesh/{name}/normal_back_N"] = m.normal_back
         out[f"mesh/{name}/transmission_error_m"] = m.transmission_error
         # the compliant mesh's series (0 or the rigid contact state for rigid meshes)
         out[f"mesh/{name}/deflection_m"] = m.deflection

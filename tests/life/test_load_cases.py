@@ -335,3 +335,79 @@ def test_damage_axis_draws_the_smallest_nonzero_damage_on_its_log_part():
     assert damage_axis_threshold(values) == pytest.approx(1e-44, rel=1e-12)
     assert damage_axis_threshold(np.array([0.0, 0.5])) == 1e-3
     assert damage_axis_threshold(np.zeros(3)) == 1e-3
+
+
+# --- keys and rates that used to pass without a word (issue 43) ----------------------------------
+
+
+@pytest.mark.parametrize(
+    ("fatigue", "key", "meant"),
+    [
+        ("duraton = 0.02", "fatigue.duraton", "duration"),
+        ("[fatigue.quick]\nduraton = 0.02", "fatigue.quick.duraton", "duration"),
+        ('[fatigue.materials]\nrnig = "42CrMo4"', "fatigue.materials.rnig", "ring"),
+        (
+            "[fatigue.root_stress]\nsun = { position_mm = [30, 50], mpa_per_kn = [2, 4], "
+            "fractoin = [0, 1] }",
+            "fatigue.root_stress.sun.fractoin",
+            "fraction",
+        ),
+    ],
+    ids=["fatigue", "quick", "materials", "root-stress"],
+)
+def test_a_misspelt_fatigue_key_is_refused_naming_the_one_meant(tmp_path, fatigue, key, meant):
+    with pytest.raises(ScenarioError) as caught:
+        load_fatigue_set(fatigue_toml(tmp_path, fatigue=fatigue))
+    assert caught.value.key == key
+    assert f'did you mean "{meant}"?' in str(caught.value)
+
+
+def test_a_misspelt_gear_in_a_per_gear_endurance_limit_is_refused_not_ignored(tmp_path):
+    """``{ sun = 800, planet = 800, ring = 550, rnig = 1 }`` rated the ring at 550 MPa; the
+    misspelt entry, meant for it, was never read."""
+    path = fatigue_toml(tmp_path)
+    text = path.read_text().replace(
+        "endurance_limit_mpa = 0.0",
+        "endurance_limit_mpa = { sun = 800, planet = 800, ring = 550, rnig = 1 }",
+    )
+    path.write_text(text)
+    with pytest.raises(ScenarioError) as caught:
+        load_fatigue_set(path)
+    assert caught.value.key == "fatigue.sn_curve.endurance_limit_mpa.rnig"
+    assert 'did you mean "ring"?' in str(caught.value)
+
+
+def test_quick_on_a_set_without_a_quick_table_is_refused_not_run_whole(tmp_path):
+    path = fatigue_toml(tmp_path)
+    assert load_fatigue_set(path).duration == 0.04  # the set itself reads
+    with pytest.raises(ScenarioError, match=r"has none, so it would run the whole set") as caught:
+        load_fatigue_set(path, quick=True)
+    assert caught.value.key == "fatigue.quick"
+
+
+@pytest.mark.parametrize(
+    ("rate", "said"),
+    [
+        # 1 / (3000 Hz · 20 µs) = 16.7 steps: read every 17th step, at 1 / (17 · 20 µs).
+        (3000.0, "would be read at 2941.18 Hz; give a sample_rate that divides 1/dt = 50000 Hz"),
+        (1e5, "sample_rate = 100000 Hz is above the step rate 1/dt = 50000 Hz"),
+    ],
+    ids=["not-dividing", "above-step-rate"],
+)
+def test_a_sample_rate_off_the_steps_is_refused_naming_the_rate_it_would_read(tmp_path, rate, said):
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text().replace("sample_rate = 50000.0", f"sample_rate = {rate!r}"))
+    with pytest.raises(ScenarioError) as caught:
+        load_fatigue_set(path)
+    assert caught.value.key == "fatigue.sample_rate"
+    assert said in str(caught.value)
+
+
+def test_a_sample_rate_that_divides_the_step_rate_is_read_at_that_rate(tmp_path):
+    """The control: 2500 Hz at dt = 20 µs is every 20th step, 2500 Hz exactly."""
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text().replace("sample_rate = 50000.0", "sample_rate = 2500.0"))
+    fset = load_fatigue_set(path)
+    keep = fset.case_values(fset.cases()[0])["keep"]
+    assert keep == 20
+    assert_allclose(1.0 / (keep * fset.dt), 2500.0, rtol=1e-12)

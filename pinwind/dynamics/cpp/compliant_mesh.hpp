@@ -2,7 +2,12 @@
 // deflection taken from the bodies' positions (001_2d0e0f624d8db633.txt eqs. 2-6,
 // 003_83d3049daebcd276.txt eqs. 14-19; pinwind/dynamics/compliant.py documents the model):
 //
-//     F_n = k(x) δ + c δ̇   on the flank in contact, F_n ≥ 0 (teeth never pull).
+//     F_n = k(x) δ + c δ̇   on each flank in contact, F_n ≥ 0 (teeth never pull).
+//
+// Each flank has its own contact: both push at once where the centres come closer than the teeth
+// allow (zero or small backlash, a gear in a compliant bearing, floating members), so that the
+// contact is the gradient of U = Σ_flanks ½ k δ₊² (design.md "Contact is a potential") and an
+// undamped train keeps its energy through any number of flank changes.
 //
 // Deflection from positions. With ψ_A, ψ_B the gear angles about the axis relative to the
 // centre line (mesh_path.hpp), the front flank's overlap along its line of action is
@@ -33,6 +38,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "elements.hpp"
@@ -68,22 +74,25 @@ class CompliantMeshes : public Element {
   CompliantMeshes(std::vector<CompliantMeshSpec> specs, const std::vector<MeshPathSpec>& paths,
                   Eigen::Index nv)
       : specs_(std::move(specs)) {
-    const size_t n = specs_.size();
+    const auto n = static_cast<Eigen::Index>(specs_.size());
     for (const auto& s : specs_) paths_.push_back(paths[static_cast<size_t>(s.mesh)]);
-    state_.assign(n, 0);
-    last_flank_.assign(n, 1.0);
+    contact_.setZero(n, 2);
+    last_flank_.assign(specs_.size(), 1.0);
     delta_.setZero(n, 2);
-    row_.resize(2 * n);
+    row_.resize(2 * specs_.size());
     for (auto& r : row_) r.setZero(nv);
-    path_.resize(2 * n);
-    b_.setZero(n);
-    w_.setZero(n);
-    normal_.setZero(n);
-    elastic_.setZero(n);
-    viscous_.setZero(n);
+    span_.assign(2 * specs_.size(), {0, 0});
+    path_.resize(2 * specs_.size());
+    b_.setZero(n, 2);
+    w_.setZero(n, 2);
+    normal_.setZero(n, 2);
+    elastic_.setZero(n, 2);
+    viscous_.setZero(n, 2);
     last_k_.setZero(n, 2);
     radial_distance_.setConstant(n, -1.0);
     radial_.setZero(n);
+    cos_w_.setOnes(n);
+    sin_w_.setZero(n);
   }
 
   void prepare(const StepView& s) override {
@@ -110,16 +119,25 @@ class CompliantMeshes : public Element {
       delta_(i, 0) = rolling + radial;
       delta_(i, 1) = -rolling + radial - sp.backlash;
       double unused;
-      flank_row(mc, s.rows, m, 1.0, row_[2 * i], unused);
-      flank_row(mc, s.rows, m, -1.0, row_[2 * i + 1], unused);
-      path_[2 * i] = path_state(paths_[i], psi_a, 1.0);
-      path_[2 * i + 1] = path_state(paths_[i], psi_a, -1.0);
-      if (state_[i] == 0 && first_) {
-        // Start in contact on a flank that overlaps; a mesh at rest with zero deflection
-        // starts on the front flank carrying no force. A static solve starts on the flank
-        // nearer to contact and closes the gap if the loads ask for it.
-        state_[i] = delta_(i, 0) >= 0.0 ? 1 : (delta_(i, 1) >= 0.0 ? -1 : 0);
-        if (state_[i] == 0 && s.weights.statics) state_[i] = delta_(i, 0) >= delta_(i, 1) ? 1 : -1;
+      for (int f = 0; f < 2; ++f) {
+        auto& row = row_[2 * i + f];
+        flank_row(mc, s.rows, m, flank_sign(f), cos_w_[i], sin_w_[i], row, unused);
+        // The span of the row's non-zero entries (the joints of the two gears' chains), over
+        // which add_implicit adds w JᵀJ.
+        Eigen::Index lo = 0, hi = row.size();
+        while (lo < hi && row[lo] == 0.0) ++lo;
+        while (hi > lo && row[hi - 1] == 0.0) --hi;
+        span_[2 * i + f] = {lo, hi};
+        path_[2 * i + f] = path_state(paths_[i], psi_a, flank_sign(f));
+      }
+      if (!started_) {
+        // Start in contact on every flank that overlaps (both at once where the centres are
+        // closer than the teeth allow: zero backlash, floating members); a mesh at rest with
+        // zero deflection starts on both flanks carrying no force, and the first step releases
+        // the one that would pull. A static solve with neither flank overlapping starts on the
+        // one nearer to contact and closes the gap if the loads ask for it.
+        for (int f = 0; f < 2; ++f) contact_(i, f) = delta_(i, f) >= 0.0;
+        if (!contact_.row(i).any() && s.weights.statics) contact_(i, nearer(i)) = 1;
       }
       // The work the stiffness's change puts in since the last sample, ½ (k_n − k_{n−1}) δ_n²
       // on each overlapping flank (δ_n at the new sample): the parametric excitation, which
@@ -129,104 +147,96 @@ class CompliantMeshes : public Element {
         const double k = stiffness(i, f), d = std::max(0.0, delta_(i, f));
         if (!first_ && !s.weights.statics) parametric_ += 0.5 * (k - last_k_(i, f)) * d * d;
         if (!s.weights.statics) last_k_(i, f) = k;
+        coefficients(s, i, f);
       }
-      coefficients(s, i);
     }
+    started_ = true;
     if (!s.weights.statics) first_ = false;
   }
 
   void add_implicit(const StepView&, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
     for (size_t i = 0; i < specs_.size(); ++i) {
-      if (state_[i] == 0) continue;
-      const auto& row = row_[2 * i + (state_[i] > 0 ? 0 : 1)];
-      // w rowᵀ row entry by entry, over the span of the row's non-zero entries (the joints of
-      // the two gears' chains) and in the lower triangle only (Element::add_implicit): Eigen's
-      // outer-product path allocates a temporary per call, which at nv of 6 to 20 costs more
-      // than the products.
-      Eigen::Index lo = 0, hi = row.size();
-      while (lo < hi && row[lo] == 0.0) ++lo;
-      while (hi > lo && row[hi - 1] == 0.0) --hi;
-      for (Eigen::Index c = lo; c < hi; ++c) {
-        const double wc = w_[i] * row[c];
-        if (wc == 0.0) continue;
-        double* column = hessian.col(c).data();
-        for (Eigen::Index r = c; r < hi; ++r) column[r] += row[r] * wc;
+      for (int f = 0; f < 2; ++f) {
+        if (!contact_(i, f)) continue;
+        const auto& row = row_[2 * i + f];
+        // w rowᵀ row entry by entry, over the row's non-zero span and in the lower triangle
+        // only (Element::add_implicit): Eigen's outer-product path allocates a temporary per
+        // call, which at nv of 6 to 20 costs more than the products.
+        const auto [lo, hi] = span_[2 * i + f];
+        for (Eigen::Index c = lo; c < hi; ++c) {
+          const double wc = w_(i, f) * row[c];
+          if (wc == 0.0) continue;
+          double* column = hessian.col(c).data();
+          for (Eigen::Index r = c; r < hi; ++r) column[r] += row[r] * wc;
+        }
+        force.noalias() += b_(i, f) * row.transpose();
       }
-      force.noalias() += b_[i] * row.transpose();
     }
   }
 
+  // Each flank settles on its own (the contact is the gradient of Σ_flanks ½ k δ₊²): a flank in
+  // contact whose force at the end of the step would pull leaves it, a free flank whose force
+  // would push closes.
   bool settle(const StepView& s, const Eigen::VectorXd& a, bool last) override {
     bool changed = false;
-    if (s.weights.statics) {
-      // A static solve (a = Δq): a flank that would pull hands the load to the other one.
+    if (!last) {
       for (size_t i = 0; i < specs_.size(); ++i) {
-        const int f = state_[i] > 0 ? 0 : 1;
-        if (b_[i] - w_[i] * row_[2 * i + f].dot(a) < 0.0 && !last) {
-          state_[i] = -state_[i];
-          coefficients(s, i);
-          changed = true;
-        }
-      }
-      return changed;
-    }
-    for (size_t i = 0; i < specs_.size(); ++i) {
-      if (state_[i] != 0) {
-        const int f = state_[i] > 0 ? 0 : 1;
-        const double force = b_[i] - w_[i] * row_[2 * i + f].dot(a);
-        if (force < 0.0 && !last) {
-          state_[i] = 0;
-          changed = true;
-        }
-      } else if (!last) {
-        // A free mesh closes when the force it would carry at the end of the step pushes.
+        const bool front_was = contact_(i, 0), back_was = contact_(i, 1);
         for (int f = 0; f < 2; ++f) {
-          const double flank = f == 0 ? 1.0 : -1.0;
-          const auto& row = row_[2 * i + f];
-          const double k = stiffness(i, f);
-          const double trial = k * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a)) -
-                               specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
-          if (trial > 0.0) {
-            // b and w of a mesh in contact already hold for this state (prepare).
-            state_[i] = static_cast<int>(flank);
-            coefficients(s, i);
+          const double force = end_force(s, a, i, f);
+          if (contact_(i, f) ? force < 0.0 : force > 0.0) {
+            contact_(i, f) = !contact_(i, f);
             changed = true;
-            break;
           }
         }
+        // A static solve (a = Δq) keeps one flank in contact, or nothing would hold the gears'
+        // relative turn: a flank that would pull hands the load to the other one.
+        if (s.weights.statics && !contact_.row(i).any()) {
+          const int f = front_was == back_was
+                            ? (end_force(s, a, i, 0) >= end_force(s, a, i, 1) ? 0 : 1)
+                            : (front_was ? 1 : 0);
+          contact_(i, f) = 1;
+        }
       }
     }
-    if (changed) return true;
+    if (changed || s.weights.statics) return changed;
     // Final forces of the step.
     for (size_t i = 0; i < specs_.size(); ++i) {
-      if (state_[i] == 0) {
-        normal_[i] = elastic_[i] = viscous_[i] = 0.0;
-        continue;
+      for (int f = 0; f < 2; ++f) {
+        if (!contact_(i, f)) {
+          normal_(i, f) = elastic_(i, f) = viscous_(i, f) = 0.0;
+          continue;
+        }
+        const auto& row = row_[2 * i + f];
+        elastic_(i, f) =
+            stiffness(i, f) * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a));
+        viscous_(i, f) = -specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
+        normal_(i, f) = std::max(0.0, elastic_(i, f) + viscous_(i, f));
       }
-      const int f = state_[i] > 0 ? 0 : 1;
-      last_flank_[i] = state_[i];
-      const double k = stiffness(i, f);
-      const auto& row = row_[2 * i + f];
-      elastic_[i] = k * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a));
-      viscous_[i] = -specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
-      normal_[i] = std::max(0.0, elastic_[i] + viscous_[i]);
+      if (normal_(i, 0) > 0.0 || normal_(i, 1) > 0.0) {
+        last_flank_[i] = normal_(i, 0) >= normal_(i, 1) ? 1.0 : -1.0;
+      }
     }
     return false;
   }
 
   void add_body_forces(const StepView& s, BodyForces& out) const override {
     for (size_t i = 0; i < specs_.size(); ++i) {
-      if (normal_[i] == 0.0) continue;
       const Eigen::Index m = specs_[i].mesh;
-      const Vec3 f = tooth_force_on_b(s.meshes, s.rows, m, last_flank_[i], normal_[i]);
-      const Vec3 p = s.rows.pitch_point.row(m).transpose();
-      out.add(s.meshes.joint_b[m], p, f);
-      out.add(s.meshes.joint_a[m], p, -f);
+      for (int f = 0; f < 2; ++f) {
+        if (normal_(i, f) == 0.0) continue;
+        const Vec3 force = tooth_force_on_b(s.meshes, s.rows, m, flank_sign(f), normal_(i, f),
+                                            cos_w_[i], sin_w_[i]);
+        const Vec3 p = s.rows.pitch_point.row(m).transpose();
+        out.add(s.meshes.joint_b[m], p, force);
+        out.add(s.meshes.joint_a[m], p, -force);
+      }
     }
   }
 
   double parametric_work() const override { return parametric_; }
 
+  // U = Σ_flanks ½ k(x) δ₊² [J]: the potential whose gradient the flanks' forces are.
   double potential(const StepView&) const override {
     double energy = 0.0;
     for (size_t i = 0; i < specs_.size(); ++i) {
@@ -242,38 +252,67 @@ class CompliantMeshes : public Element {
                 const Eigen::VectorXd& v_mid) const override {
     StepWork w;
     for (size_t i = 0; i < specs_.size(); ++i) {
-      if (state_[i] == 0 || normal_[i] == 0.0) continue;
-      const double jv = row_[2 * i + (state_[i] > 0 ? 0 : 1)].dot(v_mid) * s.dt;
-      // The generalised force Jᵀ F_n does work F_n J v_mid h (F_n > 0: not clipped).
-      w.elastic += elastic_[i] * jv;
-      w.dissipated -= viscous_[i] * jv;
+      for (int f = 0; f < 2; ++f) {
+        if (!contact_(i, f) || normal_(i, f) == 0.0) continue;
+        const double jv = row_[2 * i + f].dot(v_mid) * s.dt;
+        // The generalised force Jᵀ F_n does work F_n J v_mid h (F_n > 0: not clipped).
+        w.elastic += elastic_(i, f) * jv;
+        w.dissipated -= viscous_(i, f) * jv;
+      }
     }
     return w;
   }
 
+  // The mesh's series are those of its loaded flank (the one pushing harder, or the last one
+  // that pushed): rating reads them. Each flank's own force is in normal_front and normal_back,
+  // and force_on_b is the resultant of both.
   void record(const StepView& s, long k, const Outputs& out) const override {
     for (size_t i = 0; i < specs_.size(); ++i) {
       const long m = specs_[i].mesh;
-      record_mesh_force(out, s.meshes, s.rows, k, m, normal_[i], last_flank_[i]);
+      const int f = last_flank_[i] > 0 ? 0 : 1;
+      record_mesh_force(out, s.meshes, s.rows, k, m, normal_(i, f), last_flank_[i], cos_w_[i],
+                        sin_w_[i]);
       const long e = out.entry(Family::mesh, k, m);
-      const int f = state_[i] != 0 ? (state_[i] > 0 ? 0 : 1) : (last_flank_[i] > 0 ? 0 : 1);
+      out.at(Series::mesh_normal_front, e) = normal_(i, 0);
+      out.at(Series::mesh_normal_back, e) = normal_(i, 1);
+      if (normal_(i, 1 - f) > 0.0) {
+        const Vec3 resultant =
+            tooth_force_on_b(s.meshes, s.rows, m, 1.0, normal_(i, 0), cos_w_[i], sin_w_[i]) +
+            tooth_force_on_b(s.meshes, s.rows, m, -1.0, normal_(i, 1), cos_w_[i], sin_w_[i]);
+        for (int c = 0; c < 3; ++c) out.at(Series::mesh_force_on_b, e, c) = resultant[c];
+      }
       const PathState& p = path_[2 * i + f];
       out.at(Series::mesh_deflection, e) =
-          state_[i] != 0 ? delta_(i, f) : std::max(delta_(i, 0), delta_(i, 1));
+          contact_(i, f) ? delta_(i, f) : std::max(delta_(i, 0), delta_(i, 1));
       out.at(Series::transmission_error, e) = delta_(i, 0);
       out.at(Series::mesh_contact_position, e) = paths_[i].roll_start + p.entering;
       out.at(Series::mesh_pairs, e) = p.pairs;
-      out.at(Series::mesh_single_tooth_force, e) = normal_[i] * p.share;
+      out.at(Series::mesh_single_tooth_force, e) = normal_(i, f) * p.share;
     }
   }
 
  private:
+  static double flank_sign(int f) { return f == 0 ? 1.0 : -1.0; }
+
   double stiffness(size_t i, int f) const {
     return paths_[i].pair_position.size() ? path_[2 * i + f].stiffness : specs_[i].stiffness;
   }
 
+  // The flank of mesh i nearer to contact (the larger overlap), 0 front, 1 back.
+  int nearer(size_t i) const { return delta_(i, 0) >= delta_(i, 1) ? 0 : 1; }
+
+  // The force flank f of mesh i would carry at the end of the step for the acceleration a (a
+  // static solve: for the displacement a), whether it is in contact or not [N].
+  double end_force(const StepView& s, const Eigen::VectorXd& a, size_t i, int f) const {
+    const auto& row = row_[2 * i + f];
+    return stiffness(i, f) * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a)) -
+           specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
+  }
+
   // R + e_R of mesh i at centre distance a [m]: the overlap of moving the centres from the
-  // reference, κ (r_b,B ± r_b,A) (inv α'(a) − inv α'(a_ref)) + e_R. Kept while a stays within
+  // reference, κ (r_b,B ± r_b,A) (inv α'(a) − inv α'(a_ref)) + e_R; with it cos α'(a) and
+  // sin α'(a), whose line of action (mesh_rows.hpp) is the overlap's gradient: d/da of
+  // (r_b,B ± r_b,A) inv α'(a) is sin α'(a), as the line's radial part. Kept while a stays within
   // 1e-14 relative of the distance it was computed at: gears on fixed or carrier-borne axes
   // keep their centre distance to rounding, and the acos and square root then cost a quarter of the
   // mesh's geometry; the value kept is off by r_b tan α' · 1e-14 (< 1e-14 m), far below any
@@ -284,6 +323,8 @@ class CompliantMeshes : public Element {
     }
     const auto& sp = specs_[i];
     const double cos_w = std::min(1.0, sp.base_radius_sum / centre_distance);
+    cos_w_[i] = cos_w;
+    sin_w_[i] = std::sqrt((1.0 - cos_w) * (1.0 + cos_w));
     radial_distance_[i] = centre_distance;
     radial_[i] =
         sp.radial_sign * sp.base_radius_sum * (involute_of_cosine(cos_w) - sp.involute_ref) +
@@ -291,27 +332,30 @@ class CompliantMeshes : public Element {
     return radial_[i];
   }
 
-  void coefficients(const StepView& s, size_t i) {
-    if (state_[i] == 0) return;
-    const int f = state_[i] > 0 ? 0 : 1;
+  // b and w of flank f of mesh i at this step's state (its force b − w J ā in contact).
+  void coefficients(const StepView& s, size_t i, int f) {
     const double k = stiffness(i, f), c = specs_[i].damping;
     const auto& row = row_[2 * i + f];
-    b_[i] = k * (delta_(i, f) - row.dot(s.dq_free)) - c * row.dot(s.v);
-    w_[i] = k * s.weights.position_gain + c * s.weights.speed_gain;
+    b_(i, f) = k * (delta_(i, f) - row.dot(s.dq_free)) - c * row.dot(s.v);
+    w_(i, f) = k * s.weights.position_gain + c * s.weights.speed_gain;
   }
 
   std::vector<CompliantMeshSpec> specs_;
   std::vector<MeshPathSpec> paths_;
-  std::vector<int> state_;           // +1 front flank, −1 back flank, 0 no contact
-  std::vector<double> last_flank_;   // the flank last in contact
+  Eigen::Matrix<int, Eigen::Dynamic, 2> contact_;   // 1 where a flank is in contact (front, back)
+  std::vector<double> last_flank_;   // the flank last loaded (+1 front, −1 back)
   Eigen::Matrix<double, Eigen::Dynamic, 2> delta_;  // overlaps δ_f, δ_b [m]
-  std::vector<Eigen::RowVectorXd> row_;             // J of each flank
+  std::vector<Eigen::RowVectorXd> row_;             // J of each flank (mesh i: 2i, 2i + 1)
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;  // each row's non-zero span
   std::vector<PathState> path_;
-  Eigen::VectorXd b_, w_, normal_, elastic_, viscous_;
+  // Each flank's b [N] and w [N·s²/m] (coefficients) and its final force and parts [N].
+  Eigen::Matrix<double, Eigen::Dynamic, 2> b_, w_, normal_, elastic_, viscous_;
   Eigen::Matrix<double, Eigen::Dynamic, 2> last_k_;  // each flank's stiffness at the last sample
   Eigen::VectorXd radial_distance_, radial_;  // radial_overlap's centre distance [m] and value [m]
+  Eigen::VectorXd cos_w_, sin_w_;  // the working pressure angle α' at that centre distance
   double parametric_ = 0.0;  // work of the stiffness's changes since t = 0 [J]
-  bool first_ = true;
+  bool first_ = true;     // no dynamic step prepared yet
+  bool started_ = false;  // contact_ set from the first state prepared (static or dynamic)
 };
 
 }  // namespace pinwind

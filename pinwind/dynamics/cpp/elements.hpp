@@ -29,22 +29,32 @@
 
 namespace pinwind {
 
-// Writes mesh m's forces of sample k (n_meshes per sample) for F_n on flank s: the same
-// outputs for rigid and compliant meshes.
+// Writes mesh m's forces of sample k (n_meshes per sample) for F_n on flank s, the other flank
+// carrying none: the same outputs for rigid and compliant meshes (a compliant mesh in contact
+// on both flanks then writes each flank's force and the resultant on B, compliant_mesh.hpp).
+// cos_w, sin_w: the working pressure angle (mesh_rows.hpp line_of_action).
 inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const MeshRows& rows,
-                              long k, Eigen::Index m, double normal, double flank) {
-  const double tangential = normal * mc.cos_a[m];
+                              long k, Eigen::Index m, double normal, double flank, double cos_w,
+                              double sin_w) {
+  const double tangential = normal * cos_w;
   const long e = out.entry(Family::mesh, k, m);
   out.at(Series::mesh_normal, e) = normal;
   out.at(Series::mesh_tangential, e) = tangential;
-  out.at(Series::mesh_radial, e) = normal * mc.sin_a[m];
+  out.at(Series::mesh_radial, e) = normal * sin_w;
   out.at(Series::mesh_axial, e) = normal * std::abs(mc.tan_beta_b[m]);  // tooth_force_on_b
   out.at(Series::mesh_flank, e) = flank;
-  const Vec3 f = tooth_force_on_b(mc, rows, m, flank, normal);
+  out.at(Series::mesh_normal_front, e) = flank > 0.0 ? normal : 0.0;
+  out.at(Series::mesh_normal_back, e) = flank > 0.0 ? 0.0 : normal;
+  const Vec3 f = tooth_force_on_b(mc, rows, m, flank, normal, cos_w, sin_w);
   for (int c = 0; c < 3; ++c) {
     out.at(Series::mesh_force_on_b, e, c) = f[c];
     out.at(Series::pitch_point, e, c) = rows.pitch_point(m, c);
   }
+}
+
+inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const MeshRows& rows,
+                              long k, Eigen::Index m, double normal, double flank) {
+  record_mesh_force(out, mc, rows, k, m, normal, flank, mc.cos_a[m], mc.sin_a[m]);
 }
 
 // The state of a step that elements read.

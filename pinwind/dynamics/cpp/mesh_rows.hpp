@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -185,17 +186,35 @@ void evaluate_mesh_rows(const MeshConstants& mc, const Jac& jac, const Jac& djac
 // The one implementation of a mesh's line of action and row for a flank (docs/model_format.md
 // "Mesh sign convention"): n = s cos α_w t + ε sin α_w r̂, J = s cos α_w J_t + ε sin α_w J_r,
 // shared by the rigid row, the compliant mesh force and the deflection rate δ̇ = −J v.
+//
+// The working pressure angle is the reference one (mc.cos_a, mc.sin_a), that of the centre
+// distance the gears' axes keep, or, for gears whose centres move (compliant bearings, floating
+// members), the one of the current centre distance a, cos α' = (r_b,B ± r_b,A) / a: the line
+// tangent to both base circles, along which a compliant mesh's overlap changes (its row is then
+// the exact gradient of the overlap, compliant_mesh.hpp). The pitch point C_A + μ (C_B − C_A)⊥,
+// μ = r_b,A / (r_b,B ± r_b,A), lies on that line at any a.
+inline Vec3 line_of_action(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
+                           double cos_w, double sin_w) {
+  return cos_w * flank * rows.tangent.row(m).transpose() +
+         sin_w * mc.eps[m] * rows.radial.row(m).transpose();
+}
+
 inline Vec3 line_of_action(const MeshConstants& mc, const MeshRows& rows, Index m, double flank) {
-  return mc.cos_a[m] * flank * rows.tangent.row(m).transpose() +
-         mc.sin_a[m] * mc.eps[m] * rows.radial.row(m).transpose();
+  return line_of_action(mc, rows, m, flank, mc.cos_a[m], mc.sin_a[m]);
+}
+
+template <class Row>
+void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double flank, double cos_w,
+               double sin_w, Row&& row, double& bias) {
+  const double ct = cos_w * flank, cr = sin_w * mc.eps[m];
+  row = ct * rows.jac_t.row(m) + cr * rows.jac_r.row(m);
+  bias = ct * rows.bias_t[m] + cr * rows.bias_r[m];
 }
 
 template <class Row>
 void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double flank, Row&& row,
                double& bias) {
-  const double ct = mc.cos_a[m] * flank, cr = mc.sin_a[m] * mc.eps[m];
-  row = ct * rows.jac_t.row(m) + cr * rows.jac_r.row(m);
-  bias = ct * rows.bias_t[m] + cr * rows.bias_r[m];
+  flank_row(mc, rows, m, flank, mc.cos_a[m], mc.sin_a[m], std::forward<Row>(row), bias);
 }
 
 // Tooth force on gear B [N] in world for the transverse force F_bt (``normal``, along n) on
@@ -212,9 +231,14 @@ void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double fl
 // has F_a = F_tw tan β cos α_t / cos α_w. A right-hand gear A (tooth line along cos β k +
 // sin β t at P) pushes B towards −s k.
 inline Vec3 tooth_force_on_b(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
-                             double normal) {
-  return normal * line_of_action(mc, rows, m, flank) -
+                             double normal, double cos_w, double sin_w) {
+  return normal * line_of_action(mc, rows, m, flank, cos_w, sin_w) -
          (flank * normal * mc.tan_beta_b[m]) * rows.axis.row(m).transpose();
+}
+
+inline Vec3 tooth_force_on_b(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
+                             double normal) {
+  return tooth_force_on_b(mc, rows, m, flank, normal, mc.cos_a[m], mc.sin_a[m]);
 }
 
 }  // namespace pinwind

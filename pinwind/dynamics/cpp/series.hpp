@@ -34,6 +34,8 @@ inline constexpr std::size_t kFamilies = 7;
   X(mesh_radial, mesh, 1)                       \
   X(mesh_axial, mesh, 1)                        \
   X(mesh_flank, mesh, 1)                        \
+  X(mesh_normal_front, mesh, 1)                 \
+  X(mesh_normal_back, mesh, 1)                  \
   X(transmission_error, mesh, 1)                \
   X(mesh_force_on_b, mesh, 3)                   \
   X(pitch_point, mesh, 3)                       \

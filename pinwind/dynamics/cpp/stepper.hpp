@@ -116,10 +116,12 @@ struct Assembly {
   Eigen::VectorXd gamma;  // γ = J̇ v [m/s² or rad/s²]
 };
 
-// The elements' forces and implicit weights at one state (Stepper::element_terms).
-struct ElementTerms {
-  Eigen::MatrixXd weight;  // Σ W_e = κ_q K + κ_v C, K = −∂f/∂q, C = −∂f/∂v (nv × nv)
-  Eigen::VectorXd force;   // Σ f_e at a = 0 [N·m or N]
+// The elements' forces at one state and their derivatives (Stepper::element_forces).
+struct ElementForces {
+  Eigen::VectorXd force;      // Σ f_e: the elements' generalised force at (q, v) [N·m or N]
+  Eigen::MatrixXd stiffness;  // K = −∂f/∂q as the step takes it (the implicit weights at κ_q = 1)
+  Eigen::MatrixXd damping;    // C = −∂f/∂v likewise (at κ_v = 1)
+  double potential = 0.0;     // Σ U_e: the stored energy at q [J]
 };
 
 class Stepper {
@@ -168,12 +170,11 @@ class Stepper {
   // Pinocchio's own and finite differences); the run's state is kept.
   Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 
-  // The elements' force Σ f_e and implicit weight Σ W_e at (q, v) with the gains κ_q and κ_v
-  // and dq₀ = 0 (κ_q = 1, κ_v = 0: W is the tangent stiffness K; κ_q = 0, κ_v = 1: the damping
-  // C), for checks of each element's tangent against finite differences of its force. The
-  // elements are prepared at (q, v): call it on a stepper that does not run.
-  ElementTerms element_terms(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                             double position_gain, double speed_gain);
+  // The elements' forces, tangents and stored energy at (q, v), each element new, as at a run's
+  // first sample (a contact in contact wherever it overlaps): for checks of each element's
+  // force against its potential and of its tangent against finite differences. The elements
+  // read no inputs (a rotor sees no wind); the run's state and elements are kept.
+  ElementForces element_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 
  private:
   static RunStatus& fail(RunStatus& st, long step, double time, const std::string& what) {

@@ -87,31 +87,44 @@ Assembly Stepper::assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
   return out;
 }
 
-ElementTerms Stepper::element_terms(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                    double position_gain, double speed_gain) {
-  const Eigen::VectorXd q_run = q_, v_run = v_, dq_run = dq_free_;
-  const StepWeights weights_run = weights_;
+ElementForces Stepper::element_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  const Eigen::VectorXd q_run = q_, v_run = v_;
   q_ = q;
   v_ = v;
   assemble_positions();
   assemble_velocities();
-  weights_ = StepWeights();
-  weights_.inertia = 0.0;
-  weights_.position_gain = position_gain;
-  weights_.speed_gain = speed_gain;
-  dq_free_.setZero(nv_);
-  ElementTerms out{Eigen::MatrixXd::Zero(nv_, nv_), Eigen::VectorXd::Zero(nv_)};
-  const StepView sv = view();
-  for (auto& e : elements_) {
-    e->prepare(sv);
-    e->add_force(sv, out.force);
-    e->add_implicit(sv, out.weight, out.force);
+  const Eigen::VectorXd held = Eigen::VectorXd::Zero(nv_);  // dq₀ = 0: the force at q itself
+  ElementForces out{Eigen::VectorXd::Zero(nv_), Eigen::MatrixXd::Zero(nv_, nv_),
+                    Eigen::MatrixXd::Zero(nv_, nv_), 0.0};
+  // With κ_q = κ_v = 0 an implicit element's force b − W ā is its force at (q, v); with one gain
+  // at 1, W is its derivative along q or v.
+  StepWeights at_state, along_q, along_v;
+  along_q.position_gain = 1.0;
+  along_v.speed_gain = 1.0;
+  Eigen::VectorXd unused = Eigen::VectorXd::Zero(nv_);
+  for (const StepWeights* w : {&at_state, &along_q, &along_v}) {
+    const StepView view{q_,  v_,      s_.dt,   data_,   s_.meshes, rows_data_, *w,
+                        held, time_, nullptr, nullptr, nullptr,   &mass_};
+    Eigen::MatrixXd& tangent = w == &along_v ? out.damping : out.stiffness;
+    Eigen::MatrixXd scratch = Eigen::MatrixXd::Zero(nv_, nv_);
+    for (auto& element : build_elements(s_)) {
+      element->prepare(view);
+      if (w == &at_state) {
+        element->add_force(view, out.force);
+        element->add_implicit(view, scratch, out.force);
+        out.potential += element->potential(view);
+      } else {
+        element->add_implicit(view, tangent, unused);
+      }
+    }
   }
-  out.weight.triangularView<Eigen::StrictlyUpper>() = out.weight.transpose();
+  // The elements fill the lower triangle only (Element::add_implicit).
+  out.stiffness.triangularView<Eigen::StrictlyUpper>() = out.stiffness.transpose();
+  out.damping.triangularView<Eigen::StrictlyUpper>() = out.damping.transpose();
   q_ = q_run;
   v_ = v_run;
-  dq_free_ = dq_run;
-  weights_ = weights_run;
+  assemble_positions();
+  assemble_velocities();
   return out;
 }
 

@@ -310,12 +310,11 @@ class PyStepper {
     return stepper_->assemble(q, v);
   }
 
-  ElementTerms element_terms(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                             double position_gain, double speed_gain) {
+  ElementForces element_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
     if (q.size() != counts_[static_cast<size_t>(Family::joint)] || v.size() != q.size()) {
-      throw std::invalid_argument("element_terms: q and v must have nv values");
+      throw std::invalid_argument("element_forces: q and v must have nv values");
     }
-    return stepper_->element_terms(q, v, position_gain, speed_gain);
+    return stepper_->element_forces(q, v);
   }
 
  private:
@@ -442,9 +441,11 @@ void bind_stepper(nb::module_& m) {
       .def_ro("jac", &Assembly::jac)
       .def_ro("gamma", &Assembly::gamma);
 
-  nb::class_<ElementTerms>(m, "ElementTerms")
-      .def_ro("weight", &ElementTerms::weight)
-      .def_ro("force", &ElementTerms::force);
+  nb::class_<ElementForces>(m, "ElementForces")
+      .def_ro("force", &ElementForces::force)
+      .def_ro("stiffness", &ElementForces::stiffness)
+      .def_ro("damping", &ElementForces::damping)
+      .def_ro("potential", &ElementForces::potential);
 
   nb::class_<PyStepper>(m, "Stepper")
       .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
@@ -460,9 +461,9 @@ void bind_stepper(nb::module_& m) {
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].")
       .def("assemble", &PyStepper::assemble, "q"_a, "v"_a,
            "M, b, J and γ of the step at (q, v), with the rows' current flanks.")
-      .def("element_terms", &PyStepper::element_terms, "q"_a, "v"_a, "position_gain"_a,
-           "speed_gain"_a,
-           "The elements' force Σ f_e and implicit weight κ_q K + κ_v C at (q, v), dq₀ = 0.");
+      .def("element_forces", &PyStepper::element_forces, "q"_a, "v"_a,
+           "The elements' force, stiffness −∂f/∂q, damping −∂f/∂v and stored energy at (q, v), "
+           "each element new (in contact wherever it overlaps).");
 
 }
 
