@@ -359,6 +359,14 @@ class TorquesUnbalanced(PinwindWarning):
     """
 
 
+class SpringsWoundAtStart(PinwindWarning):
+    """Initial speeds that differ across torsional springs: they wind up from t = 0.
+
+    The message names each spring, its joints and their speeds, and the start-up transient to
+    expect; speeds in the ratio of the meshes and springs (one speed given) start steady.
+    """
+
+
 class StepTooCoarse(PinwindWarning):
     """The time step leaves too few samples in the run, or does not resolve the model's modes."""
 

@@ -136,7 +136,7 @@ class TorsionalSpringSpec:
     """A torsional spring-damper between two joints (``cpp/torsional_spring.hpp``)."""
 
     index_1: int
-    index_2: int
+    index_2: int  # −1: across joint 1 alone (to the body it turns in)
     stiffness: float  # [N·m/rad]
     damping: float  # [N·m·s/rad]
     preload_angle: float  # [rad]

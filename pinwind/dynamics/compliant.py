@@ -363,10 +363,18 @@ def _stiffness_pair(mesh: Mesh) -> GearPair:
 
 
 def single_pair(mesh: Mesh) -> float:
-    """Single-pair stiffness c′b of a compliant mesh [N/m]: given, or ISO 6336-1 method B."""
+    """Single-pair stiffness c′b of a compliant mesh [N/m].
+
+    Given, or from a given mean c_γα b as c_γα b / (0.75 ε_α + 0.25) (ISO 6336-1's relation
+    backwards), or ISO 6336-1 method B.
+    """
     c = mesh.compliance
     if c is not None and c.stiffness is not None:
         return c.stiffness
+    if c is not None and c.mean_stiffness is not None:
+        if mesh.path is None:
+            return c.mean_stiffness
+        return c.mean_stiffness / (0.75 * mesh.path.contact_ratio + 0.25)
     return single_pair_stiffness(_stiffness_pair(mesh))
 
 
@@ -418,8 +426,12 @@ def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
 def mean_mesh_stiffness(mesh: Mesh) -> float:
     """Mean mesh stiffness of a compliant mesh over one base pitch [N/m].
 
-    With the ISO shape: c′b (0.75 ε_α + 0.25) (ISO 6336-1 c_γα); with a table, its mean.
+    With the ISO shape: c′b (0.75 ε_α + 0.25) (ISO 6336-1 c_γα); with a table, its mean; the
+    value given when the mesh gives its mean (``MeshCompliance.mean_stiffness``).
     """
+    c = mesh.compliance
+    if c is not None and c.mean_stiffness is not None:
+        return c.mean_stiffness
     table = pair_table(mesh)
     path = mesh.path
     if table is not None and path is not None:
@@ -432,7 +444,6 @@ def mean_mesh_stiffness(mesh: Mesh) -> float:
             for j in range(int(length / path.base_pitch) + 1)
         )
         return float(np.mean(total))
-    c = mesh.compliance
     if c is not None and c.stiffness is not None:
         return c.stiffness * (0.75 * path.contact_ratio + 0.25) if path else c.stiffness
     return mesh_stiffness(_stiffness_pair(mesh))

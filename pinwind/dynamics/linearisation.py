@@ -314,11 +314,10 @@ def linearise(
 
 
 def _spring_elements(gearbox: Gearbox) -> list[SpringElement]:
-    """The torsional springs: k (e₁ − e₂), one element each."""
+    """The torsional springs: k (e₁ − e₂), one element each (k e₁ e₁ᵀ to the ground)."""
     out = []
     for spring in gearbox.springs:
-        row = np.zeros(gearbox.model.nv)
-        row[spring.v_index_1], row[spring.v_index_2] = 1.0, -1.0
+        row = spring.twist_row(gearbox.model.nv)
         out.append(SpringElement(spring.name, "spring", spring.stiffness, spring.damping, row))
     return out
 

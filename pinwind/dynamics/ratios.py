@@ -70,7 +70,7 @@ def train_speeds(
     if through_springs and gearbox.springs:
         twist = np.zeros((len(gearbox.springs), gearbox.model.nv))
         for i, spring in enumerate(gearbox.springs):
-            twist[i, spring.v_index_1], twist[i, spring.v_index_2] = 1.0, -1.0
+            twist[i] = spring.twist_row(gearbox.model.nv)
         jac = np.vstack([jac, twist])
     still = [*gearbox.locked_joints, *gearbox.slide_joints]  # the slides start at rest
     a = np.vstack([jac, selector(gearbox, [*still, *given])])

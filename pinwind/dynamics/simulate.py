@@ -52,7 +52,6 @@ from pinwind.dynamics.drivetrain import drivetrain
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.linearisation import linearise
-from pinwind.dynamics.ratios import train_speeds
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
@@ -67,6 +66,7 @@ from pinwind.errors import (
     NonFiniteInput,
     OutOfMemory,
     PinwindError,
+    SpringsWoundAtStart,
     StepTooCoarse,
     TorquesUnbalanced,
 )
@@ -311,7 +311,9 @@ def simulate(
         speeds: joint name → prescribed joint speed [rad/s], number or callable(t); the driving
             torque is the multiplier of the driver's row (``res.joint(name).torque``).
         initial_speeds: joint name → initial speed [rad/s]; the other joints start at the speeds
-            the gear meshes impose (``dynamics.ratios.train_speeds``).
+            the gear meshes and the torsional springs give them
+            (``Drivetrain.operating_speed``: a rotor's speed carries across a coupling to the
+            generator; speeds given out of ratio across a spring warn, ``SpringsWoundAtStart``).
         gravity: gravity vector in world [m/s²]; default the model's.
         solver: proxsuite settings.
         integrator: the time step and its numerical dissipation (``Integrator``; default
@@ -465,8 +467,9 @@ def simulate(
         }
 
     q = gearbox.neutral()
-    given = {ld.joint: ld(0.0) for ld in [*init, *speed_loads]}
-    v = train_speeds(gearbox, given) if given else np.zeros(model.nv)
+    # The machine turning: the given speeds, the others through the meshes and the springs.
+    v = train.operating_speed()
+    _warn_if_wound(gearbox, v)
 
     if progress is None:
         import sys
@@ -621,6 +624,38 @@ def simulate(
         final = res if status == "completed" else res.truncated(int(np.searchsorted(kept, done)))
         _end_all(begun, final, status)
     return final
+
+
+def _warn_if_wound(gearbox: Gearbox, v: np.ndarray) -> None:
+    """Warn (``SpringsWoundAtStart``) for each torsional spring the start speeds ``v`` twist.
+
+    The start takes the speeds the meshes and the springs give (``Drivetrain.operating_speed``:
+    a rotor's speed carries across a coupling to the generator, a ring on its torsional support
+    starts at rest); only speeds given on both sides of a spring out of ratio twist it.
+    """
+    nv = gearbox.model.nv
+    wound = []
+    for spring in gearbox.springs:
+        rate = float(spring.twist_row(nv) @ v)
+        if abs(rate) > 1e-9 * (1.0 + float(np.abs(v).max())):
+            sides = f'"{spring.joint_1}" {v[spring.v_index_1]:.6g} rad/s'
+            if spring.v_index_2 is not None:
+                sides += f', "{spring.joint_2}" {v[spring.v_index_2]:.6g} rad/s'
+            else:
+                sides += " against its parent at rest"
+            wound.append(f'"{spring.name}" ({sides}: twisting at {rate:.6g} rad/s)')
+    if wound:
+        warnings.warn(
+            SpringsWoundAtStart(
+                "the initial speeds differ across the torsional spring"
+                + ("s " if len(wound) > 1 else " ")
+                + "; ".join(wound)
+                + ": each winds up from t = 0, a start-up transient in the speeds and the mesh "
+                "forces at the spring's own frequency; give one speed per train (the others "
+                "follow the ratios and springs) for a steady start"
+            ),
+            stacklevel=3,
+        )
 
 
 #: The starts a run can take (``simulate(initial_deflection=...)``).

@@ -163,7 +163,8 @@ class CompiledStepper:
         springs = []
         for s in gearbox.springs:
             sp = _native.TorsionalSpringSpec()
-            sp.index_1, sp.index_2 = s.v_index_1, s.v_index_2
+            sp.index_1 = s.v_index_1
+            sp.index_2 = -1 if s.v_index_2 is None else s.v_index_2  # −1: to its parent body
             sp.stiffness, sp.damping, sp.preload_angle = s.stiffness, s.damping, s.preload_angle
             springs.append(sp)
         spec.springs = springs

@@ -77,7 +77,8 @@ def imbalances(
             rotors, damped bearings): their modes are not checked.
         tolerance: a mode counts as balanced when |N_r| ≤ tolerance × max_j |φ_j τ_j / φ_r|.
 
-    Torsional springs keep their joints turning together (a spring cannot hold a whole train).
+    Torsional springs keep their joints turning together (a spring cannot hold a whole train);
+    a spring to the ground holds its joint (a ring on its torsional support).
     """
     nv = gearbox.model.nv
     tau = np.zeros(nv)
@@ -86,7 +87,7 @@ def imbalances(
     springs = np.zeros((len(gearbox.springs), nv))
     for i, s in enumerate(gearbox.springs):
         if s.stiffness > 0.0:
-            springs[i, s.v_index_1], springs[i, s.v_index_2] = 1.0, -1.0
+            springs[i] = s.twist_row(nv)
     names = {gearbox.v_index(n): n for n in gearbox.joint_names}
     out = []
     for mode in train_modes(gearbox, held, springs):

@@ -34,6 +34,10 @@ class MeshCompliance:
             helical: in proportion to the total contact-line length, ``gears/mesh_stiffness.py``
             ``contact_line_pair_stiffness``; mean ISO's c_γα b either way); ``"constant"``: the
             mean mesh stiffness c_γα b throughout.
+        mean_stiffness: the mean mesh stiffness c_γα·b [N/m] (ISO 6336-1's mean over a mesh
+            period, along the transverse line of action), given instead of ``stiffness``: the
+            single-pair c′·b is then c_γα·b / (0.75 ε_α + 0.25), so that the constant stiffness
+            and the mean of the ``path`` variation are the value given.
         pair_stiffness: stiffness of one tooth pair along the path of contact, as (positions
             from the path start A [m], stiffness [N/m]), e.g. a FEM curve as in
             003_83d3049daebcd276.txt Fig. 8; replaces ``stiffness`` and ``variation``.
@@ -49,6 +53,7 @@ class MeshCompliance:
     damping: float | None = None
     damping_ratio: float = DEFAULT_DAMPING_RATIO
     backlash: float = 0.0
+    mean_stiffness: float | None = None
 
     def problems(self) -> list[str]:
         """What is physically wrong with these values, each with the fix (empty when fine)."""
@@ -57,6 +62,21 @@ class MeshCompliance:
             math.isfinite(self.stiffness) and self.stiffness > 0.0
         ):
             out.append(f"stiffness is {self.stiffness:g} N/m; give a positive value (c′·b)")
+        if self.mean_stiffness is not None:
+            if not (math.isfinite(self.mean_stiffness) and self.mean_stiffness > 0.0):
+                out.append(
+                    f"mean stiffness is {self.mean_stiffness:g} N/m; give a positive value (c_γα·b)"
+                )
+            given = [
+                n
+                for n, v in (("stiffness", self.stiffness), ("pair_stiffness", self.pair_stiffness))
+                if v is not None
+            ]
+            if given:
+                out.append(
+                    f"mean_stiffness (c_γα·b) and {' and '.join(given)} both give the stiffness; "
+                    "keep one"
+                )
         if self.variation not in STIFFNESS_VARIATIONS:
             out.append(
                 f'stiffness variation "{self.variation}" is unknown; use one of '

@@ -36,7 +36,7 @@ from pinwind.model.bearing_compliance import SLIDES, BearingCompliance
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.phasing import mesh_point, tooth_phases
 from pinwind.model.support import Support, SupportSlide
-from pinwind.model.urdf import GearSpec, ModelFile, read_model_file
+from pinwind.model.urdf import GearSpec, ModelFile, SpringSpec, read_model_file
 
 #: Relative tolerance between the centre distance in the file and the one the gear data give.
 CENTRE_DISTANCE_RTOL = 1e-4
@@ -144,16 +144,29 @@ class CompliantBearing:
 
 @dataclass(frozen=True)
 class TorsionalSpring:
-    """Torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and its opposite on joint 2."""
+    """Torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and its opposite on joint 2.
+
+    Without joint 2 (``joint_2`` None) the spring acts across joint 1 alone, −k(θ₁ − θ₀) − cω₁,
+    between its body and the body it turns in: the ground for a ``<torsional_spring>`` without
+    joint2, the bearing's parent for a ``<bearing>``'s torsional stiffness.
+    """
 
     name: str
     joint_1: str
-    joint_2: str
+    joint_2: str | None
     v_index_1: int
-    v_index_2: int
+    v_index_2: int | None
     stiffness: float
     damping: float
     preload_angle: float
+
+    def twist_row(self, nv: int) -> np.ndarray:
+        """Row r (nv,) of the twist r·q = θ₁ − θ₂ (θ₁ alone without joint 2) [-]."""
+        row = np.zeros(nv)
+        row[self.v_index_1] = 1.0
+        if self.v_index_2 is not None:
+            row[self.v_index_2] = -1.0
+        return row
 
 
 class Gearbox:
@@ -196,6 +209,12 @@ class Gearbox:
         self.world_from_housing, support = _support_chain(source)
         if support:
             pin_xml = _add_support(source, pin_xml, support)
+            # A housing welded to the ground (a ring on its fixed joint) turns into a body on
+            # the support's slides, which replace its weld: nothing is left to lock.
+            housing = cast(Support, source.support).housing
+            if housing != source.root_link:
+                weld = _parent_joint(source, housing)
+                self.locked_joints = [j for j in self.locked_joints if j != weld]
         self.support_slides = {s.name: s for s in support}
         try:
             self.model = pin.buildModelFromXML(pin_xml)
@@ -314,6 +333,12 @@ class Gearbox:
         joint_id = frame.parentJoint
         joint_from_link = frame.placement
         centre = joint_from_link.act(spec.centre_in_link)
+        if self.model.joints[joint_id].shortname() in _PRISMATIC:
+            # A gear on a housing that slides on its support's mounts (a ring on a <support>
+            # without roll): it turns with no joint of its own, about its own axis.
+            own = spec.axis_in_link if spec.axis_in_link is not None else np.array([0, 0, 1.0])
+            axis = joint_from_link.rotation @ own
+            return Gear(spec=spec, joint_id=joint_id, centre_in_joint=centre, axis_in_joint=axis)
         joint_axis = self._joint_axis(joint_id)
         if spec.axis_in_link is None:
             axis = joint_axis
@@ -570,17 +595,21 @@ class Gearbox:
         radii = {n: r for n in self.gears if (r := _flank_radius(self.meshes, n)) is not None}
         return tooth_phases(points, {n: g.spec for n, g in self.gears.items()}, radii)
 
-    def _spring(self, spec) -> TorsionalSpring:
+    def _spring(self, spec: SpringSpec) -> TorsionalSpring:
         where = f'<torsional_spring name="{spec.name}">'
+        if spec.joint_2 is None and spec.name == f"{spec.joint_1}_torsion":
+            where = f'<bearing joint="{spec.joint_1}">'
         ids = []
         for j in (spec.joint_1, spec.joint_2):
-            if not self.model.existJointName(j):
+            if j is None:
+                continue
+            if not self.model.existJointName(j) or j in self.support_slides:
                 raise MalformedModel(self.path, where, f'joint "{j}" is fixed; it cannot twist')
             ids.append(self.model.getJointId(j))
         data = self.model.createData()
         pin.forwardKinematics(self.model, data, pin.neutral(self.model))
         axes = [data.oMi[j].rotation @ self._joint_axis(j) for j in ids]
-        if np.linalg.norm(np.cross(axes[0], axes[1])) > AXIS_PARALLEL_TOL:
+        if len(axes) == 2 and np.linalg.norm(np.cross(axes[0], axes[1])) > AXIS_PARALLEL_TOL:
             raise NonParallelAxes(
                 self.path, where, f"joint axes {axes[0]} and {axes[1]} are not parallel"
             )
@@ -589,7 +618,7 @@ class Gearbox:
             joint_1=spec.joint_1,
             joint_2=spec.joint_2,
             v_index_1=self.model.joints[ids[0]].idx_v,
-            v_index_2=self.model.joints[ids[1]].idx_v,
+            v_index_2=self.model.joints[ids[1]].idx_v if len(ids) == 2 else None,
             stiffness=spec.stiffness,
             damping=spec.damping,
             preload_angle=spec.preload_angle,
@@ -746,6 +775,9 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str], dict[str, dict[s
     root = ET.fromstring(source.text)
     geared_links = {g.link: g for g in source.gears.values()}
     moving = _moving_links(source)
+    # A gear's fixed mount held in torsion by a spring of its own (a ring on a torsional
+    # support) turns on that spring instead of being locked.
+    sprung = {s.joint_1 for s in source.springs if s.joint_2 is None}
     locked: list[str] = []
     for joint in root.findall("joint"):
         # read_model_file checked every joint's name, type, parent and child in this text.
@@ -759,7 +791,8 @@ def _pinocchio_urdf(source: ModelFile) -> tuple[str, list[str], dict[str, dict[s
             for old in joint.findall("axis"):
                 joint.remove(old)
             ET.SubElement(joint, "axis", xyz=" ".join(repr(float(x)) for x in axis))
-            locked.append(name)
+            if name not in sprung:
+                locked.append(name)
             jtype = "revolute"
         if jtype in ("revolute", "continuous"):
             joint.set("type", "revolute")

@@ -81,11 +81,16 @@ class MeshSpec:
 
 @dataclass(frozen=True)
 class SpringSpec:
-    """A torsional spring-damper between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA")."""
+    """A torsional spring-damper between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA").
+
+    ``joint_2`` None: the spring acts across ``joint_1`` alone, between its body and the body
+    it turns in (a ``<torsional_spring>`` to the ground, or a ``<bearing>``'s torsional
+    stiffness).
+    """
 
     name: str
     joint_1: str
-    joint_2: str
+    joint_2: str | None
     stiffness: float
     damping: float
     preload_angle: float
@@ -543,19 +548,7 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             MeshSpec(name=name, gear_a=gear_a, gear_b=gear_b, compliance=_compliance(path, el))
         )
     for el in box.findall("torsional_spring"):
-        name = _required(path, el, "name")
-        where = _describe(el)
-        j1, j2 = _required(path, el, "joint1"), _required(path, el, "joint2")
-        for j in (j1, j2):
-            if j not in out.joints:
-                raise UnknownName(path, where, "joint", j, out.joints)
-        k = _number(path, el, "stiffness")
-        c = _number(path, el, "damping", 0.0)
-        if k < 0 or c < 0:
-            raise MalformedModel(
-                path, where, f"stiffness {k:g} N·m/rad and damping {c:g} N·m·s/rad must be ≥ 0"
-            )
-        out.springs.append(SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0)))
+        out.springs.append(_torsional_spring(path, el, out))
     seen: set[str] = set()
     for el in box.findall("bearing"):
         joint = _required(path, el, "joint")
@@ -568,7 +561,11 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         compliance = _bearing_compliance(path, el, joint, out)
         if compliance is not None:
             out.compliant_bearings[joint] = compliance
-        if compliance is None or any(el.get(a) is not None for a in _BEARING_RATING):
+        torsion = _bearing_torsion(path, el, joint, out)
+        if torsion is not None:
+            out.springs.append(torsion)
+        rated = any(el.get(a) is not None for a in _BEARING_RATING)
+        if (compliance is None and torsion is None) or rated:
             rating = _bearing(path, el, out)
             out.bearings[rating.joint] = rating
     supports = box.findall("support")
@@ -576,6 +573,74 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         raise MalformedModel(path, "<support>", "a model has at most one <support> element")
     if supports:
         out.support = _support(path, supports[0], out)
+
+
+def _torsional_spring(path: str, el: ET.Element, out: ModelFile) -> SpringSpec:
+    """A ``<torsional_spring>``: between joint1 and joint2, or joint1 and the ground."""
+    name = _required(path, el, "name")
+    where = _describe(el)
+    j1 = _required(path, el, "joint1")
+    j2 = el.get("joint2")
+    for j in (j1, j2):
+        if j is not None and j not in out.joints:
+            raise UnknownName(path, where, "joint", j, out.joints)
+    if j2 is None:
+        _check_on_ground(path, where, j1, out)
+    k = _number(path, el, "stiffness")
+    c = _number(path, el, "damping", 0.0)
+    if k < 0 or c < 0:
+        raise MalformedModel(
+            path, where, f"stiffness {k:g} N·m/rad and damping {c:g} N·m·s/rad must be ≥ 0"
+        )
+    return SpringSpec(name, j1, j2, k, c, _number(path, el, "preload_angle", 0.0))
+
+
+def _check_on_ground(path: str, where: str, joint: str, out: ModelFile) -> None:
+    """Refuse a spring to the ground on a joint whose parent turns (it would act on the parent).
+
+    The parent stands still when it is the root link or welded to it by fixed joints.
+    """
+    link = out.joints[joint]["parent"]
+    while link != out.root_link:
+        parent = next(n for n, j in out.joints.items() if j["child"] == link)
+        if out.joints[parent]["type"] != "fixed":
+            raise MalformedModel(
+                path,
+                where,
+                f'without joint2 the spring holds joint "{joint}" to the ground, but its parent '
+                f'link "{out.joints[joint]["parent"]}" turns on joint "{parent}"; give joint2, '
+                f'or a torsional_stiffness on <bearing joint="{joint}"> for a spring across the '
+                "bearing",
+            )
+        link = out.joints[parent]["parent"]
+
+
+def _bearing_torsion(path: str, el: ET.Element, joint: str, out: ModelFile) -> SpringSpec | None:
+    """A ``<bearing>``'s torsional stiffness and damping as a spring across its joint, or None.
+
+    The spring ``<joint>_torsion`` holds the body in torsion against the body the bearing sits
+    in (a ring on its torsional support, Lin & Parker 1999's k_ru), −k θ − c ω on the joint.
+    """
+    if all(el.get(a) is None for a in _BEARING_TORSION):
+        return None
+    where = f'<bearing joint="{joint}">'
+    k = _number(path, el, "torsional_stiffness", where=where)
+    c = _number(path, el, "torsional_damping", 0.0, where=where)
+    if k < 0 or c < 0:
+        raise InvalidMount(
+            path,
+            where,
+            f"torsional_stiffness {k:g} N·m/rad and torsional_damping {c:g} N·m·s/rad must be ≥ 0",
+        )
+    geared = any(g.link == out.joints[joint]["child"] for g in out.gears.values())
+    if out.joints[joint]["type"] == "fixed" and not geared:
+        raise MalformedModel(
+            path,
+            where,
+            "is a fixed joint that carries no gear, a weld; a bearing held in torsion is a "
+            "revolute or continuous joint (or the fixed mount of a gear, a ring)",
+        )
+    return SpringSpec(f"{joint}_torsion", joint, None, k, c, 0.0)
 
 
 def _raw_number(path: str, el: ET.Element, attr: str, where: str, default: float) -> float:
@@ -674,6 +739,8 @@ _BEARING_ATTRIBUTES = ("joint", "floating", "law", "contact")
 #: The attributes of a rated ``<bearing>``: ISO 281 type, rating and load factors (`_bearing`).
 _LOAD_FACTORS = ("e", "y1", "x2", "y2")
 _BEARING_RATING = ("type", "rating_c_kN", *_LOAD_FACTORS)
+#: The attributes of a ``<bearing>`` held in torsion (``_bearing_torsion``).
+_BEARING_TORSION = ("torsional_stiffness", "torsional_damping")
 #: The attributes of a compliant ``<bearing>`` (docs/model_format.md "Compliant bearings").
 _BEARING_COMPLIANCE = (
     "radial_stiffness",
@@ -824,9 +891,11 @@ def _compliance(path: str, el: ET.Element) -> MeshCompliance | None:
             ) from err
         table = (np.array(s_mm) * 1e-3, np.array(k))
     stiffness = el.get("stiffness")
+    mean = el.get("mean_stiffness")
     damping = el.get("damping")
     compliance = MeshCompliance(
         stiffness=None if stiffness is None else _number(path, el, "stiffness"),
+        mean_stiffness=None if mean is None else _number(path, el, "mean_stiffness"),
         variation=el.get("stiffness_variation", "path").strip().lower(),
         pair_stiffness=table,
         damping=None if damping is None else _number(path, el, "damping"),
@@ -841,6 +910,7 @@ def _compliance(path: str, el: ET.Element) -> MeshCompliance | None:
 
 _COMPLIANCE_ATTRIBUTES = (
     "stiffness",
+    "mean_stiffness",
     "stiffness_variation",
     "pair_stiffness",
     "damping",
@@ -857,7 +927,7 @@ GEARBOX_ELEMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "gear": (_GEAR_ATTRIBUTES, ()),
     "mesh": (_MESH_ATTRIBUTES + _COMPLIANCE_ATTRIBUTES, ()),
     "torsional_spring": (_SPRING_ATTRIBUTES, ()),
-    "bearing": (_BEARING_ATTRIBUTES + _BEARING_RATING + _BEARING_COMPLIANCE, ()),
+    "bearing": (_BEARING_ATTRIBUTES + _BEARING_RATING + _BEARING_COMPLIANCE + _BEARING_TORSION, ()),
     "support": (_SUPPORT_ATTRIBUTES, ("mount", "tower_mode")),
     "mount": (_MOUNT_ATTRIBUTES, ()),
     "tower_mode": (_TOWER_MODE_ATTRIBUTES, ()),

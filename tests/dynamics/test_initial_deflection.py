@@ -59,6 +59,20 @@ def test_a_loaded_pair_starts_at_its_static_deflection_and_does_not_vibrate():
     assert start["converged"] and start["residual"] < 1e-12
 
 
+def test_the_static_start_deflects_the_teeth_without_rolling_the_pair():
+    # The loads fix the deflection δ = r_b,A θ_A + r_b,B θ_B, not where the pair has rolled to:
+    # the start has no part along the rolling (r_b,B, −r_b,A), so θ_A r_b,B = θ_B r_b,A, and
+    # θ_A = δ r_b,A / (r_b,A² + r_b,B²), θ_B = δ r_b,B / (r_b,A² + r_b,B²).
+    force = 1000.0
+    res = _pair(duration=1e-3, dt=1e-5, torques={"a": force * R_BA, "b": force * R_BB},
+                meshes={"m": _constant()})  # fmt: skip
+    theta = np.array([res.joint("a").angle[0], res.joint("b").angle[0]])
+    deflection = R_BA * theta[0] + R_BB * theta[1]
+    np.testing.assert_allclose(abs(deflection), force / K_MESH, rtol=1e-6)
+    expected = deflection * np.array([R_BA, R_BB]) / (R_BA**2 + R_BB**2)
+    np.testing.assert_allclose(theta, expected, rtol=1e-9)
+
+
 def test_the_undeflected_start_keeps_the_model_pose_and_rings():
     force = 1000.0
     res = _pair(duration=0.01, dt=1e-5, torques={"a": force * R_BA, "b": force * R_BB},

@@ -158,8 +158,9 @@ class Stepper {
   //     M ā + K Δq − Jᵀ λ = F,   J ā = r,   J Δq = 0,   K ā = 0
   //
   // for the acceleration ā the whole train shares (no element's deflection changes: K ā = 0),
-  // the displacement Δq and the multipliers, in the least-norm sense (Δq has no part along the
-  // train's free motion, which the loads do not determine), then q ← q ⊕ Δq. A compliant mesh
+  // the displacement Δq and the multipliers, in the least-squares sense with the system scaled
+  // (every spring takes its load, the soft ones beside the stiff too), Δq with no part along
+  // the train's free motion (which the loads do not determine), then q ← q ⊕ Δq. A compliant mesh
   // whose force would pull hands it to the other flank (closing the backlash). The stiffness
   // follows the pairs in contact at each q, so the iteration ends when Δq stops changing.
   EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
@@ -272,9 +273,15 @@ class Stepper {
   void weighted_bias();
 
   // Δq of one Newton iteration of equilibrium() from M, J, γ, the stiffness in hessian_ and
-  // the force in force_: the least-norm solution of the stacked system, with Δq scaled by
-  // κ = max|K| / max|M| so that both blocks weigh alike in the rank decision.
+  // the force in force_: the least-squares solution of the stacked system with each coordinate
+  // scaled by its own mass and stiffness (1/√M_ii, K_ii/M_ii), so that every spring takes its
+  // load whatever its stiffness beside the stiffest, less its part along the train's free
+  // motions (free_part).
   Eigen::VectorXd static_displacement(EquilibriumStatus& st);
+
+  // The part of dq along the motions that neither the elements' stiffness nor the rows resist
+  // (the null space of [K; J]), which the loads do not determine: a start is not turned by it.
+  Eigen::VectorXd free_part(const Eigen::VectorXd& dq) const;
 
   // The step's ā and λ for the current weights, at the assembled state.
   bool dynamics(long k, double t, RunStatus& st);

@@ -169,8 +169,8 @@ StepperSetup setup(const StepperSpec& spec) {
     }
   }
   for (const auto& sp : spec.springs) {
-    if (sp.index_1 < 0 || sp.index_2 < 0 || static_cast<size_t>(sp.index_1) >= nv ||
-        static_cast<size_t>(sp.index_2) >= nv) {
+    if (sp.index_1 < 0 || sp.index_2 < -1 || static_cast<size_t>(sp.index_1) >= nv ||
+        sp.index_2 >= static_cast<long>(nv) || sp.index_1 == sp.index_2) {
       throw std::invalid_argument("bad spring joint index");
     }
   }

@@ -1,5 +1,9 @@
 // The Stepper's static start: Stepper::equilibrium (stepper.hpp).
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/QR>
+#include <Eigen/SVD>
 
 #include "joint_algorithms.hpp"
 #include "stepper.hpp"
@@ -62,27 +66,82 @@ EquilibriumStatus Stepper::equilibrium(const RowMat& torque, const RowMat& targe
 }
 
 Eigen::VectorXd Stepper::static_displacement(EquilibriumStatus& st) {
-  const double mass_scale = mass_.cwiseAbs().maxCoeff();
-  const double stiffness_scale = hessian_.cwiseAbs().maxCoeff();
-  if (!(stiffness_scale > 0.0)) return Eigen::VectorXd::Zero(nv_);
-  const double kappa = stiffness_scale / mass_scale;
   const Eigen::Index n = nv_, r = rows_;
+  // Each coordinate in its own units: ā_i = s_i â_i and Δq_i = (s_i / κ_i) ŷ_i with
+  // s_i = 1/√M_ii and κ_i = K_ii / M_ii (ω_i², the coordinate's own spring over its own mass),
+  // each force row i times s_i and each row K ā = 0 times s_i / κ_i: the blocks M and K of
+  // every coordinate have unit diagonals, so that the rank decision sees a soft spring (a
+  // tower, a torque arm, a coupling) beside the stiffest bearing as it sees the stiff one.
+  // Unscaled, the pivot of a soft coordinate's block [[M, K], [K, 0]] is K²/M: springs ~1e6
+  // times softer than the stiffest fell below the rank threshold and took no load. A
+  // coordinate without stiffness takes the geometric mean of the others' κ.
+  const Eigen::VectorXd m = mass_.diagonal(), k = hessian_.diagonal();
+  if (!(k.maxCoeff() > 0.0)) return Eigen::VectorXd::Zero(nv_);
+  double log_sum = 0.0;
+  long sprung = 0;
+  const double mass_floor = m.maxCoeff() * 1e-300;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (k[i] > 0.0) {
+      log_sum += std::log(k[i] / std::max(m[i], mass_floor));
+      ++sprung;
+    }
+  }
+  const double kappa_free = std::exp(log_sum / static_cast<double>(sprung));
+  Eigen::VectorXd s(n), kappa(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double mi = m[i] > 0.0 ? m[i] : m.maxCoeff();
+    s[i] = 1.0 / std::sqrt(mi);
+    kappa[i] = k[i] > 0.0 ? k[i] / mi : kappa_free;
+  }
+  const Eigen::VectorXd dq_scale = s.cwiseQuotient(kappa);  // Δq_i = dq_scale_i ŷ_i
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2 * n + 2 * r, 2 * n + r);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * n + 2 * r);
-  a.topLeftCorner(n, n) = mass_;
-  a.block(0, n, n, n) = hessian_ / kappa;
-  a.block(0, 2 * n, n, r) = -jac_.transpose();
-  a.block(n, 0, r, n) = jac_;
-  a.block(n + r, n, r, n) = jac_;
-  a.block(n + 2 * r, 0, n, n) = hessian_ / kappa;
-  b.head(n) = force_;
+  a.topLeftCorner(n, n) = s.asDiagonal() * mass_ * s.asDiagonal();
+  a.block(0, n, n, n) = s.asDiagonal() * hessian_ * dq_scale.asDiagonal();
+  a.block(0, 2 * n, n, r) = -(s.asDiagonal() * jac_.transpose());
+  a.block(n, 0, r, n) = jac_ * s.asDiagonal();
+  a.block(n + r, n, r, n) = jac_ * dq_scale.asDiagonal();
+  a.block(n + 2 * r, 0, n, n) = dq_scale.asDiagonal() * hessian_ * s.asDiagonal();
+  b.head(n) = s.cwiseProduct(force_);
   b.segment(n, r) = (target_next_ - target_now_) / s_.dt - bias_;
+  // The rows' own units: each row of J ā = r and J Δq = 0 and each multiplier's column to a
+  // largest entry of 1 (which leaves ā and Δq as they are).
+  for (Eigen::Index i = n; i < n + 2 * r; ++i) {
+    const double norm = a.row(i).cwiseAbs().maxCoeff();
+    if (norm > 0.0) {
+      a.row(i) /= norm;
+      b[i] /= norm;
+    }
+  }
+  for (Eigen::Index j = 2 * n; j < 2 * n + r; ++j) {
+    const double norm = a.col(j).cwiseAbs().maxCoeff();
+    if (norm > 0.0) a.col(j) /= norm;
+  }
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
   cod.setThreshold(1e-12);
   cod.compute(a);
   const Eigen::VectorXd x = cod.solve(b);
   st.residual = (a * x - b).norm() / std::max(b.norm(), 1e-300);
-  return x.segment(n, n) / kappa;
+  const Eigen::VectorXd dq = dq_scale.cwiseProduct(x.segment(n, n));
+  return dq - free_part(dq);
+}
+
+Eigen::VectorXd Stepper::free_part(const Eigen::VectorXd& dq) const {
+  // The motions no element and no row resists: the null space of [K; J], each row scaled to a
+  // largest entry of 1 (which leaves the null space as it is).
+  const Eigen::Index n = nv_, r = rows_;
+  Eigen::MatrixXd stacked(n + r, n);
+  stacked << hessian_, jac_;
+  for (Eigen::Index i = 0; i < stacked.rows(); ++i) {
+    const double norm = stacked.row(i).cwiseAbs().maxCoeff();
+    if (norm > 0.0) stacked.row(i) /= norm;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(stacked, Eigen::ComputeFullV);
+  svd.setThreshold(1e-10);
+  const Eigen::Index rank = svd.rank();
+  if (rank == n) return Eigen::VectorXd::Zero(n);
+  const auto free = svd.matrixV().rightCols(n - rank);
+  return free * (free.transpose() * dq);
 }
 
 }  // namespace pinwind

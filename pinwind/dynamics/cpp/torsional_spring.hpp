@@ -1,12 +1,15 @@
 // Torsional spring-dampers between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA",
 // k = GJ/L): torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and the opposite on joint 2, and
-// viscous bearing damping. Both are taken at the time step's weighted state (time_step.hpp),
-// linear in the step's acceleration ā like a compliant mesh (compliant_mesh.hpp): with
-// Δθ = θ₁ − θ₂ − θ₀ and the same differences of dq₀, ω and ā,
+// viscous bearing damping. A spring without joint 2 (index_2 = −1) acts across joint 1 alone,
+// between its body and the body it turns in: −k(θ₁ − θ₀) − cω₁ (a ring held in torsion, a torque
+// arm to the ground, a bearing's torsional stiffness). Both are taken at the time step's weighted
+// state (time_step.hpp), linear in the step's acceleration ā like a compliant mesh
+// (compliant_mesh.hpp): with Δθ = θ₁ − θ₂ − θ₀ and the same differences of dq₀, ω and ā,
 //
 //     τ₁ = −k (Δθ_n + Δdq₀ + κ_q Δā) − c (Δω_n + κ_v Δā),   W = (k κ_q + c κ_v) (e₁ − e₂)(e₁ − e₂)ᵀ,
 //
-// so that the step stays second order and, with ρ∞ = 1, keeps the spring's energy.
+// (e₂ = 0 without joint 2) so that the step stays second order and, with ρ∞ = 1, keeps the
+// spring's energy.
 #pragma once
 
 #include <vector>
@@ -16,7 +19,7 @@
 namespace pinwind {
 
 struct TorsionalSpringSpec {
-  long index_1 = 0, index_2 = 0;  // velocity indices of the two joints
+  long index_1 = 0, index_2 = 0;  // velocity indices of the two joints; index_2 −1: joint 1 alone
   double stiffness = 0.0;         // k [N·m/rad]
   double damping = 0.0;           // c [N·m·s/rad]
   double preload_angle = 0.0;     // θ₀ [rad]
@@ -32,12 +35,13 @@ class TorsionalSprings : public Element {
       const long i = sp.index_1, j = sp.index_2;
       const double w = sp.stiffness * s.weights.position_gain + sp.damping * s.weights.speed_gain;
       hessian(i, i) += w;
+      const double torque = -sp.stiffness * (twist(sp, s.q) + difference(sp, s.dq_free)) -
+                            sp.damping * difference(sp, s.v);
+      force[i] += torque;
+      if (j < 0) continue;
       hessian(j, j) += w;
       hessian(i, j) -= w;
       hessian(j, i) -= w;
-      const double torque = -sp.stiffness * (twist(sp, s.q) + s.dq_free[i] - s.dq_free[j]) -
-                            sp.damping * (s.v[i] - s.v[j]);
-      force[i] += torque;
       force[j] -= torque;
     }
   }
@@ -47,13 +51,14 @@ class TorsionalSprings : public Element {
     damping_.setZero(s.q.size());
     for (const auto& sp : springs_) {
       const long i = sp.index_1, j = sp.index_2;
-      const double da = a[i] - a[j];
-      const double torque = -sp.stiffness * (twist(sp, s.q) + s.dq_free[i] - s.dq_free[j] +
+      const double da = difference(sp, a);
+      const double torque = -sp.stiffness * (twist(sp, s.q) + difference(sp, s.dq_free) +
                                              s.weights.position_gain * da);
+      const double friction = -sp.damping * (difference(sp, s.v) + s.weights.speed_gain * da);
       elastic_[i] += torque;
-      elastic_[j] -= torque;
-      const double friction = -sp.damping * (s.v[i] - s.v[j] + s.weights.speed_gain * da);
       damping_[i] += friction;
+      if (j < 0) continue;
+      elastic_[j] -= torque;
       damping_[j] -= friction;
     }
     return false;
@@ -74,8 +79,13 @@ class TorsionalSprings : public Element {
   }
 
  private:
+  // x₁ − x₂ of a joint vector (angles, speeds, accelerations), x₁ alone without joint 2.
+  static double difference(const TorsionalSpringSpec& sp, const Eigen::VectorXd& x) {
+    return sp.index_2 < 0 ? x[sp.index_1] : x[sp.index_1] - x[sp.index_2];
+  }
+
   static double twist(const TorsionalSpringSpec& sp, const Eigen::VectorXd& q) {
-    return q[sp.index_1] - q[sp.index_2] - sp.preload_angle;
+    return difference(sp, q) - sp.preload_angle;
   }
 
   std::vector<TorsionalSpringSpec> springs_;
