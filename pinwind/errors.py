@@ -661,6 +661,41 @@ class FigureFailed(OutputFailed):
     )
 
 
+# --- checks (pinwind.testing) ------------------------------------------------------------------
+
+
+class CheckFailed(PinwindError):
+    """A check of ``pinwind.testing`` measured a value beyond its tolerance.
+
+    Attributes:
+        check: the check's name (``ledger_closure``, ``element_tangents``, ...).
+        compared: what was compared with what, in words.
+        measured: the measured value (relative unless ``compared`` says otherwise).
+        tolerance: the tolerance it exceeds.
+        detail: where the worst value was (sample, joint, mode) and what to look at.
+    """
+
+    def __init__(
+        self, check: str, compared: str, measured: float, tolerance: float, detail: str = ""
+    ):
+        self.check = check
+        self.compared = compared
+        self.measured = measured
+        self.tolerance = tolerance
+        self.detail = detail
+        super().__init__(
+            f"{check}: {compared}: {measured:.3g} exceeds the tolerance {tolerance:.3g}"
+            + (f"; {detail}" if detail else "")
+        )
+
+    def __reduce__(self) -> tuple[type[CheckFailed], tuple[str, str, float, float, str]]:
+        # pickle rebuilds it from the values, not from the message
+        return (
+            type(self),
+            (self.check, self.compared, self.measured, self.tolerance, self.detail),
+        )
+
+
 # --- replay --------------------------------------------------------------------------------------
 
 
