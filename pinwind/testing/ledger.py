@@ -81,8 +81,14 @@ def ledger_closure(result: Result, *, rtol: float = 1e-6) -> CheckFigure:
     if not np.all(np.isfinite(r)):
         measured = float("nan")
     created = "created" if len(r) and r[worst] > 0 else "lost"
+    beyond = np.flatnonzero(~(np.abs(r) <= rtol * scale))
+    first = (
+        f"first beyond it at sample {beyond[0]} (t = {result.time[beyond[0]]:.6g} s), "
+        if len(beyond)
+        else ""
+    )
     detail = (
-        f"worst at sample {worst} (t = {result.time[worst]:.6g} s): {abs(r[worst]):.3g} J "
+        f"{first}worst at sample {worst} (t = {result.time[worst]:.6g} s): {abs(r[worst]):.3g} J "
         f"{created} of an energy scale of {scale:.3g} J (numerical term "
         f"{result.energy.get('numerical', np.full(len(r), np.nan))[worst]:.3g} J)"
         if len(r)
