@@ -46,6 +46,38 @@ def test_ball_bearing_above_e_counts_the_axial_load_with_x_and_y():
     np.testing.assert_allclose(life.l10, (50e3 / load) ** 3, rtol=1e-12)
 
 
+def test_spherical_roller_below_e_adds_y1_times_the_axial_load():
+    """ISO 281 Table 7, double row, α = 10°: e = 1.5 tan α = 0.2645, Y1 = 0.45 cot α = 2.552.
+    A planet bearing's load F_r = 40 kN, F_a = 8 kN (F_a/F_r = 0.2 ≤ e): P = F_r + Y1 F_a."""
+    alpha = math.radians(10.0)
+    y1 = 0.45 / math.tan(alpha)
+    assert 8e3 / 40e3 <= 1.5 * math.tan(alpha)
+    rating = bearing_rating("planet1", "spherical_roller", dynamic_load_rating=1200e3)
+    time, force, speed = _constant((24e3, 32e3, 8e3), 120.0)  # |F_r| = 40 kN
+    life = life_of_history("planet1", rating, time=time, force_in_joint=force, speed=speed,
+                           axis=np.array([0.0, 0.0, 1.0]))  # fmt: skip
+    load = 40e3 + y1 * 8e3  # 60.42 kN, half as much again as F_r
+    np.testing.assert_allclose(life.equivalent_load, load, rtol=1e-12)
+    np.testing.assert_allclose(life.l10, (1200e3 / load) ** (10.0 / 3.0), rtol=1e-12)
+
+
+def test_a_catalogue_spherical_roller_below_e_takes_its_own_y1_from_the_model_file():
+    """A catalogue's factors for a 10° bearing rounded as catalogues print them (e = 0.24,
+    Y1 = 2.8, X2 = 0.67, Y2 = 4.2, C = 1270 kN), read from the model file; F_a/F_r = 0.2:
+    P = 40 kN + 2.8 × 8 kN = 62.4 kN."""
+    text = two_gear_urdf().replace(
+        "</gearbox>",
+        '<bearing joint="a" type="spherical_roller" rating_c_kN="1270" e="0.24" y1="2.8" '
+        'x2="0.67" y2="4.2"/></gearbox>',
+    )
+    rating = loads(text, path="pair.urdf").source.bearings["a"]
+    time, force, speed = _constant((0.0, -40e3, 8e3), 300.0)
+    life = life_of_history("a", rating, time=time, force_in_joint=force, speed=speed,
+                           axis=np.array([0.0, 0.0, 1.0]))  # fmt: skip
+    np.testing.assert_allclose(life.equivalent_load, 62.4e3, rtol=1e-12)
+    np.testing.assert_allclose(life.l10, (1270.0 / 62.4) ** (10.0 / 3.0), rtol=1e-12)
+
+
 def test_two_level_history_is_the_revolution_weighted_p_mean():
     # 2 s at 30 kN and 100 rpm, then 1 s at 60 kN and 300 rpm: n1 = 200/60, n2 = 300/60 rev.
     dt = 1e-4
