@@ -29,6 +29,7 @@ LAZY_PACKAGES = (
     "pinwind.gears",
     "pinwind.io",
     "pinwind.loads",
+    "pinwind.testing",
 )
 
 
