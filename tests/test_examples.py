@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -229,3 +231,13 @@ def test_cart600_support_dq_generator_follows_its_steady_curve_and_does_not_grow
         ]
         growth = np.polyfit(starts + window / 2, np.log(envelope), 1)[0]
         assert growth <= 0.0
+
+
+def test_the_users_test_file_checks_the_saleh_stage_and_passes(tmp_path):
+    """examples/test_my_gearbox.py, run as a user runs it: its five checks pass."""
+    out = subprocess.run(
+        [sys.executable, str(EXAMPLES / "test_my_gearbox.py"), "-q", "-p", "no:cacheprovider"],
+        capture_output=True, text=True, timeout=600, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "5 passed" in out.stdout
