@@ -198,8 +198,9 @@ def element_tangents(
         machine: a gearbox or a run's drivetrain (``element_stepper``).
         states: how many seeded states (``seeded_states``), or the states (q, v) themselves.
         seed: the states' seed.
-        spread_m, spread_rad: the states' spread about the reference pose on slides [m] and
-            rotations [rad], and the unit each coordinate is measured in (module docstring).
+        spread_m: the states' spread about the reference pose on slides [m], and the unit a
+            slide is measured in (module docstring).
+        spread_rad: the same on rotations [rad].
         step: the difference step relative to the spread [-].
         rtol: the largest error accepted, relative to the largest entry [-].
         meshes: the mesh choice (``element_stepper``).
@@ -277,8 +278,9 @@ def conservative_forces(
         machine: a gearbox or a run's drivetrain (``element_stepper``).
         states: how many seeded states (``seeded_states``), or the states (q, v) themselves.
         seed: the states' seed.
-        spread_m, spread_rad: the states' spread about the reference pose on slides [m] and
-            rotations [rad], and the unit each coordinate is measured in (module docstring).
+        spread_m: the states' spread about the reference pose on slides [m], and the unit a
+            slide is measured in (module docstring).
+        spread_rad: the same on rotations [rad].
         step: the difference step relative to the spread [-].
         rtol: the largest error accepted, relative to the largest force in the states' scale.
         meshes: the mesh choice (``element_stepper``).
