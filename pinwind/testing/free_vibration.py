@@ -103,7 +103,7 @@ def modes_in_spectrum(
         CheckFailed: beyond ``rtol``, naming the mode, the joint listened to and the peaks.
         InputError: no mode to check.
     """
-    import pinwind  # the run (pinwind.simulate, with its observers) at call time
+    from pinwind.io.run import simulate  # the run with its observers, as pinwind.simulate
 
     held = list(held)
     modes = chosen_modes(gearbox, meshes=meshes, held=held, band=band, count=count)
@@ -133,7 +133,7 @@ def modes_in_spectrum(
     }
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PinwindWarning)  # the step's advice on a short run
-        result = pinwind.simulate(
+        result = simulate(
             gearbox,
             duration=duration,
             dt=dt,
