@@ -688,13 +688,6 @@ class CheckFailed(PinwindError):
             + (f"; {detail}" if detail else "")
         )
 
-    def __reduce__(self) -> tuple[type[CheckFailed], tuple[str, str, float, float, str]]:
-        # pickle rebuilds it from the values, not from the message
-        return (
-            type(self),
-            (self.check, self.compared, self.measured, self.tolerance, self.detail),
-        )
-
 
 # --- replay --------------------------------------------------------------------------------------
 
