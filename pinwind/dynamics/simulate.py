@@ -39,20 +39,23 @@ observer chunk by chunk.
 from __future__ import annotations
 
 import math
+import sys
 import time as wallclock
 import warnings
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
 
 from pinwind.dynamics import _native, series
 from pinwind.dynamics.compliant import MeshSetup, mesh_setup, single_pair
-from pinwind.dynamics.drivetrain import drivetrain
+from pinwind.dynamics.drivetrain import Drivetrain, drivetrain
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.result import Result
+from pinwind.dynamics.run_settings import RunSettings
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.dynamics.support_springs import from_ground, roll_share
@@ -60,6 +63,7 @@ from pinwind.dynamics.time_step import coarse_step_notes
 from pinwind.dynamics.torque_balance import imbalances, representative_torque
 from pinwind.dynamics.torsional_modes import highest_spring_mode
 from pinwind.errors import (
+    ConflictingInputs,
     Diverged,
     EquilibriumNotReached,
     InputError,
@@ -79,6 +83,7 @@ from pinwind.loads.signals import check_covers
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
 from pinwind.units import rad_s_to_rpm
+from pinwind.warning_site import user_stacklevel
 
 
 class RunObserver(Protocol):
@@ -294,14 +299,19 @@ def simulate(
     chunk: int | None = None,
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
-    keep: str | int = "auto",
+    keep: str | int | None = None,
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
     wind: float | TimeSignal | None = None,
-    initial_deflection: str = "static",
+    initial_deflection: str | None = None,
     metadata: Mapping[str, object] | None = None,
+    settings: RunSettings | None = None,
 ) -> Result:
     """Simulate a gearbox under joint torques and speed drivers.
+
+    The run is ``drivetrain`` (the machine: the gearbox, its loads and laws) → ``prepare`` (the
+    compiled stepper at the start, the Result's arrays) → ``PreparedRun.run`` (the blocks of
+    samples stepped and handed to the observers, then ``finish``), each usable alone.
 
     Args:
         gearbox: the model (``pinwind.load``).
@@ -311,28 +321,25 @@ def simulate(
         speeds: joint name → prescribed joint speed [rad/s], number or callable(t); the driving
             torque is the multiplier of the driver's row (``res.joint(name).torque``).
         initial_speeds: joint name → initial speed [rad/s]; the other joints start at the speeds
-            the gear meshes and the torsional springs give them
-            (``Drivetrain.operating_speed``: a rotor's speed carries across a coupling to the
-            generator; speeds given out of ratio across a spring warn, ``SpringsWoundAtStart``).
+            the gear meshes and springs impose (``Drivetrain.operating_speed``).
         gravity: gravity vector in world [m/s²]; default the model's.
-        solver: proxsuite settings.
-        integrator: the time step and its numerical dissipation (``Integrator``; default
-            ``Integrator()``: generalized-α with ρ∞ = 1, the trapezoidal rule).
-        progress: show a progress bar (default: for runs over 20 000 steps on a terminal).
+        solver: the QP's settings (``RunSettings.solver``).
+        integrator: the time step and its numerical dissipation (``RunSettings.integrator``;
+            default ``Integrator()``: generalized-α with ρ∞ = 1, the trapezoidal rule).
+        progress: show a progress bar (``RunSettings.progress``; default: for runs over
+            20 000 steps on a terminal).
         observer: one or several observers that receive the samples as they are computed:
             the MCAP logger (``io/log_writer.McapLogger``), the run statistics
             (``analysis/run_statistics.StatisticsObserver``; ``pinwind.simulate`` adds it).
-        chunk: samples per observer call (a log holds a chunk of columns per call); default
-            ``block_samples``: 1000 to 5000, a twentieth of the run.
+        chunk: samples per observer call (``RunSettings.chunk``); default ``block_samples``:
+            1000 to 5000, a twentieth of the run.
         meshes: mesh name (or ``"all"``) → ``"rigid"``, ``"compliant"`` or a
             ``MeshCompliance``, replacing the model file's choice (``dynamics/compliant.py``).
         position_errors: gear name → (tangential, radial) position error of its centre [m]
             (planet pin errors), replacing the model file's.
-        keep: which samples the returned Result holds; the run itself streams block by block
-            to the observer (the log) in memory for one block. ``"all"``: every sample;
-            an integer N: every N-th sample from 0, and the last; ``"last"``: the last sample
-            only; ``"auto"`` (default): every sample while they fit in ``KEEP_BUDGET`` bytes,
-            else every N-th sample with N the smallest that fits.
+        keep: which samples the returned Result holds (``RunSettings.keep``; default
+            ``"auto"``); the run itself streams block by block to the observer (the log) in
+            memory for one block.
         generators: joint name → generator law (``loads/generator.py``), compiled.
         rotors: joint name → ``Rotor`` (``loads/rotor.py``), compiled; its inertia is added to
             the joint.
@@ -346,6 +353,8 @@ def simulate(
             the model's pose), the start-up transient included. ``metadata["initial_deflection"]``
             records how the static start went.
         metadata: extra entries for ``result.metadata`` and the log (e.g. the scenario).
+        settings: the run settings as one object (``RunSettings``), instead of ``solver``,
+            ``integrator``, ``progress``, ``chunk``, ``keep`` and ``initial_deflection``.
 
     Torques and speeds given as ``pinwind.loads.signals.Signal`` are evaluated for a whole block
     at once; plain Python callables are called once per sample, the slow path.
@@ -359,7 +368,8 @@ def simulate(
         InputError: unknown joint names, non-finite values, dt or duration not positive, a
             duration that dt does not divide, a torque or speed on a fixed mount, a load
             function that raises (its exception is the ``__cause__``).
-        ConflictingInputs: a joint given both a torque and a speed.
+        ConflictingInputs: a joint given both a torque and a speed; ``settings`` given with
+            one of the keywords it holds.
         ConflictingConstraints: initial or driver speeds that contradict the gear ratios.
         SolverFailed, Diverged: the run cannot go on; the message names the step and time.
             Diverged also when a joint turns faster than ``MAX_PLAUSIBLE_SPEED`` at a recorded
@@ -368,7 +378,16 @@ def simulate(
     """
     duration = _check_positive("duration", duration, "s")
     dt = _check_positive("dt", dt, "s")
-    steps = _step_count(duration, dt)
+    _step_count(duration, dt)
+    run_settings = _run_settings(
+        settings,
+        solver=solver,
+        integrator=integrator,
+        progress=progress,
+        chunk=chunk,
+        keep=keep,
+        initial_deflection=initial_deflection,
+    )
     train = drivetrain(
         gearbox,
         torques=torques,
@@ -380,6 +399,58 @@ def simulate(
         meshes=meshes,
         gravity=gravity,
     )
+    run = prepare(
+        train,
+        duration=duration,
+        dt=dt,
+        settings=run_settings,
+        position_errors=position_errors,
+        metadata=metadata,
+    )
+    return run.run(observers_of(observer))
+
+
+def _run_settings(settings: RunSettings | None, **given: object) -> RunSettings:
+    """``settings``, or one built from ``simulate``'s keywords of the same names."""
+    named = {k: v for k, v in given.items() if v is not None}
+    if settings is None:
+        return RunSettings(**named)  # type: ignore[arg-type]
+    if not isinstance(settings, RunSettings):
+        raise InputError(f"settings={settings!r}: give a pinwind.dynamics.RunSettings")
+    if named:
+        raise ConflictingInputs(
+            "the run settings are given twice: settings=RunSettings(...) and "
+            + ", ".join(f"{k}={v!r}" for k, v in named.items())
+            + "; give them in the RunSettings alone"
+        )
+    return settings
+
+
+def prepare(
+    train: Drivetrain,
+    *,
+    duration: float,
+    dt: float,
+    settings: RunSettings | None = None,
+    position_errors: Mapping[str, tuple[float, float]] | None = None,
+    metadata: Mapping[str, object] | None = None,
+) -> PreparedRun:
+    """A run of ``train`` ready to step: the checks, the compiled stepper at the start, the Result.
+
+    Checks that the loads cover ``duration`` [s], sets up the meshes (their mass and loaded
+    flanks from the machine's linearisation), warns of unbalanced torques, a step too coarse
+    for the stiffest spring and springs wound at the start, allocates the Result the run keeps
+    with its metadata, builds the compiled stepper at the model's pose and the operating speeds,
+    and takes the static start (``RunSettings.initial_deflection``). Nothing is stepped yet.
+
+    Raises:
+        InputError, OutOfMemory: as ``simulate``.
+    """
+    settings = settings if settings is not None else RunSettings()
+    duration = _check_positive("duration", duration, "s")
+    dt = _check_positive("dt", dt, "s")
+    steps = _step_count(duration, dt)
+    gearbox = train.gearbox
     torque_loads, speed_loads, init = train.torques, train.drivers, train.initial_speeds
     for where, lds in (("torques", torque_loads), ("speeds", speed_loads)):
         for ld in lds:
@@ -388,27 +459,14 @@ def simulate(
     if elements.wind is not None:
         check_covers(elements.wind, duration, "wind")
     model = gearbox.model
-    g = train.gravity
-
-    if initial_deflection not in INITIAL_DEFLECTIONS:
-        raise InputError(
-            f"initial_deflection={initial_deflection!r}: give one of "
-            + ", ".join(repr(k) for k in INITIAL_DEFLECTIONS)
-        )
-    settings = solver or SolverSettings()
-    if integrator is not None and not isinstance(integrator, Integrator):
-        raise InputError(
-            f"integrator={integrator!r}: give a pinwind.dynamics.Integrator, "
-            "e.g. Integrator(rho_infinity=1.0)"
-        )
-    method = integrator or Integrator()
+    method = settings.integrator
     # Rows after the meshes: the speed drivers, then the locked bearings (held at zero speed).
     drivers = train.rows
     # The machine the run steps, linearised: its mass (the rotors' inertias in), the flanks the
     # static load presses (the mesh modes' rows), and a floating member nothing holds refused,
     # naming its free motion.
     linear = linearise(train)
-    mesh_setup_ = mesh_setup(
+    meshes = mesh_setup(
         gearbox,
         train.meshes,
         driver_index=[d.v_index for d in drivers],
@@ -421,20 +479,17 @@ def simulate(
     _warn_if_unbalanced(gearbox, torque_loads, speed_loads, elements, duration)
     spring_mode = highest_spring_mode(train)
     for note in coarse_step_notes(duration, dt, spring_mode):
-        warnings.warn(StepTooCoarse(note), stacklevel=2)
+        warnings.warn(StepTooCoarse(note), stacklevel=user_stacklevel())
     frames = body_frames(gearbox)
     body_names = [model.frames[f].name for f in frames]
     samples = steps + 1
     stride = _keep_stride(
-        keep,
+        settings.keep,
         samples,
         _bytes_per_sample(gearbox, body_names, elements),
     )
     kept = _kept_samples(samples, stride)
-    if chunk is None:
-        chunk = block_samples(samples)
-    elif isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
-        raise InputError(f"chunk={chunk!r}: give a whole number of samples per block, at least 1")
+    chunk = settings.chunk if settings.chunk is not None else block_samples(samples)
     try:
         res = _allocate(gearbox, len(kept), body_names, elements)
     except MemoryError as err:
@@ -446,16 +501,16 @@ def simulate(
         "dt": dt,
         "duration": duration,
         "steps": steps,
-        "gravity": list(map(float, g)),
+        "gravity": list(map(float, train.gravity)),
         "torques": {ld.joint: ld.description for ld in torque_loads},
         "speeds": {ld.joint: ld.description for ld in speed_loads},
         "initial_speeds": {ld.joint: ld.description for ld in init},
         "locked_joints": list(gearbox.locked_joints),
-        "solver": settings.as_dict(),
+        "solver": settings.solver.as_dict(),
         "integrator": method.as_dict(),
-        "meshes": _mesh_metadata(mesh_setup_),
-        "highest_mesh_mode_hz": mesh_setup_.highest_mode,
-        "highest_mesh_mode_damping_ratio": mesh_setup_.highest_mode_damping,
+        "meshes": _mesh_metadata(meshes),
+        "highest_mesh_mode_hz": meshes.highest_mode,
+        "highest_mesh_mode_damping_ratio": meshes.highest_mode_damping,
         "samples_simulated": samples,
         "keep_stride": stride,
         **elements.metadata,
@@ -470,160 +525,276 @@ def simulate(
     # The machine turning: the given speeds, the others through the meshes and the springs.
     v = train.operating_speed()
     _warn_if_wound(gearbox, v)
-
-    if progress is None:
-        import sys
-
-        progress = steps > 20_000 and sys.stderr.isatty()
-    bar = _progress_bar(steps, gearbox.name) if progress else None
-
     stepper = CompiledStepper(
         gearbox,
         samples,
         q,
         v,
         dt=dt,
-        gravity=g,
+        gravity=train.gravity,
         driver_index=[d.v_index for d in drivers],
         driver_names=[d.joint for d in drivers],
-        settings=settings,
-        meshes=mesh_setup_,
+        settings=settings.solver,
+        meshes=meshes,
         loads=elements,
         integrator=method,
     )
-    res.metadata["initial_deflection"] = {"mode": initial_deflection}
-    if initial_deflection == "static" and (
-        mesh_setup_.compliant or gearbox.springs or gearbox.slide_joints
+    res.metadata["initial_deflection"] = {"mode": settings.initial_deflection}
+    if settings.initial_deflection == "static" and (
+        meshes.compliant or gearbox.springs or gearbox.slide_joints
     ):
         res.metadata["initial_deflection"].update(
             _static_start(gearbox, stepper, torque_loads, drivers, elements, dt)
         )
-    observers = observers_of(observer)
-    begun: list[RunObserver] = []  # the observers to end, whatever stops the run
-    holds = [getattr(o, "holds", None) for o in observers]
-    status = "completed"
-    done = 0
-    spring0 = None
-    direct = stride == 1  # every sample kept: the Result's own rows are the blocks
-    # Buffers for blocks the Result does not keep: one more than the blocks an observer may
-    # still read while the loop steps into the next (the statistics' thread folds two behind).
-    spares: list[Result] = []
-    started = wallclock.perf_counter()
-    try:
-        for o in observers:
-            # begun and listed at once: a Ctrl-C in between would leave a log never ended
-            with interrupts_deferred():
-                o.begin(gearbox, res)
-                begun.append(o)
-        read = any(getattr(o, "reads", True) for o in observers)
-        # No observer reads the blocks: the compiled loop records the kept samples alone, into
-        # the Result's own rows (keep="last" keeps the last sample but not the first: blocks).
-        sparse = not direct and not read and stride < samples
-        torque_columns = [ld.v_index for ld in torque_loads]
-        roll = roll_share(gearbox)
-        for start in range(0, samples, chunk):
-            # A block is stepped and handed to the observers whole: Ctrl-C or SIGTERM waits for the
-            # hand-over (it used to drop the block between the step and the log: samples counted
-            # as simulated that no log held). The compiled step checks no signal anyway.
-            with interrupts_deferred():
-                stop = min(start + chunk, samples)
-                torque, bad_torque = _signal_table(
-                    torque_loads, start, stop, dt, torque_columns, model.nv
+    return PreparedRun(
+        train=train,
+        settings=settings,
+        dt=dt,
+        steps=steps,
+        chunk=chunk,
+        stride=stride,
+        kept=kept,
+        result=res,
+        stepper=stepper,
+        body_names=body_names,
+        elements=elements,
+    )
+
+
+@dataclass
+class BlockOutcome:
+    """What stepping one block gave (``PreparedRun.step_block``).
+
+    Attributes:
+        done: the samples before this one are final [-] (the block's end, or where it stopped).
+        error: why the block stopped early (a non-finite or failing load, the solver, a
+            divergence), raised once its final samples are handed over; None if it did not.
+    """
+
+    done: int
+    error: BaseException | None = None
+
+
+@dataclass
+class PreparedRun:
+    """A run ready to step (``prepare``): its machine, settings, compiled stepper and Result.
+
+    ``step_block`` steps one block of samples into arrays, ``run`` steps them all and hands
+    them to the observers, ``finish`` closes the Result (its status, and the samples up to
+    where the run stopped).
+
+    Attributes:
+        train: the machine the run steps.
+        settings: its run settings.
+        dt: time step [s]; steps: steps of the run [-].
+        chunk: samples per block [-]; stride: the Result keeps every stride-th sample [-].
+        kept: the samples the Result keeps (indices from 0).
+        result: the Result's arrays, filled as the run goes, with its metadata.
+        stepper: the compiled stepper, at the start state until the first block.
+        body_names: the links whose poses are recorded.
+        elements: the compiled load elements (generators, rotors, wind).
+    """
+
+    train: Drivetrain
+    settings: RunSettings
+    dt: float
+    steps: int
+    chunk: int
+    stride: int
+    kept: np.ndarray
+    result: Result
+    stepper: CompiledStepper
+    body_names: list[str]
+    elements: LoadElements
+
+    @property
+    def gearbox(self) -> Gearbox:
+        """The model the run steps."""
+        return self.train.gearbox
+
+    @property
+    def samples(self) -> int:
+        """Samples of the whole run, t = 0 … duration [-]."""
+        return self.steps + 1
+
+    def step_block(self, start: int, stop: int, block: Result, *, stride: int = 1) -> BlockOutcome:
+        """Steps samples [start, stop) into ``block``'s rows (every ``stride``-th from 0 only).
+
+        Evaluates the torque and speed signals and the wind over the block, stopping before
+        the first sample where one is not finite or raises; then steps the compiled loop and
+        checks the speeds it recorded (``MAX_PLAUSIBLE_SPEED``). The samples before
+        ``BlockOutcome.done`` are final whatever happened.
+        """
+        dt, gearbox, drivers = self.dt, self.gearbox, self.train.rows
+        torque_loads = self.train.torques
+        nv = gearbox.model.nv
+        torque, bad_torque = _signal_table(
+            torque_loads, start, stop, dt, [ld.v_index for ld in torque_loads], nv
+        )
+        torque = from_ground(gearbox, roll_share(gearbox), torque)
+        # Step k asks for the driver speeds at t_k and t_{k+1}.
+        target, bad_target = _signal_table(
+            drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
+        )
+        error: BaseException | None = None
+        if bad_torque is not None:
+            k, load, cause = bad_torque
+            stop = k
+            error = _signal_error("torques", load, k, dt, cause, "N·m")
+            error.__cause__ = cause if isinstance(cause, Exception) else None
+        if bad_target is not None and max(bad_target[0] - 1, 0) < stop:
+            k, load, cause = bad_target
+            stop = max(k - 1, 0)
+            error = _signal_error("speeds", load, k, dt, cause, "rad/s")
+            error.__cause__ = cause if isinstance(cause, Exception) else None
+        inputs = None
+        if self.elements.wind is not None:
+            wind_speed = self.elements.wind.values(np.arange(start, stop) * dt)
+            inputs = np.asarray(wind_speed, dtype=float).reshape(-1, 1)
+            nonfinite = np.flatnonzero(~np.isfinite(inputs[:, 0]))
+            if nonfinite.size and start + int(nonfinite[0]) < stop:
+                k = start + int(nonfinite[0])
+                stop = k
+                error = NonFiniteInput(
+                    f"wind is {wind_speed[k - start]} m/s at step {k} "
+                    f"(t = {k * dt:.6g} s); the wind speed must be finite"
                 )
-                torque = from_ground(gearbox, roll, torque)
-                # Step k asks for the driver speeds at t_k and t_{k+1}.
-                target, bad_target = _signal_table(
-                    drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
-                )
-                error = cause = None
-                if bad_torque is not None:
-                    k, load, cause = bad_torque
-                    stop = k
-                    error = _signal_error("torques", load, k, dt, cause, "N·m")
-                if bad_target is not None and max(bad_target[0] - 1, 0) < stop:
-                    k, load, cause = bad_target
-                    stop = max(k - 1, 0)
-                    error = _signal_error("speeds", load, k, dt, cause, "rad/s")
-                inputs = None
-                if elements.wind is not None:
-                    wind_speed = elements.wind.values(np.arange(start, stop) * dt)
-                    inputs = np.asarray(wind_speed, dtype=float).reshape(-1, 1)
-                    nonfinite = np.flatnonzero(~np.isfinite(inputs[:, 0]))
-                    if nonfinite.size and start + int(nonfinite[0]) < stop:
-                        k = start + int(nonfinite[0])
-                        stop = k
-                        error = NonFiniteInput(
-                            f"wind is {wind_speed[k - start]} m/s at step {k} "
-                            f"(t = {k * dt:.6g} s); the wind speed must be finite"
-                        )
-                    inputs = inputs[: stop - start]
-                lo, hi = (int(i) for i in np.searchsorted(kept, [start, stop]))
-                if direct or sparse:  # the compiled loop writes the kept arrays in place
-                    block = res.rows(lo, hi)
-                elif None not in holds:  # blocks are dropped once observed: buffers in turn
-                    if not spares:
-                        spares = [
-                            _allocate(gearbox, chunk, body_names, elements, empty=True)
-                            for _ in range(1 + max((h for h in holds if h is not None), default=0))
-                        ]
-                    block = spares[start // chunk % len(spares)].rows(0, stop - start)
-                else:  # an observer keeps the blocks (the log's writer thread): new arrays
-                    block = _allocate(gearbox, stop - start, body_names, elements, empty=True)
-                done = start
-                failure: PinwindError | None = None
-                try:
-                    done = stepper.run(
-                        start, stop, torque[: stop - start], target[: stop - start + 1], block,
-                        inputs, stride=stride if sparse else 1,
-                    )  # fmt: skip
-                except PinwindError as err:
-                    done = getattr(err, "samples", start)
-                    failure = err
-                # The sample of each row of the block.
-                recorded = kept[lo:hi] if sparse else np.arange(start, stop)
-                absurd = _implausible(block, recorded[recorded < done])
-                if absurd is not None:
-                    done = absurd[0]
-                # Samples start:done are final whatever happened: keep and hand them over.
-                final_rows = int(np.searchsorted(recorded, done))
-                if done > start and final_rows:
-                    part = block if final_rows == len(block) else block.truncated(final_rows)
-                    if spring0 is None:
-                        spring0 = float(part.energy["potential_spring"][0])
-                    _numerical_loss(part.energy, spring0)
-                    if direct or sparse or read:
-                        _derive(part, gearbox)
-                    if not (direct or sparse):
-                        lo, hi = _keep(res, part, start, kept)
-                        if not read and hi > lo:  # keep="last": the last sample only
-                            _derive(res.rows(lo, hi), gearbox)
-                    if not sparse:
-                        for o in observers:
-                            o.samples(part, start)
-                if absurd is not None:
-                    raise _diverged(absurd, dt) from failure
-                if failure is not None:
-                    raise failure
-                if error is not None:
-                    raise error from (cause if isinstance(cause, Exception) else None)
-                if bar is not None:
-                    bar.advance(stop - start)
-    except KeyboardInterrupt:
-        status = f"interrupted at step {done} (t = {done * dt:.6g} s)"
-        raise
-    except Exception as err:
-        status = f"failed at step {done} (t = {done * dt:.6g} s): {err}"
-        raise
-    finally:
-        if bar is not None:
-            bar.close()
-        res.metadata["wall_time_s"] = wallclock.perf_counter() - started
+            inputs = inputs[: stop - start]
+        lo, hi = (int(i) for i in np.searchsorted(self.kept, [start, stop]))
+        rows = hi - lo if stride > 1 else stop - start
+        if rows < len(block):  # stopped early: the rows of the samples stepped
+            block = block.rows(0, rows)
+        done = start
+        failure: PinwindError | None = None
+        try:
+            done = self.stepper.run(
+                start, stop, torque[: stop - start], target[: stop - start + 1], block, inputs,
+                stride=stride,
+            )  # fmt: skip
+        except PinwindError as err:
+            done = getattr(err, "samples", start)
+            failure = err
+        # The sample of each row of the block.
+        recorded = self.kept[lo:hi] if stride > 1 else np.arange(start, stop)
+        absurd = _implausible(block, recorded[recorded < done])
+        if absurd is not None:
+            diverged = _diverged(absurd, dt)
+            diverged.__cause__ = failure
+            return BlockOutcome(absurd[0], diverged)
+        if failure is not None:
+            return BlockOutcome(done, failure)
+        return BlockOutcome(done, error)
+
+    def run(self, observers: Sequence[RunObserver] = ()) -> Result:
+        """Steps every block, hands each to the observers, and returns ``finish``'s Result.
+
+        The observers' ``end`` is called whatever stops the run (an error, Ctrl-C).
+        """
+        gearbox, res, kept, chunk = self.gearbox, self.result, self.kept, self.chunk
+        samples, stride, dt = self.samples, self.stride, self.dt
+        observers = list(observers)
+        begun: list[RunObserver] = []  # the observers to end, whatever stops the run
+        holds = [getattr(o, "holds", None) for o in observers]
+        status = "completed"
+        done = 0
+        spring0 = None
+        direct = stride == 1  # every sample kept: the Result's own rows are the blocks
+        # Buffers for blocks the Result does not keep: one more than the blocks an observer
+        # may still read while the loop steps into the next (the statistics' thread folds two
+        # behind).
+        spares: list[Result] = []
+        progress = self.settings.progress
+        if progress is None:
+            progress = self.steps > 20_000 and sys.stderr.isatty()
+        bar = _progress_bar(self.steps, gearbox.name) if progress else None
+        started = wallclock.perf_counter()
+        try:
+            for o in observers:
+                # begun and listed at once: a Ctrl-C in between would leave a log never ended
+                with interrupts_deferred():
+                    o.begin(gearbox, res)
+                    begun.append(o)
+            read = any(getattr(o, "reads", True) for o in observers)
+            # No observer reads the blocks: the compiled loop records the kept samples alone,
+            # into the Result's own rows (keep="last" keeps the last sample but not the first:
+            # blocks).
+            sparse = not direct and not read and stride < samples
+            for start in range(0, samples, chunk):
+                # A block is stepped and handed to the observers whole: Ctrl-C or SIGTERM waits
+                # for the hand-over (it used to drop the block between the step and the log:
+                # samples counted as simulated that no log held). The compiled step checks no
+                # signal anyway.
+                with interrupts_deferred():
+                    stop = min(start + chunk, samples)
+                    lo, hi = (int(i) for i in np.searchsorted(kept, [start, stop]))
+                    if direct or sparse:  # the compiled loop writes the kept arrays in place
+                        block = res.rows(lo, hi)
+                    elif None not in holds:  # blocks dropped once observed: buffers in turn
+                        if not spares:
+                            spares = [
+                                self._block(chunk)
+                                for _ in range(
+                                    1 + max((h for h in holds if h is not None), default=0)
+                                )
+                            ]
+                        block = spares[start // chunk % len(spares)].rows(0, stop - start)
+                    else:  # an observer keeps the blocks (the log's writer thread): new arrays
+                        block = self._block(stop - start)
+                    done = start
+                    outcome = self.step_block(start, stop, block, stride=stride if sparse else 1)
+                    done = outcome.done
+                    recorded = kept[lo:hi] if sparse else np.arange(start, stop)
+                    # Samples start:done are final whatever happened: keep and hand them over.
+                    final_rows = int(np.searchsorted(recorded, done))
+                    if done > start and final_rows:
+                        part = block if final_rows == len(block) else block.truncated(final_rows)
+                        if spring0 is None:
+                            spring0 = float(part.energy["potential_spring"][0])
+                        _numerical_loss(part.energy, spring0)
+                        if direct or sparse or read:
+                            _derive(part, gearbox)
+                        if not (direct or sparse):
+                            lo, hi = _keep(res, part, start, kept)
+                            if not read and hi > lo:  # keep="last": the last sample only
+                                _derive(res.rows(lo, hi), gearbox)
+                        if not sparse:
+                            for o in observers:
+                                o.samples(part, start)
+                    if outcome.error is not None:
+                        raise outcome.error
+                    if bar is not None:
+                        bar.advance(stop - start)
+        except KeyboardInterrupt:
+            status = f"interrupted at step {done} (t = {done * dt:.6g} s)"
+            raise
+        except Exception as err:
+            status = f"failed at step {done} (t = {done * dt:.6g} s): {err}"
+            raise
+        finally:
+            if bar is not None:
+                bar.close()
+            res.metadata["wall_time_s"] = wallclock.perf_counter() - started
+            final = self.finish(done, status)
+            _end_all(begun, final, status)
+        return final
+
+    def finish(self, done: int, status: str) -> Result:
+        """The run's Result: its status and the kept samples before ``done`` [-].
+
+        ``status`` is ``"completed"`` or why the run stopped; the metadata records it and
+        the samples simulated.
+        """
+        res = self.result
         res.metadata["status"] = status
         res.metadata["samples_simulated"] = done
         res.status = status
-        final = res if status == "completed" else res.truncated(int(np.searchsorted(kept, done)))
-        _end_all(begun, final, status)
-    return final
+        if status == "completed":
+            return res
+        return res.truncated(int(np.searchsorted(self.kept, done)))
+
+    def _block(self, samples: int) -> Result:
+        """New arrays for a block of that many samples."""
+        return _allocate(self.gearbox, samples, self.body_names, self.elements, empty=True)
 
 
 def _warn_if_wound(gearbox: Gearbox, v: np.ndarray) -> None:
@@ -654,15 +825,8 @@ def _warn_if_wound(gearbox: Gearbox, v: np.ndarray) -> None:
                 "forces at the spring's own frequency; give one speed per train (the others "
                 "follow the ratios and springs) for a steady start"
             ),
-            stacklevel=3,
+            stacklevel=user_stacklevel(),
         )
-
-
-#: The starts a run can take (``simulate(initial_deflection=...)``).
-INITIAL_DEFLECTIONS = {
-    "static": "compliant meshes and springs deflected under the loads of t = 0",
-    "none": "compliant meshes and springs undeflected, at the model's pose",
-}
 
 
 def _static_start(
@@ -690,7 +854,7 @@ def _static_start(
     if not status.converged:
         warnings.warn(
             EquilibriumNotReached(status.iterations, status.correction, status.displacement),
-            stacklevel=3,
+            stacklevel=user_stacklevel(),
         )
     return {
         "iterations": int(status.iterations),
@@ -727,7 +891,7 @@ def _warn_if_unbalanced(
         else:  # a law whose torque grows with the speed holds the train at some speed
             held.append(name)
     for imbalance in imbalances(gearbox, torques, held=held):
-        warnings.warn(TorquesUnbalanced(imbalance.text()), stacklevel=3)
+        warnings.warn(TorquesUnbalanced(imbalance.text()), stacklevel=user_stacklevel())
 
 
 def _end_all(observers: list[RunObserver], final: Result, status: str) -> None:
