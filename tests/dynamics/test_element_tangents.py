@@ -13,7 +13,7 @@ import warnings
 import numpy as np
 import pytest
 
-from pinwind.errors import CheckFailed, PinwindWarning
+from pinwind.errors import PinwindWarning
 from pinwind.model.gearbox import loads
 from pinwind.testing import conservative_forces, element_tangents
 from pinwind.testing.tangents import element_stepper, seeded_states
@@ -120,19 +120,8 @@ def _outside_the_clearance(gb, count: int) -> list[tuple[np.ndarray, np.ndarray]
     return out[:count]
 
 
-_CLEARANCE_NOT_IN_CONTACT = (
-    "CompiledStepper.element_forces builds the bearing springs with no contact "
-    "(cpp/bearing_spring.hpp: BearingSprings has no prepare(), contact_ starts false), so a "
-    "disc pressed beyond its clearance reads f = 0, K = 0, C = 0 while U = ½ k (|r| − c)² > 0; "
-    "the fix is in C++ (contact from |r₀| > c on the first state prepared, as the compliant "
-    "mesh does). Until then no test reads the clearance law's tangent, and a tangent without "
-    "its (c/|r|) r̂ r̂ᵀ term survives."
-)
 
 
-@pytest.mark.xfail(
-    strict=True, raises=(AssertionError, CheckFailed), reason=_CLEARANCE_NOT_IN_CONTACT
-)
 def test_a_bearing_pressed_beyond_its_clearance_has_the_tangent_of_its_law():
     """F = −k (|r| − c) r̂ beyond the clearance: its tangent k [(1 − c/|r|) I + (c/|r|) r̂ r̂ᵀ]
     is stiffer along r̂ than across it, which central differences of F see."""
@@ -152,7 +141,6 @@ def test_a_bearing_pressed_beyond_its_clearance_has_the_tangent_of_its_law():
     conservative_forces(gb, states=states, rtol=RTOL, spread_m=SPREAD)
 
 
-@pytest.mark.xfail(strict=True, raises=CheckFailed, reason=_CLEARANCE_NOT_IN_CONTACT)
 def test_a_bearing_with_clearance_pushes_along_the_gradient_of_its_energy():
     gb = _quiet(disc_urdf(f'radial_stiffness="1e8" radial_clearance_mm="{CLEARANCE * 1e3!r}"'))
     conservative_forces(gb, states=8, seed=10, rtol=RTOL, spread_m=SPREAD)

@@ -130,6 +130,21 @@ class BearingSprings : public Element {
                : Eigen::Vector2d::Zero();
   }
 
+  // A bearing with clearance starts in contact where its body is already beyond the clearance
+  // (a run or a check from a displaced state): its force is then the gradient of its energy
+  // from the first state on, as a compliant mesh's flanks start (compliant_mesh.hpp).
+  void prepare(const StepView& s) override {
+    if (started_) return;
+    started_ = true;
+    for (size_t b = 0; b < specs_.size(); ++b) {
+      const BearingSpringSpec& sp = specs_[b];
+      if (sp.index_x < 0 || sp.law != BearingLaw::linear || sp.clearance <= 0.0) continue;
+      const Eigen::Vector2d r(s.q[sp.index_x], s.q[sp.index_y]);
+      contact_[b] = r.norm() > sp.clearance;
+      if (contact_[b]) direction_[b] = r.normalized();
+    }
+  }
+
   void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
     const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
     for (size_t b = 0; b < specs_.size(); ++b) {
@@ -288,6 +303,7 @@ class BearingSprings : public Element {
   std::vector<Eigen::Vector2d> force0_;      // F(r₀) of the current step [N]
   std::vector<std::vector<Eigen::Vector2d>> rollers_;  // e_j of a roller sum's elements
   std::vector<std::vector<Linear>> linear_;  // each bearing's axial slide and tilt hinges, those it has
+  bool started_ = false;  // contact_ set from the first state prepared
   Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces [N or N·m]
 };
 
