@@ -18,6 +18,11 @@ series derived in C++: 1.46-1.58 (7 repeats). The machine's speed drifts by up t
 minutes (pairwise ratios spread 0.8-2.2), so only the median of many interleaved repeats means
 anything: hence 21 by default.
 
+Measured 2026-12-07 with each mesh flank in contact on its own (issue 36), alternating with
+d7f877a's module in separate processes (21 repeats, a busier machine: mesh-only steps 4.4-7.2
+µs): all five bearings, dtu500_planetary 1.55 and 1.53 (d7f877a 1.56 and 1.53),
+saleh2017_planetary 1.44; one bearing 1.11-1.14 (d7f877a 1.11-1.13).
+
 Where the time goes (valgrind --tool=callgrind --toggle-collect='pinwind::Stepper::run*' on a
 3000-step run of the case, saleh2017_planetary, all five bearings; instructions per step, ideal
 -> compliant bearings): 37.7k -> 66.6k (1.77; 38.5k -> 69.0k before the solves were taken four

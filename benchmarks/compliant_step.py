@@ -10,6 +10,12 @@ its streaming, not of filling memory.
 With ``--dtu``, also runs ``examples/dtu500_planetary.py`` (30 s simulated) in a subprocess and
 prints its wall time and peak memory (the issue's budget: ≤ 30 s and ≤ 1 GB on 2 cores).
 
+Measured 2026-12-07 on the 2-core machine, each flank in contact on its own (issue 36), six
+rounds alternating this tree with d7f877a's (one flank at a time) in separate processes, median
+of the rounds' ratios: saleh2017_planetary 1.125 (d7f877a 1.095), dtu500_planetary 1.15
+(1.085); rigid steps 3.1-3.7 µs. The whole ``simulate`` call is timed: ``prepare`` now
+linearises the machine (5 ms rigid, 10 ms compliant), 0.1-0.2 µs a step over 50 000 steps.
+
 Run:  python benchmarks/compliant_step.py [--steps N] [--dt S] [--repeats R] [--dtu]
 """
 

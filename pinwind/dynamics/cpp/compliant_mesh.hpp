@@ -81,7 +81,7 @@ class CompliantMeshes : public Element {
     delta_.setZero(n, 2);
     row_.resize(2 * specs_.size());
     for (auto& r : row_) r.setZero(nv);
-    span_.assign(2 * specs_.size(), {0, 0});
+    span_.assign(specs_.size(), {0, 0});
     path_.resize(2 * specs_.size());
     b_.setZero(n, 2);
     w_.setZero(n, 2);
@@ -120,17 +120,20 @@ class CompliantMeshes : public Element {
       delta_(i, 1) = -rolling + radial - sp.backlash;
       double unused;
       for (int f = 0; f < 2; ++f) {
-        auto& row = row_[2 * i + f];
-        flank_row(mc, s.rows, m, flank_sign(f), cos_w_[i], sin_w_[i], row, unused);
-        // The span of the row's non-zero entries (the joints of the two gears' chains), over
-        // which add_implicit adds w JᵀJ.
-        Eigen::Index lo = 0, hi = row.size();
-        while (lo < hi && row[lo] == 0.0) ++lo;
-        while (hi > lo && row[hi - 1] == 0.0) --hi;
-        span_[2 * i + f] = {lo, hi};
+        flank_row(mc, s.rows, m, flank_sign(f), cos_w_[i], sin_w_[i], row_[2 * i + f], unused);
         path_[2 * i + f] = path_state(paths_[i], psi_a, flank_sign(f));
       }
       if (!started_) {
+        // The span of the rows' entries that can be non-zero: the joints that move one gear
+        // and not the other (MeshConstants::support), the same for both flanks and every
+        // state; add_implicit adds w JᵀJ over it.
+        const auto moves = [&](Eigen::Index c) {
+          return mc.support(mc.slot_b[m], c) != mc.support(mc.slot_a[m], c);
+        };
+        Eigen::Index lo = 0, hi = row_[2 * i].size();
+        while (lo < hi && !moves(lo)) ++lo;
+        while (hi > lo && !moves(hi - 1)) --hi;
+        span_[i] = {lo, hi};
         // Start in contact on every flank that overlaps (both at once where the centres are
         // closer than the teeth allow: zero backlash, floating members); a mesh at rest with
         // zero deflection starts on both flanks carrying no force, and the first step releases
@@ -147,7 +150,7 @@ class CompliantMeshes : public Element {
         const double k = stiffness(i, f), d = std::max(0.0, delta_(i, f));
         if (!first_ && !s.weights.statics) parametric_ += 0.5 * (k - last_k_(i, f)) * d * d;
         if (!s.weights.statics) last_k_(i, f) = k;
-        coefficients(s, i, f);
+        if (contact_(i, f)) coefficients(s, i, f);
       }
     }
     started_ = true;
@@ -162,7 +165,7 @@ class CompliantMeshes : public Element {
         // w rowᵀ row entry by entry, over the row's non-zero span and in the lower triangle
         // only (Element::add_implicit): Eigen's outer-product path allocates a temporary per
         // call, which at nv of 6 to 20 costs more than the products.
-        const auto [lo, hi] = span_[2 * i + f];
+        const auto [lo, hi] = span_[i];
         for (Eigen::Index c = lo; c < hi; ++c) {
           const double wc = w_(i, f) * row[c];
           if (wc == 0.0) continue;
@@ -186,6 +189,7 @@ class CompliantMeshes : public Element {
           const double force = end_force(s, a, i, f);
           if (contact_(i, f) ? force < 0.0 : force > 0.0) {
             contact_(i, f) = !contact_(i, f);
+            if (contact_(i, f)) coefficients(s, i, f);
             changed = true;
           }
         }
@@ -196,6 +200,7 @@ class CompliantMeshes : public Element {
                             ? (end_force(s, a, i, 0) >= end_force(s, a, i, 1) ? 0 : 1)
                             : (front_was ? 1 : 0);
           contact_(i, f) = 1;
+          coefficients(s, i, f);
         }
       }
     }
@@ -346,7 +351,7 @@ class CompliantMeshes : public Element {
   std::vector<double> last_flank_;   // the flank last loaded (+1 front, −1 back)
   Eigen::Matrix<double, Eigen::Dynamic, 2> delta_;  // overlaps δ_f, δ_b [m]
   std::vector<Eigen::RowVectorXd> row_;             // J of each flank (mesh i: 2i, 2i + 1)
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;  // each row's non-zero span
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;  // each mesh's rows' span
   std::vector<PathState> path_;
   // Each flank's b [N] and w [N·s²/m] (coefficients) and its final force and parts [N].
   Eigen::Matrix<double, Eigen::Dynamic, 2> b_, w_, normal_, elastic_, viscous_;
