@@ -175,7 +175,7 @@ def main() -> None:
     from pinwind.cli.app import app
 
     steps.done("import pinwind.cli.modes (the app, the modes verb)")
-    from pinwind.dynamics.linearisation import linearise
+    from pinwind.modes.linearisation import linearise
 
     steps.done("import the modes modules (numpy, Pinocchio, model)")
     typer.main.get_command(app)
@@ -206,7 +206,7 @@ def main() -> None:
         f"modules {sorted(others & set(sys.modules)) or 'none'}"
     )
 
-    from pinwind.analysis.campbell import campbell
+    from pinwind.modes.campbell import campbell
 
     top = args.rpm * 2 * 3.141592653589793 / 60
     start, cpu = time.perf_counter(), time.process_time()

@@ -65,7 +65,7 @@ Differences from 001, and why:
   why: in the synchronous frame its stator flux has a lightly damped mode at the grid's 60 Hz
   (eigenvalues −6.1 ± 376.9j 1/s), and near it the torque's response to the shaft speed,
   Re(∂T/∂ω) at 55 Hz, is +20.7 N·m·s/rad, a negative damper (it damps, +136 N·m·s/rad, at
-  10 Hz, and +3.8 at 100 Hz). The linearised drivetrain (``pinwind.dynamics.linearisation``)
+  10 Hz, and +3.8 at 100 Hz). The linearised drivetrain (``pinwind.modes.linearisation``)
   with the machine's four flux states gives that mode at 55.5 Hz, σ = +6.1 1/s, the run's
   within 5 %. A rotor inertia J_g moves the electromechanical mode away from 60 Hz: joined
   rigidly to the pinion (no damper) it is unstable below J_g ≈ 0.8 kg·m² (−0.34 % at 0.5) and

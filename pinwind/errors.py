@@ -259,7 +259,7 @@ class SpeedOutOfRange(InputError):
     """A linearisation asked at a speed where it does not hold.
 
     A speed negative or not finite, a joint faster than a gear can turn, or one where the velocity
-    terms that the modes leave out act (``dynamics/linearisation.py``).
+    terms that the modes leave out act (``modes/linearisation.py``).
     """
 
 

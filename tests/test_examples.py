@@ -12,9 +12,9 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 import pinwind
-from pinwind.dynamics.linearisation import linearise
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import single_pair_stiffness
+from pinwind.modes.linearisation import linearise
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

@@ -26,9 +26,9 @@ if TYPE_CHECKING:
     import numpy as np
 
     from pinwind.dynamics.drivetrain import Drivetrain
-    from pinwind.dynamics.linearisation import Linearisation
     from pinwind.dynamics.normal_modes import Mode
     from pinwind.model.gearbox import Gearbox
+    from pinwind.modes.linearisation import Linearisation
 
 MachineArgument = Annotated[
     Path,
@@ -156,8 +156,8 @@ def modes(
     stage, each mode's class (Lin & Parker 1999: rotational, translational, planet); at speed,
     a spinning body's orbit in its bearing whirls forward or backward.
     """
-    from pinwind.dynamics.linearisation import linearise
     from pinwind.dynamics.normal_modes import repeated_groups
+    from pinwind.modes.linearisation import linearise
 
     speeds = {
         name: parse_number(value, "--speed", "rpm") * RAD_S_PER_RPM
@@ -219,10 +219,10 @@ def modes(
 def _animate(
     gearbox: Gearbox, found: list[Mode], number: int | None, save: Path | None, quiet: bool = False
 ) -> None:
-    """Write mode ``number``'s animation to ``save`` (``io/mode_animation.py``) when asked."""
+    """Write mode ``number``'s animation to ``save`` (``modes/mode_animation.py``) when asked."""
     if number is None or save is None:
         return
-    from pinwind.io.mode_animation import save_mode_animation
+    from pinwind.modes.mode_animation import save_mode_animation
 
     path = save_mode_animation(gearbox, found[number - 1], save, number=number)
     if not quiet:
@@ -257,8 +257,8 @@ def campbell(
     a shaft's order 1) meets a natural frequency, with the mode's whirl there when a spinning
     body's gyroscopic terms move the modes with speed.
     """
-    from pinwind.analysis.campbell import campbell as diagram_of
-    from pinwind.analysis.campbell import write_figure
+    from pinwind.modes.campbell import campbell as diagram_of
+    from pinwind.modes.campbell import write_figure
 
     low, sep, high = speed_range.partition(":")
     try:

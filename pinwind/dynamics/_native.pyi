@@ -215,6 +215,18 @@ class RotorSpec:
     wind_column: int
     def __init__(self) -> None: ...
 
+class GeneralizedAlpha:
+    """The generalized-α method's constants for a spectral radius ρ∞ (time_step.hpp; read-only)."""
+
+    rho_infinity: float
+    alpha_m: float
+    alpha_f: float
+    gamma: float
+    beta: float
+
+def generalized_alpha(rho_infinity: float) -> GeneralizedAlpha:
+    """The constants the step uses for ρ∞ (clamped to [0, 1]; Integrator checks the range)."""
+
 def induction_torque(generator: GeneratorSpec, speed: float) -> float:
     """Steady-state induction machine torque on the shaft [N·m] at speed [rad/s] (motoring > 0)."""
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from pinwind.dynamics import _native
 from pinwind.errors import InputError
 
 #: The time-stepping schemes ``Integrator.scheme`` names.
@@ -65,24 +66,33 @@ class Integrator:
             )
 
     @property
+    def constants(self) -> _native.GeneralizedAlpha:
+        """αm, αf, γ and β as the compiled step computes them (``cpp/time_step.hpp``).
+
+        Read from the compiled implementation, not computed again here: the step and the
+        metadata, the dt advice and the numerical damping of the modes share one source.
+        """
+        return _native.generalized_alpha(self.rho_infinity)
+
+    @property
     def alpha_m(self) -> float:
-        """αm = (2ρ∞ − 1)/(ρ∞ + 1) (Chung & Hulbert 1993 eq. 25)."""
-        return (2.0 * self.rho_infinity - 1.0) / (self.rho_infinity + 1.0)
+        """αm = (2ρ∞ − 1)/(ρ∞ + 1) (Chung & Hulbert 1993 eq. 25; the compiled step's)."""
+        return self.constants.alpha_m
 
     @property
     def alpha_f(self) -> float:
-        """αf = ρ∞/(ρ∞ + 1) (Chung & Hulbert 1993 eq. 25)."""
-        return self.rho_infinity / (self.rho_infinity + 1.0)
+        """αf = ρ∞/(ρ∞ + 1) (Chung & Hulbert 1993 eq. 25; the compiled step's)."""
+        return self.constants.alpha_f
 
     @property
     def gamma(self) -> float:
-        """γ = ½ − αm + αf: second order (Chung & Hulbert 1993 eq. 17)."""
-        return 0.5 - self.alpha_m + self.alpha_f
+        """γ = ½ − αm + αf: second order (Chung & Hulbert 1993 eq. 17; the compiled step's)."""
+        return self.constants.gamma
 
     @property
     def beta(self) -> float:
-        """β = ¼ (1 − αm + αf)² (Chung & Hulbert 1993 eq. 20)."""
-        return 0.25 * (1.0 - self.alpha_m + self.alpha_f) ** 2
+        """β = ¼ (1 − αm + αf)² (Chung & Hulbert 1993 eq. 20; the compiled step's)."""
+        return self.constants.beta
 
     def as_dict(self) -> dict:
         """The scheme and its constants, for ``result.metadata["integrator"]``."""

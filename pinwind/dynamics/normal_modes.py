@@ -9,8 +9,10 @@ Each mode's kinetic energy splits over the joints as φⱼ (M φ)ⱼ and its str
 elements as ½ kₑ (Jₑ φ)² / (½ ω²), the shares every modal report gives (which body moves, which
 spring works). Motions no spring resists (the train turning as a whole) have ω = 0: rigid modes.
 
-This module holds the eigenproblem only; ``dynamics/linearisation.py`` builds M, K, C and the rows
-of a model, and ``dynamics/compliant.py`` asks it for the highest mesh mode of a run.
+This module holds the eigenproblem only; ``dynamics/linear_model.py`` builds M, K, C and the
+rows of a model at rest, ``modes/linearisation.py`` at an operating speed; a run asks it for its
+highest mesh mode (``dynamics/compliant.py``), its highest torsional-spring mode
+(``dynamics/torsional_modes.py``) and the motions nothing holds (``linear_model.check_held``).
 """
 
 from __future__ import annotations
@@ -59,11 +61,11 @@ class Mode:
             the elements hold all the stiffness).
         kind: for a train with planetary stages, the class of mode Lin & Parker give
             (``rotational``, ``translational``, ``planet`` or ``unclassified``;
-            ``dynamics/planetary_modes.py``); ``""`` without a stage.
+            ``modes/planetary_modes.py``); ``""`` without a stage.
         whirl: ``forward`` or ``backward`` when a spinning body orbits in its bearing with or
-            against its spin (``dynamics/gyroscopic_modes.py``); ``""`` otherwise.
+            against its spin (``modes/gyroscopic_modes.py``); ``""`` otherwise.
         complex_shape: φ (nv,) complex, φᴴ M φ = 1, the motion Re(φ e^{λt}) of a mode at speed
-            (``gyroscopic_modes.py``); ``None`` for the real modes of the symmetric solve.
+            (``modes/gyroscopic_modes.py``); ``None`` for the real modes of the symmetric solve.
     """
 
     frequency: float

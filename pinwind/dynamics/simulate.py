@@ -53,7 +53,7 @@ from pinwind.dynamics.compliant import MeshSetup, mesh_setup, single_pair
 from pinwind.dynamics.drivetrain import Drivetrain, drivetrain
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.integrator import Integrator
-from pinwind.dynamics.linearisation import linearise
+from pinwind.dynamics.linear_model import check_held, linear_model
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.run_settings import RunSettings
 from pinwind.dynamics.solver import SolverSettings
@@ -465,7 +465,8 @@ def prepare(
     # The machine the run steps, linearised: its mass (the rotors' inertias in), the flanks the
     # static load presses (the mesh modes' rows), and a floating member nothing holds refused,
     # naming its free motion.
-    linear = linearise(train)
+    linear = linear_model(train, at=train.operating_speed())
+    check_held(gearbox, linear)
     meshes = mesh_setup(
         gearbox,
         train.meshes,

@@ -1,6 +1,6 @@
 """Natural modes against the peaks of a free vibration's spectrum.
 
-The modes (``dynamics/linearisation.py``: M, K, C at the reference pose, the rigid rows) are the
+The modes (``modes/linearisation.py``: M, K, C at the reference pose, the rigid rows) are the
 frequencies a train rings at when let go. This check lets it go and listens:
 
 1. the modes chosen (the non-rigid ones, within ``band``, the lowest ``count``) give a start
@@ -31,11 +31,11 @@ from typing import Any
 import numpy as np
 
 from pinwind.analysis.spectrum import power_spectral_density, spectral_peaks
-from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.normal_modes import Mode
 from pinwind.errors import InputError, PinwindWarning
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
+from pinwind.modes.linearisation import linearise
 from pinwind.testing.figure import CheckFigure
 
 #: Default largest coordinate of the start [m or rad]: a µm-scale deflection.

@@ -10,10 +10,10 @@ import sys
 
 import numpy as np
 
-from pinwind.io.mode_animation import AMPLITUDE
+from pinwind.modes.mode_animation import AMPLITUDE
 from tests.conftest import MODELS
-from tests.dynamics.test_gyroscopic_modes import ROTORS, TILT, rotor_urdf, whirl_frequencies
 from tests.io.conftest import rrd_columns
+from tests.modes.test_gyroscopic_modes import ROTORS, TILT, rotor_urdf, whirl_frequencies
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
@@ -90,7 +90,7 @@ def test_modes_at_a_speed_outside_the_range_of_validity_exit_2_in_one_line():
 
 
 def test_modes_of_a_spinning_rotor_list_its_forward_and_backward_whirl(tmp_path):
-    # The Jeffcott closed form of tests/dynamics/test_gyroscopic_modes.py at 3000 rpm.
+    # The Jeffcott closed form of tests/modes/test_gyroscopic_modes.py at 3000 rpm.
     polar, transverse = ROTORS[0]
     model = tmp_path / "rotor.urdf"
     model.write_text(rotor_urdf(polar, transverse))
@@ -146,7 +146,7 @@ def test_modes_of_the_saleh_drivetrain_scenario_ring_the_rotor_against_the_train
     assert "rotor inertia on carrier: 5e+06 kg·m²" in out.stderr
     first = next(m for m in modes if m["frequency_hz"] > 0)
     # The stiffnesses: those of the mesh elements (mean mesh stiffness c_γα b of each pair).
-    from pinwind.dynamics.linearisation import linearise
+    from pinwind.modes.linearisation import linearise
     from pinwind.scenario import load_scenario
 
     scenario = load_scenario(MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml")

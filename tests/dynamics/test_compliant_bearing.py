@@ -11,11 +11,11 @@ import pytest
 
 import pinwind
 from pinwind.analysis import load_sharing
-from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.errors import InvalidBearingCompliance, PinwindWarning, UnheldMember
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 from tests.conftest import MODELS
 from tests.test_cli import run
 

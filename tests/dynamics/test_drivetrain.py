@@ -27,11 +27,11 @@ import pytest
 
 from pinwind.dynamics.compliant import mean_mesh_stiffness
 from pinwind.dynamics.drivetrain import drivetrain, generator_slope, rotor_slope
-from pinwind.dynamics.linearisation import linearise
 from pinwind.loads.generator import LinearSlip, VariableSpeed
 from pinwind.loads.rotor import Rotor, heier_cp
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 from tests.conftest import two_gear_urdf
 
 #: The pair of ``two_gear_urdf``: 20/40 teeth, module 2 mm, 20° (the model format's default).

@@ -23,11 +23,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import pinwind
-from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import PinwindWarning
 from pinwind.model.builders import planetary_urdf
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 from pinwind.testing import ledger_closure
 from tests.dynamics.test_flank_contact import pair_urdf
 

@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 
 from pinwind.dynamics.drivetrain import drivetrain
-from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.simulate import simulate
 from pinwind.model.builders import planetary_urdf
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 
 MEMBERS = ["sun", "carrier", "ring", *(f"planet{i}" for i in range(1, 5))]
 

@@ -28,9 +28,9 @@ from pinwind.dynamics.compliant import (
     pair_table,
     single_pair,
 )
-from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import MalformedModel, PinwindWarning
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 from tests.conftest import two_gear_urdf
 
 MODULE, ALPHA, Z1, Z2 = 0.002, math.radians(20.0), 20, 40

@@ -1,4 +1,4 @@
-"""Natural modes of the linearised train (``dynamics/linearisation.py``, ``normal_modes.py``).
+"""Natural modes of the linearised train (``modes/linearisation.py``, ``normal_modes.py``).
 
 Closed forms, each derived here:
 
@@ -29,10 +29,10 @@ import pytest
 
 import pinwind
 from pinwind.dynamics import Integrator
-from pinwind.dynamics.linearisation import MAX_SPEED, linearise
 from pinwind.errors import SpeedOutOfRange, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import MAX_SPEED, linearise
 from tests.conftest import two_gear_urdf
 from tests.dynamics.test_time_stepping import (
     J_A,

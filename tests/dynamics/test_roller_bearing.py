@@ -14,9 +14,9 @@ import pytest
 from scipy.optimize import brentq
 
 import pinwind
-from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import InvalidBearingCompliance, MalformedModel, PinwindWarning
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 from tests.dynamics.test_compliant_bearing import MASS, G, disc_urdf
 from tests.test_cli import run
 

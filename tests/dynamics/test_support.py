@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 import pinwind
-from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import InvalidSupport, PinwindWarning, UnknownName
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 from tests.conftest import two_gear_urdf
 
 G = 9.81

@@ -27,11 +27,11 @@ from numpy.testing import assert_allclose
 
 import pinwind
 from pinwind.dynamics.compliant import mesh_choices, mesh_setup
-from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper
 from pinwind.errors import InvalidMount, MalformedModel
 from pinwind.model.gearbox import loads
+from pinwind.modes.linearisation import linearise
 from tests.conftest import MODELS
 
 J = 0.05  # kg·m², the disc's axial inertia
@@ -132,7 +132,7 @@ def test_each_torsional_element_s_tangent_matches_central_differences_of_its_for
     assert_allclose(potential(q), energy, rtol=1e-12)
     gradient = np.array([(potential(q + h) - potential(q - h)) / 2e-6 for h in np.eye(2) * 1e-6])
     assert_allclose(-gradient, elastic, rtol=1e-6)
-    # The modes see the same K and C (dynamics/linearisation.py).
+    # The modes see the same K and C (modes/linearisation.py).
     lin = linearise(gb)
     assert_allclose(lin.stiffness, stiffness, rtol=1e-12)
     assert_allclose(lin.damping, damping, rtol=1e-12)

@@ -18,4 +18,5 @@ NB_MODULE(_native, m) {
   bind_elements(m);
   bind_mesh_rows(m);
   bind_columns(m);
+  bind_time_step(m);
 }

@@ -1,4 +1,4 @@
-"""Mode classes of a planetary stage (``dynamics/planetary_modes.py``, Lin & Parker 1999).
+"""Mode classes of a planetary stage (``modes/planetary_modes.py``, Lin & Parker 1999).
 
 Expectations derived here for the torsional model of a stage with the ring fixed, sun and
 carrier free and N identical, equally spaced planets (one rotation each): N + 2 coordinates.
@@ -38,9 +38,9 @@ import pytest
 
 import pinwind
 from pinwind.dynamics.coordinates import coordinates
-from pinwind.dynamics.linearisation import linearise
 from pinwind.model.builders import planetary_urdf
 from pinwind.model.gearbox import Gearbox, loads
+from pinwind.modes.linearisation import linearise
 
 MODULE = 0.01
 ALPHA = math.radians(20.0)

@@ -1,7 +1,7 @@
 """The Campbell diagram: natural frequencies against the input speed, with the excitation orders.
 
 The natural frequencies come from the linearisation at the reference pose
-(``dynamics/linearisation.py``), taken once at the top of the speed range and scaled down to each
+(``modes/linearisation.py``), taken once at the top of the speed range and scaled down to each
 speed (G grows with the speed, K_Ω with its square, nothing else changes:
 ``Linearisation.at_speed_scale``). Where the velocity terms vanish (torsional coordinates, where
 they are zero at every speed) the frequencies do not change over the range and are solved once;
@@ -27,12 +27,12 @@ import numpy as np
 
 from pinwind.analysis.spectrum import gearbox_frequencies
 from pinwind.dynamics.drivetrain import Drivetrain
-from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.normal_modes import Mode
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import InputError, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
+from pinwind.modes.linearisation import linearise
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""Modes at speed (``dynamics/gyroscopic_modes.py``): a spinning rotor on a compliant bearing.
+"""Modes at speed (``modes/gyroscopic_modes.py``): a spinning rotor on a compliant bearing.
 
 A rigid rotor (mass m, polar inertia J_p, transverse J_t about its centre, the bearing centre) on
 an isotropic bearing of radial stiffness k and tilt stiffness k_t, spinning at Ω about z. Small
@@ -30,10 +30,10 @@ import pytest
 
 import pinwind
 from pinwind.dynamics import Integrator
-from pinwind.dynamics.linearisation import linearise
 from pinwind.errors import PinwindWarning, SpeedOutOfRange
-from pinwind.io.mode_animation import mode_motion
 from pinwind.model.gearbox import Gearbox, loads
+from pinwind.modes.linearisation import linearise
+from pinwind.modes.mode_animation import mode_motion
 from tests.dynamics.test_normal_modes import _spectral_peaks
 
 MASS, RADIAL, TILT = 10.0, 1e6, 1e4

@@ -2,7 +2,7 @@
 
 A train linearised at an operating speed whose velocity terms act (a body spinning while it tilts
 in a compliant bearing) has a gyroscopic matrix G = ∂(C(q, v) v)/∂v, skew for a conservative
-spin, and a centrifugal stiffness K_Ω = ∂(C(q, v) v)/∂q (``dynamics/linearisation.py``). Over the
+spin, and a centrifugal stiffness K_Ω = ∂(C(q, v) v)/∂q (``modes/linearisation.py``). Over the
 basis B of the motions the rigid rows allow (q = B y), the quadratic eigenproblem
 
     (M_r λ² + D_r λ + K_r) y = 0,   M_r = Bᵀ M B, D_r = Bᵀ (C + G) B, K_r = Bᵀ (K + K_Ω) B,
@@ -16,11 +16,11 @@ is solved in first-order (state-space) form on the 2f pencil
 ``scipy.linalg.eig``. The eigenvalues come in conjugate pairs; each pair λ, λ̄ with Im λ > 0 is a
 mode whose motion is Re(φ e^{λt}): natural frequency |λ|/2π (the undamped one when C = 0, since λ
 is then imaginary; the damped one is |Im λ|/2π = f √(1 − ζ²)) and damping ratio ζ = −Re λ/|λ|.
-Real eigenvalues pair up, by size, into overdamped modes (f = √(λ₁λ₂)/2π, ζ ≥ 1), zero ones
-into rigid modes (0 Hz), and a positive with a negative one into a divergence (f = √|λ₁λ₂|/2π,
-ζ = −1: a centrifugal softening beyond the stiffness). Energy shares as in ``normal_modes.py``,
-time-averaged over the complex shape: joint j's kinetic share Re(φ̄ⱼ (M φ)ⱼ) / φᴴ M φ, element
-e's strain share kₑ |Jₑ φ|² / φᴴ K φ.
+Real eigenvalues pair up, by size, into overdamped modes (f = √(λ₁λ₂)/2π, ζ ≥ 1), zero ones into
+rigid modes (0 Hz), and a positive with a negative one into a divergence (f = √|λ₁λ₂|/2π, ζ = −1: a
+centrifugal softening beyond the stiffness). Energy shares as in ``dynamics/normal_modes.py``,
+time-averaged over the complex shape: joint j's kinetic share Re(φ̄ⱼ (M φ)ⱼ) / φᴴ M φ, element e's
+strain share kₑ |Jₑ φ|² / φᴴ K φ.
 
 The orbit of a body translating (or tilting) in a bearing on its two radial coordinates u, w
 (``radial_x``, ``radial_y``; or the tilts about them, whose axis tip traces (θ_w, −θ_u), turned a

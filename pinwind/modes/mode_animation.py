@@ -1,7 +1,7 @@
 """A natural mode animated in Rerun: the bodies at q₀ + A Re(φ e^{iωt}), drawn by the replay scene.
 
 The mode's shape φ (``dynamics/normal_modes.py``; real, or complex for a mode at speed,
-``gyroscopic_modes.py``) is scaled so that its largest motion is visible
+``modes/gyroscopic_modes.py``) is scaled so that its largest motion is visible
 and small: a rotation turns the largest pitch circle by ``AMPLITUDE`` of its radius along the
 circle, a translation moves its body by ``AMPLITUDE`` of that radius. The bodies' poses follow
 from the joint coordinates by Pinocchio's forward kinematics, as a run's do, and go to Rerun as

@@ -1,19 +1,20 @@
 """A drivetrain linearised at its reference pose: M, K, C and the rigid rows, and its modes.
 
-The machine is the one a run steps (``dynamics/drivetrain.py``): the gearbox with the run's
-rotors, generator laws, speed drivers, loads and mesh choice. The joint-space inertia M is
-Pinocchio's (CRBA at the neutral pose) plus the rotors' inertias on their joints; the stiffness
-and damping are those of the linear elements a run has: each compliant mesh a spring of its mean
-mesh stiffness (``compliant.mean_mesh_stiffness``: c_γα b for the ISO shape, the mean of a pair
-table) and its dashpot along the row of the flank the static load presses (``loaded_flanks.py``:
-the line of action of ``cpp/mesh_rows.hpp``, the same the step uses; whichever order the mesh's
-gears are written in), each torsional spring k (e₁ − e₂), each damped bearing c on its joint,
-each compliant bearing's and support slide its spring and damper (``bearing_elements``), and each
-generator and rotor law's slope as a damper on its joint (c = dT_gen/dω, −∂T_aero/∂ω at the
-operating speed and the wind at t = 0; ``Drivetrain.law_damping``). The rigid meshes (on their
-loaded flanks), the held joints (speed drivers: a driver holds its joint) and the locked
-bearings are rows; a floating bearing that nothing holds is refused.
-``normal_modes.natural_modes`` solves the eigenproblem.
+The machine is the one a run steps (``dynamics/drivetrain.py``): the gearbox with the run's rotors,
+generator laws, speed drivers, loads and mesh choice. The joint-space inertia M is Pinocchio's
+(CRBA at the neutral pose) plus the rotors' inertias on their joints; the stiffness and damping are
+those of the linear elements a run has: each compliant mesh a spring of its mean mesh stiffness
+(``compliant.mean_mesh_stiffness``: c_γα b for the ISO shape, the mean of a pair table) and its
+dashpot along the row of the flank the static load presses (``dynamics/loaded_flanks.py``: the line
+of action of ``cpp/mesh_rows.hpp``, the same the step uses; whichever order the mesh's gears are
+written in), each torsional spring k (e₁ − e₂), each damped bearing c on its joint, each compliant
+bearing's and support slide its spring and damper (``linear_model.bearing_elements``), and each
+generator rotor law's slope as a damper on its joint (c = dT_gen/dω, −∂T_aero/∂ω at the operating
+speed and the wind at t = 0; ``Drivetrain.law_damping``). The rigid meshes (on their loaded
+flanks), the held joints (speed drivers: a driver holds its joint) and the locked bearings are
+rows; a floating bearing that nothing holds is refused. These are the run's own
+(``dynamics/linear_model.py``, which a run uses for its mass, flanks and checks);
+``dynamics/normal_modes.py``'s ``natural_modes`` solves the eigenproblem.
 
 The linearisation is about the reference pose at an operating speed v₀ (the given joints' speeds,
 the others through the gear ratios). The speed enters through the velocity terms of the equations
@@ -25,8 +26,8 @@ carrier, so the kinetic energy ½ vᵀ M v has an M that does not depend on q an
 symbol is zero; the modes are those at rest at every speed. A body that spins while it tilts in a
 compliant bearing feels its polar inertia's gyroscopic moment (G ≠ 0): its modes at speed solve
 the quadratic eigenproblem (M λ² + (C + G) λ + K + K_Ω) φ = 0 (``gyroscopic_modes.py``), the
-others the symmetric one (``normal_modes.py``), exact and faster, whenever the velocity terms
-would move no frequency by ``SPEED_TERMS_TOLERANCE``.
+others the symmetric one (``dynamics/normal_modes.py``), exact and faster, whenever the velocity
+terms would move no frequency by ``SPEED_TERMS_TOLERANCE``.
 
 Modes at speed need equations whose coefficients stay constant while the train turns at v₀. They
 do not when M or a mesh row depends on the angle of a turning joint: a body whose centre of mass
@@ -48,24 +49,18 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from pinwind.dynamics.compliant import mean_mesh_stiffness, mesh_setup
 from pinwind.dynamics.coordinates import Coordinate, coordinates
 from pinwind.dynamics.drivetrain import Drivetrain, drivetrain
-from pinwind.dynamics.gyroscopic_modes import WhirlPair, gyroscopic_modes, whirl
-from pinwind.dynamics.loaded_flanks import FlankChoice, loaded_flanks
-from pinwind.dynamics.mesh import MeshRows, MeshSet
-from pinwind.dynamics.normal_modes import (
-    Mode,
-    SpringElement,
-    element_matrices,
-    natural_modes,
-    repeated_groups,
-)
-from pinwind.dynamics.planetary_modes import PlanetaryStage, mode_kinds, planetary_stages
+from pinwind.dynamics.linear_model import check_held, linear_model, mesh_rows_at
+from pinwind.dynamics.loaded_flanks import FlankChoice
+from pinwind.dynamics.mesh import MeshSet
+from pinwind.dynamics.normal_modes import Mode, SpringElement, natural_modes, repeated_groups
 from pinwind.dynamics.ratios import train_speeds
-from pinwind.errors import SpeedOutOfRange, UnheldMember, UnknownJoint
+from pinwind.errors import SpeedOutOfRange, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
-from pinwind.model.gearbox import CompliantBearing, Gearbox
+from pinwind.model.gearbox import Gearbox
+from pinwind.modes.gyroscopic_modes import WhirlPair, gyroscopic_modes, whirl
+from pinwind.modes.planetary_modes import PlanetaryStage, mode_kinds, planetary_stages
 from pinwind.units import rad_s_to_rpm
 
 #: Fastest joint speed a linearisation is asked at [rad/s]: ``simulate``'s plausibility bound,
@@ -100,7 +95,7 @@ class Linearisation:
         whirl_pairs: the compliant bearings' radial and tilt pairs and their bodies' spin at v₀,
             whose orbits give a mode's whirl (``gyroscopic_modes.py``).
         flanks: the flank each mesh is taken on, the one the static load presses
-            (``loaded_flanks.py``), and the meshes no load presses.
+            (``dynamics/loaded_flanks.py``), and the meshes no load presses.
         added_inertia: joint name → inertia in M besides the bodies' [kg·m²] (the rotors').
         law_damping: joint name → the generator and rotor laws' slope in C [N·m·s/rad]
             (``Drivetrain.law_damping``).
@@ -242,83 +237,29 @@ def linearise(
         if name not in names:
             raise UnknownJoint(name, "the operating speeds", names)
     speed = operating_speed(gearbox, speeds or {})
-    model = gearbox.model
-    nv = model.nv
-    driver_index = [gearbox.v_index(j) for j in train.held_joints]
-    holds = np.eye(nv)[driver_index].reshape(-1, nv)
-    data = model.createData()
-    q = gearbox.neutral()
-    mesh_set = MeshSet(gearbox, train.meshes)
-    rows = _mesh_rows(mesh_set, model, data, q)
-    mass = train.mass(q)
-    others = [*_spring_elements(gearbox), *bearing_elements(gearbox)]
-    other_stiffness, other_damping = element_matrices(others, nv)
     at = speed if speeds else train.operating_speed()
-    static = train.static_load(at)
-    flanks = loaded_flanks(
-        gearbox,
-        train.meshes,
-        rows,
-        mesh_stiffness={
-            i: mean_mesh_stiffness(m) for i, m in enumerate(train.meshes) if m.compliance
-        },
-        other_stiffness=other_stiffness,
-        holds=holds,
-        mass=mass,
-        load=static.load,
-        gross=static.gross,
-    )
-    jac, _ = mesh_set.combine(rows, flanks.flank)
-    setup = mesh_setup(
-        gearbox, train.meshes, driver_index=driver_index, dt=None, mass=mass, flank=flanks.flank
-    )
-    _check_turning(gearbox, mesh_set, speed, mass, jac, flanks.flank)
-    constraints = [*(jac[i] for i in setup.rigid), *holds]
-    elements = [
-        SpringElement(
-            train.meshes[s.mesh].name, "mesh", s.stiffness, s.damping, np.array(jac[s.mesh])
-        )
-        for s in setup.compliant
-    ]
-    elements += others
-    stiffness, damping = element_matrices(elements, nv)
-    # The joints' viscous damping, but the slides': their bearings' elements carry it.
-    bearing_damping = np.asarray(model.damping, dtype=float).copy()
-    bearing_damping[[gearbox.v_index(s) for s in gearbox.slide_joints]] = 0.0
-    damping += np.diag(bearing_damping)
-    law_damping = train.law_damping(at)
-    for name, value in law_damping.items():
-        damping[gearbox.v_index(name), gearbox.v_index(name)] += value
+    base = linear_model(train, at=at)
+    _check_turning(gearbox, base.mesh_set, speed, base.mass, base.mesh_rows, base.flanks.flank)
     gyroscopic, centrifugal = speed_terms(gearbox, speed)
     coords = coordinates(gearbox)
-    order = sorted(names, key=gearbox.v_index)
     out = Linearisation(
-        order,
-        mass,
-        stiffness,
-        damping,
-        np.array(constraints).reshape(-1, nv),
-        elements,
+        base.joint_names,
+        base.mass,
+        base.stiffness,
+        base.damping,
+        base.constraints,
+        base.elements,
         coords,
         planetary_stages(gearbox, coords),
         speed,
         gyroscopic,
         centrifugal,
         whirl_pairs(gearbox, coords, speed),
-        flanks,
-        train.added_inertia,
-        law_damping,
+        base.flanks,
+        base.added_inertia,
+        base.law_damping,
     )
-    _check_held(gearbox, out)
-    return out
-
-
-def _spring_elements(gearbox: Gearbox) -> list[SpringElement]:
-    """The torsional springs: k (e₁ − e₂), one element each (k e₁ e₁ᵀ to the ground)."""
-    out = []
-    for spring in gearbox.springs:
-        row = spring.twist_row(gearbox.model.nv)
-        out.append(SpringElement(spring.name, "spring", spring.stiffness, spring.damping, row))
+    check_held(gearbox, base)
     return out
 
 
@@ -353,12 +294,6 @@ def _mass(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
     """The bodies' joint-space inertia M(q) (CRBA, its upper triangle mirrored)."""
     mass = pin.crba(model, data, q)
     return np.triu(mass) + np.triu(mass, 1).T
-
-
-def _mesh_rows(mesh_set: MeshSet, model: pin.Model, data: pin.Data, q: np.ndarray) -> MeshRows:
-    """The meshes' rows at pose ``q``, at rest."""
-    pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(model.nv))
-    return mesh_set.evaluate(model, data)
 
 
 def _check_turning(
@@ -396,7 +331,7 @@ def _check_turning(
         change = np.abs(_mass(model, data, turned) - _mass(model, data, q)).max()
         changed = change > TURNING_TOLERANCE * mass_scale
         if row_scale > 0.0 and not changed:
-            turned_rows, _ = mesh_set.combine(_mesh_rows(mesh_set, model, data, turned), flank)
+            turned_rows, _ = mesh_set.combine(mesh_rows_at(mesh_set, model, data, turned), flank)
             changed = np.abs(turned_rows - mesh_rows).max() > TURNING_TOLERANCE * row_scale
         if changed:
             changing.append(names[j])
@@ -446,108 +381,3 @@ def speed_terms(gearbox: Gearbox, speed: np.ndarray) -> tuple[np.ndarray, np.nda
     at_rest = np.array(data.dtau_dq)
     pin.computeRNEADerivatives(model, data, q, speed, zero)
     return np.array(data.dtau_dv), np.array(data.dtau_dq) - at_rest
-
-
-def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
-    """The compliant bearings' and the support's springs and dampers, one per slide.
-
-    A compliant bearing's slides are ``<joint>_<slide>``, the support's ``support_tower_<dir>``
-    and ``support_mount_<axis>`` (``model/support.py``).
-
-    A linear bearing with a radial clearance counts as loaded (the clearance taken up, stiffness
-    k); a floating bearing's radial slides have none. A roller-sum bearing is linearised about
-    its static deflection under the model's weight (``roller_sum_elements``).
-    """
-    nv = gearbox.model.nv
-    out: list[SpringElement] = []
-    gravity = None
-    for bearing in gearbox.compliant_bearings.values():
-        c = bearing.compliance
-        for slide, name in bearing.slides.items():
-            if c.law == "roller_sum" and slide.startswith("radial"):
-                if slide == "radial_x":
-                    if gravity is None:
-                        data = gearbox.model.createData()
-                        gravity = pin.computeGeneralizedGravity(
-                            gearbox.model, data, gearbox.neutral()
-                        )
-                    out += roller_sum_elements(bearing, gravity, nv)
-                continue
-            k, damping = c.stiffness(slide), c.damping(slide)
-            if k == 0.0 and damping == 0.0:
-                continue
-            row = np.zeros(nv)
-            row[bearing.v_index[slide]] = 1.0
-            out.append(SpringElement(name, "bearing", k, damping, row))
-    for name, support in gearbox.support_slides.items():
-        row = np.zeros(nv)
-        row[gearbox.v_index(name)] = 1.0
-        out.append(SpringElement(name, "support", support.stiffness, support.damping, row))
-    return out
-
-
-def roller_sum_elements(
-    bearing: CompliantBearing, gravity: np.ndarray, nv: int
-) -> list[SpringElement]:
-    """A roller-sum bearing's radial law linearised about its loaded position: two springs.
-
-    The position is the static deflection r under the model's weight, F(r) = g on the radial
-    slides (g the generalised gravity at the reference pose; the loads of a run's torques are
-    not in it), and the tangent K(r) (``model/roller_sum.py``) splits into springs along its
-    principal directions, named ``<joint>_radial_x`` for the one nearer the slide x and
-    ``<joint>_radial_y``, each with the radial damper (in contact: a loaded bearing).
-    """
-    c = bearing.compliance
-    index = [bearing.v_index["radial_x"], bearing.v_index["radial_y"]]
-    tangent = c.radial_tangent(c.static_deflection(-gravity[index]))
-    values, vectors = np.linalg.eigh(tangent)
-    values = np.maximum(values, 0.0)  # K is positive semi-definite: rounding only
-    damping = c.radial_damping if np.any(tangent) else 0.0
-    order = np.argsort(-np.abs(vectors[0]), kind="stable")
-    out = []
-    for column, name in zip(order, ("radial_x", "radial_y"), strict=True):
-        row = np.zeros(nv)
-        row[index] = vectors[:, column]
-        out.append(SpringElement(bearing.slides[name], "bearing", values[column], damping, row))
-    return out
-
-
-#: Share of a rigid mode's motion on a floating bearing's slides above which that bearing is
-#: unheld (a whole-train rotation has none).
-UNHELD_SHARE = 1e-6
-
-
-def _check_held(gearbox: Gearbox, lin: Linearisation) -> None:
-    """Refuse a floating bearing whose body a motion no mesh, spring or row resists moves.
-
-    Raises:
-        UnheldMember: names the bearing and the free motion (its largest joint coordinates).
-    """
-    floating = [b for b in gearbox.compliant_bearings.values() if b.compliance.floating]
-    if not floating:
-        return
-    # Which motion no spring resists does not depend on the speed: the modes at rest tell.
-    at_rest = natural_modes(lin.mass, lin.stiffness, lin.damping, lin.constraints)
-    for mode in at_rest:
-        if not mode.rigid:
-            continue
-        for bearing in floating:
-            radial = mode.shape[[bearing.v_index[s] for s in ("radial_x", "radial_y")]]
-            if float(radial @ radial) <= UNHELD_SHARE * float(mode.shape @ mode.shape):
-                continue
-            unit = mode.shape / np.linalg.norm(mode.shape)
-            motion = {
-                lin.joint_names[i]: float(unit[i])
-                for i in np.argsort(-np.abs(unit))
-                if abs(unit[i]) > 1e-3
-            }
-            text = ", ".join(f"{name} {value:+.3g}" for name, value in list(motion.items())[:6])
-            raise UnheldMember(
-                bearing.joint,
-                motion,
-                f'the floating bearing "{bearing.joint}" lets its body move freely: no mesh, '
-                f"spring or row resists the motion ({text}; joint coordinates, m and rad, "
-                "unit length). Give the bearing a radial_stiffness, or meshes that centre it "
-                "(a sun between three or more planets)",
-                path=str(gearbox.path),
-            )

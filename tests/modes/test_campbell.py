@@ -1,10 +1,10 @@
-"""The Campbell diagram (``analysis/campbell.py``): mesh lines z·Ω/2π and their crossings.
+"""The Campbell diagram (``modes/campbell.py``): mesh lines z·Ω/2π and their crossings.
 
 For the 20/40 pair of ``tests/conftest.two_gear_urdf`` driven at Ω on gear A (fixed axes), the
 mesh frequency is z_A Ω / 2π exactly, its harmonic h that times h, and the line meets a mode f_n
 at Ω* = 2π f_n / (h z_A).
 
-For the spinning rotor of ``tests/dynamics/test_gyroscopic_modes.py`` (J_p < J_t), the tilt modes
+For the spinning rotor of ``tests/modes/test_gyroscopic_modes.py`` (J_p < J_t), the tilt modes
 split with the spin Ω into ω_f,b(Ω) = (± J_p Ω + √((J_p Ω)² + 4 J_t k_t)) / (2 J_t), and the 1×
 line (the rotor's shaft order, ω = Ω) meets them where J_t Ω² ∓ J_p Ω² − k_t = 0:
 Ω_f = √(k_t / (J_t − J_p)) (forward whirl) and Ω_b = √(k_t / (J_t + J_p)) (backward whirl).
@@ -17,13 +17,13 @@ import math
 import numpy as np
 import pytest
 
-from pinwind.analysis.campbell import campbell
 from pinwind.errors import InputError, SpeedOutOfRange
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
+from pinwind.modes.campbell import campbell
 from tests.conftest import two_gear_urdf
-from tests.dynamics.test_gyroscopic_modes import ROTORS, TILT, rotor, whirl_frequencies
 from tests.dynamics.test_time_stepping import K_MESH, K_SINGLE, MASS
+from tests.modes.test_gyroscopic_modes import ROTORS, TILT, rotor, whirl_frequencies
 
 Z_A = 20
 F_N = math.sqrt(K_MESH / MASS) / (2 * math.pi)
