@@ -64,3 +64,26 @@ def test_docs_site_builds_without_warnings(tmp_path):
     )
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "index.html").is_file() and (tmp_path / "api" / "index.html").is_file()
+
+
+def _verbs(command, prefix: str) -> list[str]:
+    """Every command path under a (Typer) group: ``simulate``, ..., ``sweep planetary``, ..."""
+    if not hasattr(command, "commands"):  # a verb, not a group
+        return [prefix]
+    return [
+        path
+        for name, sub in command.commands.items()
+        for path in _verbs(sub, f"{prefix} {name}".strip())
+    ]
+
+
+def test_every_verb_of_the_command_line_is_on_its_page():
+    import typer
+
+    from pinwind.cli.verbs import app
+
+    verbs = _verbs(typer.main.get_command(app), "")
+    assert {"simulate", "rate", "fatigue", "sweep planetary", "build planetary"} <= set(verbs)
+    text = (ROOT / "docs" / "command_line.md").read_text()
+    missing = [v for v in verbs if not re.search(rf"^pinwind {re.escape(v)}\b", text, re.M)]
+    assert not missing, f"docs/command_line.md lacks: {', '.join(missing)}"
