@@ -1,8 +1,10 @@
 """pinwind: loads inside wind-turbine gearboxes.
 
 Tooth force at every gear mesh and reaction at every bearing, over time, from a URDF gearbox model
-(Pinocchio) whose gear meshes are velocity-constraint rows solved with proxsuite. Every run can be
-logged to one self-contained MCAP file (``simulate(..., log="run.mcap")``, ``read_log``).
+(Pinocchio) whose gear meshes are velocity-constraint rows, solved each step by default through the
+Schur complement of the KKT system (proxsuite's proximal method is the reference alternative,
+``SolverSettings(method="proxsuite")``). Every run can be logged to one self-contained MCAP
+file (``simulate(..., log="run.mcap")``, ``read_log``).
 
 The names below are imported on first use (``lazy_exports.py``): ``import pinwind`` stays cheap
 for the command line and for worker processes.

@@ -451,7 +451,7 @@ class CaseFileDamaged(PinwindWarning):
 
 
 class SolverFailed(PinwindError):
-    """proxsuite did not solve the constrained-dynamics QP of a step."""
+    """The constrained-dynamics QP of a step was not solved (direct Schur solve, or proxsuite)."""
 
     def __init__(self, step: int, time: float, status: str, detail: str = ""):
         self.step = step

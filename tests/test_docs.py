@@ -64,3 +64,49 @@ def test_docs_site_builds_without_warnings(tmp_path):
     )
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "index.html").is_file() and (tmp_path / "api" / "index.html").is_file()
+
+
+def _verbs(command, prefix: str) -> list[str]:
+    """Every command path under a (Typer) group: ``simulate``, ..., ``sweep planetary``, ..."""
+    if not hasattr(command, "commands"):  # a verb, not a group
+        return [prefix]
+    return [
+        path
+        for name, sub in command.commands.items()
+        for path in _verbs(sub, f"{prefix} {name}".strip())
+    ]
+
+
+def test_every_verb_of_the_command_line_is_on_its_page():
+    import typer
+
+    from pinwind.cli.verbs import app
+
+    verbs = _verbs(typer.main.get_command(app), "")
+    assert {"simulate", "rate", "fatigue", "sweep planetary", "build planetary"} <= set(verbs)
+    text = (ROOT / "docs" / "command_line.md").read_text()
+    missing = [v for v in verbs if not re.search(rf"^pinwind {re.escape(v)}\b", text, re.M)]
+    assert not missing, f"docs/command_line.md lacks: {', '.join(missing)}"
+
+
+def test_code_layout_names_every_module_of_the_package_and_no_other():
+    # The modules are read from the tree when the test runs: a module added or moved (a new
+    # package, a module split in two) fails here until the page says what it holds.
+    package = ROOT / "pinwind"
+    text = (ROOT / "docs" / "code_layout.md").read_text()
+    modules = sorted(
+        p.relative_to(package).as_posix()
+        for p in package.rglob("*.py")
+        if "__pycache__" not in p.parts
+    )
+    assert "dynamics/simulate.py" in modules and "cli/verbs.py" in modules
+    # A module by its path from pinwind/ (`dynamics/mesh.py`), a package by its folder (`model/`).
+    missing = [
+        m
+        for m in modules
+        if f"`{m}`" not in text and f"`{m.removesuffix('__init__.py')}`" not in text
+    ]
+    assert not missing, f"docs/code_layout.md lacks: {', '.join(missing)}"
+    named = set(re.findall(r"`([\w/]+\.pyi?)`", text))
+    gone = sorted(m for m in named if not (package / m).is_file() and not (ROOT / m).is_file())
+    assert not gone, f"docs/code_layout.md names modules that do not exist: {', '.join(gone)}"

@@ -41,8 +41,8 @@ def fatigue(
     figures: Annotated[
         Path | None,
         typer.Option(
-            help="Folder for the PNG figures (003 Figs. 14-15; the LDD and LRD of the shafts, "
-            "also as load_spectra.csv)."
+            help="Folder for the PNG figures (Jørgensen 2014 Figs. 14-15; the LDD and LRD of the "
+            "shafts, also as load_spectra.csv)."
         ),
     ] = None,
     workers: Annotated[

@@ -69,7 +69,7 @@ def sweep_planetary(
     carrier_speed: Annotated[float, typer.Option(help="Carrier speed [rpm].")] = 14.2,
     pressure_angle: Annotated[float, typer.Option(help="Pressure angle [deg].")] = 24.5,
     face_width: Annotated[
-        float, typer.Option(help="Face width of every design [mm] (000: 380).")
+        float, typer.Option(help="Face width of every design [mm] (Saleh 2017: 380).")
     ] = 380.0,
     face_width_factor: Annotated[
         str | None,
@@ -82,7 +82,8 @@ def sweep_planetary(
         list[str] | None,
         typer.Option(
             help="Extra design SUN/PLANET/RING@MODULE_MM kept whatever its ratio (repeatable). "
-            "Default 24/48/120@15 (000's preliminary design #38) when the window starts at 6."
+            "Default 24/48/120@15 (Saleh 2017's preliminary design #38) when the window starts "
+            "at 6."
         ),
     ] = None,
     no_include: Annotated[
@@ -92,7 +93,7 @@ def sweep_planetary(
     workers: SweepWorkers = None,
     scheduler: SweepScheduler = None,
     plots: Annotated[
-        Path | None, typer.Option(help="Folder for PNG plots like Figs. 14-19 of 000.")
+        Path | None, typer.Option(help="Folder for PNG plots like Figs. 14-19 of Saleh 2017.")
     ] = None,
     compare: Annotated[
         bool, typer.Option("--compare/--no-compare", help="Print AGMA SFs beside Table 5.")
@@ -215,7 +216,7 @@ def sweep_parallel(
 ) -> None:
     """Enumerate, build, simulate and rate every parallel (spur/helical) stage; write a table.
 
-    000 §5: the planetary procedure applied to a parallel stage. Tooth sums fit the centre
+    Saleh 2017 §5: the planetary procedure applied to a parallel stage. Tooth sums fit the centre
     distance exactly (spur: 2a/m whole; helical: the helix angle is raised to fit), the ratio
     z_wheel/z_pinion lies strictly inside the window and the pair passes the geometry checks.
     The default load is the 1.4 MW case's second stage: 1 MN·m / 6 at 85.2 rpm. An interrupted
@@ -287,7 +288,7 @@ def sweep_query(
         typer.Option(help="Minimise: center-distance, module, ratio or any column name."),
     ] = None,
 ) -> None:
-    """Pick designs (000 eq. 41): centre distance ∪ ratio ∪ module ∪ SF, optionally minimised."""
+    """Pick designs (Saleh 2017 eq. 41): centre distance ∪ ratio ∪ module ∪ SF, maybe minimised."""
     from pinwind.analysis import sweep as sw
 
     columns = {"center-distance": "centre_distance_mm", "centre-distance": "centre_distance_mm",
@@ -324,7 +325,7 @@ def sweep_plot(
         "plots"
     ),
 ) -> None:
-    """PNG plots of a sweep (planetary or parallel) against the module (like 000 Figs. 14-19)."""
+    """PNG plots of a sweep (planetary or parallel) against the module (Saleh 2017 Figs. 14-19)."""
     from pinwind.analysis.sweep import read_table
     from pinwind.analysis.sweep_plots import plot_sweep
 

@@ -1,4 +1,4 @@
-"""Constraint rows, the proxsuite solve, integration, reactions and the Result."""
+"""Constraint rows, the step's solve (direct Schur by default), integration, reactions, Result."""
 
 from typing import TYPE_CHECKING
 

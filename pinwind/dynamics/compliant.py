@@ -1,7 +1,7 @@
 """Compliant gear meshes: the constants the compiled element needs, and the mesh modes.
 
-A compliant mesh is a spring-damper along the line of action of each flank (design.md §2,
-001_2d0e0f624d8db633.txt eqs. 2-6, 003_83d3049daebcd276.txt eqs. 14-19):
+A compliant mesh is a spring-damper along the line of action of each flank (IFToMM 2018
+eqs. 2-6, 001_2d0e0f624d8db633.txt; Jørgensen 2014 eqs. 14-19, 003_83d3049daebcd276.txt):
 
     F_n = k(x) δ + c δ̇  on each flank in contact,   F_n ≥ 0 (teeth never pull)
 
@@ -24,7 +24,7 @@ Why implicit. Mesh stiffnesses of 1e8 to 5e9 N/m on gears of a few kilograms to 
 modes in the kHz; an explicit spring would need steps of microseconds. The compiled element
 takes the force at the time step's weighted state (mid-step for ρ∞ = 1; ``dynamics/
 integrator.py``), which makes it linear in the step's acceleration, so it enters the same
-proxsuite solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is second order and stable
+constrained solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is second order and stable
 at any step; with ρ∞ < 1 it damps the modes it does not resolve (``dynamics/time_step.py``). The
 run's metadata and summary name the highest mesh mode, its numerical damping ratio at the chosen
 dt beside its physical one, and the dt that keeps the numerical one below a tenth of the

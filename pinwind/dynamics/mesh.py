@@ -1,6 +1,7 @@
 """Rigid gear-mesh constraint rows, all meshes of a gearbox at once.
 
-Each mesh A–B adds one velocity constraint along its line of action n (design.md §2):
+Each mesh A–B adds one velocity constraint along its line of action n (the gear-mesh
+velocity constraint of Saleh 2017, eqs. 38-40, written for moving centres):
 
     c = n · (v_B(P) − v_A(P)) = 0,        J = nᵀ (J_B(P) − J_A(P))
 

@@ -6,7 +6,8 @@ Each step k, at state (q_k, v_k) and time t_k = k·dt:
    rows J, γ: one row per mesh (``dynamics/mesh.py``), per speed driver and per locked bearing
    (the compiled loop makes one pass over the joint placements, Pinocchio's
    computeJointJacobians, and runs CRBA and RNEA in world axes on what it gives);
-2. solve the equality QP with proxsuite (``dynamics/solver.py``): a_k and λ_k, the mesh forces
+2. solve the equality QP (``dynamics/solver.py``; by default directly through the Schur complement
+   of its KKT system, or with proxsuite's proximal method when chosen): a_k and λ_k, the mesh forces
    [N] and driver torques [N·m] read from the duals through the name → row map (the meshes in
    file order, then the speed drivers, then the locked bearings);
 3. bearing reactions by RNEA with the tooth forces at the pitch points;

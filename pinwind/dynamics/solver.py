@@ -1,13 +1,18 @@
-"""Settings of the constrained-dynamics QP that every step solves with proxsuite.
+"""Settings of the constrained-dynamics QP that every step solves.
 
-The solve itself is compiled, ``cpp/constrained_qp.hpp``: Gauss's principle (design.md §2),
+By default the solve is direct (the Schur complement of the KKT system over an orthonormal basis
+of the rows' span); proxsuite's proximal method is the reference alternative
+(``SolverSettings(method="proxsuite")``) and gives the same multipliers by iteration.
+
+The solve itself is compiled, ``cpp/constrained_qp.hpp``: Gauss's principle, the
+constrained equations of motion of Saleh 2017 (eqs. 1-28) in QP form,
 
     minimise ½ aᵀ M a − (τ − b)ᵀ a     subject to   J a = r,
 
-with λ = −y from proxsuite's duals, minimum-norm multipliers for the redundant rows of rigid
-multi-planet stages (no preconditioner, an equality-constrained initial guess, then warm starts,
-and the right-hand side projected onto range(J)), and the QP scaled to unit size by powers of
-two, so that one absolute tolerance means the same relative accuracy in every run.
+with λ = −y from the QP's duals, minimum-norm multipliers for the redundant rows of rigid
+multi-planet stages (with proxsuite: no preconditioner, an equality-constrained initial guess,
+then warm starts, and the right-hand side projected onto range(J)), and the QP scaled to unit
+size by powers of two, so that one absolute tolerance means the same relative accuracy in every run.
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ METHODS = ("direct", "proxsuite")
 
 @dataclass(frozen=True)
 class SolverSettings:
-    """proxsuite settings used for every step.
+    """Settings of every step's solve: the method (direct by default) and proxsuite's tolerances.
 
     Attributes:
         eps_abs: absolute tolerance on the primal and dual residuals of the QP scaled to unit

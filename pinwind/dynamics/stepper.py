@@ -1,8 +1,9 @@
 """The compiled step loop: hands a gearbox to ``pinwind.dynamics._native`` and runs it in chunks.
 
-The step (assembly, proxsuite QP, flank switching, projection, bearing reactions, integration and
-recording) is C++ in ``pinwind/dynamics/cpp/``, calling Pinocchio and proxsuite directly: done in
-Python, the glue around those calls cost twenty times the calls themselves. This module describes
+The step (assembly, the constrained solve (direct Schur by default, proxsuite on request), flank
+switching, projection, bearing reactions, integration and recording) is C++ in
+``pinwind/dynamics/cpp/``, calling Pinocchio and proxsuite directly: done in Python, the glue
+around those calls cost twenty times the calls themselves. This module describes
 the gearbox to it in typed structs (``_native.pyi``: the Pinocchio joint tree, the mesh, element
 and driver constants, the Result's arrays to write) and maps the status it returns to pinwind's
 errors.
@@ -129,7 +130,7 @@ class CompiledStepper:
         gravity: gravity in world [m/s²].
         driver_index: velocity index of each speed driver and locked bearing, in row order.
         driver_names: their joint names, for messages.
-        settings: proxsuite settings.
+        settings: the solve's settings (method, proxsuite's tolerances).
         meshes: the run's rigid and compliant meshes (``dynamics/compliant.py``).
         loads: the generator and rotor elements (``dynamics/elements.py``): their compiled specs,
             the rotors' inertia added to their joints, and the number of input columns.

@@ -3,8 +3,9 @@
 A gear train with one degree of freedom turns in one mode φ (joint speeds per unit speed of a
 reference joint r, ``ratios.train_modes``). At steady speed the applied torques do no net work
 along it: Σ_j φ_j τ_j = 0. What is left, N_r = Σ_j φ_j τ_j / φ_r, is the torque at joint r that
-accelerates the train (J_eq dω_r/dt = N_r, design.md §5). Unless something holds the mode (a speed
-driver, a generator, a rotor, bearing damping), a run with N_r ≠ 0 spins up for its whole length:
+accelerates the train (J_eq dω_r/dt = N_r, the equation of motion of its one mode). Unless
+something holds the mode (a speed driver, a generator, a rotor, bearing damping), a run with
+N_r ≠ 0 spins up for its whole length:
 the quick start without its sun torque turns the carrier at 9615 rpm after 2 s. Changing the
 torque of another joint o of the mode by −N_r / (φ_o/φ_r) balances it: the ratio
 φ_o/φ_r = ω_o/ω_r is the model's own (``ratios.speed_ratio``).

@@ -445,6 +445,7 @@ class RowSink:
         self.arrays = {
             k: self._allocate(k, capacity if k in keys else 0, s) for k, s in shapes.items()
         }
+        self.written: set[str] = set()  # the destinations the file gave values for
 
     @staticmethod
     def _allocate(key: str, n: int, shape: tuple[int, ...]) -> np.ndarray:
@@ -462,6 +463,7 @@ class RowSink:
         arrays = self.arrays
         arrays["time"][n:end] = part.time[rows]
         for key, sub, view in part.values:
+            self.written.add(key)
             target = arrays[key][n:end] if sub is None else arrays[key][n:end, sub]
             if view.dtype.kind == "V":
                 target = target.reshape(count, -1).view(view.dtype).reshape(count, *view.shape[1:])
@@ -491,6 +493,7 @@ class RowSink:
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
         """The samples so far as a Result (views of the arrays; the poses copied)."""
         arrays = {k: v[: self.n] for k, v in self.arrays.items()}
+        _flank_forces(arrays, self.written)
         position = arrays["body_position"]
         if position.shape[1]:  # the samples that have a pose: NaN at the others
             rows = np.flatnonzero(np.isfinite(position[:, 0, 0]))
@@ -500,3 +503,17 @@ class RowSink:
         for key in _SPARSE:
             arrays[key] = arrays[key][rows]
         return result_of(arrays, names, terms)
+
+
+def _flank_forces(arrays: dict[str, np.ndarray], written: set[str]) -> None:
+    """Each flank's normal force, which formats 1 and 2 do not store.
+
+    Their meshes pushed on one flank at a time: the loaded one (``flank`` +1: front, −1: back)
+    carries the normal force, the other none.
+    """
+    if not {"mesh_normal", "mesh_flank"} <= written:
+        return
+    normal, flank = arrays["mesh_normal"], arrays["mesh_flank"]
+    for key, side in (("mesh_normal_front", 1.0), ("mesh_normal_back", -1.0)):
+        if key not in written and arrays[key].shape == normal.shape:
+            arrays[key][...] = np.where(flank == side, normal, 0.0)

@@ -630,6 +630,10 @@ def test_log_of_format_2_is_still_read(planetary):
         assert a.shape == b.shape, name
         assert np.isfinite(a).all(), name
     np.testing.assert_allclose(back.time, np.arange(51) * DT, rtol=1e-12, atol=1e-15)
+    # Format 2 stores no flank forces: the loaded flank carries the normal force, the other none.
+    loaded = np.where(back.mesh_flank > 0, back.mesh_normal_front, back.mesh_normal_back)
+    np.testing.assert_array_equal(loaded, back.mesh_normal)
+    np.testing.assert_array_equal(back.mesh_normal_front + back.mesh_normal_back, back.mesh_normal)
     for name in ("angle", "speed"):
         np.testing.assert_allclose(
             getattr(back, name)[0], getattr(full, name)[0], rtol=1e-12, atol=1e-9, err_msg=name

@@ -18,7 +18,7 @@ from tests.dynamics.test_flank_contact import pair_urdf
 from tests.dynamics.test_support import GEARBOX_MASS, supported_pair, tower
 
 G = 9.81
-#: Saleh 2017 Table 3 (docs/design.md): carrier, sun, 3 planets, ring, 3 pins [kg].
+#: Saleh 2017 Table 3: carrier, sun, 3 planets, ring, 3 pins [kg].
 SALEH_MASS = 405.091 + 263.5 + 3 * 1113.1 + 1238 + 3 * 254.3
 RPM = 2 * math.pi / 60
 

@@ -1,12 +1,13 @@
 // Compliant gear meshes: a spring-damper along the line of action of each flank, with the
-// deflection taken from the bodies' positions (001_2d0e0f624d8db633.txt eqs. 2-6,
-// 003_83d3049daebcd276.txt eqs. 14-19; pinwind/dynamics/compliant.py documents the model):
+// deflection taken from the bodies' positions (IFToMM 2018 eqs. 2-6, 001_2d0e0f624d8db633.txt;
+// Jørgensen 2014 eqs. 14-19, 003_83d3049daebcd276.txt; pinwind/dynamics/compliant.py documents
+// the model):
 //
 //     F_n = k(x) δ + c δ̇   on each flank in contact, F_n ≥ 0 (teeth never pull).
 //
 // Each flank has its own contact: both push at once where the centres come closer than the teeth
 // allow (zero or small backlash, a gear in a compliant bearing, floating members), so that the
-// contact is the gradient of U = Σ_flanks ½ k δ₊² (design.md "Contact is a potential") and an
+// contact is the gradient of U = Σ_flanks ½ k δ₊² (a contact potential) and an
 // undamped train keeps its energy through any number of flank changes.
 //
 // Deflection from positions. With ψ_A, ψ_B the gear angles about the axis relative to the

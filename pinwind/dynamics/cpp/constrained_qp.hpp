@@ -2,7 +2,7 @@
 // KKT system (minimum-norm multipliers for redundant rows), or with proxsuite's proximal method
 // for redundant rows when SolverSettings.iterative is set.
 //
-// Gauss's principle (design.md §2):
+// Gauss's principle, the constrained equations of motion of Saleh 2017 (eqs. 1-28) as a QP:
 //
 //     minimise ½ aᵀ M a − (τ − b)ᵀ a     subject to   J a = r
 //
