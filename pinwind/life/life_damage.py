@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinwind.life.load_cases import RANGE_EDGES, CaseCycles, FatigueSet, FlankCycles, gear_kind
+from pinwind.life.load_cases import RANGE_EDGES, CaseCycles, FatigueSet, FlankCycles
 from pinwind.life.sn_curve import REVERSED_BENDING_FACTOR, FatigueCurve, IsoLifeCurve
 
 #: The S-N variants the damage is computed for: name → what it is.
@@ -91,6 +91,8 @@ class SetDamage:
         damage: variant → level index → gear → `GearDamage` of the contact stress.
         range_cycles: level index → bin → gear → cycles per tooth over the bin's hours in each
             stress-range bin of `RANGE_EDGES` [-], (len(RANGE_EDGES) − 1,).
+        root_damage: as ``damage``, of the root stress.
+        roles: gear → its role in its planetary stage (`FatigueSet.roles`, from topology).
     """
 
     speeds: np.ndarray
@@ -101,6 +103,7 @@ class SetDamage:
     damage: dict[str, list[dict[str, GearDamage]]]
     range_cycles: list[list[dict[str, np.ndarray]]]
     root_damage: dict[str, list[dict[str, GearDamage]]] = field(default_factory=dict)
+    roles: dict[str, str] = field(default_factory=dict)
 
     def by_kind(
         self, variant: str, level: int, *, location: str = "contact"
@@ -115,7 +118,7 @@ class SetDamage:
         table = self.damage if location == "contact" else self.root_damage
         groups: dict[str, list[GearDamage]] = defaultdict(list)
         for gear, d in table[variant][level].items():
-            groups[gear_kind(gear) or gear].append(d)
+            groups[self.roles.get(gear, gear)].append(d)
         return {
             kind: (np.mean([d.per_bin for d in ds], axis=0), float(np.mean([d.total for d in ds])))
             for kind, ds in groups.items()
@@ -200,6 +203,7 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
         damage=damage["contact"],
         range_cycles=[[dict(b) for b in level] for level in ranges],
         root_damage=damage["root"],
+        roles=dict(fatigue.roles),
     )
 
 

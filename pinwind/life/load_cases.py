@@ -100,6 +100,7 @@ from pinwind.life.sn_curve import (
     iso6336_root_curve,
     jorgensen_2014_curve,
 )
+from pinwind.model.gear_roles import ROLES, gear_roles, gearbox_planetary_gears
 from pinwind.scenario import ScenarioError, build, key_line, read_toml
 
 if TYPE_CHECKING:
@@ -150,8 +151,9 @@ _WHOLE = 1e-6
 #: S-N curve presets: Jørgensen 2014 eq. 23 and Table 5 per gear kind (for contact and root, as
 #: 003 applies it), or ISO 6336-2 and -3's life-factor curves of each gear's material.
 SN_PRESETS = ("jorgensen2014", "iso6336", "iso6336_pitting_permitted")
-#: Gear kinds the presets know, found as the start of a gear's name (``planet2`` is a planet).
-GEAR_KINDS = ("sun", "planet", "ring")
+#: Gear kinds the presets and per-kind tables know: each gear's role in its planetary stage,
+#: found from the model's topology (`pinwind.model.gear_roles`), never from its name.
+GEAR_KINDS = ROLES
 #: Edges of the cycle-range histogram kept per case and gear, for the figures [Pa].
 RANGE_EDGES = np.linspace(0.0, 2000e6, 201)
 
@@ -250,6 +252,8 @@ class FatigueSet:
         openfast: OpenFAST input instead of rotor and wind, or None.
         bearings: the model's ``<bearing>`` elements: joint → its ISO 281 data (without C:
             not rated).
+        roles: gear → ``"sun"``, ``"planet"`` or ``"ring"`` from the model's topology
+            (`pinwind.model.gear_roles`); gears of no planetary stage left out.
     """
 
     values: dict[str, Any]
@@ -277,6 +281,11 @@ class FatigueSet:
     materials: dict[str, str] = field(default_factory=dict)
     root_stress: dict[str, RootStress] = field(default_factory=dict)
     bearings: Mapping[str, BearingRating] = field(default_factory=dict)
+    roles: dict[str, str] = field(default_factory=dict)
+
+    def gear_kind(self, gear: str) -> str | None:
+        """``"sun"``, ``"planet"`` or ``"ring"``: the gear's role in its stage, else None."""
+        return self.roles.get(gear)
 
     @property
     def dt(self) -> float:
@@ -384,6 +393,8 @@ class _SetReader:
         self.values = {k.replace("-", "_"): v for k, v in values.items()}
         #: The meshed gears, once the model is read: the names of per-gear tables.
         self.gear_names: tuple[str, ...] = ()
+        #: Gear → its role in its planetary stage, from the model's topology.
+        self.roles: dict[str, str] = {}
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         return ScenarioError(str(self.path), ".".join(key), key_line(self.text, key), message)
@@ -426,6 +437,7 @@ class _SetReader:
         gearbox = self.gearbox()
         gears = tuple(dict.fromkeys(g.name for m in gearbox.meshes for g in (m.gear_a, m.gear_b)))
         self.gear_names = gears
+        self.roles = gear_roles(gearbox_planetary_gears(gearbox))
         site = self.site(settings.get("site"))
         levels = self.levels(settings.get("turbulence", 0.1), site)
         seeds = self.seeds(settings.get("seeds", [1]))
@@ -499,6 +511,7 @@ class _SetReader:
             materials=materials,
             root_stress=self.root_stress(settings.get("root_stress", {}), gears),
             bearings=dict(gearbox.source.bearings),
+            roles=self.roles,
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
             if openfast is not None and not openfast.file(case, fatigue.base).is_file():
@@ -666,7 +679,7 @@ class _SetReader:
         if not isinstance(value, Mapping):
             return value
         self.known(key, value, self.gear_names + GEAR_KINDS)
-        kind = gear_kind(gear)
+        kind = self.roles.get(gear)
         chosen = value.get(gear, value.get(kind, None) if kind else None)
         if chosen is None:
             raise self.fail(
@@ -681,7 +694,7 @@ class _SetReader:
             self.known(key, given, gears + GEAR_KINDS)
         out = {}
         for gear in gears:
-            kind = gear_kind(gear)
+            kind = self.roles.get(gear)
             name = given
             if isinstance(given, Mapping):
                 name = given.get(gear, given.get(kind, DEFAULT_MATERIAL) if kind else None)
@@ -701,7 +714,7 @@ class _SetReader:
         self.known(key, table, gears + GEAR_KINDS)
         out: dict[str, RootStress] = {}
         for gear in gears:
-            kind = gear_kind(gear)
+            kind = self.roles.get(gear)
             spec = table.get(gear, table.get(kind) if kind else None)
             if spec is None:
                 out[gear] = ISO_ROOT_STRESS
@@ -763,7 +776,7 @@ class _SetReader:
                 )
             out: dict[str, FatigueCurve] = {}
             for gear in gears:
-                kind = gear_kind(gear)
+                kind = self.roles.get(gear)
                 if kind is None:
                     raise self.fail(
                         key,
@@ -806,11 +819,6 @@ class SetCurves:
     root: dict[str, FatigueCurve]
     iso_contact: dict[str, FatigueCurve]
     iso_root: dict[str, FatigueCurve]
-
-
-def gear_kind(gear: str) -> str | None:
-    """``"sun"``, ``"planet"`` or ``"ring"`` from the start of a gear's name, else None."""
-    return next((kind for kind in GEAR_KINDS if gear.startswith(kind)), None)
 
 
 # --- one case ------------------------------------------------------------------------------------
