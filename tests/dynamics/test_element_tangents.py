@@ -120,8 +120,6 @@ def _outside_the_clearance(gb, count: int) -> list[tuple[np.ndarray, np.ndarray]
     return out[:count]
 
 
-
-
 def test_a_bearing_pressed_beyond_its_clearance_has_the_tangent_of_its_law():
     """F = −k (|r| − c) r̂ beyond the clearance: its tangent k [(1 − c/|r|) I + (c/|r|) r̂ r̂ᵀ]
     is stiffer along r̂ than across it, which central differences of F see."""
