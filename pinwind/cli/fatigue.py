@@ -26,9 +26,10 @@ from pinwind.cli.app import (
 
 if TYPE_CHECKING:
     from pinwind.life.bearing_life import BearingLife
+    from pinwind.life.case_runner import FatigueRun
     from pinwind.life.damage_convergence import DamageDtCheck
+    from pinwind.life.fatigue_set import FatigueSet
     from pinwind.life.life_damage import GearDamage, SetDamage
-    from pinwind.life.load_cases import FatigueRun, FatigueSet
 
 
 @app.command()
@@ -76,8 +77,9 @@ def fatigue(
     from pinwind.analysis.sweep import check_workers
     from pinwind.errors import InputError
     from pinwind.io.folders import folder_problem
+    from pinwind.life.case_runner import run_cases
+    from pinwind.life.fatigue_set_file import load_fatigue_set
     from pinwind.life.life_damage import set_damage
-    from pinwind.life.load_cases import load_fatigue_set, run_cases
     from pinwind.life.set_bearing_life import set_bearing_lives
 
     check_workers(workers)

@@ -27,8 +27,8 @@ from typing import Any
 
 from pinwind.analysis.convergence import DtRow, dt_row, row_dict
 from pinwind.errors import InputError
+from pinwind.life.fatigue_set import FatigueSet
 from pinwind.life.life_damage import LOCATIONS, VARIANTS, SetDamage
-from pinwind.life.load_cases import FatigueSet
 
 #: A figure is converged when its value at dt is within this of its value at dt/2 [-].
 TOLERANCE = 0.05

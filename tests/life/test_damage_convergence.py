@@ -15,7 +15,7 @@ from pinwind.life.damage_convergence import (
     DamageDtCheck,
     half_step_set,
 )
-from pinwind.life.load_cases import load_fatigue_set
+from pinwind.life.fatigue_set_file import load_fatigue_set
 from tests.life.test_load_cases import fatigue_toml
 
 

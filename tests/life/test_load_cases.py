@@ -17,13 +17,10 @@ import pytest
 from numpy.testing import assert_allclose
 
 from pinwind.dynamics.elements import rotor_power_coefficient
+from pinwind.life.case_cycles import CaseCycles, FlankCycles
+from pinwind.life.case_runner import run_cases
+from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.life_damage import set_damage
-from pinwind.life.load_cases import (
-    CaseCycles,
-    FlankCycles,
-    load_fatigue_set,
-    run_cases,
-)
 from pinwind.loads.rotor import JORGENSEN2014_POWER_CURVE, Rotor
 from pinwind.scenario import ScenarioError
 from tests.conftest import MODELS
@@ -255,16 +252,16 @@ def test_bad_material_or_root_table_names_its_key(tmp_path, table, message):
 
 
 def test_rerun_computes_only_the_case_whose_log_was_deleted(tmp_path, monkeypatch):
-    import pinwind.life.load_cases as load_cases
+    import pinwind.life.case_runner as case_runner
 
     calls = []
-    original = load_cases.run_case
+    original = case_runner.run_case
 
     def counted(case, fatigue):
         calls.append(case.name)
         return original(case, fatigue)
 
-    monkeypatch.setattr(load_cases, "run_case", counted)
+    monkeypatch.setattr(case_runner, "run_case", counted)
     fset = load_fatigue_set(fatigue_toml(tmp_path))
     first = run_cases(fset, workers=1)
     assert sorted(first.computed) == sorted(c.name for c in fset.cases())
@@ -427,7 +424,7 @@ def test_a_flipped_byte_in_a_kept_case_file_has_the_case_computed_again_with_a_w
     """A flipped byte in a kept log was reused without a word; one in a kept reduction made
     every rerun fail with BadZipFile, naming no file."""
     from pinwind.errors import CaseFileDamaged
-    from pinwind.life.load_cases import file_sha256
+    from pinwind.life.case_runner import file_sha256
 
     fset = load_fatigue_set(fatigue_toml(tmp_path))
     run_cases(fset, workers=1)

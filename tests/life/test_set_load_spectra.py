@@ -8,7 +8,8 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 from pinwind import read_log
-from pinwind.life.load_cases import load_fatigue_set, run_cases
+from pinwind.life.case_runner import run_cases
+from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.set_load_spectra import set_load_spectra, write_load_spectra_csv
 from tests.life.test_load_cases import fatigue_toml
 

@@ -20,7 +20,7 @@ from pinwind.analysis.sweep_planetary import _rating_columns
 from pinwind.dynamics.coordinates import coordinates
 from pinwind.dynamics.linearisation import linearise
 from pinwind.dynamics.planetary_modes import planetary_stages
-from pinwind.life.load_cases import load_fatigue_set
+from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.sn_curve import jorgensen_2014_curve
 from pinwind.model.gear_roles import (
     PlanetaryGears,
