@@ -54,7 +54,7 @@ naming the nearest known one (`pinwind.known_names`).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -63,7 +63,7 @@ from pinwind.errors import InputError, PinwindError
 from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import DEFAULT_MATERIAL, MATERIALS
 from pinwind.io.folders import folder_problem
-from pinwind.known_names import unknown_message, unknown_name
+from pinwind.known_names import check_keys, toml_keys
 from pinwind.life.fatigue_set import (
     FatigueSet,
     OpenFastInput,
@@ -158,7 +158,7 @@ class _SetReader:
 
     def __init__(self, path: Path, text: str, values: dict[str, Any], quick: bool):
         self.path, self.text, self.quick = path, text, quick
-        self.values = {k.replace("-", "_"): v for k, v in values.items()}
+        self.values = toml_keys(values)
         #: The meshed gears, once the model is read: the names of per-gear tables.
         self.gear_names: tuple[str, ...] = ()
         #: Gear → its role in its planetary stage, from the model's topology.
@@ -166,13 +166,6 @@ class _SetReader:
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         return ScenarioError(str(self.path), ".".join(key), key_line(self.text, key), message)
-
-    def known(self, key: tuple[str, ...], given: Iterable[str], known: Iterable[str]) -> None:
-        """Refuse a key of the table ``key`` that is not one of ``known``, naming the nearest."""
-        names = tuple(known)
-        unknown = unknown_name(given, names)
-        if unknown is not None:
-            raise self.fail(key + (unknown,), unknown_message(unknown, names))
 
     def fatigue_set(self) -> FatigueSet:
         table = self.values.pop("fatigue", None)
@@ -182,13 +175,13 @@ class _SetReader:
                 "a fatigue set needs a [fatigue] table (module "
                 "pinwind.life.fatigue_set_file says its keys)",
             )
-        settings = {k.replace("-", "_"): v for k, v in table.items()}
-        self.known(("fatigue",), settings, FATIGUE_KEYS)
+        settings = toml_keys(table)
+        check_keys(("fatigue",), settings, FATIGUE_KEYS, self.fail)
         quick = settings.pop("quick", None)
         if quick is not None and not isinstance(quick, Mapping):
             raise self.fail(("fatigue", "quick"), "must be a table of [fatigue] keys")
-        quick = {k.replace("-", "_"): v for k, v in (quick or {}).items()}
-        self.known(("fatigue", "quick"), quick, QUICK_KEYS)
+        quick = toml_keys(quick or {})
+        check_keys(("fatigue", "quick"), quick, QUICK_KEYS, self.fail)
         if self.quick:
             if not quick:
                 raise self.fail(
@@ -357,8 +350,8 @@ class _SetReader:
                 "missing: give [fatigue.site] with speeds and hours, or scale, "
                 "shape and edges (Weibull)",
             )
-        table = {k.replace("-", "_"): v for k, v in table.items()}
-        self.known(key, table, SITE_HOURS_KEYS + SITE_WEIBULL_KEYS)
+        table = toml_keys(table)
+        check_keys(key, table, SITE_HOURS_KEYS + SITE_WEIBULL_KEYS, self.fail)
         try:
             if "hours" in table or "speeds" in table:
                 if set(table) != {"speeds", "hours"}:
@@ -418,7 +411,7 @@ class _SetReader:
         key = ("fatigue", "openfast")
         if not isinstance(table, Mapping) or not {"files", "joint"} <= set(table):
             raise self.fail(key, "give files (a name pattern) and joint (and channel, scale)")
-        self.known(key, table, OPENFAST_KEYS)
+        check_keys(key, table, OPENFAST_KEYS, self.fail)
         try:
             return OpenFastInput(**table)
         except TypeError as err:
@@ -446,7 +439,7 @@ class _SetReader:
         """``value``, or its entry for ``gear`` (or its kind) when it is a table."""
         if not isinstance(value, Mapping):
             return value
-        self.known(key, value, self.gear_names + ROLES)
+        check_keys(key, value, self.gear_names + ROLES, self.fail)
         kind = self.roles.get(gear)
         chosen = value.get(gear, value.get(kind, None) if kind else None)
         if chosen is None:
@@ -459,7 +452,7 @@ class _SetReader:
         """Each gear's material key: one for all, or per gear or kind (default for the rest)."""
         key = ("fatigue", "materials")
         if isinstance(given, Mapping):
-            self.known(key, given, gears + ROLES)
+            check_keys(key, given, gears + ROLES, self.fail)
         out = {}
         for gear in gears:
             kind = self.roles.get(gear)
@@ -479,7 +472,7 @@ class _SetReader:
         key = ("fatigue", "root_stress")
         if not isinstance(table, Mapping):
             raise self.fail(key, "must be a table of gears (or kinds) → tables")
-        self.known(key, table, gears + ROLES)
+        check_keys(key, table, gears + ROLES, self.fail)
         out: dict[str, RootStress] = {}
         for gear in gears:
             kind = self.roles.get(gear)
@@ -492,7 +485,7 @@ class _SetReader:
                 raise self.fail(
                     key + (name,), "give position_mm (or fraction) and mpa_per_kn, as lists"
                 )
-            self.known(key + (name,), spec, ROOT_STRESS_KEYS)
+            check_keys(key + (name,), spec, ROOT_STRESS_KEYS, self.fail)
             try:
                 out[gear] = table_root_stress(**spec)
             except (PinwindError, TypeError, ValueError) as err:
@@ -504,8 +497,8 @@ class _SetReader:
         key = ("fatigue", "sn_curve")
         if not isinstance(table, Mapping):
             raise self.fail(key, "must be a table: preset, or s0_mpa, m, n0, endurance_limit_mpa")
-        table = {k.replace("-", "_"): v for k, v in table.items()}
-        self.known(key, table, SN_CURVE_KEYS + SN_PRESET_KEYS)
+        table = toml_keys(table)
+        check_keys(key, table, SN_CURVE_KEYS + SN_PRESET_KEYS, self.fail)
         iso_keys = set(SN_PRESET_KEYS)
         preset = table.get("preset", SN_PRESETS[0] if not table else None)
         permitted = preset == "iso6336_pitting_permitted"
