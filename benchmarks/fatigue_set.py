@@ -82,8 +82,8 @@ def child(path: Path, workers: int) -> None:
     """Run the set as ``pinwind fatigue --workers N`` does; print wall time and peak memory."""
     from pinwind.life.case_runner import run_cases
     from pinwind.life.fatigue_set_file import load_fatigue_set
-    from pinwind.life.life_damage import set_damage
     from pinwind.life.set_bearing_life import set_bearing_lives
+    from pinwind.life.set_damage import set_damage
 
     start = time.perf_counter()
     fset = load_fatigue_set(path)

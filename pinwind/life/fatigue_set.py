@@ -114,7 +114,7 @@ class FatigueSet:
         gears: the meshed gears, in the model's order.
         root_curves: gear → S-N curve of its root stress (default: its contact curve).
         iso_curves: gear → ISO 6336-2's σ_Hlim Z_NT, read at the von Mises stress (the
-            ``iso 6336`` variant of `pinwind.life.life_damage`).
+            ``iso 6336`` variant of `pinwind.life.set_damage`).
         iso_root_curves: gear → ISO 6336-3's σ_Flim Y_ST Y_NT, loaded on one flank.
         materials: gear → its material (``pinwind.gears.materials`` key).
         root_stress: gear → its root-stress model.

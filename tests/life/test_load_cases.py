@@ -20,7 +20,7 @@ from pinwind.dynamics.elements import rotor_power_coefficient
 from pinwind.life.case_cycles import CaseCycles, FlankCycles
 from pinwind.life.case_runner import run_cases
 from pinwind.life.fatigue_set_file import load_fatigue_set
-from pinwind.life.life_damage import set_damage
+from pinwind.life.set_damage import set_damage
 from pinwind.loads.rotor import JORGENSEN2014_POWER_CURVE, Rotor
 from pinwind.scenario import ScenarioError
 from tests.conftest import MODELS
