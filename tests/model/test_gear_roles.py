@@ -29,8 +29,7 @@ from pinwind.model.gear_roles import (
     planetary_gears,
 )
 from pinwind.model.gearbox import loads
-from tests.conftest import MODELS
-from tests.life.test_load_cases import MODEL, fatigue_toml
+from tests.conftest import FATIGUE_MODEL, MODELS, fatigue_toml
 
 NEUTRAL = {"sun": "a", "planet1": "b1", "planet2": "b2", "planet3": "b3", "ring": "c"}
 MISLEADING = {"sun": "ring", "planet1": "sun1", "planet2": "sun2", "planet3": "sun3", "ring": "sun"}
@@ -103,9 +102,9 @@ def test_the_sweep_columns_read_the_roles_under_any_gear_names(names):
 @pytest.mark.parametrize("names", [NEUTRAL, MISLEADING])
 def test_a_fatigue_set_rates_each_gear_by_its_role_under_any_gear_names(tmp_path, names):
     model = tmp_path / "renamed.urdf"
-    model.write_text(renamed(Path(MODEL), names))
+    model.write_text(renamed(Path(FATIGUE_MODEL), names))
     path = fatigue_toml(tmp_path, fatigue='materials = { ring = "42CrMo4" }')
-    text = path.read_text().replace(MODEL, model.as_posix())
+    text = path.read_text().replace(FATIGUE_MODEL, model.as_posix())
     sn_curve = r"s0_mpa = 1000.0\s+m = 3.0\s+endurance_limit_mpa = 0.0"
     path.write_text(re.sub(sn_curve, 'preset = "jorgensen2014"', text))
     fatigue = load_fatigue_set(path)
