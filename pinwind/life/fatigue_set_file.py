@@ -541,8 +541,9 @@ class _SetReader:
                 if kind is None:
                     raise self.fail(
                         key,
-                        f'the preset rates sun, planet and ring gears; "{gear}" '
-                        "is none of them: give s0_mpa, m and endurance_limit_mpa",
+                        f'the preset rates sun, planet and ring gears; "{gear}" is none of '
+                        "them (no planetary stage's ring, planet or sun by the meshes): give "
+                        "s0_mpa, m and endurance_limit_mpa",
                     )
                 out[gear] = jorgensen_2014_curve(kind)
             return SetCurves(out, dict(out), iso_contact, iso_root)
