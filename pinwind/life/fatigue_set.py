@@ -157,10 +157,6 @@ class FatigueSet:
     bearings: Mapping[str, BearingRating] = field(default_factory=dict)
     roles: dict[str, str] = field(default_factory=dict)
 
-    def gear_kind(self, gear: str) -> str | None:
-        """``"sun"``, ``"planet"`` or ``"ring"``: the gear's role in its stage, else None."""
-        return self.roles.get(gear)
-
     @property
     def dt(self) -> float:
         """The cases' time step [s] (the scenario's ``dt``)."""
