@@ -110,6 +110,11 @@ def test_a_fatigue_set_rates_each_gear_by_its_role_under_any_gear_names(tmp_path
     fatigue = load_fatigue_set(path)
     roles = {names[g]: role for g, role in ROLES.items()}
     assert fatigue.roles == roles
+    gearbox = pinwind.load(model)
+    (stage,) = planetary_stages(gearbox, coordinates(gearbox))  # the modes' stage: the same ring
+    assert fatigue.roles[stage.ring] == "ring"
+    joint = {g: gearbox.model.names[gearbox.gears[g].joint_id] for g in roles}
+    assert set(stage.planet_names) == {joint[g] for g, role in roles.items() if role == "planet"}
     assert fatigue.curves == {g: jorgensen_2014_curve(role) for g, role in roles.items()}
     # The table's "ring" is every gear whose role is ring, and a gear named "ring" (its own
     # name comes before its role).
