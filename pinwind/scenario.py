@@ -159,7 +159,11 @@ def key_line(text: str | None, path: tuple[str, ...]) -> int:
     return best
 
 
-def _error(source: str, text: str | None, key: tuple[str, ...], message: str) -> ScenarioError:
+def key_error(source: str, text: str | None, key: tuple[str, ...], message: str) -> ScenarioError:
+    """The error of a TOML file's key: the file, the dotted key, its line in ``text``, a message.
+
+    Every reader of a TOML file (scenarios, fatigue sets) says its errors with it.
+    """
     return ScenarioError(source, ".".join(key), key_line(text, key), message)
 
 
@@ -213,7 +217,7 @@ class Scenario:
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         """The error for a key: file, key, line and the message."""
-        return _error(self.source, self.text, key, message)
+        return key_error(self.source, self.text, key, message)
 
     def check_joints(self, joints: list[str], fixed: list[str]) -> None:
         """Refuse loads on joints the model does not have, naming the key and the joints."""
@@ -356,7 +360,7 @@ class _Builder:
         self.files: list[InputFile] = []
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
-        return _error(self.source, self.text, key, message)
+        return key_error(self.source, self.text, key, message)
 
     def scenario(self) -> Scenario:
         self.check()

@@ -85,7 +85,7 @@ from pinwind.life.sn_curve import (
     jorgensen_2014_curve,
 )
 from pinwind.model.gear_roles import ROLES, gear_roles, gearbox_planetary_gears
-from pinwind.scenario import ScenarioError, build, key_line, read_toml
+from pinwind.scenario import ScenarioError, build, key_error, read_toml
 
 if TYPE_CHECKING:
     from pinwind.model.gearbox import Gearbox
@@ -165,7 +165,7 @@ class _SetReader:
         self.roles: dict[str, str] = {}
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
-        return ScenarioError(str(self.path), ".".join(key), key_line(self.text, key), message)
+        return key_error(str(self.path), self.text, key, message)
 
     def fatigue_set(self) -> FatigueSet:
         table = self.values.pop("fatigue", None)
