@@ -80,9 +80,10 @@ def machine() -> str:
 
 def child(path: Path, workers: int) -> None:
     """Run the set as ``pinwind fatigue --workers N`` does; print wall time and peak memory."""
-    from pinwind.life.life_damage import set_damage
-    from pinwind.life.load_cases import load_fatigue_set, run_cases
+    from pinwind.life.case_runner import run_cases
+    from pinwind.life.fatigue_set_file import load_fatigue_set
     from pinwind.life.set_bearing_life import set_bearing_lives
+    from pinwind.life.set_damage import set_damage
 
     start = time.perf_counter()
     fset = load_fatigue_set(path)
@@ -112,7 +113,7 @@ def child(path: Path, workers: int) -> None:
 
 
 def _case_walls(fset) -> list[float]:
-    from pinwind.life.load_cases import CaseCycles
+    from pinwind.life.case_cycles import CaseCycles
 
     return [CaseCycles.load(fset.cycles_path(c), with_flanks=False).wall_time for c in fset.cases()]
 
@@ -158,7 +159,9 @@ def dask_rate(n_workers: int, *, duration: float, seeds: int, settings: dict) ->
     from machine import cpu_sample, others_cores
 
     from pinwind.analysis.dask_workers import local_client
-    from pinwind.life.load_cases import CaseCycles, load_fatigue_set, run_cases
+    from pinwind.life.case_cycles import CaseCycles
+    from pinwind.life.case_runner import run_cases
+    from pinwind.life.fatigue_set_file import load_fatigue_set
 
     with tempfile.TemporaryDirectory(prefix="pinwind_fatigue_dask_") as folder:
         (Path(folder) / "warm").mkdir()

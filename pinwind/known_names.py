@@ -2,16 +2,19 @@
 
 A misspelt name must not be ignored: ``<bearing joint="sun" radial_stifness="1e9"/>`` would
 leave the bearing rigid, ``[fatigue] duraton = 600`` would run the default 30 s, and nothing would
-say so. Every reader of a file (``model/urdf.py``, ``scenario.py``, ``life/load_cases.py``) names
-what it takes and hands the names it found to `unknown_name`; the first one it does not take is
-refused in the reader's own error, with the nearest known name (difflib's ratio, as Python's own
-"did you mean" does) and the whole list.
+say so. Every reader of a file (``model/urdf.py``, ``scenario.py``,
+``life/fatigue_set_file.py``) names what it takes and hands the names it found to
+`unknown_name`; the first one it does not take is refused in the reader's own error, with the
+nearest known name (difflib's ratio, as Python's own "did you mean" does) and the whole list.
+The TOML files (scenarios and fatigue sets) share one check of a table's keys, `check_keys`,
+with the keys written with ``-`` or ``_`` alike (`toml_keys`).
 """
 
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any
 
 #: difflib's similarity ratio from which a known name is offered as the one meant [-].
 CUTOFF = 0.6
@@ -51,3 +54,40 @@ def unknown_name(given: Iterable[str], known: Iterable[str]) -> str | None:
     """The first of ``given`` that is not one of ``known``, or None when all are."""
     allowed = set(known)
     return next((name for name in given if name not in allowed), None)
+
+
+#: A reader's error for a key's path (the table's path, then the key) and a message.
+Refusal = Callable[[tuple[str, ...], str], Exception]
+
+
+def toml_keys(table: Mapping[str, Any]) -> dict[str, Any]:
+    """A TOML table with its keys written with ``_`` (``skip-start`` is ``skip_start``)."""
+    return {key.replace("-", "_"): value for key, value in table.items()}
+
+
+def check_keys(
+    table: tuple[str, ...],
+    given: Iterable[str],
+    known: Iterable[str],
+    fail: Refusal,
+    *,
+    kind: str = "key",
+    of: str = "",
+) -> None:
+    """Refuse the first key of a TOML table that the reader does not take.
+
+    Args:
+        table: the table's path (``("fatigue", "site")``; ``()`` for the top level).
+        given: its keys as written (after `toml_keys`).
+        known: the keys the reader takes, in the order to list them.
+        fail: the reader's error for a key path and a message (it names the file and line).
+        kind, of: as in `unknown_message`.
+
+    Raises:
+        Exception: ``fail((*table, name), message)`` for the first unknown ``name``, the message
+            naming the nearest known key and listing them all.
+    """
+    names = tuple(known)
+    name = unknown_name(given, names)
+    if name is not None:
+        raise fail((*table, name), unknown_message(name, names, kind, of))

@@ -56,7 +56,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pinwind.errors import InputError, LogError
-from pinwind.known_names import unknown_message, unknown_name
+from pinwind.known_names import check_keys, toml_keys
 from pinwind.loads.generator import LAWS, GeneratorLaw
 from pinwind.loads.input_files import InputFile, check_unchanged
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
@@ -159,7 +159,11 @@ def key_line(text: str | None, path: tuple[str, ...]) -> int:
     return best
 
 
-def _error(source: str, text: str | None, key: tuple[str, ...], message: str) -> ScenarioError:
+def key_error(source: str, text: str | None, key: tuple[str, ...], message: str) -> ScenarioError:
+    """The error of a TOML file's key: the file, the dotted key, its line in ``text``, a message.
+
+    Every reader of a TOML file (scenarios, fatigue sets) says its errors with it.
+    """
     return ScenarioError(source, ".".join(key), key_line(text, key), message)
 
 
@@ -213,7 +217,7 @@ class Scenario:
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
         """The error for a key: file, key, line and the message."""
-        return _error(self.source, self.text, key, message)
+        return key_error(self.source, self.text, key, message)
 
     def check_joints(self, joints: list[str], fixed: list[str]) -> None:
         """Refuse loads on joints the model does not have, naming the key and the joints."""
@@ -356,7 +360,7 @@ class _Builder:
         self.files: list[InputFile] = []
 
     def fail(self, key: tuple[str, ...], message: str) -> ScenarioError:
-        return _error(self.source, self.text, key, message)
+        return key_error(self.source, self.text, key, message)
 
     def scenario(self) -> Scenario:
         self.check()
@@ -395,10 +399,8 @@ class _Builder:
 
     def check(self) -> None:
         """Check keys and types (normalising the keys)."""
-        values = {_norm(key): value for key, value in self.values.items()}
-        unknown = unknown_name(values, KEYS)
-        if unknown is not None:
-            raise self.fail((unknown,), unknown_message(unknown, KEYS))
+        values = toml_keys(self.values)
+        check_keys((), values, KEYS, self.fail)
         self.values = values
         if "model" not in values:
             raise self.fail(("model",), "missing: give the model file, e.g. model = "
@@ -496,16 +498,13 @@ class _Builder:
         out = {}
         for joint, params in self.values.get("generator", {}).items():
             key = ("generator", joint)
-            params = {_norm(k): v for k, v in params.items()}
+            params = toml_keys(params)
             law = params.pop("law", "induction" if "preset" in params else None)
             if law not in LAWS:
                 raise self.fail(key + ("law",), f"is {law!r}; laws are: " + ", ".join(LAWS))
             kind = LAWS[law]
             kwargs: dict[str, Any] = {}
-            unknown = unknown_name(params, kind.keys)
-            if unknown is not None:
-                raise self.fail(key + (unknown,), unknown_message(unknown, kind.keys, "parameter",
-                                                                  f" of {law}"))  # fmt: skip
+            check_keys(key, params, kind.keys, self.fail, kind="parameter", of=f" of {law}")
             for name, value in params.items():
                 if name == "preset":
                     if value not in kind.presets:
@@ -532,12 +531,9 @@ class _Builder:
         out = {}
         for joint, params in self.values.get("rotor", {}).items():
             key = ("rotor", joint)
-            params = {_norm(k): v for k, v in params.items()}
+            params = toml_keys(params)
             kwargs: dict[str, Any] = {}
-            unknown = unknown_name(params, ROTOR_KEYS)
-            if unknown is not None:
-                raise self.fail(key + (unknown,), unknown_message(unknown, ROTOR_KEYS, "parameter",
-                                                                  " of a rotor"))  # fmt: skip
+            check_keys(key, params, ROTOR_KEYS, self.fail, kind="parameter", of=" of a rotor")
             for name, value in params.items():
                 if name == "preset":
                     if value not in ROTOR_PRESETS:
@@ -564,9 +560,7 @@ class _Builder:
     def _cp_table(self, key, value) -> CpTable:
         if not isinstance(value, Mapping) or not {"tsr", "cp"} <= set(value):
             raise self.fail(key, "must be { tsr = [...], cp = [...] } (and pitch_deg = [...])")
-        unknown = unknown_name(value, CP_TABLE_KEYS)
-        if unknown is not None:
-            raise self.fail(key + (unknown,), unknown_message(unknown, CP_TABLE_KEYS))
+        check_keys(key, value, CP_TABLE_KEYS, self.fail)
         try:
             pitch = tuple(math.radians(p) for p in value.get("pitch_deg", [0.0]))
             return CpTable(tsr=tuple(value["tsr"]), cp=tuple(value["cp"]), pitch=pitch)

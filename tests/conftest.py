@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Callable
 from pathlib import Path
 
@@ -79,3 +80,47 @@ def two_gear_urdf(
 def pair_urdf() -> Callable[..., str]:
     """Builder of a small two-gear model file text (see ``two_gear_urdf``)."""
     return two_gear_urdf
+
+
+#: The DTU 500 kW planetary stage, the model of the fatigue sets of the tests.
+FATIGUE_MODEL = (MODELS / "dtu500_planetary.urdf").as_posix()
+
+
+def fatigue_toml(tmp_path: Path, fatigue: str = "", run: str = "", site: str = "") -> Path:
+    """A fatigue set of the DTU 500 kW stage: two bins, one level, one seed, 0.04 s cases."""
+    site = site or "speeds = [10, 16]\nhours = [1000, 250]"
+    text = textwrap.dedent(
+        f"""\
+        model = "{FATIGUE_MODEL}"
+        dt = 2e-5
+        initial_speed = {{ carrier = 27.1 }}
+        log_rate = 1000.0
+        {run}
+        [rotor.carrier]
+        preset = "jorgensen2014"
+
+        [generator.sun]
+        law = "linear-slip"
+        slope = 203568.04
+        sync_rpm = 148.91584
+
+        [fatigue]
+        out = "cases"
+        duration = 0.04
+        sample_rate = 50000.0
+        turbulence = 0.1
+        seeds = [3]
+        hub_height = 36.0
+        {fatigue}
+        [fatigue.site]
+        {site}
+
+        [fatigue.sn_curve]
+        s0_mpa = 1000.0
+        m = 3.0
+        endurance_limit_mpa = 0.0
+        """
+    )
+    path = tmp_path / "set.toml"
+    path.write_text(text)
+    return path

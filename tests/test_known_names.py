@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from pinwind.known_names import nearest, unknown_message, unknown_name
+from pinwind.known_names import check_keys, nearest, toml_keys, unknown_message, unknown_name
 
 KEYS = ("model", "duration", "dt", "torque", "speed", "initial_speed")
 
@@ -30,3 +30,15 @@ def test_the_message_names_the_name_the_guess_and_every_known_name():
         "duration, dt, torque, speed, initial_speed"
     )
     assert "did you mean" not in unknown_message("colour", KEYS)
+
+
+def test_a_toml_tables_unknown_key_is_refused_by_the_readers_error_at_its_path():
+    def fail(key: tuple[str, ...], message: str) -> Exception:
+        return KeyError(key, message)
+
+    table = toml_keys({"initial-speed": 1.0, "durtion": 2.0})
+    assert list(table) == ["initial_speed", "durtion"]
+    with pytest.raises(KeyError) as caught:
+        check_keys(("fatigue",), table, KEYS, fail)
+    assert caught.value.args == (("fatigue", "durtion"), unknown_message("durtion", KEYS))
+    check_keys(("fatigue",), {"dt": 1e-3}, KEYS, fail)  # nothing unknown: no error

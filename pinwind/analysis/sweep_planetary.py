@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 from pinwind.analysis.sweep_design import StageDesign, SweepSettings, length_key
 from pinwind.errors import InputError
+from pinwind.model.gear_roles import gear_roles, planetary_gears
 
 if TYPE_CHECKING:
     from pinwind.analysis.rating import GearboxRating
@@ -231,10 +232,17 @@ def enumerate_planetary(
 
 
 def _rating_columns(rating: GearboxRating) -> dict:
-    sp = [m for m in rating.meshes if m.mesh.startswith("sun_planet")]
-    pr = [m for m in rating.meshes if m.mesh.endswith("_ring")]
+    internal: dict[str, bool] = {}
+    for m in rating.meshes:
+        internal |= dict(zip(m.pair.names, (m.pair.internal_1, m.pair.internal_2), strict=True))
+    pairs = [m.pair.names for m in rating.meshes]
+    roles = gear_roles(planetary_gears(internal, pairs))  # from the topology, not the names
+    sp = [m for m in rating.meshes if {roles.get(g) for g in m.pair.names} == {"sun", "planet"}]
+    pr = [m for m in rating.meshes if "ring" in {roles.get(g) for g in m.pair.names}]
     gears = rating.gears
-    planets = [g for name, g in gears.items() if name.startswith("planet")]
+    planets = [g for name, g in gears.items() if roles.get(name) == "planet"]
+    (sun,) = (g for name, g in gears.items() if roles.get(name) == "sun")
+    (ring,) = (g for name, g in gears.items() if roles.get(name) == "ring")
 
     def low(items: Iterable[float]) -> float:
         return float(min(items))
@@ -249,9 +257,9 @@ def _rating_columns(rating: GearboxRating) -> dict:
         "agma_SF_contact_sun_planet": low(s for m in sp for s in m.agma.S_H),
         "agma_SF_contact_planet_ring": low(s for m in pr for s in m.agma.S_H),
         "agma_SF_bending_min": low(s for m in rating.meshes for s in m.agma.S_F),
-        "agma_SF_bending_sun": gears["sun"].S_F_agma,
+        "agma_SF_bending_sun": sun.S_F_agma,
         "agma_SF_bending_planet": low(g.S_F_agma for g in planets),
-        "agma_SF_bending_ring": gears["ring"].S_F_agma,
+        "agma_SF_bending_ring": ring.S_F_agma,
         "iso_sigma_H_sun_planet_MPa": max(max(m.iso.sigma_H) for m in sp) / 1e6,
         "iso_sigma_H_planet_ring_MPa": max(max(m.iso.sigma_H) for m in pr) / 1e6,
         "iso_sigma_F_max_MPa": max(max(m.iso.sigma_F) for m in rating.meshes) / 1e6,

@@ -26,9 +26,10 @@ from pinwind.cli.app import (
 
 if TYPE_CHECKING:
     from pinwind.life.bearing_life import BearingLife
+    from pinwind.life.case_runner import FatigueRun
     from pinwind.life.damage_convergence import DamageDtCheck
-    from pinwind.life.life_damage import GearDamage, SetDamage
-    from pinwind.life.load_cases import FatigueRun, FatigueSet
+    from pinwind.life.fatigue_set import FatigueSet
+    from pinwind.life.set_damage import GearDamage, SetDamage
 
 
 @app.command()
@@ -76,9 +77,10 @@ def fatigue(
     from pinwind.analysis.sweep import check_workers
     from pinwind.errors import InputError
     from pinwind.io.folders import folder_problem
-    from pinwind.life.life_damage import set_damage
-    from pinwind.life.load_cases import load_fatigue_set, run_cases
+    from pinwind.life.case_runner import run_cases
+    from pinwind.life.fatigue_set_file import load_fatigue_set
     from pinwind.life.set_bearing_life import set_bearing_lives
+    from pinwind.life.set_damage import set_damage
 
     check_workers(workers)
     if figures is not None and (problem := folder_problem(figures)) is not None:
@@ -223,7 +225,7 @@ def _print_tables(damage: SetDamage) -> None:
     """Table 7 (per bin, reference level) and Table 8 (per level) shapes, 003's rows beside."""
     import numpy as np
 
-    from pinwind.life.life_damage import (
+    from pinwind.life.set_damage import (
         JORGENSEN_2014_TABLE_7,
         JORGENSEN_2014_TABLE_8,
         VARIANTS,
@@ -304,7 +306,7 @@ def _as_dict(
     fset: FatigueSet, run: FatigueRun, damage: SetDamage, figures: list[Path]
 ) -> dict[str, Any]:
     """The whole result as plain values (units in the keys)."""
-    from pinwind.life.life_damage import (
+    from pinwind.life.set_damage import (
         JORGENSEN_2014_TABLE_7,
         JORGENSEN_2014_TABLE_8,
         LOCATIONS,

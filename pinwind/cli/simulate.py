@@ -243,8 +243,8 @@ def _run_and_report(
     from pinwind import scenario as sc
     from pinwind.analysis import load_sharing
     from pinwind.analysis.summary import summary_tables
+    from pinwind.dynamics.dt_advice import dt_advice
     from pinwind.dynamics.integrator import Integrator
-    from pinwind.dynamics.time_step import dt_advice
 
     before = _stamp(log) if log is not None else None
     previous = signal.signal(signal.SIGTERM, raise_terminated)

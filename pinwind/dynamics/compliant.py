@@ -25,7 +25,7 @@ modes in the kHz; an explicit spring would need steps of microseconds. The compi
 takes the force at the time step's weighted state (mid-step for ρ∞ = 1; ``dynamics/
 integrator.py``), which makes it linear in the step's acceleration, so it enters the same
 constrained solve as the rigid rows: the Hessian gains w JᵀJ. The scheme is second order and stable
-at any step; with ρ∞ < 1 it damps the modes it does not resolve (``dynamics/time_step.py``). The
+at any step; with ρ∞ < 1 it damps the modes it does not resolve (``dynamics/dt_advice.py``). The
 run's metadata and summary name the highest mesh mode, its numerical damping ratio at the chosen
 dt beside its physical one, and the dt that keeps the numerical one below a tenth of the
 physical, then its frequency error at dt and the dt that keeps it within 0.5 %; a run whose
@@ -47,6 +47,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics import _native
+from pinwind.dynamics.dt_advice import DEFAULT_SCHEME, RESOLVING_STEPS, dt_advice
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.normal_modes import (
@@ -55,7 +56,6 @@ from pinwind.dynamics.normal_modes import (
     free_motions,
     natural_modes,
 )
-from pinwind.dynamics.time_step import DEFAULT_SCHEME, RESOLVING_STEPS, dt_advice
 from pinwind.errors import InputError, PinwindWarning, StepTooCoarse, UnknownElement
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (

@@ -52,6 +52,7 @@ import numpy as np
 from pinwind.dynamics import _native, series
 from pinwind.dynamics.compliant import MeshSetup, mesh_setup, single_pair
 from pinwind.dynamics.drivetrain import Drivetrain, drivetrain
+from pinwind.dynamics.dt_advice import coarse_step_notes
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.linear_model import check_held, linear_model
@@ -60,7 +61,6 @@ from pinwind.dynamics.run_settings import RunSettings
 from pinwind.dynamics.solver import SolverSettings
 from pinwind.dynamics.stepper import CompiledStepper, body_frames
 from pinwind.dynamics.support_springs import from_ground, roll_share
-from pinwind.dynamics.time_step import coarse_step_notes
 from pinwind.dynamics.torque_balance import imbalances, representative_torque
 from pinwind.dynamics.torsional_modes import highest_spring_mode
 from pinwind.errors import (

@@ -3,5 +3,7 @@
 Rainflow cycles, S-N curves and Palmgren-Miner damage over a site's wind (``cycles``,
 ``sn_curve``, ``site``, ``contact_stress``, ``root_stress``, ``tooth_damage``), ISO 281 bearing
 life (``bearing_life``; over a fatigue set's bins: ``set_bearing_life``) and LDD/LRD load
-spectra (``load_spectrum``).
+spectra (``load_spectrum``). A fatigue set (``fatigue_set``) is read from its file
+(``fatigue_set_file``), its cases run (``case_runner``) and reduced to cycles
+(``case_cycles``), and rated (``set_damage``).
 """

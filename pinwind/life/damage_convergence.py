@@ -4,7 +4,7 @@ A dynamic result comes with its dt convergence: the same figure at dt/2. ``half_
 fatigue set with its time step halved and its cases written to a sibling folder (the set's
 ``out`` with ``HALF_STEP_SUFFIX``), resumable like the set itself; its stress histories are read
 at the same sample times (the sample stride doubles), so that only the step differs.
-``damage_dt_check`` compares the two sets' damage (`pinwind.life.life_damage.set_damage`) per
+``damage_dt_check`` compares the two sets' damage (`pinwind.life.set_damage.set_damage`) per
 turbulence level: every gear's total damage in each S-N variant, of the contact and of the root
 stress, and its largest contact and root stress, each as a row of
 `pinwind.analysis.convergence` (``dt_row`` with the values at dt and dt/2: the relative change and
@@ -27,8 +27,8 @@ from typing import Any
 
 from pinwind.analysis.convergence import DtRow, dt_row, row_dict
 from pinwind.errors import InputError
-from pinwind.life.life_damage import LOCATIONS, VARIANTS, SetDamage
-from pinwind.life.load_cases import FatigueSet
+from pinwind.life.fatigue_set import FatigueSet
+from pinwind.life.set_damage import LOCATIONS, VARIANTS, SetDamage
 
 #: A figure is converged when its value at dt is within this of its value at dt/2 [-].
 TOLERANCE = 0.05

@@ -7,9 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from pinwind.life.life_damage import JORGENSEN_2014_TABLE_8, VARIANTS, SetDamage
-from pinwind.life.load_cases import RANGE_EDGES
 from pinwind.life.load_spectrum import LoadSpectrum
+from pinwind.life.set_damage import JORGENSEN_2014_TABLE_8, RANGE_EDGES, VARIANTS, SetDamage
 
 
 def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:

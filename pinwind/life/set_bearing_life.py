@@ -17,10 +17,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from pinwind.life.bearing_life import BearingLife, BearingLoadSum, life_of_load_sum
-from pinwind.life.load_cases import CaseCycles
+from pinwind.life.case_cycles import CaseCycles
 
 if TYPE_CHECKING:
-    from pinwind.life.load_cases import FatigueSet
+    from pinwind.life.fatigue_set import FatigueSet
 
 
 def set_bearing_lives(fatigue: FatigueSet) -> list[list[BearingLife]]:
@@ -31,7 +31,7 @@ def set_bearing_lives(fatigue: FatigueSet) -> list[list[BearingLife]]:
         seconds of the site's bins; not rated when the model gives it no C).
 
     Raises:
-        InputError: a case has no reduction (run the cases first: `load_cases.run_cases`).
+        InputError: a case has no reduction (run the cases first: `case_runner.run_cases`).
     """
     from pinwind.errors import InputError
 

@@ -18,7 +18,7 @@ import numpy as np
 from pinwind.life.load_spectrum import DEFAULT_BINS, LoadSpectrum, load_spectrum, shaft_torque
 
 if TYPE_CHECKING:
-    from pinwind.life.load_cases import FatigueSet
+    from pinwind.life.fatigue_set import FatigueSet
 
 
 def set_load_spectra(

@@ -34,6 +34,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics.coordinates import Coordinate
+from pinwind.model.gear_roles import gearbox_planetary_gears
 from pinwind.model.gearbox import Gearbox
 
 #: A coordinate (scaled by √M_jj) below this fraction of the mode's largest stands still; also the
@@ -82,22 +83,13 @@ def planetary_stages(gearbox: Gearbox, coords: list[Coordinate]) -> list[Planeta
     data = model.createData()
     pin.forwardKinematics(model, data, gearbox.neutral())
     joint_of = {name: g.joint_id for name, g in gearbox.gears.items()}
-    partners: dict[str, set[str]] = {name: set() for name in gearbox.gears}
-    for m in gearbox.meshes:
-        partners[m.gear_a.name].add(m.gear_b.name)
-        partners[m.gear_b.name].add(m.gear_a.name)
     stages = []
-    for ring, gear in gearbox.gears.items():
-        if not gear.spec.internal:
-            continue
+    for found in gearbox_planetary_gears(gearbox):
+        ring, gear = found.ring, gearbox.gears[found.ring]
         axis = data.oMi[gear.joint_id].rotation @ gear.axis_in_joint
         centre = data.oMi[gear.joint_id].act(gear.centre_in_joint)
-        planets = sorted({joint_of[p] for p in partners[ring]} - {gear.joint_id})
-        if not planets:
-            continue
-        planet_gears = {g for g, jid in joint_of.items() if jid in planets}
-        suns = {joint_of[s] for p in planet_gears for s in partners[p]}
-        suns -= {gear.joint_id, *planets}
+        planets = sorted({joint_of[p] for p in found.planets})
+        suns = {joint_of[s] for s in found.suns}
         carriers = {_member_top(model, coords, jid, axis)[1] for jid in planets}
         central_joints = [gear.joint_id, *sorted(suns), *(c for c in carriers if c != 0)]
         angles = [_angle_about(data.oMi[jid].translation - centre, axis) for jid in planets]

@@ -16,7 +16,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from pinwind.cli import main
-from tests.life.test_load_cases import fatigue_toml
+from tests.conftest import fatigue_toml
 from tests.test_cli import run
 
 
@@ -108,7 +108,7 @@ def test_quick_run_gives_each_rated_bearing_its_l10h_and_lists_the_others_as_not
     tmp_path, monkeypatch
 ):
     from pinwind.model.gearbox import load
-    from tests.life.test_load_cases import MODEL
+    from tests.conftest import FATIGUE_MODEL
 
     monkeypatch.chdir(tmp_path)
     path = fatigue_toml(tmp_path)
@@ -116,7 +116,7 @@ def test_quick_run_gives_each_rated_bearing_its_l10h_and_lists_the_others_as_not
     out = run("fatigue", str(path), "--quick", "--json", "--workers", "1")
     assert out.returncode == 0, out.stderr
     (lives,) = json.loads(out.stdout)["bearings"]
-    ratings = load(MODEL).source.bearings
+    ratings = load(FATIGUE_MODEL).source.bearings
     assert {b["bearing"] for b in lives if b["rated"]} == set(ratings)
     for life in lives:
         if not life["rated"]:

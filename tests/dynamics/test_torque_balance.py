@@ -9,7 +9,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
-from pinwind.dynamics.time_step import coarse_step_notes
+from pinwind.dynamics.dt_advice import coarse_step_notes
 from pinwind.dynamics.torque_balance import imbalances
 from pinwind.errors import PinwindWarning, StepTooCoarse, TorquesUnbalanced
 from pinwind.loads.generator import ConstantTorque, LinearSlip

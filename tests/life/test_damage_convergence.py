@@ -15,8 +15,8 @@ from pinwind.life.damage_convergence import (
     DamageDtCheck,
     half_step_set,
 )
-from pinwind.life.load_cases import load_fatigue_set
-from tests.life.test_load_cases import fatigue_toml
+from pinwind.life.fatigue_set_file import load_fatigue_set
+from tests.conftest import fatigue_toml
 
 
 def test_half_step_set_halves_dt_and_reads_the_histories_at_the_same_times(tmp_path):

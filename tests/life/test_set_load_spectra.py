@@ -8,9 +8,10 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 from pinwind import read_log
-from pinwind.life.load_cases import load_fatigue_set, run_cases
+from pinwind.life.case_runner import run_cases
+from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.set_load_spectra import set_load_spectra, write_load_spectra_csv
-from tests.life.test_load_cases import fatigue_toml
+from tests.conftest import fatigue_toml
 
 
 def test_set_ldd_sums_to_the_sites_hours_and_lrd_to_each_bins_revolutions(tmp_path):

@@ -17,13 +17,13 @@ import pytest
 from scipy.optimize import brentq
 
 import pinwind
-from pinwind.dynamics.integrator import Integrator
-from pinwind.dynamics.time_step import (
+from pinwind.dynamics.dt_advice import (
     DEFAULT_SCHEME,
     dt_advice,
     dt_for_damping_ratio,
     numerical_damping_ratio,
 )
+from pinwind.dynamics.integrator import Integrator
 from pinwind.errors import InputError, PinwindWarning, StepTooCoarse
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads

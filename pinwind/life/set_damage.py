@@ -1,7 +1,7 @@
 """Damage over the design life per gear, per wind bin and per turbulence level, from a fatigue set.
 
 Jørgensen 2014 (003_83d3049daebcd276.txt) Tables 7-8. The cycles of each case
-(`pinwind.life.load_cases.CaseCycles`, counted in T = T_sim − skip_start seconds) stand for
+(`pinwind.life.case_cycles.CaseCycles`, counted in T = T_sim − skip_start seconds) stand for
 the h hours of the case's wind bin: its damage counts h · 3600 / T times (Table 2), divided
 among the bin's seeds (each seed is one sample of the same hours). Each tooth flank has its own
 sum over the bins; a gear's damage is that of its worst tooth flank, and its damage per bin is
@@ -26,9 +26,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinwind.life.load_cases import RANGE_EDGES, CaseCycles, FatigueSet, FlankCycles, gear_kind
+from pinwind.life.case_cycles import CaseCycles, FlankCycles
+from pinwind.life.fatigue_set import FatigueSet
 from pinwind.life.sn_curve import REVERSED_BENDING_FACTOR, FatigueCurve, IsoLifeCurve
 
+#: Edges of the cycle-range histogram kept per case and gear, for the figures [Pa].
+RANGE_EDGES = np.linspace(0.0, 2000e6, 201)
 #: The S-N variants the damage is computed for: name → what it is.
 VARIANTS = {
     "limit": "the set's S-N curve with its endurance limit",
@@ -91,6 +94,8 @@ class SetDamage:
         damage: variant → level index → gear → `GearDamage` of the contact stress.
         range_cycles: level index → bin → gear → cycles per tooth over the bin's hours in each
             stress-range bin of `RANGE_EDGES` [-], (len(RANGE_EDGES) − 1,).
+        root_damage: as ``damage``, of the root stress.
+        roles: gear → its role in its planetary stage (`FatigueSet.roles`, from topology).
     """
 
     speeds: np.ndarray
@@ -101,6 +106,7 @@ class SetDamage:
     damage: dict[str, list[dict[str, GearDamage]]]
     range_cycles: list[list[dict[str, np.ndarray]]]
     root_damage: dict[str, list[dict[str, GearDamage]]] = field(default_factory=dict)
+    roles: dict[str, str] = field(default_factory=dict)
 
     def by_kind(
         self, variant: str, level: int, *, location: str = "contact"
@@ -115,7 +121,7 @@ class SetDamage:
         table = self.damage if location == "contact" else self.root_damage
         groups: dict[str, list[GearDamage]] = defaultdict(list)
         for gear, d in table[variant][level].items():
-            groups[gear_kind(gear) or gear].append(d)
+            groups[self.roles.get(gear, gear)].append(d)
         return {
             kind: (np.mean([d.per_bin for d in ds], axis=0), float(np.mean([d.total for d in ds])))
             for kind, ds in groups.items()
@@ -142,7 +148,7 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
     """The damage of every gear over the design life, from the cases' reductions.
 
     Raises:
-        InputError: a case has no reduction (run the cases first: `load_cases.run_cases`).
+        InputError: a case has no reduction (run the cases first: `case_runner.run_cases`).
     """
     from pinwind.errors import InputError
 
@@ -200,6 +206,7 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
         damage=damage["contact"],
         range_cycles=[[dict(b) for b in level] for level in ranges],
         root_damage=damage["root"],
+        roles=dict(fatigue.roles),
     )
 
 

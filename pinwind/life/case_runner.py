@@ -1,0 +1,219 @@
+"""The cases of a fatigue set run, each reduced beside its log, on local processes or Dask.
+
+Each case is run like any scenario (its values are in its log, which ``pinwind run --from-log``
+repeats) and reduced (`pinwind.life.case_cycles.CaseCycles`). A rerun computes only the cases
+whose log is missing or incomplete or whose reduction is missing, damaged or was made from
+other inputs (`case_done`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import time
+import zipfile
+import zlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pinwind.errors import PinwindError
+from pinwind.life.bearing_life import bearing_load_sums
+from pinwind.life.case_cycles import CaseCycles, case_cycles
+from pinwind.life.fatigue_set import FatigueSet, LoadCase
+from pinwind.life.root_stress import ISO_ROOT_STRESS
+from pinwind.scenario import build
+
+
+def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
+    """Simulate one case with its log and reduce it (a worker's task).
+
+    The reduction is its tooth cycles and its bearings' load sums, both from ``skip_start`` on.
+
+    Runs in this process, a local worker or a Dask worker (whose output folder must be the
+    one the caller reads: a shared file system).
+    """
+    import warnings
+
+    from pinwind.model.compliance import MeshCompliance
+    from pinwind.model.gearbox import load
+    from pinwind.scenario import run
+
+    start, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
+    scenario = build(fatigue.case_values(case), source=fatigue.source, base=fatigue.base)
+    if fatigue.mesh_stiffness is not None or fatigue.mesh_damping is not None:
+        compliance = MeshCompliance(stiffness=fatigue.mesh_stiffness, damping=fatigue.mesh_damping)
+        meshes: dict[str, Any] = {"all": compliance}
+        scenario = dataclasses.replace(scenario, meshes=meshes)
+    gearbox = load(scenario.model_path())
+    fatigue.out.mkdir(parents=True, exist_ok=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        # No run statistics: the case counts its kept samples, and folding every step into
+        # min, max and RMS (for a summary; not logged) would take a thread beside the loop.
+        result = run(
+            scenario,
+            gearbox=gearbox,
+            progress=False,
+            command=f"pinwind fatigue {fatigue.source} (case {case.name})",
+            statistics=False,
+        )
+    first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
+    counted = result.rows(first, len(result))
+    flanks = case_cycles(counted, gearbox, fatigue.gears, materials=fatigue.materials)
+    roots = case_cycles(
+        counted,
+        gearbox,
+        fatigue.gears,
+        materials=fatigue.materials,
+        root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
+    )
+    bearings = bearing_load_sums(counted, gearbox)
+    log_sha256 = file_sha256(fatigue.log_path(case))
+    return CaseCycles(
+        case,
+        fatigue.case_key(case),
+        fatigue.counted_seconds,
+        time.perf_counter() - start,
+        tuple(flanks),
+        tuple(roots),
+        tuple(bearings),
+        time.process_time() - cpu,
+        time.thread_time() - own,
+        log_sha256,
+    )
+
+
+def save_case(case: LoadCase, fatigue: FatigueSet) -> str:
+    """Run one case and write its reduction beside its log (a worker's task): the case's name.
+
+    The worker writes the ``.npz`` itself, as it writes the log, so that only the name travels
+    back and the command, which shares the cores with the workers, does not compress cycles.
+    """
+    run_case(case, fatigue).save(fatigue.cycles_path(case))
+    return case.name
+
+
+def file_sha256(path: Path) -> str:
+    """SHA-256 of a file's bytes, as hex."""
+    with path.open("rb") as f:
+        return hashlib.file_digest(f, "sha256").hexdigest()
+
+
+def case_done(fatigue: FatigueSet, case: LoadCase) -> bool:
+    """Whether a case's log is complete and its reduction was made from the same inputs.
+
+    A reduction that fails its CRC check or cannot be read, or a log whose SHA-256 differs from
+    the one the reduction recorded (a flipped byte), is damaged: a `CaseFileDamaged` warning
+    names the file, and the case is not done (it is computed again).
+    """
+    from pinwind.io.log_reader import LogReader
+
+    log, cycles = fatigue.log_path(case), fatigue.cycles_path(case)
+    if not (log.is_file() and cycles.is_file()):
+        return False
+    try:
+        with zipfile.ZipFile(cycles) as archive:
+            bad = archive.testzip()  # every member read and checked against its CRC-32
+        if bad is not None:
+            raise zipfile.BadZipFile(f"its member {bad} fails its CRC-32 check")
+        with np.load(cycles) as data:
+            meta = json.loads(str(data["meta"]))
+        key, recorded = meta["key"], meta.get("log_sha256", "")
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile, zlib.error) as err:
+        _damaged(f"{cycles}: the kept reduction of case {case.name} is damaged ({err})")
+        return False
+    if recorded and file_sha256(log) != recorded:
+        _damaged(
+            f"{log}: the kept log of case {case.name} is not the one its reduction was made "
+            f"from (sha256 {recorded[:12]}… recorded, {file_sha256(log)[:12]}… now): it was "
+            "damaged or changed"
+        )
+        return False
+    try:
+        with LogReader(log) as reader:
+            complete = reader.complete
+    except PinwindError:
+        return False
+    return complete and key == fatigue.case_key(case)
+
+
+def _damaged(what: str) -> None:
+    """Warn, at the caller of `run_cases`, that a kept case file is damaged and redone."""
+    import warnings
+
+    from pinwind.errors import CaseFileDamaged
+
+    warnings.warn(CaseFileDamaged(f"{what}; the case is computed again"), stacklevel=4)
+
+
+@dataclass
+class FatigueRun:
+    """How the cases of a fatigue set were obtained.
+
+    Attributes:
+        computed: names of the cases run in this call (the others were reused).
+        total: distinct cases in the set (`LoadCase.name`).
+        backend: ``"serial"``, ``"processes (N)"`` or ``"dask (ADDRESS)"`` (`run_tasks`).
+        wall_time: seconds for this call.
+    """
+
+    computed: list[str]
+    total: int
+    backend: str
+    wall_time: float
+
+
+def run_cases(
+    fatigue: FatigueSet,
+    *,
+    workers: int | None = None,
+    scheduler: str | object | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> FatigueRun:
+    """Run the cases not done yet (`case_done`) on local processes or Dask, saving each.
+
+    Each worker writes its case's log and reduction (`save_case`) as soon as the case is done,
+    so an interrupted set keeps its finished cases; only the case names come back here.
+
+    Args:
+        workers: local worker processes (default: all cores, 1 for a single case).
+        scheduler: a Dask scheduler address or ``distributed.Client``; overrides ``workers``.
+        progress: called as progress(finished, total) after each case.
+    """
+    import os
+
+    from pinwind.analysis.sweep import check_workers, run_tasks
+
+    check_workers(workers)
+    start = time.perf_counter()
+    cases = fatigue.cases()
+    unique = {c.name: c for c in cases}
+    todo = []
+    for case in unique.values():  # a loop, not a comprehension: warnings point at the caller
+        if not case_done(fatigue, case):
+            todo.append(case)
+    finished, computed = len(unique) - len(todo), []
+    if progress:
+        progress(finished, len(unique))
+
+    def accept(name: str) -> None:
+        nonlocal finished
+        computed.append(name)
+        finished += 1
+        if progress:
+            progress(finished, len(unique))
+
+    backend = run_tasks(
+        save_case,
+        todo,
+        accept=accept,
+        workers=workers or os.cpu_count() or 1,
+        scheduler=scheduler,
+        fatigue=fatigue,
+    )
+    return FatigueRun(computed, len(unique), backend, time.perf_counter() - start)
