@@ -334,3 +334,18 @@ def test_bad_bearing_compliance_exits_2_in_one_line(tmp_path, bearing, command, 
     assert out.returncode == 2, out.stderr
     assert message in out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
+
+
+def test_a_disc_in_a_bearing_with_clearance_starts_sagged_across_its_clearance():
+    """The static start carries the disc across its radial clearance c to the wall its weight
+    pushes it to, then deflects the bearing by m g / k: y = −(c + m g / k), and the run starts at
+    rest there."""
+    clearance = 20e-6
+    gb = loads(
+        disc_urdf(f'radial_stiffness="{STIFFNESS!r}" radial_clearance_mm="{clearance * 1e3!r}"')
+    )
+    res = _run(gb, duration=1e-3, dt=1e-4)
+    sag = clearance + MASS * G / STIFFNESS
+    np.testing.assert_allclose(res.joint("disc_radial_y").angle, -sag, rtol=1e-9)
+    np.testing.assert_allclose(res.joint("disc_radial_x").angle, 0.0, atol=1e-15)
+    np.testing.assert_allclose(res.joint("disc_radial_y").speed, 0.0, atol=1e-9)

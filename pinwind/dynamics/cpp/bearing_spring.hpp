@@ -157,7 +157,7 @@ class BearingSprings : public Element {
       if (sp.law == BearingLaw::roller_sum) {
         roller_sum(b, start(sp, s), s.weights.statics);
       } else {
-        linearise(b, start(sp, s));
+        linearise(b, start(sp, s), s.weights.statics);
       }
       const long ix = sp.index_x, iy = sp.index_y;
       const double c = touching(b) ? sp.radial_damping : 0.0;
@@ -184,7 +184,17 @@ class BearingSprings : public Element {
         damping_[sp.index_x] = -sp.radial_damping * (s.v[sp.index_x] + kv * step[0]);
         damping_[sp.index_y] = -sp.radial_damping * (s.v[sp.index_y] + kv * step[1]);
       }
-      if (sp.clearance > 0.0 && sp.law == BearingLaw::linear) {
+      if (sp.clearance > 0.0 && sp.law == BearingLaw::linear && s.weights.statics) {
+        // A static solve keeps a bearing in contact once it is, and takes one out of contact to
+        // the wall the load pushes it to (the probe's displacement, linearise): the body is
+        // free within its clearance, so any load carries it across (a displacement of rounding,
+        // below 1e-9 of the clearance, is no load).
+        if (!contact_[b] && step.norm() > 1e-9 * sp.clearance && !last) {
+          contact_[b] = true;
+          direction_[b] = step.normalized();
+          changed = true;
+        }
+      } else if (sp.clearance > 0.0 && sp.law == BearingLaw::linear) {
         const Eigen::Vector2d r = start(sp, s) + kq * step;
         const bool now = r.norm() > sp.clearance;
         if (now != contact_[b] && !last) {
@@ -246,8 +256,10 @@ class BearingSprings : public Element {
     return {s.q[sp.index_x] + s.dq_free[sp.index_x], s.q[sp.index_y] + s.dq_free[sp.index_y]};
   }
 
-  // F(r₀) and the tangent stiffness K(r₀) of bearing b's radial law, for its contact state.
-  void linearise(size_t b, const Eigen::Vector2d& r) {
+  // F(r₀) and the tangent stiffness K(r₀) of bearing b's radial law, for its contact state. A
+  // static solve out of contact probes with the law's stiffness (no force), so that the
+  // displacement shows where the load pushes the body (settle then puts it in contact there).
+  void linearise(size_t b, const Eigen::Vector2d& r, bool statics) {
     const BearingSpringSpec& sp = specs_[b];
     const double k = sp.radial_stiffness, c = sp.clearance;
     if (c <= 0.0) {
@@ -256,7 +268,8 @@ class BearingSprings : public Element {
       return;
     }
     if (!contact_[b]) {
-      stiffness_[b].setZero();
+      stiffness_[b] = statics ? Eigen::Matrix2d(k * Eigen::Matrix2d::Identity())
+                              : Eigen::Matrix2d::Zero();
       force0_[b].setZero();
       return;
     }
