@@ -44,17 +44,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics.coordinates import Coordinate, coordinates
 from pinwind.dynamics.drivetrain import Drivetrain, drivetrain
-from pinwind.dynamics.linear_model import check_held, linear_model, mesh_rows_at
-from pinwind.dynamics.loaded_flanks import FlankChoice
+from pinwind.dynamics.linear_model import LinearModel, check_held, linear_model, mesh_rows_at
 from pinwind.dynamics.mesh import MeshSet
-from pinwind.dynamics.normal_modes import Mode, SpringElement, natural_modes, repeated_groups
+from pinwind.dynamics.normal_modes import Mode, natural_modes, repeated_groups
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import SpeedOutOfRange, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
@@ -78,15 +77,13 @@ TURNING_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
-class Linearisation:
+class Linearisation(LinearModel):
     """M q̈ + C q̇ + K q = 0 under J q̇ = 0 on the joint coordinates (module docstring).
 
+    The run's linear model at rest (``LinearModel``: M, K, C, J, the springs, the loaded flanks,
+    the added inertias and the laws' slopes), with what the modes add at an operating speed.
+
     Attributes:
-        joint_names: the coordinates, in the order of the velocity vector.
-        mass, stiffness, damping: M [kg·m²], K [N·m/rad], C [N·m·s/rad], (nv, nv) (kg, N/m
-            and N·s/m on a compliant bearing's slides).
-        constraints: J (r, nv): rigid meshes, held joints, locked bearings.
-        elements: the springs K is made of (meshes, torsional springs, bearing slides).
         coordinates: each coordinate's kind (rotation, translation) and axis.
         stages: the planetary stages, whose modes are classified (``planetary_modes.py``).
         speed: v₀ (nv,), the operating joint speeds [rad/s].
@@ -94,28 +91,14 @@ class Linearisation:
         centrifugal: ∂(C(q, v) v)/∂q at v₀ [N·m/rad], (nv, nv); zero on torsional models.
         whirl_pairs: the compliant bearings' radial and tilt pairs and their bodies' spin at v₀,
             whose orbits give a mode's whirl (``gyroscopic_modes.py``).
-        flanks: the flank each mesh is taken on, the one the static load presses
-            (``dynamics/loaded_flanks.py``), and the meshes no load presses.
-        added_inertia: joint name → inertia in M besides the bodies' [kg·m²] (the rotors').
-        law_damping: joint name → the generator and rotor laws' slope in C [N·m·s/rad]
-            (``Drivetrain.law_damping``).
     """
 
-    joint_names: list[str]
-    mass: np.ndarray
-    stiffness: np.ndarray
-    damping: np.ndarray
-    constraints: np.ndarray
-    elements: list[SpringElement]
     coordinates: list[Coordinate]
     stages: list[PlanetaryStage]
     speed: np.ndarray
     gyroscopic: np.ndarray
     centrifugal: np.ndarray
     whirl_pairs: list[WhirlPair]
-    flanks: FlankChoice
-    added_inertia: dict[str, float]
-    law_damping: dict[str, float]
 
     def modes(self) -> list[Mode]:
         """The natural modes, lowest first (rigid ones at 0 Hz), each with its class and whirl.
@@ -243,21 +226,13 @@ def linearise(
     gyroscopic, centrifugal = speed_terms(gearbox, speed)
     coords = coordinates(gearbox)
     out = Linearisation(
-        base.joint_names,
-        base.mass,
-        base.stiffness,
-        base.damping,
-        base.constraints,
-        base.elements,
-        coords,
-        planetary_stages(gearbox, coords),
-        speed,
-        gyroscopic,
-        centrifugal,
-        whirl_pairs(gearbox, coords, speed),
-        base.flanks,
-        base.added_inertia,
-        base.law_damping,
+        **{f.name: getattr(base, f.name) for f in fields(LinearModel)},
+        coordinates=coords,
+        stages=planetary_stages(gearbox, coords),
+        speed=speed,
+        gyroscopic=gyroscopic,
+        centrifugal=centrifugal,
+        whirl_pairs=whirl_pairs(gearbox, coords, speed),
     )
     check_held(gearbox, base)
     return out
