@@ -74,12 +74,16 @@ class HubLoad:
             number, a ``Signal`` or a function of time t [s]: F_x is the thrust, M_x the torque.
         frame: the frame of the components.
         point: where the force acts, in the body's frame [m] (the rotor centre on the shaft).
+        up: the direction of the hub's z in the model's world frame, or None: against the
+            model's gravity. With x on the shaft axis (the body's joint axis as the model gives
+            it), y = z × x; ``up`` need not be normal to the axis (its normal part is used).
     """
 
     body: str
     components: tuple[ComponentSignal, ...]
     frame: HubFrame = HubFrame.FIXED
     point: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    up: tuple[float, float, float] | None = None
 
     def __post_init__(self) -> None:
         where = f'hub load on "{self.body}"'
@@ -88,8 +92,11 @@ class HubLoad:
                 f"{where}: {len(self.components)} components given; give six: "
                 f"{', '.join(COMPONENTS)}"
             )
-        if len(self.point) != 3 or not all(math.isfinite(float(x)) for x in self.point):
-            raise NonFiniteInput(f"{where}: point {self.point} m must be three finite numbers")
+        for name, vector in (("point", self.point), ("up", self.up)):
+            if vector is not None and (
+                len(vector) != 3 or not all(math.isfinite(float(x)) for x in vector)
+            ):
+                raise NonFiniteInput(f"{where}: {name} {vector} must be three finite numbers")
         if not isinstance(self.frame, HubFrame):
             object.__setattr__(self, "frame", HubFrame.named(str(self.frame), where=where))
 
@@ -174,6 +181,7 @@ def hub_load_from_openfast(
     *,
     frame: HubFrame | str = HubFrame.FIXED,
     point: Sequence[float] = (0.0, 0.0, 0.0),
+    up: Sequence[float] | None = None,
 ) -> HubLoad:
     """The six shaft loads of an OpenFAST output file as a fixed-frame ``HubLoad`` on ``body``.
 
@@ -206,7 +214,7 @@ def hub_load_from_openfast(
         Table(time, components[:, i], source=f"{path} {COMPONENTS[i]} ({frame.value} channels)")
         for i in range(6)
     )
-    return HubLoad(body, tables, HubFrame.FIXED, _point(point))
+    return HubLoad(body, tables, HubFrame.FIXED, _point(point), _up(up))
 
 
 def constant_hub_load(
@@ -215,6 +223,7 @@ def constant_hub_load(
     *,
     frame: HubFrame | str = HubFrame.FIXED,
     point: Sequence[float] = (0.0, 0.0, 0.0),
+    up: Sequence[float] | None = None,
 ) -> HubLoad:
     """A steady hub load: six numbers (N and N·m) along the frame's axes."""
     return HubLoad(
@@ -222,6 +231,7 @@ def constant_hub_load(
         tuple(Constant(float(value)) for value in components),
         HubFrame.named(str(frame), where=f'hub load on "{body}"'),
         _point(point),
+        _up(up),
     )
 
 
@@ -242,3 +252,8 @@ def _point(point: Sequence[float]) -> tuple[float, float, float]:
     if len(values) != 3:
         raise InputError(f"point {tuple(point)} m: give three coordinates (x, y, z)")
     return values  # type: ignore[return-value]
+
+
+def _up(up: Sequence[float] | None) -> tuple[float, float, float] | None:
+    """The up direction as three numbers, or None."""
+    return None if up is None else _point(up)
