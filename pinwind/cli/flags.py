@@ -201,7 +201,7 @@ def position_error_values(items: list[str] | None) -> dict[str, list[float]]:
 
 def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, float]]:
     """``--position-error`` options → (tangential, radial) errors [m], as a run takes them."""
-    from pinwind import scenario as sc
+    from pinwind.runs import scenario as sc
 
     values = {"model": "", "position_error": position_error_values(items)}
     return dict(sc.build(values, flags=FLAGS).position_errors)
