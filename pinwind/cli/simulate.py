@@ -348,8 +348,8 @@ def _check_dt_and_report(
     """Rerun a scenario at dt, dt/2 and dt/4 and print the convergence table (``--check-dt``)."""
     import json
 
-    from pinwind.analysis.convergence import check_dt
     from pinwind.analysis.summary import PLAIN_BOX, TERMINAL_BOX
+    from pinwind.runs.dt_check import check_dt
 
     if check_joints:
         scenario.check_joints(list(gearbox.joint_names), list(gearbox.locked_joints))
