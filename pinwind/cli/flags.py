@@ -1,8 +1,8 @@
 """The flags of the commands that run: their text as scenario values, and their shared options.
 
 Units at this edge are the ones drivetrain engineers type: N·m, rpm, µm, Hz. The flags become the
-values of a scenario file (``pinwind/scenario.py``), which builds the run from them; errors in the
-text of a flag name the flag.
+values of a scenario file (``pinwind/runs/scenario.py``), which builds the run from them; errors
+in the text of a flag name the flag.
 """
 
 from __future__ import annotations

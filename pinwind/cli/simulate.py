@@ -1,6 +1,6 @@
 """``pinwind simulate`` and ``pinwind run``: a run from flags, a scenario file or a log.
 
-Both build one ``Scenario`` (``pinwind/scenario.py``), run it, log it to MCAP (``logs/`` by
+Both build one ``Scenario`` (``pinwind/runs/scenario.py``), run it, log it to MCAP (``logs/`` by
 default) and print speeds, mesh forces, bearing reactions and load sharing.
 """
 
