@@ -175,7 +175,7 @@ def pair_geometry(
         a_w = m_t (z1 + z2) / 2 · cos α_t / cos α_wt
 
     Without profile shift this is the reference centre distance m (z1 ± z2)/2 of
-    000_3b7c4a8fe52a6eee.txt eq. 38 (r3 = r2 + r5).
+    Saleh et al. 2017 eq. 38 (r3 = r2 + r5).
     """
     z1 = -teeth_1 if internal_1 else teeth_1
     z2 = -teeth_2 if internal_2 else teeth_2
