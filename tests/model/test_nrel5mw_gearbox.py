@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 import re
+import tomllib
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -312,3 +314,11 @@ def test_first_torsion_mode_free_free_is_the_two_inertia_closed_form(torsion_mod
     anaya_lara = math.sqrt(867.637e6 * (ROTOR_INERTIA + lumped) / (ROTOR_INERTIA * lumped))
     np.testing.assert_allclose(anaya_lara / (2 * math.pi), 2.18, rtol=0.005)
     np.testing.assert_allclose(mode, 2.18, rtol=0.10)
+
+
+def test_the_rated_scenario_is_5_mw_at_12_1_rpm_with_the_generator_at_the_teeth_ratio():
+    scenario = Path(__file__).resolve().parents[2] / "scenarios" / "nrel5mw_rated.toml"
+    data = tomllib.loads(scenario.read_text())
+    assert (scenario.parent / data["model"]).resolve() == MODEL.resolve()
+    np.testing.assert_allclose(data["torque"]["rotor"] * ROTOR_SPEED, POWER, rtol=1e-12)
+    np.testing.assert_allclose(data["speed"]["generator"], -12.1 * RATIO, rtol=1e-12)

@@ -214,3 +214,27 @@ def test_a_stage_with_two_fixed_members_is_refused():
     )  # fmt: skip
     with pytest.raises(InvalidGearTrain, match='stage "s": give exactly one of sun, carrier, ring'):
         stages_urdf([stage])
+
+
+def test_a_star_stage_with_the_carrier_fixed_turns_the_ring_at_minus_z_sun_over_z_ring():
+    """Carrier fixed, sun in, ring out (a star stage), then a helical pair on the ring's shaft:
+    ω_ring/ω_sun = −z_s/z_r (Willis's formula with the carrier at rest), ω_pinion/ω_ring =
+    −z_wheel/z_pinion."""
+    from pinwind.dynamics.ratios import speed_ratio
+    from pinwind.model.builders import ParallelStage
+
+    star = PlanetaryStage(
+        name="star", sun=StageGear(24), planet=StageGear(48), ring=StageGear(120), planets=3,
+        module=15e-3, pressure_angle=ALPHA, face_width=0.3, centre_distance=0.54,
+        shafts={"sun": "input", "carrier": "fixed", "ring": "ring_shaft"},
+    )  # fmt: skip
+    pair = ParallelStage(
+        name="pair", wheel=StageGear(83), pinion=StageGear(23), module=10e-3,
+        pressure_angle=ALPHA, face_width=0.2, centre_distance=0.53 / math.cos(math.radians(8.0)),
+        shafts={"wheel": "ring_shaft", "pinion": "output"}, helix_angle=math.radians(8.0),
+    )  # fmt: skip
+    gb = loads(stages_urdf([star, pair], name="star"))
+    np.testing.assert_allclose(speed_ratio(gb, "ring_shaft", "input"), -24 / 120, rtol=1e-12)
+    np.testing.assert_allclose(speed_ratio(gb, "output", "ring_shaft"), -83 / 23, rtol=1e-12)
+    # the carrier welded to the housing: the planets turn about fixed axes at −z_s/z_p
+    np.testing.assert_allclose(speed_ratio(gb, "star_planet1", "input"), -24 / 48, rtol=1e-12)
