@@ -455,6 +455,10 @@ class Schema(Mapping[str, Series]):
     def __setattr__(self, name: str, value: object) -> None:
         raise AttributeError(f"a Schema is immutable; {name} cannot be set (Schema.with_series)")
 
+    def __reduce__(self) -> tuple[type[Schema], tuple[tuple[Series, ...]]]:
+        # Pickled as its series (a Result sent back by a sweep's worker holds its schema).
+        return (Schema, (self._series,))
+
     def __getitem__(self, name: str) -> Series:
         return self._by_name[name]
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+import pickle
 
 import numpy as np
 import pytest
@@ -201,6 +202,12 @@ def test_a_schema_cannot_be_changed_in_place():
     assert schema.names == names and "mesh_twice" not in schema
     assert grown.names == (*names, "mesh_twice")
     assert grown.without("mesh_twice").names == names
+
+
+def test_a_schema_survives_a_pickle_round_trip_with_its_series_in_order():
+    # A Result sent back by a sweep's worker process holds its schema.
+    again = pickle.loads(pickle.dumps(series.BUILT_IN))
+    assert again.series == series.BUILT_IN.series and again.names == series.BUILT_IN.names
 
 
 def test_a_run_keeps_the_schema_of_its_start_whatever_is_declared_while_it_runs():
