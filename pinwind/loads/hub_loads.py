@@ -27,6 +27,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -100,8 +101,13 @@ class HubLoad:
         if not isinstance(self.frame, HubFrame):
             object.__setattr__(self, "frame", HubFrame.named(str(self.frame), where=where))
 
-    def values(self, t: np.ndarray) -> np.ndarray:
-        """The components at times t [s] in the load's own frame, shape (len(t), 6)."""
+    def values(self, t: np.ndarray, *, check: bool = True) -> np.ndarray:
+        """The components at times t [s] in the load's own frame, shape (len(t), 6).
+
+        Raises:
+            NonFiniteInput: with ``check``, a component that is not finite, naming it and the
+                time (a run checks its inputs itself, step by step, to keep what came before).
+        """
         t = np.atleast_1d(np.asarray(t, dtype=float))
         out = np.empty((len(t), 6))
         for i, signal in enumerate(self.components):
@@ -111,7 +117,7 @@ class HubLoad:
                 out[:, i] = [float(signal(float(ti))) for ti in t]
             else:
                 out[:, i] = float(signal)
-        bad = np.argwhere(~np.isfinite(out))
+        bad = np.argwhere(~np.isfinite(out)) if check else np.zeros((0, 2))
         if bad.size:
             row, column = (int(x) for x in bad[0])
             raise NonFiniteInput(
@@ -119,6 +125,19 @@ class HubLoad:
                 f"t = {t[row]:g} s; give finite values"
             )
         return out
+
+    def describe(self) -> dict[str, Any]:
+        """The load as plain values for a log: body, frame, point, up and each component."""
+        return {
+            "body": self.body,
+            "frame": self.frame.value,
+            "point": list(self.point),
+            "up": None if self.up is None else list(self.up),
+            "components": {
+                name: _describe(signal)
+                for name, signal in zip(COMPONENTS, self.components, strict=True)
+            },
+        }
 
     def in_fixed_frame(self, t: np.ndarray, azimuth: np.ndarray | float) -> np.ndarray:
         """The components at times t [s] in the fixed frame, shape (len(t), 6).
@@ -257,3 +276,12 @@ def _point(point: Sequence[float]) -> tuple[float, float, float]:
 def _up(up: Sequence[float] | None) -> tuple[float, float, float] | None:
     """The up direction as three numbers, or None."""
     return None if up is None else _point(up)
+
+
+def _describe(signal: ComponentSignal) -> Any:
+    """A component for a log: its number, its signal's spec, or a function's name."""
+    if isinstance(signal, Signal):
+        return signal.spec()
+    if callable(signal):
+        return getattr(signal, "__name__", repr(signal))
+    return float(signal)
