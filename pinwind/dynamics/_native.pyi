@@ -290,21 +290,32 @@ def fill_rows(
 ) -> None:
     """``out[rows[j], at:at + count] = values[j]`` where ``rows[j]`` ≥ 0 (as unshuffle_series)."""
 
+def kind_fields() -> list[str]:
+    """The fields of ``StepperSpec`` that hold a kind of element or constraint.
+
+    In the kinds' order: the elements' (their forces summed in it), then the constraints' (their
+    rows).
+    """
+
 class StepperSpec:
-    """Everything a run needs besides the initial state."""
+    """Everything a run needs besides the initial state.
+
+    A field per kind of element and constraint (``kind_fields``; ``cpp/element_kinds.hpp``),
+    filled by ``dynamics/element_specs.py``.
+    """
 
     tree: JointTree
     meshes: MeshConstants
     paths: list[MeshPathSpec]
-    rigid_meshes: list[int]
-    compliant_meshes: list[CompliantMeshSpec]
     springs: list[TorsionalSpringSpec]
+    bearing_damping: Vector  # [N·m·s/rad] per velocity
     bearing_springs: list[BearingSpringSpec]
+    compliant_meshes: list[CompliantMeshSpec]
     generators: list[GeneratorSpec]
     rotors: list[RotorSpec]
-    input_columns: int  # per-sample inputs of the elements (wind speeds)
-    bearing_damping: Vector  # [N·m·s/rad] per velocity
+    rigid_meshes: list[int]
     driver_index: list[int]
+    input_columns: int  # per-sample inputs of the elements (wind speeds)
     bearing_joints: list[int]  # Pinocchio ids of the joints recorded as bearings
     frame_parent: list[int]
     frame_placement: list[Matrix]

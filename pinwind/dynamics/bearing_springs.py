@@ -4,9 +4,9 @@ A compliant bearing's body moves on massless slides in the bearing (``model/bear
 derives the model); the compiled element ``cpp/bearing_spring.hpp`` holds the slides (radial law,
 linear or Harris's roller sum, with clearance and its damper, in contact only; linear axial and
 tilt springs), and the axial and
-tilt slides' own viscous damping is their damper. ``bearing_spring_specs`` gives the compiled
-specs. The bearing's reaction stays the RNEA one of its revolute joint (``bearing_force_local``);
-two series add
+tilt slides' own viscous damping is their damper. ``bearing_law`` gives a bearing's laws as the
+compiled spec takes them (``dynamics/element_specs.py`` puts them on the slides). The bearing's
+reaction stays the RNEA one of its revolute joint (``bearing_force_local``); two series add
 
 - ``bearing_displacement``: the body's displacement in the bearing, u x + w y + k z [m] in the
   bearing's joint frame (the orbit is its radial part); 0 for an ideal bearing;
@@ -29,7 +29,7 @@ import numpy as np
 from pinwind.dynamics import _native
 
 
-def _law(compliance: Any) -> _native.BearingSpringSpec:
+def bearing_law(compliance: Any) -> _native.BearingSpringSpec:
     """A compiled spec holding the bearing's laws (radial, axial and tilt), without its slides."""
     c = compliance
     spec = _native.BearingSpringSpec()
@@ -43,24 +43,6 @@ def _law(compliance: Any) -> _native.BearingSpringSpec:
     spec.axial_stiffness = float(c.axial_stiffness or 0.0)
     spec.tilt_stiffness = float(c.tilt_stiffness or 0.0)
     return spec
-
-
-def bearing_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
-    """The compiled springs of the gearbox's compliant bearings (floating ones have none)."""
-    out = []
-    for bearing in gearbox.compliant_bearings.values():
-        c, index = bearing.compliance, bearing.v_index
-        if c.floating and "axial" not in index and "tilt_x" not in index:
-            continue
-        spec = _law(c)
-        if not c.floating:
-            spec.index_x, spec.index_y = index["radial_x"], index["radial_y"]
-        if "axial" in index:
-            spec.index_axial = index["axial"]
-        if "tilt_x" in index:
-            spec.index_tilt_x, spec.index_tilt_y = index["tilt_x"], index["tilt_y"]
-        out.append(spec)
-    return out
 
 
 def _slides(block: Any, gearbox: Any) -> list[_native.BearingSlides]:
@@ -78,7 +60,7 @@ def _slides(block: Any, gearbox: Any) -> list[_native.BearingSlides]:
             if slide in bearing.slides:
                 setattr(slides, coordinate, block.joint_names.index(bearing.slides[slide]))
         slides.axes = np.asarray(bearing.axes_in_joint, dtype=float)
-        slides.spring = _law(bearing.compliance)
+        slides.spring = bearing_law(bearing.compliance)
         out.append(slides)
     return out
 

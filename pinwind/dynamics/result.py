@@ -17,11 +17,13 @@ rate of the log (a display rate) in one read from a log.
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from typing import Any, Protocol
 
 import numpy as np
 
-from pinwind.dynamics import series as schema
+from pinwind.dynamics import series
+from pinwind.dynamics.series import Schema, Series
 from pinwind.errors import UnknownElement
 
 
@@ -70,7 +72,7 @@ class ElementSeries:
     @property
     def units(self) -> dict[str, str]:
         """Field → SI unit."""
-        out = {s.quantity: s.unit_for(self.kind) for s in schema.of_family(self.family)}
+        out = {s.quantity: s.unit_for(self.kind) for s in series.of_family(self.family)}
         if self.family == "body":
             out["time"] = "s"
         return out
@@ -80,7 +82,7 @@ class ElementSeries:
 
 
 #: Arrays of a Result indexed by pose (``Result.pose_rows``) rather than by sample.
-POSE_ARRAYS = tuple(s.name for s in schema.pose_series())
+POSE_ARRAYS = tuple(s.name for s in series.pose_series())
 
 
 class Result:
@@ -115,13 +117,17 @@ class Result:
             sample (``analysis/run_statistics.RunningStatistics``), when ``simulate`` folded them
             (by default when the Result does not keep every sample); None otherwise, and in a
             Result read from a log or cut from another (``take``, ``rows``).
+        schema: the immutable schema of its arrays (``series.Schema``): the one of the run's
+            start (``series.current()``), kept by every Result cut from it; its names are the
+            Result's ``ARRAYS``.
 
     A series that a log does not hold (written before it was declared) reads as NaN.
     """
 
     #: Names of the array attributes, for writers, readers and comparisons: every series of
-    #: the schema, read when iterated (those of ``POSE_ARRAYS`` have a row per pose).
-    ARRAYS = schema.Names()
+    #: the schema, read when iterated (those of ``POSE_ARRAYS`` have a row per pose). A
+    #: Result's own are its schema's (``Result.schema``).
+    ARRAYS: Collection[str] = series.Names()
 
     def __init__(
         self,
@@ -138,6 +144,7 @@ class Result:
         status: str = "completed",
         statistics: FoldedStatistics | None = None,
         pose_rows: np.ndarray | None = None,
+        schema: Schema | None = None,
         **arrays: np.ndarray,
     ):
         self.joint_names = joint_names
@@ -157,6 +164,8 @@ class Result:
         self.metadata = {} if metadata is None else metadata
         self.status = status
         self.statistics = statistics
+        self.schema = series.current() if schema is None else schema
+        self.ARRAYS = self.schema.names
         unknown = set(arrays) - set(self.ARRAYS)
         if unknown:
             raise TypeError(
@@ -168,7 +177,7 @@ class Result:
         self.pose_rows = (
             np.arange(len(poses) if poses is not None else n) if pose_rows is None else pose_rows
         )
-        for s in schema.schema():
+        for s in self.schema.series:
             if s.name in arrays:
                 setattr(self, s.name, arrays[s.name])
                 continue
@@ -191,7 +200,7 @@ class Result:
 
     def names(self, family: str) -> list[str]:
         """The element names of a family (``joint`` → ``joint_names``); ``run`` has none."""
-        return getattr(self, schema.NAMES_OF[family]) if family in schema.NAMES_OF else []
+        return getattr(self, series.NAMES_OF[family]) if family in series.NAMES_OF else []
 
     def kind_of(self, family: str, element: int) -> str:
         """The joint kind of a family's element number ``element``.
@@ -200,7 +209,7 @@ class Result:
         """
         return self.joint_kinds[element] if family == "joint" else "revolute"
 
-    def unit(self, series: schema.Series, element: int) -> str:
+    def unit(self, series: Series, element: int) -> str:
         """The SI unit of ``series`` on its family's element number ``element``.
 
         The declared one, but a joint series' on a prismatic joint (``Series.unit_for``).
@@ -233,7 +242,7 @@ class Result:
             UnknownElement: no element of that family has this name.
         """
         i = self._index(family, self.names(family), name)
-        values = {s.quantity: getattr(self, s.name)[:, i] for s in schema.of_family(family)}
+        values = {s.quantity: getattr(self, s.name)[:, i] for s in self.schema.of_family(family)}
         if family == "body":
             values["time"] = self.pose_time
         return ElementSeries(family, name, values, self.kind_of(family, i))
@@ -337,6 +346,7 @@ class Result:
             metadata=dict(self.metadata),
             status=self.status,
             pose_rows=pose_rows,
+            schema=self.schema,
             **arrays,
         )
 
@@ -366,7 +376,7 @@ def concatenate(parts: list[Result]) -> Result:
     first = parts[0]
     if len(parts) == 1:
         return first
-    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in Result.ARRAYS}
+    arrays = {name: np.concatenate([getattr(p, name) for p in parts]) for name in parts[0].ARRAYS}
     energy = {k: np.concatenate([p.energy[k] for p in parts]) for k in first.energy}
     starts = np.cumsum([0] + [len(p) for p in parts[:-1]])
     pose_rows = np.concatenate([p.pose_rows + at for p, at in zip(parts, starts, strict=True)])

@@ -6,11 +6,18 @@ frame, its SI unit and a one-line meaning, the MCAP topic it is logged on, how t
 the report and the plots show it, and, for a series computed in Python rather than by the
 compiled step, the function that derives it from a block of samples. The Result's arrays and
 accessors, the log's topics and columns, the run statistics, ``pinwind report``, ``pinwind
-export``, the plot panels and the replay all iterate ``SCHEMA`` (the typed-record idea of rerun's
-archetypes): a new series is one ``declare``.
+export``, the plot panels and the replay all iterate the schema (the typed-record idea of rerun's
+archetypes): a new series is one declaration.
 
-Series written by the compiled step (``derive`` is None) are the members of ``_native.Series``
-(``dynamics/cpp/outputs.hpp``); a test checks that the two lists agree.
+The series the compiled step writes (``derive`` is None) are the compiled module's own list
+(``_native.Series``, from the one table of ``cpp/series.hpp``): their names, order, families and
+components are read from it at import, and this module adds what each means (``_MEANINGS``);
+the import fails if the two name different series. The series computed in Python follow
+(``_DERIVED``, a declaration each).
+
+A ``Schema`` is immutable: a run takes the schema of its start (``current()``) and keeps it,
+whatever is declared later. ``declare`` and ``withdraw`` do not change a schema: they make the
+next one, which the runs started after them take.
 
 The energy ledger is a dict of one value per run and sample (``Result.energy``), its terms
 declared in ``ENERGY_TERMS``.
@@ -18,13 +25,14 @@ declared in ``ENERGY_TERMS``.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass
-from typing import Any, Literal
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from dataclasses import dataclass, fields
+from types import MappingProxyType
+from typing import Any, Literal, cast
 
 import numpy as np
 
-from pinwind.dynamics import bearing_load, bearing_springs
+from pinwind.dynamics import _native, bearing_load, bearing_springs
 
 #: Kinds of element a series has values for; ``run``: one value per sample.
 Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor"]
@@ -83,6 +91,27 @@ class Plot:
     magnitude: bool = False
     relative_to: str | None = None
     drop_zero: bool = False
+
+
+@dataclass(frozen=True)
+class About:
+    """What a compiled series means: a ``Series`` but its name, family and components.
+
+    The compiled table (``cpp/series.hpp``) declares those three; the fields here are
+    ``Series``'s of the same names.
+    """
+
+    quantity: str
+    unit: str
+    meaning: str
+    frame: str = ""
+    per: Literal["sample", "pose"] = "sample"
+    logged: bool = True
+    label: str = ""
+    short: str = ""
+    statistics: bool = True
+    headline: bool = True
+    plot: Plot | None = None
 
 
 #: A function that computes a derived series for a block of samples: (block, gearbox) → array
@@ -174,117 +203,6 @@ class Series:
         return unit.replace("*", "_").replace("/", "_").replace("^", "").replace(" ", "_")
 
 
-_J: Family = "joint"
-_M: Family = "mesh"
-_B: Family = "bearing"
-
-#: Every series of a run, in the order of the Result's arrays (and of the log's columns).
-_BUILT_IN: tuple[Series, ...] = (
-    Series("time", "run", "time", "s", "sample time (exact; log time is rounded to 1 ns)",
-           statistics=False),
-    Series("angle", _J, "angle", "rad", "joint angle, unwrapped", logged=False,
-           headline=False),
-    Series("speed", _J, "speed", "rad/s", "joint speed relative to the parent body",
-           logged=False,
-           plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm")),
-    Series("acceleration", _J, "acceleration", "rad/s^2",
-           "joint acceleration over the step that starts at the sample", short="accel.",
-           headline=False),
-    Series("torque", _J, "torque", "N*m",
-           "net torque from outside the gear train on the joint: applied + speed driver or lock "
-           "+ generator + rotor (0 at a constant speed driven against a generator)",
-           logged=False,
-           plot=Plot("torque", "torques and power", "joint torques, applied + driver/lock "
-                     "[kN·m]", "kN·m")),
-    Series("mesh_normal", _M, "normal", "N", "tooth normal force F_n >= 0 on the loaded flank",
-           plot=Plot("mesh_force", "mesh forces", "mesh normal forces F_n [kN]", "kN")),
-    Series("mesh_tangential", _M, "tangential", "N", "F_t = F_n cos(alpha_w)",
-           plot=Plot("mesh_tangential", "force components",
-                     "mesh force components: tangential F_t [kN]", "kN",
-                     relative_to="mesh_normal")),
-    Series("mesh_radial", _M, "radial", "N", "F_r = F_n sin(alpha_w)",
-           plot=Plot("mesh_radial", "force components",
-                     "mesh force components: radial F_r (separating) [kN]", "kN",
-                     relative_to="mesh_normal")),
-    Series("mesh_axial", _M, "axial", "N", "F_a = F_n tan(beta_b)",
-           plot=Plot("mesh_axial", "force components",
-                     "mesh force components: axial F_a [kN]", "kN",
-                     relative_to="mesh_normal")),
-    Series("mesh_flank", _M, "flank", "1",
-           "loaded flank s = +1 when A turning positively drives B, else -1 (of a compliant "
-           "mesh on both flanks: the one pushing harder)", headline=False),
-    Series("mesh_normal_front", _M, "normal_front", "N",
-           "normal force on the front flank (s = +1) >= 0", short="F_n front", headline=False),
-    Series("mesh_normal_back", _M, "normal_back", "N",
-           "normal force on the back flank (s = -1) >= 0", short="F_n back", headline=False),
-    Series("transmission_error", _M, "transmission_error", "m",
-           "position mismatch along the line of action", short="TE",
-           plot=Plot("transmission_error", "mesh deflection",
-                     "transmission error along the line of action [µm]", "µm")),
-    Series("mesh_force_on_b", _M, "force_on_b", "N", "tooth force on gear B (both flanks')",
-           "xyz", "world",
-           label="force on B (world)", short="F on B", headline=False),
-    Series("pitch_point", _M, "pitch_point", "m", "pitch point", "xyz", "world",
-           statistics=False),
-    Series("mesh_deflection", _M, "deflection", "m",
-           "compliant mesh: overlap of the loaded flank (negative: gap); rigid: 0",
-           short="defl.",
-           plot=Plot("mesh_deflection", "mesh deflection", "compliant mesh deflections δ [µm]",
-                     "µm", drop_zero=True)),
-    Series("mesh_contact_position", _M, "contact_position", "m",
-           "roll position of the entering tooth pair from gear A's base tangency point",
-           short="contact", headline=False),
-    Series("mesh_pairs", _M, "pairs", "1", "tooth pairs in contact", headline=False),
-    Series("mesh_single_tooth_force", _M, "single_tooth_force", "N",
-           "normal force on the entering tooth pair, F_n k1/k", short="F 1 tooth",
-           plot=Plot("single_tooth_force", "mesh forces",
-                     "single-tooth forces (entering pair) [kN]", "kN")),
-    Series("bearing_force", _B, "force", "N", "force on the child body at the bearing centre",
-           "xyz", "world", label="force (world)", short="F world",
-           plot=Plot("bearing_force", "bearings",
-                     "bearing forces |F| on the child body, world [kN]", "kN",
-                     magnitude=True)),
-    Series("bearing_moment", _B, "moment", "N*m",
-           "moment on the child body about the bearing centre", "xyz", "world",
-           label="moment (world)", short="M world", headline=False,
-           plot=Plot("bearing_moment", "bearings",
-                     "bearing moments |M| about the bearing centre, world [kN·m]", "kN·m",
-                     magnitude=True)),
-    Series("bearing_force_local", _B, "force_local", "N",
-           "force on the child body at the bearing centre", "xyz", "joint",
-           label="force (joint frame)", short="F joint", headline=False),
-    Series("bearing_moment_local", _B, "moment_local", "N*m",
-           "moment on the child body about the bearing centre", "xyz", "joint",
-           label="moment (joint frame)", short="M joint", headline=False),
-    Series("body_position", "body", "position", "m", "link frame origin", "xyz", "world",
-           per="pose", logged=False, statistics=False),
-    Series("body_quaternion", "body", "quaternion", "1", "link orientation, scalar last",
-           "xyzw", "world", per="pose", logged=False, statistics=False),
-    Series("constraint_residual", "run", "constraint_residual", "m/s or rad/s",
-           "max |J v - target| after the step", short="|J v|"),
-    Series("generator_torque", "generator", "torque", "N*m",
-           "generator torque T_gen on the shaft, > 0 generating",
-           plot=Plot("generator_torque", "torques and power",
-                     "generator torque T_gen on the shaft, > 0 generating [kN·m]", "kN·m")),
-    Series("rotor_torque", "rotor", "torque", "N*m", "aerodynamic torque on the hub",
-           plot=Plot("rotor_torque", "torques and power",
-                     "rotor aerodynamic torque on the hub [kN·m]", "kN·m")),
-    Series("rotor_power", "rotor", "power", "W", "aerodynamic power 0.5 rho pi R^2 v^3 Cp",
-           plot=Plot("rotor_power", "torques and power",
-                     "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]", "kW")),
-    Series("rotor_tip_speed_ratio", "rotor", "tip_speed_ratio", "1", "tip-speed ratio wR/v",
-           label="tip-speed ratio", short="TSR",
-           plot=Plot("rotor_tip_speed_ratio", "rotor", "tip-speed ratio λ = ω R / v [-]", "-")),
-    Series("rotor_power_coefficient", "rotor", "power_coefficient", "1",
-           "power coefficient Cp", short="Cp",
-           plot=Plot("rotor_power_coefficient", "rotor", "power coefficient C_p(λ, β) [-]",
-                     "-")),
-    Series("rotor_wind_speed", "rotor", "wind_speed", "m/s", "wind speed at the rotor",
-           short="wind",
-           plot=Plot("rotor_wind_speed", "rotor", "wind speed at the rotor v [m/s]", "m/s")),
-)  # fmt: skip
-
-
 @dataclass(frozen=True)
 class EnergyTerm:
     """One term of the energy ledger (``Result.energy``), cumulative from t = 0 [J]."""
@@ -311,6 +229,152 @@ ENERGY_TERMS: tuple[EnergyTerm, ...] = (
     EnergyTerm("potential_spring", "energy stored in the springs"),
     EnergyTerm("numerical", "the integrator's own loss: W_parametric − (ΔU_spring + W_springs)"),
 )
+
+#: What each series the compiled step writes means, by its name in ``_native.Series``: all of a
+#: ``Series`` but its name, family and components, which the compiled table declares
+#: (``cpp/series.hpp``; ``_compiled_series`` reads it). The ledger's terms are ``ENERGY_TERMS``.
+_MEANINGS: dict[str, About] = {
+    "time": About("time", "s", "sample time (exact; log time is rounded to 1 ns)",
+           statistics=False),
+    "angle": About("angle", "rad", "joint angle, unwrapped", logged=False,
+           headline=False),
+    "speed": About("speed", "rad/s", "joint speed relative to the parent body",
+           logged=False,
+           plot=Plot("speed", "speeds", "joint speeds, relative to the parent body [rpm]", "rpm")),
+    "acceleration": About("acceleration", "rad/s^2",
+           "joint acceleration over the step that starts at the sample", short="accel.",
+           headline=False),
+    "torque": About("torque", "N*m",
+           "net torque from outside the gear train on the joint: applied + speed driver or lock "
+           "+ generator + rotor (0 at a constant speed driven against a generator)",
+           logged=False,
+           plot=Plot("torque", "torques and power", "joint torques, applied + driver/lock "
+                     "[kN·m]", "kN·m")),
+    "mesh_normal": About("normal", "N", "tooth normal force F_n >= 0 on the loaded flank",
+           plot=Plot("mesh_force", "mesh forces", "mesh normal forces F_n [kN]", "kN")),
+    "mesh_tangential": About("tangential", "N", "F_t = F_n cos(alpha_w)",
+           plot=Plot("mesh_tangential", "force components",
+                     "mesh force components: tangential F_t [kN]", "kN",
+                     relative_to="mesh_normal")),
+    "mesh_radial": About("radial", "N", "F_r = F_n sin(alpha_w)",
+           plot=Plot("mesh_radial", "force components",
+                     "mesh force components: radial F_r (separating) [kN]", "kN",
+                     relative_to="mesh_normal")),
+    "mesh_axial": About("axial", "N", "F_a = F_n tan(beta_b)",
+           plot=Plot("mesh_axial", "force components",
+                     "mesh force components: axial F_a [kN]", "kN",
+                     relative_to="mesh_normal")),
+    "mesh_flank": About("flank", "1",
+           "loaded flank s = +1 when A turning positively drives B, else -1 (of a compliant "
+           "mesh on both flanks: the one pushing harder)", headline=False),
+    "mesh_normal_front": About("normal_front", "N",
+           "normal force on the front flank (s = +1) >= 0", short="F_n front", headline=False),
+    "mesh_normal_back": About("normal_back", "N",
+           "normal force on the back flank (s = -1) >= 0", short="F_n back", headline=False),
+    "transmission_error": About("transmission_error", "m",
+           "position mismatch along the line of action", short="TE",
+           plot=Plot("transmission_error", "mesh deflection",
+                     "transmission error along the line of action [µm]", "µm")),
+    "mesh_force_on_b": About("force_on_b", "N", "tooth force on gear B (both flanks')",
+           frame="world",
+           label="force on B (world)", short="F on B", headline=False),
+    "pitch_point": About("pitch_point", "m", "pitch point", frame="world",
+           statistics=False),
+    "mesh_deflection": About("deflection", "m",
+           "compliant mesh: overlap of the loaded flank (negative: gap); rigid: 0",
+           short="defl.",
+           plot=Plot("mesh_deflection", "mesh deflection", "compliant mesh deflections δ [µm]",
+                     "µm", drop_zero=True)),
+    "mesh_contact_position": About("contact_position", "m",
+           "roll position of the entering tooth pair from gear A's base tangency point",
+           short="contact", headline=False),
+    "mesh_pairs": About("pairs", "1", "tooth pairs in contact", headline=False),
+    "mesh_single_tooth_force": About("single_tooth_force", "N",
+           "normal force on the entering tooth pair, F_n k1/k", short="F 1 tooth",
+           plot=Plot("single_tooth_force", "mesh forces",
+                     "single-tooth forces (entering pair) [kN]", "kN")),
+    "bearing_force": About("force", "N", "force on the child body at the bearing centre",
+           frame="world", label="force (world)", short="F world",
+           plot=Plot("bearing_force", "bearings",
+                     "bearing forces |F| on the child body, world [kN]", "kN",
+                     magnitude=True)),
+    "bearing_moment": About("moment", "N*m",
+           "moment on the child body about the bearing centre", frame="world",
+           label="moment (world)", short="M world", headline=False,
+           plot=Plot("bearing_moment", "bearings",
+                     "bearing moments |M| about the bearing centre, world [kN·m]", "kN·m",
+                     magnitude=True)),
+    "bearing_force_local": About("force_local", "N",
+           "force on the child body at the bearing centre", frame="joint",
+           label="force (joint frame)", short="F joint", headline=False),
+    "bearing_moment_local": About("moment_local", "N*m",
+           "moment on the child body about the bearing centre", frame="joint",
+           label="moment (joint frame)", short="M joint", headline=False),
+    "body_position": About("position", "m", "link frame origin", frame="world",
+           per="pose", logged=False, statistics=False),
+    "body_quaternion": About("quaternion", "1", "link orientation, scalar last",
+           frame="world", per="pose", logged=False, statistics=False),
+    "constraint_residual": About("constraint_residual", "m/s or rad/s",
+           "max |J v - target| after the step", short="|J v|"),
+    "generator_torque": About("torque", "N*m",
+           "generator torque T_gen on the shaft, > 0 generating",
+           plot=Plot("generator_torque", "torques and power",
+                     "generator torque T_gen on the shaft, > 0 generating [kN·m]", "kN·m")),
+    "rotor_torque": About("torque", "N*m", "aerodynamic torque on the hub",
+           plot=Plot("rotor_torque", "torques and power",
+                     "rotor aerodynamic torque on the hub [kN·m]", "kN·m")),
+    "rotor_power": About("power", "W", "aerodynamic power 0.5 rho pi R^2 v^3 Cp",
+           plot=Plot("rotor_power", "torques and power",
+                     "rotor aerodynamic power P = ½ ρ π R² v³ C_p [kW]", "kW")),
+    "rotor_tip_speed_ratio": About("tip_speed_ratio", "1", "tip-speed ratio wR/v",
+           label="tip-speed ratio", short="TSR",
+           plot=Plot("rotor_tip_speed_ratio", "rotor", "tip-speed ratio λ = ω R / v [-]", "-")),
+    "rotor_power_coefficient": About("power_coefficient", "1",
+           "power coefficient Cp", short="Cp",
+           plot=Plot("rotor_power_coefficient", "rotor", "power coefficient C_p(λ, β) [-]",
+                     "-")),
+    "rotor_wind_speed": About("wind_speed", "m/s", "wind speed at the rotor",
+           short="wind",
+           plot=Plot("rotor_wind_speed", "rotor", "wind speed at the rotor v [m/s]", "m/s")),
+}  # fmt: skip
+
+
+#: A compiled series' components (1 scalar, 3 vector, 4 quaternion) as ``Series.components``.
+_COMPONENTS = {1: "", 3: "xyz", 4: "xyzw"}
+
+
+def _compiled_series() -> tuple[Series, ...]:
+    """The compiled step's series in its order (``_native.Series``), with their meanings.
+
+    The ledger's terms (``ENERGY_TERMS``) are ``Result.energy``'s, not series.
+
+    Raises:
+        ImportError: a compiled series has no meaning here, or a meaning names no compiled
+            series (the compiled module and this one are of different versions).
+    """
+    ledger = {t.name for t in ENERGY_TERMS}
+    names = [m.name for m in _native.Series if m.name not in ledger]
+    unknown = sorted(set(names) ^ set(_MEANINGS))
+    if unknown:
+        raise ImportError(
+            f"series {unknown} are in one of _native.Series and series._MEANINGS only: "
+            "rebuild the compiled module, or declare what the new series means"
+        )
+    out = []
+    for name in names:
+        family, components = _native.series_layout(getattr(_native.Series, name))
+        about = _MEANINGS[name]
+        values = {f.name: getattr(about, f.name) for f in fields(About)}
+        kind = cast(Family, family.name)
+        out.append(Series(name=name, family=kind, components=_COMPONENTS[components], **values))
+    return tuple(out)
+
+
+#: Every series the compiled step writes, in the order of the Result's arrays (and of the log's
+#: columns).
+_BUILT_IN: tuple[Series, ...] = _compiled_series()
+
+_B: Family = "bearing"
 
 #: Series computed in Python from the compiled ones (``derive``), after them in the Result.
 _DERIVED: tuple[Series, ...] = (
@@ -349,23 +413,14 @@ _DERIVED: tuple[Series, ...] = (
                      "[kN·m]", "kN·m")),
 )  # fmt: skip
 
-_SCHEMA: list[Series] = [*_BUILT_IN, *_DERIVED]
 
-
-def schema() -> tuple[Series, ...]:
-    """Every declared series, in the order of the Result's arrays."""
-    return tuple(_SCHEMA)
-
-
-def declare(series: Series) -> Series:
-    """Add a series to the schema: every Result, log, report, export and plot then has it.
-
-    A series computed in Python needs ``derive``; the compiled step's own are declared above.
+def _checked(series: Series, taken: Iterable[str]) -> Series:
+    """``series`` if it can join a schema of the names ``taken``.
 
     Raises:
-        ValueError: its name is taken, or it has no ``derive``.
+        ValueError: its name is taken, it has no ``derive``, or its family is unknown.
     """
-    if any(s.name == series.name for s in _SCHEMA):
+    if series.name in taken:
         raise ValueError(f'a series named "{series.name}" is already declared')
     if series.derive is None:
         raise ValueError(
@@ -374,62 +429,171 @@ def declare(series: Series) -> Series:
         )
     if series.family not in ("run", *NAMES_OF):
         raise ValueError(f'series "{series.name}": unknown family "{series.family}"')
-    _SCHEMA.append(series)
+    return series
+
+
+class Schema(Mapping[str, Series]):
+    """An immutable schema: its series in the order of the Result's arrays, by name.
+
+    A run is given one (``current()`` at its start) and keeps it; ``with_series`` and
+    ``without`` make new ones.
+    """
+
+    __slots__ = ("_by_name", "_series")
+    _series: tuple[Series, ...]
+    _by_name: Mapping[str, Series]
+
+    def __init__(self, series: Iterable[Series]):
+        items = tuple(series)
+        by_name = {s.name: s for s in items}
+        if len(by_name) != len(items):
+            twice = sorted({s.name for s in items if sum(t.name == s.name for t in items) > 1})
+            raise ValueError(f"series {twice} are declared twice")
+        object.__setattr__(self, "_series", items)
+        object.__setattr__(self, "_by_name", MappingProxyType(by_name))
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError(f"a Schema is immutable; {name} cannot be set (Schema.with_series)")
+
+    def __reduce__(self) -> tuple[type[Schema], tuple[tuple[Series, ...]]]:
+        # Pickled as its series (a Result sent back by a sweep's worker holds its schema).
+        return (Schema, (self._series,))
+
+    def __getitem__(self, name: str) -> Series:
+        return self._by_name[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._by_name)
+
+    def __len__(self) -> int:
+        return len(self._series)
+
+    def __repr__(self) -> str:
+        return f"Schema({list(self._by_name)})"
+
+    @property
+    def series(self) -> tuple[Series, ...]:
+        """Every series, in the order of the Result's arrays."""
+        return self._series
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Their names, in the same order (``Result.ARRAYS`` of a Result of this schema)."""
+        return tuple(self._by_name)
+
+    def of_family(self, family: str) -> tuple[Series, ...]:
+        """The series of one family, in schema order."""
+        return tuple(s for s in self._series if s.family == family)
+
+    def compiled(self) -> tuple[Series, ...]:
+        """The series the compiled step writes (``_native.Series``)."""
+        return tuple(s for s in self._series if s.derive is None)
+
+    def derived(self) -> tuple[Series, ...]:
+        """The series computed in Python (``Series.derive``), in schema order."""
+        return tuple(s for s in self._series if s.derive is not None)
+
+    def pose_series(self) -> tuple[Series, ...]:
+        """The series with a row per pose (``Result.pose_rows``) rather than per sample."""
+        return tuple(s for s in self._series if s.per == "pose")
+
+    def with_series(self, series: Series) -> Schema:
+        """A new schema with a derived series added last (this one unchanged).
+
+        Raises:
+            ValueError: its name is taken, it has no ``derive``, or its family is unknown.
+        """
+        return Schema((*self._series, _checked(series, self._by_name)))
+
+    def without(self, name: str) -> Schema:
+        """A new schema without the derived series ``name`` (this one unchanged).
+
+        Raises:
+            KeyError: no such series.
+            ValueError: the compiled step writes it.
+        """
+        if self[name].derive is None:
+            raise ValueError(f'series "{name}" is written by the compiled step')
+        return Schema(s for s in self._series if s.name != name)
+
+
+#: The schema of the compiled series and the derived ones declared above.
+BUILT_IN = Schema((*_BUILT_IN, *_DERIVED))
+
+#: The schema runs take at their start: ``BUILT_IN`` and what ``declare`` added since. Rebound
+#: (never changed in place) by ``declare`` and ``withdraw``.
+_current: Schema = BUILT_IN
+
+
+def current() -> Schema:
+    """The schema a run started now takes (it keeps it to its end)."""
+    return _current
+
+
+def schema() -> tuple[Series, ...]:
+    """Every series of the current schema, in the order of the Result's arrays."""
+    return _current.series
+
+
+def declare(series: Series) -> Series:
+    """Declare a derived series: the runs started after it have it in every consumer.
+
+    Their Result, log, report, export and plots. A series computed in Python needs ``derive``;
+    the compiled step's own are read from it. The current schema is replaced by a new one
+    (``Schema.with_series``); runs already started keep theirs.
+
+    Raises:
+        ValueError: its name is taken, or it has no ``derive``.
+    """
+    global _current
+    _current = _current.with_series(series)
     return series
 
 
 def withdraw(name: str) -> None:
-    """Remove a declared (derived) series: the inverse of ``declare``."""
-    for i, s in enumerate(_SCHEMA):
-        if s.name == name:
-            if s.derive is None:
-                raise ValueError(f'series "{name}" is written by the compiled step')
-            del _SCHEMA[i]
-            return
-    raise KeyError(name)
+    """Withdraw a declared (derived) series from the runs started after: ``declare``'s inverse."""
+    global _current
+    _current = _current.without(name)
 
 
 def get(name: str) -> Series:
-    """The series named ``name``.
+    """The series named ``name`` in the current schema.
 
     Raises:
         KeyError: no such series.
     """
-    for s in _SCHEMA:
-        if s.name == name:
-            return s
-    raise KeyError(name)
+    return _current[name]
 
 
 def of_family(family: str) -> tuple[Series, ...]:
     """The series of one family, in schema order."""
-    return tuple(s for s in _SCHEMA if s.family == family)
+    return _current.of_family(family)
 
 
 def compiled() -> tuple[Series, ...]:
     """The series the compiled step writes (``_native.Series``)."""
-    return tuple(s for s in _SCHEMA if s.derive is None)
+    return _current.compiled()
 
 
 def pose_series() -> tuple[Series, ...]:
     """The series with a row per pose (``Result.pose_rows``) rather than per sample."""
-    return tuple(s for s in _SCHEMA if s.per == "pose")
+    return _current.pose_series()
 
 
 class Names:
-    """The names of the schema's series, read when iterated: a new ``declare`` shows at once."""
+    """The names of the current schema's series, read when iterated (``Result.ARRAYS``)."""
 
     def __init__(self, select: Callable[[Series], bool] = lambda s: True):
         self._select = select
 
     def __iter__(self) -> Iterator[str]:
-        return iter([s.name for s in _SCHEMA if self._select(s)])
+        return iter([s.name for s in _current.series if self._select(s)])
 
     def __contains__(self, name: object) -> bool:
-        return any(s.name == name for s in _SCHEMA if self._select(s))
+        return any(s.name == name for s in _current.series if self._select(s))
 
     def __len__(self) -> int:
-        return sum(1 for s in _SCHEMA if self._select(s))
+        return sum(1 for s in _current.series if self._select(s))
 
     def __repr__(self) -> str:
         return f"Names({list(self)})"
@@ -441,7 +605,7 @@ def markdown_table() -> str:
         "| Result array | family | quantity | shape per sample | unit | frame | topic | meaning |",
         "|---|---|---|---|---|---|---|---|",
     ]
-    for s in _SCHEMA:
+    for s in _current.series:
         per: str = "" if s.family == "run" else s.family
         if s.components:
             per = f"{per}, {s.components}" if per else s.components

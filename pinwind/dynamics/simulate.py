@@ -192,10 +192,11 @@ def _allocate(
     n: int,
     body_names: list[str],
     elements: LoadElements,
+    schema: series.Schema,
     *,
     empty: bool = False,
 ) -> Result:
-    """A Result of n samples, one array per series of the schema, views of one buffer.
+    """A Result of n samples, one array per series of ``schema``, views of one buffer.
 
     One large buffer rather than thirty: numpy asks the kernel for huge pages for buffers of
     4 MB and more, so that filling a long run's arrays takes a page fault per 2 MB instead of
@@ -203,7 +204,7 @@ def _allocate(
     generator and rotor columns.
     """
     names = _names(gearbox, body_names, elements)
-    shapes = _sample_shapes(names)
+    shapes = _sample_shapes(names, schema)
     sizes = {k: n * math.prod(shape) for k, shape in shapes.items()}
     buffer = (np.empty if empty else np.zeros)(sum(sizes.values()))
     arrays: dict[str, Any] = {}
@@ -214,6 +215,7 @@ def _allocate(
     return Result(
         **names,
         energy={t.name: arrays.pop(f"energy/{t.name}") for t in series.ENERGY_TERMS},
+        schema=schema,
         **arrays,
     )
 
@@ -231,10 +233,10 @@ def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> d
     }
 
 
-def _sample_shapes(names: dict[str, list]) -> dict[str, tuple[int, ...]]:
-    """The shape of one sample of every series and energy term (``energy/TERM``)."""
+def _sample_shapes(names: dict[str, list], schema: series.Schema) -> dict[str, tuple[int, ...]]:
+    """The shape of one sample of every series of ``schema`` and energy term (``energy/TERM``)."""
     shapes: dict[str, tuple[int, ...]] = {}
-    for s in series.schema():
+    for s in schema.series:
         count = len(names[series.NAMES_OF[s.family]]) if s.family != "run" else 1
         shapes[s.name] = s.shape(count)
     shapes.update({f"energy/{t.name}": () for t in series.ENERGY_TERMS})
@@ -493,7 +495,8 @@ def prepare(
     kept = _kept_samples(samples, stride)
     chunk = settings.chunk if settings.chunk is not None else block_samples(samples)
     try:
-        res = _allocate(gearbox, len(kept), body_names, elements)
+        # The run's schema: the one of its start, kept whatever is declared while it runs.
+        res = _allocate(gearbox, len(kept), body_names, elements, series.current())
     except MemoryError as err:
         raise OutOfMemory(len(kept), duration, dt) from err
     res.metadata = {
@@ -796,7 +799,9 @@ class PreparedRun:
 
     def _block(self, samples: int) -> Result:
         """New arrays for a block of that many samples."""
-        return _allocate(self.gearbox, samples, self.body_names, self.elements, empty=True)
+        return _allocate(
+            self.gearbox, samples, self.body_names, self.elements, self.result.schema, empty=True
+        )
 
 
 def _warn_if_wound(gearbox: Gearbox, v: np.ndarray) -> None:
@@ -934,7 +939,7 @@ def _numerical_loss(energy: dict[str, np.ndarray], spring0: float) -> None:
 
 def _derive(block: Result, gearbox: Gearbox) -> None:
     """Fills the series computed in Python (``Series.derive``) of a block, in place."""
-    for s in series.schema():
+    for s in block.schema.series:
         if s.derive is not None:
             getattr(block, s.name)[...] = s.derive(block, gearbox)
 
@@ -945,7 +950,7 @@ KEEP_BUDGET = 512 * 2**20
 
 def _bytes_per_sample(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> int:
     """Bytes a Result holds per sample (float64 arrays of every series and energy term)."""
-    shapes = _sample_shapes(_names(gearbox, body_names, elements))
+    shapes = _sample_shapes(_names(gearbox, body_names, elements), series.current())
     return 8 * sum(math.prod(shape) for shape in shapes.values())
 
 
@@ -990,7 +995,7 @@ def _keep(res: Result, block: Result, start: int, kept: np.ndarray) -> tuple[int
     rows: slice | np.ndarray = picked
     if np.all(np.diff(picked) == step):  # every N-th sample: a strided copy, twice as fast
         rows = slice(int(picked[0]), int(picked[-1]) + 1, step)
-    for name in Result.ARRAYS:
+    for name in res.ARRAYS:
         getattr(res, name)[lo:hi] = getattr(block, name)[rows]
     for name, values in block.energy.items():
         res.energy[name][lo:hi] = values[rows]

@@ -4,9 +4,9 @@ The step (assembly, the constrained solve (direct Schur by default, proxsuite on
 switching, projection, bearing reactions, integration and recording) is C++ in
 ``pinwind/dynamics/cpp/``, calling Pinocchio and proxsuite directly: done in Python, the glue
 around those calls cost twenty times the calls themselves. This module describes
-the gearbox to it in typed structs (``_native.pyi``: the Pinocchio joint tree, the mesh, element
-and driver constants, the Result's arrays to write) and maps the status it returns to pinwind's
-errors.
+the gearbox to it in typed structs (``_native.pyi``: the Pinocchio joint tree, the meshes, each
+kind of element and constraint's specs from its builder in ``dynamics/element_specs.py``, the
+Result's arrays to write) and maps the status it returns to pinwind's errors.
 
 The C++ side builds its own ``pinocchio.Model`` from the joint tree; ``Stepper.mass_matrix`` lets
 the tests check that its M equals Pinocchio's own.
@@ -18,14 +18,13 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.dynamics import _native
-from pinwind.dynamics.bearing_springs import bearing_spring_specs
 from pinwind.dynamics.compliant import MeshSetup
+from pinwind.dynamics.element_specs import RunElements, fill_kinds
 from pinwind.dynamics.elements import LoadElements
 from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
-from pinwind.dynamics.support_springs import support_spring_specs
 from pinwind.errors import ConflictingConstraints, Diverged, MalformedModel, SolverFailed
 from pinwind.model.gearbox import Gearbox
 
@@ -159,28 +158,14 @@ class CompiledStepper:
         spec.tree = joint_tree(gearbox, gravity)
         spec.meshes = MeshSet(gearbox, meshes.meshes).constants
         spec.paths = meshes.paths
-        spec.rigid_meshes = meshes.rigid
-        spec.compliant_meshes = meshes.compliant
-        springs = []
-        for s in gearbox.springs:
-            sp = _native.TorsionalSpringSpec()
-            sp.index_1 = s.v_index_1
-            sp.index_2 = -1 if s.v_index_2 is None else s.v_index_2  # −1: to its parent body
-            sp.stiffness, sp.damping, sp.preload_angle = s.stiffness, s.damping, s.preload_angle
-            springs.append(sp)
-        spec.springs = springs
-        spec.bearing_springs = [*bearing_spring_specs(gearbox), *support_spring_specs(gearbox)]
+        fill_kinds(spec, RunElements(gearbox, meshes, loads, list(driver_index)))
         if loads is not None:
-            spec.generators = loads.generators
-            spec.rotors = loads.rotors
             spec.input_columns = loads.input_columns
             armature = np.array(spec.tree.armature, dtype=float)
             for index, inertia in loads.added_inertia.items():
                 armature[index] += inertia
             spec.tree.armature = armature
         self.input_columns = loads.input_columns if loads is not None else 0
-        spec.bearing_damping = np.array(model.damping, dtype=float).copy()
-        spec.driver_index = list(driver_index)
         spec.bearing_joints = [int(model.getJointId(n)) for n in gearbox.bearing_names]
         spec.frame_parent = [int(model.frames[f].parentJoint) for f in frames]
         spec.frame_placement = [model.frames[f].placement.homogeneous for f in frames]

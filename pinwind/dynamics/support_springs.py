@@ -3,8 +3,8 @@
 The support's slides (``model/support.py``: the tower modes' slides under the bedplate, the
 mounts' slides and roll hinge under the housing) are each held by a linear spring F = −k q, the
 linear term of the compiled bearing springs (``cpp/bearing_spring.hpp``, an axial slide's law);
-their dampers are the slides' own viscous damping. ``support_spring_specs`` gives the compiled
-specs. The slides are joints and bearings of the run, so their series say where the support
+their dampers are the slides' own viscous damping. ``element_specs.support_springs`` gives the
+compiled specs. The slides are joints and bearings of the run, so their series say where the support
 has moved and what it carries, with no series of their own: a slide's ``angle`` is its
 displacement along its axis [m] (the roll hinge's its roll [rad]), its ``bearing_force`` the
 tower's or the mounts' force on what they carry. A rigid support (the default) has no slides.
@@ -24,18 +24,6 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-
-from pinwind.dynamics import _native
-
-
-def support_spring_specs(gearbox: Any) -> list[_native.BearingSpringSpec]:
-    """The compiled linear springs of the support's slides (one spec per slide)."""
-    out = []
-    for name, slide in gearbox.support_slides.items():
-        spec = _native.BearingSpringSpec()
-        spec.index_axial, spec.axial_stiffness = gearbox.v_index(name), float(slide.stiffness)
-        out.append(spec)
-    return out
 
 
 def roll_share(gearbox: Any) -> np.ndarray | None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+import pickle
 
 import numpy as np
 import pytest
@@ -168,3 +169,72 @@ def test_a_compliant_runs_mesh_series_are_in_the_export_and_the_report(tmp_path)
         np.testing.assert_allclose(
             [rows[quantity].min, rows[quantity].max], [values.min(), values.max()], rtol=0
         )
+
+
+def test_the_compiled_series_are_the_compiled_tables_in_its_order_with_its_layout():
+    # The names, order, families and components come from _native.Series alone (cpp/series.hpp):
+    # series.py repeats none of them.
+    ledger = {t.name for t in series.ENERGY_TERMS}
+    table = [m for m in _native.Series if m.name not in ledger]
+    assert [s.name for s in series.compiled()] == [m.name for m in table]
+    widths = {"": 1, "xyz": 3, "xyzw": 4}
+    for s, member in zip(series.compiled(), table, strict=True):
+        family, components = _native.series_layout(member)
+        assert (s.family, widths[s.components]) == (family.name, components), s.name
+
+
+def test_every_compiled_series_has_one_meaning_and_every_meaning_a_compiled_series():
+    ledger = {t.name for t in series.ENERGY_TERMS}
+    assert set(series._MEANINGS) == {m.name for m in _native.Series} - ledger
+
+
+def test_a_schema_cannot_be_changed_in_place():
+    schema = series.current()
+    names = schema.names
+    with pytest.raises(AttributeError, match="immutable"):
+        schema._series = ()  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        schema["mesh_extra"] = schema["mesh_normal"]  # type: ignore[index]
+    extra = Series(
+        "mesh_twice", "mesh", "twice", "N", "2 F_n", derive=lambda b, g: 2 * b.mesh_normal
+    )
+    grown = schema.with_series(extra)
+    assert schema.names == names and "mesh_twice" not in schema
+    assert grown.names == (*names, "mesh_twice")
+    assert grown.without("mesh_twice").names == names
+
+
+def test_a_schema_survives_a_pickle_round_trip_with_its_series_in_order():
+    # A Result sent back by a sweep's worker process holds its schema.
+    again = pickle.loads(pickle.dumps(series.BUILT_IN))
+    assert again.series == series.BUILT_IN.series and again.names == series.BUILT_IN.names
+
+
+def test_a_run_keeps_the_schema_of_its_start_whatever_is_declared_while_it_runs():
+    class DeclaresOnBegin:
+        """An observer that declares a series when the run begins (after the run's start)."""
+
+        def begin(self, gearbox, result):
+            series.declare(
+                Series("mesh_late", "mesh", "late", "N", "declared mid-run", derive=line_load)
+            )
+
+        def samples(self, block, start):
+            assert "mesh_late" not in block.ARRAYS  # every block has the start's series
+
+        def end(self, result, status):
+            pass
+
+    before = series.current()
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    try:
+        res = pinwind.simulate(
+            gb, duration=0.005, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
+            observer=DeclaresOnBegin(),
+        )  # fmt: skip
+        assert "mesh_late" in series.current()
+    finally:
+        series.withdraw("mesh_late")
+    assert res.schema is before
+    assert list(res.ARRAYS) == list(before.names) and not hasattr(res, "mesh_late")
+    assert series.current().names == before.names

@@ -28,14 +28,25 @@
 // at the weighted speed ṙ_n + κ_v ā, acts in contact only (a rolling element loses touch with the
 // race inside the clearance). Without clearance the linear law's step is the torsional springs'
 // one, second order and, with ρ∞ = 1, energy-keeping. The axial and tilt dampers are the slides'
-// own viscous damping (BearingDamping, torsional_spring.hpp).
+// own viscous damping (BearingDamping, bearing_damping.hpp).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <nanobind/eigen/dense.h>
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/vector.h>
+
+#include "element_kind.hpp"
 
 #include "elements.hpp"
 
@@ -346,5 +357,102 @@ inline void bearing_slide_series(const double* angle, long samples, long angle_s
     }
   }
 }
+
+// bearing_slide_series on a block's angle (samples, joints) into (samples, bearings, 3) arrays,
+// either of them None (not computed): _native.bearing_slide_series.
+using SlideAngles = nanobind::ndarray<const double, nanobind::ndim<2>, nanobind::device::cpu>;
+using SlideRows = nanobind::ndarray<double, nanobind::ndim<3>, nanobind::c_contig,
+                                    nanobind::device::cpu>;
+
+inline void slide_series(const SlideAngles& angle, const std::vector<BearingSlides>& slides,
+                         std::optional<SlideRows> displacement, std::optional<SlideRows> elastic) {
+  const long samples = static_cast<long>(angle.shape(0)), joints = static_cast<long>(angle.shape(1));
+  long bearings = -1;
+  for (const std::optional<SlideRows>* out : {&displacement, &elastic}) {
+    if (!*out) continue;
+    const SlideRows& rows = **out;
+    if (static_cast<long>(rows.shape(0)) != samples || rows.shape(2) != 3 ||
+        (bearings >= 0 && static_cast<long>(rows.shape(1)) != bearings)) {
+      throw std::invalid_argument("displacement and elastic must be (" + std::to_string(samples) +
+                                  ", bearings, 3), the same bearings");
+    }
+    bearings = static_cast<long>(rows.shape(1));
+  }
+  if (joints > 1 && angle.stride(1) != 1) {
+    throw std::invalid_argument("angle: its rows must be contiguous");
+  }
+  for (const BearingSlides& b : slides) {
+    if (b.bearing < 0 || b.bearing >= bearings || b.x >= joints || b.y >= joints ||
+        b.z >= joints) {
+      throw std::invalid_argument("a bearing's column or slide is outside the arrays");
+    }
+  }
+  nanobind::gil_scoped_release release;
+  bearing_slide_series(angle.data(), samples, static_cast<long>(angle.stride(0)), slides,
+                       bearings, displacement ? displacement->data() : nullptr,
+                       elastic ? elastic->data() : nullptr);
+}
+
+// The kind (element_kind.hpp): StepperSpec.bearing_springs, the compliant bearings' and the
+// support's springs (pinwind/dynamics/element_specs.py), one element for all of them.
+struct BearingSpringsKind : KindBase {
+  using Specs = std::vector<BearingSpringSpec>;
+  using Built = Elements;
+  static constexpr const char* field = "bearing_springs";
+
+  static void check(const Specs& specs, const KindContext& c) {
+    for (const auto& b : specs) {
+      for (long i : {b.index_x, b.index_y, b.index_axial, b.index_tilt_x, b.index_tilt_y}) {
+        if (i < -1 || i >= c.nv) throw std::invalid_argument("bad bearing spring joint index");
+      }
+      if ((b.index_x < 0) != (b.index_y < 0) || (b.index_tilt_x < 0) != (b.index_tilt_y < 0)) {
+        throw std::invalid_argument("bearing spring: radial and tilt joints come in pairs");
+      }
+    }
+  }
+
+  static void add(const Specs& specs, const KindContext&, Elements& out) {
+    if (!specs.empty()) out.push_back(std::make_unique<BearingSprings>(specs));
+  }
+
+  static void bind(nanobind::module_& m) {
+    namespace nb = nanobind;
+    using namespace nb::literals;
+    nb::enum_<BearingLaw>(m, "BearingLaw")
+        .value("linear", BearingLaw::linear)
+        .value("roller_sum", BearingLaw::roller_sum);
+
+    nb::class_<BearingSpringSpec>(m, "BearingSpringSpec")
+        .def(nb::init<>())
+        .def_rw("index_x", &BearingSpringSpec::index_x)
+        .def_rw("index_y", &BearingSpringSpec::index_y)
+        .def_rw("radial_stiffness", &BearingSpringSpec::radial_stiffness)
+        .def_rw("radial_damping", &BearingSpringSpec::radial_damping)
+        .def_rw("clearance", &BearingSpringSpec::clearance)
+        .def_rw("index_axial", &BearingSpringSpec::index_axial)
+        .def_rw("axial_stiffness", &BearingSpringSpec::axial_stiffness)
+        .def_rw("index_tilt_x", &BearingSpringSpec::index_tilt_x)
+        .def_rw("index_tilt_y", &BearingSpringSpec::index_tilt_y)
+        .def_rw("tilt_stiffness", &BearingSpringSpec::tilt_stiffness)
+        .def_rw("law", &BearingSpringSpec::law)
+        .def_rw("rollers", &BearingSpringSpec::rollers)
+        .def_rw("contact_stiffness", &BearingSpringSpec::contact_stiffness)
+        .def_rw("load_exponent", &BearingSpringSpec::load_exponent);
+
+    nb::class_<BearingSlides>(m, "BearingSlides")
+        .def(nb::init<>())
+        .def_rw("bearing", &BearingSlides::bearing)
+        .def_rw("x", &BearingSlides::x)
+        .def_rw("y", &BearingSlides::y)
+        .def_rw("z", &BearingSlides::z)
+        .def_rw("axes", &BearingSlides::axes)
+        .def_rw("spring", &BearingSlides::spring);
+
+    m.def("bearing_slide_series", &slide_series, "angle"_a, "slides"_a, "displacement"_a.none(),
+          "elastic"_a.none() = nb::none(),
+          "Each bearing's displacement [m] and its springs' elastic force [N] (joint frame) from "
+          "a block's joint coordinates, into (samples, bearings, 3) arrays (bearing_spring.hpp).");
+  }
+};
 
 }  // namespace pinwind

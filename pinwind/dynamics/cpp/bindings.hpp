@@ -10,8 +10,8 @@ namespace pinwind {
 // (stepper_bindings.cpp).
 void bind_stepper(nanobind::module_& m);
 
-// The elements' specs and laws: mesh paths, compliant meshes, springs, bearing springs,
-// generators, rotors (element_bindings.cpp).
+// The elements' specs and laws: the meshes' paths, then each kind's own binding (element_kinds.hpp;
+// element_bindings.cpp).
 void bind_elements(nanobind::module_& m);
 
 // The meshes' constants and their rows at one state (mesh_row_bindings.cpp).

@@ -39,9 +39,14 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
+#include <nanobind/nanobind.h>
+
+#include "element_kind.hpp"
 #include "elements.hpp"
 #include "mesh_path.hpp"
 
@@ -362,6 +367,44 @@ class CompliantMeshes : public Element {
   double parametric_ = 0.0;  // work of the stiffness's changes since t = 0 [J]
   bool first_ = true;     // no dynamic step prepared yet
   bool started_ = false;  // contact_ set from the first state prepared (static or dynamic)
+};
+
+// The kind (element_kind.hpp): StepperSpec.compliant_meshes, each on a mesh of the model's list
+// (its constants and path of contact in the KindContext), one element for all of them.
+struct CompliantMeshesKind : KindBase {
+  using Specs = std::vector<CompliantMeshSpec>;
+  using Built = Elements;
+  static constexpr const char* field = "compliant_meshes";
+
+  static void check(const Specs& specs, const KindContext& c) {
+    for (const auto& spec : specs) {
+      if (spec.mesh < 0 || spec.mesh >= c.meshes.count()) {
+        throw std::invalid_argument("bad compliant mesh");
+      }
+    }
+  }
+
+  static void add(const Specs& specs, const KindContext& c, Elements& out) {
+    if (!specs.empty()) out.push_back(std::make_unique<CompliantMeshes>(specs, c.paths, c.nv));
+  }
+
+  static void bind(nanobind::module_& m) {
+    nanobind::class_<CompliantMeshSpec>(m, "CompliantMeshSpec")
+        .def(nanobind::init<>())
+        .def_rw("mesh", &CompliantMeshSpec::mesh)
+        .def_rw("stiffness", &CompliantMeshSpec::stiffness)
+        .def_rw("damping", &CompliantMeshSpec::damping)
+        .def_rw("backlash", &CompliantMeshSpec::backlash)
+        .def_rw("base_radius_a", &CompliantMeshSpec::base_radius_a)
+        .def_rw("base_radius_b", &CompliantMeshSpec::base_radius_b)
+        .def_rw("reference_b", &CompliantMeshSpec::reference_b)
+        .def_rw("tangential_ref", &CompliantMeshSpec::tangential_ref)
+        .def_rw("base_radius_sum", &CompliantMeshSpec::base_radius_sum)
+        .def_rw("radial_sign", &CompliantMeshSpec::radial_sign)
+        .def_rw("involute_ref", &CompliantMeshSpec::involute_ref)
+        .def_rw("tangential_offset", &CompliantMeshSpec::tangential_offset)
+        .def_rw("radial_offset", &CompliantMeshSpec::radial_offset);
+  }
 };
 
 }  // namespace pinwind

@@ -1,64 +1,29 @@
-// The registry of element kinds the Stepper builds its elements from (stepper.hpp): the one unit
-// that instantiates every element's virtual functions.
-#include <memory>
-#include <vector>
+// The factories of the kinds of elements and constraints (element_kinds.hpp): the one unit that
+// instantiates every element's and constraint's virtual functions.
+#include <tuple>
+#include <type_traits>
+#include <utility>
 
+#include "element_kinds.hpp"
 #include "stepper.hpp"
 
 namespace pinwind {
-namespace {
 
-// The registry of element kinds: each adds the elements of its kind that the setup asks for.
-// The stepper builds its elements from this table in its order, the order their forces are
-// summed in (which the results' last bits depend on).
-struct ElementKind {
-  const char* name;
-  void (*add)(const StepperSetup&, Elements&);
-};
-
-const ElementKind kElementKinds[] = {
-    {"torsional_springs",
-     [](const StepperSetup& s, Elements& out) {
-       if (!s.springs.empty()) out.push_back(std::make_unique<TorsionalSprings>(s.springs));
-     }},
-    {"bearing_damping",
-     [](const StepperSetup& s, Elements& out) {
-       if (s.bearing_damping.size() && s.bearing_damping.cwiseAbs().maxCoeff() > 0.0) {
-         out.push_back(std::make_unique<BearingDamping>(s.bearing_damping));
-       }
-     }},
-    {"bearing_springs",
-     [](const StepperSetup& s, Elements& out) {
-       if (!s.bearing_springs.empty()) {
-         out.push_back(std::make_unique<BearingSprings>(s.bearing_springs));
-       }
-     }},
-    {"compliant_meshes",
-     [](const StepperSetup& s, Elements& out) {
-       if (s.compliant_meshes.empty()) return;
-       out.push_back(std::make_unique<CompliantMeshes>(s.compliant_meshes, s.paths, s.model.nv));
-     }},
-    {"generators",
-     [](const StepperSetup& s, Elements& out) {
-       for (size_t i = 0; i < s.generators.size(); ++i) {
-         const GeneratorSpec& g = s.generators[i];
-         out.push_back(kGeneratorElements[static_cast<size_t>(g.law)](g, static_cast<long>(i)));
-       }
-     }},
-    {"rotors",
-     [](const StepperSetup& s, Elements& out) {
-       for (size_t i = 0; i < s.rotors.size(); ++i) {
-         out.push_back(std::make_unique<RotorAerodynamics>(s.rotors[i], static_cast<long>(i)));
-       }
-     }},
-};
-
-}  // namespace
-
-Elements build_elements(const StepperSetup& s) {
-  Elements out;
-  for (const auto& kind : kElementKinds) kind.add(s, out);
-  return out;
+void add_kinds(const KindSpecs& specs, const KindContext& context, StepperSetup& setup,
+               FamilyCounts& counts) {
+  for_each_kind([&](auto kind, auto i) {
+    using Kind = decltype(kind);
+    using Built = typename Kind::Built;
+    const auto& own = std::get<decltype(i)::value>(specs);
+    Kind::check(own, context);
+    Kind::count(own, counts);
+    Factory<Built> factory = [own](const KindContext& c, Built& out) { Kind::add(own, c, out); };
+    if constexpr (std::is_same_v<Built, Elements>) {
+      setup.elements.push_back(std::move(factory));
+    } else {
+      setup.constraints.push_back(std::move(factory));
+    }
+  });
 }
 
 }  // namespace pinwind

@@ -1,8 +1,8 @@
 // The element interface of the step loop: everything that adds forces per step (torsional
 // springs, bearing damping, compliant meshes, generator and rotor laws) is an Element; the
 // rows the accelerations satisfy exactly (rigid meshes, speed drivers) are Constraints
-// (constraints.hpp). The stepper builds both from its registries and iterates them; it does not
-// know any by name. Elements write their outputs by series
+// (constraints.hpp). The stepper builds both by their kinds' factories (element_kind.hpp) and
+// iterates them; it does not know any by name. Elements write their outputs by series
 // (series.hpp) and book their work in the energy ledger's named terms (EnergyLedger below).
 //
 // A step at (q_n, v_n) with time step h finds the step's mean acceleration ā from

@@ -29,9 +29,13 @@
 #include <complex>
 #include <iterator>
 #include <memory>
+#include <stdexcept>
+#include <vector>
 
 #include <Eigen/Dense>
+#include <nanobind/nanobind.h>
 
+#include "element_kind.hpp"
 #include "joint_torque.hpp"
 
 namespace pinwind {
@@ -277,5 +281,70 @@ inline constexpr GeneratorFactory kGeneratorElements[] = {
 };
 static_assert(std::size(kGeneratorElements) ==
               static_cast<size_t>(GeneratorLaw::induction_dq) + 1);
+
+// The kind (element_kind.hpp): StepperSpec.generators, an element each (its law's), its column
+// of the generator series its place in the list.
+struct GeneratorsKind : KindBase {
+  using Specs = std::vector<GeneratorSpec>;
+  using Built = Elements;
+  static constexpr const char* field = "generators";
+
+  static void check(const Specs& specs, const KindContext& c) {
+    for (const auto& g : specs) {
+      if (g.index < 0 || g.index >= c.nv) throw std::invalid_argument("bad generator joint index");
+      const bool induction =
+          g.law == GeneratorLaw::induction || g.law == GeneratorLaw::induction_dq;
+      if (induction && (g.pole_pairs < 1 || !(g.frequency > 0.0))) {
+        throw std::invalid_argument("induction machine: pole_pairs ≥ 1 and frequency > 0");
+      }
+    }
+  }
+
+  static void add(const Specs& specs, const KindContext&, Elements& out) {
+    for (size_t i = 0; i < specs.size(); ++i) {
+      const GeneratorSpec& g = specs[i];
+      out.push_back(kGeneratorElements[static_cast<size_t>(g.law)](g, static_cast<long>(i)));
+    }
+  }
+
+  static void count(const Specs& specs, FamilyCounts& counts) {
+    counts[static_cast<size_t>(Family::generator)] = static_cast<long>(specs.size());
+  }
+
+  static void bind(nanobind::module_& m) {
+    namespace nb = nanobind;
+    using namespace nb::literals;
+    nb::enum_<GeneratorLaw>(m, "GeneratorLaw")
+        .value("constant", GeneratorLaw::constant)
+        .value("linear_slip", GeneratorLaw::linear_slip)
+        .value("variable_speed", GeneratorLaw::variable_speed)
+        .value("induction", GeneratorLaw::induction)
+        .value("induction_dq", GeneratorLaw::induction_dq);
+
+    nb::class_<GeneratorSpec>(m, "GeneratorSpec")
+        .def(nb::init<>())
+        .def_rw("index", &GeneratorSpec::index)
+        .def_rw("law", &GeneratorSpec::law)
+        .def_rw("torque", &GeneratorSpec::torque)
+        .def_rw("slope", &GeneratorSpec::slope)
+        .def_rw("sync_speed", &GeneratorSpec::sync_speed)
+        .def_rw("gain", &GeneratorSpec::gain)
+        .def_rw("rated_power", &GeneratorSpec::rated_power)
+        .def_rw("stator_resistance", &GeneratorSpec::stator_resistance)
+        .def_rw("rotor_resistance", &GeneratorSpec::rotor_resistance)
+        .def_rw("stator_leakage", &GeneratorSpec::stator_leakage)
+        .def_rw("rotor_leakage", &GeneratorSpec::rotor_leakage)
+        .def_rw("magnetizing", &GeneratorSpec::magnetizing)
+        .def_rw("voltage", &GeneratorSpec::voltage)
+        .def_rw("frequency", &GeneratorSpec::frequency)
+        .def_rw("pole_pairs", &GeneratorSpec::pole_pairs)
+        .def_rw("phases", &GeneratorSpec::phases)
+        .def_rw("steady_start", &GeneratorSpec::steady_start);
+
+    m.def("induction_torque", &induction_torque, "generator"_a, "speed"_a,
+          "Steady-state induction machine torque on the shaft at speed [rad/s] (motor "
+          "convention).");
+  }
+};
 
 }  // namespace pinwind

@@ -16,8 +16,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <stdexcept>
 #include <vector>
 
+#include <nanobind/nanobind.h>
+#include <nanobind/stl/vector.h>
+
+#include "element_kind.hpp"
 #include "joint_torque.hpp"
 
 namespace pinwind {
@@ -139,6 +145,64 @@ class RotorAerodynamics : public JointTorqueElement {
   RotorSpec r_;
   long slot_;
   mutable double wind_ = 0.0;
+};
+
+// The kind (element_kind.hpp): StepperSpec.rotors, an element each, its column of the rotor
+// series its place in the list; each reads its wind speed from an input column.
+struct RotorsKind : KindBase {
+  using Specs = std::vector<RotorSpec>;
+  using Built = Elements;
+  static constexpr const char* field = "rotors";
+
+  static void check(const Specs& specs, const KindContext& c) {
+    for (const auto& r : specs) {
+      if (r.index < 0 || r.index >= c.nv) throw std::invalid_argument("bad rotor joint index");
+      if (r.wind_column < 0 || r.wind_column >= c.input_columns) {
+        throw std::invalid_argument("rotor wind_column outside the input columns");
+      }
+      if (r.cp_model == CpModel::table &&
+          (r.table_tsr.empty() || r.table_pitch.empty() ||
+           r.table_cp.size() != r.table_tsr.size() * r.table_pitch.size())) {
+        throw std::invalid_argument("rotor table: table_cp must hold tsr × pitch values");
+      }
+    }
+  }
+
+  static void add(const Specs& specs, const KindContext&, Elements& out) {
+    for (size_t i = 0; i < specs.size(); ++i) {
+      out.push_back(std::make_unique<RotorAerodynamics>(specs[i], static_cast<long>(i)));
+    }
+  }
+
+  static void count(const Specs& specs, FamilyCounts& counts) {
+    counts[static_cast<size_t>(Family::rotor)] = static_cast<long>(specs.size());
+  }
+
+  static void bind(nanobind::module_& m) {
+    namespace nb = nanobind;
+    using namespace nb::literals;
+    nb::enum_<CpModel>(m, "CpModel")
+        .value("heier", CpModel::heier)
+        .value("table", CpModel::table);
+
+    nb::class_<RotorSpec>(m, "RotorSpec")
+        .def(nb::init<>())
+        .def_rw("index", &RotorSpec::index)
+        .def_rw("radius", &RotorSpec::radius)
+        .def_rw("air_density", &RotorSpec::air_density)
+        .def_rw("pitch", &RotorSpec::pitch)
+        .def_rw("cp_model", &RotorSpec::cp_model)
+        .def_rw("cp_scale", &RotorSpec::cp_scale)
+        .def_rw("table_tsr", &RotorSpec::table_tsr)
+        .def_rw("table_pitch", &RotorSpec::table_pitch)
+        .def_rw("table_cp", &RotorSpec::table_cp)
+        .def_rw("wind_column", &RotorSpec::wind_column);
+
+    m.def("rotor_torque", &rotor_torque, "rotor"_a, "speed"_a, "wind"_a,
+          "Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s].");
+    m.def("rotor_cp", &rotor_cp, "rotor"_a, "tsr"_a,
+          "Power coefficient C_p at tip-speed ratio λ.");
+  }
 };
 
 }  // namespace pinwind

@@ -1,5 +1,5 @@
 // Size checks of the specs that Python fills: the error names the field (stepper_bindings.cpp,
-// mesh_row_bindings.cpp).
+// mesh_row_bindings.cpp, the kinds' checks: bearing_damping.hpp).
 #pragma once
 
 #include <cstddef>

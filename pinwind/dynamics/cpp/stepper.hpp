@@ -8,8 +8,8 @@
 // - Constraints (constraints.hpp): rows J a = r with multipliers λ (rigid meshes, speed
 //   drivers and locks), stacked in the order of their list;
 //
-// both built from the registries kElementKinds (element_kinds.cpp) and kConstraintKinds
-// (stepper_assembly.cpp), and iterates them.
+// both built by the factories of their kinds (element_kind.hpp; the kinds are listed in
+// element_kinds.hpp, each in a header of its own), and iterates them.
 // Outputs go into one array per series (series.hpp), the energy ledger's terms are named
 // (EnergyLedger, elements.hpp). Each step k, at state (q_k, v_k) and time t_k = k·dt:
 //
@@ -29,7 +29,7 @@
 //
 // This header declares the Stepper; its work is compiled in units by concern: the step loop
 // (stepper_run.cpp), the static equilibrium (stepper_equilibrium.cpp), the start and the checks'
-// assembly (stepper_assembly.cpp), the elements' kinds (element_kinds.cpp); the QP solves are in
+// assembly (stepper_assembly.cpp), the kinds' factories (element_kinds.cpp); the QP solves are in
 // constrained_qp.cpp, Pinocchio's algorithms behind the functions of joint_algorithms.hpp. In one
 // unit they needed 4.4 GB of compiler memory at once.
 #pragma once
@@ -40,18 +40,14 @@
 
 #include <pinocchio/multibody.hpp>
 
-#include "bearing_spring.hpp"
-#include "compliant_mesh.hpp"
 #include "constrained_qp.hpp"
 #include "constraints.hpp"
+#include "element_kind.hpp"
 #include "elements.hpp"
-#include "generator.hpp"
 #include "mesh_path.hpp"
 #include "mesh_rows.hpp"
-#include "rotor.hpp"
 #include "series.hpp"
 #include "time_step.hpp"
-#include "torsional_spring.hpp"
 
 namespace pinwind {
 
@@ -74,15 +70,11 @@ struct StepperSetup {
   pinocchio::Model model;
   MeshConstants meshes;
   std::vector<MeshPathSpec> paths;       // every mesh's path of contact
-  std::vector<long> rigid_meshes;        // meshes that are constraint rows, in row order
-  std::vector<CompliantMeshSpec> compliant_meshes;
-  std::vector<TorsionalSpringSpec> springs;
-  std::vector<BearingSpringSpec> bearing_springs;  // compliant bearings (bearing_spring.hpp)
-  std::vector<GeneratorSpec> generators;  // generator.hpp
-  std::vector<RotorSpec> rotors;          // rotor.hpp
+  // Each kind's specs bound to its factory (element_kinds.hpp add_kinds), in the order of the
+  // kinds: the order the elements' forces are summed in and the constraints' rows stacked in.
+  std::vector<Factory<Elements>> elements;
+  std::vector<Factory<Constraints>> constraints;
   long input_columns = 0;                 // per-sample inputs the elements read (wind speeds)
-  Eigen::VectorXd bearing_damping;
-  std::vector<long> driver_index;  // velocity index of each speed driver and lock
   std::vector<long> bearing_joints;  // the joints whose reactions are the bearing series
   std::vector<long> frame_parent;  // body frames: parent joint and placement in it
   std::vector<pinocchio::SE3> frame_placement;
@@ -91,12 +83,6 @@ struct StepperSetup {
   double rho_infinity = 1.0;       // the time step's spectral radius ρ∞ (time_step.hpp)
   SolverSettings solver;
 };
-
-using Elements = std::vector<std::unique_ptr<Element>>;
-
-// The elements the setup asks for, in the order of the registry of element kinds, the order
-// their forces are summed in (element_kinds.cpp).
-Elements build_elements(const StepperSetup& s);
 
 // How a static start went (Stepper::equilibrium).
 struct EquilibriumStatus {
@@ -184,6 +170,13 @@ class Stepper {
     st.what = what;
     return st;
   }
+
+  // What the kinds' factories read (element_kind.hpp).
+  KindContext context() const { return {nv_, s_.meshes, s_.paths, s_.input_columns}; }
+
+  // The elements and constraints the setup asks for, each new, in the order of their kinds.
+  Elements build_elements() const;
+  Constraints build_constraints() const;
 
   StepView view() const {
     return {q_,       v_,          s_.dt,     data_,   s_.meshes,   rows_data_,
@@ -313,10 +306,12 @@ class Stepper {
   long samples_;
   Outputs out_{};
   EnergyLedger ledger_;
-  Eigen::Index nv_, nm_, rows_;
-  ConstrainedQp qp_;
+  Eigen::Index nv_, nm_;
   Elements elements_;
-  std::vector<std::unique_ptr<Constraint>> constraints_;
+  Constraints constraints_;
+  Eigen::Index rows_;  // the constraints' rows
+  bool gear_motion_;   // a constraint reads the gears' motion (Constraint::reads_gear_motion)
+  ConstrainedQp qp_;
   std::vector<Eigen::Index> offset_, size_;  // each constraint's first row and row count
   std::vector<size_t> varying_;  // the constraints whose rows depend on the state
   GeneralizedAlpha method_;

@@ -1,5 +1,6 @@
-// A Stepper's start, with the registry of the kinds of constraints it builds (its elements come
-// from element_kinds.cpp), and the assembly the tests check against Pinocchio (stepper.hpp).
+// A Stepper's start, with its elements and constraints from their kinds' factories
+// (element_kinds.hpp), and the assembly the tests check against Pinocchio (stepper.hpp).
+#include <algorithm>
 #include <memory>
 #include <utility>
 
@@ -8,27 +9,34 @@
 
 namespace pinwind {
 
-using Constraints = std::vector<std::unique_ptr<Constraint>>;
+Elements Stepper::build_elements() const {
+  Elements out;
+  const KindContext c = context();
+  for (const auto& add : s_.elements) add(c, out);
+  return out;
+}
 
-// The registry of constraint kinds, in the order of their rows: the rigid meshes in file order,
-// then the speed drivers and locks (the name → row map of the multipliers).
-struct ConstraintKind {
-  const char* name;
-  void (*add)(const StepperSetup&, Constraints&);
-};
+Constraints Stepper::build_constraints() const {
+  Constraints out;
+  const KindContext c = context();
+  for (const auto& add : s_.constraints) add(c, out);
+  return out;
+}
 
-const ConstraintKind kConstraintKinds[] = {
-    {"rigid_meshes",
-     [](const StepperSetup& s, Constraints& out) {
-       if (s.rigid_meshes.empty()) return;
-       out.push_back(std::make_unique<RigidMeshes>(s.rigid_meshes, s.paths));
-     }},
-    {"speed_drivers",
-     [](const StepperSetup& s, Constraints& out) {
-       if (s.driver_index.empty()) return;
-       out.push_back(std::make_unique<SpeedDrivers>(s.driver_index, s.model.nv));
-     }},
-};
+namespace {
+
+Eigen::Index total_rows(const Constraints& constraints) {
+  Eigen::Index rows = 0;
+  for (const auto& c : constraints) rows += c->size();
+  return rows;
+}
+
+bool reads_gear_motion(const Constraints& constraints) {
+  return std::any_of(constraints.begin(), constraints.end(),
+                     [](const auto& c) { return c->reads_gear_motion(); });
+}
+
+}  // namespace
 
 Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                  long samples)
@@ -37,7 +45,10 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
       samples_(samples),
       nv_(s_.model.nv),
       nm_(s_.meshes.count()),
-      rows_(static_cast<Eigen::Index>(s_.rigid_meshes.size() + s_.driver_index.size())),
+      elements_(build_elements()),
+      constraints_(build_constraints()),
+      rows_(total_rows(constraints_)),
+      gear_motion_(reads_gear_motion(constraints_)),
       qp_(nv_, rows_, s_.solver),
       method_(s_.rho_infinity),
       q_(q0),
@@ -51,8 +62,6 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
   for (const auto& inertia : s_.model.inertias) {
     massless_.push_back(inertia.mass() == 0.0 && inertia.inertia().data().isZero(0.0));
   }
-  elements_ = build_elements(s_);
-  for (const auto& kind : kConstraintKinds) kind.add(s_, constraints_);
   Eigen::Index offset = 0;
   for (const auto& c : constraints_) {
     offset_.push_back(offset);
@@ -107,7 +116,7 @@ ElementForces Stepper::element_forces(const Eigen::VectorXd& q, const Eigen::Vec
                         held, time_, nullptr, nullptr, nullptr,   &mass_};
     Eigen::MatrixXd& tangent = w == &along_v ? out.damping : out.stiffness;
     Eigen::MatrixXd scratch = Eigen::MatrixXd::Zero(nv_, nv_);
-    for (auto& element : build_elements(s_)) {
+    for (auto& element : build_elements()) {
       element->prepare(view);
       if (w == &at_state) {
         element->add_force(view, out.force);

@@ -12,9 +12,12 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "bindings.hpp"
+#include "element_kinds.hpp"
 #include "series.hpp"
 #include "spec_checks.hpp"
 #include "stepper.hpp"
@@ -56,20 +59,15 @@ struct JointTree {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // [m/s²]
 };
 
-// Everything a run needs besides the initial state and the arrays it writes.
+// Everything a run needs besides the initial state and the arrays it writes: the model, its
+// meshes, each kind's specs (a field each, named by the kind: element_kinds.hpp) and the
+// recorded joints and bodies.
 struct StepperSpec {
   JointTree tree;
   MeshConstants meshes;
   std::vector<MeshPathSpec> paths;
-  std::vector<long> rigid_meshes;
-  std::vector<CompliantMeshSpec> compliant_meshes;
-  std::vector<TorsionalSpringSpec> springs;
-  std::vector<BearingSpringSpec> bearing_springs;
-  std::vector<GeneratorSpec> generators;
-  std::vector<RotorSpec> rotors;
+  KindSpecs kinds;
   long input_columns = 0;
-  Eigen::VectorXd bearing_damping;
-  std::vector<long> driver_index;
   std::vector<long> bearing_joints;  // the joints recorded as bearings (Family::bearing)
   std::vector<long> frame_parent;
   std::vector<Mat4> frame_placement;
@@ -148,81 +146,27 @@ pinocchio::Model build_model(const JointTree& t) {
   return model;
 }
 
-StepperSetup setup(const StepperSpec& spec) {
+// The Stepper's setup from the spec, checked; counts: the elements of each family of series.
+StepperSetup setup(const StepperSpec& spec, FamilyCounts& counts) {
   StepperSetup s;
   s.model = build_model(spec.tree);
   const size_t nv = static_cast<size_t>(s.model.nv);
   check_meshes(spec.meshes, nv);
   const size_t nm = static_cast<size_t>(spec.meshes.count());
   check_size("paths", spec.paths, nm);
-  for (long m : spec.rigid_meshes) {
-    if (m < 0 || static_cast<size_t>(m) >= nm) throw std::invalid_argument("bad rigid mesh");
-  }
-  for (const auto& c : spec.compliant_meshes) {
-    if (c.mesh < 0 || static_cast<size_t>(c.mesh) >= nm) {
-      throw std::invalid_argument("bad compliant mesh");
-    }
-  }
   for (const auto& p : spec.paths) {
     if (p.pair_position.size() != p.pair_stiffness.size()) {
       throw std::invalid_argument("paths: pair_position and pair_stiffness differ in size");
     }
   }
-  for (const auto& sp : spec.springs) {
-    if (sp.index_1 < 0 || sp.index_2 < -1 || static_cast<size_t>(sp.index_1) >= nv ||
-        sp.index_2 >= static_cast<long>(nv) || sp.index_1 == sp.index_2) {
-      throw std::invalid_argument("bad spring joint index");
-    }
-  }
-  for (const auto& b : spec.bearing_springs) {
-    for (long i : {b.index_x, b.index_y, b.index_axial, b.index_tilt_x, b.index_tilt_y}) {
-      if (i < -1 || i >= static_cast<long>(nv)) {
-        throw std::invalid_argument("bad bearing spring joint index");
-      }
-    }
-    if ((b.index_x < 0) != (b.index_y < 0) || (b.index_tilt_x < 0) != (b.index_tilt_y < 0)) {
-      throw std::invalid_argument("bearing spring: radial and tilt joints come in pairs");
-    }
-  }
-  for (const auto& g : spec.generators) {
-    if (g.index < 0 || static_cast<size_t>(g.index) >= nv) {
-      throw std::invalid_argument("bad generator joint index");
-    }
-    const bool induction =
-        g.law == GeneratorLaw::induction || g.law == GeneratorLaw::induction_dq;
-    if (induction && (g.pole_pairs < 1 || !(g.frequency > 0.0))) {
-      throw std::invalid_argument("induction machine: pole_pairs ≥ 1 and frequency > 0");
-    }
-  }
-  for (const auto& r : spec.rotors) {
-    if (r.index < 0 || static_cast<size_t>(r.index) >= nv) {
-      throw std::invalid_argument("bad rotor joint index");
-    }
-    if (r.wind_column < 0 || r.wind_column >= spec.input_columns) {
-      throw std::invalid_argument("rotor wind_column outside the input columns");
-    }
-    if (r.cp_model == CpModel::table &&
-        (r.table_tsr.empty() || r.table_pitch.empty() ||
-         r.table_cp.size() != r.table_tsr.size() * r.table_pitch.size())) {
-      throw std::invalid_argument("rotor table: table_cp must hold tsr × pitch values");
-    }
-  }
-  check_size("bearing_damping", spec.bearing_damping, nv);
   check_size("frame_placement", spec.frame_placement, spec.frame_parent.size());
   for (const long j : spec.bearing_joints) {
     if (j < 1 || j >= s.model.njoints) throw std::invalid_argument("bad bearing joint id");
   }
   s.meshes = spec.meshes;
   s.paths = spec.paths;
-  s.rigid_meshes = spec.rigid_meshes;
-  s.compliant_meshes = spec.compliant_meshes;
-  s.springs = spec.springs;
-  s.bearing_springs = spec.bearing_springs;
-  s.generators = spec.generators;
-  s.rotors = spec.rotors;
   s.input_columns = spec.input_columns;
-  s.bearing_damping = spec.bearing_damping;
-  s.driver_index = spec.driver_index;
+  add_kinds(spec.kinds, {s.model.nv, s.meshes, s.paths, s.input_columns}, s, counts);
   s.bearing_joints = spec.bearing_joints;
   s.frame_parent = spec.frame_parent;
   for (const auto& h : spec.frame_placement) s.frame_placement.push_back(placement(h));
@@ -260,7 +204,7 @@ class PyStepper {
  public:
   PyStepper(const StepperSpec& spec, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
             long samples) {
-    StepperSetup s = setup(spec);
+    StepperSetup s = setup(spec, counts_);
     const auto nv = static_cast<long>(s.model.nv);
     auto count = [&](Family f) -> long& { return counts_[static_cast<size_t>(f)]; };
     count(Family::run) = 1;
@@ -268,8 +212,6 @@ class PyStepper {
     count(Family::mesh) = static_cast<long>(s.meshes.count());
     count(Family::bearing) = static_cast<long>(s.bearing_joints.size());
     count(Family::body) = static_cast<long>(s.frame_parent.size());
-    count(Family::generator) = static_cast<long>(s.generators.size());
-    count(Family::rotor) = static_cast<long>(s.rotors.size());
     if (q0.size() != nv || v0.size() != nv) {
       throw std::invalid_argument("q0 and v0 must have nv values");
     }
@@ -318,7 +260,7 @@ class PyStepper {
   }
 
  private:
-  std::array<long, kFamilies> counts_{};  // elements per family (series.hpp)
+  FamilyCounts counts_{};  // elements per family (series.hpp)
   long inputs_ = 0;
   std::unique_ptr<Stepper> stepper_;
 };
@@ -362,20 +304,20 @@ void bind_stepper(nb::module_& m) {
       .def_rw("armature", &JointTree::armature)
       .def_rw("gravity", &JointTree::gravity);
 
-  nb::class_<StepperSpec>(m, "StepperSpec")
-      .def(nb::init<>())
+  auto spec = nb::class_<StepperSpec>(m, "StepperSpec");
+  spec.def(nb::init<>())
       .def_rw("tree", &StepperSpec::tree)
       .def_rw("meshes", &StepperSpec::meshes)
-      .def_rw("paths", &StepperSpec::paths)
-      .def_rw("rigid_meshes", &StepperSpec::rigid_meshes)
-      .def_rw("compliant_meshes", &StepperSpec::compliant_meshes)
-      .def_rw("springs", &StepperSpec::springs)
-      .def_rw("bearing_springs", &StepperSpec::bearing_springs)
-      .def_rw("generators", &StepperSpec::generators)
-      .def_rw("rotors", &StepperSpec::rotors)
-      .def_rw("input_columns", &StepperSpec::input_columns)
-      .def_rw("bearing_damping", &StepperSpec::bearing_damping)
-      .def_rw("driver_index", &StepperSpec::driver_index)
+      .def_rw("paths", &StepperSpec::paths);
+  // Each kind's specs, under the kind's field (element_kinds.hpp).
+  for_each_kind([&](auto kind, auto i) {
+    using Specs = typename decltype(kind)::Specs;
+    constexpr size_t at = decltype(i)::value;
+    spec.def_prop_rw(
+        decltype(kind)::field, [](const StepperSpec& s) { return std::get<at>(s.kinds); },
+        [](StepperSpec& s, Specs values) { std::get<at>(s.kinds) = std::move(values); });
+  });
+  spec.def_rw("input_columns", &StepperSpec::input_columns)
       .def_rw("bearing_joints", &StepperSpec::bearing_joints)
       .def_rw("frame_parent", &StepperSpec::frame_parent)
       .def_rw("frame_placement", &StepperSpec::frame_placement)

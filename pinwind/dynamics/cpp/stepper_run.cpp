@@ -92,7 +92,7 @@ void Stepper::velocity_kinematics() {
     }
     drift_[i] = drift_[parent] + pinocchio::Motion(joint_product(data_.dJ, v_, idx, n));
   }
-  if (!s_.rigid_meshes.empty()) {
+  if (gear_motion_) {
     // Only rigid rows have a bias γ (compliant meshes read J alone). The twist and the
     // acceleration at q̈ = 0 of each gear's body are those of its joint.
     const auto& ids = s_.meshes.joint_ids;

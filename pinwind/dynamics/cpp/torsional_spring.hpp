@@ -1,8 +1,8 @@
 // Torsional spring-dampers between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA",
-// k = GJ/L): torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and the opposite on joint 2, and
-// viscous bearing damping. A spring without joint 2 (index_2 = −1) acts across joint 1 alone,
+// k = GJ/L): torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and the opposite on joint 2 (viscous
+// bearing damping is bearing_damping.hpp). A spring without joint 2 (index_2 = −1) acts across joint 1 alone,
 // between its body and the body it turns in: −k(θ₁ − θ₀) − cω₁ (a ring held in torsion, a torque
-// arm to the ground, a bearing's torsional stiffness). Both are taken at the time step's weighted
+// arm to the ground, a bearing's torsional stiffness). It is taken at the time step's weighted
 // state (time_step.hpp), linear in the step's acceleration ā like a compliant mesh
 // (compliant_mesh.hpp): with Δθ = θ₁ − θ₂ − θ₀ and the same differences of dq₀, ω and ā,
 //
@@ -12,8 +12,13 @@
 // spring's energy.
 #pragma once
 
+#include <memory>
+#include <stdexcept>
 #include <vector>
 
+#include <nanobind/nanobind.h>
+
+#include "element_kind.hpp"
 #include "elements.hpp"
 
 namespace pinwind {
@@ -92,26 +97,34 @@ class TorsionalSprings : public Element {
   Eigen::VectorXd elastic_, damping_;
 };
 
-// Viscous bearing damping −c ω on each joint [N·m], at the weighted speed v_n + κ_v ā.
-class BearingDamping : public Element {
- public:
-  explicit BearingDamping(Eigen::VectorXd damping) : damping_(std::move(damping)) {}
+// The kind (element_kind.hpp): StepperSpec.springs, one element for all of them.
+struct TorsionalSpringsKind : KindBase {
+  using Specs = std::vector<TorsionalSpringSpec>;
+  using Built = Elements;
+  static constexpr const char* field = "springs";
 
-  void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
-    hessian.diagonal() += s.weights.speed_gain * damping_;
-    force -= damping_.cwiseProduct(s.v);
-  }
-  bool settle(const StepView& s, const Eigen::VectorXd& a, bool) override {
-    torque_ = -damping_.cwiseProduct(s.v + s.weights.speed_gain * a);
-    return false;
-  }
-  StepWork work(const StepView& s, const Eigen::VectorXd&,
-                const Eigen::VectorXd& v_mid) const override {
-    return {0.0, -torque_.dot(v_mid) * s.dt};
+  static void check(const Specs& specs, const KindContext& c) {
+    for (const auto& sp : specs) {
+      if (sp.index_1 < 0 || sp.index_2 < -1 || sp.index_1 >= c.nv || sp.index_2 >= c.nv ||
+          sp.index_1 == sp.index_2) {
+        throw std::invalid_argument("bad spring joint index");
+      }
+    }
   }
 
- private:
-  Eigen::VectorXd damping_, torque_;
+  static void add(const Specs& specs, const KindContext&, Elements& out) {
+    if (!specs.empty()) out.push_back(std::make_unique<TorsionalSprings>(specs));
+  }
+
+  static void bind(nanobind::module_& m) {
+    nanobind::class_<TorsionalSpringSpec>(m, "TorsionalSpringSpec")
+        .def(nanobind::init<>())
+        .def_rw("index_1", &TorsionalSpringSpec::index_1)
+        .def_rw("index_2", &TorsionalSpringSpec::index_2)
+        .def_rw("stiffness", &TorsionalSpringSpec::stiffness)
+        .def_rw("damping", &TorsionalSpringSpec::damping)
+        .def_rw("preload_angle", &TorsionalSpringSpec::preload_angle);
+  }
 };
 
 }  // namespace pinwind

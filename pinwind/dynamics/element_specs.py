@@ -1,0 +1,146 @@
+"""Each kind of element and constraint of the compiled step, as its specs: one builder per kind.
+
+The compiled step loop holds lists of elements (forces) and constraints (rows), each built by the
+factory of its kind (``cpp/element_kind.hpp``; the kinds are listed in ``cpp/element_kinds.hpp``,
+each in a header of its own that holds its spec, checks, binding and factory). A kind reads one
+field of ``_native.StepperSpec``; ``SPEC_BUILDERS`` maps each field to the function that builds
+its specs from the run (``RunElements``), and ``fill_kinds`` fills every field the compiled module
+lists (``_native.kind_fields``). A test checks that the two lists agree, so a new kind is its
+C++ header, its line in ``element_kinds.hpp`` and its builder here.
+
+The kinds, in the compiled order (the order the elements' forces are summed in, then the order
+of the constraints' rows):
+
+- ``springs``: the torsional spring-dampers (``<torsional_spring>``; ``cpp/torsional_spring.hpp``);
+- ``bearing_damping``: each joint's viscous damping c [N·m·s/rad or N·s/m] (``<dynamics
+  damping>``; ``cpp/bearing_damping.hpp``);
+- ``bearing_springs``: the compliant bearings' springs (``dynamics/bearing_springs.py``) and the
+  support's slides' (``dynamics/support_springs.py``), one law (``cpp/bearing_spring.hpp``);
+- ``compliant_meshes``: the compliant meshes (``dynamics/compliant.py``;
+  ``cpp/compliant_mesh.hpp``);
+- ``generators``, ``rotors``: the generator and rotor laws (``dynamics/elements.py``;
+  ``cpp/generator.hpp``, ``cpp/rotor.hpp``);
+- ``rigid_meshes``: the meshes that are constraint rows, in row order (``cpp/rigid_meshes.hpp``);
+- ``driver_index``: the velocity index of each speed driver and lock, in row order
+  (``cpp/speed_drivers.hpp``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from pinwind.dynamics import _native
+from pinwind.dynamics.bearing_springs import bearing_law
+from pinwind.dynamics.compliant import MeshSetup
+from pinwind.dynamics.elements import LoadElements
+from pinwind.model.gearbox import Gearbox
+
+
+@dataclass(frozen=True)
+class RunElements:
+    """What the kinds' specs are built from.
+
+    Attributes:
+        gearbox: the model (its springs, damping, compliant bearings and support).
+        meshes: the run's rigid and compliant meshes (``dynamics/compliant.py``).
+        loads: the generator and rotor elements (``dynamics/elements.py``), or None.
+        driver_index: velocity index of each speed driver and locked bearing, in row order.
+    """
+
+    gearbox: Gearbox
+    meshes: MeshSetup
+    loads: LoadElements | None
+    driver_index: list[int]
+
+
+def torsional_springs(run: RunElements) -> list[_native.TorsionalSpringSpec]:
+    """A spec per torsional spring; index_2 = −1: the spring acts across joint 1 alone."""
+    out = []
+    for s in run.gearbox.springs:
+        spec = _native.TorsionalSpringSpec()
+        spec.index_1 = s.v_index_1
+        spec.index_2 = -1 if s.v_index_2 is None else s.v_index_2
+        spec.stiffness, spec.damping, spec.preload_angle = s.stiffness, s.damping, s.preload_angle
+        out.append(spec)
+    return out
+
+
+def bearing_damping(run: RunElements) -> np.ndarray:
+    """Each velocity's viscous damping c (the model's ``damping``) [N·m·s/rad or N·s/m]."""
+    return np.array(run.gearbox.model.damping, dtype=float).copy()
+
+
+def compliant_bearing_springs(gearbox: Any) -> list[_native.BearingSpringSpec]:
+    """The compiled springs of the gearbox's compliant bearings (floating ones have none)."""
+    out = []
+    for bearing in gearbox.compliant_bearings.values():
+        c, index = bearing.compliance, bearing.v_index
+        if c.floating and "axial" not in index and "tilt_x" not in index:
+            continue
+        spec = bearing_law(c)
+        if not c.floating:
+            spec.index_x, spec.index_y = index["radial_x"], index["radial_y"]
+        if "axial" in index:
+            spec.index_axial = index["axial"]
+        if "tilt_x" in index:
+            spec.index_tilt_x, spec.index_tilt_y = index["tilt_x"], index["tilt_y"]
+        out.append(spec)
+    return out
+
+
+def support_springs(gearbox: Any) -> list[_native.BearingSpringSpec]:
+    """The linear springs F = −k q of the support's slides, one spec per slide (axial law)."""
+    out = []
+    for name, slide in gearbox.support_slides.items():
+        spec = _native.BearingSpringSpec()
+        spec.index_axial, spec.axial_stiffness = gearbox.v_index(name), float(slide.stiffness)
+        out.append(spec)
+    return out
+
+
+def bearing_springs(run: RunElements) -> list[_native.BearingSpringSpec]:
+    """The compliant bearings' springs, then the support's."""
+    return [*compliant_bearing_springs(run.gearbox), *support_springs(run.gearbox)]
+
+
+def _compliant_meshes(run: RunElements) -> list[_native.CompliantMeshSpec]:
+    return list(run.meshes.compliant)
+
+
+def _generators(run: RunElements) -> list[_native.GeneratorSpec]:
+    return list(run.loads.generators) if run.loads is not None else []
+
+
+def _rotors(run: RunElements) -> list[_native.RotorSpec]:
+    return list(run.loads.rotors) if run.loads is not None else []
+
+
+def _rigid_meshes(run: RunElements) -> list[int]:
+    return list(run.meshes.rigid)
+
+
+def _driver_index(run: RunElements) -> list[int]:
+    return list(run.driver_index)
+
+
+#: ``_native.StepperSpec`` field of each compiled kind → the builder of its specs.
+SPEC_BUILDERS: dict[str, Callable[[RunElements], Any]] = {
+    "springs": torsional_springs,
+    "bearing_damping": bearing_damping,
+    "bearing_springs": bearing_springs,
+    "compliant_meshes": _compliant_meshes,
+    "generators": _generators,
+    "rotors": _rotors,
+    "rigid_meshes": _rigid_meshes,
+    "driver_index": _driver_index,
+}
+
+
+def fill_kinds(spec: _native.StepperSpec, run: RunElements) -> None:
+    """Set every kind's field of ``spec`` (``_native.kind_fields``) from its builder."""
+    for field in _native.kind_fields():
+        setattr(spec, field, SPEC_BUILDERS[field](run))
