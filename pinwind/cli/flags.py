@@ -249,6 +249,28 @@ def rotor_values(items: list[str] | None) -> dict[str, Any]:
             for joint, text in parse_pairs(items, "--rotor").items()}  # fmt: skip
 
 
+def hub_load_values(items: list[str] | None) -> dict[str, Any]:
+    """``--hub-load`` options → ``hub_load`` values (a scenario's ``[hub_load.BODY]`` keys).
+
+    Each is ``BODY=hub_load(force_x=, ..., point=(x, y, z))`` or ``BODY=openfast(file=)``.
+    """
+    out = {}
+    for body, text in parse_pairs(items, "--hub-load").items():
+        call = parse_call(text, "--hub-load", "kind")
+        kind = call.pop("kind")
+        if kind == "openfast":
+            if "file" not in call:
+                raise InputError(f'--hub-load "{body}={text}": give openfast(file="run.outb")')
+            call["openfast"] = call.pop("file")
+        elif kind != "hub_load":
+            raise InputError(
+                f'--hub-load "{body}={text}": give BODY=hub_load(force_x=..., moment_y=..., '
+                'point=(x, y, z), up=(x, y, z), frame="fixed") or BODY=openfast(file=...)'
+            )
+        out[body] = {k: list(v) if isinstance(v, tuple) else v for k, v in call.items()}
+    return out
+
+
 def parse_window(text: str) -> tuple[float, float]:
     """``--check-window A:B`` → (A, B) [s]."""
     start, sep, end = text.partition(":")

@@ -37,6 +37,7 @@ from pinwind.cli.flags import (
     StepOption,
     TorqueOption,
     generator_values,
+    hub_load_values,
     load_values,
     mesh_values,
     number_or_text,
@@ -165,6 +166,16 @@ def simulate(
             "kaimal(mean=10, turbulence_intensity=0.1, seed=1).",
         ),
     ] = None,
+    hub_load: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--hub-load",
+            help="BODY=hub_load(force_x=, force_y=, force_z= [N], moment_x=, moment_y=, "
+            'moment_z= [N·m], point=(x, y, z) [m], up=(x, y, z), frame="fixed" or "rotating") '
+            'or BODY=openfast(file="run.outb", frame=, point=): the rotor\'s six load '
+            "components on a body (repeatable); a component is a number or a quoted signal.",
+        ),
+    ] = None,
     rho_inf: Annotated[
         float | None,
         typer.Option(
@@ -200,6 +211,7 @@ def simulate(
         "generator": generator_values(generator),
         "rotor": rotor_values(rotor),
         "wind": None if wind is None else number_or_text(wind),
+        "hub_load": hub_load_values(hub_load),
         "rho_inf": rho_inf,
         "initial_deflection": initial_deflection,
         "log_rate": log_rate,

@@ -297,6 +297,19 @@ def kind_fields() -> list[str]:
     rows).
     """
 
+class HubLoadSpec:
+    """Six load components on a body at a point (``cpp/hub_loads.hpp``; ``loads/hub_loads.py``)."""
+
+    joint: int  # Pinocchio id of the body's joint
+    parent: int  # its parent joint's id (0: the world)
+    columns: list[int]  # velocity columns of the joints that move the body
+    axes: Matrix  # 3 × 3: the hub axes x, y, z (columns) in the joint frame
+    placement: Matrix  # 3 × 3: the joint's rotation in its parent
+    point: Vector  # where the force acts, in the joint frame [m]
+    rotating: bool  # the axes turn with the joint
+    column: int  # the first of its six input columns (F_x, F_y, F_z [N], M_x, M_y, M_z [N·m])
+    def __init__(self) -> None: ...
+
 class StepperSpec:
     """Everything a run needs besides the initial state.
 
@@ -313,9 +326,10 @@ class StepperSpec:
     compliant_meshes: list[CompliantMeshSpec]
     generators: list[GeneratorSpec]
     rotors: list[RotorSpec]
+    hub_loads: list[HubLoadSpec]
     rigid_meshes: list[int]
     driver_index: list[int]
-    input_columns: int  # per-sample inputs of the elements (wind speeds)
+    input_columns: int  # per-sample inputs of the elements (wind speeds, hub loads)
     bearing_joints: list[int]  # Pinocchio ids of the joints recorded as bearings
     frame_parent: list[int]
     frame_placement: list[Matrix]

@@ -49,6 +49,7 @@ if TYPE_CHECKING:
     # MODEL`, the gearbox alone, starts without them (tests/test_lazy_exports.py).
     from pinwind.dynamics.elements import LoadElements
     from pinwind.loads.generator import GeneratorLaw
+    from pinwind.loads.hub_loads import HubLoad
     from pinwind.loads.inputs import JointLoad, Signal
     from pinwind.loads.rotor import Rotor
     from pinwind.loads.signals import Signal as TimeSignal
@@ -252,6 +253,7 @@ def drivetrain(
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
     wind: float | TimeSignal | None = None,
+    hub_loads: Sequence[HubLoad] | None = None,
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     gravity: np.ndarray | Sequence[float] | None = None,
     held: Iterable[str] = (),
@@ -264,6 +266,7 @@ def drivetrain(
         initial_speeds: joint name → initial speed [rad/s].
         generators: joint name → generator law; rotors: joint name → ``Rotor``.
         wind: wind speed at the rotors [m/s], a number or a signal; needed with rotors.
+        hub_loads: loads of six components on bodies (``loads/hub_loads.py``).
         meshes: mesh name (or ``"all"``) → ``"rigid"``, ``"compliant"`` or a ``MeshCompliance``.
         gravity: gravity in world [m/s²]; default the model's.
         held: joints the linearisation holds besides the drivers (``Drivetrain.held``).
@@ -321,13 +324,19 @@ def drivetrain(
             raise NonFiniteInput(f"gravity must be three finite numbers [m/s²]; got {gravity!r}")
     else:
         g = np.asarray(gearbox.gravity, dtype=float)
+    laws = _laws(generators, rotors, wind, free)
+    if hub_loads:
+        from pinwind.dynamics.elements import LoadElements
+
+        laws = laws if laws is not None else LoadElements()
+        laws.add_hub_loads(list(hub_loads), gearbox, g)
     return Drivetrain(
         gearbox=gearbox,
         meshes=mesh_choices(gearbox, meshes),
         torques=torque_loads,
         drivers=speed_loads,
         initial_speeds=init,
-        loads=_laws(generators, rotors, wind, free),
+        loads=laws,
         generators=dict(generators or {}),
         rotors=dict(rotors or {}),
         gravity=g,

@@ -20,6 +20,8 @@ of the constraints' rows):
   ``cpp/compliant_mesh.hpp``);
 - ``generators``, ``rotors``: the generator and rotor laws (``dynamics/elements.py``;
   ``cpp/generator.hpp``, ``cpp/rotor.hpp``);
+- ``hub_loads``: six load components on a body (``dynamics/hub_load_specs.py``;
+  ``cpp/hub_loads.hpp``);
 - ``rigid_meshes``: the meshes that are constraint rows, in row order (``cpp/rigid_meshes.hpp``);
 - ``driver_index``: the velocity index of each speed driver and lock, in row order
   (``cpp/speed_drivers.hpp``).
@@ -119,6 +121,10 @@ def _rotors(run: RunElements) -> list[_native.RotorSpec]:
     return list(run.loads.rotors) if run.loads is not None else []
 
 
+def _hub_loads(run: RunElements) -> list[_native.HubLoadSpec]:
+    return list(run.loads.hub_load_specs) if run.loads is not None else []
+
+
 def _rigid_meshes(run: RunElements) -> list[int]:
     return list(run.meshes.rigid)
 
@@ -135,6 +141,7 @@ SPEC_BUILDERS: dict[str, Callable[[RunElements], Any]] = {
     "compliant_meshes": _compliant_meshes,
     "generators": _generators,
     "rotors": _rotors,
+    "hub_loads": _hub_loads,
     "rigid_meshes": _rigid_meshes,
     "driver_index": _driver_index,
 }

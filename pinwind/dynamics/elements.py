@@ -10,9 +10,11 @@ wind-speed column). The compiled laws can also be evaluated alone (``induction_t
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from typing import Any
+
+import numpy as np
 
 from pinwind.dynamics import _native
 from pinwind.errors import InputError, NonFiniteInput, UnknownJoint
@@ -24,6 +26,7 @@ from pinwind.loads.generator import (
     VariableSpeed,
     describe,
 )
+from pinwind.loads.hub_loads import COMPONENTS, HubLoad
 from pinwind.loads.rotor import CpTable, Rotor
 from pinwind.loads.signal_text import signal_from_spec
 from pinwind.loads.signals import Signal
@@ -37,8 +40,11 @@ class LoadElements:
         generators, rotors: compiled specs.
         generator_names, rotor_names: their joints, in the same order.
         added_inertia: velocity index → inertia added to the joint [kg·m²] (rotors).
-        input_columns: per-sample inputs (1 with rotors: the wind speed [m/s], else 0).
+        input_columns: per-sample inputs: the wind speed [m/s] with rotors (column 0), then
+            six per hub load (its F_x, F_y, F_z [N], M_x, M_y, M_z [N·m]).
         wind: the wind-speed signal [m/s], or None.
+        hub_loads: the hub loads (``loads/hub_loads.py``) and hub_load_specs their compiled
+            specs (``dynamics/hub_load_specs.py``), in the same order.
         metadata: the laws as plain values, for the log.
     """
 
@@ -49,7 +55,53 @@ class LoadElements:
     added_inertia: dict[int, float] = field(default_factory=dict)
     input_columns: int = 0
     wind: Signal | None = None
+    hub_loads: list[HubLoad] = field(default_factory=list)
+    hub_load_specs: list[_native.HubLoadSpec] = field(default_factory=list)
     metadata: dict[str, Any] = field(default_factory=dict)
+
+    def add_hub_loads(self, loads: Sequence[HubLoad], gearbox: Any, gravity: np.ndarray) -> None:
+        """Add hub loads, their inputs after the others' (``dynamics/hub_load_specs.py``).
+
+        Raises:
+            InputError: a load that is not a ``HubLoad``, or one the model cannot take.
+        """
+        from pinwind.dynamics.hub_load_specs import hub_load_specs
+
+        for load in loads:
+            if not isinstance(load, HubLoad):
+                raise InputError(
+                    f"hub_loads holds {load!r}; give pinwind.loads.hub_loads.HubLoad objects "
+                    "(constant_hub_load, hub_load_from_openfast)"
+                )
+        self.hub_load_specs += hub_load_specs(loads, gearbox, gravity, self.input_columns)
+        self.hub_loads += list(loads)
+        self.input_columns += 6 * len(loads)
+        self.metadata["hub_loads"] = [load.describe() for load in self.hub_loads]
+
+    def inputs(self, times: np.ndarray) -> np.ndarray | None:
+        """The per-sample inputs at ``times`` [s], (len(times), input_columns), or None.
+
+        Values are as the signals give them, finite or not: the run checks them step by step
+        (``input_names`` names each column).
+        """
+        if not self.input_columns:
+            return None
+        columns = []
+        if self.wind is not None:
+            columns.append(np.asarray(self.wind.values(times), dtype=float).reshape(-1, 1))
+        columns += [load.values(times, check=False) for load in self.hub_loads]
+        return np.ascontiguousarray(np.hstack(columns))
+
+    @property
+    def input_names(self) -> list[tuple[str, str]]:
+        """(name, unit) of each input column, as messages name them."""
+        names = [("wind", "m/s")] if self.wind is not None else []
+        for load in self.hub_loads:
+            names += [
+                (f'hub load on "{load.body}": {c}', "N" if c.startswith("force") else "N·m")
+                for c in COMPONENTS
+            ]
+        return names
 
 
 _GENERATORS = GeneratorLaw.__args__  # type: ignore[attr-defined]

@@ -77,6 +77,7 @@ from pinwind.errors import (
 )
 from pinwind.interrupts import interrupts_deferred
 from pinwind.loads.generator import GeneratorLaw
+from pinwind.loads.hub_loads import HubLoad
 from pinwind.loads.inputs import JointLoad, Signal
 from pinwind.loads.rotor import Rotor
 from pinwind.loads.signals import Signal as TimeSignal
@@ -306,6 +307,7 @@ def simulate(
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
     wind: float | TimeSignal | None = None,
+    hub_loads: Sequence[HubLoad] | None = None,
     initial_deflection: str | None = None,
     metadata: Mapping[str, object] | None = None,
     settings: RunSettings | None = None,
@@ -349,6 +351,10 @@ def simulate(
         wind: wind speed at the rotors [m/s]: a number or a ``pinwind.loads.signals.Signal``
             (``KaimalWind``, a table, ...), evaluated block by block and handed to the compiled
             loop as a per-sample input.
+        hub_loads: six load components each on a body at a point (thrust, shear forces,
+            torque, bending moments; ``pinwind.loads.hub_loads.HubLoad``), in the fixed or the
+            rotating shaft frame; evaluated block by block like the wind. The bearings carry
+            them (their reactions include them).
         initial_deflection: ``"static"`` (default): the compliant meshes and springs start
             deflected under the loads of t = 0, carrying the forces rigid meshes would carry
             (``CompiledStepper.equilibrium``), so that maxima and load factors describe the
@@ -399,6 +405,7 @@ def simulate(
         generators=generators,
         rotors=rotors,
         wind=wind,
+        hub_loads=hub_loads,
         meshes=meshes,
         gravity=gravity,
     )
@@ -652,17 +659,17 @@ class PreparedRun:
             stop = max(k - 1, 0)
             error = _signal_error("speeds", load, k, dt, cause, "rad/s")
             error.__cause__ = cause if isinstance(cause, Exception) else None
-        inputs = None
-        if self.elements.wind is not None:
-            wind_speed = self.elements.wind.values(np.arange(start, stop) * dt)
-            inputs = np.asarray(wind_speed, dtype=float).reshape(-1, 1)
-            nonfinite = np.flatnonzero(~np.isfinite(inputs[:, 0]))
-            if nonfinite.size and start + int(nonfinite[0]) < stop:
-                k = start + int(nonfinite[0])
+        inputs = self.elements.inputs(np.arange(start, stop) * dt)
+        if inputs is not None:
+            bad = np.argwhere(~np.isfinite(inputs))
+            if bad.size and start + int(bad[0, 0]) < stop:
+                row, column = (int(x) for x in bad[0])
+                k = start + row
                 stop = k
+                name, unit = self.elements.input_names[column]
                 error = NonFiniteInput(
-                    f"wind is {wind_speed[k - start]} m/s at step {k} "
-                    f"(t = {k * dt:.6g} s); the wind speed must be finite"
+                    f"{name} is {inputs[row, column]} {unit} at step {k} "
+                    f"(t = {k * dt:.6g} s); it must be finite"
                 )
             inputs = inputs[: stop - start]
         lo, hi = (int(i) for i in np.searchsorted(self.kept, [start, stop]))
@@ -854,9 +861,7 @@ def _static_start(
     torque, _ = _signal_table(torque_loads, 0, 1, dt, [ld.v_index for ld in torque_loads], nv)
     torque = from_ground(gearbox, roll_share(gearbox), torque)
     target, _ = _signal_table(drivers, 0, 2, dt, list(range(len(drivers))), len(drivers))
-    inputs = None
-    if elements.wind is not None:
-        inputs = np.asarray(elements.wind.values(np.zeros(1)), dtype=float).reshape(1, 1)
+    inputs = elements.inputs(np.zeros(1))
     status = stepper.equilibrium(torque, target, inputs)
     if not status.converged:
         warnings.warn(

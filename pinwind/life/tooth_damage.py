@@ -159,13 +159,11 @@ def tooth_histories(contacts: Sequence[ToothContacts], *, teeth: int) -> list[np
     for j in range(teeth):
         rows = slice(*np.searchsorted(tooth, [j, j + 1]))
         at, where, v = sample[rows], mesh[rows], value[rows]
-        # A pass ends where the tooth skips a sample or moves to another mesh.
+        # A pass ends where the tooth skips a sample or moves to another mesh: a 0 between
+        # passes (one insert for all of them, not a list of parts: a tooth has thousands).
         breaks = np.flatnonzero((np.diff(at) > 1) | (np.diff(where) != 0)) + 1
-        parts = np.split(v, breaks)
-        history = [np.zeros(1)]
-        for part in parts:
-            history += [part, np.zeros(1)]
-        histories.append(np.concatenate(history) if v.size else np.zeros(1))
+        passes = np.insert(v, breaks, 0.0)
+        histories.append(np.concatenate(([0.0], passes, [0.0])) if v.size else np.zeros(1))
     return histories
 
 

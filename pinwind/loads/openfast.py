@@ -4,12 +4,14 @@ The file is read with openfast-io (``openfast_io.FAST_output_reader``, NREL's re
 OpenFAST), so every format OpenFAST writes is read as OpenFAST reads it. OpenFAST's channels are
 in its own units (``RotTorq`` and ``GenTq`` in kN·m, ``RotSpeed`` and ``GenSpeed`` in rpm,
 ``Wind1VelX`` in m/s): ``scale`` turns them into the SI unit of what the channel drives
-(``scale=1000`` for kN·m → N·m).
+(``scale=1000`` for kN·m → N·m). ``si_factor`` reads that factor from a channel's unit, for
+readers that take the unit from the file (the hub loads, ``loads/hub_loads.py``).
 """
 
 from __future__ import annotations
 
 import hashlib
+import math
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +64,48 @@ def read_output(path: str | Path) -> tuple[np.ndarray, list[str], list[str]]:
             "least two rows of samples"
         )
     return table, names, units
+
+
+#: SI value of one unit as OpenFAST writes units in its output headers (the parentheses
+#: stripped): forces, moments, angles, speeds. OpenFAST writes "kN-m" and "kN·m" alike.
+_SI_PER_UNIT: dict[str, float] = {
+    "N": 1.0,
+    "kN": 1e3,
+    "MN": 1e6,
+    "N-m": 1.0,
+    "Nm": 1.0,
+    "N·m": 1.0,
+    "kN-m": 1e3,
+    "kNm": 1e3,
+    "kN·m": 1e3,
+    "MN-m": 1e6,
+    "MNm": 1e6,
+    "MN·m": 1e6,
+    "rad": 1.0,
+    "deg": math.pi / 180.0,
+    "rad/s": 1.0,
+    "rpm": 2.0 * math.pi / 60.0,
+    "deg/s": math.pi / 180.0,
+    "s": 1.0,
+    "m": 1.0,
+    "m/s": 1.0,
+}
+
+
+def si_factor(unit: str, *, where: str) -> float:
+    """SI value of one ``unit`` of an OpenFAST header ("(kN-m)" → 1000, "(deg)" → π/180).
+
+    Raises:
+        InputError: a unit pinwind cannot turn into SI (naming ``where``, the unit and the
+            known units), so that no channel is read in a unit it was not written in.
+    """
+    name = unit.strip().removeprefix("(").removesuffix(")").strip()
+    if name not in _SI_PER_UNIT:
+        raise InputError(
+            f'{where}: unit "{unit}" is not one pinwind converts to SI; known units: '
+            f"{', '.join(_SI_PER_UNIT)}"
+        )
+    return _SI_PER_UNIT[name]
 
 
 def read_channel(path: str | Path, channel: str, *, scale: float = 1.0) -> Scaled:

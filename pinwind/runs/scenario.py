@@ -58,6 +58,12 @@ from typing import TYPE_CHECKING, Any
 from pinwind.errors import InputError, LogError
 from pinwind.known_names import check_keys, toml_keys
 from pinwind.loads.generator import LAWS, GeneratorLaw
+from pinwind.loads.hub_loads import (
+    COMPONENTS,
+    HubFrame,
+    HubLoad,
+    hub_load_from_openfast,
+)
 from pinwind.loads.input_files import InputFile, check_unchanged
 from pinwind.loads.rotor import CpTable, HeierCp, Rotor
 from pinwind.loads.signal_text import signal_from_spec
@@ -87,6 +93,11 @@ KEYS: dict[str, tuple[str, str, str]] = {
     "generator": ("generators", "", "generator laws"),
     "rotor": ("rotors", "", "rotor aerodynamics"),
     "wind": ("signal", "m/s", "wind speed at the rotors"),
+    "hub_load": (
+        "hub_loads",
+        "N, N·m",
+        "six load components on bodies (thrust, shears, torque, bending), per body",
+    ),
     "rho_inf": ("fraction", "0 to 1", "the time step's spectral radius ρ∞ (1 keeps energy)"),
     "initial_deflection": (
         "choice",
@@ -108,6 +119,9 @@ ROTOR_KEYS = ("preset", "radius", "inertia", "air_density", "pitch_deg", "cp_sca
 #: The keys of a rotor's ``cp_table``: tip-speed ratios, power coefficients, pitch angles [deg].
 CP_TABLE_KEYS = ("tsr", "cp", "pitch_deg")
 ROTOR_PRESETS = {"saleh2017": Rotor.saleh2017, "jorgensen2014": Rotor.jorgensen2014}
+#: The keys of a body's ``hub_load`` table: its six components (signals, N and N·m), or an
+#: OpenFAST output's six channels (``openfast``, a file); the frame, point and up direction.
+HUB_LOAD_KEYS = (*COMPONENTS, "openfast", "frame", "point", "up")
 
 
 class ScenarioError(InputError):
@@ -185,6 +199,7 @@ class Scenario:
         generators: joint → generator law (``loads/generator.py``).
         rotors: joint → ``Rotor`` (``loads/rotor.py``).
         wind: wind speed at the rotors [m/s], or None.
+        hub_loads: six load components on bodies (``loads/hub_loads.py``).
         integrator: the time step (``dynamics/integrator.py``), or None for the default.
         initial_deflection: ``"static"`` or ``"none"`` (``simulate``'s).
         values: the plain values it was built from, keys normalised: what the log records and
@@ -207,6 +222,7 @@ class Scenario:
     generators: Mapping[str, GeneratorLaw] = field(default_factory=dict)
     rotors: Mapping[str, Rotor] = field(default_factory=dict)
     wind: Signal | float | None = None
+    hub_loads: tuple[HubLoad, ...] = ()
     integrator: Integrator | None = None
     initial_deflection: str = "static"
     values: dict[str, Any] = field(default_factory=dict)
@@ -261,6 +277,8 @@ class Scenario:
         if self.rotors:
             kwargs["rotors"] = self.rotors
             kwargs["wind"] = self.wind
+        if self.hub_loads:
+            kwargs["hub_loads"] = self.hub_loads
         if self.integrator is not None:
             kwargs["integrator"] = self.integrator
         kwargs["initial_deflection"] = self.initial_deflection
@@ -295,6 +313,7 @@ class Scenario:
             generators=self.generators,
             rotors=self.rotors,
             wind=self.wind if self.rotors else None,
+            hub_loads=self.hub_loads,
             meshes=self.meshes if meshes is None else meshes,
             held=held,
         )
@@ -371,6 +390,7 @@ class _Builder:
         torques = self.signals("torque")
         speeds = {k: Scaled(s, RAD_S_PER_RPM) for k, s in self.signals("speed").items()}
         wind = self.wind()
+        hub_loads = self.hub_loads()
         return Scenario(
             duration=float(v.get("duration", 1.0)),
             dt=float(v.get("dt", 1e-3)),
@@ -386,6 +406,7 @@ class _Builder:
             generators=generators,
             rotors=rotors,
             wind=wind,
+            hub_loads=hub_loads,
             integrator=self.integrator(),
             initial_deflection=str(v.get("initial_deflection", "static")),
             values=v,
@@ -429,7 +450,7 @@ class _Builder:
             or (isinstance(value, int) and not isinstance(value, bool) and value >= 1)
         ):
             raise self.fail(key, f"is {value!r}; choose one of: {unit}")
-        if kind in ("signals", "numbers", "choices", "pairs", "generators", "rotors"):
+        if kind in ("signals", "numbers", "choices", "pairs", "generators", "rotors", "hub_loads"):
             if not isinstance(value, Mapping):
                 raise self.fail(key, f"must be a table of joint (or mesh, gear) names: {what}")
             for joint, item in value.items():
@@ -443,7 +464,9 @@ class _Builder:
                     or not all(isinstance(x, int | float) for x in item)
                 ):  # fmt: skip
                     raise self.fail(sub, f"must be [tangential, radial] in {unit}; got {item!r}")
-                elif kind in ("generators", "rotors") and not isinstance(item, Mapping):
+                elif kind in ("generators", "rotors", "hub_loads") and not isinstance(
+                    item, Mapping
+                ):
                     raise self.fail(sub, "must be a table of parameters")
 
     def _number(self, key, value, unit, positive=False) -> float:
@@ -492,6 +515,56 @@ class _Builder:
             )
         except InputError as err:
             raise self.fail(("wind",), _strip(str(err), "wind: ")) from err
+
+    def hub_loads(self) -> tuple[HubLoad, ...]:
+        """A hub load per body: its components as signals (N, N·m), or an OpenFAST file's."""
+        out = []
+        for body, params in self.values.get("hub_load", {}).items():
+            key = ("hub_load", body)
+            params = toml_keys(params)
+            check_keys(key, params, HUB_LOAD_KEYS, self.fail, kind="key", of=" of a hub load")
+            frame = params.get("frame", "fixed")
+            if frame not in [f.value for f in HubFrame]:
+                raise self.fail(key + ("frame",), f"is {frame!r}; choose one of: "
+                                + ", ".join(f.value for f in HubFrame))  # fmt: skip
+            point = self._vector(key + ("point",), params.get("point", [0.0, 0.0, 0.0]), "m")
+            up = params.get("up")
+            up = None if up is None else self._vector(key + ("up",), up, "-")
+            given = [c for c in COMPONENTS if c in params]
+            if "openfast" in params:
+                if given:
+                    message = f"reads the six components; remove {', '.join(given)} or openfast"
+                    raise self.fail(key + ("openfast",), message)
+                file = Path(str(params["openfast"]))
+                path = file if file.is_absolute() else self.base / file
+                try:
+                    load = hub_load_from_openfast(path, body, frame=frame, point=point, up=up)
+                except InputError as err:
+                    raise self.fail(key + ("openfast",), str(err)) from err
+                self.files.append(InputFile.of(path, given=str(file), where=".".join(key)))
+                out.append(load)
+                continue
+            components = []
+            for name in COMPONENTS:
+                files: list[InputFile] = []
+                where = f"hub_load.{body}.{name}"
+                try:
+                    components.append(
+                        signal_from_spec(
+                            params.get(name, 0.0), base=self.base, where=where, files=files
+                        )  # fmt: skip
+                    )
+                except InputError as err:
+                    raise self.fail(key + (name,), _strip(str(err), f"{where}: ")) from err
+                self.files += [dataclasses.replace(f, where=where) for f in files]
+            out.append(HubLoad(body, tuple(components), HubFrame(frame), point, up))
+        return tuple(out)
+
+    def _vector(self, key, value, unit) -> tuple[float, float, float]:
+        if not isinstance(value, list) or len(value) != 3:
+            raise self.fail(key, f"must be three numbers [x, y, z] [{unit}]; got {value!r}")
+        x, y, z = (self._number(key, item, unit) for item in value)
+        return (x, y, z)
 
     def generators(self) -> dict[str, GeneratorLaw]:
         """Generator laws per joint, by their names in ``loads.generator.LAWS``."""

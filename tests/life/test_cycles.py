@@ -104,9 +104,10 @@ def test_decreasing_bin_edges_raise():
 
 
 def test_cycles_equal_those_the_package_counts_on_every_sample():
-    """Counting only the reversals (found with numpy) changes nothing: the same cycles, in the
-    same order, as ``rainflow.extract_cycles`` on the whole history, plateaus and a history
-    without a reversal (a ramp) included."""
+    """The compiled count of the reversals (found with numpy) gives the same cycles, bit for bit
+    and in the same order, as ``rainflow.extract_cycles`` on the whole history: plateaus, a
+    history without a reversal (a ramp), one whose start is counted 10 000 times and a long
+    random one included."""
     import rainflow
 
     rng = np.random.default_rng(7)
@@ -117,6 +118,10 @@ def test_cycles_equal_those_the_package_counts_on_every_sample():
         np.array([1.0, 1.0, 1.0]),
         np.array([0.0, 1.0, 2.0]),
         np.array([0.0, 2.0]),
+        # a growing oscillation: every start is counted as a half cycle (10 000 of them)
+        np.arange(1, 10_001) * (-1.0) ** np.arange(10_000),
+        # and a long random one (about 650 000 reversals, as a 30 s tooth history has)
+        rng.normal(size=1_000_000),
     ]
     for history in histories:
         cycles = rainflow_cycles(history)

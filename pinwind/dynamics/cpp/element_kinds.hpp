@@ -16,6 +16,7 @@
 #include "compliant_mesh.hpp"
 #include "element_kind.hpp"
 #include "generator.hpp"
+#include "hub_loads.hpp"
 #include "rigid_meshes.hpp"
 #include "rotor.hpp"
 #include "speed_drivers.hpp"
@@ -24,7 +25,7 @@
 namespace pinwind {
 
 using ElementKinds = std::tuple<TorsionalSpringsKind, BearingDampingKind, BearingSpringsKind,
-                                CompliantMeshesKind, GeneratorsKind, RotorsKind>;
+                                CompliantMeshesKind, GeneratorsKind, RotorsKind, HubLoadsKind>;
 using ConstraintKinds = std::tuple<RigidMeshesKind, SpeedDriversKind>;
 
 // Every kind, the elements' then the constraints': one field of StepperSpec each.

@@ -1,0 +1,6 @@
+"""Rainflow counting of reversals (ASTM E1049-85 §5.4.4), compiled (life/cpp/rainflow.cpp)."""
+
+import numpy as np
+
+def extract_cycles(reversals: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(ranges, means, counts) of the cycles of a series of reversals, as ``rainflow`` counts."""
