@@ -511,11 +511,14 @@ def write_figure(report: SpectrumReport, out: str | os.PathLike, *, dpi: int = 1
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from pinwind.io.figure_layout import caption_below
     from pinwind.io.figures import caption
 
     names = list(dict.fromkeys(s.series for s in report.spectra))
     rows = len(names)
-    fig, axes = plt.subplots(rows, 1, figsize=(10, 1.2 + 3.0 * rows), sharex=True, squeeze=False)
+    fig, axes = plt.subplots(
+        rows, 1, figsize=(10, 1.2 + 3.0 * rows), sharex=True, squeeze=False, layout="constrained"
+    )
     nyquist = report.sample_rate / 2.0
     for ax, name in zip(axes[:, 0], names, strict=True):
         shown = [s for s in report.spectra if s.series == name]
@@ -549,10 +552,9 @@ def write_figure(report: SpectrumReport, out: str | os.PathLike, *, dpi: int = 1
         f"{report.metadata.get('model_name', '')}: spectra (segment {report.segment:.4g} s, "
         f"Δf = {report.resolution:.4g} Hz)", fontsize=11, x=0.02, ha="left",
     )  # fmt: skip
-    height = 1.2 + 3.0 * rows
-    fig.tight_layout(rect=(0, 0.45 / height, 1, 1))
-    note = caption(report.metadata, report.status, report.path, report.span, None, None)
-    fig.text(0.01, 0.005, note, fontsize=6.5, va="bottom", ha="left", color="0.25")
+    caption_below(
+        fig, caption(report.metadata, report.status, report.path, report.span, None, None)
+    )
     path = Path(out)
     fig.savefig(path, dpi=dpi)
     plt.close(fig)

@@ -246,10 +246,8 @@ _BUILT_IN: tuple[Series, ...] = (
                      magnitude=True)),
     Series("bearing_moment", _B, "moment", "N*m",
            "moment on the child body about the bearing centre", "xyz", "world",
-           label="moment (world)", short="M world", headline=False,
-           plot=Plot("bearing_moment", "bearings",
-                     "bearing moments |M| about the bearing centre, world [kN·m]", "kN·m",
-                     magnitude=True)),
+           label="moment (world)", short="M world", headline=False),  # not plotted: its |M|
+    # is mostly the shaft's torque, which the bearing does not carry (bearing_tilting, _torque)
     Series("bearing_force_local", _B, "force_local", "N",
            "force on the child body at the bearing centre", "xyz", "joint",
            label="force (joint frame)", short="F joint", headline=False),
