@@ -127,8 +127,9 @@ def signal_in_units(text: str, unit: str) -> str:
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
             value = number(node.operand)
             return None if value is None else -value
-        if isinstance(node, ast.Constant) and type(node.value) in (int, float):
-            return float(node.value)
+        constant = node.value if isinstance(node, ast.Constant) else None
+        if isinstance(constant, int | float) and not isinstance(constant, bool):
+            return float(constant)
         return None
 
     def converted(node: ast.expr) -> ast.expr | None:
