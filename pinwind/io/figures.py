@@ -268,7 +268,8 @@ def _draw(ax, kept: DecimatedPanel) -> None:
         if len(group) > 1 and any(np.any(panel.series[i].values) for i in group):
             names = [panel.series[i].name for i in group]
             handles.append(Line2D([], [], linestyle="none"))
-            labels.append(f"{together(names)} coincide")
+            # wrapped: one long line would narrow the axes by its whole width
+            labels.append(textwrap.fill(f"{together(names)} coincide", 36))
     for note in panel.notes:
         ax.text(0.01, 0.97, note, transform=ax.transAxes, fontsize=7, va="top", color="0.2")
     ax.set_ylim(low, high)
