@@ -14,7 +14,7 @@ the load average and the cores this process gets asking for two (`machine.parall
 since other jobs share the machine. Figures in benchmarks/README.md.
 
 ``--dask`` starts a LocalCluster of 1, then of 2 one-thread workers
-(`pinwind.analysis.dask_workers.local_client`, which also closes it without the traceback
+(`pinwind.runs.dask_workers.local_client`, which also closes it without the traceback
 distributed logs when a worker's last message meets the closed scheduler), warms each worker's
 imports, and times ``--seeds`` x 8 cases of ``--dask-duration`` seconds on each: cases per
 second and the gain of the second worker (1.0: twice the rate of one). It is a measurement of
@@ -80,10 +80,10 @@ def machine() -> str:
 
 def child(path: Path, workers: int) -> None:
     """Run the set as ``pinwind fatigue --workers N`` does; print wall time and peak memory."""
-    from pinwind.life.case_runner import run_cases
-    from pinwind.life.fatigue_set_file import load_fatigue_set
     from pinwind.life.set_bearing_life import set_bearing_lives
     from pinwind.life.set_damage import set_damage
+    from pinwind.runs.case_runner import run_cases
+    from pinwind.runs.fatigue_set_file import load_fatigue_set
 
     start = time.perf_counter()
     fset = load_fatigue_set(path)
@@ -158,10 +158,10 @@ def dask_rate(n_workers: int, *, duration: float, seeds: int, settings: dict) ->
     sys.path.insert(0, str(HERE))
     from machine import cpu_sample, others_cores
 
-    from pinwind.analysis.dask_workers import local_client
     from pinwind.life.case_cycles import CaseCycles
-    from pinwind.life.case_runner import run_cases
-    from pinwind.life.fatigue_set_file import load_fatigue_set
+    from pinwind.runs.case_runner import run_cases
+    from pinwind.runs.dask_workers import local_client
+    from pinwind.runs.fatigue_set_file import load_fatigue_set
 
     with tempfile.TemporaryDirectory(prefix="pinwind_fatigue_dask_") as folder:
         (Path(folder) / "warm").mkdir()
@@ -216,7 +216,7 @@ def print_dask(runs: list[dict], duration: float, settings: dict) -> None:
         f"Dask LocalCluster, one thread per worker, {runs[0]['cases']} cases of {duration:g} s "
         "(8 wind bins x seeds), warm workers; CPU = user + system of a process, all threads; "
         + (
-            "Dask settings: pinwind.analysis.dask_workers.WORKER_CONFIG"
+            "Dask settings: pinwind.runs.dask_workers.WORKER_CONFIG"
             if settings
             else "Dask's default settings"
         )
@@ -289,7 +289,7 @@ def main() -> None:
         child(args.child, args.workers)
         return
     if args.dask:
-        from pinwind.analysis.dask_workers import WORKER_CONFIG
+        from pinwind.runs.dask_workers import WORKER_CONFIG
 
         settings = {} if args.dask_defaults else WORKER_CONFIG
         runs = [

@@ -190,7 +190,7 @@ def main() -> None:
     with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
         pinwind_main()
     steps.done("whole command again, all imported (typer, work, table)")
-    from pinwind.scenario import load_scenario
+    from pinwind.runs.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
     machine = scenario.drivetrain(scenario.load_model(), meshes={"all": "compliant"})

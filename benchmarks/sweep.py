@@ -15,12 +15,9 @@ import os
 import time
 import warnings
 
-from pinwind.analysis.sweep import (
-    TABLE_5_INCLUDE,
-    SweepSettings,
-    enumerate_planetary,
-    run_sweep,
-)
+from pinwind.analysis.sweep_design import SweepSettings
+from pinwind.analysis.sweep_planetary import TABLE_5_INCLUDE, enumerate_planetary
+from pinwind.runs.sweep import run_sweep
 
 
 def designs():
@@ -96,7 +93,7 @@ def main() -> None:
         f"{len(many)} designs:    one core {len(many) / big_1:.1f}/s, {cores} cores "
         f"{len(many) / big_n:.1f}/s (incl. pool start)"
     )
-    from pinwind.analysis.dask_workers import local_client
+    from pinwind.runs.dask_workers import local_client
 
     with local_client(2, config={}) as client:  # Dask's own settings: designs take milliseconds
         run_sweep(items[:2], settings, scheduler=client)  # warm the workers' imports

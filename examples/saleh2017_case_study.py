@@ -31,7 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import pinwind  # noqa: E402
-from pinwind.scenario import load_scenario, run  # noqa: E402
+from pinwind.runs.scenario import load_scenario, run  # noqa: E402
 from pinwind.units import rad_s_to_rpm  # noqa: E402
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"

@@ -15,8 +15,10 @@ from pinwind.model.builders import (
     compound_planetary_urdf,
     cylinder_inertia,
     planetary_urdf,
+    read_stage_file,
     shift_sum_for_centre_distance,
     split_shaft_pair_urdf,
+    stages_urdf,
 )
 from pinwind.model.gearbox import load
 
@@ -195,12 +197,24 @@ def dtu500_planetary() -> str:
     return with_bearings(text, DTU500_BEARINGS)
 
 
+# --- NREL 5 MW reference gearbox (Nejad et al. 2016), from its stage file ---------------------
+
+
+def nrel5mw_gearbox() -> str:
+    """Three stages, sixteen bearings, rotor and generator of ``nrel5mw_gearbox.toml``."""
+    name, stages, bodies = read_stage_file(HERE / "nrel5mw_gearbox.toml")
+    return stages_urdf(
+        stages, name=name, end_bodies=bodies, source="pinwind build stages nrel5mw_gearbox.toml"
+    )
+
+
 MODELS: dict[str, Callable[[], str]] = {
     "saleh2017_planetary.urdf": saleh2017_planetary,
     "saleh2017_drivetrain.urdf": saleh2017_drivetrain,
     "cart600_gearbox.urdf": cart600_gearbox,
     "cai_spur_pair.urdf": cai_spur_pair,
     "dtu500_planetary.urdf": dtu500_planetary,
+    "nrel5mw_gearbox.urdf": nrel5mw_gearbox,
 }
 
 

@@ -18,8 +18,8 @@ if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
     from pinwind.errors import PinwindError
     from pinwind.io.log_reader import read_log
-    from pinwind.io.run import simulate
     from pinwind.model.gearbox import Gearbox, load
+    from pinwind.runs.run import simulate
 else:
     __getattr__, __dir__ = lazy_exports(__name__)
 

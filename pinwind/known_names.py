@@ -2,8 +2,8 @@
 
 A misspelt name must not be ignored: ``<bearing joint="sun" radial_stifness="1e9"/>`` would
 leave the bearing rigid, ``[fatigue] duraton = 600`` would run the default 30 s, and nothing would
-say so. Every reader of a file (``model/urdf.py``, ``scenario.py``,
-``life/fatigue_set_file.py``) names what it takes and hands the names it found to
+say so. Every reader of a file (``model/urdf.py``, ``runs/scenario.py``,
+``runs/fatigue_set_file.py``) names what it takes and hands the names it found to
 `unknown_name`; the first one it does not take is refused in the reader's own error, with the
 nearest known name (difflib's ratio, as Python's own "did you mean" does) and the whole list.
 The TOML files (scenarios and fatigue sets) share one check of a table's keys, `check_keys`,

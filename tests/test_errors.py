@@ -69,7 +69,7 @@ ERRORS = _error_classes()
 
 def test_the_error_classes_are_found_in_every_module():
     names = {cls.__name__ for cls in ERRORS}
-    # One from errors.py, one from scenario.py, one from gears/contact.py, one from io/.
+    # One from errors.py, one from runs/scenario.py, one from gears/contact.py, one from io/.
     assert {"Diverged", "ScenarioError", "ContactRatioBelowOne", "UnknownChannel"} <= names
     assert len(ERRORS) >= 45
 

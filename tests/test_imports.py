@@ -19,10 +19,6 @@ PINWIND = Path(__file__).resolve().parents[1] / "pinwind"
 #: Imports (module, imported module) left out of the check until their cycle is fixed, each with
 #: who fixes it; the packages they would also import are left out with them.
 KNOWN_EDGES: set[tuple[str, str]] = set()
-#: Imports between packages (importer, imported) left out of the package check until their loop
-#: is fixed: io's run, report and panels read analysis, whose spectrum and sweeps read logs and
-#: scenarios through io (issue 37 item 1: a runs/ layer above io and analysis).
-KNOWN_PACKAGE_EDGES: set[tuple[str, str]] = {("pinwind.io", "pinwind.analysis")}
 
 
 def package_modules(root: Path, package: str) -> dict[str, Path]:
@@ -99,7 +95,7 @@ def import_graph(
 def package_graph(graph: dict[str, set[str]], package: str) -> dict[str, set[str]]:
     """Each subpackage or top-level module of ``package`` → those its modules import.
 
-    ``pinwind.io.log_reader`` counts as ``pinwind.io``, ``pinwind.scenario`` as itself; the
+    ``pinwind.io.log_reader`` counts as ``pinwind.io``, ``pinwind.units`` as itself; the
     package's own ``__init__`` (the top-level exports) is left out.
     """
     depth = package.count(".") + 2
@@ -154,11 +150,33 @@ def test_pinwind_packages_import_without_a_loop() -> None:
     # A loop of packages whose modules form no cycle (a imports b.x, b.y imports a.z) is still
     # two layers that each need the other (issue 37).
     graph = package_graph(import_graph(PINWIND, "pinwind"), "pinwind")
-    for importer, imported in KNOWN_PACKAGE_EDGES:
-        graph[importer].discard(imported)
     assert {"pinwind.dynamics", "pinwind.modes"} <= graph["pinwind.cli"]  # the walk found them
     cycle = find_cycle(graph)
     assert cycle is None, "package loop: " + " -> ".join(cycle or [])
+
+
+def test_analysis_imports_no_logs_scenarios_runs_or_fatigue() -> None:
+    # analysis/ is computation on Results and arrays: reading logs is io's, running scenarios,
+    # sweeps and fatigue sets is runs', and life/ sits above it (issue 37 item 1).
+    graph = package_graph(import_graph(PINWIND, "pinwind"), "pinwind")
+    assert "pinwind.dynamics" in graph["pinwind.analysis"]  # the walk found its imports
+    above = {"pinwind.io", "pinwind.runs", "pinwind.life"}
+    assert graph["pinwind.analysis"] & above == set()
+
+
+def test_life_reads_no_scenario_and_runs_no_case() -> None:
+    # A fatigue set's file and its cases' runs are runs/fatigue_set_file.py and
+    # runs/case_runner.py; life/ computes on the histories they give it.
+    graph = package_graph(import_graph(PINWIND, "pinwind"), "pinwind")
+    assert "pinwind.analysis" in graph["pinwind.life"]
+    assert "pinwind.runs" not in graph["pinwind.life"]
+
+
+def test_only_the_checks_and_the_command_line_import_the_runs() -> None:
+    # runs/ is the top of the library: the run with its observers, scenarios, the executor.
+    graph = package_graph(import_graph(PINWIND, "pinwind"), "pinwind")
+    importers = {package for package, imported in graph.items() if "pinwind.runs" in imported}
+    assert importers == {"pinwind.testing", "pinwind.cli"}
 
 
 def test_the_run_imports_nothing_of_the_modes() -> None:

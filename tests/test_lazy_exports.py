@@ -30,6 +30,7 @@ LAZY_PACKAGES = (
     "pinwind.io",
     "pinwind.loads",
     "pinwind.modes",
+    "pinwind.runs",
     "pinwind.testing",
 )
 

@@ -1,6 +1,6 @@
 """What a design sweep needs from one kind of stage (planetary, parallel): the `StageDesign` base.
 
-The sweep (`pinwind.analysis.sweep`) runs every design the same way, whatever its kind:
+The sweep (`pinwind.runs.sweep`) runs every design the same way, whatever its kind:
 
 1. ``design.check(settings)``: geometry findings (`pinwind.gears.checks`), recorded in the row;
 2. ``design.urdf(settings)``: the model file (`pinwind.model.builders`), loaded by pinwind;

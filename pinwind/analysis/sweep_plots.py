@@ -54,7 +54,7 @@ def plot_sweep(rows: list[dict], out_dir: Path) -> list[Path]:
     """
     import matplotlib
 
-    from pinwind.analysis.sweep import stage_of
+    from pinwind.analysis.sweep_table import stage_of
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -26,10 +26,10 @@ from pinwind.cli.app import (
 
 if TYPE_CHECKING:
     from pinwind.life.bearing_life import BearingLife
-    from pinwind.life.case_runner import FatigueRun
     from pinwind.life.damage_convergence import DamageDtCheck
     from pinwind.life.fatigue_set import FatigueSet
     from pinwind.life.set_damage import GearDamage, SetDamage
+    from pinwind.runs.case_runner import FatigueRun
 
 
 @app.command()
@@ -74,13 +74,13 @@ def fatigue(
         TimeRemainingColumn,
     )
 
-    from pinwind.analysis.sweep import check_workers
     from pinwind.errors import InputError
     from pinwind.io.folders import folder_problem
-    from pinwind.life.case_runner import run_cases
-    from pinwind.life.fatigue_set_file import load_fatigue_set
     from pinwind.life.set_bearing_life import set_bearing_lives
     from pinwind.life.set_damage import set_damage
+    from pinwind.runs.case_runner import run_cases
+    from pinwind.runs.executor import check_workers
+    from pinwind.runs.fatigue_set_file import load_fatigue_set
 
     check_workers(workers)
     if figures is not None and (problem := folder_problem(figures)) is not None:
@@ -149,7 +149,7 @@ def fatigue(
             plot_load_spectra,
             plot_range_cycles,
         )
-        from pinwind.life.set_load_spectra import set_load_spectra, write_load_spectra_csv
+        from pinwind.runs.set_load_spectra import set_load_spectra, write_load_spectra_csv
 
         level = _reference_level(damage)
         spectra = set_load_spectra(fset, level)

@@ -1,8 +1,8 @@
 """The flags of the commands that run: their text as scenario values, and their shared options.
 
 Units at this edge are the ones drivetrain engineers type: N·m, rpm, µm, Hz. The flags become the
-values of a scenario file (``pinwind/scenario.py``), which builds the run from them; errors in the
-text of a flag name the flag.
+values of a scenario file (``pinwind/runs/scenario.py``), which builds the run from them; errors
+in the text of a flag name the flag.
 """
 
 from __future__ import annotations
@@ -201,7 +201,7 @@ def position_error_values(items: list[str] | None) -> dict[str, list[float]]:
 
 def parse_position_errors(items: list[str] | None) -> dict[str, tuple[float, float]]:
     """``--position-error`` options → (tangential, radial) errors [m], as a run takes them."""
-    from pinwind import scenario as sc
+    from pinwind.runs import scenario as sc
 
     values = {"model": "", "position_error": position_error_values(items)}
     return dict(sc.build(values, flags=FLAGS).position_errors)

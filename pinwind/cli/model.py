@@ -132,6 +132,43 @@ def build_planetary(
     say(f"wrote {escape(str(path))}")
 
 
+@build_app.command("stages")
+def build_stages(
+    stage_file: Annotated[
+        Path,
+        typer.Argument(
+            help="Stage file (TOML): [[stage]] tables (planetary or parallel), their "
+            "[[stage.bearing]] and [[end_body]] (rotor, generator); see "
+            "pinwind.model.builders.stage_file."
+        ),
+    ],
+    output: Annotated[Path | None, typer.Option("--output", "-o", help="Output URDF file.")] = None,
+) -> None:
+    """Write a gearbox of any sequence of stages joined by named shafts, from a stage file.
+
+    Each stage has its own module, helix angle, face width, working centre distance, profile
+    shifts (ISO 21771 sign) and tip alterations; its gears must mesh at that centre distance
+    (ISO 21771 involute function). Output: the stage file's name with .urdf by default.
+    """
+    from pinwind.model.builders.stage_file import read_stage_file
+    from pinwind.model.builders.stages import stages_urdf
+
+    name, stages, bodies = read_stage_file(stage_file)
+    path = output if output is not None else stage_file.with_suffix(".urdf")
+    with warnings_as_lines():
+        text = stages_urdf(
+            stages, name=name, end_bodies=bodies, source=f"pinwind build stages {stage_file.name}"
+        )
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as err:
+        raise InputError(
+            f"cannot write the model to {path}: {err.strerror or err}; choose another --output "
+            "or fix the folder's permissions"
+        ) from err
+    say(f"wrote {escape(str(path))}")
+
+
 def _per_stage(
     option: str, values: list[float] | None, to_si: float, stages: int
 ) -> float | list[float] | None:

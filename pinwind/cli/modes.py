@@ -79,7 +79,7 @@ def _machine(
 
     flags = mesh_values(mesh)
     if path.suffix.lower() == ".toml":
-        from pinwind.scenario import load_scenario
+        from pinwind.runs.scenario import load_scenario
 
         scenario = load_scenario(path)
         gearbox = scenario.load_model()

@@ -73,11 +73,11 @@ def rate(
     defaults (``IsoFactors``, ``AgmaFactors`` set them all from Python).
     """
     import pinwind
-    from pinwind import scenario as sc
     from pinwind.analysis.rating import rate as rate_result
     from pinwind.analysis.rating_table import rating_tables
     from pinwind.gears.rating_agma import AgmaFactors
     from pinwind.gears.rating_iso import IsoFactors
+    from pinwind.runs import scenario as sc
 
     if not (math.isfinite(application_factor) and application_factor > 0):
         raise InputError(

@@ -1,6 +1,6 @@
 """``pinwind simulate`` and ``pinwind run``: a run from flags, a scenario file or a log.
 
-Both build one ``Scenario`` (``pinwind/scenario.py``), run it, log it to MCAP (``logs/`` by
+Both build one ``Scenario`` (``pinwind/runs/scenario.py``), run it, log it to MCAP (``logs/`` by
 default) and print speeds, mesh forces, bearing reactions and load sharing.
 """
 
@@ -188,8 +188,8 @@ def simulate(
 ) -> None:
     """Simulate a gearbox model, log it to MCAP, print speeds, mesh forces, bearing reactions."""
     import pinwind
-    from pinwind import scenario as sc
-    from pinwind.io.run import log_path
+    from pinwind.runs import scenario as sc
+    from pinwind.runs.run import log_path
 
     _check_dt_options(check_dt, check_window, as_json, out)
     values: dict[str, Any] = {"model": str(model), "duration": duration, "dt": dt}
@@ -240,11 +240,11 @@ def _run_and_report(
     """Run a scenario and print its tables (``simulate`` and ``run``)."""
     import numpy as np
 
-    from pinwind import scenario as sc
     from pinwind.analysis import load_sharing
     from pinwind.analysis.summary import summary_tables
     from pinwind.dynamics.dt_advice import dt_advice
     from pinwind.dynamics.integrator import Integrator
+    from pinwind.runs import scenario as sc
 
     before = _stamp(log) if log is not None else None
     previous = signal.signal(signal.SIGTERM, raise_terminated)
@@ -348,8 +348,8 @@ def _check_dt_and_report(
     """Rerun a scenario at dt, dt/2 and dt/4 and print the convergence table (``--check-dt``)."""
     import json
 
-    from pinwind.analysis.convergence import check_dt
     from pinwind.analysis.summary import PLAIN_BOX, TERMINAL_BOX
+    from pinwind.runs.dt_check import check_dt
 
     if check_joints:
         scenario.check_joints(list(gearbox.joint_names), list(gearbox.locked_joints))
@@ -452,8 +452,8 @@ def run_scenario(
 ) -> None:
     """Run a scenario file, or repeat a logged run with --from-log LOG."""
     import pinwind
-    from pinwind import scenario as sc
-    from pinwind.io.run import log_path
+    from pinwind.runs import scenario as sc
+    from pinwind.runs.run import log_path
 
     if (scenario_file is None) == (from_log is None):
         raise InputError("give a scenario file or --from-log LOG (one of them)")

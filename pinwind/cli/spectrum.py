@@ -53,7 +53,7 @@ def spectrum(
     A peak's amplitude is that of the sinusoid A sin(2πft) of the same power, in the series' SI
     unit. Mesh frequency = teeth × speed relative to the line of centres (the carrier).
     """
-    from pinwind.analysis.spectrum import spectrum_of_log, write_figure
+    from pinwind.io.log_spectrum import spectrum_of_log, write_figure
 
     with warnings_as_lines():
         report = spectrum_of_log(

@@ -104,20 +104,21 @@ def sweep_planetary(
     An interrupted sweep keeps its finished rows in OUTPUT.partial.jsonl; running the same
     command again computes only the missing designs.
     """
-    from pinwind.analysis import sweep as sw
+    from pinwind.analysis.sweep_design import SweepSettings
+    from pinwind.analysis.sweep_planetary import TABLE_5_INCLUDE, enumerate_planetary
 
     window = _range(ratio, "--ratio")
     extra = _include(include)
     if not extra and not no_include and window[0] == 6.0:
-        extra = list(sw.TABLE_5_INCLUDE)
-    designs = sw.enumerate_planetary(
+        extra = list(TABLE_5_INCLUDE)
+    designs = enumerate_planetary(
         [a * 1e-3 for a in _numbers(center_distance, "--center-distance", "mm")],
         [m / 1e3 for m in _numbers(module, "--module", "mm")],
         ratio_window=window,
         planets=planets,
         include=extra,
     )
-    settings = sw.SweepSettings(
+    settings = SweepSettings(
         input_torque=torque,
         input_speed=carrier_speed * RAD_S_PER_RPM,
         pressure_angle=math.radians(pressure_angle),
@@ -150,11 +151,12 @@ def _run_sweep(designs, settings, *, note: str, output: Path, workers, scheduler
     """
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
 
-    from pinwind.analysis import sweep as sw
+    from pinwind.analysis.sweep_table import read_checkpoint, read_table, write_table
+    from pinwind.runs.sweep import run_sweep
 
     checkpoint = output.with_name(output.name + ".partial.jsonl")
-    done = sw.read_table(output) if output.exists() else []
-    done += sw.read_checkpoint(checkpoint)
+    done = read_table(output) if output.exists() else []
+    done += read_checkpoint(checkpoint)
     console.print(
         f"{len(designs)} designs; {note}"
         + (f"; {len(done)} rows from an earlier run" if done else "")
@@ -162,11 +164,11 @@ def _run_sweep(designs, settings, *, note: str, output: Path, workers, scheduler
     columns = (BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
     with Progress(*columns, console=err_console, transient=True) as bar:
         task = bar.add_task("designs", total=len(designs))
-        run = sw.run_sweep(
+        run = run_sweep(
             designs, settings, workers=workers, scheduler=scheduler, checkpoint=checkpoint,
             done=done, progress=lambda n, total: bar.update(task, completed=n),
         )  # fmt: skip
-    sw.write_table(run.rows, output)
+    write_table(run.rows, output)
     checkpoint.unlink(missing_ok=True)
     failed = [r for r in run.rows if r["status"] != "ok"]
     console.print(
@@ -222,18 +224,19 @@ def sweep_parallel(
     The default load is the 1.4 MW case's second stage: 1 MN·m / 6 at 85.2 rpm. An interrupted
     sweep keeps its rows in OUTPUT.partial.jsonl; the same command again computes only the rest.
     """
-    from pinwind.analysis import sweep as sw
+    from pinwind.analysis.sweep_design import SweepSettings
+    from pinwind.analysis.sweep_parallel import enumerate_parallel
 
     window = _range(ratio, "--ratio")
     alpha = math.radians(pressure_angle)
-    designs = sw.enumerate_parallel(
+    designs = enumerate_parallel(
         [a * 1e-3 for a in _numbers(center_distance, "--center-distance", "mm")],
         [m / 1e3 for m in _numbers(module, "--module", "mm")],
         ratio_window=window,
         pressure_angle=alpha,
         helix_angle=math.radians(helix_angle),
     )
-    settings = sw.SweepSettings(
+    settings = SweepSettings(
         input_torque=torque,
         input_speed=input_speed * RAD_S_PER_RPM,
         pressure_angle=alpha,
@@ -289,21 +292,21 @@ def sweep_query(
     ] = None,
 ) -> None:
     """Pick designs (Saleh 2017 eq. 41): centre distance ∪ ratio ∪ module ∪ SF, maybe minimised."""
-    from pinwind.analysis import sweep as sw
+    from pinwind.analysis.sweep_table import best_found, query, read_table, stage_of
 
     columns = {"center-distance": "centre_distance_mm", "centre-distance": "centre_distance_mm",
                "module": "module_mm", "ratio": "ratio"}  # fmt: skip
-    table_rows = sw.read_table(table)
+    table_rows = read_table(table)
     distance_m = None if center_distance is None else center_distance * 1e-3
     module_m = None if module is None else module * 1e-3
-    rows = sw.query(
+    rows = query(
         table_rows, centre_distance=distance_m, ratio=ratio, ratio_tolerance=ratio_tolerance,
         module=module_m, min_sf=min_sf, sf_column=sf,
         minimise=columns.get(minimise, minimise) if minimise else None,
     )  # fmt: skip
     if not rows:
         console.print("no design satisfies every criterion; each alone finds:", highlight=False)
-        found = sw.best_found(
+        found = best_found(
             table_rows, centre_distance=distance_m, ratio=ratio, ratio_tolerance=ratio_tolerance,
             module=module_m, min_sf=min_sf, sf_column=sf,
         )  # fmt: skip
@@ -312,7 +315,7 @@ def sweep_query(
         raise typer.Exit(code=1)
     for r in rows:
         console.print(
-            f"#{int(r['number'])}: {sw.stage_of(r).describe(r)}, AGMA SF min "
+            f"#{int(r['number'])}: {stage_of(r).describe(r)}, AGMA SF min "
             f"{float(r['agma_SF_min']):.2f}, ISO S min {float(r['iso_S_min']):.2f}",
             highlight=False,
         )
@@ -326,8 +329,8 @@ def sweep_plot(
     ),
 ) -> None:
     """PNG plots of a sweep (planetary or parallel) against the module (Saleh 2017 Figs. 14-19)."""
-    from pinwind.analysis.sweep import read_table
     from pinwind.analysis.sweep_plots import plot_sweep
+    from pinwind.analysis.sweep_table import read_table
 
     for path in plot_sweep(read_table(table), out_dir):
         console.print(f"wrote {path}")

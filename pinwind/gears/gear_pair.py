@@ -52,6 +52,8 @@ class GearPair:
         root_radius_coefficient: ρ_fP* of the basic rack [-] (ISO 53 profile A: 0.38).
         internal_1: gear 1 is an internal (ring) gear: a model's mesh in its own order
             (`from_gears`); the ratings and the ISO stiffness want it as gear 2 (`from_mesh`).
+        tip_alteration_1, tip_alteration_2: tip alteration k·m_n of each gear [m], negative for
+            a shortened tip (ISO 21771; `involute.tip_radius`).
 
     Raises:
         InvalidGearTrain: a non-positive tooth count, module or face width, or two internal
@@ -74,6 +76,8 @@ class GearPair:
     dedendum_coefficient: float = 1.25
     root_radius_coefficient: float = 0.38
     internal_1: bool = False
+    tip_alteration_1: float = 0.0
+    tip_alteration_2: float = 0.0
 
     def __post_init__(self) -> None:
         if self.teeth_1 <= 0 or self.teeth_2 <= 0:
@@ -93,6 +97,8 @@ class GearPair:
             ("profile shift x2", self.profile_shift_2),
             ("helix angle", self.helix_angle),
             ("pressure angle", self.pressure_angle),
+            ("tip alteration 1", self.tip_alteration_1),
+            ("tip alteration 2", self.tip_alteration_2),
         ):
             if not math.isfinite(value):
                 raise InvalidGearTrain(f"{label}: the {what} is {value}; give a finite number")
@@ -143,6 +149,8 @@ class GearPair:
             material_1=chosen.get(a.name, DEFAULT_MATERIAL),
             material_2=chosen.get(b.name, DEFAULT_MATERIAL),
             names=(a.name, b.name),
+            tip_alteration_1=a.tip_alteration,
+            tip_alteration_2=b.tip_alteration,
         )
 
     def reversed(self) -> GearPair:
@@ -158,6 +166,8 @@ class GearPair:
             material_1=self.material_2,
             material_2=self.material_1,
             names=(self.names[1], self.names[0]),
+            tip_alteration_1=self.tip_alteration_2,
+            tip_alteration_2=self.tip_alteration_1,
         )
 
     def require_external_gear_1(self, method: str) -> None:
@@ -192,7 +202,7 @@ class GearPair:
 
     @cached_property
     def path(self) -> PathOfContact:
-        """Path of contact (contact ratios), tips unshortened (`path_of_contact`)."""
+        """Path of contact (contact ratios), tips with their tip alteration (`path_of_contact`)."""
         return self.path_of_contact()
 
     def path_of_contact(
@@ -201,7 +211,7 @@ class GearPair:
         """Path of contact of the pair (`contact.path_of_contact`).
 
         Args:
-            tip_radius_1: tip radius of gear 1 [m]; default `tip_radius` (no tip shortening).
+            tip_radius_1: tip radius of gear 1 [m]; default `tip_radius` (its tip alteration).
             tip_radius_2: tip radius of gear 2 [m]; the same.
 
         Raises:
@@ -271,14 +281,16 @@ class GearPair:
         raise ValueError(f"a gear pair has gears 1 and 2, not {gear!r}")
 
     def tip_radius(self, gear: int) -> float:
-        """Tip radius without tip shortening [m] (`involute.tip_radius`); inner one if internal."""
+        """Tip radius with its tip alteration [m] (`involute.tip_radius`); inner one if internal."""
         teeth, shift, internal = self.gear(gear)
+        alteration = self.tip_alteration_1 if gear == 1 else self.tip_alteration_2
         return tip_radius(
-            teeth, self.module, shift, self.helix_angle, internal, self.addendum_coefficient
-        )
+            teeth, self.module, shift, self.helix_angle, internal, self.addendum_coefficient,
+            alteration,
+        )  # fmt: skip
 
     def tip_diameter(self, gear: int) -> float:
-        """Tip diameter without tip shortening, 2 `tip_radius` [m]."""
+        """Tip diameter with the gear's tip alteration, 2 `tip_radius` [m]."""
         return 2.0 * self.tip_radius(gear)
 
     def virtual_teeth(self, gear: int) -> float:

@@ -73,15 +73,23 @@ def tip_radius(
     helix_angle: float,
     internal: bool,
     addendum_coefficient: float,
+    tip_alteration: float = 0.0,
 ) -> float:
-    """Tip radius without tip shortening [m].
+    """Tip radius [m], with the tip alteration k·m_n (0: no tip shortening).
 
-    r ± m_n (h_a* + x), − for an internal gear (its inner radius), x with the ISO 21771 sign
-    (ISO 21771: d_a = d + 2 (z/|z|) m_n (h_aP* + x)). The one implementation, used by
-    `GearPair.tip_radius` (so ``GearPair.path_of_contact``) and ``checks.tip_thickness``.
+    r ± (m_n (h_a* + x) + k m_n), − for an internal gear (its inner radius), x with the ISO
+    21771 sign (ISO 21771: d_a = d + 2 (z/|z|) (h_aP* m_n + x m_n + k m_n)). The tip alteration
+    ``tip_alteration`` = k m_n [m] is negative for a shortened tip (Nejad et al. 2016 Table V:
+    −10.861 mm on the stage-1 sun and planets). Sign convention of x on an internal gear (ISO
+    21771, signed tooth numbers): a positive x moves its tip circle towards the axis (a smaller
+    inner tip diameter) and thickens its teeth on the reference circle, as a positive x thickens
+    an external gear's; Nejad et al. 2016's stage-1 ring, x = −0.501, has
+    d_a = 2520 − 2 · 45 (1 − 0.501) = 2475.09 mm, the paper's 2475.087 mm. The one
+    implementation, used by `GearPair.tip_radius` (so ``GearPair.path_of_contact``) and
+    ``checks.tip_thickness``.
     """
     r = pitch_radius(teeth, module, helix_angle)
-    addendum = module * (addendum_coefficient + profile_shift)
+    addendum = module * (addendum_coefficient + profile_shift) + tip_alteration
     return float(r - addendum if internal else r + addendum)
 
 
@@ -167,7 +175,7 @@ def pair_geometry(
         a_w = m_t (z1 + z2) / 2 · cos α_t / cos α_wt
 
     Without profile shift this is the reference centre distance m (z1 ± z2)/2 of
-    000_3b7c4a8fe52a6eee.txt eq. 38 (r3 = r2 + r5).
+    Saleh et al. 2017 eq. 38 (r3 = r2 + r5).
     """
     z1 = -teeth_1 if internal_1 else teeth_1
     z2 = -teeth_2 if internal_2 else teeth_2

@@ -5,8 +5,8 @@ cycles counted and scaled to the bin's hours over the design life (Tables 1-3), 
 per gear (Table 7), and the same again at each turbulence intensity (Table 8). One load case is
 a wind bin × a turbulence level × a seed (`LoadCase`); the set (`FatigueSet`) holds the bins,
 levels and seeds, the run values every case shares and the curves its gears are rated with.
-It is read from a scenario file (`pinwind.life.fatigue_set_file`), its cases run and reduced
-(`pinwind.life.case_runner`, `pinwind.life.case_cycles`) and rated
+It is read from a scenario file (`pinwind.runs.fatigue_set_file`), its cases run and reduced
+(`pinwind.runs.case_runner`, `pinwind.life.case_cycles`) and rated
 (`pinwind.life.set_damage`).
 
 Cycles are kept, not damage, so that any S-N curve is applied afterwards, and the damage is

@@ -76,6 +76,10 @@ BEARING_TYPES: dict[str, BearingType] = {
                     "ISO 281 §6.2, α = 0: P = F_r"),
         _roller("tapered_roller", 1, 15.0),
         _roller("spherical_roller", 2, 10.0),
+        # A toroidal roller bearing (SKF's CARB) is a non-locating bearing: it takes no axial
+        # load (ISO 281 §6.2 with α = 0, as a cylindrical roller bearing: P = F_r).
+        BearingType("toroidal_roller", ROLLER_EXPONENT, math.inf, 0.0, 1.0, 0.0,
+                    "ISO 281 §6.2, α = 0 (non-locating, CARB): P = F_r"),
     )
 }  # fmt: skip
 

@@ -28,8 +28,9 @@ from pinwind.errors import (
 )
 from pinwind.gears.involute import half_tooth_angle
 from pinwind.known_names import unknown_name
-from pinwind.model.bearing import BearingRating, bearing_rating
+from pinwind.model.bearing import BEARING_TYPES, BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
+from pinwind.model.bearing_rows import BearingRow
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 from pinwind.model.roller_sum import CONTACT_EXPONENTS
 from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
@@ -57,6 +58,9 @@ class GearSpec:
     tooth_phase_given: bool = False
     #: Position error of the gear centre (tangential, radial) [m] (dynamics/compliant.py).
     position_error: tuple[float, float] = (0.0, 0.0)
+    #: Tip alteration k·m_n [m], negative for a shortened tip (ISO 21771; its tip circle and so
+    #: its path of contact, contact ratio and ISO mesh stiffness: `gears.involute.tip_radius`).
+    tip_alteration: float = 0.0
 
     def half_tooth_angle(self, radius: float) -> float:
         """Half the tooth thickness at ``radius`` [m] as an angle about the axis [rad].
@@ -128,6 +132,10 @@ class ModelFile:
     #: Joint name → how its bearing lets the body move (``<bearing radial_stiffness=...>`` or
     #: ``floating="true"``); the others are ideal (revolute joints).
     compliant_bearings: dict[str, BearingCompliance] = field(default_factory=dict)
+    #: Joint name → the rolling bearings (``<row>``) its ``<bearing>`` stands for, each with its
+    #: own position, type, rating and stiffness (``model/bearing_rows.py``); kept for the
+    #: analyses, the step sees the ``<bearing>``'s equivalent compliance only.
+    bearing_rows: dict[str, list[BearingRow]] = field(default_factory=dict)
     visuals: list[VisualSpec] = field(default_factory=list)
     gravity: np.ndarray | None = None
     root_link: str = ""
@@ -438,6 +446,7 @@ _GEAR_ATTRIBUTES = (
     "axis",
     "tooth_phase_deg",
     "position_error_um",
+    "tip_alteration_mm",
 )
 #: The attributes of every ``<mesh>``; a compliant one's are `_COMPLIANCE_ATTRIBUTES`.
 _MESH_ATTRIBUTES = ("name", "gear1", "gear2", "type")
@@ -498,6 +507,7 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             tooth_phase=math.radians(_number(path, el, "tooth_phase_deg", 0.0)),
             tooth_phase_given=el.get("tooth_phase_deg") is not None,
             position_error=_position_error(path, el),
+            tip_alteration=_tip_alteration(path, el, module_mm),
         )
     names = set()
     for el in box.findall("mesh"):
@@ -564,8 +574,11 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         torsion = _bearing_torsion(path, el, joint, out)
         if torsion is not None:
             out.springs.append(torsion)
+        rows = [_bearing_row(path, row, joint) for row in el.findall("row")]
+        if rows:
+            out.bearing_rows[joint] = rows
         rated = any(el.get(a) is not None for a in _BEARING_RATING)
-        if (compliance is None and torsion is None) or rated:
+        if (compliance is None and torsion is None and not rows) or rated:
             rating = _bearing(path, el, out)
             out.bearings[rating.joint] = rating
     supports = box.findall("support")
@@ -844,6 +857,79 @@ def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:
     )  # fmt: skip
 
 
+#: The attributes of a ``<row>`` of a ``<bearing>``: one rolling bearing of the shaft.
+_ROW_ATTRIBUTES = (
+    "name", "type", "position_mm", "rating_c_kN", *_LOAD_FACTORS, "stiffness", "damping",
+    "size_mm",
+)  # fmt: skip
+
+
+def _bearing_row(path: str, el: ET.Element, joint: str) -> BearingRow:
+    """A ``<row>``: one rolling bearing of the joint's shaft (``model/bearing_rows.py``)."""
+    name = _required(path, el, "name")
+    where = f'<bearing joint="{joint}"> <row name="{name}">'
+    kind = _required(path, el, "type").strip().lower()
+    if kind not in BEARING_TYPES:
+        raise MalformedModel(
+            path,
+            where,
+            f'type="{kind}" is not a bearing type; give one of {", ".join(BEARING_TYPES)}',
+        )
+    numbers = {}
+    for attr, count, unit in (
+        ("stiffness", 5, "K_x K_y K_z [N/m] K_β K_γ [N·m/rad]"),
+        ("damping", 5, "c_x c_y c_z [N·s/m] c_β c_γ [N·m·s/rad]"),
+        ("size_mm", 3, "D d B [mm]"),
+    ):
+        raw = el.get(attr)
+        if raw is None:
+            continue
+        try:
+            values = [float(x) for x in raw.split()]
+        except ValueError:
+            values = []
+        if len(values) != count or not all(math.isfinite(v) and v >= 0.0 for v in values):
+            raise MalformedModel(path, where, f'{attr}="{raw}" must be {count} numbers ≥ 0: {unit}')
+        numbers[attr] = values
+    factors = [el.get(a) for a in _LOAD_FACTORS]
+    load_factors = None
+    if any(f is not None for f in factors):
+        if not all(f is not None for f in factors):
+            raise MalformedModel(path, where, "give all four ISO 281 load factors e, y1, x2, y2")
+        load_factors = tuple(_number(path, el, a, where=where) for a in _LOAD_FACTORS)
+    rating = el.get("rating_c_kN")
+    rating_n = None if rating is None else 1e3 * _number(path, el, "rating_c_kN", where=where)
+    if rating_n is not None and rating_n <= 0.0:
+        raise MalformedModel(path, where, f"rating_c_kN = {rating}; must be positive")
+    stiffness = numbers.get("stiffness", [0.0] * 5)
+    damping = numbers.get("damping", [0.0] * 5)
+    size = numbers.get("size_mm")
+    return BearingRow(
+        name=name,
+        kind=kind,
+        position=_number(path, el, "position_mm", 0.0, where=where) * 1e-3,
+        rating=rating_n,
+        stiffness=(stiffness[0], stiffness[1], stiffness[2], stiffness[3], stiffness[4]),
+        damping=(damping[0], damping[1], damping[2], damping[3], damping[4]),
+        load_factors=cast(tuple[float, float, float, float], load_factors),
+        size=None if size is None else (size[0] * 1e-3, size[1] * 1e-3, size[2] * 1e-3),
+    )
+
+
+def _tip_alteration(path: str, el: ET.Element, module_mm: float) -> float:
+    """A ``<gear>``'s ``tip_alteration_mm`` k·m_n in metres; |k| ≤ 1 (a whole addendum)."""
+    k_m_mm = _number(path, el, "tip_alteration_mm", 0.0)
+    if abs(k_m_mm) > module_mm:
+        raise InvalidGearGeometry(
+            path,
+            _describe(el),
+            f"tip_alteration_mm = {k_m_mm:g} is more than a module ({module_mm:g} mm) from 0: "
+            "the tip alteration k·m_n shortens (k < 0) or lengthens a tip by a fraction of the "
+            "addendum; give k·m_n in mm (Nejad et al. 2016 Table V: −10.861 on m_n = 45 mm)",
+        )
+    return k_m_mm * 1e-3
+
+
 def _position_error(path: str, el: ET.Element) -> tuple[float, float]:
     raw = el.get("position_error_um", "0 0")
     try:
@@ -927,7 +1013,11 @@ GEARBOX_ELEMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "gear": (_GEAR_ATTRIBUTES, ()),
     "mesh": (_MESH_ATTRIBUTES + _COMPLIANCE_ATTRIBUTES, ()),
     "torsional_spring": (_SPRING_ATTRIBUTES, ()),
-    "bearing": (_BEARING_ATTRIBUTES + _BEARING_RATING + _BEARING_COMPLIANCE + _BEARING_TORSION, ()),
+    "bearing": (
+        _BEARING_ATTRIBUTES + _BEARING_RATING + _BEARING_COMPLIANCE + _BEARING_TORSION,
+        ("row",),
+    ),
+    "row": (_ROW_ATTRIBUTES, ()),
     "support": (_SUPPORT_ATTRIBUTES, ("mount", "tower_mode")),
     "mount": (_MOUNT_ATTRIBUTES, ()),
     "tower_mode": (_TOWER_MODE_ATTRIBUTES, ()),

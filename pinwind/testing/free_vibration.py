@@ -103,7 +103,7 @@ def modes_in_spectrum(
         CheckFailed: beyond ``rtol``, naming the mode, the joint listened to and the peaks.
         InputError: no mode to check.
     """
-    from pinwind.io.run import simulate  # the run with its observers, as pinwind.simulate
+    from pinwind.runs.run import simulate  # the run with its observers, as pinwind.simulate
 
     held = list(held)
     modes = chosen_modes(gearbox, meshes=meshes, held=held, band=band, count=count)

@@ -6,15 +6,10 @@ import sys
 
 import pytest
 
-from pinwind.analysis.sweep import (
-    ParallelDesign,
-    SweepSettings,
-    enumerate_parallel,
-    evaluate,
-    query,
-    read_table,
-    run_sweep,
-)
+from pinwind.analysis.sweep_design import SweepSettings
+from pinwind.analysis.sweep_parallel import ParallelDesign, enumerate_parallel
+from pinwind.analysis.sweep_table import query, read_table
+from pinwind.runs.sweep import evaluate, run_sweep
 
 CENTRES_MM = (500, 530, 560, 600)
 MODULES_MM = (8, 10, 12)

@@ -381,7 +381,7 @@ def test_a_worker_ignores_ctrl_c_and_is_killed_with_its_parent():
     own KeyboardInterrupt printed a traceback), and Linux kills the worker with its parent."""
     code = (
         "import ctypes, os, signal\n"
-        "from pinwind.analysis.sweep import _worker_started\n"
+        "from pinwind.runs.executor import _worker_started\n"
         "_worker_started(os.getppid())\n"
         "death = ctypes.c_int()\n"
         "ctypes.CDLL(None).prctl(2, ctypes.byref(death), 0, 0, 0)  # PR_GET_PDEATHSIG\n"

@@ -147,7 +147,7 @@ def test_modes_of_the_saleh_drivetrain_scenario_ring_the_rotor_against_the_train
     first = next(m for m in modes if m["frequency_hz"] > 0)
     # The stiffnesses: those of the mesh elements (mean mesh stiffness c_γα b of each pair).
     from pinwind.modes.linearisation import linearise
-    from pinwind.scenario import load_scenario
+    from pinwind.runs.scenario import load_scenario
 
     scenario = load_scenario(MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml")
     gearbox = scenario.load_model()

@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 import pinwind
-from pinwind.analysis.spectrum import spectrum_of_log
 from pinwind.errors import InputError, UnknownElement
+from pinwind.io.log_spectrum import spectrum_of_log
 from tests.conftest import MODELS
 
 CARRIER_RPM = 14.2

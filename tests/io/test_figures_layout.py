@@ -118,7 +118,7 @@ def test_plot_figures_keep_legends_caption_and_units_on_the_page(logged_run, tmp
 
 
 def test_spectrum_figure_keeps_its_markers_and_caption_on_the_page(logged_run, tmp_path, pages):
-    from pinwind.analysis.spectrum import spectrum_of_log, write_figure
+    from pinwind.io.log_spectrum import spectrum_of_log, write_figure
 
     write_figure(spectrum_of_log(logged_run.path, segment=0.1), tmp_path / "spectrum.png")
     _on_the_page_with_units(pages, 1)
@@ -136,7 +136,6 @@ def test_campbell_figure_keeps_its_legend_off_the_axes(tmp_path, pages):
 
 
 def test_fatigue_figures_keep_legends_and_units_on_the_page(logged_run, planetary, tmp_path, pages):
-    from pinwind.life.fatigue_set_file import load_fatigue_set
     from pinwind.life.life_figures import (
         plot_damage_vs_turbulence,
         plot_load_spectra,
@@ -144,6 +143,7 @@ def test_fatigue_figures_keep_legends_and_units_on_the_page(logged_run, planetar
     )
     from pinwind.life.load_spectrum import shaft_spectra
     from pinwind.life.set_damage import set_damage
+    from pinwind.runs.fatigue_set_file import load_fatigue_set
     from tests.conftest import fatigue_toml
     from tests.life.test_set_damage import write_cycles
 
@@ -159,9 +159,9 @@ def test_fatigue_figures_keep_legends_and_units_on_the_page(logged_run, planetar
 
 
 def test_sweep_figures_keep_labels_and_legend_on_the_page(tmp_path, pages):
-    from pinwind.analysis.sweep import SweepSettings, run_sweep
     from pinwind.analysis.sweep_plots import plot_sweep
-    from tests.analysis.test_sweep import _designs
+    from pinwind.runs.sweep import SweepSettings, run_sweep
+    from tests.runs.test_sweep import _designs
 
     rows = run_sweep(_designs()[:3], SweepSettings(), workers=1).rows
     written = plot_sweep(rows, tmp_path)

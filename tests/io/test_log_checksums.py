@@ -11,9 +11,9 @@ from pathlib import Path
 import pytest
 
 import pinwind
-from pinwind import scenario as sc
 from pinwind.errors import LogError, TorquesUnbalanced
 from pinwind.io.log_reader import LogDamaged, LogReader, open_log
+from pinwind.runs import scenario as sc
 from tests.io.conftest import PLANETARY
 
 

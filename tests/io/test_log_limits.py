@@ -16,9 +16,10 @@ import pytest
 import pinwind
 from pinwind.dynamics.simulate import simulate
 from pinwind.errors import LogRecovered, LogTooLargeToWrite, LogWriteFailed, TorquesUnbalanced
-from pinwind.io import log_size, run
+from pinwind.io import log_size
 from pinwind.io.log_reader import LogReader
 from pinwind.io.log_writer import McapLogger
+from pinwind.runs import run
 from tests.io.conftest import CHUNK, DT, DURATION, TORQUES, column_chunks
 from tests.io.test_cli_log import ENV, SIMULATE
 from tests.io.test_log_writer import assert_same_arrays

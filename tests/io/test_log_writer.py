@@ -30,7 +30,7 @@ from pinwind.io import log_writer
 from pinwind.io.log_reader import LogDamaged, LogReader, open_log
 from pinwind.io.log_writer import McapLogger
 from pinwind.io.messages import decode_string
-from pinwind.io.run import log_path
+from pinwind.runs.run import log_path
 from tests.io.conftest import (
     CHUNK,
     DT,

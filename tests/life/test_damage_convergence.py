@@ -15,7 +15,7 @@ from pinwind.life.damage_convergence import (
     DamageDtCheck,
     half_step_set,
 )
-from pinwind.life.fatigue_set_file import load_fatigue_set
+from pinwind.runs.fatigue_set_file import load_fatigue_set
 from tests.conftest import fatigue_toml
 
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.set_damage import set_damage
+from pinwind.runs.fatigue_set_file import load_fatigue_set
 from tests.conftest import fatigue_toml
 from tests.life.test_set_damage import write_cycles
 

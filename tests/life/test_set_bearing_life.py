@@ -9,8 +9,8 @@ from numpy.testing import assert_allclose
 
 from pinwind.life.bearing_life import load_sum_of_history
 from pinwind.life.case_cycles import CaseCycles
-from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.set_bearing_life import set_bearing_lives
+from pinwind.runs.fatigue_set_file import load_fatigue_set
 from tests.conftest import fatigue_toml
 
 RPM = 2.0 * math.pi / 60.0

@@ -15,8 +15,8 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 from pinwind.life.case_cycles import CaseCycles, FlankCycles
-from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.set_damage import set_damage
+from pinwind.runs.fatigue_set_file import load_fatigue_set
 from tests.conftest import fatigue_toml
 
 

@@ -18,7 +18,6 @@ import pinwind
 from pinwind.analysis.rating import rate
 from pinwind.analysis.sweep_planetary import _rating_columns
 from pinwind.dynamics.coordinates import coordinates
-from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.sn_curve import jorgensen_2014_curve
 from pinwind.model.gear_roles import (
     PlanetaryGears,
@@ -29,6 +28,7 @@ from pinwind.model.gear_roles import (
 from pinwind.model.gearbox import loads
 from pinwind.modes.linearisation import linearise
 from pinwind.modes.planetary_modes import planetary_stages
+from pinwind.runs.fatigue_set_file import load_fatigue_set
 from tests.conftest import FATIGUE_MODEL, MODELS, fatigue_toml
 
 NEUTRAL = {"sun": "a", "planet1": "b1", "planet2": "b2", "planet3": "b3", "ring": "c"}

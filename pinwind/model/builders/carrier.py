@@ -46,13 +46,15 @@ def add_carrier(
     gap: float,
     z_mid: float,
     face_width: float,
+    link_name: str = "carrier",
 ) -> None:
     """Carrier link: given mass properties at ``z_mid``, or two steel cheeks around the planets.
 
     The cheeks (thickness ``CARRIER_THICKNESS_FRACTION/2 · face_width`` each, radius ``radius``
-    [m]) sit face to face with the planets, whose faces span ``z_mid ± gap/2`` [m].
+    [m]) sit face to face with the planets, whose faces span ``z_mid ± gap/2`` [m], on link
+    ``link_name``.
     """
-    link = train.link("carrier")
+    link = train.link(link_name)
     t = CARRIER_THICKNESS_FRACTION / 2.0 * face_width
     cheeks = [z_mid - gap / 2.0 - t / 2.0, z_mid + gap / 2.0 + t / 2.0]
     for z in cheeks:

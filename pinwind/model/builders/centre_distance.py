@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+import math
+
 from scipy.optimize import brentq
 
 from pinwind.errors import InvalidGearTrain
-from pinwind.gears.involute import PairGeometry, pair_geometry
+from pinwind.gears.involute import (
+    PairGeometry,
+    involute,
+    pair_geometry,
+    pitch_radius,
+    transverse_pressure_angle,
+)
 
 
 def shift_sum_for_centre_distance(
@@ -16,11 +24,13 @@ def shift_sum_for_centre_distance(
     pressure_angle: float,
     centre_distance: float,
     internal_2: bool = False,
+    helix_angle: float = 0.0,
 ) -> float:
     """Total profile shift x1 + x2 that gives a pair exactly ``centre_distance`` [m].
 
     Solves ``pair_geometry(...).centre_distance = centre_distance`` for x1 + x2 (ISO 21771; for
-    an internal gear 2 the ISO sign convention of ``gears/involute.py``).
+    an internal gear 2 the ISO sign convention of ``gears/involute.py``); ``helix_angle`` β
+    [rad] of a helical pair.
     """
 
     def excess(x_sum: float) -> float:
@@ -31,13 +41,25 @@ def shift_sum_for_centre_distance(
             pressure_angle=pressure_angle,
             profile_shift_1=x_sum,
             internal_2=internal_2,
+            helix_angle=helix_angle,
         )
         return geo.centre_distance - centre_distance
 
-    reference = module * abs(teeth_1 + (-teeth_2 if internal_2 else teeth_2)) / 2.0
+    reference = pitch_radius(
+        abs(teeth_1 + (-teeth_2 if internal_2 else teeth_2)), module, helix_angle
+    )
     span = 2.0 * abs(centre_distance - reference) / module + 0.1
+    low, high = -span, span
+    # inv α_wt = inv α_t + 2 tan α_n (x1 + x2)/(z1 + z2) must stay positive (ISO 21771)
+    z_sum = teeth_1 - teeth_2 if internal_2 else teeth_1 + teeth_2
+    alpha_t = transverse_pressure_angle(pressure_angle, helix_angle)
+    limit = -involute(alpha_t) * z_sum / (2.0 * math.tan(pressure_angle)) * (1.0 - 1e-9)
+    if z_sum > 0:
+        low = max(low, limit)
+    else:
+        high = min(high, limit)
     try:
-        return float(brentq(excess, -span, span, xtol=1e-14))
+        return float(brentq(excess, low, high, xtol=1e-14))
     except ValueError as err:
         raise InvalidGearTrain(
             f"no profile shift puts {teeth_1} and {teeth_2} teeth of module {module * 1e3:g} mm "
@@ -46,9 +68,17 @@ def shift_sum_for_centre_distance(
 
 
 def working_pair(
-    z1: int, z2: int, *, module: float, alpha: float, x1: float, x2: float, internal: bool = False
+    z1: int,
+    z2: int,
+    *,
+    module: float,
+    alpha: float,
+    x1: float,
+    x2: float,
+    internal: bool = False,
+    helix_angle: float = 0.0,
 ) -> PairGeometry:
-    """``pair_geometry`` of a spur pair, or ``InvalidGearTrain`` when it has no working geometry.
+    """``pair_geometry`` of a pair, or ``InvalidGearTrain`` when it has no working geometry.
 
     Args:
         z1, z2: tooth counts (gear 2 internal when ``internal``).
@@ -56,6 +86,7 @@ def working_pair(
         alpha: pressure angle [rad].
         x1, x2: profile shifts, ISO sign convention.
         internal: gear 2 is an internal gear.
+        helix_angle: helix angle β [rad] (0: spur).
     """
     try:
         return pair_geometry(
@@ -66,6 +97,7 @@ def working_pair(
             profile_shift_1=x1,
             profile_shift_2=x2,
             internal_2=internal,
+            helix_angle=helix_angle,
         )
     except ValueError as err:
         kind = "internal" if internal else "external"

@@ -1,6 +1,6 @@
 """Planetary stage with compound (stepped) planets and a fixed ring (``compound_planetary_urdf``).
 
-After the CART 600 kW gearbox (001_2d0e0f624d8db633.txt Table 1): each planet link carries two
+After the CART 600 kW gearbox (IFToMM 2018 Table 1): each planet link carries two
 gears on one shaft, planet A meshing the fixed ring and planet B meshing the sun, in two planes
 along the shaft. Shafts along the world z axis, root link ``housing``, gravity along −y; parallel
 stages after the sun as in ``builders/parallel.py``.
@@ -57,7 +57,7 @@ def compound_planetary_urdf(
 ) -> str:
     """URDF text of a planetary stage with compound (stepped) planets and a fixed ring.
 
-    Each planet link carries two gears on one shaft (001_2d0e0f624d8db633.txt Table 1): planet
+    Each planet link carries two gears on one shaft (IFToMM 2018 Table 1): planet
     A (``planet{i}_a``) meshes the fixed ring in the plane z = 0, planet B (``planet{i}_b``)
     meshes the sun in the plane z_B = ring_face_width/2 + axial_gap + sun_face_width/2. Both
     meshes share the planet centre distance, taken from the ring–A pair. Meshes

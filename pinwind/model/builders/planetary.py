@@ -1,6 +1,6 @@
 """Planetary stage with a fixed ring, plus optional parallel stages (``planetary_urdf``).
 
-After 000_3b7c4a8fe52a6eee.txt §4.1-4.2 (Tables 2-3). Shafts along the world z axis, root link
+After Saleh et al. 2017 §4.1-4.2 (Tables 2-3). Shafts along the world z axis, root link
 ``housing``, gravity along −y:
 
 - ``carrier`` and ``sun``: continuous joints on the housing at the origin.
@@ -138,7 +138,8 @@ def planetary_urdf(
         raise InvalidGearTrain(
             f"ring has {ring} teeth but sun + 2·planet = {sun} + 2·{planet} = {sun + 2 * planet}; "
             "without profile shift the planets only reach from the sun to the ring when "
-            "z_ring = z_sun + 2 z_planet (000_3b7c4a8fe52a6eee.txt §4.1)"
+            "z_ring = z_sun + 2 z_planet (Saleh et al. 2017 §4.1); with profile shifts give them "
+            "(profile_shift), or build the stage with pinwind build stages"
         )
     sun_planet = working_pair(sun, planet, module=module, alpha=alpha, x1=x_sun, x2=x_planet)
     planet_ring = working_pair(
@@ -241,7 +242,7 @@ def _add_pins(
     planet_radius: float,
     face_width: float,
 ) -> None:
-    """Planet pins welded to the carrier at the planet centres (000_3b7c4a8fe52a6eee.txt T. 3).
+    """Planet pins welded to the carrier at the planet centres (Saleh et al. 2017 Table 3).
 
     The visual is a cylinder through both carrier cheeks, of the radius whose solid cylinder has
     the pin's Izz (r = √(2 Izz/m)), capped at half the planet pitch radius.

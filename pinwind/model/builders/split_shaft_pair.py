@@ -30,7 +30,7 @@ def split_shaft_pair_urdf(
 ) -> str:
     """URDF text of a spur pair whose input and output shafts are each split in two halves.
 
-    After 002_bb0c67d52fe8a188.txt §3.4-3.5 (Cai's rig): the two halves of each shaft are joined
+    After Kelso 2011 §3.4-3.5 (Cai's rig): the two halves of each shaft are joined
     by a torsional spring (the RSDA of the seed), so the drive and the brake see the shaft
     compliance. Joints, all continuous on the housing, axes along z:
 

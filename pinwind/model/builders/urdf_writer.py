@@ -14,6 +14,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from pinwind.gears.involute import pitch_radius
+from pinwind.model.bearing_rows import BearingRow, equivalent_bearing
 from pinwind.model.builders.gear_bodies import MassProperties, Part, combine, part_at
 
 #: Gravity of the written models [m/s²] (docs/model_format.md: gravity along −y).
@@ -55,6 +56,7 @@ class TrainGear:
     internal: bool = False
     z: float = 0.0
     helix_angle: float = 0.0
+    tip_alteration: float = 0.0
 
 
 @dataclass
@@ -66,6 +68,18 @@ class TrainSpring:
     joint_2: str
     stiffness: float
     damping: float
+
+
+@dataclass
+class TrainBearing:
+    """The rolling bearings of a joint, positions from the joint [m] (``model/bearing_rows.py``).
+
+    Rendered as one compliant ``<bearing>`` at the joint with the rows' equivalent stiffness and
+    damping (an axial or tilt stiffness that sums to 0 left out: rigid), a ``<row>`` per bearing.
+    """
+
+    joint: str
+    rows: list[BearingRow]
 
 
 @dataclass
@@ -82,6 +96,7 @@ class Train:
     gears: list[TrainGear] = field(default_factory=list)
     meshes: list[tuple[str, str, str]] = field(default_factory=list)
     springs: list[TrainSpring] = field(default_factory=list)
+    bearings: list[TrainBearing] = field(default_factory=list)
 
     def link(self, name: str) -> TrainLink:
         """The link called ``name``, added (empty) the first time."""
@@ -150,6 +165,8 @@ class Train:
             )
             if g.helix_angle:
                 el.set("helix_angle_deg", _num(math.degrees(g.helix_angle)))
+            if g.tip_alteration:
+                el.set("tip_alteration_mm", _num(g.tip_alteration * 1e3))
         for name, gear_1, gear_2 in self.meshes:
             ET.SubElement(box, "mesh", name=name, gear1=gear_1, gear2=gear_2)
         for spring in self.springs:
@@ -162,8 +179,43 @@ class Train:
                 stiffness=_num(spring.stiffness),
                 damping=_num(spring.damping),
             )
+        for bearing in self.bearings:
+            _bearing_element(box, bearing)
         ET.indent(robot, space="  ")
         return '<?xml version="1.0"?>\n' + ET.tostring(robot, encoding="unicode") + "\n"
+
+
+def _bearing_element(box: ET.Element, bearing: TrainBearing) -> None:
+    """``<bearing>`` with the rows' equivalent compliance and one ``<row>`` per rolling bearing."""
+    eq = equivalent_bearing(bearing.rows)
+    el = ET.SubElement(
+        box,
+        "bearing",
+        joint=bearing.joint,
+        radial_stiffness=_num(eq.radial_stiffness),
+        radial_damping=_num(eq.radial_damping),
+    )
+    if eq.axial_stiffness > 0.0:
+        el.set("axial_stiffness", _num(eq.axial_stiffness))
+        el.set("axial_damping", _num(eq.axial_damping))
+    if eq.tilt_stiffness > 0.0:
+        el.set("tilt_stiffness", _num(eq.tilt_stiffness))
+        el.set("tilt_damping", _num(eq.tilt_damping))
+    for row in bearing.rows:
+        attrs = {
+            "name": row.name,
+            "type": row.kind,
+            "position_mm": _num(row.position * 1e3),
+            "stiffness": _vec(row.stiffness),
+            "damping": _vec(row.damping),
+        }
+        if row.rating is not None:
+            attrs["rating_c_kN"] = _num(row.rating * 1e-3)
+        if row.load_factors is not None:
+            attrs.update(zip(("e", "y1", "x2", "y2"), map(_num, row.load_factors), strict=True))
+        if row.size is not None:
+            attrs["size_mm"] = _vec(v * 1e3 for v in row.size)
+        ET.SubElement(el, "row", attrs)
 
 
 def _num(value: float) -> str:

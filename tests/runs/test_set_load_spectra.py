@@ -8,9 +8,9 @@ import numpy as np
 from numpy.testing import assert_allclose
 
 from pinwind import read_log
-from pinwind.life.case_runner import run_cases
-from pinwind.life.fatigue_set_file import load_fatigue_set
-from pinwind.life.set_load_spectra import set_load_spectra, write_load_spectra_csv
+from pinwind.runs.case_runner import run_cases
+from pinwind.runs.fatigue_set_file import load_fatigue_set
+from pinwind.runs.set_load_spectra import set_load_spectra, write_load_spectra_csv
 from tests.conftest import fatigue_toml
 
 

@@ -17,10 +17,10 @@ from numpy.testing import assert_allclose
 import pinwind
 from pinwind.cli import main
 from pinwind.dynamics.result import Result
-from pinwind.scenario import load_scenario
+from pinwind.runs.scenario import load_scenario
 from tests.conftest import MODELS
 
-SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 RPM = 2 * math.pi / 60
 
 
@@ -199,7 +199,7 @@ def test_bad_scenario_gets_one_line_naming_file_key_line_and_choices(
 
 def test_the_rated_scenario_reaches_14_2_rpm_under_1_mnm():
     scenario = load_scenario(SCENARIOS / "saleh2017_rated.toml")
-    from pinwind.scenario import run
+    from pinwind.runs.scenario import run
 
     res = run(scenario, no_log=True, progress=False)
     assert_allclose(res.joint("carrier").speed[-1], 14.2 * RPM, rtol=1e-5)
@@ -298,7 +298,7 @@ def test_each_signal_and_law_of_a_run_is_built_once(tmp_path, monkeypatch, argv,
 )
 def test_every_generator_law_is_logged_under_the_name_it_was_given(law, params):
     from pinwind.loads.generator import describe
-    from pinwind.scenario import build
+    from pinwind.runs.scenario import build
 
     values = {"model": "m.urdf", "generator": {"sun": {"law": law, **params}}}
     logged = describe(build(values, source="case.toml").generators["sun"])

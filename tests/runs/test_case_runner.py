@@ -1,4 +1,4 @@
-"""A fatigue set's cases run (``life/case_runner.py``): a rerun computes only the missing or
+"""A fatigue set's cases run (``runs/case_runner.py``): a rerun computes only the missing or
 damaged cases, and Dask gives the damage of a run in this process."""
 
 from __future__ import annotations
@@ -10,14 +10,14 @@ import pytest
 from numpy.testing import assert_allclose
 
 from pinwind.life.case_cycles import CaseCycles
-from pinwind.life.case_runner import run_cases
-from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.life.set_damage import set_damage
+from pinwind.runs.case_runner import run_cases
+from pinwind.runs.fatigue_set_file import load_fatigue_set
 from tests.conftest import fatigue_toml
 
 
 def test_rerun_computes_only_the_case_whose_log_was_deleted(tmp_path, monkeypatch):
-    import pinwind.life.case_runner as case_runner
+    import pinwind.runs.case_runner as case_runner
 
     calls = []
     original = case_runner.run_case
@@ -70,7 +70,7 @@ def test_a_flipped_byte_in_a_kept_case_file_has_the_case_computed_again_with_a_w
     """A flipped byte in a kept log was reused without a word; one in a kept reduction made
     every rerun fail with BadZipFile, naming no file."""
     from pinwind.errors import CaseFileDamaged
-    from pinwind.life.case_runner import file_sha256
+    from pinwind.runs.case_runner import file_sha256
 
     fset = load_fatigue_set(fatigue_toml(tmp_path))
     run_cases(fset, workers=1)

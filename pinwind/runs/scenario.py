@@ -633,15 +633,15 @@ def run(
         command: the command line to record.
         check_joints: refuse loads on unknown joints here, naming the scenario key (the command
             line leaves that to ``simulate``, whose message names the option).
-        statistics: fold every sample into ``result.statistics`` (``pinwind.io.run.simulate``;
+        statistics: fold every sample into ``result.statistics`` (``pinwind.runs.run.simulate``;
             default: when the Result does not keep every sample).
 
     Returns:
         The ``Result``.
     """
     from pinwind.io.log_writer import POSE_RATE, VIEW_RATE
-    from pinwind.io.run import log_path, simulate
     from pinwind.model.gearbox import load
+    from pinwind.runs.run import log_path, simulate
 
     v = scenario.values
     if gearbox is None:

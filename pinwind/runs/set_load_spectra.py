@@ -40,7 +40,7 @@ def set_load_spectra(
     from pinwind.errors import InputError
     from pinwind.io.log_reader import read_log
     from pinwind.model.gearbox import load
-    from pinwind.scenario import build
+    from pinwind.runs.scenario import build
 
     first = fatigue.cases()[0]
     scenario = build(fatigue.case_values(first), source=fatigue.source, base=fatigue.base)

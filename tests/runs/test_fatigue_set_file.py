@@ -1,4 +1,4 @@
-"""Fatigue set files (``life/fatigue_set_file.py``): the bins' hours, the rotor, the S-N presets,
+"""Fatigue set files (``runs/fatigue_set_file.py``): the bins' hours, the rotor, the S-N presets,
 materials and root tables per gear or role, and bad input refused naming its key."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 from pinwind.dynamics.elements import rotor_power_coefficient
-from pinwind.life.fatigue_set_file import load_fatigue_set
 from pinwind.loads.rotor import JORGENSEN2014_POWER_CURVE, Rotor
-from pinwind.scenario import ScenarioError
+from pinwind.runs.fatigue_set_file import load_fatigue_set
+from pinwind.runs.scenario import ScenarioError
 from tests.conftest import fatigue_toml
 from tests.life.test_set_damage import iso_toml
 

@@ -1,6 +1,6 @@
 """A fatigue set's file: a scenario file (TOML) with a ``[fatigue]`` table, read and checked.
 
-The run keys of any scenario (``pinwind.scenario``: model, dt, rotor, generator, ...) plus a
+The run keys of any scenario (``pinwind.runs.scenario``: model, dt, rotor, generator, ...) plus a
 ``[fatigue]`` table (`load_fatigue_set`, which gives a `pinwind.life.fatigue_set.FatigueSet`)::
 
     [fatigue]
@@ -85,7 +85,7 @@ from pinwind.life.sn_curve import (
     jorgensen_2014_curve,
 )
 from pinwind.model.gear_roles import ROLES, gear_roles, gearbox_planetary_gears
-from pinwind.scenario import ScenarioError, build, key_error, read_toml
+from pinwind.runs.scenario import ScenarioError, build, key_error, read_toml
 
 if TYPE_CHECKING:
     from pinwind.model.gearbox import Gearbox
@@ -173,7 +173,7 @@ class _SetReader:
             raise self.fail(
                 ("fatigue",),
                 "a fatigue set needs a [fatigue] table (module "
-                "pinwind.life.fatigue_set_file says its keys)",
+                "pinwind.runs.fatigue_set_file says its keys)",
             )
         settings = toml_keys(table)
         check_keys(("fatigue",), settings, FATIGUE_KEYS, self.fail)

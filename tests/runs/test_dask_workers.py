@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from pinwind.analysis.dask_workers import WORKER_CONFIG, worker_environment
+from pinwind.runs.dask_workers import WORKER_CONFIG, worker_environment
 
 
 def test_worker_environment_read_by_dask_gives_worker_config():
@@ -28,7 +28,7 @@ def test_local_client_runs_tasks_and_closes_without_logging_an_error(capfd):
     pytest.importorskip("distributed")
     import logging
 
-    from pinwind.analysis.dask_workers import local_client
+    from pinwind.runs.dask_workers import local_client
 
     records: list[logging.LogRecord] = []
     handler = logging.Handler(logging.WARNING)

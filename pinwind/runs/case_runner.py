@@ -26,7 +26,7 @@ from pinwind.life.bearing_life import bearing_load_sums
 from pinwind.life.case_cycles import CaseCycles, case_cycles
 from pinwind.life.fatigue_set import FatigueSet, LoadCase
 from pinwind.life.root_stress import ISO_ROOT_STRESS
-from pinwind.scenario import build
+from pinwind.runs.scenario import build
 
 
 def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
@@ -41,7 +41,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
 
     from pinwind.model.compliance import MeshCompliance
     from pinwind.model.gearbox import load
-    from pinwind.scenario import run
+    from pinwind.runs.scenario import run
 
     start, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
     scenario = build(fatigue.case_values(case), source=fatigue.source, base=fatigue.base)
@@ -187,7 +187,7 @@ def run_cases(
     """
     import os
 
-    from pinwind.analysis.sweep import check_workers, run_tasks
+    from pinwind.runs.executor import check_workers, run_tasks
 
     check_workers(workers)
     start = time.perf_counter()

@@ -8,18 +8,11 @@ import time
 
 import pytest
 
-from pinwind.analysis.sweep import (
-    TABLE_5_INCLUDE,
-    PlanetaryDesign,
-    SweepSettings,
-    enumerate_planetary,
-    evaluate,
-    query,
-    read_checkpoint,
-    read_table,
-    run_sweep,
-)
+from pinwind.analysis.sweep_design import SweepSettings
+from pinwind.analysis.sweep_planetary import TABLE_5_INCLUDE, PlanetaryDesign, enumerate_planetary
+from pinwind.analysis.sweep_table import query, read_checkpoint, read_table
 from pinwind.errors import InputError, SchedulerUnreachable
+from pinwind.runs.sweep import evaluate, run_sweep
 
 # Table 5 of 000_3b7c4a8fe52a6eee.txt, transcribed from the seed text:
 # (#, centre distance [mm], module [mm], sun, planet, ring).
@@ -191,52 +184,3 @@ def test_unreachable_dask_scheduler_fails_at_once_in_one_line():
     with pytest.raises(SchedulerUnreachable, match=f'"tcp://127.0.0.1:{port}": cannot reach'):
         run_sweep(_designs()[:1], SweepSettings(), scheduler=f"tcp://127.0.0.1:{port}")
     assert time.perf_counter() - started < 5.0  # Dask's own retries took 30 s
-
-
-class _Payload:
-    """A task's result whose lifetime a weak reference can watch."""
-
-    def __init__(self, item: int):
-        self.item = item
-
-
-def _payload(item: int) -> _Payload:
-    return _Payload(item)
-
-
-@pytest.mark.parametrize("backend", ["processes", "dask"])
-def test_executor_lets_each_result_go_once_accepted(backend):
-    # Memory flat in the number of items: no result is held after ``accept`` returns.
-    import gc
-    import time
-    import weakref
-
-    from pinwind.analysis.sweep import run_tasks
-
-    refs: list[weakref.ref] = []
-    still_held = []
-
-    def accept(result: _Payload) -> None:
-        # An in-process Dask worker drops its copy when the scheduler's release reaches it, a
-        # moment after ``future.release()``: wait for that (a held result never goes).
-        deadline = time.monotonic() + 5.0
-        while True:
-            gc.collect()
-            held = sum(ref() is not None for ref in refs)
-            if held == 0 or time.monotonic() > deadline:
-                break
-            time.sleep(0.01)
-        still_held.append(held)
-        refs.append(weakref.ref(result))
-
-    items = list(range(6))
-    if backend == "processes":
-        run_tasks(_payload, items, accept=accept, workers=2)
-    else:
-        distributed = pytest.importorskip("distributed")
-        with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                      dashboard_address=None) as cluster:  # fmt: skip
-            with distributed.Client(cluster) as client:
-                run_tasks(_payload, items, accept=accept, scheduler=client)
-    assert len(still_held) == len(items)
-    assert still_held == [0] * len(items)
