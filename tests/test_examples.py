@@ -77,7 +77,12 @@ def test_dtu500_planetary_balances_the_rotor_torque_at_the_generator(tmp_path):
     assert pinwind.read_log(log).mesh_names == res.mesh_names
 
 
-def test_saleh2017_case_study_turns_the_carrier_at_14_2_rpm_and_the_sun_six_times_faster(tmp_path):
+def test_saleh2017_case_study_turns_the_carrier_at_14_2_rpm_and_the_sun_six_times_faster(
+    tmp_path, monkeypatch
+):
+    from tests.io.test_figures_layout import checked_pages, on_the_page_with_units
+
+    pages = checked_pages(monkeypatch)
     out = _load("saleh2017_case_study").main(["--duration", "2", "--out", str(tmp_path)])
     rpm = 2 * math.pi / 60
     planetary, drivetrain = out["planetary"], out["drivetrain"]
@@ -87,6 +92,7 @@ def test_saleh2017_case_study_turns_the_carrier_at_14_2_rpm_and_the_sun_six_time
     assert_allclose(drivetrain.joint("sun").speed, 6 * drivetrain.joint("carrier").speed,
                     rtol=1e-9)  # fmt: skip
     assert len(out["figures"]) == 5 and all(p.stat().st_size > 10_000 for p in out["figures"])
+    on_the_page_with_units(pages, 5)  # legends beside the curves, nothing cut, units on axes
 
 
 def test_dtu500_single_tooth_force_at_the_example_dt_is_within_one_percent_of_dt_over_8():
@@ -162,12 +168,16 @@ def test_kelso_cai_pair_maxima_converge_with_dt_to_the_second_pair_s_engagement(
 
 
 def test_cart600_support_starts_sagged_and_carries_the_power_s_load_from_the_first_sample(
-    tmp_path,
+    tmp_path, monkeypatch
 ):
+    from tests.io.test_figures_layout import checked_pages, on_the_page_with_units
+
+    pages = checked_pages(monkeypatch)
     module = _load("cart600_support")
     duration = 1.0
     results = module.main(["--duration", str(duration), "--figures", str(tmp_path)])
     assert (tmp_path / "cart600_support_psd.png").stat().st_size > 10_000
+    on_the_page_with_units(pages, 2)
     flexible = module.model(flexible=True)
     gearbox_mass = module.gearbox_mass(module.model(flexible=False))
     m = module.TOWER_MASS

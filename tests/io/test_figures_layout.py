@@ -48,9 +48,8 @@ class Page:
         ]
 
 
-@pytest.fixture
-def pages(monkeypatch):
-    """Every figure saved while the test runs, checked as it is saved."""
+def checked_pages(monkeypatch) -> list[Page]:
+    """Every figure saved from now on (``Figure.savefig``), checked as it is saved."""
     seen: list[Page] = []
     real = matplotlib.figure.Figure.savefig
 
@@ -60,6 +59,17 @@ def pages(monkeypatch):
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", checked)
     return seen
+
+
+@pytest.fixture
+def pages(monkeypatch):
+    """Every figure saved while the test runs, checked as it is saved."""
+    return checked_pages(monkeypatch)
+
+
+def on_the_page_with_units(pages: list[Page], at_least: int) -> None:
+    """Every page keeps its artists, its legends off the axes, and its axes say their units."""
+    _on_the_page_with_units(pages, at_least)
 
 
 def _on_the_page_with_units(pages: list[Page], at_least: int) -> None:
