@@ -323,7 +323,7 @@ def figures(results: dict[str, dict[str, pinwind.Result]], folder: Path) -> list
     folder.mkdir(parents=True, exist_ok=True)
     out = []
     for what in ("orbits", "psd"):
-        fig, axes = plt.subplots(2, 2, figsize=(10, 8), constrained_layout=True)
+        fig, axes = plt.subplots(2, 2, figsize=(11, 8), layout="constrained")
         for ax, bearing in zip(axes.flat, SHOWN, strict=True):
             for key, pair in results.items():
                 for name, res in pair.items():
@@ -342,7 +342,10 @@ def figures(results: dict[str, dict[str, pinwind.Result]], folder: Path) -> list
                         ax.set_xlabel("frequency [Hz]")
                         ax.set_ylabel("PSD of the vertical force [N²/Hz]")
             ax.set_title(bearing)
-            ax.legend(fontsize=7)
+        # One legend for the four panels (the same runs in each), beside them: inside a panel
+        # it would hide the orbits; the constrained layout makes room for it.
+        handles, labels = axes.flat[0].get_legend_handles_labels()
+        fig.legend(handles, labels, fontsize=7, loc="outside right upper")
         path = folder / f"cart600_support_{what}.png"
         fig.savefig(path, dpi=120)
         plt.close(fig)

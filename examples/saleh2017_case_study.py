@@ -45,14 +45,17 @@ def simulate(name: str, duration: float, out: Path) -> pinwind.Result:
 def figures(planetary: pinwind.Result, drivetrain: pinwind.Result, out: Path) -> list[Path]:
     paths = []
 
+    def beside(ax):
+        # beside the axes, the constrained layout making room: inside it would hide curves
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
+
     def save(fig, name):
-        fig.tight_layout()
         path = out / name
         fig.savefig(path, dpi=110)
         plt.close(fig)
         paths.append(path)
 
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 6), sharex=True, layout="constrained")
     runs = ((planetary, "planetary, 10 m/s steady"), (drivetrain, "drivetrain, 10 m/s Kaimal 10 %"))
     for res, label in runs:
         top.plot(res.time, res.joint("carrier").torque / 1e6, label=label)
@@ -60,21 +63,21 @@ def figures(planetary: pinwind.Result, drivetrain: pinwind.Result, out: Path) ->
     top.set_ylabel("rotor torque on the hub [MN·m]")
     bottom.set_ylabel("rotor speed [rpm]")
     bottom.set_xlabel("time [s]")
-    top.legend()
+    beside(top)
     top.set_title("like 000 Figs. 5-6: rotor torque and speed")
     save(fig, "fig05_06_rotor.png")
 
-    fig, ax = plt.subplots(figsize=(8, 4))
+    fig, ax = plt.subplots(figsize=(10, 4), layout="constrained")
     for joint in ("carrier", "sun", "planet1", "ring"):
         ax.plot(planetary.time, rad_s_to_rpm(planetary.joint(joint).speed), label=joint)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("angular velocity [rpm]")
     ax.set_title("like 000 Fig. 8: speeds in the planetary stage (planets relative to carrier)")
-    ax.legend()
+    beside(ax)
     save(fig, "fig08_speeds.png")
 
     for quantity, scale, unit, number in (("force", 1e3, "kN", 11), ("moment", 1e3, "kN·m", 12)):
-        fig, ax = plt.subplots(figsize=(8, 4))
+        fig, ax = plt.subplots(figsize=(10, 4), layout="constrained")
         for res, label, style in ((planetary, "planetary", "-"), (drivetrain, "drivetrain", "--")):
             values = getattr(res.bearing("ring"), quantity) / scale
             for axis, name in enumerate("xyz"):
@@ -82,17 +85,17 @@ def figures(planetary: pinwind.Result, drivetrain: pinwind.Result, out: Path) ->
         ax.set_xlabel("time [s]")
         ax.set_ylabel(f"ring reaction {quantity} [{unit}], world axes")
         ax.set_title(f"like 000 Fig. {number}: ring gear reaction {quantity}s (with weight)")
-        ax.legend()
+        beside(ax)
         save(fig, f"fig{number}_ring_{quantity}s.png")
 
-    fig, ax = plt.subplots(figsize=(8, 4))
+    fig, ax = plt.subplots(figsize=(10, 4), layout="constrained")
     for res, label in ((planetary, "planetary"), (drivetrain, "drivetrain")):
         for mesh in ("sun_planet1",):
             ax.plot(res.time, res.mesh(mesh).tangential / 1e3, label=f"{label}: {mesh}")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("tangential force [kN]")
     ax.set_title("like 000 Fig. 13: sun–planet tangential force")
-    ax.legend()
+    beside(ax)
     save(fig, "fig13_tangential_force.png")
     return paths
 

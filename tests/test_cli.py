@@ -236,6 +236,17 @@ def test_implausible_gear_warning_is_one_line_on_stderr():
     assert line.startswith("warning: ") and '<link name="gear2">: axial inertia 0.003' in line
 
 
+def test_a_cause_a_command_meets_twice_is_shown_once(capsys):
+    import pinwind
+    from pinwind.cli.app import SHOWN_WARNINGS, warnings_as_lines
+
+    SHOWN_WARNINGS.clear()  # as main() does for each command
+    for _ in range(2):  # the model loaded for the scenario, then for the run
+        with warnings_as_lines():
+            pinwind.load(MODELS / "cai_spur_pair.urdf")
+    assert capsys.readouterr().err.count('<link name="gear2">') == 1
+
+
 def test_keep_option_is_refused_when_it_is_not_a_choice_or_a_count():
     proc = run("simulate", str(MODELS / "saleh2017_planetary.urdf"), "--no-log", "--keep", "x")
     assert proc.returncode == 2

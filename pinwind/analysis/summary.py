@@ -57,6 +57,16 @@ TERMINAL_BOX = box.SIMPLE_HEAD
 PLAIN_BOX = box.Box("    \n    \n -- \n    \n    \n    \n    \n    \n", ascii=True)
 
 
+def _fixed(value: float, places: int = 4) -> str:
+    """A table number with ``places`` decimals; one that rounds to zero has no sign.
+
+    The speed of a held ring or the torque of a planet's bearing is a solver's rounding
+    (1e-13): "-0.0000" would print the noise's sign as if it were a value.
+    """
+    text = f"{value:.{places}f}"
+    return text.lstrip("-") if float(text) == 0.0 else text
+
+
 def _table(title: str, columns: tuple[str, ...], plain: bool) -> Table:
     """A table whose columns never cut a number: a cell too wide for the console folds."""
     table = Table(
@@ -123,9 +133,9 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             ratio_text = f"{ratio:.6g}" if math.isfinite(ratio) else "-"
         joints.add_row(
             name,
-            f"{rad_s_to_rpm(speed):.4f}",
+            _fixed(rad_s_to_rpm(speed)),
             ratio_text,
-            f"{js.torque[-1] / 1e3:.4f}",
+            _fixed(js.torque[-1] / 1e3),
         )
     tables.append(joints)
     if slides:  # their joint series are a length, a speed along the axis and a force
@@ -138,9 +148,9 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             js = res.joint(name)
             moves.add_row(
                 name,
-                f"{js.angle[-1] * 1e6:.4f}",
-                f"{js.speed[-1] * 1e3:.4f}",
-                f"{js.torque[-1] / 1e3:.4f}",
+                _fixed(js.angle[-1] * 1e6),
+                _fixed(js.speed[-1] * 1e3),
+                _fixed(js.torque[-1] / 1e3),
             )
         tables.append(moves)
 
@@ -161,17 +171,17 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             te = stats.row("mesh", name, "transmission error")
             forces.add_row(
                 name,
-                f"{ms.normal[-1] / 1e3:.4f}",
-                f"{ms.tangential[-1] / 1e3:.4f}",
-                f"{ms.radial[-1] / 1e3:.4f}",
-                f"{ms.axial[-1] / 1e3:.4f}",
+                _fixed(ms.normal[-1] / 1e3),
+                _fixed(ms.tangential[-1] / 1e3),
+                _fixed(ms.radial[-1] / 1e3),
+                _fixed(ms.axial[-1] / 1e3),
                 f"{int(ms.flank[-1]):+d}",
             )
             history.add_row(
                 name,
-                f"{s.min / 1e3:.4f}",
-                f"{s.max / 1e3:.4f}",
-                f"{s.rms / 1e3:.4f}",
+                _fixed(s.min / 1e3),
+                _fixed(s.max / 1e3),
+                _fixed(s.rms / 1e3),
                 f"{max(abs(te.min), abs(te.max)) * 1e6:.2e}",
             )
         tables += [forces, history]
@@ -194,18 +204,18 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
         b = res.bearing(name)
         at_end.add_row(
             name,
-            f"{b.radial[-1] / 1e3:.4f}",
-            f"{b.axial[-1] / 1e3:.4f}",
-            f"{b.tilting[-1] / 1e3:.4f}",
-            f"{b.torque[-1] / 1e3:.4f}",
+            _fixed(b.radial[-1] / 1e3),
+            _fixed(b.axial[-1] / 1e3),
+            _fixed(b.tilting[-1] / 1e3),
+            _fixed(b.torque[-1] / 1e3),
         )
         axial = stats.row("bearing", name, label["axial"])
         peaks.add_row(
             name,
-            f"{stats.row('bearing', name, label['radial']).max / 1e3:.4f}",
-            f"{max(abs(axial.min), abs(axial.max)) / 1e3:.4f}",
-            f"{stats.row('bearing', name, label['tilting']).max / 1e3:.4f}",
-            f"{stats.row('bearing', name, label['force'], '|.|').max / 1e3:.4f}",
+            _fixed(stats.row("bearing", name, label["radial"]).max / 1e3),
+            _fixed(max(abs(axial.min), abs(axial.max)) / 1e3),
+            _fixed(stats.row("bearing", name, label["tilting"]).max / 1e3),
+            _fixed(stats.row("bearing", name, label["force"], "|.|").max / 1e3),
         )
     tables += [at_end, peaks]
 
@@ -219,18 +229,18 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
             torque = res.generator(name).torque
             mean = stats.row("load", f"generator {name}", "torque").mean
             loads.add_row(
-                f"generator {name}", f"{torque[-1] / 1e3:.4f}", f"{mean / 1e3:.4f}",
+                f"generator {name}", _fixed(torque[-1] / 1e3), _fixed(mean / 1e3),
                 "-", "-", "-",
             )  # fmt: skip
         for name in res.rotor_names:
             r = res.rotor(name)
             loads.add_row(
                 f"rotor {name}",
-                f"{r.torque[-1] / 1e3:.4f}",
+                _fixed(r.torque[-1] / 1e3),
                 f"{stats.row('load', f'rotor {name}', 'torque').mean / 1e3:.4f}",
                 f"{r.power[-1] / 1e3:.2f}",
-                f"{r.tip_speed_ratio[-1]:.4f}",
-                f"{r.power_coefficient[-1]:.4f}",
+                _fixed(r.tip_speed_ratio[-1]),
+                _fixed(r.power_coefficient[-1]),
             )
         tables.append(loads)
     return tables

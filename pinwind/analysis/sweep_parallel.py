@@ -77,9 +77,9 @@ class ParallelDesign(StageDesign):
     PLOTS: ClassVar[tuple[tuple[str, str, str, bool], ...]] = (
         ("centre_distance", "centre_distance_mm", "centre distance [mm]", False),
         ("speed_ratio", "ratio", "speed ratio [-]", False),
-        ("contact_sf", "agma_SF_contact", "AGMA S_H wheel/pinion", True),
-        ("bending_sf_min", "agma_SF_bending_min", "AGMA S_F, smaller of the two gears", True),
-        ("iso_sf_min", "iso_S_min", "ISO 6336 smallest S_H, S_F", True),
+        ("contact_sf", "agma_SF_contact", "AGMA S_H wheel/pinion [-]", True),
+        ("bending_sf_min", "agma_SF_bending_min", "AGMA S_F, smaller of the two gears [-]", True),
+        ("iso_sf_min", "iso_S_min", "ISO 6336 smallest S_H, S_F [-]", True),
     )
 
     def identity(self, settings: SweepSettings) -> dict:

@@ -79,11 +79,13 @@ class PlanetaryDesign(StageDesign):
     PLOTS: ClassVar[tuple[tuple[str, str, str, bool], ...]] = (
         ("fig14_centre_distance", "centre_distance_mm", "centre distance [mm]", False),
         ("fig15_speed_ratio", "ratio", "speed ratio [-]", False),
-        ("fig16_contact_sf_sun_planet", "agma_SF_contact_sun_planet", "AGMA S_H sun/planet", True),
-        ("fig17_contact_sf_planet_ring", "agma_SF_contact_planet_ring", "AGMA S_H planet/ring",
+        ("fig16_contact_sf_sun_planet", "agma_SF_contact_sun_planet", "AGMA S_H sun/planet [-]",
          True),
-        ("fig18_bending_sf_min", "agma_SF_bending_min", "AGMA S_F, smallest of all gears", True),
-        ("fig19_iso_sf_min", "iso_S_min", "ISO 6336 smallest S_H, S_F", True),
+        ("fig17_contact_sf_planet_ring", "agma_SF_contact_planet_ring", "AGMA S_H planet/ring [-]",
+         True),
+        ("fig18_bending_sf_min", "agma_SF_bending_min", "AGMA S_F, smallest of all gears [-]",
+         True),
+        ("fig19_iso_sf_min", "iso_S_min", "ISO 6336 smallest S_H, S_F [-]", True),
     )  # fmt: skip
 
     def identity(self, settings: SweepSettings) -> dict:

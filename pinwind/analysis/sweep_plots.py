@@ -65,7 +65,7 @@ def plot_sweep(rows: list[dict], out_dir: Path) -> list[Path]:
     plots = stage_of(rows[0]).PLOTS if rows else ()
     paths = []
     for stem, column, label, unity in plots:
-        fig, ax = plt.subplots(figsize=(7, 4.5))
+        fig, ax = plt.subplots(figsize=(8, 4.5), layout="constrained")
         x = [float(r["module_mm"]) for r in ok]
         y = [float(r[column]) for r in ok]
         passes = [float(r["agma_SF_min"]) > 1.0 for r in ok]
@@ -87,8 +87,7 @@ def plot_sweep(rows: list[dict], out_dir: Path) -> list[Path]:
         ax.set_ylabel(label)
         ax.set_title(f"{label} of the workable designs")
         ax.grid(True, linewidth=0.3)
-        ax.legend(fontsize=7)
-        fig.tight_layout()
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
         path = out_dir / f"{stem}.png"
         fig.savefig(path, dpi=120)
         plt.close(fig)

@@ -55,8 +55,10 @@ def main() -> None:
     # verbs) need every verb.
     module = "app" if verb == "--version" else VERB_MODULES.get(verb, "verbs")
     importlib.import_module(f"pinwind.cli.{module}")
+    from pinwind.cli.app import SHOWN_WARNINGS, err_console
     from pinwind.cli.app import app as application
-    from pinwind.cli.app import err_console
+
+    SHOWN_WARNINGS.clear()
 
     try:
         application()

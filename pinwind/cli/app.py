@@ -89,9 +89,18 @@ def raise_terminated(signum, frame) -> None:
     raise Terminated(f"received {signal.Signals(signum).name}")
 
 
+#: (category, message) of every pinwind warning a command has shown: one cause is shown once,
+#: whichever of the command's steps meets it again (``main`` empties it for each command).
+SHOWN_WARNINGS: set[tuple[type, str]] = set()
+
+
 @contextmanager
 def warnings_as_lines() -> Iterator[None]:
-    """Show pinwind warnings (a recovered log, ...) as one line on stderr."""
+    """Show pinwind warnings (a recovered log, ...) as one line on stderr, each cause once.
+
+    A command may meet one cause several times (the model loaded for the scenario, the run
+    and the log): the same message is shown once (``SHOWN_WARNINGS``).
+    """
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", PinwindWarning)
         try:
@@ -100,6 +109,10 @@ def warnings_as_lines() -> Iterator[None]:
             shown = list(caught)
     for warning in shown:
         if issubclass(warning.category, PinwindWarning):
+            cause = (warning.category, str(warning.message))
+            if cause in SHOWN_WARNINGS:
+                continue
+            SHOWN_WARNINGS.add(cause)
             err_console.print(
                 f"[yellow]warning:[/yellow] {escape(str(warning.message))}", highlight=False
             )

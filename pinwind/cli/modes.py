@@ -304,5 +304,5 @@ def campbell(
                 )
         say(f"wrote {escape(str(csv_out))}")
     if png is not None:
-        write_figure(diagram, str(png), speed_unit=rpm, unit="rpm")
+        write_figure(diagram, str(png))
         say(f"wrote {escape(str(png))}")

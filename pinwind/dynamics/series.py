@@ -300,10 +300,8 @@ _MEANINGS: dict[str, About] = {
                      magnitude=True)),
     "bearing_moment": About("moment", "N*m",
            "moment on the child body about the bearing centre", frame="world",
-           label="moment (world)", short="M world", headline=False,
-           plot=Plot("bearing_moment", "bearings",
-                     "bearing moments |M| about the bearing centre, world [kN·m]", "kN·m",
-                     magnitude=True)),
+           label="moment (world)", short="M world", headline=False),  # not plotted: its |M|
+    # is mostly the shaft's torque, which the bearing does not carry (bearing_tilting, _torque)
     "bearing_force_local": About("force_local", "N",
            "force on the child body at the bearing centre", frame="joint",
            label="force (joint frame)", short="F joint", headline=False),

@@ -7,9 +7,11 @@ seconds on a shared axis. Files are numbered by the group's place in ``GROUPS``.
 says in its caption which model and log it comes from and how the run was made (dt, loads,
 status, pinwind version, model hash), so that a figure pasted in a report keeps its provenance.
 The y ranges follow ``panels.y_range`` (no magnified rounding); colours are distinct within a
-subplot and equal to the replay's; legends sit to the right, outside the data. Series that lie on
-top of each other (identical planets) are drawn with nested widths and dashes, and the legend
-says which coincide. Shafts whose speeds differ by more than ``SPEED_BAND`` get subplots of their
+subplot and equal to the replay's; legends sit to the right, outside the data, and the
+constrained layout keeps them, the titles and the caption on the page (``io/figure_layout.py``).
+The caption gives the loads in the units of the axes (kN·m, rpm). Series that lie on top of each
+other (identical planets) are drawn with nested widths and dashes, and the legend says which
+coincide. Shafts whose speeds differ by more than ``SPEED_BAND`` get subplots of their
 own, so that a fast shaft does not flatten the slow ones. The transmission error of a rigid mesh
 is zero by construction: it is drawn at zero with a note, not its numerical drift.
 """
@@ -27,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.errors import FigureFailed, InputError
+from pinwind.io.figure_layout import caption_below
 from pinwind.io.log_reader import LogReader
 from pinwind.io.overview import DecimatedPanel, PanelOverview, coincident_groups
 from pinwind.io.panels import GROUPS, model_of_log
@@ -59,20 +62,127 @@ def rounded(text: str) -> str:
     return _NUMBER.sub(lambda m: f"{float(m.group()):.4g}", text)
 
 
+#: Keyword arguments of a signal's text that are values of the signal (converted to the
+#: caption's unit); the others are times [s] or frequencies [Hz] and stay as they are.
+_VALUE_KEYWORDS = {"value", "start_value", "end_value", "before", "after", "mean", "amplitude"}
+#: Signals of ``loads/signal_text.py`` whose values are keyword arguments (``_VALUE_KEYWORDS``).
+_SHAPED = {"ramp", "step", "sine"}
+#: SI unit → the unit captions and axes use (``units.to_display``).
+_CAPTION_UNITS = {"N·m": "kN·m", "rad/s": "rpm", "W": "kW", "N": "kN"}
+#: Settings of a rotor, generator or wind in the log (SI) → their SI unit.
+_SETTING_UNITS = {
+    "torque": "N·m",
+    "slope": "N·m·s/rad",
+    "sync_speed": "rad/s",
+    "gain": "N·m·s²",
+    "rated_power": "W",
+    "radius": "m",
+    "inertia": "kg·m²",
+    "air_density": "kg/m³",
+    "pitch": "rad",
+    "mean": "m/s",
+    "amplitude": "m/s",
+    "frequency": "Hz",
+    "voltage": "V",
+    "stator_resistance": "Ω",
+    "rotor_resistance": "Ω",
+    "stator_leakage": "H",
+    "rotor_leakage": "H",
+    "magnetizing": "H",
+    "height": "m",
+}
+
+
+def _number(value: float, unit: str) -> str:
+    """An SI value in the caption's unit for ``unit``, 4 significant digits."""
+    from pinwind.units import to_display
+
+    shown = _CAPTION_UNITS.get(unit, unit)
+    return f"{float(to_display(np.asarray(value, dtype=float), shown)):.4g}"
+
+
+def signal_in_units(text: str, unit: str) -> str:
+    """A signal's text (``loads/signal_text.py``) with its values in the caption's unit.
+
+    ``unit`` is the signal's SI unit (N·m, rad/s); torques are given in kN·m and speeds in rpm,
+    as on the axes: a number, and the value arguments of ``ramp``, ``step``, ``sine``
+    (``start_value``, ``mean``, ...), are converted, times and frequencies kept. A text that is
+    not a signal's (a callable's description) is given as it is, with its SI unit unless it
+    names it.
+    """
+    import ast
+
+    shown = _CAPTION_UNITS.get(unit, unit)
+    try:
+        body = ast.parse(text, mode="eval").body
+    except SyntaxError:
+        body = None
+    terms: list[ast.expr] = []
+    while isinstance(body, ast.BinOp) and isinstance(body.op, ast.Add):
+        terms.insert(0, body.right)
+        body = body.left
+    terms.insert(0, body)  # type: ignore[arg-type]
+
+    def number(node: ast.expr) -> float | None:
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+            value = number(node.operand)
+            return None if value is None else -value
+        constant = node.value if isinstance(node, ast.Constant) else None
+        if isinstance(constant, int | float) and not isinstance(constant, bool):
+            return float(constant)
+        return None
+
+    def converted(node: ast.expr) -> ast.expr | None:
+        """The term in the caption's unit; None when it is not a number or a shaped signal."""
+        value = number(node)
+        if value is not None:
+            return ast.Name(_number(value, unit))  # unparsed as written: 4 significant digits
+        if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)):
+            return None
+        if node.func.id not in _SHAPED or node.args:
+            return None  # a table or a file's channel: values as its file holds them
+        for keyword in node.keywords:
+            value = number(keyword.value)
+            if keyword.arg in _VALUE_KEYWORDS and value is not None:
+                keyword.value = ast.Name(_number(value, unit))
+        return node
+
+    parts = [converted(term) for term in terms]
+    if any(part is None for part in parts):
+        return text if unit in text else f"{text} [{unit}]"
+    return f"{' + '.join(ast.unparse(part) for part in parts if part is not None)} {shown}"
+
+
 def _settings(values: dict[str, Any]) -> str:
-    """A load's settings as ``key value`` pairs (a rotor's radius, a generator's law, ...)."""
-    return ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in values.items())
+    """A load's settings as ``key value unit`` (a rotor's radius, a generator's law, ...).
+
+    Powers in kW, torques in kN·m and speeds in rpm, as on the axes; other settings in SI.
+    """
+    out = []
+    for key, value in values.items():
+        unit = _SETTING_UNITS.get(key)
+        if unit is None or isinstance(value, bool) or not isinstance(value, int | float):
+            out.append(f"{key.replace('_', ' ')} {value}")
+            continue
+        shown = _CAPTION_UNITS.get(unit, unit)
+        out.append(f"{key.replace('_', ' ')} {_number(value, unit)} {shown}")
+    return ", ".join(out)
 
 
 def loads_text(meta: dict[str, Any]) -> list[str]:
-    """Every load of a run as its metadata records them.
+    """Every load of a run as its metadata records them, in the units of the axes.
 
-    Torques, speeds (driven and initial), rotors, generators and the wind.
+    Torques [kN·m], speeds (driven and initial) [rpm], rotors, generators and the wind.
     """
-    loads = [f"{k}: {v}" for k, v in (meta.get("torques") or {}).items()]
-    loads += [f"{k}: speed {v}" for k, v in (meta.get("speeds") or {}).items()]
+    loads = [
+        f"{k}: torque {signal_in_units(v, 'N·m')}" for k, v in (meta.get("torques") or {}).items()
+    ]
     loads += [
-        f"{k}: initial speed {v} rad/s" for k, v in (meta.get("initial_speeds") or {}).items()
+        f"{k}: speed {signal_in_units(v, 'rad/s')}" for k, v in (meta.get("speeds") or {}).items()
+    ]
+    loads += [
+        f"{k}: initial speed {signal_in_units(v, 'rad/s')}"
+        for k, v in (meta.get("initial_speeds") or {}).items()
     ]
     loads += [f"{k}: rotor ({_settings(v)})" for k, v in (meta.get("rotors") or {}).items()]
     loads += [f"{k}: generator ({_settings(v)})" for k, v in (meta.get("generators") or {}).items()]
@@ -158,7 +268,8 @@ def _draw(ax, kept: DecimatedPanel) -> None:
         if len(group) > 1 and any(np.any(panel.series[i].values) for i in group):
             names = [panel.series[i].name for i in group]
             handles.append(Line2D([], [], linestyle="none"))
-            labels.append(f"{together(names)} coincide")
+            # wrapped: one long line would narrow the axes by its whole width
+            labels.append(textwrap.fill(f"{together(names)} coincide", 36))
     for note in panel.notes:
         ax.text(0.01, 0.97, note, transform=ax.transAxes, fontsize=7, va="top", color="0.2")
     ax.set_ylim(low, high)
@@ -335,14 +446,18 @@ def plot_log(
             continue
         rows = len(shown_panels)
         fig, axes = plt.subplots(
-            rows, 1, figsize=(10, 1.0 + 2.3 * rows), sharex=True, squeeze=False
+            rows,
+            1,
+            figsize=(10, 1.0 + 2.3 * rows),
+            sharex=True,
+            squeeze=False,
+            layout="constrained",
         )
         for ax, kept in zip(axes[:, 0], shown_panels, strict=True):
             _draw(ax, kept)
         axes[-1, 0].set_xlabel("time [s]")
         fig.suptitle(f"{meta.get('model_name', '')}: {group}", fontsize=11, x=0.02, ha="left")
-        fig.tight_layout(rect=(0, 0.45 / (1.0 + 2.3 * rows), 1, 1))
-        fig.text(0.01, 0.005, note, fontsize=6.5, va="bottom", ha="left", color="0.25")
+        caption_below(fig, note)
         file = out / f"{number:02d}_{group.replace(' ', '_')}.{format}"
         _save(fig, file, dpi)
         plt.close(fig)

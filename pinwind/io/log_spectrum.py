@@ -29,6 +29,7 @@ from pinwind.analysis.spectrum import (
 )
 from pinwind.dynamics import series as schema
 from pinwind.errors import InputError
+from pinwind.io.figure_layout import caption_below
 from pinwind.io.figures import caption
 from pinwind.io.log_reader import LogReader
 from pinwind.io.panels import model_of_log
@@ -158,7 +159,9 @@ def write_figure(report: SpectrumReport, out: str | os.PathLike, *, dpi: int = 1
 
     names = list(dict.fromkeys(s.series for s in report.spectra))
     rows = len(names)
-    fig, axes = plt.subplots(rows, 1, figsize=(10, 1.2 + 3.0 * rows), sharex=True, squeeze=False)
+    fig, axes = plt.subplots(
+        rows, 1, figsize=(10, 1.2 + 3.0 * rows), sharex=True, squeeze=False, layout="constrained"
+    )
     nyquist = report.sample_rate / 2.0
     for ax, name in zip(axes[:, 0], names, strict=True):
         shown = [s for s in report.spectra if s.series == name]
@@ -192,10 +195,9 @@ def write_figure(report: SpectrumReport, out: str | os.PathLike, *, dpi: int = 1
         f"{report.metadata.get('model_name', '')}: spectra (segment {report.segment:.4g} s, "
         f"Δf = {report.resolution:.4g} Hz)", fontsize=11, x=0.02, ha="left",
     )  # fmt: skip
-    height = 1.2 + 3.0 * rows
-    fig.tight_layout(rect=(0, 0.45 / height, 1, 1))
-    note = caption(report.metadata, report.status, report.path, report.span, None, None)
-    fig.text(0.01, 0.005, note, fontsize=6.5, va="bottom", ha="left", color="0.25")
+    caption_below(
+        fig, caption(report.metadata, report.status, report.path, report.span, None, None)
+    )
     path = Path(out)
     fig.savefig(path, dpi=dpi)
     plt.close(fig)

@@ -394,8 +394,8 @@ def panels(
 
     out: list[Panel] = []
     # Within a group, vectors in world axes after the loads about each element's own axis: a
-    # bearing's radial force, tilting moment and shaft torque before its world |F| and |M|
-    # (whose |M| holds the shaft's torque).
+    # bearing's radial force, tilting moment and shaft torque before its world |F| (its world
+    # |M|, mostly the shaft's torque, is not a bearing load and not drawn).
     for s in sorted(series.schema(), key=lambda s: s.frame == "world"):
         if s.plot is None or s.per == "pose" or (s.family != "run" and not res.names(s.family)):
             continue

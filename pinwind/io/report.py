@@ -24,6 +24,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from pinwind.analysis.run_statistics import STATISTICS, Row, RunningStatistics
+from pinwind.analysis.table_numbers import WIDTH, column_scale, column_texts
 from pinwind.dynamics import series
 from pinwind.dynamics.result import Result
 from pinwind.errors import InputError
@@ -181,8 +182,9 @@ DISPLAY_UNITS = {
 
 #: Statistics of the engineer's table (the final value last, as in ``--all``).
 HEADLINE_STATISTICS = ("min", "max", "mean", "final")
-#: Characters of a number cell (``_short``); with the widest label the tables fit 80 columns.
-NUMBER_WIDTH = 9
+#: Characters of a number cell (``table_numbers.WIDTH``); with the widest label the tables fit
+#: 80 columns.
+NUMBER_WIDTH = WIDTH
 
 
 def _labels() -> dict[str, str]:
@@ -208,18 +210,6 @@ def _in_headline(row: Row, headline: dict[tuple[str, str], bool]) -> bool:
     return not (row.min == 0.0 and row.max == 0.0)
 
 
-def _short(value: float) -> str:
-    """A number in at most ``NUMBER_WIDTH`` (9) characters.
-
-    6 significant digits, or fewer in exponent form (4 when positive, 3 when negative).
-    """
-    text = f"{value:.6g}"
-    if len(text) <= NUMBER_WIDTH:
-        return text
-    text = f"{value:.3e}"
-    return text if len(text) <= NUMBER_WIDTH else f"{value:.2e}"
-
-
 def report_tables(
     res: Result | Report,
     start: float | None = None,
@@ -232,7 +222,9 @@ def report_tables(
 
     Speeds in rpm, forces in kN, torques and moments in kN·m, transmission error in µm, energy
     in kJ; each element's name heads its rows, and each row names its quantity, axis and unit
-    ("F world x [kN]"). ``report_dict`` stays SI. Neither numbers nor labels are ever cut, and
+    ("F world x [kN]"). The numbers of one quantity (every element's, every statistic) share
+    one precision, and its rounding noise prints as 0 (``analysis/table_numbers.py``).
+    ``report_dict`` stays SI. Neither numbers nor labels are ever cut, and
     the tables fit 80 columns.
 
     Args:
@@ -255,12 +247,13 @@ def report_tables(
         ]
         if not members:
             continue
-        cells: list[tuple[str, list[str]]] = []  # (label, numbers); no numbers: an element
+        # (label, the quantity's key, numbers in the display unit); no numbers: an element
+        shown: list[tuple[str, tuple[str, str], list[float]]] = []
         element = None
         for r in members:
             if r.element != element and group != "run":
                 element = r.element
-                cells.append((element, []))
+                shown.append((element, ("", ""), []))
             unit, factor = DISPLAY_UNITS.get(r.unit, (r.unit, 1.0))
             label = labels.get(r.quantity, r.quantity)
             if group == "run" and r.quantity == "energy":
@@ -268,7 +261,17 @@ def report_tables(
             else:
                 axis = f" {r.component}" if r.component else ""
                 text = f"  {label}{axis} [{unit}]"
-            cells.append((text, [_short(getattr(r, stat) * factor) for stat in statistics]))
+            numbers = [getattr(r, stat) * factor for stat in statistics]
+            shown.append((text, (r.quantity, unit), numbers))
+        # One precision per quantity of the table (every element's, every statistic), its
+        # rounding noise as 0 (``analysis/table_numbers.py``).
+        scales: dict[tuple[str, str], float] = {}
+        for _, key, numbers in shown:
+            scales[key] = max(scales.get(key, 0.0), column_scale(numbers))
+        cells = [
+            (text, column_texts(numbers, scales[key]) if numbers else [])
+            for text, key, numbers in shown
+        ]
         table = Table(
             title=escape(f"{title} ({span})"),
             box=PLAIN_BOX if plain else TERMINAL_BOX,

@@ -19,7 +19,7 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     import matplotlib.pyplot as plt
     import matplotlib.ticker
 
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(8.5, 4.5), layout="constrained")
     x = 100 * np.array(damage.intensities)
     colours: dict[str, Any] = {}
     for variant, style in zip(VARIANTS, ("o-", "s:", "^-."), strict=True):
@@ -47,8 +47,8 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     step = max(1, int(np.ceil(len(decades) / 12)))  # at most about 12 labelled decades
     ax.set_yticks([0.0, *(10.0 ** decades[::-1][::step])])
     ax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
-    # Low in the middle: above the zero line, in the decades the ISO 6336 damages usually skip.
-    ax.legend(fontsize=7, ncol=2, loc="center", bbox_to_anchor=(0.5, 0.38))
+    # Beside the axes: a legend inside would hide the damages of some decade.
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(alpha=0.3)
     return _save(fig, path)
 
@@ -75,7 +75,7 @@ def plot_range_cycles(
     import matplotlib.pyplot as plt
 
     gear = gear or damage.gears[0]
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(8.5, 4.5), layout="constrained")
     for speed, bins in zip(damage.speeds, damage.range_cycles[level], strict=True):
         counts = bins.get(gear)
         if counts is None or not np.any(counts):
@@ -87,10 +87,10 @@ def plot_range_cycles(
     if reached.size:
         ax.set_xlim(0.0, 1.1 * RANGE_EDGES[reached[-1] + 1] / 1e6)
     ax.set_xlabel("von Mises contact-stress range [MPa]")
-    ax.set_ylabel("cycles per tooth over the bin's hours, range ≥ x")
+    ax.set_ylabel("cycles per tooth over the bin's hours, range ≥ x [-]")
     ax.set_yscale("log")
     ax.set_title(f"{gear}, turbulence {damage.levels[level]}")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(alpha=0.3)
     return _save(fig, path)
 
@@ -102,7 +102,7 @@ def plot_load_spectra(spectra: list[LoadSpectrum], path: Path, *, title: str = "
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ldd, lrd) = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, (ldd, lrd) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
     for spectrum in spectra:
         if not np.any(spectrum.revolutions):  # a shaft that does not turn has no spectrum
             continue
@@ -116,15 +116,19 @@ def plot_load_spectra(spectra: list[LoadSpectrum], path: Path, *, title: str = "
         ax.set_yscale("log")
         ax.set_title(f"{name} {title}".strip())
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+    # one legend for both (the same shafts), beside the axes: inside it would hide a step
+    lrd.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     return _save(fig, path)
 
 
 def _save(fig: Any, path: Path) -> Path:
-    """Writes a figure at 120 dpi, making its folder, and closes it."""
+    """Writes a figure at 120 dpi, making its folder, and closes it.
+
+    The figure is laid out by its constrained layout (``io/figure_layout.py``): legends beside
+    the axes are kept on the page.
+    """
     import matplotlib.pyplot as plt
 
-    fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)

@@ -11,7 +11,7 @@ import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
-from typing import cast
+from typing import Any, cast
 
 import numpy as np
 import pinocchio as pin
@@ -46,10 +46,29 @@ AXIS_PARALLEL_TOL = 1e-6
 _PRISMATIC = {"JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned"}
 #: Density of the solid steel disc a gear's mass and inertia are compared with [kg/m³].
 STEEL_DENSITY = 7850.0
-#: A gear link's mass or axial inertia this many times above or below that of the steel disc of
-#: its pitch diameter and face width gets an ``ImplausibleGear`` warning (a shaft or a hub adds a
-#: few times the disc's mass; a slip of units is a factor of 1000).
-PLAUSIBLE_FACTOR = 10.0
+#: A gear link's mass or axial inertia more than this many times that of the steel discs of its
+#: gears' pitch diameters and face widths gets an ``ImplausibleGear`` warning: a shaft or a hub
+#: adds a few times the disc's, a generator rotor lumped on the high-speed pinion a few hundred
+#: times its inertia (a 1 t·m² class rotor on a 0.2 m pinion), a slip of units 1000 or more.
+HEAVIEST_LINK = 1000.0
+#: ISO 53 basic rack profile: addendum and dedendum [modules]; the tooth thickness on the
+#: reference line is half the pitch.
+ADDENDUM, DEDENDUM = 1.0, 1.25
+
+
+def teeth_mass_inertia(spec: Any) -> tuple[float, float]:
+    """Mass [kg] and least axial inertia [kg·m²] of a steel external gear's teeth alone.
+
+    ISO 53 basic rack: the teeth fill half the ring between the root circle
+    r_f = r − (1.25 − x) m_n and the tip circle r_a = r + (1 + x) m_n (their thickness is half
+    the pitch on the reference circle), of the face width b; all that mass lies at r_f or
+    beyond, so its inertia is at least m r_f². No gear link weighs less.
+    """
+    r = pitch_radius(spec.teeth, spec.module, spec.helix_angle)
+    root = max(r - (DEDENDUM - spec.profile_shift) * spec.module, 0.0)
+    tip = r + (ADDENDUM + spec.profile_shift) * spec.module
+    mass = 0.5 * STEEL_DENSITY * math.pi * (tip**2 - root**2) * spec.face_width
+    return mass, mass * root**2
 
 
 @dataclass(frozen=True)
@@ -237,7 +256,8 @@ class Gearbox:
         self.slide_joints += list(self.support_slides)
         self._check_axial_inertia()
         self.gears = {name: self._attach(spec) for name, spec in source.gears.items()}
-        #: Plausibility notes (``ImplausibleGear``), issued as warnings by ``load``/``loads``.
+        #: (link, note) of implausible gear links (``ImplausibleGear``), issued as warnings by
+        #: ``load``/``loads``.
         self.warnings = self._implausible_gears()
         self.gravity = (
             source.gravity.copy() if source.gravity is not None else self._default_gravity()
@@ -403,8 +423,14 @@ class Gearbox:
                     "shaft axis (a solid disc: m r²/2)",
                 )
 
-    def _implausible_gears(self) -> list[str]:
-        """Gear links whose mass or axial inertia is far from the steel discs of their gears."""
+    def _implausible_gears(self) -> list[tuple[str, str]]:
+        """(link, note) of gear links whose mass or axial inertia no real gear link has.
+
+        Below the teeth alone (``teeth_mass_inertia``: no gear weighs less than its teeth) or
+        above ``HEAVIEST_LINK`` times the solid steel discs of its gears (more than a shaft, a
+        hub or a lumped generator rotor add: a unit slip, g for kg or kg·cm² for kg·m²). A
+        ring's rim is not a disc: links with internal gears are left out.
+        """
         notes = []
         by_link: dict[str, list[Gear]] = {}
         for gear in self.gears.values():
@@ -418,26 +444,38 @@ class Gearbox:
             tensor = rotation @ data["inertia"] @ rotation.T  # about the COM, link axes
             axis = frame.placement.rotation.T @ gears[0].axis_in_joint  # link axes
             mass, axial = data["mass"], float(axis @ tensor @ axis)
-            disc_mass = disc_inertia = 0.0
+            disc_mass = disc_inertia = teeth_mass = teeth_inertia = 0.0
             sizes = []
             for g in gears:
                 r = pitch_radius(g.spec.teeth, g.spec.module, g.spec.helix_angle)
                 m = STEEL_DENSITY * math.pi * r**2 * g.spec.face_width
                 disc_mass += m
                 disc_inertia += 0.5 * m * r**2
+                tm, ti = teeth_mass_inertia(g.spec)
+                teeth_mass += tm
+                teeth_inertia += ti
                 sizes.append(f'"{g.name}" {2 * r * 1e3:.4g} mm × {g.spec.face_width * 1e3:.4g} mm')
             discs = f"solid steel disc{'s' if len(gears) > 1 else ''} ({', '.join(sizes)})"
-            for what, value, disc, unit in (
-                ("mass", mass, disc_mass, "kg"),
-                ("axial inertia", axial, disc_inertia, "kg·m²"),
+            for what, value, disc, teeth, unit in (
+                ("mass", mass, disc_mass, teeth_mass, "kg"),
+                ("axial inertia", axial, disc_inertia, teeth_inertia, "kg·m²"),
             ):
-                ratio = value / disc
-                if not 1.0 / PLAUSIBLE_FACTOR <= ratio <= PLAUSIBLE_FACTOR:
-                    notes.append(
-                        f'{self.path}: <link name="{link}">: {what} {value:.4g} {unit} is '
-                        f"{ratio:.3g} times that of the {discs} its gears imply, {disc:.4g} "
-                        f"{unit}; check the value and its units"
-                    )
+                where = f'{self.path}: <link name="{link}">: {what} {value:.4g} {unit} is '
+                if value < teeth:
+                    notes.append((link, where + (
+                        f"less than its gears' teeth alone give, {teeth:.4g} {unit} (ISO 53 "
+                        "basic rack: half the ring from the root to the tip circle, at the root "
+                        f"circle or beyond); the {discs} its gears imply has {disc:.4g} {unit} "
+                        f"(the value is {value / disc:.3g} times that). Give the {what} of "
+                        "the whole gear and what turns with it on this link"
+                    )))  # fmt: skip
+                elif value > HEAVIEST_LINK * disc:
+                    notes.append((link, where + (
+                        f"{value / disc:.4g} times that of the {discs} its gears imply, "
+                        f"{disc:.4g} {unit}: more than {HEAVIEST_LINK:g} times, more than a "
+                        "shaft, a hub or a lumped generator rotor add. Check its units (g for "
+                        "kg, kg·cm² or g·mm² for kg·m²)"
+                    )))  # fmt: skip
         return notes
 
     def _joint_axis(self, joint_id: int) -> np.ndarray:
@@ -890,6 +928,23 @@ def _moving_links(source: ModelFile) -> set[str]:
     return moving
 
 
+#: Where ``ImplausibleGear`` warnings were shown (``warnings.warn_explicit``'s registry): under
+#: Python's default filter each is shown once per process, however often the model is loaded
+#: (a command loads it for its scenario, its run and its log).
+_SHOWN: dict[Any, Any] = {}
+
+
+def _warn_implausible(gearbox: Gearbox) -> None:
+    """Each ``ImplausibleGear`` note as a warning at the model file's line of its link."""
+    text = gearbox.source_text
+    for link, note in gearbox.warnings:
+        at = text.find(f'<link name="{link}"')
+        line = text.count("\n", 0, at) + 1 if at >= 0 else 0
+        warnings.warn_explicit(
+            note, ImplausibleGear, str(gearbox.path), line, module="pinwind", registry=_SHOWN
+        )
+
+
 def load(path: str | Path) -> Gearbox:
     """Load a gearbox model file (URDF with a ``<gearbox>`` extension; docs/model_format.md).
 
@@ -898,14 +953,12 @@ def load(path: str | Path) -> Gearbox:
             element and the numbers.
     """
     gearbox = Gearbox(read_model_file(str(path)))
-    for note in gearbox.warnings:
-        warnings.warn(note, ImplausibleGear, stacklevel=2)
+    _warn_implausible(gearbox)
     return gearbox
 
 
 def loads(text: str, path: str = "<string>") -> Gearbox:
     """Build a gearbox from model-file text (``path`` only names it in messages)."""
     gearbox = Gearbox(read_model_file(path, text))
-    for note in gearbox.warnings:
-        warnings.warn(note, ImplausibleGear, stacklevel=2)
+    _warn_implausible(gearbox)
     return gearbox

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -199,38 +200,83 @@ def _root(
     return float(scipy.optimize.brentq(gap, a, b, xtol=1e-12 * b, rtol=1e-12))
 
 
-def write_figure(
-    diagram: CampbellDiagram, out: str, *, speed_unit: float = 1.0, unit: str = "rad/s"
-) -> None:
-    """A PNG of the diagram: modes as lines or curves, excitations as rays, crossings marked.
+#: Colours of the excitation lines, one per source (a mesh or a shaft): matplotlib's tab20
+#: without its greys (the modes) and reds (the crossings), dark and light shades apart.
+EXCITATION_COLOURS = (
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#bcbd22", "#17becf",
+    "#aec7e8", "#ffbb78", "#98df8a", "#c5b0d5", "#c49c94", "#f7b6d2", "#dbdb8d", "#9edae5",
+)  # fmt: skip
+#: Dash patterns of harmonics 1, 2, 3, ... of one source.
+HARMONIC_DASHES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (8, 2)))
+#: Line widths of the rounds through the colours, when there are more sources than colours.
+ROUND_WIDTHS = (1.3, 2.6, 0.7)
 
-    Args:
-        speed_unit: input speed per rad/s in the axis's unit (e.g. 60/2π for rpm).
+
+def excitation_styles(excitations: list[Excitation]) -> list[tuple[str, Any, float]]:
+    """(colour, dash pattern, line width) of each excitation line, no two lines alike.
+
+    One colour per source (the label without its ``×h``), a dash pattern per harmonic; a
+    source past the last colour takes the colours again at another line width.
     """
+    sources: dict[str, int] = {}
+    out = []
+    for line in excitations:
+        source = sources.setdefault(line.label.split(" ×")[0], len(sources))
+        colours = len(EXCITATION_COLOURS)
+        out.append(
+            (
+                EXCITATION_COLOURS[source % colours],
+                HARMONIC_DASHES[(line.harmonic - 1) % len(HARMONIC_DASHES)],
+                ROUND_WIDTHS[(source // colours) % len(ROUND_WIDTHS)],
+            )
+        )
+    return out
+
+
+def write_figure(diagram: CampbellDiagram, out: str) -> None:
+    """A PNG of the diagram against the input speed in rpm: modes, excitation rays, crossings.
+
+    Modes are grey, each excitation has its own colour and dash (``excitation_styles``) and
+    the crossings are red dots; the legend stands beside the axes, so that it hides no crossing.
+    """
+    import textwrap
+
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from pinwind.units import rad_s_to_rpm
+
     low, high = diagram.speeds
     top = 1.2 * max([m.frequency for m in diagram.modes] or [1.0])
-    fig, ax = plt.subplots(figsize=(9, 6))
+    fig, ax = plt.subplots(figsize=(11, 6), layout="constrained")
     if len(diagram.speed_grid) == 1:
         for mode in diagram.modes:
-            ax.axhline(mode.frequency, color="0.4", lw=1.0)
+            ax.axhline(mode.frequency, color="0.45", lw=1.0)
     else:
-        ax.plot(diagram.speed_grid * speed_unit, diagram.frequencies, color="0.4", lw=1.0)
+        ax.plot(rad_s_to_rpm(diagram.speed_grid), diagram.frequencies, color="0.45", lw=1.0)
+    ax.plot([], [], color="0.45", lw=1.0, label="natural frequencies")
     x = np.array([low, high])
-    for line in diagram.excitations:
-        ax.plot(x * speed_unit, line.per_speed * x, lw=1.0, label=line.label)
-    for c in diagram.crossings:
-        ax.plot(c.speed * speed_unit, c.frequency, "o", color="crimson", ms=5)
-    ax.set_xlim(low * speed_unit, high * speed_unit)
+    for line, (colour, dash, width) in zip(
+        diagram.excitations, excitation_styles(diagram.excitations), strict=True
+    ):
+        label = "\n".join(textwrap.wrap(line.label, 48, subsequent_indent="  "))
+        ax.plot(rad_s_to_rpm(x), line.per_speed * x, color=colour, ls=dash, lw=width, label=label)
+    crossings = diagram.crossings
+    ax.plot(
+        [rad_s_to_rpm(c.speed) for c in crossings],
+        [c.frequency for c in crossings],
+        "o",
+        color="crimson",
+        ms=5,
+        label=f"crossings ({len(crossings)})",
+    )
+    ax.set_xlim(rad_s_to_rpm(low), rad_s_to_rpm(high))
     ax.set_ylim(0.0, top)
-    ax.set_xlabel(f"{diagram.joint} speed [{unit}]")
+    ax.set_xlabel(f"{diagram.joint} speed [rpm]")
     ax.set_ylabel("frequency [Hz]")
-    ax.set_title("Campbell diagram: natural frequencies (grey), excitations, crossings (red)")
-    ax.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
+    ax.set_title("Campbell diagram: natural frequencies, excitations, crossings", loc="left")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     fig.savefig(out, dpi=110)
     plt.close(fig)

@@ -151,3 +151,22 @@ def test_bearing_tables_fit_80_columns_with_the_longest_shipped_names():
     assert len(lines) >= 2 * (3 + len(res.bearing_names))  # title, header, rule, rows
     # Their natural width, unfolded: an 80-column terminal shows every cell whole.
     assert max(len(line.rstrip()) for line in lines) <= 80
+
+
+def test_a_planetary_at_rest_under_balanced_torques_prints_no_signed_zero():
+    # The carrier's 1 MN·m against the sun's 1/6 of it (ratio 1 + 120/24 = 6) hold the stage
+    # at rest: every speed is the solver's rounding (|ω| ~ 1e-13 rad/s), and the planets'
+    # bearings pass no torque. Printed to 4 decimals that is 0.0000, never "-0.0000".
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    res = pinwind.simulate(
+        gb, duration=0.05, dt=1e-3, torques={"carrier": 1e6, "sun": -1e6 / 6}, progress=False
+    )
+    assert np.abs(res.speed[-1]).max() < 1e-9  # at rest, but for rounding
+    assert np.any(np.signbit(res.speed[-1]))  # and some of that rounding is negative
+    cells = [
+        cell
+        for table in summary_tables(res, plain=True)
+        for column in table.columns
+        for cell in column._cells
+    ]
+    assert "0.0000" in cells and not any(str(cell).startswith("-0.0000") for cell in cells)

@@ -76,6 +76,8 @@ def test_cpu_sample_reads_this_process_and_its_children():
     finally:
         child.kill()
         child.wait()
+        child.stdin.close()  # the pipes are files: closed, not left to the collector
+        child.stdout.close()
     used = {key: cpu - before.own_s[key] for key, cpu in after.own_s.items() if key in before.own_s}
     (me,) = (key for key in used if key[0] == os.getpid())
     (theirs,) = (key for key in used if key[0] == child.pid)

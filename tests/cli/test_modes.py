@@ -112,7 +112,7 @@ def test_campbell_of_a_spinning_rotor_writes_the_whirl_of_each_crossing(tmp_path
     out = run("campbell", str(model), "--joint", "rotor", "--speed-range", "0:2500",
               "--points", "21", "--csv", str(csv_path))  # fmt: skip
     assert out.returncode == 0, out.stderr
-    rows = list(csv.DictReader(csv_path.open()))
+    rows = list(csv.DictReader(csv_path.read_text(encoding="utf-8").splitlines()))
     rpm = {r["whirl"]: float(r["speed_rpm"]) for r in rows if r["whirl"]}
     per_rpm = 60 / (2 * math.pi)
     np.testing.assert_allclose(

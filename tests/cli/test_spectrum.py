@@ -113,7 +113,7 @@ def test_rainflow_csv_holds_every_cycle_the_rainflow_package_counts_in_each_seri
     out = run("spectrum", str(log), "--series", "mesh_normal", "--rainflow", str(out_csv),
               "--rainflow-bins", "4")  # fmt: skip
     assert out.returncode == 0, out.stderr
-    rows = list(csv.DictReader(out_csv.open()))
+    rows = list(csv.DictReader(out_csv.read_text(encoding="utf-8").splitlines()))
     res = pinwind.read_log(log)
     assert {r["element"] for r in rows} == set(res.mesh_names)
     for i, mesh in enumerate(res.mesh_names):

@@ -110,7 +110,7 @@ def test_export_has_radial_axial_tilting_and_torque_columns_of_every_bearing(tmp
     gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
     log = tmp_path / "rest.mcap"
     pinwind.simulate(
-        gb, duration=0.005, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE}, log=log
+        gb, duration=0.01, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE}, log=log
     )
     out = tmp_path / "rest.csv"
     export_log(log, out)
@@ -134,7 +134,7 @@ def test_a_log_written_before_the_bearing_loads_were_declared_derives_them_on_re
         series.withdraw(name)
     try:
         pinwind.simulate(
-            gb, duration=0.005, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
+            gb, duration=0.01, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
             log=log,
         )  # fmt: skip
     finally:

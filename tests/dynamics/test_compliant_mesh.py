@@ -7,6 +7,7 @@ the reference centre distance 60 mm; J_A = 0.0015 and J_B = 0.006 kg·m² about 
 
 from __future__ import annotations
 
+import contextlib
 import math
 import warnings
 
@@ -17,7 +18,7 @@ import pytest
 import pinwind
 from pinwind.analysis import load_sharing
 from pinwind.dynamics.mesh import MeshSet
-from pinwind.errors import MalformedModel, PinwindWarning
+from pinwind.errors import EquilibriumNotReached, MalformedModel, PinwindWarning, StepTooCoarse
 from pinwind.gears import GearPair
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
@@ -253,16 +254,19 @@ def test_implicit_meshes_lose_the_energy_the_spectral_radius_sets(rho):
     vibration = preload**2 / (2 * k_mean)
     for dt in (1e-5, 5e-6):
         steps = round(2 * (2 * math.pi / omega) / dt)
-        res = pinwind.simulate(
-            gb,
-            duration=steps * dt,
-            dt=dt,
-            torques={"a": preload * R_BA, "b": preload * R_BB},
-            gravity=np.zeros(3),
-            meshes={"m": _constant(k1, damping=0.0)},
-            integrator=Integrator(rho_infinity=rho),
-            initial_deflection="none",
-        )
+        # ρ∞ < 1 damps the mesh mode numerically, as the run says; ρ∞ = 1 does not
+        coarse = pytest.warns(StepTooCoarse) if rho < 1.0 else contextlib.nullcontext()
+        with coarse:
+            res = pinwind.simulate(
+                gb,
+                duration=steps * dt,
+                dt=dt,
+                torques={"a": preload * R_BA, "b": preload * R_BB},
+                gravity=np.zeros(3),
+                meshes={"m": _constant(k1, damping=0.0)},
+                integrator=Integrator(rho_infinity=rho),
+                initial_deflection="none",
+            )
         e = res.energy
         balance = (
             e["kinetic"]
@@ -440,7 +444,10 @@ def test_a_pin_error_shares_the_load_as_the_stiffness_network_says():
 
 def test_a_compliant_mesh_locked_by_rigid_ones_is_named_in_a_warning():
     gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
-    with pytest.warns(PinwindWarning, match='mesh "sun_planet1" is compliant, but the rigid'):
+    with (
+        pytest.warns(EquilibriumNotReached),
+        pytest.warns(PinwindWarning, match='mesh "sun_planet1" is compliant, but the rigid'),
+    ):
         res = pinwind.simulate(
             gb,
             duration=0.01,

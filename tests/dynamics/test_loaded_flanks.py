@@ -18,6 +18,7 @@ import pytest
 
 from pinwind.dynamics.drivetrain import drivetrain
 from pinwind.dynamics.simulate import simulate
+from pinwind.errors import StepTooCoarse
 from pinwind.model.builders import planetary_urdf
 from pinwind.model.gearbox import loads
 from pinwind.modes.linearisation import linearise
@@ -110,10 +111,11 @@ def test_the_linearised_flanks_are_those_the_run_s_static_start_loads(load):
     torques, speeds = LOADS[load]
     for text in (lin_parker_text(), WRITINGS["all swapped"](lin_parker_text())):
         gb, lin = _linearised(text, load)
-        res = simulate(
-            gb, duration=1e-5, dt=1e-5, torques=torques, speeds={**speeds, "ring": 0.0},
-            meshes={"all": "compliant"}, gravity=np.zeros(3), keep="all",
-        )  # fmt: skip
+        with pytest.warns(StepTooCoarse, match="leaves 1 step"):  # the first sample is the point
+            res = simulate(
+                gb, duration=1e-5, dt=1e-5, torques=torques, speeds={**speeds, "ring": 0.0},
+                meshes={"all": "compliant"}, gravity=np.zeros(3), keep="all",
+            )  # fmt: skip
         np.testing.assert_array_equal(res.mesh_flank[0], lin.flanks.flank)
 
 

@@ -15,7 +15,6 @@ at their base radii, ω² = k (r_b1²/J_A + r_b2²/J_B).
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import pytest
@@ -28,7 +27,7 @@ from pinwind.dynamics.compliant import (
     pair_table,
     single_pair,
 )
-from pinwind.errors import MalformedModel, PinwindWarning
+from pinwind.errors import MalformedModel
 from pinwind.model.gearbox import loads
 from pinwind.modes.linearisation import linearise
 from tests.conftest import two_gear_urdf
@@ -50,9 +49,7 @@ def _pair(attributes: str):
         '<mesh name="m" gear1="g1" gear2="g2"/>',
         f'<mesh name="m" gear1="g1" gear2="g2" type="compliant" {attributes}/>',
     )
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PinwindWarning)  # the conftest pair's inertias
-        return loads(text, "pair.urdf")
+    return loads(text, "pair.urdf")
 
 
 @pytest.mark.parametrize("variation", ["constant", "path"])

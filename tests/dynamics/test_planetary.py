@@ -25,6 +25,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
+from pinwind.errors import TorquesUnbalanced
 from tests.conftest import MODELS
 
 # Table 3 of 000_3b7c4a8fe52a6eee.txt, z axis = shaft axis.
@@ -87,9 +88,10 @@ def test_speed_ratio_carrier_to_sun_is_exactly_six_at_rated_speed(saleh):
 
 @pytest.mark.parametrize("t_carrier, t_sun", [(1.2e6, -1e6 / 6), (3e5, 0.0), (0.0, 5e4)])
 def test_unbalanced_torque_accelerates_with_equivalent_inertia(saleh, t_carrier, t_sun):
-    res = pinwind.simulate(
-        saleh, duration=0.3, dt=1e-3, torques={"carrier": t_carrier, "sun": t_sun}
-    )
+    with pytest.warns(TorquesUnbalanced):
+        res = pinwind.simulate(
+            saleh, duration=0.3, dt=1e-3, torques={"carrier": t_carrier, "sun": t_sun}
+        )
     alpha_c, s, r = hand_forces(t_carrier, t_sun)
     assert_allclose(res.joint("carrier").acceleration, alpha_c, rtol=1e-9)
     assert_allclose(res.joint("sun").acceleration, 6 * alpha_c, rtol=1e-9)
@@ -105,8 +107,10 @@ def test_unbalanced_torque_accelerates_with_equivalent_inertia(saleh, t_carrier,
 def test_loaded_flank_follows_the_direction_of_power_flow(saleh):
     # Carrier drives: the planets push the sun forward, so the sun (gear A of sun_planet) is
     # driven, not driving: flank −1. Reversed torques (generator motoring) flip every flank.
-    forward = pinwind.simulate(saleh, duration=0.01, dt=1e-3, torques={"carrier": 1e6})
-    reverse = pinwind.simulate(saleh, duration=0.01, dt=1e-3, torques={"carrier": -1e6})
+    with pytest.warns(TorquesUnbalanced):
+        forward = pinwind.simulate(saleh, duration=0.01, dt=1e-3, torques={"carrier": 1e6})
+    with pytest.warns(TorquesUnbalanced):
+        reverse = pinwind.simulate(saleh, duration=0.01, dt=1e-3, torques={"carrier": -1e6})
     for mesh in forward.mesh_names:
         assert np.all(forward.mesh(mesh).flank == -reverse.mesh(mesh).flank)
         assert_allclose(forward.mesh(mesh).normal, reverse.mesh(mesh).normal, rtol=1e-9)
@@ -122,7 +126,8 @@ def test_redundant_planet_rows_give_minimum_norm_multipliers(saleh):
     # component in the null space of Jᵀ (the statically indeterminate part).
     from pinwind.dynamics.mesh import MeshSet
 
-    res = pinwind.simulate(saleh, duration=0.01, dt=1e-3, torques={"carrier": 7e5, "sun": 3e4})
+    with pytest.warns(TorquesUnbalanced):
+        res = pinwind.simulate(saleh, duration=0.01, dt=1e-3, torques={"carrier": 7e5, "sun": 3e4})
     ms = MeshSet(saleh)
     data = saleh.model.createData()
     import pinocchio as pin
@@ -187,8 +192,10 @@ def test_redundant_planet_rows_give_the_same_forces_by_row_basis_and_by_proxsuit
         dt=1e-3,
         torques={"carrier": lambda t: 1.2e6 + 2e5 * np.sin(20 * t), "sun": -1e6 / 6},
     )
-    direct = pinwind.simulate(gb, **run)
-    iterative = pinwind.simulate(gb, solver=SolverSettings(method="proxsuite"), **run)
+    with pytest.warns(TorquesUnbalanced):  # 1.2 MN·m on the carrier, 1 MN·m held: it accelerates
+        direct = pinwind.simulate(gb, **run)
+    with pytest.warns(TorquesUnbalanced):
+        iterative = pinwind.simulate(gb, solver=SolverSettings(method="proxsuite"), **run)
     scale = np.abs(direct.mesh_normal).max()
     assert_allclose(iterative.mesh_normal, direct.mesh_normal, rtol=0, atol=1e-9 * scale)
     assert_allclose(iterative.speed, direct.speed, rtol=1e-9, atol=1e-12)

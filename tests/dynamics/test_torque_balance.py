@@ -13,7 +13,7 @@ from pinwind.dynamics.dt_advice import coarse_step_notes
 from pinwind.dynamics.torque_balance import imbalances
 from pinwind.errors import PinwindWarning, StepTooCoarse, TorquesUnbalanced
 from pinwind.loads.generator import ConstantTorque, LinearSlip
-from tests.conftest import MODELS
+from tests.conftest import MODELS, load_model
 
 #: The Saleh stage with the ring fixed: ω_sun / ω_carrier = 1 + z_ring / z_sun = 1 + 120/24.
 SUN_RATIO = 1.0 + 120.0 / 24.0
@@ -84,9 +84,7 @@ def test_a_run_of_two_steps_warns(planetary):
 def test_dt_beyond_half_the_torsional_spring_period_warns():
     """Cai's half-shafts: the spring mode's frequency is sqrt(k/J) of the shaft on its spring
     with the gear train held; it must be named with the dt that resolves it."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PinwindWarning)  # gear 2's inertia (models/README.md)
-        gb = pinwind.load(MODELS / "cai_spur_pair.urdf")
+    gb = load_model(MODELS / "cai_spur_pair.urdf")
     with pytest.warns(StepTooCoarse, match="highest torsional-spring mode"):
         pinwind.simulate(gb, duration=0.1, dt=0.01, speeds={"input_shaft": 20.0})
     assert coarse_step_notes(0.1, 1e-4, 110.0) == []

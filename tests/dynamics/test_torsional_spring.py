@@ -14,11 +14,14 @@ damping c_b. Hand results:
 
 from __future__ import annotations
 
+from contextlib import nullcontext
+
 import numpy as np
 import pytest
 
 import pinwind
 from pinwind.dynamics import Integrator
+from pinwind.errors import TorquesUnbalanced
 from pinwind.model.gearbox import loads
 
 J = 0.02
@@ -90,14 +93,18 @@ def test_stiffly_damped_shaft_follows_the_implicit_trapezoidal_response_at_a_coa
     torque = torques["a"]
     h = 4.0 * inertia / c  # r = 4: twice the explicit stability limit
     steps = 30
-    res = pinwind.simulate(
-        loads(_shafts_urdf(**model), "shafts.urdf"),
-        duration=steps * h,
-        dt=h,
-        torques=torques,
-        gravity=np.zeros(3),
-        integrator=Integrator(rho_infinity=1.0),
-    )
+    # A damped bearing holds its shaft's motion (dynamics/torque_balance.py); the spring's
+    # dashpot acts on the twist only, and the run says what nothing holds.
+    said = pytest.warns(TorquesUnbalanced) if "spring_damping" in model else nullcontext()
+    with said:
+        res = pinwind.simulate(
+            loads(_shafts_urdf(**model), "shafts.urdf"),
+            duration=steps * h,
+            dt=h,
+            torques=torques,
+            gravity=np.zeros(3),
+            integrator=Integrator(rho_infinity=1.0),
+        )
     speed = res.joint("a").speed - (res.joint("b").speed if "b" in torques else 0.0)
     r = c * h / inertia
     g = (1 - r / 2) / (1 + r / 2)

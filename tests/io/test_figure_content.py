@@ -31,9 +31,10 @@ def test_caption_lists_the_rotor_generator_and_wind(rotor_run):
     meta = pinwind.read_log(rotor_run.path).metadata
     text = " ".join(caption(meta, "completed", rotor_run.path, (0.0, 0.2), None, None).split())
     assert "loads: none" not in text
-    assert "a: rotor (radius 40," in text
-    assert "b: generator (law linear-slip, slope 50, sync speed -1)" in text
-    assert "wind: type sine, mean 10, amplitude 2, frequency 10" in text
+    # in the units of the axes: the generator's sync speed −1 rad/s is −60/2π = −9.549 rpm
+    assert "a: rotor (radius 40 m," in text
+    assert "b: generator (law linear-slip, slope 50 N·m·s/rad, sync speed -9.549 rpm)" in text
+    assert "wind: type sine, mean 10 m/s, amplitude 2 m/s, frequency 10 Hz" in text
 
 
 def test_caption_rounds_numbers_to_four_significant_digits():
@@ -44,8 +45,10 @@ def test_caption_rounds_numbers_to_four_significant_digits():
         "speeds": {"carrier": "15.750374768772428"},
         "pinwind_version": "0.1.0",
     }
-    text = caption(meta, "completed", "run.mcap", (0.0, 1.0), None, None)
-    assert "carrier: speed 15.75" in text and "sun: -1.667e+05" in text
+    text = " ".join(caption(meta, "completed", "run.mcap", (0.0, 1.0), None, None).split())
+    # in the units of the axes: 15.750374768772428 rad/s · 60/2π = 150.4 rpm, −166666.67 N·m
+    # = −166.7 kN·m, each to 4 significant digits
+    assert "carrier: speed 150.4 rpm" in text and "sun: torque -166.7 kN·m" in text
     assert not re.search(r"\d\.\d{5,}", text)
     assert "pinwind 0.1.0" in text  # a version is not a number to round
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import pinwind
-from pinwind.errors import SamplesNotLogged
+from pinwind.errors import SamplesNotLogged, TorquesUnbalanced
 from pinwind.io.log_reader import LogReader
 from pinwind.io.log_writer import McapLogger
 from tests.io.conftest import PLANETARY
@@ -86,7 +86,8 @@ def test_ctrl_c_keeps_every_simulated_sample_in_the_log(tmp_path, after):
 
 
 def test_read_log_states_samples_the_run_simulated_but_did_not_log(planetary, tmp_path):
-    res = pinwind.simulate(planetary, duration=0.01, dt=1e-3, torques={"carrier": 1e5})
+    with pytest.warns(TorquesUnbalanced):
+        res = pinwind.simulate(planetary, duration=0.01, dt=1e-3, torques={"carrier": 1e5})
     assert res.metadata["samples_simulated"] == 11
     logger = McapLogger(tmp_path / "lost.mcap", pose_rate=None, view_rate=None)
     logger.begin(planetary, res)

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import pinwind
-from pinwind.errors import LogError
+from pinwind.errors import LogError, TorquesUnbalanced
 from pinwind.io.log_reader import LogDamaged, LogReader, open_log
 from pinwind.runs import scenario as sc
 from tests.io.conftest import PLANETARY
@@ -102,7 +102,8 @@ def test_log_without_checksums_reads_with_a_note():
 
 def test_damaged_model_attachment_is_reported_as_damaged_not_missing(tmp_path):
     scenario = sc.build({"model": str(PLANETARY), "duration": 0.02, "torque": {"carrier": 1e5}})
-    sc.run(scenario, out=tmp_path / "run.mcap")
+    with pytest.warns(TorquesUnbalanced):
+        sc.run(scenario, out=tmp_path / "run.mcap")
     path = tmp_path / "run.mcap"
     with LogReader(path) as reader:
         ((offset, length),) = reader._contents.attachments.values()
@@ -117,7 +118,8 @@ def test_damaged_model_attachment_is_reported_as_damaged_not_missing(tmp_path):
 
 def test_from_log_refuses_a_run_record_that_fails_its_crc32(tmp_path):
     scenario = sc.build({"model": str(PLANETARY), "duration": 0.02, "torque": {"carrier": 1e5}})
-    sc.run(scenario, out=tmp_path / "run.mcap")
+    with pytest.warns(TorquesUnbalanced):
+        sc.run(scenario, out=tmp_path / "run.mcap")
     path = tmp_path / "run.mcap"
     with LogReader(path) as reader:
         where = reader._contents.metadata["pinwind.run"]

@@ -57,7 +57,8 @@ def test_replay_rrd_has_every_body_gear_arrow_family_and_plot(replayed, logged_r
             assert "Scalars:scalars" in columns[f"/plots/{key}/{mesh}"], (key, mesh)
     for bearing in res.bearing_names:
         assert "Scalars:scalars" in columns[f"/plots/bearing_force/{bearing}"]
-        assert "Scalars:scalars" in columns[f"/plots/bearing_moment/{bearing}"]
+        # the world |M| holds the shaft's torque, not a bearing load: not plotted
+        assert f"/plots/bearing_moment/{bearing}" not in columns
     assert "Scalars:scalars" in columns["/plots/energy_balance/residual"]
     assert "Scalars:scalars" in columns["/plots/load_factor/sun"]
 
@@ -246,11 +247,13 @@ def test_blueprint_has_a_panel_per_quantity_with_floored_ranges(replayed, logged
         "mesh normal forces F_n [kN]",
         "mesh force components: axial F_a [kN]",
         "transmission error along the line of action [µm]",
-        "bearing moments |M| about the bearing centre, world [kN·m]",
+        "torques the shafts transmit about the bearing axes (not a bearing load) [kN·m]",
         "planet load share F_n / mean F_n of the meshes of one gear [-]",
         "energy balance residual Δ(kinetic + spring) − net work [kJ]",
     ):
         assert views[title][0] == "TimeSeries", title
+    # no world |M| at a bearing: it would show the shaft's torque as a bearing moment
+    assert "bearing moments |M| about the bearing centre, world [kN·m]" not in views
     # The mesh force axis holds every value and spans at least 5 % of the largest force.
     low, high = views["mesh normal forces F_n [kN]"][1]
     force = logged_run.result.mesh_normal / 1e3

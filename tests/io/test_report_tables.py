@@ -75,3 +75,37 @@ def test_report_command_fits_80_columns_but_for_the_line_naming_the_log(logged_r
     assert max(len(line) for line in rest) <= COLUMNS
     assert not any("…" in line for line in rest)
     assert rest[0].startswith("completed; dt = 0.001 s")
+
+
+def test_one_precision_per_quantity_and_the_locked_ring_s_speed_is_zero(logged_run):
+    import numpy as np
+
+    from pinwind.units import rad_s_to_rpm
+
+    (joints, *_) = report_tables(report_log(logged_run.path), plain=True)
+    res = logged_run.result
+    speeds = {}  # element → its speed cells
+    element = ""
+    for label, *cells in _rows(joints):
+        if not any(cells):
+            element = label.strip()
+        elif label.strip().replace("\\[", "[") == "speed [rpm]":  # rich's escaped markup
+            speeds[element] = cells
+    # The fastest shaft's largest |speed|, by hand from the run: its integer digits leave
+    # 6 − digits decimals to every speed of the table.
+    fastest = float(np.max(np.abs(rad_s_to_rpm(res.speed))))
+    places = 6 - len(str(int(fastest)))
+    for row in speeds.values():
+        for cell in row:
+            assert len(cell.split(".")[1]) == places, (row, places)
+    # The ring is held: its speed is the solver's rounding, below 1e-9 of the fastest shaft's.
+    ring = rad_s_to_rpm(res.joint("ring").speed)
+    assert np.max(np.abs(ring)) < 1e-9 * fastest
+    ring_row = speeds["ring"]
+    assert ring_row == ["0." + "0" * places] * len(ring_row)
+
+
+def _rows(table) -> list[list[str]]:
+    """The cells of a rich table, row by row."""
+    columns = [list(column.cells) for column in table.columns]
+    return [list(row) for row in zip(*columns, strict=True)]

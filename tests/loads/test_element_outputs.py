@@ -10,7 +10,7 @@ from numpy.testing import assert_allclose
 
 import pinwind
 from pinwind.analysis.summary import summary_tables
-from pinwind.errors import UnknownElement
+from pinwind.errors import TorquesUnbalanced, UnknownElement
 from pinwind.io.export import columns
 from pinwind.loads.generator import ConstantTorque
 from pinwind.loads.rotor import HeierCp, Rotor
@@ -31,8 +31,9 @@ def pair(pair_urdf):
 
 
 def test_constant_generator_torque_is_its_own_output_and_part_of_the_joint_torque(pair):
-    res = pinwind.simulate(pair, duration=0.05, dt=1e-3, torques={"a": 30.0},
-                           generators={"b": ConstantTorque(45.0)})  # fmt: skip
+    with pytest.warns(TorquesUnbalanced):
+        res = pinwind.simulate(pair, duration=0.05, dt=1e-3, torques={"a": 30.0},
+                               generators={"b": ConstantTorque(45.0)})  # fmt: skip
     assert res.generator_names == ["b"]
     assert_allclose(res.generator("b").torque, 45.0, rtol=0, atol=0)
     # The shaft feels −T_gen: with nothing else on b, that is its whole joint torque.

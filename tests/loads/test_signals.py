@@ -10,7 +10,13 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
-from pinwind.errors import InputError, NonFiniteInput, TableNotUtf8, TableStartsLate
+from pinwind.errors import (
+    InputError,
+    NonFiniteInput,
+    TableNotUtf8,
+    TableStartsLate,
+    TorquesUnbalanced,
+)
 from pinwind.loads.openfast import read_channel
 from pinwind.loads.signal_text import parse_signal, signal_from_spec
 from pinwind.loads.signals import (
@@ -125,8 +131,14 @@ def test_table_starting_after_the_run_is_warned_naming_file_and_times(tmp_path, 
     path = tmp_path / "torque.csv"
     path.write_text("time,torque\n0.2,3\n1,4\n")
     gb = loads(pair_urdf(), path="pair.urdf")
-    with pytest.warns(TableStartsLate, match=r"torque.csv starts at t = 0.2 s but the run starts "
-                      r"at t = 0 s; its first value 3 is held") as caught:  # fmt: skip
+    with (
+        pytest.warns(TorquesUnbalanced),
+        pytest.warns(
+            TableStartsLate,
+            match=r"torque.csv starts at t = 0.2 s but the run starts at t = 0 s; its first "
+            r"value 3 is held",
+        ) as caught,
+    ):
         pinwind.simulate(gb, duration=0.01, dt=1e-3, torques={"a": read_csv(path)})
     assert [w.message.start for w in caught if w.category is TableStartsLate] == [0.2]
 

@@ -20,6 +20,7 @@ from pinwind.errors import (
     InvalidMount,
     MalformedModel,
     ModelError,
+    TorquesUnbalanced,
     UnknownElement,
 )
 from pinwind.model.gearbox import loads
@@ -158,7 +159,8 @@ def test_gear_on_a_hub_welded_to_its_shaft_turns_with_the_shaft(pair_urdf):
     gb = loads(text, path="hub.urdf")
     assert gb.joint_names == ["a", "b"] and gb.locked_joints == []
     torque, i_a, i_hub, i_b, r_b = 0.1, 0.0015, 1e-4, 0.006, 0.040
-    res = pinwind.simulate(gb, duration=0.05, dt=1e-3, torques={"a": torque})
+    with pytest.warns(TorquesUnbalanced):
+        res = pinwind.simulate(gb, duration=0.05, dt=1e-3, torques={"a": torque})
     alpha_a = torque / (i_a + i_hub + i_b / 4)
     assert_allclose(res.joint("a").acceleration, alpha_a, rtol=1e-9)
     assert_allclose(res.joint("b").acceleration, -alpha_a / 2, rtol=1e-9)
@@ -209,3 +211,41 @@ def test_shipped_models_other_than_cai_load_without_warnings():
             warnings.simplefilter("error")
             gb = pinwind.load(path)
         assert np.isfinite(gb.gravity).all()
+
+
+def test_a_generator_rotor_lumped_on_a_pinion_link_is_no_implausible_gear(pair_urdf):
+    import warnings
+
+    # g1: 40 mm × 20 mm steel disc, m r²/2 by hand; a rotor lumped on its shaft gives the link
+    # 300 times that inertia (and 5 times its mass): heavy, but no unit slip (below 1000 times).
+    disc_mass = 7850 * math.pi * 0.020**2 * 0.020
+    disc = 0.5 * disc_mass * 0.020**2
+    text = pair_urdf(mass_a=f"{5 * disc_mass!r}", inertia_a=("0.1", "0.1", f"{300 * disc!r}"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loads(text, path=PATH)
+
+
+def test_a_gear_lighter_than_its_teeth_alone_warns_with_the_teeth_mass(pair_urdf):
+    # g1: z = 20, m = 2 mm, b = 20 mm: r = 20 mm, root circle 20 − 1.25·2 = 17.5 mm, tip circle
+    # 20 + 2 = 22 mm (ISO 53 basic rack); the teeth fill half that ring.
+    teeth = 0.5 * 7850 * math.pi * (0.022**2 - 0.0175**2) * 0.020
+    with pytest.warns(ImplausibleGear) as caught:
+        loads(pair_urdf(mass_a=f"{0.5 * teeth!r}"), path=PATH)
+    (message,) = [str(w.message) for w in caught]
+    assert message.startswith(f'{PATH}: <link name="a">: mass {0.5 * teeth:.4g} kg is less ')
+    assert f"teeth alone give, {teeth:.4g} kg" in message
+
+
+def test_a_model_loaded_twice_warns_once_at_its_link_s_line():
+    import warnings
+
+    path = MODELS / "cai_spur_pair.urdf"
+    lines = path.read_text(encoding="utf-8").splitlines()
+    line = next(i for i, text in enumerate(lines, start=1) if '<link name="gear2"' in text)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")  # Python's own: once per place and message
+        pinwind.load(path)
+        pinwind.load(path)  # a command's second load (its run, its log) of the same file
+    (shown,) = [w for w in caught if w.category is ImplausibleGear]
+    assert (shown.filename, shown.lineno) == (str(path), line)

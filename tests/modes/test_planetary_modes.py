@@ -41,6 +41,7 @@ from pinwind.dynamics.coordinates import coordinates
 from pinwind.model.builders import planetary_urdf
 from pinwind.model.gearbox import Gearbox, loads
 from pinwind.modes.linearisation import linearise
+from tests.conftest import MODELS, load_model
 
 MODULE = 0.01
 ALPHA = math.radians(20.0)
@@ -135,7 +136,7 @@ def test_a_stage_with_one_planet_held_is_unclassified():
 
 
 def test_a_train_without_a_planetary_stage_has_no_mode_class():
-    gb = pinwind.load("models/cai_spur_pair.urdf")
+    gb = load_model(MODELS / "cai_spur_pair.urdf")
     assert {m.kind for m in linearise(gb).modes()} == {""}
 
 

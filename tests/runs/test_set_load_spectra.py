@@ -38,7 +38,8 @@ def test_set_ldd_sums_to_the_sites_hours_and_lrd_to_each_bins_revolutions(tmp_pa
     carrier = next(s for s in spectra if s.joint == "carrier")
     assert carrier.revolutions.sum() > 0.0
 
-    rows = list(csv.DictReader(write_load_spectra_csv(spectra, tmp_path / "ls.csv").open()))
+    written = write_load_spectra_csv(spectra, tmp_path / "ls.csv")
+    rows = list(csv.DictReader(written.read_text(encoding="utf-8").splitlines()))
     assert len(rows) == 7 * len(spectra)
     hours = sum(float(r["time_h"]) for r in rows if r["joint"] == "carrier")
     assert_allclose(hours, 1250.0, rtol=1e-12)
