@@ -58,14 +58,16 @@ class RowLoad:
         return np.hypot(self.radial[:, 0], self.radial[:, 1])
 
 
-def row_loads(result: Any, gearbox: Any) -> dict[str, RowLoad]:
-    """Each row's load over the run, by row name (module docstring).
+def row_loads(result: Any, gearbox: Any) -> list[RowLoad]:
+    """Each row's load over the run, bearing by bearing in the model's order (module docstring).
+
+    Rows are named within their bearing: several planets' bearings have rows of one name.
 
     Raises:
         InputError: a bearing whose rows are not about its joint (Σ k_i a_i ≠ 0) or whose radial
             stiffness is not the rows' sum: the rows do not describe the bearing the run used.
     """
-    out: dict[str, RowLoad] = {}
+    out: list[RowLoad] = []
     for bearing, rows in gearbox.source.bearing_rows.items():
         compliant = gearbox.compliant_bearings.get(bearing)
         if compliant is None or not rows:
@@ -85,13 +87,15 @@ def row_loads(result: Any, gearbox: Any) -> dict[str, RowLoad]:
             c_t = 0.5 * (row.damping[3] + row.damping[4])
             tilt = np.column_stack([q["tilt_x"], q["tilt_y"]])
             tilt_speed = np.column_stack([v["tilt_x"], v["tilt_y"]])
-            out[row.name] = RowLoad(
-                name=row.name,
-                bearing=bearing,
-                position=a,
-                radial=-k * shift - c * speed,
-                axial=-row.stiffness[0] * q["axial"] - row.damping[0] * v["axial"],
-                tilting=-k_t * tilt - c_t * tilt_speed,
+            out.append(
+                RowLoad(
+                    name=row.name,
+                    bearing=bearing,
+                    position=a,
+                    radial=-k * shift - c * speed,
+                    axial=-row.stiffness[0] * q["axial"] - row.damping[0] * v["axial"],
+                    tilting=-k_t * tilt - c_t * tilt_speed,
+                )
             )
     return out
 

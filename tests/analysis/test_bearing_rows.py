@@ -65,7 +65,7 @@ def test_two_rows_share_a_radial_load_beyond_them_by_the_lever_rule():
     force, p = -1.0e4, 0.5
     load = constant_hub_load("shaft", [0, 0, force, 0, 0, 0], point=(0, 0, p), up=(0, 1, 0))
     res, gb = _run(shaft_on_rows(_rows()), load)
-    rows = row_loads(res, gb)
+    rows = {r.name: r for r in row_loads(res, gb)}
     r_b = -force * (p - A) / (B - A)
     r_a = -force - r_b
     assert_allclose(rows["A"].radial[-1], [0.0, r_a], rtol=1e-9, atol=1e-9 * abs(force))
@@ -83,7 +83,7 @@ def test_a_main_shaft_s_rows_carry_weight_thrust_and_bending_as_beam_statics_say
     load = constant_hub_load("shaft", [thrust, 0, -weight, 0, moment, 0], point=(0, 0, p),
                              up=(0, 1, 0))  # fmt: skip
     res, gb = _run(shaft_on_rows(_rows(k=1e11)), load)  # main-bearing stiffness
-    rows = row_loads(res, gb)
+    rows = {r.name: r for r in row_loads(res, gb)}
     # In the joint frame (u, w, k = world x, y, z): the force is −W along w at p k, the moment
     # M about u (the hub's y = z × x = w × k = u). A force F w at a k has the moment
     # (a k) × (F w) = −a F u, so about u: −(A R_A + B R_B) + p W + M = 0, and R_A + R_B = W.
@@ -116,3 +116,21 @@ def test_a_bearing_stiffness_that_is_not_its_rows_sum_is_refused():
         InputError, match=r"radial_stiffness 2e\+09 N/m is not its rows' sum 4e\+09"
     ):
         row_loads(res, gb)
+
+
+def test_simulate_prints_every_row_of_the_5mw_gearbox_with_its_bearing():
+    from tests.conftest import MODELS
+    from tests.test_cli import run as run_cli
+
+    out = run_cli("simulate", str(MODELS / "nrel5mw_gearbox.urdf"), "--torque",
+                  "rotor=3945990.3245924464", "--speed", "generator=-1165.8854166666667",
+                  "--initial-speed", "rotor=12.1", "--duration", "0.005", "--dt", "1e-4",
+                  "--no-log")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    table = out.stdout[out.stdout.index("Bearing rows at t") :]
+    # Nejad et al. 2016 Tables VI and IX: sixteen bearings, the planets' rows once per planet
+    names = ["INP-A", "INP-B", "PLC-A", "PLC-B", "IMS-PLC-A", "IMS-PLC-B", "IMS-A", "IMS-B",
+             "IMS-C", "HS-A", "HS-B", "HS-C"]  # fmt: skip
+    for name in names:
+        assert f" {name} " in table
+    assert table.count(" PL-A ") == 3 and table.count(" IMS-PL-A ") == 3
