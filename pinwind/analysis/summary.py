@@ -8,6 +8,7 @@ engineering units (rpm, kN, kN·m) named in the column headers, in tables that f
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from rich import box
@@ -93,6 +94,34 @@ def _span(res: Result, stats: FoldedStatistics) -> str:
     if stats.count >= res.metadata.get("samples_simulated", stats.count):
         return "the run"
     return f"the {stats.count} kept samples"
+
+
+def row_table(res: Result, gearbox: Any, *, plain: bool = False) -> Table | None:
+    """The rows of the shafts' bearings at the end and at their largest (``bearing_rows``).
+
+    None when the model's bearings have no rows.
+    """
+    from pinwind.analysis.bearing_rows import row_loads
+
+    rows = row_loads(res, gearbox)
+    if not rows:
+        return None
+    table = _table(
+        f"Bearing rows at t = {res.time[-1]:.4g} s and their largest over the run "
+        "(each rolling bearing's share of its shaft's bearing)",
+        ("row", "bearing", "at [mm]", "radial [kN]", "axial [kN]", "max radial [kN]"),
+        plain,
+    )
+    for row in rows:
+        table.add_row(
+            row.name,
+            row.bearing,
+            f"{row.position * 1e3:.1f}",
+            f"{row.radial_magnitude[-1] / 1e3:.4f}",
+            f"{row.axial[-1] / 1e3:.4f}",
+            f"{float(np.max(row.radial_magnitude)) / 1e3:.4f}",
+        )
+    return table
 
 
 def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:

@@ -253,7 +253,7 @@ def _run_and_report(
     import numpy as np
 
     from pinwind.analysis import load_sharing
-    from pinwind.analysis.summary import summary_tables
+    from pinwind.analysis.summary import row_table, summary_tables
     from pinwind.dynamics.dt_advice import dt_advice
     from pinwind.dynamics.integrator import Integrator
     from pinwind.runs import scenario as sc
@@ -308,6 +308,10 @@ def _run_and_report(
     for table in summary_tables(res, plain=not console.is_terminal):
         console.print()
         console.print(table)
+    rows = row_table(res, gearbox, plain=not console.is_terminal)
+    if rows is not None:
+        console.print()
+        console.print(rows)
     compliant = {n for n, m in res.metadata.get("meshes", {}).items() if m["type"] != "rigid"}
     for sharing in load_sharing(res, gearbox):
         # Rigid planets share equally by construction (minimum-norm multipliers).

@@ -301,10 +301,10 @@ class HubLoadSpec:
     """Six load components on a body at a point (``cpp/hub_loads.hpp``; ``loads/hub_loads.py``)."""
 
     joint: int  # Pinocchio id of the body's joint
-    parent: int  # its parent joint's id (0: the world)
+    parent: int  # the joint its bearing sits in (above a compliant bearing's slides; 0: world)
     columns: list[int]  # velocity columns of the joints that move the body
     axes: Matrix  # 3 × 3: the hub axes x, y, z (columns) in the joint frame
-    placement: Matrix  # 3 × 3: the joint's rotation in its parent
+    placement: Matrix  # 3 × 3: the joint's undeflected rotation in that joint's frame
     point: Vector  # where the force acts, in the joint frame [m]
     rotating: bool  # the axes turn with the joint
     column: int  # the first of its six input columns (F_x, F_y, F_z [N], M_x, M_y, M_z [N·m])

@@ -5,7 +5,10 @@ that move it (their velocity columns), the hub axes in that joint's frame, the p
 its six input columns. The hub axes follow loads/hub_loads.py: x along the body's joint axis as
 the model gives it (the shaft axis; a positive torque M_x drives the joint forwards), z the part
 of ``up`` normal to x (``up`` given in the model's world frame at its neutral pose, or against
-gravity), y = z × x.
+gravity), y = z × x. A ``fixed`` load keeps the orientation of the bearing's housing: the
+frame of the joint above the bearing (above its slides and tilts, for a compliant one), turned
+as the body's joint is at the model's neutral pose; it neither turns with the shaft nor tilts
+with its bearing's deflection (the weight of a rotor stays vertical).
 """
 
 from __future__ import annotations
@@ -63,12 +66,13 @@ def hub_load_specs(
                 "direction across the shaft, the hub's z (vertical for a horizontal shaft)"
             )
         z = normal / np.linalg.norm(normal)
+        housing = _housing(gearbox, joint)
         spec = _native.HubLoadSpec()
         spec.joint = joint
-        spec.parent = int(model.parents[joint])
+        spec.parent = housing
         spec.columns = _supporting_columns(model, joint)
         spec.axes = np.column_stack([x, np.cross(z, x), z])
-        spec.placement = model.jointPlacements[joint].rotation.copy()
+        spec.placement = data.oMi[housing].rotation.T @ data.oMi[joint].rotation
         spec.point = frame.placement.act(np.asarray(load.point, dtype=float))
         spec.rotating = load.frame is HubFrame.ROTATING
         spec.column = first_column + 6 * i
@@ -87,6 +91,21 @@ def _up(load: HubLoad, gravity: np.ndarray, where: str) -> np.ndarray:
             "the vertical in the model's world frame"
         )
     return -g
+
+
+def _housing(gearbox: Gearbox, joint: int) -> int:
+    """The joint whose frame the bearing of ``joint`` sits in.
+
+    Its parent, or for a compliant bearing the parent of its slides and tilts (which move with
+    the shaft's deflection).
+    """
+    model = gearbox.model
+    bearing = gearbox.compliant_bearings.get(model.names[joint])
+    slides = set() if bearing is None else set(bearing.v_index.values())
+    parent = int(model.parents[joint])
+    while parent > 0 and model.joints[parent].idx_v in slides:
+        parent = int(model.parents[parent])
+    return parent
 
 
 def _supporting_columns(model: pin.Model, joint: int) -> list[int]:

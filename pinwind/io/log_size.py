@@ -69,7 +69,7 @@ def estimate_log_size(
     view_stride = stride if view_stride is None else view_stride
     doubles = len(result.energy)
     records = 1  # /joints
-    for name in Result.ARRAYS:
+    for name in result.ARRAYS:  # the run's own schema
         if name in POSE_ARRAYS:
             continue
         doubles += int(np.prod(getattr(result, name).shape[1:], dtype=int))
@@ -97,7 +97,7 @@ def estimate_log_size(
 
 def result_bytes(result: Result) -> int:
     """Memory of a Result's arrays [bytes]."""
-    return sum(getattr(result, name).nbytes for name in Result.ARRAYS) + sum(
+    return sum(getattr(result, name).nbytes for name in result.ARRAYS) + sum(
         values.nbytes for values in result.energy.values()
     )
 

@@ -398,7 +398,7 @@ class McapLogger:
         )
         # The columns pinwind reads back: every array but the poses, at the log rate.
         columns: list[tuple[str, list[int]]] = [("time", [])]
-        for name in Result.ARRAYS:
+        for name in result.ARRAYS:  # the run's own schema
             shape = list(getattr(result, name).shape[1:])
             if name != "time" and name not in POSE_ARRAYS and math.prod(shape):
                 columns.append((name, shape))

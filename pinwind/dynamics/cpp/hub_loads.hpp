@@ -3,12 +3,13 @@
 // (pinwind/loads/hub_loads.py, docs/loads.md "Hub loads"). The components are the sample's input
 // columns ``column … column + 5``: F_x, F_y, F_z [N], M_x, M_y, M_z [N·m] along the hub axes,
 // x the shaft axis. The hub axes are ``axes`` (columns: x, y, z) in the frame of the body's
-// joint: turning with it (rotating) or taken at the joint's zero angle, i.e. its placement in
-// its parent (fixed: the frame the shaft turns in, which moves only as the bearing tilts and
-// slides), so
+// joint: turning with it (rotating), or held in the bearing's housing (fixed: ``parent`` is the
+// joint the bearing sits in, above a compliant bearing's slides and tilts, and ``placement``
+// the body joint's undeflected orientation in it, so that the load neither turns with the shaft
+// nor tilts with the bearing's deflection):
 //
 //     R_world = oMi[joint] · axes                          (rotating)
-//     R_world = oMi[parent] · placement[joint] · axes      (fixed)
+//     R_world = oMi[parent] · placement · axes             (fixed)
 //     f = R_world F,   m = R_world M,   p = oMi[joint] · point      (world)
 //
 // and the load's generalised force is its virtual work through the body's motion, the spatial
@@ -37,10 +38,10 @@ namespace pinwind {
 
 struct HubLoadSpec {
   long joint = -1;                               // the body's joint (Pinocchio joint index)
-  long parent = 0;                               // its parent joint (0: the world)
+  long parent = 0;                               // the joint its bearing sits in (0: world)
   std::vector<long> columns;                     // velocity columns of the joints supporting it
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // hub axes (x, y, z) in the joint frame
-  Eigen::Matrix3d placement = Eigen::Matrix3d::Identity();  // the joint's rotation in its parent
+  Eigen::Matrix3d placement = Eigen::Matrix3d::Identity();  // the joint's rotation in parent's
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // where the force acts, joint frame [m]
   bool rotating = false;                         // the axes turn with the joint
   long column = 0;                               // the first of its six input columns

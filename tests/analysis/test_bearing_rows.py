@@ -1,0 +1,136 @@
+"""Row loads: the rows of a shaft share its bearing's load by the lever rule and beam statics."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import pinwind
+from pinwind.analysis.bearing_rows import row_loads
+from pinwind.errors import InputError, PinwindWarning
+from pinwind.loads.hub_loads import constant_hub_load
+from pinwind.model.bearing_rows import BearingRow, equivalent_bearing
+from pinwind.model.gearbox import loads
+
+#: Rows A and B [m from the joint], k_A a_A + k_B a_B = 0: the joint is their stiffness centre.
+A, B, K = -0.3, 0.1, 1e9
+
+
+def _rows(k: float = K, axial_b: float = 5e8) -> list[BearingRow]:
+    damping = (100.0, 1e3, 1e3, 0.0, 0.0)
+    return [
+        BearingRow("A", "spherical_roller", A, 1e6, (0.0, k, k, 0.0, 0.0), damping),
+        BearingRow("B", "cylindrical_roller", B, 1e6, (axial_b, 3 * k, 3 * k, 0.0, 0.0), damping),
+    ]
+
+
+def shaft_on_rows(rows: list[BearingRow], radial: float | None = None) -> str:
+    """A shaft (axis world z) on bearing "shaft", its rows given; no gravity."""
+    eq = equivalent_bearing(rows)
+    k = eq.radial_stiffness if radial is None else radial
+    lines = "".join(
+        f'      <row name="{r.name}" type="{r.kind}" position_mm="{r.position * 1e3!r}" '
+        f'stiffness="{" ".join(repr(x) for x in r.stiffness)}" '
+        f'damping="{" ".join(repr(x) for x in r.damping)}" rating_c_kN="1000"/>\n'
+        for r in rows
+    )
+    return f"""<robot name="shaft">
+  <link name="ground"/>
+  <link name="shaft"><inertial><mass value="100"/>
+    <inertia ixx="10" iyy="10" izz="5" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="shaft" type="continuous"><parent link="ground"/><child link="shaft"/>
+    <axis xyz="0 0 1"/></joint>
+  <gearbox gravity="0 0 0">
+    <bearing joint="shaft" radial_stiffness="{k!r}" radial_damping="{eq.radial_damping!r}"
+      axial_stiffness="{eq.axial_stiffness!r}" axial_damping="{eq.axial_damping!r}"
+      tilt_stiffness="{eq.tilt_stiffness!r}" tilt_damping="{eq.tilt_damping!r}">
+{lines}    </bearing>
+  </gearbox>
+</robot>"""
+
+
+def _run(text: str, load) -> tuple:
+    gb = loads(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        res = pinwind.simulate(gb, duration=0.01, dt=1e-3, hub_loads=[load])
+    return res, gb
+
+
+def test_two_rows_share_a_radial_load_beyond_them_by_the_lever_rule():
+    # F along w (world y) at p = 0.5 m: moments about A give R_B (B − A) + F (p − A) = 0.
+    force, p = -1.0e4, 0.5
+    load = constant_hub_load("shaft", [0, 0, force, 0, 0, 0], point=(0, 0, p), up=(0, 1, 0))
+    res, gb = _run(shaft_on_rows(_rows()), load)
+    rows = {r.name: r for r in row_loads(res, gb)}
+    r_b = -force * (p - A) / (B - A)
+    r_a = -force - r_b
+    assert_allclose(rows["A"].radial[-1], [0.0, r_a], rtol=1e-9, atol=1e-9 * abs(force))
+    assert_allclose(rows["B"].radial[-1], [0.0, r_b], rtol=1e-9, atol=1e-9 * abs(force))
+    # the rows add up to the bearing's reaction
+    total = rows["A"].radial[-1] + rows["B"].radial[-1]
+    assert_allclose(total, res.bearing("shaft").force_local[-1, :2], rtol=1e-9, atol=1e-6)
+
+
+def test_a_main_shaft_s_rows_carry_weight_thrust_and_bending_as_beam_statics_says():
+    # Weight W down at the overhang p, thrust T along the axis, bending moment M about the
+    # hub's y (world x, the joint's u): radial statics of a beam on two pin supports; the
+    # thrust goes to the only row with axial stiffness (B).
+    weight, thrust, moment, p = 1.1e6, 8.0e5, 2.5e6, -1.5
+    load = constant_hub_load("shaft", [thrust, 0, -weight, 0, moment, 0], point=(0, 0, p),
+                             up=(0, 1, 0))  # fmt: skip
+    res, gb = _run(shaft_on_rows(_rows(k=1e11)), load)  # main-bearing stiffness
+    rows = {r.name: r for r in row_loads(res, gb)}
+    # In the joint frame (u, w, k = world x, y, z): the force is −W along w at p k, the moment
+    # M about u (the hub's y = z × x = w × k = u). A force F w at a k has the moment
+    # (a k) × (F w) = −a F u, so about u: −(A R_A + B R_B) + p W + M = 0, and R_A + R_B = W.
+    r_b = (moment + p * weight - A * weight) / (B - A)
+    r_a = weight - r_b
+    # The shaft tilts by θ under the load, so the thrust's line moves by p θ off the rows'
+    # axis: beam statics in the undeflected pose holds to about T |p| θ over the reactions.
+    theta = np.max(np.abs(res.joint("shaft_tilt_x").angle))
+    tolerance = 10 * thrust * abs(p) * theta / min(abs(r_a), abs(r_b)) + 1e-9
+    assert_allclose(rows["A"].radial[-1, 1], r_a, rtol=tolerance)
+    assert_allclose(rows["B"].radial[-1, 1], r_b, rtol=tolerance)
+    assert_allclose(rows["A"].axial[-1], 0.0, atol=1e-9 * thrust)
+    assert_allclose(rows["B"].axial[-1], -thrust, rtol=1e-9)
+
+
+def test_rows_not_about_the_bearing_s_joint_are_refused_naming_the_bearing():
+    rows = _rows()
+    moved = [BearingRow(r.name, r.kind, r.position + 0.05, r.rating, r.stiffness, r.damping)
+             for r in rows]  # fmt: skip
+    load = constant_hub_load("shaft", [0, 0, -1.0, 0, 0, 0], up=(0, 1, 0))
+    res, gb = _run(shaft_on_rows(moved), load)
+    with pytest.raises(InputError, match=r'bearing "shaft": its rows are not about its joint'):
+        row_loads(res, gb)
+
+
+def test_a_bearing_stiffness_that_is_not_its_rows_sum_is_refused():
+    load = constant_hub_load("shaft", [0, 0, -1.0, 0, 0, 0], up=(0, 1, 0))
+    res, gb = _run(shaft_on_rows(_rows(), radial=2e9), load)
+    with pytest.raises(
+        InputError, match=r"radial_stiffness 2e\+09 N/m is not its rows' sum 4e\+09"
+    ):
+        row_loads(res, gb)
+
+
+def test_simulate_prints_every_row_of_the_5mw_gearbox_with_its_bearing():
+    from tests.conftest import MODELS
+    from tests.test_cli import run as run_cli
+
+    out = run_cli("simulate", str(MODELS / "nrel5mw_gearbox.urdf"), "--torque",
+                  "rotor=3945990.3245924464", "--speed", "generator=-1165.8854166666667",
+                  "--initial-speed", "rotor=12.1", "--duration", "0.005", "--dt", "1e-4",
+                  "--no-log")  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    table = out.stdout[out.stdout.index("Bearing rows at t") :]
+    # Nejad et al. 2016 Tables VI and IX: sixteen bearings, the planets' rows once per planet
+    names = ["INP-A", "INP-B", "PLC-A", "PLC-B", "IMS-PLC-A", "IMS-PLC-B", "IMS-A", "IMS-B",
+             "IMS-C", "HS-A", "HS-B", "HS-C"]  # fmt: skip
+    for name in names:
+        assert f" {name} " in table
+    assert table.count(" PL-A ") == 3 and table.count(" IMS-PL-A ") == 3
