@@ -49,9 +49,10 @@ GENERATOR_INERTIA = 534.116  # [kg·m²] (Jonkman et al. 2009 Table 5-1)
 def rigid_bearing_model() -> pinwind.Gearbox:
     """The shipped model with every shaft in ideal bearings (its ``<bearing>`` elements left out).
 
-    The static start of a run does not bring planets on compliant bearings on a turning carrier
-    to rest (their sun and ring mesh forces start unequal, so the planets accelerate); with ideal
-    bearings the start is the steady state, and the torques by power balance hold exactly.
+    With compliant bearings the deflected suns turn against the carriers, so a turning start is
+    periodic rather than static and the torques by power balance hold to the deflections' e/a_w
+    (tests/dynamics/test_planet_static_start.py); with ideal bearings the start is the steady
+    state, and they hold exactly.
     """
     text = re.sub(r"<bearing .*?</bearing>", "", MODEL.read_text(), flags=re.S)
     return loads(text, str(MODEL))

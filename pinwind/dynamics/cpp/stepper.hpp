@@ -147,7 +147,9 @@ class Stepper {
   // the displacement Δq and the multipliers, in the least-squares sense with the system scaled
   // (every spring takes its load, the soft ones beside the stiff too), Δq with no part along
   // the train's free motion (which the loads do not determine), then q ← q ⊕ Δq. A compliant mesh
-  // whose force would pull hands it to the other flank (closing the backlash). The stiffness
+  // whose force would pull hands it to the other flank (closing the backlash), and a rigid mesh
+  // row whose multiplier pulls switches to its other flank as the step does (on a body that
+  // moves, a planet in a compliant bearing, the other flank is another line). The stiffness
   // follows the pairs in contact at each q, so the iteration ends when Δq stops changing.
   EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
                                 long max_iterations, double tolerance);
@@ -269,7 +271,7 @@ class Stepper {
   // the force in force_: the least-squares solution of the stacked system with each coordinate
   // scaled by its own mass and stiffness (1/√M_ii, K_ii/M_ii), so that every spring takes its
   // load whatever its stiffness beside the stiffest, less its part along the train's free
-  // motions (free_part).
+  // motions (free_part). Also keeps the solve's multipliers, unscaled, in lam_.
   Eigen::VectorXd static_displacement(EquilibriumStatus& st);
 
   // The part of dq along the motions that neither the elements' stiffness nor the rows resist

@@ -45,10 +45,24 @@ EquilibriumStatus Stepper::equilibrium(const RowMat& torque, const RowMat& targe
       for (auto& e : elements_) e->add_implicit(sv, hessian_, force_);
       hessian_.triangularView<Eigen::StrictlyUpper>() = hessian_.transpose();
       dq = static_displacement(st);
+      // The rigid meshes take the flanks the step takes (Stepper::dynamics): a row whose
+      // multiplier pulls hands its load to the other flank. Where an axis can move (a planet on
+      // a compliant bearing) the other flank's line of action is the mirror image about the
+      // centre line (n = s cos α_w t + ε sin α_w r̂), not the same line reversed: left on the
+      // pulling flank, a planet's sun and ring forces added their radial parts instead of
+      // cancelling them, and the first step found that start out of equilibrium by the planet's
+      // whole radial deflection (~200 m/s² on its slides).
+      RowSwitch change = RowSwitch::none;
+      for (size_t c = 0; c < constraints_.size(); ++c) {
+        change = std::max(change, constraints_[c]->switch_rows(sv, rows_of(lam_, c)));
+      }
+      if (change != RowSwitch::none) constraint_matrix();
       bool settled = true;
       for (auto& e : elements_) settled = !e->settle(sv, dq, pass + 1 == kPasses) && settled;
-      if (settled) break;
+      if (change == RowSwitch::none && settled) break;
       ++st.flank_switches;
+      // A flip on fixed axes is the same row reversed: Δq and ā carry over.
+      if (change != RowSwitch::solve && settled) break;
     }
     integrate(s_.model, q_, dq, q_next_);
     q_ = q_next_;
@@ -113,15 +127,21 @@ Eigen::VectorXd Stepper::static_displacement(EquilibriumStatus& st) {
       b[i] /= norm;
     }
   }
+  Eigen::VectorXd multiplier_scale = Eigen::VectorXd::Ones(r);
   for (Eigen::Index j = 2 * n; j < 2 * n + r; ++j) {
     const double norm = a.col(j).cwiseAbs().maxCoeff();
-    if (norm > 0.0) a.col(j) /= norm;
+    if (norm > 0.0) {
+      a.col(j) /= norm;
+      multiplier_scale[j - 2 * n] = norm;
+    }
   }
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
   cod.setThreshold(1e-12);
   cod.compute(a);
   const Eigen::VectorXd x = cod.solve(b);
   st.residual = (a * x - b).norm() / std::max(b.norm(), 1e-300);
+  // The rows' multipliers λ [N or N·m] in lam_, unscaled, for the rigid rows' flanks.
+  lam_ = x.segment(2 * n, r).cwiseQuotient(multiplier_scale);
   const Eigen::VectorXd dq = dq_scale.cwiseProduct(x.segment(n, n));
   return dq - free_part(dq);
 }
