@@ -79,7 +79,7 @@ def saleh_on_planet_bearings() -> pinwind.Gearbox:
 def start(gravity: np.ndarray | None = None) -> pinwind.Result:
     return pinwind.simulate(
         saleh_on_planet_bearings(),
-        duration=2e-4,
+        duration=1e-3,  # ten steps: StepTooCoarse asks for at least ten
         dt=1e-4,
         speeds={"carrier": 0.0},
         torques={"sun": -T_SUN},
@@ -177,7 +177,7 @@ def rated_5mw() -> tuple[pinwind.Gearbox, pinwind.Result]:
     gearbox = load(MODELS / "nrel5mw_gearbox.urdf")
     res = pinwind.simulate(
         gearbox,
-        duration=2e-4,
+        duration=1e-3,  # ten steps: StepTooCoarse asks for at least ten
         dt=1e-4,
         torques={"rotor": ROTOR_TORQUE},
         speeds={"generator": GENERATOR_SPEED},
