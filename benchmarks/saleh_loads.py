@@ -1,7 +1,7 @@
 """The two Saleh models the streaming benchmarks run, and the loads that keep them in balance.
 
 A rotor torque on the carrier and the output shaft taking it back at the train's ratio (6 for
-the planetary stage, 6 · 3.6 · 3.96 for the drivetrain, 000_3b7c4a8fe52a6eee.txt Table 1), so
+the planetary stage, 6 · 3.6 · 3.96 for the drivetrain, Saleh 2017 Table 1), so
 every mesh and bearing carries its rated load and the speeds stay put.
 """
 

@@ -2,7 +2,7 @@
 
     python benchmarks/sweep.py [--repeat 3]
 
-The 39 designs of 000_3b7c4a8fe52a6eee.txt Table 5 are swept (build, load, 10-step rigid run,
+The 39 designs of Saleh 2017 Table 5 are swept (build, load, 10-step rigid run,
 ISO + AGMA + Hertz rating each). Then one design is timed stage by stage to show where the time
 goes. Figures in benchmarks/README.md.
 """

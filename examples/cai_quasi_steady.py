@@ -1,4 +1,4 @@
-"""Cai's spur pair under quasi-steady input (002_bb0c67d52fe8a188.txt Table 3-3).
+"""Cai's spur pair under quasi-steady input (Kelso 2011 Table 3-3).
 
 A speed driver turns the input shaft at Ω = A sin(2π f t) + 200 rpm (eq. 2-1) against the 49 N·m
 brake; the shafts are split in two halves joined by torsional springs (442.3 N·m/rad). Prints the

@@ -1,6 +1,6 @@
 """001's CART 600 kW gearbox on a rigid and on a flexible support (its tower mode at 7.3 Hz).
 
-001_2d0e0f624d8db633.txt (IFToMM 2018, MBDyn) runs NREL's CART 600 kW turbine with its gearbox
+IFToMM 2018 (MBDyn) runs NREL's CART 600 kW turbine with its gearbox
 (Table 1: a compound planetary stage, ring 93, planets 22/103, sun 29, and a 57/23 parallel
 stage) at 270 and 600 kW, once with the tower as a rigid support and once flexible, and finds the
 tower's vibration at 7.3 Hz in every bearing's vertical force (its Figs. 4–7), the orbits of the

@@ -1,6 +1,6 @@
 """The DTU 500 kW planetary stage with compliant meshes under a fluctuating rotor torque.
 
-003_83d3049daebcd276.txt models this stage (sun 20, planets 35, ring 91, profile-shifted) with a
+Jørgensen 2014 models this stage (sun 20, planets 35, ring 91, profile-shifted) with a
 flexible, time-varying mesh stiffness (single-pair ≈ 3.5e9 N/m, damping 40e3 N·s/m, eqs. 14-19)
 and reports 10–15 hours and 5–10 GB for 30 s of simulated time. Here the same 30 s:
 

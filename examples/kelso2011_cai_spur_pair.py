@@ -1,4 +1,4 @@
-"""Cai's spur pair with a compliant mesh, as Kelso modelled it (002_bb0c67d52fe8a188.txt).
+"""Cai's spur pair with a compliant mesh, as Kelso modelled it (Kelso 2011).
 
 The 40/80-tooth pair of Cai's experiment (Tables 3-1, 3-2) sits between split shafts joined by
 torsional springs (442.3 N·m/rad); a speed driver turns the input shaft and a powder brake holds

@@ -1,4 +1,4 @@
-"""The 1.4 MW case study of 000_3b7c4a8fe52a6eee.txt end to end: wind → rotor → gearbox → generator.
+"""The 1.4 MW case study of Saleh 2017 end to end: wind → rotor → gearbox → generator.
 
 Two runs from the scenario files in ``scenarios/`` (``pinwind run FILE`` runs the same):
 

@@ -1,4 +1,4 @@
-"""Saleh 2017 drivetrain (000_3b7c4a8fe52a6eee.txt): the rotor torque ramps to its rated 1 MN·m.
+"""Saleh 2017 drivetrain: the rotor torque ramps to its rated 1 MN·m.
 
 The generator holds the high-speed shaft at the speed that gives 14.2 rpm at the rotor (a speed
 driver; its torque is the driver's multiplier); the rotor torque ramps from 0 to 1e6 N·m over the
@@ -22,7 +22,7 @@ from pinwind.io.figures import plot_log
 from pinwind.units import rpm_to_rad_s
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
-RATED_TORQUE = 1e6  # N·m, 000_3b7c4a8fe52a6eee.txt §4.1
+RATED_TORQUE = 1e6  # N·m, Saleh 2017 §4.1
 ROTOR_RPM = 14.2
 
 

@@ -24,7 +24,7 @@ from pinwind.model.gearbox import load
 
 HERE = Path(__file__).resolve().parent
 
-# --- Saleh et al. 2017 (000_3b7c4a8fe52a6eee.txt), 1.4 MW -----------------------------------------
+# --- Saleh et al. 2017, 1.4 MW -----------------------------------------
 
 #: Table 3 (kg, kg·m²): body → (mass, Ixx = Iyy, Izz).
 SALEH_TABLE_3 = {
@@ -63,7 +63,7 @@ def saleh2017_drivetrain() -> str:
     return planetary_urdf(name="saleh2017_drivetrain", **SALEH_PLANETARY, **SALEH_PARALLEL)
 
 
-# --- CART 600 kW (001_2d0e0f624d8db633.txt Table 1) -------------------------------------------
+# --- CART 600 kW (IFToMM 2018 Table 1) -------------------------------------------
 
 CART_CENTRE_DISTANCE = 0.355
 CART_SUN_MODULE = 5.38e-3
@@ -118,7 +118,7 @@ def cart600_gearbox() -> str:
     )
 
 
-# --- Cai's spur pair (002_bb0c67d52fe8a188.txt Tables 3-1, 3-2) ---------------------------------
+# --- Cai's spur pair (Kelso 2011 Tables 3-1, 3-2) ---------------------------------
 
 STEEL_DENSITY = 7850.0
 CAI_HALF_SHAFT_MASS = 3.858
@@ -154,7 +154,7 @@ def cai_spur_pair() -> str:
     )
 
 
-# --- DTU 500 kW (003_83d3049daebcd276.txt §2.1, Table 6) -----------------------------------------
+# --- DTU 500 kW (Jørgensen 2014 §2.1, Table 6) -----------------------------------------
 
 
 #: ISO 281 ratings of the DTU stage's bearings, ASSUMED (003 gives none; models/README.md):

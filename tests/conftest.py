@@ -32,7 +32,7 @@ def load_model(path: str | Path):
 
 
 def dtu_pairs() -> tuple[GearPair, GearPair]:
-    """Sun–planet and planet–ring pairs of the DTU stage of 003_83d3049daebcd276.txt.
+    """Sun–planet and planet–ring pairs of the DTU stage of Jørgensen 2014.
 
     Module 10 mm, α 20°, z 20/35/91, ISO profile shifts 0.582/0.419/−0.840, face width 210 mm.
     """

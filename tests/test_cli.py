@@ -69,7 +69,7 @@ def test_speed_option_is_in_rpm():
         "1e-3",
     )
     assert out.returncode == 0, out.stderr
-    assert "85.2000" in out.stdout  # sun speed [rpm] = 6 × 14.2 (000_3b7c4a8fe52a6eee.txt)
+    assert "85.2000" in out.stdout  # sun speed [rpm] = 6 × 14.2 (Saleh 2017)
 
 
 @pytest.mark.parametrize(
@@ -136,7 +136,7 @@ def test_build_planetary_writes_a_model_with_the_requested_geometry(tmp_path):
 def test_info_lists_the_speed_ratios_of_a_one_degree_of_freedom_train():
     out = run("info", str(MODELS / "saleh2017_drivetrain.urdf"))
     assert out.returncode == 0, out.stderr
-    # 6 × 83/23 × 103/26 from the tooth counts (000_3b7c4a8fe52a6eee.txt Table 2, §4.1).
+    # 6 × 83/23 × 103/26 from the tooth counts (Saleh 2017 Table 2, §4.1).
     assert f"stage2_pinion {6 * 83 / 23 * 103 / 26:.6g}" in out.stdout
     assert "sun 6" in out.stdout
 

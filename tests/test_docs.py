@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parent.parent
 def test_documented_balanced_drivetrain_output_torque_is_the_rated_torque_over_the_ratio():
     text = (ROOT / "docs" / "log_format.md").read_text()
     (typed,) = re.findall(r"stage2_pinion=(-?[0-9.]+)", text)
-    ratio = 6 * 83 / 23 * 103 / 26  # 000_3b7c4a8fe52a6eee.txt: 1 + 120/24, then 83/23, 103/26
+    ratio = 6 * 83 / 23 * 103 / 26  # Saleh 2017: 1 + 120/24, then 83/23, 103/26
     assert_allclose(float(typed), -1e6 / ratio, rtol=1e-6)
 
 
@@ -38,7 +38,7 @@ def test_readme_quick_start_run_shows_rated_speed_and_tooth_force(tmp_path):
     for cells in (line.split() for line in out.stdout.splitlines()):
         if cells:
             rows.setdefault(cells[0], cells)
-    # 14.2 rpm rotor, sun 6 × 14.2 = 85.2 rpm (000_3b7c4a8fe52a6eee.txt §4.1), to 4 decimals.
+    # 14.2 rpm rotor, sun 6 × 14.2 = 85.2 rpm (Saleh 2017 §4.1), to 4 decimals.
     assert rows["carrier"][1] == "14.2000" and rows["sun"][1] == "85.2000"
     # Tangential force per sun mesh (1e6/6) / (3 × 0.18 m) = 308.6420 kN.
     assert rows["sun_planet1"][2] == f"{1e6 / 6 / (3 * 0.18) / 1e3:.4f}" == "308.6420"

@@ -2,7 +2,7 @@
 
 For each quantity of each joint, mesh and bearing (and generator, rotor, the constraint residual
 and the energy ledger): min, max, mean, RMS and final value over the samples folded in (the
-columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2), in SI units. A vector gives one series per
+columns of Kelso 2011 Tables 4-1/4-2), in SI units. A vector gives one series per
 axis plus one for its magnitude. Body poses are geometry, not loads, and are left out.
 
 ``RunningStatistics`` folds a Result block after block, in memory that does not grow with the

@@ -1,7 +1,7 @@
 """Statistics of a run and the printed summary of ``pinwind simulate``.
 
 ``statistics`` gives min, max, mean, RMS and final value of a series (the columns of
-002_bb0c67d52fe8a188.txt Tables 4-1/4-2). ``summary_tables`` lays them out for the terminal, in
+Kelso 2011 Tables 4-1/4-2). ``summary_tables`` lays them out for the terminal, in
 engineering units (rpm, kN, kN·m) named in the column headers, in tables that fit 80 columns.
 """
 

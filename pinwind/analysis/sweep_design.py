@@ -13,7 +13,7 @@ A subclass is a frozen dataclass of one candidate design (SI units) that names i
 and ``RESULTS`` (forces, stresses and safety factors). Every kind has the columns ``number``,
 ``stage``, ``centre_distance_mm``, ``module_mm``, ``ratio``, ``face_width_mm``, ``status``,
 ``reason``, ``findings``, ``agma_SF_min``, ``iso_S_min`` and ``wall_time_s``, which the queries
-(000_3b7c4a8fe52a6eee.txt eq. 41) and plots use.
+(Saleh 2017 eq. 41) and plots use.
 """
 
 from __future__ import annotations

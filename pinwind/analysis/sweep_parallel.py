@@ -1,4 +1,4 @@
-"""Parallel (spur or helical) stages for the design sweep, as 000_3b7c4a8fe52a6eee.txt §5 says.
+"""Parallel (spur or helical) stages for the design sweep, as Saleh 2017 §5 says.
 
 "The previous systematic procedure can be applied for designing the other parallel axis stages"
 (000 §5): the same loop as `sweep_planetary`, for one wheel–pinion pair.

@@ -1,4 +1,4 @@
-"""Planetary stages for the design sweep (000_3b7c4a8fe52a6eee.txt §5, Table 5, eq. 41).
+"""Planetary stages for the design sweep (Saleh 2017 §5, Table 5, eq. 41).
 
 `enumerate_planetary`: every buildable stage for the given centre distances and modules: whole
 tooth numbers with z_sun + z_planet = 2 a/m, z_ring = z_sun + 2 z_planet (no profile shift,

@@ -1,4 +1,4 @@
-"""PNG plots of a sweep against the module, like 000_3b7c4a8fe52a6eee.txt Figs. 14-19.
+"""PNG plots of a sweep against the module, like Saleh 2017 Figs. 14-19.
 
 Which quantities are drawn is the stage kind's choice (`StageDesign.PLOTS`): Figs. 14-19's for a
 planetary stage, the same family (centre distance, ratio, contact and bending SF) for a parallel

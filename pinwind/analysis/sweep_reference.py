@@ -1,4 +1,4 @@
-"""Table 5 of 000_3b7c4a8fe52a6eee.txt: the 39 workable planetary designs and their safety factors.
+"""Table 5 of Saleh 2017: the 39 workable planetary designs and their safety factors.
 
 Columns: number, centre distance [mm], module [mm], sun, planet, ring teeth, ratio, SF_C2,5
 (contact sun/planet), SF_C5,1 (contact planet/ring), min(SF_B)_r (bending at the root) and

@@ -1,4 +1,4 @@
-"""A design sweep's rows (000_3b7c4a8fe52a6eee.txt §3.2, §5): their kind, key, tables and eq. 41.
+"""A design sweep's rows (Saleh 2017 §3.2, §5): their kind, key, tables and eq. 41.
 
 Rows are plain dicts, one per design, whatever the kind of stage (`StageDesign.columns`; the
 kinds are `sweep_planetary` and `sweep_parallel`, told apart by the ``stage`` column). The sweep

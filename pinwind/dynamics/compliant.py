@@ -1,7 +1,7 @@
 """Compliant gear meshes: the constants the compiled element needs, and the mesh modes.
 
 A compliant mesh is a spring-damper along the line of action of each flank (IFToMM 2018
-eqs. 2-6, 001_2d0e0f624d8db633.txt; Jørgensen 2014 eqs. 14-19, 003_83d3049daebcd276.txt):
+eqs. 2-6, IFToMM 2018; Jørgensen 2014 eqs. 14-19):
 
     F_n = k(x) δ + c δ̇  on each flank in contact,   F_n ≥ 0 (teeth never pull)
 

@@ -6,7 +6,7 @@ velocity constraint of Saleh 2017, eqs. 38-40, written for moving centres):
     c = n · (v_B(P) − v_A(P)) = 0,        J = nᵀ (J_B(P) − J_A(P))
 
 with v_X(P) the velocity of the material point of body X at the pitch point P. With fixed axes this
-is the familiar r_b,A ω_A ± r_b,B ω_B = 0 of 000_3b7c4a8fe52a6eee.txt eqs. 38-40, but the row is
+is the familiar r_b,A ω_A ± r_b,B ω_B = 0 of Saleh 2017 eqs. 38-40, but the row is
 built from Pinocchio Jacobians and stays right when a gear centre moves. The multiplier λ of the row
 is the tooth normal force (transverse, along n) on B; −λ n acts on A.
 

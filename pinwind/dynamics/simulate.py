@@ -18,7 +18,7 @@ Each step k, at state (q_k, v_k) and time t_k = k·dt:
    J a = γ + (target(t_{k+1}) − target(t_k))/dt: the acceleration the constraints demand, with the
    speed drivers' change over the step. When J v drifts from the target (J changed during the
    step, or rounding) by more than ``PROJECTION_TOL``, v is projected back onto J v = target in the
-   metric of M before the next solve (post-stabilisation, 000_3b7c4a8fe52a6eee.txt §2.1.3).
+   metric of M before the next solve (post-stabilisation, Saleh 2017 §2.1.3).
    The drift is not fed back into the QP's right-hand side: redundant rows (several planets) must
    get a consistent right-hand side, or the multipliers of the redundant directions drift.
 

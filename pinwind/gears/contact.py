@@ -3,7 +3,7 @@
 The line of action is tangent to both base circles, at T1 on gear 1 and T2 on gear 2. Contact
 runs along it from A, where it starts, to E, where it ends; C is the pitch point. Every length
 here is a roll length along that line, which is also an arc length on the base circle
-(003_83d3049daebcd276.txt Fig. 7b calls it the base circle arc length "s"). Positions are
+(Jørgensen 2014 Fig. 7b calls it the base circle arc length "s"). Positions are
 measured from T1, or from A where the name says so. Lengths are in metres and angles in radians.
 
 Profile shift follows ISO 21771, as in `pinwind.gears.involute`: an internal gear counts with a
@@ -87,7 +87,7 @@ def path_of_contact(
     DIN ISO 21771:2014); MESYS (mesys.ag/?p=1265) notes that ISO 21771 gives internal gears
     positive diameters. Some textbooks and tools write r − m(1 − x) for an internal gear instead
     (SDP/SI D785 Table 5-1, MSC Adams); their x is the negative of ISO's. The DTU stage of
-    003_83d3049daebcd276.txt (ring x = −0.840) is consistent only with the ISO sign: both meshes
+    Jørgensen 2014 (ring x = −0.840) is consistent only with the ISO sign: both meshes
     then have the same centre distance, and Table 6 is reproduced (tests/gears/test_contact.py).
 
     Path length (ISO 21771), with g_a,i = sqrt(r_ai² − r_bi²):

@@ -240,7 +240,7 @@ class GearPair:
         ρ1 = u, ρ2 = |T1T2| − u for an external pair and −(|T1T2| + u) for an internal
         gear 2 (concave flank); for an internal gear 1, whose T1 lies |T1T2| behind T2,
         ρ1 = −u and ρ2 = u − |T1T2|. ``roll_1`` a float or an array
-        (003_83d3049daebcd276.txt Fig. 10).
+        (Jørgensen 2014 Fig. 10).
         """
         line = self.tangency_distance
         if self.internal_1:

@@ -1,4 +1,4 @@
-"""Hertz contact stress along the path of contact (003_83d3049daebcd276.txt eqs. 20-22).
+"""Hertz contact stress along the path of contact (Jørgensen 2014 eqs. 20-22).
 
 Two cylinders of radii ρ1, ρ2 (the flank radii of curvature, i.e. the roll distances from the
 tangency points T1, T2 to the contact point, 003 Fig. 10) and length L pressed by F:

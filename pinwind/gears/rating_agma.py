@@ -1,4 +1,4 @@
-"""AGMA 2001 rating of a gear mesh: bending and pitting (000_3b7c4a8fe52a6eee.txt eqs. 32-37).
+"""AGMA 2001 rating of a gear mesh: bending and pitting (Saleh 2017 eqs. 32-37).
 
 SI form of AGMA 2001-D04 (Shigley's Mechanical Engineering Design, 10th ed., eqs. 14-15 to 14-42):
 
@@ -173,7 +173,7 @@ class AgmaRating:
 def agma_rating(
     pair: GearPair, load: MeshLoad, factors: AgmaFactors | ResolvedAgmaFactors | None = None
 ) -> AgmaRating:
-    """Rate a pair at one load by AGMA 2001 (000_3b7c4a8fe52a6eee.txt eqs. 32-37).
+    """Rate a pair at one load by AGMA 2001 (Saleh 2017 eqs. 32-37).
 
     ``factors``: overrides, every None field computed (module docstring); a
     `ResolvedAgmaFactors` (``AgmaRating.factors`` of an earlier rating) is used as is.

@@ -1,7 +1,7 @@
 """Statistics of every logged quantity, from the log file alone (``pinwind report``).
 
 For each quantity of each joint, mesh and bearing: min, max, mean, RMS and final value over a time
-window (``analysis/run_statistics``; the columns of 002_bb0c67d52fe8a188.txt Tables 4-1/4-2), in
+window (``analysis/run_statistics``; the columns of Kelso 2011 Tables 4-1/4-2), in
 SI units (``report_dict``, ``--json``); the printed tables use the units of ``pinwind
 simulate``: rpm, kN, kN·m (a slide's joint rows: µm, m/s, m/s², kN). Vectors give one row per
 world or joint-frame component plus one for the magnitude. By default the printed tables are

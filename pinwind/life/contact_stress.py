@@ -1,6 +1,6 @@
 """Hertz contact stress of a tooth pair along its path of contact, sample by sample.
 
-Jørgensen 2014 (003_83d3049daebcd276.txt) §2.5.2: the two flanks touch as two cylinders whose
+Jørgensen 2014 §2.5.2: the two flanks touch as two cylinders whose
 radii are the flank radii of curvature at the contact point, the roll distances from the
 gears' base tangency points (Fig. 10), as long as the face width:
 

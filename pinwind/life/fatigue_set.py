@@ -1,6 +1,6 @@
 """A fatigue set: its load cases over a site's wind, and how each is run and rated.
 
-Jørgensen 2014 (003_83d3049daebcd276.txt) §3-4: one compliant run per wind bin, its contact-stress
+Jørgensen 2014 §3-4: one compliant run per wind bin, its contact-stress
 cycles counted and scaled to the bin's hours over the design life (Tables 1-3), Palmgren-Miner
 per gear (Table 7), and the same again at each turbulence intensity (Table 8). One load case is
 a wind bin × a turbulence level × a seed (`LoadCase`); the set (`FatigueSet`) holds the bins,

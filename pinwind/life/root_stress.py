@@ -16,7 +16,7 @@ acts on, for a run's single-tooth force and contact position (docs/series.md
   simulated forces are the dynamic ones of each mesh, the face-load distribution is not
   simulated.
 - `TableRootStress`, a table of stress per unit normal force against the contact position on
-  the gear's flank, from a finite-element model (Jørgensen 2014, 003_83d3049daebcd276.txt
+  the gear's flank, from a finite-element model (Jørgensen 2014
   §2.5.1, Fig. 9: "the normal single gear tooth force multiplied by the polynomial function
   describing the relationship between stresses and base circle arc length"), linear between
   its points and constant beyond its ends.

@@ -1,6 +1,6 @@
 """Damage over the design life per gear, per wind bin and per turbulence level, from a fatigue set.
 
-Jørgensen 2014 (003_83d3049daebcd276.txt) Tables 7-8. The cycles of each case
+Jørgensen 2014 Tables 7-8. The cycles of each case
 (`pinwind.life.case_cycles.CaseCycles`, counted in T = T_sim − skip_start seconds) stand for
 the h hours of the case's wind bin: its damage counts h · 3600 / T times (Table 2), divided
 among the bin's seeds (each seed is one sample of the same hours). Each tooth flank has its own

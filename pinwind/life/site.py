@@ -1,6 +1,6 @@
 """A site's wind as mean-speed bins with operating hours, and the time factors of a fatigue run.
 
-Jørgensen 2014 (003_83d3049daebcd276.txt) §1.1 and §3.1. The hours a turbine runs in each bin
+Jørgensen 2014 §1.1 and §3.1. The hours a turbine runs in each bin
 over its design life T follow from the Weibull distribution of the mean wind speed (eq. 1):
 
     F(v) = 1 − exp(−(v / A)^k),    h = T · a · [F(v_hi) − F(v_lo)]

@@ -1,6 +1,6 @@
 """S-N (Wöhler) curve with an endurance limit, and Palmgren-Miner damage of counted cycles.
 
-Jørgensen 2014 (003_83d3049daebcd276.txt) eqs. 2, 3 and 23:
+Jørgensen 2014 eqs. 2, 3 and 23:
 
     s(N) = s0 (N / N0)^(−1/m)   ⇔   N(s) = N0 (s0 / s)^m             (eq. 3 / eq. 23, N0 = 1)
     D = Σ n_i / N(s_i) = Σ n_i s_i^m / (N0 s0^m)                      (eq. 2)

@@ -1,6 +1,6 @@
 """Stress history and fatigue damage of every tooth of a gear, from a compliant run.
 
-Jørgensen 2014 (003_83d3049daebcd276.txt) §3.1 counts the stress of one mesh at one chosen
+Jørgensen 2014 §3.1 counts the stress of one mesh at one chosen
 point of the path and spreads it over the teeth with a time factor (Table 3). Here each tooth
 gets its own history instead, so damage is per tooth and the worst tooth is found:
 

@@ -12,7 +12,7 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
 - ``InductionMachine``: the steady-state torque–slip curve of the per-phase equivalent circuit
   (R_s + jX_ls in series with jX_M ∥ (R_r'/s + jX_lr')), star-connected on a grid of line
   voltage V and frequency f, p pole pairs: ω_sync = 2π f / p, s = (ω_sync − ω) / ω_sync; with
-  ``dynamic=True`` Krause's dq model with its fluxes as states (001_2d0e0f624d8db633.txt,
+  ``dynamic=True`` Krause's dq model with its fluxes as states (IFToMM 2018,
   ``cpp/generator.hpp``), whose steady state is the same curve. ``InductionMachine.cart600()``
   is 001's machine (Table 1: 3-phase, 60 Hz, 575 V, 4 poles, R_s 0.00053 Ω, R_r' 0.00048 Ω,
   L_ls 0.0365 mH, L_lr' 0.052 mH, L_M 1.97 mH).
@@ -95,7 +95,7 @@ class InductionMachine:
 
     @classmethod
     def cart600(cls, **changes: Any) -> InductionMachine:
-        """001_2d0e0f624d8db633.txt Table 1's generator (CART 600 kW)."""
+        """IFToMM 2018 Table 1's generator (CART 600 kW)."""
         values = dict(
             stator_resistance=0.00053,
             rotor_resistance=0.00048,

@@ -11,7 +11,7 @@ table (``CpTable``, bilinear). The rotor's inertia is added to the joint (Pinocc
 it turns with the hub, so the bearing reactions and the hub torque into the gearbox are those of
 the shaft, after the rotor's own inertia.
 
-Calibration for 000_3b7c4a8fe52a6eee.txt's 1.4 MW turbine (``Rotor.saleh2017``): 3 blades of 41 m
+Calibration for Saleh 2017's 1.4 MW turbine (``Rotor.saleh2017``): 3 blades of 41 m
 on a 3.7 m hub give R = 41 + 3.7/2 = 42.85 m; at 14.2 rpm in 10 m/s, λ = 6.37. Heier's fit at
 β = 0 gives C_p(6.37) = 0.409 there, 0.972 MN·m with ρ = 1.225 kg/m³; 000 (§4, Figs. 5-6) gives
 1 MN·m, C_p = 0.421. We keep Heier's shape and scale it by ``SALEH2017_CP_SCALE`` = 1.0292
@@ -19,7 +19,7 @@ on a 3.7 m hub give R = 41 + 3.7/2 = 42.85 m; at 14.2 rpm in 10 m/s, λ = 6.37. 
 the NREL 5 MW rotor's 3.8e7 kg·m² (61.5 m blades) scaled by (41 / 61.5)⁵ (mass ∝ L³, inertia
 ∝ m L²): 5.0e6 kg·m².
 
-003_83d3049daebcd276.txt's 500 kW turbine (``Rotor.jorgensen2014``): 003 names it (500 kW, 41 m
+Jørgensen 2014's 500 kW turbine (``Rotor.jorgensen2014``): 003 names it (500 kW, 41 m
 rotor, stall-regulated, FLEX5 for its aerodynamics) but gives neither its C_p nor its power
 curve. We take R = 41 / 2 = 20.5 m, the fixed speed 27.1 rpm of 41 m, 500 kW stall rotors, and
 an ASSUMED power curve typical of such machines (``JORGENSEN2014_POWER_CURVE``: C_p,max 0.36 near
@@ -172,7 +172,7 @@ class Rotor:
 
     @classmethod
     def saleh2017(cls, **changes: Any) -> Rotor:
-        """000_3b7c4a8fe52a6eee.txt's 1.4 MW rotor, calibrated (module docstring)."""
+        """Saleh 2017's 1.4 MW rotor, calibrated (module docstring)."""
         values = dict(
             radius=SALEH2017_RADIUS,
             inertia=SALEH2017_INERTIA,
@@ -183,7 +183,7 @@ class Rotor:
 
     @classmethod
     def jorgensen2014(cls, **changes: Any) -> Rotor:
-        """003_83d3049daebcd276.txt's 500 kW, 41 m stall rotor, assumed (module docstring)."""
+        """Jørgensen 2014's 500 kW, 41 m stall rotor, assumed (module docstring)."""
         values = dict(
             radius=JORGENSEN2014_RADIUS,
             inertia=JORGENSEN2014_INERTIA,

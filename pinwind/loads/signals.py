@@ -3,7 +3,7 @@
 A ``Signal`` is a function of time t [s] whose values the run evaluates for a whole block of
 samples at once (``values``), so no Python call is made per step. Every signal can be written as
 text, the same in the CLI and in scenario files (``loads/signal_text.py``).
-(002_bb0c67d52fe8a188.txt eq. 2-1 is the sine: Ω = A sin(ωt) + X.) Values are in the unit of what
+(Kelso 2011 eq. 2-1 is the sine: Ω = A sin(ωt) + X.) Values are in the unit of what
 they drive: N·m for torques, m/s for wind, rpm for speeds at the CLI and in scenario files
 (``Scaled`` turns them into rad/s).
 
@@ -128,7 +128,7 @@ class Step(Signal):
 
 @dataclass(frozen=True)
 class Sine(Signal):
-    """mean + amplitude · sin(2π frequency t + phase) (002_bb0c67d52fe8a188.txt eq. 2-1).
+    """mean + amplitude · sin(2π frequency t + phase) (Kelso 2011 eq. 2-1).
 
     frequency [Hz], phase [rad].
     """

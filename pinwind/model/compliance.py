@@ -2,7 +2,7 @@
 
 A mesh is rigid (a constraint row, ``dynamics/mesh.py``) unless it has a ``MeshCompliance``;
 then it is a spring-damper along the line of action (``dynamics/compliant.py``,
-001_2d0e0f624d8db633.txt eqs. 2-6, 003_83d3049daebcd276.txt eqs. 14-19). The model file sets
+IFToMM 2018 eqs. 2-6, Jørgensen 2014 eqs. 14-19). The model file sets
 it per mesh (docs/model_format.md), and ``simulate(..., meshes=...)`` or ``pinwind simulate
 --mesh NAME=compliant`` per run.
 """
@@ -40,7 +40,7 @@ class MeshCompliance:
             and the mean of the ``path`` variation are the value given.
         pair_stiffness: stiffness of one tooth pair along the path of contact, as (positions
             from the path start A [m], stiffness [N/m]), e.g. a FEM curve as in
-            003_83d3049daebcd276.txt Fig. 8; replaces ``stiffness`` and ``variation``.
+            Jørgensen 2014 Fig. 8; replaces ``stiffness`` and ``variation``.
         damping: c [N·s/m]; None: from ``damping_ratio``.
         damping_ratio: ζ of the mesh mode, c = 2 ζ √(k m_eq) with m_eq the effective mass
             along the line of action; used when ``damping`` is None.

@@ -85,7 +85,7 @@ class MeshSpec:
 
 @dataclass(frozen=True)
 class SpringSpec:
-    """A torsional spring-damper between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA").
+    """A torsional spring-damper between two coaxial joints (Kelso 2011 "RSDA").
 
     ``joint_2`` None: the spring acts across ``joint_1`` alone, between its body and the body
     it turns in (a ``<torsional_spring>`` to the ground, or a ``<bearing>``'s torsional

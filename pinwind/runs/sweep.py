@@ -1,4 +1,4 @@
-"""The design sweep (000_3b7c4a8fe52a6eee.txt §3.2 Fig. 3, §5): evaluate each design, run them all.
+"""The design sweep (Saleh 2017 §3.2 Fig. 3, §5): evaluate each design, run them all.
 
 Any kind of stage goes through the same path (`StageDesign`; the kinds are `sweep_planetary`
 and `sweep_parallel` in `pinwind.analysis`):

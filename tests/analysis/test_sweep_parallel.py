@@ -1,4 +1,4 @@
-"""Parallel-stage design sweep (000_3b7c4a8fe52a6eee.txt §5 applied to a spur or helical pair)."""
+"""Parallel-stage design sweep (Saleh 2017 §5 applied to a spur or helical pair)."""
 
 import math
 import subprocess

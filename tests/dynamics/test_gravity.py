@@ -10,7 +10,7 @@ import pinwind
 from tests.conftest import MODELS
 
 G = 9.81
-# 000_3b7c4a8fe52a6eee.txt Table 3 masses [kg]; pins are welded to the carrier.
+# Saleh 2017 Table 3 masses [kg]; pins are welded to the carrier.
 MASS = {"ring": 1238.0, "sun": 263.5, "carrier": 405.091, "pin": 254.3, "planet": 1113.1}
 
 

@@ -59,7 +59,7 @@ def test_work_of_torques_equals_kinetic_energy_plus_damper_losses():
 
 def test_energy_balance_holds_with_springs_and_a_speed_driver():
     gb = load_model(MODELS / "cai_spur_pair.urdf")
-    omega = 200 * 2 * math.pi / 60  # 002_bb0c67d52fe8a188.txt: 200 rpm driver, 49 N·m brake
+    omega = 200 * 2 * math.pi / 60  # Kelso 2011: 200 rpm driver, 49 N·m brake
     res = pinwind.simulate(
         gb,
         duration=1.0,

@@ -111,7 +111,7 @@ def test_fixed_axes_give_a_constant_row_and_zero_bias(pair_urdf):
         q = rng.uniform(-3, 3, gb.model.nq)
         v = rng.uniform(-50, 50, gb.model.nv)
         jac, bias, *_ = _rows(gb, q, v, np.array([1.0]))
-        # r_b1 ω_1 + r_b2 ω_2 along the line of action (000_3b7c4a8fe52a6eee.txt eq. 39).
+        # r_b1 ω_1 + r_b2 ω_2 along the line of action (Saleh 2017 eq. 39).
         rb1, rb2 = 0.020 * np.cos(np.radians(20)), 0.040 * np.cos(np.radians(20))
         assert_allclose(jac[0], [-rb1, -rb2], rtol=1e-12)
         assert_allclose(bias, 0.0, atol=1e-12)

@@ -1,6 +1,6 @@
 """Every planet bearing of the Saleh stage under rated load, from the free body of the planet.
 
-Saleh 2017 (000_3b7c4a8fe52a6eee.txt): ring fixed, carrier 1 MN·m, sun −1e6/6 N·m (balanced).
+Saleh 2017: ring fixed, carrier 1 MN·m, sun −1e6/6 N·m (balanced).
 Planet i sits at angle φ_i = (i − 1)·120° on the carrier at a = r_s + r_p = 0.54 m; e_r and e_t are
 the radial and tangential unit vectors there. By hand, independently of pinwind's conventions:
 
@@ -34,7 +34,7 @@ import pinwind
 from pinwind.model.gearbox import loads
 from tests.conftest import MODELS
 
-T_CARRIER = 1e6  # N·m, rated rotor torque, 000_3b7c4a8fe52a6eee.txt §4.1
+T_CARRIER = 1e6  # N·m, rated rotor torque, Saleh 2017 §4.1
 T_SUN = -T_CARRIER / 6
 MODULE, ALPHA = 0.015, math.radians(24.5)
 R_SUN, R_PLANET = 24 * MODULE / 2, 48 * MODULE / 2

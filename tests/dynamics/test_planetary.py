@@ -1,4 +1,4 @@
-"""Saleh 2017 planetary stage (000_3b7c4a8fe52a6eee.txt Tables 2-3) against hand dynamics.
+"""Saleh 2017 planetary stage (its Tables 2-3) against hand dynamics.
 
 Ring fixed, carrier input, sun output: one degree of freedom θ_c. With r the pitch radii
 (24/48/120 teeth, module 15 mm, no profile shift, so working = reference radii) and a = r_s + r_p:
@@ -28,7 +28,7 @@ import pinwind
 from pinwind.errors import TorquesUnbalanced
 from tests.conftest import MODELS
 
-# Table 3 of 000_3b7c4a8fe52a6eee.txt, z axis = shaft axis.
+# Table 3 of Saleh 2017, z axis = shaft axis.
 I_CARRIER, I_SUN, I_PLANET, I_PIN = 88.264, 4.8370, 77.78, 1.87
 M_PLANET, M_PIN, M_CARRIER, M_SUN, M_RING = 1113.1, 254.3, 405.091, 263.5, 1238.0
 MODULE, ALPHA = 0.015, math.radians(24.5)
@@ -56,7 +56,7 @@ def hand_forces(t_carrier: float, t_sun: float) -> tuple[float, float, float]:
 
 
 def test_rated_torque_splits_equally_and_gives_sun_mesh_force_of_hand_balance(saleh):
-    t_carrier = 1e6  # rated rotor torque, 000_3b7c4a8fe52a6eee.txt §4.1
+    t_carrier = 1e6  # rated rotor torque, Saleh 2017 §4.1
     t_sun = -t_carrier / 6
     res = pinwind.simulate(
         saleh, duration=0.2, dt=1e-3, torques={"carrier": t_carrier, "sun": t_sun}
@@ -74,7 +74,7 @@ def test_rated_torque_splits_equally_and_gives_sun_mesh_force_of_hand_balance(sa
 
 
 def test_speed_ratio_carrier_to_sun_is_exactly_six_at_rated_speed(saleh):
-    carrier_rpm = 14.2  # 000_3b7c4a8fe52a6eee.txt §4.1: 14.2 rpm rotor, 85.2 rpm sun
+    carrier_rpm = 14.2  # Saleh 2017 §4.1: 14.2 rpm rotor, 85.2 rpm sun
     omega = carrier_rpm * 2 * math.pi / 60
     res = pinwind.simulate(
         saleh, duration=0.5, dt=1e-3, speeds={"carrier": omega}, torques={"sun": -1e6 / 6}
@@ -145,7 +145,7 @@ def test_redundant_planet_rows_give_minimum_norm_multipliers(saleh):
 
 
 def test_sinusoidal_speed_driver_torque_is_equivalent_inertia_times_acceleration(saleh):
-    # 002_bb0c67d52fe8a188.txt eq. 2-1: Ω = A sin(2π f t) + X. The driver row asks for the
+    # Kelso 2011 eq. 2-1: Ω = A sin(2π f t) + X. The driver row asks for the
     # speed change over each step, so its torque is J_eq ΔΩ/dt minus the reflected sun torque.
     rpm = 2 * math.pi / 60
     mean, amp, freq, dt, t_sun = 14.2 * rpm, 1.1 * rpm, 0.5, 1e-3, -1e5

@@ -192,7 +192,7 @@ def test_initial_speed_of_the_carrier_starts_the_whole_train_at_rated_speed():
     from tests.conftest import MODELS
 
     gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
-    omega = 14.2 * 2 * math.pi / 60  # 000_3b7c4a8fe52a6eee.txt §4.1: rotor 14.2 rpm
+    omega = 14.2 * 2 * math.pi / 60  # Saleh 2017 §4.1: rotor 14.2 rpm
     res = pinwind.simulate(
         gb,
         duration=0.01,

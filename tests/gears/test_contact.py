@@ -142,7 +142,7 @@ def dtu_paths() -> tuple[PathOfContact, PathOfContact]:
 
 
 def test_dtu_stage_reproduces_table6_switch_points():
-    """003_83d3049daebcd276.txt Table 6 lists three roll lengths per mesh, A, B and D.
+    """Jørgensen 2014 Table 6 lists three roll lengths per mesh, A, B and D.
 
     s is the base-circle roll length measured from the inner gear's tangency point T1 (the sun,
     resp. the planet). The three values are:

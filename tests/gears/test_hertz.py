@@ -1,4 +1,4 @@
-"""Hertz contact along the path of contact (003_83d3049daebcd276.txt eqs. 20-22)."""
+"""Hertz contact along the path of contact (Jørgensen 2014 eqs. 20-22)."""
 
 import math
 

@@ -101,7 +101,7 @@ def test_internal_pair_follows_iso_sign_convention():
 
 
 def dtu_meshes(module: float = 10e-3, alpha: float = ALPHA_20):
-    # 003_83d3049daebcd276.txt §2.1: teeth 20/35/91, x_s 0.582, x_p 0.419, x_r −0.840.
+    # Jørgensen 2014 §2.1: teeth 20/35/91, x_s 0.582, x_p 0.419, x_r −0.840.
     sun_planet = pair_geometry(
         20, 35, module=module, pressure_angle=alpha, profile_shift_1=0.582, profile_shift_2=0.419
     )
@@ -124,7 +124,7 @@ def test_dtu_sun_and_ring_meshes_share_one_centre_distance():
 
 
 def test_dtu_table6_contact_points_follow_from_module_10mm_and_20deg():
-    # 003_83d3049daebcd276.txt Table 6: along the line of action, measured from the inner
+    # Jørgensen 2014 Table 6: along the line of action, measured from the inner
     # gear's base-circle tangent point, contact starts at s0, single-tooth contact starts at
     # s0 + (g − p_b) and the next tooth enters at s0 + p_b. Sun/planet: 0.0243, 0.0382,
     # 0.0538 m; planet/ring: 0.044, 0.064, 0.0735 m. Tip radii r_a = m (|z|/2 ± (1 + x)).
@@ -182,7 +182,7 @@ def test_half_tooth_angle_on_the_reference_circle_is_a_quarter_pitch_plus_the_sh
 @pytest.mark.parametrize(
     ("z1", "z2", "x1", "x2", "internal"),
     [
-        (20, 35, 0.582, 0.419, False),  # DTU 500 kW sun-planet (003_83d3049daebcd276.txt)
+        (20, 35, 0.582, 0.419, False),  # DTU 500 kW sun-planet (Jørgensen 2014)
         (35, 91, 0.419, -0.840, True),  # DTU 500 kW planet-ring
         (17, 40, 0.3, -0.1, False),
     ],

@@ -63,7 +63,7 @@ def test_single_stiffness_does_not_depend_on_module():
 
 
 def test_dtu_sun_planet_single_stiffness_by_hand():
-    # 003_83d3049daebcd276.txt: sun 20 (x 0.582), planet 35 (x 0.419), b = 210 mm, spur.
+    # Jørgensen 2014: sun 20 (x 0.582), planet 35 (x 0.419), b = 210 mm, spur.
     # q′ terms: 0.04723 + 0.0077755 + 0.0073689 − 0.0036957 − 0.0033913 − 0.0008087
     #           − 0.0028957 + 0.0017919 + 0.0003195 = 0.0536944
     # c′ = 0.78/0.0536944 = 14.527 N/(mm·µm); c′ b = 14.527 · 210 N/µm = 3.0506e9 N/m.
@@ -100,7 +100,7 @@ def test_dtu_planet_ring_single_stiffness_treats_ring_as_rack():
 
 
 def test_dtu_single_pair_stiffness_is_near_003_fem_value():
-    # 003_83d3049daebcd276.txt §2.4: FEM single-tooth mesh stiffness "around 3.5·10⁹ N/m".
+    # Jørgensen 2014 §2.4: FEM single-tooth mesh stiffness "around 3.5·10⁹ N/m".
     # ISO method B gives 3.05e9 (sun/planet) and 3.18e9 (planet/ring), 9-13 % lower. The
     # tolerance is 20 %: C_M = 0.8 is ISO's mean ratio of measured to theoretical stiffness, and
     # the seed's FEM models its own gear bodies and contact.

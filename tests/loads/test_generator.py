@@ -15,7 +15,7 @@ from pinwind.loads.generator import ConstantTorque, InductionMachine, LinearSlip
 from pinwind.model.gearbox import loads
 
 RPM = 2 * math.pi / 60
-# 001_2d0e0f624d8db633.txt Table 1's generator, written out here (not taken from the preset).
+# IFToMM 2018 Table 1's generator, written out here (not taken from the preset).
 RS, RR, LLS, LLR, LM = 0.00053, 0.00048, 0.0365e-3, 0.052e-3, 1.97e-3
 V_LINE, FREQ, POLES = 575.0, 60.0, 4
 WE = 2 * math.pi * FREQ

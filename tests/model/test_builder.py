@@ -24,7 +24,7 @@ from pinwind.model.builders import (
 from pinwind.model.gearbox import Gearbox, load, loads
 from tests.conftest import MODELS, load_model  # noqa: E402
 
-SALEH_CENTRE_DISTANCE = 0.540  # 000_3b7c4a8fe52a6eee.txt §4.3: r3 = 540 mm
+SALEH_CENTRE_DISTANCE = 0.540  # Saleh 2017 §4.3: r3 = 540 mm
 
 
 def small_planetary(**overrides) -> dict:
@@ -159,7 +159,7 @@ def test_unassemblable_planet_count_warns():
 
 def test_compound_planets_with_unequal_centre_distances_are_rejected():
     # CART 600 kW without profile shift: ring–A (93 − 22)·10/2 = 355 mm, sun–B
-    # (29 + 103)·5.38/2 = 355.08 mm (001_2d0e0f624d8db633.txt Table 1).
+    # (29 + 103)·5.38/2 = 355.08 mm (IFToMM 2018 Table 1).
     with pytest.raises(InvalidGearTrain) as info:
         compound_planetary_urdf(
             sun=29,
@@ -191,7 +191,7 @@ def test_shipped_models_are_what_the_generator_writes(tmp_path):
 
 
 def test_saleh_planetary_has_table3_mass_properties():
-    # 000_3b7c4a8fe52a6eee.txt Table 3: (mass kg, Ixx = Iyy, Izz kg·m²).
+    # Saleh 2017 Table 3: (mass kg, Ixx = Iyy, Izz kg·m²).
     gearbox = load(MODELS / "saleh2017_planetary.urdf")
     table = {
         "ring": (1238.0, 556.639, 1083.485),
@@ -239,7 +239,7 @@ def test_saleh_planets_sit_at_540_mm_equally_spaced():
 
 
 def test_saleh_planetary_stage_ratio_is_six():
-    # Ring fixed: ω_sun/ω_carrier = 1 + z_ring/z_sun = 1 + 120/24 (000_3b7c4a8fe52a6eee.txt).
+    # Ring fixed: ω_sun/ω_carrier = 1 + z_ring/z_sun = 1 + 120/24 (Saleh 2017).
     ratios = speed_ratios(load(MODELS / "saleh2017_planetary.urdf"))
     np.testing.assert_allclose(ratios["sun"], 6.0, rtol=1e-9)
     np.testing.assert_allclose(ratios["ring"], 0.0, atol=1e-12)
@@ -254,7 +254,7 @@ def test_saleh_drivetrain_overall_ratio_from_tooth_counts():
 
 
 def test_cart_compound_planets_sit_at_355_mm():
-    # 001_2d0e0f624d8db633.txt Table 1: ring–A (93 − 22)·10 mm/2 = 355 mm.
+    # IFToMM 2018 Table 1: ring–A (93 − 22)·10 mm/2 = 355 mm.
     gearbox = load(MODELS / "cart600_gearbox.urdf")
     data = gearbox.model.createData()
     pin.forwardKinematics(gearbox.model, data, gearbox.neutral())
@@ -283,7 +283,7 @@ def test_cart_carrier_has_188_about_its_rotation_axis():
 
 
 def test_cai_gear_bodies_carry_a_half_shaft_and_springs_join_the_halves():
-    # 002_bb0c67d52fe8a188.txt Table 3-1: half-shaft 3.858 kg, 0.001 kg·m²; gear 1 1.333 kg,
+    # Kelso 2011 Table 3-1: half-shaft 3.858 kg, 0.001 kg·m²; gear 1 1.333 kg,
     # gear 2 10.667 kg, 0.002 kg·m² each; shaft stiffness 442.3 N·m/rad.
     gearbox = load_model(MODELS / "cai_spur_pair.urdf")
     for body, mass, izz in (
@@ -305,7 +305,7 @@ def test_cai_gear_bodies_carry_a_half_shaft_and_springs_join_the_halves():
 
 
 def test_dtu_planets_sit_at_the_sun_planet_working_centre_distance():
-    # 003_83d3049daebcd276.txt: 20/35 teeth, x 0.582 + 0.419, module 10 mm, 20°:
+    # Jørgensen 2014: 20/35 teeth, x 0.582 + 0.419, module 10 mm, 20°:
     # inv α_w = inv 20° + 2 tan 20° · 1.001/55, a_w = 10 mm · 55/2 · cos 20°/cos α_w.
     alpha = math.radians(20.0)
     target = math.tan(alpha) - alpha + 2 * math.tan(alpha) * 1.001 / 55

@@ -12,7 +12,7 @@ RHO = 7850.0  # kg/m³, steel
 
 
 def test_steel_gear_is_a_disc_of_pitch_diameter_and_face_width():
-    # 40 teeth, m = 3 mm: pitch diameter 120 mm (002_bb0c67d52fe8a188.txt), 15 mm wide.
+    # 40 teeth, m = 3 mm: pitch diameter 120 mm (Kelso 2011), 15 mm wide.
     mass, ixx, izz = steel_gear(40, module=3e-3, face_width=0.015)
     r, b = 0.060, 0.015
     m = RHO * math.pi * r**2 * b

@@ -12,7 +12,7 @@ import pytest
 
 import pinwind
 
-#: Saleh's planetary stage (000_3b7c4a8fe52a6eee.txt Table 2) and its two parallel stages.
+#: Saleh's planetary stage (Saleh 2017 Table 2) and its two parallel stages.
 PLANETARY = ["--sun", "24", "--planet", "48", "--ring", "120", "--planets", "3"]
 PLANETARY += ["--module", "15", "--pressure-angle", "24.5", "--face-width", "380"]
 STAGES = [(83, 23), (103, 26)]

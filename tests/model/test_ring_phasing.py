@@ -1,6 +1,6 @@
 """The tooth phase of a ring gear (``model/phasing.py``), derived by hand.
 
-A profile-shifted internal pair (DTU 500 kW planet–ring, 003_83d3049daebcd276.txt: z 35/91,
+A profile-shifted internal pair (DTU 500 kW planet–ring, Jørgensen 2014: z 35/91,
 x 0.419/−0.840, module 10 mm, 20°) with the ring first in the file, so that the ring starts the
 train and keeps the phase its file gives: ``tooth_phase_deg`` φ is where its front flank crosses
 its working pitch circle, here two tooth pitches from the ring's zero direction (+x), so that a

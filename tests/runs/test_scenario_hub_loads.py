@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from numpy.testing import assert_allclose
 
@@ -50,10 +52,9 @@ def test_a_misspelt_component_is_refused_naming_the_key_and_the_known_ones(tmp_p
 
 
 def test_a_hub_load_on_an_unknown_body_exits_2_in_one_line(tmp_path):
-    path = _scenario(tmp_path, "force_x = 1.0\nup = [0.0, 1.0, 0.0]\n")
-    text = open(path).read().replace("[hub_load.shaft]", "[hub_load.rotor]")
-    open(path, "w").write(text)
-    out = run_cli("run", path)
+    path = Path(_scenario(tmp_path, "force_x = 1.0\nup = [0.0, 1.0, 0.0]\n"))
+    path.write_text(path.read_text().replace("[hub_load.shaft]", "[hub_load.rotor]"))
+    out = run_cli("run", str(path))
     assert out.returncode == 2
     assert 'hub load on "rotor": no such body; bodies are: ground, shaft' in out.stderr
     assert "Traceback" not in out.stderr

@@ -1,4 +1,4 @@
-"""Planetary design sweep: Table 5 of 000_3b7c4a8fe52a6eee.txt, eq. 41 queries, backends, resume."""
+"""Planetary design sweep: Table 5 of Saleh 2017, eq. 41 queries, backends, resume."""
 
 import math
 import socket
@@ -14,7 +14,7 @@ from pinwind.analysis.sweep_table import query, read_checkpoint, read_table
 from pinwind.errors import InputError, SchedulerUnreachable
 from pinwind.runs.sweep import evaluate, run_sweep
 
-# Table 5 of 000_3b7c4a8fe52a6eee.txt, transcribed from the seed text:
+# Table 5 of Saleh 2017, transcribed from the seed text:
 # (#, centre distance [mm], module [mm], sun, planet, ring).
 TABLE_5 = [
     (1, 420, 5, 53, 115, 283), (2, 420, 5, 54, 114, 282), (3, 420, 5, 55, 113, 281),

@@ -1,6 +1,6 @@
 // Compliant gear meshes: a spring-damper along the line of action of each flank, with the
-// deflection taken from the bodies' positions (IFToMM 2018 eqs. 2-6, 001_2d0e0f624d8db633.txt;
-// Jørgensen 2014 eqs. 14-19, 003_83d3049daebcd276.txt; pinwind/dynamics/compliant.py documents
+// deflection taken from the bodies' positions (IFToMM 2018 eqs. 2-6;
+// Jørgensen 2014 eqs. 14-19; pinwind/dynamics/compliant.py documents
 // the model):
 //
 //     F_n = k(x) δ + c δ̇   on each flank in contact, F_n ≥ 0 (teeth never pull).

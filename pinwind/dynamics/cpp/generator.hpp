@@ -7,7 +7,7 @@
 //   induction        steady-state induction machine from its equivalent circuit (per phase:
 //                    R_s + jX_ls in series with jX_m ∥ (R_r'/s + jX_lr')), motor convention
 //                    τ = 3 |I_r'|² R_r' / (s ω_s),  s = (ω_s − ω)/ω_s,  ω_s = 2π f / p
-//   induction_dq     Krause's dq model in the synchronous frame (001_2d0e0f624d8db633.txt),
+//   induction_dq     Krause's dq model in the synchronous frame (IFToMM 2018),
 //                    flux linkages λ = (λ_qs, λ_ds, λ'_qr, λ'_dr) as states:
 //                      dλ/dt = u − R L⁻¹ λ − W(ω_r) λ,  u = (√2 V_ph, 0, 0, 0)
 //                      τ = (3/2) p (λ_ds i_qs − λ_qs i_ds),  i = L⁻¹ λ,  ω_r = p ω

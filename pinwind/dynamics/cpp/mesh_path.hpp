@@ -1,6 +1,6 @@
 // Where the teeth of a mesh are along the path of contact, from the gear angles: the roll
 // position of the entering tooth pair, the number of pairs in contact and each pair's share of
-// the mesh stiffness (003_83d3049daebcd276.txt §2.4, Figs. 7-8). Used by rigid and compliant
+// the mesh stiffness (Jørgensen 2014 §2.4, Figs. 7-8). Used by rigid and compliant
 // meshes alike.
 //
 // The path of contact runs from A (the driven gear's tip circle) to E along the line of action,

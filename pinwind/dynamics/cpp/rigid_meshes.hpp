@@ -67,7 +67,7 @@ class RigidMeshes final : public Constraint {
   }
 
   // The tooth forces at the pitch points: the reduced-coordinate form of
-  // 000_3b7c4a8fe52a6eee.txt eqs. 16, 18, 23 and 26.
+  // Saleh 2017 eqs. 16, 18, 23 and 26.
   void add_body_forces(const StepView& s, ConstValues lambda, BodyForces& out) const override {
     const auto& mc = s.meshes;
     for (Eigen::Index r = 0; r < size(); ++r) {

@@ -1,4 +1,4 @@
-// Torsional spring-dampers between two coaxial joints (002_bb0c67d52fe8a188.txt "RSDA",
+// Torsional spring-dampers between two coaxial joints (Kelso 2011 "RSDA",
 // k = GJ/L): torque −k(θ₁ − θ₂ − θ₀) − c(ω₁ − ω₂) on joint 1 and the opposite on joint 2 (viscous
 // bearing damping is bearing_damping.hpp). A spring without joint 2 (index_2 = −1) acts across joint 1 alone,
 // between its body and the body it turns in: −k(θ₁ − θ₀) − cω₁ (a ring held in torsion, a torque
