@@ -14,7 +14,8 @@ from pathlib import Path
 
 from pinwind.dynamics import _native
 
-STUB = Path(_native.__file__).with_name("_native.pyi")
+#: The stub in the source tree: an editable install puts the compiled module elsewhere.
+STUB = Path(__file__).resolve().parents[2] / "pinwind" / "dynamics" / "_native.pyi"
 
 #: Names the stub defines for its own annotations, not bound by the module.
 TYPE_ALIASES = {"Vector", "Matrix", "Bytes", "Indices"}
