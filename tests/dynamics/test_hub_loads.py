@@ -161,3 +161,17 @@ def test_the_energy_ledger_closes_with_varying_hub_loads_on_a_compliant_bearing(
     res = _run(loads(shaft_urdf(bearing)), duration=0.5, dt=1e-4, hub_loads=[load])
     assert abs(res.energy["work_applied"][-1]) > 1e-3  # the loads did work
     ledger_closure(res, rtol=1e-12)
+
+
+def test_element_forces_without_a_sample_s_inputs_leave_the_hub_loads_out():
+    # Stepper.element_forces (the tangent checks) has no sample: the loads are inputs of one.
+    import pinocchio as pin
+
+    from pinwind.dynamics.drivetrain import drivetrain
+    from pinwind.testing.tangents import element_stepper
+
+    gb = loads(shaft_urdf('radial_stiffness="1e8" tilt_stiffness="1e7"'))
+    load = constant_hub_load("shaft", COMPONENTS, point=(0.0, 0.0, OVERHANG), up=(0.0, 1.0, 0.0))
+    stepper = element_stepper(drivetrain(gb, hub_loads=[load]))
+    forces = stepper.element_forces(pin.neutral(gb.model), np.zeros(gb.model.nv))
+    assert_allclose(forces.force, 0.0, atol=0.0)

@@ -24,6 +24,7 @@
 // so the bearing reactions (by RNEA) carry it.
 #pragma once
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
@@ -52,6 +53,11 @@ class HubLoad : public Element {
   explicit HubLoad(HubLoadSpec spec) : s_(std::move(spec)) {}
 
   void prepare(const StepView& s) override {
+    if (s.inputs == nullptr) {  // no sample's inputs (Stepper::element_forces): no load
+      wrench_.setZero();
+      std::fill(tau_.begin(), tau_.end(), 0.0);
+      return;
+    }
     const auto& body = s.data.oMi[static_cast<size_t>(s_.joint)];
     const Eigen::Matrix3d world =
         s_.rotating ? Eigen::Matrix3d(body.rotation() * s_.axes)
