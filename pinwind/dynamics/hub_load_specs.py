@@ -40,12 +40,7 @@ def hub_load_specs(
     model = gearbox.model
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
-    bodies = {
-        model.frames[f].name: f
-        for f in range(model.nframes)
-        if model.frames[f].type == pin.FrameType.BODY
-        and model.frames[f].name not in gearbox.slide_links
-    }
+    bodies = {model.frames[f].name: f for f in gearbox.body_frames()}  # the Result's bodies
     specs = []
     for i, load in enumerate(loads):
         where = f'hub load on "{load.body}"'

@@ -59,7 +59,7 @@ from pinwind.dynamics.linear_model import check_held, linear_model
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.run_settings import RunSettings
 from pinwind.dynamics.solver import SolverSettings
-from pinwind.dynamics.stepper import CompiledStepper, body_frames
+from pinwind.dynamics.stepper import CompiledStepper
 from pinwind.dynamics.support_springs import from_ground, roll_share
 from pinwind.dynamics.torque_balance import imbalances, representative_torque
 from pinwind.dynamics.torsional_modes import highest_spring_mode
@@ -491,7 +491,7 @@ def prepare(
     spring_mode = highest_spring_mode(train)
     for note in coarse_step_notes(duration, dt, spring_mode):
         warnings.warn(StepTooCoarse(note), stacklevel=user_stacklevel())
-    frames = body_frames(gearbox)
+    frames = gearbox.body_frames()
     body_names = [model.frames[f].name for f in frames]
     samples = steps + 1
     stride = _keep_stride(

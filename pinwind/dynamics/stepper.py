@@ -15,7 +15,6 @@ the tests check that its M equals Pinocchio's own.
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 
 from pinwind.dynamics import _native
 from pinwind.dynamics.compliant import MeshSetup
@@ -96,21 +95,6 @@ def series_array(block: Result, name: str) -> np.ndarray:
     return block.energy[name] if name in block.energy else getattr(block, name)
 
 
-def body_frames(gearbox: Gearbox) -> list[int]:
-    """Ids of the link frames whose world poses are recorded.
-
-    Every link but the massless links of the compliant bearings' slides (``slide_links``): the
-    body in a bearing is the link on its revolute joint, and its pose holds the slides' motion.
-    """
-    model = gearbox.model
-    return [
-        f
-        for f in range(model.nframes)
-        if model.frames[f].type == pin.FrameType.BODY
-        and model.frames[f].name not in gearbox.slide_links
-    ]
-
-
 #: Newton iterations of the static start at most, and the correction, relative to the
 #: displacement, at which it stops: the stiffness follows the pairs in contact, so a start on a
 #: pair change takes a few more iterations than the one a linear train needs.
@@ -153,7 +137,7 @@ class CompiledStepper:
         integrator: Integrator | None = None,
     ):
         model = gearbox.model
-        frames = body_frames(gearbox)
+        frames = gearbox.body_frames()
         spec = _native.StepperSpec()
         spec.tree = joint_tree(gearbox, gravity)
         spec.meshes = MeshSet(gearbox, meshes.meshes).constants

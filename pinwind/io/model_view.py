@@ -36,12 +36,10 @@ def rest_pose(gearbox: Gearbox) -> Result:
     """
     import pinocchio as pin
 
-    from pinwind.dynamics.stepper import body_frames
-
     model = gearbox.model
     data = model.createData()
     pin.framesForwardKinematics(model, data, pin.neutral(model))
-    frames = body_frames(gearbox)
+    frames = gearbox.body_frames()
     position = np.array([data.oMf[f].translation for f in frames])
     quaternion = np.array([pin.Quaternion(data.oMf[f].rotation).coeffs() for f in frames])
     return Result(

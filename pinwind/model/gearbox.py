@@ -293,6 +293,21 @@ class Gearbox:
         """Index of a bearing in the velocity vector."""
         return self.model.joints[self.model.getJointId(joint)].idx_v
 
+    def body_frames(self) -> list[int]:
+        """Ids of the link frames whose world poses a run records: its bodies.
+
+        Every link but the massless links of the compliant bearings' slides (``slide_links``):
+        the body in a bearing is the link on its revolute joint, and its pose holds the slides'
+        motion.
+        """
+        model = self.model
+        return [
+            f
+            for f in range(model.nframes)
+            if model.frames[f].type == pin.FrameType.BODY
+            and model.frames[f].name not in self.slide_links
+        ]
+
     def joint_axis(self, joint: str) -> np.ndarray:
         """Unit axis of a bearing (joint) in its joint frame [-]."""
         return self._joint_axis(self.model.getJointId(joint))

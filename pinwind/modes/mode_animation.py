@@ -24,7 +24,6 @@ import pinocchio as pin
 from pinwind.dynamics.coordinates import coordinates
 from pinwind.dynamics.normal_modes import Mode
 from pinwind.dynamics.result import Result
-from pinwind.dynamics.stepper import body_frames
 from pinwind.io.log_model import model_geometry
 from pinwind.io.log_reader import LogFile
 from pinwind.io.replay import blueprint, send_frames
@@ -54,7 +53,7 @@ def mode_motion(gearbox: Gearbox, mode: Mode, *, periods: int = 3) -> Result:
     time = np.linspace(0.0, float(periods), n)  # one period per second
     q0 = gearbox.neutral()
     q = q0[None, :] + amplitude * np.real(np.exp(2j * math.pi * time)[:, None] * shape[None, :])
-    frames = body_frames(gearbox)
+    frames = gearbox.body_frames()
     position = np.zeros((n, len(frames), 3))
     quaternion = np.zeros((n, len(frames), 4))
     for k in range(n):
