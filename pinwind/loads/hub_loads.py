@@ -83,8 +83,8 @@ class HubLoad:
     body: str
     components: tuple[ComponentSignal, ...]
     frame: HubFrame = HubFrame.FIXED
-    point: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    up: tuple[float, float, float] | None = None
+    point: Sequence[float] = (0.0, 0.0, 0.0)
+    up: Sequence[float] | None = None
 
     def __post_init__(self) -> None:
         where = f'hub load on "{self.body}"'
@@ -98,6 +98,8 @@ class HubLoad:
                 len(vector) != 3 or not all(math.isfinite(float(x)) for x in vector)
             ):
                 raise NonFiniteInput(f"{where}: {name} {vector} must be three finite numbers")
+            if vector is not None:  # any sequence given: kept as a tuple of floats
+                object.__setattr__(self, name, tuple(float(x) for x in vector))
         if not isinstance(self.frame, HubFrame):
             object.__setattr__(self, "frame", HubFrame.named(str(self.frame), where=where))
 
@@ -233,7 +235,7 @@ def hub_load_from_openfast(
         Table(time, components[:, i], source=f"{path} {COMPONENTS[i]} ({frame.value} channels)")
         for i in range(6)
     )
-    return HubLoad(body, tables, HubFrame.FIXED, _point(point), _up(up))
+    return HubLoad(body, tables, HubFrame.FIXED, tuple(point), None if up is None else tuple(up))
 
 
 def constant_hub_load(
@@ -249,8 +251,8 @@ def constant_hub_load(
         body,
         tuple(Constant(float(value)) for value in components),
         HubFrame.named(str(frame), where=f'hub load on "{body}"'),
-        _point(point),
-        _up(up),
+        tuple(point),
+        None if up is None else tuple(up),
     )
 
 
@@ -263,19 +265,6 @@ def _first_present(names: list[str], options: tuple[str, ...], path: Path) -> st
         f"{path}: none of the channels {', '.join(options)} is in the file, which has: "
         f"{', '.join(names[1:])}; add one to ElastoDyn's OutList"
     )
-
-
-def _point(point: Sequence[float]) -> tuple[float, float, float]:
-    """Three coordinates [m]."""
-    values = tuple(float(x) for x in point)
-    if len(values) != 3:
-        raise InputError(f"point {tuple(point)} m: give three coordinates (x, y, z)")
-    return values  # type: ignore[return-value]
-
-
-def _up(up: Sequence[float] | None) -> tuple[float, float, float] | None:
-    """The up direction as three numbers, or None."""
-    return None if up is None else _point(up)
 
 
 def _describe(signal: ComponentSignal) -> Any:
