@@ -334,6 +334,13 @@ _MEANINGS: dict[str, About] = {
     "rotor_wind_speed": About("wind_speed", "m/s", "wind speed at the rotor",
            short="wind",
            plot=Plot("rotor_wind_speed", "rotor", "wind speed at the rotor v [m/s]", "m/s")),
+    "rotor_thrust": About("thrust", "N", "aerodynamic thrust 0.5 rho pi R^2 v^2 Ct along the shaft",
+           short="thrust",
+           plot=Plot("rotor_thrust", "rotor", "rotor thrust T = ½ ρ π R² v² C_t [kN]", "kN")),
+    "rotor_thrust_coefficient": About("thrust_coefficient", "1", "thrust coefficient Ct",
+           short="Ct",
+           plot=Plot("rotor_thrust_coefficient", "rotor", "thrust coefficient C_t(λ, β) [-]",
+                     "-")),
 }  # fmt: skip
 
 

@@ -64,7 +64,9 @@ inline constexpr std::size_t kFamilies = 7;
   X(rotor_power, rotor, 1)                      \
   X(rotor_tip_speed_ratio, rotor, 1)            \
   X(rotor_power_coefficient, rotor, 1)          \
-  X(rotor_wind_speed, rotor, 1)
+  X(rotor_wind_speed, rotor, 1)                 \
+  X(rotor_thrust, rotor, 1)                     \
+  X(rotor_thrust_coefficient, rotor, 1)
 
 enum class Series {
 #define PINWIND_SERIES_NAME(name, family, components) name,
