@@ -510,6 +510,22 @@ class Schema(Mapping[str, Series]):
         """
         return Schema((*self._series, _checked(series, self._by_name)))
 
+    def only(self, names: Iterable[str]) -> Schema:
+        """A new schema of the series named, in this schema's order, and the link poses.
+
+        The poses (``body_position``, ``body_quaternion``) stay: a Result has them, with a row
+        per pose (none kept: no rows).
+
+        Raises:
+            KeyError: a name that is not a series of this schema.
+        """
+        wanted = set(names)
+        unknown = wanted - set(self._by_name)
+        if unknown:
+            raise KeyError(f"no series {sorted(unknown)}; the series are: {list(self._by_name)}")
+        keep = wanted | {"time"} | {s.name for s in self._series if s.per == "pose"}
+        return Schema(s for s in self._series if s.name in keep)
+
     def without(self, name: str) -> Schema:
         """A new schema without the derived series ``name`` (this one unchanged).
 

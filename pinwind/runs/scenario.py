@@ -57,7 +57,7 @@ import dataclasses
 import math
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -755,6 +755,7 @@ def run(
     progress: bool | None = None,
     check_joints: bool = True,
     statistics: bool | None = None,
+    keep_series: Sequence[str] | None = None,
 ) -> Result:
     """Run a scenario: load its model (unless given), simulate, log it with its values.
 
@@ -766,6 +767,7 @@ def run(
             line leaves that to ``simulate``, whose message names the option).
         statistics: fold every sample into ``result.statistics`` (``pinwind.runs.run.simulate``;
             default: when the Result does not keep every sample).
+        keep_series: the series the Result holds (default all; the log has every one).
 
     Returns:
         The ``Result``.
@@ -793,6 +795,7 @@ def run(
         view_rate=v.get("view_rate", VIEW_RATE),
         allow_large_log=v.get("allow_large_log", False),
         keep=v.get("keep", "auto"),
+        keep_series=keep_series,
         skip_start=v.get("skip_start", 0.0),
         statistics=statistics,
         overwrite=v.get("force", False) if force is None else force,
