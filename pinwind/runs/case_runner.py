@@ -28,7 +28,6 @@ from pinwind.life.fatigue_set import FatigueSet, LoadCase
 from pinwind.life.root_stress import ISO_ROOT_STRESS
 from pinwind.runs.scenario import build
 
-
 #: The series a case's reduction reads (the tooth cycles: ``life/tooth_damage.py``; the
 #: bearings' load sums: ``life/bearing_life.py``); the Result keeps these only, its log all.
 CASE_SERIES = (
