@@ -119,6 +119,8 @@ class BearingLife:
             hours over its design life (``life/set_bearing_life.py``).
         l10: basic rating life [10⁶ rev] (NaN when not rated).
         l10h: basic rating life [h] at the mean speed over ``duration`` (inf if it did not turn).
+        refused: why it has no life though rated (a tilting moment one bearing cannot rate,
+            ``life/row_life.tilt_refusal``), else "".
     """
 
     joint: str
@@ -128,6 +130,7 @@ class BearingLife:
     duration: float
     l10: float
     l10h: float
+    refused: str = ""
 
     @property
     def rated(self) -> bool:
@@ -149,8 +152,9 @@ class BearingLife:
             "equivalent_load_N": None if math.isnan(self.equivalent_load) else self.equivalent_load,
             "revolutions": self.revolutions,
             "mean_speed_rpm": self.mean_speed_rpm,
-            "l10_million_rev": self.l10 if self.rated else None,
-            "l10_h": self.l10h if self.rated else None,
+            "l10_million_rev": self.l10 if self.rated and not self.refused else None,
+            "l10_h": self.l10h if self.rated and not self.refused else None,
+            "refused": self.refused or None,
         }
 
 
@@ -307,11 +311,28 @@ def bearing_lives(result: Any, gearbox: Any) -> list[BearingLife]:
     """ISO 281 life of every bearing of a run, in the order of ``result.bearing_names``.
 
     Bearings the model file rates (``<bearing type=... rating_c_kN=...>``) get L10 and L10h;
-    the others are listed with ``rated`` False (and P_eq when their type is given).
+    the others are listed with ``rated`` False (and P_eq when their type is given). A rated
+    bearing whose tilting moment exceeds ``row_life.TILT_ARM`` × its radial force has no life
+    and ``refused`` says why (its moment would be dropped); rate its rows instead.
 
     Args:
         result: the run (``Result``: time, joint speed, ``bearing_force_local``).
         gearbox: the model it ran (``Gearbox``; its file's ``<bearing>`` elements and joint axes).
     """
+    from pinwind.life.row_life import tilt_refusal
+
     ratings: Mapping[str, BearingRating] = gearbox.source.bearings
-    return [life_of_load_sum(ratings.get(s.joint), s) for s in bearing_load_sums(result, gearbox)]
+    lives = []
+    for i, load_sum in enumerate(bearing_load_sums(result, gearbox)):
+        life = life_of_load_sum(ratings.get(load_sum.joint), load_sum)
+        moments = getattr(result, "bearing_moment_local", None)
+        if life.rated and moments is not None and len(moments):
+            axis = np.asarray(gearbox.joint_axis(load_sum.joint), dtype=float)
+            k = (axis / np.linalg.norm(axis)).reshape(1, 3)
+            tilting = across_axis(np.asarray(moments[:, i], dtype=float)[:, None, :], k)[:, 0]
+            radial, _ = radial_and_axial(result.bearing_force_local[:, i], axis)
+            reason = tilt_refusal(radial, tilting)
+            if reason:
+                life = dataclasses.replace(life, l10=math.nan, l10h=math.nan, refused=reason)
+        lives.append(life)
+    return lives
