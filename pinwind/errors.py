@@ -151,9 +151,11 @@ class InvalidBearingRating(ModelError):
 
 
 class InvalidBearingLifeData(ModelError):
-    """A bearing's lubrication, contamination, fatigue-limit or internal-geometry data that give
-    no modified or reference life (``model/bearing_life_data.py``): a viscosity grade outside
-    ISO 3448's list, a fatigue load limit C_u above C, a negative clearance without a preload.
+    """A bearing's life data that give no modified or reference life.
+
+    Its lubrication, contamination, fatigue limit or internal geometry
+    (``model/bearing_life_data.py``): a viscosity grade outside ISO 3448's list, a fatigue load
+    limit C_u above C, a negative clearance without a preload.
 
     Attributes:
         attribute: the attribute at fault (``lubricant_vg``); value: its value as read.

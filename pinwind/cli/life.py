@@ -74,7 +74,8 @@ def life(
     plain = not console.is_terminal
     if rows:
         table = Table(
-            title=f"Rolling bearings (rows): lives in hours at the run's speed, R = {reliability:g} %",
+            title="Rolling bearings (rows): lives in hours at the run's speed, "
+            f"R = {reliability:g} %",
             box=None if plain else Table().box,
         )
         for head in (

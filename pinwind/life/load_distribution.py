@@ -22,11 +22,12 @@ when the elements' loads balance the load W = (F_x, F_y, F_a, M_x, M_y) on it:
 
     W = Σ_jk q_jk ∂δ_jk/∂u,
 
-solved for u by Newton's method (vectorised over the samples). Only cylindrical roller bearings carry a
-tilting moment here (``InternalGeometry.carries_tilt``): self-aligning ones (spherical, toroidal)
-carry none, and a single angular-contact row is held in tilt by its paired row; for them θ is
-free and the moment is reported as not carried; a bearing at α = 0 (cylindrical, toroidal) carries no axial load on its raceways
-(ribs or nothing): u_z is free and the axial load is reported as not carried.
+solved for u by Newton's method (vectorised over the samples). Only cylindrical roller
+bearings carry a tilting moment here (``InternalGeometry.carries_tilt``): self-aligning ones
+(spherical, toroidal) carry none, and a single angular-contact row is held in tilt by its paired
+row; for them θ is free and the moment is reported as not carried. A bearing at α = 0
+(cylindrical, toroidal) carries no axial load on its raceways (ribs or nothing): u_z is free and
+the axial load is reported as not carried.
 
 Outputs: each element's load, the largest Q_max = max_j Σ_k q_jk [N], and the load-zone angle
 2ψ_l, ψ_l = arccos(c/ρ) of the radial approach ρ = |(u_x, u_y)| (180° at zero clearance, less

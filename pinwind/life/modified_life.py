@@ -27,7 +27,8 @@ the basic static load rating C₀ and the mean diameter d_m [mm] (said wherever 
 roller C_u = C₀/8.2 (d_m ≤ 100), C₀/8.2 · (100/d_m)^0.3 (d_m > 100); ball C_u = C₀/22
 (d_m ≤ 100), C₀/22 · (100/d_m)^0.5.
 
-**Reliability** a₁ (ISO 281:2007 §9.2, Table 12 comes from it): a₁ = 0.95 (ln(100/R)/ln(100/90))^(2/3)
+**Reliability** a₁ (ISO 281:2007 §9.2, Table 12 comes from it):
+a₁ = 0.95 (ln(100/R)/ln(100/90))^(2/3)
 + 0.05 for a reliability R [%] from 90 to 99.95.
 """
 
@@ -104,7 +105,7 @@ def reliability_factor(reliability_percent: float) -> float:
 
 
 def estimated_fatigue_limit(static_rating: float, mean_diameter: float, *, ball: bool) -> float:
-    """C_u [N] from C₀ [N] and d_m [m]: ISO 281:2007 Annex B's simplified rule (module docstring)."""
+    """C_u [N] from C₀ [N] and d_m [m]: ISO 281:2007 Annex B's simplified rule (module doc)."""
     dm_mm = mean_diameter * 1e3
     base = static_rating / (22.0 if ball else 8.2)
     if dm_mm <= 100.0:

@@ -211,8 +211,10 @@ def rate_row(
     load: np.ndarray,
     reliability: float = 90.0,
 ) -> RowLife:
-    """One row's lives from its load on the bearing W (n, 5) = (F_u, F_w, F_a, M_u, M_w) [N, N·m]
-    and its speed [rad/s] over ``time`` [s] (module docstring).
+    """One row's lives from its load on the bearing and its speed (module docstring).
+
+    ``load`` is W (n, 5) = (F_u, F_w, F_a, M_u, M_w) [N, N·m] on the bearing in its joint frame,
+    ``speed`` the joint's [rad/s], both at ``time`` [s].
 
     Raises:
         ValueError: reliability outside 90 … 99.95 %.
@@ -222,8 +224,10 @@ def rate_row(
     notes: list[str] = []
     if data.defaults:
         notes.append("default " + ", ".join(data.defaults) + " (VG 320, 70 °C, normal cleanliness)")
-    factors = dict(zip(("e", "y1", "x2", "y2"), load_factors, strict=True)) if load_factors else {}
-    iso = bearing_rating(f"{bearing}/{name}", kind, dynamic_load_rating=rating, **factors)
+    e, y1, x2, y2 = load_factors if load_factors else (None, None, None, None)
+    iso = bearing_rating(
+        f"{bearing}/{name}", kind, dynamic_load_rating=rating, e=e, y1=y1, x2=x2, y2=y2
+    )
     p = iso.exponent
     weights = sample_weights(time)
     turns = weights * np.abs(speed) / (2.0 * math.pi)

@@ -1,6 +1,7 @@
-"""What a model file says of a rolling bearing's operation and inside, for its modified and
-reference lives (ISO 281:2007 §9, ISO/TS 16281:2008): lubricant, cleanliness, fatigue load limit,
-static rating and internal geometry.
+"""A rolling bearing's operation and inside in a model, for its modified and reference lives.
+
+ISO 281:2007 §9 and ISO/TS 16281:2008 need the lubricant, the cleanliness, the fatigue load
+limit, the static rating and the internal geometry.
 
 A ``<bearing>`` or one of its ``<row>`` elements may give (docs/model_format.md "Bearing life"):
 
