@@ -54,7 +54,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import gamma as gamma_fn
 
 LINE_EXPONENT = 10.0 / 9.0
 POINT_EXPONENT = 1.5
@@ -402,8 +401,8 @@ def lamina_damage(geometry: InternalGeometry, slice_loads: np.ndarray) -> np.nda
 
 def _cos_integral(power: float) -> float:
     """(1/2π) ∫_{−π/2}^{π/2} cos^a ψ dψ = Γ((a+1)/2) / (2√π Γ(a/2 + 1))."""
-    return float(
-        gamma_fn((power + 1.0) / 2.0) / (2.0 * math.sqrt(math.pi) * gamma_fn(power / 2.0 + 1.0))
+    return math.gamma((power + 1.0) / 2.0) / (
+        2.0 * math.sqrt(math.pi) * math.gamma(power / 2.0 + 1.0)
     )
 
 

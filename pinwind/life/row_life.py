@@ -169,24 +169,39 @@ def geometry_of(kind: str, data: BearingLifeData, size: tuple | None) -> Interna
 LOAD_CELLS = 200
 
 
-def load_cells(load: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(cells, inverse): the mean load of each occupied cell (k, 5) and each sample's cell (n,).
+def load_cells(
+    load: np.ndarray, *, homogeneous: bool = False, arm: float = 1.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(cells, inverse, size): the mean load of each occupied cell (k, 5), each sample's cell
+    (n,) and each sample's load as a multiple of its cell's (n,).
 
-    The samples' loads are grouped in cells 1/``LOAD_CELLS`` of each component's largest
-    magnitude over the run wide; a cell's distribution is solved once at the mean of its
-    samples' loads. P_ref is smooth in the load, so the life's error is of second order in the
-    cell width (below 0.1 % for a load varying over its whole range); a steady load is one cell.
+    The loads W = (F, M) are measured as (F, M/arm) [N] and grouped in cells 1/``LOAD_CELLS``
+    of the largest |W| over the run wide; a cell's distribution is solved once at the mean of
+    its samples' loads. P_ref is smooth in the load, so the life's error is of second order in
+    the cell width; a steady load is one cell. Without clearance the element loads are
+    homogeneous of degree 1 in W (q(sW) = s q(W): the contact law is a power law through 0),
+    so ``homogeneous`` groups the loads' directions only (each W scaled to unit size, cells
+    1/``LOAD_CELLS`` wide) and ``size`` carries the magnitude: a load that varies in size only
+    is one cell.
     """
-    scale = np.max(np.abs(load), axis=0)
-    scale = np.where(scale > 0.0, scale, 1.0)
-    key = np.round(load / scale * LOAD_CELLS).astype(np.int64)
+    unit = np.array([1.0, 1.0, 1.0, arm, arm])
+    measured = load / unit
+    norm = np.linalg.norm(measured, axis=1)
+    size = np.ones(len(load))
+    if homogeneous:
+        size = norm
+        measured = measured / np.where(norm > 0.0, norm, 1.0)[:, None]
+        scale = 1.0
+    else:
+        scale = max(float(np.max(norm, initial=0.0)), 1e-300)
+    key = np.round(measured / scale * LOAD_CELLS).astype(np.int64)
     _, inverse = np.unique(key, axis=0, return_inverse=True)
     inverse = inverse.reshape(-1)
     count = np.bincount(inverse)
     cells = np.stack(
-        [np.bincount(inverse, weights=load[:, i]) / count for i in range(load.shape[1])], axis=1
+        [np.bincount(inverse, weights=measured[:, i]) / count for i in range(5)], axis=1
     )
-    return cells, inverse
+    return cells * unit, inverse, size
 
 
 def _hours(life_mrev: float, revolutions: float, seconds: float) -> float:
@@ -282,7 +297,7 @@ def rate_row(
                 equivalent, turns, np.where(moving, kappa, 1.0), exponent=p,
                 contamination=e_c, fatigue_limit=c_u, ball=kind.endswith("_ball"),
             )  # fmt: skip
-            lnm = a1 * total / used * rating**p / 1e6 if used > 0 else math.inf
+            lnm = a1 * total / used * rating**p if used > 0 else math.inf  # [10⁶ rev]
             a_iso = lnm / (a1 * l10) if l10 > 0 and math.isfinite(l10) else nan
     # Reference life.
     p_ref = l10r = q_max = zone_min = nan
@@ -297,13 +312,23 @@ def rate_row(
         if geometry.contact_angle > 0.0 and geometry.rows == 1:
             # A single angular row faces the way its mean axial load pushes it.
             w[:, 2] *= -1.0 if float(np.mean(w[:, 2])) < 0.0 else 1.0
-        cells, inverse = load_cells(w)
+        # Only what the type carries is distributed (and grouped).
+        carried = np.array(
+            [1.0, 1.0, 0.0 if geometry.axially_free else 1.0]
+            + [1.0 if geometry.carries_tilt else 0.0] * 2
+        )
+        cells, inverse, size = load_cells(
+            w * carried, homogeneous=geometry.clearance == 0.0, arm=0.5 * geometry.pitch_diameter
+        )
         dist: Distribution = distribute(geometry, cells)
         not_carried = (
-            float(np.max(np.abs(dist.not_carried[:, 2]), initial=0.0)),
-            float(np.max(np.hypot(dist.not_carried[:, 3], dist.not_carried[:, 4]), initial=0.0)),
+            float(np.max(np.abs(w[:, 2]), initial=0.0)) if geometry.axially_free else 0.0,
+            float(np.max(np.hypot(w[:, 3], w[:, 4]), initial=0.0))
+            if not geometry.carries_tilt
+            else 0.0,
         )
-        element_load, load_zone = dist.max_element_load[inverse], dist.load_zone[inverse]
+        element_load = dist.max_element_load[inverse] * size
+        load_zone = dist.load_zone[inverse]
         failed = int(np.sum(~dist.converged[inverse]))
         if failed:
             below = 0
@@ -320,7 +345,7 @@ def rate_row(
                 )
             )
         else:
-            p_sample = reference_load(geometry, dist.slice_loads)[inverse]
+            p_sample = reference_load(geometry, dist.slice_loads)[inverse] * size
             p_ref = mean_load(load_power_sum(p_sample, weight_of, p), float(weight_of.sum()), p)
             l10r = (rating / p_ref) ** p if rating and p_ref > 0 else nan
             q_max = float(np.max(element_load))
