@@ -27,32 +27,26 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-#: ISO 3448 viscosity grades → mid-point kinematic viscosity at 40 °C [mm²/s].
-VG_GRADES: dict[int, float] = {
-    2: 2.2, 3: 3.2, 5: 4.6, 7: 6.8, 10: 10.0, 15: 15.0, 22: 22.0, 32: 32.0, 46: 46.0,
-    68: 68.0, 100: 100.0, 150: 150.0, 220: 220.0, 320: 320.0, 460: 460.0, 680: 680.0,
-    1000: 1000.0, 1500: 1500.0, 2200: 2200.0, 3200: 3200.0,
-}  # fmt: skip
+from pinwind.model.bearing_life_data import (
+    CONTAMINATION_CLASSES,
+    CONTAMINATION_RANGES,
+    DEFAULT_CONTAMINATION,
+    DEFAULT_TEMPERATURE,
+    DEFAULT_VG,
+    DEFAULT_WALTHER_SLOPE,
+    VG_GRADES,
+)
 
-#: Walther slope B [-] assumed when the oil's ν100 is not given (module docstring).
-DEFAULT_WALTHER_SLOPE = 3.5
-#: Default lubrication of a bearing whose model gives none: a wind-turbine gear oil ISO VG 320
-#: at 70 °C, normally clean (filtered circulating oil); said wherever it is used.
-DEFAULT_VG = 320
-DEFAULT_TEMPERATURE = 273.15 + 70.0
-DEFAULT_CONTAMINATION = "normal_cleanliness"
-
-#: ISO 281:2007 Table 13: class → (e_C range for d_m < 100 mm, e_C range for d_m ≥ 100 mm).
-CONTAMINATION_RANGES: dict[str, tuple[tuple[float, float], tuple[float, float]]] = {
-    "extreme_cleanliness": ((1.0, 1.0), (1.0, 1.0)),
-    "high_cleanliness": ((0.6, 0.8), (0.8, 0.9)),
-    "normal_cleanliness": ((0.5, 0.6), (0.6, 0.8)),
-    "slight_contamination": ((0.3, 0.5), (0.4, 0.6)),
-    "typical_contamination": ((0.1, 0.3), (0.2, 0.4)),
-    "severe_contamination": ((0.0, 0.1), (0.0, 0.1)),
-    "very_severe_contamination": ((0.0, 0.0), (0.0, 0.0)),
-}
-CONTAMINATION_CLASSES = tuple(CONTAMINATION_RANGES)
+__all__ = [
+    "CONTAMINATION_CLASSES",
+    "DEFAULT_CONTAMINATION",
+    "DEFAULT_TEMPERATURE",
+    "DEFAULT_VG",
+    "DEFAULT_WALTHER_SLOPE",
+    "VG_GRADES",
+    "Lubricant",
+    "contamination_factor",
+]
 
 _T40 = 313.15
 _T100 = 373.15

@@ -15,9 +15,9 @@ bearing), turning at its joint's speed relative to the parent:
   (``life/load_distribution.py``), with the load-zone angle and the largest element load.
 
 A whole ``<bearing>`` without rows is rated by ``life/bearing_life.py``; one that carries a
-tilting moment larger than ``TILT_ARM`` × its radial force is refused there with the reason
-(`tilt_refusal`): its moment would load its rows (or bearings) in a way one bearing at the joint
-cannot say.
+tilting moment larger than ``bearing_life.TILT_ARM`` × its radial force is refused there with
+the reason (``bearing_life.tilt_refusal``): its moment would load the shaft's bearings in a way
+one bearing at the joint cannot say.
 """
 
 from __future__ import annotations
@@ -52,10 +52,6 @@ from pinwind.life.modified_life import (
 )
 from pinwind.model.bearing import bearing_rating
 from pinwind.model.bearing_life_data import BearingLifeData
-
-#: A whole bearing whose tilting moment exceeds this arm [m] times its radial force (at their
-#: largest over the run) is refused a single-bearing life (module docstring).
-TILT_ARM = 0.05
 
 
 @dataclass(frozen=True)
@@ -165,15 +161,17 @@ def geometry_of(kind: str, data: BearingLifeData, size: tuple | None) -> Interna
     )  # fmt: skip
 
 
-#: Loads are solved once per cell of 1/LOAD_CELLS of each component's largest magnitude.
+#: Loads are solved once per cell 1/LOAD_CELLS of the run's largest load wide (`load_cells`).
 LOAD_CELLS = 200
 
 
 def load_cells(
     load: np.ndarray, *, homogeneous: bool = False, arm: float = 1.0
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(cells, inverse, size): the mean load of each occupied cell (k, 5), each sample's cell
-    (n,) and each sample's load as a multiple of its cell's (n,).
+    """Group the samples' loads in cells: (cells (k, 5), inverse (n,), size (n,)).
+
+    ``cells`` is the mean load of each occupied cell, ``inverse`` each sample's cell and
+    ``size`` each sample's load as a multiple of its cell's.
 
     The loads W = (F, M) are measured as (F, M/arm) [N] and grouped in cells 1/``LOAD_CELLS``
     of the largest |W| over the run wide; a cell's distribution is solved once at the mean of
@@ -317,7 +315,7 @@ def rate_row(
             [1.0, 1.0, 0.0 if geometry.axially_free else 1.0]
             + [1.0 if geometry.carries_tilt else 0.0] * 2
         )
-        cells, inverse, size = load_cells(
+        cells, inverse, magnitude = load_cells(
             w * carried, homogeneous=geometry.clearance == 0.0, arm=0.5 * geometry.pitch_diameter
         )
         dist: Distribution = distribute(geometry, cells)
@@ -327,7 +325,7 @@ def rate_row(
             if not geometry.carries_tilt
             else 0.0,
         )
-        element_load = dist.max_element_load[inverse] * size
+        element_load = dist.max_element_load[inverse] * magnitude
         load_zone = dist.load_zone[inverse]
         failed = int(np.sum(~dist.converged[inverse]))
         if failed:
@@ -345,7 +343,7 @@ def rate_row(
                 )
             )
         else:
-            p_sample = reference_load(geometry, dist.slice_loads)[inverse] * size
+            p_sample = reference_load(geometry, dist.slice_loads)[inverse] * magnitude
             p_ref = mean_load(load_power_sum(p_sample, weight_of, p), float(weight_of.sum()), p)
             l10r = (rating / p_ref) ** p if rating and p_ref > 0 else nan
             q_max = float(np.max(element_load))
@@ -384,21 +382,3 @@ def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[R
             )
         )  # fmt: skip
     return out
-
-
-def tilt_refusal(radial: np.ndarray, tilting: np.ndarray) -> str | None:
-    """Why a whole bearing carrying this tilting moment gets no single life, or None.
-
-    Args:
-        radial: |F_r| [N], (n,); tilting: |M| about the radial axes [N·m], (n,).
-    """
-    f_max = float(np.max(radial, initial=0.0))
-    m_max = float(np.max(tilting, initial=0.0))
-    if m_max <= TILT_ARM * f_max or m_max == 0.0:
-        return None
-    return (
-        f"it carries a tilting moment of up to {m_max / 1e3:.4g} kN·m beside {f_max / 1e3:.4g} "
-        f"kN radial (more than {TILT_ARM * 1e3:g} mm × F_r), which one bearing at the joint "
-        "cannot rate; give the shaft's bearings as <row>s at their positions in its <bearing> "
-        "(docs/bearing_life.md) and rate them with `pinwind life`"
-    )

@@ -161,3 +161,34 @@ def test_bad_bearing_life_data_is_one_message_and_exit_2(tmp_path, shaft_log, ol
     assert out.returncode == 2
     errors = out.stderr.strip().splitlines()
     assert len(errors) == 1 and message in errors[0] and '<row name="A">' in errors[0], out.stderr
+
+
+@pytest.mark.parametrize("clearance_mm", [0.0, 0.02])
+def test_grouping_the_loads_in_cells_keeps_the_reference_life(clearance_mm):
+    # A load turning through 60° and varying by ±40 % in size over 400 samples: the life from
+    # the grouped loads against the one from every sample's own distribution.
+    from pinwind.life.load_distribution import distribute, reference_load
+    from pinwind.life.row_life import geometry_of, rate_row
+    from pinwind.model.bearing_life_data import life_data
+
+    n = 400
+    t = np.linspace(0.0, 1.0, n)
+    angle = np.radians(60.0) * t
+    size = 2e5 * (1.0 + 0.4 * np.sin(7 * t))
+    load = np.zeros((n, 5))
+    load[:, 0], load[:, 1] = size * np.cos(angle), size * np.sin(angle)
+    load[:, 4] = 0.02 * size  # a tilting moment the rows carry
+    attrs = {"size_mm": "300 200 60", "radial_clearance_mm": str(clearance_mm)}
+    data = life_data(attrs, where="<row>", path="<test>")
+    speed = np.full(n, 100 * RPM)
+    life = rate_row(
+        name="r", bearing="b", kind="cylindrical_roller", position=0.0, rating=1e6,
+        load_factors=None, size=None, data=data, time=t, speed=speed, load=load,
+    )  # fmt: skip
+    geometry = geometry_of("cylindrical_roller", data, None)
+    assert geometry is not None
+    each = reference_load(geometry, distribute(geometry, load).slice_loads)
+    w = np.full(n, 1.0)  # equal revolutions per sample but the ends' halves (trapezoid rule)
+    w[[0, -1]] = 0.5
+    p_eq = (np.sum(w * each ** (10 / 3)) / np.sum(w)) ** 0.3
+    assert_allclose(life.reference_load, p_eq, rtol=2e-3)
