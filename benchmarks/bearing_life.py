@@ -37,11 +37,11 @@ def lives_of(log: Path) -> tuple[list, list]:
     """What ``pinwind life LOG`` computes, without printing."""
     from pinwind.io.log_reader import LogReader
     from pinwind.life.bearing_life import bearing_lives
-    from pinwind.life.row_life import row_lives
+    from pinwind.life.row_life import LIFE_CHANNELS, row_lives
     from pinwind.model.gearbox import loads
 
     with LogReader(log) as reader:
-        res = reader.read()
+        res = reader.read(channels=LIFE_CHANNELS)
         text = reader.model_text
     gearbox = loads(text, path=str(log))
     return row_lives(res, gearbox), bearing_lives(res, gearbox)

@@ -45,7 +45,7 @@ def life(
     """
     from pinwind.io.log_reader import LogReader
     from pinwind.life.bearing_life import bearing_lives
-    from pinwind.life.row_life import row_lives
+    from pinwind.life.row_life import LIFE_CHANNELS, row_lives
     from pinwind.model.gearbox import load as load_model
     from pinwind.model.gearbox import loads
 
@@ -55,7 +55,7 @@ def life(
         )
     with warnings_as_lines():
         with LogReader(log) as reader:
-            res = reader.read()
+            res = reader.read(channels=LIFE_CHANNELS)
             text = reader.model_text
             problem = reader.model_problem
         if model is not None:

@@ -359,6 +359,11 @@ def rate_row(
     )  # fmt: skip
 
 
+#: The log channels the lives read: joint angles and speeds (the rows' slides, the revolutions)
+#: and the bearings' local force and moment (a whole bearing's life and tilt refusal).
+LIFE_CHANNELS = ("/joints", "/bearings/force_local", "/bearings/moment_local")
+
+
 def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[RowLife]:
     """The lives of every row of the run's shafts, bearing by bearing in the model's order.
 
