@@ -22,6 +22,7 @@ one bearing at the joint cannot say.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -235,8 +236,9 @@ def rate_row(
     data = data or BearingLifeData()
     a1 = reliability_factor(reliability)
     notes: list[str] = []
-    if data.defaults:
-        notes.append("default " + ", ".join(data.defaults) + " (VG 320, 70 °C, normal cleanliness)")
+    oil_defaults = [d for d in data.defaults if d != "rotating_ring"]
+    if oil_defaults:
+        notes.append("default " + ", ".join(oil_defaults) + " (VG 320, 70 °C, normal cleanliness)")
     e, y1, x2, y2 = load_factors if load_factors else (None, None, None, None)
     iso = bearing_rating(
         f"{bearing}/{name}", kind, dynamic_load_rating=rating, e=e, y1=y1, x2=x2, y2=y2
@@ -367,22 +369,33 @@ LIFE_CHANNELS = ("/joints", "/bearings/force_local", "/bearings/moment_local")
 def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[RowLife]:
     """The lives of every row of the run's shafts, bearing by bearing in the model's order.
 
-    Row loads come from ``pinwind.analysis.bearing_rows.row_loads(result, gearbox)`` (its
+    A planet's rows turn their outer ring against the load unless the model says otherwise
+    (``rotating_ring``). Row loads come from
+    ``pinwind.analysis.bearing_rows.row_loads(result, gearbox)`` (its
     RowLoad's name, bearing, position, radial (n, 2), axial (n,), tilting (n, 2), forces on the
     shaft in the bearing's joint frame); the load on the bearing is their opposite.
     """
     from pinwind.analysis.bearing_rows import row_loads
+    from pinwind.model.gear_roles import gearbox_planetary_gears
 
     rows = {(b, r.name): r for b, rs in gearbox.source.bearing_rows.items() for r in rs}
+    planet_links = {
+        gearbox.gears[g].spec.link for s in gearbox_planetary_gears(gearbox) for g in s.planets
+    }
     out = []
     for load in row_loads(result, gearbox):
         row = rows[(load.bearing, load.name)]
+        data = row.life
+        in_planet = gearbox.source.joints[load.bearing]["child"] in planet_links
+        if data is not None and in_planet and "rotating_ring" in data.defaults:
+            # A planet's bearing turns its outer ring (the planet's bore) against the load.
+            data = dataclasses.replace(data, rotating="outer")
         w = -np.column_stack([load.radial, load.axial, load.tilting])
         speed = result.speed[:, result.joint_names.index(load.bearing)]
         out.append(
             rate_row(
                 name=load.name, bearing=load.bearing, kind=row.kind, position=load.position,
-                rating=row.rating, load_factors=row.load_factors, size=row.size, data=row.life,
+                rating=row.rating, load_factors=row.load_factors, size=row.size, data=data,
                 time=result.time, speed=speed, load=w, reliability=reliability,
             )
         )  # fmt: skip

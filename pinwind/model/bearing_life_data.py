@@ -15,7 +15,8 @@ A ``<bearing>`` or one of its ``<row>`` elements may give (docs/model_format.md 
     size_mm="D d B"               outer diameter, bore, width (a ``<row>`` has it already)
     rollers="24" roller_mm="D_we L_we" contact_angle_deg="10"   internal geometry (else estimated)
     radial_clearance_mm="0.05" preload="true"   clearance (negative only with preload="true")
-    rotating_ring="inner"         the ring that turns relative to the load (planets: outer)
+    rotating_ring="inner"         the ring that turns relative to the load (default: outer for
+                                  a planet's bearing, inner for the others)
 
 A ``<row>`` takes what its ``<bearing>`` gives and may change any of it. ``life_data`` reads and
 checks the attributes; ``life/row_life.py`` uses them.
@@ -84,7 +85,8 @@ class BearingLifeData:
         roller: (D_we, L_we) [m], or None.
         contact_angle: α [rad], or None (the type's).
         clearance: radial clearance [m] (negative: a preload).
-        rotating: "inner" or "outer".
+        rotating: "inner" or "outer" (when not given, ``row_life`` takes "outer" for a planet's
+            bearing, whose outer ring turns in the planet's bore, and "inner" for the others).
         defaults: the attributes taken at pinwind's defaults (said in the output).
     """
 
@@ -102,7 +104,7 @@ class BearingLifeData:
     contact_angle: float | None = None
     clearance: float = 0.0
     rotating: str = "inner"
-    defaults: tuple[str, ...] = ("lubricant_vg", "temperature_C", "contamination")
+    defaults: tuple[str, ...] = ("lubricant_vg", "temperature_C", "contamination", "rotating_ring")
 
 
 def _numbers(where: str, attr: str, raw: str, count: int, path: str) -> list[float]:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from numpy.testing import assert_allclose
 from scipy.optimize import brentq
 
@@ -90,7 +91,8 @@ def test_tilt_loads_the_slices_linearly_along_the_roller():
     assert np.all(np.diff(top) > 0)
 
 
-def test_calibration_case_reference_life_equals_iso_281_basic_life():
+@pytest.mark.parametrize("rotating", ["inner", "outer"])
+def test_calibration_case_reference_life_equals_iso_281_basic_life(rotating):
     # No clearance, no tilt, pure radial load: ISO/TS 16281's calibration case. The reference
     # load of Z = 20 discrete rollers equals F_r within the discretisation (TS: within 2 %).
     for kind, rows, alpha in (
@@ -100,7 +102,7 @@ def test_calibration_case_reference_life_equals_iso_281_basic_life():
         ("deep_groove_ball", 1, 0.0),
     ):
         length = 0.0 if kind.endswith("ball") else 0.05
-        geometry = InternalGeometry(kind, Z, rows, alpha, 0.03, length, 0.3)
+        geometry = InternalGeometry(kind, Z, rows, alpha, 0.03, length, 0.3, rotating=rotating)
         f = 2.0e5
         dist = distribute(geometry, np.array([[f, 0, 0, 0, 0]]))
         p_ref = reference_load(geometry, dist.slice_loads)[0]
