@@ -150,6 +150,23 @@ class InvalidBearingRating(ModelError):
         super().__init__(path, f'<bearing joint="{bearing}">', message)
 
 
+class InvalidBearingLifeData(ModelError):
+    """A bearing's life data that give no modified or reference life.
+
+    Its lubrication, contamination, fatigue limit or internal geometry
+    (``model/bearing_life_data.py``): a viscosity grade outside ISO 3448's list, a fatigue load
+    limit C_u above C, a negative clearance without a preload.
+
+    Attributes:
+        attribute: the attribute at fault (``lubricant_vg``); value: its value as read.
+    """
+
+    def __init__(self, element: str, attribute: str, value: object, message: str, *, path: str):
+        self.attribute = attribute
+        self.value = value
+        super().__init__(path, element, message)
+
+
 class InvalidBearingCompliance(ModelError):
     """A compliant bearing's stiffness, damping or clearance that is negative or not a number.
 

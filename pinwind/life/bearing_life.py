@@ -34,6 +34,10 @@ from pinwind.dynamics.bearing_load import across_axis, along_axis
 from pinwind.errors import InvalidBearingRating
 from pinwind.model.bearing import BearingRating
 
+#: A whole bearing whose tilting moment exceeds this arm [m] times its radial force (at their
+#: largest over the run) is refused a single-bearing life (`tilt_refusal`).
+TILT_ARM = 0.05
+
 
 def dynamic_equivalent_load(
     rating: BearingRating, radial: np.ndarray, axial: np.ndarray
@@ -119,6 +123,8 @@ class BearingLife:
             hours over its design life (``life/set_bearing_life.py``).
         l10: basic rating life [10⁶ rev] (NaN when not rated).
         l10h: basic rating life [h] at the mean speed over ``duration`` (inf if it did not turn).
+        refused: why it has no life though rated (a tilting moment one bearing cannot rate,
+            `tilt_refusal`), else "".
     """
 
     joint: str
@@ -128,6 +134,7 @@ class BearingLife:
     duration: float
     l10: float
     l10h: float
+    refused: str = ""
 
     @property
     def rated(self) -> bool:
@@ -149,8 +156,9 @@ class BearingLife:
             "equivalent_load_N": None if math.isnan(self.equivalent_load) else self.equivalent_load,
             "revolutions": self.revolutions,
             "mean_speed_rpm": self.mean_speed_rpm,
-            "l10_million_rev": self.l10 if self.rated else None,
-            "l10_h": self.l10h if self.rated else None,
+            "l10_million_rev": self.l10 if self.rated and not self.refused else None,
+            "l10_h": self.l10h if self.rated and not self.refused else None,
+            "refused": self.refused or None,
         }
 
 
@@ -307,11 +315,44 @@ def bearing_lives(result: Any, gearbox: Any) -> list[BearingLife]:
     """ISO 281 life of every bearing of a run, in the order of ``result.bearing_names``.
 
     Bearings the model file rates (``<bearing type=... rating_c_kN=...>``) get L10 and L10h;
-    the others are listed with ``rated`` False (and P_eq when their type is given).
+    the others are listed with ``rated`` False (and P_eq when their type is given). A rated
+    bearing whose tilting moment exceeds ``TILT_ARM`` × its radial force has no life
+    and ``refused`` says why (its moment would be dropped); rate its rows instead.
 
     Args:
         result: the run (``Result``: time, joint speed, ``bearing_force_local``).
         gearbox: the model it ran (``Gearbox``; its file's ``<bearing>`` elements and joint axes).
     """
     ratings: Mapping[str, BearingRating] = gearbox.source.bearings
-    return [life_of_load_sum(ratings.get(s.joint), s) for s in bearing_load_sums(result, gearbox)]
+    lives = []
+    for i, load_sum in enumerate(bearing_load_sums(result, gearbox)):
+        life = life_of_load_sum(ratings.get(load_sum.joint), load_sum)
+        moments = getattr(result, "bearing_moment_local", None)
+        if life.rated and moments is not None and len(moments):
+            axis = np.asarray(gearbox.joint_axis(load_sum.joint), dtype=float)
+            k = (axis / np.linalg.norm(axis)).reshape(1, 3)
+            tilting = across_axis(np.asarray(moments[:, i], dtype=float)[:, None, :], k)[:, 0]
+            radial, _ = radial_and_axial(result.bearing_force_local[:, i], axis)
+            reason = tilt_refusal(radial, tilting)
+            if reason:
+                life = dataclasses.replace(life, l10=math.nan, l10h=math.nan, refused=reason)
+        lives.append(life)
+    return lives
+
+
+def tilt_refusal(radial: np.ndarray, tilting: np.ndarray) -> str | None:
+    """Why a whole bearing carrying this tilting moment gets no single life, or None.
+
+    Args:
+        radial: |F_r| [N], (n,); tilting: |M| about the radial axes [N·m], (n,).
+    """
+    f_max = float(np.max(radial, initial=0.0))
+    m_max = float(np.max(tilting, initial=0.0))
+    if m_max <= TILT_ARM * f_max or m_max == 0.0:
+        return None
+    return (
+        f"it carries a tilting moment of up to {m_max / 1e3:.4g} kN·m beside {f_max / 1e3:.4g} "
+        f"kN radial (more than {TILT_ARM * 1e3:g} mm × F_r), which one bearing at the joint "
+        "cannot rate; give the shaft's bearings as <row>s at their positions in its <bearing> "
+        "(docs/bearing_life.md) and rate them with `pinwind life`"
+    )

@@ -22,6 +22,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from pinwind.model.bearing_life_data import BearingLifeData
 
 
 @dataclass(frozen=True)
@@ -37,6 +41,8 @@ class BearingRow:
         damping: (c_x [N·s/m], c_y, c_z [N·s/m], c_β, c_γ [N·m·s/rad]).
         load_factors: ISO 281 (e, Y1, X2, Y2) of this bearing, or None: the type's.
         size: (outer diameter D, bore d, width B) [m], or None.
+        life: its lubrication, cleanliness and inside (``model/bearing_life_data.py``), or
+            None: pinwind's defaults.
     """
 
     name: str
@@ -47,6 +53,7 @@ class BearingRow:
     damping: tuple[float, float, float, float, float]
     load_factors: tuple[float, float, float, float] | None = None
     size: tuple[float, float, float] | None = None
+    life: BearingLifeData | None = None
 
     @property
     def radial_stiffness(self) -> float:

@@ -220,6 +220,7 @@ class Gearbox:
 
     def __init__(self, source: ModelFile):
         self._axes: dict[int, np.ndarray] = {}
+        self._neutral_jacobians: Any = None  # pin.Data with every joint's Jacobian at q = 0
         self.path = source.path
         self.name = source.robot_name
         self.source_text = source.text
@@ -496,9 +497,11 @@ class Gearbox:
     def _joint_axis(self, joint_id: int) -> np.ndarray:
         # The joint's type fixes its axis: found once (the bearing loads ask every block of a run).
         if joint_id not in self._axes:
-            data = self.model.createData()
-            q = pin.neutral(self.model)
-            pin.computeJointJacobians(self.model, data, q)
+            if self._neutral_jacobians is None:  # once for every joint: the model has ~80
+                self._neutral_jacobians = self.model.createData()
+                q = pin.neutral(self.model)
+                pin.computeJointJacobians(self.model, self._neutral_jacobians, q)
+            data = self._neutral_jacobians
             # Pinocchio hands a one-column matrix to numpy as a vector: keep it (6, nv).
             jac = np.reshape(pin.getJointJacobian(self.model, data, joint_id, pin.LOCAL), (6, -1))
             col = jac[:, self.model.joints[joint_id].idx_v]

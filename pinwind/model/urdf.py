@@ -30,6 +30,7 @@ from pinwind.gears.involute import half_tooth_angle
 from pinwind.known_names import unknown_name
 from pinwind.model.bearing import BEARING_TYPES, BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
+from pinwind.model.bearing_life_data import LIFE_ATTRIBUTES, BearingLifeData, life_data
 from pinwind.model.bearing_rows import BearingRow
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 from pinwind.model.roller_sum import CONTACT_EXPONENTS
@@ -136,6 +137,9 @@ class ModelFile:
     #: own position, type, rating and stiffness (``model/bearing_rows.py``); kept for the
     #: analyses, the step sees the ``<bearing>``'s equivalent compliance only.
     bearing_rows: dict[str, list[BearingRow]] = field(default_factory=dict)
+    #: Joint name → its ``<bearing>``'s lubrication, cleanliness and inside, for the modified
+    #: and reference lives (``model/bearing_life_data.py``; defaults where it gives none).
+    bearing_life: dict[str, BearingLifeData] = field(default_factory=dict)
     visuals: list[VisualSpec] = field(default_factory=list)
     gravity: np.ndarray | None = None
     root_link: str = ""
@@ -574,10 +578,15 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         torsion = _bearing_torsion(path, el, joint, out)
         if torsion is not None:
             out.springs.append(torsion)
-        rows = [_bearing_row(path, row, joint) for row in el.findall("row")]
+        rated = any(el.get(a) is not None for a in _BEARING_RATING)
+        rating_c = None
+        if rated and el.get("rating_c_kN") is not None:
+            rating_c = 1e3 * _number(path, el, "rating_c_kN", where=where)
+        data = life_data(el.attrib, where=where, path=path, rating=rating_c)
+        out.bearing_life[joint] = data
+        rows = [_bearing_row(path, row, joint, data) for row in el.findall("row")]
         if rows:
             out.bearing_rows[joint] = rows
-        rated = any(el.get(a) is not None for a in _BEARING_RATING)
         if (compliance is None and torsion is None and not rows) or rated:
             rating = _bearing(path, el, out)
             out.bearings[rating.joint] = rating
@@ -860,11 +869,13 @@ def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:
 #: The attributes of a ``<row>`` of a ``<bearing>``: one rolling bearing of the shaft.
 _ROW_ATTRIBUTES = (
     "name", "type", "position_mm", "rating_c_kN", *_LOAD_FACTORS, "stiffness", "damping",
-    "size_mm",
+    *LIFE_ATTRIBUTES,
 )  # fmt: skip
 
 
-def _bearing_row(path: str, el: ET.Element, joint: str) -> BearingRow:
+def _bearing_row(
+    path: str, el: ET.Element, joint: str, inherited: BearingLifeData | None = None
+) -> BearingRow:
     """A ``<row>``: one rolling bearing of the joint's shaft (``model/bearing_rows.py``)."""
     name = _required(path, el, "name")
     where = f'<bearing joint="{joint}"> <row name="{name}">'
@@ -904,7 +915,9 @@ def _bearing_row(path: str, el: ET.Element, joint: str) -> BearingRow:
     stiffness = numbers.get("stiffness", [0.0] * 5)
     damping = numbers.get("damping", [0.0] * 5)
     size = numbers.get("size_mm")
+    life = life_data(el.attrib, where=where, path=path, inherited=inherited, rating=rating_n)
     return BearingRow(
+        life=life,
         name=name,
         kind=kind,
         position=_number(path, el, "position_mm", 0.0, where=where) * 1e-3,
@@ -1014,7 +1027,11 @@ GEARBOX_ELEMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "mesh": (_MESH_ATTRIBUTES + _COMPLIANCE_ATTRIBUTES, ()),
     "torsional_spring": (_SPRING_ATTRIBUTES, ()),
     "bearing": (
-        _BEARING_ATTRIBUTES + _BEARING_RATING + _BEARING_COMPLIANCE + _BEARING_TORSION,
+        _BEARING_ATTRIBUTES
+        + _BEARING_RATING
+        + _BEARING_COMPLIANCE
+        + _BEARING_TORSION
+        + tuple(a for a in LIFE_ATTRIBUTES if a not in _BEARING_COMPLIANCE),
         ("row",),
     ),
     "row": (_ROW_ATTRIBUTES, ()),

@@ -1,0 +1,122 @@
+"""``pinwind life``: every rolling bearing's lives from a logged run (ISO 281, ISO/TS 16281)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from pinwind.cli.app import app, console, say, warnings_as_lines
+from pinwind.errors import InputError
+
+
+def _hours(value: float) -> str:
+    if math.isnan(value):
+        return "-"
+    return "inf" if math.isinf(value) else f"{value:.3g}"
+
+
+@app.command()
+def life(
+    log: Annotated[Path, typer.Argument(help="MCAP log written by pinwind simulate.")],
+    model: Annotated[
+        Path | None,
+        typer.Option(
+            "--model",
+            help="Model file whose bearing data (lubricant, C_u, geometry) to use instead of "
+            "the one the log holds; same joints and rows.",
+        ),
+    ] = None,
+    reliability: Annotated[
+        float, typer.Option("--reliability", help="Reliability R [%] of L_nm (90 … 99.95).")
+    ] = 90.0,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
+) -> None:
+    """Each bearing's lives in a log: ISO 281 L10h, modified L_nmh, ISO/TS 16281 L10rh.
+
+    Rows of a shaft's bearing (``<row>``) are rated at their positions from their share of the
+    shaft's load, its tilting moment included; a whole bearing that carries a tilting moment is
+    refused with the reason. Lives are hours at the run's mean speed, as if the run repeated.
+    """
+    from pinwind.io.log_reader import LogReader
+    from pinwind.life.bearing_life import bearing_lives
+    from pinwind.life.row_life import LIFE_CHANNELS, row_lives
+    from pinwind.model.gearbox import load as load_model
+    from pinwind.model.gearbox import loads
+
+    if not 90.0 <= reliability <= 99.95:
+        raise InputError(
+            f"--reliability {reliability:g}: ISO 281 gives a₁ from 90 to 99.95 %; give one there"
+        )
+    with warnings_as_lines():
+        with LogReader(log) as reader:
+            res = reader.read(channels=LIFE_CHANNELS)
+            text = reader.model_text
+            problem = reader.model_problem
+        if model is not None:
+            gearbox = load_model(model)
+        elif text:
+            gearbox = loads(text, path=f"{log} (its model)")
+        else:
+            raise InputError(f"{log}: {problem}; give the model with --model")
+        rows = row_lives(res, gearbox, reliability=reliability)
+        whole = [b for b in bearing_lives(res, gearbox) if b.rating is not None]
+    if as_json:
+        out = {"rows": [r.as_dict() for r in rows], "bearings": [b.as_dict() for b in whole]}
+        print(json.dumps(out, indent=1, allow_nan=False, default=str))
+        return
+    say(f"[bold]{escape(gearbox.name)}[/bold] — {escape(str(log))}: {res.time[-1]:g} s run")
+    plain = not console.is_terminal
+    if rows:
+        table = Table(
+            title="Rolling bearings (rows): lives in hours at the run's speed, "
+            f"R = {reliability:g} %",
+            box=None if plain else Table().box,
+        )
+        for head in (
+            "bearing/row",
+            "type",
+            "P [kN]",
+            "L10h",
+            "Lnmh",
+            "L10rh",
+            "Qmax [kN]",
+            "zone°",
+        ):
+            left = head in ("bearing/row", "type")
+            table.add_column(head, justify="left" if left else "right", no_wrap=left)
+        for r in rows:
+            table.add_row(
+                f"{r.bearing}/{r.name}", r.kind.replace("_roller", "").replace("_ball", " ball"),
+                f"{r.equivalent_load / 1e3:.4g}", _hours(r.l10h), _hours(r.lnmh), _hours(r.l10rh),
+                "-" if math.isnan(r.max_element_load) else f"{r.max_element_load / 1e3:.4g}",
+                "-" if math.isnan(r.load_zone_min) else f"{math.degrees(r.load_zone_min):.0f}",
+            )  # fmt: skip
+        console.print(table)
+        notes: dict[str, list[str]] = {}
+        for r in rows:
+            for note in r.notes:
+                notes.setdefault(note, []).append(f"{r.bearing}/{r.name}")
+            axial, tilt = r.not_carried
+            # Worth a line: 1 % of P axially, a moment of 1 % of P at 0.1 m.
+            if axial > 0.01 * r.equivalent_load or tilt > 1e-3 * r.equivalent_load:
+                say(
+                    f"{escape(r.bearing)}/{escape(r.name)}: not carried by its type in the "
+                    f"reference life: axial up to {axial / 1e3:.4g} kN, tilting up to "
+                    f"{tilt / 1e3:.4g} kN·m (ISO 281's P counts the axial by X, Y)"
+                )
+        for note, who in notes.items():
+            where = "all rows" if len(who) == len(rows) else ", ".join(who)
+            say(f"note ({escape(where)}): {escape(note)}")
+    for b in whole:
+        if b.refused:
+            say(f"[bold red]{escape(b.joint)}: no life[/bold red]: {escape(b.refused)}")
+        elif b.rated:
+            say(f"{escape(b.joint)} ({b.rating.kind if b.rating else ''}): L10h {_hours(b.l10h)} h")
+    if not rows and not whole:
+        say("no rated bearings: give <bearing> or <row> elements a rating_c_kN")

@@ -1,0 +1,194 @@
+"""Lives of a shaft's rows from a run: beam statics, ISO 281 by hand, refusals and the CLI."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import pinwind
+from pinwind.errors import PinwindWarning
+from pinwind.life.bearing_life import bearing_lives
+from pinwind.life.row_life import row_lives
+from pinwind.loads.hub_loads import constant_hub_load
+from pinwind.model.gearbox import loads
+from tests.analysis.test_bearing_rows import A, B, _rows, shaft_on_rows
+from tests.test_cli import run as run_cli
+
+RPM = 2 * math.pi / 60
+SPEED_RPM = 30.0
+WEIGHT, MOMENT, OVERHANG = 1.0e5, 2.0e5, -1.5
+#: Row data added to both rows: size (D d B) 300/200/60 mm (d_m = 250 mm), C_u = 100 kN,
+#: VG 220 with ν100 = 19 mm²/s at 60 °C, normal cleanliness.
+ROW_DATA = (
+    'rating_c_kN="1000" size_mm="300 200 60" fatigue_limit_kN="100" lubricant_vg="220" '
+    'temperature_C="60" viscosity_100C_cSt="19"/>'
+)
+
+
+def shaft_text() -> str:
+    return shaft_on_rows(_rows(k=1e11)).replace('rating_c_kN="1000"/>', ROW_DATA)
+
+
+def run_shaft(text: str, *, log=None, moment: float = MOMENT, point: float = OVERHANG):
+    gb = loads(text, path="shaft.urdf")
+    load = constant_hub_load(
+        "shaft", [0, 0, -WEIGHT, 0, moment, 0], point=(0, 0, point), up=(0, 1, 0)
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        res = pinwind.simulate(
+            gb, duration=0.02, dt=1e-3, hub_loads=[load], speeds={"shaft": SPEED_RPM * RPM},
+            log=log,
+        )  # fmt: skip
+    return res, gb
+
+
+def statics() -> tuple[float, float]:
+    """Radial reactions of rows A and B (tests/analysis/test_bearing_rows.py's beam statics)."""
+    r_b = (MOMENT + OVERHANG * WEIGHT - A * WEIGHT) / (B - A)
+    return WEIGHT - r_b, r_b
+
+
+def walther(nu40: float, nu100: float, t_c: float) -> float:
+    """ν [mm²/s] at t_c [°C] on ASTM D341's line through (40 °C, ν40) and (100 °C, ν100)."""
+
+    def w(nu: float) -> float:
+        return math.log10(math.log10(nu + 0.7))
+
+    b = (w(nu40) - w(nu100)) / math.log10(373.15 / 313.15)
+    value = w(nu40) - b * math.log10((t_c + 273.15) / 313.15)
+    return 10 ** (10**value) - 0.7
+
+
+def test_rows_get_basic_modified_and_reference_lives_from_their_share_of_the_moment():
+    res, gb = run_shaft(shaft_text())
+    lives = {r.name: r for r in row_lives(res, gb)}
+    r_a, r_b = statics()
+    # the bending moment loads the rows: without it (M = 0) the reactions would differ
+    assert abs(r_a - (WEIGHT - (OVERHANG * WEIGHT - A * WEIGHT) / (B - A))) > 0.1 * abs(r_a)
+    per_hour = SPEED_RPM * 60.0
+    for name, reaction in (("A", r_a), ("B", r_b)):
+        life = lives[name]
+        p = abs(reaction)  # no axial load: P = F_r for both types
+        assert_allclose(life.equivalent_load, p, rtol=1e-6)
+        l10 = (1e6 / p) ** (10 / 3)
+        assert_allclose(life.l10, l10, rtol=2e-5)
+        assert_allclose(life.l10h, l10 * 1e6 / per_hour, rtol=1e-4)
+        # ISO 281 modified life by hand: ν at 60 °C, ν₁ at 30 r/min and d_m = 250 mm, κ,
+        # e_C = 0.7 (normal cleanliness, d_m ≥ 100 mm), a_ISO in κ's regime.
+        nu = walther(220.0, 19.0, 60.0)
+        nu1 = 45000 * SPEED_RPM**-0.83 * 250.0**-0.5
+        kappa = nu / nu1
+        assert 0.4 <= kappa < 1.0, kappa
+        x = 0.7 * 100e3 / p
+        a_iso = min(0.1 * (1 - (1.5859 - 1.2348 / kappa**0.19087) * x**0.4) ** -9.185, 50.0)
+        assert_allclose(life.kappa_mean, kappa, rtol=1e-9)
+        assert_allclose(life.a_iso, a_iso, rtol=1e-6)
+        assert_allclose(life.lnm, a_iso * l10, rtol=2e-5)
+        # zero clearance, radial load only: ISO/TS 16281's calibration case (within 2 %)
+        assert_allclose(life.l10r, l10, rtol=0.02)
+        assert_allclose(np.degrees(life.load_zone_min), 180.0, atol=1e-6)
+
+
+def test_a_whole_bearing_carrying_a_moment_is_refused_with_the_reason():
+    rigid = shaft_text()
+    start = rigid.index("<bearing joint")
+    end = rigid.index("</bearing>") + len("</bearing>")
+    rigid = rigid[:start] + '<bearing joint="shaft" type="spherical_roller" rating_c_kN="1000"/>'
+    rigid += shaft_text()[end:]
+    res, gb = run_shaft(rigid)
+    (life,) = bearing_lives(res, gb)
+    assert life.rated and math.isnan(life.l10)
+    assert "tilting moment" in life.refused and "<row>" in life.refused
+    assert life.as_dict()["l10_h"] is None
+    # the same bearing loaded through its centre carries no moment: rated
+    res, gb = run_shaft(rigid, moment=0.0, point=0.0)
+    (life,) = bearing_lives(res, gb)
+    assert not life.refused
+    assert_allclose(life.l10, (1e6 / WEIGHT) ** (10 / 3), rtol=1e-6)
+
+
+@pytest.fixture(scope="module")
+def shaft_log(tmp_path_factory):
+    """A logged run of the two-row shaft (shared by the command's tests)."""
+    log = tmp_path_factory.mktemp("life") / "shaft.mcap"
+    run_shaft(shaft_text(), log=log)
+    return log
+
+
+def test_life_command_gives_every_row_from_a_log(shaft_log):
+    log = shaft_log
+    out = run_cli("life", str(log), "--json")
+    assert out.returncode == 0, out.stderr
+    got = {r["row"]: r for r in json.loads(out.stdout)["rows"]}
+    r_a, r_b = statics()
+    assert_allclose(got["A"]["l10_million_rev"], (1e6 / abs(r_a)) ** (10 / 3), rtol=2e-5)
+    assert_allclose(got["B"]["l10_million_rev"], (1e6 / abs(r_b)) ** (10 / 3), rtol=2e-5)
+    table = run_cli("life", str(log))
+    assert table.returncode == 0, table.stderr
+    assert "shaft/A" in table.stdout and "L10rh" in table.stdout
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ('lubricant_vg="220"', 'lubricant_vg="300"', "not an ISO 3448 viscosity grade"),
+        (
+            'fatigue_limit_kN="100"',
+            'fatigue_limit_kN="100" radial_clearance_mm="-0.02"',
+            "a negative clearance is a preload",
+        ),
+        (
+            'fatigue_limit_kN="100"',
+            'fatigue_limit_kN="1200"',
+            "is not below the dynamic load rating C = 1000 kN",
+        ),
+    ],
+)
+def test_bad_bearing_life_data_is_one_message_and_exit_2(tmp_path, shaft_log, old, new, message):
+    log = shaft_log
+    lines = shaft_text().splitlines(keepends=True)
+    row_a = next(i for i, line in enumerate(lines) if 'name="A"' in line)
+    lines[row_a] = lines[row_a].replace(old, new)
+    model = tmp_path / "bad.urdf"
+    model.write_text("".join(lines))
+    out = run_cli("life", str(log), "--model", str(model))
+    assert out.returncode == 2
+    errors = out.stderr.strip().splitlines()
+    assert len(errors) == 1 and message in errors[0] and '<row name="A">' in errors[0], out.stderr
+
+
+@pytest.mark.parametrize("clearance_mm", [0.0, 0.02])
+def test_grouping_the_loads_in_cells_keeps_the_reference_life(clearance_mm):
+    # A load turning through 60° and varying by ±40 % in size over 400 samples: the life from
+    # the grouped loads against the one from every sample's own distribution.
+    from pinwind.life.load_distribution import distribute, reference_load
+    from pinwind.life.row_life import geometry_of, rate_row
+    from pinwind.model.bearing_life_data import life_data
+
+    n = 400
+    t = np.linspace(0.0, 1.0, n)
+    angle = np.radians(60.0) * t
+    size = 2e5 * (1.0 + 0.4 * np.sin(7 * t))
+    load = np.zeros((n, 5))
+    load[:, 0], load[:, 1] = size * np.cos(angle), size * np.sin(angle)
+    load[:, 4] = 0.02 * size  # a tilting moment the rows carry
+    attrs = {"size_mm": "300 200 60", "radial_clearance_mm": str(clearance_mm)}
+    data = life_data(attrs, where="<row>", path="<test>")
+    speed = np.full(n, 100 * RPM)
+    life = rate_row(
+        name="r", bearing="b", kind="cylindrical_roller", position=0.0, rating=1e6,
+        load_factors=None, size=None, data=data, time=t, speed=speed, load=load,
+    )  # fmt: skip
+    geometry = geometry_of("cylindrical_roller", data, None)
+    assert geometry is not None
+    each = reference_load(geometry, distribute(geometry, load).slice_loads)
+    w = np.full(n, 1.0)  # equal revolutions per sample but the ends' halves (trapezoid rule)
+    w[[0, -1]] = 0.5
+    p_eq = (np.sum(w * each ** (10 / 3)) / np.sum(w)) ** 0.3
+    assert_allclose(life.reference_load, p_eq, rtol=2e-3)
