@@ -310,7 +310,13 @@ SaveOption = Annotated[
     Path | None, typer.Option("--save", help="Write a Rerun .rrd file instead of viewing.")
 ]
 ServeOption = Annotated[
-    bool, typer.Option("--serve", help="Serve the Rerun web viewer instead of spawning one.")
+    bool,
+    typer.Option(
+        "--serve",
+        "--web",
+        help="Serve the Rerun web viewer instead of spawning one: open the address it prints "
+        "in a browser, here or over an SSH tunnel to both ports (a machine without a display).",
+    ),
 ]
 WebPortOption = Annotated[
     int | None, typer.Option(help="Web viewer port (with --serve; default 9090).")
