@@ -33,6 +33,7 @@ from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.involute import base_helix_angle, pitch_radius
 from pinwind.model.bearing_compliance import SLIDES, BearingCompliance
+from pinwind.model.bearing_rows import BearingRow, row_name, row_springs
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.phasing import mesh_point, tooth_phases
 from pinwind.model.support import Support, SupportSlide
@@ -152,6 +153,9 @@ class CompliantBearing:
         v_index: slide → its index in the velocity vector.
         axes_in_joint: (3, 3) rows u, w, k: the radial axes and the bearing axis in the
             bearing's joint frame (the frame of the displacement and elastic force series).
+        rows: its rows when they are its springs (``model/bearing_rows.py`` ``row_springs``):
+            each a linear spring-damper at its position (``cpp/bearing_rows.hpp``), in place of
+            the compliance's stiffness and damping; empty: the compliance's laws hold it.
     """
 
     joint: str
@@ -159,6 +163,7 @@ class CompliantBearing:
     slides: dict[str, str]
     v_index: dict[str, int]
     axes_in_joint: np.ndarray
+    rows: tuple[BearingRow, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -250,6 +255,13 @@ class Gearbox:
             for joint, names in slides.items()
         }
         self.slide_joints = [n for b in self.compliant_bearings.values() for n in b.slides.values()]
+        #: The rows that are their bearings' springs, ``<joint>.<row>``, in the order of the
+        #: row series' columns (``model/bearing_rows.py``, ``cpp/bearing_rows.hpp``).
+        self.row_names = [
+            row_name(joint, row.name)
+            for joint, bearing in self.compliant_bearings.items()
+            for row in bearing.rows
+        ]
         bearing_slides = set(self.slide_joints)
         self.bearing_names = [n for n in self.joint_names if n not in bearing_slides]
         self.slide_links = {slide_link(n) for n in bearing_slides}
@@ -346,6 +358,7 @@ class Gearbox:
             slides=slides,
             v_index={s: self.v_index(name) for s, name in slides.items()},
             axes_in_joint=np.array([u, w, k]),
+            rows=tuple(row_springs(compliance, self.source.bearing_rows.get(joint, []))),
         )
 
     def _default_gravity(self) -> np.ndarray:
@@ -907,8 +920,10 @@ def _add_slides(
         ET.SubElement(el, "child", link=link_name)
         ET.SubElement(el, "axis", xyz=" ".join(repr(float(x)) for x in directions[slide]))
         ET.SubElement(el, "limit", lower="-1e30", upper="1e30", effort="0", velocity="0")
-        # The radial damper acts in contact only: the bearing's element carries it.
-        damping = 0.0 if slide.startswith("radial") else compliance.damping(slide)
+        # The radial damper acts in contact only: the bearing's element carries it; rows that
+        # are the bearing's springs carry every damper (cpp/bearing_rows.hpp).
+        rows = row_springs(compliance, source.bearing_rows.get(name, []))
+        damping = 0.0 if slide.startswith("radial") or rows else compliance.damping(slide)
         ET.SubElement(el, "dynamics", damping=repr(damping))
         ET.SubElement(root, "link", name=link_name)
         parent.set("link", link_name)

@@ -30,7 +30,7 @@ from pinwind.gears.involute import half_tooth_angle
 from pinwind.known_names import unknown_name
 from pinwind.model.bearing import BEARING_TYPES, BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
-from pinwind.model.bearing_rows import BearingRow
+from pinwind.model.bearing_rows import BearingRow, row_springs
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 from pinwind.model.roller_sum import CONTACT_EXPONENTS
 from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
@@ -577,6 +577,19 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         rows = [_bearing_row(path, row, joint) for row in el.findall("row")]
         if rows:
             out.bearing_rows[joint] = rows
+        if (
+            compliance is not None
+            and row_springs(compliance, rows)
+            and (compliance.clearance > 0.0 or compliance.law != "linear")
+        ):
+            raise MalformedModel(
+                path,
+                where,
+                f'its rows are its springs (linear laws, model/bearing_rows.py), so law="'
+                f'{compliance.law}" and radial_clearance_mm='
+                f"{compliance.clearance * 1e3:g} cannot apply; remove them, or remove the rows' "
+                "stiffness to keep the bearing's own law",
+            )
         rated = any(el.get(a) is not None for a in _BEARING_RATING)
         if (compliance is None and torsion is None and not rows) or rated:
             rating = _bearing(path, el, out)
