@@ -339,10 +339,10 @@ _MEANINGS: dict[str, About] = {
            plot=Plot("rotor_wind_speed", "rotor", "wind speed at the rotor v [m/s]", "m/s")),
     "row_force": About("force", "N",
            "bearing row's force on the shaft (F_u, F_w, F_k): its springs and dampers at its "
-           "position (cpp/bearing_rows.hpp)", frame="bearing",
+           "position (docs/model_format.md, Bearing rows)", frame="bearing",
            label="row force", short="F row", headline=False),
     "row_moment": About("moment", "N*m",
-           "bearing row's own tilting moment on the shaft (M_u, M_w, 0) (cpp/bearing_rows.hpp)",
+           "bearing row's own tilting moment on the shaft (M_u, M_w, 0)",
            frame="bearing", label="row moment", short="M row", headline=False),
 }  # fmt: skip
 

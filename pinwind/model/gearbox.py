@@ -894,7 +894,7 @@ def _add_slides(
     joint = next(j for j in root.findall("joint") if j.get("name") == name)
     axis = np.asarray(source.joints[name]["axis"], dtype=float)
     k = axis / np.linalg.norm(axis)
-    u, w = _radial_axes(k)
+    u, w = _radial_axes(k, compliance.radial_axis)
     directions = {"radial_x": u, "radial_y": w, "axial": k, "tilt_x": u, "tilt_y": w}
     parent = cast(ET.Element, joint.find("parent"))
     origin = joint.find("origin")
@@ -931,12 +931,20 @@ def _add_slides(
     return out
 
 
-def _radial_axes(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _radial_axes(
+    axis: np.ndarray, radial_axis: tuple[float, float, float] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Two unit radial axes u, w of a bearing of unit axis k, with u × w = k.
 
-    u is the joint frame's x axis (or its y axis when k lies along x) made normal to k.
+    u is the bearing's ``radial_axis`` (``BearingCompliance``), else the joint frame's x axis
+    (or its y axis when k lies along x), made normal to k.
     """
-    seed = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    if radial_axis is not None:
+        seed = np.asarray(radial_axis, dtype=float)
+    elif abs(axis[0]) < 0.9:
+        seed = np.array([1.0, 0.0, 0.0])
+    else:
+        seed = np.array([0.0, 1.0, 0.0])
     u = seed - (seed @ axis) * axis
     u /= np.linalg.norm(u)
     return u, np.cross(axis, u)

@@ -761,7 +761,7 @@ def _support(path: str, el: ET.Element, out: ModelFile) -> Support:
 
 
 #: The attributes of every ``<bearing>``: its joint and how it moves (`_bearing_compliance`).
-_BEARING_ATTRIBUTES = ("joint", "floating", "law", "contact")
+_BEARING_ATTRIBUTES = ("joint", "floating", "law", "contact", "radial_axis")
 #: The attributes of a rated ``<bearing>``: ISO 281 type, rating and load factors (`_bearing`).
 _LOAD_FACTORS = ("e", "y1", "x2", "y2")
 _BEARING_RATING = ("type", "rating_c_kN", *_LOAD_FACTORS)
@@ -788,9 +788,16 @@ def _bearing_compliance(
     given = [a for a in _BEARING_COMPLIANCE if el.get(a) is not None]
     floating = _bool(path, el, "floating")
     law = el.get("law")
-    if not given and not floating and law is None:
-        return None
     where = f'<bearing joint="{joint}">'
+    if not given and not floating and law is None:
+        if el.get("radial_axis") is not None:
+            raise MalformedModel(
+                path,
+                where,
+                "radial_axis only applies to a compliant bearing (its slides' axes); give "
+                "radial_stiffness or remove it",
+            )
+        return None
     law = (law or "linear").strip()
     if law not in RADIAL_LAWS:
         raise MalformedModel(
@@ -818,6 +825,7 @@ def _bearing_compliance(
             values[attr] = float(raw)
         except ValueError as err:
             raise MalformedModel(path, where, f'attribute {attr}="{raw}" is not a number') from err
+    radial_axis = _radial_axis(path, el, where, out.joints[joint]["axis"])
     rollers = values.get("rollers", 0.0)
     if not (math.isfinite(rollers) and rollers == int(rollers)):
         raise MalformedModel(
@@ -836,6 +844,7 @@ def _bearing_compliance(
         rollers=int(rollers),
         contact_stiffness=values.get("contact_stiffness", 0.0),
         load_exponent=CONTACT_EXPONENTS[contact],
+        radial_axis=radial_axis,
     )
     problems = compliance.problems()
     if problems:
@@ -844,6 +853,35 @@ def _bearing_compliance(
             joint, attribute, value, "; ".join(p[2] for p in problems), path=path
         )
     return compliance
+
+
+def _radial_axis(
+    path: str, el: ET.Element, where: str, axis: np.ndarray
+) -> tuple[float, float, float] | None:
+    """A compliant ``<bearing>``'s ``radial_axis="x y z"``: u in the joint frame, or None.
+
+    Its part normal to the joint's axis must not vanish (docs/model_format.md "Bearing rows").
+    """
+    raw = el.get("radial_axis")
+    if raw is None:
+        return None
+    try:
+        values = [float(x) for x in raw.split()]
+    except ValueError:
+        values = []
+    k = np.asarray(axis, dtype=float)
+    k = k / np.linalg.norm(k)
+    ok = len(values) == 3 and all(math.isfinite(v) for v in values)
+    given = np.asarray(values if ok else [0.0, 0.0, 0.0], dtype=float)
+    size = float(np.linalg.norm(given))
+    if size == 0.0 or float(np.linalg.norm(given - (given @ k) * k)) <= 1e-9 * size:
+        raise MalformedModel(
+            path,
+            where,
+            f'radial_axis="{raw}" must be three finite numbers, a direction not along the '
+            f"bearing axis {tuple(float(x) for x in k)}: the first radial axis u (joint frame)",
+        )
+    return (values[0], values[1], values[2])
 
 
 def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:

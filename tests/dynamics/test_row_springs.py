@@ -177,8 +177,7 @@ def test_isotropic_rows_at_the_stiffness_centre_act_as_the_old_equivalent_bearin
     loads = [with_rows.row(f"shaft.{r.name}") for r in rows]
     force = sum(load.force for load in loads)
     moment = sum(
-        load.moment[:, :2]
-        + r.position * np.column_stack([-load.force[:, 1], load.force[:, 0]])
+        load.moment[:, :2] + r.position * np.column_stack([-load.force[:, 1], load.force[:, 0]])
         for r, load in zip(rows, loads, strict=True)
     )
     assert_allclose(force, force_in_slides, atol=1e-9 * scale)
@@ -242,3 +241,38 @@ def test_rows_reach_the_log_and_read_back(tmp_path):
     assert back.row_names == ["shaft.A", "shaft.B"]
     assert_allclose(back.row_force, res.row_force, rtol=0, atol=0)
     assert_allclose(back.row_moment, res.row_moment, rtol=0, atol=0)
+
+
+def test_a_radial_axis_turns_the_rows_directions_with_it():
+    # u along (cos 60°, sin 60°): the stiff K_y = 3e9 acts there. A load along u is carried by
+    # K_y alone, F_u = −Σ K_y x_u: the shaft moves by F / Σ K_y along u, not F / Σ K_z.
+    rows = [_row("A", A, (0.0, 1e9, 1e8, 0.0, 0.0)), _row("B", B, (0.0, 3e9, 3e8, 0.0, 0.0))]
+    axis = (math.cos(math.pi / 3), math.sin(math.pi / 3), 0.0)
+    bearing = ('radial_stiffness="1" axial_stiffness="1" tilt_stiffness="1" '
+               f'radial_axis="{axis[0]!r} {axis[1]!r} 0"')  # fmt: skip
+    force = 1e3
+    res, gb = _run(shaft_on_rows(rows, bearing), _radial_load(force, math.pi / 3, 0.0))
+    assert_allclose(gb.compliant_bearings["shaft"].axes_in_joint[0], axis, atol=1e-15)
+    x_u = res.joint("shaft_radial_x").angle[-1]  # the slide along u
+    assert_allclose(x_u, force / 4e9, rtol=1e-9)
+    assert_allclose(res.joint("shaft_radial_y").angle[-1], 0.0, atol=1e-9 * force / 4e9)
+
+
+def test_a_radial_axis_along_the_bearing_axis_is_refused():
+    bearing = 'radial_stiffness="1e9" radial_axis="0 0 2"'
+    with pytest.raises(MalformedModel, match=r'radial_axis="0 0 2" must be .* not along'):
+        loads(shaft_on_rows([], bearing))
+
+
+def test_the_5mw_planets_rows_point_u_away_from_their_carrier_s_axis():
+    from tests.conftest import MODELS
+
+    gb = pinwind.load(MODELS / "nrel5mw_gearbox.urdf")
+    for stage in ("stage1", "stage2"):
+        for i in (1, 2, 3):
+            name = f"{stage}_planet{i}"
+            # the planet's centre in its carrier's frame: its first slide's placement
+            slide = gb.model.getJointId(f"{name}_radial_x")
+            centre = gb.model.jointPlacements[slide].translation[:2]
+            u = gb.compliant_bearings[name].axes_in_joint[0]
+            assert_allclose(u[:2], centre / np.linalg.norm(centre), atol=1e-12)
