@@ -111,6 +111,9 @@ def test_two_anisotropic_rows_share_a_load_at_30_degrees_by_the_lever_rule():
     assert_allclose(res.joint("shaft_tilt_y").angle[-1], theta_w, rtol=1e-9)
     # the deflection is not along the load: 2x2 anisotropy, several degrees off 30°
     assert abs(math.degrees(math.atan2(moved[1], moved[0])) - 30.0) > 5.0
+    # at rest the bearing's elastic force (joint frame: u, w, k = x, y, z) is the rows' sum
+    total = res.row("shaft.A").force + res.row("shaft.B").force
+    assert_allclose(res.bearing("shaft").elastic_force, total, rtol=1e-9, atol=scale)
 
 
 def test_rows_off_the_stiffness_centre_couple_a_radial_load_into_tilt():
