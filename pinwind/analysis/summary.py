@@ -251,15 +251,16 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
     if res.generator_names or res.rotor_names:
         loads = _table(
             f"Generators and rotors at {final}, and their means over {_span(res, stats)}",
-            ("element", "torque [kN·m]", "mean [kN·m]", "power [kW]", "λ [-]", "Cp [-]"),
+            ("element", "torque [kN·m]", "mean [kN·m]", "power [kW]", "λ [-]", "Cp [-]",
+             "thrust [kN]", "Ct [-]"),
             plain,
-        )
+        )  # fmt: skip
         for name in res.generator_names:
             torque = res.generator(name).torque
             mean = stats.row("load", f"generator {name}", "torque").mean
             loads.add_row(
                 f"generator {name}", _fixed(torque[-1] / 1e3), _fixed(mean / 1e3),
-                "-", "-", "-",
+                "-", "-", "-", "-", "-",
             )  # fmt: skip
         for name in res.rotor_names:
             r = res.rotor(name)
@@ -270,6 +271,8 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
                 f"{r.power[-1] / 1e3:.2f}",
                 _fixed(r.tip_speed_ratio[-1]),
                 _fixed(r.power_coefficient[-1]),
+                _fixed(r.thrust[-1] / 1e3),
+                _fixed(r.thrust_coefficient[-1]),
             )
         tables.append(loads)
     return tables

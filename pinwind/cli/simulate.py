@@ -154,8 +154,12 @@ def simulate(
         list[str] | None,
         typer.Option(
             "--rotor",
-            help="JOINT=saleh2017 or JOINT=rotor(radius=, inertia=, air_density=, pitch_deg=, "
-            "cp_scale=): rotor aerodynamics driven by --wind.",
+            help="JOINT=PRESET (saleh2017, jorgensen2014, nrel5mw) or JOINT=rotor(radius=, "
+            "inertia=, air_density=, pitch_deg=, cp_scale=, performance_file=, mass=, "
+            "shaft_tilt_deg=, hub_height=, shear_exponent=, hub_body=, hub_point=(x, y, z)), or a "
+            "preset with changes, nrel5mw(hub_body='lss', hub_point=(0, 0, -0.8871)): rotor "
+            "aerodynamics driven by --wind; with hub_body its thrust, weight and wind-shear "
+            "moment load that body.",
         ),
     ] = None,
     wind: Annotated[

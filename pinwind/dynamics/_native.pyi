@@ -56,6 +56,12 @@ class CpModel(enum.Enum):
     heier = 0  # Heier's analytical C_p times cp_scale
     table = 1  # bilinear in the table C_p(λ, β)
 
+class ThrustModel(enum.Enum):
+    """How a rotor's thrust coefficient is computed (``cpp/rotor.hpp``)."""
+
+    momentum = 0  # actuator-disc momentum theory from C_p
+    table = 1  # bilinear in the table C_t(λ, β)
+
 class RunCode(enum.Enum):
     """How a block of steps ended (``cpp/stepper.hpp``)."""
 
@@ -235,6 +241,14 @@ class RotorSpec:
     table_pitch: list[float]  # [rad]
     table_cp: list[float]  # row-major (tsr, pitch)
     wind_column: int
+    ct_model: ThrustModel
+    ct_tsr: list[float]
+    ct_pitch: list[float]  # [rad]
+    ct_values: list[float]  # row-major (tsr, pitch)
+    hub: bool  # the thrust, weight and shear moment load hub_load's body
+    hub_load: HubLoadSpec  # where (its column unused)
+    weight: Vector  # the rotor's weight [N] in the hub's fixed axes
+    shear_arm: float  # ℓ [m]: the shear moment about the hub's y is ℓ T
     def __init__(self) -> None: ...
 
 class GeneralizedAlpha:
@@ -257,6 +271,15 @@ def rotor_torque(rotor: RotorSpec, speed: float, wind: float) -> float:
 
 def rotor_cp(rotor: RotorSpec, tsr: float) -> float:
     """Power coefficient C_p at tip-speed ratio λ."""
+
+def rotor_ct(rotor: RotorSpec, tsr: float) -> float:
+    """Thrust coefficient C_t at tip-speed ratio λ."""
+
+def rotor_thrust(rotor: RotorSpec, speed: float, wind: float) -> float:
+    """Aerodynamic thrust [N] at rotor speed [rad/s] and wind speed [m/s]."""
+
+def momentum_ct(cp: float) -> float:
+    """Thrust coefficient of an ideal actuator disc with power coefficient C_p."""
 
 def bearing_slide_series(
     angle: Matrix,
@@ -421,8 +444,10 @@ class Series(enum.Enum):
     rotor_tip_speed_ratio = 38
     rotor_power_coefficient = 39
     rotor_wind_speed = 40
-    row_force = 41
-    row_moment = 42
+    rotor_thrust = 41
+    rotor_thrust_coefficient = 42
+    row_force = 43
+    row_moment = 44
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

@@ -325,6 +325,8 @@ def drivetrain(
     else:
         g = np.asarray(gearbox.gravity, dtype=float)
     laws = _laws(generators, rotors, wind, free)
+    if laws is not None and any(rotor.hub is not None for rotor in (rotors or {}).values()):
+        laws.add_rotor_hubs(gearbox, g)
     if hub_loads:
         from pinwind.dynamics.elements import LoadElements
 

@@ -4,7 +4,9 @@
 (``_native.GeneratorSpec``, ``_native.RotorSpec``, from ``generator_spec`` and ``rotor_spec``),
 the rotor inertias to add to their joints, and the per-sample input columns the rotors read (one
 wind-speed column). The compiled laws can also be evaluated alone (``induction_torque``,
-``rotor_torque``, ``rotor_power_coefficient``, ``optimal_gain``): the numbers the step loop uses.
+``rotor_torque``, ``rotor_power_coefficient``, ``rotor_thrust``, ``optimal_gain``): the numbers the
+step loop uses. ``LoadElements.add_rotor_hubs`` places a rotor's thrust, weight and shear moment
+on its hub's body.
 """
 
 from __future__ import annotations
@@ -26,8 +28,8 @@ from pinwind.loads.generator import (
     VariableSpeed,
     describe,
 )
-from pinwind.loads.hub_loads import COMPONENTS, HubLoad
-from pinwind.loads.rotor import CpTable, Rotor
+from pinwind.loads.hub_loads import COMPONENTS, HubFrame, HubLoad
+from pinwind.loads.rotor import CpTable, Rotor, hub_weight, shear_arm
 from pinwind.loads.signal_text import signal_from_spec
 from pinwind.loads.signals import Signal
 
@@ -39,6 +41,7 @@ class LoadElements:
     Attributes:
         generators, rotors: compiled specs.
         generator_names, rotor_names: their joints, in the same order.
+        rotor_laws: joint name → ``Rotor``.
         added_inertia: velocity index → inertia added to the joint [kg·m²] (rotors).
         input_columns: per-sample inputs: the wind speed [m/s] with rotors (column 0), then
             six per hub load (its F_x, F_y, F_z [N], M_x, M_y, M_z [N·m]).
@@ -52,6 +55,7 @@ class LoadElements:
     rotors: list[_native.RotorSpec] = field(default_factory=list)
     generator_names: list[str] = field(default_factory=list)
     rotor_names: list[str] = field(default_factory=list)
+    rotor_laws: dict[str, Rotor] = field(default_factory=dict)
     added_inertia: dict[int, float] = field(default_factory=dict)
     input_columns: int = 0
     wind: Signal | None = None
@@ -77,6 +81,39 @@ class LoadElements:
         self.hub_loads += list(loads)
         self.input_columns += 6 * len(loads)
         self.metadata["hub_loads"] = [load.describe() for load in self.hub_loads]
+
+    def add_rotor_hubs(self, gearbox: Any, gravity: np.ndarray) -> None:
+        """Give each rotor with a hub its loads on the hub's body (``loads/rotor.py``).
+
+        The hub's fixed frame is a fixed ``HubLoad``'s (``dynamics/hub_load_specs.py``); the
+        weight is the model's gravity in it, turned by the shaft tilt (``hub_weight``).
+
+        Raises:
+            InputError: a hub on a body the model cannot load (as a hub load's), or a rotor mass
+                with no gravity to weigh it.
+        """
+        from pinwind.dynamics.hub_load_specs import fixed_axes_at_rest, hub_load_specs
+
+        for spec, name in zip(self.rotors, self.rotor_names, strict=True):
+            rotor = self.rotor_laws[name]
+            if rotor.hub is None:
+                continue
+            where = HubLoad(rotor.hub.body, (0.0,) * 6, HubFrame.FIXED, rotor.hub.point,
+                            rotor.hub.up)  # fmt: skip
+            try:
+                (placement,) = hub_load_specs([where], gearbox, gravity, 0)
+            except InputError as err:
+                raise InputError(f'rotor on "{name}": its hub_body: {err}') from err
+            if rotor.mass and not np.any(gravity):
+                raise InputError(
+                    f'rotor on "{name}": its mass {rotor.mass} kg has no weight: the model has '
+                    "no gravity; give the model gravity, or mass=0"
+                )
+            spec.hub = True
+            spec.hub_load = placement
+            gravity_in_hub = fixed_axes_at_rest(placement, gearbox).T @ gravity
+            spec.weight = hub_weight(rotor.mass, rotor.shaft_tilt, gravity_in_hub)
+            spec.shear_arm = shear_arm(rotor.radius, rotor.hub_height, rotor.shear_exponent)
 
     def inputs(self, times: np.ndarray) -> np.ndarray | None:
         """The per-sample inputs at ``times`` [s], (len(times), input_columns), or None.
@@ -159,6 +196,7 @@ def load_elements(
         index = joint_index[name]
         out.rotors.append(rotor_spec(rotor, index, 0))
         out.rotor_names.append(name)
+        out.rotor_laws[name] = rotor
         if rotor.inertia:
             out.added_inertia[index] = out.added_inertia.get(index, 0.0) + rotor.inertia
         out.metadata.setdefault("rotors", {})[name] = rotor.describe()
@@ -242,6 +280,13 @@ def rotor_spec(rotor: Rotor, index: int, wind_column: int) -> _native.RotorSpec:
     else:
         r.cp_model = _native.CpModel.heier
         r.cp_scale = float(rotor.cp.scale)
+    if rotor.ct is not None:
+        r.ct_model = _native.ThrustModel.table
+        r.ct_tsr = [float(x) for x in rotor.ct.tsr]
+        r.ct_pitch = [float(x) for x in rotor.ct.pitch]
+        r.ct_values = [float(c) for row in rotor.ct.ct for c in row]
+    else:
+        r.ct_model = _native.ThrustModel.momentum
     return r
 
 
@@ -261,6 +306,16 @@ def rotor_torque(rotor: Rotor, speed: float, wind: float) -> float:
 def rotor_power_coefficient(rotor: Rotor, tsr: float) -> float:
     """C_p at tip-speed ratio λ (the compiled law)."""
     return _native.rotor_cp(rotor_spec(rotor, 0, 0), float(tsr))
+
+
+def rotor_thrust_coefficient(rotor: Rotor, tsr: float) -> float:
+    """C_t at tip-speed ratio λ (the compiled law: its table, or momentum theory from C_p)."""
+    return _native.rotor_ct(rotor_spec(rotor, 0, 0), float(tsr))
+
+
+def rotor_thrust(rotor: Rotor, speed: float, wind: float) -> float:
+    """Aerodynamic thrust [N] at rotor speed [rad/s] in wind [m/s] (the compiled law)."""
+    return _native.rotor_thrust(rotor_spec(rotor, 0, 0), float(speed), float(wind))
 
 
 def rotor_optimum(rotor: Rotor) -> tuple[float, float]:

@@ -75,6 +75,14 @@ def hub_load_specs(
     return specs
 
 
+def fixed_axes_at_rest(spec: _native.HubLoadSpec, gearbox: Gearbox) -> np.ndarray:
+    """The fixed hub axes (columns x, y, z) in the world at the model's neutral pose."""
+    model = gearbox.model
+    data = model.createData()
+    pin.forwardKinematics(model, data, pin.neutral(model))
+    return data.oMi[spec.parent].rotation @ spec.placement @ spec.axes
+
+
 def _up(load: HubLoad, gravity: np.ndarray, where: str) -> np.ndarray:
     """The load's up direction in the world: its own, or against gravity."""
     if load.up is not None:

@@ -339,6 +339,35 @@ class Result:
             arrays[name] = getattr(self, name)[picked]
         return self.holding(arrays, {k: v[rows] for k, v in self.energy.items()}, pose_rows)
 
+    def series_of(self, schema: Schema, *, poses: bool = True) -> Result:
+        """The same samples holding only the series of ``schema`` (part of this one's; views).
+
+        Without ``poses`` it keeps no link pose (no pose rows; a schema always has the pose
+        series).
+        """
+        arrays = {name: getattr(self, name) for name in schema.names}
+        pose_rows = self.pose_rows
+        if not poses:
+            pose_rows = pose_rows[:0]
+            for name in POSE_ARRAYS:
+                arrays[name] = arrays[name][:0]
+        return Result(
+            joint_names=self.joint_names,
+            mesh_names=self.mesh_names,
+            bearing_names=self.bearing_names,
+            body_names=self.body_names,
+            generator_names=self.generator_names,
+            rotor_names=self.rotor_names,
+            joint_kinds=self.joint_kinds,
+            energy=self.energy,
+            metadata=self.metadata,
+            status=self.status,
+            statistics=self.statistics,
+            pose_rows=pose_rows,
+            schema=schema,
+            **arrays,
+        )
+
     def holding(
         self, arrays: dict[str, Any], energy: dict[str, np.ndarray], pose_rows: np.ndarray
     ) -> Result:

@@ -37,6 +37,10 @@ class RunSettings:
             sample from 0, and the last), ``"last"``, or ``"auto"`` (every sample while they
             fit in ``simulate.KEEP_BUDGET`` bytes, else every N-th with N the smallest that
             fits). The run itself streams every sample to its observers block by block.
+        keep_series: the series the returned Result holds (names, ``docs/series.md``), or
+            None: every series. The log and the other observers get every series whatever
+            this says; a run that reduces a few series (a fatigue case) need not copy the
+            others. The link poses are kept only when named (``body_position``).
         chunk: samples per observer call (a log holds a chunk of columns per call); None:
             ``simulate.block_samples`` (1000 to 5000, a twentieth of the run).
         progress: show a progress bar; None: for runs over 20 000 steps on a terminal.
@@ -51,6 +55,7 @@ class RunSettings:
     solver: SolverSettings = field(default_factory=SolverSettings)
     integrator: Integrator = field(default_factory=Integrator)
     keep: str | int = "auto"
+    keep_series: tuple[str, ...] | None = None
     chunk: int | None = None
     progress: bool | None = None
     initial_deflection: str = "static"
@@ -79,6 +84,14 @@ class RunSettings:
                 f'keep is {keep!r}; give "all", "auto", "last" or a whole number N ≥ 1 '
                 "(every N-th sample)"
             )
+        if self.keep_series is not None:
+            names = self.keep_series
+            if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+                raise InputError(
+                    f"keep_series={names!r}: give the names of the series to keep, e.g. "
+                    '("mesh_normal", "speed")'
+                )
+            object.__setattr__(self, "keep_series", tuple(names))
         chunk = self.chunk
         if chunk is not None and (
             isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1

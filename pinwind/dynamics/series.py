@@ -337,6 +337,13 @@ _MEANINGS: dict[str, About] = {
     "rotor_wind_speed": About("wind_speed", "m/s", "wind speed at the rotor",
            short="wind",
            plot=Plot("rotor_wind_speed", "rotor", "wind speed at the rotor v [m/s]", "m/s")),
+    "rotor_thrust": About("thrust", "N", "aerodynamic thrust 0.5 rho pi R^2 v^2 Ct along the shaft",
+           short="thrust",
+           plot=Plot("rotor_thrust", "rotor", "rotor thrust T = ½ ρ π R² v² C_t [kN]", "kN")),
+    "rotor_thrust_coefficient": About("thrust_coefficient", "1", "thrust coefficient Ct",
+           short="Ct",
+           plot=Plot("rotor_thrust_coefficient", "rotor", "thrust coefficient C_t(λ, β) [-]",
+                     "-")),
     "row_force": About("force", "N",
            "bearing row's force on the shaft (F_u, F_w, F_k): its springs and dampers at its "
            "position (docs/model_format.md, Bearing rows)", frame="bearing",
@@ -512,6 +519,22 @@ class Schema(Mapping[str, Series]):
             ValueError: its name is taken, it has no ``derive``, or its family is unknown.
         """
         return Schema((*self._series, _checked(series, self._by_name)))
+
+    def only(self, names: Iterable[str]) -> Schema:
+        """A new schema of the series named, in this schema's order, and the link poses.
+
+        The poses (``body_position``, ``body_quaternion``) stay: a Result has them, with a row
+        per pose (none kept: no rows).
+
+        Raises:
+            KeyError: a name that is not a series of this schema.
+        """
+        wanted = set(names)
+        unknown = wanted - set(self._by_name)
+        if unknown:
+            raise KeyError(f"no series {sorted(unknown)}; the series are: {list(self._by_name)}")
+        keep = wanted | {"time"} | {s.name for s in self._series if s.per == "pose"}
+        return Schema(s for s in self._series if s.name in keep)
 
     def without(self, name: str) -> Schema:
         """A new schema without the derived series ``name`` (this one unchanged).

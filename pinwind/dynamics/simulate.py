@@ -43,7 +43,7 @@ import math
 import sys
 import time as wallclock
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -305,6 +305,7 @@ def simulate(
     meshes: Mapping[str, str | MeshCompliance] | None = None,
     position_errors: Mapping[str, tuple[float, float]] | None = None,
     keep: str | int | None = None,
+    keep_series: Sequence[str] | None = None,
     generators: Mapping[str, GeneratorLaw] | None = None,
     rotors: Mapping[str, Rotor] | None = None,
     wind: float | TimeSignal | None = None,
@@ -346,6 +347,8 @@ def simulate(
         keep: which samples the returned Result holds (``RunSettings.keep``; default
             ``"auto"``); the run itself streams block by block to the observer (the log) in
             memory for one block.
+        keep_series: the series the returned Result holds (``RunSettings.keep_series``;
+            default every series); the observers (the log) get every series.
         generators: joint name → generator law (``loads/generator.py``), compiled.
         rotors: joint name → ``Rotor`` (``loads/rotor.py``), compiled; its inertia is added to
             the joint.
@@ -364,7 +367,8 @@ def simulate(
             records how the static start went.
         metadata: extra entries for ``result.metadata`` and the log (e.g. the scenario).
         settings: the run settings as one object (``RunSettings``), instead of ``solver``,
-            ``integrator``, ``progress``, ``chunk``, ``keep`` and ``initial_deflection``.
+            ``integrator``, ``progress``, ``chunk``, ``keep``, ``keep_series`` and
+            ``initial_deflection``.
 
     Torques and speeds given as ``pinwind.loads.signals.Signal`` are evaluated for a whole block
     at once; plain Python callables are called once per sample, the slow path.
@@ -396,6 +400,7 @@ def simulate(
         progress=progress,
         chunk=chunk,
         keep=keep,
+        keep_series=None if keep_series is None else tuple(keep_series),
         initial_deflection=initial_deflection,
     )
     train = drivetrain(
@@ -507,6 +512,11 @@ def prepare(
         res = _allocate(gearbox, len(kept), body_names, elements, series.current())
     except MemoryError as err:
         raise OutOfMemory(len(kept), duration, dt) from err
+    if settings.keep_series is not None:
+        try:
+            res.schema.only(settings.keep_series)
+        except KeyError as err:
+            raise InputError(f"keep_series: {err.args[0]}") from None
     res.metadata = {
         "model_name": gearbox.name,
         "model_path": str(gearbox.path),
@@ -716,6 +726,7 @@ class PreparedRun:
         # may still read while the loop steps into the next (the statistics' thread folds two
         # behind).
         spares: list[Result] = []
+        names = self.kept_names
         progress = self.settings.progress
         if progress is None:
             progress = self.steps > 20_000 and sys.stderr.isatty()
@@ -764,11 +775,14 @@ class PreparedRun:
                         if spring0 is None:
                             spring0 = float(part.energy["potential_spring"][0])
                         _numerical_loss(part.energy, spring0)
-                        if direct or sparse or read:
+                        # A Result of some series only may lack a derived series' inputs:
+                        # its blocks are derived whole before the copy.
+                        subset = self.settings.keep_series is not None
+                        if direct or sparse or read or subset:
                             _derive(part, gearbox)
                         if not (direct or sparse):
-                            lo, hi = _keep(res, part, start, kept)
-                            if not read and hi > lo:  # keep="last": the last sample only
+                            lo, hi = _keep(res, part, start, kept, names)
+                            if not (read or subset) and hi > lo:  # keep="last": the last only
                                 _derive(res.rows(lo, hi), gearbox)
                         if not sparse:
                             for o in observers:
@@ -801,9 +815,21 @@ class PreparedRun:
         res.metadata["status"] = status
         res.metadata["samples_simulated"] = done
         res.status = status
+        names = self.settings.keep_series
+        if names is not None:  # the series kept: views of the Result's (the others unwritten)
+            poses = bool({"body_position", "body_quaternion"} & set(names))
+            res = res.series_of(res.schema.only(names), poses=poses)
         if status == "completed":
             return res
         return res.truncated(int(np.searchsorted(self.kept, done)))
+
+    @property
+    def kept_names(self) -> tuple[str, ...]:
+        """The series the Result keeps (``RunSettings.keep_series``; all by default)."""
+        names = self.settings.keep_series
+        if names is None:
+            return tuple(self.result.ARRAYS)
+        return tuple(self.result.schema.only(names).names)
 
     def _block(self, samples: int) -> Result:
         """New arrays for a block of that many samples."""
@@ -988,10 +1014,13 @@ def _kept_samples(samples: int, stride: int) -> np.ndarray:
     return kept
 
 
-def _keep(res: Result, block: Result, start: int, kept: np.ndarray) -> tuple[int, int]:
+def _keep(
+    res: Result, block: Result, start: int, kept: np.ndarray, names: Iterable[str]
+) -> tuple[int, int]:
     """Copies the kept samples of a block (samples start … start + len(block) − 1) into res.
 
-    Returns the rows lo:hi of res that they fill.
+    Copies the series ``names`` and the energy terms. Returns the rows lo:hi of res that they
+    fill.
     """
     lo, hi = (int(i) for i in np.searchsorted(kept, [start, start + len(block)]))
     if hi == lo:
@@ -1001,7 +1030,7 @@ def _keep(res: Result, block: Result, start: int, kept: np.ndarray) -> tuple[int
     rows: slice | np.ndarray = picked
     if np.all(np.diff(picked) == step):  # every N-th sample: a strided copy, twice as fast
         rows = slice(int(picked[0]), int(picked[-1]) + 1, step)
-    for name in res.ARRAYS:
+    for name in names:
         getattr(res, name)[lo:hi] = getattr(block, name)[rows]
     for name, values in block.energy.items():
         res.energy[name][lo:hi] = values[rows]

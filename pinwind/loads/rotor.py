@@ -28,6 +28,27 @@ into a C_p(λ) table at 27.1 rpm (C_p = P / (½ ρ π R² v³), λ = ω R / v): 
 speed by its generator gives that power curve in steady wind. It is not a fitted or measured
 curve; the damage it gives is the trend, not 003's numbers (docs/fatigue.md). Inertia: the NREL
 5 MW rotor's 3.8e7 kg·m² scaled by (20.5 / 63)⁵ (as for 000's rotor): 1.4e5 kg·m².
+
+The rotor's non-torque loads (Keller et al. 2018 found them to change planet-bearing loads by up
+to 46 %): with a ``RotorHub`` the rotor also loads the body it sits on (the main shaft) at the
+rotor centre, in the hub's fixed frame (``loads/hub_loads.py``: x along the shaft, downwind; z up):
+
+- the thrust T = ½ ρ π R² v² C_t(λ, β) along x, with C_t from a ``CtTable`` or, for a rotor
+  known only by its C_p, from actuator-disc momentum theory, C_p = 4a(1 − a)², C_t = 4a(1 − a)
+  (Burton et al. 2011, Wind Energy Handbook §3.2; an ideal rotor's thrust for its power, below a
+  real rotor's: the NREL 5 MW rotor's table gives C_t 0.77 at its C_p,max 0.482, momentum 0.59);
+- its weight m g at the rotor centre, with the shaft tilted by τ (rotor end up): the model's
+  gravity g in the hub axes turned by τ about y, (m g sin τ, 0, −m g cos τ) for a model whose
+  shaft is level (``hub_weight``);
+- the wind-shear moment: in a power-law profile v(z) = v_hub (1 + z/H)^α over the disc (z from
+  the hub, H the hub height), a local thrust ∝ v(z)² with the hub's C_t puts the thrust's centre
+  ℓ above the hub, M_y = ℓ T with ℓ = (1/πR²) ∫ z (1 + z/H)^{2α} dA over the disc
+  (``shear_arm``); for small α, ℓ ≈ α R²/(2H). The moment pushes the upper half downwind: +y.
+
+``Rotor.nrel5mw`` is the NREL 5 MW reference rotor (Jonkman et al. 2009 Table 1-1: R 63 m, hub
+height 90 m, 110 t, shaft tilt 5°) with the C_p and C_t tables of NREL's ROSCO toolbox
+(``data/nrel5mw_cp_ct_cq.txt``, Abbas et al. 2022; computed with CCBlade from the rotor's blade
+data) and the IEC 61400-1 normal wind profile's α = 0.2.
 """
 
 from __future__ import annotations
@@ -39,6 +60,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.errors import InputError
+from pinwind.loads.rotor_performance import NREL5MW_PERFORMANCE, read_performance
 from pinwind.units import rpm_to_rad_s
 
 #: 000's rotor: 41 m blades on a 3.7 m hub [m].
@@ -97,6 +119,31 @@ class HeierCp:
         return heier_cp(tsr, pitch, self.scale)
 
 
+def _grid_values(
+    name: str, values: Any, tsr: tuple[float, ...], pitch: tuple[float, ...]
+) -> tuple[tuple[float, ...], ...]:
+    """A table's values as rows per tip-speed ratio, checked against its grid.
+
+    Raises:
+        InputError: a shape that is not (ratios, pitch angles), fewer than two ratios, a grid
+            that does not increase strictly, or a value that is not finite.
+    """
+    grid = np.asarray(values, dtype=float)
+    if grid.ndim == 1:
+        grid = grid[:, None]
+    ratios, angles = np.asarray(tsr, dtype=float), np.asarray(pitch, dtype=float)
+    if grid.shape != (ratios.size, angles.size) or ratios.size < 2:
+        raise InputError(
+            f"{name} table: {grid.shape} values for {ratios.size} tip-speed ratios × "
+            f"{angles.size} pitch angles; give one value per pair and at least two ratios"
+        )
+    if not (np.all(np.diff(ratios) > 0) and np.all(np.diff(angles) > 0)):
+        raise InputError(f"{name} table: tip-speed ratios and pitch angles must increase strictly")
+    if not np.all(np.isfinite(grid)):
+        raise InputError(f"{name} table: every value must be finite")
+    return tuple(tuple(float(x) for x in row) for row in grid)
+
+
 @dataclass(frozen=True)
 class CpTable:
     """C_p on a grid: ``cp[i][j]`` at tip-speed ratio ``tsr[i]`` and pitch ``pitch[j]`` [rad].
@@ -109,21 +156,104 @@ class CpTable:
     pitch: tuple[float, ...] = (0.0,)
 
     def __post_init__(self):
-        cp = np.asarray(self.cp, dtype=float)
-        if cp.ndim == 1:
-            cp = cp[:, None]
-            object.__setattr__(self, "cp", tuple((float(c),) for c in cp[:, 0]))
-        tsr = np.asarray(self.tsr, dtype=float)
-        pitch = np.asarray(self.pitch, dtype=float)
-        if cp.shape != (tsr.size, pitch.size) or tsr.size < 2:
-            raise InputError(
-                f"Cp table: {cp.shape} values for {tsr.size} tip-speed ratios × {pitch.size} "
-                "pitch angles; give one value per pair and at least two ratios"
-            )
-        if not (np.all(np.diff(tsr) > 0) and np.all(np.diff(pitch) > 0)):
-            raise InputError("Cp table: tip-speed ratios and pitch angles must increase strictly")
-        if not np.all(np.isfinite(cp)):
-            raise InputError("Cp table: every value must be finite")
+        object.__setattr__(self, "cp", _grid_values("Cp", self.cp, self.tsr, self.pitch))
+
+
+@dataclass(frozen=True)
+class CtTable:
+    """C_t on a grid: ``ct[i][j]`` at tip-speed ratio ``tsr[i]`` and pitch ``pitch[j]`` [rad].
+
+    Bilinear between grid points, held at the edges, as ``CpTable``.
+    """
+
+    tsr: tuple[float, ...]
+    ct: tuple[tuple[float, ...], ...]
+    pitch: tuple[float, ...] = (0.0,)
+
+    def __post_init__(self):
+        object.__setattr__(self, "ct", _grid_values("Ct", self.ct, self.tsr, self.pitch))
+
+
+def performance_tables(path: Any) -> tuple[CpTable, CtTable]:
+    """The C_p and C_t tables of a ROSCO rotor performance file (``loads/rotor_performance.py``).
+
+    Raises:
+        InputError: a file that cannot be read or is not in ROSCO's format.
+    """
+    grid = read_performance(path)
+    return (
+        CpTable(tsr=grid.tsr, cp=tuple(map(tuple, grid.cp)), pitch=grid.pitch),
+        CtTable(tsr=grid.tsr, ct=tuple(map(tuple, grid.ct)), pitch=grid.pitch),
+    )
+
+
+@dataclass(frozen=True)
+class RotorHub:
+    """Where the rotor's thrust, weight and wind-shear moment load the drivetrain.
+
+    Attributes:
+        body: the body the rotor sits on (URDF link), e.g. the main shaft.
+        point: the rotor centre in the body's frame [m].
+        up: the hub's z in the model's world frame, or None: against the model's gravity
+            (``loads/hub_loads.py``, ``HubLoad.up``).
+    """
+
+    body: str
+    point: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    up: tuple[float, float, float] | None = None
+
+    def __post_init__(self):
+        for name in ("point", "up"):
+            vector = getattr(self, name)
+            if vector is None:
+                continue
+            if len(vector) != 3 or not all(math.isfinite(float(x)) for x in vector):
+                raise InputError(
+                    f'rotor hub on "{self.body}": {name} {vector} must be three finite numbers [m]'
+                )
+            object.__setattr__(self, name, tuple(float(x) for x in vector))
+
+
+def shear_arm(radius: float, hub_height: float, exponent: float) -> float:
+    """ℓ [m]: the height of the thrust's centre above the hub in a power-law wind shear.
+
+    ℓ = (1/πR²) ∫ z (1 + z/H)^{2α} dA over the rotor disc (module docstring): over horizontal
+    strips at z = ±R sin θ, ∫ z (1 + z/H)^{2α} 2√(R² − z²) dz = ∫ 2R³ sin θ cos² θ ((1 + u)^{2α}
+    − (1 − u)^{2α}) dθ from 0 to π/2, u = R sin θ / H, by quadrature (the difference by expm1
+    and log1p, exact where it is small). 0 without shear (α = 0 or H infinite).
+
+    Raises:
+        InputError: a hub lower than the radius (the disc would reach below the ground).
+    """
+    if exponent == 0.0 or math.isinf(hub_height):
+        return 0.0
+    if not hub_height > radius:
+        raise InputError(
+            f"rotor hub height {hub_height} m is not above its radius {radius} m: the rotor "
+            "disc would reach the ground; give hub_height in metres above the ground"
+        )
+    from scipy.integrate import quad
+
+    def strips(theta: float) -> float:  # the strips at z = ±R sin θ, their moment per unit v²
+        s, c = math.sin(theta), math.cos(theta)
+        u, p = radius * s / hub_height, 2.0 * exponent
+        above_less_below = math.expm1(p * math.log1p(u)) - math.expm1(p * math.log1p(-u))
+        return 2.0 * radius**3 * s * c * c * above_less_below
+
+    moment, _ = quad(strips, 0.0, math.pi / 2, epsabs=0.0, epsrel=1e-13)
+    return moment / (math.pi * radius**2)
+
+
+def hub_weight(mass: float, shaft_tilt: float, gravity_in_hub: np.ndarray) -> np.ndarray:
+    """The rotor's weight [N] in the hub's fixed axes, with the shaft tilted by ``shaft_tilt``.
+
+    ``gravity_in_hub`` [m/s²] is the model's gravity in the hub axes of its own (level) shaft;
+    the real shaft is turned by τ about the hub's y so that its rotor end rises (module
+    docstring): g' = (cos τ g_x − sin τ g_z, g_y, sin τ g_x + cos τ g_z), the weight m g'.
+    """
+    g = np.asarray(gravity_in_hub, dtype=float)
+    c, s = math.cos(shaft_tilt), math.sin(shaft_tilt)
+    return mass * np.array([c * g[0] - s * g[2], g[1], s * g[0] + c * g[2]])
 
 
 def power_curve_cp(
@@ -154,6 +284,13 @@ class Rotor:
         air_density: ρ [kg/m³].
         pitch: blade pitch β [rad].
         cp: ``HeierCp`` (default) or ``CpTable``.
+        ct: ``CtTable``, or None: C_t from C_p by momentum theory (module docstring).
+        mass: the rotor's mass (blades and hub) [kg], its weight on the hub.
+        shaft_tilt: τ [rad], the shaft's tilt from level, rotor end up (5° on the NREL 5 MW).
+        hub_height: H [m] above the ground, for the wind shear.
+        shear_exponent: α of the power-law wind profile (0: no shear; IEC 61400-1 NWP 0.2).
+        hub: where the thrust, weight and shear moment act, or None: the rotor gives its torque
+            only (its thrust is still recorded).
     """
 
     radius: float
@@ -161,14 +298,28 @@ class Rotor:
     air_density: float = 1.225
     pitch: float = 0.0
     cp: HeierCp | CpTable = field(default_factory=HeierCp)
+    ct: CtTable | None = None
+    mass: float = 0.0
+    shaft_tilt: float = 0.0
+    hub_height: float = math.inf
+    shear_exponent: float = 0.0
+    hub: RotorHub | None = None
 
     def __post_init__(self):
-        for name in ("radius", "air_density"):
+        for name in ("radius", "air_density", "hub_height"):
             value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0):
+            if not (value > 0 and (math.isfinite(value) or name == "hub_height")):
                 raise InputError(f"rotor {name} is {value!r}; it must be a positive number")
-        if not (math.isfinite(self.inertia) and self.inertia >= 0):
-            raise InputError(f"rotor inertia is {self.inertia!r} kg·m²; it must be ≥ 0")
+        for name, unit in (("inertia", "kg·m²"), ("mass", "kg"), ("shear_exponent", "")):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise InputError(f"rotor {name} is {value!r} {unit}; it must be ≥ 0".strip())
+        if not (math.isfinite(self.shaft_tilt) and abs(self.shaft_tilt) < math.pi / 2):
+            raise InputError(
+                f"rotor shaft_tilt is {self.shaft_tilt!r} rad; give the tilt from level in "
+                "radians, below π/2 (shaft_tilt_deg in scenario files)"
+            )
+        shear_arm(self.radius, self.hub_height, self.shear_exponent)  # checks H > R
 
     @classmethod
     def saleh2017(cls, **changes: Any) -> Rotor:
@@ -197,6 +348,28 @@ class Rotor:
         )
         return cls(**{**values, **changes})
 
+    @classmethod
+    def nrel5mw(cls, **changes: Any) -> Rotor:
+        """The NREL 5 MW reference rotor with ROSCO's C_p and C_t tables (module docstring).
+
+        Its inertia is left at 0: the shipped model (``models/nrel5mw_gearbox.urdf``) has the
+        rotor as a body of its own; give ``inertia=`` for a model without it (Jonkman et al.
+        2009 Table 5-1: 38 759 236 kg·m² about the shaft, blades and hub). Give ``hub=`` for its
+        thrust, weight and shear moment to load the main shaft.
+        """
+        cp, ct = performance_tables(NREL5MW_PERFORMANCE)
+        values = dict(
+            radius=63.0,
+            air_density=1.225,
+            cp=cp,
+            ct=ct,
+            mass=110_000.0,
+            shaft_tilt=math.radians(5.0),
+            hub_height=90.0,
+            shear_exponent=0.2,
+        )
+        return cls(**{**values, **changes})
+
     def describe(self) -> dict[str, Any]:
         """Plain values for the log (SI)."""
         out: dict[str, Any] = {
@@ -210,4 +383,12 @@ class Rotor:
                                "cp": [list(r) for r in self.cp.cp]}  # fmt: skip
         else:
             out["cp_scale"] = self.cp.scale
+        if self.ct is not None:
+            out["ct_table"] = {"tsr": list(self.ct.tsr), "pitch": list(self.ct.pitch),
+                               "ct": [list(r) for r in self.ct.ct]}  # fmt: skip
+        out.update(mass=self.mass, shaft_tilt=self.shaft_tilt, shear_exponent=self.shear_exponent,
+                   hub_height=None if math.isinf(self.hub_height) else self.hub_height)  # fmt: skip
+        if self.hub is not None:
+            out["hub"] = {"body": self.hub.body, "point": list(self.hub.point),
+                          "up": None if self.hub.up is None else list(self.hub.up)}  # fmt: skip
         return out

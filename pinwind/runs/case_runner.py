@@ -28,6 +28,13 @@ from pinwind.life.fatigue_set import FatigueSet, LoadCase
 from pinwind.life.root_stress import ISO_ROOT_STRESS
 from pinwind.runs.scenario import build
 
+#: The series a case's reduction reads (the tooth cycles: ``life/tooth_damage.py``; the
+#: bearings' load sums: ``life/bearing_life.py``); the Result keeps these only, its log all.
+CASE_SERIES = (
+    "angle", "speed", "mesh_normal", "mesh_flank", "mesh_contact_position", "mesh_pairs",
+    "mesh_single_tooth_force", "bearing_force_local", "bearing_moment_local",
+)  # fmt: skip
+
 
 def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     """Simulate one case with its log and reduce it (a worker's task).
@@ -61,6 +68,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
             progress=False,
             command=f"pinwind fatigue {fatigue.source} (case {case.name})",
             statistics=False,
+            keep_series=CASE_SERIES,
         )
     first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
     counted = result.rows(first, len(result))

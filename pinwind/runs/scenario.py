@@ -33,6 +33,13 @@ into the same values. Keys (units at the edge, like the flags; ``-`` and ``_`` a
     [rotor.carrier]
     preset = "saleh2017"                           # or radius, inertia, air_density, pitch_deg,
                                                    #   cp_scale, cp_table = {tsr, cp, pitch_deg}
+                                                   #   ct_table = {tsr, ct, pitch_deg},
+                                                   #   performance_file (ROSCO Cp_Ct_Cq.txt)
+    hub_body = "carrier"                           # thrust, weight and shear moment on this
+    hub_point = [0.0, 0.0, -1.0]                   #   body at the rotor centre [m] (none
+    mass = 110000                                  #   without hub_body); [kg]
+    shaft_tilt_deg = 5.0                           # rotor end up
+    hub_height = 90.0                              # [m], with shear_exponent (0.2: IEC NWP)
 
 The flags say the same: ``--generator "sun=linear-slip(slope=1.26e6, sync_rpm=83.94)"``,
 ``--rotor carrier=saleh2017`` (or ``"carrier=rotor(radius=42.85, inertia=5e6)"``), ``--wind 10``.
@@ -50,7 +57,7 @@ import dataclasses
 import math
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -65,7 +72,7 @@ from pinwind.loads.hub_loads import (
     hub_load_from_openfast,
 )
 from pinwind.loads.input_files import InputFile, check_unchanged
-from pinwind.loads.rotor import CpTable, HeierCp, Rotor
+from pinwind.loads.rotor import CpTable, CtTable, HeierCp, Rotor, RotorHub, performance_tables
 from pinwind.loads.signal_text import signal_from_spec
 from pinwind.loads.signals import Scaled, Signal
 from pinwind.units import RAD_S_PER_RPM
@@ -115,10 +122,20 @@ KEYS: dict[str, tuple[str, str, str]] = {
     "no_log": ("bool", "", "write no log"),
 }
 
-ROTOR_KEYS = ("preset", "radius", "inertia", "air_density", "pitch_deg", "cp_scale", "cp_table")
+ROTOR_KEYS = (
+    "preset", "radius", "inertia", "air_density", "pitch_deg", "cp_scale", "cp_table",
+    "ct_table", "performance_file", "mass", "shaft_tilt_deg", "hub_height", "shear_exponent",
+    "hub_body", "hub_point", "hub_up",
+)  # fmt: skip
 #: The keys of a rotor's ``cp_table``: tip-speed ratios, power coefficients, pitch angles [deg].
 CP_TABLE_KEYS = ("tsr", "cp", "pitch_deg")
-ROTOR_PRESETS = {"saleh2017": Rotor.saleh2017, "jorgensen2014": Rotor.jorgensen2014}
+#: The keys of a rotor's ``ct_table``: tip-speed ratios, thrust coefficients, pitch angles [deg].
+CT_TABLE_KEYS = ("tsr", "ct", "pitch_deg")
+ROTOR_PRESETS = {
+    "saleh2017": Rotor.saleh2017,
+    "jorgensen2014": Rotor.jorgensen2014,
+    "nrel5mw": Rotor.nrel5mw,
+}
 #: The keys of a body's ``hub_load`` table: its six components (signals, N and N·m), or an
 #: OpenFAST output's six channels (``openfast``, a file); the frame, point and up direction.
 HUB_LOAD_KEYS = (*COMPONENTS, "openfast", "frame", "point", "up")
@@ -561,7 +578,7 @@ class _Builder:
         return tuple(out)
 
     def _vector(self, key, value, unit) -> tuple[float, float, float]:
-        if not isinstance(value, list) or len(value) != 3:
+        if not isinstance(value, list | tuple) or len(value) != 3:
             raise self.fail(key, f"must be three numbers [x, y, z] [{unit}]; got {value!r}")
         x, y, z = (self._number(key, item, unit) for item in value)
         return (x, y, z)
@@ -607,6 +624,11 @@ class _Builder:
             params = toml_keys(params)
             kwargs: dict[str, Any] = {}
             check_keys(key, params, ROTOR_KEYS, self.fail, kind="parameter", of=" of a rotor")
+            if "hub_body" not in params and {"hub_point", "hub_up"} & set(params):
+                raise self.fail(key, "hub_point and hub_up place the rotor's loads on hub_body; "
+                                "give hub_body, the body the rotor sits on")  # fmt: skip
+            if "hub_body" in params:
+                kwargs["hub"] = self._rotor_hub(key, params)
             for name, value in params.items():
                 if name == "preset":
                     if value not in ROTOR_PRESETS:
@@ -614,10 +636,16 @@ class _Builder:
                                         + ", ".join(ROTOR_PRESETS))  # fmt: skip
                 elif name == "cp_table":
                     kwargs["cp"] = self._cp_table(key + (name,), value)
+                elif name == "ct_table":
+                    kwargs["ct"] = self._ct_table(key + (name,), value)
+                elif name == "performance_file":
+                    kwargs["cp"], kwargs["ct"] = self._performance(key + (name,), value)
                 elif name == "cp_scale":
                     kwargs["cp"] = HeierCp(self._number(key + (name,), value, "-"))
-                elif name == "pitch_deg":
-                    kwargs["pitch"] = math.radians(self._number(key + (name,), value, "deg"))
+                elif name in ("pitch_deg", "shaft_tilt_deg"):
+                    kwargs[name[:-4]] = math.radians(self._number(key + (name,), value, "deg"))
+                elif name.startswith("hub_") and name != "hub_height":
+                    continue
                 else:
                     kwargs[name] = self._number(key + (name,), value, "SI")
             preset = params.get("preset")
@@ -629,6 +657,36 @@ class _Builder:
             except InputError as err:
                 raise self.fail(key, str(err)) from err
         return out
+
+    def _rotor_hub(self, key, params) -> RotorHub:
+        body = params["hub_body"]
+        if not isinstance(body, str):
+            raise self.fail(key + ("hub_body",), f"must be a body name; got {body!r}")
+        point = self._vector(key + ("hub_point",), params.get("hub_point", [0.0, 0.0, 0.0]), "m")
+        up = params.get("hub_up")
+        return RotorHub(
+            body, point, None if up is None else self._vector(key + ("hub_up",), up, "-")
+        )
+
+    def _ct_table(self, key, value) -> CtTable:
+        if not isinstance(value, Mapping) or not {"tsr", "ct"} <= set(value):
+            raise self.fail(key, "must be { tsr = [...], ct = [...] } (and pitch_deg = [...])")
+        check_keys(key, value, CT_TABLE_KEYS, self.fail)
+        try:
+            pitch = tuple(math.radians(p) for p in value.get("pitch_deg", [0.0]))
+            return CtTable(tsr=tuple(value["tsr"]), ct=tuple(value["ct"]), pitch=pitch)
+        except (InputError, TypeError, ValueError) as err:
+            raise self.fail(key, str(err)) from err
+
+    def _performance(self, key, value) -> tuple[CpTable, CtTable]:
+        file = Path(str(value))
+        path = file if file.is_absolute() else self.base / file
+        try:
+            tables = performance_tables(path)
+        except InputError as err:
+            raise self.fail(key, str(err)) from err
+        self.files.append(InputFile.of(path, given=str(file), where=".".join(key)))
+        return tables
 
     def _cp_table(self, key, value) -> CpTable:
         if not isinstance(value, Mapping) or not {"tsr", "cp"} <= set(value):
@@ -697,6 +755,7 @@ def run(
     progress: bool | None = None,
     check_joints: bool = True,
     statistics: bool | None = None,
+    keep_series: Sequence[str] | None = None,
 ) -> Result:
     """Run a scenario: load its model (unless given), simulate, log it with its values.
 
@@ -708,6 +767,7 @@ def run(
             line leaves that to ``simulate``, whose message names the option).
         statistics: fold every sample into ``result.statistics`` (``pinwind.runs.run.simulate``;
             default: when the Result does not keep every sample).
+        keep_series: the series the Result holds (default all; the log has every one).
 
     Returns:
         The ``Result``.
@@ -735,6 +795,7 @@ def run(
         view_rate=v.get("view_rate", VIEW_RATE),
         allow_large_log=v.get("allow_large_log", False),
         keep=v.get("keep", "auto"),
+        keep_series=keep_series,
         skip_start=v.get("skip_start", 0.0),
         statistics=statistics,
         overwrite=v.get("force", False) if force is None else force,

@@ -365,3 +365,34 @@ def test_the_rated_scenario_is_5_mw_at_12_1_rpm_with_the_generator_at_the_teeth_
     assert (scenario.parent / data["model"]).resolve() == MODEL.resolve()
     np.testing.assert_allclose(data["torque"]["rotor"] * ROTOR_SPEED, POWER, rtol=1e-12)
     np.testing.assert_allclose(data["speed"]["generator"], -12.1 * RATIO, rtol=1e-12)
+
+
+@pytest.mark.parametrize("generator", ["flanged", "on the bedplate"])
+def test_on_torque_arms_the_housing_rolls_by_the_torque_it_carries_over_their_stiffness(generator):
+    # The gearbox on torque arms (a <support> roll mount about the main shaft, stiffness k):
+    # the rotor's torque comes from the ground (the air). A generator flanged to the housing (a
+    # speed driver, which reacts on it) closes its torque inside: the arms carry T_in alone. A
+    # generator on the bedplate (its torque applied from the ground) makes them carry both; the
+    # output shaft turns against the input, so T_in (1 + 1/i) (power balance: T_out = T_in / i).
+    # Weights: the planets' balance about the axis (three at 120°); the high-speed shaft and the
+    # generator sit y = 0.861 m above it, and once rolled by θ their weights turn the housing
+    # further by Σ m g y sin θ: θ = carried / (k − g Σ m y), to θ²/6 (sin θ ≈ θ).
+    k_roll = 2.0e9  # [N·m/rad], ASSUMED for the check (the data give no torque-arm stiffness)
+    support = f'<support housing="housing"><mount stiffness_roll="{k_roll!r}"/></support>'
+    text = re.sub(r"<bearing .*?</bearing>", "", MODEL.read_text(), flags=re.S)
+    gb = loads(text.replace("</gearbox>", support + "</gearbox>"), str(MODEL))
+    torque = POWER / ROTOR_SPEED
+    if generator == "flanged":
+        drive = {"speeds": {"generator": -ROTOR_SPEED * RATIO}}
+        carried = torque
+    else:
+        drive = {"torques": {"generator": torque / RATIO}}
+        carried = torque * (1.0 + 1.0 / RATIO)
+    res = pinwind.simulate(gb, duration=2e-3, dt=1e-4, initial_speeds={"rotor": ROTOR_SPEED},
+                           torques={"rotor": torque, **drive.get("torques", {})},
+                           speeds=drive.get("speeds"))  # fmt: skip
+    data = gb.model.createData()
+    pin.centerOfMass(gb.model, data, pin.neutral(gb.model))
+    mass_times_height = data.mass[0] * data.com[0][1]  # Σ m y, y up from the roll axis
+    theta = carried / (k_roll - 9.81 * mass_times_height)
+    np.testing.assert_allclose(res.joint("support_mount_roll").angle, theta, rtol=theta**2 + 1e-9)

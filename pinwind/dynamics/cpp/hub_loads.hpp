@@ -54,16 +54,27 @@ class HubLoad : public Element {
 
   void prepare(const StepView& s) override {
     if (s.inputs == nullptr) {  // no sample's inputs (Stepper::element_forces): no load
-      wrench_.setZero();
-      std::fill(tau_.begin(), tau_.end(), 0.0);
+      unload();
       return;
     }
+    load(s, s.inputs + s_.column);
+  }
+
+ protected:
+  // No load this step.
+  void unload() {
+    wrench_.setZero();
+    std::fill(tau_.begin(), tau_.end(), 0.0);
+  }
+
+  // The load of the six components c (F_x, F_y, F_z [N], M_x, M_y, M_z [N·m], hub axes) at the
+  // step's start: the spatial force in the world and its generalised force (the header).
+  void load(const StepView& s, const double* c) {
     const auto& body = s.data.oMi[static_cast<size_t>(s_.joint)];
     const Eigen::Matrix3d world =
         s_.rotating ? Eigen::Matrix3d(body.rotation() * s_.axes)
                     : Eigen::Matrix3d(s.data.oMi[static_cast<size_t>(s_.parent)].rotation() *
                                       s_.placement * s_.axes);
-    const double* c = s.inputs + s_.column;
     const Eigen::Vector3d f = world * Eigen::Vector3d(c[0], c[1], c[2]);
     const Eigen::Vector3d m = world * Eigen::Vector3d(c[3], c[4], c[5]);
     const Eigen::Vector3d p = body.act(s_.point);
@@ -74,6 +85,7 @@ class HubLoad : public Element {
     }
   }
 
+ public:
   void add_force(const StepView&, Eigen::VectorXd& force) override {
     for (size_t i = 0; i < s_.columns.size(); ++i) force[s_.columns[i]] += tau_[i];
   }
@@ -107,23 +119,28 @@ struct HubLoadsKind : KindBase {
 
   static void check(const Specs& specs, const KindContext& c) {
     for (const auto& h : specs) {
-      if (h.joint < 1) throw std::invalid_argument("hub load on a joint index below 1");
-      if (h.parent < 0 || h.parent >= h.joint) {
-        throw std::invalid_argument("hub load: its joint's parent must come before it");
-      }
-      if (h.columns.empty()) throw std::invalid_argument("hub load on a body that cannot move");
-      for (long col : h.columns) {
-        if (col < 0 || col >= c.nv) throw std::invalid_argument("hub load velocity column");
-      }
+      check_placement(h, c);
       if (h.column < 0 || h.column + 6 > c.input_columns) {
         throw std::invalid_argument("hub load: its six input columns are outside the inputs");
       }
-      const double orthonormal = (h.axes.transpose() * h.axes - Eigen::Matrix3d::Identity())
-                                     .cwiseAbs()
-                                     .maxCoeff();
-      if (!(orthonormal < 1e-9) || h.axes.determinant() < 0.0) {
-        throw std::invalid_argument("hub load axes must be a right-handed orthonormal frame");
-      }
+    }
+  }
+
+  // The checks of where a load acts, shared with the rotor's loads on its hub (rotor.hpp).
+  static void check_placement(const HubLoadSpec& h, const KindContext& c) {
+    if (h.joint < 1) throw std::invalid_argument("hub load on a joint index below 1");
+    if (h.parent < 0 || h.parent >= h.joint) {
+      throw std::invalid_argument("hub load: its joint's parent must come before it");
+    }
+    if (h.columns.empty()) throw std::invalid_argument("hub load on a body that cannot move");
+    for (long col : h.columns) {
+      if (col < 0 || col >= c.nv) throw std::invalid_argument("hub load velocity column");
+    }
+    const double orthonormal = (h.axes.transpose() * h.axes - Eigen::Matrix3d::Identity())
+                                   .cwiseAbs()
+                                   .maxCoeff();
+    if (!(orthonormal < 1e-9) || h.axes.determinant() < 0.0) {
+      throw std::invalid_argument("hub load axes must be a right-handed orthonormal frame");
     }
   }
 
