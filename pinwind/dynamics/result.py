@@ -358,6 +358,7 @@ class Result:
             body_names=self.body_names,
             generator_names=self.generator_names,
             rotor_names=self.rotor_names,
+            row_names=self.row_names,
             joint_kinds=self.joint_kinds,
             energy=self.energy,
             metadata=self.metadata,
