@@ -173,6 +173,25 @@ class BearingSpringSpec:
     load_exponent: float  # n, roller_sum
     def __init__(self) -> None: ...
 
+class BearingRowSpec:
+    """A bearing row: a spring-damper at its position (``cpp/bearing_rows.hpp``); −1: none."""
+
+    index_x: int
+    index_y: int
+    index_axial: int
+    index_tilt_x: int
+    index_tilt_y: int
+    position: float  # a [m] along the bearing axis from the bearing centre
+    stiffness: Vector  # (axial, u, w [N/m], about u, about w [N·m/rad])
+    damping: Vector  # (axial, u, w [N·s/m], about u, about w [N·m·s/rad])
+    def __init__(self) -> None: ...
+
+def bearing_row_map(row: BearingRowSpec, nv: int) -> Matrix:
+    """B (5, nv): the row's deflections δ = B q (axial, along u, along w, about u, about w).
+
+    From the velocity coordinates (``cpp/bearing_rows.hpp``), for the linear model.
+    """
+
 class BearingSlides:
     """A compliant bearing's slides as a block reads them (``cpp/bearing_spring.hpp``); −1: none."""
 
@@ -180,8 +199,11 @@ class BearingSlides:
     x: int  # joint column of the radial slide along u
     y: int  # joint column of the radial slide along w
     z: int  # joint column of the axial slide
+    tilt_x: int  # joint column of the tilt hinge about u
+    tilt_y: int  # joint column of the tilt hinge about w
     axes: Matrix  # (3, 3) rows u, w, k in the joint frame
     spring: BearingSpringSpec  # its laws (indices unused)
+    rows: list[BearingRowSpec]  # its rows, when they are its springs (indices unused)
     def __init__(self) -> None: ...
 
 class GeneratorSpec:
@@ -346,6 +368,7 @@ class StepperSpec:
     springs: list[TorsionalSpringSpec]
     bearing_damping: Vector  # [N·m·s/rad] per velocity
     bearing_springs: list[BearingSpringSpec]
+    bearing_rows: list[BearingRowSpec]
     compliant_meshes: list[CompliantMeshSpec]
     generators: list[GeneratorSpec]
     rotors: list[RotorSpec]
@@ -372,6 +395,7 @@ class Family(enum.Enum):
     body = 4  # one per recorded link
     generator = 5
     rotor = 6
+    row = 7  # one per bearing row (StepperSpec.bearing_rows)
 
 class Series(enum.Enum):
     """Every series the compiled run writes, named as the Result's array or ledger term.
@@ -422,6 +446,8 @@ class Series(enum.Enum):
     rotor_wind_speed = 40
     rotor_thrust = 41
     rotor_thrust_coefficient = 42
+    row_force = 43
+    row_moment = 44
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

@@ -45,6 +45,33 @@ def bearing_law(compliance: Any) -> _native.BearingSpringSpec:
     return spec
 
 
+def row_law(row: Any) -> _native.BearingRowSpec:
+    """A compiled spec holding a bearing row's position and laws, without its slides.
+
+    Its position a along the bearing axis from the bearing centre [m] and its five stiffnesses
+    and dampers in the model file's order (axial, along u, along w, about u, about w;
+    ``model/bearing_rows.py``, ``cpp/bearing_rows.hpp``).
+    """
+    spec = _native.BearingRowSpec()
+    spec.position = float(row.position)
+    spec.stiffness = np.array(row.stiffness, dtype=float)
+    spec.damping = np.array(row.damping, dtype=float)
+    return spec
+
+
+def row_specs(bearing: Any) -> list[_native.BearingRowSpec]:
+    """The compiled specs of a ``CompliantBearing``'s rows on its slides (−1: a slide it lacks)."""
+    index = bearing.v_index
+    out = []
+    for row in bearing.rows:
+        spec = row_law(row)
+        spec.index_x, spec.index_y = index["radial_x"], index["radial_y"]
+        spec.index_axial = index.get("axial", -1)
+        spec.index_tilt_x, spec.index_tilt_y = index.get("tilt_x", -1), index.get("tilt_y", -1)
+        out.append(spec)
+    return out
+
+
 def _slides(block: Any, gearbox: Any) -> list[_native.BearingSlides]:
     """The compiled description of each compliant bearing of the block.
 
@@ -56,11 +83,15 @@ def _slides(block: Any, gearbox: Any) -> list[_native.BearingSlides]:
             continue
         slides = _native.BearingSlides()
         slides.bearing = block.bearing_names.index(name)
-        for coordinate, slide in (("x", "radial_x"), ("y", "radial_y"), ("z", "axial")):
+        for coordinate, slide in (
+            ("x", "radial_x"), ("y", "radial_y"), ("z", "axial"), ("tilt_x", "tilt_x"),
+            ("tilt_y", "tilt_y"),
+        ):  # fmt: skip
             if slide in bearing.slides:
                 setattr(slides, coordinate, block.joint_names.index(bearing.slides[slide]))
         slides.axes = np.asarray(bearing.axes_in_joint, dtype=float)
         slides.spring = bearing_law(bearing.compliance)
+        slides.rows = [row_law(row) for row in bearing.rows]
         out.append(slides)
     return out
 
@@ -93,6 +124,7 @@ def elastic_force(block: Any, gearbox: Any) -> np.ndarray:
     """The bearing springs' force on each body [N], (samples, bearings, 3), joint frame.
 
     The radial law (``BearingCompliance.radial_force``) at the slides' (x, y) and −k_a z
-    axially; 0 for an ideal bearing and radially for a floating one.
+    axially; 0 for an ideal bearing and radially for a floating one. A bearing whose rows are
+    its springs: the sum of the rows' spring forces (``cpp/bearing_rows.hpp``).
     """
     return _series(block, gearbox, elastic=True)

@@ -16,6 +16,9 @@ of the constraints' rows):
   damping>``; ``cpp/bearing_damping.hpp``);
 - ``bearing_springs``: the compliant bearings' springs (``dynamics/bearing_springs.py``) and the
   support's slides' (``dynamics/support_springs.py``), one law (``cpp/bearing_spring.hpp``);
+- ``bearing_rows``: the rows of the compliant bearings whose rows are their springs, each a
+  linear spring-damper at its position (``model/bearing_rows.py``; ``cpp/bearing_rows.hpp``),
+  in the order of ``Gearbox.row_names``;
 - ``compliant_meshes``: the compliant meshes (``dynamics/compliant.py``;
   ``cpp/compliant_mesh.hpp``);
 - ``generators``, ``rotors``: the generator and rotor laws (``dynamics/elements.py``;
@@ -36,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.dynamics import _native
-from pinwind.dynamics.bearing_springs import bearing_law
+from pinwind.dynamics.bearing_springs import bearing_law, row_specs
 from pinwind.dynamics.compliant import MeshSetup
 from pinwind.dynamics.elements import LoadElements
 from pinwind.model.gearbox import Gearbox
@@ -81,8 +84,8 @@ def compliant_bearing_springs(gearbox: Any) -> list[_native.BearingSpringSpec]:
     out = []
     for bearing in gearbox.compliant_bearings.values():
         c, index = bearing.compliance, bearing.v_index
-        if c.floating and "axial" not in index and "tilt_x" not in index:
-            continue
+        if bearing.rows or (c.floating and "axial" not in index and "tilt_x" not in index):
+            continue  # rows: their own kind (bearing_rows)
         spec = bearing_law(c)
         if not c.floating:
             spec.index_x, spec.index_y = index["radial_x"], index["radial_y"]
@@ -92,6 +95,16 @@ def compliant_bearing_springs(gearbox: Any) -> list[_native.BearingSpringSpec]:
             spec.index_tilt_x, spec.index_tilt_y = index["tilt_x"], index["tilt_y"]
         out.append(spec)
     return out
+
+
+def bearing_rows(run: RunElements) -> list[_native.BearingRowSpec]:
+    """A spec per row of the bearings whose rows are their springs (``Gearbox.row_names``).
+
+    Each row's slides (−1: the bearing lacks it), its position a along the bearing axis from
+    the bearing centre [m] and its five stiffnesses and dampers in the model file's order
+    (axial, along u, along w, about u, about w; ``model/bearing_rows.py``).
+    """
+    return [spec for b in run.gearbox.compliant_bearings.values() for spec in row_specs(b)]
 
 
 def support_springs(gearbox: Any) -> list[_native.BearingSpringSpec]:
@@ -138,6 +151,7 @@ SPEC_BUILDERS: dict[str, Callable[[RunElements], Any]] = {
     "springs": torsional_springs,
     "bearing_damping": bearing_damping,
     "bearing_springs": bearing_springs,
+    "bearing_rows": bearing_rows,
     "compliant_meshes": _compliant_meshes,
     "generators": _generators,
     "rotors": _rotors,

@@ -23,12 +23,15 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from pinwind.dynamics import _native
+from pinwind.dynamics.bearing_springs import row_specs
 from pinwind.dynamics.compliant import mean_mesh_stiffness, mesh_setup
 from pinwind.dynamics.drivetrain import Drivetrain
 from pinwind.dynamics.loaded_flanks import FlankChoice, loaded_flanks
 from pinwind.dynamics.mesh import MeshRows, MeshSet
 from pinwind.dynamics.normal_modes import SpringElement, element_matrices, natural_modes
 from pinwind.errors import UnheldMember
+from pinwind.model.bearing_rows import row_name
 from pinwind.model.gearbox import CompliantBearing, Gearbox
 
 
@@ -162,8 +165,11 @@ def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
     nv = gearbox.model.nv
     out: list[SpringElement] = []
     gravity = None
-    for bearing in gearbox.compliant_bearings.values():
+    for joint, bearing in gearbox.compliant_bearings.items():
         c = bearing.compliance
+        if bearing.rows:
+            out += row_elements(joint, bearing, nv)
+            continue
         for slide, name in bearing.slides.items():
             if c.law == "roller_sum" and slide.startswith("radial"):
                 if slide == "radial_x":
@@ -184,6 +190,29 @@ def bearing_elements(gearbox: Gearbox) -> list[SpringElement]:
         row = np.zeros(nv)
         row[gearbox.v_index(name)] = 1.0
         out.append(SpringElement(name, "support", support.stiffness, support.damping, row))
+    return out
+
+
+#: The springs of a bearing row, in the order of its stiffness (``cpp/bearing_rows.hpp``).
+ROW_SPRINGS = ("axial", "radial_u", "radial_w", "tilt_u", "tilt_w")
+
+
+def row_elements(joint: str, bearing: CompliantBearing, nv: int) -> list[SpringElement]:
+    """A bearing's rows as springs: each row's five, ``<joint>.<row>_<spring>`` (``ROW_SPRINGS``).
+
+    Spring j of a row acts along its deflection δ_j = B_j q (``_native.bearing_row_map``: the
+    row's radial springs at its position a see x + a θ_w and y − a θ_u), with the row's k_j and
+    c_j (``model/bearing_rows.py``).
+    """
+    out = []
+    for row, spec in zip(bearing.rows, row_specs(bearing), strict=True):
+        b = _native.bearing_row_map(spec, nv)
+        for j, spring in enumerate(ROW_SPRINGS):
+            k, c = row.stiffness[j], row.damping[j]
+            if (k == 0.0 and c == 0.0) or not np.any(b[j]):
+                continue
+            name = f"{row_name(joint, row.name)}_{spring}"
+            out.append(SpringElement(name, "bearing", k, c, np.array(b[j], dtype=float)))
     return out
 
 

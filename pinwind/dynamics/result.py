@@ -99,6 +99,8 @@ class Result:
         time: sample times [s], (n,).
         joint_names, mesh_names, bearing_names, body_names: element names from the model file.
         generator_names, rotor_names: joints carrying a generator law or a rotor (empty without).
+        row_names: the compliant bearings' rows that are their springs, ``<joint>.<row>``
+            (``Gearbox.row_names``; empty without).
         joint_kinds: each joint's kind, in ``joint_names`` order (``series.JointKind``):
             ``revolute``, or ``prismatic`` for a slide (a compliant bearing's or the support's),
             whose joint series are a length [m], speed [m/s], acceleration [m/s²] and force
@@ -138,6 +140,7 @@ class Result:
         body_names: list[str],
         generator_names: list[str] | None = None,
         rotor_names: list[str] | None = None,
+        row_names: list[str] | None = None,
         joint_kinds: list[str] | None = None,
         energy: dict[str, np.ndarray] | None = None,
         metadata: dict[str, Any] | None = None,
@@ -153,6 +156,7 @@ class Result:
         self.body_names = body_names
         self.generator_names = list(generator_names or [])
         self.rotor_names = list(rotor_names or [])
+        self.row_names = list(row_names or [])
         self.joint_kinds = (
             ["revolute"] * len(joint_names) if joint_kinds is None else list(joint_kinds)
         )
@@ -292,6 +296,14 @@ class Result:
         """The rotor on a joint: torque [N·m], power [W], λ, C_p and wind speed [m/s]."""
         return self.element("rotor", name)
 
+    def row(self, name: str) -> ElementSeries:
+        """A bearing row's load on the shaft (``<joint>.<row>``, ``row_names``).
+
+        ``force`` (F_u, F_w, F_k) [N] and ``moment`` (M_u, M_w, 0) [N·m], (n, 3), along its
+        bearing's radial axes u, w and axis k (``cpp/bearing_rows.hpp``).
+        """
+        return self.element("row", name)
+
     def truncated(self, n: int) -> Result:
         """The first ``n`` samples (used when a run stops early)."""
         return self.rows(0, n)
@@ -346,6 +358,7 @@ class Result:
             body_names=self.body_names,
             generator_names=self.generator_names,
             rotor_names=self.rotor_names,
+            row_names=self.row_names,
             joint_kinds=self.joint_kinds,
             energy=self.energy,
             metadata=self.metadata,
@@ -370,6 +383,7 @@ class Result:
             body_names=self.body_names,
             generator_names=self.generator_names,
             rotor_names=self.rotor_names,
+            row_names=self.row_names,
             joint_kinds=self.joint_kinds,
             energy=energy,
             metadata=dict(self.metadata),

@@ -1,13 +1,13 @@
 """The schema of a run's outputs: every time series declared once, read by every consumer.
 
 A ``Series`` says what one Result array holds: its name, the family of elements it has a value
-for (each joint, mesh, bearing, body, generator or rotor, or one per run), its components and
-frame, its SI unit and a one-line meaning, the MCAP topic it is logged on, how the statistics,
-the report and the plots show it, and, for a series computed in Python rather than by the
-compiled step, the function that derives it from a block of samples. The Result's arrays and
-accessors, the log's topics and columns, the run statistics, ``pinwind report``, ``pinwind
-export``, the plot panels and the replay all iterate the schema (the typed-record idea of rerun's
-archetypes): a new series is one declaration.
+for (each joint, mesh, bearing, body, generator, rotor or bearing row, or one per run), its
+components and frame, its SI unit and a one-line meaning, the MCAP topic it is logged on, how
+the statistics, the report and the plots show it, and, for a series computed in Python rather
+than by the compiled step, the function that derives it from a block of samples. The Result's
+arrays and accessors, the log's topics and columns, the run statistics, ``pinwind report``,
+``pinwind export``, the plot panels and the replay all iterate the schema (the typed-record idea
+of rerun's archetypes): a new series is one declaration.
 
 The series the compiled step writes (``derive`` is None) are the compiled module's own list
 (``_native.Series``, from the one table of ``cpp/series.hpp``): their names, order, families and
@@ -35,7 +35,7 @@ import numpy as np
 from pinwind.dynamics import _native, bearing_load, bearing_springs
 
 #: Kinds of element a series has values for; ``run``: one value per sample.
-Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor"]
+Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor", "row"]
 
 #: Result attribute that names the elements of each family, in the order of their columns.
 NAMES_OF: dict[str, str] = {
@@ -45,6 +45,7 @@ NAMES_OF: dict[str, str] = {
     "body": "body_names",
     "generator": "generator_names",
     "rotor": "rotor_names",
+    "row": "row_names",
 }
 
 #: Folder of each family's MCAP topics (``/meshes/normal``).
@@ -55,10 +56,11 @@ TOPIC_FOLDERS: dict[str, str] = {
     "bearing": "/bearings",
     "generator": "/generators",
     "rotor": "/rotors",
+    "row": "/rows",
 }
 
 #: Order of the families on the log's viewer topics (as logs have always had them).
-TOPIC_ORDER: tuple[str, ...] = ("joint", "mesh", "bearing", "run", "generator", "rotor")
+TOPIC_ORDER: tuple[str, ...] = ("joint", "mesh", "bearing", "run", "generator", "rotor", "row")
 
 #: Kinds of joint (``Result.joint_kinds``): a revolute joint turns about its axis (its
 #: coordinate an angle), a prismatic one (a slide of a compliant bearing or of the support)
@@ -132,7 +134,8 @@ class Series:
         unit: SI unit in ASCII (``N``, ``N*m``, ``rad/s^2``, ``1`` for none).
         meaning: one line, for docs, logs and the report's JSON.
         components: ``""`` for a scalar, ``"xyz"`` for a vector, ``"xyzw"`` for a quaternion.
-        frame: ``world`` or ``joint``: the axes of a vector's components.
+        frame: ``world``, ``joint`` or ``bearing`` (a bearing row's: along its bearing's radial
+            axes u, w and axis k, ``cpp/bearing_rows.hpp``): the axes of a vector's components.
         per: ``sample`` (a row per sample) or ``pose`` (a row per ``Result.pose_rows``).
         logged: on its own viewer topic (False: carried by ``/joints`` or ``/tf``).
         label: its name in the statistics and the report (default: ``quantity`` in words).
@@ -341,6 +344,13 @@ _MEANINGS: dict[str, About] = {
            short="Ct",
            plot=Plot("rotor_thrust_coefficient", "rotor", "thrust coefficient C_t(λ, β) [-]",
                      "-")),
+    "row_force": About("force", "N",
+           "bearing row's force on the shaft (F_u, F_w, F_k): its springs and dampers at its "
+           "position (docs/model_format.md, Bearing rows)", frame="bearing",
+           label="row force", short="F row", headline=False),
+    "row_moment": About("moment", "N*m",
+           "bearing row's own tilting moment on the shaft (M_u, M_w, 0)",
+           frame="bearing", label="row moment", short="M row", headline=False),
 }  # fmt: skip
 
 

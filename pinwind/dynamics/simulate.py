@@ -231,6 +231,7 @@ def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> d
         "body_names": body_names,
         "generator_names": list(elements.generator_names),
         "rotor_names": list(elements.rotor_names),
+        "row_names": list(gearbox.row_names),
     }
 
 

@@ -25,6 +25,7 @@ def model_names(result: Result) -> dict[str, list[str]]:
         "energy_terms": list(result.energy),
         "generator_names": list(result.generator_names),
         "rotor_names": list(result.rotor_names),
+        "row_names": list(result.row_names),
     }
 
 

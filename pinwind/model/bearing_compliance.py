@@ -56,6 +56,10 @@ class BearingCompliance:
         contact_stiffness: K_n [N/mⁿ] of one rolling element's contact (roller sum).
         load_exponent: n of the elements' load-deflection law Q = K_n δⁿ (roller sum;
             ``CONTACT_EXPONENTS``: 10/9 line contact, 3/2 point contact).
+        radial_axis: the direction of the first radial axis u in the joint frame (its part
+            normal to the bearing axis), or None: the joint frame's x (its y when the axis lies
+            along x). A planet's bearing points it away from its carrier's axis, so that its
+            rows' K_y acts radially on every planet alike.
     """
 
     radial_stiffness: float = 0.0
@@ -70,6 +74,7 @@ class BearingCompliance:
     rollers: int = 0
     contact_stiffness: float = 0.0
     load_exponent: float = CONTACT_EXPONENTS["line"]
+    radial_axis: tuple[float, float, float] | None = None
 
     @property
     def slides(self) -> tuple[str, ...]:

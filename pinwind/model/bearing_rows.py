@@ -1,12 +1,28 @@
-"""The rolling bearings (rows) of one shaft and the one compliant bearing that stands for them.
+"""The rolling bearings (rows) of one shaft: each its own spring-damper in the step.
 
 A shaft often runs in several bearings at their axial positions (a main shaft in INP-A and
 INP-B, a planet in two rows; Nejad et al. 2016 Tables VI and IX), each with its own type,
 rating C and stiffness, and a stiffness that differs between the two radial directions
-(K_y ≠ K_z). The compiled step holds a shaft in one compliant bearing at its joint, with one
-radial stiffness for both radial axes (docs/model_format.md "Compliant bearings"). A model file
-keeps every row's own data (``<row>`` in the shaft's ``<bearing>``, read into ``BearingRow``)
-and gives the step their equivalent (`equivalent_bearing`):
+(K_y ≠ K_z). A model file keeps every row's own data (``<row>`` in the shaft's ``<bearing>``,
+read into ``BearingRow``). When the rows have stiffness and the bearing is compliant (its
+slides: docs/model_format.md "Compliant bearings"), the compiled step holds the shaft in each
+row (``row_springs``; ``cpp/bearing_rows.hpp``): a linear spring-damper at the row's position a
+with its own axial, two radial and two tilt values,
+
+    δ = (z,  x + a θ_w,  y − a θ_u,  θ_u,  θ_w)  for  (K_x, K_y, K_z, K_β, K_γ)
+
+(x, y along the bearing's radial axes u, w, z along its axis k, θ_u, θ_w its tilts). K_y acts
+along u and K_z along w: Nejad's axes (x axial, y, z radial) are right-handed as the bearing's
+(k, u, w) are, so x → k, y → u, z → w. The rows need not sit about a stiffness centre (Σ k_i a_i
+couples the radial slides with the tilts), and each row's load is a series of its own
+(``row_force``, ``row_moment``).
+
+The bearing's own stiffness and damping attributes then say which slides the shaft has (an
+axial slide with ``axial_stiffness``, tilt hinges with ``tilt_stiffness``) and nothing more. The
+rows' laws are linear: a radial clearance or a roller sum (``law="roller_sum"``) is for a bearing
+without stiff rows. ``equivalent_bearing`` gives the one isotropic compliant bearing at the
+rows' stiffness centre that stands for them (what ``pinwind build stages`` writes as the
+bearing's attributes, for a bearing read without its rows):
 
     radial   k_r = Σ_i k_i,                   k_i = (K_y,i + K_z,i)/2
     axial    k_a = Σ_i K_x,i
@@ -14,15 +30,15 @@ and gives the step their equivalent (`equivalent_bearing`):
 
 about the stiffness centre z_c = Σ k_i z_i / Σ k_i, where the radial and tilting motions of a
 rigid shaft on linear springs uncouple (Σ k_i a_i = 0); the dampers likewise. The mean of K_y
-and K_z keeps the trace of the radial stiffness (the mean of the two radial frequencies' squares)
-and loses the difference between the two directions.
+and K_z keeps the trace of the radial stiffness and loses the difference between the two
+directions, which the rows in the step keep.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from pinwind.model.bearing_life_data import BearingLifeData
@@ -119,3 +135,23 @@ def equivalent_bearing(rows: Sequence[BearingRow]) -> EquivalentBearing:
             for ci, a, r in zip(c, arms, rows, strict=True)
         ),
     )
+
+
+def row_springs(compliance: Any, rows: Sequence[BearingRow]) -> list[BearingRow]:
+    """The rows that are a compliant bearing's springs in the step, or [] (module docstring).
+
+    Rows are the springs of a bearing that is compliant and not floating (``compliance``, a
+    ``BearingCompliance`` or None for an ideal bearing) when any of them has stiffness; rows
+    without stiffness only carry ratings.
+    """
+    if compliance is None or compliance.floating:
+        return []
+    return list(rows) if any(any(r.stiffness) for r in rows) else []
+
+
+def row_name(bearing: str, row: str) -> str:
+    """A row's name among the run's rows, ``<bearing>.<row>`` (``stage1_planet1.PL-A``).
+
+    Rows are named within their bearing: the planets' bearings have rows of one name.
+    """
+    return f"{bearing}.{row}"

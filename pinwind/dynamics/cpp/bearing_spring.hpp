@@ -46,8 +46,8 @@
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/vector.h>
 
+#include "bearing_rows.hpp"
 #include "element_kind.hpp"
-
 #include "elements.hpp"
 
 namespace pinwind {
@@ -75,13 +75,17 @@ struct BearingSpringSpec {
 struct BearingSlides {
   long bearing = -1;                  // its column in the bearing series
   long x = -1, y = -1, z = -1;        // joint columns of the radial and axial slides (−1: none)
+  long tilt_x = -1, tilt_y = -1;      // joint columns of the tilt hinges (−1: none)
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // rows u, w, k in the joint frame
   BearingSpringSpec spring;           // its law (no stiffness: a floating bearing)
+  // Its rows (bearing_rows.hpp; their indices unused): when given, they are its springs.
+  std::vector<BearingRowSpec> rows;
 };
 
 // Over samples rows of angle (row-major, stride angle_stride: the joints' coordinates [m for a
 // slide]): each bearing's displacement u x + w y + k z [m] and its springs' force on the body,
-// the radial law at (x, y) and −k_a z axially [N], both in the joint frame, into the rows of
+// the radial law at (x, y) and −k_a z axially [N] (a bearing with rows: the sum of its rows'
+// springs' forces, −Σ k_j δ_j of bearing_rows.hpp), both in the joint frame, into the rows of
 // displacement and elastic (row-major (samples, bearings, 3); either may be null: not
 // computed). Bearings not in slides are left as they are.
 void bearing_slide_series(const double* angle, long samples, long angle_stride,
@@ -331,6 +335,24 @@ class BearingSprings : public Element {
   Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces [N or N·m]
 };
 
+// The force of a bearing's rows' springs on the body, along u, w, k [N], at one sample's joint
+// coordinates row (bearing_rows.hpp: F_u = −Σ k_u δ_u, F_w = −Σ k_w δ_w, F_k = −Σ k_axial δ_k).
+inline Eigen::Vector3d row_springs_force(const BearingSlides& b, const double* row) {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  for (BearingRowSpec r : b.rows) {
+    r.index_x = b.x, r.index_y = b.y, r.index_axial = b.z;
+    r.index_tilt_x = b.tilt_x, r.index_tilt_y = b.tilt_y;
+    const BearingRows::Map map = BearingRows::map(r);
+    double along[3] = {0.0, 0.0, 0.0};  // δ_k, δ_u, δ_w
+    for (int j = 0; j < 3; ++j) {
+      for (const BearingRows::Term& t : map[j]) along[j] += t.coefficient * row[t.index];
+    }
+    force += Eigen::Vector3d(-r.stiffness[1] * along[1], -r.stiffness[2] * along[2],
+                             -r.stiffness[0] * along[0]);
+  }
+  return force;
+}
+
 inline void bearing_slide_series(const double* angle, long samples, long angle_stride,
                                  const std::vector<BearingSlides>& slides, long bearings,
                                  double* displacement, double* elastic) {
@@ -353,6 +375,7 @@ inline void bearing_slide_series(const double* angle, long samples, long angle_s
       if (elastic == nullptr) continue;
       Eigen::Vector3d force(0.0, 0.0, -b.spring.axial_stiffness * xyz[2]);
       force.head<2>() = BearingSprings::radial_force(b.spring, rollers[i], xyz.head<2>());
+      if (!b.rows.empty()) force = row_springs_force(b, row);
       Eigen::Map<Eigen::Vector3d>(elastic + at) = b.axes.transpose() * force;
     }
   }
@@ -383,7 +406,7 @@ inline void slide_series(const SlideAngles& angle, const std::vector<BearingSlid
   }
   for (const BearingSlides& b : slides) {
     if (b.bearing < 0 || b.bearing >= bearings || b.x >= joints || b.y >= joints ||
-        b.z >= joints) {
+        b.z >= joints || b.tilt_x >= joints || b.tilt_y >= joints) {
       throw std::invalid_argument("a bearing's column or slide is outside the arrays");
     }
   }
@@ -445,6 +468,9 @@ struct BearingSpringsKind : KindBase {
         .def_rw("x", &BearingSlides::x)
         .def_rw("y", &BearingSlides::y)
         .def_rw("z", &BearingSlides::z)
+        .def_rw("tilt_x", &BearingSlides::tilt_x)
+        .def_rw("tilt_y", &BearingSlides::tilt_y)
+        .def_rw("rows", &BearingSlides::rows)
         .def_rw("axes", &BearingSlides::axes)
         .def_rw("spring", &BearingSlides::spring);
 

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "bearing_damping.hpp"
+#include "bearing_rows.hpp"
 #include "bearing_spring.hpp"
 #include "compliant_mesh.hpp"
 #include "element_kind.hpp"
@@ -25,7 +26,8 @@
 namespace pinwind {
 
 using ElementKinds = std::tuple<TorsionalSpringsKind, BearingDampingKind, BearingSpringsKind,
-                                CompliantMeshesKind, GeneratorsKind, RotorsKind, HubLoadsKind>;
+                                BearingRowsKind, CompliantMeshesKind, GeneratorsKind, RotorsKind,
+                                HubLoadsKind>;
 using ConstraintKinds = std::tuple<RigidMeshesKind, SpeedDriversKind>;
 
 // Every kind, the elements' then the constraints': one field of StepperSpec each.

@@ -6,7 +6,8 @@
 // A series of family F with c components is a row-major (samples, count(F), c) array, c = 1
 // leaving the last axis out: count(run) = 1, count(joint) = nv, count(bearing) = the bearings
 // (StepperSpec.bearing_joints),
-// count(mesh), count(body) = the recorded links, count(generator), count(rotor) = the elements'.
+// count(mesh), count(body) = the recorded links, count(generator), count(rotor) = the elements',
+// count(row) = the compliant bearings' rows (StepperSpec.bearing_rows, bearing_rows.hpp).
 // Its name is the Result's; its unit, frame, meaning and how every consumer shows it are declared
 // in the Python schema (pinwind/dynamics/series.py; the ledger's terms are keys of
 // Result.energy), and tests/dynamics/test_series.py checks that this table and that schema
@@ -19,8 +20,8 @@
 namespace pinwind {
 
 // The families of elements a series has one column per.
-enum class Family { run, joint, mesh, bearing, body, generator, rotor };
-inline constexpr std::size_t kFamilies = 7;
+enum class Family { run, joint, mesh, bearing, body, generator, rotor, row };
+inline constexpr std::size_t kFamilies = 8;
 
 // X(name, family, components).
 #define PINWIND_SERIES(X)                       \
@@ -66,7 +67,9 @@ inline constexpr std::size_t kFamilies = 7;
   X(rotor_power_coefficient, rotor, 1)          \
   X(rotor_wind_speed, rotor, 1)                 \
   X(rotor_thrust, rotor, 1)                     \
-  X(rotor_thrust_coefficient, rotor, 1)
+  X(rotor_thrust_coefficient, rotor, 1)         \
+  X(row_force, row, 3)                          \
+  X(row_moment, row, 3)
 
 enum class Series {
 #define PINWIND_SERIES_NAME(name, family, components) name,

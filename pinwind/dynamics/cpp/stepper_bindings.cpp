@@ -333,7 +333,8 @@ void bind_stepper(nb::module_& m) {
       .value("bearing", Family::bearing)
       .value("body", Family::body)
       .value("generator", Family::generator)
-      .value("rotor", Family::rotor);
+      .value("rotor", Family::rotor)
+      .value("row", Family::row);
 
   auto series = nb::enum_<Series>(m, "Series");
   for (size_t i = 0; i < kSeriesCount; ++i) {

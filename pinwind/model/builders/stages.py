@@ -494,8 +494,15 @@ def _add_planetary(
         )
         _gear(train, planet, planet, stage.planet, stage, -centre, -beta, planet_props)
         if rows:
+            # u away from the carrier's axis: each planet's rows act radially and tangentially
+            # alike (K_y radial, K_z tangential; docs/model_format.md "Bearing rows")
+            radius = math.hypot(x, y)
             train.bearings.append(
-                TrainBearing(planet, [_moved(r, r.position - centre) for r in rows])
+                TrainBearing(
+                    planet,
+                    [_moved(r, r.position - centre) for r in rows],
+                    (x / radius, y / radius, 0.0),
+                )
             )
     for i in range(1, stage.planets + 1):
         train.meshes.append(

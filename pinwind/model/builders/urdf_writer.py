@@ -80,6 +80,8 @@ class TrainBearing:
 
     joint: str
     rows: list[BearingRow]
+    #: The first radial axis u in the joint frame (``radial_axis``), or None: the joint's x.
+    radial_axis: tuple[float, float, float] | None = None
 
 
 @dataclass
@@ -201,6 +203,8 @@ def _bearing_element(box: ET.Element, bearing: TrainBearing) -> None:
     if eq.tilt_stiffness > 0.0:
         el.set("tilt_stiffness", _num(eq.tilt_stiffness))
         el.set("tilt_damping", _num(eq.tilt_damping))
+    if bearing.radial_axis is not None:
+        el.set("radial_axis", _vec(bearing.radial_axis))
     for row in bearing.rows:
         attrs = {
             "name": row.name,
