@@ -361,9 +361,11 @@ def rate_row(
     )  # fmt: skip
 
 
-#: The log channels the lives read: joint angles and speeds (the rows' slides, the revolutions)
-#: and the bearings' local force and moment (a whole bearing's life and tilt refusal).
-LIFE_CHANNELS = ("/joints", "/bearings/force_local", "/bearings/moment_local")
+#: The log channels the lives read: joint angles and speeds (the revolutions), the bearings'
+#: local force and moment (a whole bearing's life and tilt refusal) and the rows' loads.
+LIFE_CHANNELS = (
+    "/joints", "/bearings/force_local", "/bearings/moment_local", "/rows/force", "/rows/moment",
+)  # fmt: skip
 
 
 def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[RowLife]:
