@@ -7,14 +7,14 @@ and reports 10–15 hours and 5–10 GB for 30 s of simulated time. Here the sam
 - all six meshes compliant: single-pair stiffness 3.5e9 N/m along the path of contact (1.75× with
   two pairs, ISO 6336-1 shape), damping 40e3 N·s/m, no backlash;
 - the carrier driven by a rotor torque around the rated 176 kN·m (500 kW at 27.1 rpm; the rotor
-  speed is not in 003 — 27.1 rpm is that of 41 m, 500 kW stall rotors) with slow turbulence and
-  3P fluctuation, a stand-in until wind and rotor inputs land;
+  speed is not in Jørgensen 2014 — 27.1 rpm is that of 41 m, 500 kW stall rotors) with slow
+  turbulence and 3P fluctuation, a stand-in until wind and rotor inputs land;
 - the sun held at its synchronous speed by a speed driver (a stiff grid-connected induction
   generator), so the driver's torque is the generator's.
 
-Prints the mesh and single-tooth force ranges (the fatigue input of 003 §2.4), the planets' load
-sharing K_γ, the time spent with two tooth pairs against the contact ratio, the wall time and
-the peak memory.
+Prints the mesh and single-tooth force ranges (the fatigue input of Jørgensen 2014 §2.4), the
+planets' load sharing K_γ, the time spent with two tooth pairs against the contact ratio, the
+wall time and the peak memory.
 
     python examples/dtu500_planetary.py --duration 30 --out logs/dtu500.mcap
 """
@@ -42,7 +42,7 @@ RATED_POWER = 500e3  # W
 ROTOR_SPEED = rpm_to_rad_s(27.1)  # rad/s, assumed (see the docstring)
 RATED_TORQUE = RATED_POWER / ROTOR_SPEED  # N·m on the carrier
 RATIO = 1 + 91 / 20  # carrier → sun with the ring fixed
-MESH = MeshCompliance(stiffness=3.5e9, damping=40e3)  # 003 §2.3
+MESH = MeshCompliance(stiffness=3.5e9, damping=40e3)  # Jørgensen 2014 §2.3
 #: Time step [s]: the single-tooth force's standard deviation and maximum are within 1 % of
 #: those at dt/8 (tests/test_examples.py; `pinwind simulate --check-dt` does the same for a run):
 #: 0.56 % and 0.21 % at worst over the six meshes; 3e-5 s misses (1.04 %), 2e-5 s gives 0.29 %

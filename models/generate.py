@@ -157,10 +157,10 @@ def cai_spur_pair() -> str:
 # --- DTU 500 kW (Jørgensen 2014 §2.1, Table 6) -----------------------------------------
 
 
-#: ISO 281 ratings of the DTU stage's bearings, ASSUMED (003 gives none; models/README.md):
-#: joint → (type, C [kN]). SKF EC-design cylindrical roller bearings of plausible bore: each
-#: planet on two NU 2228 EC (140 x 250 x 68 mm, C = 655 kN each) side by side, rated as one
-#: unit with ISO 281's C = i^(7/9) C_1 for i = 2; the sun shaft on an NU 226 EC
+#: ISO 281 ratings of the DTU stage's bearings, ASSUMED (Jørgensen 2014 gives none;
+#: models/README.md): joint → (type, C [kN]). SKF EC-design cylindrical roller bearings of
+#: plausible bore: each planet on two NU 2228 EC (140 x 250 x 68 mm, C = 655 kN each) side by
+#: side, rated as one unit with ISO 281's C = i^(7/9) C_1 for i = 2; the sun shaft on an NU 226 EC
 #: (130 x 230 x 40 mm, 415 kN); the carrier on an NU 1964 EC (320 x 440 x 56 mm, 693 kN).
 DTU500_BEARINGS = {
     **{f"planet{i}": ("cylindrical_roller", round(2.0 ** (7.0 / 9.0) * 655.0)) for i in (1, 2, 3)},

@@ -1,7 +1,7 @@
 """The one check of the names a file may use: TOML keys, the model file's elements and attributes.
 
 A misspelt name must not be ignored: ``<bearing joint="sun" radial_stifness="1e9"/>`` would
-leave the bearing rigid, ``[fatigue] duraton = 600`` would run the default 30 s, and nothing would
+leave the bearing rigid, ``[fatigue] skip_strat = 5`` would count from 0 s, and nothing would
 say so. Every reader of a file (``model/urdf.py``, ``runs/scenario.py``,
 ``runs/fatigue_set_file.py``) names what it takes and hands the names it found to
 `unknown_name`; the first one it does not take is refused in the reader's own error, with the

@@ -55,7 +55,8 @@ class MeshRating:
         load: F_t at the reference circle and pitch-line speed.
         iso: ISO 6336-2/-3 rating.
         agma: AGMA 2001 rating.
-        hertz_p_max: largest Hertz pressure along the path of contact [Pa] (003 eqs. 20-22).
+        hertz_p_max: largest Hertz pressure along the path of contact [Pa] (Jørgensen 2014
+            eqs. 20-22).
         hertz_von_mises: 0.65 of it [Pa].
     """
 

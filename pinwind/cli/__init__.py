@@ -56,9 +56,13 @@ def main() -> None:
     # ``--version`` needs no verb; ``--help``, no verb or an unknown one (its message lists the
     # verbs) need every verb.
     module = "app" if verb == "--version" else VERB_MODULES.get(verb, "verbs")
-    importlib.import_module(f"pinwind.cli.{module}")
-    from pinwind.cli.app import SHOWN_WARNINGS, err_console
-    from pinwind.cli.app import app as application
+    try:
+        importlib.import_module(f"pinwind.cli.{module}")
+        from pinwind.cli.app import SHOWN_WARNINGS, err_console
+        from pinwind.cli.app import app as application
+    except KeyboardInterrupt:  # Ctrl-C while the command starts: a line, not an import traceback
+        sys.stderr.write("interrupted while starting, before the command did anything\n")
+        sys.exit(130)
 
     SHOWN_WARNINGS.clear()
 

@@ -66,6 +66,60 @@ def fatigue(
     One compliant run per wind bin x turbulence x seed, each logged in the set's output folder;
     a rerun computes only the cases whose log is missing or incomplete.
     """
+    # What the command has reached, for the one line an interruption prints (`_stopped_line`).
+    state: dict[str, Any] = {"phase": "reading", "cases": 0, "total": 0, "out": None}
+    previous = signal.signal(signal.SIGTERM, raise_terminated)
+    try:
+        _fatigue(scenario, quick, as_json, figures, workers, scheduler, check_dt, state)
+    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM raised as it: one line, no traceback
+        err_console.print(_stopped_line(err, state), highlight=False, soft_wrap=True)
+        raise typer.Exit(code=143 if isinstance(err, Terminated) else 130) from err
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _stopped_line(err: KeyboardInterrupt, state: dict[str, Any]) -> str:
+    """The one line of an interrupted ``pinwind fatigue``: what is kept and how to go on.
+
+    Typer turns a KeyboardInterrupt into exit 130 without a word; this says where the command
+    was: reading the set, checking its kept cases, running them, or rating the finished set.
+    """
+    what = f"terminated ({err})" if isinstance(err, Terminated) else "interrupted"
+    out = escape(str(state["out"]))
+    phase = state["phase"]
+    if phase == "reading":
+        return (
+            f"{what} while reading the set, before any case started: the same command starts "
+            "it (cases kept from an earlier run are reused)"
+        )
+    if phase == "checking":
+        return (
+            f"{what} while checking which of the set's {state['total']} cases kept in {out} "
+            "are finished, before any case started: the same command checks them again and "
+            "computes the rest"
+        )
+    if phase == "cases":
+        return (
+            f"{what}: {state['cases']} of {state['total']} cases of the set are finished and "
+            f"kept in {out}; the same command computes the rest"
+        )
+    return (
+        f"{what} after the cases, while rating them: all {state['total']} cases of the set are "
+        f"finished and kept in {out}; the same command reuses them and prints the results"
+    )
+
+
+def _fatigue(
+    scenario: Path,
+    quick: bool,
+    as_json: bool,
+    figures: Path | None,
+    workers: int | None,
+    scheduler: str | None,
+    check_dt: bool,
+    state: dict[str, Any],
+) -> None:
+    """The command's work (`fatigue`), saying in ``state`` how far it has come."""
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -103,36 +157,23 @@ def fatigue(
     columns = (BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
     sets = [("cases", fset)] + ([] if half is None else [("cases at dt/2", half)])
     runs: dict[str, FatigueRun] = {}
-    finished = {"cases": 0, "total": 0}
-    previous = signal.signal(signal.SIGTERM, raise_terminated)
-    try:
-        # No bar in a pipe: it would only leave empty lines in the output.
-        hidden = as_json or not err_console.is_terminal
-        with (
-            warnings_as_lines(),
-            Progress(*columns, console=err_console, transient=True, disable=hidden) as bar,
-        ):
-            for label, each in sets:
-                task = bar.add_task(label, total=len({c.name for c in each.cases()}))
+    # No bar in a pipe: it would only leave empty lines in the output.
+    hidden = as_json or not err_console.is_terminal
+    with (
+        warnings_as_lines(),
+        Progress(*columns, console=err_console, transient=True, disable=hidden) as bar,
+    ):
+        for label, each in sets:
+            total = len({c.name for c in each.cases()})
+            state.update(phase="checking", cases=0, total=total, out=each.out)
+            task = bar.add_task(label, total=total)
 
-                def advance(n: int, total: int, task: TaskID = task) -> None:
-                    bar.update(task, completed=n)
-                    finished.update(cases=n, total=total)
+            def advance(n: int, total: int, task: TaskID = task) -> None:
+                bar.update(task, completed=n)
+                state.update(phase="cases", cases=n, total=total)
 
-                runs[label] = run_cases(
-                    each, workers=workers, scheduler=scheduler, progress=advance
-                )
-    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM raised as it: one line, no traceback
-        what = f"terminated ({err})" if isinstance(err, Terminated) else "interrupted"
-        err_console.print(
-            f"{what}: {finished['cases']} of {finished['total']} cases of the set are finished "
-            f"and kept in {escape(str(fset.out))}; the same command computes the rest",
-            highlight=False,
-            soft_wrap=True,
-        )
-        raise typer.Exit(code=143 if isinstance(err, Terminated) else 130) from err
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+            runs[label] = run_cases(each, workers=workers, scheduler=scheduler, progress=advance)
+    state.update(phase="rating", total=runs["cases"].total, out=fset.out)
     run = runs["cases"]
     damage = set_damage(fset)
     check = None
@@ -153,11 +194,21 @@ def fatigue(
 
         level = _reference_level(damage)
         spectra = set_load_spectra(fset, level)
+        about = _set_caption(fset, run.total)
+        mark = _quick_title(fset, run.total) if quick else ""
         paths = [
-            plot_damage_vs_turbulence(damage, figures / "damage_vs_turbulence.png"),
-            plot_range_cycles(damage, figures / "range_cycles.png", level=level),
+            plot_damage_vs_turbulence(
+                damage, figures / "damage_vs_turbulence.png", about=about, mark=mark
+            ),
+            plot_range_cycles(
+                damage, figures / "range_cycles.png", level=level, about=about, mark=mark
+            ),
             plot_load_spectra(
-                spectra, figures / "load_spectra.png", title=f"turbulence {damage.levels[level]}"
+                spectra,
+                figures / "load_spectra.png",
+                title=f"turbulence {damage.levels[level]}",
+                about=about,
+                mark=mark,
             ),
             write_load_spectra_csv(spectra, figures / "load_spectra.csv"),
         ]
@@ -188,6 +239,19 @@ def fatigue(
         say(f"wrote {path}")
 
 
+def _set_caption(fset: FatigueSet, cases: int) -> str:
+    """The set a figure comes from: its file, its cases and their length, where they are."""
+    return (
+        f"Set: {Path(fset.source).name}, {cases} cases x {fset.duration:g} s "
+        f"(counted from {fset.skip_start:g} s) in {fset.out}"
+    )
+
+
+def _quick_title(fset: FatigueSet, cases: int) -> str:
+    """The mark of a ``--quick`` figure: a short set, a first look, not the set's result."""
+    return f"quick set ({cases} cases x {fset.duration:g} s): a first look"
+
+
 def cell(value: float) -> str:
     """A damage or life in at most 6 characters (``--json`` keeps every digit).
 
@@ -203,13 +267,30 @@ def cell(value: float) -> str:
     return text
 
 
+#: A mean speed within this fraction of the table's fastest is zero to round-off [-]: a joint
+#: fixed to its parent (a ring) comes out at 1e-13 rpm beside 150 rpm, where double precision
+#: leaves about 1e-16 of the speeds it subtracts.
+ROUND_OFF_SPEED = 1e-9
+
+
+def speed_cell(rpm: float, fastest: float) -> str:
+    """A mean speed [rpm] as `cell`, and ``0`` when it is zero to round-off beside ``fastest``."""
+    if math.isfinite(rpm) and abs(rpm) <= ROUND_OFF_SPEED * fastest:
+        return "0"
+    return cell(rpm)
+
+
 def table(title: str, *columns: str, left: int = 1) -> Table:
     """A table of ``columns``: the first ``left`` ones text, the others numbers.
 
     Ten 6-character cells fit 80 columns (no vertical rules); a longer cell wraps, never cut.
     """
-    grid = Table(
-        title=title, box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False, collapse_padding=True
+    grid = Table(  # escaped: rich reads "[m/s]" as a closing tag and drops it
+        title=escape(title),
+        box=box.SIMPLE_HEAD,
+        show_edge=False,
+        pad_edge=False,
+        collapse_padding=True,
     )
     for i, name in enumerate(columns):  # escaped: rich reads "[kN]" as a style
         grid.add_column(escape(name), justify="left" if i < left else "right", overflow="fold")
@@ -217,17 +298,66 @@ def table(title: str, *columns: str, left: int = 1) -> Table:
 
 
 def _reference_level(damage: SetDamage) -> int:
-    """The level nearest 10 % turbulence (003 Table 7's)."""
+    """The level nearest 10 % turbulence (Jørgensen 2014 Table 7's)."""
     return min(range(len(damage.levels)), key=lambda k: abs(damage.intensities[k] - 0.10))
 
 
+def variant_notes(damage: SetDamage) -> list[str]:
+    """Which of the three S-N variants to believe, one line each, and where the docs say why.
+
+    ``iso 6336`` is the standard's design basis; ``limit`` is Jørgensen 2014's own method (eq.
+    23 with Table 5's endurance limits), zero when every counted stress range is below them;
+    ``no limit`` is the same line without the limit, an upper bound: every tooth pass counts.
+    Its ratio to Jørgensen 2014's Table 8 is the sun's total at the reference level
+    (`_reference_level`) over the paper's at that intensity, when the paper has it.
+    """
+    from pinwind.life.set_damage import JORGENSEN_2014_TABLE_8, PAPER
+
+    level = _reference_level(damage)
+    zero = {
+        location: all(
+            d.total == 0.0 for by_level in table.get("limit", []) for d in by_level.values()
+        )
+        for location, table in (("contact", damage.damage), ("root", damage.root_damage))
+    }
+    limit = "limit: Jørgensen 2014's Table 5 method (eq. 23 with its endurance limits)"
+    if zero["contact"] and zero["root"]:
+        limit += "; 0 here because every stress range is below its endurance limit"
+    elif zero["contact"]:
+        limit += "; contact 0 here because every contact stress range is below its limit"
+    no_limit = (
+        "no limit: the same line without the limit, an upper bound, as every tooth pass counts"
+    )
+    intensity = round(damage.intensities[level], 4)
+    sun = damage.by_kind("no limit", level).get("sun")
+    if sun is not None and intensity in JORGENSEN_2014_TABLE_8["turbulence"]:
+        paper = JORGENSEN_2014_TABLE_8["sun"][JORGENSEN_2014_TABLE_8["turbulence"].index(intensity)]
+        label = damage.levels[level]
+        no_limit += (
+            f": the sun's {cell(sun[1])} at {label} is {sun[1] / paper:.0f}x {PAPER}'s Table 8 "
+            f"({paper:g})"
+        )
+    return [
+        'Which S-N variant to believe (docs/fatigue.md, "What differs from Jørgensen 2014, '
+        'and why"):',
+        "  iso 6336: ISO 6336-2 and -3's curves of each gear's material, the standard's design "
+        "basis",
+        f"  {limit}",
+        f"  {no_limit}",
+    ]
+
+
 def _print_tables(damage: SetDamage) -> None:
-    """Table 7 (per bin, reference level) and Table 8 (per level) shapes, 003's rows beside."""
+    """Jørgensen 2014's Table 7 (per bin) and Table 8 (per level) shapes with its rows beside.
+
+    Also which S-N variant to believe (`variant_notes`), the root damage and largest stresses.
+    """
     import numpy as np
 
     from pinwind.life.set_damage import (
         JORGENSEN_2014_TABLE_7,
         JORGENSEN_2014_TABLE_8,
+        PAPER,
         VARIANTS,
     )
 
@@ -236,7 +366,8 @@ def _print_tables(damage: SetDamage) -> None:
     for variant in VARIANTS:
         grid = table(
             f"Contact damage per wind bin [m/s] at turbulence {damage.levels[level]}, "
-            f"S-N {variant} (003 Table 7 shape; worst tooth flank, planet = mean of the planets)",
+            f"S-N {variant} (Jørgensen 2014 Table 7 shape; worst tooth flank, planet = mean of "
+            "the planets)",
             "gear",
             *(f"{speed:g}" for speed in damage.speeds),
             "Σ",
@@ -245,10 +376,10 @@ def _print_tables(damage: SetDamage) -> None:
             grid.add_row(kind, *(cell(d) for d in per_bin), cell(total))
             paper = JORGENSEN_2014_TABLE_7.get(kind)
             if paper and np.array_equal(damage.speeds, paper_speeds) and variant == "limit":
-                grid.add_row("  003", *(cell(d) for d in paper[0]), cell(paper[1]))
+                grid.add_row(f"  {PAPER}", *(cell(d) for d in paper[0]), cell(paper[1]))
         console.print(grid)
     grid = table(
-        "Total contact damage per turbulence level (003 Table 8 shape)",
+        "Total contact damage per turbulence level (Jørgensen 2014 Table 8 shape)",
         "gear",
         "S-N",
         *damage.levels,
@@ -266,12 +397,12 @@ def _print_tables(damage: SetDamage) -> None:
             totals = [damage.by_kind(variant, k)[kind][1] for k in range(len(damage.levels))]
             grid.add_row(kind, variant, *(cell(t) for t in totals))
         if kind in ("sun", "planet", "ring"):
-            totals_003 = JORGENSEN_2014_TABLE_8[kind]
-            grid.add_row("", "003", *("" if i is None else cell(totals_003[i]) for i in paper_at))
+            paper_totals = JORGENSEN_2014_TABLE_8[kind]
+            grid.add_row("", PAPER, *("" if i is None else cell(paper_totals[i]) for i in paper_at))
     console.print(grid)
     grid = table(
         "Root damage per turbulence level (worst fillet; ISO 6336-3 root stress unless "
-        "a table is given; 003 §4.1: none)",
+        "a table is given; Jørgensen 2014 §4.1: none)",
         "gear",
         "S-N",
         *damage.levels,
@@ -286,8 +417,8 @@ def _print_tables(damage: SetDamage) -> None:
             grid.add_row(kind, variant, *(cell(t) for t in totals))
     console.print(grid)
     grid = table(
-        "Largest stress [MPa]: von Mises contact (003: 600-700 at 20 m/s, 10 %) and root "
-        "(003: about 60)",
+        "Largest stress [MPa]: von Mises contact (Jørgensen 2014: 600-700 at 20 m/s, 10 %) and "
+        "root (Jørgensen 2014: about 60)",
         "gear",
         "stress",
         *damage.levels,
@@ -300,6 +431,8 @@ def _print_tables(damage: SetDamage) -> None:
             peaks = [by_level["limit"][k][gear].peak_stress for k in range(len(damage.levels))]
             grid.add_row(gear, location, *(f"{p / 1e6:.0f}" for p in peaks))
     console.print(grid)
+    for line in variant_notes(damage):
+        say(line)
 
 
 def _as_dict(
@@ -336,6 +469,7 @@ def _as_dict(
             "table_8": {k: list(v) for k, v in JORGENSEN_2014_TABLE_8.items()},
         },  # fmt: skip
         "figures": [str(p) for p in figures],
+        "variant_notes": [line.strip() for line in variant_notes(damage)],
     }
 
 
@@ -364,10 +498,12 @@ def _print_dt_check(check: DamageDtCheck) -> None:
     from pinwind.life.damage_convergence import NEGLIGIBLE_DAMAGE, judged
 
     for location in ("contact", "root"):
-        table = Table(
-            title=f"The same set at dt/2 = {check.dt / 2:g} s: {location} damage and largest "
-            f"{location} stress [MPa] at dt/2 (change from dt = {check.dt:g} s; converged within "
-            f"{100 * check.tolerance:g} %)"
+        table = Table(  # no markup in the title: "[MPa]" is text
+            title=escape(
+                f"The same set at dt/2 = {check.dt / 2:g} s: {location} damage and largest "
+                f"{location} stress [MPa] at dt/2 (change from dt = {check.dt:g} s; converged "
+                f"within {100 * check.tolerance:g} %)"
+            )
         )
         table.add_column("gear")
         table.add_column("figure")
@@ -406,6 +542,7 @@ def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> Non
 
     hours = float(damage.hours.sum())
     for label, lives in zip(damage.levels, bearings, strict=True):
+        fastest = max((abs(life.mean_speed_rpm) for life in lives), default=0.0)
         grid = table(
             f"Bearing life (ISO 281) over the site's {hours:.0f} h at turbulence {label}: "
             "P_eq revolution-weighted over the bins",
@@ -423,14 +560,15 @@ def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> Non
             kind = rating.kind.replace("_", " ") if rating and rating.kind else "-"
             if rating is None or rating.dynamic_load_rating is None:
                 load = "" if np.isnan(life.equivalent_load) else cell(life.equivalent_load / 1e3)
-                grid.add_row(life.joint, kind, "not rated", load, cell(life.mean_speed_rpm))
+                speed = speed_cell(life.mean_speed_rpm, fastest)
+                grid.add_row(life.joint, kind, "not rated", load, speed)
                 continue
             grid.add_row(
                 life.joint,
                 kind,
                 cell(rating.dynamic_load_rating / 1e3),
                 cell(life.equivalent_load / 1e3),
-                cell(life.mean_speed_rpm),
+                speed_cell(life.mean_speed_rpm, fastest),
                 cell(life.l10),
                 cell(life.l10h),
             )

@@ -13,12 +13,12 @@ x the roll position of the tooth pairs along the path of contact (``cpp/mesh_pat
 - k(x): the sum over the tooth pairs in contact of one pair's stiffness, c′b in the single-pair
   zone and 0.875 c′b each in the double-pair zones (mean ISO 6336-1 c_γα b,
   ``gears/mesh_stiffness.py``); for helical gears in proportion to the total length of the
-  contact lines (``contact_line_pair_stiffness``, same mean); a user table (003 Fig. 8), or the
-  constant c_γα b. Stiffnesses act along the transverse line of action;
+  contact lines (``contact_line_pair_stiffness``, same mean); a user table (Jørgensen 2014
+  Fig. 8), or the constant c_γα b. Stiffnesses act along the transverse line of action;
 - backlash j: the back flank's overlap is δ_b = −(rolling part) + (radial part) − j, no force in
   between; each flank pushes where it overlaps, both at once where the centres come closer than
   the teeth allow (the contact is the gradient of Σ_flanks ½ k δ₊²);
-- the single-tooth force F k₁/k (003 §2.4) of the pair entering the mesh.
+- the single-tooth force F k₁/k (Jørgensen 2014 §2.4) of the pair entering the mesh.
 
 Why implicit. Mesh stiffnesses of 1e8 to 5e9 N/m on gears of a few kilograms to a tonne put
 modes in the kHz; an explicit spring would need steps of microseconds. The compiled element

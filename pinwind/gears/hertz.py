@@ -1,12 +1,12 @@
 """Hertz contact stress along the path of contact (Jørgensen 2014 eqs. 20-22).
 
 Two cylinders of radii ρ1, ρ2 (the flank radii of curvature, i.e. the roll distances from the
-tangency points T1, T2 to the contact point, 003 Fig. 10) and length L pressed by F:
+tangency points T1, T2 to the contact point, Jørgensen 2014 Fig. 10) and length L pressed by F:
 
     B = ½ (1/ρ1 + 1/ρ2)                                  (eq. 20; ρ2 < 0 for an internal gear)
     a = √(2/π · (m1 + m2)/B · F/L),  m_i = (1 − ν_i²)/E_i   (eq. 21, contact half-width)
     p_max = 2F/(π a L)                                    (eq. 22)
-    σ_vM ≈ 0.65 p_max                                     (003 §2.5.2, after Norton 2000)
+    σ_vM ≈ 0.65 p_max                      (Jørgensen 2014 §2.5.2, after Norton 2000)
 
 which is the classical p_max = √(F E*/(π L R)), 1/R = 1/ρ1 + 1/ρ2, 1/E* = m1 + m2.
 """
@@ -24,7 +24,8 @@ from pinwind.gears.contact import pairs_in_contact
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.materials import Material
 
-#: σ_vM / p_max: the mean of Norton's static (0.57) and sliding (0.73) coefficients (003).
+#: σ_vM / p_max: the mean of Norton's static (0.57) and sliding (0.73) coefficients
+#: (Jørgensen 2014).
 VON_MISES_RATIO = 0.65
 
 
@@ -36,7 +37,7 @@ def hertz_pressure(
     material_1: Material,
     material_2: Material,
 ) -> np.ndarray:
-    """Maximum Hertz pressure p_max [Pa] of two cylinders (003 eqs. 20-22).
+    """Maximum Hertz pressure p_max [Pa] of two cylinders (Jørgensen 2014 eqs. 20-22).
 
     Args:
         force: normal force F on the pair of teeth [N].

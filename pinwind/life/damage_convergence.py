@@ -10,12 +10,12 @@ stress, and its largest contact and root stress, each as a row of
 `pinwind.analysis.convergence` (``dt_row`` with the values at dt and dt/2: the relative change and
 whether it is within the tolerance).
 
-The damage goes as σ^m (m = 3.4 for 003's curves, 6.6-8.7 for ISO 6336's below the knee), so it
-magnifies a change of the stress: ``TOLERANCE`` (5 %) on the damage is about 1.5 % on the stress
-for 003's m. Near an endurance limit the damage may be zero at one step and not at the other
-(a change of ±100 % or infinite): such a figure is not resolved by the step either. A damage
-below ``NEGLIGIBLE_DAMAGE`` at both steps (ISO 6336's curves far below the knee give 1e-40) is
-shown but not judged: its relative change says nothing about the life.
+The damage goes as σ^m (m = 3.4 for Jørgensen 2014's curves, 6.6-8.7 for ISO 6336's below the
+knee), so it magnifies a change of the stress: ``TOLERANCE`` (5 %) on the damage is about 1.5 %
+on the stress for Jørgensen 2014's m. Near an endurance limit the damage may be zero at one step
+and not at the other (a change of ±100 % or infinite): such a figure is not resolved by the step
+either. A damage below ``NEGLIGIBLE_DAMAGE`` at both steps (ISO 6336's curves far below the knee
+give 1e-40) is shown but not judged: its relative change says nothing about the life.
 """
 
 from __future__ import annotations

@@ -1,4 +1,10 @@
-"""PNG figures of a fatigue set's damage, like Jørgensen 2014 (003) Figs. 14-15."""
+"""PNG figures of a fatigue set's damage, like Jørgensen 2014's Figs. 14-15, and its load spectra.
+
+Each figure has a caption under its axes (`pinwind.io.figure_layout.caption_below`): what is
+plotted, the turbulence levels, the sources, and the set it comes from (``about``, which the
+command gives); a figure of a short set (``pinwind fatigue --quick``) says so in its title
+(``mark``). The caption and the mark are also the PNG's Description and Title.
+"""
 
 from __future__ import annotations
 
@@ -7,12 +13,25 @@ from typing import Any
 
 import numpy as np
 
+from pinwind.io.figure_layout import caption_below
 from pinwind.life.load_spectrum import LoadSpectrum
-from pinwind.life.set_damage import JORGENSEN_2014_TABLE_8, RANGE_EDGES, VARIANTS, SetDamage
+from pinwind.life.set_damage import (
+    JORGENSEN_2014_TABLE_8,
+    PAPER,
+    RANGE_EDGES,
+    VARIANTS,
+    SetDamage,
+)
 
 
-def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
-    """Total damage per gear kind against turbulence intensity (Fig. 15), 003's Table 8 dashed."""
+def plot_damage_vs_turbulence(
+    damage: SetDamage, path: Path, *, about: str = "", mark: str = ""
+) -> Path:
+    """Total damage per gear kind against turbulence intensity (Jørgensen 2014 Fig. 15).
+
+    Each S-N variant of each gear kind, and Jørgensen 2014's Table 8 dashed. ``about``: the set,
+    for the caption; ``mark``: a title such as the quick set's.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -34,7 +53,7 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     for kind in ("sun", "planet", "ring"):
         if kind in colours:
             ax.plot(paper, JORGENSEN_2014_TABLE_8[kind], "--", color=colours[kind],
-                    label=f"{kind} (003 Table 8)")  # fmt: skip
+                    label=f"{kind} ({PAPER} Table 8)")  # fmt: skip
     ax.axhline(1.0, color="k", lw=0.8)
     ax.set_xlabel("turbulence intensity [%]")
     ax.set_ylabel("damage over the design life [-]")
@@ -50,7 +69,15 @@ def plot_damage_vs_turbulence(damage: SetDamage, path: Path) -> Path:
     # Beside the axes: a legend inside would hide the damages of some decade.
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(alpha=0.3)
-    return _save(fig, path)
+    caption = (
+        "Contact damage over the design life (Palmgren-Miner, worst tooth flank; planet = mean "
+        "of the planets) per gear kind against turbulence, levels "
+        f"{', '.join(damage.levels)}.\nS-N variants: limit = {PAPER} eq. 23 with its Table 5 "
+        "endurance limits, no limit = the same line without them (an upper bound), iso 6336 = "
+        "ISO 6336-2's curve of the gear's material.\n"
+        f"Dashed: {PAPER} Table 8. Why they differ: docs/fatigue.md."
+    )
+    return _save(fig, path, caption=_with_set(caption, about), mark=mark)
 
 
 def damage_axis_threshold(values: np.ndarray) -> float:
@@ -66,9 +93,18 @@ def damage_axis_threshold(values: np.ndarray) -> float:
 
 
 def plot_range_cycles(
-    damage: SetDamage, path: Path, *, level: int = 0, gear: str | None = None
+    damage: SetDamage,
+    path: Path,
+    *,
+    level: int = 0,
+    gear: str | None = None,
+    about: str = "",
+    mark: str = "",
 ) -> Path:
-    """Cycles per tooth over the life above each stress range, one line per wind bin (Fig. 14b)."""
+    """Cycles per tooth over the life above each stress range, one line per wind bin.
+
+    As Jørgensen 2014's Fig. 14b, of one gear (the first rated) at one turbulence level.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -92,11 +128,21 @@ def plot_range_cycles(
     ax.set_title(f"{gear}, turbulence {damage.levels[level]}")
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(alpha=0.3)
-    return _save(fig, path)
+    caption = (
+        f"Rainflow cycles per tooth of {gear} over each wind bin's hours with a von Mises contact-"
+        f"stress range at or above x (ASTM E1049-85), turbulence {damage.levels[level]}, one "
+        f"line per bin.\nAs {PAPER} Fig. 14b."
+    )
+    return _save(fig, path, caption=_with_set(caption, about), mark=mark)
 
 
-def plot_load_spectra(spectra: list[LoadSpectrum], path: Path, *, title: str = "") -> Path:
-    """LDD (hours) and LRD (revolutions) against torque, one line per shaft (IEC 61400-4)."""
+def plot_load_spectra(
+    spectra: list[LoadSpectrum], path: Path, *, title: str = "", about: str = "", mark: str = ""
+) -> Path:
+    """LDD (hours) and LRD (revolutions) against torque, one line per shaft (IEC 61400-4).
+
+    ``title``: the axes' (e.g. the turbulence level); ``about``, ``mark`` as the other figures'.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -118,19 +164,36 @@ def plot_load_spectra(spectra: list[LoadSpectrum], path: Path, *, title: str = "
         ax.grid(alpha=0.3)
     # one legend for both (the same shafts), beside the axes: inside it would hide a step
     lrd.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
-    return _save(fig, path)
+    caption = (
+        "Load duration (LDD: hours at each torque level) and load revolution distribution (LRD: "
+        "revolutions at each) of every turning shaft over the site's life"
+        + (f", {title}" if title else "")
+        + " (IEC 61400-4)."
+    )
+    return _save(fig, path, caption=_with_set(caption, about), mark=mark)
 
 
-def _save(fig: Any, path: Path) -> Path:
-    """Writes a figure at 120 dpi, making its folder, and closes it.
+def _with_set(caption: str, about: str) -> str:
+    """A figure's caption, and the set it comes from on its own line."""
+    return f"{caption}\n{about}" if about else caption
 
-    The figure is laid out by its constrained layout (``io/figure_layout.py``): legends beside
-    the axes are kept on the page.
+
+def _save(fig: Any, path: Path, *, caption: str, mark: str = "") -> Path:
+    """Writes a figure at 120 dpi with its caption under the axes, making its folder; closes it.
+
+    ``mark`` is the figure's title (above the axes' own), e.g. that it is a quick set's. The
+    figure is laid out by its constrained layout (``io/figure_layout.py``): legends beside the
+    axes are kept on the page, and the caption under them. Both are also the PNG's Description
+    and Title.
     """
     import matplotlib.pyplot as plt
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    if mark:
+        fig.suptitle(mark, fontsize=11, x=0.02, ha="left")
+    caption_below(fig, caption)
+    metadata = {"Description": caption} | ({"Title": mark} if mark else {})
+    fig.savefig(path, dpi=120, metadata=metadata)
     plt.close(fig)
     return path

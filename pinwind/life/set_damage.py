@@ -5,9 +5,9 @@ Jørgensen 2014 Tables 7-8. The cycles of each case
 the h hours of the case's wind bin: its damage counts h · 3600 / T times (Table 2), divided
 among the bin's seeds (each seed is one sample of the same hours). Each tooth flank has its own
 sum over the bins; a gear's damage is that of its worst tooth flank, and its damage per bin is
-that flank's, so that the bins add up to the total (Table 7's rows). 003 instead rates one
-point of the path of one mesh and spreads it over the teeth (Table 3): its numbers are a mean
-tooth's at that point, ours the worst tooth's at its most stressed point.
+that flank's, so that the bins add up to the total (Table 7's rows). Jørgensen 2014 instead rates
+one point of the path of one mesh and spreads it over the teeth (Table 3): its numbers are a
+mean tooth's at that point, ours the worst tooth's at its most stressed point.
 
 The damage is computed for each S-N variant (`VARIANTS`): ``"limit"`` (the set's curve as
 given, cycles below the endurance limit do nothing), ``"no limit"`` (its sloped line extended to
@@ -50,6 +50,9 @@ JORGENSEN_2014_TABLE_7 = {
     "planet": ((0.0, 0.0, 0.0, 0.0, 0.0416, 0.0710, 0.0166, 0.0025), 0.13),
     "ring": ((0.0, 0.0, 0.0, 0.0116, 0.0177, 0.0125, 0.0028, 0.0004), 0.05),
 }
+#: The paper the tables, figures and messages compare with, named as its readers know it
+#: (docs/references.md: Jørgensen et al. 2014).
+PAPER = "Jørgensen 2014"
 #: Jørgensen 2014 Table 8: total damage at turbulence intensities 8, 10, ..., 20 %.
 JORGENSEN_2014_TABLE_8 = {
     "turbulence": (0.08, 0.10, 0.12, 0.14, 0.16, 0.18, 0.20),
@@ -111,7 +114,7 @@ class SetDamage:
     def by_kind(
         self, variant: str, level: int, *, location: str = "contact"
     ) -> dict[str, tuple[np.ndarray, float]]:
-        """(per bin, total) for each gear kind: the planets' mean as 003's "planet*".
+        """(per bin, total) for each gear kind: the planets' mean as Jørgensen 2014's "planet*".
 
         Gears that are no sun, planet or ring keep their own names.
 

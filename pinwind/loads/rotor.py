@@ -19,15 +19,16 @@ on a 3.7 m hub give R = 41 + 3.7/2 = 42.85 m; at 14.2 rpm in 10 m/s, λ = 6.37. 
 the NREL 5 MW rotor's 3.8e7 kg·m² (61.5 m blades) scaled by (41 / 61.5)⁵ (mass ∝ L³, inertia
 ∝ m L²): 5.0e6 kg·m².
 
-Jørgensen 2014's 500 kW turbine (``Rotor.jorgensen2014``): 003 names it (500 kW, 41 m
+Jørgensen 2014's 500 kW turbine (``Rotor.jorgensen2014``): the paper names it (500 kW, 41 m
 rotor, stall-regulated, FLEX5 for its aerodynamics) but gives neither its C_p nor its power
 curve. We take R = 41 / 2 = 20.5 m, the fixed speed 27.1 rpm of 41 m, 500 kW stall rotors, and
 an ASSUMED power curve typical of such machines (``JORGENSEN2014_POWER_CURVE``: C_p,max 0.36 near
 8 m/s, 500 kW reached at 16 m/s, a stall plateau to 19 m/s, falling to 440 kW at 25 m/s), turned
 into a C_p(λ) table at 27.1 rpm (C_p = P / (½ ρ π R² v³), λ = ω R / v): a rotor held at that
 speed by its generator gives that power curve in steady wind. It is not a fitted or measured
-curve; the damage it gives is the trend, not 003's numbers (docs/fatigue.md). Inertia: the NREL
-5 MW rotor's 3.8e7 kg·m² scaled by (20.5 / 63)⁵ (as for 000's rotor): 1.4e5 kg·m².
+curve; the damage it gives is the trend, not Jørgensen 2014's numbers (docs/fatigue.md).
+Inertia: the NREL 5 MW rotor's 3.8e7 kg·m² scaled by (20.5 / 63)⁵ (as for 000's rotor):
+1.4e5 kg·m².
 
 The rotor's non-torque loads (Keller et al. 2018 found them to change planet-bearing loads by up
 to 46 %): with a ``RotorHub`` the rotor also loads the body it sits on (the main shaft) at the
@@ -71,11 +72,11 @@ SALEH2017_RATED = {"torque": 1e6, "speed": rpm_to_rad_s(14.2), "wind": 10.0}
 SALEH2017_INERTIA = round(3.8e7 * (41.0 / 61.5) ** 5, -5)
 
 
-#: 003's rotor radius [m] (41 m diameter) and its fixed speed [rad/s] (module docstring).
+#: Jørgensen 2014's rotor radius [m] (41 m diameter) and its fixed speed [rad/s] (module docstring).
 JORGENSEN2014_RADIUS = 41.0 / 2
 JORGENSEN2014_SPEED = rpm_to_rad_s(27.1)
 #: Assumed power curve of a 500 kW, 41 m stall-regulated rotor at 27.1 rpm: wind speed [m/s],
-#: aerodynamic power [kW] (module docstring; not from 003, which gives none).
+#: aerodynamic power [kW] (module docstring; not from Jørgensen 2014, which gives none).
 JORGENSEN2014_POWER_CURVE = (
     (4.0, 8.0), (5.0, 30.0), (6.0, 60.0), (7.0, 100.0), (8.0, 150.0), (9.0, 205.0),
     (10.0, 265.0), (11.0, 325.0), (12.0, 380.0), (13.0, 425.0), (14.0, 460.0), (15.0, 485.0),

@@ -5,7 +5,7 @@ The run keys of any scenario (``pinwind.runs.scenario``: model, dt, rotor, gener
 
     [fatigue]
     out = "dtu500_fatigue"              # folder of the case logs (relative to the file)
-    duration = 30.0                     # simulated seconds per case [s]
+    duration = 30.0                     # simulated seconds per case [s] (required)
     skip_start = 2.0                    # start-up left out of the counted history [s]
     sample_rate = 10000.0               # samples per second the histories are read at [Hz]
     seeds = [1]                         # Kaimal seeds: one case per seed
@@ -93,7 +93,7 @@ if TYPE_CHECKING:
 #: The keys of the ``[fatigue]`` table, with what they are.
 FATIGUE_KEYS: dict[str, str] = {
     "out": "folder of the case logs",
-    "duration": "simulated seconds per case [s]",
+    "duration": "simulated seconds per case [s], required",
     "skip_start": "start-up left out of the counted history [s]",
     "sample_rate": "samples per second the stress histories are read at [Hz]",
     "seeds": "Kaimal seeds, one case each",
@@ -131,7 +131,7 @@ ROOT_STRESS_KEYS = ("position_mm", "fraction", "mpa_per_kn")
 #: A rate is a whole number of steps when within this relative distance of one [-].
 _WHOLE = 1e-6
 #: S-N curve presets: Jørgensen 2014 eq. 23 and Table 5 per gear kind (for contact and root, as
-#: 003 applies it), or ISO 6336-2 and -3's life-factor curves of each gear's material.
+#: Jørgensen 2014 applies it), or ISO 6336-2 and -3's life-factor curves of each gear's material.
 SN_PRESETS = ("jorgensen2014", "iso6336", "iso6336_pitting_permitted")
 
 
@@ -146,7 +146,8 @@ def load_fatigue_set(path: str | Path, *, quick: bool = False) -> FatigueSet:
     Raises:
         ScenarioError: anything wrong, naming the file, the key and its line: a missing model
             or OpenFAST file, a bin without hours, an S-N curve with m ≤ 0 or a negative
-            endurance limit, a turbulence intensity ≤ 0, an unknown key, ...
+            endurance limit, a turbulence intensity ≤ 0, an unknown key, a [fatigue] table
+            without duration, ...
     """
     path = Path(path)
     text, values = read_toml(path)
@@ -177,6 +178,7 @@ class _SetReader:
             )
         settings = toml_keys(table)
         check_keys(("fatigue",), settings, FATIGUE_KEYS, self.fail)
+        self.require_duration(settings)  # in [fatigue] itself, also when --quick changes it
         quick = settings.pop("quick", None)
         if quick is not None and not isinstance(quick, Mapping):
             raise self.fail(("fatigue", "quick"), "must be a table of [fatigue] keys")
@@ -202,7 +204,7 @@ class _SetReader:
         site = self.site(settings.get("site"))
         levels = self.levels(settings.get("turbulence", 0.1), site)
         seeds = self.seeds(settings.get("seeds", [1]))
-        duration = self.number(("fatigue", "duration"), settings.get("duration", 30.0), 0.0)
+        duration = self.number(("fatigue", "duration"), settings["duration"], 0.0)
         skip = self.number(("fatigue", "skip_start"), settings.get("skip_start", 0.0), None)
         if not 0.0 <= skip < duration:
             raise self.fail(
@@ -288,6 +290,20 @@ class _SetReader:
                 text=self.text,
             )
         return fatigue
+
+    def require_duration(self, settings: Mapping[str, Any]) -> None:
+        """Refuse a ``[fatigue]`` table without ``duration`` [s]: there is no default.
+
+        A set without it used to run 30 s per case without a word: a length the user never
+        chose, which sets both the run time and how well a case samples its bin's wind.
+        """
+        if "duration" not in settings:
+            raise self.fail(
+                ("fatigue", "duration"),
+                "missing: give the simulated seconds per case in the [fatigue] table, e.g. "
+                "duration = 30.0 (Jørgensen 2014's length; each case stands for its wind bin's "
+                "hours, so a longer case samples the bin's wind better and takes longer)",
+            )
 
     def check_sample_rate(self, rate: float, dt: float) -> None:
         """Refuse a ``sample_rate`` [Hz] above the step rate 1/dt or not a whole number of steps.

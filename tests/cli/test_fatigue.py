@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -36,6 +37,7 @@ def fatigue_exit(args: list[str], monkeypatch, capsys) -> tuple[int, str]:
         ("m = 3.0", "m = 0.0", "slope exponent m is 0.0 but must be finite and positive"),
         ("endurance_limit_mpa = 0.0", "endurance_limit_mpa = -5.0", "endurance limit [Pa] is -5"),
         ("turbulence = 0.1", "turbulence = 0.0", "must be finite and positive"),
+        ("duration = 0.04\n", "", "fatigue.duration: missing: give the simulated seconds per case"),
         (
             "[fatigue.site]",
             '[fatigue.openfast]\nfiles = "of/v{speed:g}.outb"\njoint = "carrier"\n[fatigue.site]',
@@ -390,3 +392,162 @@ def test_a_worker_ignores_ctrl_c_and_is_killed_with_its_parent():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["True", str(int(signal.SIGKILL))]
+
+
+# --- what the output says (issue 39 part 7) ------------------------------------------------------
+
+#: "003" as a word: the paper's file number, which users do not know (not "0.003" or "2003").
+FILE_NUMBER = re.compile(r"(?<![\w.])003(?![\w])")
+
+
+def _quick_text_and_json(tmp_path: Path, extra: str = "") -> tuple[str, dict[str, Any]]:
+    """The text and the JSON of one 2-case quick set (the JSON's run reuses the text's cases)."""
+    path = fatigue_toml(tmp_path, fatigue=extra)
+    path.write_text(path.read_text() + "[fatigue.quick]\nduration = 0.03\n")
+    text = run("fatigue", str(path), "--quick", "--workers", "1", cwd=tmp_path)
+    assert text.returncode == 0, text.stderr
+    report = run("fatigue", str(path), "--quick", "--json", "--workers", "1", cwd=tmp_path)
+    assert report.returncode == 0, report.stderr
+    return text.stdout, json.loads(report.stdout)
+
+
+def test_the_tables_keep_their_units_name_the_paper_and_say_which_variant_to_believe(tmp_path):
+    """The titles kept "[m/s]" from rich's markup; the paper is "Jørgensen 2014", never its file
+    number; one line per S-N variant, the no-limit one with its factor over Table 8."""
+    out, report = _quick_text_and_json(tmp_path)
+    words = " ".join(out.split())  # a title longer than the 80 columns of a pipe wraps
+    assert "Contact damage per wind bin [m/s] at turbulence 10%" in words
+    assert "Jørgensen 2014 Table 7 shape" in words and "Jørgensen 2014 Table 8 shape" in words
+    assert FILE_NUMBER.search(out) is None, FILE_NUMBER.search(out)
+    notes = out[out.index("Which S-N variant to believe") :].splitlines()[:4]
+    assert 'docs/fatigue.md, "What differs from Jørgensen 2014, and why"' in notes[0]
+    assert notes[1].strip().startswith("iso 6336: ") and "design basis" in notes[1]
+    # The set's curve has no endurance limit (endurance_limit_mpa = 0): its damage is not 0,
+    # so the line must not say it is.
+    assert notes[2].strip().startswith("limit: Jørgensen 2014's Table 5 method")
+    assert "0 here" not in notes[2]
+    # Jørgensen 2014 Table 8 gives the sun 0.69 at 10 % turbulence (the set's one level).
+    sun = report["damage"]["no limit"][0]["sun"]["total"]
+    assert notes[3].strip().startswith("no limit: the same line without the limit, an upper bound")
+    factor = float(re.search(r"is (\d+)x Jørgensen 2014's Table 8 \(0\.69\)", notes[3]).group(1))
+    assert factor == round(sun / 0.69)
+    assert report["variant_notes"] == [line.strip() for line in notes]
+
+
+def test_limit_damage_below_every_endurance_limit_is_said_to_be_zero_and_why(tmp_path):
+    """An endurance limit of 5000 MPa, above any stress of the stage (its largest contact and
+    root stresses are below 1000 MPa, checked here): every cycle is below it, the damage 0."""
+    path = fatigue_toml(tmp_path)
+    path.write_text(
+        path.read_text().replace("endurance_limit_mpa = 0.0", "endurance_limit_mpa = 5000.0")
+        + "[fatigue.quick]\nduration = 0.03\n"
+    )
+    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1", cwd=tmp_path)
+    report = json.loads(out.stdout)
+    for table in ("damage", "root_damage"):
+        for gear in report[table]["limit"][0].values():
+            assert gear["peak_stress_MPa"] < 1000.0
+            assert gear["total"] == 0.0
+    assert report["variant_notes"][2].endswith(
+        "; 0 here because every stress range is below its endurance limit"
+    )
+
+
+def test_a_fixed_rings_speed_prints_as_0_rpm_not_its_round_off(tmp_path):
+    """The ring's joint is fixed (models/dtu500_planetary.urdf): its mean speed is 0 but came
+    out as 1e-13 rpm from the subtraction of the body speeds, and printed "7e-13"."""
+    from pinwind.model.gearbox import load
+    from tests.conftest import FATIGUE_MODEL
+
+    assert load(FATIGUE_MODEL).source.joints["ring"]["type"] == "fixed"
+    out, report = _quick_text_and_json(tmp_path)
+    (lives,) = report["bearings"]
+    ring = next(life for life in lives if life["bearing"] == "ring")
+    assert abs(ring["mean_speed_rpm"]) < 1e-9  # round-off, as the JSON keeps it
+    row = next(line for line in out.splitlines() if line.startswith("ring ") and "rated" in line)
+    assert row.split()[-1] == "0", row
+
+
+@pytest.mark.parametrize(
+    ("rpm", "printed"),
+    [(6.9e-13, "0"), (-3e-13, "0"), (0.0, "0"), (26.9128, "26.9"), (149.4, "149"), (1e-3, "0.001")],
+)
+def test_a_speed_is_0_only_when_it_is_round_off_beside_the_fastest(rpm, printed):
+    from pinwind.cli.fatigue import speed_cell
+
+    # beside a sun at 149.37 rpm, double precision leaves ~1e-14 rpm; 0.001 rpm is a speed
+    assert speed_cell(rpm, 149.4) == printed
+
+
+def test_a_quick_sets_figures_say_so_and_carry_a_caption(tmp_path):
+    """Each PNG keeps its caption and title (its Description and Title): the title marks the
+    quick set, 2 cases (2 bins x 1 level x 1 seed) of [fatigue.quick]'s 0.03 s."""
+    from PIL import Image
+
+    path = fatigue_toml(tmp_path)
+    path.write_text(path.read_text() + "[fatigue.quick]\nduration = 0.03\n")
+    out = run("fatigue", str(path), "--quick", "--workers", "1", "--figures", "figs", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    for name in ("damage_vs_turbulence.png", "range_cycles.png", "load_spectra.png"):
+        with Image.open(tmp_path / "figs" / name) as image:
+            text = dict(image.text)
+        assert text["Title"] == "quick set (2 cases x 0.03 s): a first look", name
+        caption = text["Description"]
+        assert "Set: set.toml, 2 cases x 0.03 s (counted from 0 s)" in caption, name
+        assert FILE_NUMBER.search(caption) is None, caption
+    with Image.open(tmp_path / "figs" / "damage_vs_turbulence.png") as image:
+        caption = image.text["Description"]
+    assert "levels 10%" in caption and "Dashed: Jørgensen 2014 Table 8" in caption
+
+
+def _fake_run(total: int):
+    """A ``run_cases`` that runs nothing: every one of ``total`` cases is said to be done."""
+    from pinwind.runs.case_runner import FatigueRun
+
+    def run_cases(fatigue, *, workers=None, scheduler=None, progress=None):
+        if progress:
+            progress(total, total)
+        return FatigueRun([], total, "serial", 0.0)
+
+    return run_cases
+
+
+def _ctrl_c(*args, **kwargs):
+    raise KeyboardInterrupt
+
+
+@pytest.mark.parametrize(
+    ("patched", "said"),
+    [
+        (
+            "pinwind.runs.fatigue_set_file.load_fatigue_set",
+            "interrupted while reading the set, before any case started: the same command "
+            "starts it (cases kept from an earlier run are reused)",
+        ),
+        (
+            "pinwind.runs.case_runner.case_done",
+            "interrupted while checking which of the set's 2 cases kept in {out} are finished, "
+            "before any case started: the same command checks them again and computes the rest",
+        ),
+        (
+            "pinwind.life.set_damage.set_damage",
+            "interrupted after the cases, while rating them: all 2 cases of the set are finished "
+            "and kept in {out}; the same command reuses them and prints the results",
+        ),
+    ],
+    ids=["reading", "checking", "rating"],
+)
+def test_ctrl_c_at_any_step_prints_what_is_kept_and_exits_130(
+    tmp_path, monkeypatch, capsys, patched, said
+):
+    """Typer turned a Ctrl-C outside the cases into exit 130 without a word. The set has 2
+    cases (2 bins x 1 level x 1 seed); Ctrl-C is raised where the command reads the set,
+    checks the kept cases, or rates the finished ones."""
+    module, name = patched.rsplit(".", 1)
+    if name == "set_damage":
+        monkeypatch.setattr("pinwind.runs.case_runner.run_cases", _fake_run(2))
+    monkeypatch.setattr(f"{module}.{name}", _ctrl_c)
+    path = fatigue_toml(tmp_path)
+    code, err = fatigue_exit([str(path), "--workers", "1"], monkeypatch, capsys)
+    assert code == 130
+    assert err == said.format(out=tmp_path / "cases") + "\n"

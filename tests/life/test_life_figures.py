@@ -35,3 +35,46 @@ def test_damage_axis_draws_the_smallest_nonzero_damage_on_its_log_part():
     assert damage_axis_threshold(values) == pytest.approx(1e-44, rel=1e-12)
     assert damage_axis_threshold(np.array([0.0, 0.5])) == 1e-3
     assert damage_axis_threshold(np.zeros(3)) == 1e-3
+
+
+def test_each_figure_draws_its_caption_under_the_axes_and_the_quick_mark_above(
+    tmp_path, monkeypatch
+):
+    """The caption is drawn text (and the PNG's Description), the mark the figure's title; the
+    paper is named "Jørgensen 2014" in the legend, not by its file number."""
+    import re
+
+    import matplotlib.figure
+    from PIL import Image
+
+    from pinwind.life.life_figures import plot_damage_vs_turbulence, plot_range_cycles
+
+    drawn: list[tuple[list[str], str, list[str]]] = []
+    real = matplotlib.figure.Figure.savefig
+
+    def seen(fig, fname, *args, **kwargs):
+        legends = [t.get_text() for ax in fig.axes if ax.get_legend() for t in
+                   ax.get_legend().get_texts()]  # fmt: skip
+        suptitle = fig._suptitle.get_text() if fig._suptitle is not None else ""
+        drawn.append(([t.get_text() for t in fig.texts], suptitle, legends))
+        return real(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", seen)
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    low, high = fset.cases()
+    write_cycles(fset, low, [4], [500], [1.0], 2.0)
+    write_cycles(fset, high, [4], [600], [1.0], 2.0)
+    damage = set_damage(fset)
+    about, mark = "Set: set.toml, 2 cases x 0.04 s", "quick set (2 cases x 0.04 s): a first look"
+    turbulence = plot_damage_vs_turbulence(damage, tmp_path / "t.png", about=about, mark=mark)
+    plot_range_cycles(damage, tmp_path / "r.png")  # no mark: the whole set's figure
+    (texts, suptitle, legends), (plain_texts, plain_suptitle, _) = drawn
+    (caption,) = [t for t in texts if t != suptitle and t]
+    assert suptitle == mark
+    assert caption.endswith("\n" + about)
+    assert "levels 10%" in caption and "Dashed: Jørgensen 2014 Table 8" in caption
+    assert "sun (Jørgensen 2014 Table 8)" in legends
+    assert not any(re.search(r"(?<![\w.])003(?!\w)", t) for t in [caption, *legends])
+    with Image.open(turbulence) as image:
+        assert image.text["Description"] == caption and image.text["Title"] == mark
+    assert plain_suptitle == "" and len([t for t in plain_texts if t]) == 1

@@ -70,8 +70,8 @@ def test_two_level_history_adds_the_damage_of_each_level():
 
 
 def test_table_4_points_give_the_curve_of_eq_23():
-    """003 Table 4: 3·10⁴ cycles at 1400 MPa and 10⁶ at 500 MPa; eq. 23 prints s0 = 28.9 GPa
-    and m = 3.4, both rounded, so they must agree to the printed digits."""
+    """Jørgensen 2014 Table 4: 3·10⁴ cycles at 1400 MPa and 10⁶ at 500 MPa; eq. 23 prints
+    s0 = 28.9 GPa and m = 3.4, both rounded, so they must agree to the printed digits."""
     curve = SNCurve.through_points(cycles_1=3e4, stress_1=1400e6, cycles_2=1e6, stress_2=500e6)
     np.testing.assert_allclose(curve.slope_exponent, 3.4, rtol=0, atol=0.01)
     np.testing.assert_allclose(curve.reference_stress, 28.9e9, rtol=0, atol=0.05e9)

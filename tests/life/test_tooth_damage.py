@@ -199,8 +199,9 @@ def test_gear_without_a_mesh_raises():
 
 @pytest.fixture(scope="module")
 def dtu_run():
-    """The DTU stage (sun 20, planets 35, ring 91; 003) with rigid meshes, carrier driven at
-    2 rad/s against a sun torque: each planet turns 91/35 · 2 = 5.2 rad/s on the carrier."""
+    """The DTU stage (sun 20, planets 35, ring 91; Jørgensen 2014) with rigid meshes, carrier
+    driven at 2 rad/s against a sun torque: each planet turns 91/35 · 2 = 5.2 rad/s on the
+    carrier."""
     gearbox = pinwind.load(MODELS / "dtu500_planetary.urdf")
     result = pinwind.simulate(
         gearbox, duration=1.5, dt=1e-4, speeds={"carrier": 2.0}, torques={"sun": -2000.0}

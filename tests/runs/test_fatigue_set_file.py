@@ -179,3 +179,23 @@ def test_a_sample_rate_that_divides_the_step_rate_is_read_at_that_rate(tmp_path)
     keep = fset.case_values(fset.cases()[0])["keep"]
     assert keep == 20
     assert_allclose(1.0 / (keep * fset.dt), 2500.0, rtol=1e-12)
+
+
+@pytest.mark.parametrize("quick", [False, True], ids=["set", "quick"])
+def test_a_set_without_duration_is_refused_naming_the_key_and_the_fix(tmp_path, quick):
+    """It used to run 30 s per case without a word (issue 39). A duration in [fatigue.quick]
+    alone does not count: the set itself must say how long its cases are."""
+    path = fatigue_toml(tmp_path)
+    text = path.read_text()
+    assert "duration = 0.04\n" in text
+    text = text.replace("duration = 0.04\n", "") + "[fatigue.quick]\nduration = 0.02\n"
+    path.write_text(text)
+    with pytest.raises(ScenarioError) as caught:
+        load_fatigue_set(path, quick=quick)
+    error = caught.value
+    assert error.key == "fatigue.duration"
+    assert error.path == str(path)
+    # The line is the [fatigue] table's, the nearest parent of the missing key.
+    assert error.line == [line.strip() for line in text.splitlines()].index("[fatigue]") + 1
+    assert "missing: give the simulated seconds per case in the [fatigue] table" in str(error)
+    assert "e.g. duration = 30.0" in str(error)
