@@ -42,6 +42,9 @@ The run keys of any scenario (``pinwind.runs.scenario``: model, dt, rotor, gener
     channel = "RotTorq"
     scale = 1000.0
 
+    gears = ["sun", "planet1"]          # the gears whose teeth are rated (default: all
+                                        # meshed gears; the tooth stresses take spur pairs)
+
     [fatigue.quick]                     # what --quick changes (any [fatigue] key, and dt)
     duration = 1.5
 
@@ -64,6 +67,7 @@ from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import DEFAULT_MATERIAL, MATERIALS
 from pinwind.io.folders import folder_problem
 from pinwind.known_names import check_keys, toml_keys
+from pinwind.life.bearing_life import row_ratings
 from pinwind.life.fatigue_set import (
     FatigueSet,
     OpenFastInput,
@@ -107,6 +111,7 @@ FATIGUE_KEYS: dict[str, str] = {
     "materials": "gear materials (pinwind.gears.materials), one or per gear or kind",
     "root_stress": "root stress tables per gear or kind (default: ISO 6336-3 method B)",
     "openfast": "one OpenFAST output per case instead of rotor and wind",
+    "gears": "the gears whose teeth are rated (default: every meshed gear)",
     "quick": "what --quick changes",
 }
 #: The keys of ``[fatigue.quick]``: the scenario's ``dt`` and any ``[fatigue]`` key.
@@ -135,13 +140,18 @@ _WHOLE = 1e-6
 SN_PRESETS = ("jorgensen2014", "iso6336", "iso6336_pitting_permitted")
 
 
-def load_fatigue_set(path: str | Path, *, quick: bool = False) -> FatigueSet:
+def load_fatigue_set(
+    path: str | Path, *, quick: bool = False, fatigue: Mapping[str, Any] | None = None
+) -> FatigueSet:
     """Read and check a fatigue set from a scenario file (module docstring).
 
     Args:
         path: the TOML file.
         quick: apply its ``[fatigue.quick]`` table (a short version), and write the cases into
             the output folder with ``_quick`` appended.
+        fatigue: a ``[fatigue]`` table to use instead of the file's, as read from TOML (a plain
+            scenario file, which ``pinwind run`` runs, then makes a set: the run keys stay in
+            one file). Its keys' messages name the file, without a line.
 
     Raises:
         ScenarioError: anything wrong, naming the file, the key and its line: a missing model
@@ -151,6 +161,8 @@ def load_fatigue_set(path: str | Path, *, quick: bool = False) -> FatigueSet:
     """
     path = Path(path)
     text, values = read_toml(path)
+    if fatigue is not None:
+        values = {**values, "fatigue": dict(fatigue)}
     return _SetReader(path, text, values, quick).fatigue_set()
 
 
@@ -199,6 +211,8 @@ class _SetReader:
                     settings[key] = value
         gearbox = self.gearbox()
         gears = tuple(dict.fromkeys(g.name for m in gearbox.meshes for g in (m.gear_a, m.gear_b)))
+        if "gears" in settings:
+            gears = self.rated_gears(settings["gears"], gears)
         self.gear_names = gears
         self.roles = gear_roles(gearbox_planetary_gears(gearbox))
         site = self.site(settings.get("site"))
@@ -273,7 +287,7 @@ class _SetReader:
             iso_root_curves=curves.iso_root,
             materials=materials,
             root_stress=self.root_stress(settings.get("root_stress", {}), gears),
-            bearings=dict(gearbox.source.bearings),
+            bearings={**gearbox.source.bearings, **row_ratings(gearbox)},
             roles=self.roles,
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
@@ -304,6 +318,19 @@ class _SetReader:
                 "duration = 30.0 (Jørgensen 2014's length; each case stands for its wind bin's "
                 "hours, so a longer case samples the bin's wind better and takes longer)",
             )
+
+    def rated_gears(self, given: Any, meshed: tuple[str, ...]) -> tuple[str, ...]:
+        """The gears named in ``gears``, in the model's order: meshed gears, at least one."""
+        key = ("fatigue", "gears")
+        if not isinstance(given, list) or not given or not all(isinstance(g, str) for g in given):
+            raise self.fail(key, f"is {given!r}; give a list of gear names: {', '.join(meshed)}")
+        unknown = [g for g in given if g not in meshed]
+        if unknown:
+            raise self.fail(
+                key, f"{', '.join(unknown)}: no meshed gear of that name; gears are: "
+                + ", ".join(meshed),
+            )  # fmt: skip
+        return tuple(g for g in meshed if g in given)
 
     def check_sample_rate(self, rate: float, dt: float) -> None:
         """Refuse a ``sample_rate`` [Hz] above the step rate 1/dt or not a whole number of steps.
