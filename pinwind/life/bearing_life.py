@@ -17,7 +17,11 @@ pinwind gives relative to the parent body: a planet bearing turns at the planet'
 to the carrier. L10h = L10 · 10⁶ / (revolutions per hour of the run).
 
 The type and dynamic load rating of each bearing come from the model file's ``<bearing>``
-elements (docs/model_format.md); a bearing without C is "not rated".
+elements (docs/model_format.md); a bearing without C is "not rated". A shaft's bearing made of
+rows (``<row>``: the rolling bearings of a main shaft or a planet, each with its own type, C and
+load factors; Nejad et al. 2016 Tables VI and IX) is rated row by row (`row_load_sums`): each
+row's radial and axial force (``analysis/bearing_rows.py``, by its springs at its position)
+with the shaft's speed relative to its housing, named ``BEARING/ROW`` (``stage1_planet1/PL-A``).
 """
 
 from __future__ import annotations
@@ -32,7 +36,10 @@ import numpy as np
 
 from pinwind.dynamics.bearing_load import across_axis, along_axis
 from pinwind.errors import InvalidBearingRating
-from pinwind.model.bearing import BearingRating
+from pinwind.model.bearing import BearingRating, bearing_rating
+
+#: Between a shaft's bearing (joint) and a row's name in a row's name: ``stage1_planet1/PL-A``.
+ROW_SEPARATOR = "/"
 
 #: A whole bearing whose tilting moment exceeds this arm [m] times its radial force (at their
 #: largest over the run) is refused a single-bearing life (`tilt_refusal`).
@@ -140,6 +147,17 @@ class BearingLife:
     def rated(self) -> bool:
         """The bearing has a type and a dynamic load rating C."""
         return self.rating is not None and self.rating.rated
+
+    @property
+    def life_consumed(self) -> float:
+        """The fraction of L10 its revolutions use: revolutions / (L10 · 10⁶) [-].
+
+        Palmgren–Miner on revolutions at P_eq, equal to duration / L10h; 1 is the basic rating
+        life reached (10 % of such bearings failed). NaN when not rated.
+        """
+        if not self.rated:
+            return math.nan
+        return self.revolutions / (self.l10 * 1e6) if self.l10 > 0.0 else math.inf
 
     @property
     def mean_speed_rpm(self) -> float:
@@ -356,3 +374,55 @@ def tilt_refusal(radial: np.ndarray, tilting: np.ndarray) -> str | None:
         "cannot rate; give the shaft's bearings as <row>s at their positions in its <bearing> "
         "(docs/bearing_life.md) and rate them with `pinwind life`"
     )
+
+
+def row_name(bearing: str, row: str) -> str:
+    """The name a row of a shaft's bearing is rated under: ``BEARING/ROW``."""
+    return f"{bearing}{ROW_SEPARATOR}{row}"
+
+
+def row_ratings(gearbox: Any) -> dict[str, BearingRating]:
+    """The ISO 281 data of every row of the model's bearings, by `row_name`.
+
+    Each row's type, C and load factors (its own, or its type's) from the model file's
+    ``<row>`` elements (``model/bearing_rows.py``).
+    """
+    out: dict[str, BearingRating] = {}
+    for bearing, rows in gearbox.source.bearing_rows.items():
+        for row in rows:
+            name = row_name(bearing, row.name)
+            e, y1, x2, y2 = row.load_factors or (None, None, None, None)
+            out[name] = bearing_rating(
+                name, row.kind, dynamic_load_rating=row.rating, e=e, y1=y1, x2=x2, y2=y2
+            )
+    return out
+
+
+def row_load_sums(result: Any, gearbox: Any) -> list[BearingLoadSum]:
+    """ISO 281 sums of every row of the model's bearings, in the order of ``row_loads``.
+
+    A row's force is its springs' (radial along u, w and axial, its bearing's joint frame:
+    ``analysis.bearing_rows.row_loads``); its revolutions are its shaft's joint speed (relative
+    to the parent: a planet's rows turn at the planet's speed relative to the carrier).
+
+    Args:
+        result: the run (``Result``: time, coordinates and speeds).
+        gearbox: the model it ran (its bearings' ``<row>`` elements).
+    """
+    from pinwind.analysis.bearing_rows import row_loads
+
+    ratings = row_ratings(gearbox)
+    out = []
+    for row in row_loads(result, gearbox):
+        name = row_name(row.bearing, row.name)
+        out.append(
+            load_sum_of_history(
+                name,
+                ratings[name],
+                time=result.time,
+                force_in_joint=np.column_stack([row.radial, row.axial]),
+                speed=result.speed[:, result.joint_names.index(row.bearing)],
+                axis=np.array([0.0, 0.0, 1.0]),  # the row's force is (u, w, axial)
+            )
+        )
+    return out

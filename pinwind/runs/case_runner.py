@@ -11,18 +11,19 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import math
 import time
 import zipfile
 import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from pinwind.errors import PinwindError
-from pinwind.life.bearing_life import bearing_load_sums
+from pinwind.life.bearing_life import bearing_load_sums, row_load_sums
 from pinwind.life.case_cycles import CaseCycles, case_cycles
 from pinwind.life.fatigue_set import FatigueSet, LoadCase
 from pinwind.life.root_stress import ISO_ROOT_STRESS
@@ -35,27 +36,40 @@ CASE_SERIES = (
     "mesh_single_tooth_force", "bearing_force_local", "bearing_moment_local",
 )  # fmt: skip
 
+if TYPE_CHECKING:
+    from pinwind.dynamics.result import Result
+    from pinwind.model.gearbox import Gearbox
+    from pinwind.runs.scenario import Scenario
+
+
+def case_scenario(case: LoadCase, fatigue: FatigueSet) -> Scenario:
+    """The scenario of one case: the set's run values with the case's wind, its meshes."""
+    from pinwind.model.compliance import MeshCompliance
+
+    scenario = build(fatigue.case_values(case), source=fatigue.source, base=fatigue.base)
+    if fatigue.mesh_stiffness is not None or fatigue.mesh_damping is not None:
+        compliance = MeshCompliance(stiffness=fatigue.mesh_stiffness, damping=fatigue.mesh_damping)
+        meshes: dict[str, Any] = {"all": compliance}
+        scenario = dataclasses.replace(scenario, meshes=meshes)
+    return scenario
+
 
 def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     """Simulate one case with its log and reduce it (a worker's task).
 
-    The reduction is its tooth cycles and its bearings' load sums, both from ``skip_start`` on.
+    The reduction is its tooth cycles and its bearings' (and their rows') load sums, both from
+    ``skip_start`` on (`reduce_case`).
 
     Runs in this process, a local worker or a Dask worker (whose output folder must be the
     one the caller reads: a shared file system).
     """
     import warnings
 
-    from pinwind.model.compliance import MeshCompliance
     from pinwind.model.gearbox import load
     from pinwind.runs.scenario import run
 
     start, cpu, own = time.perf_counter(), time.process_time(), time.thread_time()
-    scenario = build(fatigue.case_values(case), source=fatigue.source, base=fatigue.base)
-    if fatigue.mesh_stiffness is not None or fatigue.mesh_damping is not None:
-        compliance = MeshCompliance(stiffness=fatigue.mesh_stiffness, damping=fatigue.mesh_damping)
-        meshes: dict[str, Any] = {"all": compliance}
-        scenario = dataclasses.replace(scenario, meshes=meshes)
+    scenario = case_scenario(case, fatigue)
     gearbox = load(scenario.model_path())
     fatigue.out.mkdir(parents=True, exist_ok=True)
     with warnings.catch_warnings():
@@ -70,6 +84,34 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
             statistics=False,
             keep_series=CASE_SERIES,
         )
+    reduced = reduce_case(case, fatigue, result, gearbox)
+    return dataclasses.replace(
+        reduced,
+        wall_time=time.perf_counter() - start,
+        cpu_time=time.process_time() - cpu,
+        thread_time=time.thread_time() - own,
+    )
+
+
+def reduce_case(
+    case: LoadCase,
+    fatigue: FatigueSet,
+    result: Result,
+    gearbox: Gearbox,
+    *,
+    wall_time: float = math.nan,
+    cpu_time: float = math.nan,
+    thread_time: float = math.nan,
+) -> CaseCycles:
+    """A case's run reduced: tooth cycles (contact and root), bearing and row load sums.
+
+    Counted from ``skip_start`` on. The case's log must be written (its SHA-256 is kept).
+
+    Args:
+        result: the run of `case_scenario` (its kept samples at the set's sample rate).
+        gearbox: the model it ran.
+        wall_time, cpu_time, thread_time: what the run and the reduction cost [s].
+    """
     first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
     counted = result.rows(first, len(result))
     flanks = case_cycles(counted, gearbox, fatigue.gears, materials=fatigue.materials)
@@ -80,18 +122,18 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
         materials=fatigue.materials,
         root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
     )
-    bearings = bearing_load_sums(counted, gearbox)
+    bearings = bearing_load_sums(counted, gearbox) + row_load_sums(counted, gearbox)
     log_sha256 = file_sha256(fatigue.log_path(case))
     return CaseCycles(
         case,
         fatigue.case_key(case),
         fatigue.counted_seconds,
-        time.perf_counter() - start,
+        wall_time,
         tuple(flanks),
         tuple(roots),
         tuple(bearings),
-        time.process_time() - cpu,
-        time.thread_time() - own,
+        cpu_time,
+        thread_time,
         log_sha256,
     )
 
