@@ -14,6 +14,8 @@ from typing import Any
 import numpy as np
 
 from pinwind.io.figure_layout import caption_below
+
+from pinwind.life.damage_ranking import RankedItem
 from pinwind.life.load_spectrum import LoadSpectrum
 from pinwind.life.set_damage import (
     JORGENSEN_2014_TABLE_8,
@@ -176,6 +178,42 @@ def plot_load_spectra(
 def _with_set(caption: str, about: str) -> str:
     """A figure's caption, and the set it comes from on its own line."""
     return f"{caption}\n{about}" if about else caption
+
+def plot_damage_ranking(items: list[RankedItem], path: Path, *, title: str) -> Path:
+    """The ranked gears and bearings as horizontal bars on a log scale, the most damaged on top.
+
+    Like Nejad et al. 2016's vulnerability map: one bar per gear flank, gear root and bearing
+    (`pinwind.life.damage_ranking`), coloured by kind; items without damage (0 or NaN) are
+    listed on the axis without a bar. A line marks 1 (the life used up).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    colours = {"flank": "tab:blue", "root": "tab:orange", "bearing": "tab:green"}
+    shown = [i for i in items if np.isfinite(i.damage) and i.damage > 0.0]
+    floor = min((i.damage for i in shown), default=1e-12) / 10.0
+    fig, ax = plt.subplots(figsize=(9.0, 1.2 + 0.22 * len(items)), layout="constrained")
+    y = np.arange(len(items))[::-1]
+    for item, row in zip(items, y, strict=True):
+        if item in shown:
+            ax.barh(row, item.damage - floor, left=floor, color=colours[item.kind])
+    ax.set_yticks(y, [f"{i.name} ({i.kind})" for i in items], fontsize=7)
+    ax.set_xscale("log")
+    ax.set_xlim(left=floor)
+    ax.axvline(1.0, color="k", lw=0.8)
+    for kind, colour in colours.items():
+        ax.barh([], [], color=colour, label=kind)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.set_xlabel("damage over the design life [-] (bearings: revolutions / L10)")
+    ax.set_title(title, fontsize=9)
+    ax.grid(axis="x", alpha=0.3)
+    return _save(fig, path)
+
+
+def _save(fig: Any, path: Path) -> Path:
+    """Writes a figure at 120 dpi, making its folder, and closes it.
 
 
 def _save(fig: Any, path: Path, *, caption: str, mark: str = "") -> Path:
