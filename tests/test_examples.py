@@ -259,3 +259,70 @@ def test_the_users_test_file_checks_the_saleh_stage_and_passes(tmp_path):
     )  # fmt: skip
     assert out.returncode == 0, out.stdout + out.stderr
     assert "5 passed" in out.stdout
+
+
+def test_nrel5mw_drivetrain_main_bearings_hold_thrust_and_weight_and_ranks_by_hand(tmp_path):
+    """The 5 MW example on 0.1 s: its hub load by hand, its damage linear in the hours."""
+    import dataclasses
+
+    from pinwind.analysis.bearing_rows import row_loads
+    from pinwind.life.set_bearing_life import set_bearing_lives
+    from pinwind.life.set_damage import set_damage
+    from pinwind.life.site import site_from_hours
+    from pinwind.loads.wind import kaimal_series
+
+    out = _load("nrel5mw_drivetrain").main(
+        ["--duration", "0.1", "--out", str(tmp_path), "--no-progress"]
+    )
+    res, gearbox, fset = out["result"], out["gearbox"], out["fatigue"]
+    # The rotor's load on the main shaft by hand (Jonkman et al. 2009 Table 1-1: 110 t, 5° tilt,
+    # R = 63 m; thrust ½ ρ π R² C_t V (2 v − V), C_t = 0.8, V = 10 m/s, v the disc-averaged
+    # Kaimal wind of seed 1): the main shaft's rows hold its axial part (the stage is spur, the
+    # model's gravity across the shaft), starting static.
+    _, wind = kaimal_series(mean=10.0, turbulence_intensity=0.1, duration=600.0, seed=1,
+                            sample_time=0.05, hub_height=90.0, rotor_radius=63.0)  # fmt: skip
+    v = np.interp(res.time, np.arange(len(wind)) * 0.05, wind)
+    area = math.pi * 63.0**2
+    along = 110e3 * 9.81 * math.sin(math.radians(5)) + 0.5 * 1.225 * area * 0.8 * 10 * (2 * v - 10)
+    axial = sum(row.axial for row in row_loads(res, gearbox) if row.bearing == "lss")
+    assert_allclose(-axial[0], along[0], rtol=1e-6)
+    assert_allclose(-axial, along, rtol=1e-2)
+    # The ranking: every planetary gear's flank and root and the 24 rated rows, most damaged
+    # first, and a figure of it.
+    ranking = out["ranking"]
+    assert len(ranking) == 2 * 10 + 24
+    damages = [item.damage for item in ranking]
+    assert damages == sorted(damages, reverse=True) and damages[-1] > 0.0
+    assert out["figure"].stat().st_size > 20_000
+    # Miner and ISO 281 are linear in the hours a history stands for: the same cycles over
+    # twice the hours give twice every damage and life consumption.
+    twice = dataclasses.replace(
+        fset, site=site_from_hours(speeds=fset.site.speeds, hours=2 * fset.site.hours)
+    )
+    for variant in ("no limit", "iso 6336"):
+        for table in ("damage", "root_damage"):
+            one = getattr(out["damage"], table)[variant][0]
+            two = getattr(set_damage(twice), table)[variant][0]
+            for gear in one:
+                assert_allclose(two[gear].total, 2 * one[gear].total, rtol=1e-12)
+    lives = {life.joint: life for life in set_bearing_lives(twice)[0] if life.rated}
+    for life in out["lives"][0]:
+        if life.rated:
+            assert_allclose(lives[life.joint].life_consumed, 2 * life.life_consumed, rtol=1e-12)
+    # One row by ISO 281 from its forces: INP-B (spherical roller, e 0.28, Y1 2.4, X2 0.67,
+    # Y2 3.6, C 16 518 kN; Nejad et al. 2016 Table VI) over the counted samples, standing for
+    # the bin's hours.
+    counted = res.time >= fset.skip_start - 1e-12
+    row = next(r for r in row_loads(res, gearbox) if r.name == "INP-B")
+    f_r, f_a = row.radial_magnitude[counted], np.abs(row.axial[counted])
+    load = np.where(f_a <= 0.28 * f_r, f_r + 2.4 * f_a, 0.67 * f_r + 3.6 * f_a)
+    t = res.time[counted]
+    turns = np.abs(res.joint("lss").speed[counted]) / (2 * math.pi)
+    step_turns = np.diff(t) * (turns[1:] + turns[:-1]) / 2  # trapezoid per interval
+    step_load = (load[1:] ** (10 / 3) + load[:-1] ** (10 / 3)) / 2
+    p_eq = (np.sum(step_turns * step_load) / np.sum(step_turns)) ** 0.3
+    hours = float(fset.site.hours[0])
+    revolutions = np.sum(step_turns) * hours * 3600.0 / (t[-1] - t[0])
+    expected = revolutions * (p_eq / 16518e3) ** (10 / 3) / 1e6
+    life = next(life for life in out["lives"][0] if life.joint == "lss/INP-B")
+    assert_allclose(life.life_consumed, expected, rtol=1e-3)

@@ -207,3 +207,14 @@ def test_catalogue_factors_in_the_model_file_replace_the_type_defaults():
     np.testing.assert_allclose([rating.dynamic_load_rating, rating.e, rating.x2, rating.y2],
                                [10e3, 0.3, 0.4, 2.0], rtol=1e-12)  # fmt: skip
     np.testing.assert_allclose(rating.exponent, 10.0 / 3.0, rtol=1e-12)
+
+
+def test_life_consumed_under_a_constant_load_is_the_time_over_l10h():
+    # ISO 281 by hand: C 1000 kN, P 100 kN, roller p = 10/3, 10 rpm for 3 h.
+    rating = bearing_rating("shaft", "cylindrical_roller", dynamic_load_rating=1000e3)
+    time, force, speed = _constant((100e3, 0.0, 0.0), 10.0, duration=3 * 3600.0)
+    life = life_of_history("shaft", rating, time=time, force_in_joint=force, speed=speed,
+                           axis=np.array([0.0, 0.0, 1.0]))  # fmt: skip
+    l10h = 10.0 ** (10.0 / 3.0) * 1e6 / (10.0 * 60.0)  # 3.59e6 h
+    np.testing.assert_allclose(life.life_consumed, 3.0 / l10h, rtol=1e-9)
+    np.testing.assert_allclose(life.life_consumed, 3.0 / life.l10h, rtol=1e-12)

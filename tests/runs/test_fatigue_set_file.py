@@ -199,3 +199,17 @@ def test_a_set_without_duration_is_refused_naming_the_key_and_the_fix(tmp_path, 
     assert error.line == [line.strip() for line in text.splitlines()].index("[fatigue]") + 1
     assert "missing: give the simulated seconds per case in the [fatigue] table" in str(error)
     assert "e.g. duration = 30.0" in str(error)
+
+def test_gears_rates_the_named_gears_only_and_refuses_an_unknown_one(tmp_path):
+    path = fatigue_toml(tmp_path)
+    rated = load_fatigue_set(path, fatigue=_fatigue_table(path, gears=["sun", "planet2"]))
+    assert rated.gears == ("sun", "planet2")
+    with pytest.raises(ScenarioError, match=r"fatigue\.gears: sunn: no meshed gear .* sun, "):
+        load_fatigue_set(path, fatigue=_fatigue_table(path, gears=["sunn"]))
+
+
+def _fatigue_table(path, **changes):
+    """The [fatigue] table of a set file, with changes: a plain scenario's set."""
+    import tomllib
+
+    return {**tomllib.loads(path.read_text())["fatigue"], **changes}
