@@ -25,7 +25,6 @@ above ``OTHERS_LIMIT`` the gain of the second worker is not a measurement of the
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import importlib.util
 import os
 import resource
