@@ -110,7 +110,9 @@ def reduce_case(
     Args:
         result: the run of `case_scenario` (its kept samples at the set's sample rate).
         gearbox: the model it ran.
-        wall_time, cpu_time, thread_time: what the run and the reduction cost [s].
+        wall_time: seconds the run and the reduction took (`CaseCycles.wall_time`).
+        cpu_time: CPU seconds of the process meanwhile (`CaseCycles.cpu_time`).
+        thread_time: CPU seconds of the calling thread (`CaseCycles.thread_time`).
     """
     first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
     counted = result.rows(first, len(result))
