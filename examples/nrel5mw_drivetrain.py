@@ -3,14 +3,18 @@
 Runs ``scenarios/nrel5mw_turbulent.toml`` (its comment gives every choice and its source): the
 Nejad et al. 2016 reference gearbox (13 compliant meshes, 16 rolling bearings as rows of their
 shafts' compliant bearings) driven by its rotor in 10 m/s Kaimal wind (TI 10 %, seed 1, averaged
-over the 126 m disc), braked by a K ω² generator law limited to 5 MW, with the rotor's weight
-(110 t, 5° shaft tilt) and a linearised thrust (C_t = 0.8, assumed) on the main shaft's tip.
+over the 126 m disc), braked by a K ω² generator law (region 2, no power limit), with the
+rotor's weight (110 t, 5° shaft tilt) and a linearised thrust (C_t = 0.8, assumed) on the main
+shaft's tip.
 
 What the case is: region 2 of the power curve just below rated wind (11.4 m/s), where the rotor
-speed follows the wind (about 9.4-12.7 rpm here) and no pitch action is needed. What it leaves
-out: pitch control (pinwind has none, so the case is not at rated wind: above it a pitch-less
-rotor overspeeds), the hub's bending moments from wind shear and the 3P ripple, tower and
-nacelle motion, the thrust's own C_t table (a constant C_t, linearised about the mean wind).
+speed follows the wind (9.4-12.4 rpm here) and no pitch action is needed. What it leaves out:
+pitch control (pinwind has none, so the case is not at rated wind: above it a pitch-less rotor
+overspeeds; in this seed's strongest gust the generator takes up to 5.4 MW, which a pitch
+controller would shed), the generator's 5 MW limit (its constant-power torque is a negative
+damper on the undamped drivetrain's torsion mode: the scenario's comment), the hub's bending
+moments from wind shear and the 3P ripple, tower and nacelle motion, the thrust's own C_t table
+(a constant C_t, linearised about the mean wind).
 
 Printed:
 
