@@ -28,9 +28,10 @@ The 20-year extrapolation (`FATIGUE`): the run is the one case of a fatigue set 
 its cycles and bearing sums, `set_damage`, `set_bearing_lives`) whose only wind bin is 8-10 m/s
 of an IEC 61400-1 class I site (annual mean 10 m/s at hub height, Rayleigh: Weibull A =
 10 / Γ(1.5) = 11.284 m/s, k = 2; ASSUMED, Nejad et al. 2016's site is not in the public data),
-20 years at availability 1: 26 120 h, 15 % of the life. The 600 s stand for those hours; the
-other bins' damage is not in the numbers (below 8 m/s the loads are lower, above 10 m/s the case
-needs a pitch controller), so the ranking is that of this bin's share of the life. Gears are
+20 years of 8760 h at availability 1: 26 102 h, 15 % of the life. The 600 s stand for those
+hours; the other bins' damage is not in the numbers (below 8 m/s the loads are lower, above
+10 m/s the case needs a pitch controller), so the ranking is that of this bin's share of the
+life. Gears are
 rated with ISO 6336's curves of 18CrNiMo7-6 (``iso 6336`` variant: σ_Hlim, σ_Flim with the
 standard's line beyond the knee), bearings with ISO 281 L10 at each row's rating C (assumed by
 the data's source, models/README.md). Stage 3 is helical: its gears are not ranked (the tooth

@@ -190,6 +190,7 @@ def plot_damage_ranking(items: list[RankedItem], path: Path, *, title: str) -> P
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
 
     colours = {"flank": "tab:blue", "root": "tab:orange", "bearing": "tab:green"}
     shown = [i for i in items if np.isfinite(i.damage) and i.damage > 0.0]
@@ -203,9 +204,8 @@ def plot_damage_ranking(items: list[RankedItem], path: Path, *, title: str) -> P
     ax.set_xscale("log")
     ax.set_xlim(left=floor)
     ax.axvline(1.0, color="k", lw=0.8)
-    for kind, colour in colours.items():
-        ax.barh([], [], color=colour, label=kind)
-    ax.legend(fontsize=8, loc="lower right")
+    handles = [Patch(color=colour, label=kind) for kind, colour in colours.items()]
+    ax.legend(handles=handles, fontsize=8, loc="lower right")
     ax.set_xlabel("damage over the design life [-] (bearings: revolutions / L10)")
     ax.set_title(title, fontsize=9)
     ax.grid(axis="x", alpha=0.3)
