@@ -328,5 +328,5 @@ def test_nrel5mw_drivetrain_main_bearings_hold_thrust_and_weight_and_ranks_by_ha
     hours = float(fset.site.hours[0])
     revolutions = np.sum(step_turns) * hours * 3600.0 / (t[-1] - t[0])
     expected = revolutions * (p_eq / 16518e3) ** (10 / 3) / 1e6
-    life = next(life for life in out["lives"][0] if life.joint == "lss/INP-B")
+    life = next(life for life in out["lives"][0] if life.joint == "lss.INP-B")
     assert_allclose(life.life_consumed, expected, rtol=1e-3)

@@ -21,7 +21,8 @@ elements (docs/model_format.md); a bearing without C is "not rated". A shaft's b
 rows (``<row>``: the rolling bearings of a main shaft or a planet, each with its own type, C and
 load factors; Nejad et al. 2016 Tables VI and IX) is rated row by row (`row_load_sums`): each
 row's radial and axial force (``analysis/bearing_rows.py``, by its springs at its position)
-with the shaft's speed relative to its housing, named ``BEARING/ROW`` (``stage1_planet1/PL-A``).
+with the shaft's speed relative to its housing, named ``BEARING.ROW`` (``stage1_planet1.PL-A``,
+`model.bearing_rows.row_name`).
 """
 
 from __future__ import annotations
@@ -37,9 +38,7 @@ import numpy as np
 from pinwind.dynamics.bearing_load import across_axis, along_axis
 from pinwind.errors import InvalidBearingRating
 from pinwind.model.bearing import BearingRating, bearing_rating
-
-#: Between a shaft's bearing (joint) and a row's name in a row's name: ``stage1_planet1/PL-A``.
-ROW_SEPARATOR = "/"
+from pinwind.model.bearing_rows import row_name
 
 #: A whole bearing whose tilting moment exceeds this arm [m] times its radial force (at their
 #: largest over the run) is refused a single-bearing life (`tilt_refusal`).
@@ -374,11 +373,6 @@ def tilt_refusal(radial: np.ndarray, tilting: np.ndarray) -> str | None:
         "cannot rate; give the shaft's bearings as <row>s at their positions in its <bearing> "
         "(docs/bearing_life.md) and rate them with `pinwind life`"
     )
-
-
-def row_name(bearing: str, row: str) -> str:
-    """The name a row of a shaft's bearing is rated under: ``BEARING/ROW``."""
-    return f"{bearing}{ROW_SEPARATOR}{row}"
 
 
 def row_ratings(gearbox: Any) -> dict[str, BearingRating]:

@@ -38,7 +38,7 @@ class RankedItem:
     """One gear's flank or root, or one bearing, with its damage over the design life.
 
     Attributes:
-        name: the gear, or the bearing (``BEARING/ROW`` for a row).
+        name: the gear, or the bearing (``BEARING.ROW`` for a row).
         kind: ``"flank"``, ``"root"`` or ``"bearing"`` (`KINDS`).
         damage: its damage (or life consumption) over the design life [-].
         detail: what the number comes from, for a table (peak stress, P_eq and C).

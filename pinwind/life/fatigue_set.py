@@ -125,7 +125,7 @@ class FatigueSet:
         mesh_stiffness, mesh_damping: the meshes' compliance if given [N/m], [N·s/m].
         openfast: OpenFAST input instead of rotor and wind, or None.
         bearings: the model's ``<bearing>`` elements: joint → its ISO 281 data (without C:
-            not rated), and their rows' by ``bearing_life.row_name`` (``lss/INP-A``).
+            not rated), and their rows' by ``bearing_life.row_name`` (``lss.INP-A``).
         roles: gear → ``"sun"``, ``"planet"`` or ``"ring"`` from the model's topology
             (`pinwind.model.gear_roles`); gears of no planetary stage left out.
     """

@@ -30,10 +30,12 @@ from pinwind.life.root_stress import ISO_ROOT_STRESS
 from pinwind.runs.scenario import build
 
 #: The series a case's reduction reads (the tooth cycles: ``life/tooth_damage.py``; the
-#: bearings' load sums: ``life/bearing_life.py``); the Result keeps these only, its log all.
+#: bearings' and their rows' load sums: ``life/bearing_life.py``); the Result keeps these only,
+#: its log all.
 CASE_SERIES = (
     "angle", "speed", "mesh_normal", "mesh_flank", "mesh_contact_position", "mesh_pairs",
-    "mesh_single_tooth_force", "bearing_force_local", "bearing_moment_local",
+    "mesh_single_tooth_force", "bearing_force_local", "bearing_moment_local", "row_force",
+    "row_moment",
 )  # fmt: skip
 
 if TYPE_CHECKING:
