@@ -78,7 +78,7 @@ FATIGUE: dict[str, Any] = {
     "skip_start": 5.0,  # s: the start (static deflection, then the wind's first seconds)
     # Hz: the kept samples the tooth histories are read at, every 10th step at dt = 1e-4 s:
     # 2.6 samples per stage-3 mesh period (400 Hz at 10.4 rpm), about 6 per tooth engagement;
-    # 7.4 kB per kept sample, so 600 s keep 4.4 GB (benchmarks/README.md gives the figures at
+    # every series of 600 s at 1 kHz takes 5.8 GB (benchmarks/README.md, with the figures at
     # 5 kHz against 1 kHz on a short window).
     "sample_rate": 1000.0,
     "seeds": [1],
