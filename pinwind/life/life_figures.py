@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 
 from pinwind.io.figure_layout import caption_below
-
 from pinwind.life.damage_ranking import RankedItem
 from pinwind.life.load_spectrum import LoadSpectrum
 from pinwind.life.set_damage import (
@@ -179,6 +178,7 @@ def _with_set(caption: str, about: str) -> str:
     """A figure's caption, and the set it comes from on its own line."""
     return f"{caption}\n{about}" if about else caption
 
+
 def plot_damage_ranking(items: list[RankedItem], path: Path, *, title: str) -> Path:
     """The ranked gears and bearings as horizontal bars on a log scale, the most damaged on top.
 
@@ -209,11 +209,13 @@ def plot_damage_ranking(items: list[RankedItem], path: Path, *, title: str) -> P
     ax.set_xlabel("damage over the design life [-] (bearings: revolutions / L10)")
     ax.set_title(title, fontsize=9)
     ax.grid(axis="x", alpha=0.3)
-    return _save(fig, path)
-
-
-def _save(fig: Any, path: Path) -> Path:
-    """Writes a figure at 120 dpi, making its folder, and closes it.
+    caption = (
+        "Each gear's contact (flank) and root damage, its worst tooth flank's Palmgren-Miner sum, "
+        "and each rated bearing row's ISO 281 life consumption (revolutions / L10), over the "
+        "design life; most damaged on top.\nAs Nejad et al. 2016's vulnerability map; the damages "
+        "of different kinds use different curves and failure probabilities."
+    )
+    return _save(fig, path, caption=caption)
 
 
 def _save(fig: Any, path: Path, *, caption: str, mark: str = "") -> Path:

@@ -200,6 +200,7 @@ def test_a_set_without_duration_is_refused_naming_the_key_and_the_fix(tmp_path, 
     assert "missing: give the simulated seconds per case in the [fatigue] table" in str(error)
     assert "e.g. duration = 30.0" in str(error)
 
+
 def test_gears_rates_the_named_gears_only_and_refuses_an_unknown_one(tmp_path):
     path = fatigue_toml(tmp_path)
     rated = load_fatigue_set(path, fatigue=_fatigue_table(path, gears=["sun", "planet2"]))
