@@ -63,7 +63,7 @@ from pinwind.life.life_figures import plot_damage_ranking
 from pinwind.life.set_bearing_life import set_bearing_lives
 from pinwind.life.set_damage import set_damage
 from pinwind.model.gearbox import load
-from pinwind.runs.case_runner import case_scenario, reduce_case
+from pinwind.runs.case_runner import CASE_SERIES, case_scenario, reduce_case
 from pinwind.runs.fatigue_set_file import load_fatigue_set
 from pinwind.runs.scenario import run
 
@@ -112,6 +112,14 @@ def fatigue_set(*, out: Path, duration: float, dt: float, sample_rate: float) ->
     return dataclasses.replace(fset, values={**fset.values, "dt": dt})
 
 
+#: The series the run's Result keeps (its log has them all): the fatigue reduction's, and the
+#: generator's and the rotor's the printout and the test read.
+KEPT_SERIES = (
+    *CASE_SERIES, "generator_torque", "rotor_tip_speed_ratio", "rotor_thrust",
+    "rotor_thrust_coefficient", "rotor_power", "rotor_wind_speed",
+)  # fmt: skip
+
+
 def simulate(fset: Any, *, progress: bool = True) -> tuple[pinwind.Result, Any, Any, float]:
     """Run the set's case with a progress bar and reduce it: (result, gearbox, cycles, wall)."""
     (case,) = fset.cases()
@@ -123,7 +131,8 @@ def simulate(fset: Any, *, progress: bool = True) -> tuple[pinwind.Result, Any, 
         # dt = 1e-4 s does not resolve the highest mesh mode's period (StepTooCoarse): the
         # single-tooth forces converge anyway (benchmarks/README.md, nrel5mw_step.py).
         warnings.simplefilter("ignore", PinwindWarning)
-        result = run(scenario, gearbox=gearbox, progress=progress, statistics=False)
+        result = run(scenario, gearbox=gearbox, progress=progress, statistics=False,
+                     keep_series=KEPT_SERIES)  # fmt: skip
     wall = time.perf_counter() - started
     reduced = reduce_case(case, fset, result, gearbox, wall_time=wall)
     reduced.save(fset.cycles_path(case))
