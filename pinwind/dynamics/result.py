@@ -351,30 +351,21 @@ class Result:
             pose_rows = pose_rows[:0]
             for name in POSE_ARRAYS:
                 arrays[name] = arrays[name][:0]
-        return Result(
-            joint_names=self.joint_names,
-            mesh_names=self.mesh_names,
-            bearing_names=self.bearing_names,
-            body_names=self.body_names,
-            generator_names=self.generator_names,
-            rotor_names=self.rotor_names,
-            row_names=self.row_names,
-            joint_kinds=self.joint_kinds,
-            energy=self.energy,
-            metadata=self.metadata,
-            status=self.status,
-            statistics=self.statistics,
-            pose_rows=pose_rows,
-            schema=schema,
-            **arrays,
-        )
+        kept = self.holding(arrays, self.energy, pose_rows, schema=schema)
+        kept.metadata, kept.statistics = self.metadata, self.statistics  # the same run's
+        return kept
 
     def holding(
-        self, arrays: dict[str, Any], energy: dict[str, np.ndarray], pose_rows: np.ndarray
+        self,
+        arrays: dict[str, Any],
+        energy: dict[str, np.ndarray],
+        pose_rows: np.ndarray,
+        *,
+        schema: Schema | None = None,
     ) -> Result:
         """A Result with these names, metadata (a copy) and status, holding other samples.
 
-        ``arrays``: every name of ``ARRAYS`` → its array.
+        ``arrays``: every name of ``ARRAYS`` (of ``schema``, default this one's) → its array.
         """
         return Result(
             joint_names=self.joint_names,
@@ -389,7 +380,7 @@ class Result:
             metadata=dict(self.metadata),
             status=self.status,
             pose_rows=pose_rows,
-            schema=self.schema,
+            schema=self.schema if schema is None else schema,
             **arrays,
         )
 
