@@ -130,7 +130,7 @@ def _fatigue(
 
     from pinwind.errors import InputError
     from pinwind.io.folders import folder_problem
-    from pinwind.life.set_bearing_life import set_bearing_lives
+    from pinwind.life.set_bearing_life import set_bearing_lives, set_skidding
     from pinwind.life.set_damage import set_damage
     from pinwind.runs.case_runner import run_cases
     from pinwind.runs.executor import check_workers
@@ -183,6 +183,7 @@ def _fatigue(
         half_damage = set_damage(half)
         check = damage_dt_check(damage, half_damage, dt=fset.dt, out=half.out)
     bearings = set_bearing_lives(fset)
+    skidding = set_skidding(fset, _reference_level(damage))
     paths = []
     if figures is not None:
         from pinwind.life.life_figures import (
@@ -215,6 +216,10 @@ def _fatigue(
     if as_json:
         report = _as_dict(fset, run, damage, paths)
         report["bearings"] = [[life.as_dict() for life in level] for level in bearings]
+        report["share_below_minimum_load"] = {
+            "level": damage.levels[_reference_level(damage)],
+            "per_bin": {j: [None if math.isnan(x) else x for x in v] for j, v in skidding.items()},
+        }
         if check is not None:
             half_run = runs["cases at dt/2"]
             report["check_dt"] = check.as_dict() | {
@@ -233,6 +238,7 @@ def _fatigue(
         )
     _print_tables(damage)
     _print_bearings(damage, bearings)
+    _print_skidding(damage, skidding)
     if check is not None:
         _print_dt_check(check)
     for path in paths:
@@ -573,3 +579,25 @@ def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> Non
                 cell(life.l10h),
             )
         console.print(grid)
+
+
+def _print_skidding(damage: SetDamage, skidding: dict[str, list[float]]) -> None:
+    """Each rated bearing's share of the time below its minimum load, per wind bin [%]."""
+    from pinwind.life.skidding import MINIMUM_LOAD_BALL, MINIMUM_LOAD_ROLLER
+
+    rated = {
+        joint: shares for joint, shares in skidding.items() if not all(map(math.isnan, shares))
+    }
+    if not rated:
+        return
+    level = damage.levels[_reference_level(damage)]
+    grid = table(
+        f"Skidding risk: share of the time each bearing turns under less than the load it needs "
+        f"to roll ({MINIMUM_LOAD_ROLLER:g} C roller, {MINIMUM_LOAD_BALL:g} C ball; SKF 2018), per "
+        f"wind bin [m/s] at turbulence {level} [%]",
+        "bearing",
+        *(f"{speed:g}" for speed in damage.speeds),
+    )
+    for joint, shares in rated.items():
+        grid.add_row(joint, *("-" if math.isnan(x) else cell(100 * x) for x in shares))
+    console.print(grid)

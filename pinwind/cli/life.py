@@ -87,6 +87,7 @@ def life(
             "L10rh",
             "Qmax [kN]",
             "zone°",
+            "P<Pmin %",
         ):
             left = head in ("bearing/row", "type")
             table.add_column(head, justify="left" if left else "right", no_wrap=left)
@@ -96,8 +97,13 @@ def life(
                 f"{r.equivalent_load / 1e3:.4g}", _hours(r.l10h), _hours(r.lnmh), _hours(r.l10rh),
                 "-" if math.isnan(r.max_element_load) else f"{r.max_element_load / 1e3:.4g}",
                 "-" if math.isnan(r.load_zone_min) else f"{math.degrees(r.load_zone_min):.0f}",
+                "-" if math.isnan(r.below_minimum) else f"{100 * r.below_minimum:.3g}",
             )  # fmt: skip
         console.print(table)
+        say(
+            "P<Pmin %: the share of the time the row turned under less than the load it needs "
+            "to roll, 0.02 C (roller) or 0.01 C (ball) by the catalogues (SKF 2018): skidding risk"
+        )
         notes: dict[str, list[str]] = {}
         for r in rows:
             for note in r.notes:

@@ -37,6 +37,7 @@ import numpy as np
 
 from pinwind.dynamics.bearing_load import across_axis, along_axis
 from pinwind.errors import InvalidBearingRating
+from pinwind.life.skidding import seconds_below_minimum
 from pinwind.model.bearing import BearingRating, bearing_rating
 from pinwind.model.bearing_rows import row_name
 
@@ -194,6 +195,9 @@ class BearingLoadSum:
         revolutions: Σ n_i [rev].
         time_power_sum: Σ P_i^p Δt_i [N^p·s], which weights a bearing that does not turn.
         seconds: Σ Δt_i, the history's duration [s].
+        seconds_below_minimum: the seconds it turned under less than the minimum load it needs
+            to roll (``life/skidding.py``) [s]; NaN without a rating C (or from a reduction
+            written before it was kept).
     """
 
     joint: str
@@ -202,6 +206,7 @@ class BearingLoadSum:
     revolutions: float
     time_power_sum: float
     seconds: float
+    seconds_below_minimum: float = math.nan
 
     def times(self, factor: float) -> BearingLoadSum:
         """The sums of ``factor`` repetitions of the history (``factor`` ≥ 0)."""
@@ -211,6 +216,7 @@ class BearingLoadSum:
             revolutions=self.revolutions * factor,
             time_power_sum=self.time_power_sum * factor,
             seconds=self.seconds * factor,
+            seconds_below_minimum=self.seconds_below_minimum * factor,
         )
 
     def plus(self, other: BearingLoadSum) -> BearingLoadSum:
@@ -221,7 +227,13 @@ class BearingLoadSum:
             revolutions=self.revolutions + other.revolutions,
             time_power_sum=self.time_power_sum + other.time_power_sum,
             seconds=self.seconds + other.seconds,
+            seconds_below_minimum=self.seconds_below_minimum + other.seconds_below_minimum,
         )
+
+    @property
+    def below_minimum_share(self) -> float:
+        """The share of the history's time it turned below its minimum load [-] (skidding risk)."""
+        return self.seconds_below_minimum / self.seconds if self.seconds > 0.0 else math.nan
 
     @property
     def equivalent_load(self) -> float:
@@ -254,16 +266,18 @@ def load_sum_of_history(
     """
     weights = sample_weights(time)
     turns = weights * np.abs(speed) / (2.0 * math.pi)  # revolutions per sample [rev]
-    exponent = power_sum = time_power_sum = math.nan
+    exponent = power_sum = time_power_sum = below = math.nan
     if rating is not None:
         radial, axial = radial_and_axial(np.asarray(force_in_joint, dtype=float), axis)
         loads = dynamic_equivalent_load(rating, radial, axial)
         exponent = rating.exponent
         power_sum = load_power_sum(loads, turns, exponent)
         time_power_sum = load_power_sum(loads, weights, exponent)
+        below = seconds_below_minimum(rating, weights, speed, loads)
     return BearingLoadSum(
-        joint, exponent, power_sum, float(turns.sum()), time_power_sum, float(weights.sum())
-    )
+        joint, exponent, power_sum, float(turns.sum()), time_power_sum, float(weights.sum()),
+        below,
+    )  # fmt: skip
 
 
 def life_of_load_sum(rating: BearingRating | None, load_sum: BearingLoadSum) -> BearingLife:

@@ -51,6 +51,7 @@ from pinwind.life.modified_life import (
     rated_viscosity,
     reliability_factor,
 )
+from pinwind.life.skidding import seconds_below_minimum
 from pinwind.model.bearing import bearing_rating
 from pinwind.model.bearing_life_data import BearingLifeData
 
@@ -75,6 +76,8 @@ class RowLife:
         not_carried: largest axial force [N] and tilting moment [N·m] the row's type does not
             carry (reported, not rated).
         notes: defaults and estimates used, and why a life is missing.
+        below_minimum: the share of the time it turned below its minimum load [-] (skidding
+            risk, ``life/skidding.py``); NaN when not rated.
     """
 
     name: str
@@ -105,6 +108,7 @@ class RowLife:
     load_zone: np.ndarray = field(repr=False)
     not_carried: tuple[float, float] = (0.0, 0.0)
     notes: tuple[str, ...] = ()
+    below_minimum: float = math.nan
 
     def as_dict(self) -> dict[str, Any]:
         """Plain values for JSON (SI; lives in 10⁶ rev and h; None for NaN)."""
@@ -133,6 +137,7 @@ class RowLife:
             "reference_load_N": num(self.reference_load),
             "l10r_million_rev": num(self.l10r),
             "l10r_h": num(self.l10rh),
+            "share_below_minimum_load": num(self.below_minimum),
             "max_element_load_N": num(self.max_element_load),
             "load_zone_min_deg": num(math.degrees(self.load_zone_min)),
             "axial_not_carried_N": self.not_carried[0],
@@ -358,6 +363,7 @@ def rate_row(
         reliability, a1, kappa_mean, a_iso, e_c, c_u, lnm, _hours(lnm, revolutions, seconds),
         p_ref, l10r, _hours(l10r, revolutions, seconds), q_max, zone_min, element_load,
         load_zone, not_carried, tuple(notes),
+        seconds_below_minimum(iso, weights, speed, equivalent) / seconds if seconds else nan,
     )  # fmt: skip
 
 

@@ -55,3 +55,37 @@ def set_bearing_lives(fatigue: FatigueSet) -> list[list[BearingLife]]:
         [life_of_load_sum(fatigue.bearings.get(joint), total) for joint, total in level.items()]
         for level in sums
     ]
+
+
+def set_skidding(fatigue: FatigueSet, level: int) -> dict[str, list[float]]:
+    """Each bearing's share of its wind bins' time turning below its minimum load (skidding).
+
+    Per bin of the site, the bin's cases at turbulence level ``level`` added (their seconds
+    below the minimum load over their seconds, ``life/skidding.py``); NaN for a bearing without
+    a rating C, or a bin without a history.
+
+    Raises:
+        InputError: a case has no reduction (run the cases first).
+    """
+    import math
+
+    from pinwind.errors import InputError
+
+    bins = len(fatigue.site.bins)
+    below: dict[str, list[float]] = {}
+    seconds: dict[str, list[float]] = {}
+    for case in fatigue.cases():
+        if case.level != level:
+            continue
+        path = fatigue.cycles_path(case)
+        if not path.is_file():
+            raise InputError(f"{path}: case {case.name} has not run; run the fatigue set first")
+        for load_sum in CaseCycles.load(path, with_flanks=False).bearings:
+            below.setdefault(load_sum.joint, [0.0] * bins)[case.bin] += (
+                load_sum.seconds_below_minimum
+            )
+            seconds.setdefault(load_sum.joint, [0.0] * bins)[case.bin] += load_sum.seconds
+    return {
+        joint: [b / s if s > 0.0 else math.nan for b, s in zip(shares, seconds[joint], strict=True)]
+        for joint, shares in below.items()
+    }
