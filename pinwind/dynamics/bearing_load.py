@@ -10,8 +10,10 @@ The reaction on the child body at the bearing centre (``bearing_force_local``,
 
 These are the ``derive`` functions of the series ``bearing_radial``, ``bearing_axial``,
 ``bearing_tilting`` and ``bearing_torque`` (``dynamics/series.py``): (block, gearbox) → array
-(samples, bearings). The block is a ``Result``, the gearbox a ``Gearbox`` (not imported: the
-series schema imports nothing of pinwind that could import it back).
+(samples, bearings); ``row_radial`` and ``row_axial`` split a bearing row's force (F_u, F_w, F_k),
+already in its bearing's joint frame with the axis last, the same way. The block is a
+``Result``, the gearbox a ``Gearbox`` (not imported: the series schema imports nothing of pinwind
+that could import it back).
 """
 
 from __future__ import annotations
@@ -83,3 +85,13 @@ def tilting_moment(block: Any, gearbox: Any) -> np.ndarray:
 def transmitted_torque(block: Any, gearbox: Any) -> np.ndarray:
     """Transmitted torque M·k [N·m]: the reaction moment along the bearing axis, signed along k."""
     return along_axis(block.bearing_moment_local, axes_in_joint(block, gearbox))
+
+
+def row_radial_force(block: Any, gearbox: Any) -> np.ndarray:
+    """A bearing row's radial force |(F_u, F_w)| ≥ 0 [N] on the shaft, (samples, rows)."""
+    return np.hypot(block.row_force[..., 0], block.row_force[..., 1])
+
+
+def row_axial_force(block: Any, gearbox: Any) -> np.ndarray:
+    """A bearing row's axial force F_k [N] on the shaft, signed along the axis, (samples, rows)."""
+    return block.row_force[..., 2].copy()

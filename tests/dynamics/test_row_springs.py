@@ -104,6 +104,9 @@ def test_two_anisotropic_rows_share_a_load_at_30_degrees_by_the_lever_rule():
         row = res.row(f"shaft.{name}")
         assert_allclose(row.force[:, :2], np.tile(expected, (len(res), 1)), rtol=1e-9, atol=scale)
         assert_allclose(row.moment, 0.0, atol=scale)
+        # the radial force a bearing engineer reads (and the plots draw): the lever rule's length
+        assert_allclose(row.radial, np.linalg.norm(expected), rtol=1e-9)
+        assert_allclose(row.axial, 0.0, atol=scale)  # no thrust on the shaft
     x, y, theta_u, theta_w = _planes(rows, f[0], f[1], p)
     moved = np.array([res.joint("shaft_radial_x").angle[-1], res.joint("shaft_radial_y").angle[-1]])
     assert_allclose(moved, [x, y], rtol=1e-9)
