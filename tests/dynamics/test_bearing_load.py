@@ -123,23 +123,24 @@ def test_export_has_radial_axial_tilting_and_torque_columns_of_every_bearing(tmp
     np.testing.assert_allclose(ring, -(CARRIER_TORQUE + SUN_TORQUE), rtol=1e-9)
 
 
-def test_a_log_written_before_the_bearing_loads_were_declared_derives_them_on_read(tmp_path):
+def test_a_log_written_before_the_bearing_loads_were_declared_derives_them_on_read(
+    tmp_path, monkeypatch
+):
     from pinwind.dynamics import series
 
     gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
     log = tmp_path / "older.mcap"
-    names = ("bearing_radial", "bearing_axial", "bearing_tilting", "bearing_torque")
-    declared = [series.get(name) for name in names]
-    for name in names:
-        series.withdraw(name)
-    try:
-        pinwind.simulate(
-            gb, duration=0.01, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
-            log=log,
-        )  # fmt: skip
-    finally:
-        for s in declared:
-            series.declare(s)
+    older = series.current()
+    for name in ("bearing_radial", "bearing_axial", "bearing_tilting", "bearing_torque"):
+        older = older.without(name)
+    # The schema of a run before these were declared; monkeypatch puts the current one back
+    # as it was, in its order, for the tests after.
+    monkeypatch.setattr(series, "_current", older)
+    pinwind.simulate(
+        gb, duration=0.01, dt=1e-3, torques={"carrier": CARRIER_TORQUE, "sun": SUN_TORQUE},
+        log=log,
+    )  # fmt: skip
+    monkeypatch.undo()
     back = pinwind.read_log(log)
     np.testing.assert_allclose(
         back.bearing("ring").torque, -(CARRIER_TORQUE + SUN_TORQUE), rtol=1e-9
