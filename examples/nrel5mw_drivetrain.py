@@ -20,8 +20,8 @@ Printed:
    `lss` bearing) and the planets' (PL-A/B, IMS-PL-A/B): radial and axial force and the row's own
    tilting moment, mean and max over the kept samples after the start;
 2. every mesh's normal force (mean, max) and its largest single-tooth force, stage by stage;
-3. a 20-year damage ranking of every planetary gear (flank and root) and every bearing row (ISO
-   281 life consumption), as a table and ``vulnerability_map.png`` (like Nejad et al. 2016's
+3. a 20-year damage ranking of every gear (flank and root) and every bearing row (ISO 281 life
+   consumption), as a table and ``vulnerability_map.png`` (like Nejad et al. 2016's
    vulnerability map).
 
 The 20-year extrapolation (`FATIGUE`): the run is the one case of a fatigue set (``pinwind.life``:
@@ -34,8 +34,10 @@ hours; the other bins' damage is not in the numbers (below 8 m/s the loads are l
 life. Gears are
 rated with ISO 6336's curves of 18CrNiMo7-6 (``iso 6336`` variant: σ_Hlim, σ_Flim with the
 standard's line beyond the knee), bearings with ISO 281 L10 at each row's rating C (assumed by
-the data's source, models/README.md). Stage 3 is helical: its gears are not ranked (the tooth
-stresses take spur pairs), its bearings are.
+the data's source, models/README.md). The planetary stages' spur teeth are rated along the path
+of contact, tooth pair by tooth pair; stage 3 is helical (β = 10°, b = 360 mm, m_n = 14 mm:
+overlap ratio ε_β = b sin β/(π m_n) = 1.42), so its teeth are rated as ISO 6336-2/-3 rate a
+helical pair, from the whole mesh force, one cycle per tooth pass (`pinwind.life.tooth_damage`).
 
     python examples/nrel5mw_drivetrain.py [--duration 600] [--dt 1e-4] [--out nrel5mw_drivetrain/]
 """
@@ -77,7 +79,9 @@ FATIGUE: dict[str, Any] = {
     "duration": 600.0,
     "skip_start": 5.0,  # s: the start (static deflection, then the wind's first seconds)
     # Hz: the kept samples the tooth histories are read at, every 10th step at dt = 1e-4 s:
-    # 2.6 samples per stage-3 mesh period (400 Hz at 10.4 rpm), about 6 per tooth engagement;
+    # 2.6 samples per stage-3 mesh period (400 Hz at 10.4 rpm), about 7 per tooth engagement
+    # (ε_γ = 2.88 base pitches); the teeth are tracked while the roll per sample stays below
+    # half a base pitch (`tooth_damage.entering_teeth`), up to 13 rpm of the rotor;
     # every series of 600 s at 1 kHz takes 5.8 GB (benchmarks/README.md, with the figures at
     # 5 kHz against 1 kHz on a short window).
     "sample_rate": 1000.0,
@@ -87,11 +91,15 @@ FATIGUE: dict[str, Any] = {
     "hub_height": 90.0,
     "site": {"scale": CLASS_I_SCALE, "shape": 2.0, "edges": [8.0, 10.0], "design_life_years": 20.0},
     "sn_curve": {"preset": "iso6336"},
-    # The planetary stages' gears. Stage 3 is helical (β = 10°): the tooth stresses of the
-    # fatigue path take spur pairs only (pinwind.life.contact_stress), so its gears are not
-    # ranked; its bearings are.
+    # Every gear: the planetary stages' and the helical stage 3's wheel and pinion.
     "gears": [
-        f"stage{s}_{g}" for s in (1, 2) for g in ("sun", "ring", "planet1", "planet2", "planet3")
+        *(
+            f"stage{s}_{g}"
+            for s in (1, 2)
+            for g in ("sun", "ring", "planet1", "planet2", "planet3")
+        ),
+        "stage3_wheel",
+        "stage3_pinion",
     ],
 }
 #: Main-shaft rows (the `lss` bearing) and the planets' bearings whose rows are printed.

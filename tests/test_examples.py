@@ -16,6 +16,7 @@ import pinwind
 from pinwind.errors import ImplausibleGear
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import single_pair_stiffness
+from pinwind.gears.rating_iso import form_factors
 from pinwind.modes.linearisation import linearise
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -291,13 +292,34 @@ def test_nrel5mw_drivetrain_main_bearings_hold_thrust_and_weight_and_ranks_by_ha
     axial = sum(row.axial for row in row_loads(res, gearbox) if row.bearing == "lss")
     assert_allclose(-axial[0], along[0], rtol=1e-6)
     assert_allclose(-axial, along, rtol=1e-2)
-    # The ranking: every planetary gear's flank and root and the 24 rated rows, most damaged
-    # first, and a figure of it.
+    # The ranking: every gear's flank and root (10 planetary, the helical stage 3's wheel and
+    # pinion) and the 24 rated rows, most damaged first, and a figure of it.
     ranking = out["ranking"]
-    assert len(ranking) == 2 * 10 + 24
+    assert len(ranking) == 2 * 12 + 24
     damages = [item.damage for item in ranking]
     assert damages == sorted(damages, reverse=True) and damages[-1] > 0.0
     assert out["figure"].stat().st_size > 20_000
+    stage3 = [(i.name, i.kind) for i in ranking if i.name.startswith("stage3_")]
+    assert sorted(stage3) == [
+        (g, k) for g in ("stage3_pinion", "stage3_wheel") for k in ("flank", "root")
+    ]
+    # Stage 3 (β 10°, ε_β = 0.36 sin 10°/(π 0.014) = 1.42 ≥ 1) by ISO 6336-3 from the whole
+    # mesh force: its largest root stress is F_t/(b m_n) Y_F Y_S Y_β of the largest counted
+    # force, F_t = F_bt cos α_t (F_bt the logged transverse force), Y_β = 1 − 10°/120°.
+    mesh = gearbox.mesh("stage3")
+    pair = GearPair.from_gears(mesh.gear_a.spec, mesh.gear_b.spec)
+    counted = res.time >= fset.skip_start - 1e-12
+    f_bt = np.max(np.abs(res.mesh("stage3").normal[counted]))
+    alpha_t = math.atan(math.tan(math.radians(20.0)) / math.cos(math.radians(10.0)))
+    y_beta = 1.0 - 10.0 / 120.0
+    roots = out["damage"].root_damage["iso 6336"][0]
+    for gear, index in (("stage3_wheel", 1), ("stage3_pinion", 2)):
+        y_f, y_s = form_factors(pair, index)
+        assert_allclose(
+            roots[gear].peak_stress,
+            f_bt * math.cos(alpha_t) / (0.36 * 0.014) * y_f * y_s * y_beta,
+            rtol=1e-9,
+        )
     # Miner and ISO 281 are linear in the hours a history stands for: the same cycles over
     # twice the hours give twice every damage and life consumption.
     twice = dataclasses.replace(

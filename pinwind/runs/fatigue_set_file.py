@@ -43,7 +43,7 @@ The run keys of any scenario (``pinwind.runs.scenario``: model, dt, rotor, gener
     scale = 1000.0
 
     gears = ["sun", "planet1"]          # the gears whose teeth are rated (default: all
-                                        # meshed gears; the tooth stresses take spur pairs)
+                                        # meshed gears; helical ones need ε_β ≥ 1)
 
     [fatigue.quick]                     # what --quick changes (any [fatigue] key, and dt)
     duration = 1.5

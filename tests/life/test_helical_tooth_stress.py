@@ -18,6 +18,7 @@ from pinwind.life.root_stress import ISO_ROOT_STRESS, table_root_stress
 from pinwind.life.sn_curve import SNCurve
 from pinwind.life.tooth_damage import (
     HelicalContacts,
+    ToothContacts,
     entering_teeth,
     gear_tooth_damage,
     histories_damage,
@@ -293,3 +294,32 @@ def test_compliant_helical_pair_counts_one_cycle_per_tooth_pass_at_the_mesh_forc
         np.testing.assert_allclose(
             root.peak_stress.max(), f_t / (0.02 * 2e-3) * y_f * y_s * 0.75, rtol=1e-9
         )
+
+
+def test_spur_histories_keep_every_sample_of_a_pass_and_a_helical_pass_its_largest():
+    """Three teeth, six samples. Spur: tooth 0 enters at samples 0-1 (1, 2) and leads at 2 (30):
+    one pass 1, 2, 30; tooth 2 leads at 0 (10) and enters at 4-5 (5, 6): two passes. Helical
+    with the same teeth in contact and stresses 1, 2, 30, 4, 5, 6: each pass keeps its largest
+    (tooth 0: 30; tooth 1: 30; tooth 2: 1, then 6)."""
+    tooth = np.array([0, 0, 1, 1, 2, 2])
+    pairs = np.array([2, 1, 2, 1, 2, 1])
+    spur = ToothContacts(
+        tooth=tooth,
+        leading_tooth=(tooth - 1) % 3,
+        entering=np.array([1.0, 2, 3, 4, 5, 6]),
+        leading=np.array([10.0, 20, 30, 40, 50, 60]),
+        pairs=pairs,
+    )
+    expected = [[0, 1, 2, 30, 0], [0, 3, 4, 50, 0], [0, 10, 0, 5, 6, 0]]
+    for got, want in zip(tooth_histories([spur], teeth=3), expected, strict=True):
+        np.testing.assert_array_equal(got, want)
+    swept = HelicalContacts(
+        tooth=tooth,
+        leading_tooth=(tooth - 1) % 3,
+        stress=np.array([1.0, 2, 30, 4, 5, 6]),
+        pairs=pairs,
+        teeth=3,
+    )
+    expected = [[0, 30, 0], [0, 30, 0], [0, 1, 0, 6, 0]]
+    for got, want in zip(tooth_histories([swept], teeth=3), expected, strict=True):
+        np.testing.assert_array_equal(got, want)
