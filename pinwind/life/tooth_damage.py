@@ -51,6 +51,7 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from pinwind.dynamics.compliant import overlap_span
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair
@@ -423,6 +424,14 @@ def _entering_tooth(
     positive turn when it is ahead of that centre line. As the contact rolls forward (along
     T_A → P) the gear turns with the sign of k · ((C − O) × d) (an involute's contact moves
     along the line as fast as its flank does); the tooth behind then comes next.
+
+    A helical mesh logs x in the mid-face section, where the tooth phases lie, Δ/2 behind the
+    front face section (`pinwind.dynamics.compliant.overlap_span`, Δ = ε_β p_bt); there the
+    entering pair's flank may lie beyond its tip (x < A) or the tooth line crosses the centre
+    line of the extended involute, so the flank would be misjudged. The contact is taken in
+    the front face instead, at x + Δ/2, where the entering pair is always in contact, and its
+    angle turned back by the tooth's twist from mid-face to front face, Δ/(2 r_b) in the sense
+    the contact moving forward turns the gear.
     """
     model = gearbox.model
     angles = result.angle[sample]
@@ -445,17 +454,20 @@ def _entering_tooth(
     centre_a = data.oMi[mesh.gear_a.joint_id].act(mesh.gear_a.centre_in_joint)
     foot = pitch_point - float((pitch_point - centre_a) @ line) * line
     forward = (pitch_point - foot) / np.linalg.norm(pitch_point - foot)
-    contact = foot + float(result.mesh_contact_position[sample, index]) * forward
+    half_span = 0.5 * overlap_span(mesh)  # 0 for a spur mesh
+    contact = foot + (float(result.mesh_contact_position[sample, index]) + half_span) * forward
     placement = data.oMi[gear.joint_id]
     centre = placement.act(gear.centre_in_joint)
     arm = placement.rotation.T @ (contact - centre)
     zero = zero_direction(gear.axis_in_joint)
     angle = math.atan2(float(gear.axis_in_joint @ np.cross(zero, arm)), float(zero @ arm))
-    teeth = gear.spec.teeth
-    pitches = (angle - gearbox.tooth_phases[gear.name]) * teeth / (2.0 * math.pi)
-    nearest = round(pitches)
     axis = placement.rotation @ gear.axis_in_joint
     turns = float(axis @ np.cross(contact - centre, forward))
+    radius = mesh.base_radius_a if gear.name == mesh.gear_a.name else mesh.base_radius_b
+    twist = math.copysign(half_span / radius, turns)
+    teeth = gear.spec.teeth
+    pitches = (angle - twist - gearbox.tooth_phases[gear.name]) * teeth / (2.0 * math.pi)
+    nearest = round(pitches)
     return nearest % teeth, -1 if turns > 0.0 else 1, 1 if pitches > nearest else -1
 
 

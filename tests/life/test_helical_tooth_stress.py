@@ -22,6 +22,7 @@ from pinwind.life.tooth_damage import (
     entering_teeth,
     gear_tooth_damage,
     histories_damage,
+    mesh_teeth,
     tooth_histories,
 )
 from pinwind.model.compliance import MeshCompliance
@@ -323,3 +324,30 @@ def test_spur_histories_keep_every_sample_of_a_pass_and_a_helical_pass_its_large
     expected = [[0, 30, 0], [0, 30, 0], [0, 1, 0, 6, 0]]
     for got, want in zip(tooth_histories([swept], teeth=3), expected, strict=True):
         np.testing.assert_array_equal(got, want)
+
+
+def test_helical_teeth_and_flank_found_at_any_sample_agree_with_those_tracked():
+    """The helical 20/40 pair, a driving positively against a brake on b: a's teeth push with
+    the flank facing a's positive turn (+1); b turns the other way and is pushed on the flank
+    that faces the pusher, behind it in its motion, so facing b's positive turn (+1), as for
+    the spur pair. Numbered anew from any later sample (a case counted from ``skip_start``),
+    the teeth are the ones tracked from the first sample, one tooth per base pitch, and the
+    flank the same: the mid-face position (Δ/2 = 0.8 p_bt behind the front face) would put
+    the contact beyond b's tooth tips at some phases and misjudge the flank there."""
+    gearbox = loads(helical_pair_urdf(), "pair.urdf")
+    result = pinwind.simulate(
+        gearbox,
+        duration=0.02,
+        dt=2e-5,
+        speeds={"a": 2 * math.pi * 10},
+        torques={"b": 10.0},
+        gravity=np.zeros(3),
+        meshes={"m": MeshCompliance(stiffness=1e9, damping_ratio=0.1)},
+    )
+    for gear in ("g1", "g2"):
+        tracked = mesh_teeth(result, gearbox, "m", gear)
+        np.testing.assert_array_equal(tracked.flank, 1)
+        for start in range(7, len(result), 37):
+            later = mesh_teeth(result.rows(start, len(result)), gearbox, "m", gear)
+            np.testing.assert_array_equal(later.tooth, tracked.tooth[start:])
+            np.testing.assert_array_equal(later.flank, 1)
