@@ -426,12 +426,13 @@ def _entering_tooth(
     along the line as fast as its flank does); the tooth behind then comes next.
 
     A helical mesh logs x in the mid-face section, where the tooth phases lie, Δ/2 behind the
-    front face section (`pinwind.dynamics.compliant.overlap_span`, Δ = ε_β p_bt); there the
-    entering pair's flank may lie beyond its tip (x < A) or the tooth line crosses the centre
-    line of the extended involute, so the flank would be misjudged. The contact is taken in
-    the front face instead, at x + Δ/2, where the entering pair is always in contact, and its
-    angle turned back by the tooth's twist from mid-face to front face, Δ/(2 r_b) in the sense
-    the contact moving forward turns the gear.
+    front face section (`pinwind.dynamics.compliant.overlap_span`, Δ = ε_β p_bt). There the
+    entering pair may not touch yet: x may lie before A, on the involute extended beyond the
+    tip, which can cross the tooth's centre line, and the flank would be misjudged (the 5 MW
+    stage-3 pinion's came out +1 or −1 by the sample). The contact is taken in the front face
+    instead, at x + Δ/2, where the entering pair always touches, and its angle turned back by
+    the tooth's twist from the mid-face to the front face, Δ/(2 r_b) in the sense the gear
+    turns as the contact moves forward.
     """
     model = gearbox.model
     angles = result.angle[sample]
