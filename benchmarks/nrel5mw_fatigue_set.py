@@ -4,8 +4,8 @@
     python benchmarks/nrel5mw_fatigue_set.py --duration 5    # longer cases
 
 The set is the example's (``examples/nrel5mw_drivetrain.py``: ``scenarios/nrel5mw_turbulent.toml``
-with its ``FATIGUE`` table: compliant meshes, dt 1e-4 s, histories at 1 kHz, the planetary
-stages' gears and every bearing row rated) over three wind bins of the same class I site
+with its ``FATIGUE`` table: compliant meshes, dt 1e-4 s, histories at 1 kHz, every gear (the
+helical stage 3's too) and every bearing row rated) over three wind bins of the same class I site
 (4-6, 6-8, 8-10 m/s: the example's bin and the two below it), seeds 1 and 2, cases of
 ``--duration`` s counted from a quarter of it. Every case starts at the scenario's initial speed
 (the steady state at 9 m/s), so the lower bins' first seconds are a transient. The figures are
