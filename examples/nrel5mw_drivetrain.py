@@ -86,7 +86,9 @@ FATIGUE: dict[str, Any] = {
     "turbulence": ["B"],
     "wind": "disc",
     "hub_height": 90.0,
-    "site": {"scale": CLASS_I_SCALE, "shape": 2.0, "edges": [12.0, 14.0], "design_life_years": 20.0},
+    "site": {
+        "scale": CLASS_I_SCALE, "shape": 2.0, "edges": [12.0, 14.0], "design_life_years": 20.0
+    },  # fmt: skip
     "sn_curve": {"preset": "iso6336"},
     # The planetary stages' gears. Stage 3 is helical (β = 10°): the tooth stresses of the
     # fatigue path take spur pairs only (pinwind.life.contact_stress), so its gears are not
