@@ -299,7 +299,15 @@ def test_nrel5mw_drivetrain_main_bearings_hold_thrust_and_weight_and_ranks_by_ha
     thrust = 0.5 * 1.225 * math.pi * 63.0**2 * v**2 * expected_ct
     along = 110e3 * 9.81 * math.sin(math.radians(5)) + thrust
     axial = sum(row.axial for row in row_loads(res, gearbox) if row.bearing == "lss")
-    assert_allclose(-axial[0], along[0], rtol=1e-6)
+    # At the static start the rows hold it but for the stage-1 mesh forces' axial part, which
+    # tilt with the carrier by the main bearing's tilt θ ≈ 1e-4 rad: at most θ Σ|F_n|, 1e-3 of
+    # it at this torque (tests/runs/test_nrel5mw_rotor.py; 1.2e-5 measured).
+    model, slides = gearbox.model, gearbox.compliant_bearings["lss"].v_index
+    tilts = [model.names[j] for j in range(1, model.njoints)
+             if model.joints[j].idx_v in (slides["tilt_x"], slides["tilt_y"])]  # fmt: skip
+    theta = np.hypot(*(res.joint(name).angle[0] for name in tilts))
+    stage1 = sum(abs(res.mesh(n).normal[0]) for n in res.mesh_names if n.startswith("stage1"))
+    assert abs(-axial[0] - along[0]) <= theta * stage1
     assert_allclose(-axial, along, rtol=1e-2)
     # The ranking: every planetary gear's flank and root and the 24 rated rows, most damaged
     # first, and a figure of it.
