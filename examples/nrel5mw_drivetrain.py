@@ -87,8 +87,11 @@ FATIGUE: dict[str, Any] = {
     "wind": "disc",
     "hub_height": 90.0,
     "site": {
-        "scale": CLASS_I_SCALE, "shape": 2.0, "edges": [12.0, 14.0], "design_life_years": 20.0
-    },  # fmt: skip
+        "scale": CLASS_I_SCALE,
+        "shape": 2.0,
+        "edges": [12.0, 14.0],
+        "design_life_years": 20.0,
+    },
     "sn_curve": {"preset": "iso6336"},
     # The planetary stages' gears. Stage 3 is helical (β = 10°): the tooth stresses of the
     # fatigue path take spur pairs only (pinwind.life.contact_stress), so its gears are not

@@ -234,7 +234,9 @@ def _variable_speed_spec(law: VariableSpeed, index: int) -> _native.GeneratorSpe
     g.index, g.law = index, _native.GeneratorLaw.variable_speed
     g.gain, g.rated_power = float(law.gain), float(law.rated_power)
     g.rated_torque, g.rated_speed, g.slip = (
-        float(law.rated_torque), float(law.rated_speed), float(law.slip)
+        float(law.rated_torque),
+        float(law.rated_speed),
+        float(law.slip),
     )
     return g
 
