@@ -208,6 +208,25 @@ def test_the_closed_loop_answers_a_small_wind_step_as_its_linearisation_with_jon
     assert 0.4 < abs(pair) < 0.6 and 0.55 < -pair.real / abs(pair) < 0.75
 
 
+def test_the_energy_ledger_closes_while_the_pitch_moves(table):
+    # The pitch changes the rotor's torque, not how its work is booked: through a wind step
+    # that moves the pitch by degrees, ½ J ω² − ½ J ω₀² is the applied work (rotor and
+    # generator, trapezoidal in the speed over each step), and the rotor's part is
+    # Σ τ_rotor (ω_k + ω_{k+1})/2 dt from the recorded torque.
+    dt = 0.01
+    res = run(Step(time=1.0, before=14.0, after=18.0), duration=15.0, dt=dt,
+              control=PitchControl.nrel5mw(), pitch=steady_pitch(table, 14.0))  # fmt: skip
+    e, speed = res.energy, res.joint("shaft").speed
+    assert np.ptp(res.rotor("shaft").pitch) > math.radians(3.0)
+    kinetic = 0.5 * (INERTIA + 1.0) * speed**2
+    assert_allclose(e["kinetic"], kinetic, rtol=1e-12)
+    assert_allclose(e["kinetic"] - kinetic[0], e["work_applied"], rtol=0,
+                    atol=1e-9 * kinetic[0])  # fmt: skip
+    rotor = np.cumsum(res.rotor("shaft").torque[:-1] * 0.5 * (speed[1:] + speed[:-1]) * dt)
+    generator = np.cumsum(-res.generator("shaft").torque[:-1] * 0.5 * (speed[1:] + speed[:-1]) * dt)
+    assert_allclose(e["work_applied"][1:], rotor + generator, rtol=0, atol=1e-9 * kinetic[0])
+
+
 def test_bad_controller_values_are_refused_with_the_value_and_the_fix():
     with pytest.raises(InputError, match=r"ki is -1.*positive"):
         dataclasses.replace(PitchControl.nrel5mw(), ki=-1.0)
