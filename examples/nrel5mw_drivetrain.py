@@ -11,7 +11,7 @@ main shaft's rotor end.
 
 What the case is: above rated wind (11.4 m/s), region 3 of the power curve, where the rotor is
 held at rated speed by pitching its blades (about 0-15° here) and the generator at rated torque,
-with lulls into regions 2½ and 2. What it leaves out: the generator's torque-rate limit and
+with lulls into region 2½. What it leaves out: the generator's torque-rate limit and
 speed filter, the pitch actuator's dynamics beyond its 8°/s limit, the rotor's 3P ripple and
 imbalance, blade, tower and nacelle motion (the scenario's comment).
 

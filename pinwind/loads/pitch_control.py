@@ -25,8 +25,10 @@ multiply a rotor speed error N times smaller, so on the rotor speed they are N K
 0.7826575. θ_K = PC_KK = 0.1099965 rad (6.302336°), β 0 to 90° (PC_MinPit, PC_MaxPit),
 β̇_max = PC_MaxRat = 0.1396263 rad/s (8°/s; §7.4), ω_c = CornerFreq = 1.570796 rad/s. Jonkman
 chose K_P and K_I for a closed-loop rotor-speed response of ω_n = 0.6 rad/s and ζ = 0.7 at
-β = 0 (§7.3: ∂P/∂β = −25.52 MW/rad there, drivetrain inertia 43 784 725 kg·m² on the rotor
-shaft): K_P = 2 I Ω_ref ζ ω_n / (N (−∂P/∂β)), K_I = I Ω_ref ω_n² / (N (−∂P/∂β)).
+β = 0 (§7.3, the values summarised in §7.5: ∂P/∂β = −25.52 MW/rad there, the drivetrain's
+inertia on the rotor shaft I = 38 759 236 + 97² × 534.116 kg·m², rotor and generator of Table
+5-1): K_P = 2 I Ω_ref ζ ω_n / (N (−∂P/∂β)), K_I = I Ω_ref ω_n² / (N (−∂P/∂β)), which gives back
+DISCON's gains to 3e-5.
 """
 
 from __future__ import annotations
