@@ -10,8 +10,8 @@ default), with the rotor's thrust, weight (110 t, 5° shaft tilt) and wind-shear
 main shaft's rotor end.
 
 What the case is: above rated wind (11.4 m/s), region 3 of the power curve, where the rotor is
-held at rated speed by pitching its blades (about 0-15° here) and the generator at rated torque,
-with lulls into region 2½. What it leaves out: the generator's torque-rate limit and
+held at rated speed by pitching its blades (3-9° over the first 60 s) and the generator at rated
+torque, with lulls into region 2½. What it leaves out: the generator's torque-rate limit and
 speed filter, the pitch actuator's dynamics beyond its 8°/s limit, the rotor's 3P ripple and
 imbalance, blade, tower and nacelle motion (the scenario's comment).
 
