@@ -389,6 +389,12 @@ def test_a_rotors_pitch_control_is_a_preset_or_a_table_in_scenario_units():
     full = {"speed_rpm": 20.0, "kp": 1.0, "ki": 0.5, "gain_angle_deg": 5.0, "corner_hz": 1.0}
     assert rotor(full).pitch_control.gain_angle == math.radians(5.0)
     assert rotor(full).describe()["pitch_control"]["kp"] == 1.0  # logged with the rotor
+    # The flag's form: a preset with changes.
+    from pinwind.cli.flags import rotor_values
+
+    flag = rotor_values(["rotor=nrel5mw(pitch_control='nrel5mw', pitch_deg=5)"])["rotor"]
+    assert rotor(flag["pitch_control"]).pitch_control == PitchControl.nrel5mw()
+    assert flag == {"preset": "nrel5mw", "pitch_control": "nrel5mw", "pitch_deg": 5}
 
 
 @pytest.mark.parametrize(
