@@ -344,6 +344,10 @@ _MEANINGS: dict[str, About] = {
            short="Ct",
            plot=Plot("rotor_thrust_coefficient", "rotor", "thrust coefficient C_t(λ, β) [-]",
                      "-")),
+    "rotor_pitch": About("pitch", "rad",
+           "blade pitch: fixed, or the pitch controller's (loads/pitch_control.py)",
+           short="pitch",
+           plot=Plot("rotor_pitch", "rotor", "blade pitch β [deg]", "deg")),
     "row_force": About("force", "N",
            "bearing row's force on the shaft (F_u, F_w, F_k): its springs and dampers at its "
            "position (docs/model_format.md, Bearing rows)", frame="bearing",
