@@ -73,6 +73,7 @@ from pinwind.life.fatigue_set import (
     OpenFastInput,
     TurbulenceLevel,
 )
+from pinwind.life.life_sums import bearing_life_data
 from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
 from pinwind.life.site import (
     TURBULENCE_CLASSES,
@@ -289,6 +290,7 @@ class _SetReader:
             root_stress=self.root_stress(settings.get("root_stress", {}), gears),
             bearings={**gearbox.source.bearings, **row_ratings(gearbox)},
             roles=self.roles,
+            bearing_life=bearing_life_data(gearbox),
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
             if openfast is not None and not openfast.file(case, fatigue.base).is_file():

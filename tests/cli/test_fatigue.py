@@ -551,3 +551,38 @@ def test_ctrl_c_at_any_step_prints_what_is_kept_and_exits_130(
     code, err = fatigue_exit([str(path), "--workers", "1"], monkeypatch, capsys)
     assert code == 130
     assert err == said.format(out=tmp_path / "cases") + "\n"
+
+
+def test_the_bearing_table_gives_each_bearings_modified_and_reference_life(
+    tmp_path, monkeypatch, capsys
+):
+    """planet1 at a constant radial load and speed per bin (tests/life/test_life_sums.py): its
+    L10h, L_nmh (ISO 281 by hand over the two bins) and L10rh (= L10h in the calibration case)
+    in the text and the JSON."""
+    from pinwind.cli.fatigue import cell
+    from pinwind.runs.fatigue_set_file import load_fatigue_set
+    from tests.life.test_life_sums import hand_lives, write_cases
+
+    monkeypatch.setattr("pinwind.runs.case_runner.run_cases", _fake_run(2))
+    path = fatigue_toml(tmp_path)
+    fset = load_fatigue_set(path)
+    write_cases(fset)
+    expected = hand_lives(fset.bearings["planet1"].dynamic_load_rating)
+    lines = {}
+    for args in ([], ["--json"]):
+        monkeypatch.setattr(sys, "argv", ["pinwind", "fatigue", str(path), "--workers", "1", *args])
+        with pytest.raises(SystemExit) as caught:
+            main()
+        assert caught.value.code in (0, None)
+        lines[bool(args)] = capsys.readouterr().out
+    text = lines[False]
+    assert "L10h [h]" in text and "L_nmh [h]" in text and "L10rh [h]" in text
+    row = next(line for line in text.splitlines() if line.startswith("planet1 "))
+    cells = row.split()
+    assert cells[-3:-1] == [cell(expected["l10h"]), cell(expected["lnmh"])]
+    assert_allclose(float(cells[-1]), expected["l10h"], rtol=1e-2)  # L10r = L10 (calibration)
+    assert "-: not computed" in text
+    (lives,) = json.loads(lines[True])["bearings"]
+    (planet1,) = [b for b in lives if b["bearing"] == "planet1"]
+    assert_allclose(planet1["lnm_h"], expected["lnmh"], rtol=1e-9)
+    assert_allclose(planet1["l10r_h"], expected["l10h"], rtol=1e-2)
