@@ -100,16 +100,16 @@ def row_axial_force(block: Any, gearbox: Any) -> np.ndarray:
 def row_load_zone(block: Any, gearbox: Any) -> np.ndarray:
     """A bearing row's load-zone angle 2ψ_l [rad], (samples, rows); NaN without a geometry.
 
-    From its internal load distribution (``life/life_sums.row_contacts``, imported here when
-    called: the life package imports this module).
+    From its internal load distribution (``dynamics/row_contact.row_contacts``, imported when
+    called: it reads the model's bearing data, which the schema need not load).
     """
-    from pinwind.life.life_sums import row_contacts
+    from pinwind.dynamics.row_contact import row_contacts
 
     return row_contacts(block, gearbox)[0]
 
 
 def row_max_element_load(block: Any, gearbox: Any) -> np.ndarray:
     """A bearing row's largest rolling-element load Q_max [N], (samples, rows); NaN likewise."""
-    from pinwind.life.life_sums import row_contacts
+    from pinwind.dynamics.row_contact import row_contacts
 
     return row_contacts(block, gearbox)[1]

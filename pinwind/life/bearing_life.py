@@ -224,7 +224,7 @@ class BearingLoadSum:
             modified life (``modified_life.modified_life_sum``); NaN when it has none (no C_u
             nor C₀, no size: ``life/life_sums.py``).
         reference_sum: Σ P_ref,i^p n_i [N^p·rev] of the ISO/TS 16281 reference loads
-            (``load_distribution.reference_load``); NaN without an internal geometry.
+            (``dynamics/load_distribution.reference_load``); NaN without an internal geometry.
         reference_time_sum: Σ P_ref,i^p Δt_i [N^p·s], which weights a bearing that does not
             turn.
     """

@@ -12,7 +12,7 @@ bearing), turning at its joint's speed relative to the parent:
   the revolutions as ISO 281:2007 §9.3.4 does; not computed when C_u is neither given nor
   estimable (no C₀);
 - **reference** L_10r = (C/P_ref,eq)^p from the internal load distribution of each sample
-  (``life/load_distribution.py``), with the load-zone angle and the largest element load.
+  (``dynamics/load_distribution.py``), with the load-zone angle and the largest element load.
 
 A whole ``<bearing>`` without rows is rated by ``life/bearing_life.py``; one that carries a
 tilting moment larger than ``bearing_life.TILT_ARM`` × its radial force is refused there with

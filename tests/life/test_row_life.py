@@ -167,8 +167,8 @@ def test_bad_bearing_life_data_is_one_message_and_exit_2(tmp_path, shaft_log, ol
 def test_grouping_the_loads_in_cells_keeps_the_reference_life(clearance_mm):
     # A load turning through 60° and varying by ±40 % in size over 400 samples: the life from
     # the grouped loads against the one from every sample's own distribution.
+    from pinwind.dynamics.load_distribution import distribute, reference_load
     from pinwind.life.life_sums import geometry_of
-    from pinwind.life.load_distribution import distribute, reference_load
     from pinwind.life.row_life import rate_row
     from pinwind.model.bearing import bearing_rating
     from pinwind.model.bearing_life_data import life_data
