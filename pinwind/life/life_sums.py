@@ -16,8 +16,8 @@ and Δt_i the seconds of sample i (trapezoid rule):
 - **reference** Σ P_ref,i^p n_i of each sample's internal load distribution (ISO/TS
   16281:2008, ``dynamics/load_distribution.py``), L10r = (C/P_ref,eq)^p; none without an internal
   geometry (``size_mm``, or rollers and roller_mm). The distribution is solved once per cell of
-  like loads (``dynamics/row_contact.cell_distribution``), which also gives each sample's largest element load Q_max and
-  load-zone angle 2ψ_l (`sample_distribution`).
+  like loads (``dynamics/row_contact.cell_distribution``), which also gives each sample's
+  largest element load Q_max and load-zone angle 2ψ_l (`sample_distribution`).
 
 Every sum is revolution-weighted as ISO 281's P_eq is, so sums over a site's bins give its
 lives by the same rule as L10 (``set_bearing_life``); lives in hours follow at the mean speed
@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -234,7 +235,9 @@ def history_sums(
     return HistorySums(sums, kappa_mean, e_c, c_u, dist, tuple(notes))
 
 
-def run_load_sums(result: Any, gearbox: Any) -> list[BearingLoadSum]:
+def run_load_sums(
+    result: Any, gearbox: Any, *, life: Mapping[str, BearingLifeData] | None = None
+) -> list[BearingLoadSum]:
     """The life sums of every bearing of a run, then of every row, each named as rated.
 
     Bearings in the order of ``result.bearing_names``: W = (F_r, 0, F_a, 0, 0) of the
@@ -248,11 +251,13 @@ def run_load_sums(result: Any, gearbox: Any) -> list[BearingLoadSum]:
     Args:
         result: the run (``Result``: time, joint speeds, bearing forces and the row series).
         gearbox: the model it ran (its ``<bearing>`` and ``<row>`` elements).
+        life: each bearing's and row's life data by its rated name, instead of the model's
+            (`bearing_life_data`; a fatigue set's, with its ``[fatigue.bearings]``).
     """
     from pinwind.analysis.bearing_rows import row_loads
 
     ratings = gearbox.source.bearings
-    life = gearbox.source.bearing_life
+    life = bearing_life_data(gearbox) if life is None else life
     out = []
     for i, name in enumerate(result.bearing_names):
         speed = result.speed[:, result.joint_names.index(name)]
@@ -270,7 +275,7 @@ def run_load_sums(result: Any, gearbox: Any) -> list[BearingLoadSum]:
         k = (axis / np.linalg.norm(axis)).reshape(1, 3)
         w = np.zeros((len(force), 5))
         w[:, 0], w[:, 2] = radial, along_axis(force[:, None, :], k)[:, 0]
-        data = life_data_of(gearbox, name, life.get(name))
+        data = life.get(name)
         history = history_sums(
             name, rating, data=data, size=None, time=result.time, speed=speed, load=w
         )
@@ -281,7 +286,7 @@ def run_load_sums(result: Any, gearbox: Any) -> list[BearingLoadSum]:
         w = -np.column_stack([load.radial, load.axial, load.tilting])
         history = history_sums(
             row_name(load.bearing, load.name), row_rating(load.bearing, row),
-            data=life_data_of(gearbox, load.bearing, row.life), size=row.size,
+            data=life.get(row_name(load.bearing, load.name)), size=row.size,
             time=result.time, speed=result.speed[:, result.joint_names.index(load.bearing)],
             load=w,
         )  # fmt: skip
@@ -296,9 +301,10 @@ def bearing_life_data(gearbox: Any) -> dict[str, BearingLifeData]:
     row's own size when its data gives none: what its modified and reference sums depend on
     besides the loads (a fatigue set's case key, ``life/fatigue_set.py``).
     """
+    given = gearbox.source.bearing_life
     out = {
-        name: life_data_of(gearbox, name, data)
-        for name, data in gearbox.source.bearing_life.items()
+        name: life_data_of(gearbox, name, given.get(name))
+        for name in dict.fromkeys([*gearbox.source.bearings, *given])
     }
     for bearing, rows in gearbox.source.bearing_rows.items():
         for row in rows:

@@ -126,7 +126,7 @@ def reduce_case(
         materials=fatigue.materials,
         root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
     )
-    bearings = run_load_sums(counted, gearbox)
+    bearings = run_load_sums(counted, gearbox, life=fatigue.bearing_life)
     log_sha256 = file_sha256(fatigue.log_path(case))
     return CaseCycles(
         case,
