@@ -112,6 +112,7 @@ def static_transmission_error(
     positions: int = 128,
     slices: int | None = None,
     single_pair: float | None = None,
+    roll: np.ndarray | None = None,
 ) -> TransmissionError:
     """The loaded static TE of ``pair`` under ``force`` over one mesh cycle (module docstring).
 
@@ -125,6 +126,8 @@ def static_transmission_error(
             and no misalignment, else 40.
         single_pair: c′ b [N/m] of a spur pair, default ISO 6336-1 method B's
             (`single_pair_stiffness`); a helical pair takes `mesh_stiffness`'s c_γα b.
+        roll: the reference pair's roll positions from A [m], in [0, p_bt), instead of the M
+            equally spaced ones (`TransmissionError.harmonics` needs those).
 
     Raises:
         InputError: a negative force, positions < 4, slices < 1.
@@ -162,7 +165,15 @@ def static_transmission_error(
 
     first = -math.ceil(float(skew[-1]) / p) - 1
     offsets = np.arange(first, math.ceil(g / p) + 1) * p
-    roll = (np.arange(positions) + 0.5) * p / positions
+    if roll is None:
+        roll = (np.arange(positions) + 0.5) * p / positions
+    else:
+        roll = np.asarray(roll, dtype=float)
+        if roll.ndim != 1 or np.any((roll < 0.0) | (roll >= p)):
+            raise InputError(
+                f"roll positions must lie in one mesh cycle, [0, {p:.6g}) m from A"
+            )
+        positions = roll.size
     lead = lead_gap(gear_1, gear_2, b, z) + misalignment * z / b
     deltas = np.empty(positions)
     forces = np.empty((positions, offsets.size))
