@@ -170,9 +170,7 @@ def static_transmission_error(
     else:
         roll = np.asarray(roll, dtype=float)
         if roll.ndim != 1 or np.any((roll < 0.0) | (roll >= p)):
-            raise InputError(
-                f"roll positions must lie in one mesh cycle, [0, {p:.6g}) m from A"
-            )
+            raise InputError(f"roll positions must lie in one mesh cycle, [0, {p:.6g}) m from A")
         positions = roll.size
     lead = lead_gap(gear_1, gear_2, b, z) + misalignment * z / b
     deltas = np.empty(positions)

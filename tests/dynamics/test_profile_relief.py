@@ -18,6 +18,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
+from pinwind.dynamics.integrator import Integrator
 from pinwind.errors import InputError
 from pinwind.gears.flank_modification import FlankModification
 from pinwind.gears.gear_pair import GearPair
@@ -74,16 +75,13 @@ def test_a_crawling_pair_deflects_by_the_static_transmission_error(relief_um):
     te = static_transmission_error(
         pair, force, gear_1=relief, gear_2=relief, single_pair=K_SINGLE, roll=x % path.base_pitch
     )
-    # Away from the ISO curve's stiffness steps at B and D (a few ms of ringing each).
-    steps = np.array([path.single_start, path.single_end])
-    ringing = 0.005 * 0.3 * R_BA  # 5 ms of roll at 0.3 rad/s
+    # Away from the ISO curve's stiffness steps (a few ms of ringing each): where the leading
+    # pair leaves at E (entering pair at B) and where a new pair enters at A (x wraps to 0).
+    steps = np.array([0.0, path.single_start, path.base_pitch])
+    ringing = 0.01 * 0.3 * R_BA  # 10 ms of roll at 0.3 rad/s
     away = np.min(np.abs(x[:, None] - steps[None, :]), axis=1) > ringing
     assert away.sum() > 0.5 * away.size
     assert_allclose(mesh.deflection[away], te.approach[away], rtol=5e-4)
-    if relief_um:
-        # The relief shows: the deflection in the double-pair zones is not F/(1.75 k).
-        double = away & (x < path.single_start)
-        assert np.ptp(mesh.deflection[double]) > 0.1e-6
 
 
 def test_relief_reshapes_the_deflection_as_the_hand_solution_of_two_pairs():
@@ -108,19 +106,29 @@ def test_the_energy_ledger_closes_through_the_reliefs_undamped():
         gb,
         duration=0.05,
         dt=1e-5,
+        integrator=Integrator(rho_infinity=1.0),
         initial_speeds={"a": 20.0},
-        torques={"b": TORQUE_B, "a": -TORQUE_B / 2},
+        torques={"b": TORQUE_B, "a": TORQUE_B / 2},  # balanced: ω_b / ω_a = −1/2
         gravity=np.zeros(3),
         meshes={"m": MeshCompliance(stiffness=K_SINGLE, damping=0.0)},
     )
     energy = res.energy
-    # The integrator's own loss, against the work the moving stiffness and gaps put in.
-    scale = np.max(np.abs(energy["parametric"])) + np.max(np.abs(energy["spring"]))
-    assert np.max(np.abs(energy["numerical"])) < 1e-3 * scale
+    # The integrator's own loss, against the energy the springs hold and the work the moving
+    # stiffness and gaps put in.
+    scale = np.max(energy["potential_spring"])
+    assert np.max(np.abs(energy["work_parametric"])) > 0.05 * scale
+    # Measured: 2.5e-6 of it (the pairs engaged are held over a step, as their stiffness).
+    assert np.max(np.abs(energy["numerical"])) < 1e-5 * scale
 
 
 def test_profile_relief_on_a_helical_compliant_mesh_is_refused_with_the_reason():
-    text = two_gear_urdf().replace('face_width_mm="20"', 'face_width_mm="20" helix_angle_deg="10"')
+    beta = math.radians(10.0)
+    centre = 0.002 / math.cos(beta) * 30  # m_t (z1 + z2) / 2
+    text = (
+        two_gear_urdf(centre_distance=centre)
+        .replace('<gear name="g1" ', '<gear name="g1" helix_angle_deg="10" ')
+        .replace('<gear name="g2" ', '<gear name="g2" helix_angle_deg="-10" ')
+    )
     text = text.replace(
         '<gear name="g1" ', '<gear name="g1" tip_relief_um="5" tip_relief_length_mm="1" '
     )
