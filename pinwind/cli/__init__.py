@@ -4,7 +4,8 @@ Units at this edge are the ones drivetrain engineers type: rpm, mm, degrees; eve
 into SI before it reaches the library. One module per family of verbs, each registering its
 commands on ``app`` (``cli/app.py``): ``simulate`` (simulate, run), ``logs`` (replay, plot,
 report, export), ``model`` (info, view, build), ``rating`` (rate), ``spectrum`` (spectrum),
-``modes`` (modes, campbell), ``sweep`` (sweep ...), ``fatigue`` (fatigue), ``life`` (life);
+``modes`` (modes, campbell), ``sweep`` (sweep ...), ``fatigue`` (fatigue), ``life`` (life),
+``transmission_error`` (te);
 ``flags`` turns
 the flags of a run into scenario values. ``simulate`` logs every run to an MCAP file
 (``logs/`` by default) that ``replay`` and ``report`` read back on their own.
@@ -47,6 +48,7 @@ VERB_MODULES = {
     "spectrum": "spectrum",
     "sweep": "sweep",
     "life": "life",
+    "te": "transmission_error",
 }
 
 

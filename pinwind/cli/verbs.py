@@ -10,7 +10,17 @@ from __future__ import annotations
 from pinwind.cli import simulate  # noqa: F401
 
 # isort: split
-from pinwind.cli import fatigue, life, logs, model, modes, rating, spectrum, sweep  # noqa: F401
+from pinwind.cli import (  # noqa: F401
+    fatigue,
+    life,
+    logs,
+    model,
+    modes,
+    rating,
+    spectrum,
+    sweep,
+    transmission_error,
+)
 from pinwind.cli.app import app
 
 __all__ = ["app"]

@@ -118,6 +118,8 @@ class MeshPathSpec:
     reference_a: Vector  # (3,) unit vector ⟂ axis in gear A's joint frame
     pair_position: Vector  # [m] from the path start
     pair_stiffness: Vector  # [N/m]
+    gap_position: Vector  # [m] from the path start; empty: unmodified flanks
+    gap_value: Vector  # [m], the profile modifications' gap of a pair (gears/flank_modification.py)
     def __init__(self) -> None: ...
 
 class CompliantMeshSpec:

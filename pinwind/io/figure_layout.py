@@ -102,3 +102,26 @@ def outside_figure(fig: Any, *, tolerance: float = 0.5) -> list[str]:
                 f"{box.y1:.0f} px; the figure {page.x1:.0f} × {page.y1:.0f} px"
             )
     return out
+
+
+def save_with_caption(fig: Any, path: Any, *, caption: str, mark: str = "") -> Any:
+    """Writes a figure at 120 dpi with its caption under the axes, making its folder; closes it.
+
+    ``mark`` is the figure's title (above the axes' own), e.g. that it is a quick set's. The
+    figure must use the constrained layout: legends beside the axes are kept on the page, and
+    the caption under them (`caption_below`). Both are also the PNG's Description and Title.
+    Returns the path.
+    """
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if mark:
+        fig.suptitle(mark, fontsize=11, x=0.02, ha="left")
+    caption_below(fig, caption)
+    metadata = {"Description": caption} | ({"Title": mark} if mark else {})
+    fig.savefig(path, dpi=120, metadata=metadata)
+    plt.close(fig)
+    return path

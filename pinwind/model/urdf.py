@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinwind.errors import (
+    InputError,
     InvalidBearingCompliance,
     InvalidBearingRating,
     InvalidGearGeometry,
@@ -26,6 +27,7 @@ from pinwind.errors import (
     UnknownAttribute,
     UnknownName,
 )
+from pinwind.gears.flank_modification import UNMODIFIED, FlankModification
 from pinwind.gears.involute import half_tooth_angle
 from pinwind.known_names import unknown_name
 from pinwind.model.bearing import BEARING_TYPES, BearingRating, bearing_rating
@@ -62,6 +64,9 @@ class GearSpec:
     #: Tip alteration k·m_n [m], negative for a shortened tip (ISO 21771; its tip circle and so
     #: its path of contact, contact ratio and ISO mesh stiffness: `gears.involute.tip_radius`).
     tip_alteration: float = 0.0
+    #: Micro-geometry of its flanks: profile relief, lead crowning, end relief
+    #: (`pinwind.gears.flank_modification`).
+    modification: FlankModification = UNMODIFIED
 
     def half_tooth_angle(self, radius: float) -> float:
         """Half the tooth thickness at ``radius`` [m] as an angle about the axis [rad].
@@ -435,6 +440,18 @@ def _damping(path: str, joint: ET.Element) -> float:
     return c
 
 
+#: A ``<gear>``'s flank modification attributes: (file attribute, `FlankModification` field,
+#: factor to SI).
+_MODIFICATION_ATTRIBUTES = (
+    ("tip_relief_um", "tip_relief", 1e-6),
+    ("tip_relief_length_mm", "tip_relief_length", 1e-3),
+    ("root_relief_um", "root_relief", 1e-6),
+    ("root_relief_length_mm", "root_relief_length", 1e-3),
+    ("crowning_um", "crowning", 1e-6),
+    ("end_relief_um", "end_relief", 1e-6),
+    ("end_relief_length_mm", "end_relief_length", 1e-3),
+    ("helix_slope_deviation_um", "helix_slope_deviation", 1e-6),
+)
 #: The attributes of ``<gear>`` (docs/model_format.md), each read in `_read_gearbox`.
 _GEAR_ATTRIBUTES = (
     "name",
@@ -451,6 +468,8 @@ _GEAR_ATTRIBUTES = (
     "tooth_phase_deg",
     "position_error_um",
     "tip_alteration_mm",
+    *(attribute for attribute, _, _ in _MODIFICATION_ATTRIBUTES),
+    "relief_shape",
 )
 #: The attributes of every ``<mesh>``; a compliant one's are `_COMPLIANCE_ATTRIBUTES`.
 _MESH_ATTRIBUTES = ("name", "gear1", "gear2", "type")
@@ -512,6 +531,7 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             tooth_phase_given=el.get("tooth_phase_deg") is not None,
             position_error=_position_error(path, el),
             tip_alteration=_tip_alteration(path, el, module_mm),
+            modification=_flank_modification(path, el, face_mm * 1e-3),
         )
     names = set()
     for el in box.findall("mesh"):
@@ -992,6 +1012,27 @@ def _tip_alteration(path: str, el: ET.Element, module_mm: float) -> float:
             "addendum; give k·m_n in mm (Nejad et al. 2016 Table V: −10.861 on m_n = 45 mm)",
         )
     return k_m_mm * 1e-3
+
+
+def _flank_modification(path: str, el: ET.Element, face_width: float) -> FlankModification:
+    """A ``<gear>``'s micro-geometry (``tip_relief_um``, ``crowning_um``, ...) in SI."""
+    given = {
+        field: _number(path, el, attribute, 0.0) * factor
+        for attribute, field, factor in _MODIFICATION_ATTRIBUTES
+    }
+    try:
+        modification = FlankModification(**given, relief_shape=el.get("relief_shape", "linear"))
+    except InputError as err:
+        raise InvalidGearGeometry(path, _describe(el), str(err)) from err
+    if 2.0 * modification.end_relief_length > face_width:
+        raise InvalidGearGeometry(
+            path,
+            _describe(el),
+            f"end_relief_length_mm = {modification.end_relief_length * 1e3:g} at each end of a "
+            f"face {face_width * 1e3:g} mm wide: the two end reliefs overlap; give at most half "
+            "the face width",
+        )
+    return modification
 
 
 def _position_error(path: str, el: ET.Element) -> tuple[float, float]:

@@ -89,6 +89,7 @@ class CompliantMeshes : public Element {
     for (auto& r : row_) r.setZero(nv);
     span_.assign(specs_.size(), {0, 0});
     path_.resize(2 * specs_.size());
+    last_path_.resize(2 * specs_.size());
     b_.setZero(n, 2);
     w_.setZero(n, 2);
     normal_.setZero(n, 2);
@@ -128,6 +129,7 @@ class CompliantMeshes : public Element {
       for (int f = 0; f < 2; ++f) {
         flank_row(mc, s.rows, m, flank_sign(f), cos_w_[i], sin_w_[i], row_[2 * i + f], unused);
         path_[2 * i + f] = path_state(paths_[i], psi_a, flank_sign(f));
+        if (modified(i)) engage(paths_[i], path_[2 * i + f], delta_(i, f));
       }
       if (!started_) {
         // The span of the rows' entries that can be non-zero: the joints that move one gear
@@ -145,17 +147,26 @@ class CompliantMeshes : public Element {
         // zero deflection starts on both flanks carrying no force, and the first step releases
         // the one that would pull. A static solve with neither flank overlapping starts on the
         // one nearer to contact and closes the gap if the loads ask for it.
-        for (int f = 0; f < 2; ++f) contact_(i, f) = delta_(i, f) >= 0.0;
+        for (int f = 0; f < 2; ++f) contact_(i, f) = delta_(i, f) - gap(i, f) >= 0.0;
         if (!contact_.row(i).any() && s.weights.statics) contact_(i, nearer(i)) = 1;
       }
       // The work the stiffness's change puts in since the last sample, ½ (k_n − k_{n−1}) δ_n²
       // on each overlapping flank (δ_n at the new sample): the parametric excitation, which
-      // the energy ledger keeps apart from the integrator's loss. Repeated calls at one state
-      // add nothing.
+      // the energy ledger keeps apart from the integrator's loss. With profile modifications
+      // the pairs' gaps move too: U(δ_n) of the pairs where they are now less U(δ_n) of the
+      // pairs where they were. Repeated calls at one state add nothing.
       for (int f = 0; f < 2; ++f) {
         const double k = stiffness(i, f), d = std::max(0.0, delta_(i, f));
-        if (!first_ && !s.weights.statics) parametric_ += 0.5 * (k - last_k_(i, f)) * d * d;
-        if (!s.weights.statics) last_k_(i, f) = k;
+        if (!first_ && !s.weights.statics) {
+          parametric_ += modified(i)
+                             ? pairs_potential(paths_[i], path_[2 * i + f], delta_(i, f)) -
+                                   pairs_potential(paths_[i], last_path_[2 * i + f], delta_(i, f))
+                             : 0.5 * (k - last_k_(i, f)) * d * d;
+        }
+        if (!s.weights.statics) {
+          last_k_(i, f) = k;
+          last_path_[2 * i + f] = path_[2 * i + f];
+        }
         if (contact_(i, f)) coefficients(s, i, f);
       }
     }
@@ -219,8 +230,8 @@ class CompliantMeshes : public Element {
           continue;
         }
         const auto& row = row_[2 * i + f];
-        elastic_(i, f) =
-            stiffness(i, f) * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a));
+        elastic_(i, f) = stiffness(i, f) * (delta_(i, f) - gap(i, f) -
+                                            row.dot(s.dq_free + s.weights.position_gain * a));
         viscous_(i, f) = -specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
         normal_(i, f) = std::max(0.0, elastic_(i, f) + viscous_(i, f));
       }
@@ -247,11 +258,16 @@ class CompliantMeshes : public Element {
 
   double parametric_work() const override { return parametric_; }
 
-  // U = Σ_flanks ½ k(x) δ₊² [J]: the potential whose gradient the flanks' forces are.
+  // U = Σ_flanks ½ k(x) δ₊² [J]: the potential whose gradient the flanks' forces are; with
+  // profile modifications Σ_pairs ½ k_j (δ − e_j)₊² (mesh_path.hpp engage).
   double potential(const StepView&) const override {
     double energy = 0.0;
     for (size_t i = 0; i < specs_.size(); ++i) {
       for (int f = 0; f < 2; ++f) {
+        if (modified(i)) {
+          energy += pairs_potential(paths_[i], path_[2 * i + f], delta_(i, f));
+          continue;
+        }
         const double d = std::max(0.0, delta_(i, f));
         energy += 0.5 * stiffness(i, f) * d * d;
       }
@@ -309,6 +325,12 @@ class CompliantMeshes : public Element {
     return paths_[i].pair_position.size() ? path_[2 * i + f].stiffness : specs_[i].stiffness;
   }
 
+  // Whether mesh i's flanks are modified (a gap table along its path).
+  bool modified(size_t i) const { return paths_[i].gap_position.size() != 0; }
+
+  // E of flank f of mesh i: its engaged pairs' mean gap [m] (0 for unmodified flanks).
+  double gap(size_t i, int f) const { return path_[2 * i + f].gap; }
+
   // The flank of mesh i nearer to contact (the larger overlap), 0 front, 1 back.
   int nearer(size_t i) const { return delta_(i, 0) >= delta_(i, 1) ? 0 : 1; }
 
@@ -316,7 +338,8 @@ class CompliantMeshes : public Element {
   // static solve: for the displacement a), whether it is in contact or not [N].
   double end_force(const StepView& s, const Eigen::VectorXd& a, size_t i, int f) const {
     const auto& row = row_[2 * i + f];
-    return stiffness(i, f) * (delta_(i, f) - row.dot(s.dq_free + s.weights.position_gain * a)) -
+    return stiffness(i, f) *
+               (delta_(i, f) - gap(i, f) - row.dot(s.dq_free + s.weights.position_gain * a)) -
            specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
   }
 
@@ -347,7 +370,7 @@ class CompliantMeshes : public Element {
   void coefficients(const StepView& s, size_t i, int f) {
     const double k = stiffness(i, f), c = specs_[i].damping;
     const auto& row = row_[2 * i + f];
-    b_(i, f) = k * (delta_(i, f) - row.dot(s.dq_free)) - c * row.dot(s.v);
+    b_(i, f) = k * (delta_(i, f) - gap(i, f) - row.dot(s.dq_free)) - c * row.dot(s.v);
     w_(i, f) = k * s.weights.position_gain + c * s.weights.speed_gain;
   }
 
@@ -359,6 +382,7 @@ class CompliantMeshes : public Element {
   std::vector<Eigen::RowVectorXd> row_;             // J of each flank (mesh i: 2i, 2i + 1)
   std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;  // each mesh's rows' span
   std::vector<PathState> path_;
+  std::vector<PathState> last_path_;  // each flank's path state at the last sample
   // Each flank's b [N] and w [N·s²/m] (coefficients) and its final force and parts [N].
   Eigen::Matrix<double, Eigen::Dynamic, 2> b_, w_, normal_, elastic_, viscous_;
   Eigen::Matrix<double, Eigen::Dynamic, 2> last_k_;  // each flank's stiffness at the last sample

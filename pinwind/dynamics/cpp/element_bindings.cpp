@@ -40,6 +40,8 @@ void bind_elements(nb::module_& m) {
       .def_rw("angle_ref_a", &MeshPathSpec::angle_ref_a)
       .def_rw("reference_a", &MeshPathSpec::reference_a)
       .def_rw("pair_position", &MeshPathSpec::pair_position)
+      .def_rw("gap_position", &MeshPathSpec::gap_position)
+      .def_rw("gap_value", &MeshPathSpec::gap_value)
       .def_rw("pair_stiffness", &MeshPathSpec::pair_stiffness);
   bind_kinds(m);
 }

@@ -29,6 +29,10 @@ struct MeshPathSpec {
   // Stiffness of one tooth pair along the path (positions from A [m], stiffness [N/m]),
   // piecewise linear; empty: a constant mesh stiffness (the pair count still from geometry).
   Eigen::VectorXd pair_position, pair_stiffness;
+  // The gap the gears' profile modifications leave a tooth pair along the path (positions from
+  // A [m], gap [m], piecewise linear; pinwind/gears/flank_modification.py profile_gap); empty:
+  // unmodified flanks. Needs the pair table.
+  Eigen::VectorXd gap_position, gap_value;
 };
 
 // Angle from u to e about k [rad], in (−π, π].
@@ -47,11 +51,11 @@ struct PathState {
   int pairs = 1;             // pairs in contact
   double stiffness = 1.0;    // mesh stiffness: the sum over the pairs [N/m] (1 if no table)
   double share = 1.0;        // the entering pair's stiffness / the mesh stiffness
+  double gap = 0.0;          // E: the engaged pairs' stiffness-weighted gap (engage) [m]
 };
 
-inline double pair_stiffness_at(const MeshPathSpec& p, double x) {
-  const auto& s = p.pair_position;
-  const auto& k = p.pair_stiffness;
+// A piecewise-linear table at x, held at its ends.
+inline double table_at(const Eigen::VectorXd& s, const Eigen::VectorXd& k, double x) {
   const Eigen::Index n = s.size();
   if (x <= s[0]) return k[0];
   if (x >= s[n - 1]) return k[n - 1];
@@ -59,6 +63,53 @@ inline double pair_stiffness_at(const MeshPathSpec& p, double x) {
   const Eigen::Index i = static_cast<Eigen::Index>(it - s.data());
   const double w = (x - s[i - 1]) / (s[i] - s[i - 1]);
   return (1.0 - w) * k[i - 1] + w * k[i];
+}
+
+inline double pair_stiffness_at(const MeshPathSpec& p, double x) {
+  return table_at(p.pair_position, p.pair_stiffness, x);
+}
+
+inline double pair_gap_at(const MeshPathSpec& p, double x) {
+  return table_at(p.gap_position, p.gap_value, x);
+}
+
+// With profile modifications each pair j carries k_j max(0, δ − e_j), so the flank's force is
+// K (δ − E) with K = Σ k_j and E = Σ k_j e_j / K over the pairs engaged at the overlap δ (those
+// with e_j < δ; where none is, those at the smallest gap, so that a flank closes when δ passes
+// it): the same law as pinwind/gears/loaded_contact.py, held over a step like the stiffness.
+// The share becomes the entering pair's part of the force at δ.
+inline void engage(const MeshPathSpec& p, PathState& st, double delta) {
+  double smallest = pair_gap_at(p, st.entering);
+  for (int j = 1; j < st.pairs; ++j) {
+    smallest = std::min(smallest, pair_gap_at(p, st.entering + j * p.base_pitch));
+  }
+  const double limit = std::max(delta, smallest);
+  double k_sum = 0.0, ke_sum = 0.0, entering_force = 0.0, force = 0.0;
+  for (int j = 0; j < st.pairs; ++j) {
+    const double x = st.entering + j * p.base_pitch;
+    const double e = pair_gap_at(p, x);
+    if (e > limit) continue;
+    const double k = pair_stiffness_at(p, x);
+    k_sum += k;
+    ke_sum += k * e;
+    const double f = k * std::max(0.0, delta - e);
+    force += f;
+    if (j == 0) entering_force = f;
+  }
+  st.stiffness = k_sum;
+  st.gap = ke_sum / k_sum;
+  if (force > 0.0) st.share = entering_force / force;
+}
+
+// U = Σ_j ½ k_j max(0, δ − e_j)² of the pairs of a path state at overlap δ [J].
+inline double pairs_potential(const MeshPathSpec& p, const PathState& st, double delta) {
+  double energy = 0.0;
+  for (int j = 0; j < st.pairs; ++j) {
+    const double x = st.entering + j * p.base_pitch;
+    const double d = std::max(0.0, delta - pair_gap_at(p, x));
+    energy += 0.5 * pair_stiffness_at(p, x) * d * d;
+  }
+  return energy;
 }
 
 // Path state for gear A's angle ψ_A relative to the centre line, on flank s (±1).

@@ -158,6 +158,10 @@ StepperSetup setup(const StepperSpec& spec, FamilyCounts& counts) {
     if (p.pair_position.size() != p.pair_stiffness.size()) {
       throw std::invalid_argument("paths: pair_position and pair_stiffness differ in size");
     }
+    if (p.gap_position.size() != p.gap_value.size() ||
+        (p.gap_position.size() && !p.pair_position.size())) {
+      throw std::invalid_argument("paths: a gap table needs its positions and the pair table");
+    }
   }
   check_size("frame_placement", spec.frame_placement, spec.frame_parent.size());
   for (const long j : spec.bearing_joints) {
