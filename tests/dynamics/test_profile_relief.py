@@ -41,7 +41,8 @@ def relieved_pair(relief_um: float, *, on: tuple[str, ...] = ("g1", "g2")) -> pi
     for gear in on:
         text = text.replace(
             f'<gear name="{gear}" ',
-            f'<gear name="{gear}" tip_relief_um="{relief_um}" tip_relief_length_mm="{length_mm!r}" ',
+            f'<gear name="{gear}" tip_relief_um="{relief_um}" '
+            f'tip_relief_length_mm="{length_mm!r}" ',
         )
     return loads(text, "relieved_pair.urdf")
 
