@@ -54,7 +54,8 @@ def dynamic_equivalent_load(
     ISO 281 §6: P = F_r + Y1 F_a when F_a ≤ e F_r, else X2 F_r + Y2 F_a.
     """
     radial, axial = np.asarray(radial, dtype=float), np.asarray(axial, dtype=float)
-    below = axial <= rating.e * radial
+    with np.errstate(invalid="ignore"):  # e = ∞ (no axial factors) times F_r = 0
+        below = (axial <= rating.e * radial) | (axial == 0.0)
     return np.where(below, radial + rating.y1 * axial, rating.x2 * radial + rating.y2 * axial)
 
 

@@ -54,6 +54,7 @@ from pinwind.life.modified_life import (
 from pinwind.life.skidding import seconds_below_minimum
 from pinwind.model.bearing import bearing_rating
 from pinwind.model.bearing_life_data import BearingLifeData
+from pinwind.model.bearing_rows import rolling_load
 
 
 @dataclass(frozen=True)
@@ -229,11 +230,15 @@ def rate_row(
     speed: np.ndarray,
     load: np.ndarray,
     reliability: float = 90.0,
+    rolling: np.ndarray | None = None,
 ) -> RowLife:
     """One row's lives from its load on the bearing and its speed (module docstring).
 
     ``load`` is W (n, 5) = (F_u, F_w, F_a, M_u, M_w) [N, N·m] on the bearing in its joint frame,
-    ``speed`` the joint's [rad/s], both at ``time`` [s].
+    ``speed`` the joint's [rad/s], both at ``time`` [s]. ``rolling`` (n,) [N], when given, is
+    the radial load its loaded rolling elements carry, a preload included
+    (``model/bearing_rows.rolling_load``), which the skidding check takes for the radial load;
+    None: the net radial load.
 
     Raises:
         ValueError: reliability outside 90 … 99.95 %.
@@ -357,13 +362,19 @@ def rate_row(
             zone_min = float(np.min(load_zone))
     if not rating:
         notes.append("not rated: no rating_c_kN")
+    rolling_equivalent = equivalent
+    if rolling is not None:
+        rolling_equivalent = dynamic_equivalent_load(iso, np.maximum(rolling, radial), axial)
+        notes.append("skidding checked on the preloaded rolling elements' load")
     return RowLife(
         name, bearing, kind, position, rating, p, revolutions, seconds, p_eq,
         l10 if rating else nan, _hours(l10, revolutions, seconds) if rating else nan,
         reliability, a1, kappa_mean, a_iso, e_c, c_u, lnm, _hours(lnm, revolutions, seconds),
         p_ref, l10r, _hours(l10r, revolutions, seconds), q_max, zone_min, element_load,
         load_zone, not_carried, tuple(notes),
-        seconds_below_minimum(iso, weights, speed, equivalent) / seconds if seconds else nan,
+        seconds_below_minimum(iso, weights, speed, rolling_equivalent) / seconds
+        if seconds
+        else nan,
     )  # fmt: skip
 
 
@@ -400,11 +411,23 @@ def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[R
             data = dataclasses.replace(data, rotating="outer")
         w = -np.column_stack([load.radial, load.axial, load.tilting])
         speed = result.speed[:, result.joint_names.index(load.bearing)]
+        rolling = None
+        in_step = load.bearing in gearbox.compliant_bearings and any(
+            r.name == row.name for r in gearbox.compliant_bearings[load.bearing].rows
+        )
+        if in_step and row.clearance < 0.0:
+            # A preloaded row's sides (cpp/bearing_rows.hpp): its rolling elements carry the
+            # preload whatever the net load.
+            rolling = np.hypot(
+                rolling_load(load.radial[:, 0], row.stiffness[1], row.clearance),
+                rolling_load(load.radial[:, 1], row.stiffness[2], row.clearance),
+            )
         out.append(
             rate_row(
                 name=load.name, bearing=load.bearing, kind=row.kind, position=load.position,
                 rating=row.rating, load_factors=row.load_factors, size=row.size, data=data,
                 time=result.time, speed=speed, load=w, reliability=reliability,
+                rolling=rolling,
             )
         )  # fmt: skip
     return out
