@@ -157,20 +157,25 @@ Why the shares here stay at one half where the GRC measured +46 %:
   clearance, and the tooth load moves along the face width towards one end: a shift of the load
   centre e gives the rows (1/2 ± e/L); +46 % on one row asks e = 0.46 · L/2 = {shift:.0f} mm here.
   The face-width load distribution (mesh misalignment) is not modelled, so that path is absent.
-- The clearance and preload change the deflections and the load inside each row: the ISO/TS 16281
-  reference life L10r of each row sees its clearance (a narrower load zone) or its preload (every
-  roller loaded), which is where the two runs' lives differ here: L10r preloaded over clearance
-  {ratio:.2f} (GRC: {grc_ratio:.1f}). The GRC's ×3.5 also contains the load share's change (life
-  goes as load^(-10/3): +46 % on one row alone costs a factor 1.46^(10/3) = {share_life:.1f}),
-  different bearings (C of the redesign's tapered rows, not the same C as here), and their
-  measured clearance; none of which is in this model.
+- What the bending moment does here: the carrier (the main shaft) tilts on its rows and the
+  three planets share the torque unevenly, planet loads {planets} kN (clearance run): the most
+  loaded planet carries {k_gamma:+.0%} over their mean (ISO 6336's K_γ). Between planets, not
+  between the two rows of one planet.
+- The lives: life goes as load^(-10/3), so +46 % on one row alone costs a factor
+  1.46^(10/3) = {share_life:.1f}: the GRC's ×{grc_ratio:.1f} is what their load share's change
+  gives, which this model does not have. What it has is the load inside each row: the
+  ISO/TS 16281 reference life L10r sees the clearance (a narrower load zone, fewer rollers
+  loaded harder) or the preload (every roller loaded), and gives the preloaded rows ×{ratio:.2f}
+  at the same row loads; the GRC's figure may hold that too, and different bearings (C of the
+  redesign's tapered rows is not the same C as here) and their measured clearance.
 - Their data: 750 kW, three planets on two cylindrical rows (original) and on preloaded tapered
   rows (redesign), measured on the dynamometer; ours: the 5 MW stage 1 with assumed clearance,
   preload and bending moment (the docstring). The numbers are not from the paper (not in
   pinwind's reference folder): the comparison is of the mechanism, not of a test.
 - Skidding: a preloaded row's rolling elements carry the preload whatever the net load, so
   neither run's loaded planet rows skid at rated torque; at low load a row in its clearance
-  would (tests/dynamics/test_row_clearance.py)."""
+  would, unloaded, and its preloaded twin would not (docs/bearing_life.md, "Skidding of a
+  preloaded row")."""
 
 
 def plot(runs: dict[str, list[PlanetRow]], folder: Path) -> Path:
@@ -194,7 +199,7 @@ def plot(runs: dict[str, list[PlanetRow]], folder: Path) -> Path:
     for ax in (ax_share, ax_life):
         ax.set_xticks(x, labels, fontsize=8)
         ax.legend(fontsize=8)
-    fig.suptitle("NREL 5 MW stage 1 planet rows: clearance vs preloaded tapered (issue 39)")
+    fig.suptitle("NREL 5 MW stage 1 planet rows: 0.07 mm clearance vs 0.02 mm preload")
     fig.tight_layout()
     path = folder / "grc_planet_rows.png"
     fig.savefig(path, dpi=120)
@@ -222,6 +227,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     worst = {name: max(r.share for r in rows) for name, rows in runs.items()}
     shortest = {name: min(r.life.l10rh for r in rows) for name, rows in runs.items()}
     ratio = shortest["preloaded"] / shortest["clearance"]
+    planets = [sum(r.radial for r in runs["clearance"] if r.planet == p) for p in PLANETS]
     table = Table(title="Beside Keller et al. 2018 (GRC 750 kW)")
     for col in ("", "GRC (as issue 39 quotes)", "clearance", "preloaded"):
         table.add_column(col, justify="left" if not col else "right")
@@ -237,6 +243,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         COMPARISON.format(
             shift=GRC_OVERLOAD * HALF_SPAN * 1e3, ratio=ratio, grc_ratio=GRC_LIFE_RATIO,
             share_life=(1 + GRC_OVERLOAD) ** (10 / 3),
+            planets=", ".join(f"{p / 1e3:.0f}" for p in planets),
+            k_gamma=max(planets) / np.mean(planets) - 1.0,
         ),
         highlight=False,
     )  # fmt: skip
