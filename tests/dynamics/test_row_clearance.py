@@ -275,3 +275,29 @@ def test_a_negative_row_clearance_without_preload_is_refused_naming_the_row():
     text = shaft(-0.02, None).replace(' preload="true"', "")
     with pytest.raises(InvalidBearingLifeData, match=r'<row name="A">.*preload="true"'):
         loads(text)
+
+
+@pytest.mark.parametrize(("clearance_mm", "sides"), [(0.05, 1.0), (-0.02, 2.0)])
+def test_the_modes_take_a_row_with_clearance_as_loaded_and_a_preloaded_one_at_its_centre(
+    clearance_mm, sides
+):
+    # The linear model's radial spring of each row: K (one side: loaded) with a clearance, 2K
+    # (both sides press) with a preload; and the step's own tangent at the centre of a
+    # preloaded shaft is the same, Σ 2K on the radial slide (no tilt: θ = 0 there).
+    from pinwind.dynamics.linear_model import bearing_elements
+    from pinwind.testing.tangents import element_stepper
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        gb = loads(shaft(clearance_mm, clearance_mm))
+    springs = {e.name: e.stiffness for e in bearing_elements(gb)}
+    for row, k in (("A", K_A), ("B", K_B)):
+        assert springs[f"shaft.{row}_radial_u"] == sides * k
+        assert springs[f"shaft.{row}_radial_w"] == sides * k
+        assert springs[f"shaft.{row}_tilt_u"] == TILT
+    if clearance_mm < 0:
+        q = gb.neutral()
+        at = element_stepper(gb).element_forces(q, np.zeros(gb.model.nv))
+        x = gb.v_index("shaft_radial_x")
+        assert_allclose(at.stiffness[x, x], 2 * (K_A + K_B), rtol=1e-12)
+        assert_allclose(at.force[x], 0.0, atol=1e-6)  # the sides' preloads cancel
