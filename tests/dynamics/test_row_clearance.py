@@ -36,8 +36,16 @@ P = 0.3
 RPM = 2 * math.pi / 60
 
 
-def shaft(clearance_a_mm: float | None, clearance_b_mm: float | None, tilt: float = TILT) -> str:
-    """A shaft on rows A and B (u = world x), each with its clearance (None: none given)."""
+def shaft(
+    clearance_a_mm: float | None,
+    clearance_b_mm: float | None,
+    tilt: float = TILT,
+    damping: float = 0.0,
+) -> str:
+    """A shaft on rows A and B (u = world x), each with its clearance (None: none given).
+
+    ``damping``: each row's radial dampers c_u = c_w [N·s/m].
+    """
 
     def row(name: str, at: float, k: float, c_mm: float | None) -> str:
         extra = ""
@@ -45,7 +53,8 @@ def shaft(clearance_a_mm: float | None, clearance_b_mm: float | None, tilt: floa
             extra = f' radial_clearance_mm="{c_mm!r}"' + (' preload="true"' if c_mm < 0 else "")
         return (
             f'      <row name="{name}" type="cylindrical_roller" position_mm="{at * 1e3!r}" '
-            f'stiffness="0 {k!r} {k!r} {tilt!r} {tilt!r}" rating_c_kN="500"{extra}/>\n'
+            f'stiffness="0 {k!r} {k!r} {tilt!r} {tilt!r}" damping="0 {damping!r} {damping!r} 0 0" '
+            f'rating_c_kN="500"{extra}/>\n'
         )
 
     return f"""<robot name="shaft">
@@ -231,11 +240,12 @@ def test_rows_without_clearance_and_with_a_zero_one_run_bit_for_bit_alike():
     np.testing.assert_array_equal(zero.angle, plain.angle)
 
 
-@pytest.mark.parametrize("clearance_mm", [0.01, -0.002])
-def test_the_energy_ledger_closes_through_the_sides_opening_and_closing(clearance_mm):
-    # Undamped rows under a load that swings through zero: the shaft crosses the clearance (or
-    # lets a preloaded side go) many times. Each step that opens or closes a side leaves an
-    # O(h²) error (pinwind/testing/ledger.py); a tenth of the step leaves about a hundredth.
+@pytest.mark.parametrize(("clearance_mm", "damping"), [(0.01, 0.0), (-0.002, 0.0), (0.01, 2e4)])
+def test_the_energy_ledger_closes_through_the_sides_opening_and_closing(clearance_mm, damping):
+    # Rows under a load that swings through zero: the shaft crosses the clearance (or lets a
+    # preloaded side go) many times. Each step that opens or closes a side leaves an O(h²)
+    # error (pinwind/testing/ledger.py); a tenth of the step leaves about a hundredth. The
+    # dampers act while a side touches, and what they take is in the ledger.
     from pinwind.testing import ledger_closure
 
     load = HubLoad(
@@ -244,8 +254,9 @@ def test_the_energy_ledger_closes_through_the_sides_opening_and_closing(clearanc
          Constant(0.0), Constant(0.0)),  # fmt: skip
         "fixed", (0.0, 0.0, 0.4), (0.0, 1.0, 0.0),
     )  # fmt: skip
-    text = shaft(clearance_mm, clearance_mm)
+    text = shaft(clearance_mm, clearance_mm, damping=damping)
     coarse, _ = _run(text, load, duration=0.2, dt=1e-4)
+    assert (coarse.energy["dissipated"][-1] > 0.0) == (damping > 0.0)
     fine, _ = _run(text, load, duration=0.2, dt=1e-5)
     # Row A in and out of its sides' reach: a clearance leaves it without load, a preload
     # lets one side go where |L| > 2 K |c|.
@@ -301,3 +312,16 @@ def test_the_modes_take_a_row_with_clearance_as_loaded_and_a_preloaded_one_at_it
         x = gb.v_index("shaft_radial_x")
         assert_allclose(at.stiffness[x, x], 2 * (K_A + K_B), rtol=1e-12)
         assert_allclose(at.force[x], 0.0, atol=1e-6)  # the sides' preloads cancel
+
+
+@pytest.mark.parametrize("force", [0.0, 5e3, 3.9e4, 4.1e4, 1e5])
+def test_the_loaded_side_of_a_preloaded_row_carries_the_preload_and_half_the_load(force):
+    # model/bearing_rows.rolling_load against the sides' law solved for δ by brentq: the net
+    # load F = −L(δ), each side's own force k max(s δ − c, 0), the larger of the two.
+    from pinwind.model.bearing_rows import rolling_load
+
+    k, c = 1e9, -20e-6  # both sides press while |F| < 2 k |c| = 40 kN
+    delta = brentq(lambda d: sided(d, k, c) + force, -1.0, 1.0, xtol=1e-16, rtol=1e-15)
+    side = max(k * max(delta - c, 0.0), k * max(-delta - c, 0.0))
+    assert_allclose(rolling_load(np.array([force, -force]), k, c), [side, side], rtol=1e-9)
+    assert_allclose(rolling_load(np.array([force]), k, 50e-6), [force], rtol=0)  # a clearance
