@@ -1,4 +1,4 @@
-"""A planet's two rows with clearance against preloaded tapered rows, beside the GRC findings.
+"""A planet's two rows with a clearance against the same rows preloaded, beside the GRC findings.
 
 Issue 39 part 3: one planetary stage under a rotor bending moment, run twice, each planet's two
 rows printed with their share of the planet's load and their lives, beside Keller et al. 2018
@@ -75,7 +75,7 @@ ROWS = ("PL-A", "PL-B")
 HALF_SPAN = 0.136
 #: (run, radial_clearance_mm, extra attributes) of the two runs (docstring).
 RUNS = (("clearance", 0.07, ""), ("preloaded", -0.02, 'preload="true"'))
-#: Keller et al. 2018 as issue 39 quotes them: one bearing's load over its share, and the
+#: Keller et al. 2018, quoted (docstring): one bearing's load over its share, and the
 #: life of the preloaded tapered rows over the cylindrical ones.
 GRC_OVERLOAD, GRC_LIFE_RATIO = 0.46, 3.5
 
@@ -239,7 +239,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     )
     k_gamma = float(np.max(planets.max(axis=0) / planets.mean(axis=0)))
     table = Table(title="Beside Keller et al. 2018 (GRC 750 kW)")
-    for col in ("", "GRC (as issue 39 quotes)", "clearance", "preloaded"):
+    for col in ("", "GRC (Keller 2018, quoted)", "clearance", "preloaded"):
         table.add_column(col, justify="left" if not col else "right")
     table.add_row(
         "largest row's load over its share", f"+{GRC_OVERLOAD:.0%}",
