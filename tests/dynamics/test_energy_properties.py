@@ -3,10 +3,10 @@
 Hypothesis draws (seeded: ``derandomize``, no example database, no network) a spur pair or a
 planetary stage with a random mesh stiffness, backlash or none, compliant bearings with and
 without clearance, a floating sun, and damping on or off; and a stage whose planets sit on two
-rows each with a radial clearance or a preload (``row_stages``). Each is deflected by torques at t = 0
-that are gone after it, so it swings through zero load, its flanks and bearing contacts opening
-and closing; dt resolves the highest linearised mode (``STEPS_PER_PERIOD`` steps) and the run
-lasts ``PERIODS`` periods of it. Two facts hold for every draw:
+rows each with a radial clearance or a preload (``row_stages``). Each is deflected by torques
+at t = 0 that are gone after it, so it swings through zero load, its flanks and bearing contacts
+opening and closing; dt resolves the highest linearised mode (``STEPS_PER_PERIOD`` steps) and
+the run lasts ``PERIODS`` periods of it. Two facts hold for every draw:
 
 - the energy ledger closes (``pinwind.testing.ledger_closure``): what the step creates or loses
   where contact changes within a step is O(dt²), ``LEDGER_RTOL`` of the energy at this dt;
