@@ -37,7 +37,8 @@ _KILO = ("kN", "kN·m", "kW", "kJ", "kN/m")
 def to_display(values: np.ndarray, unit: str) -> np.ndarray:
     """SI values in a plot's display unit.
 
-    kN, kN·m, kW, kJ, kN/m: ÷ 1000; µm: × 1e6; rpm: × 60/2π; any other unit: the values.
+    kN, kN·m, kW, kJ, kN/m: ÷ 1000; µm: × 1e6; rpm: × 60/2π; deg: × 180/π; any other unit:
+    the values.
     """
     if unit in _KILO:
         return values / 1e3
@@ -45,4 +46,6 @@ def to_display(values: np.ndarray, unit: str) -> np.ndarray:
         return values * 1e6
     if unit == "rpm":
         return values * RPM_PER_RAD_S
+    if unit == "deg":
+        return values * (180.0 / math.pi)
     return values

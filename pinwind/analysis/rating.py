@@ -201,7 +201,7 @@ def rate(
         k = len(normal) - 1 if at != "max" else int(np.argmax(normal))
         transverse = float(np.mean(normal)) if at == "mean" else float(normal[k])
         pair = GearPair.from_mesh(mesh, dict(materials or {}))
-        force = transverse / math.cos(pair.base_helix_angle)
+        force = pair.flank_normal_force(transverse)
         speed = _pitch_line_speed(gearbox, result, mesh, k)
         ratings.append(
             rate_pair(pair, force, pitch_line_speed=speed, iso=iso, agma=agma, mesh=mesh.name)

@@ -43,7 +43,7 @@ def fatigue(
         Path | None,
         typer.Option(
             help="Folder for the PNG figures (Jørgensen 2014 Figs. 14-15; the LDD and LRD of the "
-            "shafts, also as load_spectra.csv)."
+            "shafts, also as load_spectra.csv; the bearings' L10h, L_nmh and L10rh)."
         ),
     ] = None,
     workers: Annotated[
@@ -187,6 +187,7 @@ def _fatigue(
     paths = []
     if figures is not None:
         from pinwind.life.life_figures import (
+            plot_bearing_lives,
             plot_damage_vs_turbulence,
             plot_load_spectra,
             plot_range_cycles,
@@ -212,6 +213,14 @@ def _fatigue(
                 mark=mark,
             ),
             write_load_spectra_csv(spectra, figures / "load_spectra.csv"),
+            plot_bearing_lives(
+                bearings[level],
+                figures / "bearing_lives.png",
+                hours=float(damage.hours.sum()),
+                title=f"turbulence {damage.levels[level]}",
+                about=about,
+                mark=mark,
+            ),
         ]
     if as_json:
         report = _as_dict(fset, run, damage, paths)
@@ -543,30 +552,33 @@ def _percent(change: float) -> str:
 
 
 def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> None:
-    """Each bearing's ISO 281 life over the site's hours, per turbulence level."""
-    import numpy as np
+    """Each bearing's and row's lives over the site's hours, per turbulence level.
 
+    ISO 281 basic L10 and modified L_nm (90 %), ISO/TS 16281 reference L10r, each from its
+    sums added over the wind bins (``life/set_bearing_life.py``); ``-`` where not computed.
+    """
     hours = float(damage.hours.sum())
     for label, lives in zip(damage.levels, bearings, strict=True):
         fastest = max((abs(life.mean_speed_rpm) for life in lives), default=0.0)
         grid = table(
-            f"Bearing life (ISO 281) over the site's {hours:.0f} h at turbulence {label}: "
-            "P_eq revolution-weighted over the bins",
+            f"Bearing lives over the site's {hours:.0f} h at turbulence {label}: ISO 281 L10h "
+            "and L_nmh (90 %), ISO/TS 16281 L10rh, loads revolution-weighted over the bins",
             "bearing",
             "type",
             "C [kN]",
             "P_eq [kN]",
-            "mean rpm",
-            "L10 [10⁶ rev]",
+            "rpm",
             "L10h [h]",
+            "L_nmh [h]",
+            "L10rh [h]",
             left=2,
         )
         for life in lives:
             rating = life.rating
-            kind = rating.kind.replace("_", " ") if rating and rating.kind else "-"
+            kind = _kind(rating.kind) if rating and rating.kind else "-"
+            speed = speed_cell(life.mean_speed_rpm, fastest)
             if rating is None or rating.dynamic_load_rating is None:
-                load = "" if np.isnan(life.equivalent_load) else cell(life.equivalent_load / 1e3)
-                speed = speed_cell(life.mean_speed_rpm, fastest)
+                load = "" if math.isnan(life.equivalent_load) else cell(life.equivalent_load / 1e3)
                 grid.add_row(life.joint, kind, "not rated", load, speed)
                 continue
             grid.add_row(
@@ -574,11 +586,29 @@ def _print_bearings(damage: SetDamage, bearings: list[list[BearingLife]]) -> Non
                 kind,
                 cell(rating.dynamic_load_rating / 1e3),
                 cell(life.equivalent_load / 1e3),
-                speed_cell(life.mean_speed_rpm, fastest),
-                cell(life.l10),
+                speed,
                 cell(life.l10h),
+                _life_cell(life.lnmh),
+                _life_cell(life.l10rh),
             )
         console.print(grid)
+    say(
+        "-: not computed. L_nm needs the bearing's size_mm (d_m) and fatigue_limit_kN or "
+        "rating_c0_kN in the model; L10r needs size_mm or its rollers and roller_mm, and a "
+        "single angular row (tapered, angular contact) finds no equilibrium when its axial load "
+        "is below its induced thrust (docs/bearing_life.md). Lubricant and cleanliness: the "
+        "model's, else VG 320 at 70 °C, normal cleanliness."
+    )
+
+
+def _kind(kind: str) -> str:
+    """A bearing type in a table cell: ``cylindrical`` for cylindrical_roller, ``… ball``."""
+    return kind.replace("_roller", "").replace("_ball", " ball").replace("_", " ")
+
+
+def _life_cell(value: float) -> str:
+    """A life as `cell`, ``-`` when not computed (NaN)."""
+    return "-" if math.isnan(value) else cell(value)
 
 
 def _print_skidding(damage: SetDamage, skidding: dict[str, list[float]]) -> None:

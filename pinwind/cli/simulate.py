@@ -156,10 +156,12 @@ def simulate(
             "--rotor",
             help="JOINT=PRESET (saleh2017, jorgensen2014, nrel5mw) or JOINT=rotor(radius=, "
             "inertia=, air_density=, pitch_deg=, cp_scale=, performance_file=, mass=, "
-            "shaft_tilt_deg=, hub_height=, shear_exponent=, hub_body=, hub_point=(x, y, z)), or a "
-            "preset with changes, nrel5mw(hub_body='lss', hub_point=(0, 0, -0.8871)): rotor "
-            "aerodynamics driven by --wind; with hub_body its thrust, weight and wind-shear "
-            "moment load that body.",
+            "shaft_tilt_deg=, hub_height=, shear_exponent=, hub_body=, hub_point=(x, y, z), "
+            "pitch_control=), or a preset with changes, nrel5mw(hub_body='lss', "
+            "hub_point=(0, 0, -0.8871), pitch_control='nrel5mw'): rotor aerodynamics driven by "
+            "--wind; with hub_body its thrust, weight and wind-shear moment load that body; "
+            "with pitch_control='nrel5mw' Jonkman's gain-scheduled PI pitch controller holds "
+            "12.1 rpm above rated wind (gains on the rotor speed; scenario files take a table).",
         ),
     ] = None,
     wind: Annotated[

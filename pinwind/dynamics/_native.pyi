@@ -218,6 +218,9 @@ class GeneratorSpec:
     sync_speed: float  # [rad/s]
     gain: float  # [N·m·s²/rad²]
     rated_power: float  # [W]
+    rated_torque: float  # [N·m] (0: region 3 at constant power)
+    rated_speed: float  # [rad/s]
+    slip: float  # region 2½'s slip
     stator_resistance: float  # [Ω]
     rotor_resistance: float  # [Ω]
     stator_leakage: float  # [H]
@@ -230,13 +233,28 @@ class GeneratorSpec:
     steady_start: bool
     def __init__(self) -> None: ...
 
+class PitchControlSpec:
+    """A collective blade-pitch controller (``cpp/rotor.hpp``; ``loads/pitch_control.py``)."""
+
+    enabled: bool
+    speed_set: float  # Ω_ref [rad/s]
+    kp: float  # K_P(0) [s]
+    ki: float  # K_I(0) [-]
+    gain_angle: float  # θ_K [rad]
+    corner: float  # ω_c [rad/s]
+    pitch_min: float  # [rad]
+    pitch_max: float  # [rad]
+    rate: float  # β̇_max [rad/s]
+    def __init__(self) -> None: ...
+
 class RotorSpec:
     """Rotor aerodynamics on one joint (``cpp/rotor.hpp``; ``loads/rotor.py``)."""
 
     index: int
     radius: float  # [m]
     air_density: float  # [kg/m³]
-    pitch: float  # [rad]
+    pitch: float  # [rad]: fixed, or the controller's initial pitch
+    pitch_control: PitchControlSpec
     cp_model: CpModel
     cp_scale: float
     table_tsr: list[float]
@@ -264,6 +282,9 @@ class GeneralizedAlpha:
 
 def generalized_alpha(rho_infinity: float) -> GeneralizedAlpha:
     """The constants the step uses for ρ∞ (clamped to [0, 1]; Integrator checks the range)."""
+
+def shaft_speed_torque(generator: GeneratorSpec, speed: float) -> float:
+    """Torque on the shaft τ(ω) [N·m] of a law of the shaft speed (−T_gen; not the dq machine)."""
 
 def induction_torque(generator: GeneratorSpec, speed: float) -> float:
     """Steady-state induction machine torque on the shaft [N·m] at speed [rad/s] (motoring > 0)."""
@@ -448,8 +469,9 @@ class Series(enum.Enum):
     rotor_wind_speed = 40
     rotor_thrust = 41
     rotor_thrust_coefficient = 42
-    row_force = 43
-    row_moment = 44
+    rotor_pitch = 43
+    row_force = 44
+    row_moment = 45
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

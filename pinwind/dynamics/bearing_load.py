@@ -95,3 +95,21 @@ def row_radial_force(block: Any, gearbox: Any) -> np.ndarray:
 def row_axial_force(block: Any, gearbox: Any) -> np.ndarray:
     """A bearing row's axial force F_k [N] on the shaft, signed along the axis, (samples, rows)."""
     return block.row_force[..., 2].copy()
+
+
+def row_load_zone(block: Any, gearbox: Any) -> np.ndarray:
+    """A bearing row's load-zone angle 2ψ_l [rad], (samples, rows); NaN without a geometry.
+
+    From its internal load distribution (``dynamics/row_contact.row_contacts``, imported when
+    called: it reads the model's bearing data, which the schema need not load).
+    """
+    from pinwind.dynamics.row_contact import row_contacts
+
+    return row_contacts(block, gearbox)[0]
+
+
+def row_max_element_load(block: Any, gearbox: Any) -> np.ndarray:
+    """A bearing row's largest rolling-element load Q_max [N], (samples, rows); NaN likewise."""
+    from pinwind.dynamics.row_contact import row_contacts
+
+    return row_contacts(block, gearbox)[1]

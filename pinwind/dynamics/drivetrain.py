@@ -377,6 +377,11 @@ def generator_torque(law: GeneratorLaw, speed: float) -> float:
         return float(law.torque)
     if isinstance(law, LinearSlip):
         return law.slope * (speed - law.sync_speed)
+    if isinstance(law, VariableSpeed) and law.rated_torque > 0.0:  # the compiled law
+        from pinwind.dynamics import _native
+        from pinwind.dynamics.elements import generator_spec
+
+        return -_native.shaft_speed_torque(generator_spec(law, 0), float(speed))
     if isinstance(law, VariableSpeed):
         below = law.gain * speed * abs(speed)
         if law.rated_power > 0.0 and abs(below * speed) > law.rated_power:
@@ -391,7 +396,8 @@ def generator_slope(law: GeneratorLaw, speed: float) -> float:
     """dT_gen/dω [N·m·s/rad] at ω [rad/s]: the damping the law adds to its shaft.
 
     Closed forms: 0 (constant), k (linear slip), 2 K |ω| below rated and −P/ω² above (variable
-    speed); the induction machine's curve by central differences (``SLOPE_STEP``), the dq
+    speed at constant power); the variable-speed law at constant torque and the induction
+    machine's curve by central differences (``SLOPE_STEP``), the dq
     machine's steady-state curve (its flux dynamics are left out of the modes).
     """
     from pinwind.loads.generator import ConstantTorque, LinearSlip, VariableSpeed
@@ -400,7 +406,7 @@ def generator_slope(law: GeneratorLaw, speed: float) -> float:
         return 0.0
     if isinstance(law, LinearSlip):
         return float(law.slope)
-    if isinstance(law, VariableSpeed):
+    if isinstance(law, VariableSpeed) and law.rated_torque == 0.0:
         below = law.gain * speed * abs(speed)
         if law.rated_power > 0.0 and abs(below * speed) > law.rated_power:
             return -law.rated_power / speed**2

@@ -233,6 +233,11 @@ def _variable_speed_spec(law: VariableSpeed, index: int) -> _native.GeneratorSpe
     g = _native.GeneratorSpec()
     g.index, g.law = index, _native.GeneratorLaw.variable_speed
     g.gain, g.rated_power = float(law.gain), float(law.rated_power)
+    g.rated_torque, g.rated_speed, g.slip = (
+        float(law.rated_torque),
+        float(law.rated_speed),
+        float(law.slip),
+    )
     return g
 
 
@@ -272,6 +277,12 @@ def rotor_spec(rotor: Rotor, index: int, wind_column: int) -> _native.RotorSpec:
     r = _native.RotorSpec()
     r.index, r.wind_column = index, wind_column
     r.radius, r.air_density, r.pitch = float(rotor.radius), float(rotor.air_density), rotor.pitch
+    if rotor.pitch_control is not None:
+        c, control = r.pitch_control, rotor.pitch_control
+        c.enabled, c.speed_set, c.kp, c.ki = True, control.speed_set, control.kp, control.ki
+        c.gain_angle, c.corner, c.rate = control.gain_angle, control.corner, control.rate
+        c.pitch_min, c.pitch_max = control.pitch_min, control.pitch_max
+        r.pitch_control = c
     if isinstance(rotor.cp, CpTable):
         r.cp_model = _native.CpModel.table
         r.table_tsr = [float(x) for x in rotor.cp.tsr]

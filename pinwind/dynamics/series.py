@@ -344,6 +344,10 @@ _MEANINGS: dict[str, About] = {
            short="Ct",
            plot=Plot("rotor_thrust_coefficient", "rotor", "thrust coefficient C_t(λ, β) [-]",
                      "-")),
+    "rotor_pitch": About("pitch", "rad",
+           "blade pitch: fixed, or the pitch controller's (loads/pitch_control.py)",
+           short="pitch",
+           plot=Plot("rotor_pitch", "rotor", "blade pitch β [deg]", "deg")),
     "row_force": About("force", "N",
            "bearing row's force on the shaft (F_u, F_w, F_k): its springs and dampers at its "
            "position (docs/model_format.md, Bearing rows)", frame="bearing",
@@ -429,6 +433,22 @@ _DERIVED: tuple[Series, ...] = (
            derive=bearing_load.row_axial_force,
            plot=Plot("row_axial", "bearings", "bearing rows' axial forces on their shafts [kN]",
                      "kN", drop_zero=True)),
+    Series("row_load_zone", "row", "load_zone", "rad",
+           "bearing row's load-zone angle 2 psi_l: the arc of its rolling elements in contact "
+           "(180 deg at zero clearance under a radial load; ISO/TS 16281 load distribution); "
+           "NaN without an internal geometry (size_mm)",
+           label="row load zone", short="zone row", headline=False,
+           derive=bearing_load.row_load_zone,
+           plot=Plot("row_load_zone", "bearings", "bearing rows' load-zone angles [deg]",
+                     "deg")),
+    Series("row_max_element_load", "row", "max_element_load", "N",
+           "bearing row's largest rolling-element load Q_max (ISO/TS 16281 load distribution; "
+           "4.08 F_r/Z for rollers at zero clearance, Stribeck); NaN without an internal "
+           "geometry (size_mm)",
+           label="row max element load", short="Q max row", headline=False,
+           derive=bearing_load.row_max_element_load,
+           plot=Plot("row_max_element_load", "bearings",
+                     "bearing rows' largest rolling-element loads Q_max [kN]", "kN")),
     Series("bearing_torque", _B, "torque", "N*m",
            "transmitted torque: the moment on the child body along the bearing axis (signed; "
            "the shaft's torque, not a bearing load)",

@@ -170,6 +170,15 @@ class GearPair:
             tip_alteration_2=self.tip_alteration_1,
         )
 
+    def pinion_first(self) -> GearPair:
+        """The pair numbered as the ratings number it: the external gear with fewer teeth first.
+
+        An internal gear goes second, as `from_mesh` orders a mesh; the pair itself when it
+        already is so numbered.
+        """
+        swap = self.internal_1 or (not self.internal_2 and self.teeth_2 < self.teeth_1)
+        return self.reversed() if swap else self
+
     def require_external_gear_1(self, method: str) -> None:
         """Raise `InvalidGearTrain` if gear 1 is internal: ``method`` takes the pinion first."""
         if self.internal_1:
@@ -296,6 +305,16 @@ class GearPair:
     def virtual_teeth(self, gear: int) -> float:
         """Virtual tooth number z_n of gear 1 or 2 (`involute.virtual_teeth`) [-]."""
         return virtual_teeth(self.gear(gear)[0], self.helix_angle, self.pressure_angle)
+
+    def flank_normal_force(self, transverse_force):
+        """F_n = F_bt / cos β_b: the force normal to the flanks from its transverse part [N].
+
+        A run logs a mesh's force along the transverse line of action, F_bt (``mesh_normal``,
+        ``mesh_single_tooth_force``); the flanks of a helical pair touch along contact lines
+        inclined at β_b, so the force normal to them is F_bt / cos β_b (``cpp/mesh_rows.hpp``
+        ``tooth_force_on_b``). The same for a spur pair. A float or an array.
+        """
+        return transverse_force / math.cos(self.base_helix_angle)
 
     def tangential_force(self, normal_force: float) -> float:
         """F_t at the reference circle from the normal tooth force: F_n cos β_b cos α_t [N].

@@ -43,6 +43,9 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import TypeVar
 
+import numpy as np
+import numpy.typing as npt
+
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.involute import involute
@@ -241,8 +244,10 @@ def iso_rating(
         f = factors
     else:
         f = resolve_factors(pair, load, factors or IsoFactors())
-    b, d1, u = pair.face_width, pair.reference_diameter_1, pair.gear_ratio
-    sigma_h0 = f.Z_H * f.Z_E * f.Z_eps * f.Z_beta * math.sqrt(f_t / (d1 * b) * (u + 1.0) / u)
+    b = pair.face_width
+    sigma_h0 = float(
+        nominal_contact_stress(pair, f_t, Z_H=f.Z_H, Z_E=f.Z_E, Z_eps=f.Z_eps, Z_beta=f.Z_beta)
+    )
     load_h = math.sqrt(f.K_A * f.K_gamma * f.K_v * f.K_Hbeta * f.K_Halpha)
     sigma_h = (f.Z_B * sigma_h0 * load_h, f.Z_D * sigma_h0 * load_h)
     materials = pair.materials
@@ -278,21 +283,12 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> Resolv
     """Every factor of ``given``, its None fields computed for this pair and load."""
     path = pair.path
     eps_a, eps_b = path.contact_ratio, path.overlap_ratio
-    alpha_t, alpha_wt = pair.transverse_pressure_angle, path.working_pressure_angle
     beta, beta_b = pair.helix_angle, pair.base_helix_angle
 
-    z_h = _given_or(
-        given.Z_H,
-        lambda: math.sqrt(
-            2.0
-            * math.cos(beta_b)
-            * math.cos(alpha_wt)
-            / (math.cos(alpha_t) ** 2 * math.sin(alpha_wt))
-        ),
-    )
+    z_h = _given_or(given.Z_H, lambda: zone_factor(pair))
     z_e = _given_or(given.Z_E, lambda: elastic_coefficient(*pair.materials))
     z_eps = _given_or(given.Z_eps, lambda: contact_ratio_factor(eps_a, eps_b))
-    z_beta = _given_or(given.Z_beta, lambda: 1.0 / math.sqrt(math.cos(beta)))
+    z_beta = _given_or(given.Z_beta, lambda: helix_factor(beta))
     m1, m2 = single_pair_ratios(pair)
     z_b = _given_or(given.Z_B, lambda: _single_pair_factor(m1, eps_b))
     z_d = _given_or(given.Z_D, lambda: 1.0 if pair.internal_2 else _single_pair_factor(m2, eps_b))
@@ -373,6 +369,49 @@ def _given_or(value: _T | None, compute: Callable[[], _T]) -> _T:
 def _per_gear(value: Callable[[int], float]) -> Pair:
     """(value(0), value(1)): a per-gear quantity of pinion and wheel."""
     return value(0), value(1)
+
+
+def nominal_contact_stress(
+    pair: GearPair,
+    tangential_force: npt.ArrayLike,
+    *,
+    Z_H: float,
+    Z_E: float,
+    Z_eps: float,
+    Z_beta: float,
+) -> np.ndarray:
+    """σ_H0 = Z_H Z_E Z_ε Z_β √(F_t/(d1 b) · (u + 1)/u) [Pa] (ISO 6336-2), per force.
+
+    Args:
+        pair: pinion first (d1 its reference diameter, u = z2/z1 negative for an internal
+            wheel).
+        tangential_force: F_t at the reference circle [N], a float or an array.
+        Z_H, Z_E, Z_eps, Z_beta: zone [-], elasticity [√Pa], contact-ratio and helix factors.
+    """
+    b, d1, u = pair.face_width, pair.reference_diameter_1, pair.gear_ratio
+    return (
+        Z_H
+        * Z_E
+        * Z_eps
+        * Z_beta
+        * np.sqrt(np.asarray(tangential_force, dtype=float) / (d1 * b) * (u + 1.0) / u)
+    )
+
+
+def zone_factor(pair: GearPair) -> float:
+    """Z_H = √(2 cos β_b cos α_wt / (cos² α_t sin α_wt)) (ISO 6336-2) [-]."""
+    alpha_t, alpha_wt = pair.transverse_pressure_angle, pair.path.working_pressure_angle
+    return math.sqrt(
+        2.0
+        * math.cos(pair.base_helix_angle)
+        * math.cos(alpha_wt)
+        / (math.cos(alpha_t) ** 2 * math.sin(alpha_wt))
+    )
+
+
+def helix_factor(helix_angle: float) -> float:
+    """Z_β = 1/√cos β (ISO 6336-2:2006; the 1996 edition had √cos β) [-]."""
+    return 1.0 / math.sqrt(math.cos(helix_angle))
 
 
 def contact_ratio_factor(eps_alpha: float, eps_beta: float) -> float:

@@ -19,10 +19,11 @@ to the carrier. L10h = L10 · 10⁶ / (revolutions per hour of the run).
 The type and dynamic load rating of each bearing come from the model file's ``<bearing>``
 elements (docs/model_format.md); a bearing without C is "not rated". A shaft's bearing made of
 rows (``<row>``: the rolling bearings of a main shaft or a planet, each with its own type, C and
-load factors; Nejad et al. 2016 Tables VI and IX) is rated row by row (`row_load_sums`): each
-row's radial and axial force (``analysis/bearing_rows.py``, by its springs at its position)
-with the shaft's speed relative to its housing, named ``BEARING.ROW`` (``stage1_planet1.PL-A``,
-`model.bearing_rows.row_name`).
+load factors; Nejad et al. 2016 Tables VI and IX) is rated row by row (`row_rating`, the one
+rating of a row): each row's radial and axial force (``analysis/bearing_rows.py``, by its
+springs at its position) with the shaft's speed relative to its housing, named ``BEARING.ROW``
+(``stage1_planet1.PL-A``, `model.bearing_rows.row_name`). A run's sums with their modified and
+reference parts, bearings and rows: ``life/life_sums.run_load_sums``.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ import numpy as np
 
 from pinwind.dynamics.bearing_load import across_axis, along_axis
 from pinwind.errors import InvalidBearingRating
+from pinwind.life.modified_life import modified_rating_life
 from pinwind.life.skidding import seconds_below_minimum
 from pinwind.model.bearing import BearingRating, bearing_rating
 from pinwind.model.bearing_rows import row_name
@@ -133,6 +135,11 @@ class BearingLife:
         l10h: basic rating life [h] at the mean speed over ``duration`` (inf if it did not turn).
         refused: why it has no life though rated (a tilting moment one bearing cannot rate,
             `tilt_refusal`), else "".
+        lnm: ISO 281 modified rating life at 90 % reliability [10⁶ rev] (NaN: its sums have
+            no modified part: no C_u, no size, or reduced before it was kept).
+        lnmh: the same [h] at the mean speed over ``duration``.
+        reference_load: ISO/TS 16281 P_ref,eq [N] (NaN: no internal geometry).
+        l10r: ISO/TS 16281 reference rating life [10⁶ rev]; l10rh: the same [h].
     """
 
     joint: str
@@ -143,6 +150,11 @@ class BearingLife:
     l10: float
     l10h: float
     refused: str = ""
+    lnm: float = math.nan
+    lnmh: float = math.nan
+    reference_load: float = math.nan
+    l10r: float = math.nan
+    l10rh: float = math.nan
 
     @property
     def rated(self) -> bool:
@@ -177,8 +189,18 @@ class BearingLife:
             "mean_speed_rpm": self.mean_speed_rpm,
             "l10_million_rev": self.l10 if self.rated and not self.refused else None,
             "l10_h": self.l10h if self.rated and not self.refused else None,
+            "lnm_million_rev": _number(self.lnm),
+            "lnm_h": _number(self.lnmh),
+            "reference_load_N": _number(self.reference_load),
+            "l10r_million_rev": _number(self.l10r),
+            "l10r_h": _number(self.l10rh),
             "refused": self.refused or None,
         }
+
+
+def _number(x: float) -> float | None:
+    """A life for JSON: None for NaN (not computed); inf stays (JSON writers say Infinity)."""
+    return None if math.isnan(x) else x
 
 
 @dataclass(frozen=True)
@@ -199,6 +221,13 @@ class BearingLoadSum:
         seconds_below_minimum: the seconds it turned under less than the minimum load it needs
             to roll (``life/skidding.py``) [s]; NaN without a rating C (or from a reduction
             written before it was kept).
+        modified_sum: Σ n_i P_i^p / a_ISO,i [N^p·rev], ISO 281:2007 §9.3.4's sum of the
+            modified life (``modified_life.modified_life_sum``); NaN when it has none (no C_u
+            nor C₀, no size: ``life/life_sums.py``).
+        reference_sum: Σ P_ref,i^p n_i [N^p·rev] of the ISO/TS 16281 reference loads
+            (``dynamics/load_distribution.reference_load``); NaN without an internal geometry.
+        reference_time_sum: Σ P_ref,i^p Δt_i [N^p·s], which weights a bearing that does not
+            turn.
     """
 
     joint: str
@@ -208,6 +237,9 @@ class BearingLoadSum:
     time_power_sum: float
     seconds: float
     seconds_below_minimum: float = math.nan
+    modified_sum: float = math.nan
+    reference_sum: float = math.nan
+    reference_time_sum: float = math.nan
 
     def times(self, factor: float) -> BearingLoadSum:
         """The sums of ``factor`` repetitions of the history (``factor`` ≥ 0)."""
@@ -218,6 +250,9 @@ class BearingLoadSum:
             time_power_sum=self.time_power_sum * factor,
             seconds=self.seconds * factor,
             seconds_below_minimum=self.seconds_below_minimum * factor,
+            modified_sum=self.modified_sum * factor,
+            reference_sum=self.reference_sum * factor,
+            reference_time_sum=self.reference_time_sum * factor,
         )
 
     def plus(self, other: BearingLoadSum) -> BearingLoadSum:
@@ -229,6 +264,9 @@ class BearingLoadSum:
             time_power_sum=self.time_power_sum + other.time_power_sum,
             seconds=self.seconds + other.seconds,
             seconds_below_minimum=self.seconds_below_minimum + other.seconds_below_minimum,
+            modified_sum=self.modified_sum + other.modified_sum,
+            reference_sum=self.reference_sum + other.reference_sum,
+            reference_time_sum=self.reference_time_sum + other.reference_time_sum,
         )
 
     @property
@@ -245,6 +283,15 @@ class BearingLoadSum:
             return mean_load(self.power_sum, self.revolutions, self.exponent)
         return mean_load(self.time_power_sum, self.seconds, self.exponent)
 
+    @property
+    def reference_load(self) -> float:
+        """ISO/TS 16281 P_ref,eq [N], weighted as `equivalent_load`; NaN without a geometry."""
+        if math.isnan(self.exponent) or math.isnan(self.reference_sum):
+            return math.nan
+        if self.revolutions > 0.0:
+            return mean_load(self.reference_sum, self.revolutions, self.exponent)
+        return mean_load(self.reference_time_sum, self.seconds, self.exponent)
+
 
 def load_sum_of_history(
     joint: str,
@@ -254,6 +301,7 @@ def load_sum_of_history(
     force_in_joint: np.ndarray,
     speed: np.ndarray,
     axis: np.ndarray,
+    rolling: np.ndarray | None = None,
 ) -> BearingLoadSum:
     """A bearing's ISO 281 sums from its force and speed histories.
 
@@ -264,6 +312,9 @@ def load_sum_of_history(
         force_in_joint: bearing force on the child body, joint frame [N], (n, 3).
         speed: joint speed relative to the parent [rad/s], (n,).
         axis: joint axis in the joint frame.
+        rolling: the radial load its loaded rolling elements carry [N], (n,), a preload
+            included (``model/bearing_rows.rolling_load``), for the skidding check only;
+            None: its radial force.
     """
     weights = sample_weights(time)
     turns = weights * np.abs(speed) / (2.0 * math.pi)  # revolutions per sample [rev]
@@ -274,6 +325,8 @@ def load_sum_of_history(
         exponent = rating.exponent
         power_sum = load_power_sum(loads, turns, exponent)
         time_power_sum = load_power_sum(loads, weights, exponent)
+        if rolling is not None:  # a preloaded row's rollers carry the preload (skidding)
+            loads = dynamic_equivalent_load(rating, np.maximum(rolling, radial), axial)
         below = seconds_below_minimum(rating, weights, speed, loads)
     return BearingLoadSum(
         joint, exponent, power_sum, float(turns.sum()), time_power_sum, float(weights.sum()),
@@ -293,17 +346,36 @@ def life_of_load_sum(rating: BearingRating | None, load_sum: BearingLoadSum) -> 
             f"its load sums are of p = {load_sum.exponent:g}, its type's p is "
             f"{rating.exponent:g}; recompute them from the run",
         )
-    p_eq = l10 = l10h = math.nan
+    p_eq = l10 = lnm = p_ref = l10r = math.nan
     if rating is not None:
         p_eq = load_sum.equivalent_load
+        p_ref = load_sum.reference_load
     if rating is not None and rating.rated:
         l10 = basic_rating_life(rating, p_eq)
-        seconds = load_sum.seconds
-        per_hour = load_sum.revolutions / seconds * 3600.0 if seconds > 0 else 0.0
-        l10h = l10 * 1e6 / per_hour if per_hour > 0.0 else math.inf
+        if not math.isnan(p_ref):
+            l10r = basic_rating_life(rating, p_ref)
+        lnm = modified_rating_life(
+            rating.dynamic_load_rating or math.nan, rating.exponent,
+            load_sum.modified_sum, load_sum.revolutions,
+        )  # fmt: skip
+    revolutions, seconds = load_sum.revolutions, load_sum.seconds
     return BearingLife(
-        load_sum.joint, rating, p_eq, load_sum.revolutions, load_sum.seconds, l10, l10h
-    )
+        load_sum.joint, rating, p_eq, revolutions, seconds, l10,
+        life_hours(l10, revolutions, seconds), lnm=lnm,
+        lnmh=life_hours(lnm, revolutions, seconds), reference_load=p_ref, l10r=l10r,
+        l10rh=life_hours(l10r, revolutions, seconds),
+    )  # fmt: skip
+
+
+def life_hours(life: float, revolutions: float, seconds: float) -> float:
+    """A life [10⁶ rev] in hours [h] at the mean speed of ``revolutions`` over ``seconds``.
+
+    L_h = L · 10⁶ / (revolutions per hour); inf for a bearing that did not turn, NaN for NaN.
+    """
+    if math.isnan(life):
+        return math.nan
+    per_hour = revolutions / seconds * 3600.0 if seconds > 0 else 0.0
+    return life * 1e6 / per_hour if per_hour > 0.0 else math.inf
 
 
 def life_of_history(
@@ -390,48 +462,22 @@ def tilt_refusal(radial: np.ndarray, tilting: np.ndarray) -> str | None:
     )
 
 
+def row_rating(bearing: str, row: Any) -> BearingRating:
+    """A row's ISO 281 data, named `row_name` (``lss.INP-A``): the one rating of a ``<row>``.
+
+    Its type, C and load factors (its own, or its type's) from the model file's ``<row>``
+    (``model.bearing_rows.BearingRow``). The fatigue set (`row_ratings`), its cases' row sums
+    and ``pinwind life`` (``row_life.rate_row``) all rate a row by it.
+    """
+    name = row_name(bearing, row.name)
+    e, y1, x2, y2 = row.load_factors or (None, None, None, None)
+    return bearing_rating(name, row.kind, dynamic_load_rating=row.rating, e=e, y1=y1, x2=x2, y2=y2)
+
+
 def row_ratings(gearbox: Any) -> dict[str, BearingRating]:
-    """The ISO 281 data of every row of the model's bearings, by `row_name`.
-
-    Each row's type, C and load factors (its own, or its type's) from the model file's
-    ``<row>`` elements (``model/bearing_rows.py``).
-    """
-    out: dict[str, BearingRating] = {}
-    for bearing, rows in gearbox.source.bearing_rows.items():
-        for row in rows:
-            name = row_name(bearing, row.name)
-            e, y1, x2, y2 = row.load_factors or (None, None, None, None)
-            out[name] = bearing_rating(
-                name, row.kind, dynamic_load_rating=row.rating, e=e, y1=y1, x2=x2, y2=y2
-            )
-    return out
-
-
-def row_load_sums(result: Any, gearbox: Any) -> list[BearingLoadSum]:
-    """ISO 281 sums of every row of the model's bearings, in the order of ``row_loads``.
-
-    A row's force is its springs' (radial along u, w and axial, its bearing's joint frame:
-    ``analysis.bearing_rows.row_loads``); its revolutions are its shaft's joint speed (relative
-    to the parent: a planet's rows turn at the planet's speed relative to the carrier).
-
-    Args:
-        result: the run (``Result``: time, coordinates and speeds).
-        gearbox: the model it ran (its bearings' ``<row>`` elements).
-    """
-    from pinwind.analysis.bearing_rows import row_loads
-
-    ratings = row_ratings(gearbox)
-    out = []
-    for row in row_loads(result, gearbox):
-        name = row_name(row.bearing, row.name)
-        out.append(
-            load_sum_of_history(
-                name,
-                ratings[name],
-                time=result.time,
-                force_in_joint=np.column_stack([row.radial, row.axial]),
-                speed=result.speed[:, result.joint_names.index(row.bearing)],
-                axis=np.array([0.0, 0.0, 1.0]),  # the row's force is (u, w, axial)
-            )
-        )
-    return out
+    """The ISO 281 data of every row of the model's bearings, by `row_name` (`row_rating`)."""
+    return {
+        row_name(bearing, row.name): row_rating(bearing, row)
+        for bearing, rows in gearbox.source.bearing_rows.items()
+        for row in rows
+    }

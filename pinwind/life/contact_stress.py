@@ -12,7 +12,25 @@ gears' base tangency points (Fig. 10), as long as the face width:
 The formulas live in `pinwind.gears.hertz` and the radii in `GearPair.flank_radii`; this
 module feeds them a run's single-tooth force and contact position (docs/series.md
 ``mesh_single_tooth_force``, ``mesh_contact_position``), which give the stress history of the
-entering tooth pair of a mesh.
+entering tooth pair of a spur mesh.
+
+A helical pair (`helical_contact_stress`) is rated as ISO 6336-2:2006 rates it, from the
+whole mesh force: its contact lines are inclined across the face at the base helix angle
+β_b, so a tooth pair's line grows, runs and shrinks over the roll span g_α + ε_β p_bt, and
+with an overlap ratio ε_β = b sin β/(π m_n) ≥ 1 the lines in contact always span the face:
+their total length stays near its mean b ε_α / cos β_b (`pinwind.gears.mesh_stiffness.
+contact_line_pair_stiffness`; constant for a whole-number ε_β) and the load per unit length
+of line near F_n cos β_b / (b ε_α), with no jump between one and two pairs in contact as in
+a spur pair. The standard's nominal contact stress of the pair carries that:
+
+    σ_H = Z_H Z_E Z_ε Z_β √(F_t/(d1 b) · (u + 1)/u),   F_t = F_n cos β_b cos α_t
+    Z_H = √(2 cos β_b cos α_wt / (cos² α_t sin α_wt)),  Z_E = √(1/(π Σ (1 − ν_i²)/E_i))
+    Z_ε = √(1/ε_α)  (ε_β ≥ 1),   Z_β = 1/√cos β  (the 2006 edition; 1996: √cos β)
+
+with Z_B = Z_D = 1 for ε_β ≥ 1 and the load factors K 1 (the simulated force is the dynamic
+one). The formulas are `pinwind.gears.rating_iso`'s (`nominal_contact_stress`, `zone_factor`,
+`contact_ratio_factor`, `helix_factor`). At the pitch point of a spur pair Z_H Z_E √(...) is
+the Hertz p_max above with the whole force on one pair (Z_ε = Z_β = 1).
 """
 
 from __future__ import annotations
@@ -26,6 +44,13 @@ import numpy.typing as npt
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.hertz import VON_MISES_RATIO, hertz_pressure
+from pinwind.gears.materials import elastic_coefficient
+from pinwind.gears.rating_iso import (
+    contact_ratio_factor,
+    helix_factor,
+    nominal_contact_stress,
+    zone_factor,
+)
 
 
 @dataclass(frozen=True)
@@ -62,13 +87,14 @@ def contact_stress(
 
     Raises:
         InputError: a helical pair (the transverse radii and the face width are not its
-            contact's; Jørgensen 2014's stage is spur), or shapes that do not broadcast.
+            contact's; Jørgensen 2014's stage is spur: use `helical_contact_stress`), or shapes
+            that do not broadcast.
     """
     if pair.helix_angle != 0.0:
         raise InputError(
             f"contact_stress takes spur pairs; {pair.names[0]}/{pair.names[1]} has a helix angle "
             f"of {math.degrees(pair.helix_angle):g}°, whose contact lines are inclined: rate it "
-            "with ISO 6336-2 (pinwind.gears.rating_iso) instead"
+            "with helical_contact_stress (ISO 6336-2 from the mesh force) instead"
         )
     try:
         load, roll = np.broadcast_arrays(
@@ -100,3 +126,54 @@ def on_involutes(pair: GearPair, roll: npt.ArrayLike) -> tuple[np.ndarray, np.nd
         np.where(pair.internal_2, -rho_2, rho_2) > 0.0
     )
     return rho_1, rho_2, on
+
+
+def helical_contact_stress(pair: GearPair, *, force: npt.ArrayLike) -> np.ndarray:
+    """ISO 6336-2 contact stress σ_H [Pa] of a helical pair under the mesh force, per sample.
+
+    σ_H = Z_H Z_E Z_ε Z_β √(F_t/(d1 b) · (u + 1)/u) with F_t = F_n cos β_b cos α_t (module
+    docstring): the Hertz pressure on the contact lines, the same on every tooth pair in
+    contact (ε_β ≥ 1), so each tooth meets it on each pass through the mesh.
+
+    Args:
+        pair: the mesh's gears in either order, either of them internal (rated pinion first,
+            the internal gear second, as ISO 6336-2 numbers them).
+        force: the mesh's force normal to the flanks F_n [N], all tooth pairs together (a
+            run logs its transverse part F_bt = F_n cos β_b as ``mesh_normal``:
+            `GearPair.flank_normal_force`); its sign (the flank) does not matter. NaN gives
+            NaN.
+
+    Raises:
+        InputError: a spur pair or an overlap ratio below 1 (`require_full_overlap`).
+    """
+    require_full_overlap(pair, "helical_contact_stress")
+    rated = pair.pinion_first()
+    eps_alpha, eps_beta = rated.path.contact_ratio, rated.path.overlap_ratio
+    load = rated.tangential_force(np.abs(np.asarray(force, dtype=float)))
+    return nominal_contact_stress(
+        rated,
+        load,
+        Z_H=zone_factor(rated),
+        Z_E=elastic_coefficient(*rated.materials),
+        Z_eps=contact_ratio_factor(eps_alpha, eps_beta),
+        Z_beta=helix_factor(rated.helix_angle),
+    )
+
+
+def require_full_overlap(pair: GearPair, method: str) -> None:
+    """Raise `InputError` unless ``pair`` is helical with an overlap ratio ε_β ≥ 1.
+
+    ``method`` rates a tooth of a helical pair at the mesh force, which holds where the contact
+    lines span the face (`helical_contact_stress`); below ε_β = 1 the load per tooth still
+    jumps as the pairs in contact change, partly as in a spur pair.
+    """
+    eps_beta = pair.path.overlap_ratio
+    if eps_beta < 1.0:
+        kind = "a spur pair" if pair.helix_angle == 0.0 else f"ε_β = {eps_beta:.4g}"
+        raise InputError(
+            f"{method} rates helical pairs whose overlap ratio ε_β = b sin β/(π m_n) is 1 or "
+            f"more; {pair.names[0]}/{pair.names[1]} has {kind} (b {pair.face_width * 1e3:g} mm, "
+            f"β {math.degrees(pair.helix_angle):g}°, m_n {pair.module * 1e3:g} mm): rate a "
+            "spur pair along its path (contact_stress), or widen the face or raise β until "
+            "ε_β ≥ 1"
+        )

@@ -30,6 +30,7 @@ from pinwind.life.sn_curve import FatigueCurve
 
 if TYPE_CHECKING:
     from pinwind.model.bearing import BearingRating
+    from pinwind.model.bearing_life_data import BearingLifeData
 
 
 @dataclass(frozen=True)
@@ -128,6 +129,9 @@ class FatigueSet:
             not rated), and their rows' by ``bearing_life.row_name`` (``lss.INP-A``).
         roles: gear → ``"sun"``, ``"planet"`` or ``"ring"`` from the model's topology
             (`pinwind.model.gear_roles`); gears of no planetary stage left out.
+        bearing_life: the lubricant, cleanliness, C_u and inside (and a row's size) of each
+            bearing and row whose modified and reference sums the cases keep, by the names of
+            ``bearings`` (``life/life_sums.py``).
     """
 
     values: dict[str, Any]
@@ -156,6 +160,7 @@ class FatigueSet:
     root_stress: dict[str, RootStress] = field(default_factory=dict)
     bearings: Mapping[str, BearingRating] = field(default_factory=dict)
     roles: dict[str, str] = field(default_factory=dict)
+    bearing_life: Mapping[str, BearingLifeData] = field(default_factory=dict)
 
     @property
     def dt(self) -> float:
@@ -220,7 +225,8 @@ class FatigueSet:
             "skip_start": self.skip_start,
             "mesh_stiffness": self.mesh_stiffness,
             "mesh_damping": self.mesh_damping,
-            "reduction": "contact and root cycles of each tooth flank",
+            "reduction": "contact and root cycles of each tooth flank; bearing sums: basic, "
+            "modified, reference",
             "materials": self.materials,
             "root_stress": {g: r.describe() for g, r in self.root_stress.items()},
             # The load sums depend on each bearing's type and load factors (not on C).
@@ -228,6 +234,8 @@ class FatigueSet:
                 name: [r.kind, r.exponent, r.e, r.y1, r.x2, r.y2]
                 for name, r in sorted(self.bearings.items())
             },
+            # Their modified and reference sums on the lubricant and inside (not on C).
+            "bearing_life": {name: repr(d) for name, d in sorted(self.bearing_life.items())},
         }
         record["values"].pop("out")
         text = json.dumps(record, sort_keys=True, default=str)

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.io.figure_layout import caption_below
+from pinwind.life.bearing_life import BearingLife
 from pinwind.life.damage_ranking import RankedItem
 from pinwind.life.load_spectrum import LoadSpectrum
 from pinwind.life.set_damage import (
@@ -171,6 +172,75 @@ def plot_load_spectra(
         + (f", {title}" if title else "")
         + " (IEC 61400-4)."
     )
+    return _save(fig, path, caption=_with_set(caption, about), mark=mark)
+
+
+def plot_bearing_lives(
+    lives: list[BearingLife],
+    path: Path,
+    *,
+    hours: float,
+    title: str = "",
+    about: str = "",
+    mark: str = "",
+) -> Path:
+    """Each rated bearing's and row's three lives [h] as horizontal bars on a log scale.
+
+    ISO 281 basic L10h and modified L_nmh (90 %), ISO/TS 16281 reference L10rh, over the site's
+    operating ``hours`` (drawn as a line: a life left of it is used up within the design life);
+    a life not computed has no bar and is said in the caption. ``title``: the axes' (e.g. the
+    turbulence level); ``about``, ``mark`` as the other figures'.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    rated = [life for life in lives if life.rated and not life.refused]
+    kinds = (("l10h", "L10h (ISO 281)", "tab:blue"),
+             ("lnmh", "L_nmh (ISO 281, 90 %)", "tab:orange"),
+             ("l10rh", "L10rh (ISO/TS 16281)", "tab:green"))  # fmt: skip
+    fig, ax = plt.subplots(figsize=(9.0, 1.6 + 0.42 * max(len(rated), 1)), layout="constrained")
+    values = np.array([[getattr(life, k) for k, _, _ in kinds] for life in rated]).reshape(-1, 3)
+    finite = values[np.isfinite(values) & (values > 0.0)]
+    floor = (
+        10.0 ** np.floor(np.log10(min(float(finite.min()), hours) / 3.0)) if finite.size else 1.0
+    )
+    y = np.arange(len(rated))[::-1]
+    height = 0.27
+    missing: list[str] = []
+    for j, (_, label, colour) in enumerate(kinds):
+        shown = np.isfinite(values[:, j]) & (values[:, j] > 0.0)
+        rows = y[shown] + (1 - j) * height
+        ax.barh(rows, values[shown, j] - floor, left=floor, height=height, label=label,
+                color=colour)  # fmt: skip
+        lacking = [rated[i].joint for i in np.flatnonzero(~shown)]
+        if len(lacking) > 4:
+            missing.append(f"{label.split()[0]} of {len(lacking)} of the {len(rated)}")
+        elif lacking:
+            missing.append(f"{label.split()[0]} of {', '.join(lacking)}")
+    ax.set_yticks(y, [life.joint for life in rated], fontsize=7)
+    ax.set_xscale("log")
+    ax.set_xlim(left=floor)
+    ax.axvline(hours, color="k", lw=0.8)
+    ax.set_xlabel("life [h of operation]")
+    ax.set_title(title, fontsize=9)
+    ax.grid(axis="x", alpha=0.3)
+    handles: list[Any] = [Patch(color=colour, label=label) for _, label, colour in kinds]
+    handles.append(Line2D([], [], color="k", lw=0.8, label=f"site's {hours:.0f} h of operation"))
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+              borderaxespad=0)  # fmt: skip
+    caption = (
+        "Each rated bearing's and row's lives over the site's wind bins: ISO 281 basic L10h and "
+        "modified L_nmh (a_ISO from the lubricant, cleanliness and fatigue load limit), ISO/TS "
+        "16281 reference L10rh (from the internal load distribution), the loads of each "
+        "revolution-weighted over the bins (Palmgren-Miner), in hours at the mean speed."
+        + (f"\nNot computed (no size_mm, C_u or C₀ in the model, or a single angular row that "
+           f"needs its pair): {'; '.join(missing)}."
+           if missing else "")
+    )  # fmt: skip
     return _save(fig, path, caption=_with_set(caption, about), mark=mark)
 
 

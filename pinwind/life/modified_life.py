@@ -138,3 +138,20 @@ def modified_life_sum(
     moving = (turns > 0.0) & (loads > 0.0)
     used = np.sum(np.where(moving, turns * loads**exponent / a, 0.0))
     return float(used), float(np.sum(turns))
+
+
+def modified_rating_life(
+    rating: float, exponent: float, used: float, revolutions: float, *, a1: float = 1.0
+) -> float:
+    """L_nm [10⁶ rev] from the sums of `modified_life_sum` (``used`` [N^p·rev], revolutions).
+
+    ISO 281:2007 §9.3.4: L_nm = a₁ C^p Σ n_i / Σ (n_i P_i^p / a_ISO,i), C [N] the basic dynamic
+    load rating and p its life exponent (at a_ISO = 1 it is (C/P_eq)^p, ISO 281's L10 in 10⁶
+    rev: the revolutions cancel); inf when nothing was used (no load), NaN when the sums are (no
+    modified life) or nothing turned.
+    """
+    if math.isnan(used) or not revolutions > 0.0:
+        return math.nan
+    if used <= 0.0:
+        return math.inf
+    return a1 * revolutions / used * rating**exponent

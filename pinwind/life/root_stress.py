@@ -20,10 +20,26 @@ acts on, for a run's single-tooth force and contact position (docs/series.md
   §2.5.1, Fig. 9: "the normal single gear tooth force multiplied by the polynomial function
   describing the relationship between stresses and base circle arc length"), linear between
   its points and constant beyond its ends.
+
+A helical pair with an overlap ratio ε_β ≥ 1 (`RootStress.mesh_stress`) is rated as
+ISO 6336-3:2006 method B rates it, from the whole mesh force: its contact lines sweep the face
+and the load per tooth does not jump between one and two pairs as in a spur pair
+(`pinwind.life.contact_stress` module docstring), so the standard's nominal root stress
+
+    σ_F = F_t/(b m_n) Y_F Y_S Y_β,   F_t = F_n cos β_b cos α_t
+
+is what each tooth meets on each pass: Y_F, Y_S of the virtual spur gear (z_n, ε_αn =
+ε_α/cos² β_b) loaded at its outer point of single contact, as the standard applies the load
+of a helical pair, and Y_β = 1 − ε_β β/120° (ε_β taken as 1 above 1). Method B of the 2006
+edition has no Y_ε: the contact-ratio factor Y_ε = 0.25 + 0.75/ε_αn belongs to the 1996
+edition's method C, which loads the tooth at its tip instead (``form_factors(at_tip=True)``).
+A table is a spur pair's (a stress per force against one contact point); it has no helical
+form.
 """
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
@@ -33,7 +49,7 @@ import numpy.typing as npt
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.rating_iso import form_factors, root_helix_factor
-from pinwind.life.contact_stress import on_involutes
+from pinwind.life.contact_stress import on_involutes, require_full_overlap
 
 
 class RootStress(ABC):
@@ -55,6 +71,22 @@ class RootStress(ABC):
             force: normal force on the tooth pair [N]; its sign (the flank) does not matter.
             position: roll distance of the contact from gear 1's base tangency point [m],
                 broadcast against ``force``.
+        """
+
+    @abstractmethod
+    def mesh_stress(self, pair: GearPair, gear: int, *, force: npt.ArrayLike) -> np.ndarray:
+        """σ_F of ``gear`` (1 or 2) of a helical ``pair`` under the mesh force [Pa].
+
+        Args:
+            pair: the mesh's gears in the model's order, helical with ε_β ≥ 1.
+            gear: 1 or 2, the gear of the pair whose root is rated.
+            force: the mesh's force normal to the flanks F_n [N], all tooth pairs together
+                (``mesh_normal`` is its transverse part F_bt = F_n cos β_b:
+                `GearPair.flank_normal_force`); its sign (the flank) does not matter. NaN
+                gives NaN.
+
+        Raises:
+            InputError: a spur pair or ε_β < 1, or a model without a helical form.
         """
 
     @abstractmethod
@@ -99,6 +131,11 @@ class IsoRootStress(RootStress):
         load, roll = _load_and_roll(force, position)
         _, _, on = on_involutes(pair, roll)
         return np.where(on & np.isfinite(load), self.factor(pair, gear) * load, np.nan)
+
+    def mesh_stress(self, pair: GearPair, gear: int, *, force: npt.ArrayLike) -> np.ndarray:
+        """σ_F = F_t/(b m_n) Y_F Y_S Y_β of a helical pair at F_n [Pa] (module docstring)."""
+        require_full_overlap(pair, "the helical root stress")
+        return self.factor(pair, gear) * np.abs(np.asarray(force, dtype=float))
 
     def describe(self) -> str:
         """`RootStress.describe`."""
@@ -169,6 +206,16 @@ class TableRootStress(RootStress):
             self.flank_position(pair, gear, roll), self.position, self.stress_per_force
         )
         return np.where(on & np.isfinite(load), per_force * load, np.nan)
+
+    def mesh_stress(self, pair: GearPair, gear: int, *, force: npt.ArrayLike) -> np.ndarray:
+        """Not defined: a table rates a spur pair's tooth at one contact point (`RootStress`)."""
+        _check_gear(gear)
+        raise InputError(
+            f"a root-stress table gives a spur tooth's stress against its contact position; "
+            f"{pair.names[gear - 1]} is in a helical pair ({pair.names[0]}/{pair.names[1]}, "
+            f"β {math.degrees(pair.helix_angle):g}°) whose contact lines cross the face: drop "
+            "its root_stress table to rate it by ISO 6336-3"
+        )
 
     def describe(self) -> str:
         """`RootStress.describe`."""

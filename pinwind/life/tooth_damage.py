@@ -19,6 +19,17 @@ gets its own history instead, so damage is per tooth and the worst tooth is foun
   the plain time factor h · 3600 / T_sim (Table 2): each tooth's own cycles need no division by
   the teeth or multiplication by the meshes (Table 3 does both to spread one mesh's cycles).
 
+A helical mesh with an overlap ratio ε_β ≥ 1 (the NREL 5 MW stage 3, ε_β = 1.42) is rated as
+ISO 6336 rates it (`HelicalContacts`): its contact lines sweep the face, the load per unit
+length of line stays near the mesh force's share F_n cos β_b/(b ε_α) whichever pairs are in
+contact, so every tooth in contact meets the stress of the mesh force
+(`contact_stress.helical_contact_stress`, `root_stress.RootStress.mesh_stress`), and each pass
+of a tooth through the mesh is one cycle, of the largest such stress during the pass: the
+teeth in contact are the entering one and the ``mesh_pairs`` − 1 ahead of it, one base pitch
+apart, and each point of the flank (each section of the root) is loaded once per pass, by the
+force of the moment the contact line crosses it; the pass's largest is its most loaded point,
+as for a spur pair.
+
 Teeth carry the gear's own numbers (`mesh_teeth`): tooth j has its centre line at the gear's
 tooth phase + 2πj/z about its axis (`pinwind.model.phasing`), so a sun's passes at its three
 planets join into one history per physical tooth. The tooth in each mesh's entering pair at
@@ -30,6 +41,7 @@ forward. Each flank of a tooth is its own surface and is rated apart (`gear_toot
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -39,11 +51,13 @@ import numpy as np
 import numpy.typing as npt
 import pinocchio as pin
 
+from pinwind.dynamics.compliant import overlap_span
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import Material
-from pinwind.life.contact_stress import contact_stress
+from pinwind.life.contact_stress import contact_stress, helical_contact_stress
 from pinwind.life.cycles import Cycles, rainflow_cycles
 from pinwind.life.root_stress import RootStress
 from pinwind.life.sn_curve import FatigueCurve, miner_damage
@@ -116,12 +130,96 @@ class ToothContacts:
     leading: np.ndarray
     pairs: np.ndarray
 
+    #: Each sample of a pass is kept (the pair's load rises and falls within it).
+    peak_per_pass = False
 
-def tooth_histories(contacts: Sequence[ToothContacts], *, teeth: int) -> list[np.ndarray]:
+    def loads(self, mesh: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(tooth, sample, value) of every tooth in contact at every sample; ``mesh`` its index.
+
+        Raises:
+            InputError: three or more pairs in contact (a contact ratio of 2 or more), which
+                the logged series do not resolve.
+        """
+        pairs = np.asarray(self.pairs)
+        if np.any(pairs > 2):
+            raise InputError(
+                f"mesh {mesh} has {int(np.max(pairs))} tooth pairs in contact at times; the "
+                "logged series give the forces of the entering pair and, by difference, of one "
+                "more: per-tooth histories of a spur pair need a contact ratio below 2"
+            )
+        samples = np.arange(len(self.tooth))
+        two = pairs == 2
+        return (
+            np.concatenate([np.asarray(self.tooth), np.asarray(self.leading_tooth)[two]]),
+            np.concatenate([samples, samples[two]]),
+            np.concatenate(
+                [np.asarray(self.entering, dtype=float), np.asarray(self.leading, dtype=float)[two]]
+            ),
+        )
+
+    def unloaded_where(self, off: np.ndarray) -> ToothContacts:
+        """The same contacts with no load at the samples ``off`` (another flank's)."""
+        return dataclasses.replace(
+            self,
+            entering=np.where(off, 0.0, self.entering),
+            leading=np.where(off, 0.0, self.leading),
+        )
+
+
+@dataclass(frozen=True)
+class HelicalContacts:
+    """A gear's teeth in contact at a helical mesh (ε_β ≥ 1), per sample (module docstring).
+
+    Every tooth in contact meets the same stress, the mesh force's; each pass of a tooth
+    counts once, at the largest stress during it.
+
+    Attributes:
+        tooth: the gear's tooth in the entering pair (`entering_teeth`), (n,).
+        leading_tooth: its tooth one base pitch ahead, (n,); the k-th ahead is k steps further.
+        stress: the stress of the mesh force (or the load), (n,).
+        pairs: tooth pairs in contact, (n,): the entering one and ``pairs`` − 1 ahead of it.
+        teeth: the gear's tooth count.
+    """
+
+    tooth: np.ndarray
+    leading_tooth: np.ndarray
+    stress: np.ndarray
+    pairs: np.ndarray
+    teeth: int
+
+    #: A pass counts once, at its largest stress.
+    peak_per_pass = True
+
+    def loads(self, mesh: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(tooth, sample, value) of every tooth in contact at every sample (``mesh`` unused)."""
+        tooth = np.asarray(self.tooth)
+        step = tooth - np.asarray(self.leading_tooth)  # ±1 (mod z): the next tooth ahead
+        pairs = np.asarray(self.pairs)
+        samples = np.arange(tooth.size)
+        stress = np.asarray(self.stress, dtype=float)
+        ahead = range(max(int(np.max(pairs, initial=1)), 1))
+        rows = [pairs > k for k in ahead]
+        return (
+            np.concatenate(
+                [(tooth - k * step)[r] % self.teeth for k, r in zip(ahead, rows, strict=True)]
+            ),
+            np.concatenate([samples[r] for r in rows]),
+            np.concatenate([stress[r] for r in rows]),
+        )
+
+    def unloaded_where(self, off: np.ndarray) -> HelicalContacts:
+        """The same contacts with no load at the samples ``off`` (another flank's)."""
+        return dataclasses.replace(self, stress=np.where(off, 0.0, self.stress))
+
+
+def tooth_histories(
+    contacts: Sequence[ToothContacts | HelicalContacts], *, teeth: int
+) -> list[np.ndarray]:
     """The history of each tooth of a gear over all its meshes, in time order.
 
     A tooth's history holds its values while it is in contact (entering, then leading) at any
     of the meshes, with a 0 before, between and after its passes: out of contact it is unloaded.
+    A pass through a helical mesh (`HelicalContacts`) keeps one value, its largest.
 
     Args:
         contacts: one per mesh of the gear, all over the same samples.
@@ -131,30 +229,26 @@ def tooth_histories(contacts: Sequence[ToothContacts], *, teeth: int) -> list[np
         ``teeth`` arrays, the history of tooth 0, 1, ...
 
     Raises:
-        InputError: three or more pairs in contact (a contact ratio of 2 or more), which the
-            logged series do not resolve.
+        InputError: three or more pairs in contact at a spur mesh (a contact ratio of 2 or
+            more), which the logged series do not resolve.
     """
-    tooth_of, sample_of, mesh_of, value_of = [], [], [], []
+    tooth_of, sample_of, mesh_of, value_of, peak_of = [], [], [], [], []
     for m, c in enumerate(contacts):
-        pairs = np.asarray(c.pairs)
-        if np.any(pairs > 2):
-            raise InputError(
-                f"mesh {m} has {int(np.max(pairs))} tooth pairs in contact at times; the logged "
-                "series give the forces of the entering pair and, by difference, of one more: "
-                "per-tooth histories need a contact ratio below 2"
-            )
-        samples = np.arange(len(c.tooth))
-        two = pairs == 2
-        tooth_of += [np.asarray(c.tooth), np.asarray(c.leading_tooth)[two]]
-        sample_of += [samples, samples[two]]
-        mesh_of += [np.full(samples.size, m), np.full(int(np.sum(two)), m)]
-        value_of += [np.asarray(c.entering, dtype=float), np.asarray(c.leading, dtype=float)[two]]
+        tooth_m, sample_m, value_m = c.loads(m)
+        tooth_of.append(tooth_m)
+        sample_of.append(sample_m)
+        mesh_of.append(np.full(tooth_m.size, m))
+        value_of.append(value_m)
+        peak_of.append(np.full(tooth_m.size, c.peak_per_pass))
     tooth = np.concatenate(tooth_of).astype(int)
     sample = np.concatenate(sample_of)
     mesh = np.concatenate(mesh_of)
     value = np.concatenate(value_of)
+    peak = np.concatenate(peak_of)
     order = np.lexsort((mesh, sample, tooth))
-    tooth, sample, mesh, value = tooth[order], sample[order], mesh[order], value[order]
+    tooth, sample, mesh, value, peak = (
+        tooth[order], sample[order], mesh[order], value[order], peak[order]
+    )  # fmt: skip
     histories = []
     for j in range(teeth):
         rows = slice(*np.searchsorted(tooth, [j, j + 1]))
@@ -162,9 +256,29 @@ def tooth_histories(contacts: Sequence[ToothContacts], *, teeth: int) -> list[np
         # A pass ends where the tooth skips a sample or moves to another mesh: a 0 between
         # passes (one insert for all of them, not a list of parts: a tooth has thousands).
         breaks = np.flatnonzero((np.diff(at) > 1) | (np.diff(where) != 0)) + 1
+        if np.any(peak[rows]):
+            v, breaks = _pass_peaks(v, breaks, peak[rows])
         passes = np.insert(v, breaks, 0.0)
         histories.append(np.concatenate(([0.0], passes, [0.0])) if v.size else np.zeros(1))
     return histories
+
+
+def _pass_peaks(
+    values: np.ndarray, breaks: np.ndarray, peak: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(values, breaks) with each pass whose samples are ``peak`` cut to its largest value.
+
+    ``breaks`` are the indices where passes start (but the first); a pass lies in one mesh, so
+    ``peak`` is the same over it.
+    """
+    starts = np.concatenate(([0], breaks)).astype(int)
+    lengths = np.diff(np.append(starts, values.size))
+    largest = np.maximum.reduceat(values, starts)
+    first = np.zeros(values.size, dtype=bool)
+    first[starts] = True
+    kept = np.where(peak, np.repeat(largest, lengths), values)[~peak | first]
+    new_lengths = np.where(peak[starts], 1, lengths)
+    return kept, np.cumsum(new_lengths)[:-1]
 
 
 @dataclass(frozen=True)
@@ -310,6 +424,15 @@ def _entering_tooth(
     positive turn when it is ahead of that centre line. As the contact rolls forward (along
     T_A → P) the gear turns with the sign of k · ((C − O) × d) (an involute's contact moves
     along the line as fast as its flank does); the tooth behind then comes next.
+
+    A helical mesh logs x in the mid-face section, where the tooth phases lie, Δ/2 behind the
+    front face section (`pinwind.dynamics.compliant.overlap_span`, Δ = ε_β p_bt). There the
+    entering pair may not touch yet: x may lie before A, on the involute extended beyond the
+    tip, which can cross the tooth's centre line, and the flank would be misjudged (the 5 MW
+    stage-3 pinion's came out +1 or −1 by the sample). The contact is taken in the front face
+    instead, at x + Δ/2, where the entering pair always touches, and its angle turned back by
+    the tooth's twist from the mid-face to the front face, Δ/(2 r_b) in the sense the gear
+    turns as the contact moves forward.
     """
     model = gearbox.model
     angles = result.angle[sample]
@@ -332,17 +455,20 @@ def _entering_tooth(
     centre_a = data.oMi[mesh.gear_a.joint_id].act(mesh.gear_a.centre_in_joint)
     foot = pitch_point - float((pitch_point - centre_a) @ line) * line
     forward = (pitch_point - foot) / np.linalg.norm(pitch_point - foot)
-    contact = foot + float(result.mesh_contact_position[sample, index]) * forward
+    half_span = 0.5 * overlap_span(mesh)  # 0 for a spur mesh
+    contact = foot + (float(result.mesh_contact_position[sample, index]) + half_span) * forward
     placement = data.oMi[gear.joint_id]
     centre = placement.act(gear.centre_in_joint)
     arm = placement.rotation.T @ (contact - centre)
     zero = zero_direction(gear.axis_in_joint)
     angle = math.atan2(float(gear.axis_in_joint @ np.cross(zero, arm)), float(zero @ arm))
-    teeth = gear.spec.teeth
-    pitches = (angle - gearbox.tooth_phases[gear.name]) * teeth / (2.0 * math.pi)
-    nearest = round(pitches)
     axis = placement.rotation @ gear.axis_in_joint
     turns = float(axis @ np.cross(contact - centre, forward))
+    radius = mesh.base_radius_a if gear.name == mesh.gear_a.name else mesh.base_radius_b
+    twist = math.copysign(half_span / radius, turns)
+    teeth = gear.spec.teeth
+    pitches = (angle - twist - gearbox.tooth_phases[gear.name]) * teeth / (2.0 * math.pi)
+    nearest = round(pitches)
     return nearest % teeth, -1 if turns > 0.0 else 1, 1 if pitches > nearest else -1
 
 
@@ -360,11 +486,13 @@ def gear_tooth_damage(
     """Contact- or root-stress damage of every tooth of a gear over all its meshes in a run.
 
     The contact stress is σ_vM ≈ 0.65 p_max of the Hertz pressure at the moving contact point
-    (`pinwind.life.contact_stress`, Jørgensen 2014 eqs. 20-22). Each flank of the teeth is its
-    own surface: a planet's sun mesh and ring mesh load opposite flanks and are rated apart
-    (Jørgensen 2014 §3.1 joins them into one 60 s history). With ``root_stress`` the stress is
-    instead that of the root fillet on the loaded flank's side (`pinwind.life.root_stress`),
-    each fillet rated apart as each flank is.
+    (`pinwind.life.contact_stress`, Jørgensen 2014 eqs. 20-22); of a helical gear 0.65 σ_H of
+    the mesh force (`contact_stress.helical_contact_stress`, ISO 6336-2), the same equivalent
+    so that the set's curves, read at the von Mises stress, apply to both. Each flank of the
+    teeth is its own surface: a planet's sun mesh and ring mesh load opposite flanks and are
+    rated apart (Jørgensen 2014 §3.1 joins them into one 60 s history). With ``root_stress``
+    the stress is instead that of the root fillet on the loaded flank's side
+    (`pinwind.life.root_stress`), each fillet rated apart as each flank is.
 
     Args:
         result: the run (every sample of it).
@@ -381,10 +509,12 @@ def gear_tooth_damage(
         damaged first.
 
     Raises:
-        InputError: no mesh has the gear, or as `mesh_teeth`; a contact ratio of 2 or more.
+        InputError: no mesh has the gear, or as `mesh_teeth`; a spur mesh with a contact ratio
+            of 2 or more; a helical mesh with ε_β < 1 (`contact_stress.require_full_overlap`)
+            or a root-stress table on one.
     """
     chosen = dict(materials or {})
-    contacts: list[tuple[ToothContacts, np.ndarray]] = []
+    contacts: list[tuple[ToothContacts | HelicalContacts, np.ndarray]] = []
     teeth = 0
     for i, mesh in enumerate(gearbox.meshes):
         if gear not in (mesh.gear_a.name, mesh.gear_b.name):
@@ -392,6 +522,14 @@ def gear_tooth_damage(
         entering_teeth_of = mesh_teeth(result, gearbox, mesh.name, gear)
         teeth = (mesh.gear_a if mesh.gear_a.name == gear else mesh.gear_b).spec.teeth
         pair = GearPair.from_gears(mesh.gear_a.spec, mesh.gear_b.spec, dict(chosen))
+        if pair.helix_angle != 0.0:
+            contacts.append(
+                (
+                    _helical_contacts(result, i, pair, gear, entering_teeth_of, root_stress),
+                    entering_teeth_of.flank,
+                )
+            )
+            continue
         position = result.mesh_contact_position[:, i]
         single = np.abs(result.mesh_single_tooth_force[:, i])
         normal = np.abs(result.mesh_normal[:, i])
@@ -419,16 +557,7 @@ def gear_tooth_damage(
         if not any(np.any(flank == side) for _, flank in contacts):
             continue
         # Samples on the other flank leave this one unloaded.
-        on_side = [
-            ToothContacts(
-                tooth=c.tooth,
-                leading_tooth=c.leading_tooth,
-                entering=np.where(flank == side, c.entering, 0.0),
-                leading=np.where(flank == side, c.leading, 0.0),
-                pairs=c.pairs,
-            )
-            for c, flank in contacts
-        ]
+        on_side = [c.unloaded_where(flank != side) for c, flank in contacts]
         rated.append(
             histories_damage(
                 tooth_histories(on_side, teeth=teeth),
@@ -440,3 +569,27 @@ def gear_tooth_damage(
             )
         )
     return tuple(sorted(rated, key=lambda d: -d.worst))
+
+
+def _helical_contacts(
+    result: Result,
+    index: int,
+    pair: GearPair,
+    gear: str,
+    teeth: EnteringTeeth,
+    root_stress: RootStress | None,
+) -> HelicalContacts:
+    """The teeth of ``gear`` at helical mesh ``index`` with the stress of the mesh force."""
+    normal = pair.flank_normal_force(np.abs(result.mesh_normal[:, index]))
+    if root_stress is None:
+        stress = VON_MISES_RATIO * helical_contact_stress(pair, force=normal)
+    else:
+        side = 1 if gear == pair.names[0] else 2
+        stress = root_stress.mesh_stress(pair, side, force=normal)
+    return HelicalContacts(
+        tooth=teeth.tooth,
+        leading_tooth=teeth.leading_tooth,
+        stress=np.nan_to_num(stress),
+        pairs=np.asarray(result.mesh_pairs[:, index]).astype(int),
+        teeth=pair.teeth_1 if gear == pair.names[0] else pair.teeth_2,
+    )

@@ -7,7 +7,8 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
 - ``ConstantTorque``: T_gen = T₀.
 - ``LinearSlip``: T_gen = k (ω − ω_sync), the linearisation of an induction generator near
   synchronous speed.
-- ``VariableSpeed``: T_gen = K ω² below rated, P_rated / ω above (constant power); with
+- ``VariableSpeed``: T_gen = K ω² below rated, P_rated / ω above (constant power) or a
+  constant torque T_r above rated speed (ROSCO's default; ``VariableSpeed`` docstring); with
   K = ½ ρ π R⁵ C_p,max / (λ_opt³ N³) the rotor tracks λ_opt (``dynamics/elements.optimal_gain``).
 - ``InductionMachine``: the steady-state torque–slip curve of the per-phase equivalent circuit
   (R_s + jX_ls in series with jX_M ∥ (R_r'/s + jX_lr')), star-connected on a grid of line
@@ -35,6 +36,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
+from pinwind.errors import InputError
+
 
 @dataclass(frozen=True)
 class ConstantTorque:
@@ -53,13 +56,56 @@ class LinearSlip:
 
 @dataclass(frozen=True)
 class VariableSpeed:
-    """T_gen = gain · ω² up to rated_power, then rated_power / ω; gain [N·m·s²], power [W].
+    """T_gen = gain · ω² up to rated, then constant power or constant torque (SI units).
 
-    ``rated_power = 0`` leaves the K ω² law unlimited.
+    Region 3 at constant power (``rated_power`` [W]): T_gen = rated_power / ω where K ω³ exceeds
+    it; ``rated_power = 0`` leaves the K ω² law unlimited. A constant power is a negative damper
+    (dT_gen/dω = −P/ω²) on the drivetrain's torsion.
+
+    Region 3 at constant torque (``rated_torque`` T_r [N·m] > 0, ROSCO's ``VS_ConstPower = 0``;
+    Abbas et al. 2022): T_gen = T_r from ``rated_speed`` ω_r [rad/s] up, reached from the K ω²
+    curve along Jonkman et al. 2009's region 2½ line (§7.2, DISCON's 10 % slip ``VS_SlPc``):
+
+        T_gen = min(max(K ω², T_r (ω − ω_s)/(ω_r − ω_s)), T_r),   ω_s = ω_r / (1 + slip)
+
+    which damps (slope ≥ 0) everywhere. The NREL 5 MW on its generator shaft: K = 2.332287
+    N·m·s², T_r = 43 093.55 N·m (ROSCO's VS_RtTq: 5.2966 MW at 1173.7 rpm), ω_r = 121.6805 rad/s
+    (DISCON's VS_RtGnSp, 1162 rpm, 99 % of rated), slip 0.1.
+
+    Raises:
+        InputError: both region-3 limits, a rated torque without a rated speed or with a
+            slip ≤ 0, or a region 2½ line that does not reach the K ω² curve.
     """
 
     gain: float
     rated_power: float = 0.0
+    rated_torque: float = 0.0
+    rated_speed: float = 0.0
+    slip: float = 0.1
+
+    def __post_init__(self):
+        if self.rated_torque == 0.0:
+            return
+        if self.rated_power != 0.0:
+            raise InputError(
+                f"variable-speed generator: rated_power {self.rated_power!r} W and rated_torque "
+                f"{self.rated_torque!r} N·m both set; region 3 is at constant power or at "
+                "constant torque: give one"
+            )
+        if not (self.rated_torque > 0 and self.rated_speed > 0 and self.slip > 0):
+            raise InputError(
+                f"variable-speed generator at rated torque {self.rated_torque!r} N·m: give "
+                f"rated_speed > 0 (rated_rpm; got {self.rated_speed!r} rad/s) and slip > 0 "
+                f"(got {self.slip!r})"
+            )
+        sync = self.rated_speed / (1.0 + self.slip)
+        slope = self.rated_torque / (self.rated_speed - sync)
+        if slope < 4.0 * self.gain * sync:  # K ω² = slope (ω − ω_s) has no real root
+            raise InputError(
+                f"variable-speed generator: the region 2½ line to {self.rated_torque!r} N·m at "
+                f"{self.rated_speed!r} rad/s does not meet K ω² (K = {self.gain!r} N·m·s²); "
+                "lower the gain or the slip, or raise the rated torque"
+            )
 
 
 @dataclass(frozen=True)
@@ -180,7 +226,13 @@ LAWS: dict[str, LawKind] = {
         LawKind(
             "variable-speed",
             VariableSpeed,
-            {"gain": ("gain", "N·m·s²"), "rated_power": ("rated_power", "W")},
+            {
+                "gain": ("gain", "N·m·s²"),
+                "rated_power": ("rated_power", "W"),
+                "rated_torque": ("rated_torque", "N·m"),
+                "rated_rpm": ("rated_speed", "rpm"),
+                "slip": ("slip", "-"),
+            },
         ),
         LawKind(
             "induction",

@@ -61,6 +61,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.errors import InputError
+from pinwind.loads.pitch_control import PitchControl
 from pinwind.loads.rotor_performance import NREL5MW_PERFORMANCE, read_performance
 from pinwind.units import rpm_to_rad_s
 
@@ -283,7 +284,9 @@ class Rotor:
         radius: R [m], blade tip to axis.
         inertia: rotor inertia about the shaft [kg·m²], added to the joint.
         air_density: ρ [kg/m³].
-        pitch: blade pitch β [rad].
+        pitch: blade pitch β [rad]; with ``pitch_control``, the pitch it starts from.
+        pitch_control: a ``PitchControl`` that moves the pitch to hold the rotor's speed
+            (``loads/pitch_control.py``), or None: the pitch stays ``pitch``.
         cp: ``HeierCp`` (default) or ``CpTable``.
         ct: ``CtTable``, or None: C_t from C_p by momentum theory (module docstring).
         mass: the rotor's mass (blades and hub) [kg], its weight on the hub.
@@ -305,6 +308,7 @@ class Rotor:
     hub_height: float = math.inf
     shear_exponent: float = 0.0
     hub: RotorHub | None = None
+    pitch_control: PitchControl | None = None
 
     def __post_init__(self):
         for name in ("radius", "air_density", "hub_height"):
@@ -321,6 +325,12 @@ class Rotor:
                 "radians, below π/2 (shaft_tilt_deg in scenario files)"
             )
         shear_arm(self.radius, self.hub_height, self.shear_exponent)  # checks H > R
+        control = self.pitch_control
+        if control is not None and not control.pitch_min <= self.pitch <= control.pitch_max:
+            raise InputError(
+                f"rotor pitch {self.pitch!r} rad is outside its controller's limits "
+                f"{control.pitch_min!r} to {control.pitch_max!r} rad; start the pitch within them"
+            )
 
     @classmethod
     def saleh2017(cls, **changes: Any) -> Rotor:
@@ -389,6 +399,8 @@ class Rotor:
                                "ct": [list(r) for r in self.ct.ct]}  # fmt: skip
         out.update(mass=self.mass, shaft_tilt=self.shaft_tilt, shear_exponent=self.shear_exponent,
                    hub_height=None if math.isinf(self.hub_height) else self.hub_height)  # fmt: skip
+        if self.pitch_control is not None:
+            out["pitch_control"] = self.pitch_control.describe()
         if self.hub is not None:
             out["hub"] = {"body": self.hub.body, "point": list(self.hub.point),
                           "up": None if self.hub.up is None else list(self.hub.up)}  # fmt: skip

@@ -23,9 +23,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pinwind.errors import PinwindError
-from pinwind.life.bearing_life import bearing_load_sums, row_load_sums
 from pinwind.life.case_cycles import CaseCycles, case_cycles
 from pinwind.life.fatigue_set import FatigueSet, LoadCase
+from pinwind.life.life_sums import run_load_sums
 from pinwind.life.root_stress import ISO_ROOT_STRESS
 from pinwind.runs.scenario import build
 
@@ -126,7 +126,7 @@ def reduce_case(
         materials=fatigue.materials,
         root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
     )
-    bearings = bearing_load_sums(counted, gearbox) + row_load_sums(counted, gearbox)
+    bearings = run_load_sums(counted, gearbox, life=fatigue.bearing_life)
     log_sha256 = file_sha256(fatigue.log_path(case))
     return CaseCycles(
         case,

@@ -42,8 +42,12 @@ The run keys of any scenario (``pinwind.runs.scenario``: model, dt, rotor, gener
     channel = "RotTorq"
     scale = 1000.0
 
+    [fatigue.bearings]                  # bearing and row data of L_nm and L10r over the model's
+    planet1 = { size_mm = "300 200 60", fatigue_limit_kN = 50, lubricant_vg = 320 }
+    "lss.INP-A" = { temperature_C = 65, contamination = "high_cleanliness" }
+
     gears = ["sun", "planet1"]          # the gears whose teeth are rated (default: all
-                                        # meshed gears; the tooth stresses take spur pairs)
+                                        # meshed gears; helical ones need ε_β ≥ 1)
 
     [fatigue.quick]                     # what --quick changes (any [fatigue] key, and dt)
     duration = 1.5
@@ -73,6 +77,7 @@ from pinwind.life.fatigue_set import (
     OpenFastInput,
     TurbulenceLevel,
 )
+from pinwind.life.life_sums import bearing_life_data
 from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
 from pinwind.life.site import (
     TURBULENCE_CLASSES,
@@ -88,6 +93,7 @@ from pinwind.life.sn_curve import (
     iso6336_root_curve,
     jorgensen_2014_curve,
 )
+from pinwind.model.bearing_life_data import LIFE_ATTRIBUTES, BearingLifeData, life_data
 from pinwind.model.gear_roles import ROLES, gear_roles, gearbox_planetary_gears
 from pinwind.runs.scenario import ScenarioError, build, key_error, read_toml
 
@@ -112,6 +118,7 @@ FATIGUE_KEYS: dict[str, str] = {
     "root_stress": "root stress tables per gear or kind (default: ISO 6336-3 method B)",
     "openfast": "one OpenFAST output per case instead of rotor and wind",
     "gears": "the gears whose teeth are rated (default: every meshed gear)",
+    "bearings": "bearing and row data of the modified and reference lives, over the model's",
     "quick": "what --quick changes",
 }
 #: The keys of ``[fatigue.quick]``: the scenario's ``dt`` and any ``[fatigue]`` key.
@@ -289,6 +296,7 @@ class _SetReader:
             root_stress=self.root_stress(settings.get("root_stress", {}), gears),
             bearings={**gearbox.source.bearings, **row_ratings(gearbox)},
             roles=self.roles,
+            bearing_life=self.bearing_life(settings.get("bearings", {}), gearbox),
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
             if openfast is not None and not openfast.file(case, fatigue.base).is_file():
@@ -490,6 +498,36 @@ class _SetReader:
                 key, f'no value for "{gear}"; give one per gear (or per kind: sun, planet, ring)'
             )
         return chosen
+
+    def bearing_life(self, table: Any, gearbox: Gearbox) -> dict[str, BearingLifeData]:
+        """Each bearing's and row's life data: the model's, with ``[fatigue.bearings]`` over it.
+
+        The table's keys are bearings or rows (``"lss.INP-A"``), each a table of the model's
+        life attributes (``lubricant_vg``, ``temperature_C``, ``contamination``,
+        ``fatigue_limit_kN``, ``size_mm``, ...; docs/bearing_life.md "Model file"), checked as
+        the model's are.
+        """
+        key = ("fatigue", "bearings")
+        if not isinstance(table, Mapping):
+            raise self.fail(key, "must be a table of bearings or rows → tables of life attributes")
+        out = bearing_life_data(gearbox)
+        ratings = {**gearbox.source.bearings, **row_ratings(gearbox)}
+        check_keys(key, table, tuple(ratings), self.fail, kind="bearing")
+        for name, attrs in table.items():
+            if not isinstance(attrs, Mapping):
+                raise self.fail(
+                    key + (name,), "must be a table of life attributes, e.g. { lubricant_vg = 220 }"
+                )
+            check_keys(key + (name,), attrs, LIFE_ATTRIBUTES, self.fail, kind="attribute")
+            given = {k: str(v).lower() if isinstance(v, bool) else str(v) for k, v in attrs.items()}
+            try:
+                out[name] = life_data(
+                    given, where=f"[fatigue.bearings] {name}", path=str(self.path),
+                    inherited=out.get(name), rating=ratings[name].dynamic_load_rating,
+                )  # fmt: skip
+            except PinwindError as err:
+                raise self.fail(key + (name,), str(err)) from err
+        return out
 
     def materials(self, given: Any, gears: tuple[str, ...]) -> dict[str, str]:
         """Each gear's material key: one for all, or per gear or kind (default for the rest)."""

@@ -72,6 +72,7 @@ from pinwind.loads.hub_loads import (
     hub_load_from_openfast,
 )
 from pinwind.loads.input_files import InputFile, check_unchanged
+from pinwind.loads.pitch_control import PITCH_PRESETS, PitchControl
 from pinwind.loads.rotor import CpTable, CtTable, HeierCp, Rotor, RotorHub, performance_tables
 from pinwind.loads.signal_text import signal_from_spec
 from pinwind.loads.signals import Scaled, Signal
@@ -125,8 +126,23 @@ KEYS: dict[str, tuple[str, str, str]] = {
 ROTOR_KEYS = (
     "preset", "radius", "inertia", "air_density", "pitch_deg", "cp_scale", "cp_table",
     "ct_table", "performance_file", "mass", "shaft_tilt_deg", "hub_height", "shear_exponent",
-    "hub_body", "hub_point", "hub_up",
+    "hub_body", "hub_point", "hub_up", "pitch_control",
 )  # fmt: skip
+#: The keys of a rotor's ``pitch_control`` table (``loads/pitch_control.py``), each with its
+#: factor to SI: a preset to start from, then the speed set point [rpm], the gains on the rotor
+#: speed error (K_P [s], K_I [-]), θ_K [deg], the filter's corner [Hz], the limits [deg] and the
+#: largest rate [deg/s].
+PITCH_CONTROL_KEYS: dict[str, float] = {
+    "preset": 1.0,
+    "speed_rpm": RAD_S_PER_RPM,
+    "kp": 1.0,
+    "ki": 1.0,
+    "gain_angle_deg": math.pi / 180,
+    "corner_hz": 2 * math.pi,
+    "pitch_min_deg": math.pi / 180,
+    "pitch_max_deg": math.pi / 180,
+    "rate_deg_s": math.pi / 180,
+}
 #: The keys of a rotor's ``cp_table``: tip-speed ratios, power coefficients, pitch angles [deg].
 CP_TABLE_KEYS = ("tsr", "cp", "pitch_deg")
 #: The keys of a rotor's ``ct_table``: tip-speed ratios, thrust coefficients, pitch angles [deg].
@@ -614,6 +630,8 @@ class _Builder:
             except TypeError as err:
                 missing = [k for k, (target, _) in kind.parameters.items() if target not in kwargs]
                 raise self.fail(key, f"{law} needs {', '.join(missing)}") from err
+            except InputError as err:
+                raise self.fail(key, str(err)) from err
         return out
 
     def rotors(self) -> dict[str, Rotor]:
@@ -638,6 +656,8 @@ class _Builder:
                     kwargs["cp"] = self._cp_table(key + (name,), value)
                 elif name == "ct_table":
                     kwargs["ct"] = self._ct_table(key + (name,), value)
+                elif name == "pitch_control":
+                    kwargs["pitch_control"] = self._pitch_control(key + (name,), value)
                 elif name == "performance_file":
                     kwargs["cp"], kwargs["ct"] = self._performance(key + (name,), value)
                 elif name == "cp_scale":
@@ -657,6 +677,35 @@ class _Builder:
             except InputError as err:
                 raise self.fail(key, str(err)) from err
         return out
+
+    def _pitch_control(self, key, value) -> PitchControl:
+        """A preset's name, or a table of ``PITCH_CONTROL_KEYS`` (from a preset, or in full)."""
+        table = {"preset": value} if isinstance(value, str) else value
+        if not isinstance(table, Mapping):
+            raise self.fail(key, 'must be a preset ("nrel5mw") or a table of ' +
+                            ", ".join(PITCH_CONTROL_KEYS) + f"; got {value!r}")  # fmt: skip
+        table = toml_keys(table)
+        check_keys(key, table, tuple(PITCH_CONTROL_KEYS), self.fail, kind="parameter",
+                   of=" of pitch_control")  # fmt: skip
+        preset = table.get("preset")
+        if preset is not None and preset not in PITCH_PRESETS:
+            raise self.fail(key + ("preset",), f"is {preset!r}; presets are: "
+                            + ", ".join(PITCH_PRESETS))  # fmt: skip
+        kwargs: dict[str, Any] = {}
+        for name, factor in PITCH_CONTROL_KEYS.items():
+            if name == "preset" or name not in table:
+                continue
+            target = name.removesuffix("_deg_s").removesuffix("_deg").removesuffix("_hz")
+            target = {"speed_rpm": "speed_set"}.get(name, target)
+            kwargs[target] = self._number(key + (name,), table[name], "SI") * factor
+        try:
+            return PITCH_PRESETS[preset](**kwargs) if preset else PitchControl(**kwargs)
+        except TypeError as err:
+            needed = "speed_rpm, kp, ki, gain_angle_deg, corner_hz"
+            presets = ", ".join(PITCH_PRESETS)
+            raise self.fail(key, f"give a preset ({presets}) or every value: {needed}") from err
+        except InputError as err:
+            raise self.fail(key, str(err)) from err
 
     def _rotor_hub(self, key, params) -> RotorHub:
         body = params["hub_body"]

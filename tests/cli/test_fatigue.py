@@ -43,6 +43,22 @@ def fatigue_exit(args: list[str], monkeypatch, capsys) -> tuple[int, str]:
             '[fatigue.openfast]\nfiles = "of/v{speed:g}.outb"\njoint = "carrier"\n[fatigue.site]',
             "of/v10.outb (case v10.00_ti0.1000_s3) does not exist",
         ),
+        (
+            "[fatigue.site]",
+            "[fatigue.bearings]\nplanet9 = { lubricant_vg = 220 }\n[fatigue.site]",
+            'unknown bearing "planet9"; did you mean "planet3"? bearings are: planet1',
+        ),
+        (
+            "[fatigue.site]",
+            "[fatigue.bearings]\nplanet1 = { lubricant_vg = 321 }\n[fatigue.site]",
+            'lubricant_vg="321" is not an ISO 3448 viscosity grade',
+        ),
+        (
+            "[fatigue.site]",
+            '[fatigue.bearings]\nplanet1 = { size_mm = "300 200 60", lubricant = 220 }\n'
+            "[fatigue.site]",
+            'unknown attribute "lubricant"; did you mean "lubricant_vg"?',
+        ),
     ],
 )
 def test_bad_fatigue_input_is_one_message_and_exit_2(
@@ -551,3 +567,64 @@ def test_ctrl_c_at_any_step_prints_what_is_kept_and_exits_130(
     code, err = fatigue_exit([str(path), "--workers", "1"], monkeypatch, capsys)
     assert code == 130
     assert err == said.format(out=tmp_path / "cases") + "\n"
+
+
+def test_the_bearing_table_gives_each_bearings_modified_and_reference_life(
+    tmp_path, monkeypatch, capsys
+):
+    """planet1 at a constant radial load and speed per bin (tests/life/test_life_sums.py): its
+    L10h, L_nmh (ISO 281 by hand over the two bins) and L10rh (= L10h in the calibration case)
+    in the text and the JSON."""
+    from pinwind.cli.fatigue import cell
+    from pinwind.runs.fatigue_set_file import load_fatigue_set
+    from tests.life.test_life_sums import hand_lives, write_cases
+
+    monkeypatch.setattr("pinwind.runs.case_runner.run_cases", _fake_run(2))
+    path = fatigue_toml(tmp_path)
+    fset = load_fatigue_set(path)
+    write_cases(fset)
+    expected = hand_lives(fset.bearings["planet1"].dynamic_load_rating)
+    lines = {}
+    for args in ([], ["--json"]):
+        monkeypatch.setattr(sys, "argv", ["pinwind", "fatigue", str(path), "--workers", "1", *args])
+        with pytest.raises(SystemExit) as caught:
+            main()
+        assert caught.value.code in (0, None)
+        lines[bool(args)] = capsys.readouterr().out
+    text = lines[False]
+    assert "L10h [h]" in text and "L_nmh [h]" in text and "L10rh [h]" in text
+    row = next(line for line in text.splitlines() if line.startswith("planet1 "))
+    cells = row.split()
+    assert cells[-3:-1] == [cell(expected["l10h"]), cell(expected["lnmh"])]
+    assert_allclose(float(cells[-1]), expected["l10h"], rtol=1e-2)  # L10r = L10 (calibration)
+    assert "-: not computed" in text
+    (lives,) = json.loads(lines[True])["bearings"]
+    (planet1,) = [b for b in lives if b["bearing"] == "planet1"]
+    assert_allclose(planet1["lnm_h"], expected["lnmh"], rtol=1e-9)
+    assert_allclose(planet1["l10r_h"], expected["l10h"], rtol=1e-2)
+
+
+def test_fatigue_bearings_gives_a_bearing_its_modified_and_reference_lives(tmp_path, monkeypatch):
+    """planet1 given a size, C_u and oil in [fatigue.bearings] (the model gives none): a quick
+    set gives it L_nm and L10r; under its pure radial load at zero clearance (ISO/TS 16281's
+    calibration case) L10r = L10 within 1 %, and a_ISO = L_nm / L10 lies within ISO 281's
+    0.1 … 50. The others keep "-" (no size in the model)."""
+    monkeypatch.chdir(tmp_path)
+    extra = (
+        "[fatigue.bearings]\n"
+        'planet1 = { size_mm = "300 200 60", fatigue_limit_kN = 50, lubricant_vg = 320, '
+        "temperature_C = 60 }\n"
+    )
+    path = fatigue_toml(tmp_path)
+    path.write_text(
+        path.read_text().replace("[fatigue.site]", extra + "[fatigue.site]")
+        + "[fatigue.quick]\nduration = 0.03\n"
+    )
+    out = run("fatigue", str(path), "--quick", "--json", "--workers", "1")
+    assert out.returncode == 0, out.stderr
+    (lives,) = json.loads(out.stdout)["bearings"]
+    by_name = {b["bearing"]: b for b in lives}
+    planet1 = by_name["planet1"]
+    assert_allclose(planet1["l10r_h"], planet1["l10_h"], rtol=1e-2)
+    assert 0.1 <= planet1["lnm_h"] / planet1["l10_h"] <= 50.0
+    assert by_name["planet2"]["lnm_h"] is None and by_name["planet2"]["l10r_h"] is None

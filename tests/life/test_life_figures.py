@@ -78,3 +78,39 @@ def test_each_figure_draws_its_caption_under_the_axes_and_the_quick_mark_above(
     with Image.open(turbulence) as image:
         assert image.text["Description"] == caption and image.text["Title"] == mark
     assert plain_suptitle == "" and len([t for t in plain_texts if t]) == 1
+
+
+def test_the_bearing_lives_figure_draws_each_life_in_hours_on_a_log_axis(tmp_path, monkeypatch):
+    """planet1's three lives (tests/life/test_life_sums.py: ISO 281 by hand) as bars whose right
+    ends are the lives [h]; the site's 1250 h as a line; the caption says what is drawn."""
+    import matplotlib.figure
+    from PIL import Image
+
+    from pinwind.life.life_figures import plot_bearing_lives
+    from pinwind.life.set_bearing_life import set_bearing_lives
+    from tests.life.test_life_sums import hand_lives, write_cases
+
+    drawn = []
+    real = matplotlib.figure.Figure.savefig
+
+    def seen(fig, fname, *args, **kwargs):
+        drawn.append(fig)
+        return real(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", seen)
+    fset = load_fatigue_set(fatigue_toml(tmp_path))
+    write_cases(fset)
+    lives = set_bearing_lives(fset)[0]
+    path = plot_bearing_lives(lives, tmp_path / "lives.png", hours=1250.0, title="turbulence 10%")
+    (fig,) = drawn
+    (ax,) = [a for a in fig.axes if a.get_xscale() == "log"]
+    ends = sorted(p.get_x() + p.get_width() for p in ax.patches)
+    expected = hand_lives(fset.bearings["planet1"].dynamic_load_rating)
+    np.testing.assert_allclose(ends, sorted([expected["lnmh"], expected["l10h"],
+                                             expected["l10h"]]), rtol=1e-2)  # fmt: skip
+    np.testing.assert_allclose(ends[0], expected["lnmh"], rtol=1e-9)
+    assert ax.get_xlabel() == "life [h of operation]"
+    assert any(np.allclose(line.get_xdata(), 1250.0) for line in ax.get_lines())
+    with Image.open(path) as image:
+        caption = image.text["Description"]
+    assert "L10h" in caption and "L_nmh" in caption and "L10rh" in caption

@@ -167,8 +167,10 @@ def test_bad_bearing_life_data_is_one_message_and_exit_2(tmp_path, shaft_log, ol
 def test_grouping_the_loads_in_cells_keeps_the_reference_life(clearance_mm):
     # A load turning through 60° and varying by ±40 % in size over 400 samples: the life from
     # the grouped loads against the one from every sample's own distribution.
-    from pinwind.life.load_distribution import distribute, reference_load
-    from pinwind.life.row_life import geometry_of, rate_row
+    from pinwind.dynamics.load_distribution import distribute, reference_load
+    from pinwind.life.life_sums import geometry_of
+    from pinwind.life.row_life import rate_row
+    from pinwind.model.bearing import bearing_rating
     from pinwind.model.bearing_life_data import life_data
 
     n = 400
@@ -182,8 +184,9 @@ def test_grouping_the_loads_in_cells_keeps_the_reference_life(clearance_mm):
     data = life_data(attrs, where="<row>", path="<test>")
     speed = np.full(n, 100 * RPM)
     life = rate_row(
-        name="r", bearing="b", kind="cylindrical_roller", position=0.0, rating=1e6,
-        load_factors=None, size=None, data=data, time=t, speed=speed, load=load,
+        name="r", bearing="b", position=0.0,
+        rating=bearing_rating("b.r", "cylindrical_roller", dynamic_load_rating=1e6),
+        size=None, data=data, time=t, speed=speed, load=load,
     )  # fmt: skip
     geometry = geometry_of("cylindrical_roller", data, None)
     assert geometry is not None

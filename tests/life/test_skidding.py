@@ -78,8 +78,9 @@ def test_a_rows_life_gives_its_share_of_the_time_below_the_minimum_load():
     time, load = sine_history(27e3, 10e3)
     w = np.zeros((len(time), 5))
     w[:, 0] = load  # F_u on the bearing
-    life = rate_row(name="A", bearing="shaft", kind="cylindrical_roller", position=0.0, rating=C,
-                    load_factors=None, size=None, data=None, time=time,
+    rating = bearing_rating("shaft.A", "cylindrical_roller", dynamic_load_rating=C)
+    life = rate_row(name="A", bearing="shaft", position=0.0, rating=rating,
+                    size=None, data=None, time=time,
                     speed=np.full_like(time, 3.0), load=w)  # fmt: skip
     assert_allclose(life.below_minimum, 0.5 + math.asin(-0.7) / math.pi, atol=1e-4)
     assert_allclose(life.as_dict()["share_below_minimum_load"], life.below_minimum)

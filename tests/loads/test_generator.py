@@ -183,3 +183,49 @@ def test_slip_law_on_a_torque_ramp_is_second_order_in_dt(pair_urdf):
     # Halving dt divides the error by four or more (at least second order; the weight's own
     # term is of third order here); a first-order step would divide it by two.
     assert coarse / fine > 3.5
+
+
+# --- variable speed with region 3 at constant torque ---------------------------------------------
+
+#: The NREL 5 MW on its generator shaft: Jonkman's K [N·m·s²], ROSCO's VS_RtTq [N·m], DISCON's
+#: VS_RtGnSp [rad/s] and 10 % slip (VS_SlPc).
+K_5MW, T_RATED, W_RATED, SLIP = 2.332287, 43093.55, 121.6805, 0.1
+
+
+def test_constant_torque_region_3_follows_jonkmans_regions_2_two_and_a_half_and_3():
+    # DISCON's region 2½: the line of 10 % slip through (ω_r, T_r), ω_s = ω_r/1.1, from where it
+    # meets K ω² (the lower root of K ω² = s (ω − ω_s), DISCON's VS_TrGnSp) up to ω_r; T_r above.
+    from pinwind.dynamics.drivetrain import generator_slope, generator_torque
+
+    law = VariableSpeed(K_5MW, rated_torque=T_RATED, rated_speed=W_RATED, slip=SLIP)
+    sync = W_RATED / (1 + SLIP)
+    slope = T_RATED / (W_RATED - sync)
+    trans = (slope - math.sqrt(slope * (slope - 4 * K_5MW * sync))) / (2 * K_5MW)
+    assert_allclose(trans * 60 / (2 * math.pi), 1137.0, atol=1.0)  # Jonkman's 1136.7 rpm
+    for w in (80.0, 0.99 * trans):
+        assert_allclose(generator_torque(law, w), K_5MW * w**2, rtol=1e-14)
+    for w in (1.001 * trans, 0.5 * (trans + W_RATED), 0.999 * W_RATED):
+        assert_allclose(generator_torque(law, w), slope * (w - sync), rtol=1e-12)
+    for w in (W_RATED, 122.9096, 140.0):
+        assert generator_torque(law, w) == T_RATED
+    assert_allclose(generator_torque(law, -100.0), -K_5MW * 100.0**2, rtol=1e-14)  # odd in ω
+    # Unlike constant power (−P/ω², a negative damper) the slope is never negative.
+    speeds = [80.0, 0.5 * (trans + W_RATED), 125.0, 140.0]
+    assert min(generator_slope(law, w) for w in speeds) >= 0.0
+    power = VariableSpeed(K_5MW, rated_power=T_RATED * 122.9096)
+    assert_allclose(generator_slope(power, 140.0), -T_RATED * 122.9096 / 140.0**2, rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        ({"rated_power": 5e6}, "give one"),
+        ({"rated_speed": 0.0}, "give rated_speed > 0"),
+        ({"slip": -0.1}, "slip > 0"),
+        ({"rated_torque": 100.0}, "does not meet K ω²"),
+    ],
+)
+def test_bad_constant_torque_region_3_is_refused_with_the_values_and_the_fix(changes, message):
+    values = dict(gain=K_5MW, rated_torque=T_RATED, rated_speed=W_RATED, slip=SLIP)
+    with pytest.raises(InputError, match=message):
+        VariableSpeed(**{**values, **changes})

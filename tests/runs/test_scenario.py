@@ -369,3 +369,48 @@ def test_from_log_refuses_a_table_changed_since_the_run(tmp_path):
     assert accepted.returncode == 0, accepted.stderr
     files = pinwind.read_log(tmp_path / "logs/accepted.mcap").metadata["input_files"]
     assert [f["sha256"] for f in files if f["where"] == "torque.carrier"] == [edited]
+
+
+def test_a_rotors_pitch_control_is_a_preset_or_a_table_in_scenario_units():
+    from pinwind.loads.pitch_control import PitchControl
+    from pinwind.runs.scenario import build
+
+    def rotor(control):
+        values = {"model": "m.urdf", "wind": 12.0,
+                  "rotor": {"rotor": {"preset": "nrel5mw", "pitch_control": control}}}  # fmt: skip
+        return build(values, source="case.toml").rotors["rotor"]
+
+    assert rotor("nrel5mw").pitch_control == PitchControl.nrel5mw()
+    # A table in rpm, degrees and hertz: 12.1 rpm is 1.2671 rad/s, 0.25 Hz is π/2 rad/s.
+    table = rotor({"preset": "nrel5mw", "speed_rpm": 12.1, "rate_deg_s": 4.0, "corner_hz": 0.25})
+    assert_allclose(table.pitch_control.speed_set, 12.1 * 2 * math.pi / 60, rtol=1e-15)
+    assert_allclose(table.pitch_control.rate, math.radians(4.0), rtol=1e-15)
+    assert_allclose(table.pitch_control.corner, math.pi / 2, rtol=1e-15)
+    full = {"speed_rpm": 20.0, "kp": 1.0, "ki": 0.5, "gain_angle_deg": 5.0, "corner_hz": 1.0}
+    assert rotor(full).pitch_control.gain_angle == math.radians(5.0)
+    assert rotor(full).describe()["pitch_control"]["kp"] == 1.0  # logged with the rotor
+    # The flag's form: a preset with changes.
+    from pinwind.cli.flags import rotor_values
+
+    flag = rotor_values(["rotor=nrel5mw(pitch_control='nrel5mw', pitch_deg=5)"])["rotor"]
+    assert rotor(flag["pitch_control"]).pitch_control == PitchControl.nrel5mw()
+    assert flag == {"preset": "nrel5mw", "pitch_control": "nrel5mw", "pitch_deg": 5}
+
+
+@pytest.mark.parametrize(
+    ("control", "message"),
+    [
+        ("jonkman", "rotor.rotor.pitch_control.preset: is 'jonkman'; presets are: nrel5mw"),
+        ({"preset": "nrel5mw", "kp_gain": 1.0}, 'unknown parameter "kp_gain"'),
+        ({"speed_rpm": 12.1}, "give a preset (nrel5mw) or every value"),
+        ({"preset": "nrel5mw", "corner_hz": 0.0}, "corner is 0.0; it must be a positive"),
+    ],
+)
+def test_a_bad_pitch_control_names_the_key_and_the_fix(control, message):
+    from pinwind.runs.scenario import ScenarioError, build
+
+    values = {"model": "m.urdf", "wind": 12.0,
+              "rotor": {"rotor": {"preset": "nrel5mw", "pitch_control": control}}}  # fmt: skip
+    with pytest.raises(ScenarioError) as err:
+        build(values, source="case.toml")
+    assert message in str(err.value)

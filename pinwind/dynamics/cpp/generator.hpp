@@ -3,7 +3,12 @@
 //
 //   constant         T_gen = T₀
 //   linear_slip      T_gen = k (ω − ω_sync)
-//   variable_speed   T_gen = K ω|ω| below rated speed, P_rated/|ω| (sign of ω) above
+//   variable_speed   T_gen = K ω|ω| below rated speed, P_rated/|ω| (sign of ω) above; or,
+//                    with a rated torque T_r (ROSCO's VS_ConstPower = 0), constant torque
+//                    above rated speed ω_r, reached along Jonkman's region 2½ line from the
+//                    K ω² curve (Jonkman et al. 2009 §7.2, DISCON's VS_SlPc):
+//                      T_gen = min(max(K ω², T_r (ω − ω_s)/(ω_r − ω_s)), T_r),
+//                      ω_s = ω_r/(1 + slip)   (ω ≥ 0; odd in ω)
 //   induction        steady-state induction machine from its equivalent circuit (per phase:
 //                    R_s + jX_ls in series with jX_m ∥ (R_r'/s + jX_lr')), motor convention
 //                    τ = 3 |I_r'|² R_r' / (s ω_s),  s = (ω_s − ω)/ω_s,  ω_s = 2π f / p
@@ -51,6 +56,9 @@ struct GeneratorSpec {
   double sync_speed = 0.0;    // linear_slip: ω_sync [rad/s]
   double gain = 0.0;          // variable_speed: K [N·m·s²/rad²]
   double rated_power = 0.0;   // variable_speed: P_rated [W] (0: no limit)
+  double rated_torque = 0.0;  // variable_speed: T_r [N·m] of constant-torque region 3 (0: none)
+  double rated_speed = 0.0;   // variable_speed: ω_r [rad/s], where the torque reaches T_r
+  double slip = 0.1;          // variable_speed: region 2½'s slip, ω_s = ω_r/(1 + slip)
   // Induction machine, per phase, referred to the stator.
   double stator_resistance = 0.0;  // R_s [Ω]
   double rotor_resistance = 0.0;   // R_r' [Ω]
@@ -102,7 +110,13 @@ class ShaftSpeedGenerator : public JointTorqueElement {
       case GeneratorLaw::variable_speed: {
         const double w = std::abs(omega);
         double t = g_.gain * w * w;
-        if (g_.rated_power > 0.0 && t * w > g_.rated_power) t = g_.rated_power / w;
+        if (g_.rated_torque > 0.0) {
+          const double sync = g_.rated_speed / (1.0 + g_.slip);
+          const double ramp = g_.rated_torque * (w - sync) / (g_.rated_speed - sync);
+          t = std::min(std::max(t, ramp), g_.rated_torque);
+        } else if (g_.rated_power > 0.0 && t * w > g_.rated_power) {
+          t = g_.rated_power / w;
+        }
         return omega >= 0.0 ? -t : t;
       }
       case GeneratorLaw::induction:
@@ -297,6 +311,10 @@ struct GeneratorsKind : KindBase {
       if (induction && (g.pole_pairs < 1 || !(g.frequency > 0.0))) {
         throw std::invalid_argument("induction machine: pole_pairs ≥ 1 and frequency > 0");
       }
+      if (g.law == GeneratorLaw::variable_speed && g.rated_torque > 0.0 &&
+          !(g.rated_speed > 0.0 && g.slip > 0.0)) {
+        throw std::invalid_argument("variable speed at rated torque: rated_speed, slip > 0");
+      }
     }
   }
 
@@ -330,6 +348,9 @@ struct GeneratorsKind : KindBase {
         .def_rw("sync_speed", &GeneratorSpec::sync_speed)
         .def_rw("gain", &GeneratorSpec::gain)
         .def_rw("rated_power", &GeneratorSpec::rated_power)
+        .def_rw("rated_torque", &GeneratorSpec::rated_torque)
+        .def_rw("rated_speed", &GeneratorSpec::rated_speed)
+        .def_rw("slip", &GeneratorSpec::slip)
         .def_rw("stator_resistance", &GeneratorSpec::stator_resistance)
         .def_rw("rotor_resistance", &GeneratorSpec::rotor_resistance)
         .def_rw("stator_leakage", &GeneratorSpec::stator_leakage)
@@ -341,6 +362,16 @@ struct GeneratorsKind : KindBase {
         .def_rw("phases", &GeneratorSpec::phases)
         .def_rw("steady_start", &GeneratorSpec::steady_start);
 
+    m.def(
+        "shaft_speed_torque",
+        [](const GeneratorSpec& g, double speed) {
+          if (g.law == GeneratorLaw::induction_dq) {
+            throw std::invalid_argument("the dq machine's torque is not a law of the speed");
+          }
+          return ShaftSpeedGenerator(g, 0)(speed);
+        },
+        "generator"_a, "speed"_a,
+        "Torque on the shaft τ(ω) [N·m] of a law of the shaft speed (−T_gen).");
     m.def("induction_torque", &induction_torque, "generator"_a, "speed"_a,
           "Steady-state induction machine torque on the shaft at speed [rad/s] (motor "
           "convention).");

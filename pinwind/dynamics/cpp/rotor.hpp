@@ -24,6 +24,23 @@
 // thrust along the shaft, the rotor's weight (constant components ``weight``, the shaft tilt in
 // them) and the wind-shear moment M_y = ℓ T (``shear_arm`` ℓ [m], pinwind/loads/rotor.py). Like
 // the hub loads these are taken at the step's start, explicit.
+//
+// The blade pitch β is ``pitch``, fixed, or with ``pitch_control.enabled`` the state of a
+// collective pitch controller (PitchController below; pinwind/loads/pitch_control.py): Jonkman
+// et al. 2009 §7's gain-scheduled PI on the rotor speed error, the speed through a single-pole
+// low-pass, the command held to [β_min, β_max] and to a rate |dβ/dt| ≤ β̇_max, as Jonkman's
+// DISCON (OpenFAST reg_tests/5MW_Baseline/ServoData/Source/DISCON.f90) computes it at each call:
+//
+//     ω_f ← (1 − α) ω + α ω_f,   α = e^{−ω_c h}
+//     e = ω_f − Ω_ref,   I ← clamp(I + e h, β_min/K_I, β_max/K_I)       (anti-windup)
+//     β_c = clamp(GK(β) (K_P e + K_I I), β_min, β_max),   GK(β) = 1/(1 + β/θ_K)
+//     β ← clamp(β + clamp(β_c − β, −β̇_max h, β̇_max h), β_min, β_max)
+//
+// called once per step at its end (Element::advance, with the step's new speed, h = dt: DISCON
+// with PC_DT = DT), the pitch held over the next step (its torque, thrust and the hub's loads).
+// It starts with ω_f = ω(0) and I = β(0)/(GK K_I), so that a run started at its set point keeps
+// its pitch. The pitch changes the rotor's torque, not how its work is booked: the torque's work
+// stays an applied load's in the energy ledger.
 #pragma once
 
 #include <algorithm>
@@ -47,11 +64,62 @@ enum class CpModel { heier, table };
 // How C_t(λ, β) is computed (module comment), bound to Python as _native.ThrustModel.
 enum class ThrustModel { momentum, table };
 
+// A collective blade-pitch controller (the module comment), bound as _native.PitchControlSpec.
+struct PitchControlSpec {
+  bool enabled = false;
+  double speed_set = 0.0;   // Ω_ref: the rotor speed set point [rad/s]
+  double kp = 0.0;          // K_P(0): proportional gain on the rotor speed error at β = 0 [s]
+  double ki = 0.0;          // K_I(0): integral gain at β = 0 [-]
+  double gain_angle = 0.0;  // θ_K: the pitch at which the gains are halved [rad]
+  double corner = 0.0;      // ω_c: corner frequency of the speed's low-pass [rad/s]
+  double pitch_min = 0.0;   // β_min [rad]
+  double pitch_max = 0.0;   // β_max [rad]
+  double rate = 0.0;        // β̇_max: the largest pitch rate [rad/s]
+};
+
+// The controller's states and its step (the module comment).
+class PitchController {
+ public:
+  PitchController(const PitchControlSpec& c, double pitch) : c_(c), pitch_(pitch) {}
+
+  double pitch() const { return pitch_; }
+  double filtered_speed() const { return filtered_; }
+
+  // GK(β) = 1/(1 + β/θ_K).
+  double gain_factor(double pitch) const { return 1.0 / (1.0 + pitch / c_.gain_angle); }
+
+  // One call at time step h [s] with the rotor speed ω [rad/s] at its end; the first call
+  // starts the filter at ω_start, the speed at the step's start.
+  void step(double omega_start, double omega, double h) {
+    if (!started_) {
+      filtered_ = omega_start;
+      integral_ = pitch_ / (gain_factor(pitch_) * c_.ki);
+      started_ = true;
+    }
+    const double alpha = std::exp(-c_.corner * h);
+    filtered_ = (1.0 - alpha) * omega + alpha * filtered_;
+    const double error = filtered_ - c_.speed_set;
+    integral_ = std::clamp(integral_ + error * h, c_.pitch_min / c_.ki, c_.pitch_max / c_.ki);
+    const double command = std::clamp(gain_factor(pitch_) * (c_.kp * error + c_.ki * integral_),
+                                      c_.pitch_min, c_.pitch_max);
+    const double most = c_.rate * h;
+    pitch_ = std::clamp(pitch_ + std::clamp(command - pitch_, -most, most), c_.pitch_min,
+                        c_.pitch_max);
+  }
+
+ private:
+  PitchControlSpec c_;
+  double pitch_;
+  double filtered_ = 0.0, integral_ = 0.0;
+  bool started_ = false;
+};
+
 struct RotorSpec {
   long index = 0;              // velocity index of the rotor joint
   double radius = 0.0;         // R [m]
   double air_density = 1.225;  // ρ [kg/m³]
-  double pitch = 0.0;          // β [rad]
+  double pitch = 0.0;          // β [rad]: fixed, or the controller's initial pitch
+  PitchControlSpec pitch_control;  // the pitch controller (enabled: β is its state)
   CpModel cp_model = CpModel::heier;
   double cp_scale = 1.0;       // s (heier)
   std::vector<double> table_tsr;    // λ grid, increasing
@@ -111,11 +179,14 @@ inline double bilinear(const std::vector<double>& tsr, const std::vector<double>
          wi * ((1 - wj) * at(i + 1, j) + wj * at(i + 1, j + 1));
 }
 
-inline double rotor_cp(const RotorSpec& r, double tsr) {
-  return r.cp_model == CpModel::table ? bilinear(r.table_tsr, r.table_pitch, r.table_cp, tsr,
-                                                 r.pitch)
-                                      : heier_cp(tsr, r.pitch, r.cp_scale);
+// C_p(λ, β) at pitch β [rad].
+inline double rotor_cp(const RotorSpec& r, double tsr, double pitch) {
+  return r.cp_model == CpModel::table
+             ? bilinear(r.table_tsr, r.table_pitch, r.table_cp, tsr, pitch)
+             : heier_cp(tsr, pitch, r.cp_scale);
 }
+
+inline double rotor_cp(const RotorSpec& r, double tsr) { return rotor_cp(r, tsr, r.pitch); }
 
 // C_t of an ideal actuator disc with power coefficient C_p (module comment): the axial
 // induction a of C_p = 4a(1 − a)², increasing on a ≤ 1/3, by bisection to the last bit.
@@ -136,11 +207,14 @@ inline double momentum_ct(double cp) {
   return 4.0 * a * (1.0 - a);
 }
 
-inline double rotor_ct(const RotorSpec& r, double tsr) {
+// C_t(λ, β) at pitch β [rad].
+inline double rotor_ct(const RotorSpec& r, double tsr, double pitch) {
   return r.ct_model == ThrustModel::table
-             ? bilinear(r.ct_tsr, r.ct_pitch, r.ct_values, tsr, r.pitch)
-             : momentum_ct(rotor_cp(r, tsr));
+             ? bilinear(r.ct_tsr, r.ct_pitch, r.ct_values, tsr, pitch)
+             : momentum_ct(rotor_cp(r, tsr, pitch));
 }
+
+inline double rotor_ct(const RotorSpec& r, double tsr) { return rotor_ct(r, tsr, r.pitch); }
 
 // The rotor's operating point: tip-speed ratio λ (held at λ_min below it), C_p(λ, β) and the
 // aerodynamic torque [N·m]; all 0 without wind.
@@ -154,83 +228,106 @@ struct RotorThrust {
   double ct = 0.0, thrust = 0.0;
 };
 
-inline RotorThrust rotor_thrust(const RotorSpec& r, double omega, double wind) {
+inline RotorThrust rotor_thrust(const RotorSpec& r, double omega, double wind, double pitch) {
   if (!(wind > 0.0)) return {};
   const double tsr = std::max(omega * r.radius / wind, kMinimumTipSpeedRatio);
   RotorThrust t;
-  t.ct = rotor_ct(r, tsr);
+  t.ct = rotor_ct(r, tsr, pitch);
   t.thrust = 0.5 * r.air_density * M_PI * r.radius * r.radius * wind * wind * t.ct;
   return t;
 }
 
-inline RotorPoint rotor_point(const RotorSpec& r, double omega, double wind) {
+inline RotorPoint rotor_point(const RotorSpec& r, double omega, double wind, double pitch) {
   if (!(wind > 0.0)) return {};
   RotorPoint p;
   p.tsr = std::max(omega * r.radius / wind, kMinimumTipSpeedRatio);
-  p.cp = rotor_cp(r, p.tsr);
+  p.cp = rotor_cp(r, p.tsr, pitch);
   p.torque = 0.5 * r.air_density * M_PI * r.radius * r.radius * r.radius * wind * wind * p.cp /
              p.tsr;
   return p;
 }
 
-// Aerodynamic torque [N·m] at rotor speed ω [rad/s] and wind speed v [m/s].
+// Aerodynamic torque [N·m] at rotor speed ω [rad/s], wind speed v [m/s] and pitch β [rad].
+inline double rotor_torque(const RotorSpec& r, double omega, double wind, double pitch) {
+  return rotor_point(r, omega, wind, pitch).torque;
+}
+
 inline double rotor_torque(const RotorSpec& r, double omega, double wind) {
-  return rotor_point(r, omega, wind).torque;
+  return rotor_torque(r, omega, wind, r.pitch);
 }
 
 class RotorAerodynamics : public JointTorqueElement {
  public:
   // slot: this rotor's column in the per-rotor outputs.
   RotorAerodynamics(RotorSpec spec, long slot)
-      : JointTorqueElement(spec.index), r_(std::move(spec)), slot_(slot) {}
+      : JointTorqueElement(spec.index),
+        r_(std::move(spec)),
+        slot_(slot),
+        control_(r_.pitch_control, r_.pitch) {}
 
-  // τ at the weighted speed ω_n + κ_v ā and its central difference (torque_and_slope), keeping
-  // the wind speed for the record.
+  // The blade pitch over the current step [rad]: fixed, or the controller's.
+  double pitch() const { return r_.pitch_control.enabled ? control_.pitch() : r_.pitch; }
+
+  // τ at the weighted speed ω_n + κ_v ā and its central difference (torque_and_slope), at the
+  // step's pitch, keeping the wind speed for the record.
   TorqueSlope evaluate(const StepView& s, double accel) const override {
     wind_ = s.inputs ? s.inputs[r_.wind_column] : 0.0;
     const double gain = s.weights.speed_gain;
     const double omega = s.v[index_] + gain * accel;
     const double d = 1e-6 * (std::abs(omega) + std::max(wind_, 1.0) / r_.radius);
-    return {rotor_torque(r_, omega, wind_), gain * (rotor_torque(r_, omega + d, wind_) -
-                                                    rotor_torque(r_, omega - d, wind_)) /
-                                                (2.0 * d)};
+    const double beta = pitch();
+    return {rotor_torque(r_, omega, wind_, beta),
+            gain * (rotor_torque(r_, omega + d, wind_, beta) -
+                    rotor_torque(r_, omega - d, wind_, beta)) /
+                (2.0 * d)};
   }
 
   // Also the rotor's own outputs: the torque over the step, and at the sample the power
-  // P = τ(ω_k) ω_k = ½ ρ π R² v³ C_p, λ, C_p and the wind speed.
+  // P = τ(ω_k) ω_k = ½ ρ π R² v³ C_p, λ, C_p, the wind speed, the thrust and the pitch.
   void record(const StepView& s, long k, const Outputs& out) const override {
     JointTorqueElement::record(s, k, out);
-    const RotorPoint point = rotor_point(r_, s.v[index_], wind_);
+    const double beta = pitch();
+    const RotorPoint point = rotor_point(r_, s.v[index_], wind_, beta);
     const long e = out.entry(Family::rotor, k, slot_);
     out.at(Series::rotor_torque, e) = applied();
     out.at(Series::rotor_power, e) = point.torque * s.v[index_];
     out.at(Series::rotor_tip_speed_ratio, e) = point.tsr;
     out.at(Series::rotor_power_coefficient, e) = point.cp;
     out.at(Series::rotor_wind_speed, e) = wind_;
-    const RotorThrust thrust = rotor_thrust(r_, s.v[index_], wind_);
+    const RotorThrust thrust = rotor_thrust(r_, s.v[index_], wind_, beta);
     out.at(Series::rotor_thrust, e) = thrust.thrust;
     out.at(Series::rotor_thrust_coefficient, e) = thrust.ct;
+    out.at(Series::rotor_pitch, e) = beta;
+  }
+
+  // The controller's step to t_{n+1} (the module comment).
+  void advance(const StepView& s, const Eigen::VectorXd& v_next) override {
+    JointTorqueElement::advance(s, v_next);
+    if (r_.pitch_control.enabled) control_.step(s.v[index_], v_next[index_], s.dt);
   }
 
  private:
   RotorSpec r_;
   long slot_;
+  PitchController control_;
   mutable double wind_ = 0.0;
 };
 
 // The rotor's loads on its hub (the module comment): the hub's six components
-// (T + W_x, W_y, W_z, 0, W_my + ℓ T, 0) from the rotor's speed and wind at the step's start;
-// the torque stays the rotor's own element's (implicit, on its joint).
+// (T + W_x, W_y, W_z, 0, W_my + ℓ T, 0) from the rotor's speed, wind and pitch at the step's
+// start; the torque stays the rotor's own element's (implicit, on its joint).
 class RotorHubLoad : public HubLoad {
  public:
-  explicit RotorHubLoad(const RotorSpec& spec) : HubLoad(spec.hub_load), r_(spec) {}
+  RotorHubLoad(const RotorSpec& spec, const RotorAerodynamics& rotor)
+      : HubLoad(spec.hub_load), r_(spec), rotor_(rotor) {}
 
   void prepare(const StepView& s) override {
     if (s.inputs == nullptr) {  // no sample (Stepper::element_forces): no wind, no load
       unload();
       return;
     }
-    const double thrust = rotor_thrust(r_, s.v[r_.index], s.inputs[r_.wind_column]).thrust;
+    const double thrust =
+        rotor_thrust(r_, s.v[r_.index], s.inputs[r_.wind_column], rotor_.pitch()).thrust;
     const double c[6] = {thrust + r_.weight[0], r_.weight[1], r_.weight[2],
                          0.0, r_.shear_arm * thrust, 0.0};
     load(s, c);
@@ -238,6 +335,7 @@ class RotorHubLoad : public HubLoad {
 
  private:
   RotorSpec r_;
+  const RotorAerodynamics& rotor_;  // its element (the same run's list), for the pitch
 };
 
 // The kind (element_kind.hpp): StepperSpec.rotors, an element each (and one for its hub's
@@ -265,13 +363,21 @@ struct RotorsKind : KindBase {
         throw std::invalid_argument("rotor thrust table: ct_values must hold tsr × pitch values");
       }
       if (r.hub) HubLoadsKind::check_placement(r.hub_load, c);
+      const PitchControlSpec& p = r.pitch_control;
+      if (p.enabled && !(p.ki > 0.0 && p.kp >= 0.0 && p.gain_angle > 0.0 && p.corner > 0.0 &&
+                         p.rate > 0.0 && p.pitch_min < p.pitch_max && p.speed_set > 0.0)) {
+        throw std::invalid_argument(
+            "pitch control: K_I, θ_K, ω_c, β̇_max, Ω_ref > 0, K_P ≥ 0 and β_min < β_max");
+      }
     }
   }
 
   static void add(const Specs& specs, const KindContext&, Elements& out) {
     for (size_t i = 0; i < specs.size(); ++i) {
-      out.push_back(std::make_unique<RotorAerodynamics>(specs[i], static_cast<long>(i)));
-      if (specs[i].hub) out.push_back(std::make_unique<RotorHubLoad>(specs[i]));
+      auto rotor = std::make_unique<RotorAerodynamics>(specs[i], static_cast<long>(i));
+      const RotorAerodynamics& aerodynamics = *rotor;
+      out.push_back(std::move(rotor));
+      if (specs[i].hub) out.push_back(std::make_unique<RotorHubLoad>(specs[i], aerodynamics));
     }
   }
 
@@ -289,12 +395,25 @@ struct RotorsKind : KindBase {
         .value("momentum", ThrustModel::momentum)
         .value("table", ThrustModel::table);
 
+    nb::class_<PitchControlSpec>(m, "PitchControlSpec")
+        .def(nb::init<>())
+        .def_rw("enabled", &PitchControlSpec::enabled)
+        .def_rw("speed_set", &PitchControlSpec::speed_set)
+        .def_rw("kp", &PitchControlSpec::kp)
+        .def_rw("ki", &PitchControlSpec::ki)
+        .def_rw("gain_angle", &PitchControlSpec::gain_angle)
+        .def_rw("corner", &PitchControlSpec::corner)
+        .def_rw("pitch_min", &PitchControlSpec::pitch_min)
+        .def_rw("pitch_max", &PitchControlSpec::pitch_max)
+        .def_rw("rate", &PitchControlSpec::rate);
+
     nb::class_<RotorSpec>(m, "RotorSpec")
         .def(nb::init<>())
         .def_rw("index", &RotorSpec::index)
         .def_rw("radius", &RotorSpec::radius)
         .def_rw("air_density", &RotorSpec::air_density)
         .def_rw("pitch", &RotorSpec::pitch)
+        .def_rw("pitch_control", &RotorSpec::pitch_control)
         .def_rw("cp_model", &RotorSpec::cp_model)
         .def_rw("cp_scale", &RotorSpec::cp_scale)
         .def_rw("table_tsr", &RotorSpec::table_tsr)
@@ -310,16 +429,21 @@ struct RotorsKind : KindBase {
         .def_rw("weight", &RotorSpec::weight)
         .def_rw("shear_arm", &RotorSpec::shear_arm);
 
-    m.def("rotor_torque", &rotor_torque, "rotor"_a, "speed"_a, "wind"_a,
-          "Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s].");
-    m.def("rotor_cp", &rotor_cp, "rotor"_a, "tsr"_a,
-          "Power coefficient C_p at tip-speed ratio λ.");
-    m.def("rotor_ct", &rotor_ct, "rotor"_a, "tsr"_a,
-          "Thrust coefficient C_t at tip-speed ratio λ.");
+    m.def(
+        "rotor_torque",
+        [](const RotorSpec& r, double speed, double wind) { return rotor_torque(r, speed, wind); },
+        "rotor"_a, "speed"_a, "wind"_a,
+        "Aerodynamic rotor torque [N·m] at rotor speed [rad/s] and wind speed [m/s].");
+    m.def(
+        "rotor_cp", [](const RotorSpec& r, double tsr) { return rotor_cp(r, tsr); }, "rotor"_a,
+        "tsr"_a, "Power coefficient C_p at tip-speed ratio λ.");
+    m.def(
+        "rotor_ct", [](const RotorSpec& r, double tsr) { return rotor_ct(r, tsr); }, "rotor"_a,
+        "tsr"_a, "Thrust coefficient C_t at tip-speed ratio λ.");
     m.def(
         "rotor_thrust",
         [](const RotorSpec& r, double speed, double wind) {
-          return rotor_thrust(r, speed, wind).thrust;
+          return rotor_thrust(r, speed, wind, r.pitch).thrust;
         },
         "rotor"_a, "speed"_a, "wind"_a,
         "Aerodynamic thrust [N] at rotor speed [rad/s] and wind speed [m/s].");

@@ -68,6 +68,7 @@ inline constexpr std::size_t kFamilies = 8;
   X(rotor_wind_speed, rotor, 1)                 \
   X(rotor_thrust, rotor, 1)                     \
   X(rotor_thrust_coefficient, rotor, 1)         \
+  X(rotor_pitch, rotor, 1)                      \
   X(row_force, row, 3)                          \
   X(row_moment, row, 3)
 

@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.optimize import brentq
 
-from pinwind.life.load_distribution import InternalGeometry, distribute, reference_load
+from pinwind.dynamics.load_distribution import InternalGeometry, distribute, reference_load
 
 Z = 20
 
