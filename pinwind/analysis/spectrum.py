@@ -277,6 +277,22 @@ def _velocity_rows(gearbox: Gearbox) -> tuple[dict[str, np.ndarray], dict[str, n
     return shafts, meshes
 
 
+def mesh_roll_speeds(gearbox: Gearbox, speeds: np.ndarray) -> np.ndarray:
+    """Gear A's angular speed relative to the line of centres, each mesh [rad/s], (n, meshes).
+
+    Its absolute value times z_A / 2π is the mesh frequency, times r_b,A the speed the contact
+    rolls along the line of action. ``speeds``: joint speeds relative to the parent [rad/s],
+    (n, joints) in ``gearbox.joint_names`` order (``Result.speed``). At the reference pose's
+    rows (module docstring).
+    """
+    speeds = np.atleast_2d(np.asarray(speeds, dtype=float))
+    v = np.zeros((len(speeds), gearbox.model.nv))
+    for i, name in enumerate(gearbox.joint_names):
+        v[:, gearbox.v_index(name)] = speeds[:, i]
+    _, meshes = _velocity_rows(gearbox)
+    return np.stack([v @ meshes[mesh.name] for mesh in gearbox.meshes], axis=1)
+
+
 def gearbox_frequencies(gearbox: Gearbox, speeds: np.ndarray) -> list[Marker]:
     """Mesh frequencies and shaft orders [Hz] at joint speeds (module docstring).
 

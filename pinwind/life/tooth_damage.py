@@ -393,6 +393,7 @@ def mesh_teeth(result: Result, gearbox: Gearbox, mesh: str, gear: str) -> Enteri
             "cannot be tracked; fix its teeth, module or profile shifts"
         )
     wheel = spec.gear_a if spec.gear_a.name == gear else spec.gear_b
+    _check_samples_follow_the_roll(result, gearbox, i)
     position = result.mesh_contact_position[:, i]
     loaded = result.mesh_flank[:, i]
     tooth = np.empty(len(position), dtype=int)
@@ -411,6 +412,39 @@ def mesh_teeth(result: Result, gearbox: Gearbox, mesh: str, gear: str) -> Enteri
         leading[start:stop] = (tooth[start:stop] - direction) % wheel.spec.teeth
         flank[start:stop] = side
     return EnteringTeeth(tooth, leading, flank)
+
+
+def _check_samples_follow_the_roll(result: Result, gearbox: Gearbox, index: int) -> None:
+    """Refuses samples too far apart to tell which tooth enters (`entering_teeth`).
+
+    Between two samples the contact rolls |ω_A − ω_line| r_b,A Δt along the line of action
+    (`pinwind.analysis.spectrum.mesh_roll_speeds`, the faster of the two samples' speeds);
+    from half a base pitch on, a tooth entering cannot be told from the previous one coming
+    back, and the tooth histories would silently mix teeth.
+
+    Raises:
+        InputError: the roll between two samples reaches half a base pitch, with the time,
+            the speed and the sample rate that would follow it.
+    """
+    from pinwind.analysis.spectrum import mesh_roll_speeds
+
+    mesh = gearbox.meshes[index]
+    if mesh.path is None or len(result.time) < 2:
+        return
+    omega = np.abs(mesh_roll_speeds(gearbox, result.speed)[:, index])
+    faster = np.maximum(omega[1:], omega[:-1])
+    roll = faster * abs(mesh.base_radius_a) * np.diff(result.time)
+    worst = int(np.argmax(roll))
+    pitch = mesh.path.base_pitch
+    if roll[worst] >= 0.5 * pitch:
+        rate = 2.0 * faster[worst] * abs(mesh.base_radius_a) / pitch
+        raise InputError(
+            f'mesh "{mesh.name}": between samples at t = {result.time[worst]:.6g} s its teeth '
+            f"roll {roll[worst] / pitch:.2f} base pitches (gear {mesh.gear_a.name} at "
+            f"{faster[worst] * 30.0 / math.pi:.4g} rpm relative to the line of centres); the "
+            "tooth histories need less than half a base pitch per sample: record at least "
+            f"{math.ceil(rate):d} Hz there (a higher sample_rate or log rate)"
+        )
 
 
 def _entering_tooth(

@@ -247,3 +247,19 @@ def test_planet_teeth_meet_the_sun_and_the_ring_half_a_turn_apart_on_opposite_fl
     assert len(common) >= 10
     delays = np.abs([at_ring[j] - at_sun[j] for j in common])
     np.testing.assert_allclose(delays, half_turn, rtol=0, atol=period)
+
+
+def test_samples_that_skip_half_a_base_pitch_are_refused_with_the_rate_that_follows_the_roll():
+    """At a 200 Hz mesh frequency a base pitch rolls by in 5 ms: samples 3 ms apart cannot tell
+    the tooth entering from the one before; 1 ms apart they can (0.2 base pitches)."""
+    gearbox = loads(two_gear_urdf(), "pair.urdf")
+    run = dict(
+        duration=0.06, dt=2e-5, speeds={"a": 2 * math.pi * 200 / 20}, torques={"b": 10.0},
+        gravity=np.zeros(3), meshes={"m": MeshCompliance(stiffness=1e9, damping_ratio=0.1)},
+    )  # fmt: skip
+    coarse = pinwind.simulate(gearbox, keep=150, **run)
+    # 3 ms at 200 Hz: 0.6 base pitches; twice the mesh frequency, 400 Hz, follows it.
+    with pytest.raises(InputError, match=r"roll 0\.60 base pitches.*at least 400 Hz"):
+        mesh_teeth(coarse, gearbox, "m", "g1")
+    fine = pinwind.simulate(gearbox, keep=50, **run)
+    assert len(np.unique(mesh_teeth(fine, gearbox, "m", "g1").tooth)) >= 10
