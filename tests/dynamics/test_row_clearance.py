@@ -202,6 +202,13 @@ def _turning(text: str, force: float):
     return _run(text, _load(force), duration=0.02, speeds={"shaft": 30.0 * RPM})
 
 
+def _set_share(res, gb, row: str) -> float:
+    """The row's share of the time below its minimum load in a fatigue set's sums."""
+    from pinwind.life.life_sums import run_load_sums
+
+    return next(s for s in run_load_sums(res, gb) if s.joint == row).below_minimum_share
+
+
 def test_a_preload_removes_the_unloaded_row_s_skidding_risk():
     # The issue's check. C = 500 kN: a roller row needs 0.02 C = 10 kN to roll (SKF). Under
     # 12 kN row A, in its 50 µm clearance, turns unloaded the whole run (share 1) while B
@@ -216,9 +223,11 @@ def test_a_preload_removes_the_unloaded_row_s_skidding_risk():
     assert_allclose(lives["B"].below_minimum, 0.0)
     assert math.isinf(lives["A"].l10)  # no load, no fatigue
     assert_allclose(lives["B"].l10, (5e5 / force) ** (10 / 3), rtol=1e-6)
+    assert _set_share(res, gb, "shaft.A") == 1.0  # a fatigue set's sums alike
     res, gb = _turning(shaft(-20e-3, -20e-3), force)
     lives = {life.name: life for life in row_lives(res, gb)}
     assert lives["A"].below_minimum == 0.0 and lives["B"].below_minimum == 0.0
+    assert _set_share(res, gb, "shaft.A") == 0.0
     l_a, l_b, _, _ = statics(force, -20e-6, -20e-6)
     assert_allclose(lives["A"].l10, (5e5 / abs(l_a)) ** (10 / 3), rtol=1e-6)
 
