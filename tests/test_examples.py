@@ -370,3 +370,30 @@ def test_nrel5mw_drivetrain_main_bearings_hold_thrust_and_weight_and_ranks_by_ha
     expected = revolutions * (p_eq / 16518e3) ** (10 / 3) / 1e6
     life = next(life for life in out["lives"][0] if life.joint == "lss.INP-B")
     assert_allclose(life.life_consumed, expected, rtol=1e-3)
+
+
+def test_grc_planet_rows_share_each_planet_s_load_by_statics_and_carry_the_rotor_torque(tmp_path):
+    """The GRC comparison on 5 ms: each planet's two rows, ±136 mm from the face centre where
+    its meshes act, carry half its load each (statics of a rigid planet on two rows; the
+    planet's inertia and the rows' tilt springs move it by under 1 %), in both runs; the three
+    planets' tangential row loads times the carrier radius a are the rotor torque (the carrier
+    turning steadily: torque balance)."""
+    module = _load("grc_planet_rows")
+    out = module.main(["--duration", "0.005", "--figures", str(tmp_path)])
+    assert out["figure"].stat().st_size > 10_000
+    for name, (res, gearbox) in out["results"].items():
+        slide = gearbox.model.getJointId("stage1_planet1_radial_x")
+        a = float(np.linalg.norm(gearbox.model.jointPlacements[slide].translation[:2]))
+        tangential = sum(
+            res.row(f"{planet}.{row}").force[:, 1]
+            for planet in module.PLANETS
+            for row in module.ROWS
+        )
+        assert_allclose(np.abs(tangential) * a, module.ROTOR_TORQUE, rtol=1e-3)
+        for planet in module.PLANETS:
+            loads = [np.hypot(*res.row(f"{planet}.{row}").force[:, :2].T) for row in module.ROWS]
+            assert_allclose(loads[0] / (loads[0] + loads[1]), 0.5, atol=0.01)
+        shares = [r.share for r in out["runs"][name]]
+        assert_allclose(shares, 0.5, atol=0.01)
+    # The preloaded rows' every roller carries load: their reference life is the longer one.
+    assert out["life_ratio"] > 1.0

@@ -12,7 +12,9 @@ row i carries, on the shaft,
     axial    F_i = −k_x,i z − c_x,i ż
     tilt     M_i = −(k_β,i θ_u, k_γ,i θ_w) − (c_β,i θ̇_u, c_γ,i θ̇_w)
 
-at the step's weighted state, the forces the step used: the rows add up to the bearing's
+(a row with a radial clearance or preload c: each radial part by its two sides' law,
+−k [max(δ − c, 0) − max(−δ − c, 0)], its damper while a side touches) at the step's weighted
+state, the forces the step used: the rows add up to the bearing's
 reaction, Σ F_i its force and Σ (M_i + a_i k × F_i) its tilting moment. For two rows without tilt
 stiffness this is the lever rule. Here they are read from the series ``row_force`` and
 ``row_moment`` (``Result.row``) and given with the row's bearing and position. The frame is the

@@ -186,6 +186,8 @@ class BearingRowSpec:
     position: float  # a [m] along the bearing axis from the bearing centre
     stiffness: Vector  # (axial, u, w [N/m], about u, about w [N·m/rad])
     damping: Vector  # (axial, u, w [N·s/m], about u, about w [N·m·s/rad])
+    has_clearance: bool  # radial directions between two sides (False: linear)
+    clearance: float  # c [m] from the centre to a side (negative: a preload)
     def __init__(self) -> None: ...
 
 def bearing_row_map(row: BearingRowSpec, nv: int) -> Matrix:

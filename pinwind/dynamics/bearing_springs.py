@@ -48,14 +48,19 @@ def bearing_law(compliance: Any) -> _native.BearingSpringSpec:
 def row_law(row: Any) -> _native.BearingRowSpec:
     """A compiled spec holding a bearing row's position and laws, without its slides.
 
-    Its position a along the bearing axis from the bearing centre [m] and its five stiffnesses
+    Its position a along the bearing axis from the bearing centre [m], its five stiffnesses
     and dampers in the model file's order (axial, along u, along w, about u, about w;
-    ``model/bearing_rows.py``, ``cpp/bearing_rows.hpp``).
+    ``model/bearing_rows.py``, ``cpp/bearing_rows.hpp``) and its radial clearance c [m]
+    (negative: a preload), when it has one.
     """
     spec = _native.BearingRowSpec()
     spec.position = float(row.position)
     spec.stiffness = np.array(row.stiffness, dtype=float)
     spec.damping = np.array(row.damping, dtype=float)
+    if row.clearance != 0.0:
+        # its radial_clearance_mm (negative: a preload): each radial direction between two
+        # sides (cpp/bearing_rows.hpp); none keeps the linear law as it was.
+        spec.has_clearance, spec.clearance = True, float(row.clearance)
     return spec
 
 

@@ -202,13 +202,16 @@ def row_elements(joint: str, bearing: CompliantBearing, nv: int) -> list[SpringE
 
     Spring j of a row acts along its deflection δ_j = B_j q (``_native.bearing_row_map``: the
     row's radial springs at its position a see x + a θ_w and y − a θ_u), with the row's k_j and
-    c_j (``model/bearing_rows.py``).
+    c_j (``model/bearing_rows.py``): a row with a clearance as loaded (one side, k_j), a
+    preloaded one as at its centre (both sides, 2 k_j).
     """
     out = []
     for row, spec in zip(bearing.rows, row_specs(bearing), strict=True):
         b = _native.bearing_row_map(spec, nv)
         for j, spring in enumerate(ROW_SPRINGS):
             k, c = row.stiffness[j], row.damping[j]
+            if row.clearance < 0.0 and spring.startswith("radial"):
+                k = 2.0 * k  # a preloaded row's two sides press at the centre (2 K_j)
             if (k == 0.0 and c == 0.0) or not np.any(b[j]):
                 continue
             name = f"{row_name(joint, row.name)}_{spring}"

@@ -56,7 +56,8 @@ def dynamic_equivalent_load(
     ISO 281 §6: P = F_r + Y1 F_a when F_a ≤ e F_r, else X2 F_r + Y2 F_a.
     """
     radial, axial = np.asarray(radial, dtype=float), np.asarray(axial, dtype=float)
-    below = axial <= rating.e * radial
+    with np.errstate(invalid="ignore"):  # e = ∞ (no axial factors) times F_r = 0
+        below = (axial <= rating.e * radial) | (axial == 0.0)
     return np.where(below, radial + rating.y1 * axial, rating.x2 * radial + rating.y2 * axial)
 
 
@@ -300,6 +301,7 @@ def load_sum_of_history(
     force_in_joint: np.ndarray,
     speed: np.ndarray,
     axis: np.ndarray,
+    rolling: np.ndarray | None = None,
 ) -> BearingLoadSum:
     """A bearing's ISO 281 sums from its force and speed histories.
 
@@ -310,6 +312,9 @@ def load_sum_of_history(
         force_in_joint: bearing force on the child body, joint frame [N], (n, 3).
         speed: joint speed relative to the parent [rad/s], (n,).
         axis: joint axis in the joint frame.
+        rolling: the radial load its loaded rolling elements carry [N], (n,), a preload
+            included (``model/bearing_rows.rolling_load``), for the skidding check only;
+            None: its radial force.
     """
     weights = sample_weights(time)
     turns = weights * np.abs(speed) / (2.0 * math.pi)  # revolutions per sample [rev]
@@ -320,6 +325,8 @@ def load_sum_of_history(
         exponent = rating.exponent
         power_sum = load_power_sum(loads, turns, exponent)
         time_power_sum = load_power_sum(loads, weights, exponent)
+        if rolling is not None:  # a preloaded row's rollers carry the preload (skidding)
+            loads = dynamic_equivalent_load(rating, np.maximum(rolling, radial), axial)
         below = seconds_below_minimum(rating, weights, speed, loads)
     return BearingLoadSum(
         joint, exponent, power_sum, float(turns.sum()), time_power_sum, float(weights.sum()),

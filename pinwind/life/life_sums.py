@@ -61,7 +61,7 @@ from pinwind.life.modified_life import (
 )
 from pinwind.model.bearing import BearingRating
 from pinwind.model.bearing_life_data import BearingLifeData
-from pinwind.model.bearing_rows import row_name
+from pinwind.model.bearing_rows import rolling_load, row_name
 
 
 @dataclass(frozen=True)
@@ -141,6 +141,7 @@ def history_sums(
     time: np.ndarray,
     speed: np.ndarray,
     load: np.ndarray,
+    rolling: np.ndarray | None = None,
 ) -> HistorySums:
     """A bearing's (or row's) life sums from its load W and speed (module docstring).
 
@@ -152,6 +153,8 @@ def history_sums(
         time: sample times [s], (n,).
         speed: its joint's speed relative to the parent [rad/s], (n,).
         load: W (n, 5) = (F_u, F_w, F_a, M_u, M_w) on the bearing, joint frame [N, N·m].
+        rolling: the radial load its loaded rolling elements carry [N], (n,), for the skidding
+            check (`preloaded_rolling_load`); None: its radial load.
     """
     data = data or BearingLifeData()
     kind, p = rating.kind, rating.exponent
@@ -163,8 +166,11 @@ def history_sums(
     load = np.asarray(load, dtype=float).reshape(-1, 5)
     force = np.column_stack([np.hypot(load[:, 0], load[:, 1]), np.zeros(len(load)), load[:, 2]])
     basic = load_sum_of_history(
-        name, rating, time=time, force_in_joint=force, speed=speed, axis=np.array([0.0, 0.0, 1.0])
-    )
+        name, rating, time=time, force_in_joint=force, speed=speed,
+        axis=np.array([0.0, 0.0, 1.0]), rolling=rolling,
+    )  # fmt: skip
+    if rolling is not None:
+        notes.append("skidding checked on the preloaded rolling elements' load")
     equivalent = dynamic_equivalent_load(rating, force[:, 0], np.abs(force[:, 2]))
     weights = sample_weights(time)
     turns = weights * np.abs(speed) / (2.0 * math.pi)
@@ -288,10 +294,31 @@ def run_load_sums(
             row_name(load.bearing, load.name), row_rating(load.bearing, row),
             data=life.get(row_name(load.bearing, load.name)), size=row.size,
             time=result.time, speed=result.speed[:, result.joint_names.index(load.bearing)],
-            load=w,
+            load=w, rolling=preloaded_rolling_load(gearbox, load.bearing, row, load.radial),
         )  # fmt: skip
         out.append(history.sums)
     return out
+
+
+def preloaded_rolling_load(
+    gearbox: Any, bearing: str, row: Any, radial: np.ndarray
+) -> np.ndarray | None:
+    """The radial load a preloaded row's loaded rolling elements carry [N], (n,), or None.
+
+    For a row in the step (its bearing's springs) with a preload (``radial_clearance_mm`` < 0):
+    each radial direction's loaded side carries ``model/bearing_rows.rolling_load`` of the
+    row's net load along it (``radial`` (n, 2) along u, w [N]), K_j |c| + |F_j|/2 while both
+    sides press, combined as the radial load is; None for any other row (its net load is what
+    its rollers carry).
+    """
+    bearing_in_step = gearbox.compliant_bearings.get(bearing)
+    in_step = bearing_in_step is not None and any(r.name == row.name for r in bearing_in_step.rows)
+    if not in_step or row.clearance >= 0.0:
+        return None
+    return np.hypot(
+        rolling_load(radial[:, 0], row.stiffness[1], row.clearance),
+        rolling_load(radial[:, 1], row.stiffness[2], row.clearance),
+    )
 
 
 def bearing_life_data(gearbox: Any) -> dict[str, BearingLifeData]:

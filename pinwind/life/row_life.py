@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.life.bearing_life import life_hours, life_of_load_sum, row_rating
-from pinwind.life.life_sums import history_sums, life_data_of
+from pinwind.life.life_sums import history_sums, life_data_of, preloaded_rolling_load
 from pinwind.life.modified_life import reliability_factor
 from pinwind.model.bearing import BearingRating
 from pinwind.model.bearing_life_data import BearingLifeData
@@ -138,6 +138,7 @@ def rate_row(
     speed: np.ndarray,
     load: np.ndarray,
     reliability: float = 90.0,
+    rolling: np.ndarray | None = None,
 ) -> RowLife:
     """One row's lives from its load on the bearing and its speed (module docstring).
 
@@ -145,15 +146,18 @@ def rate_row(
     (F_u, F_w, F_a, M_u, M_w) [N, N·m] on the bearing in its joint frame, ``speed`` the
     joint's [rad/s], both at ``time`` [s]. The lives come from the sums of
     ``life_sums.history_sums`` as a fatigue set's do (``bearing_life.life_of_load_sum``), L_nm
-    times a₁.
+    times a₁. ``rolling`` (n,) [N], when given, is the radial load its loaded rolling elements
+    carry, a preload included (``life_sums.preloaded_rolling_load``), which the skidding check
+    takes for the radial load.
 
     Raises:
         ValueError: reliability outside 90 … 99.95 %.
     """
     a1 = reliability_factor(reliability)
     history = history_sums(
-        row_name(bearing, name), rating, data=data, size=size, time=time, speed=speed, load=load
-    )
+        row_name(bearing, name), rating, data=data, size=size, time=time, speed=speed, load=load,
+        rolling=rolling,
+    )  # fmt: skip
     notes = list(history.notes)
     sums = history.sums
     life = life_of_load_sum(rating, sums)
@@ -216,6 +220,7 @@ def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[R
                 rating=row_rating(load.bearing, row), size=row.size,
                 data=life_data_of(gearbox, load.bearing, row.life), time=result.time,
                 speed=speed, load=w, reliability=reliability,
+                rolling=preloaded_rolling_load(gearbox, load.bearing, row, load.radial),
             )
         )  # fmt: skip
     return out

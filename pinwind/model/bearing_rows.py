@@ -19,10 +19,19 @@ couples the radial slides with the tilts), and each row's load is a series of it
 
 The bearing's own stiffness and damping attributes then say which slides the shaft has (an
 axial slide with ``axial_stiffness``, tilt hinges with ``tilt_stiffness``) and nothing more. The
-rows' laws are linear: a radial clearance or a roller sum (``law="roller_sum"``) is for a bearing
-without stiff rows. ``equivalent_bearing`` gives the one isotropic compliant bearing at the
-rows' stiffness centre that stands for them (what ``pinwind build stages`` writes as the
-bearing's attributes, for a bearing read without its rows):
+rows' laws are linear but for a row's radial clearance c (its ``radial_clearance_mm``, the one
+its reference life uses; negative with ``preload="true"``): each radial direction j then sits
+between two sides, each a one-sided contact of stiffness K_j,
+
+    L_j = −K_j [max(δ_j − c, 0) − max(−δ_j − c, 0)]
+
+a dead band |δ_j| < c without load for a clearance, both sides pressing (2 K_j) while
+|δ_j| < |c| for a preload. A roller sum (``law="roller_sum"``) or the bearing's own clearance is
+for a bearing without stiff rows. ``rolling_load`` gives the load the loaded side's rolling
+elements carry, preload included (what a skidding check needs). ``equivalent_bearing`` gives
+the one isotropic compliant bearing at the rows' stiffness centre that stands for them (what
+``pinwind build stages`` writes as the bearing's attributes, for a bearing read without its
+rows):
 
     radial   k_r = Σ_i k_i,                   k_i = (K_y,i + K_z,i)/2
     axial    k_a = Σ_i K_x,i
@@ -39,6 +48,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 if TYPE_CHECKING:
     from pinwind.model.bearing_life_data import BearingLifeData
@@ -70,6 +81,11 @@ class BearingRow:
     load_factors: tuple[float, float, float, float] | None = None
     size: tuple[float, float, float] | None = None
     life: BearingLifeData | None = None
+
+    @property
+    def clearance(self) -> float:
+        """Its radial clearance c [m] (negative: a preload; ``radial_clearance_mm``), or 0."""
+        return self.life.clearance if self.life is not None else 0.0
 
     @property
     def radial_stiffness(self) -> float:
@@ -155,3 +171,18 @@ def row_name(bearing: str, row: str) -> str:
     Rows are named within their bearing: the planets' bearings have rows of one name.
     """
     return f"{bearing}.{row}"
+
+
+def rolling_load(force: np.ndarray, stiffness: float, clearance: float) -> np.ndarray:
+    """The load the loaded side of a row's radial direction carries [N], from its net load.
+
+    ``force`` is the row's net load along one radial direction [N] (any shape), ``stiffness``
+    its K_j [N/m] and ``clearance`` its c [m] (module docstring). With a preload (c < 0) both
+    sides touch while |F| < 2 K_j |c|: the shaft is then at δ = −F/(2 K_j) and the loaded side
+    carries K_j (|c| + |δ|) = K_j |c| + |F|/2; beyond, and for a clearance or a linear row, one
+    side carries the whole |F|. So ``max(|F|, K_j |c| + |F|/2)`` for a preload, ``|F|`` else.
+    """
+    magnitude = np.abs(np.asarray(force, dtype=float))
+    if clearance >= 0.0:
+        return magnitude
+    return np.maximum(magnitude, stiffness * -clearance + 0.5 * magnitude)

@@ -615,10 +615,11 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
             raise MalformedModel(
                 path,
                 where,
-                f'its rows are its springs (linear laws, model/bearing_rows.py), so law="'
+                f'its rows are its springs (model/bearing_rows.py), so law="'
                 f'{compliance.law}" and radial_clearance_mm='
-                f"{compliance.clearance * 1e3:g} cannot apply; remove them, or remove the rows' "
-                "stiffness to keep the bearing's own law",
+                f"{compliance.clearance * 1e3:g} cannot apply; remove them (give each <row> its "
+                "own radial_clearance_mm), or remove the rows' stiffness to keep the bearing's "
+                "own law",
             )
         if (compliance is None and torsion is None and not rows) or rated:
             rating = _bearing(path, el, out)

@@ -2,10 +2,11 @@
 
 Hypothesis draws (seeded: ``derandomize``, no example database, no network) a spur pair or a
 planetary stage with a random mesh stiffness, backlash or none, compliant bearings with and
-without clearance, a floating sun, and damping on or off. Each is deflected by torques at t = 0
-that are gone after it, so it swings through zero load, its flanks and bearing contacts opening
-and closing; dt resolves the highest linearised mode (``STEPS_PER_PERIOD`` steps) and the run
-lasts ``PERIODS`` periods of it. Two facts hold for every draw:
+without clearance, a floating sun, and damping on or off; and a stage whose planets sit on two
+rows each with a radial clearance or a preload (``row_stages``). Each is deflected by torques
+at t = 0 that are gone after it, so it swings through zero load, its flanks and bearing contacts
+opening and closing; dt resolves the highest linearised mode (``STEPS_PER_PERIOD`` steps) and
+the run lasts ``PERIODS`` periods of it. Two facts hold for every draw:
 
 - the energy ledger closes (``pinwind.testing.ledger_closure``): what the step creates or loses
   where contact changes within a step is O(dt²), ``LEDGER_RTOL`` of the energy at this dt;
@@ -130,3 +131,47 @@ def test_a_random_small_train_closes_its_energy_ledger(case):
 def test_a_random_undamped_train_keeps_its_energy_through_every_contact_change(case):
     energy = _energy(_swing(case))
     np.testing.assert_allclose(energy, energy[0], rtol=ENERGY_RTOL)
+
+
+def _rows_bearing(joint: str, stiffness: float, clearance_um: float, damped: bool) -> str:
+    """A planet on two rows ±15 mm from its centre, each K = ``stiffness``, with a radial
+    clearance (or a preload, negative) of ``clearance_um`` (cpp/bearing_rows.hpp's sides)."""
+    c = 300.0 if damped else 0.0
+    preload = ' preload="true"' if clearance_um < 0 else ""
+    rows = "".join(
+        f'<row name="{name}" type="cylindrical_roller" position_mm="{at!r}" '
+        f'stiffness="0 {stiffness!r} {stiffness!r} 0 0" damping="0 {c!r} {c!r} 0 0" '
+        f'radial_clearance_mm="{clearance_um * 1e-3!r}"{preload}/>'
+        for name, at in (("A", -15.0), ("B", 15.0))
+    )
+    return f'<bearing joint="{joint}" radial_stiffness="1" tilt_stiffness="1">{rows}</bearing>'
+
+
+@st.composite
+def row_stages(draw):
+    """``stages``' three-planet stage, each planet on two rows with a clearance or a preload."""
+    text = planetary_urdf(
+        sun=24, planet=24, ring=72, planets=3, module=0.005, pressure_angle=math.radians(20.0),
+        face_width=0.04, name="stage3",
+    ).replace('gravity="0 -9.81 0"', 'gravity="0 0 0"')  # fmt: skip
+    damped = draw(st.booleans())
+    stiffness = draw(st.floats(1e8, 5e8))
+    clearance = draw(st.sampled_from([-1.0, 1.0])) * draw(st.floats(1.0, 5.0))
+    bearings = "".join(_rows_bearing(f"planet{i}", stiffness, clearance, damped) for i in (1, 2, 3))
+    gb = loads(text.replace("</gearbox>", bearings + "</gearbox>"), "stage3.urdf")
+    mesh = MeshCompliance(
+        stiffness=draw(st.floats(2e8, 2e9)), variation="constant", backlash=0.0,
+        damping=None if damped else 0.0,
+    )  # fmt: skip
+    torque = draw(st.floats(20.0, 200.0))
+    return gb, {"sun": _released(torque)}, {"carrier": 0.0}, {"all": mesh}, damped
+
+
+@PROPERTIES
+@given(row_stages())
+def test_planets_on_rows_with_clearance_or_preload_close_the_ledger_and_keep_their_energy(case):
+    res = _swing(case)
+    ledger_closure(res, rtol=LEDGER_RTOL)
+    if not case[-1]:
+        energy = _energy(res)
+        np.testing.assert_allclose(energy, energy[0], rtol=ENERGY_RTOL)

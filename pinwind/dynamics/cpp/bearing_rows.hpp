@@ -21,12 +21,36 @@
 // radial slides with the tilts through B. A slide the bearing lacks (no axial slide, no tilt
 // hinges) is rigid: its terms drop out of B.
 //
+// A row with a radial clearance c [m] (has_clearance; the model file's radial_clearance_mm of
+// the <row>, negative with preload="true": a preload) keeps its axial and tilt springs linear and
+// holds each radial direction j (along u, along w) between two sides, each a one-sided linear
+// contact of the row's stiffness k_j, the side s = ±1 touching while its overlap s δ_j − c > 0:
+//
+//     L_j = −k_j [max(δ_j − c, 0) − max(−δ_j − c, 0)],   U_j = ½ k_j Σ_s max(s δ_j − c, 0)²
+//
+// (compliant_mesh.hpp's two flanks, with the backlash 2c). With c > 0 it is the dead band
+// −k_j sign(δ_j) max(|δ_j| − c, 0): no load until the shaft crosses c; with c < 0 both sides
+// press by |c| at the centre, the row is 2 k_j stiff while |δ_j| < |c| and one side lets go
+// beyond (a preloaded row); c = 0 is the linear spring. c is pinwind's radial clearance, the
+// free travel from the centre to one side (Harris's diametral clearance P_d = 2c, as
+// bearing_spring.hpp's and life/load_distribution.py's). The radial damper c_j acts while a side
+// touches. Each side is an active set settled after each solve as the mesh's flanks are: a side
+// whose overlap at the weighted state would be negative opens, a free one that would overlap
+// closes, and the step is solved again; with ρ∞ = 1 the step keeps the energy to rounding but
+// for the steps in which a side opens or closes (an O(h²) error: docs/simulation.md, the
+// ledger). A static solve (Stepper::equilibrium) probes a direction whose sides are both open
+// with the stiffness k_j and no force, to see which side the load pushes the shaft to, puts that
+// side in contact and solves again; a side that then pulls opens, and the direction is left
+// open (the row slack inside its clearance, the others holding the shaft).
+//
 // Each row writes its load of the settled step (the force the step used, so that the rows add
 // up to the bearing's reaction) as two series of the row family (series.hpp): row_force (F_u,
 // F_w, F_k) [N] and row_moment (M_u, M_w, 0) [N·m], on the shaft, along the bearing's u, w, k.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -51,6 +75,8 @@ struct BearingRowSpec {
   Eigen::Matrix<double, 5, 1> stiffness = Eigen::Matrix<double, 5, 1>::Zero();
   // (c_axial, c_u, c_w [N·s/m], c_tilt_u, c_tilt_w [N·m·s/rad]).
   Eigen::Matrix<double, 5, 1> damping = Eigen::Matrix<double, 5, 1>::Zero();
+  bool has_clearance = false;  // radial law with sides (the header's comment); false: linear
+  double clearance = 0.0;      // c [m] from the centre to a side (negative: a preload)
 };
 
 class BearingRows : public Element {
@@ -85,9 +111,56 @@ class BearingRows : public Element {
     return out;
   }
 
+  // Component j of row r has sides (the header's comment): a radial one of a row with clearance.
+  static bool sided(const BearingRowSpec& r, int j) {
+    return r.has_clearance && (j == 1 || j == 2);
+  }
+
+  // The overlap s δ − c [m] of side (0: s = +1, 1: s = −1) at the deflection δ.
+  static double overlap(const BearingRowSpec& r, int side, double delta) {
+    return (side == 0 ? delta : -delta) - r.clearance;
+  }
+
+  // L_j [N or N·m] of component j of row r at its deflection δ_j: −k δ, or the sides' law.
+  static double elastic_load(const BearingRowSpec& r, int j, double delta) {
+    const double k = r.stiffness[j];
+    if (!sided(r, j)) return -k * delta;
+    return -k * (std::max(overlap(r, 0, delta), 0.0) - std::max(overlap(r, 1, delta), 0.0));
+  }
+
+  // U_j [J] of component j of row r at its deflection δ_j: ½ k δ², or the sides' ½ k Σ overlap₊².
+  static double energy(const BearingRowSpec& r, int j, double delta) {
+    const double k = r.stiffness[j];
+    if (!sided(r, j)) return 0.5 * k * delta * delta;
+    double out = 0.0;
+    for (int side = 0; side < 2; ++side) {
+      const double o = std::max(overlap(r, side, delta), 0.0);
+      out += 0.5 * k * o * o;
+    }
+    return out;
+  }
+
   explicit BearingRows(std::vector<BearingRowSpec> specs) : specs_(std::move(specs)) {
     for (const BearingRowSpec& r : specs_) maps_.push_back(map(r));
     loads_.assign(specs_.size(), Eigen::Matrix<double, 5, 1>::Zero());
+    touch_.assign(specs_.size(), Sides{});
+    open_.assign(specs_.size(), {false, false});
+  }
+
+  // The sides touch where the shaft is at the first state (a run or a check from a displaced
+  // state, a preloaded row at the centre: both).
+  void prepare(const StepView& s) override {
+    if (started_) return;
+    started_ = true;
+    for (size_t r = 0; r < specs_.size(); ++r) {
+      for (int j = 1; j <= 2; ++j) {
+        if (!sided(specs_[r], j)) continue;
+        const double delta = along(maps_[r][j], s.q);
+        for (int side = 0; side < 2; ++side) {
+          touch_[r][j - 1][side] = overlap(specs_[r], side, delta) > 0.0;
+        }
+      }
+    }
   }
 
   void add_implicit(const StepView& s, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
@@ -97,9 +170,23 @@ class BearingRows : public Element {
         const std::vector<Term>& b = maps_[r][j];
         if (b.empty()) continue;
         const double k = specs_[r].stiffness[j], c = specs_[r].damping[j];
-        const double w = kq * k + kv * c;
-        const double load =
-            -k * (along(b, s.q) + along(b, s.dq_free)) - c * along(b, s.v);
+        double w = kq * k + kv * c;
+        double load = -k * (along(b, s.q) + along(b, s.dq_free)) - c * along(b, s.v);
+        if (sided(specs_[r], j)) {
+          // The sides that touch: each −k (δ − s c); none: a static solve's probe (no force).
+          const std::array<bool, 2>& t = touch_[r][j - 1];
+          const double delta = along(b, s.q) + along(b, s.dq_free);
+          const double damper = (t[0] || t[1]) ? c : 0.0;
+          double stiff = 0.0;
+          load = -damper * along(b, s.v);
+          for (int side = 0; side < 2; ++side) {
+            if (!t[side]) continue;
+            stiff += k;
+            load -= k * (delta - (side == 0 ? 1.0 : -1.0) * specs_[r].clearance);
+          }
+          const bool probe = s.weights.statics && !t[0] && !t[1] && !open_[r][j - 1];
+          w = kq * (probe ? k : stiff) + kv * damper;
+        }
         for (const Term& t : b) {
           force[t.index] += t.coefficient * load;
           for (const Term& u : b) hessian(t.index, u.index) += w * t.coefficient * u.coefficient;
@@ -108,17 +195,29 @@ class BearingRows : public Element {
     }
   }
 
-  bool settle(const StepView& s, const Eigen::VectorXd& a, bool) override {
+  bool settle(const StepView& s, const Eigen::VectorXd& a, bool last) override {
     const double kq = s.weights.position_gain, kv = s.weights.speed_gain;
+    bool changed = false;
     elastic_.setZero(s.q.size());
     damping_.setZero(s.q.size());
     for (size_t r = 0; r < specs_.size(); ++r) {
       for (int j = 0; j < 5; ++j) {
         const std::vector<Term>& b = maps_[r][j];
         const double da = along(b, a);
-        const double spring =
+        double spring =
             -specs_[r].stiffness[j] * (along(b, s.q) + along(b, s.dq_free) + kq * da);
-        const double damper = -specs_[r].damping[j] * (along(b, s.v) + kv * da);
+        double damper = -specs_[r].damping[j] * (along(b, s.v) + kv * da);
+        if (sided(specs_[r], j)) {
+          const double delta = along(b, s.q) + along(b, s.dq_free) + kq * da;
+          if (!last) changed = switch_sides(r, j, delta, kq * da, s.weights.statics) || changed;
+          const std::array<bool, 2>& t = touch_[r][j - 1];
+          spring = 0.0;  // −s k (s δ − c) per touching side: the force the step used
+          for (int side = 0; side < 2; ++side) {
+            const double sign = side == 0 ? 1.0 : -1.0;
+            if (t[side]) spring -= sign * specs_[r].stiffness[j] * overlap(specs_[r], side, delta);
+          }
+          if (!t[0] && !t[1]) damper = 0.0;
+        }
         loads_[r][j] = spring + damper;
         for (const Term& t : b) {
           elastic_[t.index] += t.coefficient * spring;
@@ -126,18 +225,15 @@ class BearingRows : public Element {
         }
       }
     }
-    return false;
+    return changed;
   }
 
   double potential(const StepView& s) const override {
-    double energy = 0.0;
+    double out = 0.0;
     for (size_t r = 0; r < specs_.size(); ++r) {
-      for (int j = 0; j < 5; ++j) {
-        const double d = along(maps_[r][j], s.q);
-        energy += 0.5 * specs_[r].stiffness[j] * d * d;
-      }
+      for (int j = 0; j < 5; ++j) out += energy(specs_[r], j, along(maps_[r][j], s.q));
     }
-    return energy;
+    return out;
   }
 
   StepWork work(const StepView& s, const Eigen::VectorXd&,
@@ -159,8 +255,42 @@ class BearingRows : public Element {
   }
 
  private:
+  using Sides = std::array<std::array<bool, 2>, 2>;  // [direction u, w][side +, −]: touching
+
+  // Side changes of component j of row r at the deflection δ of the solved step, whose own
+  // change was step (the header's comment); true when the step must be solved again. A static
+  // solve that probed a direction puts the side the probe moved it towards in contact (the
+  // shaft is free inside its clearance, so any load carries it across; a move of rounding,
+  // below 1e-9 of the clearance, is no load: the direction stays open); a side that then pulls
+  // opens and the direction stays open, unprobed: the row is slack in the equilibrium.
+  bool switch_sides(size_t r, int j, double delta, double step, bool statics) {
+    std::array<bool, 2>& t = touch_[r][j - 1];
+    bool& open = open_[r][j - 1];
+    if (statics && !t[0] && !t[1] && !open) {
+      if (std::abs(step) > 1e-9 * std::abs(specs_[r].clearance)) {
+        t[step > 0.0 ? 0 : 1] = true;
+      } else {
+        open = true;
+      }
+      return true;
+    }
+    bool changed = false;
+    for (int side = 0; side < 2; ++side) {
+      const double o = overlap(specs_[r], side, delta);
+      if (t[side] ? o < 0.0 : o > 0.0) {
+        t[side] = !t[side];
+        changed = true;
+      }
+    }
+    if (changed) open = !t[0] && !t[1];
+    return changed;
+  }
+
   std::vector<BearingRowSpec> specs_;
   std::vector<Map> maps_;
+  std::vector<Sides> touch_;                    // each row's touching sides
+  std::vector<std::array<bool, 2>> open_;       // a static solve found the direction free
+  bool started_ = false;                        // touch_ set from the first state prepared
   std::vector<Eigen::Matrix<double, 5, 1>> loads_;  // L of the settled step, per row
   Eigen::VectorXd elastic_, damping_;  // the settled spring and damper forces on the slides
 };
@@ -184,6 +314,9 @@ struct BearingRowsKind : KindBase {
             r.damping.minCoeff() >= 0.0)) {
         throw std::invalid_argument("bearing row: stiffness and damping must be finite, >= 0");
       }
+      if (!std::isfinite(r.clearance)) {
+        throw std::invalid_argument("bearing row: clearance must be finite");
+      }
     }
   }
 
@@ -205,7 +338,9 @@ struct BearingRowsKind : KindBase {
         .def_rw("index_tilt_y", &BearingRowSpec::index_tilt_y)
         .def_rw("position", &BearingRowSpec::position)
         .def_rw("stiffness", &BearingRowSpec::stiffness)
-        .def_rw("damping", &BearingRowSpec::damping);
+        .def_rw("damping", &BearingRowSpec::damping)
+        .def_rw("has_clearance", &BearingRowSpec::has_clearance)
+        .def_rw("clearance", &BearingRowSpec::clearance);
     m.def(
         "bearing_row_map",
         [](const BearingRowSpec& r, long nv) {

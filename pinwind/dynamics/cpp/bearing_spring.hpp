@@ -336,7 +336,8 @@ class BearingSprings : public Element {
 };
 
 // The force of a bearing's rows' springs on the body, along u, w, k [N], at one sample's joint
-// coordinates row (bearing_rows.hpp: F_u = −Σ k_u δ_u, F_w = −Σ k_w δ_w, F_k = −Σ k_axial δ_k).
+// coordinates row (bearing_rows.hpp: F_u = −Σ k_u δ_u, F_w = −Σ k_w δ_w, F_k = −Σ k_axial δ_k;
+// a row with clearance: its sides' law, BearingRows::elastic_load).
 inline Eigen::Vector3d row_springs_force(const BearingSlides& b, const double* row) {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
   for (BearingRowSpec r : b.rows) {
@@ -347,8 +348,9 @@ inline Eigen::Vector3d row_springs_force(const BearingSlides& b, const double* r
     for (int j = 0; j < 3; ++j) {
       for (const BearingRows::Term& t : map[j]) along[j] += t.coefficient * row[t.index];
     }
-    force += Eigen::Vector3d(-r.stiffness[1] * along[1], -r.stiffness[2] * along[2],
-                             -r.stiffness[0] * along[0]);
+    force += Eigen::Vector3d(BearingRows::elastic_load(r, 1, along[1]),
+                             BearingRows::elastic_load(r, 2, along[2]),
+                             BearingRows::elastic_load(r, 0, along[0]));
   }
   return force;
 }
