@@ -32,7 +32,9 @@ from pinwind.modes.linearisation import linearise
 from pinwind.testing import ledger_closure
 from tests.dynamics.test_flank_contact import pair_urdf
 
-STEPS_PER_PERIOD = 60
+#: 80: at 60 a drawn pair (clearance bearing, damped) closed its ledger to 0.0200 of its energy
+#: in a whole-suite run, on the tolerance (alone it passed); the loss is O(dt²).
+STEPS_PER_PERIOD = 80
 PERIODS = 15
 LEDGER_RTOL = 0.02
 ENERGY_RTOL = 0.03
