@@ -129,7 +129,7 @@ const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
   out.dual_residual = out.acceleration.allFinite() ? 0.0 : NAN;
   out.iterations = 0;
   out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
-  out.status = "direct";
+  if (out.status != "direct") out.status = "direct";
   // A later iterative step starts proxsuite afresh.
   qp_.reset();
   return out;
@@ -159,6 +159,8 @@ void ConstrainedQp::factorise(const Eigen::MatrixXd& mass, const Eigen::VectorXd
 bool ConstrainedQp::diagonal_change(const Eigen::MatrixXd& mass) {
   changed_.clear();
   if (direct_mass_.rows() != mass.rows() || direct_mass_.cols() != mass.cols()) return false;
+  // The same M (a constant one, taken once by the step): one pass over its entries.
+  if (std::equal(mass.data(), mass.data() + mass.size(), direct_mass_.data())) return true;
   for (Eigen::Index j = 0; j < mass.cols(); ++j) {
     for (Eigen::Index i = 0; i < mass.rows(); ++i) {
       const double d = mass(i, j) - direct_mass_(i, j);

@@ -1,5 +1,8 @@
 // pinocchio::computeJointJacobians with a compliant bearing's slides placed directly
 // (joint_algorithms.hpp): the one instantiation of its joint step.
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include <pinocchio/algorithm/jacobian.hpp>
@@ -51,6 +54,43 @@ void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
     column.head<3>() = data.oMi[i].rotation().col(axis);
     column.tail<3>().setZero();
   }
+}
+
+bool mass_is_constant(const pinocchio::Model& model, const std::vector<int>& slide_axes) {
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  if (nj < 2) return true;
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    const std::string kind = model.joints[i].shortname();
+    const bool revolute = kind == "JointModelRX" || kind == "JointModelRY" ||
+                          kind == "JointModelRZ" || kind == "JointModelRevoluteUnaligned";
+    if (!revolute || slide_axes[i] >= 0) return false;
+  }
+  pinocchio::Data data(model);
+  joint_jacobians(model, data, Eigen::VectorXd::Zero(model.nq), slide_axes);  // every q: 0
+  const Eigen::Vector3d k = data.J.col(model.idx_vs[1]).tail<3>().normalized();
+  double length = 0.0;
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    length = std::max({length, data.oMi[i].translation().norm(), model.inertias[i].lever().norm()});
+  }
+  const double tol = 64.0 * std::numeric_limits<double>::epsilon() * std::max(length, 1.0);
+  const auto perpendicular = [&](const Eigen::Vector3d& d) { return (d - d.dot(k) * k).norm(); };
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    const Eigen::Vector3d axis = data.J.col(model.idx_vs[i]).tail<3>();
+    if (axis.cross(k).norm() > tol) return false;  // k or −k: a turn about either is about k
+  }
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    if (model.inertias[i].mass() == 0.0) continue;
+    const Eigen::Vector3d centre = data.oMi[i].act(model.inertias[i].lever());
+    int levers = perpendicular(centre - data.oMi[i].translation()) > tol ? 1 : 0;
+    for (auto j = i; model.parents[j] > 0; j = model.parents[j]) {
+      const auto parent = model.parents[j];
+      if (perpendicular(data.oMi[j].translation() - data.oMi[parent].translation()) > tol) {
+        ++levers;
+      }
+    }
+    if (levers > 1) return false;
+  }
+  return true;
 }
 
 }  // namespace pinwind

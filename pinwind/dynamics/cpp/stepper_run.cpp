@@ -46,9 +46,13 @@ RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& tar
 }
 
 Eigen::MatrixXd Stepper::mass_matrix(const Eigen::VectorXd& q) {
+  // Always the full CRBA at q (the checks compare it with Pinocchio's), the step's M kept.
+  const Eigen::MatrixXd kept = mass_;
   joint_jacobians(s_.model, data_, q, slide_axes_);
   mass_from_jacobian();
-  return mass_;
+  Eigen::MatrixXd out = mass_;
+  mass_ = kept;
+  return out;
 }
 
 void Stepper::targets() {
@@ -160,15 +164,20 @@ void Stepper::joint_forces() {
   }
 }
 
+void Stepper::world_inertias() {
+  const auto& model = s_.model;
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  body_.resize(nj);
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    body_[i] = massless_[i] ? pinocchio::Inertia::Zero() : data_.oMi[i].act(model.inertias[i]);
+  }
+}
+
 void Stepper::mass_from_jacobian() {
   const auto& model = s_.model;
   const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
-  composite_.resize(nj);
-  body_.resize(nj);
-  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-    body_[i] = composite_[i] =
-        massless_[i] ? pinocchio::Inertia::Zero() : data_.oMi[i].act(model.inertias[i]);
-  }
+  world_inertias();
+  composite_.assign(body_.begin(), body_.end());
   mass_.setZero(nv_, nv_);
   momenta_.resize(6, nv_);
   for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
@@ -281,7 +290,11 @@ const QpSolution* Stepper::solve_qp(long k, double t, RunStatus& st) {
 
 void Stepper::assemble_positions() {
   kinematics();
-  mass_from_jacobian();
+  if (constant_mass_ && mass_.rows() == nv_) {
+    world_inertias();
+  } else {
+    mass_from_jacobian();
+  }
   constraint_matrix();
 }
 
