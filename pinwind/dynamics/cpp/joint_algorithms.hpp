@@ -40,6 +40,10 @@ void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
 // not. Offsets below 64 ε times the model's largest length count as zero (rounding).
 bool mass_is_constant(const pinocchio::Model& model, const std::vector<int>& slide_axes);
 
+// Whether every joint's configuration is its one coordinate (revolute about a fixed axis, or a
+// slide): Pinocchio's integrate is then q + dq and its difference q1 − q0.
+bool is_vector_space(const pinocchio::Model& model);
+
 // q_out = q ⊕ dq: the configuration dq [rad or m] away from q (pinocchio::integrate).
 void integrate(const pinocchio::Model& model, const Eigen::VectorXd& q,
                const Eigen::VectorXd& dq, Eigen::VectorXd& q_out);

@@ -93,4 +93,16 @@ bool mass_is_constant(const pinocchio::Model& model, const std::vector<int>& sli
   return true;
 }
 
+bool is_vector_space(const pinocchio::Model& model) {
+  for (pinocchio::JointIndex i = 1; i < static_cast<pinocchio::JointIndex>(model.njoints); ++i) {
+    const std::string kind = model.joints[i].shortname();
+    const bool plain = kind == "JointModelRX" || kind == "JointModelRY" || kind == "JointModelRZ" ||
+                       kind == "JointModelRevoluteUnaligned" || kind == "JointModelPX" ||
+                       kind == "JointModelPY" || kind == "JointModelPZ" ||
+                       kind == "JointModelPrismaticUnaligned";
+    if (!plain) return false;
+  }
+  return true;
+}
+
 }  // namespace pinwind

@@ -325,6 +325,8 @@ class Stepper {
   std::vector<Eigen::Index> offset_, size_;  // each constraint's first row and row count
   std::vector<size_t> varying_;  // the constraints whose rows depend on the state
   bool constant_mass_ = false;  // M(q) does not depend on q (mass_is_constant)
+  bool vector_space_ = false;   // every joint's configuration is its coordinate (q ⊕ dq = q + dq)
+  std::vector<bool> frame_at_joint_;  // body frames whose placement in their joint is identity
   GeneralizedAlpha method_;
   StepWeights weights_;
   bool first_step_ = true;
