@@ -1,6 +1,7 @@
 // The constrained step QP's solves (constrained_qp.hpp documents the method).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -163,7 +164,9 @@ bool ConstrainedQp::diagonal_change(const Eigen::MatrixXd& mass) {
   changed_.clear();
   if (direct_mass_.rows() != mass.rows() || direct_mass_.cols() != mass.cols()) return false;
   // The same M (a constant one, taken once by the step): one pass over its entries.
-  if (std::equal(mass.data(), mass.data() + mass.size(), direct_mass_.data())) return true;
+  if (std::memcmp(mass.data(), direct_mass_.data(), sizeof(double) * mass.size()) == 0) {
+    return true;  // bit for bit
+  }
   for (Eigen::Index j = 0; j < mass.cols(); ++j) {
     for (Eigen::Index i = 0; i < mass.rows(); ++i) {
       const double d = mass(i, j) - direct_mass_(i, j);
