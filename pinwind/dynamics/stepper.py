@@ -261,10 +261,12 @@ class CompiledStepper:
 
     @property
     def constant_mass(self) -> bool:
-        """Whether M(q) is the same at every q, from the model's structure (all joints revolute
-        about parallel axes, at most one lever on each body's path: ``cpp/joint_algorithms.hpp``
-        mass_is_constant); the step then takes M once, at its first assembly, not by CRBA at
-        every step."""
+        """Whether M(q) is the same at every q, from the model's structure.
+
+        All joints revolute about parallel axes, at most one lever on each body's path
+        (``cpp/joint_algorithms.hpp`` mass_is_constant): the step then takes M once, at its
+        first assembly, instead of by CRBA at every step.
+        """
         return bool(self._stepper.constant_mass)
 
     def assemble(self, q: np.ndarray, v: np.ndarray) -> _native.Assembly:
