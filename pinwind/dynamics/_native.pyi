@@ -542,6 +542,9 @@ class Stepper:
         """Moves the start to static equilibrium under the first sample's loads."""
     def mass_matrix(self, q: Vector) -> Matrix:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
+    @property
+    def constant_mass(self) -> bool:
+        """Whether M(q) is the same at every q: the step then takes it once, not by CRBA."""
     def assemble(self, q: Vector, v: Vector) -> Assembly:
         """M, b, J and γ of the step at (q, v), with the rows' current flanks; no step taken."""
     def element_forces(self, q: Vector, v: Vector) -> ElementForces:

@@ -259,6 +259,16 @@ class CompiledStepper:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
         return self._stepper.mass_matrix(np.asarray(q, dtype=float))
 
+    @property
+    def constant_mass(self) -> bool:
+        """Whether M(q) is the same at every q, from the model's structure.
+
+        All joints revolute about parallel axes, at most one lever on each body's path
+        (``cpp/joint_algorithms.hpp`` mass_is_constant): the step then takes M once, at its
+        first assembly, instead of by CRBA at every step.
+        """
+        return bool(self._stepper.constant_mass)
+
     def assemble(self, q: np.ndarray, v: np.ndarray) -> _native.Assembly:
         """The step's M, b, J and γ at angles q [rad] and speeds v [rad/s], without a step.
 

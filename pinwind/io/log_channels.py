@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
 
+from pinwind.dynamics import series
+from pinwind.dynamics.series import Schema
 from pinwind.errors import InputError
 from pinwind.io.log_format import ENERGY_TOPIC, JOINTS_TOPIC, NAMES_OF, TF_TOPIC, array_topics
 
@@ -24,12 +26,21 @@ class _Channels(Mapping[str, tuple[str, ...]]):
     (``dynamics/series.py``) when used, so a series declared at run time has its channel.
     """
 
+    def __init__(self) -> None:
+        self._built: tuple[Schema, dict[str, tuple[str, ...]]] | None = None
+
     def _table(self) -> dict[str, tuple[str, ...]]:
-        return {
-            JOINTS_TOPIC: ("angle", "speed", "torque"),
-            **{t.topic: (t.field,) for t in array_topics()},
-            TF_TOPIC: ("body_position", "body_quaternion"),
-        }
+        # Built once per schema (series.current() is rebound, never changed, by declare and
+        # withdraw): a read looks a channel up once per topic, and each build walks the schema.
+        schema = series.current()
+        if self._built is None or self._built[0] is not schema:
+            table = {
+                JOINTS_TOPIC: ("angle", "speed", "torque"),
+                **{t.topic: (t.field,) for t in array_topics()},
+                TF_TOPIC: ("body_position", "body_quaternion"),
+            }
+            self._built = (schema, table)
+        return self._built[1]
 
     def __getitem__(self, topic: str) -> tuple[str, ...]:
         return self._table()[topic]

@@ -705,7 +705,13 @@ class LogReader:
         NaN when their inputs were not read or the model no longer loads.
         """
         n = len(result)
-        wanted = [s for s in self._absent if n and len(getattr(result, s.name)) == n]
+        # A series of a family this model has none of (compliant bearing rows on a model
+        # without) has nothing to fill: no model load for it.
+        wanted = [
+            s
+            for s in self._absent
+            if n and len(getattr(result, s.name)) == n and getattr(result, s.name).size
+        ]
         if not wanted:
             return
         if self._gearbox is None:

@@ -1,6 +1,7 @@
 // The constrained step QP's solves (constrained_qp.hpp documents the method).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -9,6 +10,7 @@
 #include <proxsuite/proxqp/dense/dense.hpp>
 
 #include "constrained_qp.hpp"
+#include "small_products.hpp"
 
 namespace pinwind {
 namespace {
@@ -112,24 +114,26 @@ const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
   }
   projected_rhs_.noalias() = row_basis_.transpose() * rhs;
   reduced_rhs_ = projected_rhs_;
-  reduced_rhs_.noalias() -= reduced_jac_ * free_;
+  small_product<Accumulate::subtract>(reduced_jac_, free_, reduced_rhs_);
   schur_factor_.solve(reduced_rhs_, mu_);
   out.acceleration = free_;
-  out.acceleration.noalias() += minv_jt_ * mu_;
+  small_product<Accumulate::add>(minv_jt_, mu_, out.acceleration);
   if (!changed_.empty() && !correct(out.acceleration)) {
     factorise(mass);
     return solve_direct(mass, force, reduced_jac_, rhs, false);
   }
-  out.multipliers.noalias() = row_basis_ * mu_;
+  out.multipliers.resize(row_basis_.rows());
+  small_product(row_basis_, mu_, out.multipliers);
   // The residual in a work vector: a product inside a larger expression would allocate. The
   // dual residual is that of the factorisations' substitutions, rounding, and is not formed
   // (QpSolution); a non-finite a (a = M⁻¹ f + M⁻¹ J_bᵀ μ) marks the solve failed.
-  primal_.noalias() = reduced_jac_ * out.acceleration;
+  primal_.resize(reduced_jac_.rows());
+  small_product(reduced_jac_, out.acceleration, primal_);
   out.primal_residual = primal_.size() ? (primal_ - projected_rhs_).cwiseAbs().maxCoeff() : 0.0;
   out.dual_residual = out.acceleration.allFinite() ? 0.0 : NAN;
   out.iterations = 0;
   out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
-  out.status = "direct";
+  if (out.status != "direct") out.status = "direct";
   // A later iterative step starts proxsuite afresh.
   qp_.reset();
   return out;
@@ -159,6 +163,10 @@ void ConstrainedQp::factorise(const Eigen::MatrixXd& mass, const Eigen::VectorXd
 bool ConstrainedQp::diagonal_change(const Eigen::MatrixXd& mass) {
   changed_.clear();
   if (direct_mass_.rows() != mass.rows() || direct_mass_.cols() != mass.cols()) return false;
+  // The same M (a constant one, taken once by the step): one pass over its entries.
+  if (std::memcmp(mass.data(), direct_mass_.data(), sizeof(double) * mass.size()) == 0) {
+    return true;  // bit for bit
+  }
   for (Eigen::Index j = 0; j < mass.cols(); ++j) {
     for (Eigen::Index i = 0; i < mass.rows(); ++i) {
       const double d = mass(i, j) - direct_mass_(i, j);

@@ -47,6 +47,9 @@ class Constraint {
   virtual Eigen::Index size() const = 0;
   // J (k × nv) and γ (k) at the state of the view (its mesh rows evaluated).
   virtual void rows(const StepView&, RowsBlock jac, ValuesBlock bias) const = 0;
+  // γ alone, J kept from the last rows() at the same angles (the step asks for J at its
+  // positions, then for γ once the speeds are projected).
+  virtual void biases(const StepView&, ValuesBlock bias) const = 0;
   // Whether J and γ are the same at every state (and for every λ): the stepper then asks for
   // them once.
   virtual bool constant_rows() const { return false; }

@@ -1,6 +1,10 @@
 // pinocchio::computeJointJacobians with a compliant bearing's slides placed directly
 // (joint_algorithms.hpp): the one instantiation of its joint step.
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
+#include <type_traits>
 
 #include <pinocchio/algorithm/jacobian.hpp>
 
@@ -27,10 +31,28 @@ void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
   // computeJointJacobians itself runs it; pyproject.toml pins pin < 5).
   using Pass = pinocchio::impl::JointJacobiansForwardStep<
       double, 0, pinocchio::JointCollectionDefaultTpl, Eigen::VectorXd, pinocchio::Data::Matrix6x>;
+  // A revolute joint about x, y or z (every joint of a gearbox but a compliant bearing's slides)
+  // runs the same step by its own type, without the joint variant's dispatch (a quarter of the
+  // step's cost per joint).
+  const auto typed = [&](const auto* joint, pinocchio::JointIndex i) {
+    using JointModel = std::decay_t<decltype(*joint)>;
+    auto& joint_data =
+        boost::get<typename JointModel::JointDataDerived>(data.joints[i].toVariant());
+    Pass::algo(*joint, joint_data, model, data, q, data.J);
+  };
   for (pinocchio::JointIndex i = 1; i < static_cast<pinocchio::JointIndex>(model.njoints); ++i) {
     const int axis = slide_axes[i];
     if (axis < 0) {
-      Pass::run(model.joints[i], data.joints[i], Pass::ArgsType(model, data, q, data.J));
+      const auto& joint = model.joints[i].toVariant();
+      if (const auto* rz = boost::get<pinocchio::JointModelRZ>(&joint)) {
+        typed(rz, i);
+      } else if (const auto* rx = boost::get<pinocchio::JointModelRX>(&joint)) {
+        typed(rx, i);
+      } else if (const auto* ry = boost::get<pinocchio::JointModelRY>(&joint)) {
+        typed(ry, i);
+      } else {
+        Pass::run(model.joints[i], data.joints[i], Pass::ArgsType(model, data, q, data.J));
+      }
       continue;
     }
     // The slide's pose in its parent is its placement moved by q along the axis; in the world,
@@ -51,6 +73,55 @@ void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
     column.head<3>() = data.oMi[i].rotation().col(axis);
     column.tail<3>().setZero();
   }
+}
+
+bool mass_is_constant(const pinocchio::Model& model, const std::vector<int>& slide_axes) {
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  if (nj < 2) return true;
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    const std::string kind = model.joints[i].shortname();
+    const bool revolute = kind == "JointModelRX" || kind == "JointModelRY" ||
+                          kind == "JointModelRZ" || kind == "JointModelRevoluteUnaligned";
+    if (!revolute || slide_axes[i] >= 0) return false;
+  }
+  pinocchio::Data data(model);
+  joint_jacobians(model, data, Eigen::VectorXd::Zero(model.nq), slide_axes);  // every q: 0
+  const Eigen::Vector3d k = data.J.col(model.idx_vs[1]).tail<3>().normalized();
+  double length = 0.0;
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    length = std::max({length, data.oMi[i].translation().norm(), model.inertias[i].lever().norm()});
+  }
+  const double tol = 64.0 * std::numeric_limits<double>::epsilon() * std::max(length, 1.0);
+  const auto perpendicular = [&](const Eigen::Vector3d& d) { return (d - d.dot(k) * k).norm(); };
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    const Eigen::Vector3d axis = data.J.col(model.idx_vs[i]).tail<3>();
+    if (axis.cross(k).norm() > tol) return false;  // k or −k: a turn about either is about k
+  }
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    if (model.inertias[i].mass() == 0.0) continue;
+    const Eigen::Vector3d centre = data.oMi[i].act(model.inertias[i].lever());
+    int levers = perpendicular(centre - data.oMi[i].translation()) > tol ? 1 : 0;
+    for (auto j = i; model.parents[j] > 0; j = model.parents[j]) {
+      const auto parent = model.parents[j];
+      if (perpendicular(data.oMi[j].translation() - data.oMi[parent].translation()) > tol) {
+        ++levers;
+      }
+    }
+    if (levers > 1) return false;
+  }
+  return true;
+}
+
+bool is_vector_space(const pinocchio::Model& model) {
+  for (pinocchio::JointIndex i = 1; i < static_cast<pinocchio::JointIndex>(model.njoints); ++i) {
+    const std::string kind = model.joints[i].shortname();
+    const bool plain = kind == "JointModelRX" || kind == "JointModelRY" || kind == "JointModelRZ" ||
+                       kind == "JointModelRevoluteUnaligned" || kind == "JointModelPX" ||
+                       kind == "JointModelPY" || kind == "JointModelPZ" ||
+                       kind == "JointModelPrismaticUnaligned";
+    if (!plain) return false;
+  }
+  return true;
 }
 
 }  // namespace pinwind

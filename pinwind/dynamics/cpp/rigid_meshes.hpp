@@ -15,6 +15,7 @@
 #include "mesh_path.hpp"
 #include "mesh_rows.hpp"
 #include "series.hpp"
+#include "small_products.hpp"
 
 namespace pinwind {
 
@@ -43,6 +44,10 @@ class RigidMeshes final : public Constraint {
     for (Eigen::Index r = 0; r < size(); ++r) {
       flank_row(s.meshes, s.rows, meshes_[r], flank_[r], jac.row(r), bias[r]);
     }
+  }
+
+  void biases(const StepView& s, ValuesBlock bias) const override {
+    for (Eigen::Index r = 0; r < size(); ++r) bias[r] = flank_bias(s.meshes, s.rows, meshes_[r], flank_[r]);
   }
 
   // With fixed axes the other flank's row is the opposite row and λ just flips sign;
@@ -102,12 +107,17 @@ class RigidMeshes final : public Constraint {
   void work(const StepView&, ConstRows jac, ConstValues lambda, const Eigen::VectorXd& dq,
             EnergyLedger& ledger) const override {
     if (!size()) return;
-    jv_.noalias() = jac * dq;
+    small_product(jac, dq, jv_);
     ledger.constraints += lambda.dot(jv_);
   }
 
   void advance(const StepView&, ConstRows jac, const Eigen::VectorXd& dq) override {
-    for (Eigen::Index r = 0; r < size(); ++r) te_[r] += jac.row(r).dot(dq);
+    // Σ_c J_rc dq_c in column order, as Eigen's dot of the strided row sums it.
+    for (Eigen::Index r = 0; r < size(); ++r) {
+      double s = jac(r, 0) * dq[0];
+      for (Eigen::Index c = 1; c < jac.cols(); ++c) s += jac(r, c) * dq[c];
+      te_[r] += s;
+    }
   }
 
  private:

@@ -34,6 +34,8 @@ class SpeedDrivers final : public Constraint {
     bias.setZero();
   }
 
+  void biases(const StepView&, ValuesBlock bias) const override { bias.setZero(); }
+
   bool constant_rows() const override { return true; }
 
   void targets(const StepView& s, ValuesBlock now, ValuesBlock next) const override {

@@ -130,8 +130,12 @@ class Stepper {
   RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target, const Outputs& out,
                 const RowMat& inputs, long stride = 1);
 
-  // Joint-space inertia at q (for checks against Pinocchio's own).
+  // Joint-space inertia at q (for checks against Pinocchio's own): always the full CRBA.
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q);
+
+  // Whether M(q) is the same at every q (mass_is_constant), so that the step takes it once,
+  // at its first assembly, instead of by CRBA at every step.
+  bool constant_mass() const { return constant_mass_; }
 
   // Moves the run's start q₀ to static equilibrium under the first sample's loads (torque:
   // (1, nv) applied torques at t = 0, target: (2, drivers) driver speeds at t₀ and t₁, inputs:
@@ -232,6 +236,10 @@ class Stepper {
   // data.f (the slides of a compliant bearing, not recorded, are not transformed).
   void joint_forces();
 
+  // Each body's inertia in world axes about the world origin, body_, from the placements of
+  // kinematics() (the bias forces and joint forces read them at every step).
+  void world_inertias();
+
   // Joint-space inertia M(q) from the placements and J of kinematics(), as Pinocchio's CRBA in
   // world convention computes it (composite inertias Y_i of each subtree in world,
   // M(i, j) = J_iᵀ Y_j J_j for j in the subtree of i, plus the armature), without CRBA's own
@@ -316,6 +324,9 @@ class Stepper {
   ConstrainedQp qp_;
   std::vector<Eigen::Index> offset_, size_;  // each constraint's first row and row count
   std::vector<size_t> varying_;  // the constraints whose rows depend on the state
+  bool constant_mass_ = false;  // M(q) does not depend on q (mass_is_constant)
+  bool vector_space_ = false;   // every joint's configuration is its coordinate (q ⊕ dq = q + dq)
+  std::vector<bool> frame_at_joint_;  // body frames whose placement in their joint is identity
   GeneralizedAlpha method_;
   StepWeights weights_;
   bool first_step_ = true;

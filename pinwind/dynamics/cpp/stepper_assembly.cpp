@@ -59,6 +59,12 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
   rot_.resize(s_.meshes.joint_ids.size());
   fext_.of_joint.assign(s_.model.njoints, pinocchio::Force::Zero());
   slide_axes_ = slide_axes(s_.model);
+  constant_mass_ = mass_is_constant(s_.model, slide_axes_);
+  vector_space_ = is_vector_space(s_.model);
+  for (const auto& placement : s_.frame_placement) {
+    frame_at_joint_.push_back(placement.rotation().isIdentity(0.0) &&
+                              placement.translation().isZero(0.0));
+  }
   for (const auto& inertia : s_.model.inertias) {
     massless_.push_back(inertia.mass() == 0.0 && inertia.inertia().data().isZero(0.0));
   }

@@ -238,6 +238,8 @@ class PyStepper {
 
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
+  bool constant_mass() const { return stepper_->constant_mass(); }
+
   EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
                                 long max_iterations, double tolerance) {
     const long nv = counts_[static_cast<size_t>(Family::joint)];
@@ -406,6 +408,9 @@ void bind_stepper(nb::module_& m) {
            "Moves the start to static equilibrium under the first sample's loads.")
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].")
+      .def_prop_ro("constant_mass", &PyStepper::constant_mass,
+                   "Whether M(q) is the same at every q (joint_algorithms.hpp mass_is_constant): "
+                   "the step then takes it once instead of by CRBA at every step.")
       .def("assemble", &PyStepper::assemble, "q"_a, "v"_a,
            "M, b, J and γ of the step at (q, v), with the rows' current flanks.")
       .def("element_forces", &PyStepper::element_forces, "q"_a, "v"_a,

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "joint_algorithms.hpp"
+#include "small_products.hpp"
 #include "stepper.hpp"
 
 namespace pinwind {
@@ -46,9 +47,13 @@ RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& tar
 }
 
 Eigen::MatrixXd Stepper::mass_matrix(const Eigen::VectorXd& q) {
+  // Always the full CRBA at q (the checks compare it with Pinocchio's), the step's M kept.
+  const Eigen::MatrixXd kept = mass_;
   joint_jacobians(s_.model, data_, q, slide_axes_);
   mass_from_jacobian();
-  return mass_;
+  Eigen::MatrixXd out = mass_;
+  mass_ = kept;
+  return out;
 }
 
 void Stepper::targets() {
@@ -160,15 +165,20 @@ void Stepper::joint_forces() {
   }
 }
 
+void Stepper::world_inertias() {
+  const auto& model = s_.model;
+  const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
+  body_.resize(nj);
+  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    body_[i] = massless_[i] ? pinocchio::Inertia::Zero() : data_.oMi[i].act(model.inertias[i]);
+  }
+}
+
 void Stepper::mass_from_jacobian() {
   const auto& model = s_.model;
   const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
-  composite_.resize(nj);
-  body_.resize(nj);
-  for (pinocchio::JointIndex i = 1; i < nj; ++i) {
-    body_[i] = composite_[i] =
-        massless_[i] ? pinocchio::Inertia::Zero() : data_.oMi[i].act(model.inertias[i]);
-  }
+  world_inertias();
+  composite_.assign(body_.begin(), body_.end());
   mass_.setZero(nv_, nv_);
   momenta_.resize(6, nv_);
   for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
@@ -218,7 +228,7 @@ void Stepper::constraint_matrix() {
 
 double Stepper::residual() {
   if (!rows_) return 0.0;
-  jv_.noalias() = jac_ * v_;
+  small_product(jac_, v_, jv_);
   return (jv_ - target_now_).cwiseAbs().maxCoeff();
 }
 
@@ -281,13 +291,18 @@ const QpSolution* Stepper::solve_qp(long k, double t, RunStatus& st) {
 
 void Stepper::assemble_positions() {
   kinematics();
-  mass_from_jacobian();
+  if (constant_mass_ && mass_.rows() == nv_) {
+    world_inertias();
+  } else {
+    mass_from_jacobian();
+  }
   constraint_matrix();
 }
 
 void Stepper::assemble_velocities() {
   velocity_kinematics();
-  constraint_matrix();
+  const StepView sv = view();
+  for (const size_t c : varying_) constraints_[c]->biases(sv, rows_of(bias_, c));
   bias_forces();
 }
 
@@ -412,14 +427,15 @@ void Stepper::record(long k, double t) {
   const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
   for (Eigen::Index b = 0; b < nb; ++b) {
     // Each link is rigid on a joint: its pose is the joint's placement times a constant one.
-    const pinocchio::SE3 pose = data_.oMi[s_.frame_parent[b]] * s_.frame_placement[b];
+    const pinocchio::SE3& joint = data_.oMi[s_.frame_parent[b]];
+    const pinocchio::SE3 pose = frame_at_joint_[b] ? joint : joint * s_.frame_placement[b];
     const long e = out_.entry(Family::body, k, b);
     vec3(Series::body_position, e) = pose.translation();
     const Eigen::Quaterniond quat(pose.rotation());
     Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, e)) = quat.coeffs();
   }
   out_.at(Series::constraint_residual, k) = residual_;
-  mv_.noalias() = mass_ * v_;
+  small_product(mass_, v_, mv_);
   out_.at(Series::kinetic, k) = 0.5 * v_.dot(mv_);
   double potential = 0.0;
   for (const auto& e : elements_) potential += e->potential(sv);
@@ -472,8 +488,12 @@ void Stepper::advance() {
   for (auto& e : elements_) e->advance(sv, v_next_);
   // a_{n+1} = (ā − (1 − γ) a_n)/γ.
   accel_memory_ = (a_ - (1.0 - method_.gamma) * accel_memory_) / method_.gamma;
-  integrate(s_.model, q_, dq_, q_next_);
-  q_ = q_next_;
+  if (vector_space_) {
+    q_ += dq_;  // every joint a plain coordinate: Pinocchio's integrate is q + dq
+  } else {
+    integrate(s_.model, q_, dq_, q_next_);
+    q_ = q_next_;
+  }
   v_ = v_next_;
 }
 
