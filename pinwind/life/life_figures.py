@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from pinwind.io.figure_layout import caption_below
+from pinwind.io.figure_layout import save_with_caption
 from pinwind.life.bearing_life import BearingLife
 from pinwind.life.damage_ranking import RankedItem
 from pinwind.life.load_spectrum import LoadSpectrum
@@ -289,21 +289,5 @@ def plot_damage_ranking(items: list[RankedItem], path: Path, *, title: str) -> P
 
 
 def _save(fig: Any, path: Path, *, caption: str, mark: str = "") -> Path:
-    """Writes a figure at 120 dpi with its caption under the axes, making its folder; closes it.
-
-    ``mark`` is the figure's title (above the axes' own), e.g. that it is a quick set's. The
-    figure is laid out by its constrained layout (``io/figure_layout.py``): legends beside the
-    axes are kept on the page, and the caption under them. Both are also the PNG's Description
-    and Title.
-    """
-    import matplotlib.pyplot as plt
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if mark:
-        fig.suptitle(mark, fontsize=11, x=0.02, ha="left")
-    caption_below(fig, caption)
-    metadata = {"Description": caption} | ({"Title": mark} if mark else {})
-    fig.savefig(path, dpi=120, metadata=metadata)
-    plt.close(fig)
-    return path
+    """Writes a figure with its caption and mark (`figure_layout.save_with_caption`)."""
+    return Path(save_with_caption(fig, path, caption=caption, mark=mark))
