@@ -725,6 +725,13 @@ class ExportFailed(OutputFailed):
     )
 
 
+class FmuExportFailed(OutputFailed):
+    """An FMU could not be written (``pinwind fmu``): PythonFMU missing or failing."""
+
+    what = "the FMU"
+    advice = "install the fmi extra (pip install 'pinwind[fmi]') and give a writable path"
+
+
 class FigureFailed(OutputFailed):
     """A figure could not be written (``pinwind plot``); no partial file is left at its path."""
 

@@ -251,7 +251,8 @@ class Session:
         for s in res.schema.series:
             if s.name in DEFAULT_OUTPUT_SERIES:
                 names += [f"{s.name}.{e}" for e in res.names(s.family)]
-        return names
+        # an input's own value is not also an output (torque.JOINT is both a series and an input)
+        return [n for n in names if n not in self.input_names]
 
     @property
     def available_outputs(self) -> dict[str, str]:
@@ -276,6 +277,11 @@ class Session:
 
     def _output_getter(self, name: str):
         available = self.available_outputs
+        if name in self.input_names:
+            raise InputError(
+                f'"{name}" is an input of the session; an output of the same name would carry '
+                "the input's own value: leave it out of the outputs"
+            )
         if name not in available:
             raise UnknownSessionName("output", name, list(available))
         parts = name.split(".")
