@@ -106,3 +106,20 @@ def test_a_bad_input_gives_fmis_error_status_with_the_message_in_the_log(pair_fm
     log = capfd.readouterr().out
     assert "StepNotOnGrid" in log and "4.5 steps" in log, log
     slave.freeInstance()
+
+
+def test_pinwind_fmu_writes_the_unit_and_refuses_an_unknown_input_with_exit_code_2(tmp_path):
+    import subprocess
+    import sys
+
+    model = tmp_path / "pair.urdf"
+    model.write_text(two_gear_urdf())
+    command = [sys.executable, "-m", "pinwind", "fmu", str(model), "-o", str(tmp_path / "p.fmu")]
+    done = subprocess.run([*command, "--inputs", "torque.c"], capture_output=True, text=True)
+    assert done.returncode == 2
+    assert 'unknown input "torque.c"' in done.stderr and "torque.a" in done.stderr
+    done = subprocess.run([*command, "--inputs", "torque.a", "--outputs", "speed.b"],
+                          capture_output=True, text=True)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    names = {v.name for v in fmpy.read_model_description(str(tmp_path / "p.fmu")).modelVariables}
+    assert names == {"torque.a", "speed.b"}
