@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
 from pythonfmu.enums import Fmi2Status
@@ -25,12 +26,13 @@ class PinwindGearbox(Fmi2Slave):
     author = "pinwind"
     description = "pinwind gearbox (multibody drivetrain) as an FMI 2.0 co-simulation unit"
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         resources = Path(kwargs.get("resources") or ".")
         self.config = json.loads((resources / CONFIG).read_text())
         self.resources = resources
-        self.session = None
+        self.session: Any = None
+        self.stop_time: float | None = None
         self.values: dict[str, float] = {}
         for name, spec in self.config["inputs"].items():
             self.values[name] = float(spec["start"])
@@ -55,12 +57,18 @@ class PinwindGearbox(Fmi2Slave):
             setter=put if causality == Fmi2Causality.input else None,
         )
 
+    def setup_experiment(self, start_time: float, stop_time: float | None, tolerance: Any) -> None:
+        """Keeps the master's stop time [s]: the session's duration (the FMU's own without)."""
+        self.stop_time = stop_time
+
     def exit_initialization_mode(self):
         """Opens the session: the scenario's run prepared, sample 0 recorded."""
         try:
             from pinwind.runs.fmu_export import open_session
 
-            self.session = open_session(self.resources, self.config, self.values)
+            self.session = open_session(
+                self.resources, self.config, self.values, duration=self.stop_time
+            )
             self.values.update(self.session.outputs())
         except Exception as err:  # the master gets FMI's error status and this message
             self.log(f"pinwind: {type(err).__name__}: {err}", Fmi2Status.error)

@@ -237,11 +237,9 @@ class Session:
                 wind = held
         scenario = dataclasses.replace(s, torques=torques, speeds=speeds, wind=wind)
         train = scenario.drivetrain(self.gearbox)
-        settings = RunSettings(
-            keep="last",
-            initial_deflection=s.initial_deflection,
-            **({"integrator": s.integrator} if s.integrator is not None else {}),
-        )
+        settings = RunSettings(keep="last", initial_deflection=s.initial_deflection)
+        if s.integrator is not None:
+            settings = dataclasses.replace(settings, integrator=s.integrator)
         metadata = {"session": {"inputs": self.input_names, "start": dict(self._start)}}
         return prepare(train, duration=s.duration, dt=self.dt, settings=settings, metadata=metadata)
 
