@@ -74,7 +74,7 @@ def test_the_fmu_under_fmpy_equals_the_session_at_every_communication_point(pair
     slave.enterInitializationMode()
     slave.setReal([refs["torque.a"], refs["torque.b"]], [1.0, 2.0])
     slave.exitInitializationMode()
-    names = ["speed.a", "angle.b", "mesh_normal.m", "bearing_radial.a"]
+    names = ["speed.a", "angle.b", "mesh_normal.m", "bearing_force.a.y"]
     got = []
     for i in range(8):
         slave.setReal([refs["torque.a"], refs["torque.b"]], list(u[i]))
