@@ -30,6 +30,7 @@ from pinwind.runs.scenario import Scenario
 from pinwind.runs.session import Session
 
 MODEL = Path(__file__).resolve().parent.parent / "models" / "saleh2017_planetary.urdf"
+SCENARIO = Path(__file__).resolve().parent.parent / "scenarios" / "saleh2017_drivetrain.toml"
 DT = 1e-3
 TORQUES = {"carrier": 1e6, "sun": -1e6 / 6}
 
@@ -65,7 +66,8 @@ def main(argv: list[str] | None = None) -> None:
         if not args.no_fmu:
             fmu_s.append(_fmu_time(args.points, h, duration, inputs))
     per = 1e6 / args.points
-    print(f"{args.points} points of {args.steps} steps (dt = {DT:g} s), best of {args.repeats}")
+    print(f"planetary stage: {args.points} points of {args.steps} steps (dt = {DT:g} s), "
+          f"best of {args.repeats}")  # fmt: skip
     print(f"simulate end to end   {min(whole) * per:9.1f} µs per point")
     print(f"simulate step loop    {min(loop) * per:9.1f} µs per point")
     print(f"session advance       {min(session_s) * per:9.1f} µs per point "
@@ -73,6 +75,33 @@ def main(argv: list[str] | None = None) -> None:
           f"{min(session_s) / min(whole) - 1:+.1%} beside simulate end to end)")  # fmt: skip
     if fmu_s:
         print(f"FMU under FMPy        {min(fmu_s) * per:9.1f} µs per point")
+    _drivetrain(args.points, args.steps, args.repeats)
+
+
+def _drivetrain(points: int, steps: int, repeats: int) -> None:
+    """The same for Saleh 2017's drivetrain scenario (rotor, two stages, generator), wind held."""
+    from pinwind.runs.scenario import load_scenario
+
+    h = steps * DT
+    scenario = load_scenario(SCENARIO, changes={"duration": points * h, "wind": 10.0})
+    gearbox = scenario.load_model()
+    loop, session_s = [], []
+    for _ in range(repeats):
+        run = prepare(scenario.drivetrain(gearbox), duration=scenario.duration, dt=DT,
+                      settings=RunSettings(keep="last"))  # fmt: skip
+        started = time.perf_counter()
+        run.run()
+        loop.append(time.perf_counter() - started)
+        session = Session(gearbox, scenario, inputs=["wind"], start={"wind": 10.0})
+        started = time.perf_counter()
+        for i in range(points):
+            session.advance((i + 1) * h, {"wind": 10.0})
+        session_s.append(time.perf_counter() - started)
+    per = 1e6 / points
+    print(
+        f"drivetrain scenario (wind held): step loop {min(loop) * per:.1f} µs, session "
+        f"{min(session_s) * per:.1f} µs per point ({min(session_s) / min(loop) - 1:+.1%})"
+    )
 
 
 def _fmu_time(points: int, h: float, duration: float, inputs: dict[str, float]) -> float:

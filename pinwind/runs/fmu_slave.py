@@ -4,7 +4,8 @@ PythonFMU (``pythonfmu``) runs this class inside the FMU's binary: it needs the 
 environment pinwind is installed in (the master's process imports ``pinwind``; docs/coupling.md).
 The FMU's resources hold ``pinwind_fmu.json`` (the model file, the scenario file, the inputs and
 outputs with their units) written by ``fmu_export.export_fmu``. Each ``do_step`` is one
-``Session.advance``; a pinwind error becomes FMI's error status with its message in the log.
+``Session.advance``; a pinwind error refuses the step (fmi2Discard: PythonFMU's do_step returns
+a bool) with its message in the FMU's log (category logStatusError), and the unit goes on.
 """
 
 from __future__ import annotations
@@ -80,6 +81,9 @@ class PinwindGearbox(Fmi2Slave):
             inputs = {n: self.values[n] for n in self.config["inputs"]}
             self.values.update(self.session.advance(current_time + step_size, inputs))
         except Exception as err:
+            # PythonFMU returns fmi2Discard for False (and fmi2Fatal, the unit unusable, for an
+            # exception): the step is refused, the message logged with fmi2Error's category, and
+            # the session stays where it was, so that the master may go on.
             self.log(f"pinwind: {type(err).__name__}: {err}", Fmi2Status.error)
             return False
         return True
@@ -88,3 +92,4 @@ class PinwindGearbox(Fmi2Slave):
         """Closes the session (and its log)."""
         if self.session is not None:
             self.session.close()
+            self.session = None  # the compiled stepper freed with the instance
