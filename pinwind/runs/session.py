@@ -470,11 +470,21 @@ class Session:
         self._log_block = None
         self._log_rows = 0
 
-    def close(self, status: str = "completed") -> dict[str, Any]:
-        """Logs the last samples and closes the log; returns the run's metadata."""
+    def close(self, status: str | None = None) -> dict[str, Any]:
+        """Logs the last samples and closes the log; returns the run's metadata.
+
+        ``status`` is what the log's end record says: by default ``"completed"`` at the
+        scenario's end, else that the master closed the session and when.
+        """
         if self.closed:
             return self._run.result.metadata
         self.closed = True
+        if status is None:
+            status = (
+                "completed"
+                if self._sample == self._run.samples
+                else (f"closed by the master at t = {self.time:.10g} s")
+            )
         if self._observers:
             self._commit()
             self._flush()
@@ -487,7 +497,7 @@ class Session:
         return self
 
     def __exit__(self, kind, err, tb) -> None:
-        self.close("completed" if err is None else f"stopped at t = {self.time:g} s: {err}")
+        self.close(None if err is None else f"stopped at t = {self.time:.10g} s: {err}")
 
 
 def _derive_last(block: Result, gearbox: Gearbox, derived: list) -> None:

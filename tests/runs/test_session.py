@@ -123,19 +123,30 @@ def test_bad_inputs_raise_one_error_naming_the_value(pair):
 
 
 def test_a_session_log_reads_back_as_the_run(pair, tmp_path):
-    scenario = Scenario(duration=0.05, dt=DT)
+    """40 points of 30 steps: 1201 samples, the log's 1000-sample chunk split inside a point."""
+    points, h = 40, 30 * DT
+    scenario = Scenario(duration=points * h, dt=DT)
     path = tmp_path / "session.mcap"
-    u = _inputs(3, 5)
+    u = _inputs(3, points)
     with Session(pair, scenario, inputs=["torque.a", "torque.b"], log=path,
                  start=START) as session:  # fmt: skip
         outs = []
-        for i in range(5):
-            outs.append(session.advance((i + 1) * H, {"torque.a": u[i, 0], "torque.b": u[i, 1]}))
+        for i in range(points):
+            outs.append(session.advance((i + 1) * h, {"torque.a": u[i, 0], "torque.b": u[i, 1]}))
             if i == 2:
                 saved = session.state()
+            if i == 10:  # the state before the last step: its samples are not logged yet
+                before = session.state()
+                repeat = session.advance((i + 2) * h, {"torque.a": 5.0})
+                session.restore(before)
+                assert repeat != session.outputs()
         with pytest.raises(RestoreBeyondLog, match="already holds"):
             session.restore(saved)
     res = pinwind.read_log(path)
-    assert len(res) == 51
-    np.testing.assert_allclose(res.joint("a").speed[10::10], [o["speed.a"] for o in outs],
+    assert len(res) == points * 30 + 1
+    np.testing.assert_allclose(res.time, np.arange(len(res)) * DT, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.joint("a").speed[30::30], [o["speed.a"] for o in outs],
                                rtol=0, atol=0)  # fmt: skip
+    np.testing.assert_allclose(res.mesh("m").normal[30::30], [o["mesh_normal.m"] for o in outs],
+                               rtol=0, atol=0)  # fmt: skip
+    assert res.metadata["status"] == "completed"
