@@ -57,7 +57,8 @@ from pinwind.errors import (
     StepNotOnGrid,
     UnknownSessionName,
 )
-from pinwind.loads.signals import Signal
+from pinwind.loads.inputs import JointLoad
+from pinwind.loads.signals import Constant, Signal
 from pinwind.model.gearbox import Gearbox
 from pinwind.runs.scenario import Scenario
 
@@ -255,6 +256,7 @@ class Session:
         settings = RunSettings(keep="last", initial_deflection=s.initial_deflection)
         if s.integrator is not None:
             settings = dataclasses.replace(settings, integrator=s.integrator)
+        self._plan = _plan(train.torques, train.rows)
         metadata = {"session": {"inputs": self.input_names, "start": dict(self._start)}}
         return prepare(train, duration=s.duration, dt=self.dt, settings=settings, metadata=metadata)
 
@@ -326,7 +328,7 @@ class Session:
         block = self._buffers.get(stop - start)
         if block is None:
             block = self._buffers[stop - start] = run._block(stop - start)
-        outcome = run.step_block(start, stop, block)
+        outcome = run.step_block(start, stop, block, held=self._held_rows())
         if outcome.error is not None:
             self._sample = outcome.done
             raise outcome.error
@@ -339,6 +341,20 @@ class Session:
         elif self._derived:  # the outputs' series computed in Python: at the last sample only
             _derive_last(block, run.gearbox, self._derived)
         return block
+
+    def _held_rows(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The applied torques (nv,) and driver speeds when every load is held or constant.
+
+        None when a load is another signal of time: ``step_block`` then evaluates them all.
+        """
+        if self._plan is None:
+            return None
+        torque_plan, driver_plan = self._plan
+        torque = np.zeros(self.gearbox.model.nv)
+        for index, value in torque_plan:
+            torque[index] += value.value if isinstance(value, HeldInput) else value
+        target = np.array([v.value if isinstance(v, HeldInput) else v for v in driver_plan])
+        return torque, target
 
     def advance(self, t_next: float, inputs: Mapping[str, float] | None = None) -> dict[str, float]:
         """Steps to ``t_next`` [s] with ``inputs`` (name → value, SI) held since the last time.
@@ -498,6 +514,29 @@ class Session:
 
     def __exit__(self, kind, err, tb) -> None:
         self.close(None if err is None else f"stopped at t = {self.time:.10g} s: {err}")
+
+
+def _constant(signal: Any) -> HeldInput | float | None:
+    """A held input, or a load's constant value [SI], or None for a signal of time."""
+    if isinstance(signal, HeldInput):
+        return signal
+    if isinstance(signal, Constant):
+        return float(signal.value)
+    if isinstance(signal, (int, float)) and not isinstance(signal, bool):
+        return float(signal)
+    return None
+
+
+def _plan(torques: Sequence[JointLoad], rows: Sequence[JointLoad]):
+    """Each torque's (velocity index, held input or value) and each row's, or None.
+
+    None when one load is a signal of time other than a held input or a constant.
+    """
+    torque_plan = [(ld.v_index, _constant(ld.signal)) for ld in torques]
+    driver_plan = [_constant(ld.signal) for ld in rows]
+    if any(v is None for _, v in torque_plan) or any(v is None for v in driver_plan):
+        return None
+    return torque_plan, driver_plan
 
 
 def _derive_last(block: Result, gearbox: Gearbox, derived: list) -> None:
