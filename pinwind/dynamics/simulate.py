@@ -656,9 +656,10 @@ class PreparedRun:
         checks the speeds it recorded (``MAX_PLAUSIBLE_SPEED``). The samples before
         ``BlockOutcome.done`` are final whatever happened.
 
-        ``held`` gives the applied joint torques (nv,) [N·m] and the driver speeds (rows,)
-        [rad/s] instead, when the caller knows them constant over the block and finite (a
-        session's held inputs, ``runs/session.py``): the values every signal would give.
+        ``held`` gives the applied joint torques (nv,) [N·m], constant over the block, and the
+        driver speeds at t_start … t_stop (stop − start + 1, rows) [rad/s] instead, when the
+        caller knows them and they are finite (a session's held inputs, ``runs/session.py``):
+        the values every signal would give.
         """
         dt, gearbox = self.dt, self.gearbox
         nv = gearbox.model.nv
@@ -667,7 +668,7 @@ class PreparedRun:
         if held is not None:
             torque = from_ground(gearbox, roll_share(gearbox), held[0][None, :])
             torque = np.broadcast_to(torque, (stop - start, nv))
-            target = np.broadcast_to(held[1], (stop - start + 1, len(held[1])))
+            target = held[1]
         else:
             drivers, torque_loads = self.train.rows, self.train.torques
             torque, bad_torque = _signal_table(

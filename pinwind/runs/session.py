@@ -14,9 +14,11 @@ k_next: the state at t_next, and the forces at t_next under u. It equals ``simul
 the input signal u_i on (t_{i−1}, t_i] (value at t_0 the start value) at every sample.
 
 Inputs are ``torque.JOINT`` [N·m] (replacing the scenario's torque on that joint),
-``speed.JOINT`` [rad/s] (a speed driver; the step asks for the change of a driver's speed over
-the step, which the held signal does not know ahead: a held speed differs from ``simulate``'s
-piecewise-constant speed by the jump's acceleration over one step) and ``wind`` [m/s] (the rotors').
+``speed.JOINT`` [rad/s] (a speed driver) and ``wind`` [m/s] (the rotors'). A step asks for a
+driver's speed at its end, which the master has not given yet at a communication point: a held
+speed u applies one sample later than a torque, from sample k_prev + 2 (the step from k_prev + 1
+takes the driver from the old speed to u), and equals ``simulate`` with u on
+(t_{i−1} + dt, t_i + dt] (tested).
 A communication step must be a whole number of internal steps dt (``StepNotOnGrid`` names the
 nearest ones).
 
@@ -87,17 +89,32 @@ LOG_CHUNK = 1000
 class HeldInput(Signal):
     """A value held until it is set again: a session's open input (piecewise constant).
 
-    ``values`` gives the value set last at every time asked; the session sets it before it
-    steps the samples it holds over.
+    ``values`` gives ``previous`` at the samples before ``since`` and ``value`` from it on;
+    the session sets them (``hold``) before it steps the samples it holds over.
+
+    Args:
+        name: the input's name.
+        value: its start value [SI].
+        dt: the run's step [s]: times are read as samples k = t / dt.
+        delay: samples after a communication step's first one at which a new value applies
+            (1 for a speed driver: its step asks for the speed at the step's end).
     """
 
-    def __init__(self, name: str, value: float):
+    def __init__(self, name: str, value: float, *, dt: float, delay: int = 0):
         self.name = name
-        self.value = float(value)
+        self.value = self.previous = float(value)
+        self.since = 0
+        self.dt = dt
+        self.delay = delay
+
+    def hold(self, value: float, first: int) -> None:
+        """Holds ``value`` from sample ``first`` (+ ``delay``); the samples before keep theirs."""
+        self.previous, self.value, self.since = self.value, float(value), first + self.delay
 
     def values(self, t: np.ndarray) -> np.ndarray:
-        """The held value at every time [the input's unit]."""
-        return np.full(np.shape(t), self.value)
+        """The held value at each time [the input's unit]."""
+        k = np.rint(np.asarray(t, dtype=float) / self.dt)
+        return np.where(k >= self.since, self.value, self.previous)
 
     def spec(self) -> dict[str, Any]:
         """``{"type": "held", "input": name}``: set by the master, not a formula."""
@@ -173,7 +190,7 @@ class Session:
             (n, _finite(n, given.get(n, self._scenario_value(n)))) for n in self.input_names
         )
         self._history: list[tuple[int, tuple[tuple[str, float], ...]]] = []
-        self._held = {n: HeldInput(n, v) for n, v in self._start}
+        self._held = self._held_inputs()
         self._run = self._prepare()
         self.output_names = list(outputs) if outputs is not None else self._default_outputs()
         self._outputs = [self._output_getter(n) for n in self.output_names]
@@ -226,6 +243,13 @@ class Session:
         for name in self.input_names:
             if name not in choices:
                 raise UnknownSessionName("input", name, choices)
+
+    def _held_inputs(self) -> dict[str, HeldInput]:
+        """The open inputs at their start values (a speed's new value one sample later)."""
+        return {
+            n: HeldInput(n, v, dt=self.dt, delay=1 if n.startswith("speed.") else 0)
+            for n, v in self._start
+        }
 
     def _scenario_value(self, name: str) -> float:
         kind, _, joint = name.partition(".")
@@ -328,7 +352,7 @@ class Session:
         block = self._buffers.get(stop - start)
         if block is None:
             block = self._buffers[stop - start] = run._block(stop - start)
-        outcome = run.step_block(start, stop, block, held=self._held_rows())
+        outcome = run.step_block(start, stop, block, held=self._held_rows(start, stop))
         if outcome.error is not None:
             self._sample = outcome.done
             raise outcome.error
@@ -342,10 +366,11 @@ class Session:
             _derive_last(block, run.gearbox, self._derived)
         return block
 
-    def _held_rows(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """The applied torques (nv,) and driver speeds when every load is held or constant.
+    def _held_rows(self, start: int, stop: int) -> tuple[np.ndarray, np.ndarray] | None:
+        """The held torques (nv,) and driver speeds (start … stop, rows), or None.
 
-        None when a load is another signal of time: ``step_block`` then evaluates them all.
+        Given when every load is held or constant (the torques constant over the block); None
+        when a load is another signal of time: ``step_block`` then evaluates them all.
         """
         if self._plan is None:
             return None
@@ -353,7 +378,14 @@ class Session:
         torque = np.zeros(self.gearbox.model.nv)
         for index, value in torque_plan:
             torque[index] += value.value if isinstance(value, HeldInput) else value
-        target = np.array([v.value if isinstance(v, HeldInput) else v for v in driver_plan])
+        rows = stop - start + 1
+        target = np.empty((rows, len(driver_plan)))
+        for i, v in enumerate(driver_plan):
+            if isinstance(v, HeldInput):  # its new value from sample v.since on
+                target[:, i] = v.value
+                target[: max(0, min(rows, v.since - start)), i] = v.previous
+            else:
+                target[:, i] = v
         return torque, target
 
     def advance(self, t_next: float, inputs: Mapping[str, float] | None = None) -> dict[str, float]:
@@ -376,9 +408,9 @@ class Session:
                 raise UnknownSessionName("input", name, self.input_names)
             values[name] = _finite(name, value)
         k_next = self._sample_of(t_next)
-        for name, value in values.items():
-            self._held[name].value = value
-        held = tuple((n, h.value) for n, h in self._held.items())
+        held = tuple((n, values.get(n, h.value)) for n, h in self._held.items())
+        for name, value in held:
+            self._held[name].hold(value, self._sample)
         self._last = self._step(self._sample, k_next + 1)
         self._history.append((k_next, held))
         return self.outputs()
@@ -433,8 +465,7 @@ class Session:
             )
         if self._pending is not None and self._pending[0] >= state.sample:
             self._pending = None
-        for name, value in state.start:
-            self._held[name].value = value
+        self._held = self._held_inputs()
         self._run = self._prepare()
         self._spring0 = None
         observers, self._observers = self._observers, []  # the replay is not logged again
@@ -442,7 +473,7 @@ class Session:
             self._last = self._step(0, 1)
             for k_next, held in state.history:
                 for name, value in held:
-                    self._held[name].value = value
+                    self._held[name].hold(value, self._sample)
                 self._last = self._step(self._sample, k_next + 1)
         finally:
             self._observers = observers

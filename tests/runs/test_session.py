@@ -68,6 +68,39 @@ def test_session_with_held_torques_equals_simulate_with_piecewise_constant_torqu
         assert "torque.a" not in out  # an input is not also an output
 
 
+@pytest.mark.parametrize("ramp_on_b", [True, False])
+def test_a_held_speed_equals_simulate_with_the_speed_one_sample_later(pair, ramp_on_b):
+    """A speed input u_i holds from sample k_prev + 2 (its first step ramps to it).
+
+    Speed driver on a; on b a ramp torque from the scenario (a signal of time: the session
+    evaluates the signals) or a constant one (the held values handed to the step as they are):
+    equal to ``simulate`` with the speed u_i on samples i n + 2 … (i + 1) n + 1 at every
+    point, the driver's torque included.
+    """
+    from pinwind.loads.signals import Ramp
+
+    points, n = 10, 10
+    rng = np.random.default_rng(5)
+    u = rng.uniform(5.0, 15.0, points)
+    ramp = Ramp(start_value=0.5, end_value=2.0, start_time=0.0, end_time=points * H)
+    ramp = ramp if ramp_on_b else 0.8
+    scenario = Scenario(duration=points * H, dt=DT, torques={"b": ramp})
+    session = Session(pair, scenario, inputs=["speed.a"], start={"speed.a": 10.0})
+    seen = [session.advance((i + 1) * H, {"speed.a": u[i]}) for i in range(points)]
+
+    def speed(t: float) -> float:
+        k = round(t / DT)
+        return 10.0 if k <= 1 else float(u[(k - 2) // n])
+
+    res = simulate(pair, duration=points * H, dt=DT, speeds={"a": speed}, torques={"b": ramp},
+                   initial_speeds={"a": 10.0}, keep="all")  # fmt: skip
+    for i, out in enumerate(seen):
+        k = (i + 1) * n
+        np.testing.assert_allclose(out["torque.a"], res.joint("a").torque[k], rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(out["speed.b"], res.joint("b").speed[k], rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(out["speed.b"], -0.5 * u[i], rtol=1e-12)  # held, by the ratio
+
+
 def test_held_torques_accelerate_the_pair_as_the_hand_calculation_says(pair):
     """ω_a(t_k) = Σ_j (T_a + T_b ω_b/ω_a)(t_j) dt / J_eq over steps j < k (rigid 20/40 pair).
 
