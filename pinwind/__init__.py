@@ -20,9 +20,19 @@ if TYPE_CHECKING:
     from pinwind.io.log_reader import read_log
     from pinwind.model.gearbox import Gearbox, load
     from pinwind.runs.run import simulate
+    from pinwind.runs.session import Session
 else:
     __getattr__, __dir__ = lazy_exports(__name__)
 
 __version__ = "0.1.0"
 
-__all__ = ["Gearbox", "PinwindError", "Result", "__version__", "load", "read_log", "simulate"]
+__all__ = [
+    "Gearbox",
+    "PinwindError",
+    "Result",
+    "Session",
+    "__version__",
+    "load",
+    "read_log",
+    "simulate",
+]

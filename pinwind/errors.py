@@ -7,6 +7,7 @@ fix it. Library errors (XML parser, Pinocchio, proxsuite, mcap, rerun) are wrapp
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 
 from pinwind.known_names import nearest, unknown_message
@@ -262,6 +263,62 @@ class UnknownElement(InputError):
 
 class NonFiniteInput(InputError):
     """A run input is NaN or infinite."""
+
+
+class UnknownSessionName(InputError):
+    """A session's input, output or start value names what the model does not have."""
+
+    def __init__(self, kind: str, name: str, known: Iterable[str]):
+        self.kind = kind
+        self.name = name
+        self.known = list(known)
+        listed = ", ".join(self.known[:40]) + (", ..." if len(self.known) > 40 else "")
+        like = nearest(name, self.known)
+        hint = f' (did you mean "{like}"?)' if like else ""
+        super().__init__(
+            f'unknown {kind} "{name}"{hint}; the session\'s {kind}s are: {listed or "(none)"}'
+        )
+
+
+class StepNotOnGrid(InputError):
+    """A communication point that is not a later whole number of internal steps dt."""
+
+    def __init__(self, t_next: float, t_last: float, dt: float, duration: float):
+        self.t_next = t_next
+        self.t_last = t_last
+        self.dt = dt
+        self.duration = duration
+        steps = (t_next - t_last) / dt
+        super().__init__(
+            f"cannot advance to t = {t_next:.10g} s from t = {t_last:.10g} s: a communication "
+            f"step must be a positive whole number of internal steps dt = {dt:g} s (this one is "
+            f"{steps:.6g} steps) and end by the scenario's duration {duration:g} s; the nearest "
+            f"valid times are {t_last + max(1, math.floor(steps)) * dt:.10g} s and "
+            f"{t_last + max(1, math.ceil(steps)) * dt:.10g} s"
+        )
+
+
+class RestoreBeyondLog(InputError):
+    """A session with a log asked to go back before samples its log already holds."""
+
+    def __init__(self, t_state: float, t_logged: float):
+        self.t_state = t_state
+        self.t_logged = t_logged
+        super().__init__(
+            f"cannot restore the state at t = {t_state:.10g} s: the session's log already holds "
+            f"the samples to t = {t_logged:.10g} s; with a log, restore at most the state before "
+            "the last advance (or open the session without a log)"
+        )
+
+
+class SessionClosed(InputError):
+    """A session was stepped after ``close``."""
+
+    def __init__(self, t_last: float):
+        self.t_last = t_last
+        super().__init__(
+            f"the session was closed at t = {t_last:.10g} s; open a new Session to step again"
+        )
 
 
 class InvalidLogRate(InputError):
@@ -666,6 +723,13 @@ class ExportFailed(OutputFailed):
         "nothing was written. Give --out a path in an existing folder you can write to, with "
         "free space"
     )
+
+
+class FmuExportFailed(OutputFailed):
+    """An FMU could not be written (``pinwind fmu``): PythonFMU missing or failing."""
+
+    what = "the FMU"
+    advice = "install the fmi extra (pip install 'pinwind[fmi]') and give a writable path"
 
 
 class FigureFailed(OutputFailed):

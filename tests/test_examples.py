@@ -397,3 +397,16 @@ def test_grc_planet_rows_share_each_planet_s_load_by_statics_and_carry_the_rotor
         assert_allclose(shares, 0.5, atol=0.01)
     # The preloaded rows' every roller carries load: their reference life is the longer one.
     assert out["life_ratio"] > 1.0
+
+
+def test_fmu_closed_loop_settles_at_the_torque_balance_in_closed_form():
+    pytest.importorskip("fmpy")
+    pytest.importorskip("pythonfmu")
+    example = _load("fmu_closed_loop")
+    final = example.main(["--duration", "4"])
+    # T_aero(ω) = T_r (2 − ω/ω_r) = 6 k (6 ω)², k = T_r / (6 (6 ω_r)²): ω = ω_r (14.2 rpm).
+    rated = 14.2 * 2 * math.pi / 60
+    assert_allclose(final["rotor_speed"], rated, rtol=1e-6)
+    assert_allclose(final["sun_speed"], 6.0 * final["rotor_speed"], rtol=1e-6)
+    assert_allclose(final["shaft_torque"], 6.0 * final["generator_torque"], rtol=1e-6)
+    assert_allclose(final["shaft_torque"], 1e6, rtol=1e-5)

@@ -12,6 +12,7 @@ from pinwind.cli import simulate  # noqa: F401
 # isort: split
 from pinwind.cli import (  # noqa: F401
     fatigue,
+    fmu,
     life,
     logs,
     model,

@@ -640,25 +640,45 @@ class PreparedRun:
         """Samples of the whole run, t = 0 … duration [-]."""
         return self.steps + 1
 
-    def step_block(self, start: int, stop: int, block: Result, *, stride: int = 1) -> BlockOutcome:
+    def step_block(
+        self,
+        start: int,
+        stop: int,
+        block: Result,
+        *,
+        stride: int = 1,
+        held: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> BlockOutcome:
         """Steps samples [start, stop) into ``block``'s rows (every ``stride``-th from 0 only).
 
         Evaluates the torque and speed signals and the wind over the block, stopping before
         the first sample where one is not finite or raises; then steps the compiled loop and
         checks the speeds it recorded (``MAX_PLAUSIBLE_SPEED``). The samples before
         ``BlockOutcome.done`` are final whatever happened.
+
+        ``held`` gives the applied joint torques (nv,) [N·m], constant over the block, and the
+        driver speeds at t_start … t_stop (stop − start + 1, rows) [rad/s] instead, when the
+        caller knows them and they are finite (a session's held inputs, ``runs/session.py``):
+        the values every signal would give.
         """
-        dt, gearbox, drivers = self.dt, self.gearbox, self.train.rows
-        torque_loads = self.train.torques
+        dt, gearbox = self.dt, self.gearbox
         nv = gearbox.model.nv
-        torque, bad_torque = _signal_table(
-            torque_loads, start, stop, dt, [ld.v_index for ld in torque_loads], nv
-        )
-        torque = from_ground(gearbox, roll_share(gearbox), torque)
-        # Step k asks for the driver speeds at t_k and t_{k+1}.
-        target, bad_target = _signal_table(
-            drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
-        )
+        bad_torque: _BadSample | None = None
+        bad_target: _BadSample | None = None
+        if held is not None:
+            torque = from_ground(gearbox, roll_share(gearbox), held[0][None, :])
+            torque = np.broadcast_to(torque, (stop - start, nv))
+            target = held[1]
+        else:
+            drivers, torque_loads = self.train.rows, self.train.torques
+            torque, bad_torque = _signal_table(
+                torque_loads, start, stop, dt, [ld.v_index for ld in torque_loads], nv
+            )
+            torque = from_ground(gearbox, roll_share(gearbox), torque)
+            # Step k asks for the driver speeds at t_k and t_{k+1}.
+            target, bad_target = _signal_table(
+                drivers, start, stop + 1, dt, list(range(len(drivers))), len(drivers)
+            )
         error: BaseException | None = None
         if bad_torque is not None:
             k, load, cause = bad_torque

@@ -166,6 +166,9 @@ class CompiledStepper:
             spec, np.asarray(q0, dtype=float), np.asarray(v0, dtype=float), int(samples)
         )
         self.drivers = list(driver_names)
+        # The output arrays of the last block: a caller stepping into one Result again and
+        # again (a session's short blocks) is spared binding its ~50 arrays every call.
+        self._out: tuple[Result, _native.OutputArrays] | None = None
 
     def run(
         self,
@@ -194,9 +197,13 @@ class CompiledStepper:
             Diverged, SolverFailed, ConflictingConstraints: with ``.samples`` the number of final
             samples.
         """
-        out = _native.OutputArrays()
-        for member in _native.Series:
-            out[member] = series_array(block, member.name)
+        if self._out is not None and self._out[0] is block:  # the same arrays as last time
+            out = self._out[1]
+        else:
+            out = _native.OutputArrays()
+            for member in _native.Series:
+                out[member] = series_array(block, member.name)
+            self._out = (block, out)
         if inputs is None:
             inputs = np.zeros((stop - start, self.input_columns))
         status = self._stepper.run(

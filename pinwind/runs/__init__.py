@@ -6,7 +6,8 @@ is (``run``: the log writer and the run statistics as observers), a scenario and
 (``scenario``), the executor of many runs on local processes or Dask (``executor``,
 ``dask_workers``), the design sweep (``sweep``), and a fatigue set read from its file
 (``fatigue_set_file``), its cases run (``case_runner``) and its load spectra read from the cases'
-logs (``set_load_spectra``). Nothing below imports it.
+logs (``set_load_spectra``), and a run held open and stepped from outside (``session``) with
+its FMU (``fmu_export``). Nothing below imports it.
 """
 
 from typing import TYPE_CHECKING
@@ -16,7 +17,8 @@ from pinwind.lazy_exports import lazy_exports
 if TYPE_CHECKING:
     from pinwind.runs.run import simulate
     from pinwind.runs.scenario import Scenario, ScenarioError, load_scenario
+    from pinwind.runs.session import Session
 else:
     __getattr__, __dir__ = lazy_exports(__name__)
 
-__all__ = ["Scenario", "ScenarioError", "load_scenario", "simulate"]
+__all__ = ["Scenario", "ScenarioError", "Session", "load_scenario", "simulate"]

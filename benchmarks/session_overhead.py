@@ -1,0 +1,139 @@
+"""Cost of stepping a run from outside: a Session per communication point, and the FMU.
+
+Saleh 2017's planetary stage (rigid meshes, dt = 1 ms), a carrier torque of 1 MN·m and a sun
+torque balancing it held: ``--points`` communication points of ``--steps`` internal steps.
+Times, best of ``--repeats``:
+
+- ``simulate``: one ``pinwind.dynamics.simulate.simulate`` over all the steps (keep="last", no
+  log), end to end, and its step loop alone (``PreparedRun.run``);
+- ``session``: the ``advance`` calls of a Session over the same steps (its opening apart);
+- ``fmu``: the ``doStep`` calls (with ``setReal``/``getReal``) of the exported FMU under FMPy.
+
+Prints µs per communication point and the session's overhead beside ``simulate``'s step loop
+(issue 42 asks ≤ 20 % at 10 internal steps per point).
+
+    python benchmarks/session_overhead.py [--points 2000] [--steps 10] [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+import pinwind
+from pinwind.dynamics.drivetrain import drivetrain
+from pinwind.dynamics.run_settings import RunSettings
+from pinwind.dynamics.simulate import prepare, simulate
+from pinwind.runs.scenario import Scenario
+from pinwind.runs.session import Session
+
+MODEL = Path(__file__).resolve().parent.parent / "models" / "saleh2017_planetary.urdf"
+SCENARIO = Path(__file__).resolve().parent.parent / "scenarios" / "saleh2017_drivetrain.toml"
+DT = 1e-3
+TORQUES = {"carrier": 1e6, "sun": -1e6 / 6}
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Measures and prints the three costs."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=2000)
+    parser.add_argument("--steps", type=int, default=10)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--no-fmu", action="store_true")
+    args = parser.parse_args(argv)
+    gearbox = pinwind.load(MODEL)
+    h = args.steps * DT
+    duration = args.points * h
+    whole, loop, session_s, fmu_s = [], [], [], []
+    for _ in range(args.repeats):
+        started = time.perf_counter()
+        simulate(gearbox, duration=duration, dt=DT, torques=TORQUES, keep="last")
+        whole.append(time.perf_counter() - started)
+        run = prepare(drivetrain(gearbox, torques=TORQUES), duration=duration, dt=DT,
+                      settings=RunSettings(keep="last"))  # fmt: skip
+        started = time.perf_counter()
+        run.run()
+        loop.append(time.perf_counter() - started)
+        inputs = {f"torque.{j}": t for j, t in TORQUES.items()}
+        session = Session(gearbox, Scenario(dt=DT, duration=duration), inputs=list(inputs),
+                          start=inputs)  # fmt: skip
+        started = time.perf_counter()
+        for i in range(args.points):
+            session.advance((i + 1) * h, inputs)
+        session_s.append(time.perf_counter() - started)
+        if not args.no_fmu:
+            fmu_s.append(_fmu_time(args.points, h, duration, inputs))
+    per = 1e6 / args.points
+    print(f"planetary stage: {args.points} points of {args.steps} steps (dt = {DT:g} s), "
+          f"best of {args.repeats}")  # fmt: skip
+    print(f"simulate end to end   {min(whole) * per:9.1f} µs per point")
+    print(f"simulate step loop    {min(loop) * per:9.1f} µs per point")
+    print(f"session advance       {min(session_s) * per:9.1f} µs per point "
+          f"(overhead {min(session_s) / min(loop) - 1:+.1%} beside the step loop, "
+          f"{min(session_s) / min(whole) - 1:+.1%} beside simulate end to end)")  # fmt: skip
+    if fmu_s:
+        print(f"FMU under FMPy        {min(fmu_s) * per:9.1f} µs per point")
+    _drivetrain(args.points, args.steps, args.repeats)
+
+
+def _drivetrain(points: int, steps: int, repeats: int) -> None:
+    """The same for Saleh 2017's drivetrain scenario (rotor, two stages, generator), wind held."""
+    from pinwind.runs.scenario import load_scenario
+
+    h = steps * DT
+    scenario = load_scenario(SCENARIO, changes={"duration": points * h, "wind": 10.0})
+    gearbox = scenario.load_model()
+    loop, session_s = [], []
+    for _ in range(repeats):
+        run = prepare(scenario.drivetrain(gearbox), duration=scenario.duration, dt=DT,
+                      settings=RunSettings(keep="last"))  # fmt: skip
+        started = time.perf_counter()
+        run.run()
+        loop.append(time.perf_counter() - started)
+        session = Session(gearbox, scenario, inputs=["wind"], start={"wind": 10.0})
+        started = time.perf_counter()
+        for i in range(points):
+            session.advance((i + 1) * h, {"wind": 10.0})
+        session_s.append(time.perf_counter() - started)
+    per = 1e6 / points
+    print(
+        f"drivetrain scenario (wind held): step loop {min(loop) * per:.1f} µs, session "
+        f"{min(session_s) * per:.1f} µs per point ({min(session_s) / min(loop) - 1:+.1%})"
+    )
+
+
+def _fmu_time(points: int, h: float, duration: float, inputs: dict[str, float]) -> float:
+    import fmpy
+    from fmpy.fmi2 import FMU2Slave
+
+    from pinwind.runs.fmu_export import export_fmu
+
+    folder = Path(tempfile.mkdtemp(prefix="pinwind_bench_"))
+    fmu = export_fmu(MODEL, folder / "gearbox.fmu", inputs=list(inputs), dt=DT, duration=duration)
+    description = fmpy.read_model_description(str(fmu))
+    refs = {v.name: v.valueReference for v in description.modelVariables}
+    slave = FMU2Slave(guid=description.guid, unzipDirectory=fmpy.extract(str(fmu)),
+                      modelIdentifier=description.coSimulation.modelIdentifier,
+                      instanceName="gearbox")  # fmt: skip
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0, stopTime=duration)
+    slave.enterInitializationMode()
+    names = list(inputs)
+    slave.setReal([refs[n] for n in names], [inputs[n] for n in names])
+    slave.exitInitializationMode()
+    outputs = [refs["speed.carrier"], refs["mesh_normal.sun_planet1"]]
+    started = time.perf_counter()
+    for i in range(points):
+        slave.setReal([refs[n] for n in names], [inputs[n] for n in names])
+        slave.doStep(currentCommunicationPoint=i * h, communicationStepSize=h)
+        slave.getReal(outputs)
+    elapsed = time.perf_counter() - started
+    slave.terminate()
+    slave.freeInstance()
+    return elapsed
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,211 @@
+"""``pinwind fmu``: a gearbox (or a scenario) as an FMI 2.0 co-simulation unit (FMU).
+
+The unit is built with PythonFMU (``pythonfmu``, Python-side FMI 2.0 slaves): its binary embeds
+the Python interpreter of the process that loads it, which must have pinwind installed (FMPy in
+the same environment, or a tool whose Python is that environment: docs/coupling.md). PythonFMU
+exports FMI 2.0 only; FMI 3.0 is not written.
+
+The FMU packs the model file (and the scenario file), and ``pinwind_fmu.json``: the inputs and
+outputs with their units and descriptions. Each communication step is one ``Session.advance``
+(``runs/session.py``): the step must be a whole number of the scenario's dt. The model
+description gets the SI unit of every variable (``UnitDefinitions``, FMI 2.0 §2.2.2), which
+PythonFMU does not write.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import tempfile
+import xml.etree.ElementTree as ET
+import zipfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from pinwind.errors import FmuExportFailed, InputError
+from pinwind.runs.session import Session
+
+#: FMI 2.0 unit names of the series' units, with their SI base-unit exponents (FMI 2.0 §2.2.2).
+FMI_UNITS: dict[str, tuple[str, dict[str, int]]] = {
+    "N*m": ("N.m", {"kg": 1, "m": 2, "s": -2}),
+    "N": ("N", {"kg": 1, "m": 1, "s": -2}),
+    "rad": ("rad", {"rad": 1}),
+    "rad/s": ("rad/s", {"rad": 1, "s": -1}),
+    "rad/s^2": ("rad/s2", {"rad": 1, "s": -2}),
+    "m": ("m", {"m": 1}),
+    "m/s": ("m/s", {"m": 1, "s": -1}),
+    "W": ("W", {"kg": 1, "m": 2, "s": -3}),
+    "1": ("1", {}),
+}
+
+#: The slave's module (its file name in the FMU) and class (the FMU's model identifier).
+SLAVE_MODULE = "pinwind_gearbox"
+SLAVE_CLASS = "PinwindGearbox"
+
+
+def describe(
+    model: str | Path,
+    *,
+    dt: float,
+    duration: float,
+    scenario: str | Path | None,
+    inputs: Sequence[str] | None,
+    outputs: Sequence[str] | None,
+) -> dict[str, Any]:
+    """The FMU's configuration: files, dt, duration, inputs and outputs with units (SI).
+
+    Opens a session (prepared, one sample) to check the names against the model: an unknown
+    input or output raises ``UnknownSessionName`` here, before anything is written.
+    """
+    gearbox, scen = _load(model, scenario, dt=dt, duration=duration)
+    if inputs is None:  # every free joint the scenario leaves without a torque or speed
+        loaded = set(scen.torques) | set(scen.speeds) | set(scen.generators) | set(scen.rotors)
+        inputs = [f"torque.{j}" for j in gearbox.joint_names
+                  if j not in gearbox.locked_joints and j not in loaded]  # fmt: skip
+    session = Session(gearbox, scen, inputs=inputs, outputs=outputs)
+    available = session.available_outputs
+    start = dict(session.state().start)
+    session.close()
+    return {
+        "model": Path(model).name,
+        "scenario": Path(scenario).name if scenario is not None else None,
+        "dt": scen.dt,
+        "duration": scen.duration,
+        "inputs": {
+            n: {"unit": session.input_unit(n), "start": start[n], "description": _what(n)}
+            for n in session.input_names
+        },  # fmt: skip
+        "outputs": {
+            n: {"unit": available[n], "description": _what(n)} for n in session.output_names
+        },  # fmt: skip
+    }
+
+
+def _what(name: str) -> str:
+    series, _, element = name.partition(".")
+    return f"{series} of {element}" if element else series
+
+
+def _load(model, scenario, *, dt: float, duration: float):
+    from pinwind.model.gearbox import load
+    from pinwind.runs.scenario import Scenario, load_scenario
+
+    gearbox = load(model)
+    if scenario is None:
+        return gearbox, Scenario(dt=dt, duration=duration)
+    scen = load_scenario(scenario, changes={"model": str(Path(model).resolve())})
+    return gearbox, scen
+
+
+def open_session(resources: Path, config: Mapping[str, Any], values: Mapping[str, float],
+                 duration: float | None = None) -> Session:  # fmt: skip
+    """The session of an FMU (``fmu_slave``), from its resources and configuration."""
+    model = resources / config["model"]
+    scenario = resources / config["scenario"] if config["scenario"] else None
+    gearbox, scen = _load(model, scenario, dt=config["dt"], duration=duration or config["duration"])
+    if duration is not None:
+        import dataclasses
+
+        scen = dataclasses.replace(scen, duration=duration)
+    return Session(gearbox, scen, inputs=list(config["inputs"]),
+                   start={n: values[n] for n in config["inputs"]},
+                   outputs=list(config["outputs"]))  # fmt: skip
+
+
+def export_fmu(
+    source: str | Path,
+    out: str | Path,
+    *,
+    inputs: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
+    dt: float = 1e-3,
+    duration: float = 3600.0,
+) -> Path:
+    """Writes ``out``, an FMI 2.0 co-simulation FMU of a model file or a scenario file.
+
+    Args:
+        source: a model file (``.urdf``) or a scenario (``.toml``, naming its model).
+        out: the FMU file to write.
+        inputs: the open inputs (``Session``'s names); default a torque on every free joint the
+            scenario leaves unloaded.
+        outputs: the outputs; default ``Session``'s.
+        dt: internal step [s] for a model file (a scenario gives its own).
+        duration: the longest run [s] for a model file (a scenario gives its own; the master's
+            stop time, when it gives one, replaces it).
+
+    Raises:
+        InputError, UnknownSessionName: a bad source, input or output.
+        FmuExportFailed: PythonFMU is not installed or could not write the unit.
+    """
+    try:
+        from pythonfmu import FmuBuilder
+    except ImportError as err:
+        raise FmuExportFailed(
+            str(out), "pythonfmu is not installed; pip install 'pinwind[fmi]'"
+        ) from err
+    source = Path(source)
+    if not source.is_file():
+        raise InputError(f"{source} does not exist; give a model (.urdf) or scenario (.toml) file")
+    scenario = source if source.suffix == ".toml" else None
+    if scenario is not None:
+        from pinwind.runs.scenario import load_scenario
+
+        model = load_scenario(scenario).model_path()
+    else:
+        model = source
+    config = describe(model, dt=dt, duration=duration, scenario=scenario, inputs=inputs,
+                      outputs=outputs)  # fmt: skip
+    out = Path(out)
+    with tempfile.TemporaryDirectory(prefix="pinwind_fmu_") as folder:
+        work = Path(folder)
+        script = work / f"{SLAVE_MODULE}.py"
+        shutil.copy(Path(__file__).with_name("fmu_slave.py"), script)
+        files = [work / model.name]
+        shutil.copy(model, files[0])
+        if scenario is not None:
+            files.append(work / scenario.name)
+            shutil.copy(scenario, files[-1])
+        files.append(work / "pinwind_fmu.json")
+        files[-1].write_text(json.dumps(config, indent=1))
+        try:
+            built = FmuBuilder.build_FMU(script, dest=out, project_files=files)
+        except Exception as err:
+            raise FmuExportFailed(str(out), f"PythonFMU: {type(err).__name__}: {err}") from err
+    _add_units(Path(built), config)
+    return Path(built)
+
+
+def _add_units(fmu: Path, config: Mapping[str, Any]) -> None:
+    """Writes the variables' units into the FMU's modelDescription.xml (and UnitDefinitions)."""
+    with zipfile.ZipFile(fmu) as z:
+        entries = {i.filename: z.read(i.filename) for i in z.infolist()}
+    root = ET.fromstring(entries["modelDescription.xml"])
+    units = {**config["inputs"], **config["outputs"]}
+    used: dict[str, dict[str, int]] = {}
+    for var in root.iter("ScalarVariable"):
+        spec = units.get(var.get("name"))
+        real = var.find("Real")
+        if spec is None or real is None or spec["unit"] not in FMI_UNITS:
+            continue
+        name, base = FMI_UNITS[spec["unit"]]
+        real.set("unit", name)
+        used[name] = base
+    definitions = ET.Element("UnitDefinitions")
+    for name, base in used.items():
+        unit = ET.SubElement(definitions, "Unit", {"name": name})
+        ET.SubElement(unit, "BaseUnit", {k: str(v) for k, v in base.items()})
+    children = list(root)
+    at = next(i for i, c in enumerate(children) if c.tag == "CoSimulation") + 1
+    root.insert(at, definitions)
+    # FMI 2.0 §2.2.8: every output with initial "calculated" is an initial unknown
+    structure = root.find("ModelStructure")
+    outputs = structure.find("Outputs") if structure is not None else None
+    if structure is not None and outputs is not None:
+        initial = ET.SubElement(structure, "InitialUnknowns")
+        for unknown in outputs:
+            ET.SubElement(initial, "Unknown", {"index": unknown.get("index", "")})
+    entries["modelDescription.xml"] = ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    with zipfile.ZipFile(fmu, "w", zipfile.ZIP_DEFLATED) as z:
+        for name, data in entries.items():
+            z.writestr(name, data)
