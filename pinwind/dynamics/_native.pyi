@@ -138,6 +138,11 @@ class CompliantMeshSpec:
     involute_ref: float
     tangential_offset: float  # [m]
     radial_offset: float  # [m]
+    slices: int  # N across the face width; 1: one contact line
+    axis_b: Vector  # (3,), gear B's axis in its joint frame
+    slice_offset: Vector  # (N,) [m] from the face centre along gear A's axis
+    slice_gap: Vector  # (N,) [m] lead modifications' gap, front flank
+    slice_gap_back: Vector  # (N,) [m] the back flank's
     def __init__(self) -> None: ...
 
 class TorsionalSpringSpec:
@@ -447,33 +452,35 @@ class Series(enum.Enum):
     mesh_contact_position = 16
     mesh_pairs = 17
     mesh_single_tooth_force = 18
-    bearing_force = 19
-    bearing_moment = 20
-    bearing_force_local = 21
-    bearing_moment_local = 22
-    body_position = 23
-    body_quaternion = 24
-    constraint_residual = 25
-    kinetic = 26
-    potential_spring = 27
-    work_applied = 28
-    work_drivers = 29
-    work_springs = 30
-    work_gravity = 31
-    work_constraints = 32
-    dissipated = 33
-    work_parametric = 34
-    generator_torque = 35
-    rotor_torque = 36
-    rotor_power = 37
-    rotor_tip_speed_ratio = 38
-    rotor_power_coefficient = 39
-    rotor_wind_speed = 40
-    rotor_thrust = 41
-    rotor_thrust_coefficient = 42
-    rotor_pitch = 43
-    row_force = 44
-    row_moment = 45
+    mesh_face_load_factor = 19
+    mesh_load_centre = 20
+    bearing_force = 21
+    bearing_moment = 22
+    bearing_force_local = 23
+    bearing_moment_local = 24
+    body_position = 25
+    body_quaternion = 26
+    constraint_residual = 27
+    kinetic = 28
+    potential_spring = 29
+    work_applied = 30
+    work_drivers = 31
+    work_springs = 32
+    work_gravity = 33
+    work_constraints = 34
+    dissipated = 35
+    work_parametric = 36
+    generator_torque = 37
+    rotor_torque = 38
+    rotor_power = 39
+    rotor_tip_speed_ratio = 40
+    rotor_power_coefficient = 41
+    rotor_wind_speed = 42
+    rotor_thrust = 43
+    rotor_thrust_coefficient = 44
+    rotor_pitch = 45
+    row_force = 46
+    row_moment = 47
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

@@ -57,7 +57,8 @@ from pinwind.dynamics.normal_modes import (
     natural_modes,
 )
 from pinwind.errors import InputError, PinwindWarning, StepTooCoarse, UnknownElement
-from pinwind.gears.flank_modification import profile_gap
+from pinwind.gears.face_load import slice_centres
+from pinwind.gears.flank_modification import lead_gap, profile_gap
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
     contact_line_pair_stiffness,
@@ -284,6 +285,10 @@ def mesh_setup(
         c = mesh.compliance
         spec.backlash = c.backlash
         spec.stiffness = mean_mesh_stiffness(mesh)
+        if c.slices > 1:
+            spec.slices = c.slices
+            spec.axis_b = b.axis_in_joint
+            spec.slice_offset, spec.slice_gap, spec.slice_gap_back = slice_tables(mesh)
         compliant.append(spec)
     setup = MeshSetup(meshes, rigid, paths, compliant, 0.0)
     if compliant:
@@ -317,6 +322,54 @@ def mesh_setup(
         if dt is not None:
             _warn_if_damped_numerically(frequency, dt, damping, scheme)
     return setup
+
+
+def slice_tables(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each slice's centre and lead gaps of a sliced compliant mesh (``cpp/compliant_mesh.hpp``).
+
+    The face width b = min(b_A, b_B) (``Mesh.face_width``) cut into N equal slices: centres z_s
+    from the face centre along gear A's axis k [m], side I at −b/2 (so a gear B turned by θ
+    about k × n closes its flank at −z); gaps e_s [m] of both gears' lead modifications,
+    `pinwind.gears.flank_modification.lead_gap` at z_s + b/2 from side I (crowning, end
+    relief, helix slope deviation f_Hβ: the same gaps as `pinwind.gears.face_load`), on the
+    front flank; on the back flank the same crowning and end relief, and f_Hβ as a misalignment
+    acts there, mirrored: f_Hβ (1 − z/b), opening towards side I (a tilted tooth, not a
+    tapered one).
+
+    Returns:
+        z_s [m], e_s of the front flank [m], e_s of the back flank [m], each (N,).
+
+    Raises:
+        InputError: a helical mesh (its slices would follow inclined contact lines: not in the
+            run yet), or profile relief on a sliced mesh (its pair gaps are per contact line).
+    """
+    c = mesh.compliance
+    slices = 1 if c is None else c.slices
+    path = mesh.path
+    if mesh.helix_angle != 0.0 or (path is not None and path.overlap_ratio > 0.0):
+        raise InputError(
+            f'mesh "{mesh.name}": slices = {slices} on a helical mesh (β = '
+            f"{math.degrees(mesh.helix_angle):.3g}°) is not in the run yet: its "
+            "slices would follow inclined contact lines; use slices = 1, or `pinwind.gears."
+            "face_load` for its static load across the face"
+        )
+    mod_a, mod_b = mesh.gear_a.spec.modification, mesh.gear_b.spec.modification
+    if any(m.tip_relief or m.root_relief for m in (mod_a, mod_b)):
+        raise InputError(
+            f'mesh "{mesh.name}": slices = {slices} with profile relief is not in the run yet '
+            "(the relief's pair gaps act on one contact line); use slices = 1 or remove the "
+            "tip/root relief"
+        )
+    b = mesh.face_width
+    z = slice_centres(b, slices)
+    slope = mod_a.helix_slope_deviation + mod_b.helix_slope_deviation
+    back = lead_gap(
+        replace(mod_a, helix_slope_deviation=-mod_a.helix_slope_deviation),
+        replace(mod_b, helix_slope_deviation=-mod_b.helix_slope_deviation),
+        b,
+        z,
+    )
+    return z - 0.5 * b, lead_gap(mod_a, mod_b, b, z), back + slope
 
 
 def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.MeshPathSpec:

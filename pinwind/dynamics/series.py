@@ -296,6 +296,14 @@ _MEANINGS: dict[str, About] = {
            "normal force on the entering tooth pair, F_n k1/k", short="F 1 tooth",
            plot=Plot("single_tooth_force", "mesh forces",
                      "single-tooth forces (entering pair) [kN]", "kN")),
+    "mesh_face_load_factor": About("face_load_factor", "1",
+           "K_Hbeta = peak over mean line load across the face, loaded flank (compliant mesh "
+           "with slices; 1 for one contact line; 0 without load or rigid)", short="K_Hb",
+           headline=False),
+    "mesh_load_centre": About("load_centre", "m",
+           "where the flank force acts across the face, from the face centre along gear A's "
+           "axis (compliant mesh with slices; 0 otherwise)", short="load centre",
+           headline=False),
     "bearing_force": About("force", "N", "force on the child body at the bearing centre",
            frame="world", label="force (world)", short="F world",
            plot=Plot("bearing_force", "bearings",

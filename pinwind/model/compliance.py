@@ -45,6 +45,9 @@ class MeshCompliance:
         damping_ratio: ζ of the mesh mode, c = 2 ζ √(k m_eq) with m_eq the effective mass
             along the line of action; used when ``damping`` is None.
         backlash: normal backlash along the line of action [m] (≥ 0): no force inside the gap.
+        slices: N, the contact line cut into N equal slices across the face width, each with
+            k(x)/N, c/N and its own contact, loaded by the gears' relative tilt and the lead
+            modifications (``dynamics/compliant.py`` ``slice_tables``); 1: one contact line.
     """
 
     stiffness: float | None = None
@@ -54,6 +57,7 @@ class MeshCompliance:
     damping_ratio: float = DEFAULT_DAMPING_RATIO
     backlash: float = 0.0
     mean_stiffness: float | None = None
+    slices: int = 1
 
     def problems(self) -> list[str]:
         """What is physically wrong with these values, each with the fix (empty when fine)."""
@@ -86,6 +90,8 @@ class MeshCompliance:
             out.append(f"damping is {self.damping:g} N·s/m; it must be ≥ 0")
         if not (math.isfinite(self.damping_ratio) and 0.0 <= self.damping_ratio < 1.0):
             out.append(f"damping ratio is {self.damping_ratio:g}; it must lie in [0, 1)")
+        if not (isinstance(self.slices, int | np.integer) and self.slices >= 1):
+            out.append(f"slices is {self.slices!r}; give a whole number ≥ 1 (1: one contact line)")
         if not (math.isfinite(self.backlash) and self.backlash >= 0.0):
             out.append(f"backlash is {self.backlash * 1e3:g} mm; it must be ≥ 0")
         if self.pair_stiffness is not None:

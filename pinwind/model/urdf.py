@@ -1093,11 +1093,25 @@ def _compliance(path: str, el: ET.Element) -> MeshCompliance | None:
         damping=None if damping is None else _number(path, el, "damping"),
         damping_ratio=_number(path, el, "damping_ratio", DEFAULT_DAMPING_RATIO),
         backlash=_number(path, el, "backlash_mm", 0.0) * 1e-3,
+        slices=_slices(path, el, where),
     )
     problems = compliance.problems()
     if problems:
         raise MalformedModel(path, where, "; ".join(problems))
     return compliance
+
+
+def _slices(path: str, el: ET.Element, where: str) -> int:
+    """The ``slices`` attribute of a compliance: a whole number, 1 when absent."""
+    raw = el.get("slices")
+    if raw is None:
+        return 1
+    try:
+        return int(raw.strip())
+    except ValueError as err:
+        raise MalformedModel(
+            path, where, f'slices="{raw}" must be a whole number ≥ 1 (slices across the face)'
+        ) from err
 
 
 _COMPLIANCE_ATTRIBUTES = (
@@ -1108,6 +1122,7 @@ _COMPLIANCE_ATTRIBUTES = (
     "damping",
     "damping_ratio",
     "backlash_mm",
+    "slices",
 )
 
 

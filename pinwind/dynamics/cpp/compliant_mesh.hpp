@@ -39,6 +39,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -66,6 +67,12 @@ struct CompliantMeshSpec {
   double involute_ref = 0.0;      // inv α' at the reference centre distance
   double tangential_offset = 0.0; // e_T [m]
   double radial_offset = 0.0;     // e_R [m]
+  // Slices across the face width (sliced_mesh.hpp); 1: the single contact line above.
+  long slices = 1;
+  Vec3 axis_b = Vec3::UnitZ();    // gear B's axis in its joint frame
+  Eigen::VectorXd slice_offset;   // z_s: each slice's centre from the face centre along k [m]
+  Eigen::VectorXd slice_gap;      // e_s: the lead modifications' gap at each slice, front [m]
+  Eigen::VectorXd slice_gap_back; // e_s of the back flank [m]
 };
 
 // inv α = tan α − α of the angle α whose cosine is c (0 < c ≤ 1), with tan α = √(1 − c²) / c:
@@ -73,6 +80,47 @@ struct CompliantMeshSpec {
 // every step).
 inline double involute_of_cosine(double c) {
   return std::sqrt((1.0 - c) * (1.0 + c)) / c - std::acos(c);
+}
+
+// The angles and centre distance of mesh sp at the state s (compliant_mesh.hpp's header).
+struct MeshPose {
+  double psi_a = 0.0;            // ψ_A, gear A's angle from the centre line [rad]
+  double rolling = 0.0;          // T − T_ref + e_T, wrapped into one base pitch [m]
+  double centre_distance = 0.0;  // a, ⟂ to the axis [m]
+};
+
+inline MeshPose mesh_pose(const StepView& s, const CompliantMeshSpec& sp, const MeshPathSpec& path) {
+  const auto& mc = s.meshes;
+  const Eigen::Index m = sp.mesh;
+  const Vec3 k = s.rows.axis.row(m).transpose();
+  const Vec3 u = mc.sigma[m] * s.rows.radial.row(m).transpose();
+  const auto& rot_a = s.data.oMi[mc.joint_a[m]].rotation();
+  const auto& rot_b = s.data.oMi[mc.joint_b[m]].rotation();
+  MeshPose pose;
+  pose.psi_a = angle_about(k, u, rot_a * path.reference_a);
+  const double psi_b = angle_about(k, u, rot_b * sp.reference_b);
+  const double pitch = path.base_pitch;
+  // Rolling part, wrapped into one base pitch centred on the middle of the backlash gap.
+  double rolling = sp.base_radius_a * pose.psi_a - sp.base_radius_b * psi_b - sp.tangential_ref +
+                   sp.tangential_offset;
+  rolling -= pitch * std::round((rolling + 0.5 * sp.backlash) / pitch);
+  pose.rolling = rolling;
+  const double distance = (s.rows.centre_b.row(m) - s.rows.centre_a.row(m)).norm();
+  const double along_axis = (s.rows.centre_b.row(m) - s.rows.centre_a.row(m)).dot(k);
+  pose.centre_distance =
+      std::sqrt(std::max(0.0, distance * distance - along_axis * along_axis));
+  return pose;
+}
+
+// R + e_R of mesh sp at centre distance a [m], κ (r_b,B ± r_b,A) (inv α'(a) − inv α'(a_ref))
+// + e_R, with cos α'(a) and sin α'(a) (CompliantMeshes::radial_overlap says why).
+inline double radial_part(const CompliantMeshSpec& sp, double centre_distance, double& cos_out,
+                          double& sin_out) {
+  const double cos_w = std::min(1.0, sp.base_radius_sum / centre_distance);
+  cos_out = cos_w;
+  sin_out = std::sqrt((1.0 - cos_w) * (1.0 + cos_w));
+  return sp.radial_sign * sp.base_radius_sum * (involute_of_cosine(cos_w) - sp.involute_ref) +
+         sp.radial_offset;
 }
 
 class CompliantMeshes : public Element {
@@ -107,22 +155,9 @@ class CompliantMeshes : public Element {
     for (size_t i = 0; i < specs_.size(); ++i) {
       const auto& sp = specs_[i];
       const Eigen::Index m = sp.mesh;
-      const Vec3 k = s.rows.axis.row(m).transpose();
-      const Vec3 u = mc.sigma[m] * s.rows.radial.row(m).transpose();
-      const auto& rot_a = s.data.oMi[mc.joint_a[m]].rotation();
-      const auto& rot_b = s.data.oMi[mc.joint_b[m]].rotation();
-      const double psi_a = angle_about(k, u, rot_a * paths_[i].reference_a);
-      const double psi_b = angle_about(k, u, rot_b * sp.reference_b);
-      const double pitch = paths_[i].base_pitch;
-      // Rolling part, wrapped into one base pitch centred on the middle of the backlash gap.
-      double rolling = sp.base_radius_a * psi_a - sp.base_radius_b * psi_b - sp.tangential_ref +
-                       sp.tangential_offset;
-      rolling -= pitch * std::round((rolling + 0.5 * sp.backlash) / pitch);
-      const double distance = (s.rows.centre_b.row(m) - s.rows.centre_a.row(m)).norm();
-      const double along_axis = (s.rows.centre_b.row(m) - s.rows.centre_a.row(m)).dot(k);
-      const double centre_distance = std::sqrt(std::max(0.0, distance * distance -
-                                                                  along_axis * along_axis));
-      const double radial = radial_overlap(i, centre_distance);
+      const MeshPose pose = mesh_pose(s, sp, paths_[i]);
+      const double psi_a = pose.psi_a, rolling = pose.rolling;
+      const double radial = radial_overlap(i, pose.centre_distance);
       delta_(i, 0) = rolling + radial;
       delta_(i, 1) = -rolling + radial - sp.backlash;
       double unused;
@@ -315,6 +350,9 @@ class CompliantMeshes : public Element {
       out.at(Series::mesh_contact_position, e) = paths_[i].roll_start + p.entering;
       out.at(Series::mesh_pairs, e) = p.pairs;
       out.at(Series::mesh_single_tooth_force, e) = normal_(i, f) * p.share;
+      // One contact line: its load is uniform across the face, centred.
+      out.at(Series::mesh_face_load_factor, e) = normal_(i, f) > 0.0 ? 1.0 : 0.0;
+      out.at(Series::mesh_load_centre, e) = 0.0;
     }
   }
 
@@ -355,14 +393,8 @@ class CompliantMeshes : public Element {
     if (std::abs(centre_distance - radial_distance_[i]) <= 1e-14 * centre_distance) {
       return radial_[i];
     }
-    const auto& sp = specs_[i];
-    const double cos_w = std::min(1.0, sp.base_radius_sum / centre_distance);
-    cos_w_[i] = cos_w;
-    sin_w_[i] = std::sqrt((1.0 - cos_w) * (1.0 + cos_w));
     radial_distance_[i] = centre_distance;
-    radial_[i] =
-        sp.radial_sign * sp.base_radius_sum * (involute_of_cosine(cos_w) - sp.involute_ref) +
-        sp.radial_offset;
+    radial_[i] = radial_part(specs_[i], centre_distance, cos_w_[i], sin_w_[i]);
     return radial_[i];
   }
 
@@ -393,6 +425,364 @@ class CompliantMeshes : public Element {
   bool started_ = false;  // contact_ set from the first state prepared (static or dynamic)
 };
 
+// Sliced compliant meshes (issue 40 item 1; pinwind/gears/face_load.py is the static reference):
+// the contact line of a spur mesh cut into N slices of width b/N across the face, each slice s a
+// spring k(x)/N and dashpot c/N at z_s (its centre from the face centre, along gear A's axis k)
+// with its own contact. Its overlap is the mesh's plus the gears' relative tilt and less the lead
+// modifications' gap there,
+//
+//     δ_s = δ − z_s θ − e_s,     θ = (k × k_B)·(k × n),
+//
+// with k_B gear B's axis and n the flank's line of action: θ is B's tilt relative to A about
+// k × n (small angles), the turn that moves B's flank at +z_s away from A's along n. Its row
+// follows from the velocity of the contact point P + z_s k of each gear,
+//
+//     δ̇_s = −n·(v_B(P + z_s k) − v_A(P + z_s k)) = −(J + z_s a) v,   a = (k × n)ᵀ (J_ω,B − J_ω,A),
+//
+// the derivative of θ being (k × n)·(ω_B − ω_A) while the axes stay parallel to first order; so
+// the slice's force F_s acts at P + z_s k and tilts both gears. The implicit force of each slice
+// is that of CompliantMeshes, F_s = b_s − w_s J_s ā; summed over the slices in contact,
+//
+//     Σ w_s J_sᵀJ_s = W₀ JᵀJ + W₁ (Jᵀa + aᵀJ) + W₂ aᵀa,   Σ b_s J_s = B₀ J + B₁ a,
+//
+// W_p = Σ w_s z_sᵖ, B_p = Σ b_s z_sᵖ: N slices cost three outer products, not N. With θ = 0 and
+// no lead modification every slice carries F/N and the mesh is CompliantMeshes' to rounding.
+// Profile modifications and helical meshes are refused in Python (pinwind/dynamics/compliant.py
+// slice_tables).
+class SlicedMeshes : public Element {
+ public:
+  SlicedMeshes(std::vector<CompliantMeshSpec> specs, const std::vector<MeshPathSpec>& paths,
+               Eigen::Index nv)
+      : specs_(std::move(specs)) {
+    for (const auto& s : specs_) {
+      paths_.push_back(paths[static_cast<size_t>(s.mesh)]);
+      for (int f = 0; f < 2; ++f) {
+        Flank fl;
+        fl.row.setZero(nv);
+        fl.tilt_row.setZero(nv);
+        fl.contact.setZero(s.slices);
+        fl.delta.setZero(s.slices);
+        fl.b.setZero(s.slices);
+        fl.normal.setZero(s.slices);
+        fl.elastic.setZero(s.slices);
+        fl.viscous.setZero(s.slices);
+        flanks_.push_back(std::move(fl));
+      }
+    }
+    last_flank_.assign(specs_.size(), 1.0);
+    span_.assign(specs_.size(), {0, 0});
+    radial_.assign(specs_.size(), Radial{});
+  }
+
+  void prepare(const StepView& s) override {
+    const auto& mc = s.meshes;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const auto& sp = specs_[i];
+      const Eigen::Index m = sp.mesh;
+      const MeshPose pose = mesh_pose(s, sp, paths_[i]);
+      Radial& rad = radial_[i];
+      if (std::abs(pose.centre_distance - rad.distance) > 1e-14 * pose.centre_distance) {
+        rad.distance = pose.centre_distance;
+        rad.value = radial_part(sp, pose.centre_distance, rad.cos_w, rad.sin_w);
+      }
+      if (!started_) {
+        const auto moves = [&](Eigen::Index c) {
+          return mc.support(mc.slot_b[m], c) != mc.support(mc.slot_a[m], c);
+        };
+        Eigen::Index lo = 0, hi = flanks_[2 * i].row.size();
+        while (lo < hi && !moves(lo)) ++lo;
+        while (hi > lo && !moves(hi - 1)) --hi;
+        span_[i] = {lo, hi};
+      }
+      const Vec3 k = s.rows.axis.row(m).transpose();
+      const Vec3 k_b = s.data.oMi[mc.joint_b[m]].rotation() * sp.axis_b;
+      const Vec3 tilt = k.cross(k_b);
+      const auto [lo, hi] = span_[i];
+      for (int f = 0; f < 2; ++f) {
+        Flank& fl = flanks_[2 * i + f];
+        const double centre = f == 0 ? pose.rolling + rad.value
+                                     : -pose.rolling + rad.value - sp.backlash;
+        fl.centre = centre;
+        double unused;
+        flank_row(mc, s.rows, m, flank_sign(f), rad.cos_w, rad.sin_w, fl.row, unused);
+        const Vec3 e = k.cross(line_of_action(mc, s.rows, m, flank_sign(f), rad.cos_w, rad.sin_w));
+        for (Eigen::Index c = lo; c < hi; ++c) {
+          const double w = mc.support(mc.slot_b[m], c) - mc.support(mc.slot_a[m], c);
+          fl.tilt_row[c] = w * e.dot(s.data.J.col(c).template tail<3>());
+        }
+        const double theta = tilt.dot(e);
+        const auto& gap = f == 0 ? sp.slice_gap : sp.slice_gap_back;
+        fl.delta = centre - theta * sp.slice_offset.array() - gap.array();
+        fl.path = path_state(paths_[i], pose.psi_a, flank_sign(f));
+        const double k_slice = stiffness(i, f);
+        if (!started_) {
+          for (Eigen::Index j = 0; j < sp.slices; ++j) fl.contact[j] = fl.delta[j] >= 0.0;
+        }
+        // The parametric work, ½ (k_n − k_{n−1}) δ_n² of each overlapping slice (CompliantMeshes).
+        if (!first_ && !s.weights.statics) {
+          parametric_ += 0.5 * (k_slice - fl.last_k) * fl.delta.cwiseMax(0.0).squaredNorm();
+        }
+        if (!s.weights.statics) fl.last_k = k_slice;
+      }
+      if (!started_ && s.weights.statics && !any_contact(i)) {
+        // A static solve starts on the slice nearest to contact (CompliantMeshes: the flank).
+        Flank& a = flanks_[2 * i];
+        Flank& b = flanks_[2 * i + 1];
+        Eigen::Index ja, jb;
+        const double da = a.delta.maxCoeff(&ja), db = b.delta.maxCoeff(&jb);
+        (da >= db ? a.contact[ja] : b.contact[jb]) = 1;
+      }
+      for (int f = 0; f < 2; ++f) coefficients(s, i, f);
+    }
+    started_ = true;
+    if (!s.weights.statics) first_ = false;
+  }
+
+  void add_implicit(const StepView&, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const auto& z = specs_[i].slice_offset;
+      for (int f = 0; f < 2; ++f) {
+        const Flank& fl = flanks_[2 * i + f];
+        double w0 = 0.0, w1 = 0.0, w2 = 0.0, b0 = 0.0, b1 = 0.0;
+        for (Eigen::Index j = 0; j < z.size(); ++j) {
+          if (!fl.contact[j]) continue;
+          w0 += fl.w;
+          w1 += fl.w * z[j];
+          w2 += fl.w * z[j] * z[j];
+          b0 += fl.b[j];
+          b1 += fl.b[j] * z[j];
+        }
+        if (w0 == 0.0 && b0 == 0.0) continue;
+        const auto [lo, hi] = span_[i];
+        const double* r = fl.row.data();
+        const double* t = fl.tilt_row.data();
+        for (Eigen::Index c = lo; c < hi; ++c) {
+          double* column = hessian.col(c).data();
+          for (Eigen::Index q = c; q < hi; ++q) {
+            column[q] += w0 * r[q] * r[c] + w1 * (r[q] * t[c] + t[q] * r[c]) + w2 * t[q] * t[c];
+          }
+          force[c] += b0 * r[c] + b1 * t[c];
+        }
+      }
+    }
+  }
+
+  // Each slice settles on its own, as each flank of CompliantMeshes does.
+  bool settle(const StepView& s, const Eigen::VectorXd& a, bool last) override {
+    end_state_.noalias() = s.dq_free + s.weights.position_gain * a;
+    end_speed_.noalias() = s.v + s.weights.speed_gain * a;
+    bool changed = false;
+    if (!last) {
+      for (size_t i = 0; i < specs_.size(); ++i) {
+        for (int f = 0; f < 2; ++f) {
+          Flank& fl = flanks_[2 * i + f];
+          const EndDots d = end_dots(fl);
+          for (Eigen::Index j = 0; j < fl.contact.size(); ++j) {
+            const double force = end_force(i, f, j, d);
+            if (fl.contact[j] ? force < 0.0 : force > 0.0) {
+              fl.contact[j] = !fl.contact[j];
+              changed = true;
+            }
+          }
+        }
+        // A static solve keeps one slice in contact: the one whose force would pull least.
+        if (s.weights.statics && !any_contact(i)) {
+          int best_f = 0;
+          Eigen::Index best_j = 0;
+          double best = -std::numeric_limits<double>::infinity();
+          for (int f = 0; f < 2; ++f) {
+            const EndDots d = end_dots(flanks_[2 * i + f]);
+            for (Eigen::Index j = 0; j < flanks_[2 * i + f].contact.size(); ++j) {
+              const double force = end_force(i, f, j, d);
+              if (force > best) best = force, best_f = f, best_j = j;
+            }
+          }
+          flanks_[2 * i + best_f].contact[best_j] = 1;
+        }
+      }
+    }
+    if (changed || s.weights.statics) return changed;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      double total[2];
+      for (int f = 0; f < 2; ++f) {
+        Flank& fl = flanks_[2 * i + f];
+        const EndDots d = end_dots(fl);
+        const double k_slice = stiffness(i, f), c_slice = damping(i);
+        const auto& z = specs_[i].slice_offset;
+        total[f] = 0.0;
+        for (Eigen::Index j = 0; j < z.size(); ++j) {
+          if (!fl.contact[j]) {
+            fl.normal[j] = fl.elastic[j] = fl.viscous[j] = 0.0;
+            continue;
+          }
+          fl.elastic[j] = k_slice * (fl.delta[j] - d.jx - z[j] * d.tx);
+          fl.viscous[j] = -c_slice * (d.jv + z[j] * d.tv);
+          fl.normal[j] = std::max(0.0, fl.elastic[j] + fl.viscous[j]);
+          total[f] += fl.normal[j];
+        }
+      }
+      if (total[0] > 0.0 || total[1] > 0.0) last_flank_[i] = total[0] >= total[1] ? 1.0 : -1.0;
+    }
+    return false;
+  }
+
+  void add_body_forces(const StepView& s, BodyForces& out) const override {
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const Eigen::Index m = specs_[i].mesh;
+      const Vec3 p = s.rows.pitch_point.row(m).transpose();
+      const Vec3 k = s.rows.axis.row(m).transpose();
+      for (int f = 0; f < 2; ++f) {
+        const Flank& fl = flanks_[2 * i + f];
+        for (Eigen::Index j = 0; j < fl.normal.size(); ++j) {
+          if (fl.normal[j] == 0.0) continue;
+          const Vec3 force = tooth_force_on_b(s.meshes, s.rows, m, flank_sign(f), fl.normal[j],
+                                              radial_[i].cos_w, radial_[i].sin_w);
+          const Vec3 at = p + specs_[i].slice_offset[j] * k;
+          out.add(s.meshes.joint_b[m], at, force);
+          out.add(s.meshes.joint_a[m], at, -force);
+        }
+      }
+    }
+  }
+
+  double parametric_work() const override { return parametric_; }
+
+  // U = Σ_flanks Σ_slices ½ (k(x)/N) δ_s₊² [J].
+  double potential(const StepView&) const override {
+    double energy = 0.0;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      for (int f = 0; f < 2; ++f) {
+        energy += 0.5 * stiffness(i, f) * flanks_[2 * i + f].delta.cwiseMax(0.0).squaredNorm();
+      }
+    }
+    return energy;
+  }
+
+  StepWork work(const StepView& s, const Eigen::VectorXd&,
+                const Eigen::VectorXd& v_mid) const override {
+    StepWork w;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const auto& z = specs_[i].slice_offset;
+      for (int f = 0; f < 2; ++f) {
+        const Flank& fl = flanks_[2 * i + f];
+        const double jv = fl.row.dot(v_mid) * s.dt, tv = fl.tilt_row.dot(v_mid) * s.dt;
+        for (Eigen::Index j = 0; j < z.size(); ++j) {
+          if (!fl.contact[j] || fl.normal[j] == 0.0) continue;
+          w.elastic += fl.elastic[j] * (jv + z[j] * tv);
+          w.dissipated -= fl.viscous[j] * (jv + z[j] * tv);
+        }
+      }
+    }
+    return w;
+  }
+
+  // The series of CompliantMeshes from the slices' sums, and the loaded flank's face load
+  // factor K_Hβ = max_s w_s / w_m = N max_s F_s / Σ F_s and load centre Σ F_s z_s / Σ F_s [m,
+  // from the face centre along gear A's axis]; both 0 where the mesh carries nothing.
+  void record(const StepView& s, long k, const Outputs& out) const override {
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const auto& sp = specs_[i];
+      const long m = sp.mesh;
+      const int f = last_flank_[i] > 0 ? 0 : 1;
+      const Flank& fl = flanks_[2 * i + f];
+      const double total[2] = {flanks_[2 * i].normal.sum(), flanks_[2 * i + 1].normal.sum()};
+      const double cos_w = radial_[i].cos_w, sin_w = radial_[i].sin_w;
+      record_mesh_force(out, s.meshes, s.rows, k, m, total[f], last_flank_[i], cos_w, sin_w);
+      const long e = out.entry(Family::mesh, k, m);
+      out.at(Series::mesh_normal_front, e) = total[0];
+      out.at(Series::mesh_normal_back, e) = total[1];
+      if (total[1 - f] > 0.0) {
+        const Vec3 resultant =
+            tooth_force_on_b(s.meshes, s.rows, m, 1.0, total[0], cos_w, sin_w) +
+            tooth_force_on_b(s.meshes, s.rows, m, -1.0, total[1], cos_w, sin_w);
+        for (int c = 0; c < 3; ++c) out.at(Series::mesh_force_on_b, e, c) = resultant[c];
+      }
+      const bool touching = fl.contact.any();
+      out.at(Series::mesh_deflection, e) =
+          touching ? fl.centre : std::max(flanks_[2 * i].centre, flanks_[2 * i + 1].centre);
+      out.at(Series::transmission_error, e) = flanks_[2 * i].centre;
+      out.at(Series::mesh_contact_position, e) = paths_[i].roll_start + fl.path.entering;
+      out.at(Series::mesh_pairs, e) = fl.path.pairs;
+      out.at(Series::mesh_single_tooth_force, e) = total[f] * fl.path.share;
+      const bool loaded = total[f] > 0.0;
+      out.at(Series::mesh_face_load_factor, e) =
+          loaded ? double(sp.slices) * fl.normal.maxCoeff() / total[f] : 0.0;
+      out.at(Series::mesh_load_centre, e) =
+          loaded ? fl.normal.dot(sp.slice_offset) / total[f] : 0.0;
+    }
+  }
+
+ private:
+  struct Flank {
+    Eigen::RowVectorXd row, tilt_row;  // J and a (class comment)
+    Eigen::VectorXi contact;           // 1 where a slice is in contact
+    Eigen::VectorXd delta;             // δ_s [m]
+    Eigen::VectorXd b;                 // b_s [N]
+    double w = 0.0;                    // w of every slice [N·s²/m]
+    Eigen::VectorXd normal, elastic, viscous;  // the slices' final forces and parts [N]
+    double centre = 0.0;               // δ of the flank at the face centre, unmodified [m]
+    double last_k = 0.0;               // a slice's stiffness at the last sample [N/m]
+    PathState path;
+  };
+  struct Radial {
+    double distance = -1.0, value = 0.0, cos_w = 1.0, sin_w = 0.0;  // radial_part's
+  };
+
+  static double flank_sign(int f) { return f == 0 ? 1.0 : -1.0; }
+
+  // k(x)/N of a slice of flank f of mesh i [N/m].
+  double stiffness(size_t i, int f) const {
+    const double k = paths_[i].pair_position.size() ? flanks_[2 * i + f].path.stiffness
+                                                    : specs_[i].stiffness;
+    return k / double(specs_[i].slices);
+  }
+
+  bool any_contact(size_t i) const {
+    return flanks_[2 * i].contact.any() || flanks_[2 * i + 1].contact.any();
+  }
+
+  // J·x, a·x of a flank's rows at the end of the step's state x = dq₀ + κ_q a and speed
+  // v + κ_v a (settle's end_state_, end_speed_).
+  struct EndDots {
+    double jx, tx, jv, tv;
+  };
+  EndDots end_dots(const Flank& fl) const {
+    return {fl.row.dot(end_state_), fl.tilt_row.dot(end_state_), fl.row.dot(end_speed_),
+            fl.tilt_row.dot(end_speed_)};
+  }
+
+  // The force slice j of flank f of mesh i would carry at the end of the step [N].
+  double end_force(size_t i, int f, Eigen::Index j, const EndDots& d) const {
+    const double z = specs_[i].slice_offset[j];
+    return stiffness(i, f) * (flanks_[2 * i + f].delta[j] - d.jx - z * d.tx) -
+           damping(i) * (d.jv + z * d.tv);
+  }
+
+  // c/N of a slice of mesh i [N·s/m].
+  double damping(size_t i) const { return specs_[i].damping / double(specs_[i].slices); }
+
+  // b_s and w of flank f of mesh i at this step's state.
+  void coefficients(const StepView& s, size_t i, int f) {
+    Flank& fl = flanks_[2 * i + f];
+    const double k = stiffness(i, f), c = specs_[i].damping / double(specs_[i].slices);
+    const auto& z = specs_[i].slice_offset.array();
+    fl.b = k * (fl.delta.array() - fl.row.dot(s.dq_free) - z * fl.tilt_row.dot(s.dq_free)) -
+           c * (fl.row.dot(s.v) + z * fl.tilt_row.dot(s.v));
+    fl.w = k * s.weights.position_gain + c * s.weights.speed_gain;
+  }
+
+  std::vector<CompliantMeshSpec> specs_;
+  std::vector<MeshPathSpec> paths_;
+  std::vector<Flank> flanks_;  // mesh i: 2i front, 2i + 1 back
+  std::vector<double> last_flank_;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;
+  std::vector<Radial> radial_;
+  Eigen::VectorXd end_state_, end_speed_;  // settle's dq₀ + κ_q a and v + κ_v a
+  double parametric_ = 0.0;
+  bool first_ = true;
+  bool started_ = false;
+};
+
 // The kind (element_kind.hpp): StepperSpec.compliant_meshes, each on a mesh of the model's list
 // (its constants and path of contact in the KindContext), one element for all of them.
 struct CompliantMeshesKind : KindBase {
@@ -405,11 +795,21 @@ struct CompliantMeshesKind : KindBase {
       if (spec.mesh < 0 || spec.mesh >= c.meshes.count()) {
         throw std::invalid_argument("bad compliant mesh");
       }
+      if (spec.slices < 1 || (spec.slices > 1 && (spec.slice_offset.size() != spec.slices ||
+                                                  spec.slice_gap.size() != spec.slices ||
+                                                  spec.slice_gap_back.size() != spec.slices))) {
+        throw std::invalid_argument("compliant mesh slices: offsets and gaps need one per slice");
+      }
     }
   }
 
+  // Meshes of one slice make one CompliantMeshes element, sliced ones a SlicedMeshes element
+  // (sliced_mesh.hpp): a mesh of one slice steps exactly as before slices existed.
   static void add(const Specs& specs, const KindContext& c, Elements& out) {
-    if (!specs.empty()) out.push_back(std::make_unique<CompliantMeshes>(specs, c.paths, c.nv));
+    Specs single, sliced;
+    for (const auto& spec : specs) (spec.slices > 1 ? sliced : single).push_back(spec);
+    if (!single.empty()) out.push_back(std::make_unique<CompliantMeshes>(single, c.paths, c.nv));
+    if (!sliced.empty()) out.push_back(std::make_unique<SlicedMeshes>(sliced, c.paths, c.nv));
   }
 
   static void bind(nanobind::module_& m) {
@@ -427,7 +827,12 @@ struct CompliantMeshesKind : KindBase {
         .def_rw("radial_sign", &CompliantMeshSpec::radial_sign)
         .def_rw("involute_ref", &CompliantMeshSpec::involute_ref)
         .def_rw("tangential_offset", &CompliantMeshSpec::tangential_offset)
-        .def_rw("radial_offset", &CompliantMeshSpec::radial_offset);
+        .def_rw("radial_offset", &CompliantMeshSpec::radial_offset)
+        .def_rw("slices", &CompliantMeshSpec::slices)
+        .def_rw("axis_b", &CompliantMeshSpec::axis_b)
+        .def_rw("slice_offset", &CompliantMeshSpec::slice_offset)
+        .def_rw("slice_gap", &CompliantMeshSpec::slice_gap)
+        .def_rw("slice_gap_back", &CompliantMeshSpec::slice_gap_back);
   }
 };
 

@@ -44,6 +44,8 @@ inline constexpr std::size_t kFamilies = 8;
   X(mesh_contact_position, mesh, 1)             \
   X(mesh_pairs, mesh, 1)                        \
   X(mesh_single_tooth_force, mesh, 1)           \
+  X(mesh_face_load_factor, mesh, 1)             \
+  X(mesh_load_centre, mesh, 1)                  \
   X(bearing_force, bearing, 3)                  \
   X(bearing_moment, bearing, 3)                 \
   X(bearing_force_local, bearing, 3)            \

@@ -1,0 +1,75 @@
+"""Cost of 5-slice compliant meshes against single-line ones on the DTU stage, in one run.
+
+``pinwind.simulate`` of ``models/dtu500_planetary.urdf`` with every mesh compliant (as
+``compliant_step.py``: a torque on the carrier, the sun held at speed), once with one contact
+line per mesh and once with ``slices=5`` (``MeshCompliance.slices``; nothing misaligned, so the
+slices carry alike and only the cost differs). The runs are interleaved A/B ``--repeats`` times
+and the median ratio of the time per step is printed (issue 40's budget: ≤ 1.3). The Result
+keeps only the last sample.
+
+Measured 2026-12-07 12:21 UTC on the shared 2-core machine: ratio 1.21 (11 repeats, pairwise
+0.89-1.79) and 1.11 (21 repeats, pairwise 0.66-2.65); benchmarks/README.md.
+
+Run:  python benchmarks/sliced_mesh_step.py [--steps N] [--dt S] [--repeats R] [--slices N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+import warnings
+from pathlib import Path
+
+import pinwind
+from pinwind.errors import PinwindWarning
+from pinwind.model.compliance import MeshCompliance
+
+ROOT = Path(__file__).resolve().parents[1]
+MODEL = ROOT / "models" / "dtu500_planetary.urdf"
+CASE = ("carrier", 1.76e5, "sun", 15.75)  # input joint, torque [N·m], output joint, speed [rad/s]
+
+
+def time_per_step(gb, steps: int, dt: float, slices: int) -> float:
+    joint_in, torque, joint_out, speed = CASE
+    started = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PinwindWarning)
+        pinwind.simulate(
+            gb,
+            duration=steps * dt,
+            dt=dt,
+            torques={joint_in: torque},
+            speeds={joint_out: speed},
+            meshes={"all": MeshCompliance(slices=slices)},
+            keep="last",
+            progress=False,
+        )
+    return (time.perf_counter() - started) / steps
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=int, default=20_000)
+    parser.add_argument("--dt", type=float, default=2e-5)
+    parser.add_argument("--repeats", type=int, default=11)
+    parser.add_argument("--slices", type=int, default=5)
+    args = parser.parse_args()
+
+    gb = pinwind.load(MODEL)
+    time_per_step(gb, 1000, args.dt, args.slices)  # warm up
+    one, many = [], []
+    for _ in range(args.repeats):
+        one.append(time_per_step(gb, args.steps, args.dt, 1))
+        many.append(time_per_step(gb, args.steps, args.dt, args.slices))
+    ratios = [y / x for x, y in zip(one, many, strict=True)]
+    print(f"{args.steps} steps of {args.dt:g} s, {args.repeats} interleaved A/B repeats")
+    print(
+        f"dtu500_planetary: one line {statistics.median(one) * 1e6:.2f} µs/step, "
+        f"{args.slices} slices {statistics.median(many) * 1e6:.2f} µs/step, ratio "
+        f"{statistics.median(ratios):.3f} (pairwise {min(ratios):.2f}–{max(ratios):.2f})"
+    )
+
+
+if __name__ == "__main__":
+    main()
