@@ -38,6 +38,8 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         out[f"mesh/{name}/contact_position_m"] = m.contact_position
         out[f"mesh/{name}/pairs"] = m.pairs
         out[f"mesh/{name}/single_tooth_force_N"] = m.single_tooth_force
+        out[f"mesh/{name}/face_load_factor"] = m.face_load_factor
+        out[f"mesh/{name}/load_centre_m"] = m.load_centre
         for k, axis in enumerate("xyz"):
             out[f"mesh/{name}/force_on_b_{axis}_N"] = m.force_on_b[:, k]
             out[f"mesh/{name}/pitch_point_{axis}_m"] = m.pitch_point[:, k]

@@ -25,10 +25,10 @@ from tests.io.test_cli_log import ENV, SIMULATE
 from tests.io.test_log_writer import assert_same_arrays
 
 #: Values per sample of the planetary stage's Result (6 joints, 6 meshes, 10 links, 10 energy
-#: terms): time, 4 joint series, 12 mesh scalars and 2 mesh vectors, 4 bearing vectors, 4 bearing
+#: terms): time, 4 joint series, 14 mesh scalars and 2 mesh vectors, 4 bearing vectors, 4 bearing
 #: scalars about the axis, 2 bearing vectors of compliance (displacement, elastic force), link
 #: positions and quaternions, the constraint residual, the energy terms.
-PLANETARY_VALUES = 1 + 4 * 6 + 12 * 6 + 2 * 3 * 6 + 4 * 3 * 6 + 4 * 6 + 2 * 3 * 6 + 7 * 10 + 1 + 10
+PLANETARY_VALUES = 1 + 4 * 6 + 14 * 6 + 2 * 3 * 6 + 4 * 3 * 6 + 4 * 6 + 2 * 3 * 6 + 7 * 10 + 1 + 10
 
 
 # --- refused before the run ---------------------------------------------------------------------

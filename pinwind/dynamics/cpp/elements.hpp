@@ -45,6 +45,9 @@ inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const
   out.at(Series::mesh_flank, e) = flank;
   out.at(Series::mesh_normal_front, e) = flank > 0.0 ? normal : 0.0;
   out.at(Series::mesh_normal_back, e) = flank > 0.0 ? 0.0 : normal;
+  // The face's load of a rigid mesh is not modelled (0); a compliant one writes its own.
+  out.at(Series::mesh_face_load_factor, e) = 0.0;
+  out.at(Series::mesh_load_centre, e) = 0.0;
   const Vec3 f = tooth_force_on_b(mc, rows, m, flank, normal, cos_w, sin_w);
   for (int c = 0; c < 3; ++c) {
     out.at(Series::mesh_force_on_b, e, c) = f[c];
