@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.errors import InputError
+from pinwind.gears.face_load import slice_centres
 from pinwind.gears.flank_modification import (
     UNMODIFIED,
     FlankModification,
@@ -145,9 +146,7 @@ def static_transmission_error(
     )
     if slices is None:
         slices = 1 if spur and lead_free and misalignment == 0.0 else 40
-    if not (isinstance(slices, int) and slices >= 1):
-        raise InputError(f"slices = {slices!r}; cut the face width into a whole number ≥ 1")
-    z = (np.arange(slices) + 0.5) * b / slices
+    z = slice_centres(b, slices)
     skew = z * math.tan(pair.base_helix_angle)  # q = y − z tan β_b
     if spur:
         s, k = pair_stiffness_along_path(
