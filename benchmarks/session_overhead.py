@@ -7,7 +7,9 @@ Times, best of ``--repeats``:
 - ``simulate``: one ``pinwind.dynamics.simulate.simulate`` over all the steps (keep="last", no
   log), end to end, and its step loop alone (``PreparedRun.run``);
 - ``session``: the ``advance`` calls of a Session over the same steps (its opening apart);
-- ``fmu``: the ``doStep`` calls (with ``setReal``/``getReal``) of the exported FMU under FMPy.
+- ``fmu``: the ``doStep`` calls (with ``setReal``/``getReal``) of the exported FMU under FMPy;
+- ``state() + restore()``: the pair at the run's end (a copy of the compiled run's state: the
+  same at any time).
 
 Prints µs per communication point and the session's overhead beside ``simulate``'s step loop
 (issue 42 asks ≤ 20 % at 10 internal steps per point).
@@ -18,6 +20,7 @@ Prints µs per communication point and the session's overhead beside ``simulate`
 from __future__ import annotations
 
 import argparse
+import math
 import tempfile
 import time
 from pathlib import Path
@@ -46,7 +49,7 @@ def main(argv: list[str] | None = None) -> None:
     gearbox = pinwind.load(MODEL)
     h = args.steps * DT
     duration = args.points * h
-    whole, loop, session_s, fmu_s = [], [], [], []
+    whole, loop, session_s, fmu_s, state_s = [], [], [], [], []
     for _ in range(args.repeats):
         started = time.perf_counter()
         simulate(gearbox, duration=duration, dt=DT, torques=TORQUES, keep="last")
@@ -63,6 +66,7 @@ def main(argv: list[str] | None = None) -> None:
         for i in range(args.points):
             session.advance((i + 1) * h, inputs)
         session_s.append(time.perf_counter() - started)
+        state_s.append(_state_time(session))
         if not args.no_fmu:
             fmu_s.append(_fmu_time(args.points, h, duration, inputs))
     per = 1e6 / args.points
@@ -73,9 +77,21 @@ def main(argv: list[str] | None = None) -> None:
     print(f"session advance       {min(session_s) * per:9.1f} µs per point "
           f"(overhead {min(session_s) / min(loop) - 1:+.1%} beside the step loop, "
           f"{min(session_s) / min(whole) - 1:+.1%} beside simulate end to end)")  # fmt: skip
+    print(f"state() + restore()   {min(state_s) * 1e6:9.1f} µs at the run's end "
+          f"({args.points * args.steps} steps)")  # fmt: skip
     if fmu_s:
         print(f"FMU under FMPy        {min(fmu_s) * per:9.1f} µs per point")
     _drivetrain(args.points, args.steps, args.repeats)
+
+
+def _state_time(session: Session, count: int = 20) -> float:
+    """Seconds per ``state()`` and ``restore()`` pair at the session's time, best of ``count``."""
+    best = math.inf
+    for _ in range(count):
+        started = time.perf_counter()
+        session.restore(session.state())
+        best = min(best, time.perf_counter() - started)
+    return best
 
 
 def _drivetrain(points: int, steps: int, repeats: int) -> None:

@@ -321,6 +321,19 @@ class SessionClosed(InputError):
         )
 
 
+class ForeignState(InputError):
+    """A session asked to restore a state that another session (or model) saved."""
+
+    def __init__(self, t_state: float, model: str, own_model: str):
+        self.t_state = t_state
+        self.model = model
+        super().__init__(
+            f"the state at t = {t_state:.10g} s was saved by another session (of model "
+            f'"{model}"; this one steps "{own_model}"): a session restores only the states '
+            "its own state() gave; open the state's session, or step this one to that time"
+        )
+
+
 class InvalidLogRate(InputError):
     """A log rate that is not positive, or above the sample rate 1/dt."""
 

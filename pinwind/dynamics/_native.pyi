@@ -556,6 +556,16 @@ class Stepper:
         """M, b, J and γ of the step at (q, v), with the rows' current flanks; no step taken."""
     def element_forces(self, q: Vector, v: Vector) -> ElementForces:
         """The elements' force, tangents and stored energy at (q, v), each element new."""
+    @property
+    def saves_state(self) -> bool:
+        """Whether every element and constraint copies its state, so that save() works."""
+    def save(self) -> StepperState:
+        """The run's state before its next sample (``cpp/stepper.hpp`` StepperState)."""
+    def restore(self, state: StepperState) -> None:
+        """Takes the run back to a state save() gave (ValueError for another run's)."""
+
+class StepperState:
+    """A run's state between two samples (``Stepper.save``): opaque, of the model's size."""
 
 class ElementForces:
     """The elements' forces at one state and their derivatives (``cpp/stepper.hpp``)."""

@@ -24,7 +24,13 @@ from pinwind.dynamics.integrator import Integrator
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.solver import SolverSettings
-from pinwind.errors import ConflictingConstraints, Diverged, MalformedModel, SolverFailed
+from pinwind.errors import (
+    ConflictingConstraints,
+    Diverged,
+    InputError,
+    MalformedModel,
+    SolverFailed,
+)
 from pinwind.model.gearbox import Gearbox
 
 #: Constraint residual |J v − target| above which velocities are projected, relative to
@@ -197,13 +203,7 @@ class CompiledStepper:
             Diverged, SolverFailed, ConflictingConstraints: with ``.samples`` the number of final
             samples.
         """
-        if self._out is not None and self._out[0] is block:  # the same arrays as last time
-            out = self._out[1]
-        else:
-            out = _native.OutputArrays()
-            for member in _native.Series:
-                out[member] = series_array(block, member.name)
-            self._out = (block, out)
+        out = self.outputs(block)
         if inputs is None:
             inputs = np.zeros((stop - start, self.input_columns))
         status = self._stepper.run(
@@ -215,9 +215,71 @@ class CompiledStepper:
             np.ascontiguousarray(inputs, dtype=float),
             int(stride),
         )
-        code = status.code
-        if code == _native.RunCode.completed:
+        if status.code == _native.RunCode.completed:
             return status.sample
+        raise self.error(status)
+
+    def outputs(self, block: Result) -> _native.OutputArrays:
+        """The compiled loop's handle on ``block``'s arrays (kept while the block stays)."""
+        if self._out is not None and self._out[0] is block:
+            return self._out[1]
+        out = _native.OutputArrays()
+        for member in _native.Series:
+            out[member] = series_array(block, member.name)
+        self._out = (block, out)
+        return out
+
+    def run_held(
+        self,
+        start: int,
+        stop: int,
+        torque: np.ndarray,
+        target: np.ndarray,
+        out: _native.OutputArrays,
+        inputs: np.ndarray,
+    ) -> int:
+        """``run`` with arrays already as the compiled loop takes them: no conversion, no copy.
+
+        For a caller that steps short blocks again and again (a session).
+
+        Args:
+            torque: (1, nv) applied torques held over the block [N·m], C-contiguous float64.
+            target: (stop − start + 1, drivers) driver speeds [rad/s], likewise.
+            out: ``outputs(block)``.
+            inputs: (1, input_columns) the elements' inputs held over the block, likewise.
+        """
+        status = self._stepper.run(start, stop, torque, target, out, inputs, 1)
+        if status.code == _native.RunCode.completed:
+            return status.sample
+        raise self.error(status)
+
+    @property
+    def saves_state(self) -> bool:
+        """Whether the run's state can be saved (every element's kind copies its own)."""
+        return bool(self._stepper.saves_state)
+
+    def save(self) -> _native.StepperState:
+        """The run's state before its next sample, for ``restore``, of the model's size.
+
+        ``cpp/stepper.hpp`` StepperState: q, v, the generalized-α memory, the energy ledger,
+        every element's and constraint's internal states, the solver's factorisations.
+        """
+        return self._stepper.save()
+
+    def restore(self, state: _native.StepperState) -> None:
+        """Takes the run back to ``state`` (``save``): the next ``run`` steps as it did then.
+
+        Raises:
+            InputError: a state another stepper saved.
+        """
+        try:
+            self._stepper.restore(state)
+        except ValueError as err:
+            raise InputError(str(err)) from err
+
+    def error(self, status: _native.RunStatus) -> Diverged | SolverFailed | ConflictingConstraints:
+        """The error of a run that stopped, with ``.samples`` the number of final samples."""
+        code = status.code
         step, time = status.step, status.time
         err: Diverged | SolverFailed | ConflictingConstraints
         if code == _native.RunCode.diverged:
@@ -235,7 +297,7 @@ class CompiledStepper:
         else:
             err = ConflictingConstraints(step, time, status.residual, self.drivers)
         err.samples = status.sample  # type: ignore[union-attr]  # read by simulate()
-        raise err
+        return err
 
     def equilibrium(
         self, torque: np.ndarray, target: np.ndarray, inputs: np.ndarray | None = None

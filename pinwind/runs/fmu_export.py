@@ -169,7 +169,11 @@ def export_fmu(
         files.append(work / "pinwind_fmu.json")
         files[-1].write_text(json.dumps(config, indent=1))
         try:
-            built = FmuBuilder.build_FMU(script, dest=out, project_files=files)
+            # fmi2GetFMUstate/SetFMUstate: the session's compiled state (fmu_slave); not
+            # serializable (the state is a copy in memory of the compiled run's).
+            built = FmuBuilder.build_FMU(
+                script, dest=out, project_files=files, canGetAndSetFMUstate=True
+            )
         except Exception as err:
             raise FmuExportFailed(str(out), f"PythonFMU: {type(err).__name__}: {err}") from err
     _add_units(Path(built), config)

@@ -6,6 +6,12 @@ The FMU's resources hold ``pinwind_fmu.json`` (the model file, the scenario file
 outputs with their units) written by ``fmu_export.export_fmu``. Each ``do_step`` is one
 ``Session.advance``; a pinwind error refuses the step (fmi2Discard: PythonFMU's do_step returns
 a bool) with its message in the FMU's log (category logStatusError), and the unit goes on.
+fmi2Error cannot be returned from a Python slave: PythonFMU (0.7, ``fmi2.cpp``) maps do_step's
+False to fmi2Discard and any Python exception to fmi2Fatal (``handle_py_exception`` throws
+``pythonfmu::fatal_error``); fmi2Error is left to C++ exceptions of its own.
+fmi2GetFMUstate/SetFMUstate (``canGetAndSetFMUstate``) save and restore the session's state
+(``Session.state``: a copy of the compiled run's, the same cost at any time); the state does
+not serialize (``canSerializeFMUstate`` stays false).
 """
 
 from __future__ import annotations
@@ -87,6 +93,21 @@ class PinwindGearbox(Fmi2Slave):
             self.log(f"pinwind: {type(err).__name__}: {err}", Fmi2Status.error)
             return False
         return True
+
+    def _get_fmu_state(self) -> dict[str, Any]:
+        """fmi2GetFMUstate: the session's state (a copy of its compiled run's) and the values."""
+        saved = self.session.state() if self.session is not None else None
+        return {"session": saved, "values": dict(self.values)}
+
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+        """fmi2SetFMUstate: the session and the values back where ``_get_fmu_state`` found them.
+
+        A pinwind error (a state beyond the session's log) is PythonFMU's fmi2Fatal, as any
+        exception the slave raises (its C++ side turns each into ``pythonfmu::fatal_error``).
+        """
+        if state["session"] is not None:
+            self.session.restore(state["session"])
+        self.values = dict(state["values"])
 
     def terminate(self):
         """Closes the session (and its log)."""

@@ -22,24 +22,32 @@ takes the driver from the old speed to u), and equals ``simulate`` with u on
 A communication step must be a whole number of internal steps dt (``StepNotOnGrid`` names the
 nearest ones).
 
-``state()`` / ``restore(state)``: the compiled stepper keeps its state (q, v, the
-generalized-α memory, the elements' internal states: generator flux, pitch controller, contact
-flanks) in C++ without exposing it. A state is the sample reached and the inputs held over each
-communication step before it; ``restore`` prepares the run anew and steps it again through the
-same communication steps with the same inputs, which reproduces the state bit for bit (the same
-compiled code on the same numbers), for every element kind, at a cost that grows with the time
-restored to (a replay of the run so far).
+``state()`` / ``restore(state)``: the compiled stepper saves its state (``cpp/stepper.hpp``
+StepperState: q, v, the generalized-α memory, the energy ledger, every element's internal
+states: contact flanks, bearing rows' contacts, generator fluxes, pitch controller, torque
+predictions; the solver's factorisations and warm start) in a copy of the model's size, and
+takes it back: ``restore`` steps nothing again (``samples_stepped``), whatever the state's time,
+and the next ``advance`` repeats the first bit for bit (the same compiled code on the same
+numbers). A model with an element whose kind keeps no copy (``saves_state`` False) falls back
+to a replay: the inputs of each communication step, stepped again from t = 0. A state from
+another session is refused (``ForeignState``).
 
 The log: ``log=PATH`` writes the session's samples to one MCAP file like any run (``pinwind
 replay`` and ``read_log`` read it). The samples of the last ``advance`` stay out of the log
 until the next ``advance`` or ``close``, so that a master may ``restore`` the state before its
 last step and step again; restoring further back than that, with a log, is refused
-(``RestoreBeyondLog``).
+(``RestoreBeyondLog``), and so is a state ahead of the session's time (a branch the log has
+not taken).
+
+Overhead: with every load held or constant, a block takes the torques and inputs as one row
+each, computed when an input changes, the block's arrays are bound once per block length, and
+the outputs are read with one index into the block's buffer (``benchmarks/session_overhead.py``).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -50,22 +58,34 @@ import numpy as np
 
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.run_settings import RunSettings
-from pinwind.dynamics.simulate import PreparedRun, _derive, _numerical_loss, prepare
+from pinwind.dynamics.simulate import (
+    MAX_PLAUSIBLE_SPEED,
+    PreparedRun,
+    _derive,
+    _diverged,
+    _implausible,
+    _numerical_loss,
+    prepare,
+)
+from pinwind.dynamics.support_springs import from_ground, roll_share
 from pinwind.errors import (
+    ForeignState,
     InputError,
     NonFiniteInput,
+    PinwindError,
     RestoreBeyondLog,
     SessionClosed,
     StepNotOnGrid,
     UnknownSessionName,
 )
+from pinwind.loads.hub_loads import COMPONENTS, HubLoad
 from pinwind.loads.inputs import JointLoad
 from pinwind.loads.signals import Constant, Signal
 from pinwind.model.gearbox import Gearbox
 from pinwind.runs.scenario import Scenario
 
-#: Input kinds: name prefix → (unit, what it replaces).
-INPUT_KINDS = {"torque": "N*m", "speed": "rad/s", "wind": "m/s"}
+#: Input kinds: name prefix → unit (``hub.BODY.force_x`` … in N, ``hub.BODY.moment_x`` … in N·m).
+INPUT_KINDS = {"torque": "N*m", "speed": "rad/s", "wind": "m/s", "hub": "N or N*m"}
 
 #: The series an output can name (``SERIES.ELEMENT``), with every joint's, mesh's, ... value.
 #: Three-component series (bearing forces) are named ``SERIES.ELEMENT.x`` (y, z).
@@ -126,24 +146,45 @@ class HeldInput(Signal):
         return f"held input {self.name!r} (set by the co-simulation master)"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class SessionState:
     """Where a session is: enough to step it again to the same numbers (``Session.restore``).
 
     Attributes:
         sample: the next sample to step (samples before it are final) [-].
-        history: each communication step so far as (its last sample, the inputs held over it).
+        held: each open input's (name, value, previous value, sample its value holds from).
+        outputs: the outputs at the state's time, in ``Session.output_names``' order [SI].
         start: the inputs' start values (sample 0).
+        session: the number of the session that saved it (a session restores only its own).
+        model: that session's model name, for the message refusing another's.
+        point: the number of its communication point in the session (a log's check).
+        compiled: the compiled run's state (``_native.StepperState``: q, v, the generalized-α
+            memory, the energy ledger, every element's internal states, the solver's), of the
+            model's size; None for a model with an element whose kind keeps no copy, whose
+            state is then ``history``.
+        history: without ``compiled``, each communication step so far as (its last sample, the
+            inputs held over it), stepped again from t = 0 by ``restore``; else None.
     """
 
     sample: int
-    history: tuple[tuple[int, tuple[tuple[str, float], ...]], ...]
+    held: tuple[tuple[str, float, float, int], ...]
+    outputs: tuple[float, ...]
     start: tuple[tuple[str, float], ...]
+    session: int
+    model: str
+    point: int
+    compiled: Any = None
+    history: tuple[tuple[int, tuple[tuple[str, float], ...]], ...] | None = None
 
     @property
     def inputs(self) -> dict[str, float]:
         """The inputs held last (the start values before any step)."""
-        return dict(self.history[-1][1] if self.history else self.start)
+        return {name: value for name, value, _, _ in self.held}
+
+
+#: Numbers of sessions and of communication points (SessionState.session, point).
+_SESSIONS = itertools.count(1)
+_POINTS = itertools.count(1)
 
 
 class Session:
@@ -190,8 +231,13 @@ class Session:
             (n, _finite(n, given.get(n, self._scenario_value(n)))) for n in self.input_names
         )
         self._history: list[tuple[int, tuple[tuple[str, float], ...]]] = []
+        self._id = next(_SESSIONS)
+        #: Samples the compiled loop has stepped, each once however often: a restore costs none
+        #: with compiled states, every sample to the state's time when it replays (``restore``).
+        self.samples_stepped = 0
         self._held = self._held_inputs()
         self._run = self._prepare()
+        self._saves = self._run.stepper.saves_state
         self.output_names = list(outputs) if outputs is not None else self._default_outputs()
         self._outputs = [self._output_getter(n) for n in self.output_names]
         wanted = {series for series, _, _ in self._outputs}
@@ -202,11 +248,13 @@ class Session:
         ):
             flat = index if component is None else 3 * index + component
             groups.setdefault(series_name, []).append((name, flat))
-        self._gather = [(k, np.array([f for _, f in v])) for k, v in groups.items()]
+        self._gather = [(k, [f for _, f in v]) for k, v in groups.items()]
         self._gather_names = [n for v in groups.values() for n, _ in v]
         schema = self._run.result.schema
         self._derived = [s for s in schema.series if s.derive is not None and s.name in wanted]
         self._buffers: dict[int, Result] = {}
+        # per block length: its buffer and the flat offsets of the outputs at its last sample
+        self._gathers: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._observers: list[Any] = []
         self.log_path = None
         if log is not None and log is not False:
@@ -231,7 +279,10 @@ class Session:
         for o in self._observers:
             o.begin(gearbox, self._run.result)
         self._sample = 0
-        self._last = self._step(0, 1)
+        self._now = self._step(0, 1)
+        # the communication point the session is at and the one before the last advance
+        self._point: int = next(_POINTS)
+        self._before: int | None = None
 
     # --- set-up --------------------------------------------------------------------------------
 
@@ -240,6 +291,9 @@ class Session:
         choices = [f"{kind}.{j}" for kind in ("torque", "speed") for j in joints]
         if self.scenario.rotors:
             choices.append("wind")
+        model = self.gearbox.model
+        bodies = [model.frames[f].name for f in self.gearbox.body_frames()]
+        choices += [f"hub.{b}.{c}" for b in bodies for c in COMPONENTS]
         for name in self.input_names:
             if name not in choices:
                 raise UnknownSessionName("input", name, choices)
@@ -253,6 +307,14 @@ class Session:
 
     def _scenario_value(self, name: str) -> float:
         kind, _, joint = name.partition(".")
+        if kind == "hub":
+            body, _, component = joint.partition(".")
+            for load in self.scenario.hub_loads:
+                if load.body == body:
+                    return float(
+                        load.values(np.zeros(1), check=False)[0, COMPONENTS.index(component)]
+                    )
+            return 0.0
         given: Any = {"torque": self.scenario.torques, "speed": self.scenario.speeds}.get(kind, {})
         value = self.scenario.wind if kind == "wind" else given.get(joint)
         if value is None:
@@ -265,6 +327,7 @@ class Session:
         torques = dict(s.torques)
         speeds = dict(s.speeds)
         wind = s.wind
+        hub_loads = list(s.hub_loads)
         for name, held in self._held.items():
             kind, _, joint = name.partition(".")
             if kind == "torque":
@@ -273,16 +336,32 @@ class Session:
             elif kind == "speed":
                 speeds[joint] = held
                 torques.pop(joint, None)
+            elif kind == "hub":
+                hub_loads = _hold_hub_component(hub_loads, joint, held)
             else:
                 wind = held
-        scenario = dataclasses.replace(s, torques=torques, speeds=speeds, wind=wind)
+        scenario = dataclasses.replace(
+            s, torques=torques, speeds=speeds, wind=wind, hub_loads=tuple(hub_loads)
+        )
         train = scenario.drivetrain(self.gearbox)
         settings = RunSettings(keep="last", initial_deflection=s.initial_deflection)
         if s.integrator is not None:
             settings = dataclasses.replace(settings, integrator=s.integrator)
         self._plan = _plan(train.torques, train.rows)
         metadata = {"session": {"inputs": self.input_names, "start": dict(self._start)}}
-        return prepare(train, duration=s.duration, dt=self.dt, settings=settings, metadata=metadata)
+        run = prepare(train, duration=s.duration, dt=self.dt, settings=settings, metadata=metadata)
+        # Every load held or constant: the compiled loop takes one row of torques and inputs
+        # per block, set when the inputs change (_held_arrays), instead of a row per sample.
+        elements = run.elements
+        self._fast = (
+            self._plan is not None
+            and (elements.wind is None or _constant(elements.wind) is not None)
+            and all(_constant(c) is not None for h in elements.hub_loads for c in h.components)
+        )
+        self._share = roll_share(run.gearbox)
+        self._held_key: tuple[float, ...] | None = None
+        self._targets: dict[int, np.ndarray] = {}
+        return run
 
     def _default_outputs(self) -> list[str]:
         res = self._run.result
@@ -314,7 +393,10 @@ class Session:
 
     def input_unit(self, name: str) -> str:
         """The unit of an input (SI)."""
-        return INPUT_KINDS[name.partition(".")[0]]
+        kind, _, rest = name.partition(".")
+        if kind == "hub":
+            return "N" if rest.partition(".")[2].startswith("force") else "N*m"
+        return INPUT_KINDS[kind]
 
     def _output_getter(self, name: str):
         available = self.available_outputs
@@ -325,12 +407,15 @@ class Session:
             )
         if name not in available:
             raise UnknownSessionName("output", name, list(available))
-        parts = name.split(".")
-        series_name, element = parts[0], parts[1]
+        # element names may hold dots themselves (a bearing row's "shaft.A")
+        series_name, _, element = name.partition(".")
         res = self._run.result
-        family = res.schema[series_name].family
-        index = res.names(family).index(element)
-        component = "xyz".index(parts[2]) if len(parts) == 3 else None
+        series = res.schema[series_name]
+        component = None
+        if series.shape(1)[1:] == (3,):
+            element, _, axis = element.rpartition(".")
+            component = "xyz".index(axis)
+        index = res.names(series.family).index(element)
         return series_name, index, component
 
     # --- stepping ------------------------------------------------------------------------------
@@ -340,8 +425,8 @@ class Session:
         """The time of the last sample recorded: the last communication point [s]."""
         return (self._sample - 1) * self.dt
 
-    def _step(self, start: int, stop: int) -> Result:
-        """Steps samples [start, stop) with the held values; returns their block.
+    def _step(self, start: int, stop: int) -> dict[str, float]:
+        """Steps samples [start, stop) with the held values; returns the outputs at stop − 1.
 
         The block is a buffer the session steps into again (one per block length): the log
         has copied the previous block's samples (``_commit``) before it is overwritten.
@@ -352,19 +437,81 @@ class Session:
         block = self._buffers.get(stop - start)
         if block is None:
             block = self._buffers[stop - start] = run._block(stop - start)
-        outcome = run.step_block(start, stop, block, held=self._held_rows(start, stop))
-        if outcome.error is not None:
-            self._sample = outcome.done
-            raise outcome.error
+            self._gathers[stop - start] = _last_sample_offsets(block, self._gather)
+        if self._fast:
+            done, error = self._step_held(start, stop, block)
+        else:
+            outcome = run.step_block(start, stop, block, held=self._held_rows(start, stop))
+            done, error = outcome.done, outcome.error
+        self.samples_stepped += done - start
+        if error is not None:
+            self._sample = done
+            raise error
         if self._spring0 is None:
             self._spring0 = float(block.energy["potential_spring"][0])
-        _numerical_loss(block.energy, self._spring0)
         self._sample = stop
         if self._observers:
             self._pending = (start, block)
-        elif self._derived:  # the outputs' series computed in Python: at the last sample only
+        if self._derived:  # the outputs' series computed in Python: at the last sample only
             _derive_last(block, run.gearbox, self._derived)
-        return block
+        root, offsets = self._gathers[stop - start]
+        return dict(zip(self._gather_names, root[offsets].tolist(), strict=True))
+
+    def _step_held(self, start: int, stop: int, block: Result) -> tuple[int, BaseException | None]:
+        """``PreparedRun.step_block`` for loads all held or constant.
+
+        The compiled loop takes the torques and inputs as one row each (``_held_arrays``), the
+        block's arrays bound once. Returns the samples final and the error that stopped the
+        block, or None.
+        """
+        torque, inputs = self._held_arrays(start)
+        stepper = self._run.stepper
+        error: BaseException | None = None
+        try:
+            done = stepper.run_held(
+                start, stop, torque, self._driver_rows(start, stop), stepper.outputs(block), inputs
+            )
+        except PinwindError as err:
+            done, error = getattr(err, "samples", start), err
+        speeds = block.speed[: done - start]
+        if speeds.size and not np.abs(speeds).max() < MAX_PLAUSIBLE_SPEED:
+            absurd = _implausible(block, np.arange(start, done))
+            if absurd is not None:
+                diverged = _diverged(absurd, self.dt)
+                diverged.__cause__ = error
+                return absurd[0], diverged
+        return done, error
+
+    def _held_arrays(self, start: int) -> tuple[np.ndarray, np.ndarray]:
+        """The applied torques (1, nv) [N·m] and elements' inputs (1, columns) held from ``start``.
+
+        Computed again only when a held value changed.
+        """
+        key = tuple(h.value for h in self._held.values())
+        if key != self._held_key:
+            torque_plan, _ = self._plan  # type: ignore[misc]  # _fast: a plan
+            run = self._run
+            torque = np.zeros((1, run.gearbox.model.nv))
+            for index, value in torque_plan:
+                torque[0, index] += value.value if isinstance(value, HeldInput) else value
+            torque = np.ascontiguousarray(from_ground(run.gearbox, self._share, torque))
+            inputs = run.elements.inputs(np.array([start * self.dt]))
+            if inputs is None:
+                inputs = np.zeros((1, run.stepper.input_columns))
+            self._held_now = (torque, np.ascontiguousarray(inputs, dtype=float))
+            self._held_key = key
+        return self._held_now
+
+    def _driver_rows(self, start: int, stop: int) -> np.ndarray:
+        """The driver speeds at t_start … t_stop (stop − start + 1, drivers) [rad/s]."""
+        _, driver_plan = self._plan  # type: ignore[misc]  # _fast: a plan
+        rows = stop - start + 1
+        if not driver_plan:
+            target = self._targets.get(rows)
+            if target is None:
+                target = self._targets[rows] = np.zeros((rows, 0))
+            return target
+        return self._held_rows(start, stop)[1]  # type: ignore[index]  # a plan: rows
 
     def _held_rows(self, start: int, stop: int) -> tuple[np.ndarray, np.ndarray] | None:
         """The held torques (nv,) and driver speeds (start … stop, rows), or None.
@@ -411,9 +558,11 @@ class Session:
         held = tuple((n, values.get(n, h.value)) for n, h in self._held.items())
         for name, value in held:
             self._held[name].hold(value, self._sample)
-        self._last = self._step(self._sample, k_next + 1)
-        self._history.append((k_next, held))
-        return self.outputs()
+        self._now = self._step(self._sample, k_next + 1)
+        self._before, self._point = self._point, next(_POINTS)
+        if not self._saves:  # the states are replays (restore)
+            self._history.append((k_next, held))
+        return dict(self._now)
 
     def _sample_of(self, t_next: float) -> int:
         """The sample of ``t_next``, checked: after the last, on the grid, within the run."""
@@ -431,53 +580,92 @@ class Session:
 
     def outputs(self) -> dict[str, float]:
         """The outputs at the last communication point (name → value, SI)."""
-        block = self._last
-        values: list[float] = []
-        for series_name, index in self._gather:  # one fancy index per series
-            values += getattr(block, series_name)[-1].reshape(-1)[index].tolist()
-        return dict(zip(self._gather_names, values, strict=True))
+        return dict(self._now)
 
     # --- state ---------------------------------------------------------------------------------
 
     def state(self) -> SessionState:
-        """The session's state, for ``restore`` (a master that retries a step)."""
-        return SessionState(self._sample, tuple(self._history), self._start)
+        """The session's state, for ``restore`` (a master that retries a step).
+
+        With compiled states (every element's kind copies its own: ``saves_state``), a copy of
+        the compiled run's state, of the model's size and cost whatever the time; else the
+        inputs of each communication step so far, which ``restore`` steps again.
+        """
+        return SessionState(
+            sample=self._sample,
+            held=tuple((n, h.value, h.previous, h.since) for n, h in self._held.items()),
+            outputs=tuple(self._now.values()),
+            start=self._start,
+            session=self._id,
+            model=self.gearbox.name,
+            point=self._point,
+            compiled=self._run.stepper.save() if self._saves else None,
+            history=None if self._saves else tuple(self._history),
+        )
+
+    @property
+    def saves_state(self) -> bool:
+        """Whether ``state`` copies the compiled run's state (else: the inputs to replay).
+
+        With it, ``restore`` costs the same whatever the state's time.
+        """
+        return self._saves
 
     def restore(self, state: SessionState) -> None:
-        """Goes back to ``state`` (from ``state()`` of this session): stepped again from t = 0.
+        """Goes back to ``state`` (from ``state()`` of this session).
+
+        The compiled run takes back its saved state: no step is taken again, whatever the
+        time (``samples_stepped`` is unchanged). Without compiled states (``saves_state``), the
+        run is prepared anew and stepped again from t = 0 through the same communication steps
+        with the same inputs, which reproduces the state bit for bit at a cost that grows with
+        the state's time.
 
         Raises:
-            RestoreBeyondLog: the log already holds samples after the state.
-            InputError: a state of another session (other inputs, or later than this one's).
+            ForeignState: a state another session saved (another model, or the same model).
+            RestoreBeyondLog: the log already holds samples after the state, or, with a log,
+                the state is neither the session's point nor the one before its last advance
+                (a point of a branch the master discarded: the log holds another).
         """
         if self.closed:
             raise SessionClosed(self.time)
-        if state.start != self._start or state.history != tuple(
-            self._history[: len(state.history)]
+        if state.session != self._id:
+            raise ForeignState((state.sample - 1) * self.dt, state.model, self.gearbox.name)
+        if state.sample < self._logged or (
+            self._observers and state.point not in (self._point, self._before)
         ):
-            raise InputError(
-                f"the state at sample {state.sample} is not one of this session's (other inputs "
-                "or start values); restore a state this session's state() gave"
-            )
-        if state.sample < self._logged:
             raise RestoreBeyondLog(
                 state.sample * self.dt - self.dt, self._logged * self.dt - self.dt
             )
         if self._pending is not None and self._pending[0] >= state.sample:
             self._pending = None
+        if state.point != self._point:
+            self._point, self._before = state.point, None
+        if state.compiled is not None:
+            self._run.stepper.restore(state.compiled)
+            for name, value, previous, since in state.held:
+                h = self._held[name]
+                h.value, h.previous, h.since = value, previous, since
+            self._sample = state.sample
+            self._now = dict(zip(self.output_names, state.outputs, strict=True))
+            return
+        self._replay(state)
+
+    def _replay(self, state: SessionState) -> None:
+        """``restore`` by stepping the run again from t = 0 (a model without compiled states)."""
+        history = state.history or ()
         self._held = self._held_inputs()
         self._run = self._prepare()
         self._spring0 = None
         observers, self._observers = self._observers, []  # the replay is not logged again
         try:
-            self._last = self._step(0, 1)
-            for k_next, held in state.history:
+            self._now = self._step(0, 1)
+            for k_next, held in history:
                 for name, value in held:
                     self._held[name].hold(value, self._sample)
-                self._last = self._step(self._sample, k_next + 1)
+                self._now = self._step(self._sample, k_next + 1)
         finally:
             self._observers = observers
-        self._history = list(state.history)
+        self._history = list(history)
 
     # --- the log -------------------------------------------------------------------------------
 
@@ -487,6 +675,7 @@ class Session:
             return
         start, block = self._pending
         self._pending = None
+        _numerical_loss(block.energy, self._spring0)  # type: ignore[arg-type]  # set by _step
         _derive(block, self._run.gearbox)  # every series, for the log
         n = len(block)
         at = 0
@@ -558,6 +747,24 @@ def _constant(signal: Any) -> HeldInput | float | None:
     return None
 
 
+def _hold_hub_component(loads: list[HubLoad], name: str, held: HeldInput) -> list[HubLoad]:
+    """``loads`` with the component ``name`` (``BODY.force_x`` …) held.
+
+    The scenario's load on the body gets that component replaced; without one, a new load at
+    the body's origin in the fixed frame (loads/hub_loads.py) carries that component alone.
+    """
+    body, _, component = name.partition(".")
+    i = COMPONENTS.index(component)
+    at = next((k for k, load in enumerate(loads) if load.body == body), None)
+    if at is None:
+        loads = [*loads, HubLoad(body, (0.0,) * 6)]
+        at = len(loads) - 1
+    components = list(loads[at].components)
+    components[i] = held
+    return [*loads[:at], dataclasses.replace(loads[at], components=tuple(components)),
+            *loads[at + 1 :]]  # fmt: skip
+
+
 def _plan(torques: Sequence[JointLoad], rows: Sequence[JointLoad]):
     """Each torque's (velocity index, held input or value) and each row's, or None.
 
@@ -568,6 +775,27 @@ def _plan(torques: Sequence[JointLoad], rows: Sequence[JointLoad]):
     if any(v is None for _, v in torque_plan) or any(v is None for v in driver_plan):
         return None
     return torque_plan, driver_plan
+
+
+def _last_sample_offsets(
+    block: Result, gather: list[tuple[str, list[int]]]
+) -> tuple[np.ndarray, np.ndarray]:
+    """The buffer every array of ``block`` views, and the outputs' offsets at its last sample.
+
+    ``simulate._allocate`` makes every array a view of one buffer; ``gather`` gives, per
+    series, the outputs' flat indices within one sample. One fancy index then reads them all.
+    """
+    root = block.speed
+    while root.base is not None:
+        root = root.base
+    offsets = []
+    for series_name, flat in gather:
+        last = getattr(block, series_name)[-1].reshape(-1)
+        first = (last.ctypes.data - root.ctypes.data) // root.itemsize
+        if not 0 <= first < root.size:
+            raise RuntimeError(f"series {series_name} is not a view of the block's buffer")
+        offsets += [first + f * (last.strides[0] // root.itemsize) for f in flat]
+    return root, np.array(offsets, dtype=np.intp)
 
 
 def _derive_last(block: Result, gearbox: Gearbox, derived: list) -> None:

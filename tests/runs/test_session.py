@@ -183,3 +183,26 @@ def test_a_session_log_reads_back_as_the_run(pair, tmp_path):
     np.testing.assert_allclose(res.mesh("m").normal[30::30], [o["mesh_normal.m"] for o in outs],
                                rtol=0, atol=0)  # fmt: skip
     assert res.metadata["status"] == "completed"
+
+
+def test_a_held_hub_force_equals_simulate_with_the_piecewise_constant_load():
+    """``hub.BODY.COMPONENT`` holds one component of the scenario's hub load on the body (its
+    point, frame and axes kept), as a torque is held."""
+    from pinwind.loads.hub_loads import HubLoad
+    from tests.dynamics.test_row_springs import _row, shaft_on_rows
+
+    rows = [_row("A", -0.3, (1e8, 2e8, 1e8, 1e5, 1e5)), _row("B", 0.1, (1e8, 1e8, 2e8, 1e5, 1e5))]
+    gearbox = pinwind.model.gearbox.loads(shaft_on_rows(rows))
+    points, n = 8, 10
+    forces = np.random.default_rng(5).uniform(-2e4, 2e4, points)
+    up = (0.0, 1.0, 0.0)  # the model has no gravity to give the hub's z
+    scenario_load = HubLoad("shaft", (0.0, 0.0, 3e3, 0.0, 0.0, 0.0), up=up)
+    scenario = Scenario(duration=points * H, dt=DT, hub_loads=(scenario_load,))
+    session = Session(gearbox, scenario, inputs=["hub.shaft.force_y"])
+    assert session.input_unit("hub.shaft.force_y") == "N"
+    seen = [session.advance((i + 1) * H, {"hub.shaft.force_y": forces[i]}) for i in range(points)]
+    load = HubLoad("shaft", (0.0, _held(0.0, forces, n), 3e3, 0.0, 0.0, 0.0), up=up)
+    res = simulate(gearbox, duration=points * H, dt=DT, hub_loads=[load])
+    got = np.array([[o[f"bearing_force.shaft.{c}"] for c in "xyz"] for o in seen])
+    np.testing.assert_allclose(got, res.bearing("shaft").force[n::n], rtol=1e-9, atol=1e-9)
+    assert np.ptp(got) > 1e4  # the held force does reach the bearing

@@ -34,6 +34,10 @@ class BearingDamping : public Element {
     return {0.0, -torque_.dot(v_mid) * s.dt};
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override { return copy_of<BearingDamping, Element>(*this); }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   Eigen::VectorXd damping_, torque_;
 };

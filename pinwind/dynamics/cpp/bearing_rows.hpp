@@ -254,6 +254,10 @@ class BearingRows : public Element {
     }
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override { return copy_of<BearingRows, Element>(*this); }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   using Sides = std::array<std::array<bool, 2>, 2>;  // [direction u, w][side +, −]: touching
 

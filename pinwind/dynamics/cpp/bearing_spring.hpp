@@ -253,6 +253,10 @@ class BearingSprings : public Element {
     return {elastic_.dot(v_mid) * s.dt, -damping_.dot(v_mid) * s.dt, 0.0};
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override { return copy_of<BearingSprings, Element>(*this); }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   struct Linear {
     long index;

@@ -356,6 +356,12 @@ class CompliantMeshes : public Element {
     }
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override {
+    return copy_of<CompliantMeshes, Element>(*this);
+  }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   static double flank_sign(int f) { return f == 0 ? 1.0 : -1.0; }
 
@@ -711,6 +717,10 @@ class SlicedMeshes : public Element {
           loaded ? fl.normal.dot(sp.slice_offset) / total[f] : 0.0;
     }
   }
+
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override { return copy_of<SlicedMeshes, Element>(*this); }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
 
  private:
   struct Flank {

@@ -268,5 +268,7 @@ bool ConstrainedQp::refresh_mass(const Eigen::MatrixXd& mass) {
 }
 
 ConstrainedQp::~ConstrainedQp() = default;
+ConstrainedQp::ConstrainedQp(const ConstrainedQp&) = default;
+ConstrainedQp& ConstrainedQp::operator=(const ConstrainedQp&) = default;
 
 }  // namespace pinwind

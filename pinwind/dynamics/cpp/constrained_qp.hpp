@@ -68,6 +68,34 @@ struct QpSolution {
   std::string status = "unconstrained";
 };
 
+// An owned object copied whole with its owner (std::unique_ptr's copy): proxsuite's QP, whose
+// type is complete only in constrained_qp.cpp, where ConstrainedQp's copies are compiled.
+template <class T>
+class CopiedPtr {
+ public:
+  CopiedPtr() = default;
+  CopiedPtr(const CopiedPtr& o) : p_(o.p_ ? std::make_unique<T>(*o.p_) : nullptr) {}
+  CopiedPtr& operator=(const CopiedPtr& o) {
+    if (this == &o) return *this;
+    if (p_ && o.p_) {
+      *p_ = *o.p_;  // the same sizes: the buffers kept
+    } else {
+      p_ = o.p_ ? std::make_unique<T>(*o.p_) : nullptr;
+    }
+    return *this;
+  }
+  CopiedPtr& operator=(std::unique_ptr<T> p) {
+    p_ = std::move(p);
+    return *this;
+  }
+  void reset() { p_.reset(); }
+  T* operator->() const { return p_.get(); }
+  bool operator!() const { return !p_; }
+
+ private:
+  std::unique_ptr<T> p_;
+};
+
 // A proxsuite dense QP of fixed size reused for every step.
 class ConstrainedQp {
  public:
@@ -75,6 +103,10 @@ class ConstrainedQp {
 
   ConstrainedQp(Eigen::Index nv, Eigen::Index rows, SolverSettings settings);
   ~ConstrainedQp();  // in constrained_qp.cpp, where proxsuite's QP is complete
+  // Copies, proxsuite's QP with them: every factorisation, cache and warm start, so that a copy
+  // solves the next step to the same bits as the original (a saved state of a run).
+  ConstrainedQp(const ConstrainedQp&);
+  ConstrainedQp& operator=(const ConstrainedQp&);
 
   // Solves M a = force + Jᵀ λ, J a = rhs.
   //
@@ -142,7 +174,7 @@ class ConstrainedQp {
 
   Eigen::Index nv_, rows_;
   SolverSettings settings_;
-  std::unique_ptr<QP> qp_;
+  CopiedPtr<QP> qp_;
   double data_scale_ = 0.0;
   double mass_scale_ = 1.0;
   Eigen::MatrixXd mass_cache_, h_, jac_cache_, range_;

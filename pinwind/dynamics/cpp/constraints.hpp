@@ -15,6 +15,7 @@
 // energy ledger. A virtual call per constraint and step, never per row; no allocation per step.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -84,6 +85,11 @@ class Constraint {
     (void)jac;
     (void)dq;
   }
+  // A copy, states and all (its rows' flanks, the transmission error), for a saved state of
+  // the run; null if the kind keeps none (Element::copy).
+  virtual std::unique_ptr<Constraint> copy() const { return nullptr; }
+  // Takes the states of saved, a copy() of this constraint (Stepper::restore).
+  virtual void restore(const Constraint& saved) { (void)saved; }
 };
 
 }  // namespace pinwind

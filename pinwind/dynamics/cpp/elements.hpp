@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -153,6 +154,26 @@ class Element {
   virtual void record(const StepView&, long, const Outputs&) const {}
   // Moves the element's own states (generator fluxes, ...) from t_n to t_{n+1}, given v_{n+1}.
   virtual void advance(const StepView&, const Eigen::VectorXd& v_next) { (void)v_next; }
+  // A copy of the element, internal states and all (contact flanks, fluxes, controllers,
+  // histories), for a saved state of the run (Stepper::save); null if the kind keeps none, and
+  // the run's state then cannot be saved. A kind whose members are its states and constants
+  // copies itself as a value: copy_of and restore_from below.
+  virtual std::unique_ptr<Element> copy() const { return nullptr; }
+  // Takes the states of saved, a copy() of this element (Stepper::restore).
+  virtual void restore(const Element& saved) { (void)saved; }
 };
+
+// copy() and restore() of an element or constraint of class T that copies as a value: every
+// member a state or a constant, pointers only to what outlives the run's saved states (the
+// setup's paths, another element of the same list). Each leaf class overrides both with them,
+// so that a copy is never sliced to its base (Stepper::save checks the copy's type).
+template <class T, class Base>
+std::unique_ptr<Base> copy_of(const T& self) {
+  return std::make_unique<T>(self);
+}
+template <class T, class Base>
+void restore_from(T& self, const Base& saved) {
+  self = static_cast<const T&>(saved);
+}
 
 }  // namespace pinwind

@@ -139,6 +139,12 @@ class ShaftSpeedGenerator : public JointTorqueElement {
     out.at(Series::generator_torque, out.entry(Family::generator, k, slot_)) = -applied();
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override {
+    return copy_of<ShaftSpeedGenerator, Element>(*this);
+  }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   GeneratorSpec g_;
   long slot_;
@@ -267,6 +273,12 @@ class InductionMachineDq : public JointTorqueElement {
     const double im = std::sqrt(0.5 * std::max(r - z.real(), 0.0));
     return {re, std::signbit(z.imag()) ? -im : im};
   }
+
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override {
+    return copy_of<InductionMachineDq, Element>(*this);
+  }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
 
  private:
   GeneratorSpec g_;

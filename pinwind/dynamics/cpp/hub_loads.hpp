@@ -104,6 +104,10 @@ class HubLoad : public Element {
     return w;
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override { return copy_of<HubLoad, Element>(*this); }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   HubLoadSpec s_;
   Eigen::Matrix<double, 6, 1> wrench_ = Eigen::Matrix<double, 6, 1>::Zero();

@@ -29,7 +29,7 @@ class RigidMeshes final : public Constraint {
  public:
   // meshes: the indices of the rigid meshes in the model's mesh list, in row order.
   RigidMeshes(std::vector<long> meshes, const std::vector<MeshPathSpec>& paths)
-      : meshes_(std::move(meshes)), paths_(paths) {
+      : meshes_(std::move(meshes)), paths_(&paths) {
     const auto n = static_cast<Eigen::Index>(meshes_.size());
     flank_.setOnes(n);
     te_.setZero(n);
@@ -90,7 +90,7 @@ class RigidMeshes final : public Constraint {
     const auto& mc = s.meshes;
     for (Eigen::Index r = 0; r < size(); ++r) {
       const Eigen::Index m = meshes_[r];
-      const auto& path = paths_[static_cast<size_t>(m)];
+      const auto& path = (*paths_)[static_cast<size_t>(m)];
       const double angle =
           gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
       const PathState p = path_state(path, angle, flank_[r]);
@@ -120,6 +120,12 @@ class RigidMeshes final : public Constraint {
     }
   }
 
+  // A copy for a saved state of the run, and its states taken back (Constraint::copy).
+  std::unique_ptr<Constraint> copy() const override {
+    return copy_of<RigidMeshes, Constraint>(*this);
+  }
+  void restore(const Constraint& saved) override { restore_from(*this, saved); }
+
  private:
   // Whether mesh m's other flank has the opposite row (fixed axes): λ just changes sign. When
   // the radial part of the row vanishes in joint space it vanishes at every state (the axes
@@ -130,7 +136,7 @@ class RigidMeshes final : public Constraint {
   }
 
   std::vector<long> meshes_;
-  const std::vector<MeshPathSpec>& paths_;
+  const std::vector<MeshPathSpec>* paths_;  // the setup's (a pointer: copies assign)
   Eigen::VectorXd flank_, te_;  // loaded flank s (±1) and transmission error [m] of each row
   mutable Eigen::VectorXd jv_;
 };

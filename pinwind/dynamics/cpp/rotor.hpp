@@ -306,6 +306,12 @@ class RotorAerodynamics : public JointTorqueElement {
     if (r_.pitch_control.enabled) control_.step(s.v[index_], v_next[index_], s.dt);
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override {
+    return copy_of<RotorAerodynamics, Element>(*this);
+  }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   RotorSpec r_;
   long slot_;
@@ -319,7 +325,7 @@ class RotorAerodynamics : public JointTorqueElement {
 class RotorHubLoad : public HubLoad {
  public:
   RotorHubLoad(const RotorSpec& spec, const RotorAerodynamics& rotor)
-      : HubLoad(spec.hub_load), r_(spec), rotor_(rotor) {}
+      : HubLoad(spec.hub_load), r_(spec), rotor_(&rotor) {}
 
   void prepare(const StepView& s) override {
     if (s.inputs == nullptr) {  // no sample (Stepper::element_forces): no wind, no load
@@ -327,15 +333,20 @@ class RotorHubLoad : public HubLoad {
       return;
     }
     const double thrust =
-        rotor_thrust(r_, s.v[r_.index], s.inputs[r_.wind_column], rotor_.pitch()).thrust;
+        rotor_thrust(r_, s.v[r_.index], s.inputs[r_.wind_column], rotor_->pitch()).thrust;
     const double c[6] = {thrust + r_.weight[0], r_.weight[1], r_.weight[2],
                          0.0, r_.shear_arm * thrust, 0.0};
     load(s, c);
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override { return copy_of<RotorHubLoad, Element>(*this); }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   RotorSpec r_;
-  const RotorAerodynamics& rotor_;  // its element (the same run's list), for the pitch
+  // its element (the same run's list), for the pitch: a pointer, so that a saved copy assigns
+  const RotorAerodynamics* rotor_;
 };
 
 // The kind (element_kind.hpp): StepperSpec.rotors, an element each (and one for its hub's

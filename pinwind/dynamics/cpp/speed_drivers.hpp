@@ -57,6 +57,12 @@ class SpeedDrivers final : public Constraint {
     ledger.drivers += torque_.dot(dq);
   }
 
+  // A copy for a saved state of the run, and its states taken back (Constraint::copy).
+  std::unique_ptr<Constraint> copy() const override {
+    return copy_of<SpeedDrivers, Constraint>(*this);
+  }
+  void restore(const Constraint& saved) override { restore_from(*this, saved); }
+
  private:
   std::vector<long> index_;
   mutable Eigen::VectorXd torque_;  // Σ λ_i e_i [N·m]

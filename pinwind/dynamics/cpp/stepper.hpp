@@ -110,6 +110,23 @@ struct ElementForces {
   double potential = 0.0;     // Σ U_e: the stored energy at q [J]
 };
 
+// A run's state between two samples, saved by Stepper::save and taken back by Stepper::restore:
+// what the next step reads of the steps before it. The state (q_k, v_k), the generalized-α
+// memory a_k and whether the consistent a_0 is still to come, the weighted bias's last sample,
+// the energy ledger, each element's and constraint's copy (their internal states: contact
+// flanks, fluxes, controllers, predictions) and the solver's factorisations and warm start;
+// M and the constant rows too (taken once). Its size is the model's, whatever the run's length.
+struct StepperState {
+  unsigned long long run = 0;  // the stepper it was saved from (another refuses it)
+  Eigen::VectorXd q, v, accel_memory, nle_last, gravity_last, a, lam, bias;
+  Eigen::MatrixXd mass, jac;
+  bool first_step = true;
+  EnergyLedger ledger;
+  Elements elements;
+  Constraints constraints;
+  std::unique_ptr<ConstrainedQp> qp;
+};
+
 class Stepper {
  public:
   // samples: how many samples the whole run has (the last one is recorded, not stepped from).
@@ -124,9 +141,10 @@ class Stepper {
 
   // Steps samples [k0, k1), writing sample k into row k − k0 of out; with stride > 1 only every
   // stride-th sample from 0 and the run's last are recorded (their bearing reactions computed),
-  // into consecutive rows of out. torque: (k1 − k0, nv) applied torques [N·m] at t_k; target:
-  // (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k and t_{k1} (locks 0); inputs:
-  // (k1 − k0, input_columns) the elements' inputs at t_k.
+  // into consecutive rows of out. torque: (k1 − k0, nv) applied torques [N·m] at t_k, or
+  // (1, nv) held over the block; target: (k1 − k0 + 1, drivers) driver speeds [rad/s] at t_k
+  // and t_{k1} (locks 0); inputs: (k1 − k0, input_columns) the elements' inputs at t_k, or
+  // (1, input_columns) held.
   RunStatus run(long k0, long k1, const RowMat& torque, const RowMat& target, const Outputs& out,
                 const RowMat& inputs, long stride = 1);
 
@@ -167,6 +185,17 @@ class Stepper {
   // force against its potential and of its tangent against finite differences. The elements
   // read no inputs (a rotor sees no wind); the run's state and elements are kept.
   ElementForces element_forces(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+
+  // Whether every element and constraint copies its state (Element::copy): else save() throws.
+  bool saves_state() const;
+
+  // The run's state before its next sample (StepperState), for restore(): O(model) in time and
+  // memory. std::logic_error if an element's kind keeps no copy (saves_state).
+  std::unique_ptr<StepperState> save() const;
+
+  // Takes the run back to a state save() gave: the next run() from the sample after it steps as
+  // it did then, bit for bit. std::invalid_argument for a state of another stepper.
+  void restore(const StepperState& state);
 
  private:
   static RunStatus& fail(RunStatus& st, long step, double time, const std::string& what) {
@@ -312,6 +341,7 @@ class Stepper {
   void advance();
 
   StepperSetup s_;
+  unsigned long long id_;  // this stepper among the process's (StepperState::run)
   pinocchio::Data data_;
   long samples_;
   Outputs out_{};

@@ -1,7 +1,11 @@
 // A Stepper's start, with its elements and constraints from their kinds' factories
 // (element_kinds.hpp), and the assembly the tests check against Pinocchio (stepper.hpp).
 #include <algorithm>
+#include <atomic>
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <typeinfo>
 #include <utility>
 
 #include "joint_algorithms.hpp"
@@ -36,11 +40,89 @@ bool reads_gear_motion(const Constraints& constraints) {
                      [](const auto& c) { return c->reads_gear_motion(); });
 }
 
+// A number for each stepper of the process, never reused (StepperState::run).
+unsigned long long next_stepper_id() {
+  static std::atomic<unsigned long long> next{1};
+  return next++;
+}
+
+// The copy of each of items (Element::copy), checked to be whole: a kind that keeps no copy, or
+// a class that inherits its base's copy (which would slice it), makes the state unsaveable.
+template <class List>
+List copies(const List& items) {
+  List out;
+  out.reserve(items.size());
+  for (const auto& item : items) {
+    auto copy = item->copy();
+    if (!copy || typeid(*copy) != typeid(*item)) {
+      throw std::logic_error(std::string("the run's state cannot be saved: its element ") +
+                             typeid(*item).name() + " keeps no copy of its state (copy())");
+    }
+    out.push_back(std::move(copy));
+  }
+  return out;
+}
+
+template <class List>
+bool all_copy(const List& items) {
+  return std::all_of(items.begin(), items.end(), [](const auto& item) {
+    const auto copy = item->copy();
+    return copy && typeid(*copy) == typeid(*item);
+  });
+}
+
 }  // namespace
+
+bool Stepper::saves_state() const { return all_copy(elements_) && all_copy(constraints_); }
+
+std::unique_ptr<StepperState> Stepper::save() const {
+  auto st = std::make_unique<StepperState>();
+  st->run = id_;
+  st->q = q_;
+  st->v = v_;
+  st->accel_memory = accel_memory_;
+  st->nle_last = nle_last_;
+  st->gravity_last = gravity_last_;
+  st->a = a_;
+  st->lam = lam_;
+  st->bias = bias_;
+  st->mass = mass_;
+  st->jac = jac_;
+  st->first_step = first_step_;
+  st->ledger = ledger_;
+  st->elements = copies(elements_);
+  st->constraints = copies(constraints_);
+  st->qp = std::make_unique<ConstrainedQp>(qp_);
+  return st;
+}
+
+void Stepper::restore(const StepperState& st) {
+  if (st.run != id_) {
+    throw std::invalid_argument(
+        "the state was saved from another run (another model or session); a run takes back "
+        "only the states its own save() gave");
+  }
+  q_ = st.q;
+  v_ = st.v;
+  accel_memory_ = st.accel_memory;
+  nle_last_ = st.nle_last;
+  gravity_last_ = st.gravity_last;
+  a_ = st.a;
+  lam_ = st.lam;
+  bias_ = st.bias;
+  mass_ = st.mass;
+  jac_ = st.jac;
+  first_step_ = st.first_step;
+  ledger_ = st.ledger;
+  for (size_t i = 0; i < elements_.size(); ++i) elements_[i]->restore(*st.elements[i]);
+  for (size_t c = 0; c < constraints_.size(); ++c) constraints_[c]->restore(*st.constraints[c]);
+  qp_ = *st.qp;
+}
 
 Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                  long samples)
     : s_(std::move(setup)),
+      id_(next_stepper_id()),
       data_(s_.model),
       samples_(samples),
       nv_(s_.model.nv),

@@ -6,6 +6,7 @@
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/unique_ptr.h>
 #include <nanobind/stl/vector.h>
 
 #include <array>
@@ -227,8 +228,15 @@ class PyStepper {
                 const OutputArrays& out, const RowMat& inputs, long stride) {
     if (k1 < k0) throw std::invalid_argument("run: k1 < k0");
     if (stride < 1) throw std::invalid_argument("run: stride < 1");
-    if (inputs_ && (inputs.rows() != k1 - k0 || inputs.cols() != inputs_)) {
-      throw std::invalid_argument("run: inputs must be (k1 - k0, input_columns)");
+    if (inputs_ && ((inputs.rows() != k1 - k0 && inputs.rows() != 1) || inputs.cols() != inputs_)) {
+      throw std::invalid_argument("run: inputs must be (k1 - k0, input_columns) or (1, ...)");
+    }
+    const long nv = counts_[static_cast<size_t>(Family::joint)];
+    if (k1 > k0 && ((torque.rows() != k1 - k0 && torque.rows() != 1) || torque.cols() != nv)) {
+      throw std::invalid_argument("run: torque must be (k1 - k0, nv) or (1, nv)");
+    }
+    if (k1 > k0 && target.cols() && target.rows() < k1 - k0 + 1) {
+      throw std::invalid_argument("run: target must have k1 - k0 + 1 rows");
     }
     const long rows = stepper_->kept_rows(k0, k1, stride);
     const Outputs o = outputs(out, static_cast<size_t>(rows), counts_);
@@ -264,6 +272,12 @@ class PyStepper {
     }
     return stepper_->element_forces(q, v);
   }
+
+  bool saves_state() const { return stepper_->saves_state(); }
+
+  std::unique_ptr<StepperState> save() const { return stepper_->save(); }
+
+  void restore(const StepperState& state) { stepper_->restore(state); }
 
  private:
   FamilyCounts counts_{};  // elements per family (series.hpp)
@@ -396,6 +410,10 @@ void bind_stepper(nb::module_& m) {
       .def_ro("damping", &ElementForces::damping)
       .def_ro("potential", &ElementForces::potential);
 
+  nb::class_<StepperState>(m, "StepperState",
+                           "A run's state between two samples (Stepper.save): opaque, of the "
+                           "model's size whatever the run's length.");
+
   nb::class_<PyStepper>(m, "Stepper")
       .def(nb::init<const StepperSpec&, const Eigen::VectorXd&, const Eigen::VectorXd&, long>(),
            "spec"_a, "q0"_a, "v0"_a, "samples"_a)
@@ -415,7 +433,15 @@ void bind_stepper(nb::module_& m) {
            "M, b, J and γ of the step at (q, v), with the rows' current flanks.")
       .def("element_forces", &PyStepper::element_forces, "q"_a, "v"_a,
            "The elements' force, stiffness −∂f/∂q, damping −∂f/∂v and stored energy at (q, v), "
-           "each element new (in contact wherever it overlaps).");
+           "each element new (in contact wherever it overlaps).")
+      .def_prop_ro("saves_state", &PyStepper::saves_state,
+                   "Whether every element and constraint copies its state, so that save() works.")
+      .def("save", &PyStepper::save,
+           "The run's state before its next sample: q, v, the generalized-α memory, the energy "
+           "ledger, every element's and constraint's internal states and the solver's.")
+      .def("restore", &PyStepper::restore, "state"_a,
+           "Takes the run back to a state save() gave (ValueError for another run's); the next "
+           "run() from the sample after it steps bit for bit as it did then.");
 
 }
 

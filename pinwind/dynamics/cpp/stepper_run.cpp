@@ -16,12 +16,15 @@ RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& tar
   out_ = out;
   stride = std::max(stride, 1L);
   const long row0 = (k0 + stride - 1) / stride;  // the kept index of out's first row
+  // One row of torques or inputs: held over the block (a session's held inputs).
+  const bool held_torque = torque.rows() == 1, held_inputs = inputs.rows() == 1;
+  if (held_torque) tau_applied_ = torque.row(0).transpose();
   for (long k = k0; k < k1; ++k) {
     const double t = k * s_.dt;
     st.sample = k;
     time_ = t;
-    inputs_ = s_.input_columns ? inputs.row(k - k0).data() : nullptr;
-    tau_applied_ = torque.row(k - k0).transpose();
+    inputs_ = s_.input_columns ? inputs.row(held_inputs ? 0 : k - k0).data() : nullptr;
+    if (!held_torque) tau_applied_ = torque.row(k - k0).transpose();
     target_row_ = target.cols() ? target.row(k - k0).data() : nullptr;
     target_next_row_ = target.cols() ? target.row(k - k0 + 1).data() : nullptr;
     targets();

@@ -83,6 +83,12 @@ class TorsionalSprings : public Element {
     return {elastic_.dot(v_mid) * s.dt, -damping_.dot(v_mid) * s.dt};
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override {
+    return copy_of<TorsionalSprings, Element>(*this);
+  }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
  private:
   // x₁ − x₂ of a joint vector (angles, speeds, accelerations), x₁ alone without joint 2.
   static double difference(const TorsionalSpringSpec& sp, const Eigen::VectorXd& x) {
