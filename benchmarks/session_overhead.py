@@ -49,7 +49,7 @@ def main(argv: list[str] | None = None) -> None:
     gearbox = pinwind.load(MODEL)
     h = args.steps * DT
     duration = args.points * h
-    whole, loop, session_s, fmu_s, state_s = [], [], [], [], []
+    whole, loop, session_s, fmu_s, state_s, changing_s = [], [], [], [], [], []
     for _ in range(args.repeats):
         started = time.perf_counter()
         simulate(gearbox, duration=duration, dt=DT, torques=TORQUES, keep="last")
@@ -67,6 +67,14 @@ def main(argv: list[str] | None = None) -> None:
             session.advance((i + 1) * h, inputs)
         session_s.append(time.perf_counter() - started)
         state_s.append(_state_time(session))
+        # the same with every input changed at every point (the held rows computed again)
+        session = Session(gearbox, Scenario(dt=DT, duration=duration), inputs=list(inputs),
+                          start=inputs)  # fmt: skip
+        changed = [{k: v * (1.0 + 1e-6 * (i % 2)) for k, v in inputs.items()} for i in range(2)]
+        started = time.perf_counter()
+        for i in range(args.points):
+            session.advance((i + 1) * h, changed[i % 2])
+        changing_s.append(time.perf_counter() - started)
         if not args.no_fmu:
             fmu_s.append(_fmu_time(args.points, h, duration, inputs))
     per = 1e6 / args.points
@@ -77,6 +85,8 @@ def main(argv: list[str] | None = None) -> None:
     print(f"session advance       {min(session_s) * per:9.1f} µs per point "
           f"(overhead {min(session_s) / min(loop) - 1:+.1%} beside the step loop, "
           f"{min(session_s) / min(whole) - 1:+.1%} beside simulate end to end)")  # fmt: skip
+    print(f"  inputs changed      {min(changing_s) * per:9.1f} µs per point "
+          f"(overhead {min(changing_s) / min(loop) - 1:+.1%})")  # fmt: skip
     print(f"state() + restore()   {min(state_s) * 1e6:9.1f} µs at the run's end "
           f"({args.points * args.steps} steps)")  # fmt: skip
     if fmu_s:
