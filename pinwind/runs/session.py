@@ -153,7 +153,7 @@ class SessionState:
     Attributes:
         sample: the next sample to step (samples before it are final) [-].
         held: each open input's (name, value, previous value, sample its value holds from).
-        outputs: the outputs at the state's time, in ``Session.output_names``' order [SI].
+        outputs: the outputs at the state's time, (name, value) [SI].
         start: the inputs' start values (sample 0).
         session: the number of the session that saved it (a session restores only its own).
         model: that session's model name, for the message refusing another's.
@@ -168,7 +168,7 @@ class SessionState:
 
     sample: int
     held: tuple[tuple[str, float, float, int], ...]
-    outputs: tuple[float, ...]
+    outputs: tuple[tuple[str, float], ...]
     start: tuple[tuple[str, float], ...]
     session: int
     model: str
@@ -594,7 +594,7 @@ class Session:
         return SessionState(
             sample=self._sample,
             held=tuple((n, h.value, h.previous, h.since) for n, h in self._held.items()),
-            outputs=tuple(self._now.values()),
+            outputs=tuple(self._now.items()),
             start=self._start,
             session=self._id,
             model=self.gearbox.name,
@@ -646,7 +646,7 @@ class Session:
                 h = self._held[name]
                 h.value, h.previous, h.since = value, previous, since
             self._sample = state.sample
-            self._now = dict(zip(self.output_names, state.outputs, strict=True))
+            self._now = dict(state.outputs)
             return
         self._replay(state)
 

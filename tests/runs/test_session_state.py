@@ -251,3 +251,16 @@ def test_with_a_log_a_state_ahead_of_the_session_is_refused(tmp_path):
         session.restore(back)
         with pytest.raises(RestoreBeyondLog):
             session.restore(ahead)
+
+
+def test_a_restore_gives_back_the_outputs_of_the_state_whatever_their_order():
+    """Outputs named out of their series' order (the session gathers them by series)."""
+    case = _rigid_pair()
+    names = ["speed.a", "mesh_normal.m", "speed.b", "bearing_force.a.y", "angle.a"]
+    session = Session(case.gearbox, case.scenario, inputs=list(case.inputs), outputs=names)
+    session.advance(0.01, {"torque.a": 1.0, "torque.b": -1.0})
+    saved, at_state = session.state(), session.outputs()
+    assert at_state["speed.a"] > 0.0 > at_state["speed.b"]  # the pair turns: values differ
+    session.advance(0.02, {"torque.a": 3.0})
+    session.restore(saved)
+    assert session.outputs() == at_state
