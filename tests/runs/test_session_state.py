@@ -283,3 +283,22 @@ def test_a_restore_gives_back_the_outputs_of_the_state_whatever_their_order():
     session.advance(0.02, {"torque.a": 3.0})
     session.restore(saved)
     assert session.outputs() == at_state
+
+
+def test_without_compiled_states_a_restore_replays_the_run_to_the_same_bits():
+    """The fallback for an element kind that keeps no copy (``Session.saves_state`` False,
+    forced here): the run stepped again from t = 0, every sample to the state's once more."""
+    case = _rigid_pair()
+    session = _open(case)
+    session._saves = False  # as for a model with a kind whose Element::copy() is null
+    rng = np.random.default_rng(3)
+    for i in range(5):
+        session.advance((i + 1) * 0.01, _values(case, rng))
+    saved = session.state()
+    assert saved.compiled is None and len(saved.history) == 5
+    u = _values(case, rng)
+    first = session.advance(0.06, u)
+    stepped = session.samples_stepped
+    session.restore(saved)
+    assert session.samples_stepped == stepped + 51  # sample 0 and the five points again
+    np.testing.assert_array_equal(_array(session.advance(0.06, u)), _array(first))
