@@ -535,6 +535,8 @@ class Stepper:
     ) -> RunStatus:
         """Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out; inputs (k1 − k0, columns).
 
+        torque (k1 − k0, nv) or inputs (k1 − k0, columns) of one row only: held over the block.
+
         With stride > 1 only every stride-th sample from 0 and the run's last are recorded, in
         consecutive rows of out.
         """
