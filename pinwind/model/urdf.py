@@ -621,7 +621,9 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         if rows:
             out.row_friction[joint] = [
                 friction_data(
-                    row.attrib, where=f'{where} <row name="{row.get("name")}">', path=path,
+                    row.attrib,
+                    where=f'{where} <row name="{row.get("name")}">',
+                    path=path,
                     inherited=friction,
                 )
                 for row in el.findall("row")
