@@ -1,0 +1,175 @@
+"""An efficiency map: the gearbox's efficiency over a grid of input torques and speeds.
+
+At each operating point (input torque T on the input joint, input speed n) a short run holds the
+output joint at the speed n × ratio (a speed driver; the ratio from the train's kinematics,
+``dynamics/ratios.py``), starts the train at that speed and takes the efficiency
+``analysis/efficiency.py`` gives over the run's second half (ISO/TR 14179-2's bearing and mesh
+losses from the run's loads; no churning). The points run here, on local processes or on Dask
+(``runs/executor.py``); the map is written as CSV and drawn as a filled contour plot.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import warnings
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pinwind.errors import InvalidLossInput
+from pinwind.model.bearing_life_data import VG_GRADES
+
+#: The columns of the map's CSV, in order.
+COLUMNS = (
+    "torque_Nm",
+    "speed_rpm",
+    "input_power_W",
+    "bearing_loss_W",
+    "mesh_loss_W",
+    "efficiency",
+)
+_RPM = 2.0 * math.pi / 60.0
+
+
+def check_grade(grade: int) -> None:
+    """Refuse an ISO 3448 viscosity grade that does not exist, listing those that do.
+
+    Raises:
+        InvalidLossInput: ``grade`` is not a key of ``VG_GRADES``.
+    """
+    if grade not in VG_GRADES:
+        raise InvalidLossInput(
+            "lubricant_vg",
+            grade,
+            f"not an ISO 3448 viscosity grade; give one of {', '.join(map(str, VG_GRADES))}",
+        )
+
+
+def point_efficiency(
+    item: tuple[float, float],
+    *,
+    model: str,
+    input_joint: str,
+    output_joint: str,
+    ratio: float,
+    duration: float,
+    dt: float,
+    grade: int,
+    temperature: float,
+    roughness: float,
+) -> dict[str, float]:
+    """One point of the map: a row of ``COLUMNS`` (module docstring); runs on a worker.
+
+    Args:
+        item: (input torque T [N·m], input speed n [rpm]).
+        model: the model file.
+        input_joint, output_joint: where the torque acts and the speed driver holds.
+        ratio: ω_output / ω_input [-].
+        duration, dt: the run [s].
+        grade: ISO VG grade of the gear oil; temperature: the oil's [K].
+        roughness: the flanks' Ra [m].
+    """
+    import pinwind
+    from pinwind.analysis.efficiency import efficiency
+    from pinwind.losses.oil import Lubricant
+
+    torque, speed_rpm = item
+    omega = speed_rpm * _RPM
+    gearbox = pinwind.load(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = pinwind.simulate(
+            gearbox, duration=duration, dt=dt, torques={input_joint: torque},
+            speeds={output_joint: omega * ratio}, initial_speeds={input_joint: omega},
+        )  # fmt: skip
+    e = efficiency(res, gearbox, oil=Lubricant(grade, temperature), roughness=roughness)
+    keep = e.time >= 0.5 * duration
+    bearings = sum((c.power for c in e.components if c.kind == "bearing"), np.zeros(len(keep)))
+    meshes = sum((c.power for c in e.components if c.kind == "mesh"), np.zeros(len(keep)))
+    power = float(np.mean(e.input_power[keep]))
+    loss_b, loss_m = float(np.mean(bearings[keep])), float(np.mean(meshes[keep]))
+    return {
+        "torque_Nm": torque,
+        "speed_rpm": speed_rpm,
+        "input_power_W": power,
+        "bearing_loss_W": loss_b,
+        "mesh_loss_W": loss_m,
+        "efficiency": 1.0 - (loss_b + loss_m) / power if power > 0.0 else math.nan,
+    }
+
+
+def efficiency_map(
+    model: str,
+    *,
+    input_joint: str,
+    output_joint: str,
+    torques: Sequence[float],
+    speeds_rpm: Sequence[float],
+    duration: float,
+    dt: float,
+    grade: int = 320,
+    temperature: float = 343.15,
+    roughness: float = 0.5e-6,
+    workers: int = 1,
+    scheduler: Any = None,
+) -> tuple[list[dict[str, float]], str]:
+    """Every point of the grid torques × speeds (module docstring), sorted, and the backend.
+
+    Raises:
+        InvalidLossInput: a viscosity grade that does not exist.
+        UnknownJoint, InputError: joints the model lacks, a train with more than one degree of
+            freedom (``speed_ratio``).
+    """
+    import pinwind
+    from pinwind.dynamics.ratios import speed_ratio
+    from pinwind.runs.executor import run_tasks
+
+    check_grade(grade)
+    ratio = speed_ratio(pinwind.load(model), output_joint, input_joint)
+    items = [(float(t), float(n)) for t in torques for n in speeds_rpm]
+    rows: list[dict[str, float]] = []
+    backend = run_tasks(
+        point_efficiency, items, accept=rows.append, workers=workers, scheduler=scheduler,
+        model=str(model), input_joint=input_joint, output_joint=output_joint, ratio=ratio,
+        duration=duration, dt=dt, grade=grade, temperature=temperature, roughness=roughness,
+    )  # fmt: skip
+    rows.sort(key=lambda r: (r["torque_Nm"], r["speed_rpm"]))
+    return rows, backend
+
+
+def write_csv(rows: list[dict[str, float]], path: Path) -> None:
+    """The map as CSV (``COLUMNS``), one row per point."""
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def draw(rows: list[dict[str, float]], path: Path, *, title: str) -> None:
+    """The map as a filled contour of η [%] over input speed [rpm] and torque [kN·m] (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    torques = sorted({r["torque_Nm"] for r in rows})
+    speeds = sorted({r["speed_rpm"] for r in rows})
+    eta = np.full((len(torques), len(speeds)), np.nan)
+    for r in rows:
+        eta[torques.index(r["torque_Nm"]), speeds.index(r["speed_rpm"])] = 100 * r["efficiency"]
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    try:
+        if len(torques) > 1 and len(speeds) > 1:
+            filled = ax.contourf(speeds, np.asarray(torques) / 1e3, eta, levels=12)
+            fig.colorbar(filled, ax=ax, label="efficiency η [%]")
+        else:
+            ax.plot(speeds if len(speeds) > 1 else np.asarray(torques) / 1e3, eta.ravel(), "o-")
+        ax.set_xlabel("input speed [rpm]")
+        ax.set_ylabel("input torque [kN·m]")
+        ax.set_title(title)
+        fig.savefig(path, dpi=120)
+    finally:
+        plt.close(fig)
