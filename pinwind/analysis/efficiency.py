@@ -147,8 +147,9 @@ def bearing_losses(result: Any, gearbox: Any) -> list[ComponentLoss]:
             nu = lubricant_viscosity(
                 life.grade, life.temperature, life.viscosity_100, life.viscosity
             )
-            moment = no_load_moment(f0, nu, omega, d_m) + load_moment(
-                f1, friction_load(kind, radial, axial), d_m
+            moment = np.asarray(
+                no_load_moment(f0, nu, omega, d_m)
+                + load_moment(f1, friction_load(kind, radial, axial), d_m)
             )
             out.append(ComponentLoss(name, "bearing", moment * np.abs(omega), moment))
     return out

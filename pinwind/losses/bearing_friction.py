@@ -54,6 +54,9 @@ from pinwind.losses.oil import Lubricant
 if TYPE_CHECKING:
     from pinwind.model.gearbox import Gearbox
 
+#: A value or an array of values (speeds, loads), SI units.
+Values = float | np.ndarray
+
 __all__ = [
     "LOW_SPEED_PRODUCT",
     "PALMGREN_FACTORS",
@@ -119,7 +122,7 @@ def _checked(name: str, value: object, low: float = 0.0) -> None:
         raise InvalidLossInput(name, value, f"must be finite and ≥ {low:g}")
 
 
-def no_load_moment(f0: float, viscosity: float, speed, mean_diameter: float):
+def no_load_moment(f0: float, viscosity: float, speed: Values, mean_diameter: float) -> Values:
     """M0 [N·m] at relative speed ``speed`` [rad/s] (either sign; module docstring).
 
     Args:
@@ -149,14 +152,14 @@ def no_load_moment_coefficients(
     return 1e-10 * f0 * float(np.cbrt(nu * nu)) * d3, 1e-10 * f0 * _FLOOR * d3
 
 
-def load_moment(f1: float, load, mean_diameter: float):
+def load_moment(f1: float, load: Values, mean_diameter: float) -> Values:
     """M1 = f1 P1 d_m [N·m] (module docstring): P1 [N], d_m [m]; a float or an array."""
     _checked("f1", f1)
     _checked("load", load)
     return f1 * np.asarray(load, dtype=float) * mean_diameter
 
 
-def friction_load(kind: str, radial, axial):
+def friction_load(kind: str, radial: Values, axial: Values) -> Values:
     """P1 [N] of bearing type ``kind`` under radial load F_r and axial load F_a [N].
 
     The rules of ``PALMGREN_FACTORS`` (module docstring); F_a of either sign.
@@ -196,7 +199,7 @@ class BearingFriction:
     viscosity: float
     load: float
 
-    def moment(self, speed, load=None):
+    def moment(self, speed: Values, load: Values | None = None) -> Values:
         """M0 + M1 [N·m] ≥ 0 at relative speed ω [rad/s] and load P1 [N] (default ``load``)."""
         p1 = self.load if load is None else load
         return no_load_moment(self.f0, self.viscosity, speed, self.mean_diameter) + load_moment(

@@ -32,6 +32,9 @@ import numpy as np
 from pinwind.errors import InvalidLossInput
 from pinwind.gears.gear_pair import GearPair
 
+#: A value or an array of values (forces, speeds, powers), SI units.
+Values = float | np.ndarray
+
 __all__ = [
     "LUBRICANT_FACTORS",
     "addendum_contact_ratios",
@@ -54,14 +57,14 @@ LUBRICANT_FACTORS: dict[str, float] = {
 
 def mean_friction_coefficient(
     *,
-    transverse_force,
+    transverse_force: Values,
     face_width: float,
-    sum_velocity,
+    sum_velocity: Values,
     reduced_radius: float,
     dynamic_viscosity: float,
     roughness: float,
     lubricant_factor: float = 1.0,
-):
+) -> Values:
     """μ_mz [-] of ISO/TR 14179-2 (module docstring); arrays broadcast.
 
     Args:
@@ -159,6 +162,8 @@ def pitch_point_conditions(pair: GearPair, speed_1: float) -> tuple[float, float
     return 2.0 * abs(speed_1) * g.working_radius_1 * sin_w, reduced
 
 
-def mesh_power_loss(input_power, friction_coefficient, loss_factor: float):
+def mesh_power_loss(
+    input_power: Values, friction_coefficient: Values, loss_factor: float
+) -> Values:
     """P_VZP = P_in μ_mz H_V [W] (ISO/TR 14179-2): the load-dependent loss of one mesh."""
     return np.abs(np.asarray(input_power, dtype=float)) * friction_coefficient * loss_factor
