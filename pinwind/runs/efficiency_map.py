@@ -1,11 +1,12 @@
 """An efficiency map: the gearbox's efficiency over a grid of input torques and speeds.
 
 At each operating point (input torque T on the input joint, input speed n) a short run holds the
-output joint at the speed n × ratio (a speed driver; the ratio from the train's kinematics,
-``dynamics/ratios.py``), starts the train at that speed and takes the efficiency
-``analysis/efficiency.py`` gives over the run's second half (ISO/TR 14179-2's bearing and mesh
-losses from the run's loads; no churning). The points run here, on local processes or on Dask
-(``runs/executor.py``); the map is written as CSV and drawn as a filled contour plot.
+output joint at the speed n × ratio (a speed driver; the ratio from the train's kinematics with
+its torsional springs undeflected, ``steady_ratio``), starts the train at that speed and takes
+the efficiency ``analysis/efficiency.py`` gives over the run's second half (ISO/TR 14179-2's
+bearing and mesh losses from the run's loads; no churning). The points run here, on local
+processes or on Dask (``runs/executor.py``); the map is written as CSV and drawn as a filled
+contour plot.
 """
 
 from __future__ import annotations
@@ -46,6 +47,35 @@ def check_grade(grade: int) -> None:
             grade,
             f"not an ISO 3448 viscosity grade; give one of {', '.join(map(str, VG_GRADES))}",
         )
+
+
+def steady_ratio(gearbox: Any, output: str, reference: str) -> float:
+    """ω_output / ω_reference at steady state: the meshes' kinematics, torsional springs held.
+
+    A spring keeps its joints turning together (a shaft's twist is constant at steady state),
+    a spring to the ground holds its joint (``dynamics/ratios.py`` ``train_modes``, as the torque
+    balance takes them); the compliant bearings' slides and locks are held.
+
+    Raises:
+        UnknownJoint: a name is not a joint of the gearbox.
+        InputError: the two joints do not turn together in one mode of the train.
+    """
+    from pinwind.dynamics.ratios import train_modes
+    from pinwind.errors import InputError, UnknownJoint
+
+    for name in (output, reference):
+        if name not in gearbox.joint_names:
+            raise UnknownJoint(name, "pinwind efficiency", gearbox.joint_names)
+    nv = gearbox.model.nv
+    springs = np.array([s.twist_row(nv) for s in gearbox.springs]).reshape(-1, nv)
+    i, o = gearbox.v_index(reference), gearbox.v_index(output)
+    for mode in train_modes(gearbox, (), springs):
+        if mode[i] != 0.0 and mode[o] != 0.0:
+            return float(mode[o] / mode[i])
+    raise InputError(
+        f'joints "{reference}" and "{output}" do not turn together (no mode of the train moves '
+        "both): give an input and an output of one gear train"
+    )
 
 
 def point_efficiency(
@@ -120,15 +150,14 @@ def efficiency_map(
 
     Raises:
         InvalidLossInput: a viscosity grade that does not exist.
-        UnknownJoint, InputError: joints the model lacks, a train with more than one degree of
-            freedom (``speed_ratio``).
+        UnknownJoint, InputError: joints the model lacks, or that do not turn together
+            (``steady_ratio``).
     """
     import pinwind
-    from pinwind.dynamics.ratios import speed_ratio
     from pinwind.runs.executor import run_tasks
 
     check_grade(grade)
-    ratio = speed_ratio(pinwind.load(model), output_joint, input_joint)
+    ratio = steady_ratio(pinwind.load(model), output_joint, input_joint)
     items = [(float(t), float(n)) for t in torques for n in speeds_rpm]
     rows: list[dict[str, float]] = []
     backend = run_tasks(
