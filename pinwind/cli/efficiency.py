@@ -29,7 +29,10 @@ def _range(text: str, option: str) -> tuple[float, float]:
 
 @app.command()
 def efficiency(
-    model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
+    model: Annotated[
+        Path,
+        typer.Argument(help="Gearbox model file (.urdf), or a scenario (.toml): its model."),
+    ],
     input_joint: Annotated[
         str, typer.Option("--input", help="Joint the input torque acts on (the rotor's).")
     ],
@@ -60,11 +63,16 @@ def efficiency(
 
     Each point is a short run with the torque on --input and --output held at the input speed
     times the train's ratio; its efficiency is 1 − losses / input power over the run's second
-    half (docs/losses.md). No churning or windage: an upper bound.
+    half (docs/losses.md). No churning or windage: an upper bound. A scenario gives its model
+    (its own loads and drivers are the map's points instead).
     """
     from pinwind.runs.efficiency_map import check_grade, draw, efficiency_map, write_csv
 
     check_grade(lubricant_vg)
+    if model.suffix.lower() == ".toml":
+        from pinwind.runs.scenario import load_scenario
+
+        model = load_scenario(model).model_path()
     if points < 1:
         raise InputError(f"--points {points}: give at least 1")
     t_lo, t_hi = _range(torque, "--torque")
