@@ -40,11 +40,7 @@ from pinwind.losses.bearing_friction import (
     lubricant_viscosity,
     no_load_moment,
 )
-from pinwind.losses.mesh_friction import (
-    mean_friction_coefficient,
-    pitch_point_conditions,
-    tooth_loss_factor,
-)
+from pinwind.losses.mesh_friction import pair_friction_coefficient, tooth_loss_factor
 from pinwind.losses.oil import Lubricant
 from pinwind.model.bearing_friction_data import BearingFrictionData
 from pinwind.model.gear_roles import gearbox_planetary_gears
@@ -172,7 +168,6 @@ def mesh_losses(
         lubricant_factor: X_L (``losses.mesh_friction.LUBRICANT_FACTORS``).
     """
     planets = {p for stage in gearbox_planetary_gears(gearbox) for p in stage.planets}
-    eta = oil.dynamic_viscosity()
     out = []
     for mesh in gearbox.meshes:
         pair = GearPair.from_mesh(mesh)
@@ -185,16 +180,13 @@ def mesh_losses(
         first = a_first == (gear is mesh.gear_a)
         radius = g.working_radius_1 if first else g.working_radius_2
         v_t = np.abs(omega) * radius
-        sin_w = math.sin(float(g.working_pressure_angle))
-        _, rho = pitch_point_conditions(pair, 1.0)
         force = np.abs(np.asarray(result.mesh(mesh.name).normal, dtype=float))
         moving = v_t > 0.0
         mu = np.zeros_like(v_t)
         if np.any(moving):
-            mu[moving] = mean_friction_coefficient(
-                transverse_force=force[moving], face_width=pair.face_width,
-                sum_velocity=2.0 * v_t[moving] * sin_w, reduced_radius=abs(rho),
-                dynamic_viscosity=eta, roughness=roughness, lubricant_factor=lubricant_factor,
+            mu[moving] = pair_friction_coefficient(
+                pair, transverse_force=force[moving], pitch_line_speed=v_t[moving], oil=oil,
+                roughness=roughness, lubricant_factor=lubricant_factor,
             )  # fmt: skip
         power = force * v_t * math.cos(float(g.working_pressure_angle))
         out.append(ComponentLoss(mesh.name, "mesh", power * mu * h_v, mu))

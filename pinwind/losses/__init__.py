@@ -17,6 +17,7 @@ from pinwind.losses.mesh_friction import (
     LUBRICANT_FACTORS,
     mean_friction_coefficient,
     mesh_power_loss,
+    pair_friction_coefficient,
     tooth_loss_factor,
 )
 from pinwind.losses.oil import Lubricant
@@ -31,5 +32,6 @@ __all__ = [
     "mean_friction_coefficient",
     "mesh_power_loss",
     "no_load_moment",
+    "pair_friction_coefficient",
     "tooth_loss_factor",
 ]

@@ -31,6 +31,7 @@ import numpy as np
 
 from pinwind.errors import InvalidLossInput
 from pinwind.gears.gear_pair import GearPair
+from pinwind.losses.oil import Lubricant
 
 #: A value or an array of values (forces, speeds, powers), SI units.
 Values = float | np.ndarray
@@ -40,6 +41,7 @@ __all__ = [
     "addendum_contact_ratios",
     "mean_friction_coefficient",
     "mesh_power_loss",
+    "pair_friction_coefficient",
     "pitch_point_conditions",
     "tooth_loss_factor",
 ]
@@ -160,6 +162,42 @@ def pitch_point_conditions(pair: GearPair, speed_1: float) -> tuple[float, float
     rho_2 = (-1.0 if pair.internal_2 else 1.0) * g.working_radius_2 * sin_w
     reduced = rho_1 * rho_2 / (rho_1 + rho_2) / math.cos(pair.base_helix_angle)
     return 2.0 * abs(speed_1) * g.working_radius_1 * sin_w, reduced
+
+
+def pair_friction_coefficient(
+    pair: GearPair,
+    *,
+    transverse_force: Values,
+    pitch_line_speed: Values,
+    oil: Lubricant,
+    roughness: float,
+    lubricant_factor: float = 1.0,
+) -> Values:
+    """μ_mz [-] of ``pair`` at an operating point: what a model sets as a mesh's μ.
+
+    ``mean_friction_coefficient`` at the pair's pitch point (``pitch_point_conditions``):
+    v_Σc = 2 v_t sin α_wt, ρ_redC from the working pitch radii, η the oil's at its temperature.
+
+    Args:
+        pair: the gear pair (its face width, working geometry and base helix angle).
+        transverse_force: F_bt, the mesh's force along the line of action in the transverse
+            plane [N] (a run's ``mesh_normal``).
+        pitch_line_speed: v_t at the working pitch circle, relative to the carrier [m/s] (> 0).
+        oil: the gear oil at its temperature (``Lubricant``).
+        roughness: Ra = (Ra1 + Ra2)/2 of the flanks [m].
+        lubricant_factor: X_L [-] (``LUBRICANT_FACTORS``).
+    """
+    sin_w = math.sin(float(pair.geometry.working_pressure_angle))
+    _, reduced = pitch_point_conditions(pair, 1.0)
+    return mean_friction_coefficient(
+        transverse_force=transverse_force,
+        face_width=pair.face_width,
+        sum_velocity=2.0 * np.abs(np.asarray(pitch_line_speed, dtype=float)) * sin_w,
+        reduced_radius=abs(reduced),
+        dynamic_viscosity=oil.dynamic_viscosity(),
+        roughness=roughness,
+        lubricant_factor=lubricant_factor,
+    )
 
 
 def mesh_power_loss(

@@ -12,9 +12,11 @@ from pinwind.gears.gear_pair import GearPair
 from pinwind.losses.mesh_friction import (
     mean_friction_coefficient,
     mesh_power_loss,
+    pair_friction_coefficient,
     pitch_point_conditions,
     tooth_loss_factor,
 )
+from pinwind.losses.oil import Lubricant
 
 
 def test_mean_friction_coefficient_at_two_operating_points_by_hand():
@@ -91,3 +93,18 @@ def test_pitch_point_sum_velocity_and_radius_by_hand():
 
 def test_mesh_power_loss_is_input_power_times_mu_times_h_v():
     assert_allclose(mesh_power_loss(2.0e6, 0.04, 0.17), 2.0e6 * 0.04 * 0.17, rtol=1e-15)
+
+
+def test_pair_friction_coefficient_at_a_pitch_line_speed_by_hand():
+    # textbook pair, F_bt = 10 kN, v_t = 5 m/s, VG 320 at 70 °C, Ra 0.5 µm: v_Σc = 2 × 5 sin 20°,
+    # ρ_redC = 50 × 100 / 150 sin 20° [mm], η = ν ρ (Walther, DIN 51757) [mPa·s], b = 50 mm
+    s = math.sin(math.radians(20.0))
+    w40 = math.log10(math.log10(320.7))
+    nu = 10 ** (10 ** (w40 - 3.5 * math.log10(343.15 / 313.15))) - 0.7
+    eta = nu * 880.0 * (1 - 0.00065 * 55.0) * 1e-3
+    mu = 0.048 * (10e3 / 50.0 / (10.0 * s * (100.0 / 3.0 * s))) ** 0.2 * eta**-0.05 * 0.5**0.25
+    got = pair_friction_coefficient(
+        _textbook_pair(), transverse_force=10e3, pitch_line_speed=5.0,
+        oil=Lubricant(320, 343.15), roughness=0.5e-6,
+    )  # fmt: skip
+    assert_allclose(got, mu, rtol=1e-9)
