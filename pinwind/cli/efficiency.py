@@ -8,8 +8,9 @@ from typing import Annotated
 
 import numpy as np
 import typer
+from rich.markup import escape
 
-from pinwind.cli.app import app, say, warnings_as_lines
+from pinwind.cli.app import app, err_console, say, warnings_as_lines
 from pinwind.errors import InputError
 
 
@@ -89,6 +90,8 @@ def efficiency(
             grade=lubricant_vg, temperature=oil_temperature + 273.15,
             roughness=roughness * 1e-6, workers=workers, scheduler=scheduler,
         )  # fmt: skip
+    for note in sorted({n for r in rows for n in r["warnings"]}):
+        err_console.print(f"[yellow]warning:[/yellow] {escape(note)}", highlight=False)
     write_csv(rows, out / "efficiency_map.csv")
     draw(rows, out / "efficiency_map.png", title=f"{model.stem}: efficiency (ISO/TR 14179-2)")
     best = max(rows, key=lambda r: r["efficiency"])

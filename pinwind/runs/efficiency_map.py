@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from pinwind.errors import InvalidLossInput
+from pinwind.errors import InvalidLossInput, PinwindWarning
 from pinwind.model.bearing_life_data import VG_GRADES
 
 #: The columns of the map's CSV, in order.
@@ -90,8 +90,11 @@ def point_efficiency(
     grade: int,
     temperature: float,
     roughness: float,
-) -> dict[str, float]:
+) -> dict[str, Any]:
     """One point of the map: a row of ``COLUMNS`` (module docstring); runs on a worker.
+
+    The pinwind warnings of its run (a step too coarse, ...) come back under ``"warnings"``
+    (a worker's warnings do not reach the caller), for the caller to show.
 
     Args:
         item: (input torque T [N·m], input speed n [rpm]).
@@ -108,9 +111,9 @@ def point_efficiency(
 
     torque, speed_rpm = item
     omega = speed_rpm * _RPM
-    gearbox = pinwind.load(model)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PinwindWarning)
+        gearbox = pinwind.load(model)
         res = pinwind.simulate(
             gearbox, duration=duration, dt=dt, torques={input_joint: torque},
             speeds={output_joint: omega * ratio}, initial_speeds={input_joint: omega},
@@ -121,7 +124,9 @@ def point_efficiency(
     meshes = sum((c.power for c in e.components if c.kind == "mesh"), np.zeros(len(keep)))
     power = float(np.mean(e.input_power[keep]))
     loss_b, loss_m = float(np.mean(bearings[keep])), float(np.mean(meshes[keep]))
+    notes = sorted({str(w.message) for w in caught if issubclass(w.category, PinwindWarning)})
     return {
+        "warnings": notes,  # not a column: the caller shows them
         "torque_Nm": torque,
         "speed_rpm": speed_rpm,
         "input_power_W": power,
@@ -145,7 +150,7 @@ def efficiency_map(
     roughness: float = 0.5e-6,
     workers: int = 1,
     scheduler: Any = None,
-) -> tuple[list[dict[str, float]], str]:
+) -> tuple[list[dict[str, Any]], str]:
     """Every point of the grid torques × speeds (module docstring), sorted, and the backend.
 
     Raises:
@@ -159,7 +164,7 @@ def efficiency_map(
     check_grade(grade)
     ratio = steady_ratio(pinwind.load(model), output_joint, input_joint)
     items = [(float(t), float(n)) for t in torques for n in speeds_rpm]
-    rows: list[dict[str, float]] = []
+    rows: list[dict[str, Any]] = []
     backend = run_tasks(
         point_efficiency, items, accept=rows.append, workers=workers, scheduler=scheduler,
         model=str(model), input_joint=input_joint, output_joint=output_joint, ratio=ratio,
@@ -169,15 +174,15 @@ def efficiency_map(
     return rows, backend
 
 
-def write_csv(rows: list[dict[str, float]], path: Path) -> None:
+def write_csv(rows: list[dict[str, Any]], path: Path) -> None:
     """The map as CSV (``COLUMNS``), one row per point."""
     with open(path, "w", newline="", encoding="utf-8") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        writer = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
         writer.writeheader()
         writer.writerows(rows)
 
 
-def draw(rows: list[dict[str, float]], path: Path, *, title: str) -> None:
+def draw(rows: list[dict[str, Any]], path: Path, *, title: str) -> None:
     """The map as a filled contour of η [%] over input speed [rpm] and torque [kN·m] (PNG)."""
     import matplotlib
 

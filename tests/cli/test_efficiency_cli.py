@@ -74,3 +74,16 @@ def test_a_scenario_gives_its_model(tmp_path):
     # 3.9 MN·m at 12.1 rpm in, less than 3 % a stage lost over three stages
     assert_allclose(float(row["input_power_W"]), 3.9e6 * 12.1 * math.pi / 30, rtol=1e-3)
     assert 0.97**3 < float(row["efficiency"]) < 1.0
+    assert "warning" not in out.stderr  # dt resolves the stiffest spring (1017 Hz)
+
+
+def test_a_points_warnings_reach_the_user_once(tmp_path):
+    # dt = 1 ms is coarser than half the NREL 5 MW's generator-coupling mode period (~1 ms)
+    scenario = MODELS.parent / "scenarios" / "nrel5mw_rated.toml"
+    out = run(
+        "efficiency", str(scenario), "--input", "rotor", "--output", "generator",
+        "--torque", "3e6:3.9e6", "--speed", "12.1", "--points", "2", "--duration", "0.02",
+        "--dt", "1e-3", "--out", str(tmp_path),
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert out.stderr.count("warning: dt = 0.001 s is longer than half the period") == 1
