@@ -168,6 +168,22 @@ class InvalidBearingLifeData(ModelError):
         super().__init__(path, element, message)
 
 
+class InvalidBearingFriction(ModelError):
+    """A bearing's friction data that give no friction moment (``model/bearing_friction_data.py``).
+
+    A friction model name pinwind does not know, a factor or load that is not a finite number
+    ≥ 0, or a bearing with friction but no size (its mean diameter).
+
+    Attributes:
+        attribute: the attribute at fault (``friction_model``); value: its value as read.
+    """
+
+    def __init__(self, element: str, attribute: str, value: object, message: str, *, path: str):
+        self.attribute = attribute
+        self.value = value
+        super().__init__(path, element, message)
+
+
 class InvalidBearingCompliance(ModelError):
     """A compliant bearing's stiffness, damping or clearance that is negative or not a number.
 
@@ -238,6 +254,19 @@ class EquilibriumNotReached(PinwindWarning):
 
 class InputError(PinwindError):
     """An argument of a run (torques, speeds, dt, duration, ...) is invalid."""
+
+
+class InvalidLossInput(InputError):
+    """An argument of a loss formula outside its range (``pinwind/losses/``).
+
+    Attributes:
+        argument: the argument at fault; value: its value.
+    """
+
+    def __init__(self, argument: str, value: object, message: str):
+        self.argument = argument
+        self.value = value
+        super().__init__(f"{argument} = {value}: {message}")
 
 
 class UnknownJoint(InputError):

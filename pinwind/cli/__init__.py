@@ -5,7 +5,7 @@ into SI before it reaches the library. One module per family of verbs, each regi
 commands on ``app`` (``cli/app.py``): ``simulate`` (simulate, run), ``logs`` (replay, plot,
 report, export), ``model`` (info, view, build), ``rating`` (rate), ``spectrum`` (spectrum),
 ``modes`` (modes, campbell), ``sweep`` (sweep ...), ``fatigue`` (fatigue), ``life`` (life),
-``transmission_error`` (te), ``fmu`` (fmu);
+``transmission_error`` (te), ``fmu`` (fmu), ``efficiency`` (efficiency);
 ``flags`` turns
 the flags of a run into scenario values. ``simulate`` logs every run to an MCAP file
 (``logs/`` by default) that ``replay`` and ``report`` read back on their own.
@@ -50,6 +50,7 @@ VERB_MODULES = {
     "life": "life",
     "te": "transmission_error",
     "fmu": "fmu",
+    "efficiency": "efficiency",
 }
 
 

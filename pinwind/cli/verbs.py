@@ -11,6 +11,7 @@ from pinwind.cli import simulate  # noqa: F401
 
 # isort: split
 from pinwind.cli import (  # noqa: F401
+    efficiency,
     fatigue,
     fmu,
     life,

@@ -385,6 +385,17 @@ class HubLoadSpec:
     column: int  # the first of its six input columns (F_x, F_y, F_z [N], M_x, M_y, M_z [N·m])
     def __init__(self) -> None: ...
 
+class BearingFrictionSpec:
+    """One rolling bearing's friction moment on its joint (``cpp/bearing_friction.hpp``)."""
+
+    index: int  # velocity index of the joint's rotation
+    bearing: int  # its column of the bearing series, or -1
+    no_load_coefficient: float  # c0 of M0 = max(c0 |ω|^(2/3), M0_min) [N·m·(s/rad)^(2/3)]
+    no_load_minimum: float  # M0_min [N·m]
+    load_moment: float  # M1 = f1 P1 d_m [N·m]
+    stick_speed: float  # ω_s of the regularised sign [rad/s] (> 0)
+    def __init__(self) -> None: ...
+
 class StepperSpec:
     """Everything a run needs besides the initial state.
 
@@ -403,6 +414,7 @@ class StepperSpec:
     generators: list[GeneratorSpec]
     rotors: list[RotorSpec]
     hub_loads: list[HubLoadSpec]
+    bearing_friction: list[BearingFrictionSpec]
     rigid_meshes: list[int]
     driver_index: list[int]
     input_columns: int  # per-sample inputs of the elements (wind speeds, hub loads)
@@ -481,6 +493,8 @@ class Series(enum.Enum):
     rotor_pitch = 45
     row_force = 46
     row_moment = 47
+    bearing_friction_moment = 48
+    bearing_friction_power = 49
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

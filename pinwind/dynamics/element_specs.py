@@ -25,6 +25,9 @@ of the constraints' rows):
   ``cpp/generator.hpp``, ``cpp/rotor.hpp``);
 - ``hub_loads``: six load components on a body (``dynamics/hub_load_specs.py``;
   ``cpp/hub_loads.hpp``);
+- ``bearing_friction``: each rolling bearing's frictional moment on its joint, Palmgren's
+  M0 + M1 as ISO/TR 14179-2 gives it (``losses/bearing_friction.py``;
+  ``cpp/bearing_friction.hpp``);
 - ``rigid_meshes``: the meshes that are constraint rows, in row order (``cpp/rigid_meshes.hpp``);
 - ``driver_index``: the velocity index of each speed driver and lock, in row order
   (``cpp/speed_drivers.hpp``).
@@ -42,6 +45,12 @@ from pinwind.dynamics import _native
 from pinwind.dynamics.bearing_springs import bearing_law, row_specs
 from pinwind.dynamics.compliant import MeshSetup
 from pinwind.dynamics.elements import LoadElements
+from pinwind.losses.bearing_friction import (
+    STICK_SPEED,
+    bearing_frictions,
+    load_moment,
+    no_load_moment_coefficients,
+)
 from pinwind.model.gearbox import Gearbox
 
 
@@ -138,6 +147,29 @@ def _hub_loads(run: RunElements) -> list[_native.HubLoadSpec]:
     return list(run.loads.hub_load_specs) if run.loads is not None else []
 
 
+def bearing_friction(run: RunElements) -> list[_native.BearingFrictionSpec]:
+    """A spec per rolling bearing with a friction model (``losses.bearing_friction``).
+
+    Its joint's velocity index, its column of the bearing series (−1 if none), c0 and M0_min of
+    M0 = max(c0 |ω|^(2/3), M0_min), M1 = f1 P1 d_m at the model's ``friction_load_kN`` and the
+    regularising speed ``STICK_SPEED``.
+    """
+    gearbox = run.gearbox
+    columns = {name: i for i, name in enumerate(gearbox.bearing_names)}
+    out = []
+    for b in bearing_frictions(gearbox):
+        spec = _native.BearingFrictionSpec()
+        spec.index = gearbox.v_index(b.joint)
+        spec.bearing = columns.get(b.joint, -1)
+        spec.no_load_coefficient, spec.no_load_minimum = no_load_moment_coefficients(
+            b.f0, b.viscosity, b.mean_diameter
+        )
+        spec.load_moment = float(load_moment(b.f1, b.load, b.mean_diameter))
+        spec.stick_speed = STICK_SPEED
+        out.append(spec)
+    return out
+
+
 def _rigid_meshes(run: RunElements) -> list[int]:
     return list(run.meshes.rigid)
 
@@ -156,6 +188,7 @@ SPEC_BUILDERS: dict[str, Callable[[RunElements], Any]] = {
     "generators": _generators,
     "rotors": _rotors,
     "hub_loads": _hub_loads,
+    "bearing_friction": bearing_friction,
     "rigid_meshes": _rigid_meshes,
     "driver_index": _driver_index,
 }

@@ -363,6 +363,18 @@ _MEANINGS: dict[str, About] = {
     "row_moment": About("moment", "N*m",
            "bearing row's own tilting moment on the shaft (M_u, M_w, 0)",
            frame="bearing", label="row moment", short="M row", headline=False),
+    "bearing_friction_moment": About("friction_moment", "N*m",
+           "rolling-bearing friction moment on the child body about the joint axis, opposing "
+           "its relative speed: Palmgren's M0 + M1 (ISO/TR 14179-2; docs/losses.md); 0 "
+           "without a friction_model", short="M friction",
+           plot=Plot("bearing_friction_moment", "bearings",
+                     "bearing friction moments about the joint axes [N·m]", "N·m",
+                     drop_zero=True)),
+    "bearing_friction_power": About("friction_power", "W",
+           "power the bearing's friction takes, -M_friction * omega_rel >= 0 (heat to the oil)",
+           short="P friction",
+           plot=Plot("bearing_friction_power", "bearings", "bearing friction power losses [kW]",
+                     "kW", drop_zero=True)),
 }  # fmt: skip
 
 

@@ -32,6 +32,11 @@ from pinwind.gears.involute import half_tooth_angle
 from pinwind.known_names import unknown_name
 from pinwind.model.bearing import BEARING_TYPES, BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
+from pinwind.model.bearing_friction_data import (
+    FRICTION_ATTRIBUTES,
+    BearingFrictionData,
+    friction_data,
+)
 from pinwind.model.bearing_life_data import LIFE_ATTRIBUTES, BearingLifeData, life_data
 from pinwind.model.bearing_rows import BearingRow, row_springs
 from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
@@ -145,6 +150,10 @@ class ModelFile:
     #: Joint name → its ``<bearing>``'s lubrication, cleanliness and inside, for the modified
     #: and reference lives (``model/bearing_life_data.py``; defaults where it gives none).
     bearing_life: dict[str, BearingLifeData] = field(default_factory=dict)
+    #: Joint name → its ``<bearing>``'s friction model and, per ``<row>`` in the order of
+    #: ``bearing_rows``, each row's (``model/bearing_friction_data.py``).
+    bearing_friction: dict[str, BearingFrictionData] = field(default_factory=dict)
+    row_friction: dict[str, list[BearingFrictionData]] = field(default_factory=dict)
     visuals: list[VisualSpec] = field(default_factory=list)
     gravity: np.ndarray | None = None
     root_link: str = ""
@@ -607,6 +616,18 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         rows = [_bearing_row(path, row, joint, data) for row in el.findall("row")]
         if rows:
             out.bearing_rows[joint] = rows
+        friction = friction_data(el.attrib, where=where, path=path)
+        out.bearing_friction[joint] = friction
+        if rows:
+            out.row_friction[joint] = [
+                friction_data(
+                    row.attrib,
+                    where=f'{where} <row name="{row.get("name")}">',
+                    path=path,
+                    inherited=friction,
+                )
+                for row in el.findall("row")
+            ]
         if (
             compliance is not None
             and row_springs(compliance, rows)
@@ -941,7 +962,7 @@ def _bearing(path: str, el: ET.Element, out: ModelFile) -> BearingRating:
 #: The attributes of a ``<row>`` of a ``<bearing>``: one rolling bearing of the shaft.
 _ROW_ATTRIBUTES = (
     "name", "type", "position_mm", "rating_c_kN", *_LOAD_FACTORS, "stiffness", "damping",
-    *LIFE_ATTRIBUTES,
+    *LIFE_ATTRIBUTES, *FRICTION_ATTRIBUTES,
 )  # fmt: skip
 
 
@@ -1139,7 +1160,8 @@ GEARBOX_ELEMENTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
         + _BEARING_RATING
         + _BEARING_COMPLIANCE
         + _BEARING_TORSION
-        + tuple(a for a in LIFE_ATTRIBUTES if a not in _BEARING_COMPLIANCE),
+        + tuple(a for a in LIFE_ATTRIBUTES if a not in _BEARING_COMPLIANCE)
+        + FRICTION_ATTRIBUTES,
         ("row",),
     ),
     "row": (_ROW_ATTRIBUTES, ()),

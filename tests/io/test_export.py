@@ -54,6 +54,8 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         out[f"bearing/{name}/axial_N"] = b.axial
         out[f"bearing/{name}/tilting_N_m"] = b.tilting
         out[f"bearing/{name}/torque_N_m"] = b.torque
+        out[f"bearing/{name}/friction_moment_N_m"] = b.friction_moment
+        out[f"bearing/{name}/friction_power_W"] = b.friction_power
         for k, axis in enumerate("xyz"):  # a compliant bearing's series (0 for ideal ones)
             out[f"bearing/{name}/displacement_{axis}_m"] = b.displacement[:, k]
             out[f"bearing/{name}/elastic_force_{axis}_N"] = b.elastic_force[:, k]

@@ -119,6 +119,8 @@ def test_a_folder_selects_every_channel_under_it(logged_run):
         "/bearings/moment",
         "/bearings/force_local",
         "/bearings/moment_local",
+        "/bearings/friction_moment",
+        "/bearings/friction_power",
         "/bearings/displacement",
         "/bearings/elastic_force",
         "/bearings/radial",

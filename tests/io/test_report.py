@@ -63,8 +63,8 @@ def test_report_covers_every_joint_mesh_and_bearing(logged_run):
         (r.quantity, r.component) for r in rows if r.element == "carrier" and r.group == "bearing"
     }
     # force and moment, world and joint frame, x y z |.|; radial, axial, tilting, torque;
-    # displacement in the bearing and elastic force, x y z |.|
-    assert len(per_bearing) == 16 + 4 + 8
+    # displacement in the bearing and elastic force, x y z |.|; friction moment and power
+    assert len(per_bearing) == 16 + 4 + 8 + 2
 
 
 def test_report_window_without_samples_names_the_log_span(logged_run):

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "bearing_damping.hpp"
+#include "bearing_friction.hpp"
 #include "bearing_rows.hpp"
 #include "bearing_spring.hpp"
 #include "compliant_mesh.hpp"
@@ -27,7 +28,7 @@ namespace pinwind {
 
 using ElementKinds = std::tuple<TorsionalSpringsKind, BearingDampingKind, BearingSpringsKind,
                                 BearingRowsKind, CompliantMeshesKind, GeneratorsKind, RotorsKind,
-                                HubLoadsKind>;
+                                HubLoadsKind, BearingFrictionKind>;
 using ConstraintKinds = std::tuple<RigidMeshesKind, SpeedDriversKind>;
 
 // Every kind, the elements' then the constraints': one field of StepperSpec each.

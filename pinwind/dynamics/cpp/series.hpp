@@ -72,7 +72,9 @@ inline constexpr std::size_t kFamilies = 8;
   X(rotor_thrust_coefficient, rotor, 1)         \
   X(rotor_pitch, rotor, 1)                      \
   X(row_force, row, 3)                          \
-  X(row_moment, row, 3)
+  X(row_moment, row, 3)                         \
+  X(bearing_friction_moment, bearing, 1)        \
+  X(bearing_friction_power, bearing, 1)
 
 enum class Series {
 #define PINWIND_SERIES_NAME(name, family, components) name,
