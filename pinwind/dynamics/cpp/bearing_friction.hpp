@@ -91,6 +91,10 @@ class BearingFriction : public Element {
     return {0.0, -torque_.dot(v_mid) * s.dt};
   }
 
+  // A copy for a saved state of the run, and its states taken back (Element::copy).
+  std::unique_ptr<Element> copy() const override { return copy_of<BearingFriction, Element>(*this); }
+  void restore(const Element& saved) override { restore_from(*this, saved); }
+
   void record(const StepView& s, long k, const Outputs& out) const override {
     const long bearings = out.count(Family::bearing);
     for (long b = 0; b < bearings; ++b) {
