@@ -49,6 +49,7 @@
 
 #include "element_kind.hpp"
 #include "elements.hpp"
+#include "flank_friction.hpp"
 #include "mesh_path.hpp"
 
 namespace pinwind {
@@ -67,6 +68,7 @@ struct CompliantMeshSpec {
   double involute_ref = 0.0;      // inv α' at the reference centre distance
   double tangential_offset = 0.0; // e_T [m]
   double radial_offset = 0.0;     // e_R [m]
+  double friction = 0.0;          // μ, the flanks' coefficient of friction [-] (FlankFriction)
   // Slices across the face width (sliced_mesh.hpp); 1: the single contact line above.
   long slices = 1;
   Vec3 axis_b = Vec3::UnitZ();    // gear B's axis in its joint frame
@@ -148,6 +150,9 @@ class CompliantMeshes : public Element {
     radial_.setZero(n);
     cos_w_.setOnes(n);
     sin_w_.setZero(n);
+    friction_.resize(2 * specs_.size());
+    last_ja_.setZero(n, 2);
+    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.friction != 0.0;
   }
 
   void prepare(const StepView& s) override {
@@ -209,6 +214,26 @@ class CompliantMeshes : public Element {
     if (!s.weights.statics) first_ = false;
   }
 
+  // Flank friction (flank_friction.hpp): explicit over the step, on each flank in contact at the
+  // step's start, with the flank's force predicted as b − w (J ā)_{n−1}. None in a static solve
+  // (nothing slides).
+  void add_force(const StepView& s, Eigen::VectorXd& force) override {
+    if (!rubbing_) return;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const double mu = specs_[i].friction;
+      if (mu == 0.0) continue;
+      const auto [lo, hi] = span_[i];
+      for (int f = 0; f < 2; ++f) {
+        FlankFriction& fr = friction_[2 * i + f];
+        const double normal =
+            contact_(i, f) && !s.weights.statics ? b_(i, f) - w_(i, f) * last_ja_(i, f) : 0.0;
+        flank_friction(s.meshes, s.rows, paths_[i], path_[2 * i + f], s.data.J, s.v, specs_[i].mesh,
+                       flank_sign(f), cos_w_[i], sin_w_[i], mu, normal, delta_(i, f), lo, hi, fr);
+        if (fr.force > 0.0) force.noalias() -= fr.force * fr.row.transpose();
+      }
+    }
+  }
+
   void add_implicit(const StepView&, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
     for (size_t i = 0; i < specs_.size(); ++i) {
       for (int f = 0; f < 2; ++f) {
@@ -261,10 +286,11 @@ class CompliantMeshes : public Element {
     for (size_t i = 0; i < specs_.size(); ++i) {
       for (int f = 0; f < 2; ++f) {
         if (!contact_(i, f)) {
-          normal_(i, f) = elastic_(i, f) = viscous_(i, f) = 0.0;
+          normal_(i, f) = elastic_(i, f) = viscous_(i, f) = last_ja_(i, f) = 0.0;
           continue;
         }
         const auto& row = row_[2 * i + f];
+        last_ja_(i, f) = row.dot(a);  // the next step's friction predicts its force with it
         elastic_(i, f) = stiffness(i, f) * (delta_(i, f) - gap(i, f) -
                                             row.dot(s.dq_free + s.weights.position_gain * a));
         viscous_(i, f) = -specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
@@ -287,6 +313,19 @@ class CompliantMeshes : public Element {
         const Vec3 p = s.rows.pitch_point.row(m).transpose();
         out.add(s.meshes.joint_b[m], p, force);
         out.add(s.meshes.joint_a[m], p, -force);
+      }
+      if (!rubbing_) continue;
+      // Friction: −μ F_j σ_j e on B at each pair's contact point X_j = P + d_j m, its opposite on A.
+      const Vec3 p = s.rows.pitch_point.row(m).transpose();
+      for (int f = 0; f < 2; ++f) {
+        const FlankFriction& fr = friction_[2 * i + f];
+        if (fr.force == 0.0) continue;
+        for (size_t j = 0; j < fr.offset.size(); ++j) {
+          const Vec3 at = p + fr.offset[j] * fr.along;
+          const Vec3 on_b = (-fr.force * fr.share[j] * fr.sign[j]) * fr.slide;
+          out.add(s.meshes.joint_b[m], at, on_b);
+          out.add(s.meshes.joint_a[m], at, -on_b);
+        }
       }
     }
   }
@@ -321,6 +360,11 @@ class CompliantMeshes : public Element {
         w.elastic += elastic_(i, f) * jv;
         w.dissipated -= viscous_(i, f) * jv;
       }
+      // Friction's force −μ F gᵀ, applied over the whole step, takes μ F g·v_mid h.
+      for (int f = 0; rubbing_ && f < 2; ++f) {
+        const FlankFriction& fr = friction_[2 * i + f];
+        if (fr.force != 0.0) w.friction += fr.force * fr.row.dot(v_mid) * s.dt;
+      }
     }
     return w;
   }
@@ -353,6 +397,21 @@ class CompliantMeshes : public Element {
       // One contact line: its load is uniform across the face, centred.
       out.at(Series::mesh_face_load_factor, e) = normal_(i, f) > 0.0 ? 1.0 : 0.0;
       out.at(Series::mesh_load_centre, e) = 0.0;
+      // The entering pair's sliding speed on the loaded flank (kinematic, with or without
+      // friction), the loaded flank's friction force on A along e, Σ_j μ F_j σ_j, and both
+      // flanks' friction loss at v_k, μ F g·v.
+      const auto [lo, hi] = span_[i];
+      out.at(Series::mesh_sliding_velocity, e) =
+          entering_sliding_velocity(s.meshes, s.rows, paths_[i], p, s.data.J, s.v, m,
+                                    last_flank_[i], cos_w_[i], sin_w_[i], lo, hi);
+      const FlankFriction& loaded = friction_[2 * i + f];
+      out.at(Series::mesh_friction_force, e) = loaded.force * loaded.sum0;
+      double power = 0.0;
+      for (int g = 0; g < 2; ++g) {
+        const FlankFriction& fr = friction_[2 * i + g];
+        if (fr.force != 0.0) power += fr.force * fr.row.dot(s.v);
+      }
+      out.at(Series::mesh_friction_power, e) = power;
     }
   }
 
@@ -420,6 +479,9 @@ class CompliantMeshes : public Element {
   Eigen::Matrix<double, Eigen::Dynamic, 2> last_k_;  // each flank's stiffness at the last sample
   Eigen::VectorXd radial_distance_, radial_;  // radial_overlap's centre distance [m] and value [m]
   Eigen::VectorXd cos_w_, sin_w_;  // the working pressure angle α' at that centre distance
+  std::vector<FlankFriction> friction_;  // each flank's friction over the step (mesh i: 2i, 2i + 1)
+  Eigen::Matrix<double, Eigen::Dynamic, 2> last_ja_;  // each flank's J ā at the last step [m/s²]
+  bool rubbing_ = false;  // some mesh has μ > 0
   double parametric_ = 0.0;  // work of the stiffness's changes since t = 0 [J]
   bool first_ = true;     // no dynamic step prepared yet
   bool started_ = false;  // contact_ set from the first state prepared (static or dynamic)
@@ -800,6 +862,10 @@ struct CompliantMeshesKind : KindBase {
                                                   spec.slice_gap_back.size() != spec.slices))) {
         throw std::invalid_argument("compliant mesh slices: offsets and gaps need one per slice");
       }
+      if (!(spec.friction >= 0.0 && spec.friction < 1.0) ||
+          (spec.friction != 0.0 && spec.slices > 1)) {
+        throw std::invalid_argument("compliant mesh friction: μ in [0, 1), on one slice");
+      }
     }
   }
 
@@ -828,6 +894,7 @@ struct CompliantMeshesKind : KindBase {
         .def_rw("involute_ref", &CompliantMeshSpec::involute_ref)
         .def_rw("tangential_offset", &CompliantMeshSpec::tangential_offset)
         .def_rw("radial_offset", &CompliantMeshSpec::radial_offset)
+        .def_rw("friction", &CompliantMeshSpec::friction)
         .def_rw("slices", &CompliantMeshSpec::slices)
         .def_rw("axis_b", &CompliantMeshSpec::axis_b)
         .def_rw("slice_offset", &CompliantMeshSpec::slice_offset)

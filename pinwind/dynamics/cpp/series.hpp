@@ -72,7 +72,11 @@ inline constexpr std::size_t kFamilies = 8;
   X(rotor_thrust_coefficient, rotor, 1)         \
   X(rotor_pitch, rotor, 1)                      \
   X(row_force, row, 3)                          \
-  X(row_moment, row, 3)
+  X(row_moment, row, 3)                         \
+  X(mesh_sliding_velocity, mesh, 1)             \
+  X(mesh_friction_force, mesh, 1)               \
+  X(mesh_friction_power, mesh, 1)               \
+  X(friction_loss, run, 1)
 
 enum class Series {
 #define PINWIND_SERIES_NAME(name, family, components) name,
