@@ -51,7 +51,7 @@ class MeshCompliance:
         friction_coefficient: μ of the tooth flanks [-], in [0, 1): each pair in contact takes
             μ F_j across the line of action against its sliding (``cpp/flank_friction.hpp``);
             0: frictionless flanks. A constant here; ISO/TR 14179-2's μ for an operating point
-            is computed elsewhere and given as this number. One contact line only (slices = 1).
+            is computed elsewhere and given as this number.
     """
 
     stiffness: float | None = None
@@ -102,11 +102,6 @@ class MeshCompliance:
             out.append(
                 f"friction_coefficient is {mu!r}; give μ in [0, 1) (steel on steel, lubricated: "
                 "0.03 to 0.1; 0 for frictionless flanks)"
-            )
-        elif mu > 0.0 and isinstance(self.slices, int | np.integer) and self.slices > 1:
-            out.append(
-                f"friction_coefficient {mu:g} with slices = {self.slices} is not in the run yet "
-                "(friction acts on one contact line); use slices = 1 or friction_coefficient = 0"
             )
         if not (math.isfinite(self.backlash) and self.backlash >= 0.0):
             out.append(f"backlash is {self.backlash * 1e3:g} mm; it must be ≥ 0")

@@ -58,7 +58,9 @@ def ledger_residual(result: Result) -> np.ndarray:
             "of pinwind.simulate or of a log written with them"
         )
     held = e["kinetic"] + e["potential_spring"]
-    work = sum(e[t] for t in WORK_TERMS) - sum(_loss(e, t) for t in LOSS_TERMS)
+    work = np.sum([e[t] for t in WORK_TERMS], axis=0) - np.sum(
+        [_loss(e, t) for t in LOSS_TERMS], axis=0
+    )
     return (held - held[0]) - (work - work[0])
 
 

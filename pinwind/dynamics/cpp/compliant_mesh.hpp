@@ -314,19 +314,7 @@ class CompliantMeshes : public Element {
         out.add(s.meshes.joint_b[m], p, force);
         out.add(s.meshes.joint_a[m], p, -force);
       }
-      if (!rubbing_) continue;
-      // Friction: −μ F_j σ_j e on B at each pair's contact point X_j = P + d_j m, its opposite on A.
-      const Vec3 p = s.rows.pitch_point.row(m).transpose();
-      for (int f = 0; f < 2; ++f) {
-        const FlankFriction& fr = friction_[2 * i + f];
-        if (fr.force == 0.0) continue;
-        for (size_t j = 0; j < fr.offset.size(); ++j) {
-          const Vec3 at = p + fr.offset[j] * fr.along;
-          const Vec3 on_b = (-fr.force * fr.share[j] * fr.sign[j]) * fr.slide;
-          out.add(s.meshes.joint_b[m], at, on_b);
-          out.add(s.meshes.joint_a[m], at, -on_b);
-        }
-      }
+      for (int f = 0; rubbing_ && f < 2; ++f) add_friction_forces(s, m, friction_[2 * i + f], out);
     }
   }
 
@@ -397,21 +385,9 @@ class CompliantMeshes : public Element {
       // One contact line: its load is uniform across the face, centred.
       out.at(Series::mesh_face_load_factor, e) = normal_(i, f) > 0.0 ? 1.0 : 0.0;
       out.at(Series::mesh_load_centre, e) = 0.0;
-      // The entering pair's sliding speed on the loaded flank (kinematic, with or without
-      // friction), the loaded flank's friction force on A along e, Σ_j μ F_j σ_j, and both
-      // flanks' friction loss at v_k, μ F g·v.
-      const auto [lo, hi] = span_[i];
-      out.at(Series::mesh_sliding_velocity, e) =
-          entering_sliding_velocity(s.meshes, s.rows, paths_[i], p, s.data.J, s.v, m,
-                                    last_flank_[i], cos_w_[i], sin_w_[i], lo, hi);
-      const FlankFriction& loaded = friction_[2 * i + f];
-      out.at(Series::mesh_friction_force, e) = loaded.force * loaded.sum0;
-      double power = 0.0;
-      for (int g = 0; g < 2; ++g) {
-        const FlankFriction& fr = friction_[2 * i + g];
-        if (fr.force != 0.0) power += fr.force * fr.row.dot(s.v);
-      }
-      out.at(Series::mesh_friction_power, e) = power;
+      // The entering pair's sliding speed (kinematic, with or without friction) and the friction.
+      record_friction(s, out, k, m, paths_[i], p, last_flank_[i], cos_w_[i], sin_w_[i],
+                      span_[i].first, span_[i].second, friction_[2 * i], friction_[2 * i + 1]);
     }
   }
 
@@ -534,6 +510,8 @@ class SlicedMeshes : public Element {
     last_flank_.assign(specs_.size(), 1.0);
     span_.assign(specs_.size(), {0, 0});
     radial_.assign(specs_.size(), Radial{});
+    friction_.resize(2 * specs_.size());
+    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.friction != 0.0;
   }
 
   void prepare(const StepView& s) override {
@@ -598,6 +576,47 @@ class SlicedMeshes : public Element {
     }
     started_ = true;
     if (!s.weights.statics) first_ = false;
+  }
+
+  // Flank friction (flank_friction.hpp) on the slices: slice s's pair p touches at
+  // X_p + z_s k, where e's row is J_e,p − z_s a_n (X × e gains z_s k × e = −z_s n), a_n =
+  // nᵀ(J_ω,B − J_ω,A). Summed over the slices in contact, with their forces F_s predicted as
+  // CompliantMeshes' are (b_s − w (J ā + z_s a ā)_{n−1}), the flank's friction is that of one
+  // contact line carrying F = Σ F_s, its row less (Σ F_s z_s / F) S₀ a_n, acting at the load
+  // centre z_c = Σ F_s z_s / F across the face.
+  void add_force(const StepView& s, Eigen::VectorXd& force) override {
+    if (!rubbing_) return;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const auto& sp = specs_[i];
+      if (sp.friction == 0.0) continue;
+      const Eigen::Index m = sp.mesh;
+      const auto [lo, hi] = span_[i];
+      const Radial& rad = radial_[i];
+      for (int f = 0; f < 2; ++f) {
+        const Flank& fl = flanks_[2 * i + f];
+        FlankFriction& fr = friction_[2 * i + f];
+        double total = 0.0, moment = 0.0;
+        for (Eigen::Index j = 0; j < sp.slices && !s.weights.statics; ++j) {
+          if (!fl.contact[j]) continue;
+          const double z = sp.slice_offset[j];
+          const double load = std::max(0.0, fl.b[j] - fl.w * (fl.last_ja + z * fl.last_ta));
+          total += load;
+          moment += load * z;
+        }
+        flank_friction(s.meshes, s.rows, paths_[i], fl.path, s.data.J, s.v, m, flank_sign(f),
+                       rad.cos_w, rad.sin_w, sp.friction, total, fl.centre, lo, hi, fr);
+        if (fr.force == 0.0) continue;
+        fr.centre_offset = moment / total;
+        const Vec3 n = line_of_action(s.meshes, s.rows, m, flank_sign(f), rad.cos_w, rad.sin_w);
+        const double weight = fr.centre_offset * fr.sum0;
+        for (Eigen::Index c = lo; c < hi; ++c) {
+          const double w = s.meshes.support(s.meshes.slot_b[m], c) -
+                           s.meshes.support(s.meshes.slot_a[m], c);
+          if (w != 0.0) fr.row[c] -= weight * w * n.dot(s.data.J.col(c).template tail<3>());
+        }
+        force.noalias() -= fr.force * fr.row.transpose();
+      }
+    }
   }
 
   void add_implicit(const StepView&, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
@@ -672,6 +691,8 @@ class SlicedMeshes : public Element {
         const double k_slice = stiffness(i, f), c_slice = damping(i);
         const auto& z = specs_[i].slice_offset;
         total[f] = 0.0;
+        fl.last_ja = fl.row.dot(a);  // the next step's friction predicts its forces with them
+        fl.last_ta = fl.tilt_row.dot(a);
         for (Eigen::Index j = 0; j < z.size(); ++j) {
           if (!fl.contact[j]) {
             fl.normal[j] = fl.elastic[j] = fl.viscous[j] = 0.0;
@@ -703,6 +724,7 @@ class SlicedMeshes : public Element {
           out.add(s.meshes.joint_b[m], at, force);
           out.add(s.meshes.joint_a[m], at, -force);
         }
+        if (rubbing_) add_friction_forces(s, m, friction_[2 * i + f], out);
       }
     }
   }
@@ -733,6 +755,8 @@ class SlicedMeshes : public Element {
           w.elastic += fl.elastic[j] * (jv + z[j] * tv);
           w.dissipated -= fl.viscous[j] * (jv + z[j] * tv);
         }
+        const FlankFriction& fr = friction_[2 * i + f];
+        if (fr.force != 0.0) w.friction += fr.force * fr.row.dot(v_mid) * s.dt;
       }
     }
     return w;
@@ -771,6 +795,8 @@ class SlicedMeshes : public Element {
           loaded ? double(sp.slices) * fl.normal.maxCoeff() / total[f] : 0.0;
       out.at(Series::mesh_load_centre, e) =
           loaded ? fl.normal.dot(sp.slice_offset) / total[f] : 0.0;
+      record_friction(s, out, k, m, paths_[i], fl.path, last_flank_[i], cos_w, sin_w,
+                      span_[i].first, span_[i].second, friction_[2 * i], friction_[2 * i + 1]);
     }
   }
 
@@ -784,6 +810,7 @@ class SlicedMeshes : public Element {
     Eigen::VectorXd normal, elastic, viscous;  // the slices' final forces and parts [N]
     double centre = 0.0;               // δ of the flank at the face centre, unmodified [m]
     double last_k = 0.0;               // a slice's stiffness at the last sample [N/m]
+    double last_ja = 0.0, last_ta = 0.0;  // J ā, a ā at the last step (friction's prediction)
     PathState path;
   };
   struct Radial {
@@ -840,6 +867,8 @@ class SlicedMeshes : public Element {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;
   std::vector<Radial> radial_;
   Eigen::VectorXd end_state_, end_speed_;  // settle's dq₀ + κ_q a and v + κ_v a
+  std::vector<FlankFriction> friction_;  // each flank's friction over the step (as CompliantMeshes)
+  bool rubbing_ = false;
   double parametric_ = 0.0;
   bool first_ = true;
   bool started_ = false;
@@ -862,9 +891,8 @@ struct CompliantMeshesKind : KindBase {
                                                   spec.slice_gap_back.size() != spec.slices))) {
         throw std::invalid_argument("compliant mesh slices: offsets and gaps need one per slice");
       }
-      if (!(spec.friction >= 0.0 && spec.friction < 1.0) ||
-          (spec.friction != 0.0 && spec.slices > 1)) {
-        throw std::invalid_argument("compliant mesh friction: μ in [0, 1), on one slice");
+      if (!(spec.friction >= 0.0 && spec.friction < 1.0)) {
+        throw std::invalid_argument("compliant mesh friction: μ in [0, 1)");
       }
     }
   }

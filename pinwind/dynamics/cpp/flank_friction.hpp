@@ -51,6 +51,7 @@
 #include <cmath>
 #include <vector>
 
+#include "elements.hpp"
 #include "mesh_path.hpp"
 
 namespace pinwind {
@@ -66,6 +67,7 @@ struct FlankFriction {
   Eigen::RowVectorXd row;    // g = S₀ J_e(P) + σ_m S₁ J_k: the generalised force is −μ F gᵀ
   Vec3 along = Vec3::Zero(); // m: the direction of growing x [unit, world]
   Vec3 slide = Vec3::Zero(); // e = k × n [unit, world]
+  double centre_offset = 0.0;  // z_c: where across the face it acts, along k [m] (sliced meshes)
   std::vector<double> offset, share, sign;  // d_j [m], s_j, σ_j of the pairs in contact
 };
 
@@ -118,7 +120,7 @@ void flank_friction(const MeshConstants& mc, const MeshRows& rows, const MeshPat
                            double sin_w, double mu, double normal, double delta, Index lo,
                            Index hi, FlankFriction& fr) {
   fr.force = 0.0;
-  fr.sum0 = fr.sum1 = 0.0;
+  fr.sum0 = fr.sum1 = fr.centre_offset = 0.0;
   fr.offset.clear();
   fr.share.clear();
   fr.sign.clear();
@@ -162,6 +164,40 @@ double entering_sliding_velocity(const MeshConstants& mc, const MeshRows& rows,
                              .dot(line_of_action(mc, rows, m, flank, cos_w, sin_w));
   const double d = st.entering - p.pitch_position;
   return at_pitch + d * sigma_m * relative_spin(mc, rows, jac, m, v, lo, hi);
+}
+
+// The friction of flank fr of mesh m on the bodies: −μ F_j σ_j e on B at each pair's contact
+// point P + d_j m + z_c k, its opposite on A (for the bearing reactions).
+inline void add_friction_forces(const StepView& s, Index m, const FlankFriction& fr,
+                                BodyForces& out) {
+  if (fr.force == 0.0) return;
+  const Vec3 p = s.rows.pitch_point.row(m).transpose();
+  const Vec3 k = s.rows.axis.row(m).transpose();
+  for (size_t j = 0; j < fr.offset.size(); ++j) {
+    const Vec3 at = p + fr.offset[j] * fr.along + fr.centre_offset * k;
+    const Vec3 on_b = (-fr.force * fr.share[j] * fr.sign[j]) * fr.slide;
+    out.add(s.meshes.joint_b[m], at, on_b);
+    out.add(s.meshes.joint_a[m], at, -on_b);
+  }
+}
+
+// Writes mesh m's friction series of sample k: the entering pair's sliding speed on the loaded
+// flank (±1) from the bodies' velocities, the loaded flank's friction on A along e (μ F S₀) and
+// both flanks' loss μ F g·v [W].
+inline void record_friction(const StepView& s, const Outputs& out, long k, Index m,
+                            const MeshPathSpec& p, const PathState& loaded_path, double flank,
+                            double cos_w, double sin_w, Index lo, Index hi,
+                            const FlankFriction& front, const FlankFriction& back) {
+  const long e = out.entry(Family::mesh, k, m);
+  out.at(Series::mesh_sliding_velocity, e) = entering_sliding_velocity(
+      s.meshes, s.rows, p, loaded_path, s.data.J, s.v, m, flank, cos_w, sin_w, lo, hi);
+  const FlankFriction& loaded = flank > 0.0 ? front : back;
+  out.at(Series::mesh_friction_force, e) = loaded.force * loaded.sum0;
+  double power = 0.0;
+  for (const FlankFriction* fr : {&front, &back}) {
+    if (fr->force != 0.0) power += fr->force * fr->row.dot(s.v);
+  }
+  out.at(Series::mesh_friction_power, e) = power;
 }
 
 }  // namespace pinwind
