@@ -243,6 +243,11 @@ def test_friction_changes_the_bearing_force_and_driver_torque_by_hand_statics():
     np.testing.assert_allclose(
         res.bearing("b").force[single], -on_b[single], rtol=0, atol=1e-9 * scale
     )
+    # The friction acts at the contact points: about B's axis its moment in the reactions is the
+    # one the dynamics felt, so B's bearing passes on exactly the load torque T_L (I ω̇ less the
+    # teeth's moment), and A's its driver's torque.
+    np.testing.assert_allclose(res.bearing("b").moment[:, 2], LOAD, rtol=1e-9)
+    np.testing.assert_allclose(res.bearing("a").moment[:, 2], res.joint("a").torque, rtol=1e-9)
     # A turns at a constant speed: its driver holds the teeth's moment about A's axis,
     # F r_b,A − friction ρ_A (friction e at X: moment (X − C_A)·n = ρ_A = r_b,A tan α + d).
     rho_a = R_BA * math.tan(ALPHA) + d

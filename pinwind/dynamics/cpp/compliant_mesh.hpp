@@ -229,7 +229,7 @@ class CompliantMeshes : public Element {
             contact_(i, f) && !s.weights.statics ? b_(i, f) - w_(i, f) * last_ja_(i, f) : 0.0;
         flank_friction(s.meshes, s.rows, paths_[i], path_[2 * i + f], s.data.J, s.v, specs_[i].mesh,
                        flank_sign(f), cos_w_[i], sin_w_[i], mu, normal, delta_(i, f), lo, hi, fr);
-        if (fr.force > 0.0) force.noalias() -= fr.force * fr.row.transpose();
+        for (Eigen::Index c = lo; fr.force > 0.0 && c < hi; ++c) force[c] -= fr.force * fr.row[c];
       }
     }
   }
@@ -614,7 +614,7 @@ class SlicedMeshes : public Element {
                            s.meshes.support(s.meshes.slot_a[m], c);
           if (w != 0.0) fr.row[c] -= weight * w * n.dot(s.data.J.col(c).template tail<3>());
         }
-        force.noalias() -= fr.force * fr.row.transpose();
+        for (Eigen::Index c = lo; c < hi; ++c) force[c] -= fr.force * fr.row[c];
       }
     }
   }

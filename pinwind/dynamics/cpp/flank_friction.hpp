@@ -71,16 +71,6 @@ struct FlankFriction {
   std::vector<double> offset, share, sign;  // d_j [m], s_j, σ_j of the pairs in contact
 };
 
-// The row of e = k × n at the pitch point on flank s: J_e(P) = −s cos α J_r + ε sin α J_t.
-template <class Row>
-void slide_row(const MeshConstants& mc, const MeshRows& rows, Index m, double flank, double cos_w,
-               double sin_w, Row&& row) {
-  const double cr = -flank * cos_w, ct = sin_w * mc.eps[m];
-  const double* t = rows.jac_t.row(m).data();
-  const double* r = rows.jac_r.row(m).data();
-  for (Index c = 0; c < rows.jac_t.cols(); ++c) row(c) = ct * t[c] + cr * r[c];
-}
-
 // e = k × n of flank s [unit, world].
 inline Vec3 slide_direction(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
                             double cos_w, double sin_w) {
@@ -91,12 +81,16 @@ inline Vec3 slide_direction(const MeshConstants& mc, const MeshRows& rows, Index
 // J_k v = (ω_B − ω_A)·k over the velocities that move one gear and not the other [rad/s].
 template <class Jac>
 double relative_spin(const MeshConstants& mc, const MeshRows& rows, const Jac& jac,
-                            Index m, const Eigen::VectorXd& v, Index lo, Index hi) {
+                     Index m, const Eigen::VectorXd& v, Index lo, Index hi) {
   const Vec3 k = rows.axis.row(m).transpose();
+  const double* on_b = mc.support.row(mc.slot_b[m]).data();
+  const double* on_a = mc.support.row(mc.slot_a[m]).data();
   double spin = 0.0;
   for (Index c = lo; c < hi; ++c) {
-    const double w = mc.support(mc.slot_b[m], c) - mc.support(mc.slot_a[m], c);
-    if (w != 0.0) spin += w * v[c] * k.dot(jac.col(c).template tail<3>());
+    const double w = on_b[c] - on_a[c];
+    if (w == 0.0) continue;
+    const double* ang = jac.data() + 6 * c + 3;  // the column's angular part (column-major 6 × nv)
+    spin += w * v[c] * (k[0] * ang[0] + k[1] * ang[1] + k[2] * ang[2]);
   }
   return spin;
 }
@@ -121,34 +115,47 @@ void flank_friction(const MeshConstants& mc, const MeshRows& rows, const MeshPat
                            Index hi, FlankFriction& fr) {
   fr.force = 0.0;
   fr.sum0 = fr.sum1 = fr.centre_offset = 0.0;
-  fr.offset.clear();
-  fr.share.clear();
-  fr.sign.clear();
   if (normal <= 0.0 || mu == 0.0) return;
-  const double spin = relative_spin(mc, rows, jac, m, v, lo, hi);
+  // J_k over the span, kept in fr.row (zero outside it: those columns move neither gear or
+  // both), and the relative spin J_k v.
+  if (fr.row.size() != jac.cols()) fr.row.setZero(jac.cols());
+  const Vec3 k = rows.axis.row(m).transpose();
+  const double* on_b = mc.support.row(mc.slot_b[m]).data();
+  const double* on_a = mc.support.row(mc.slot_a[m]).data();
+  double* row = fr.row.data();
+  double spin = 0.0;
+  for (Index c = lo; c < hi; ++c) {
+    const double w = on_b[c] - on_a[c];
+    const double* ang = jac.data() + 6 * c + 3;  // the column's angular part (column-major 6 × nv)
+    row[c] = w == 0.0 ? 0.0 : w * (k[0] * ang[0] + k[1] * ang[1] + k[2] * ang[2]);
+    spin += row[c] * v[c];
+  }
   if (std::abs(spin) <= kStandstill) return;
-  fr.along = path_direction(mc, rows, p, m, flank, cos_w, sin_w);
-  fr.slide = slide_direction(mc, rows, m, flank, cos_w, sin_w);
-  const double sigma_m = fr.along.dot(line_of_action(mc, rows, m, flank, cos_w, sin_w));
+  const Vec3 n = line_of_action(mc, rows, m, flank, cos_w, sin_w);
+  const Vec3 from_a = rows.pitch_point.row(m) - rows.centre_a.row(m);
+  const double sigma_m = flank * p.roll_radius_a * k.cross(from_a).dot(n) >= 0.0 ? 1.0 : -1.0;
+  fr.along = sigma_m * n;  // path_direction's
+  fr.slide = k.cross(n);
   pair_shares(p, st, delta, fr.share);
-  for (int j = 0; j < st.pairs; ++j) {
-    const double d = st.entering + j * p.base_pitch - p.pitch_position;
-    const double sign = d * sigma_m * spin > 0.0 ? 1.0 : (d * sigma_m * spin < 0.0 ? -1.0 : 0.0);
-    fr.offset.push_back(d);
-    fr.sign.push_back(sign);
-    fr.sum0 += fr.share[static_cast<size_t>(j)] * sign;
-    fr.sum1 += fr.share[static_cast<size_t>(j)] * sign * d;
+  const auto pairs = static_cast<size_t>(st.pairs);
+  fr.offset.resize(pairs);
+  fr.sign.resize(pairs);
+  const double turning = sigma_m * spin;
+  for (size_t j = 0; j < pairs; ++j) {
+    const double d = st.entering + double(j) * p.base_pitch - p.pitch_position;
+    const double sign = d * turning > 0.0 ? 1.0 : (d * turning < 0.0 ? -1.0 : 0.0);
+    fr.offset[j] = d;
+    fr.sign[j] = sign;
+    fr.sum0 += fr.share[j] * sign;
+    fr.sum1 += fr.share[j] * sign * d;
   }
   fr.force = mu * normal;
-  if (fr.row.size() != jac.cols()) fr.row.setZero(jac.cols());
-  slide_row(mc, rows, m, flank, cos_w, sin_w, fr.row);
-  fr.row *= fr.sum0;
-  const Vec3 k = rows.axis.row(m).transpose();
+  // g = S₀ J_e(P) + σ_m S₁ J_k, J_e(P) = −s cos α J_r + ε sin α J_t (header).
+  const double ct = fr.sum0 * sin_w * mc.eps[m], cr = -fr.sum0 * flank * cos_w;
   const double spin_weight = sigma_m * fr.sum1;
-  for (Index c = lo; c < hi; ++c) {
-    const double w = mc.support(mc.slot_b[m], c) - mc.support(mc.slot_a[m], c);
-    if (w != 0.0) fr.row[c] += spin_weight * w * k.dot(jac.col(c).template tail<3>());
-  }
+  const double* t = rows.jac_t.row(m).data();
+  const double* r = rows.jac_r.row(m).data();
+  for (Index c = lo; c < hi; ++c) row[c] = ct * t[c] + cr * r[c] + spin_weight * row[c];
 }
 
 // v_s of the entering pair (x_0) of flank s: J_e(P) v + d_0 σ_m J_k v [m/s] (header).
@@ -167,18 +174,28 @@ double entering_sliding_velocity(const MeshConstants& mc, const MeshRows& rows,
 }
 
 // The friction of flank fr of mesh m on the bodies: −μ F_j σ_j e on B at each pair's contact
-// point P + d_j m + z_c k, its opposite on A (for the bearing reactions).
+// point X_j = P + d_j m + z_c k, its opposite on A (for the bearing reactions). The pairs'
+// forces are parallel: on B, force f e and moment Y × e about the world origin, f = Σ f_j and
+// Y = Σ f_j X_j (f_j = −μ F s_j σ_j), whether or not they cancel.
 inline void add_friction_forces(const StepView& s, Index m, const FlankFriction& fr,
                                 BodyForces& out) {
   if (fr.force == 0.0) return;
   const Vec3 p = s.rows.pitch_point.row(m).transpose();
   const Vec3 k = s.rows.axis.row(m).transpose();
+  double f = 0.0, fd = 0.0;
   for (size_t j = 0; j < fr.offset.size(); ++j) {
-    const Vec3 at = p + fr.offset[j] * fr.along + fr.centre_offset * k;
-    const Vec3 on_b = (-fr.force * fr.share[j] * fr.sign[j]) * fr.slide;
-    out.add(s.meshes.joint_b[m], at, on_b);
-    out.add(s.meshes.joint_a[m], at, -on_b);
+    const double fj = -fr.force * fr.share[j] * fr.sign[j];
+    f += fj;
+    fd += fj * fr.offset[j];
   }
+  const Vec3 force = f * fr.slide;
+  const Vec3 moment = (f * (p + fr.centre_offset * k) + fd * fr.along).cross(fr.slide);
+  auto& on_b = out.of_joint[s.meshes.joint_b[m]];
+  auto& on_a = out.of_joint[s.meshes.joint_a[m]];
+  on_b.linear() += force;
+  on_b.angular() += moment;
+  on_a.linear() -= force;
+  on_a.angular() -= moment;
 }
 
 // Writes mesh m's friction series of sample k: the entering pair's sliding speed on the loaded
