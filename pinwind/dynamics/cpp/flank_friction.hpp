@@ -20,8 +20,9 @@
 // J_k = k·(J_ω,B − J_ω,A) the relative spin, σ_m = m·n = ±1 (X × e = P × e + d σ_m k). With
 // the axes fixed, P is the instantaneous centre of the relative motion, so
 //
-//     v_s,j = σ_m d_j (ω_B − ω_A)·k:   external pair (ω's of opposite sense) |v_s| = (|ω₁| + |ω₂|) |d_j|,
-//                                       internal pair (same sense)            |v_s| = |ω₁ − ω₂| |d_j|,
+//     v_s,j = σ_m d_j (ω_B − ω_A)·k:
+//         external pair (ω's of opposite sense): |v_s,j| = (|ω₁| + |ω₂|) |d_j|,
+//         internal pair (the same sense):         |v_s,j| = |ω₁ − ω₂| |d_j|,
 //
 // zero at the pitch point and growing with the distance from it (Niemann & Winter 1983 §21.2).
 //
@@ -32,7 +33,8 @@
 // v_s,j) does not make it chatter; below a relative spin of kStandstill (a train at rest or
 // in a static solve) there is no sliding and no friction. Its generalised force is
 //
-//     f = −μ F Σ_j s_j σ_j J_e,jᵀ = −μ F (S₀ J_e(P) + σ_m S₁ J_k)ᵀ,   S₀ = Σ s_j σ_j, S₁ = Σ s_j σ_j d_j,
+//     f = −μ F Σ_j s_j σ_j J_e,jᵀ = −μ F (S₀ J_e(P) + σ_m S₁ J_k)ᵀ,
+//     S₀ = Σ s_j σ_j,   S₁ = Σ s_j σ_j d_j,
 //
 // F_j = s_j F the pair's share of the flank's force (mesh_path.hpp pair_shares): two numbers a
 // flank whatever its pair count. Its moment about gear i's axis is μ F_j ρ_i,j, ρ_i,j the
@@ -70,13 +72,6 @@ struct FlankFriction {
   double centre_offset = 0.0;  // z_c: where across the face it acts, along k [m] (sliced meshes)
   std::vector<double> offset, share, sign;  // d_j [m], s_j, σ_j of the pairs in contact
 };
-
-// e = k × n of flank s [unit, world].
-inline Vec3 slide_direction(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
-                            double cos_w, double sin_w) {
-  const Vec3 k = rows.axis.row(m).transpose();
-  return k.cross(line_of_action(mc, rows, m, flank, cos_w, sin_w));
-}
 
 // J_k v = (ω_B − ω_A)·k over the velocities that move one gear and not the other [rad/s].
 template <class Jac>
