@@ -112,6 +112,7 @@ class MeshPathSpec:
     path_length: float  # [m]
     roll_start: float  # [m]
     roll_radius_a: float  # [m]
+    pitch_position: float  # [m] the pitch point's x from the path start
     entering_front: float  # [m]
     entering_back: float  # [m]
     angle_ref_a: float  # [rad]
@@ -138,6 +139,7 @@ class CompliantMeshSpec:
     involute_ref: float
     tangential_offset: float  # [m]
     radial_offset: float  # [m]
+    friction: float  # μ of the flanks [-] (cpp/flank_friction.hpp); 0: none
     slices: int  # N across the face width; 1: one contact line
     axis_b: Vector  # (3,), gear B's axis in its joint frame
     slice_offset: Vector  # (N,) [m] from the face centre along gear A's axis
@@ -495,6 +497,10 @@ class Series(enum.Enum):
     row_moment = 47
     bearing_friction_moment = 48
     bearing_friction_power = 49
+    mesh_sliding_velocity = 50
+    mesh_friction_force = 51
+    mesh_friction_power = 52
+    friction_loss = 53
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

@@ -284,6 +284,7 @@ def mesh_setup(
         )
         c = mesh.compliance
         spec.backlash = c.backlash
+        spec.friction = c.friction_coefficient
         spec.stiffness = mean_mesh_stiffness(mesh)
         if c.slices > 1:
             spec.slices = c.slices
@@ -399,6 +400,7 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.M
     # about the centre line): r_b,A times the thickness angle further along the path.
     pitch = (path.pitch_roll_1 - path.start_roll_1 + 0.5 * overlap) % path.base_pitch
     spec.entering_front = pitch
+    spec.pitch_position = path.pitch_roll_1 - path.start_roll_1 + 0.5 * overlap
     spec.entering_back = (pitch + mesh.base_radius_a * tooth_a) % path.base_pitch
     # ψ_A is measured from the centre line towards B's centre (cpp/mesh_path.hpp gear_a_angle);
     # with B internal the pitch point lies the other way, half a turn round A, so the front

@@ -224,6 +224,7 @@ ENERGY_TERMS: tuple[EnergyTerm, ...] = (
     EnergyTerm("work_gravity", "work of gravity"),
     EnergyTerm("work_constraints", "work of the rigid mesh forces (zero up to drift)"),
     EnergyTerm("dissipated", "energy taken by the dampers"),
+    EnergyTerm("friction_loss", "energy taken by friction (tooth flanks of compliant meshes, rolling bearings)"),
     EnergyTerm(
         "work_parametric",
         "work of the meshes' time-varying stiffness on the stored energy, Σ ½ Δk δ² "
@@ -375,6 +376,20 @@ _MEANINGS: dict[str, About] = {
            short="P friction",
            plot=Plot("bearing_friction_power", "bearings", "bearing friction power losses [kW]",
                      "kW", drop_zero=True)),
+    "mesh_sliding_velocity": About("sliding_velocity", "m/s",
+           "sliding speed of the entering tooth pair's flanks, B's on A's along k x n of the "
+           "loaded flank (compliant mesh; zero at the pitch point, cpp/flank_friction.hpp)",
+           short="v slide", headline=False),
+    "mesh_friction_force": About("friction_force", "N",
+           "flank friction on gear A along k x n of the loaded flank, sum of mu F_j sgn(v_s,j) "
+           "over its pairs (compliant mesh with friction_coefficient; 0 otherwise)",
+           short="F friction", headline=False),
+    "mesh_friction_power": About("friction_power", "W",
+           "power the flank friction takes, sum of mu F_j |v_s,j| over the pairs of both "
+           "flanks (compliant mesh with friction_coefficient; 0 otherwise)",
+           short="P friction",
+           plot=Plot("mesh_friction_power", "mesh forces", "mesh friction loss [kW]", "kW",
+                     drop_zero=True)),
 }  # fmt: skip
 
 

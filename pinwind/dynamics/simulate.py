@@ -1070,6 +1070,7 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "damping": spec.damping,
             "damping_ratio": c.damping_ratio if c.damping is None else None,
             "backlash": spec.backlash,
+            "friction_coefficient": spec.friction,
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
         }
     return out

@@ -322,6 +322,7 @@ def energy_residual(
         + term("work_constraints")
         + term("work_parametric")
         - term("dissipated")
+        - term("friction_loss")
         - term("numerical")
     )
     return stored - supplied

@@ -48,6 +48,10 @@ class MeshCompliance:
         slices: N, the contact line cut into N equal slices across the face width, each with
             k(x)/N, c/N and its own contact, loaded by the gears' relative tilt and the lead
             modifications (``dynamics/compliant.py`` ``slice_tables``); 1: one contact line.
+        friction_coefficient: μ of the tooth flanks [-], in [0, 1): each pair in contact takes
+            μ F_j across the line of action against its sliding (``cpp/flank_friction.hpp``);
+            0: frictionless flanks. A constant here; ISO/TR 14179-2's μ for an operating point
+            is computed elsewhere and given as this number.
     """
 
     stiffness: float | None = None
@@ -58,6 +62,7 @@ class MeshCompliance:
     backlash: float = 0.0
     mean_stiffness: float | None = None
     slices: int = 1
+    friction_coefficient: float = 0.0
 
     def problems(self) -> list[str]:
         """What is physically wrong with these values, each with the fix (empty when fine)."""
@@ -92,6 +97,12 @@ class MeshCompliance:
             out.append(f"damping ratio is {self.damping_ratio:g}; it must lie in [0, 1)")
         if not (isinstance(self.slices, int | np.integer) and self.slices >= 1):
             out.append(f"slices is {self.slices!r}; give a whole number ≥ 1 (1: one contact line)")
+        mu = self.friction_coefficient
+        if not (isinstance(mu, int | float | np.floating) and math.isfinite(mu) and 0 <= mu < 1):
+            out.append(
+                f"friction_coefficient is {mu!r}; give μ in [0, 1) (steel on steel, lubricated: "
+                "0.03 to 0.1; 0 for frictionless flanks)"
+            )
         if not (math.isfinite(self.backlash) and self.backlash >= 0.0):
             out.append(f"backlash is {self.backlash * 1e3:g} mm; it must be ≥ 0")
         if self.pair_stiffness is not None:

@@ -1115,6 +1115,7 @@ def _compliance(path: str, el: ET.Element) -> MeshCompliance | None:
         damping_ratio=_number(path, el, "damping_ratio", DEFAULT_DAMPING_RATIO),
         backlash=_number(path, el, "backlash_mm", 0.0) * 1e-3,
         slices=_slices(path, el, where),
+        friction_coefficient=_number(path, el, "friction_coefficient", 0.0),
     )
     problems = compliance.problems()
     if problems:
@@ -1144,6 +1145,7 @@ _COMPLIANCE_ATTRIBUTES = (
     "damping_ratio",
     "backlash_mm",
     "slices",
+    "friction_coefficient",
 )
 
 

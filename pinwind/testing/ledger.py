@@ -5,10 +5,11 @@ energy K, the springs' stored energy U (compliant meshes, torsional springs, com
 the support) and the work of every force: the applied torques and the generator and rotor laws
 (W_applied), the speed drivers and locks (W_drivers), gravity (W_gravity), the rigid meshes
 (W_constraints, zero up to drift), the meshes' time-varying stiffness (W_parametric, the
-parametric excitation) and the dampers (``dissipated``, taken). Energy is conserved when
+parametric excitation), the dampers (``dissipated``, taken) and friction (``friction_loss``,
+taken: the tooth flanks of compliant meshes). Energy is conserved when
 
     r(t) = Δ(K + U) − (W_applied + W_drivers + W_gravity + W_constraints + W_parametric)
-           + dissipated = 0,
+           + dissipated + friction_loss = 0,
 
 Δ from the first sample (the static start's stored energy is there at t = 0). r is what the time
 step itself created or lost: −``numerical`` up to the step's kinetic-energy balance, which is
@@ -26,7 +27,7 @@ from pinwind.dynamics.result import Result
 from pinwind.errors import InputError
 from pinwind.testing.figure import CheckFigure
 
-#: The work terms of the balance (module docstring), each added; ``dissipated`` is taken.
+#: The work terms of the balance (module docstring), each added; ``LOSS_TERMS`` are taken.
 WORK_TERMS = (
     "work_applied",
     "work_drivers",
@@ -34,6 +35,17 @@ WORK_TERMS = (
     "work_constraints",
     "work_parametric",
 )
+
+#: The losses of the balance, each taken (counted positive when lost). ``friction_loss`` may be
+#: absent (a log written before flank friction was modelled): none then.
+LOSS_TERMS = ("dissipated", "friction_loss")
+
+
+def _loss(energy: dict[str, np.ndarray], term: str) -> np.ndarray:
+    """A loss term of the ledger [J], zeros where an older log has no ``friction_loss``."""
+    if term == "friction_loss" and term not in energy:
+        return np.zeros_like(energy["dissipated"])
+    return energy[term]
 
 
 def ledger_residual(result: Result) -> np.ndarray:
@@ -46,17 +58,20 @@ def ledger_residual(result: Result) -> np.ndarray:
             "of pinwind.simulate or of a log written with them"
         )
     held = e["kinetic"] + e["potential_spring"]
-    work = sum(e[t] for t in WORK_TERMS) - e["dissipated"]
+    work = np.sum([e[t] for t in WORK_TERMS], axis=0) - np.sum(
+        [_loss(e, t) for t in LOSS_TERMS], axis=0
+    )
     return (held - held[0]) - (work - work[0])
 
 
 def energy_scale(result: Result) -> float:
     """The run's energy scale [J]: the largest magnitude any ledger term reaches.
 
-    The kinetic and stored energy and each work term and the dissipated energy, over the run.
+    The kinetic and stored energy, each work term and each loss, over the run.
     """
-    terms = ("kinetic", "potential_spring", "dissipated", *WORK_TERMS)
-    return float(max(np.abs(result.energy[t]).max() for t in terms))
+    e = result.energy
+    held = (e["kinetic"], e["potential_spring"], *(_loss(e, t) for t in LOSS_TERMS))
+    return float(max(np.abs(a).max() for a in (*held, *(e[t] for t in WORK_TERMS))))
 
 
 def ledger_closure(result: Result, *, rtol: float = 1e-6) -> CheckFigure:

@@ -75,7 +75,7 @@ def test_a_spinning_shaft_slows_down_stops_and_the_ledger_closes_with_the_fricti
     # stopped (within the regularised band ω_s = 0.01 rad/s) and staying there
     assert np.all(np.abs(speed[t > 0.8]) < 0.01)
     # all the kinetic energy went to the friction, and the ledger closes
-    assert_allclose(res.energy["dissipated"][-1], 0.5 * 5.0 * 1.0**2, rtol=1e-3)
+    assert_allclose(res.energy["friction_loss"][-1], 0.5 * 5.0 * 1.0**2, rtol=1e-3)
     residual = ledger_residual(res)
     assert np.abs(residual).max() <= 1e-9 * energy_scale(res)
 

@@ -40,6 +40,10 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         out[f"mesh/{name}/single_tooth_force_N"] = m.single_tooth_force
         out[f"mesh/{name}/face_load_factor"] = m.face_load_factor
         out[f"mesh/{name}/load_centre_m"] = m.load_centre
+        # flank friction's series (compliant meshes; 0 for rigid ones)
+        out[f"mesh/{name}/sliding_velocity_m_s"] = m.sliding_velocity
+        out[f"mesh/{name}/friction_force_N"] = m.friction_force
+        out[f"mesh/{name}/friction_power_W"] = m.friction_power
         for k, axis in enumerate("xyz"):
             out[f"mesh/{name}/force_on_b_{axis}_N"] = m.force_on_b[:, k]
             out[f"mesh/{name}/pitch_point_{axis}_m"] = m.pitch_point[:, k]

@@ -24,13 +24,13 @@ from tests.io.conftest import CHUNK, DT, DURATION, TORQUES, column_chunks
 from tests.io.test_cli_log import ENV, SIMULATE
 from tests.io.test_log_writer import assert_same_arrays
 
-#: Values per sample of the planetary stage's Result (6 joints, 6 meshes, 10 links, 10 energy
-#: terms): time, 4 joint series, 14 mesh scalars and 2 mesh vectors, 4 bearing vectors, 4 bearing
-#: scalars about the axis, 2 bearing vectors of compliance (displacement, elastic force), link
-#: positions and quaternions, the constraint residual, the energy terms, 2 bearing friction
-#: scalars (moment, power).
+#: Values per sample of the planetary stage's Result (6 joints, 6 meshes, 10 links, 11 energy
+#: terms): time, 4 joint series, 17 mesh scalars (3 of flank friction) and 2 mesh vectors, 4
+#: bearing vectors, 4 bearing scalars about the axis, 2 bearing vectors of compliance
+#: (displacement, elastic force), link positions and quaternions, the constraint residual, the
+#: energy terms, 2 bearing friction scalars (moment, power).
 PLANETARY_VALUES = (
-    1 + 4 * 6 + 14 * 6 + 2 * 3 * 6 + 4 * 3 * 6 + 4 * 6 + 2 * 3 * 6 + 7 * 10 + 1 + 10 + 2 * 6
+    1 + 4 * 6 + 17 * 6 + 2 * 3 * 6 + 4 * 3 * 6 + 4 * 6 + 2 * 3 * 6 + 7 * 10 + 1 + 11 + 2 * 6
 )
 
 

@@ -14,7 +14,8 @@
 //
 // Taken at the time step's weighted speed v_n + κ_v ā (time_step.hpp) linearised about v_n, as
 // the bearing damping's (bearing_damping.hpp): W = −κ_v dτ/dω ≥ 0, and the moment booked in the
-// energy ledger (dissipated) is the one the step's solve used, so the ledger closes.
+// energy ledger (friction_loss, with the flanks' friction) is the one the step's solve used, so
+// the ledger closes.
 #pragma once
 
 #include <algorithm>
@@ -88,7 +89,7 @@ class BearingFriction : public Element {
 
   StepWork work(const StepView& s, const Eigen::VectorXd&,
                 const Eigen::VectorXd& v_mid) const override {
-    return {0.0, -torque_.dot(v_mid) * s.dt};
+    return {0.0, 0.0, 0.0, -torque_.dot(v_mid) * s.dt};
   }
 
   // A copy for a saved state of the run, and its states taken back (Element::copy).

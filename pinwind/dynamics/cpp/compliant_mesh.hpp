@@ -49,6 +49,7 @@
 
 #include "element_kind.hpp"
 #include "elements.hpp"
+#include "flank_friction.hpp"
 #include "mesh_path.hpp"
 
 namespace pinwind {
@@ -67,6 +68,7 @@ struct CompliantMeshSpec {
   double involute_ref = 0.0;      // inv α' at the reference centre distance
   double tangential_offset = 0.0; // e_T [m]
   double radial_offset = 0.0;     // e_R [m]
+  double friction = 0.0;          // μ, the flanks' coefficient of friction [-] (FlankFriction)
   // Slices across the face width (sliced_mesh.hpp); 1: the single contact line above.
   long slices = 1;
   Vec3 axis_b = Vec3::UnitZ();    // gear B's axis in its joint frame
@@ -148,6 +150,9 @@ class CompliantMeshes : public Element {
     radial_.setZero(n);
     cos_w_.setOnes(n);
     sin_w_.setZero(n);
+    friction_.resize(2 * specs_.size());
+    last_ja_.setZero(n, 2);
+    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.friction != 0.0;
   }
 
   void prepare(const StepView& s) override {
@@ -209,6 +214,26 @@ class CompliantMeshes : public Element {
     if (!s.weights.statics) first_ = false;
   }
 
+  // Flank friction (flank_friction.hpp): explicit over the step, on each flank in contact at the
+  // step's start, with the flank's force predicted as b − w (J ā)_{n−1}. None in a static solve
+  // (nothing slides).
+  void add_force(const StepView& s, Eigen::VectorXd& force) override {
+    if (!rubbing_) return;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const double mu = specs_[i].friction;
+      if (mu == 0.0) continue;
+      const auto [lo, hi] = span_[i];
+      for (int f = 0; f < 2; ++f) {
+        FlankFriction& fr = friction_[2 * i + f];
+        const double normal =
+            contact_(i, f) && !s.weights.statics ? b_(i, f) - w_(i, f) * last_ja_(i, f) : 0.0;
+        flank_friction(s.meshes, s.rows, paths_[i], path_[2 * i + f], s.data.J, s.v, specs_[i].mesh,
+                       flank_sign(f), cos_w_[i], sin_w_[i], mu, normal, delta_(i, f), lo, hi, fr);
+        for (Eigen::Index c = lo; fr.force > 0.0 && c < hi; ++c) force[c] -= fr.force * fr.row[c];
+      }
+    }
+  }
+
   void add_implicit(const StepView&, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
     for (size_t i = 0; i < specs_.size(); ++i) {
       for (int f = 0; f < 2; ++f) {
@@ -261,10 +286,11 @@ class CompliantMeshes : public Element {
     for (size_t i = 0; i < specs_.size(); ++i) {
       for (int f = 0; f < 2; ++f) {
         if (!contact_(i, f)) {
-          normal_(i, f) = elastic_(i, f) = viscous_(i, f) = 0.0;
+          normal_(i, f) = elastic_(i, f) = viscous_(i, f) = last_ja_(i, f) = 0.0;
           continue;
         }
         const auto& row = row_[2 * i + f];
+        last_ja_(i, f) = row.dot(a);  // the next step's friction predicts its force with it
         elastic_(i, f) = stiffness(i, f) * (delta_(i, f) - gap(i, f) -
                                             row.dot(s.dq_free + s.weights.position_gain * a));
         viscous_(i, f) = -specs_[i].damping * row.dot(s.v + s.weights.speed_gain * a);
@@ -288,6 +314,7 @@ class CompliantMeshes : public Element {
         out.add(s.meshes.joint_b[m], p, force);
         out.add(s.meshes.joint_a[m], p, -force);
       }
+      for (int f = 0; rubbing_ && f < 2; ++f) add_friction_forces(s, m, friction_[2 * i + f], out);
     }
   }
 
@@ -321,6 +348,11 @@ class CompliantMeshes : public Element {
         w.elastic += elastic_(i, f) * jv;
         w.dissipated -= viscous_(i, f) * jv;
       }
+      // Friction's force −μ F gᵀ, applied over the whole step, takes μ F g·v_mid h.
+      for (int f = 0; rubbing_ && f < 2; ++f) {
+        const FlankFriction& fr = friction_[2 * i + f];
+        if (fr.force != 0.0) w.friction += fr.force * fr.row.dot(v_mid) * s.dt;
+      }
     }
     return w;
   }
@@ -353,6 +385,9 @@ class CompliantMeshes : public Element {
       // One contact line: its load is uniform across the face, centred.
       out.at(Series::mesh_face_load_factor, e) = normal_(i, f) > 0.0 ? 1.0 : 0.0;
       out.at(Series::mesh_load_centre, e) = 0.0;
+      // The entering pair's sliding speed (kinematic, with or without friction) and the friction.
+      record_friction(s, out, k, m, paths_[i], p, last_flank_[i], cos_w_[i], sin_w_[i],
+                      span_[i].first, span_[i].second, friction_[2 * i], friction_[2 * i + 1]);
     }
   }
 
@@ -426,6 +461,9 @@ class CompliantMeshes : public Element {
   Eigen::Matrix<double, Eigen::Dynamic, 2> last_k_;  // each flank's stiffness at the last sample
   Eigen::VectorXd radial_distance_, radial_;  // radial_overlap's centre distance [m] and value [m]
   Eigen::VectorXd cos_w_, sin_w_;  // the working pressure angle α' at that centre distance
+  std::vector<FlankFriction> friction_;  // each flank's friction over the step (mesh i: 2i, 2i + 1)
+  Eigen::Matrix<double, Eigen::Dynamic, 2> last_ja_;  // each flank's J ā at the last step [m/s²]
+  bool rubbing_ = false;  // some mesh has μ > 0
   double parametric_ = 0.0;  // work of the stiffness's changes since t = 0 [J]
   bool first_ = true;     // no dynamic step prepared yet
   bool started_ = false;  // contact_ set from the first state prepared (static or dynamic)
@@ -478,6 +516,8 @@ class SlicedMeshes : public Element {
     last_flank_.assign(specs_.size(), 1.0);
     span_.assign(specs_.size(), {0, 0});
     radial_.assign(specs_.size(), Radial{});
+    friction_.resize(2 * specs_.size());
+    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.friction != 0.0;
   }
 
   void prepare(const StepView& s) override {
@@ -542,6 +582,47 @@ class SlicedMeshes : public Element {
     }
     started_ = true;
     if (!s.weights.statics) first_ = false;
+  }
+
+  // Flank friction (flank_friction.hpp) on the slices: slice s's pair p touches at
+  // X_p + z_s k, where e's row is J_e,p − z_s a_n (X × e gains z_s k × e = −z_s n), a_n =
+  // nᵀ(J_ω,B − J_ω,A). Summed over the slices in contact, with their forces F_s predicted as
+  // CompliantMeshes' are (b_s − w (J ā + z_s a ā)_{n−1}), the flank's friction is that of one
+  // contact line carrying F = Σ F_s, its row less (Σ F_s z_s / F) S₀ a_n, acting at the load
+  // centre z_c = Σ F_s z_s / F across the face.
+  void add_force(const StepView& s, Eigen::VectorXd& force) override {
+    if (!rubbing_) return;
+    for (size_t i = 0; i < specs_.size(); ++i) {
+      const auto& sp = specs_[i];
+      if (sp.friction == 0.0) continue;
+      const Eigen::Index m = sp.mesh;
+      const auto [lo, hi] = span_[i];
+      const Radial& rad = radial_[i];
+      for (int f = 0; f < 2; ++f) {
+        const Flank& fl = flanks_[2 * i + f];
+        FlankFriction& fr = friction_[2 * i + f];
+        double total = 0.0, moment = 0.0;
+        for (Eigen::Index j = 0; j < sp.slices && !s.weights.statics; ++j) {
+          if (!fl.contact[j]) continue;
+          const double z = sp.slice_offset[j];
+          const double load = std::max(0.0, fl.b[j] - fl.w * (fl.last_ja + z * fl.last_ta));
+          total += load;
+          moment += load * z;
+        }
+        flank_friction(s.meshes, s.rows, paths_[i], fl.path, s.data.J, s.v, m, flank_sign(f),
+                       rad.cos_w, rad.sin_w, sp.friction, total, fl.centre, lo, hi, fr);
+        if (fr.force == 0.0) continue;
+        fr.centre_offset = moment / total;
+        const Vec3 n = line_of_action(s.meshes, s.rows, m, flank_sign(f), rad.cos_w, rad.sin_w);
+        const double weight = fr.centre_offset * fr.sum0;
+        for (Eigen::Index c = lo; c < hi; ++c) {
+          const double w = s.meshes.support(s.meshes.slot_b[m], c) -
+                           s.meshes.support(s.meshes.slot_a[m], c);
+          if (w != 0.0) fr.row[c] -= weight * w * n.dot(s.data.J.col(c).template tail<3>());
+        }
+        for (Eigen::Index c = lo; c < hi; ++c) force[c] -= fr.force * fr.row[c];
+      }
+    }
   }
 
   void add_implicit(const StepView&, Eigen::MatrixXd& hessian, Eigen::VectorXd& force) override {
@@ -616,6 +697,8 @@ class SlicedMeshes : public Element {
         const double k_slice = stiffness(i, f), c_slice = damping(i);
         const auto& z = specs_[i].slice_offset;
         total[f] = 0.0;
+        fl.last_ja = fl.row.dot(a);  // the next step's friction predicts its forces with them
+        fl.last_ta = fl.tilt_row.dot(a);
         for (Eigen::Index j = 0; j < z.size(); ++j) {
           if (!fl.contact[j]) {
             fl.normal[j] = fl.elastic[j] = fl.viscous[j] = 0.0;
@@ -647,6 +730,7 @@ class SlicedMeshes : public Element {
           out.add(s.meshes.joint_b[m], at, force);
           out.add(s.meshes.joint_a[m], at, -force);
         }
+        if (rubbing_) add_friction_forces(s, m, friction_[2 * i + f], out);
       }
     }
   }
@@ -677,6 +761,8 @@ class SlicedMeshes : public Element {
           w.elastic += fl.elastic[j] * (jv + z[j] * tv);
           w.dissipated -= fl.viscous[j] * (jv + z[j] * tv);
         }
+        const FlankFriction& fr = friction_[2 * i + f];
+        if (fr.force != 0.0) w.friction += fr.force * fr.row.dot(v_mid) * s.dt;
       }
     }
     return w;
@@ -715,6 +801,8 @@ class SlicedMeshes : public Element {
           loaded ? double(sp.slices) * fl.normal.maxCoeff() / total[f] : 0.0;
       out.at(Series::mesh_load_centre, e) =
           loaded ? fl.normal.dot(sp.slice_offset) / total[f] : 0.0;
+      record_friction(s, out, k, m, paths_[i], fl.path, last_flank_[i], cos_w, sin_w,
+                      span_[i].first, span_[i].second, friction_[2 * i], friction_[2 * i + 1]);
     }
   }
 
@@ -732,6 +820,7 @@ class SlicedMeshes : public Element {
     Eigen::VectorXd normal, elastic, viscous;  // the slices' final forces and parts [N]
     double centre = 0.0;               // δ of the flank at the face centre, unmodified [m]
     double last_k = 0.0;               // a slice's stiffness at the last sample [N/m]
+    double last_ja = 0.0, last_ta = 0.0;  // J ā, a ā at the last step (friction's prediction)
     PathState path;
   };
   struct Radial {
@@ -788,6 +877,8 @@ class SlicedMeshes : public Element {
   std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;
   std::vector<Radial> radial_;
   Eigen::VectorXd end_state_, end_speed_;  // settle's dq₀ + κ_q a and v + κ_v a
+  std::vector<FlankFriction> friction_;  // each flank's friction over the step (as CompliantMeshes)
+  bool rubbing_ = false;
   double parametric_ = 0.0;
   bool first_ = true;
   bool started_ = false;
@@ -809,6 +900,9 @@ struct CompliantMeshesKind : KindBase {
                                                   spec.slice_gap.size() != spec.slices ||
                                                   spec.slice_gap_back.size() != spec.slices))) {
         throw std::invalid_argument("compliant mesh slices: offsets and gaps need one per slice");
+      }
+      if (!(spec.friction >= 0.0 && spec.friction < 1.0)) {
+        throw std::invalid_argument("compliant mesh friction: μ in [0, 1)");
       }
     }
   }
@@ -838,6 +932,7 @@ struct CompliantMeshesKind : KindBase {
         .def_rw("involute_ref", &CompliantMeshSpec::involute_ref)
         .def_rw("tangential_offset", &CompliantMeshSpec::tangential_offset)
         .def_rw("radial_offset", &CompliantMeshSpec::radial_offset)
+        .def_rw("friction", &CompliantMeshSpec::friction)
         .def_rw("slices", &CompliantMeshSpec::slices)
         .def_rw("axis_b", &CompliantMeshSpec::axis_b)
         .def_rw("slice_offset", &CompliantMeshSpec::slice_offset)

@@ -35,6 +35,7 @@ void bind_elements(nb::module_& m) {
       .def_rw("path_length", &MeshPathSpec::path_length)
       .def_rw("roll_start", &MeshPathSpec::roll_start)
       .def_rw("roll_radius_a", &MeshPathSpec::roll_radius_a)
+      .def_rw("pitch_position", &MeshPathSpec::pitch_position)
       .def_rw("entering_front", &MeshPathSpec::entering_front)
       .def_rw("entering_back", &MeshPathSpec::entering_back)
       .def_rw("angle_ref_a", &MeshPathSpec::angle_ref_a)

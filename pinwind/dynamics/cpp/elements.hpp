@@ -49,6 +49,10 @@ inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const
   // The face's load of a rigid mesh is not modelled (0); a compliant one writes its own.
   out.at(Series::mesh_face_load_factor, e) = 0.0;
   out.at(Series::mesh_load_centre, e) = 0.0;
+  // Flank friction is a compliant mesh's (flank_friction.hpp), which writes its own.
+  out.at(Series::mesh_sliding_velocity, e) = 0.0;
+  out.at(Series::mesh_friction_force, e) = 0.0;
+  out.at(Series::mesh_friction_power, e) = 0.0;
   const Vec3 f = tooth_force_on_b(mc, rows, m, flank, normal, cos_w, sin_w);
   for (int c = 0; c < 3; ++c) {
     out.at(Series::mesh_force_on_b, e, c) = f[c];
@@ -84,6 +88,7 @@ struct StepWork {
   double elastic = 0.0;      // conservative (spring) forces: joins work_springs
   double dissipated = 0.0;   // damping: joins dissipated (counted positive when lost)
   double applied = 0.0;      // external loads (rotor, generator): joins work_applied
+  double friction = 0.0;     // friction (tooth flanks, bearings): joins friction_loss (positive when lost)
 };
 
 // The energy ledger: the cumulative work of each kind of force since t = 0 [J]. With the
@@ -96,6 +101,7 @@ struct EnergyLedger {
   double gravity = 0.0;
   double constraints = 0.0;  // rigid mesh rows: zero but for the rows' drift over a step
   double dissipated = 0.0;   // damping, counted positive when lost
+  double friction = 0.0;     // friction (StepWork::friction), counted positive when lost
 
   EnergyLedger& operator+=(const EnergyLedger& w) {
     applied += w.applied;
@@ -104,6 +110,7 @@ struct EnergyLedger {
     gravity += w.gravity;
     constraints += w.constraints;
     dissipated += w.dissipated;
+    friction += w.friction;
     return *this;
   }
 };

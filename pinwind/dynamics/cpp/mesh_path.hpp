@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "mesh_rows.hpp"
 
@@ -23,6 +24,7 @@ struct MeshPathSpec {
   double path_length = 0.0;   // g_α [m]
   double roll_start = 0.0;    // roll length from gear A's tangency point to A [m]
   double roll_radius_a = 0.0; // base radius of gear A [m]
+  double pitch_position = 0.0;  // x of the pitch point: its distance from A along the path [m]
   double entering_front = 0.0, entering_back = 0.0;  // x at ψ_A = angle_ref_a [m]
   double angle_ref_a = 0.0;   // ψ_A with reference_a pointing at the pitch point [rad]
   Vec3 reference_a = Vec3::UnitX();  // unit vector ⟂ axis fixed in gear A's joint frame
@@ -110,6 +112,28 @@ inline double pairs_potential(const MeshPathSpec& p, const PathState& st, double
     energy += 0.5 * pair_stiffness_at(p, x) * d * d;
   }
   return energy;
+}
+
+// Each pair's share s_j of the flank's force at overlap δ, entering pair first: 1/pairs without
+// a stiffness table; k_j / Σ k over the pairs with one; k_j (δ − e_j)₊ / Σ with profile
+// modifications (engage's law). Flank friction (flank_friction.hpp) loads each pair by it.
+inline void pair_shares(const MeshPathSpec& p, const PathState& st, double delta,
+                        std::vector<double>& out) {
+  out.assign(static_cast<size_t>(st.pairs), 1.0 / st.pairs);
+  if (p.pair_position.size() == 0) return;
+  const bool modified = p.gap_position.size() != 0;
+  double total = 0.0;
+  for (int j = 0; j < st.pairs; ++j) {
+    const double x = st.entering + j * p.base_pitch;
+    const double k = pair_stiffness_at(p, x);
+    out[static_cast<size_t>(j)] = modified ? k * std::max(0.0, delta - pair_gap_at(p, x)) : k;
+    total += out[static_cast<size_t>(j)];
+  }
+  if (total <= 0.0) {
+    out.assign(static_cast<size_t>(st.pairs), 1.0 / st.pairs);
+    return;
+  }
+  for (auto& share : out) share /= total;
 }
 
 // Path state for gear A's angle ψ_A relative to the centre line, on flank s (±1).

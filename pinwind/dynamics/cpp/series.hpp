@@ -74,7 +74,11 @@ inline constexpr std::size_t kFamilies = 8;
   X(row_force, row, 3)                          \
   X(row_moment, row, 3)                         \
   X(bearing_friction_moment, bearing, 1)        \
-  X(bearing_friction_power, bearing, 1)
+  X(bearing_friction_power, bearing, 1)        \
+  X(mesh_sliding_velocity, mesh, 1)             \
+  X(mesh_friction_force, mesh, 1)               \
+  X(mesh_friction_power, mesh, 1)               \
+  X(friction_loss, run, 1)
 
 enum class Series {
 #define PINWIND_SERIES_NAME(name, family, components) name,

@@ -449,6 +449,7 @@ void Stepper::record(long k, double t) {
   out_.at(Series::work_gravity, k) = ledger_.gravity;
   out_.at(Series::work_constraints, k) = ledger_.constraints;
   out_.at(Series::dissipated, k) = ledger_.dissipated;
+  out_.at(Series::friction_loss, k) = ledger_.friction;
   double parametric = 0.0;
   for (const auto& e : elements_) parametric += e->parametric_work();
   out_.at(Series::work_parametric, k) = parametric;
@@ -468,6 +469,7 @@ void Stepper::advance() {
     elements.elastic += w.elastic;
     elements.dissipated += w.dissipated;
     elements.applied += w.applied;
+    elements.friction += w.friction;
   }
   EnergyLedger step;
   step.applied = tau_applied_.dot(mid_) + elements.applied;
@@ -481,6 +483,7 @@ void Stepper::advance() {
   }
   step.gravity = -gravity_step_.dot(mid_);
   step.dissipated = elements.dissipated;
+  step.friction = elements.friction;
   for (size_t c = 0; c < constraints_.size(); ++c) {
     constraints_[c]->work(sv, rows_of(jac_, c), rows_of(lam_, c), mid_, step);
   }
