@@ -224,7 +224,10 @@ ENERGY_TERMS: tuple[EnergyTerm, ...] = (
     EnergyTerm("work_gravity", "work of gravity"),
     EnergyTerm("work_constraints", "work of the rigid mesh forces (zero up to drift)"),
     EnergyTerm("dissipated", "energy taken by the dampers"),
-    EnergyTerm("friction_loss", "energy taken by friction (tooth flanks of compliant meshes, rolling bearings)"),
+    EnergyTerm(
+        "friction_loss",
+        "energy taken by friction (tooth flanks of compliant meshes, rolling bearings)",
+    ),
     EnergyTerm(
         "work_parametric",
         "work of the meshes' time-varying stiffness on the stored energy, Σ ½ Δk δ² "
@@ -378,7 +381,7 @@ _MEANINGS: dict[str, About] = {
                      "kW", drop_zero=True)),
     "mesh_sliding_velocity": About("sliding_velocity", "m/s",
            "sliding speed of the entering tooth pair's flanks, B's on A's along k x n of the "
-           "loaded flank (compliant mesh; zero at the pitch point, cpp/flank_friction.hpp)",
+           "loaded flank (compliant mesh; zero at the pitch point; docs/simulation.md, Flank friction)",
            short="v slide", headline=False),
     "mesh_friction_force": About("friction_force", "N",
            "flank friction on gear A along k x n of the loaded flank, sum of mu F_j sgn(v_s,j) "
