@@ -381,7 +381,8 @@ _MEANINGS: dict[str, About] = {
                      "kW", drop_zero=True)),
     "mesh_sliding_velocity": About("sliding_velocity", "m/s",
            "sliding speed of the entering tooth pair's flanks, B's on A's along k x n of the "
-           "loaded flank (compliant mesh; zero at the pitch point; docs/simulation.md, Flank friction)",
+           "loaded flank (compliant mesh; zero at the pitch point; docs/simulation.md, Flank "
+           "friction)",
            short="v slide", headline=False),
     "mesh_friction_force": About("friction_force", "N",
            "flank friction on gear A along k x n of the loaded flank, sum of mu F_j sgn(v_s,j) "
