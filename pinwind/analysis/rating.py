@@ -287,7 +287,7 @@ def rate(
                 gear_2=specs[pair.names[1]].modification,
             )
             factors = replace(factors, K_Halpha=k_ha, K_Falpha=k_ha)
-            sources["K_Halpha"] = "loaded contact: largest pair load over ideal flanks'"
+            sources["K_Halpha"] = "loaded contact: max pair load / ideal's"
         ratings.append(
             rate_pair(
                 pair,
