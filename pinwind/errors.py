@@ -507,6 +507,10 @@ class RatingAtZeroSpeed(PinwindWarning):
     """A rating at pitch-line speed 0: the dynamic factors take their static value."""
 
 
+class FactorNotInRun(InputError):
+    """A load factor asked from a run that does not compute it (K_Hβ of a mesh without slices)."""
+
+
 class PlanetsCollide(InvalidGearTrain):
     """Neighbouring planets' tip circles overlap."""
 

@@ -12,6 +12,14 @@ pitch-line speed for the dynamic factors is the larger of r |ω| of the two gear
 gear's joint speed relative to its parent body at that sample: exact for fixed axes and for a
 planet's meshes (the planet's joint speed is relative to the carrier), a little high for the sun
 (whose speed relative to the housing includes the carrier's).
+
+ISO's face and transverse load factors K_Hβ and K_Hα take ISO 6336-1's empirical forms unless
+the rating is asked to take pinwind's own (``face_load``, ``transverse_load``;
+`pinwind.analysis.load_factors`): the run's computed K_Hβ (``mesh_face_load_factor`` of a
+sliced compliant mesh) and K_Hα from the quasi-static loaded contact of the pair with its flank
+modifications. Each mesh's rating says where each came from (``MeshRating.factor_sources``);
+K_Fβ follows from the K_Hβ taken (K_Hβ^N_F, ISO 6336-1), K_Fα = K_Hα. AGMA's factors stay
+AGMA 2001's.
 """
 
 from __future__ import annotations
@@ -19,12 +27,19 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pinwind.analysis.load_factors import (
+    FACE_LOAD_SOURCES,
+    TRANSVERSE_LOAD_SOURCES,
+    loaded_contact_transverse_factor,
+    run_face_load_factor,
+)
 from pinwind.errors import (
+    ConflictingInputs,
     InputError,
     PointedTeeth,
     RatingAtZeroSpeed,
@@ -58,6 +73,9 @@ class MeshRating:
         hertz_p_max: largest Hertz pressure along the path of contact [Pa] (Jørgensen 2014
             eqs. 20-22).
         hertz_von_mises: 0.65 of it [Pa].
+        factor_sources: where ISO's load factors came from, ``"K_Hbeta"`` and ``"K_Halpha"``
+            → a line such as ``"ISO 6336-1 method C (F_βy = 10 µm)"`` or ``"run:
+            mesh_face_load_factor max"`` (`iso_factor_sources`).
     """
 
     mesh: str
@@ -68,6 +86,7 @@ class MeshRating:
     agma: AgmaRating
     hertz_p_max: float
     hertz_von_mises: float
+    factor_sources: dict[str, str] = field(default_factory=dict)
 
     @property
     def passes(self) -> bool:
@@ -120,6 +139,7 @@ class GearboxRating:
                     "agma": m.agma.as_dict(),
                     "hertz_p_max_Pa": m.hertz_p_max,
                     "hertz_von_mises_Pa": m.hertz_von_mises,
+                    "factor_sources": m.factor_sources,
                     "passes": m.passes,
                 }
                 for m in self.meshes
@@ -148,8 +168,13 @@ def rate_pair(
     iso: IsoFactors | None = None,
     agma: AgmaFactors | None = None,
     mesh: str = "",
+    factor_sources: Mapping[str, str] | None = None,
 ) -> MeshRating:
-    """Rate one pair at a normal tooth force F_n [N] by both methods and Hertz."""
+    """Rate one pair at a normal tooth force F_n [N] by both methods and Hertz.
+
+    ``factor_sources`` names where ``iso``'s K_Hβ and K_Hα came from when the caller computed
+    them; by default `iso_factor_sources` of ``iso``.
+    """
     if not (math.isfinite(normal_force) and normal_force > 0.0):
         raise InputError(
             f"mesh {mesh or pair.names}: the normal force is {normal_force} N; a rating needs a "
@@ -167,7 +192,23 @@ def rate_pair(
         agma=agma_rating(pair, load, agma),
         hertz_p_max=hertz.largest,
         hertz_von_mises=float(np.max(hertz.von_mises)),
+        factor_sources=dict(factor_sources or iso_factor_sources(iso or IsoFactors())),
     )
+
+
+def iso_factor_sources(iso: IsoFactors) -> dict[str, str]:
+    """Where `iso_rating` takes K_Hβ and K_Hα from with these factors (``"given"``: by you)."""
+    if iso.K_Hbeta is not None:
+        face = "given"
+    else:
+        face = f"ISO 6336-1 method C (F_βy = {iso.misalignment * 1e6:g} µm)"
+    if iso.K_Halpha is not None:
+        transverse = "given"
+    elif iso.base_pitch_deviation is None:
+        transverse = "ISO 6336-1: 1 (no f_pb given)"
+    else:
+        transverse = f"ISO 6336-1 method B (f_pb = {iso.base_pitch_deviation * 1e6:g} µm)"
+    return {"K_Hbeta": face, "K_Halpha": transverse}
 
 
 def rate(
@@ -178,6 +219,8 @@ def rate(
     materials: Mapping[str, Material | str] | None = None,
     iso: IsoFactors | None = None,
     agma: AgmaFactors | None = None,
+    face_load: str = "iso",
+    transverse_load: str = "iso",
 ) -> GearboxRating:
     """Rate every mesh of ``gearbox`` with the mesh forces of ``result`` (a `Result`).
 
@@ -188,12 +231,38 @@ def rate(
         materials: gear name → material (default 18CrNiMo7-6 for every gear).
         iso: ISO factor overrides, the same for every mesh.
         agma: AGMA factor overrides, the same for every mesh.
+        face_load: ISO's K_Hβ from ``"iso"`` (ISO 6336-1's closed form), ``"run-max"`` (the
+            largest ``mesh_face_load_factor`` of the run) or ``"run-at"`` (at the rated
+            sample; its mean for ``at="mean"``): `pinwind.analysis.load_factors`.
+        transverse_load: ISO's K_Hα and K_Fα from ``"iso"`` (ISO 6336-1 method B, 1 without
+            f_pb) or ``"loaded-contact"`` (the quasi-static loaded contact at the rated force
+            with the gears' flank modifications).
 
     Raises:
-        InputError: an unknown ``at``, or a mesh that carries no load.
+        InputError: an unknown ``at``, ``face_load`` or ``transverse_load``, or a mesh that
+            carries no load.
+        FactorNotInRun: K_Hβ asked from a run whose mesh has no slices.
+        ConflictingInputs: a factor both given in ``iso`` and asked from the run.
     """
     if at not in ("last", "max", "mean"):
         raise InputError(f'at = "{at}"; choose "last", "max" or "mean"')
+    if face_load not in FACE_LOAD_SOURCES:
+        raise InputError(f'face_load = "{face_load}"; choose {", ".join(FACE_LOAD_SOURCES)}')
+    if transverse_load not in TRANSVERSE_LOAD_SOURCES:
+        raise InputError(
+            f'transverse_load = "{transverse_load}"; choose {", ".join(TRANSVERSE_LOAD_SOURCES)}'
+        )
+    given = iso or IsoFactors()
+    for name, value, source, option in (
+        ("K_Hbeta", given.K_Hbeta, face_load, "face_load"),
+        ("K_Halpha", given.K_Halpha, transverse_load, "transverse_load"),
+        ("K_Falpha", given.K_Falpha, transverse_load, "transverse_load"),
+    ):
+        if value is not None and source != "iso":
+            raise ConflictingInputs(
+                f'IsoFactors({name}={value:g}) and {option}="{source}" both set {name}; '
+                f'drop one (the given value, or {option}="iso")'
+            )
     _warn_if_not_steady(gearbox, result, at)
     ratings = []
     for mesh in gearbox.meshes:
@@ -203,8 +272,32 @@ def rate(
         pair = GearPair.from_mesh(mesh, dict(materials or {}))
         force = pair.flank_normal_force(transverse)
         speed = _pitch_line_speed(gearbox, result, mesh, k)
+        factors, sources = given, iso_factor_sources(given)
+        if face_load != "iso":
+            k_hb, sources["K_Hbeta"] = run_face_load_factor(
+                result, mesh.name, face_load, sample=None if at == "mean" else k
+            )
+            factors = replace(factors, K_Hbeta=k_hb)
+        if transverse_load == "loaded-contact" and transverse > 0.0:
+            specs = {g.name: g.spec for g in (mesh.gear_a, mesh.gear_b)}
+            k_ha = loaded_contact_transverse_factor(
+                pair,
+                transverse,
+                gear_1=specs[pair.names[0]].modification,
+                gear_2=specs[pair.names[1]].modification,
+            )
+            factors = replace(factors, K_Halpha=k_ha, K_Falpha=k_ha)
+            sources["K_Halpha"] = "loaded contact: max pair load / ideal's"
         ratings.append(
-            rate_pair(pair, force, pitch_line_speed=speed, iso=iso, agma=agma, mesh=mesh.name)
+            rate_pair(
+                pair,
+                force,
+                pitch_line_speed=speed,
+                iso=factors,
+                agma=agma,
+                mesh=mesh.name,
+                factor_sources=sources,
+            )
         )
     fastest = max((r.load.pitch_line_speed for r in ratings), default=math.inf)
     if fastest < STANDSTILL_SPEED:

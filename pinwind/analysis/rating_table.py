@@ -1,9 +1,10 @@
 """Rich tables of a `GearboxRating`: one row per gear of each mesh, stresses in MPa.
 
-Three tables that fit 80 columns with no cell cut: ISO 6336, AGMA 2001 with Hertz, and the
-smallest safety factors per gear; the mesh tables name the standard, its edition and method
-as ``gears/rating_iso.py`` and ``gears/rating_agma.py`` implement them, and the application
-factor, accuracy and reliability used.
+Four tables that fit 80 columns with no cell cut: ISO 6336, AGMA 2001 with Hertz, ISO's face
+and transverse load factors with their sources, and the smallest safety factors per gear; the
+mesh tables name the standard, its edition and method as ``gears/rating_iso.py`` and
+``gears/rating_agma.py`` implement them, and the application factor, accuracy and reliability
+used.
 """
 
 from __future__ import annotations
@@ -87,15 +88,19 @@ def _columns(table: Table, names: tuple[str, ...]) -> None:
     for name in names:
         # A cell too wide for the console folds onto a second line; none is cut to "…".
         table.add_column(
-            name, justify="left" if name in ("mesh", "gear") else "right", overflow="fold"
+            name,
+            justify="left" if name in ("mesh", "gear", "factor", "source") else "right",
+            overflow="fold",
         )
 
 
 def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False) -> list[Table]:
-    """The ISO 6336 and the AGMA 2001/Hertz mesh tables and the smallest factors per gear.
+    """The ISO 6336 and AGMA 2001/Hertz mesh tables, ISO's load factors, the smallest per gear.
 
     Each mesh table has a row per gear of each mesh (stresses in MPa; S = permissible / actual,
-    ≥ 1 passes) and names the standard, edition, method and main factors in its caption.
+    ≥ 1 passes) and names the standard, edition, method and main factors in its caption; the
+    load-factor table has a row per ISO K_Hβ and K_Hα of each mesh with where it came from
+    (ISO 6336-1's form, given, the run's series, the loaded contact).
 
     Args:
         rating: the rating (``analysis.rating.rate``).
@@ -130,6 +135,19 @@ def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False
                 f"{m.hertz_p_max * 1e-6:.0f}" if first else "",
                 _ok(m.passes) if first else "",
             )
+    factors = _table(
+        f"ISO 6336 load factors{at}",
+        "K_Fβ = K_Hβ^N_F (ISO 6336-1); with K_Hα from the loaded contact, K_Fα = K_Hα",
+        plain,
+    )
+    _columns(factors, ("mesh", "factor", "value", "source"))
+    for m in rating.meshes:
+        f = m.iso.factors
+        values = {"K_Hbeta": ("K_Hβ", f.K_Hbeta), "K_Halpha": ("K_Hα", f.K_Halpha)}
+        for i, (key, (label, value)) in enumerate(values.items()):
+            factors.add_row(
+                m.mesh if i == 0 else "", label, f"{value:.4f}", m.factor_sources.get(key, "")
+            )
     gears = _table(
         "smallest safety factors per gear", "S = permissible / actual, ≥ 1 passes", plain
     )
@@ -144,4 +162,4 @@ def rating_tables(rating: GearboxRating, title: str = "", *, plain: bool = False
             f"{g.hertz_p_max * 1e-6:.0f}",
             _ok(g.passes),
         )
-    return [iso, agma, gears]
+    return [iso, agma, factors, gears]

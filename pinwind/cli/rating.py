@@ -25,7 +25,35 @@ from pinwind.errors import InputError
 
 @app.command()
 def rate(
-    model: Annotated[Path, typer.Argument(help="Gearbox model file (URDF with <gearbox>).")],
+    model: Annotated[
+        Path | None,
+        typer.Argument(help="Gearbox model file (URDF with <gearbox>); not with --from-log."),
+    ] = None,
+    from_log: Annotated[
+        Path | None,
+        typer.Option(
+            "--from-log",
+            help="Rate the run a log holds (its model, its mesh forces) instead of running one.",
+        ),
+    ] = None,
+    face_load_factor: Annotated[
+        str,
+        typer.Option(
+            "--face-load-factor",
+            help="ISO K_Hβ from: iso (ISO 6336-1 method C, F_βy 10 µm), run-max (largest "
+            "mesh_face_load_factor of the run) or run-at (at the rated sample); run-* need "
+            "meshes with slices.",
+        ),
+    ] = "iso",
+    transverse_load_factor: Annotated[
+        str,
+        typer.Option(
+            "--transverse-load-factor",
+            help="ISO K_Hα, K_Fα from: iso (ISO 6336-1 method B; 1 without f_pb) or "
+            "loaded-contact (largest tooth-pair load with the flank modifications over the "
+            "ideal flanks', quasi-static loaded contact at the rated force).",
+        ),
+    ] = "iso",
     torque: TorqueOption = None,
     speed: SpeedOption = None,
     initial_speed: InitialSpeedOption = None,
@@ -84,16 +112,28 @@ def rate(
             f"--application-factor {application_factor:g}: give a finite factor > 0 "
             "(1: the run's forces are the actual loads)"
         )
-    values = {"model": str(model), "duration": duration, "dt": dt}
-    scenario = sc.build(values | load_values(torque, speed, None, initial_speed), flags=FLAGS)
-    with warnings_as_lines():
-        gearbox = pinwind.load(model)
+    if (model is None) == (from_log is None):
+        raise InputError("give a MODEL to run or --from-log LOG to rate a logged run (one of them)")
+    if from_log is not None and (torque or speed or initial_speed):
+        raise InputError(
+            "--from-log rates the logged run as it ran: drop --torque, --speed and "
+            "--initial-speed (they set up a new run)"
+        )
+    scenario = None
+    if from_log is not None:
+        gearbox, res = _logged_run(from_log)
+    elif model is not None:
+        values = {"model": str(model), "duration": duration, "dt": dt}
+        scenario = sc.build(values | load_values(torque, speed, None, initial_speed), flags=FLAGS)
+        with warnings_as_lines():
+            gearbox = pinwind.load(model)
     materials = parse_pairs(material, "--material")
     if "all" in materials:
         chosen = materials.pop("all")
         materials = {g: chosen for g in gearbox.gears} | materials
     with warnings_as_lines():
-        res = sc.run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
+        if scenario is not None:
+            res = sc.run(scenario, gearbox=gearbox, no_log=True, check_joints=False)
         rating = rate_result(
             gearbox,
             res,
@@ -106,6 +146,8 @@ def rate(
                 reliability=reliability,
                 geometry_factor=geometry_factor,
             ),
+            face_load=face_load_factor,
+            transverse_load=transverse_load_factor,
         )
     if as_json:
         print(json.dumps(rating.as_dict(), indent=1))
@@ -115,3 +157,17 @@ def rate(
         console.print()
         console.print(table)
     console.print("all meshes pass" if rating.passes else "[bold red]some meshes fail[/bold red]")
+
+
+def _logged_run(path: Path):
+    """(gearbox, result) of the run a log holds, the model rebuilt from the log's copy."""
+    from pinwind.io.log_reader import LogReader
+    from pinwind.model.gearbox import loads
+
+    with warnings_as_lines():
+        with LogReader(path) as reader:
+            res = reader.read()
+            text, problem = reader.model_text, reader.model_problem
+        if not text:
+            raise InputError(f"{path}: {problem}; rate the model with a new run (MODEL) instead")
+        return loads(text, path=f"{path} (its model)"), res

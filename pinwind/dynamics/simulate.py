@@ -1072,6 +1072,7 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "backlash": spec.backlash,
             "friction_coefficient": spec.friction,
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
+            "slices": int(c.slices),
         }
     return out
 

@@ -302,10 +302,7 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: IsoFactors) -> Resolv
             load.tangential_force * given.K_A * k_v / pair.face_width,
         ),
     )
-    h = (pair.addendum_coefficient + pair.dedendum_coefficient) * pair.module
-    b_h = max(pair.face_width / h, 3.0)
-    n_f = b_h**2 / (1.0 + b_h + b_h**2)
-    k_fb = _given_or(given.K_Fbeta, lambda: k_hb**n_f)
+    k_fb = _given_or(given.K_Fbeta, lambda: k_hb ** root_face_load_exponent(pair))
     eps_gamma = eps_a + eps_b
     eps_an = eps_a / math.cos(beta_b) ** 2
     y_eps = 0.25 + 0.75 / eps_an
@@ -469,6 +466,16 @@ def face_load_factor(c_gamma_alpha: float, misalignment: float, line_load: float
     """K_Hβ from F_βy, c_γβ = 0.85 c_γα [N/m²] and F_m/b [N/m] (ISO 6336-1 closed form)."""
     x = 0.85 * c_gamma_alpha * misalignment / line_load
     return 1.0 + x / 2.0 if x <= 2.0 else math.sqrt(2.0 * x)
+
+
+def root_face_load_exponent(pair: GearPair) -> float:
+    """N_F of K_Fβ = K_Hβ^N_F [-] (ISO 6336-1).
+
+    N_F = (b/h)²/(1 + b/h + (b/h)²), h = (h_aP* + h_fP*) m_n, b/h taken as at least 3.
+    """
+    h = (pair.addendum_coefficient + pair.dedendum_coefficient) * pair.module
+    b_h = max(pair.face_width / h, 3.0)
+    return b_h**2 / (1.0 + b_h + b_h**2)
 
 
 def transverse_load_factor(

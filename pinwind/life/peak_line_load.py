@@ -1,0 +1,57 @@
+"""The tooth stresses at the peak line load across the face: a run's K_Hβ(t) in the life code.
+
+The life code rates a tooth pair's stress from its force spread evenly over the face width b
+(`pinwind.life.contact_stress`, `pinwind.life.root_stress`: ISO's K_Hβ = K_Fβ = 1). A compliant
+spur mesh cut into slices computes how the line load actually runs across the face, sample by
+sample: ``mesh_face_load_factor`` K_Hβ(t) = w_max / w_m, the peak line load over the mean
+(ISO 6336-1 §7; docs/flank_modifications.md "Sliced meshes"). Rated at the peak line load:
+
+- the flank's Hertz contact, a line contact of load per unit length w = F/b, sees
+  w_max = K_Hβ F/b: the contact stress of the force K_Hβ F on the same length (Jørgensen 2014
+  eqs. 20-22; p_max ∝ √w);
+- the root, whose stress spreads across the face more than the flank's, takes ISO 6336-1's
+  K_Fβ = K_Hβ^N_F (`pinwind.gears.rating_iso.root_face_load_exponent`) on the force.
+
+`force_factor` gives that factor per sample; the stress functions take the force times it.
+The series is 0 at a sample where the mesh carries nothing (then the force is 0 too): such a
+sample's factor is 1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from pinwind.errors import InputError
+from pinwind.gears.gear_pair import GearPair
+from pinwind.gears.rating_iso import root_face_load_exponent
+
+#: The stresses a face load factor applies to, and how (module docstring).
+STRESSES = ("contact", "root")
+
+
+def force_factor(pair: GearPair, face_load_factor: npt.ArrayLike, *, stress: str) -> np.ndarray:
+    """The factor on a tooth pair's force that rates it at the peak line load, per sample [-].
+
+    Args:
+        pair: the mesh's gears (its face width b and module give ISO's N_F).
+        face_load_factor: K_Hβ per sample (``mesh_face_load_factor``), ≥ 1 where loaded, 0
+            where the mesh carries nothing.
+        stress: ``"contact"`` (K_Hβ) or ``"root"`` (K_Hβ^N_F).
+
+    Raises:
+        InputError: an unknown ``stress``, or a loaded factor below 1 or not finite.
+    """
+    if stress not in STRESSES:
+        raise InputError(f'stress = "{stress}"; choose {" or ".join(STRESSES)}')
+    k = np.asarray(face_load_factor, dtype=float)
+    loaded = k != 0.0
+    if not np.all(np.isfinite(k)) or np.any(k[loaded] < 1.0):
+        low = float(np.min(np.where(np.isfinite(k) & loaded, k, -np.inf), initial=np.inf))
+        raise InputError(
+            f"face load factor K_Hβ {low:g} of {'–'.join(pair.names)}: K_Hβ = w_max/w_m is ≥ 1 "
+            "where the mesh is loaded (0 where it is not); pass the run's "
+            "mesh_face_load_factor"
+        )
+    k = np.where(loaded, k, 1.0)
+    return k if stress == "contact" else k ** root_face_load_exponent(pair)
