@@ -265,3 +265,23 @@ def test_the_sliced_helical_step_at_rho_one_keeps_an_undamped_pairs_energy_budge
     scale = np.max(energy["potential_spring"])
     assert np.max(np.abs(energy["work_parametric"])) > 0.05 * scale
     assert np.max(np.abs(energy["numerical"])) < 1e-9 * scale
+
+
+def test_flank_friction_on_relieved_slices_is_the_single_relieved_lines():
+    """μ = 0.05 with tip relief, no misalignment: the slices' loads sum to the single line's and
+    act at the face centre, so the friction's force, power and loss are N = 1's."""
+    runs = [
+        turning(
+            relieved_pair(0.4),
+            MeshCompliance(stiffness=K, damping_ratio=0.05, slices=n, friction_coefficient=0.05),
+            duration=0.01,
+        )
+        for n in (1, 5)
+    ]
+    one, five = (r.mesh("m") for r in runs)
+    assert runs[0].energy["friction_loss"][-1] > 0.0
+    for name in ("friction_force", "friction_power"):
+        scale = np.max(np.abs(getattr(one, name)))
+        assert_allclose(getattr(five, name), getattr(one, name), rtol=0, atol=1e-10 * scale)
+    loss = runs[0].energy["friction_loss"]
+    assert_allclose(runs[1].energy["friction_loss"], loss, rtol=0, atol=1e-10 * loss[-1])
