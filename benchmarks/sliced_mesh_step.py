@@ -8,7 +8,8 @@ and the median ratio of the time per step is printed (issue 40's budget: ≤ 1.3
 keeps only the last sample.
 
 Measured 2026-12-07 12:21 UTC on the shared 2-core machine: ratio 1.21 (11 repeats, pairwise
-0.89-1.79) and 1.11 (21 repeats, pairwise 0.66-2.65); benchmarks/README.md.
+0.89-1.79) and 1.11 (21 repeats, pairwise 0.66-2.65); 14:36 UTC with per-slice stiffness and
+gaps (relief, helical slices): 1.26 (11 repeats) and 1.25 (21); benchmarks/README.md.
 
 Run:  python benchmarks/sliced_mesh_step.py [--steps N] [--dt S] [--repeats R] [--slices N]
 """

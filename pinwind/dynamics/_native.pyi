@@ -145,6 +145,12 @@ class CompliantMeshSpec:
     slice_offset: Vector  # (N,) [m] from the face centre along gear A's axis
     slice_gap: Vector  # (N,) [m] lead modifications' gap, front flank
     slice_gap_back: Vector  # (N,) [m] the back flank's
+    slice_shift: Vector  # (N,) [m] helical: each slice's entering-pair shift, front flank
+    slice_shift_back: Vector  # (N,) [m] the same, back flank
+    slice_path_length: float  # g_α of a helical slice's path [m]
+    slice_pair_position: Vector  # helical slice path's pair table: positions [m]
+    slice_pair_stiffness: Vector  # and one pair's stiffness over the whole face [N/m]
+    face_width: float  # b [m], for the line loads
     def __init__(self) -> None: ...
 
 class TorsionalSpringSpec:
@@ -501,6 +507,8 @@ class Series(enum.Enum):
     mesh_friction_force = 51
     mesh_friction_power = 52
     friction_loss = 53
+    mesh_peak_line_load = 54
+    mesh_mean_line_load = 55
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

@@ -286,10 +286,16 @@ def mesh_setup(
         spec.backlash = c.backlash
         spec.friction = c.friction_coefficient
         spec.stiffness = mean_mesh_stiffness(mesh)
+        spec.face_width = mesh.face_width
         if c.slices > 1:
             spec.slices = c.slices
             spec.axis_b = b.axis_in_joint
             spec.slice_offset, spec.slice_gap, spec.slice_gap_back = slice_tables(mesh)
+            helical = helical_slices(mesh, spec.slice_offset)
+            if helical is not None:
+                spec.slice_shift, spec.slice_shift_back = helical.shift, helical.shift_back
+                spec.slice_path_length = helical.path_length
+                spec.slice_pair_position, spec.slice_pair_stiffness = helical.pair_table
         compliant.append(spec)
     setup = MeshSetup(meshes, rigid, paths, compliant, 0.0)
     if compliant:
@@ -335,32 +341,16 @@ def slice_tables(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     relief, helix slope deviation f_Hβ: the same gaps as `pinwind.gears.face_load`), on the
     front flank; on the back flank the same crowning and end relief, and f_Hβ as a misalignment
     acts there, mirrored: f_Hβ (1 − z/b), opening towards side I (a tilted tooth, not a
-    tapered one).
+    tapered one). Profile relief acts on each slice's pairs through the mesh's gap table
+    (``profile_gap_table``, the same at every slice); a helical mesh's slices follow its
+    inclined contact lines (``helical_slices``).
 
     Returns:
         z_s [m], e_s of the front flank [m], e_s of the back flank [m], each (N,).
-
-    Raises:
-        InputError: a helical mesh (its slices would follow inclined contact lines: not in the
-            run yet), or profile relief on a sliced mesh (its pair gaps are per contact line).
     """
     c = mesh.compliance
     slices = 1 if c is None else c.slices
-    path = mesh.path
-    if mesh.helix_angle != 0.0 or (path is not None and path.overlap_ratio > 0.0):
-        raise InputError(
-            f'mesh "{mesh.name}": slices = {slices} on a helical mesh (β = '
-            f"{math.degrees(mesh.helix_angle):.3g}°) is not in the run yet: its "
-            "slices would follow inclined contact lines; use slices = 1, or `pinwind.gears."
-            "face_load` for its static load across the face"
-        )
     mod_a, mod_b = mesh.gear_a.spec.modification, mesh.gear_b.spec.modification
-    if any(m.tip_relief or m.root_relief for m in (mod_a, mod_b)):
-        raise InputError(
-            f'mesh "{mesh.name}": slices = {slices} with profile relief is not in the run yet '
-            "(the relief's pair gaps act on one contact line); use slices = 1 or remove the "
-            "tip/root relief"
-        )
     b = mesh.face_width
     z = slice_centres(b, slices)
     slope = mod_a.helix_slope_deviation + mod_b.helix_slope_deviation
@@ -371,6 +361,60 @@ def slice_tables(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         z,
     )
     return z - 0.5 * b, lead_gap(mod_a, mod_b, b, z), back + slope
+
+
+@dataclass(frozen=True)
+class HelicalSlices:
+    """The path constants of a helical mesh's slices (``cpp/compliant_mesh.hpp`` SlicedMeshes).
+
+    Attributes:
+        shift: each slice's entering-pair shift along the front flank's path, −ζ_s tan β_b [m].
+        shift_back: the same along the back flank's path, −(b − ζ_s) tan β_b [m].
+        path_length: g_α, the transverse path a slice's pairs touch over [m].
+        pair_table: one pair's stiffness along a slice's path for the whole face (positions [m],
+            [N/m]); each slice takes 1/N of it. Empty arrays: the constant mesh stiffness.
+    """
+
+    shift: np.ndarray
+    shift_back: np.ndarray
+    path_length: float
+    pair_table: tuple[np.ndarray, np.ndarray]
+
+
+def helical_slices(mesh: Mesh, slice_offset: np.ndarray) -> HelicalSlices | None:
+    """A helical mesh's slices as thin spur sections along its inclined contact lines.
+
+    A pair whose contact point in the front face section (side I) sits at y from A touches the
+    section ζ = z + b/2 from side I at y − ζ tan β_b (``contact_line_pair_stiffness``), tan β_b
+    = Δ/b with Δ = ε_β p_bt: slice s's pairs are the mesh's pairs shifted by −ζ_s tan β_b along
+    the front flank's path. The back flank's contacts move the other way along its own path as
+    the tooth twists, so that section enters last: shift −(b − ζ_s) tan β_b. Each slice's pairs
+    touch over the transverse path g_α; where the mesh stiffness follows the contact lines, a
+    pair on a slice has the stiffness per unit face width c̄ p_bt/(g_α b) (c̄ the mean mesh
+    stiffness, the single-line law's scale) over the slice's width b/N, so the slices' sum is
+    the midpoint rule over the face of the single line's contact length. With a user pair table
+    each slice takes 1/N of it; with a constant stiffness, 1/N of that.
+
+    Args:
+        slice_offset: z_s, the slices' centres from the face centre [m] (``slice_tables``).
+
+    Returns:
+        The constants, or None for a spur mesh (ε_β = 0).
+    """
+    path = mesh.path
+    if path is None or not path.overlap_ratio > 0.0:
+        return None
+    b = mesh.face_width
+    tan_beta_b = path.overlap_ratio * path.base_pitch / b
+    zeta = np.asarray(slice_offset, dtype=float) + 0.5 * b
+    g = path.length
+    if _follows_contact_lines(mesh):
+        line = _contact_line_mean(mesh) * path.base_pitch / g
+        table = (np.array([0.0, g]), np.array([line, line]))
+    else:
+        user = pair_table(mesh)
+        table = user if user is not None else (np.zeros(0), np.zeros(0))
+    return HelicalSlices(-zeta * tan_beta_b, -(b - zeta) * tan_beta_b, g, table)
 
 
 def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.MeshPathSpec:
@@ -445,6 +489,13 @@ def _follows_contact_lines(mesh: Mesh) -> bool:
     return mesh.path is not None and mesh.path.overlap_ratio > 0.0
 
 
+def _contact_line_mean(mesh: Mesh) -> float:
+    """The mean mesh stiffness the contact-line law scales to, c′b (0.75 ε_α + 0.25) [N/m]."""
+    path = mesh.path
+    single = single_pair(mesh) if mesh.compliance is not None else 1.0
+    return single * (0.75 * path.contact_ratio + 0.25) if path is not None else single
+
+
 def overlap_span(mesh: Mesh) -> float:
     """Roll length Δ = b tan β_b = ε_β p_bt a helical pair stays in contact beyond g_α [m].
 
@@ -474,9 +525,9 @@ def pair_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
     path = mesh.path
     if path is None:
         return None
-    single = single_pair(mesh) if c is not None else 1.0
     if _follows_contact_lines(mesh):
-        return contact_line_pair_stiffness(path, single * (0.75 * path.contact_ratio + 0.25))
+        return contact_line_pair_stiffness(path, _contact_line_mean(mesh))
+    single = single_pair(mesh) if c is not None else 1.0
     if not 1.0 <= path.contact_ratio <= 2.0:
         return None
     return pair_stiffness_along_path(path, single)

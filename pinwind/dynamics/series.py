@@ -394,6 +394,14 @@ _MEANINGS: dict[str, About] = {
            short="P friction",
            plot=Plot("mesh_friction_power", "mesh forces", "mesh friction loss [kW]", "kW",
                      drop_zero=True)),
+    "mesh_peak_line_load": About("peak_line_load", "N/m",
+           "peak line load across the face, loaded flank: N max_s F_s / b (compliant mesh with "
+           "slices; F_n / b for one contact line; 0 without load or rigid)", short="w max",
+           headline=False),
+    "mesh_mean_line_load": About("mean_line_load", "N/m",
+           "mean line load across the face, loaded flank: F_n / b (compliant mesh; 0 without "
+           "load or rigid); peak_line_load / mean_line_load = face_load_factor", short="w mean",
+           headline=False),
 }  # fmt: skip
 
 

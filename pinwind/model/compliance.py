@@ -46,8 +46,11 @@ class MeshCompliance:
             along the line of action; used when ``damping`` is None.
         backlash: normal backlash along the line of action [m] (≥ 0): no force inside the gap.
         slices: N, the contact line cut into N equal slices across the face width, each with
-            k(x)/N, c/N and its own contact, loaded by the gears' relative tilt and the lead
-            modifications (``dynamics/compliant.py`` ``slice_tables``); 1: one contact line.
+            k(x)/N, c/N and its own contact, loaded by the gears' relative tilt, the lead
+            modifications and profile relief; a helical mesh's slices follow its inclined
+            contact lines (``dynamics/compliant.py`` ``slice_tables``, ``helical_slices``); 1:
+            one contact line. `pinwind.gears.face_load.slice_count` gives the N a
+            misalignment needs.
         friction_coefficient: μ of the tooth flanks [-], in [0, 1): each pair in contact takes
             μ F_j across the line of action against its sliding (``cpp/flank_friction.hpp``);
             0: frictionless flanks. A constant here; ISO/TR 14179-2's μ for an operating point

@@ -19,7 +19,7 @@ from numpy.testing import assert_allclose
 
 import pinwind
 from pinwind.dynamics.integrator import Integrator
-from pinwind.errors import InputError, MalformedModel
+from pinwind.errors import MalformedModel
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
@@ -217,25 +217,6 @@ def test_the_model_file_sets_slices_and_refuses_a_bad_count():
         loads(text.replace('slices="7"', 'slices="0"'), "p.urdf")
     with pytest.raises(MalformedModel, match="slices"):
         loads(text.replace('slices="7"', 'slices="two"'), "p.urdf")
-
-
-def test_slices_on_a_helical_mesh_are_refused_with_the_reason():
-    beta = math.radians(10.0)
-    centre = 0.002 / math.cos(beta) * 30
-    text = (
-        two_gear_urdf(centre_distance=centre)
-        .replace('<gear name="g1" ', '<gear name="g1" helix_angle_deg="10" ')
-        .replace('<gear name="g2" ', '<gear name="g2" helix_angle_deg="-10" ')
-    )
-    with pytest.raises(InputError, match="helical"):
-        pinwind.simulate(
-            loads(text, "helical.urdf"),
-            duration=0.001,
-            dt=1e-4,
-            torques={"a": 1.0},
-            speeds={"b": 0.0},
-            meshes={"m": MeshCompliance(slices=3)},
-        )
 
 
 def test_a_tilting_bearing_moves_the_load_centre_to_the_side_the_tilt_closes():

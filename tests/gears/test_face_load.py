@@ -17,7 +17,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from pinwind.errors import InputError
-from pinwind.gears.face_load import face_load
+from pinwind.gears.face_load import face_load, slice_count
 from pinwind.gears.flank_modification import FlankModification
 from pinwind.gears.rating_iso import face_load_factor
 
@@ -96,3 +96,22 @@ def test_bad_input_is_refused():
         face_load(F, face_width=B, stiffness_per_width=C, slices=0)
     with pytest.raises(InputError, match="finite and ≥ 0"):
         face_load(float("nan"), face_width=B, stiffness_per_width=C)
+
+
+def test_slice_count_resolves_a_tenth_of_the_mean_deflection_and_iso_within_a_tenth():
+    """N = ⌈10 F_β/δ_m⌉: the slice width b/N is at most the length b δ_m/(10 F_β) over which
+    the gap grows by δ_m/10, one slice fewer is not; K_Hβ of those slices is within a tenth of
+    ISO's K_Hβ − 1 where the whole face carries (the peak half a slice in: (K − 1)/N)."""
+    delta_m = F / (C * B)  # 95.2 µm
+    misalignment = 100e-6  # F_β c b/(2F) = 0.525
+    n = slice_count(misalignment, delta_m)
+    assert n == 11  # 10 × 100/95.24 = 10.5 → 11
+    assert slice_count(misalignment, delta_m, most=8) == 8
+    assert B / n <= B * delta_m / (10 * misalignment) < B / (n - 1)
+    closed = face_load_factor(C, misalignment, F / B)
+    load = face_load(F, face_width=B, stiffness_per_width=C, misalignment=misalignment, slices=n)
+    assert abs(load.face_load_factor - closed) <= (closed - 1) / 10
+    assert slice_count(0.0, delta_m) == 1  # no misalignment: one contact line
+    for bad in ((misalignment, 0.0), (-1e-6, delta_m), (math.nan, delta_m)):
+        with pytest.raises(InputError, match="slice_count"):
+            slice_count(*bad)

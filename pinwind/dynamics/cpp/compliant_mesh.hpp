@@ -75,6 +75,15 @@ struct CompliantMeshSpec {
   Eigen::VectorXd slice_offset;   // z_s: each slice's centre from the face centre along k [m]
   Eigen::VectorXd slice_gap;      // e_s: the lead modifications' gap at each slice, front [m]
   Eigen::VectorXd slice_gap_back; // e_s of the back flank [m]
+  // Helical slices (SlicedMeshes): each slice's face section lags the front face section by
+  // ζ_s tan β_b along the path; empty: a spur mesh, every slice at the same roll position.
+  Eigen::VectorXd slice_shift;       // the entering pair's shift of each slice, front flank [m]
+  Eigen::VectorXd slice_shift_back;  // the same on the back flank [m]
+  double slice_path_length = 0.0;    // g_α: the transverse path a slice's pairs touch over [m]
+  // One pair's stiffness along a slice's path over the whole face (N slices share it) [m, N/m];
+  // empty: the constant mesh stiffness.
+  Eigen::VectorXd slice_pair_position, slice_pair_stiffness;
+  double face_width = 0.0;           // b, for the line loads [m]; 0: not written
 };
 
 // inv α = tan α − α of the angle α whose cosine is c (0 < c ≤ 1), with tan α = √(1 − c²) / c:
@@ -385,6 +394,10 @@ class CompliantMeshes : public Element {
       // One contact line: its load is uniform across the face, centred.
       out.at(Series::mesh_face_load_factor, e) = normal_(i, f) > 0.0 ? 1.0 : 0.0;
       out.at(Series::mesh_load_centre, e) = 0.0;
+      const double line_load =
+          specs_[i].face_width > 0.0 ? normal_(i, f) / specs_[i].face_width : 0.0;
+      out.at(Series::mesh_peak_line_load, e) = line_load;
+      out.at(Series::mesh_mean_line_load, e) = line_load;
       // The entering pair's sliding speed (kinematic, with or without friction) and the friction.
       record_friction(s, out, k, m, paths_[i], p, last_flank_[i], cos_w_[i], sin_w_[i],
                       span_[i].first, span_[i].second, friction_[2 * i], friction_[2 * i + 1]);
@@ -491,8 +504,22 @@ class CompliantMeshes : public Element {
 //
 // W_p = Σ w_s z_sᵖ, B_p = Σ b_s z_sᵖ: N slices cost three outer products, not N. With θ = 0 and
 // no lead modification every slice carries F/N and the mesh is CompliantMeshes' to rounding.
-// Profile modifications and helical meshes are refused in Python (pinwind/dynamics/compliant.py
-// slice_tables).
+//
+// Profile relief (issue 40 item 2 on slices): the relief runs along the profile, the same at
+// every slice, so each slice's pairs take the gap table of the single-line mesh: slice s engages
+// its pairs at its own overlap δ_s (mesh_path.hpp engage), its force (K_s/N)(δ_s − E_s) and its
+// potential Σ_j ½ (k_j/N)(δ_s − e_j)₊². With θ = 0 every slice engages the single line's pairs.
+//
+// Helical slices: each slice is a thin spur section of the face whose pairs roll along the
+// transverse path g_α (the slice path: slice_path_length and slice_pair_*), its section lagging
+// the front face section (side I, ζ = z + b/2) by ζ_s tan β_b along the front flank's path and by
+// (b − ζ_s) tan β_b along the back flank's (the tooth's twist moves the two flanks' contacts
+// opposite ways along their paths); the contact lines are inclined across the face, so the pairs
+// in contact and the slices' stiffnesses differ. With the pair stiffness k_ℓ = c̄ p_bt / g_α on the
+// slice path (c̄ the mean mesh stiffness) the slices' sum is the midpoint rule over the face of
+// the single-line helical law (pinwind/gears/mesh_stiffness.py contact_line_pair_stiffness).
+// The mesh's path series (pairs, contact position, single-tooth force) and flank friction stay the
+// single contact line's. Each slice then has its own w_s: W_p = Σ w_s z_sᵖ as above.
 class SlicedMeshes : public Element {
  public:
   SlicedMeshes(std::vector<CompliantMeshSpec> specs, const std::vector<MeshPathSpec>& paths,
@@ -500,8 +527,23 @@ class SlicedMeshes : public Element {
       : specs_(std::move(specs)) {
     for (const auto& s : specs_) {
       paths_.push_back(paths[static_cast<size_t>(s.mesh)]);
+      MeshPathSpec slice_path = paths_.back();
+      const bool helical = s.slice_shift.size() != 0;
+      if (helical) {
+        slice_path.path_length = s.slice_path_length;
+        slice_path.pair_position = s.slice_pair_position;
+        slice_path.pair_stiffness = s.slice_pair_stiffness;
+      }
+      slice_paths_.push_back(std::move(slice_path));
+      helical_.push_back(helical);
       for (int f = 0; f < 2; ++f) {
         Flank fl;
+        fl.k.setZero(s.slices);
+        fl.gap.setZero(s.slices);
+        fl.w.setZero(s.slices);
+        fl.last_k.setZero(s.slices);
+        fl.paths.resize(static_cast<size_t>(s.slices));
+        fl.last_paths.resize(static_cast<size_t>(s.slices));
         fl.row.setZero(nv);
         fl.tilt_row.setZero(nv);
         fl.contact.setZero(s.slices);
@@ -560,22 +602,55 @@ class SlicedMeshes : public Element {
         const auto& gap = f == 0 ? sp.slice_gap : sp.slice_gap_back;
         fl.delta = centre - theta * sp.slice_offset.array() - gap.array();
         fl.path = path_state(paths_[i], pose.psi_a, flank_sign(f));
-        const double k_slice = stiffness(i, f);
+        const double n_slices = double(sp.slices);
+        const MeshPathSpec& sl = slice_paths_[i];
+        const bool modified = sl.gap_position.size() != 0;
+        // The single line's pairs engaged at the face centre's overlap: its series (the entering
+        // pair's share) are CompliantMeshes'.
+        if (modified && !helical_[i]) engage(sl, fl.path, centre);
+        if (!helical_[i] && !modified) {
+          fl.k.setConstant((paths_[i].pair_position.size() ? fl.path.stiffness : sp.stiffness) /
+                           n_slices);
+        } else {
+          const auto& shift = f == 0 ? sp.slice_shift : sp.slice_shift_back;
+          for (Eigen::Index j = 0; j < sp.slices; ++j) {
+            PathState& st = fl.paths[static_cast<size_t>(j)];
+            st = helical_[i] ? path_state(sl, pose.psi_a, flank_sign(f), shift[j]) : fl.path;
+            if (modified) engage(sl, st, fl.delta[j]);
+            fl.k[j] = (sl.pair_position.size() ? st.stiffness : sp.stiffness) / n_slices;
+            fl.gap[j] = st.gap;
+          }
+        }
         if (!started_) {
-          for (Eigen::Index j = 0; j < sp.slices; ++j) fl.contact[j] = fl.delta[j] >= 0.0;
+          for (Eigen::Index j = 0; j < sp.slices; ++j) {
+            fl.contact[j] = fl.delta[j] - fl.gap[j] >= 0.0;
+          }
         }
-        // The parametric work, ½ (k_n − k_{n−1}) δ_n² of each overlapping slice (CompliantMeshes).
+        // The parametric work, ½ (k_n − k_{n−1}) δ_n² of each overlapping slice; with profile
+        // relief U(δ_n) of the slice's pairs where they are now less where they were
+        // (CompliantMeshes).
         if (!first_ && !s.weights.statics) {
-          parametric_ += 0.5 * (k_slice - fl.last_k) * fl.delta.cwiseMax(0.0).squaredNorm();
+          for (Eigen::Index j = 0; j < sp.slices; ++j) {
+            const double d = std::max(0.0, fl.delta[j]);
+            parametric_ +=
+                modified ? (pairs_potential(sl, fl.paths[static_cast<size_t>(j)], fl.delta[j]) -
+                            pairs_potential(sl, fl.last_paths[static_cast<size_t>(j)],
+                                            fl.delta[j])) /
+                               n_slices
+                         : 0.5 * (fl.k[j] - fl.last_k[j]) * d * d;
+          }
         }
-        if (!s.weights.statics) fl.last_k = k_slice;
+        if (!s.weights.statics) {
+          fl.last_k = fl.k;
+          if (modified) fl.last_paths = fl.paths;
+        }
       }
       if (!started_ && s.weights.statics && !any_contact(i)) {
         // A static solve starts on the slice nearest to contact (CompliantMeshes: the flank).
         Flank& a = flanks_[2 * i];
         Flank& b = flanks_[2 * i + 1];
         Eigen::Index ja, jb;
-        const double da = a.delta.maxCoeff(&ja), db = b.delta.maxCoeff(&jb);
+        const double da = (a.delta - a.gap).maxCoeff(&ja), db = (b.delta - b.gap).maxCoeff(&jb);
         (da >= db ? a.contact[ja] : b.contact[jb]) = 1;
       }
       for (int f = 0; f < 2; ++f) coefficients(s, i, f);
@@ -605,7 +680,7 @@ class SlicedMeshes : public Element {
         for (Eigen::Index j = 0; j < sp.slices && !s.weights.statics; ++j) {
           if (!fl.contact[j]) continue;
           const double z = sp.slice_offset[j];
-          const double load = std::max(0.0, fl.b[j] - fl.w * (fl.last_ja + z * fl.last_ta));
+          const double load = std::max(0.0, fl.b[j] - fl.w[j] * (fl.last_ja + z * fl.last_ta));
           total += load;
           moment += load * z;
         }
@@ -633,9 +708,9 @@ class SlicedMeshes : public Element {
         double w0 = 0.0, w1 = 0.0, w2 = 0.0, b0 = 0.0, b1 = 0.0;
         for (Eigen::Index j = 0; j < z.size(); ++j) {
           if (!fl.contact[j]) continue;
-          w0 += fl.w;
-          w1 += fl.w * z[j];
-          w2 += fl.w * z[j] * z[j];
+          w0 += fl.w[j];
+          w1 += fl.w[j] * z[j];
+          w2 += fl.w[j] * z[j] * z[j];
           b0 += fl.b[j];
           b1 += fl.b[j] * z[j];
         }
@@ -694,7 +769,7 @@ class SlicedMeshes : public Element {
       for (int f = 0; f < 2; ++f) {
         Flank& fl = flanks_[2 * i + f];
         const EndDots d = end_dots(fl);
-        const double k_slice = stiffness(i, f), c_slice = damping(i);
+        const double c_slice = damping(i);
         const auto& z = specs_[i].slice_offset;
         total[f] = 0.0;
         fl.last_ja = fl.row.dot(a);  // the next step's friction predicts its forces with them
@@ -704,7 +779,7 @@ class SlicedMeshes : public Element {
             fl.normal[j] = fl.elastic[j] = fl.viscous[j] = 0.0;
             continue;
           }
-          fl.elastic[j] = k_slice * (fl.delta[j] - d.jx - z[j] * d.tx);
+          fl.elastic[j] = fl.k[j] * (fl.delta[j] - fl.gap[j] - d.jx - z[j] * d.tx);
           fl.viscous[j] = -c_slice * (d.jv + z[j] * d.tv);
           fl.normal[j] = std::max(0.0, fl.elastic[j] + fl.viscous[j]);
           total[f] += fl.normal[j];
@@ -737,12 +812,24 @@ class SlicedMeshes : public Element {
 
   double parametric_work() const override { return parametric_; }
 
-  // U = Σ_flanks Σ_slices ½ (k(x)/N) δ_s₊² [J].
+  // U = Σ_flanks Σ_slices ½ (k_s(x)/N) δ_s₊² [J]; with profile relief Σ_j ½ (k_j/N)(δ_s − e_j)₊²
+  // over each slice's pairs.
   double potential(const StepView&) const override {
     double energy = 0.0;
     for (size_t i = 0; i < specs_.size(); ++i) {
+      const MeshPathSpec& sl = slice_paths_[i];
+      const bool modified = sl.gap_position.size() != 0;
+      const double n_slices = double(specs_[i].slices);
       for (int f = 0; f < 2; ++f) {
-        energy += 0.5 * stiffness(i, f) * flanks_[2 * i + f].delta.cwiseMax(0.0).squaredNorm();
+        const Flank& fl = flanks_[2 * i + f];
+        for (Eigen::Index j = 0; j < fl.delta.size(); ++j) {
+          if (modified) {
+            energy += pairs_potential(sl, fl.paths[static_cast<size_t>(j)], fl.delta[j]) / n_slices;
+            continue;
+          }
+          const double d = std::max(0.0, fl.delta[j]);
+          energy += 0.5 * fl.k[j] * d * d;
+        }
       }
     }
     return energy;
@@ -801,6 +888,12 @@ class SlicedMeshes : public Element {
           loaded ? double(sp.slices) * fl.normal.maxCoeff() / total[f] : 0.0;
       out.at(Series::mesh_load_centre, e) =
           loaded ? fl.normal.dot(sp.slice_offset) / total[f] : 0.0;
+      // The line loads [N/m]: the loaded flank's peak slice force over the slice width b/N, and
+      // its force over b (their ratio K_Hβ).
+      const bool width = loaded && sp.face_width > 0.0;
+      out.at(Series::mesh_peak_line_load, e) =
+          width ? double(sp.slices) * fl.normal.maxCoeff() / sp.face_width : 0.0;
+      out.at(Series::mesh_mean_line_load, e) = width ? total[f] / sp.face_width : 0.0;
       record_friction(s, out, k, m, paths_[i], fl.path, last_flank_[i], cos_w, sin_w,
                       span_[i].first, span_[i].second, friction_[2 * i], friction_[2 * i + 1]);
     }
@@ -816,10 +909,12 @@ class SlicedMeshes : public Element {
     Eigen::VectorXi contact;           // 1 where a slice is in contact
     Eigen::VectorXd delta;             // δ_s [m]
     Eigen::VectorXd b;                 // b_s [N]
-    double w = 0.0;                    // w of every slice [N·s²/m]
+    Eigen::VectorXd w;                 // w_s [N·s²/m]
+    Eigen::VectorXd k, gap;            // each slice's stiffness k_s(x)/N [N/m] and gap E_s [m]
+    Eigen::VectorXd last_k;            // k_s at the last sample [N/m]
+    std::vector<PathState> paths, last_paths;  // each slice's pairs (helical or relieved)
     Eigen::VectorXd normal, elastic, viscous;  // the slices' final forces and parts [N]
     double centre = 0.0;               // δ of the flank at the face centre, unmodified [m]
-    double last_k = 0.0;               // a slice's stiffness at the last sample [N/m]
     double last_ja = 0.0, last_ta = 0.0;  // J ā, a ā at the last step (friction's prediction)
     PathState path;
   };
@@ -828,13 +923,6 @@ class SlicedMeshes : public Element {
   };
 
   static double flank_sign(int f) { return f == 0 ? 1.0 : -1.0; }
-
-  // k(x)/N of a slice of flank f of mesh i [N/m].
-  double stiffness(size_t i, int f) const {
-    const double k = paths_[i].pair_position.size() ? flanks_[2 * i + f].path.stiffness
-                                                    : specs_[i].stiffness;
-    return k / double(specs_[i].slices);
-  }
 
   bool any_contact(size_t i) const {
     return flanks_[2 * i].contact.any() || flanks_[2 * i + 1].contact.any();
@@ -853,7 +941,8 @@ class SlicedMeshes : public Element {
   // The force slice j of flank f of mesh i would carry at the end of the step [N].
   double end_force(size_t i, int f, Eigen::Index j, const EndDots& d) const {
     const double z = specs_[i].slice_offset[j];
-    return stiffness(i, f) * (flanks_[2 * i + f].delta[j] - d.jx - z * d.tx) -
+    const Flank& fl = flanks_[2 * i + f];
+    return fl.k[j] * (fl.delta[j] - fl.gap[j] - d.jx - z * d.tx) -
            damping(i) * (d.jv + z * d.tv);
   }
 
@@ -863,15 +952,18 @@ class SlicedMeshes : public Element {
   // b_s and w of flank f of mesh i at this step's state.
   void coefficients(const StepView& s, size_t i, int f) {
     Flank& fl = flanks_[2 * i + f];
-    const double k = stiffness(i, f), c = specs_[i].damping / double(specs_[i].slices);
+    const double c = damping(i);
     const auto& z = specs_[i].slice_offset.array();
-    fl.b = k * (fl.delta.array() - fl.row.dot(s.dq_free) - z * fl.tilt_row.dot(s.dq_free)) -
+    fl.b = fl.k.array() * (fl.delta.array() - fl.gap.array() - fl.row.dot(s.dq_free) -
+                           z * fl.tilt_row.dot(s.dq_free)) -
            c * (fl.row.dot(s.v) + z * fl.tilt_row.dot(s.v));
-    fl.w = k * s.weights.position_gain + c * s.weights.speed_gain;
+    fl.w = fl.k.array() * s.weights.position_gain + c * s.weights.speed_gain;
   }
 
   std::vector<CompliantMeshSpec> specs_;
   std::vector<MeshPathSpec> paths_;
+  std::vector<MeshPathSpec> slice_paths_;  // each mesh's slices' path (helical: the transverse one)
+  std::vector<bool> helical_;  // the mesh's slices lag along the path (slice_shift)
   std::vector<Flank> flanks_;  // mesh i: 2i front, 2i + 1 back
   std::vector<double> last_flank_;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;
@@ -900,6 +992,16 @@ struct CompliantMeshesKind : KindBase {
                                                   spec.slice_gap.size() != spec.slices ||
                                                   spec.slice_gap_back.size() != spec.slices))) {
         throw std::invalid_argument("compliant mesh slices: offsets and gaps need one per slice");
+      }
+      for (const auto* shift : {&spec.slice_shift, &spec.slice_shift_back}) {
+        if (shift->size() != 0 && (spec.slices < 2 || shift->size() != spec.slices ||
+                                   spec.slice_shift.size() != spec.slice_shift_back.size())) {
+          throw std::invalid_argument("compliant mesh slices: shifts need one per slice");
+        }
+      }
+      if (spec.slice_pair_position.size() != spec.slice_pair_stiffness.size() ||
+          spec.slice_pair_position.size() == 1) {
+        throw std::invalid_argument("compliant mesh slices: a pair table of >= 2 points");
       }
       if (!(spec.friction >= 0.0 && spec.friction < 1.0)) {
         throw std::invalid_argument("compliant mesh friction: μ in [0, 1)");
@@ -937,7 +1039,13 @@ struct CompliantMeshesKind : KindBase {
         .def_rw("axis_b", &CompliantMeshSpec::axis_b)
         .def_rw("slice_offset", &CompliantMeshSpec::slice_offset)
         .def_rw("slice_gap", &CompliantMeshSpec::slice_gap)
-        .def_rw("slice_gap_back", &CompliantMeshSpec::slice_gap_back);
+        .def_rw("slice_gap_back", &CompliantMeshSpec::slice_gap_back)
+        .def_rw("slice_shift", &CompliantMeshSpec::slice_shift)
+        .def_rw("slice_shift_back", &CompliantMeshSpec::slice_shift_back)
+        .def_rw("slice_path_length", &CompliantMeshSpec::slice_path_length)
+        .def_rw("slice_pair_position", &CompliantMeshSpec::slice_pair_position)
+        .def_rw("slice_pair_stiffness", &CompliantMeshSpec::slice_pair_stiffness)
+        .def_rw("face_width", &CompliantMeshSpec::face_width);
   }
 };
 

@@ -49,6 +49,8 @@ inline void record_mesh_force(const Outputs& out, const MeshConstants& mc, const
   // The face's load of a rigid mesh is not modelled (0); a compliant one writes its own.
   out.at(Series::mesh_face_load_factor, e) = 0.0;
   out.at(Series::mesh_load_centre, e) = 0.0;
+  out.at(Series::mesh_peak_line_load, e) = 0.0;
+  out.at(Series::mesh_mean_line_load, e) = 0.0;
   // Flank friction is a compliant mesh's (flank_friction.hpp), which writes its own.
   out.at(Series::mesh_sliding_velocity, e) = 0.0;
   out.at(Series::mesh_friction_force, e) = 0.0;

@@ -136,13 +136,16 @@ inline void pair_shares(const MeshPathSpec& p, const PathState& st, double delta
   for (auto& share : out) share /= total;
 }
 
-// Path state for gear A's angle ψ_A relative to the centre line, on flank s (±1).
-inline PathState path_state(const MeshPathSpec& p, double angle_a, double flank) {
+// Path state for gear A's angle ψ_A relative to the centre line, on flank s (±1); shift [m]
+// moves the entering pair along the path (a helical mesh's slice: its face section's lag,
+// compliant_mesh.hpp SlicedMeshes).
+inline PathState path_state(const MeshPathSpec& p, double angle_a, double flank,
+                            double shift = 0.0) {
   PathState st;
   if (p.base_pitch <= 0.0) return st;
   const double roll = p.roll_radius_a * (angle_a - p.angle_ref_a);
-  st.entering = flank > 0 ? wrap_positive(p.entering_front + roll, p.base_pitch)
-                          : wrap_positive(p.entering_back - roll, p.base_pitch);
+  st.entering = flank > 0 ? wrap_positive(p.entering_front + roll + shift, p.base_pitch)
+                          : wrap_positive(p.entering_back - roll + shift, p.base_pitch);
   const double tol = 1e-12 * p.base_pitch;
   st.pairs = 0;
   for (double x = st.entering; x <= p.path_length + tol; x += p.base_pitch) ++st.pairs;

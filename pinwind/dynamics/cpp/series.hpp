@@ -78,7 +78,9 @@ inline constexpr std::size_t kFamilies = 8;
   X(mesh_sliding_velocity, mesh, 1)             \
   X(mesh_friction_force, mesh, 1)               \
   X(mesh_friction_power, mesh, 1)               \
-  X(friction_loss, run, 1)
+  X(friction_loss, run, 1)                      \
+  X(mesh_peak_line_load, mesh, 1)               \
+  X(mesh_mean_line_load, mesh, 1)
 
 enum class Series {
 #define PINWIND_SERIES_NAME(name, family, components) name,
