@@ -40,6 +40,8 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         out[f"mesh/{name}/single_tooth_force_N"] = m.single_tooth_force
         out[f"mesh/{name}/face_load_factor"] = m.face_load_factor
         out[f"mesh/{name}/load_centre_m"] = m.load_centre
+        out[f"mesh/{name}/peak_line_load_N_m"] = m.peak_line_load
+        out[f"mesh/{name}/mean_line_load_N_m"] = m.mean_line_load
         # flank friction's series (compliant meshes; 0 for rigid ones)
         out[f"mesh/{name}/sliding_velocity_m_s"] = m.sliding_velocity
         out[f"mesh/{name}/friction_force_N"] = m.friction_force
