@@ -171,7 +171,8 @@ def test_rows_come_element_after_element_each_vector_with_its_magnitude(gearbox)
     ]
     # a mesh: normal, tangential, radial, axial, flank, the front and back flanks' normal forces,
     # TE, deflection, contact position, pairs, single-tooth force, face load factor, load centre,
-    # peak and mean line load, sliding velocity, friction force, friction power, then force on B's x, y, z and magnitude
+    # peak and mean line load, sliding velocity, friction force, friction power, then force on
+    # B's x, y, z and magnitude
     # a bearing: force and moment, world and joint frame (x, y, z, |.|); radial, axial, tilting,
     # transmitted torque; displacement and elastic force (x, y, z, |.|); friction moment, power
     per_joint, per_mesh, per_bearing = 4, 19 + 4, 4 * 4 + 4 + 2 * 4 + 2
