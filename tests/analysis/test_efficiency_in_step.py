@@ -84,15 +84,19 @@ def test_losses_in_the_step_close_the_ledger_and_multiply_to_the_overall_efficie
     heat = np.sum(0.5 * (e.loss[1:] + e.loss[:-1]) * np.diff(t))
     booked = res.energy["friction_loss"][-1] - res.energy["friction_loss"][0]
     assert_allclose(heat, booked, rtol=2e-3)
-    # P_in − P_out − Σ losses = what the dampers take + what the stored energy gains
+    # P_in − P_out − Σ losses = what the dampers take + what the stored energy gains − the
+    # meshes' parametric work (the ledger's terms; here mostly kinetic energy, ~0.33 MW over
+    # the second half: the compliant train's start-up, the same without friction)
     window = slice(len(t) // 2, None)
     span = t[-1] - t[len(t) // 2]
+    energy = res.energy
     kept = (
-        res.energy["dissipated"] + res.energy["kinetic"] + res.energy["potential_spring"]
+        energy["dissipated"] + energy["kinetic"] + energy["potential_spring"]
+        - energy["work_parametric"]
     )  # fmt: skip
     expected = (kept[-1] - kept[len(t) // 2]) / span
     balance = e.input_power - e.output_power - e.loss
-    assert abs(np.mean(balance[window]) - expected) < 2e-3 * 5e6
+    assert abs(np.mean(balance[window]) - expected) < 1e-3 * 5e6
     # the stages: all the losses are theirs, and their efficiencies multiply to the overall
     assert len(e.stages) == 3
     assert_allclose(sum(s.loss for s in e.stages), e.loss, rtol=1e-12, atol=1e-9)
