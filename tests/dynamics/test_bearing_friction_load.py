@@ -121,11 +121,12 @@ def test_friction_load_kN_keeps_a_fixed_load_for_its_row():
     assert_allclose(res.bearing("shaft").friction_moment[1:], -(m_a + m_b), rtol=1e-9)
 
 
-def test_an_ideal_bearings_moment_takes_its_load_from_the_joints_reaction():
+@pytest.mark.parametrize("thrust", [5e3, T])  # 0.8 T cot 10° = 22.7 kN < F; 136 kN > F
+def test_an_ideal_bearings_moment_takes_its_load_from_the_joints_reaction(thrust):
     # the bearing carries F and T itself (the reaction of the joint); F at the bearing centre
-    res = run(shaft(rows=False), point=0.0)
+    res = run(shaft(rows=False), point=0.0, thrust=thrust)
     cot = 1.0 / math.tan(math.radians(10.0))
-    m = m0(5.0, 240.0) + 0.0004 * max(0.8 * T * cot, F) * 0.240
+    m = m0(5.0, 240.0) + 0.0004 * max(0.8 * thrust * cot, F) * 0.240
     assert_allclose(res.bearing("shaft").radial, F, rtol=1e-9)
     assert_allclose(res.bearing("shaft").friction_moment[1:], -m, rtol=1e-9)
     assert_allclose(res.joint("shaft").torque[1:], m, rtol=1e-9)
