@@ -392,6 +392,34 @@ def stage_losses(
     return tuple(out)
 
 
+def mesh_friction_coefficients(
+    result: Any,
+    gearbox: Any,
+    *,
+    oil: Lubricant,
+    roughness: float = DEFAULT_ROUGHNESS,
+    lubricant_factor: float = 1.0,
+    start: float = 0.0,
+) -> dict[str, float]:
+    """Each mesh's μ_mz at a run's operating point: its mean over the samples from ``start`` [s].
+
+    ISO/TR 14179-2's μ_mz (``mesh_losses``) at the run's transverse force and pitch-line
+    speed, sample by sample, averaged: the constant μ to give the mesh's flank friction in a
+    run at the same point (``MeshCompliance(friction_coefficient=μ)``, or
+    ``friction_coefficient`` in the model file). Samples where the mesh does not turn are left
+    out; a mesh that never turns gets 0.
+    """
+    keep = np.asarray(result.time) >= start
+    out = {}
+    for c in mesh_losses(
+        result, gearbox, oil=oil, roughness=roughness, lubricant_factor=lubricant_factor
+    ):
+        mu = c.moment[keep]
+        turning = mu[mu > 0.0]
+        out[c.name] = float(np.mean(turning)) if turning.size else 0.0
+    return out
+
+
 def efficiency(
     result: Any,
     gearbox: Any,

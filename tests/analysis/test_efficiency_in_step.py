@@ -21,7 +21,11 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinwind
-from pinwind.analysis.efficiency import efficiency, mesh_losses, train_stages
+from pinwind.analysis.efficiency import (
+    efficiency,
+    mesh_friction_coefficients,
+    train_stages,
+)
 from pinwind.errors import InvalidLossInput
 from pinwind.losses.oil import Lubricant
 from pinwind.model.compliance import MeshCompliance
@@ -50,7 +54,7 @@ def rated_with_friction():
     """
     rigid = pinwind.load(MODELS / "nrel5mw_gearbox.urdf")
     first = _rated(rigid, duration=0.01, dt=1e-4)
-    mu = {c.name: float(np.mean(c.moment[10:])) for c in mesh_losses(first, rigid, oil=OIL)}
+    mu = mesh_friction_coefficients(first, rigid, oil=OIL, start=1e-3)
     text = (MODELS / "nrel5mw_gearbox.urdf").read_text()
     text = re.sub(
         r"<bearing joint=",
