@@ -400,9 +400,18 @@ class BearingFrictionSpec:
     bearing: int  # its column of the bearing series, or -1
     no_load_coefficient: float  # c0 of M0 = max(c0 |ω|^(2/3), M0_min) [N·m·(s/rad)^(2/3)]
     no_load_minimum: float  # M0_min [N·m]
-    load_moment: float  # M1 = f1 P1 d_m [N·m]
+    load_moment: float  # M1 = f1 P1 d_m [N·m] of a fixed load (follow_load False)
     stick_speed: float  # ω_s of the regularised sign [rad/s] (> 0)
+    follow_load: bool  # P1 from the step before's loads (bearing_friction.hpp)
+    row: int  # its column of the row series, or -1: the bearing's reaction
+    load_coefficient: float  # f1 d_m [m]: M1 = load_coefficient P1
+    load_rule: int  # 0 F_r, 1 ball, 2 angular ball, 3 roller (losses.LOAD_RULES)
+    contact_cot: float  # cot α of rules 2 and 3 [-]
+    axis: Vector  # the bearing axis k in its joint frame [-]
     def __init__(self) -> None: ...
+
+def bearing_friction_load(rule: int, contact_cot: float, radial: float, axial: float) -> float:
+    """P1 [N] under F_r and F_a [N] by load rule 0-3 (``cpp/bearing_friction.hpp``)."""
 
 class StepperSpec:
     """Everything a run needs besides the initial state.

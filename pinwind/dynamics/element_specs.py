@@ -35,6 +35,7 @@ of the constraints' rows):
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -46,6 +47,8 @@ from pinwind.dynamics.bearing_springs import bearing_law, row_specs
 from pinwind.dynamics.compliant import MeshSetup
 from pinwind.dynamics.elements import LoadElements
 from pinwind.losses.bearing_friction import (
+    LOAD_RULES,
+    PALMGREN_FACTORS,
     STICK_SPEED,
     bearing_frictions,
     load_moment,
@@ -151,8 +154,13 @@ def bearing_friction(run: RunElements) -> list[_native.BearingFrictionSpec]:
     """A spec per rolling bearing with a friction model (``losses.bearing_friction``).
 
     Its joint's velocity index, its column of the bearing series (−1 if none), c0 and M0_min of
-    M0 = max(c0 |ω|^(2/3), M0_min), M1 = f1 P1 d_m at the model's ``friction_load_kN`` and the
-    regularising speed ``STICK_SPEED``.
+    M0 = max(c0 |ω|^(2/3), M0_min), the regularising speed ``STICK_SPEED`` and M1 = f1 P1 d_m:
+    at the model's ``friction_load_kN`` when given, else with P1 following the load of the
+    step before (``follow_load``): the row's force for a row that is its compliant bearing's
+    spring, the bearing's reaction (axis k, joint frame) otherwise, by the type's rule
+    (``LOAD_RULES``, ``friction_load``). A row of an ideal bearing has no force of its own in
+    the step: without ``friction_load_kN`` it takes its bearing's whole reaction (an upper
+    bound; docs/losses.md).
     """
     gearbox = run.gearbox
     columns = {name: i for i, name in enumerate(gearbox.bearing_names)}
@@ -164,8 +172,19 @@ def bearing_friction(run: RunElements) -> list[_native.BearingFrictionSpec]:
         spec.no_load_coefficient, spec.no_load_minimum = no_load_moment_coefficients(
             b.f0, b.viscosity, b.mean_diameter
         )
-        spec.load_moment = float(load_moment(b.f1, b.load, b.mean_diameter))
         spec.stick_speed = STICK_SPEED
+        if b.load is not None:
+            spec.load_moment = float(load_moment(b.f1, b.load, b.mean_diameter))
+        else:
+            factors = PALMGREN_FACTORS[b.kind]
+            spec.follow_load = True
+            spec.row = -1 if b.row is None else b.row
+            spec.load_coefficient = b.f1 * b.mean_diameter
+            spec.load_rule = LOAD_RULES[factors.axial]
+            spec.contact_cot = (
+                1.0 / math.tan(factors.contact_angle) if factors.contact_angle > 0.0 else 0.0
+            )
+            spec.axis = np.asarray(gearbox.joint_axis(b.joint), dtype=float)
         out.append(spec)
     return out
 

@@ -50,6 +50,7 @@ import numpy as np
 
 from pinwind.errors import InvalidBearingFriction, InvalidLossInput
 from pinwind.losses.oil import Lubricant
+from pinwind.model.bearing_rows import row_name
 
 if TYPE_CHECKING:
     from pinwind.model.gearbox import Gearbox
@@ -58,6 +59,7 @@ if TYPE_CHECKING:
 Values = float | np.ndarray
 
 __all__ = [
+    "LOAD_RULES",
     "LOW_SPEED_PRODUCT",
     "PALMGREN_FACTORS",
     "STICK_SPEED",
@@ -187,7 +189,11 @@ class BearingFriction:
         f0, f1: Palmgren's factors [-].
         mean_diameter: d_m = (D + d)/2 [m].
         viscosity: the oil's kinematic viscosity at its operating temperature [m²/s].
-        load: P1 in the step [N] (the model's ``friction_load_kN``).
+        load: a fixed P1 in the step [N] (the model's ``friction_load_kN``), or None: P1
+            follows the bearing's (or row's) load in the step, lagged one step
+            (``cpp/bearing_friction.hpp``).
+        row: its column in the row series (``Gearbox.row_names``) when it is a row that is its
+            compliant bearing's spring, else None (the bearing's reaction is its load).
     """
 
     joint: str
@@ -197,11 +203,12 @@ class BearingFriction:
     f1: float
     mean_diameter: float
     viscosity: float
-    load: float
+    load: float | None
+    row: int | None = None
 
     def moment(self, speed: Values, load: Values | None = None) -> Values:
         """M0 + M1 [N·m] ≥ 0 at relative speed ω [rad/s] and load P1 [N] (default ``load``)."""
-        p1 = self.load if load is None else load
+        p1 = (self.load or 0.0) if load is None else load
         return no_load_moment(self.f0, self.viscosity, speed, self.mean_diameter) + load_moment(
             self.f1, p1, self.mean_diameter
         )
@@ -214,6 +221,11 @@ def lubricant_viscosity(
     if viscosity is not None:
         return viscosity
     return Lubricant(grade, temperature, viscosity_100).viscosity()
+
+
+#: The compiled step's code of each axial rule of ``PalmgrenFactors`` (``cpp/bearing_friction.hpp``
+#: ``friction_load``, which restates ``friction_load``; a test checks that the two agree).
+LOAD_RULES: dict[str, int] = {"none": 0, "ball": 1, "angular_ball": 2, "roller": 3}
 
 
 #: ω_s [rad/s] of the step's regularised sign (``cpp/bearing_friction.hpp``): below it the
@@ -234,6 +246,7 @@ def bearing_frictions(gearbox: Gearbox) -> list[BearingFriction]:
     """
     source = gearbox.source
     out = []
+    row_columns = {name: i for i, name in enumerate(gearbox.row_names)}
     for joint, friction in source.bearing_friction.items():
         rows = source.bearing_rows.get(joint, [])
         where = f'<bearing joint="{joint}">'
@@ -273,6 +286,7 @@ def bearing_frictions(gearbox: Gearbox) -> list[BearingFriction]:
                         life.grade, life.temperature, life.viscosity_100, life.viscosity
                     ),
                     load=data.load,
+                    row=row_columns.get(row_name(joint, name)) if name != joint else None,
                 )
             )
     return out

@@ -7,8 +7,9 @@ A ``<bearing>`` or one of its ``<row>`` elements may give (docs/losses.md "Model
     friction_f0="3"                   Palmgren's no-load factor f0 (default: the type's,
                                       ``losses/bearing_friction.py`` ``PALMGREN_FACTORS``)
     friction_f1="0.0004"              Palmgren's load factor f1 (default: the type's)
-    friction_load_kN="120"            the load P1 of the load-dependent moment M1 = f1 P1 d_m
-                                      [kN] (default 0: M1 = 0)
+    friction_load_kN="120"            a fixed load P1 of the load-dependent moment M1 = f1 P1 d_m
+                                      [kN] (default: none, P1 follows the bearing's or row's
+                                      load in the step, docs/losses.md)
 
 The oil and the size (its mean diameter d_m = (D + d)/2) are the bearing's life attributes
 (``lubricant_vg``, ``temperature_C``, ``viscosity_100C_cSt``, ``viscosity_cSt``, ``size_mm``;
@@ -47,13 +48,13 @@ class BearingFrictionData:
         model: a key of ``FRICTION_MODELS``.
         f0: Palmgren's no-load factor [-], or None: the bearing type's.
         f1: Palmgren's load factor [-], or None: the bearing type's.
-        load: the load P1 of M1 = f1 P1 d_m [N].
+        load: a fixed load P1 of M1 = f1 P1 d_m [N], or None: P1 follows the load in the step.
     """
 
     model: str = "none"
     f0: float | None = None
     f1: float | None = None
-    load: float = 0.0
+    load: float | None = None
 
     @property
     def active(self) -> bool:

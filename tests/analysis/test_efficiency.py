@@ -7,7 +7,7 @@ import math
 from numpy.testing import assert_allclose
 
 import pinwind
-from pinwind.analysis.efficiency import efficiency
+from pinwind.analysis.efficiency import efficiency, mesh_friction_coefficients
 from pinwind.losses.oil import Lubricant
 from pinwind.model.gearbox import loads
 from tests.conftest import MODELS, two_gear_urdf
@@ -46,6 +46,9 @@ def test_a_spur_pairs_efficiency_is_one_minus_mu_times_h_v_by_hand():
     assert_allclose(mesh.power[5:], TORQUE * SPEED * mu * h_v, rtol=1e-9)
     assert_allclose(e.input_power[5:], TORQUE * SPEED, rtol=1e-12)
     assert_allclose(e.efficiency[5:], 1.0 - mu * h_v, rtol=1e-9)
+    # the μ to give the mesh at this operating point: the hand μ_mz
+    coefficients = mesh_friction_coefficients(res, gb, oil=oil, roughness=0.5e-6, start=0.005)
+    assert_allclose(coefficients[mesh.name], mu, rtol=1e-9)
 
 
 def test_nrel_5mw_at_rated_loses_less_than_the_quoted_97_percent_per_stage():

@@ -254,6 +254,14 @@ class BearingRows : public Element {
     }
   }
 
+  // The rows' forces of the settled step, (F_u, F_w, F_k) as row_force records them.
+  void row_forces(std::vector<Eigen::Vector3d>& rows) const override {
+    if (rows.size() < specs_.size()) rows.resize(specs_.size(), Eigen::Vector3d::Zero());
+    for (size_t r = 0; r < specs_.size(); ++r) {
+      rows[r] = Eigen::Vector3d(loads_[r][1], loads_[r][2], loads_[r][0]);
+    }
+  }
+
   // A copy for a saved state of the run, and its states taken back (Element::copy).
   std::unique_ptr<Element> copy() const override { return copy_of<BearingRows, Element>(*this); }
   void restore(const Element& saved) override { restore_from(*this, saved); }

@@ -163,6 +163,21 @@ class Element {
   virtual void record(const StepView&, long, const Outputs&) const {}
   // Moves the element's own states (generator fluxes, ...) from t_n to t_{n+1}, given v_{n+1}.
   virtual void advance(const StepView&, const Eigen::VectorXd& v_next) { (void)v_next; }
+  // Each compliant bearing row's force on its shaft in the settled step, (F_u, F_w, F_k) [N]
+  // along its bearing's u, w and axis k, into rows[r] by row index (bearing_rows.hpp; the
+  // series row_force): elements without rows leave rows as it is.
+  virtual void row_forces(std::vector<Eigen::Vector3d>& rows) const { (void)rows; }
+  // True if the element's forces follow the bearings' loads (bearing_friction.hpp): the
+  // stepper then hands it the loads of each step's solve (bearing_loads), for the next step.
+  virtual bool wants_bearing_loads() const { return false; }
+  // The settled step's loads: each bearing's reaction force on its child body in its joint
+  // frame [N] (StepperSpec.bearing_joints order; the series bearing_force_local) and each
+  // row's force (row_forces).
+  virtual void bearing_loads(const std::vector<Eigen::Vector3d>& bearings,
+                             const std::vector<Eigen::Vector3d>& rows) {
+    (void)bearings;
+    (void)rows;
+  }
   // A copy of the element, internal states and all (contact flanks, fluxes, controllers,
   // histories), for a saved state of the run (Stepper::save); null if the kind keeps none, and
   // the run's state then cannot be saved. A kind whose members are its states and constants

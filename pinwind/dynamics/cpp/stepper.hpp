@@ -323,6 +323,11 @@ class Stepper {
   // joint j transmits from its parent to its child (world axes, about the world origin).
   void bearing_reactions();
 
+  // If an element's forces follow the bearings' loads (Element::wants_bearing_loads: the
+  // bearings' friction), the bearing reactions of the solved step (bearing_reactions) and the
+  // rows' forces, handed to every element for the next step; true if it computed the reactions.
+  bool hand_bearing_loads();
+
   // Writes the state of the step into row k of the block's outputs.
   void record(long k, double t);
 
@@ -371,6 +376,7 @@ class Stepper {
   std::vector<bool> massless_;  // joints whose body has no inertia (a compliant bearing's slides)
   std::vector<pinocchio::Motion> accel_, drift_;
   std::vector<pinocchio::Force> body_force_, subtree_, weight_;
+  std::vector<Eigen::Vector3d> bearing_loads_, row_loads_;  // hand_bearing_loads's [N]
   Eigen::VectorXd nle_;
   Eigen::VectorXd nle_step_, gravity_step_, nle_last_, gravity_last_;  // weighted_bias
   Eigen::Matrix<double, 6, Eigen::Dynamic> momenta_;

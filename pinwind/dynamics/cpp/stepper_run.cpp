@@ -32,8 +32,9 @@ RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& tar
     if (!std::isfinite(a_.squaredNorm() + lam_.squaredNorm())) {
       return fail(st, k, t, "the accelerations or constraint forces are not finite");
     }
+    const bool reactions = hand_bearing_loads();
     if (k % stride == 0 || k + 1 == samples_) {
-      bearing_reactions();
+      if (!reactions) bearing_reactions();
       record((k + stride - 1) / stride - row0, t);
     }
     if (k + 1 == samples_) {
@@ -399,6 +400,22 @@ void Stepper::bearing_reactions() {
   }
   for (const auto& e : elements_) e->add_body_forces(sv, fext_);
   joint_forces();
+}
+
+bool Stepper::hand_bearing_loads() {
+  bool wanted = false;
+  for (const auto& e : elements_) wanted = wanted || e->wants_bearing_loads();
+  if (!wanted) return false;
+  bearing_reactions();
+  const auto& bearings = s_.bearing_joints;
+  bearing_loads_.resize(bearings.size());
+  for (size_t b = 0; b < bearings.size(); ++b) {
+    bearing_loads_[b] = data_.oMi[bearings[b]].actInv(subtree_[bearings[b]]).linear();
+  }
+  for (auto& r : row_loads_) r.setZero();
+  for (const auto& e : elements_) e->row_forces(row_loads_);
+  for (auto& e : elements_) e->bearing_loads(bearing_loads_, row_loads_);
+  return true;
 }
 
 void Stepper::record(long k, double t) {
