@@ -245,7 +245,8 @@ def mesh_losses(
     """Every mesh's load-dependent loss P_mesh μ_mz H_V over the run (module docstring).
 
     Args:
-        result: the run; gearbox: its model.
+        result: the run.
+        gearbox: its model.
         oil: the gear oil at its temperature (its dynamic viscosity).
         roughness: Ra = (Ra1 + Ra2)/2 of the flanks [m].
         lubricant_factor: X_L (``losses.mesh_friction.LUBRICANT_FACTORS``).
@@ -432,8 +433,11 @@ def efficiency(
     """The run's losses per bearing, mesh and stage, and its efficiency (module docstring).
 
     Args:
-        result: the run; gearbox: its model.
-        oil, roughness, lubricant_factor: the estimate's oil, Ra [m] and X_L.
+        result: the run.
+        gearbox: its model.
+        oil: the estimate's oil.
+        roughness: the estimate's flank roughness Ra [m].
+        lubricant_factor: the estimate's lubricant factor X_L [-].
         source: "run" (the step's friction series), "estimate" (the formulas after the run),
             or "auto": "run" when the run had friction in the step (``friction_in_step``).
     """
