@@ -189,7 +189,10 @@ class HistoryStream:
     load of the whole history, so the loads of every sample are kept until the end.
 
     Args:
-        name, rating, data, size: as for `history_sums`.
+        name: the bearing or row (``BEARING.ROW``), the sums' name.
+        rating: its ISO 281 data (None: not rated; its revolutions and seconds only).
+        data: its lubricant, cleanliness, C_u and inside (None: pinwind's defaults).
+        size: (D, d, B) [m] when the element has one besides ``data`` (a ``<row>``), or None.
     """
 
     def __init__(
@@ -521,7 +524,8 @@ class RunLoadSums:
     `HistoryStream`).
 
     Args:
-        gearbox, life: as for `run_load_sums`.
+        gearbox: the model of the run (its ``<bearing>`` and ``<row>`` elements).
+        life: each bearing's and row's life data by its rated name (None: the model's).
     """
 
     def __init__(self, gearbox: Any, *, life: Mapping[str, BearingLifeData] | None = None):

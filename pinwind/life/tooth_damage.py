@@ -449,7 +449,11 @@ def cycles_damage(
     Args:
         counted: the rainflow cycles of each tooth's stress history [Pa].
         peaks: the largest stress of each tooth's history [Pa].
-        gear, curve, time_factor, use_endurance_limit, flank: as for `histories_damage`.
+        gear: the gear's name, for the record.
+        curve: the S-N curve, read at the cycle ranges.
+        time_factor: life seconds per simulated second (`histories_damage`).
+        use_endurance_limit: False to count cycles below the endurance limit too.
+        flank: the flank the cycles are of, for the record (`ToothDamage.flank`).
     """
     damage = [
         miner_damage(c.scaled(time_factor), curve, use_endurance_limit=use_endurance_limit)
