@@ -183,6 +183,8 @@ class Reversals:
         found = turning_points(np.concatenate((self._tail, part)))
         if found.size > 2:
             self._done.append(found[:-2])
+            if len(self._done) >= 32:  # one array, not one per part: 100 bytes each besides
+                self._done = [np.concatenate(self._done)]
         self._tail = found[-2:]
 
     @property
