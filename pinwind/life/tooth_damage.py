@@ -566,7 +566,7 @@ def _mesh_teeth(
     direction = 1
     for start, stop in zip(cuts[:-1], cuts[1:], strict=True):
         x = position[start:stop]
-        if start == 0 and before is not None and not loaded[0] - before.flank != 0:
+        if start == 0 and before is not None and loaded[0] - before.flank == 0:
             first, direction, side = before.tooth, before.direction, before.side
             x = np.concatenate(([before.position], x))  # the jump from the block before
         else:

@@ -12,7 +12,7 @@ the memory is that of one block, whatever the run's length.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -95,7 +95,7 @@ class KeptBlocks:
         if self._held >= self.block:
             self._hand_on()
 
-    def end(self, result: Result, status: Any) -> None:
+    def end(self, result: Result, status: str) -> None:
         """Hands on the samples held, when the run completed (else they are dropped)."""
         if status == "completed":
             self._hand_on()
