@@ -16,7 +16,7 @@ import json
 import math
 import zipfile
 import zlib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -286,9 +286,20 @@ class CaseReduction:
     def reduced(
         self,
     ) -> tuple[tuple[FlankCycles, ...], tuple[FlankCycles, ...], tuple[BearingLoadSum, ...]]:
-        """(flanks, roots, bearings) of `CaseCycles` over the blocks given (no block may follow)."""
+        """(flanks, roots, bearings) of `CaseCycles` over the blocks given.
+
+        No block may follow, nor another call: each gear's counter is let go once its cycles
+        are out, so that the memory holds the cycles and the reversals not yet counted, not
+        both.
+        """
         return (
-            tuple(flank_cycles(self.contact)),
-            tuple(flank_cycles(self.root)),
+            tuple(flank_cycles(_let_go(self.contact))),
+            tuple(flank_cycles(_let_go(self.root))),
             tuple(self.bearings.sums()),
         )
+
+
+def _let_go(counters: list[GearTeeth]) -> Iterator[GearTeeth]:
+    """The counters in order, each taken out of the list as it is given."""
+    while counters:
+        yield counters.pop(0)

@@ -659,9 +659,8 @@ def _entering_tooth(
     q = gearbox.neutral()
     for name, angle in zip(result.joint_names, angles, strict=True):
         q[model.joints[model.getJointId(name)].idx_q] = angle
-    data = model.createData()
+    meshes, data = _pose_tools(gearbox)
     pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(model.nv))
-    meshes = MeshSet(gearbox)
     rows = meshes.evaluate(model, data)
     flank = float(result.mesh_flank[sample, index])
     line = meshes.line_of_action(rows, np.full(meshes.count, flank))[index]
@@ -685,6 +684,21 @@ def _entering_tooth(
     pitches = (angle - twist - gearbox.tooth_phases[gear.name]) * teeth / (2.0 * math.pi)
     nearest = round(pitches)
     return nearest % teeth, -1 if turns > 0.0 else 1, 1 if pitches > nearest else -1
+
+
+#: The last gearbox's mesh rows and Pinocchio data (`_pose_tools`): a run counted block by
+#: block finds its teeth from the angles hundreds of times per block, and a new Data and
+#: MeshSet each time cost half the counting's time and the memory pages to touch again.
+_POSE_TOOLS: dict[str, tuple[Gearbox, MeshSet, pin.Data] | None] = {"last": None}
+
+
+def _pose_tools(gearbox: Gearbox) -> tuple[MeshSet, pin.Data]:
+    """The mesh rows and a Pinocchio Data of ``gearbox`` (those of the last call, if its)."""
+    held = _POSE_TOOLS["last"]
+    if held is None or held[0] is not gearbox:
+        held = (gearbox, MeshSet(gearbox), gearbox.model.createData())
+        _POSE_TOOLS["last"] = held
+    return held[1], held[2]
 
 
 def gear_tooth_damage(
@@ -779,6 +793,7 @@ class GearTeeth:
         self._reversals = {side: [Reversals() for _ in range(self.teeth)] for side in (1, -1)}
         self._passes = {side: ToothPasses(self.teeth, self._sink(side)) for side in (1, -1)}
         self._loaded = {1: False, -1: False}
+        self._counted: dict[int, tuple[list[Cycles], list[float]]] = {}
 
     def _sink(self, side: int) -> Callable[[int, np.ndarray], None]:
         """Where `ToothPasses` puts the next values of a tooth's history of flank ``side``."""
@@ -813,18 +828,27 @@ class GearTeeth:
     ) -> tuple[ToothDamage, ...]:
         """The damage of each flank loaded in the blocks so far, the most damaged first.
 
-        The histories end here (`ToothPasses.close`): no block may follow.
+        The histories end here (`ToothPasses.close`): no block may follow. Each tooth flank's
+        reversals are counted once and let go (its cycles are kept instead).
         """
         rated = []
         for side in (1, -1):
             self._passes[side].close()
             if not self._loaded[side]:
                 continue
-            reversals = self._reversals[side]
+            if side not in self._counted:
+                reversals = self._reversals[side]
+                counted, peaks = [], []
+                for j in range(self.teeth):
+                    counted.append(reversals[j].cycles())
+                    peaks.append(reversals[j].largest)
+                    reversals[j] = Reversals()  # its reversals let go
+                self._counted[side] = (counted, peaks)
+            cycles, peaks = self._counted[side]
             rated.append(
                 cycles_damage(
-                    [r.cycles() for r in reversals],
-                    [r.largest for r in reversals],
+                    cycles,
+                    peaks,
                     gear=self.gear,
                     curve=curve,
                     time_factor=time_factor,
