@@ -12,6 +12,7 @@ for a force).
 
 from __future__ import annotations
 
+import array
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -157,7 +158,9 @@ class Reversals:
     """
 
     def __init__(self) -> None:
-        self._done: list[np.ndarray] = []
+        # The reversals found, grown in place (a list of arrays joined now and then left the
+        # heap in holes: the memory of a long run grew 2.6 times as fast as its reversals).
+        self._done = array.array("d")
         self._tail = np.zeros(0)
         self._samples = 0
         self._largest = -math.inf
@@ -182,9 +185,7 @@ class Reversals:
         self._largest = max(self._largest, float(np.max(part)))
         found = turning_points(np.concatenate((self._tail, part)))
         if found.size > 2:
-            self._done.append(found[:-2])
-            if len(self._done) >= 32:  # one array, not one per part: 100 bytes each besides
-                self._done = [np.concatenate(self._done)]
+            self._done.frombytes(found[:-2].tobytes())
         self._tail = found[-2:]
 
     @property
@@ -199,7 +200,7 @@ class Reversals:
 
     def reversals(self) -> np.ndarray:
         """The reversals of the history given so far, its first and last sample included."""
-        return np.concatenate((*self._done, self._tail))
+        return np.concatenate((np.frombuffer(self._done, dtype=float), self._tail))
 
     def cycles(self) -> Cycles:
         """`rainflow_cycles` of the history given so far."""
