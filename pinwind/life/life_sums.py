@@ -424,8 +424,11 @@ class _ReferenceCells:
         self.arm = 0.5 * geometry.pitch_diameter
         _, self.carried = oriented(geometry, np.zeros((1, 5)))  # the mask only
         self._axial = 0.0  # Σ F_a, for the mean's sign
-        # key → [count, Σ direction (5), Σ s^p n, Σ s^p Δt, below thrust, below when turned]
-        self._cells: dict[tuple[int, ...], np.ndarray] = {}
+        # Each cell's key (k, 5) and [count, Σ direction (5), Σ s^p n, Σ s^p Δt, below thrust,
+        # below when turned] (k, 10), in arrays: a dict of them took 500 bytes a cell, and a
+        # turbulent run's main bearing meets a hundred new cells a second.
+        self._keys = np.zeros((0, 5), dtype=np.int16)
+        self._rows = np.zeros((0, 10))
         self._kept: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
 
     def add(self, load: np.ndarray, turns: np.ndarray, weights: np.ndarray) -> None:
@@ -442,14 +445,13 @@ class _ReferenceCells:
             columns += [load[:, 2] < thrust, -load[:, 2] < thrust]
         else:
             columns += [np.zeros(len(load))] * 2
-        found, inverse = np.unique(key, axis=0, return_inverse=True)
+        keys = np.concatenate((self._keys, key.astype(np.int16)))  # |key| ≤ LOAD_CELLS
+        rows = np.concatenate((self._rows, np.column_stack(columns)))
+        self._keys, inverse = np.unique(keys, axis=0, return_inverse=True)
         inverse = inverse.reshape(-1)
-        summed = np.stack(
-            [np.bincount(inverse, weights=c, minlength=len(found)) for c in columns], axis=1
+        self._rows = np.stack(
+            [np.bincount(inverse, weights=c, minlength=len(self._keys)) for c in rows.T], axis=1
         )
-        for k, row in zip(map(tuple, found.tolist()), summed, strict=True):
-            have = self._cells.get(k)
-            self._cells[k] = row if have is None else have + row
 
     def sums(self, exponent: float) -> _CellSums:
         """The reference sums over the samples given (each cell solved once)."""
@@ -465,10 +467,9 @@ class _ReferenceCells:
                 each.failed,
                 each.below_thrust,
             )
-        if not self._cells:
+        if not len(self._keys):
             return _CellSums(0.0, 0.0, 0, 0)
-        keys = np.array(list(self._cells), dtype=np.int64)
-        rows = np.stack(list(self._cells.values()))
+        keys, rows = self._keys.astype(np.int64), self._rows.copy()
         below = rows[:, 8]
         if self.faces and self._axial < 0.0:  # the row faces the other way: turned
             keys[:, 2] *= -1
