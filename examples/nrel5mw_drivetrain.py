@@ -40,6 +40,10 @@ of contact, tooth pair by tooth pair; stage 3 is helical (β = 10°, b = 360 mm,
 overlap ratio ε_β = b sin β/(π m_n) = 1.42), so its teeth are rated as ISO 6336-2/-3 rate a
 helical pair, from the whole mesh force, one cycle per tooth pass (`pinwind.life.tooth_damage`).
 
+The case is reduced as it runs and the printout's statistics folded as it runs, over every
+sample at the set's 1250 Hz, so the memory does not grow with ``--duration``; the returned
+Result keeps ``--result-rate`` samples per second (10 Hz), a look at the run.
+
     python examples/nrel5mw_drivetrain.py [--duration 600] [--dt 1e-4] [--out nrel5mw_drivetrain/]
 """
 
@@ -66,7 +70,7 @@ from pinwind.life.life_figures import plot_damage_ranking
 from pinwind.life.set_bearing_life import set_bearing_lives
 from pinwind.life.set_damage import set_damage
 from pinwind.model.gearbox import load
-from pinwind.runs.case_runner import CASE_SERIES, case_scenario, reduce_case
+from pinwind.runs.case_runner import CASE_SERIES, case_reducer, case_scenario, reduced_case
 from pinwind.runs.fatigue_set_file import load_fatigue_set
 from pinwind.runs.scenario import run
 
@@ -85,7 +89,8 @@ FATIGUE: dict[str, Any] = {
     # half a base pitch (`tooth_damage.entering_teeth`, refused beyond it), up to 16 rpm of the
     # rotor, 30 % above rated (at 1 kHz: 13 rpm, within the gusts' reach at 13 m/s);
     # every series of 600 s at 1 kHz took 5.8 GB (benchmarks/README.md, with the figures at
-    # 5 kHz against 1 kHz on a short window); the case keeps only the series it reduces.
+    # 5 kHz against 1 kHz on a short window); the case is reduced as it runs (its memory does
+    # not grow with the duration: docs/fatigue.md).
     "sample_rate": 1250.0,
     "seeds": [1],
     "turbulence": ["B"],
@@ -127,36 +132,97 @@ def fatigue_set(*, out: Path, duration: float, dt: float, sample_rate: float) ->
     return dataclasses.replace(fset, values={**fset.values, "dt": dt})
 
 
-#: The series the run's Result keeps (its log has them all): the fatigue reduction's, and the
-#: generator's and the rotor's the printout and the test read.
+#: The series the run's Result keeps, at `RESULT_RATE` (its log has them all, at the log rate):
+#: the fatigue reduction's, and the generator's and the rotor's the test reads.
 KEPT_SERIES = (
     *CASE_SERIES, "generator_torque", "rotor_tip_speed_ratio", "rotor_thrust",
     "rotor_thrust_coefficient", "rotor_power", "rotor_wind_speed", "rotor_pitch",
 )  # fmt: skip
+#: Samples per second the returned Result keeps [Hz]: a look at the run. The printout and the
+#: reduction read every sample at the set's sample rate as the run goes, so that the memory
+#: does not grow with the duration (600 s of these series at 1250 Hz took 2.2 GB).
+RESULT_RATE = 10.0
 
 
-def simulate(fset: Any, *, progress: bool = True) -> tuple[pinwind.Result, Any, Any, float]:
-    """Run the set's case with a progress bar and reduce it: (result, gearbox, cycles, wall)."""
+class Printout:
+    """The printout's statistics over the kept samples from ``skip_start`` on, block by block.
+
+    Each quantity's mean, min and max over the blocks a run hands on
+    (``pinwind.runs.kept_blocks``): the main shaft's and the planets' rows' radial force, axial
+    force and own tilting moment, every mesh's normal and single-tooth force, the rotor's speed
+    [rpm] and pitch [°] and the generator's power.
+    """
+
+    def __init__(self, gearbox: Any) -> None:
+        self.gearbox = gearbox
+        self.folded: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, int]] = {}
+        self.rows: list[tuple[str, str]] = []
+        self.meshes: list[str] = []
+
+    def add(self, block: pinwind.Result) -> None:
+        rows = bearing_rows(block, self.gearbox)
+        self.rows = [(row.bearing, row.name) for row in rows]
+        self.meshes = list(block.mesh_names)
+        self._fold("radial", np.column_stack([row.radial_magnitude for row in rows]))
+        self._fold("axial", np.column_stack([np.abs(row.axial) for row in rows]))
+        self._fold("tilt", np.column_stack([np.hypot(*row.tilting.T) for row in rows]))
+        self._fold("normal", block.mesh_normal)
+        self._fold("single", block.mesh_single_tooth_force)
+        self._fold("rotor", block.joint("rotor").speed[:, None] * 60 / (2 * math.pi))
+        self._fold("pitch", np.degrees(block.rotor("rotor").pitch)[:, None])
+        torque = block.generator("generator").torque * block.joint("generator").speed
+        self._fold("power", np.abs(torque)[:, None])
+
+    def _fold(self, name: str, values: np.ndarray) -> None:
+        columns = values.shape[1]
+        total, low, high, count = self.folded.get(
+            name, (np.zeros(columns), np.full(columns, np.inf), np.full(columns, -np.inf), 0)
+        )
+        self.folded[name] = (
+            total + values.sum(axis=0), np.minimum(low, values.min(axis=0)),
+            np.maximum(high, values.max(axis=0)), count + len(values),
+        )  # fmt: skip
+
+    def mean(self, name: str) -> np.ndarray:
+        total, _, _, count = self.folded[name]
+        return total / count
+
+    def low(self, name: str) -> np.ndarray:
+        return self.folded[name][1]
+
+    def high(self, name: str) -> np.ndarray:
+        return self.folded[name][2]
+
+
+def simulate(
+    fset: Any, *, progress: bool = True, result_rate: float = RESULT_RATE
+) -> tuple[pinwind.Result, Any, float, Printout]:
+    """Run the set's case with a progress bar, reduced as it runs, its reduction saved.
+
+    (result, gearbox, wall, printout): the Result at ``result_rate`` [Hz]; the printout's
+    statistics, as the case's reduction, from every sample at the set's sample rate. The
+    reduction is not returned: the set's rating reads it from its file, and two copies of its
+    cycles (25 700 a simulated second, 20 bytes each) would be the memory that grows with the
+    duration.
+    """
     (case,) = fset.cases()
     scenario = case_scenario(case, fset)
     gearbox = load(scenario.model_path())
     fset.out.mkdir(parents=True, exist_ok=True)
+    printout = Printout(gearbox)
+    extra = ("generator_torque", "rotor_pitch")
+    reduction, observer = case_reducer(case, fset, gearbox, printout, series=extra)
+    keep = max(1, round(1.0 / (result_rate * fset.values["dt"])))
     started = time.perf_counter()
     with warnings.catch_warnings():
         # dt = 1e-4 s does not resolve the highest mesh mode's period (StepTooCoarse): the
         # single-tooth forces converge anyway (benchmarks/README.md, nrel5mw_step.py).
         warnings.simplefilter("ignore", PinwindWarning)
         result = run(scenario, gearbox=gearbox, progress=progress, statistics=False,
-                     keep_series=KEPT_SERIES)  # fmt: skip
+                     keep=keep, keep_series=KEPT_SERIES, observer=observer)  # fmt: skip
     wall = time.perf_counter() - started
-    reduced = reduce_case(case, fset, result, gearbox, wall_time=wall)
-    reduced.save(fset.cycles_path(case))
-    return result, gearbox, reduced, wall
-
-
-def after_start(result: pinwind.Result, skip: float) -> np.ndarray:
-    """The kept samples from ``skip`` on."""
-    return result.time >= skip - 1e-12
+    reduced_case(case, fset, reduction, wall_time=wall).save(fset.cycles_path(case))
+    return result, gearbox, wall, printout
 
 
 def bearing_rows(result: pinwind.Result, gearbox: Any) -> list[RowLoad]:
@@ -168,34 +234,33 @@ def bearing_rows(result: pinwind.Result, gearbox: Any) -> list[RowLoad]:
     ]
 
 
-def row_table(rows: list[RowLoad], late: np.ndarray) -> Table:
+def row_table(printout: Printout) -> Table:
     table = Table(title="Main-shaft and planet bearing rows (on the shaft, its bearing's frame)")
     for col in ("bearing", "row", "radial mean", "radial max", "axial mean", "axial max",
                 "tilt mean", "tilt max"):  # fmt: skip
         table.add_column(col, justify="left" if col in ("bearing", "row") else "right")
-    for row in rows:
-        radial = row.radial_magnitude[late] / 1e3
-        axial = np.abs(row.axial[late]) / 1e3
-        tilt = np.hypot(row.tilting[late, 0], row.tilting[late, 1]) / 1e3
+    for i, (bearing, name) in enumerate(printout.rows):
+        radial, axial, tilt = (
+            (printout.mean(q)[i] / 1e3, printout.high(q)[i] / 1e3)
+            for q in ("radial", "axial", "tilt")
+        )
         table.add_row(
-            row.bearing, row.name,
-            f"{radial.mean():.1f}", f"{radial.max():.1f}", f"{axial.mean():.1f}",
-            f"{axial.max():.1f}", f"{tilt.mean():.2f}", f"{tilt.max():.2f}",
+            bearing, name,
+            f"{radial[0]:.1f}", f"{radial[1]:.1f}", f"{axial[0]:.1f}",
+            f"{axial[1]:.1f}", f"{tilt[0]:.2f}", f"{tilt[1]:.2f}",
         )  # fmt: skip
     table.caption = escape("forces [kN], the row's own tilting moment [kN·m]")
     return table
 
 
-def tooth_table(result: pinwind.Result, late: np.ndarray) -> Table:
+def tooth_table(printout: Printout) -> Table:
     table = Table(title=escape("Tooth forces per mesh, stage by stage [kN]"))
     for col in ("stage", "mesh", "normal mean", "normal max", "1 tooth max"):
         table.add_column(col, justify="left" if col in ("stage", "mesh") else "right")
-    for name in result.mesh_names:
-        mesh = result.mesh(name)
-        normal = mesh.normal[late] / 1e3
+    for i, name in enumerate(printout.meshes):
         table.add_row(
-            name.split("_")[0], name, f"{normal.mean():.1f}", f"{normal.max():.1f}",
-            f"{mesh.single_tooth_force[late].max() / 1e3:.1f}",
+            name.split("_")[0], name, f"{printout.mean('normal')[i] / 1e3:.1f}",
+            f"{printout.high('normal')[i] / 1e3:.1f}", f"{printout.high('single')[i] / 1e3:.1f}",
         )  # fmt: skip
     return table
 
@@ -220,33 +285,37 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "--sample-rate", type=float, default=FATIGUE["sample_rate"],
         help="kept samples per second, the tooth histories' rate [Hz]",
     )  # fmt: skip
+    parser.add_argument(
+        "--result-rate", type=float, default=RESULT_RATE,
+        help="samples per second the returned Result keeps [Hz] (its memory grows with it)",
+    )  # fmt: skip
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = parser.parse_args(argv)
 
     fset = fatigue_set(
         out=args.out, duration=args.duration, dt=args.dt, sample_rate=args.sample_rate
     )
-    result, gearbox, _, wall = simulate(fset, progress=not args.no_progress)
-    late = after_start(result, fset.skip_start)
+    result, gearbox, wall, printout = simulate(
+        fset, progress=not args.no_progress, result_rate=args.result_rate
+    )
     damage = set_damage(fset)
     lives = set_bearing_lives(fset)
     items = damage_ranking(damage, lives, variant="iso 6336")
 
     console = Console(width=140)
-    rotor = result.joint("rotor").speed[late] * 60 / (2 * math.pi)
-    pitch = np.degrees(result.rotor("rotor").pitch[late])
-    power = np.abs(result.generator("generator").torque * result.joint("generator").speed)[late]
     console.print(
         f"{args.duration:g} s at dt = {args.dt:g} s in {wall:.0f} s wall "
-        f"({wall / args.duration:.2f} s per simulated second); rotor {rotor.min():.2f}-"
-        f"{rotor.max():.2f} rpm, pitch {pitch.min():.1f}-{pitch.max():.1f}°, "
-        f"generator power {power.mean() / 1e6:.2f} MW mean, "
-        f"{power.max() / 1e6:.2f} MW max; statistics from t = {fset.skip_start:g} s over "
+        f"({wall / args.duration:.2f} s per simulated second); rotor "
+        f"{printout.low('rotor')[0]:.2f}-{printout.high('rotor')[0]:.2f} rpm, pitch "
+        f"{printout.low('pitch')[0]:.1f}-{printout.high('pitch')[0]:.1f}°, generator power "
+        f"{printout.mean('power')[0] / 1e6:.2f} MW mean, "
+        f"{printout.high('power')[0] / 1e6:.2f} MW max; statistics from t = "
+        f"{fset.skip_start:g} s over "
         f"the kept samples ({fset.sample_rate:g} Hz)",
         highlight=False,
     )
-    console.print(row_table(bearing_rows(result, gearbox), late))
-    console.print(tooth_table(result, late))
+    console.print(row_table(printout))
+    console.print(tooth_table(printout))
     console.print(ranking_table(items, float(fset.site.total_hours)))
     figure = plot_damage_ranking(
         items,
@@ -256,7 +325,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     )
     console.print(f"figure: {figure}")
     return {"result": result, "gearbox": gearbox, "fatigue": fset, "damage": damage,
-            "lives": lives, "ranking": items, "figure": figure, "wall": wall}  # fmt: skip
+            "lives": lives, "ranking": items, "figure": figure, "wall": wall,
+            "printout": printout}  # fmt: skip
 
 
 if __name__ == "__main__":

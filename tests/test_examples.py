@@ -275,8 +275,9 @@ def test_nrel5mw_drivetrain_main_bearings_hold_thrust_and_weight_and_ranks_by_ha
     from pinwind.loads.rotor_performance import NREL5MW_PERFORMANCE, read_performance
     from pinwind.loads.wind import kaimal_series
 
+    # The Result at the set's rate (1250 Hz), every counted sample, for the checks by hand.
     out = _load("nrel5mw_drivetrain").main(
-        ["--duration", "0.1", "--out", str(tmp_path), "--no-progress"]
+        ["--duration", "0.1", "--out", str(tmp_path), "--no-progress", "--result-rate", "1250"]
     )
     res, gearbox, fset = out["result"], out["gearbox"], out["fatigue"]
     # The rotor's load along the main shaft by hand (Jonkman et al. 2009 Table 1-1: 110 t, 5°

@@ -75,6 +75,29 @@ def load_cells(
     is one cell.
     """
     unit = np.array([1.0, 1.0, 1.0, arm, arm])
+    key, measured, size = cell_keys(load, homogeneous=homogeneous, arm=arm)
+    _, inverse = np.unique(key, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    count = np.bincount(inverse)
+    cells = np.stack(
+        [np.bincount(inverse, weights=measured[:, i]) / count for i in range(5)], axis=1
+    )
+    return cells * unit, inverse, size
+
+
+def cell_keys(
+    load: np.ndarray, *, homogeneous: bool = False, arm: float = 1.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each sample's cell of `load_cells`: (key (n, 5) integers, measured (n, 5), size (n,)).
+
+    ``measured`` is the load as (F, M/arm) [N], scaled to unit size when ``homogeneous``;
+    ``size`` the sample's load as a multiple of it (1 unless ``homogeneous``). Samples of one
+    key share a cell. Without ``homogeneous`` the cells are 1/``LOAD_CELLS`` of the largest
+    |W| of these samples wide; with it, of the unit size, whatever the other samples: the keys
+    of parts of a history are then the keys of the whole (``life/life_sums.py`` sums a run's
+    parts).
+    """
+    unit = np.array([1.0, 1.0, 1.0, arm, arm])
     measured = load / unit
     norm = np.linalg.norm(measured, axis=1)
     size = np.ones(len(load))
@@ -84,14 +107,7 @@ def load_cells(
         scale = 1.0
     else:
         scale = max(float(np.max(norm, initial=0.0)), 1e-300)
-    key = np.round(measured / scale * LOAD_CELLS).astype(np.int64)
-    _, inverse = np.unique(key, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    count = np.bincount(inverse)
-    cells = np.stack(
-        [np.bincount(inverse, weights=measured[:, i]) / count for i in range(5)], axis=1
-    )
-    return cells * unit, inverse, size
+    return np.round(measured / scale * LOAD_CELLS).astype(np.int64), measured, size
 
 
 def life_data_of(gearbox: Any, joint: str, data: BearingLifeData | None) -> BearingLifeData:

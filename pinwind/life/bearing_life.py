@@ -302,6 +302,7 @@ def load_sum_of_history(
     speed: np.ndarray,
     axis: np.ndarray,
     rolling: np.ndarray | None = None,
+    weights: np.ndarray | None = None,
 ) -> BearingLoadSum:
     """A bearing's ISO 281 sums from its force and speed histories.
 
@@ -315,8 +316,10 @@ def load_sum_of_history(
         rolling: the radial load its loaded rolling elements carry [N], (n,), a preload
             included (``model/bearing_rows.rolling_load``), for the skidding check only;
             None: its radial force.
+        weights: each sample's share of the time [s] (default `sample_weights` of ``time``;
+            a part of a longer history gives its samples' shares of the whole).
     """
-    weights = sample_weights(time)
+    weights = sample_weights(time) if weights is None else np.asarray(weights, dtype=float)
     turns = weights * np.abs(speed) / (2.0 * math.pi)  # revolutions per sample [rev]
     exponent = power_sum = time_power_sum = below = math.nan
     if rating is not None:

@@ -16,7 +16,7 @@ import json
 import math
 import zipfile
 import zlib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -31,6 +31,8 @@ from pinwind.life.sn_curve import FatigueCurve
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
+    from pinwind.life.tooth_damage import GearTeeth
+    from pinwind.model.bearing_life_data import BearingLifeData
     from pinwind.model.gearbox import Gearbox
 
 
@@ -186,35 +188,47 @@ def case_cycles(
 
     The histories are those of `pinwind.life.tooth_damage.gear_tooth_damage` (von Mises
     contact stress at the moving contact point, per tooth over all its meshes), or with
-    ``root_stress`` (gear → model) its root stress.
+    ``root_stress`` (gear → model) its root stress. The whole run is one block of the
+    `GearTeeth` counters `CaseReduction` feeds block by block.
 
     Args:
         materials: gear → material key (default `materials.DEFAULT_MATERIAL`).
         root_stress: count the root stress of each gear with its model instead.
     """
+    from pinwind.life.tooth_damage import GearTeeth
+
+    counters = [
+        GearTeeth(
+            gearbox,
+            gear,
+            materials=materials,
+            root_stress=None if root_stress is None else root_stress[gear],
+        )
+        for gear in gears
+    ]
+    for counter in counters:
+        counter.add(result)
+    return flank_cycles(counters)
+
+
+def flank_cycles(counters: Iterable[GearTeeth]) -> list[FlankCycles]:
+    """The cycles of every flank of each gear counted, the most damaged (at unit curve) first.
+
+    The histories end here (`GearTeeth.damage`).
+    """
     from pinwind.life.sn_curve import SNCurve
-    from pinwind.life.tooth_damage import gear_tooth_damage
 
     # The curve is not used: only the counted cycles are kept.
     unit = SNCurve(reference_stress=1.0, slope_exponent=1.0)
     out = []
-    for gear in gears:
-        rated_flanks = gear_tooth_damage(
-            result,
-            gearbox,
-            gear,
-            curve=unit,
-            time_factor=1.0,
-            materials=materials,
-            root_stress=None if root_stress is None else root_stress[gear],
-        )
-        for rated in rated_flanks:
+    for counter in counters:
+        for rated in counter.damage(curve=unit, time_factor=1.0):
             tooth = np.concatenate(
                 [np.full(c.ranges.size, j, dtype=np.int32) for j, c in enumerate(rated.cycles)]
             )
             out.append(
                 FlankCycles(
-                    gear=gear,
+                    gear=counter.gear,
                     flank=rated.flank,
                     teeth=len(rated.cycles),
                     tooth=tooth,
@@ -224,3 +238,68 @@ def case_cycles(
                 )
             )
     return out
+
+
+class CaseReduction:
+    """A case's run reduced block by block as it runs: tooth cycles and bearing load sums.
+
+    Each block (`add`, a Result of `CASE_SERIES` of consecutive kept samples, the first from
+    the case's ``skip_start`` on) goes to a `GearTeeth` counter per gear, of the contact and of
+    the root stress, and to the bearings' and rows' `life_sums.RunLoadSums`; `reduced` gives
+    what `case_cycles` and `life_sums.run_load_sums` give of the blocks joined. Only each tooth
+    flank's reversals and the sums are held, so a case's memory does not grow with its length
+    but by its reversals (``pinwind.runs.kept_blocks`` feeds it during the run).
+
+    Args:
+        gearbox: the model the case runs.
+        gears: the gears whose teeth are counted.
+        materials: gear → material key (default `materials.DEFAULT_MATERIAL`).
+        root_stress: gear → its root-stress model.
+        bearing_life: each bearing's and row's life data by its rated name (None: the model's).
+    """
+
+    def __init__(
+        self,
+        gearbox: Gearbox,
+        gears: Iterable[str],
+        *,
+        materials: Mapping[str, str] | None,
+        root_stress: Mapping[str, RootStress],
+        bearing_life: Mapping[str, BearingLifeData] | None = None,
+    ) -> None:
+        from pinwind.life.life_sums import RunLoadSums
+        from pinwind.life.tooth_damage import GearTeeth
+
+        gears = list(gears)
+        self.contact = [GearTeeth(gearbox, g, materials=materials) for g in gears]
+        self.root = [
+            GearTeeth(gearbox, g, materials=materials, root_stress=root_stress[g]) for g in gears
+        ]
+        self.bearings = RunLoadSums(gearbox, life=bearing_life)
+
+    def add(self, block: Result) -> None:
+        """The next kept samples of the case (`CASE_SERIES`)."""
+        for counter in (*self.contact, *self.root):
+            counter.add(block)
+        self.bearings.add(block)
+
+    def reduced(
+        self,
+    ) -> tuple[tuple[FlankCycles, ...], tuple[FlankCycles, ...], tuple[BearingLoadSum, ...]]:
+        """(flanks, roots, bearings) of `CaseCycles` over the blocks given.
+
+        No block may follow, nor another call: each gear's counter is let go once its cycles
+        are out, so that the memory holds the cycles and the reversals not yet counted, not
+        both.
+        """
+        return (
+            tuple(flank_cycles(_let_go(self.contact))),
+            tuple(flank_cycles(_let_go(self.root))),
+            tuple(self.bearings.sums()),
+        )
+
+
+def _let_go(counters: list[GearTeeth]) -> Iterator[GearTeeth]:
+    """The counters in order, each taken out of the list as it is given."""
+    while counters:
+        yield counters.pop(0)

@@ -39,9 +39,17 @@ import numpy as np
 from pinwind.dynamics.bearing_load import along_axis
 from pinwind.dynamics.load_distribution import (
     InternalGeometry,
+    distribute,
     reference_load,
 )
-from pinwind.dynamics.row_contact import cell_distribution, geometry_of, life_data_of
+from pinwind.dynamics.row_contact import (
+    cell_distribution,
+    cell_keys,
+    geometry_of,
+    life_data_of,
+    oriented,
+)
+from pinwind.errors import InputError
 from pinwind.life.bearing_life import (
     BearingLoadSum,
     dynamic_equivalent_load,
@@ -145,6 +153,9 @@ def history_sums(
 ) -> HistorySums:
     """A bearing's (or row's) life sums from its load W and speed (module docstring).
 
+    The whole history as one part of a `HistoryStream`, with each sample's internal load
+    distribution (`HistorySums.distribution`).
+
     Args:
         name: the bearing or row (``BEARING.ROW``), the sums' name.
         rating: its ISO 281 data (type and load factors; C is not needed for the sums).
@@ -156,89 +167,329 @@ def history_sums(
         rolling: the radial load its loaded rolling elements carry [N], (n,), for the skidding
             check (`preloaded_rolling_load`); None: its radial load.
     """
-    data = data or BearingLifeData()
-    kind, p = rating.kind, rating.exponent
-    ball = kind.endswith("_ball")
-    notes: list[str] = []
-    oil_defaults = [d for d in data.defaults if d != "rotating_ring"]
-    if oil_defaults:
-        notes.append("default " + ", ".join(oil_defaults) + " (VG 320, 70 °C, normal cleanliness)")
-    load = np.asarray(load, dtype=float).reshape(-1, 5)
-    force = np.column_stack([np.hypot(load[:, 0], load[:, 1]), np.zeros(len(load)), load[:, 2]])
-    basic = load_sum_of_history(
-        name, rating, time=time, force_in_joint=force, speed=speed,
-        axis=np.array([0.0, 0.0, 1.0]), rolling=rolling,
-    )  # fmt: skip
-    if rolling is not None:
-        notes.append("skidding checked on the preloaded rolling elements' load")
-    equivalent = dynamic_equivalent_load(rating, force[:, 0], np.abs(force[:, 2]))
-    weights = sample_weights(time)
-    turns = weights * np.abs(speed) / (2.0 * math.pi)
-    revolutions = float(turns.sum())
-    geometry = geometry_of(kind, data, size)
-    size_used = data.size or size
-    dm = 0.5 * (size_used[0] + size_used[1]) if size_used else None
-    nan = math.nan
-    kappa_mean = e_c = c_u = modified = nan
-    if dm is None:
-        notes.append("no modified life: no size_mm (the mean diameter d_m sets ν₁)")
-    else:
-        e_c = data.contamination if data.contamination is not None else contamination_factor(
-            data.contamination_class, dm
-        )  # fmt: skip
-        if data.fatigue_limit is not None:
-            c_u = data.fatigue_limit
-        elif data.static_rating is not None:
-            c_u = estimated_fatigue_limit(data.static_rating, dm, ball=ball)
-            notes.append("C_u estimated from C₀ (ISO 281 Annex B)")
+    stream = HistoryStream(name, rating, data=data, size=size)
+    stream.add(time=time, speed=speed, load=load, rolling=rolling)
+    sums = stream.sums()
+    if stream.geometry is None:
+        return sums
+    dist = sample_distribution(stream.geometry, np.asarray(load, dtype=float).reshape(-1, 5))
+    return dataclasses.replace(sums, distribution=dist)
+
+
+class HistoryStream:
+    """A bearing's (or row's) life sums over a history given in consecutive parts.
+
+    Each sample is summed once its next one is known (its trapezoid weight spans both sides,
+    `bearing_life.sample_weights`), so the sums of the parts are those of the whole history
+    (`history_sums`) but for the order of the additions. The ISO/TS 16281 reference loads are
+    solved once per cell of like loads (``dynamics/row_contact.cell_distribution``) at the end:
+    without clearance the cells are of the load's direction alone, whatever the other samples
+    (``row_contact.cell_keys``), so each part adds to its cells' sums and the memory does not
+    grow with the history; with a clearance or a preload the cells are a share of the largest
+    load of the whole history, so the loads of every sample are kept until the end.
+
+    Args:
+        name: the bearing or row (``BEARING.ROW``), the sums' name.
+        rating: its ISO 281 data (None: not rated; its revolutions and seconds only).
+        data: its lubricant, cleanliness, C_u and inside (None: pinwind's defaults).
+        size: (D, d, B) [m] when the element has one besides ``data`` (a ``<row>``), or None.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        rating: BearingRating | None,
+        *,
+        data: BearingLifeData | None,
+        size: tuple[float, float, float] | None,
+    ) -> None:
+        data = data or BearingLifeData()
+        self.name, self.rating, self.data = name, rating, data
+        self.exponent = math.nan if rating is None else rating.exponent
+        self.ball = rating is not None and rating.kind.endswith("_ball")
+        oil_defaults = [d for d in data.defaults if d != "rotating_ring"]
+        self._oil_notes = (
+            ["default " + ", ".join(oil_defaults) + " (VG 320, 70 °C, normal cleanliness)"]
+            if oil_defaults
+            else []
+        )
+        notes: list[str] = []
+        self.geometry = None if rating is None else geometry_of(rating.kind, data, size)
+        size_used = data.size or size
+        self.dm = 0.5 * (size_used[0] + size_used[1]) if size_used and rating else None
+        nan = math.nan
+        self.contamination = self.fatigue_limit = self.viscosity = nan
+        if self.dm is None:
+            notes.append("no modified life: no size_mm (the mean diameter d_m sets ν₁)")
         else:
-            notes.append("no modified life: give fatigue_limit_kN (C_u) or rating_c0_kN (C₀)")
-        if data.viscosity is not None:
-            nu = data.viscosity
-        else:
-            oil = Lubricant(data.grade, data.temperature, data.viscosity_100)
-            nu = oil.viscosity()
-            if oil.slope_assumed:
-                notes.append("ν(T) with the assumed Walther slope 3.5 (no viscosity_100C_cSt)")
-        with np.errstate(invalid="ignore"):
-            kappa = nu / rated_viscosity(np.abs(speed) * 60.0 / (2.0 * math.pi), dm)
-        moving = turns > 0
-        if revolutions > 0:
-            kappa_mean = float(np.sum(np.where(moving, kappa, 0.0) * turns) / revolutions)
-            if np.any(moving & (kappa < KAPPA_MIN)):
-                notes.append("κ < 0.1 at some samples: ISO 281 does not cover it; κ = 0.1 used")
-            if np.any(moving & (kappa > KAPPA_MAX)):
-                notes.append("κ > 4 at some samples: κ = 4 used (ISO 281)")
-        if not math.isnan(c_u):
-            modified, _ = modified_life_sum(
-                equivalent, turns, np.where(moving, kappa, 1.0), exponent=p,
-                contamination=e_c, fatigue_limit=c_u, ball=ball,
-            )  # fmt: skip
-    reference = reference_time = nan
-    dist = None
-    if geometry is None:
-        notes.append("no reference life: no size_mm or internal geometry")
-    else:
-        if geometry.estimated:
-            notes.append("internal geometry estimated from size_mm")
-        dist = sample_distribution(geometry, load)
-        if dist.failed:
-            notes.append(
-                f"no reference life: no equilibrium at {dist.failed} of {len(load)} samples"
-                + (
-                    f" ({dist.below_thrust} with the axial load below the single angular row's "
-                    "induced thrust F_r tan α: rate it with its paired row)"
-                    if dist.below_thrust
-                    else " (a moment beyond what the rollers' length holds)"
-                )
+            self.contamination = (
+                data.contamination
+                if data.contamination is not None
+                else contamination_factor(data.contamination_class, self.dm)
             )
+            if data.fatigue_limit is not None:
+                self.fatigue_limit = data.fatigue_limit
+            elif data.static_rating is not None:
+                self.fatigue_limit = estimated_fatigue_limit(
+                    data.static_rating, self.dm, ball=self.ball
+                )
+                notes.append("C_u estimated from C₀ (ISO 281 Annex B)")
+            else:
+                notes.append("no modified life: give fatigue_limit_kN (C_u) or rating_c0_kN (C₀)")
+            if data.viscosity is not None:
+                self.viscosity = data.viscosity
+            else:
+                oil = Lubricant(data.grade, data.temperature, data.viscosity_100)
+                self.viscosity = oil.viscosity()
+                if oil.slope_assumed:
+                    notes.append("ν(T) with the assumed Walther slope 3.5 (no viscosity_100C_cSt)")
+        self._life_notes = notes
+        self._geometry_notes = []
+        if self.geometry is None:
+            self._geometry_notes.append("no reference life: no size_mm or internal geometry")
+        elif self.geometry.estimated:
+            self._geometry_notes.append("internal geometry estimated from size_mm")
+        self._rolling: bool | None = None  # whether the parts give a rolling load
+        self._sums: BearingLoadSum | None = None
+        self._modified = 0.0
+        self._kappa_turns = 0.0
+        self._kappa_low = self._kappa_high = False
+        self._held: tuple[np.ndarray, ...] | None = None  # the last sample, not summed yet
+        self._time_before: float | None = None  # the time of the last sample summed
+        self._cells = (
+            None if self.geometry is None else _ReferenceCells(self.geometry, self.exponent)
+        )
+        self._samples = 0
+
+    def add(
+        self,
+        *,
+        time: np.ndarray,
+        speed: np.ndarray,
+        load: np.ndarray,
+        rolling: np.ndarray | None = None,
+    ) -> None:
+        """The next samples of the history, each argument as for `history_sums`.
+
+        Raises:
+            InputError: a rolling load given in some parts only.
+        """
+        has_rolling = rolling is not None
+        if self._rolling is None:
+            self._rolling = has_rolling
+        elif self._rolling != has_rolling:
+            raise InputError(
+                f"{self.name}: a rolling load was given for some parts of the history only; "
+                "give it with every part or with none"
+            )
+        n = len(np.asarray(time))
+        parts: tuple[np.ndarray, ...] = (
+            np.asarray(time, dtype=float).reshape(n),
+            np.asarray(speed, dtype=float).reshape(n),
+            np.asarray(load, dtype=float).reshape(n, 5),
+            np.zeros(n) if rolling is None else np.asarray(rolling, dtype=float).reshape(n),
+        )
+        if self._held is not None:
+            parts = tuple(np.concatenate((h, p)) for h, p in zip(self._held, parts, strict=True))
+        if len(parts[0]) < 2:
+            self._held = parts
+            return
+        self._sum_samples(parts, len(parts[0]) - 1)
+        self._held = tuple(p[-1:] for p in parts)
+
+    def sums(self) -> HistorySums:
+        """The sums of the history given so far (its end: no part may follow)."""
+        if self._held is not None:
+            self._sum_samples(self._held, len(self._held[0]))
+            self._held = None
+        notes = list(self._oil_notes)
+        if self._rolling:
+            notes.append("skidding checked on the preloaded rolling elements' load")
+        notes += self._life_notes
+        rating, p = self.rating, self.exponent
+        basic = self._sums or load_sum_of_history(
+            self.name, rating, time=np.zeros(0), force_in_joint=np.zeros((0, 3)),
+            speed=np.zeros(0), axis=np.array([0.0, 0.0, 1.0]),
+        )  # fmt: skip
+        revolutions = basic.revolutions
+        nan = math.nan
+        kappa_mean = modified = nan
+        if self.dm is not None and revolutions > 0:
+            kappa_mean = self._kappa_turns / revolutions
+        if self._kappa_low:
+            notes.append("κ < 0.1 at some samples: ISO 281 does not cover it; κ = 0.1 used")
+        if self._kappa_high:
+            notes.append("κ > 4 at some samples: κ = 4 used (ISO 281)")
+        notes += self._geometry_notes
+        if self.dm is not None and not math.isnan(self.fatigue_limit):
+            modified = self._modified
+        reference = reference_time = nan
+        if self._cells is not None:
+            found = self._cells.sums(p)
+            if found.failed:
+                notes.append(
+                    f"no reference life: no equilibrium at {found.failed} of {self._samples} "
+                    "samples"
+                    + (
+                        f" ({found.below_thrust} with the axial load below the single angular "
+                        "row's induced thrust F_r tan α: rate it with its paired row)"
+                        if found.below_thrust
+                        else " (a moment beyond what the rollers' length holds)"
+                    )
+                )
+            else:
+                reference, reference_time = found.turns_sum, found.time_sum
+        sums = dataclasses.replace(
+            basic, modified_sum=modified, reference_sum=reference,
+            reference_time_sum=reference_time,
+        )  # fmt: skip
+        return HistorySums(
+            sums, kappa_mean, self.contamination, self.fatigue_limit, None, tuple(notes)
+        )
+
+    def _sum_samples(self, parts: tuple[np.ndarray, ...], count: int) -> None:
+        """Sums the first ``count`` samples of ``parts`` (time, speed, W, rolling)."""
+        time, speed, load, rolling = (p[:count] for p in parts)
+        rating, p = self.rating, self.exponent
+        # Each sample's trapezoid weight: the sample before (summed in a part before) and
+        # the one after (the next of ``parts``, or none at the history's end).
+        span = parts[0][: count + 1]
+        if self._time_before is not None:
+            weights = sample_weights(np.concatenate(([self._time_before], span)))[1 : count + 1]
         else:
-            reference = load_power_sum(dist.reference_load, turns, p)
-            reference_time = load_power_sum(dist.reference_load, weights, p)
-    sums = dataclasses.replace(
-        basic, modified_sum=modified, reference_sum=reference, reference_time_sum=reference_time
-    )
-    return HistorySums(sums, kappa_mean, e_c, c_u, dist, tuple(notes))
+            weights = sample_weights(span)[:count]
+        self._time_before = float(time[-1])
+        self._samples += count
+        force = np.column_stack([np.hypot(load[:, 0], load[:, 1]), np.zeros(count), load[:, 2]])
+        basic = load_sum_of_history(
+            self.name, rating, time=time, force_in_joint=force, speed=speed,
+            axis=np.array([0.0, 0.0, 1.0]), rolling=rolling if self._rolling else None,
+            weights=weights,
+        )  # fmt: skip
+        self._sums = basic if self._sums is None else self._sums.plus(basic)
+        turns = weights * np.abs(speed) / (2.0 * math.pi)
+        if self.dm is not None and rating is not None:
+            equivalent = dynamic_equivalent_load(rating, force[:, 0], np.abs(force[:, 2]))
+            with np.errstate(invalid="ignore"):
+                kappa = self.viscosity / rated_viscosity(
+                    np.abs(speed) * 60.0 / (2.0 * math.pi), self.dm
+                )
+            moving = turns > 0
+            self._kappa_turns += float(np.sum(np.where(moving, kappa, 0.0) * turns))
+            self._kappa_low |= bool(np.any(moving & (kappa < KAPPA_MIN)))
+            self._kappa_high |= bool(np.any(moving & (kappa > KAPPA_MAX)))
+            if not math.isnan(self.fatigue_limit):
+                used, _ = modified_life_sum(
+                    equivalent, turns, np.where(moving, kappa, 1.0), exponent=p,
+                    contamination=self.contamination, fatigue_limit=self.fatigue_limit,
+                    ball=self.ball,
+                )  # fmt: skip
+                self._modified += used
+        if self._cells is not None:
+            self._cells.add(load, turns, weights)
+
+
+@dataclass(frozen=True)
+class _CellSums:
+    """The reference sums of a history (`_ReferenceCells.sums`).
+
+    Attributes:
+        turns_sum: Σ P_ref,i^p n_i [N^p·rev]; time_sum: Σ P_ref,i^p Δt_i [N^p·s].
+        failed: samples without equilibrium; below_thrust: of those, below the single angular
+            row's induced thrust (`SampleDistribution`).
+    """
+
+    turns_sum: float
+    time_sum: float
+    failed: int
+    below_thrust: int
+
+
+class _ReferenceCells:
+    """The ISO/TS 16281 reference sums of a history given in parts (`HistoryStream`).
+
+    Without clearance each sample's cell is its load's direction (``row_contact.cell_keys``)
+    and P_ref,i = P_ref(cell) s_i, s_i its size, so each cell keeps its samples' count, the sum
+    of their directions (its mean, where it is solved) and Σ s_i^p n_i, Σ s_i^p Δt_i. A single
+    angular row faces the way the whole history's mean axial load pushes it
+    (``row_contact.oriented``): the cells are kept as given and turned at the end, a cell's
+    key and mean changing sign along the axis exactly as its samples' do. With a clearance the
+    samples are kept (the cells are a share of the largest load).
+    """
+
+    def __init__(self, geometry: InternalGeometry, exponent: float) -> None:
+        self.geometry, self.exponent = geometry, exponent
+        self.homogeneous = geometry.clearance == 0.0
+        self.faces = geometry.contact_angle > 0.0 and geometry.rows == 1
+        self.arm = 0.5 * geometry.pitch_diameter
+        _, self.carried = oriented(geometry, np.zeros((1, 5)))  # the mask only
+        self._axial = 0.0  # Σ F_a, for the mean's sign
+        # Each cell's key (k, 5) and [count, Σ direction (5), Σ s^p n, Σ s^p Δt, below thrust,
+        # below when turned] (k, 10), in arrays: a dict of them took 500 bytes a cell, and a
+        # turbulent run's main bearing meets a hundred new cells a second.
+        self._keys = np.zeros((0, 5), dtype=np.int16)
+        self._rows = np.zeros((0, 10))
+        self._kept: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+
+    def add(self, load: np.ndarray, turns: np.ndarray, weights: np.ndarray) -> None:
+        """Samples W (n, 5) [N, N·m] with their revolutions (n,) and seconds (n,)."""
+        if not self.homogeneous:
+            self._kept.append((load, turns, weights))
+            return
+        self._axial += float(np.sum(load[:, 2]))
+        key, measured, size = cell_keys(load * self.carried, homogeneous=True, arm=self.arm)
+        powered = size**self.exponent
+        columns = [np.ones(len(load)), *measured.T, powered * turns, powered * weights]
+        if self.faces:
+            thrust = np.hypot(load[:, 0], load[:, 1]) * math.tan(self.geometry.contact_angle)
+            columns += [load[:, 2] < thrust, -load[:, 2] < thrust]
+        else:
+            columns += [np.zeros(len(load))] * 2
+        keys = np.concatenate((self._keys, key.astype(np.int16)))  # |key| ≤ LOAD_CELLS
+        rows = np.concatenate((self._rows, np.column_stack(columns)))
+        self._keys, inverse = np.unique(keys, axis=0, return_inverse=True)
+        inverse = inverse.reshape(-1)
+        self._rows = np.stack(
+            [np.bincount(inverse, weights=c, minlength=len(self._keys)) for c in rows.T], axis=1
+        )
+
+    def sums(self, exponent: float) -> _CellSums:
+        """The reference sums over the samples given (each cell solved once)."""
+        geometry = self.geometry
+        if not self.homogeneous:
+            load = np.concatenate([k[0] for k in self._kept]) if self._kept else np.zeros((0, 5))
+            turns = np.concatenate([k[1] for k in self._kept]) if self._kept else np.zeros(0)
+            weights = np.concatenate([k[2] for k in self._kept]) if self._kept else np.zeros(0)
+            each = sample_distribution(geometry, load)
+            return _CellSums(
+                load_power_sum(each.reference_load, turns, exponent),
+                load_power_sum(each.reference_load, weights, exponent),
+                each.failed,
+                each.below_thrust,
+            )
+        if not len(self._keys):
+            return _CellSums(0.0, 0.0, 0, 0)
+        keys, rows = self._keys.astype(np.int64), self._rows.copy()
+        below = rows[:, 8]
+        if self.faces and self._axial < 0.0:  # the row faces the other way: turned
+            keys[:, 2] *= -1
+            rows[:, 3] *= -1.0
+            below = rows[:, 9]
+        order = np.lexsort(keys.T[::-1])  # np.unique's order, as `load_cells`
+        keys, rows, below = keys[order], rows[order], below[order]
+        count = rows[:, 0]
+        unit = np.array([1.0, 1.0, 1.0, self.arm, self.arm])
+        dist = distribute(geometry, rows[:, 1:6] / count[:, None] * unit)
+        failed = ~dist.converged
+        p_ref = reference_load(geometry, dist.slice_loads)
+        with np.errstate(invalid="ignore"):
+            scale = np.where(failed, 0.0, p_ref**exponent)
+        return _CellSums(
+            float(np.sum(scale * rows[:, 6])),
+            float(np.sum(scale * rows[:, 7])),
+            int(np.sum(count[failed])),
+            int(np.sum(below[failed])),
+        )
 
 
 def run_load_sums(
@@ -252,7 +503,8 @@ def run_load_sums(
     ``analysis.bearing_rows.row_loads``: W the opposite of the row's force and tilt moment on
     the shaft, named ``BEARING.ROW`` (`row_rating`). Revolutions are the joint's speed relative
     to its parent (a planet's rows turn at the planet's speed relative to the carrier). The
-    lubricant and inside of each are the model's (`life_data_of`).
+    lubricant and inside of each are the model's (`life_data_of`). The whole run is one block
+    of `RunLoadSums`.
 
     Args:
         result: the run (``Result``: time, joint speeds, bearing forces and the row series).
@@ -260,44 +512,73 @@ def run_load_sums(
         life: each bearing's and row's life data by its rated name, instead of the model's
             (`bearing_life_data`; a fatigue set's, with its ``[fatigue.bearings]``).
     """
-    from pinwind.analysis.bearing_rows import row_loads
+    sums = RunLoadSums(gearbox, life=life)
+    sums.add(result)
+    return sums.sums()
 
-    ratings = gearbox.source.bearings
-    life = bearing_life_data(gearbox) if life is None else life
-    out = []
-    for i, name in enumerate(result.bearing_names):
-        speed = result.speed[:, result.joint_names.index(name)]
-        axis = np.asarray(gearbox.joint_axis(name), dtype=float)
-        force = np.asarray(result.bearing_force_local[:, i], dtype=float)
-        rating = ratings.get(name)
-        if rating is None:
-            out.append(
-                load_sum_of_history(
-                    name, None, time=result.time, force_in_joint=force, speed=speed, axis=axis
+
+class RunLoadSums:
+    """`run_load_sums` of a run given in blocks of consecutive samples (`add`).
+
+    Each bearing and row is a `HistoryStream`, so the sums of the blocks are those of the
+    whole run and the memory does not grow with it (but for rows with a clearance or preload,
+    `HistoryStream`).
+
+    Args:
+        gearbox: the model of the run (its ``<bearing>`` and ``<row>`` elements).
+        life: each bearing's and row's life data by its rated name (None: the model's).
+    """
+
+    def __init__(self, gearbox: Any, *, life: Mapping[str, BearingLifeData] | None = None):
+        self.gearbox = gearbox
+        self.life = bearing_life_data(gearbox) if life is None else life
+        self._bearings: list[HistoryStream] | None = None
+        self._rows: list[HistoryStream] = []
+
+    def add(self, result: Any) -> None:
+        """The next samples of the run (a Result with the series `run_load_sums` reads)."""
+        from pinwind.analysis.bearing_rows import row_loads
+
+        gearbox, life = self.gearbox, self.life
+        ratings = gearbox.source.bearings
+        rows = {(b, r.name): r for b, rs in gearbox.source.bearing_rows.items() for r in rs}
+        loads = row_loads(result, gearbox)
+        if self._bearings is None:
+            self._bearings = [
+                HistoryStream(name, ratings.get(name), data=life.get(name), size=None)
+                for name in result.bearing_names
+            ]
+            self._rows = [
+                HistoryStream(
+                    row_name(load.bearing, load.name),
+                    row_rating(load.bearing, rows[(load.bearing, load.name)]),
+                    data=life.get(row_name(load.bearing, load.name)),
+                    size=rows[(load.bearing, load.name)].size,
                 )
+                for load in loads
+            ]
+        for i, (name, stream) in enumerate(zip(result.bearing_names, self._bearings, strict=True)):
+            speed = result.speed[:, result.joint_names.index(name)]
+            axis = np.asarray(gearbox.joint_axis(name), dtype=float)
+            force = np.asarray(result.bearing_force_local[:, i], dtype=float)
+            w = np.zeros((len(force), 5))
+            if stream.rating is not None:
+                radial, _ = radial_and_axial(force, axis)
+                k = (axis / np.linalg.norm(axis)).reshape(1, 3)
+                w[:, 0], w[:, 2] = radial, along_axis(force[:, None, :], k)[:, 0]
+            stream.add(time=result.time, speed=speed, load=w)
+        for load, stream in zip(loads, self._rows, strict=True):
+            row = rows[(load.bearing, load.name)]
+            stream.add(
+                time=result.time,
+                speed=result.speed[:, result.joint_names.index(load.bearing)],
+                load=-np.column_stack([load.radial, load.axial, load.tilting]),
+                rolling=preloaded_rolling_load(gearbox, load.bearing, row, load.radial),
             )
-            continue
-        radial, _ = radial_and_axial(force, axis)
-        k = (axis / np.linalg.norm(axis)).reshape(1, 3)
-        w = np.zeros((len(force), 5))
-        w[:, 0], w[:, 2] = radial, along_axis(force[:, None, :], k)[:, 0]
-        data = life.get(name)
-        history = history_sums(
-            name, rating, data=data, size=None, time=result.time, speed=speed, load=w
-        )
-        out.append(history.sums)
-    rows = {(b, r.name): r for b, rs in gearbox.source.bearing_rows.items() for r in rs}
-    for load in row_loads(result, gearbox):
-        row = rows[(load.bearing, load.name)]
-        w = -np.column_stack([load.radial, load.axial, load.tilting])
-        history = history_sums(
-            row_name(load.bearing, load.name), row_rating(load.bearing, row),
-            data=life.get(row_name(load.bearing, load.name)), size=row.size,
-            time=result.time, speed=result.speed[:, result.joint_names.index(load.bearing)],
-            load=w, rolling=preloaded_rolling_load(gearbox, load.bearing, row, load.radial),
-        )  # fmt: skip
-        out.append(history.sums)
-    return out
+
+    def sums(self) -> list[BearingLoadSum]:
+        """The sums of every bearing, then of every row (the run's end: no block may follow)."""
+        return [s.sums().sums for s in [*(self._bearings or []), *self._rows]]
 
 
 def preloaded_rolling_load(

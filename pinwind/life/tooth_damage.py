@@ -37,13 +37,19 @@ the first sample (and wherever the mesh changes flank) follows from the joint an
 is the tooth whose centre line lies nearest the contact point (less than half a pitch away, as
 a flank is); the jumps of x count on from it, in the sense the gear turns as the contact rolls
 forward. Each flank of a tooth is its own surface and is rated apart (`gear_tooth_damage`).
+
+A run may be counted block by block as it runs (`GearTeeth`, a fatigue case's reduction): the
+teeth are numbered on from the block before (the roll position and tooth at its last sample),
+a pass that runs past a block's end goes on in the next (a helical pass's largest value is
+held until the pass ends), and each tooth flank's history is kept as its reversals only
+(`pinwind.life.cycles.Reversals`), counted at the end; the whole run is one block.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -58,7 +64,7 @@ from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import Material
 from pinwind.life.contact_stress import contact_stress, helical_contact_stress
-from pinwind.life.cycles import Cycles, rainflow_cycles
+from pinwind.life.cycles import Cycles, Reversals, rainflow_cycles
 from pinwind.life.root_stress import RootStress
 from pinwind.life.sn_curve import FatigueCurve, miner_damage
 from pinwind.model.phasing import zero_direction
@@ -219,7 +225,8 @@ def tooth_histories(
 
     A tooth's history holds its values while it is in contact (entering, then leading) at any
     of the meshes, with a 0 before, between and after its passes: out of contact it is unloaded.
-    A pass through a helical mesh (`HelicalContacts`) keeps one value, its largest.
+    A pass through a helical mesh (`HelicalContacts`) keeps one value, its largest. The whole
+    history is one block of `ToothPasses`.
 
     Args:
         contacts: one per mesh of the gear, all over the same samples.
@@ -232,35 +239,113 @@ def tooth_histories(
         InputError: three or more pairs in contact at a spur mesh (a contact ratio of 2 or
             more), which the logged series do not resolve.
     """
-    tooth_of, sample_of, mesh_of, value_of, peak_of = [], [], [], [], []
-    for m, c in enumerate(contacts):
-        tooth_m, sample_m, value_m = c.loads(m)
-        tooth_of.append(tooth_m)
-        sample_of.append(sample_m)
-        mesh_of.append(np.full(tooth_m.size, m))
-        value_of.append(value_m)
-        peak_of.append(np.full(tooth_m.size, c.peak_per_pass))
-    tooth = np.concatenate(tooth_of).astype(int)
-    sample = np.concatenate(sample_of)
-    mesh = np.concatenate(mesh_of)
-    value = np.concatenate(value_of)
-    peak = np.concatenate(peak_of)
-    order = np.lexsort((mesh, sample, tooth))
-    tooth, sample, mesh, value, peak = (
-        tooth[order], sample[order], mesh[order], value[order], peak[order]
-    )  # fmt: skip
-    histories = []
-    for j in range(teeth):
-        rows = slice(*np.searchsorted(tooth, [j, j + 1]))
-        at, where, v = sample[rows], mesh[rows], value[rows]
-        # A pass ends where the tooth skips a sample or moves to another mesh: a 0 between
-        # passes (one insert for all of them, not a list of parts: a tooth has thousands).
-        breaks = np.flatnonzero((np.diff(at) > 1) | (np.diff(where) != 0)) + 1
-        if np.any(peak[rows]):
-            v, breaks = _pass_peaks(v, breaks, peak[rows])
-        passes = np.insert(v, breaks, 0.0)
-        histories.append(np.concatenate(([0.0], passes, [0.0])) if v.size else np.zeros(1))
-    return histories
+    parts: list[list[np.ndarray]] = [[] for _ in range(teeth)]
+    passes = ToothPasses(teeth, lambda j, values: parts[j].append(values))
+    passes.add(contacts)
+    passes.close()
+    return [np.concatenate(p) for p in parts]
+
+
+class ToothPasses:
+    """Each tooth's history of a gear over all its meshes, built block by block.
+
+    The history is `tooth_histories`'s; the blocks are consecutive runs of samples, each given
+    as the contacts of every mesh over them (`add`). Each block's part of every tooth's history
+    goes to ``sink(tooth, values)`` as soon as it is known: a pass that runs on past a block's
+    end continues in the next block (no 0 between), and a helical pass's one value, its
+    largest, is given once the pass has ended. `close` gives the end (the last helical passes
+    and the final 0). The parts given to one tooth, joined, are its history over all the blocks.
+
+    Args:
+        teeth: the gear's tooth count.
+        sink: receives (tooth, the next values of its history).
+    """
+
+    def __init__(self, teeth: int, sink: Callable[[int, np.ndarray], None]) -> None:
+        self.teeth = teeth
+        self._sink = sink
+        self._offset = 0  # samples in the blocks before
+        self._last_sample = np.full(teeth, -2)  # each tooth's last sample in contact ...
+        self._last_mesh = np.full(teeth, -1)  # ... and its mesh there
+        self._touched = np.zeros(teeth, dtype=bool)
+        self._open = np.full(teeth, np.nan)  # the largest value of an unfinished helical pass
+        self._closed = False
+        for j in range(teeth):
+            sink(j, np.zeros(1))  # a history starts unloaded
+
+    def add(self, contacts: Sequence[ToothContacts | HelicalContacts]) -> None:
+        """The next block: the gear's contacts at each of its meshes, all over its samples.
+
+        Raises:
+            InputError: three or more pairs in contact at a spur mesh (`ToothContacts.loads`).
+        """
+        if not contacts:
+            return
+        tooth_of, sample_of, mesh_of, value_of, peak_of = [], [], [], [], []
+        for m, c in enumerate(contacts):
+            tooth_m, sample_m, value_m = c.loads(m)
+            tooth_of.append(tooth_m)
+            sample_of.append(sample_m + self._offset)
+            mesh_of.append(np.full(tooth_m.size, m))
+            value_of.append(value_m)
+            peak_of.append(np.full(tooth_m.size, c.peak_per_pass))
+        tooth = np.concatenate(tooth_of).astype(int)
+        sample = np.concatenate(sample_of)
+        mesh = np.concatenate(mesh_of)
+        value = np.concatenate(value_of)
+        peak = np.concatenate(peak_of)
+        order = np.lexsort((mesh, sample, tooth))
+        tooth, sample, mesh, value, peak = (
+            tooth[order], sample[order], mesh[order], value[order], peak[order]
+        )  # fmt: skip
+        bounds = np.searchsorted(tooth, np.arange(self.teeth + 1))
+        for j in range(self.teeth):
+            rows = slice(int(bounds[j]), int(bounds[j + 1]))
+            at, where, v, pk = sample[rows], mesh[rows], value[rows], peak[rows]
+            if not at.size:
+                continue
+            # A pass ends where the tooth skips a sample or moves to another mesh: a 0 between
+            # passes (one insert for all of them, not a list of parts: a tooth has thousands).
+            breaks = np.flatnonzero((np.diff(at) > 1) | (np.diff(where) != 0)) + 1
+            if np.any(pk):
+                v, breaks = _pass_peaks(v, breaks, pk)
+            parts = []
+            held = self._open[j]
+            if (
+                self._touched[j]
+                and at[0] == self._last_sample[j] + 1
+                and where[0] == self._last_mesh[j]
+            ):  # the pass of the block before goes on
+                if not np.isnan(held):  # a helical one: its largest over both blocks
+                    v = v.copy()
+                    v[0] = max(held, v[0])
+            else:
+                if not np.isnan(held):
+                    parts.append(np.array([held]))
+                if self._touched[j]:
+                    parts.append(np.zeros(1))
+            if pk[-1]:  # a helical pass until the block's end: held until it ends
+                self._open[j] = v[-1]
+                v = v[:-1]
+            else:
+                self._open[j] = np.nan
+            parts.append(np.insert(v, breaks, 0.0))
+            self._sink(j, np.concatenate(parts))
+            self._touched[j] = True
+            self._last_sample[j], self._last_mesh[j] = at[-1], where[-1]
+        self._offset += len(contacts[0].tooth)
+
+    def close(self) -> None:
+        """The end of the histories: the helical passes still held, and a 0 after the last pass."""
+        if self._closed:
+            return
+        self._closed = True
+        for j in range(self.teeth):
+            end = [] if np.isnan(self._open[j]) else [self._open[j]]
+            if self._touched[j]:
+                end.append(0.0)
+            if end:
+                self._sink(j, np.array(end))
 
 
 def _pass_peaks(
@@ -337,12 +422,44 @@ def histories_damage(
         flank: the flank the histories are of, for the record (`ToothDamage.flank`).
     """
     counted = tuple(rainflow_cycles(history) for history in histories)
+    peaks = [float(np.max(history)) for history in histories]
+    return cycles_damage(
+        counted,
+        peaks,
+        gear=gear,
+        curve=curve,
+        time_factor=time_factor,
+        use_endurance_limit=use_endurance_limit,
+        flank=flank,
+    )
+
+
+def cycles_damage(
+    counted: Sequence[Cycles],
+    peaks: Sequence[float],
+    *,
+    gear: str,
+    curve: FatigueCurve,
+    time_factor: float,
+    use_endurance_limit: bool = True,
+    flank: int = 0,
+) -> ToothDamage:
+    """Palmgren-Miner damage of each tooth from its rainflow cycles (`histories_damage`).
+
+    Args:
+        counted: the rainflow cycles of each tooth's stress history [Pa].
+        peaks: the largest stress of each tooth's history [Pa].
+        gear: the gear's name, for the record.
+        curve: the S-N curve, read at the cycle ranges.
+        time_factor: life seconds per simulated second (`histories_damage`).
+        use_endurance_limit: False to count cycles below the endurance limit too.
+        flank: the flank the cycles are of, for the record (`ToothDamage.flank`).
+    """
     damage = [
         miner_damage(c.scaled(time_factor), curve, use_endurance_limit=use_endurance_limit)
         for c in counted
     ]
-    peaks = [float(np.max(history)) for history in histories]
-    return ToothDamage(gear, np.array(damage), counted, np.array(peaks), flank)
+    return ToothDamage(gear, np.array(damage), tuple(counted), np.array(peaks, dtype=float), flank)
 
 
 @dataclass(frozen=True)
@@ -381,46 +498,106 @@ def mesh_teeth(result: Result, gearbox: Gearbox, mesh: str, gear: str) -> Enteri
         UnknownElement: no mesh of that name.
     """
     i = [m.name for m in gearbox.meshes].index(gearbox.mesh(mesh).name)
-    spec = gearbox.meshes[i]
+    return _mesh_teeth(result, gearbox, i, _mesh_gear(gearbox, i, gear), None)[0]
+
+
+def _mesh_gear(gearbox: Gearbox, index: int, gear: str) -> Gear:
+    """The gear ``gear`` of mesh ``index``, whose teeth can be tracked.
+
+    Raises:
+        InputError: the gear is not in the mesh, or the mesh has no path of contact.
+    """
+    spec = gearbox.meshes[index]
     if gear not in (spec.gear_a.name, spec.gear_b.name):
         raise InputError(
-            f'gear "{gear}" is not in mesh "{mesh}"; its gears are {spec.gear_a.name} and '
+            f'gear "{gear}" is not in mesh "{spec.name}"; its gears are {spec.gear_a.name} and '
             f"{spec.gear_b.name}"
         )
     if spec.path is None:
         raise InputError(
-            f'mesh "{mesh}" has no path of contact (its gear data give none), so its teeth '
+            f'mesh "{spec.name}" has no path of contact (its gear data give none), so its teeth '
             "cannot be tracked; fix its teeth, module or profile shifts"
         )
-    wheel = spec.gear_a if spec.gear_a.name == gear else spec.gear_b
-    _check_samples_follow_the_roll(result, gearbox, i)
-    position = result.mesh_contact_position[:, i]
-    loaded = result.mesh_flank[:, i]
-    tooth = np.empty(len(position), dtype=int)
-    leading = np.empty(len(position), dtype=int)
-    flank = np.empty(len(position), dtype=int)
-    cuts = [0, *(np.flatnonzero(np.diff(loaded) != 0) + 1).tolist(), len(position)]
+    return spec.gear_a if spec.gear_a.name == gear else spec.gear_b
+
+
+@dataclass(frozen=True)
+class _Roll:
+    """A gear's entering tooth at a mesh at the last sample of a block, for the next block.
+
+    Attributes:
+        position: the roll position x there [m].
+        tooth, direction, side: the entering tooth, `entering_teeth`'s direction, the flank.
+        flank: the mesh's loaded flank there (``mesh_flank``).
+        time: the sample's time [s]; speed: its joint speeds [rad/s], (joints,).
+    """
+
+    position: float
+    tooth: int
+    direction: int
+    side: int
+    flank: float
+    time: float
+    speed: np.ndarray
+
+
+def _mesh_teeth(
+    result: Result, gearbox: Gearbox, index: int, wheel: Gear, before: _Roll | None
+) -> tuple[EnteringTeeth, _Roll | None]:
+    """`mesh_teeth` of mesh ``index`` over a block of samples, and where the block ends.
+
+    ``before``: where the block before ended (None: the first block), whose teeth it numbers
+    on, unless the mesh changes flank at the block's first sample (then found anew, as within
+    a block).
+    """
+    spec = gearbox.meshes[index]
+    _mesh_gear(gearbox, index, wheel.name)  # a mesh without a path of contact is refused
+    pitch = spec.path.base_pitch if spec.path is not None else math.nan
+    _check_samples_follow_the_roll(result, gearbox, index, before)
+    position = result.mesh_contact_position[:, index]
+    loaded = result.mesh_flank[:, index]
+    samples, teeth = len(position), wheel.spec.teeth
+    tooth = np.empty(samples, dtype=int)
+    leading = np.empty(samples, dtype=int)
+    flank = np.empty(samples, dtype=int)
+    if not samples:
+        return EnteringTeeth(tooth, leading, flank), before
+    cuts = [0, *(np.flatnonzero(np.diff(loaded) != 0) + 1).tolist(), samples]
+    direction = 1
     for start, stop in zip(cuts[:-1], cuts[1:], strict=True):
-        first, direction, side = _entering_tooth(result, gearbox, i, wheel, start)
-        tooth[start:stop] = entering_teeth(
-            position[start:stop],
-            base_pitch=spec.path.base_pitch,
-            teeth=wheel.spec.teeth,
+        x = position[start:stop]
+        if start == 0 and before is not None and loaded[0] - before.flank == 0:
+            first, direction, side = before.tooth, before.direction, before.side
+            x = np.concatenate(([before.position], x))  # the jump from the block before
+        else:
+            first, direction, side = _entering_tooth(result, gearbox, index, wheel, start)
+        numbered = entering_teeth(
+            x,
+            base_pitch=pitch,
+            teeth=teeth,
             first_tooth=first,
             direction=direction,
         )
-        leading[start:stop] = (tooth[start:stop] - direction) % wheel.spec.teeth
+        tooth[start:stop] = numbered[x.size - (stop - start) :]
+        leading[start:stop] = (tooth[start:stop] - direction) % teeth
         flank[start:stop] = side
-    return EnteringTeeth(tooth, leading, flank)
+    end = _Roll(
+        float(position[-1]), int(tooth[-1]), direction, int(flank[-1]), float(loaded[-1]),
+        float(result.time[-1]), np.array(result.speed[-1], dtype=float),
+    )  # fmt: skip
+    return EnteringTeeth(tooth, leading, flank), end
 
 
-def _check_samples_follow_the_roll(result: Result, gearbox: Gearbox, index: int) -> None:
+def _check_samples_follow_the_roll(
+    result: Result, gearbox: Gearbox, index: int, before: _Roll | None = None
+) -> None:
     """Refuses samples too far apart to tell which tooth enters (`entering_teeth`).
 
     Between two samples the contact rolls |ω_A − ω_line| r_b,A Δt along the line of action
     (`pinwind.analysis.spectrum.mesh_roll_speeds`, the faster of the two samples' speeds);
     from half a base pitch on, a tooth entering cannot be told from the previous one coming
-    back, and the tooth histories would silently mix teeth.
+    back, and the tooth histories would silently mix teeth. ``before``: the last sample of the
+    block before, checked with the first of this one.
 
     Raises:
         InputError: the roll between two samples reaches half a base pitch, with the time,
@@ -429,17 +606,21 @@ def _check_samples_follow_the_roll(result: Result, gearbox: Gearbox, index: int)
     from pinwind.analysis.spectrum import mesh_roll_speeds
 
     mesh = gearbox.meshes[index]
-    if mesh.path is None or len(result.time) < 2:
+    time, speed = np.asarray(result.time), np.asarray(result.speed)
+    if before is not None:
+        time = np.concatenate(([before.time], time))
+        speed = np.concatenate((before.speed[None, :], speed))
+    if mesh.path is None or len(time) < 2:
         return
-    omega = np.abs(mesh_roll_speeds(gearbox, result.speed)[:, index])
+    omega = np.abs(mesh_roll_speeds(gearbox, speed)[:, index])
     faster = np.maximum(omega[1:], omega[:-1])
-    roll = faster * abs(mesh.base_radius_a) * np.diff(result.time)
+    roll = faster * abs(mesh.base_radius_a) * np.diff(time)
     worst = int(np.argmax(roll))
     pitch = mesh.path.base_pitch
     if roll[worst] >= 0.5 * pitch:
         rate = 2.0 * faster[worst] * abs(mesh.base_radius_a) / pitch
         raise InputError(
-            f'mesh "{mesh.name}": between samples at t = {result.time[worst]:.6g} s its teeth '
+            f'mesh "{mesh.name}": between samples at t = {time[worst]:.6g} s its teeth '
             f"roll {roll[worst] / pitch:.2f} base pitches (gear {mesh.gear_a.name} at "
             f"{faster[worst] * 30.0 / math.pi:.4g} rpm relative to the line of centres); the "
             "tooth histories need less than half a base pitch per sample: record at least "
@@ -478,9 +659,8 @@ def _entering_tooth(
     q = gearbox.neutral()
     for name, angle in zip(result.joint_names, angles, strict=True):
         q[model.joints[model.getJointId(name)].idx_q] = angle
-    data = model.createData()
+    meshes, data = _pose_tools(gearbox)
     pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(model.nv))
-    meshes = MeshSet(gearbox)
     rows = meshes.evaluate(model, data)
     flank = float(result.mesh_flank[sample, index])
     line = meshes.line_of_action(rows, np.full(meshes.count, flank))[index]
@@ -504,6 +684,21 @@ def _entering_tooth(
     pitches = (angle - twist - gearbox.tooth_phases[gear.name]) * teeth / (2.0 * math.pi)
     nearest = round(pitches)
     return nearest % teeth, -1 if turns > 0.0 else 1, 1 if pitches > nearest else -1
+
+
+#: The last gearbox's mesh rows and Pinocchio data (`_pose_tools`): a run counted block by
+#: block finds its teeth from the angles hundreds of times per block, and a new Data and
+#: MeshSet each time cost half the counting's time and the memory pages to touch again.
+_POSE_TOOLS: dict[str, tuple[Gearbox, MeshSet, pin.Data] | None] = {"last": None}
+
+
+def _pose_tools(gearbox: Gearbox) -> tuple[MeshSet, pin.Data]:
+    """The mesh rows and a Pinocchio Data of ``gearbox`` (those of the last call, if its)."""
+    held = _POSE_TOOLS["last"]
+    if held is None or held[0] is not gearbox:
+        held = (gearbox, MeshSet(gearbox), gearbox.model.createData())
+        _POSE_TOOLS["last"] = held
+    return held[1], held[2]
 
 
 def gear_tooth_damage(
@@ -547,62 +742,156 @@ def gear_tooth_damage(
             of 2 or more; a helical mesh with ε_β < 1 (`contact_stress.require_full_overlap`)
             or a root-stress table on one.
     """
-    chosen = dict(materials or {})
-    contacts: list[tuple[ToothContacts | HelicalContacts, np.ndarray]] = []
-    teeth = 0
-    for i, mesh in enumerate(gearbox.meshes):
-        if gear not in (mesh.gear_a.name, mesh.gear_b.name):
-            continue
-        entering_teeth_of = mesh_teeth(result, gearbox, mesh.name, gear)
-        teeth = (mesh.gear_a if mesh.gear_a.name == gear else mesh.gear_b).spec.teeth
-        pair = GearPair.from_gears(mesh.gear_a.spec, mesh.gear_b.spec, dict(chosen))
-        if pair.helix_angle != 0.0:
-            contacts.append(
-                (
-                    _helical_contacts(result, i, pair, gear, entering_teeth_of, root_stress),
-                    entering_teeth_of.flank,
+    counter = GearTeeth(gearbox, gear, materials=materials, root_stress=root_stress)
+    counter.add(result)
+    return counter.damage(
+        curve=curve, time_factor=time_factor, use_endurance_limit=use_endurance_limit
+    )
+
+
+class GearTeeth:
+    """The tooth histories of a gear over all its meshes, fed block by block and counted.
+
+    Each block is a Result of consecutive samples of a run, continuing the block before
+    (`add`); the teeth are numbered on across blocks (`mesh_teeth`), the passes joined
+    (`ToothPasses`), and each tooth flank's history is kept as its reversals only
+    (`pinwind.life.cycles.Reversals`), so that memory does not grow with the samples but by the
+    reversals. `damage` counts them: `gear_tooth_damage` of the blocks joined (the whole run is
+    one block). Each flank is built from the first block, whichever flanks the blocks load, so
+    that its passes are those of the whole history.
+
+    Args:
+        gearbox: the model of the run.
+        gear: the gear's name.
+        materials: gear name → material (default `materials.DEFAULT_MATERIAL`).
+        root_stress: rate the tooth root with this model instead of the flank's contact.
+
+    Raises:
+        InputError: no mesh has the gear, or a mesh of it has no path of contact.
+    """
+
+    def __init__(
+        self,
+        gearbox: Gearbox,
+        gear: str,
+        *,
+        materials: Mapping[str, Material | str] | None = None,
+        root_stress: RootStress | None = None,
+    ) -> None:
+        chosen = dict(materials or {})
+        self.gearbox, self.gear, self.root_stress = gearbox, gear, root_stress
+        self._meshes: list[tuple[int, Gear, GearPair]] = []
+        for i, mesh in enumerate(gearbox.meshes):
+            if gear in (mesh.gear_a.name, mesh.gear_b.name):
+                pair = GearPair.from_gears(mesh.gear_a.spec, mesh.gear_b.spec, dict(chosen))
+                self._meshes.append((i, _mesh_gear(gearbox, i, gear), pair))
+        if not self._meshes:
+            names = sorted({g.name for m in gearbox.meshes for g in (m.gear_a, m.gear_b)})
+            raise InputError(f'no mesh has a gear "{gear}"; meshed gears are: {", ".join(names)}')
+        self.teeth = self._meshes[-1][1].spec.teeth
+        self._rolls: dict[int, _Roll | None] = {i: None for i, _, _ in self._meshes}
+        self._reversals = {side: [Reversals() for _ in range(self.teeth)] for side in (1, -1)}
+        self._passes = {side: ToothPasses(self.teeth, self._sink(side)) for side in (1, -1)}
+        self._loaded = {1: False, -1: False}
+        self._counted: dict[int, tuple[list[Cycles], list[float]]] = {}
+
+    def _sink(self, side: int) -> Callable[[int, np.ndarray], None]:
+        """Where `ToothPasses` puts the next values of a tooth's history of flank ``side``."""
+        reversals = self._reversals[side]
+
+        def add(tooth: int, values: np.ndarray) -> None:
+            reversals[tooth].add(values)
+
+        return add
+
+    def add(self, result: Result) -> None:
+        """The next samples of the run (a Result of the series the teeth need, `CASE_SERIES`).
+
+        Raises:
+            InputError: as `gear_tooth_damage`.
+        """
+        if not len(result):
+            return
+        contacts: list[tuple[ToothContacts | HelicalContacts, np.ndarray]] = []
+        for i, wheel, pair in self._meshes:
+            teeth, self._rolls[i] = _mesh_teeth(result, self.gearbox, i, wheel, self._rolls[i])
+            gear_a = self.gearbox.meshes[i].gear_a.name
+            stressed = _contacts(result, i, pair, self.gear, teeth, self.root_stress, gear_a)
+            contacts.append((stressed, teeth.flank))
+        for side in (1, -1):
+            self._loaded[side] |= any(bool(np.any(flank == side)) for _, flank in contacts)
+            # Samples on the other flank leave this one unloaded.
+            self._passes[side].add([c.unloaded_where(flank != side) for c, flank in contacts])
+
+    def damage(
+        self, *, curve: FatigueCurve, time_factor: float, use_endurance_limit: bool = True
+    ) -> tuple[ToothDamage, ...]:
+        """The damage of each flank loaded in the blocks so far, the most damaged first.
+
+        The histories end here (`ToothPasses.close`): no block may follow. Each tooth flank's
+        reversals are counted once and let go (its cycles are kept instead).
+        """
+        rated = []
+        for side in (1, -1):
+            self._passes[side].close()
+            if not self._loaded[side]:
+                continue
+            if side not in self._counted:
+                reversals = self._reversals[side]
+                counted, peaks = [], []
+                for j in range(self.teeth):
+                    counted.append(reversals[j].cycles())
+                    peaks.append(reversals[j].largest)
+                    reversals[j] = Reversals()  # its reversals let go
+                self._counted[side] = (counted, peaks)
+            cycles, peaks = self._counted[side]
+            rated.append(
+                cycles_damage(
+                    cycles,
+                    peaks,
+                    gear=self.gear,
+                    curve=curve,
+                    time_factor=time_factor,
+                    use_endurance_limit=use_endurance_limit,
+                    flank=side,
                 )
             )
-            continue
-        position = result.mesh_contact_position[:, i]
-        single = np.abs(result.mesh_single_tooth_force[:, i])
-        normal = np.abs(result.mesh_normal[:, i])
-        ahead = position + pair.path.base_pitch
-        if root_stress is None:
-            entering = contact_stress(pair, force=single, position=position).von_mises
-            leading = contact_stress(pair, force=normal - single, position=ahead).von_mises
-        else:
-            side = 1 if gear == mesh.gear_a.name else 2
-            entering = root_stress.stress(pair, side, force=single, position=position)
-            leading = root_stress.stress(pair, side, force=normal - single, position=ahead)
-        contact = ToothContacts(
-            tooth=entering_teeth_of.tooth,
-            leading_tooth=entering_teeth_of.leading_tooth,
-            entering=np.nan_to_num(entering),
-            leading=np.nan_to_num(leading),
-            pairs=result.mesh_pairs[:, i],
-        )
-        contacts.append((contact, entering_teeth_of.flank))
-    if not contacts:
-        names = sorted({g.name for m in gearbox.meshes for g in (m.gear_a, m.gear_b)})
-        raise InputError(f'no mesh has a gear "{gear}"; meshed gears are: {", ".join(names)}')
-    rated = []
-    for side in (1, -1):
-        if not any(np.any(flank == side) for _, flank in contacts):
-            continue
-        # Samples on the other flank leave this one unloaded.
-        on_side = [c.unloaded_where(flank != side) for c, flank in contacts]
-        rated.append(
-            histories_damage(
-                tooth_histories(on_side, teeth=teeth),
-                gear=gear,
-                curve=curve,
-                time_factor=time_factor,
-                use_endurance_limit=use_endurance_limit,
-                flank=side,
-            )
-        )
-    return tuple(sorted(rated, key=lambda d: -d.worst))
+        return tuple(sorted(rated, key=lambda d: -d.worst))
+
+
+def _contacts(
+    result: Result,
+    index: int,
+    pair: GearPair,
+    gear: str,
+    teeth: EnteringTeeth,
+    root_stress: RootStress | None,
+    gear_a: str,
+) -> ToothContacts | HelicalContacts:
+    """The teeth of ``gear`` at mesh ``index`` and their stresses, contact or root.
+
+    ``gear_a``: the mesh's gear A (the root stress of its side or of gear B's).
+    """
+    if pair.helix_angle != 0.0:
+        return _helical_contacts(result, index, pair, gear, teeth, root_stress)
+    position = result.mesh_contact_position[:, index]
+    single = np.abs(result.mesh_single_tooth_force[:, index])
+    normal = np.abs(result.mesh_normal[:, index])
+    ahead = position + pair.path.base_pitch
+    if root_stress is None:
+        entering = contact_stress(pair, force=single, position=position).von_mises
+        leading = contact_stress(pair, force=normal - single, position=ahead).von_mises
+    else:
+        side = 1 if gear == gear_a else 2
+        entering = root_stress.stress(pair, side, force=single, position=position)
+        leading = root_stress.stress(pair, side, force=normal - single, position=ahead)
+    return ToothContacts(
+        tooth=teeth.tooth,
+        leading_tooth=teeth.leading_tooth,
+        entering=np.nan_to_num(entering),
+        leading=np.nan_to_num(leading),
+        pairs=result.mesh_pairs[:, index],
+    )
 
 
 def _helical_contacts(

@@ -15,7 +15,7 @@ import math
 import time
 import zipfile
 import zlib
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -23,15 +23,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from pinwind.errors import PinwindError
-from pinwind.life.case_cycles import CaseCycles, case_cycles
+from pinwind.life.case_cycles import CaseCycles, CaseReduction
 from pinwind.life.fatigue_set import FatigueSet, LoadCase
-from pinwind.life.life_sums import run_load_sums
 from pinwind.life.root_stress import ISO_ROOT_STRESS
+from pinwind.runs.kept_blocks import KeptBlocks
 from pinwind.runs.scenario import build
 
 #: The series a case's reduction reads (the tooth cycles: ``life/tooth_damage.py``; the
-#: bearings' and their rows' load sums: ``life/bearing_life.py``); the Result keeps these only,
-#: its log all.
+#: bearings' and their rows' load sums: ``life/life_sums.py``), as the run goes
+#: (`case_reducer`); the log keeps every series.
 CASE_SERIES = (
     "angle", "speed", "mesh_normal", "mesh_flank", "mesh_contact_position", "mesh_pairs",
     "mesh_single_tooth_force", "bearing_force_local", "bearing_moment_local", "row_force",
@@ -57,10 +57,11 @@ def case_scenario(case: LoadCase, fatigue: FatigueSet) -> Scenario:
 
 
 def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
-    """Simulate one case with its log and reduce it (a worker's task).
+    """Simulate one case with its log and reduce it as it runs (a worker's task).
 
     The reduction is its tooth cycles and its bearings' (and their rows') load sums, both from
-    ``skip_start`` on (`reduce_case`).
+    ``skip_start`` on, of the samples at the set's sample rate (`case_reducer`); the Result
+    keeps the last sample only, so the memory does not grow with the case's length.
 
     Runs in this process, a local worker or a Dask worker (whose output folder must be the
     one the caller reads: a shared file system).
@@ -74,24 +75,89 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     scenario = case_scenario(case, fatigue)
     gearbox = load(scenario.model_path())
     fatigue.out.mkdir(parents=True, exist_ok=True)
+    reduction, observer = case_reducer(case, fatigue, gearbox)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        # No run statistics: the case counts its kept samples, and folding every step into
-        # min, max and RMS (for a summary; not logged) would take a thread beside the loop.
-        result = run(
+        # No run statistics: folding every step into min, max and RMS (for a summary; not
+        # logged) would take a thread beside the loop.
+        run(
             scenario,
             gearbox=gearbox,
             progress=False,
             command=f"pinwind fatigue {fatigue.source} (case {case.name})",
             statistics=False,
-            keep_series=CASE_SERIES,
+            keep="last",
+            keep_series=(),
+            observer=observer,
         )
-    reduced = reduce_case(case, fatigue, result, gearbox)
-    return dataclasses.replace(
-        reduced,
+    return reduced_case(
+        case,
+        fatigue,
+        reduction,
         wall_time=time.perf_counter() - start,
         cpu_time=time.process_time() - cpu,
         thread_time=time.thread_time() - own,
+    )
+
+
+def case_reducer(
+    case: LoadCase,
+    fatigue: FatigueSet,
+    gearbox: Gearbox,
+    *others: Any,
+    series: Sequence[str] = (),
+) -> tuple[CaseReduction, KeptBlocks]:
+    """A case's reduction and the run observer that feeds it as the case runs.
+
+    The observer hands on the samples of `CASE_SERIES` (and ``series``) a Result of the set's
+    sample rate would keep (``keep`` of `FatigueSet.case_values`), from ``skip_start`` on, in
+    blocks (``pinwind.runs.kept_blocks``), to the reduction and to ``others`` (each with
+    ``add(block)``, after the reduction). Pass the observer to the run
+    (``pinwind.runs.scenario.run``); then `reduced_case`.
+    """
+    reduction = case_reduction(fatigue, gearbox)
+    observer = KeptBlocks(
+        [reduction, *others],
+        series=tuple(dict.fromkeys([*CASE_SERIES, *series])),
+        stride=int(fatigue.case_values(case)["keep"]),
+        skip_start=fatigue.skip_start,
+    )
+    return reduction, observer
+
+
+def case_reduction(fatigue: FatigueSet, gearbox: Gearbox) -> CaseReduction:
+    """The set's reduction of a case run on ``gearbox``, empty (`CaseReduction`)."""
+    return CaseReduction(
+        gearbox,
+        fatigue.gears,
+        materials=fatigue.materials,
+        root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
+        bearing_life=fatigue.bearing_life,
+    )
+
+
+def reduced_case(
+    case: LoadCase,
+    fatigue: FatigueSet,
+    reduction: CaseReduction,
+    *,
+    wall_time: float = math.nan,
+    cpu_time: float = math.nan,
+    thread_time: float = math.nan,
+) -> CaseCycles:
+    """A case's `CaseCycles` from its reduction fed with its run; its log must be written."""
+    flanks, roots, bearings = reduction.reduced()
+    return CaseCycles(
+        case,
+        fatigue.case_key(case),
+        fatigue.counted_seconds,
+        wall_time,
+        flanks,
+        roots,
+        bearings,
+        cpu_time,
+        thread_time,
+        file_sha256(fatigue.log_path(case)),
     )
 
 
@@ -105,40 +171,30 @@ def reduce_case(
     cpu_time: float = math.nan,
     thread_time: float = math.nan,
 ) -> CaseCycles:
-    """A case's run reduced: tooth cycles (contact and root), bearing and row load sums.
+    """A case's run reduced after it ran: tooth cycles (contact and root), bearing and row sums.
 
-    Counted from ``skip_start`` on. The case's log must be written (its SHA-256 is kept).
+    Counted from ``skip_start`` on, as `run_case` counts it while it runs: the kept samples
+    are one block of the same `CaseReduction`. The case's log must be written (its SHA-256 is
+    kept).
 
     Args:
-        result: the run of `case_scenario` (its kept samples at the set's sample rate).
+        result: the run of `case_scenario` (its kept samples at the set's sample rate), or
+            its log read at that rate.
         gearbox: the model it ran.
         wall_time: seconds the run and the reduction took (`CaseCycles.wall_time`).
         cpu_time: CPU seconds of the process meanwhile (`CaseCycles.cpu_time`).
         thread_time: CPU seconds of the calling thread (`CaseCycles.thread_time`).
     """
     first = int(np.searchsorted(result.time, fatigue.skip_start - 1e-12))
-    counted = result.rows(first, len(result))
-    flanks = case_cycles(counted, gearbox, fatigue.gears, materials=fatigue.materials)
-    roots = case_cycles(
-        counted,
-        gearbox,
-        fatigue.gears,
-        materials=fatigue.materials,
-        root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
-    )
-    bearings = run_load_sums(counted, gearbox, life=fatigue.bearing_life)
-    log_sha256 = file_sha256(fatigue.log_path(case))
-    return CaseCycles(
+    reduction = case_reduction(fatigue, gearbox)
+    reduction.add(result.rows(first, len(result)))
+    return reduced_case(
         case,
-        fatigue.case_key(case),
-        fatigue.counted_seconds,
-        wall_time,
-        tuple(flanks),
-        tuple(roots),
-        tuple(bearings),
-        cpu_time,
-        thread_time,
-        log_sha256,
+        fatigue,
+        reduction,
+        wall_time=wall_time,
+        cpu_time=cpu_time,
+        thread_time=thread_time,
     )
 
 

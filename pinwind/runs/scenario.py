@@ -805,6 +805,8 @@ def run(
     check_joints: bool = True,
     statistics: bool | None = None,
     keep_series: Sequence[str] | None = None,
+    keep: str | int | None = None,
+    observer: Any = None,
 ) -> Result:
     """Run a scenario: load its model (unless given), simulate, log it with its values.
 
@@ -817,6 +819,10 @@ def run(
         statistics: fold every sample into ``result.statistics`` (``pinwind.runs.run.simulate``;
             default: when the Result does not keep every sample).
         keep_series: the series the Result holds (default all; the log has every one).
+        keep: which samples the Result holds, instead of the scenario's ``keep`` (the log
+            records the scenario's).
+        observer: observers of the run besides its log (``RunObserver``, one or a sequence),
+            as ``pinwind.runs.run.simulate`` takes them.
 
     Returns:
         The ``Result``.
@@ -843,8 +849,9 @@ def run(
         pose_rate=v.get("pose_rate", POSE_RATE),
         view_rate=v.get("view_rate", VIEW_RATE),
         allow_large_log=v.get("allow_large_log", False),
-        keep=v.get("keep", "auto"),
+        keep=v.get("keep", "auto") if keep is None else keep,
         keep_series=keep_series,
+        observer=observer,
         skip_start=v.get("skip_start", 0.0),
         statistics=statistics,
         overwrite=v.get("force", False) if force is None else force,
