@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from pinwind.errors import FmuExportFailed, InputError
-from pinwind.runs.fmu_unit import CONFIG, FMI_UNITS
+from pinwind.runs.fmu_unit import CONFIG, FMI_UNITS, load_model
 from pinwind.runs.session import Session
 
 #: The FMI versions written: the exporter's module (and pip name), the slave's source, and its
@@ -55,7 +55,7 @@ def describe(
     Opens a session (prepared, one sample) to check the names against the model: an unknown
     input or output raises ``UnknownSessionName`` here, before anything is written.
     """
-    gearbox, scen = _load(model, scenario, dt=dt, duration=duration)
+    gearbox, scen = load_model(model, scenario, dt=dt, duration=duration)
     if inputs is None:  # every free joint the scenario leaves without a torque or speed
         loaded = set(scen.torques) | set(scen.speeds) | set(scen.generators) | set(scen.rotors)
         inputs = [f"torque.{j}" for j in gearbox.joint_names
@@ -82,32 +82,6 @@ def describe(
 def _what(name: str) -> str:
     series, _, element = name.partition(".")
     return f"{series} of {element}" if element else series
-
-
-def _load(model, scenario, *, dt: float, duration: float):
-    from pinwind.model.gearbox import load
-    from pinwind.runs.scenario import Scenario, load_scenario
-
-    gearbox = load(model)
-    if scenario is None:
-        return gearbox, Scenario(dt=dt, duration=duration)
-    scen = load_scenario(scenario, changes={"model": str(Path(model).resolve())})
-    return gearbox, scen
-
-
-def open_session(resources: Path, config: Mapping[str, Any], values: Mapping[str, float],
-                 duration: float | None = None) -> Session:  # fmt: skip
-    """The session of an FMU (``fmu_slave``), from its resources and configuration."""
-    model = resources / config["model"]
-    scenario = resources / config["scenario"] if config["scenario"] else None
-    gearbox, scen = _load(model, scenario, dt=config["dt"], duration=duration or config["duration"])
-    if duration is not None:
-        import dataclasses
-
-        scen = dataclasses.replace(scen, duration=duration)
-    return Session(gearbox, scen, inputs=list(config["inputs"]),
-                   start={n: values[n] for n in config["inputs"]},
-                   outputs=list(config["outputs"]))  # fmt: skip
 
 
 def export_fmu(

@@ -13,10 +13,12 @@ installed in the master's Python environment.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from pinwind.runs.session import Session
 
 #: The configuration file in the FMU's resources.
 CONFIG = "pinwind_fmu.json"
@@ -60,6 +62,38 @@ class Variable:
 def fmi_unit(unit: str) -> tuple[str, dict[str, int]] | None:
     """The FMI unit name and SI base-unit exponents of a pinwind unit (None if not tabled)."""
     return FMI_UNITS.get(unit)
+
+
+def load_model(model: str | Path, scenario: str | Path | None, *, dt: float, duration: float):
+    """The gearbox of ``model`` and its scenario.
+
+    The scenario is ``scenario``'s (its model replaced by ``model``), else one of ``dt`` [s]
+    and ``duration`` [s] with no loads.
+    """
+    from pinwind.model.gearbox import load
+    from pinwind.runs.scenario import Scenario, load_scenario
+
+    gearbox = load(model)
+    if scenario is None:
+        return gearbox, Scenario(dt=dt, duration=duration)
+    scen = load_scenario(scenario, changes={"model": str(Path(model).resolve())})
+    return gearbox, scen
+
+
+def open_session(resources: Path, config: Mapping[str, Any], values: Mapping[str, float],
+                 duration: float | None = None) -> Session:  # fmt: skip
+    """The session of an FMU, from its resources and configuration (``pinwind_fmu.json``)."""
+    model = resources / config["model"]
+    scenario = resources / config["scenario"] if config["scenario"] else None
+    gearbox, scen = load_model(model, scenario, dt=config["dt"],
+                               duration=duration or config["duration"])  # fmt: skip
+    if duration is not None:
+        import dataclasses
+
+        scen = dataclasses.replace(scen, duration=duration)
+    return Session(gearbox, scen, inputs=list(config["inputs"]),
+                   start={n: values[n] for n in config["inputs"]},
+                   outputs=list(config["outputs"]))  # fmt: skip
 
 
 class GearboxUnit:
@@ -129,8 +163,6 @@ class GearboxUnit:
         duration (else the FMU's own). Raises whatever the session raises (a
         ``PinwindError`` for a bad start value).
         """
-        from pinwind.runs.fmu_export import open_session
-
         self.session = open_session(self.resources, self.config, self.values, duration=stop_time)
         self.values.update(self.session.outputs())
 
