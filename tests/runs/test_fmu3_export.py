@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import pinwind
-from pinwind.errors import InputError
+from pinwind.errors import InputError, TorquesUnbalanced
 from pinwind.runs.scenario import Scenario
 from pinwind.runs.session import Session
 from tests.conftest import two_gear_urdf
@@ -118,6 +118,22 @@ def test_the_fmu3_under_fmpy_equals_the_session_and_the_momentum_balance(pair_fm
         momentum = I_A * got[i][0] - RATIO * I_B * got[i][1]
         assert momentum == pytest.approx(impulse, rel=1e-9, abs=1e-15)
     session.close()
+
+
+def test_fmpy_simulate_fmu_accelerates_the_pair_through_its_reflected_inertia(pair_fmu):
+    """FMPy's own master, 1 N·m on a from t = 0 (its start value): ω_a = T t / J with
+    J = I_a + (z_a/z_b)² I_b (the rigid mesh; the TorquesUnbalanced warning says nothing holds
+    the train), and ω_b = −(z_a/z_b) ω_a (an external pair turns the other way)."""
+    _, fmu = pair_fmu
+    signal = np.array([(0.0, 1.0, 0.0)], dtype=[("time", float), ("torque.a", float),
+                                                ("torque.b", float)])  # fmt: skip
+    with pytest.warns(TorquesUnbalanced):
+        got = fmpy.simulate_fmu(str(fmu), stop_time=0.1, output_interval=H, input=signal,
+                                output=["speed.a", "speed.b"])  # fmt: skip
+    assert len(got) == 11
+    inertia = I_A + RATIO**2 * I_B
+    np.testing.assert_allclose(got["speed.a"], 1.0 * got["time"] / inertia, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(got["speed.b"], -RATIO * got["speed.a"], rtol=1e-9, atol=1e-12)
 
 
 def test_get_and_set_fmu_state_repeat_a_step_bit_for_bit(pair_fmu):
