@@ -7,7 +7,8 @@ Times, best of ``--repeats``:
 - ``simulate``: one ``pinwind.dynamics.simulate.simulate`` over all the steps (keep="last", no
   log), end to end, and its step loop alone (``PreparedRun.run``);
 - ``session``: the ``advance`` calls of a Session over the same steps (its opening apart);
-- ``fmu``: the ``doStep`` calls (with ``setReal``/``getReal``) of the exported FMU under FMPy;
+- ``fmu``: the ``doStep`` calls (with ``setReal``/``getReal``) of the exported FMI 2.0 FMU under
+  FMPy, and those (with ``setFloat64``/``getFloat64``) of the FMI 3.0 FMU (``--fmi-version 3``);
 - ``state() + restore()``: the pair at the run's end (a copy of the compiled run's state: the
   same at any time).
 
@@ -49,7 +50,8 @@ def main(argv: list[str] | None = None) -> None:
     gearbox = pinwind.load(MODEL)
     h = args.steps * DT
     duration = args.points * h
-    whole, loop, session_s, fmu_s, state_s, changing_s = [], [], [], [], [], []
+    whole, loop, session_s, state_s, changing_s = [], [], [], [], []
+    fmu_s: dict[int, list[float]] = {2: [], 3: []}
     for _ in range(args.repeats):
         started = time.perf_counter()
         simulate(gearbox, duration=duration, dt=DT, torques=TORQUES, keep="last")
@@ -76,7 +78,8 @@ def main(argv: list[str] | None = None) -> None:
             session.advance((i + 1) * h, changed[i % 2])
         changing_s.append(time.perf_counter() - started)
         if not args.no_fmu:
-            fmu_s.append(_fmu_time(args.points, h, duration, inputs))
+            for version, times in fmu_s.items():
+                times.append(_fmu_time(args.points, h, duration, inputs, version))
     per = 1e6 / args.points
     print(f"planetary stage: {args.points} points of {args.steps} steps (dt = {DT:g} s), "
           f"best of {args.repeats}")  # fmt: skip
@@ -89,8 +92,9 @@ def main(argv: list[str] | None = None) -> None:
           f"(overhead {min(changing_s) / min(loop) - 1:+.1%})")  # fmt: skip
     print(f"state() + restore()   {min(state_s) * 1e6:9.1f} µs at the run's end "
           f"({args.points * args.steps} steps)")  # fmt: skip
-    if fmu_s:
-        print(f"FMU under FMPy        {min(fmu_s) * per:9.1f} µs per point")
+    for version, times in fmu_s.items():
+        if times:
+            print(f"FMU {version} under FMPy      {min(times) * per:9.1f} µs per point")
     _drivetrain(args.points, args.steps, args.repeats)
 
 
@@ -130,31 +134,42 @@ def _drivetrain(points: int, steps: int, repeats: int) -> None:
     )
 
 
-def _fmu_time(points: int, h: float, duration: float, inputs: dict[str, float]) -> float:
+def _fmu_time(
+    points: int, h: float, duration: float, inputs: dict[str, float], version: int
+) -> float:
+    """Seconds of ``points`` FMPy set/doStep/get calls on the FMI ``version`` (2 or 3) FMU."""
     import fmpy
     from fmpy.fmi2 import FMU2Slave
+    from fmpy.fmi3 import FMU3Slave
 
     from pinwind.runs.fmu_export import export_fmu
 
     folder = Path(tempfile.mkdtemp(prefix="pinwind_bench_"))
-    fmu = export_fmu(MODEL, folder / "gearbox.fmu", inputs=list(inputs), dt=DT, duration=duration)
+    fmu = export_fmu(MODEL, folder / "gearbox.fmu", inputs=list(inputs), dt=DT, duration=duration,
+                     fmi_version=version)  # fmt: skip
     description = fmpy.read_model_description(str(fmu))
     refs = {v.name: v.valueReference for v in description.modelVariables}
-    slave = FMU2Slave(guid=description.guid, unzipDirectory=fmpy.extract(str(fmu)),
-                      modelIdentifier=description.coSimulation.modelIdentifier,
-                      instanceName="gearbox")  # fmt: skip
+    kind = FMU2Slave if version == 2 else FMU3Slave
+    slave = kind(guid=description.guid, unzipDirectory=fmpy.extract(str(fmu)),
+                 modelIdentifier=description.coSimulation.modelIdentifier,
+                 instanceName="gearbox")  # fmt: skip
     slave.instantiate()
-    slave.setupExperiment(startTime=0.0, stopTime=duration)
-    slave.enterInitializationMode()
+    if version == 2:
+        slave.setupExperiment(startTime=0.0, stopTime=duration)
+        slave.enterInitializationMode()
+        put, get = slave.setReal, slave.getReal
+    else:  # the unit's duration is its own (PythonFMU3 passes no stop time on)
+        slave.enterInitializationMode(startTime=0.0, stopTime=duration)
+        put, get = slave.setFloat64, slave.getFloat64
     names = list(inputs)
-    slave.setReal([refs[n] for n in names], [inputs[n] for n in names])
+    put([refs[n] for n in names], [inputs[n] for n in names])
     slave.exitInitializationMode()
     outputs = [refs["speed.carrier"], refs["mesh_normal.sun_planet1"]]
     started = time.perf_counter()
     for i in range(points):
-        slave.setReal([refs[n] for n in names], [inputs[n] for n in names])
+        put([refs[n] for n in names], [inputs[n] for n in names])
         slave.doStep(currentCommunicationPoint=i * h, communicationStepSize=h)
-        slave.getReal(outputs)
+        get(outputs)
     elapsed = time.perf_counter() - started
     slave.terminate()
     slave.freeInstance()

@@ -1,4 +1,4 @@
-"""``pinwind fmu``: a model or scenario as an FMI 2.0 co-simulation unit (``runs/fmu_export``)."""
+"""``pinwind fmu``: a model or scenario as an FMI 2.0 or 3.0 co-simulation unit (``fmu_export``)."""
 
 from __future__ import annotations
 
@@ -36,8 +36,16 @@ def fmu(
     duration: Annotated[
         float, typer.Option(help="Longest run [s] of a model file (the master's stop time wins).")
     ] = 3600.0,
+    fmi_version: Annotated[
+        int,
+        typer.Option(
+            "--fmi-version",
+            help="FMI version of the unit: 2 (PythonFMU) or 3 (PythonFMU3; the run lasts "
+            "--duration or the scenario's, whatever the master's stop time).",
+        ),
+    ] = 2,
 ) -> None:
-    """Write an FMI 2.0 co-simulation FMU (PythonFMU); it runs in this Python environment.
+    """Write an FMI 2.0 (or 3.0) co-simulation FMU; it runs in this Python environment.
 
     Each communication step must be a whole number of internal steps dt; inputs are held over
     it. See docs/coupling.md.
@@ -45,5 +53,6 @@ def fmu(
     from pinwind.runs.fmu_export import export_fmu
 
     with warnings_as_lines():
-        written = export_fmu(source, out, inputs=inputs, outputs=outputs, dt=dt, duration=duration)
+        written = export_fmu(source, out, inputs=inputs, outputs=outputs, dt=dt,
+                             duration=duration, fmi_version=fmi_version)  # fmt: skip
     say(f"wrote {escape(str(written))}")

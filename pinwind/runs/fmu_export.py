@@ -1,19 +1,21 @@
-"""``pinwind fmu``: a gearbox (or a scenario) as an FMI 2.0 co-simulation unit (FMU).
+"""``pinwind fmu``: a gearbox (or a scenario) as an FMI 2.0 or FMI 3.0 co-simulation unit (FMU).
 
-The unit is built with PythonFMU (``pythonfmu``, Python-side FMI 2.0 slaves): its binary embeds
-the Python interpreter of the process that loads it, which must have pinwind installed (FMPy in
-the same environment, or a tool whose Python is that environment: docs/coupling.md). PythonFMU
-exports FMI 2.0 only; FMI 3.0 is not written.
+FMI 2.0 units are built with PythonFMU (``pythonfmu``), FMI 3.0 units with PythonFMU3
+(``pythonfmu3``): Python-side slaves (``fmu_slave``, ``fmu_slave3``) around one implementation
+of the variables and the session (``fmu_unit.GearboxUnit``). The unit's binary embeds the
+Python interpreter of the process that loads it, which must have pinwind installed (FMPy in
+the same environment, or a tool whose Python is that environment: docs/coupling.md).
 
 The FMU packs the model file (and the scenario file), and ``pinwind_fmu.json``: the inputs and
 outputs with their units and descriptions. Each communication step is one ``Session.advance``
 (``runs/session.py``): the step must be a whole number of the scenario's dt. The model
-description gets the SI unit of every variable (``UnitDefinitions``, FMI 2.0 §2.2.2), which
-PythonFMU does not write.
+description gets the SI unit of every variable (``UnitDefinitions``: FMI 2.0 §2.2.2, written
+here since PythonFMU does not; FMI 3.0 §2.4.3, written by PythonFMU3 from the slave's units).
 """
 
 from __future__ import annotations
 
+import importlib
 import json
 import shutil
 import tempfile
@@ -24,23 +26,18 @@ from pathlib import Path
 from typing import Any
 
 from pinwind.errors import FmuExportFailed, InputError
+from pinwind.runs.fmu_unit import CONFIG, FMI_UNITS, load_model
 from pinwind.runs.session import Session
 
-#: FMI 2.0 unit names of the series' units, with their SI base-unit exponents (FMI 2.0 §2.2.2).
-FMI_UNITS: dict[str, tuple[str, dict[str, int]]] = {
-    "N*m": ("N.m", {"kg": 1, "m": 2, "s": -2}),
-    "N": ("N", {"kg": 1, "m": 1, "s": -2}),
-    "rad": ("rad", {"rad": 1}),
-    "rad/s": ("rad/s", {"rad": 1, "s": -1}),
-    "rad/s^2": ("rad/s2", {"rad": 1, "s": -2}),
-    "m": ("m", {"m": 1}),
-    "m/s": ("m/s", {"m": 1, "s": -1}),
-    "W": ("W", {"kg": 1, "m": 2, "s": -3}),
-    "1": ("1", {}),
+#: The FMI versions written: the exporter's module (and pip name), the slave's source, and its
+#: module name in the FMU (one per version: the FMU's binary imports it by name into the
+#: master's process, where an FMI 2.0 and an FMI 3.0 unit may both be loaded).
+EXPORTERS: dict[int, tuple[str, str, str]] = {
+    2: ("pythonfmu", "fmu_slave.py", "pinwind_gearbox"),
+    3: ("pythonfmu3", "fmu_slave3.py", "pinwind_gearbox3"),
 }
 
-#: The slave's module (its file name in the FMU) and class (the FMU's model identifier).
-SLAVE_MODULE = "pinwind_gearbox"
+#: The slave's class (the FMU's model identifier).
 SLAVE_CLASS = "PinwindGearbox"
 
 
@@ -58,7 +55,7 @@ def describe(
     Opens a session (prepared, one sample) to check the names against the model: an unknown
     input or output raises ``UnknownSessionName`` here, before anything is written.
     """
-    gearbox, scen = _load(model, scenario, dt=dt, duration=duration)
+    gearbox, scen = load_model(model, scenario, dt=dt, duration=duration)
     if inputs is None:  # every free joint the scenario leaves without a torque or speed
         loaded = set(scen.torques) | set(scen.speeds) | set(scen.generators) | set(scen.rotors)
         inputs = [f"torque.{j}" for j in gearbox.joint_names
@@ -87,32 +84,6 @@ def _what(name: str) -> str:
     return f"{series} of {element}" if element else series
 
 
-def _load(model, scenario, *, dt: float, duration: float):
-    from pinwind.model.gearbox import load
-    from pinwind.runs.scenario import Scenario, load_scenario
-
-    gearbox = load(model)
-    if scenario is None:
-        return gearbox, Scenario(dt=dt, duration=duration)
-    scen = load_scenario(scenario, changes={"model": str(Path(model).resolve())})
-    return gearbox, scen
-
-
-def open_session(resources: Path, config: Mapping[str, Any], values: Mapping[str, float],
-                 duration: float | None = None) -> Session:  # fmt: skip
-    """The session of an FMU (``fmu_slave``), from its resources and configuration."""
-    model = resources / config["model"]
-    scenario = resources / config["scenario"] if config["scenario"] else None
-    gearbox, scen = _load(model, scenario, dt=config["dt"], duration=duration or config["duration"])
-    if duration is not None:
-        import dataclasses
-
-        scen = dataclasses.replace(scen, duration=duration)
-    return Session(gearbox, scen, inputs=list(config["inputs"]),
-                   start={n: values[n] for n in config["inputs"]},
-                   outputs=list(config["outputs"]))  # fmt: skip
-
-
 def export_fmu(
     source: str | Path,
     out: str | Path,
@@ -121,8 +92,9 @@ def export_fmu(
     outputs: Sequence[str] | None = None,
     dt: float = 1e-3,
     duration: float = 3600.0,
+    fmi_version: int = 2,
 ) -> Path:
-    """Writes ``out``, an FMI 2.0 co-simulation FMU of a model file or a scenario file.
+    """Writes ``out``, an FMI 2.0 or 3.0 co-simulation FMU of a model file or a scenario file.
 
     Args:
         source: a model file (``.urdf``) or a scenario (``.toml``, naming its model).
@@ -131,18 +103,23 @@ def export_fmu(
             scenario leaves unloaded.
         outputs: the outputs; default ``Session``'s.
         dt: internal step [s] for a model file (a scenario gives its own).
-        duration: the longest run [s] for a model file (a scenario gives its own; the master's
-            stop time, when it gives one, replaces it).
+        duration: the longest run [s] for a model file (a scenario gives its own; the FMI 2.0
+            master's stop time, when it gives one, replaces it; FMI 3.0 units keep it, as
+            PythonFMU3 does not pass the stop time on).
+        fmi_version: 2 (PythonFMU) or 3 (PythonFMU3).
 
     Raises:
-        InputError, UnknownSessionName: a bad source, input or output.
-        FmuExportFailed: PythonFMU is not installed or could not write the unit.
+        InputError, UnknownSessionName: a bad source, input, output or FMI version.
+        FmuExportFailed: the exporter is not installed or could not write the unit.
     """
+    if fmi_version not in EXPORTERS:
+        raise InputError(f"FMI version {fmi_version} is not written; give --fmi-version 2 or 3")
+    exporter, slave, module = EXPORTERS[fmi_version]
     try:
-        from pythonfmu import FmuBuilder
+        FmuBuilder = importlib.import_module(exporter).FmuBuilder  # noqa: N806
     except ImportError as err:
         raise FmuExportFailed(
-            str(out), "pythonfmu is not installed; pip install 'pinwind[fmi]'"
+            str(out), f"{exporter} is not installed; pip install 'pinwind[fmi]'"
         ) from err
     source = Path(source)
     if not source.is_file():
@@ -159,25 +136,34 @@ def export_fmu(
     out = Path(out)
     with tempfile.TemporaryDirectory(prefix="pinwind_fmu_") as folder:
         work = Path(folder)
-        script = work / f"{SLAVE_MODULE}.py"
-        shutil.copy(Path(__file__).with_name("fmu_slave.py"), script)
+        script = work / f"{module}.py"
+        shutil.copy(Path(__file__).with_name(slave), script)
         files = [work / model.name]
         shutil.copy(model, files[0])
         if scenario is not None:
             files.append(work / scenario.name)
             shutil.copy(scenario, files[-1])
-        files.append(work / "pinwind_fmu.json")
+        files.append(work / CONFIG)
         files[-1].write_text(json.dumps(config, indent=1))
-        try:
-            # fmi2GetFMUstate/SetFMUstate: the session's compiled state (fmu_slave); not
-            # serializable (the state is a copy in memory of the compiled run's).
-            built = FmuBuilder.build_FMU(
-                script, dest=out, project_files=files, canGetAndSetFMUstate=True
-            )
+        # fmi2GetFMUstate/SetFMUstate (fmi3GetFMUState/SetFMUState): the session's compiled
+        # state (fmu_unit); not serializable (a copy in memory of the compiled run's). Any
+        # communication step of whole dt's (PythonFMU3 0.3.4 writes the FMI 3 flag as
+        # canSerializeFMUState's value unless given).
+        options: dict[str, bool] = (
+            {"canGetAndSetFMUstate": True}
+            if fmi_version == 2
+            else {"canGetAndSetFMUState": True, "canHandleVariableCommunicationStepSize": True}
+        )
+        try:  # PythonFMU3 names the file after the model identifier: built in a folder, moved
+            built = FmuBuilder.build_FMU(script, dest=work / "built", project_files=files,
+                                         **options)  # fmt: skip
+            out.parent.mkdir(parents=True, exist_ok=True)
+            shutil.move(built, out)
         except Exception as err:
-            raise FmuExportFailed(str(out), f"PythonFMU: {type(err).__name__}: {err}") from err
-    _add_units(Path(built), config)
-    return Path(built)
+            raise FmuExportFailed(str(out), f"{exporter}: {type(err).__name__}: {err}") from err
+    if fmi_version == 2:
+        _add_units(out, config)
+    return out
 
 
 def _add_units(fmu: Path, config: Mapping[str, Any]) -> None:
