@@ -39,10 +39,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pinwind.dynamics.compliant import unsliced_mesh
 from pinwind.errors import FactorNotInRun, InputError
 from pinwind.gears.flank_modification import UNMODIFIED, FlankModification
 from pinwind.gears.transmission_error import static_transmission_error
-from pinwind.life.peak_line_load import unsliced_mesh
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result

@@ -288,6 +288,16 @@ class CaseReduction:
         ]
         self.bearings = RunLoadSums(gearbox, life=bearing_life)
 
+    def begin(self, result: Result) -> None:
+        """Refuse a run the tooth counters cannot read, before it steps (its metadata).
+
+        Raises:
+            FactorNotInRun: ``face_load="run"`` and a mesh of a counted gear not cut into
+                slices (`GearTeeth.check_run`).
+        """
+        for counter in self.contact:
+            counter.check_run(result)
+
     def add(self, block: Result) -> None:
         """The next kept samples of the case (`CASE_SERIES`)."""
         for counter in (*self.contact, *self.root):

@@ -21,11 +21,12 @@ take it with ``face_load="run"`` (`FACE_LOADS`, `pinwind.life.tooth_damage.GearT
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import numpy.typing as npt
 
-from typing import TYPE_CHECKING
-
+from pinwind.dynamics.compliant import unsliced_mesh
 from pinwind.errors import FactorNotInRun, InputError
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.rating_iso import root_face_load_exponent
@@ -68,20 +69,22 @@ def force_factor(pair: GearPair, face_load_factor: npt.ArrayLike, *, stress: str
     return k if stress == "contact" else k ** root_face_load_exponent(pair)
 
 
-def unsliced_mesh(result: Result, mesh: str) -> str | None:
-    """How the run modelled ``mesh`` if it did not cut it into slices (else None).
+def require_sliced(result: Result, mesh: str) -> None:
+    """Refuse to read the peak line load of ``mesh`` from a run that did not slice it.
 
-    Read from ``result.metadata["meshes"]``: "rigid", "with one contact line", or "with no
-    record of its slices (a run of an older pinwind)"; such a mesh's ``mesh_face_load_factor``
-    is not computed.
+    Raises:
+        FactorNotInRun: the run modelled the mesh rigid or with one contact line
+            (`unsliced_mesh`), naming it and the fix.
     """
-    how = ((result.metadata or {}).get("meshes") or {}).get(mesh, {})
-    slices = int(how.get("slices", 1)) if how.get("type") == "compliant" else 0
-    if slices >= 2:
-        return None
-    if not how:
-        return "with no record of its slices (a run of an older pinwind)"
-    return "rigid" if how.get("type") == "rigid" else "with one contact line"
+    modelled = unsliced_mesh(result, mesh)
+    if modelled is not None:
+        raise FactorNotInRun(
+            f'mesh "{mesh}": the tooth stresses at the run\'s peak line load (face_load = '
+            f'"run") read its series mesh_face_load_factor, but the run modelled the mesh '
+            f"{modelled}, whose K_Hβ is not computed; run it as a compliant mesh cut into "
+            'slices (slices="8" on its <mesh>, or MeshCompliance(slices=8)), or spread the '
+            'force evenly across the face (face_load = "uniform")'
+        )
 
 
 def run_force_factor(result: Result, index: int, pair: GearPair, *, stress: str) -> np.ndarray:
@@ -94,17 +97,8 @@ def run_force_factor(result: Result, index: int, pair: GearPair, *, stress: str)
         stress: ``"contact"`` or ``"root"``.
 
     Raises:
-        FactorNotInRun: the run did not cut the mesh into slices.
+        FactorNotInRun: the run did not cut the mesh into slices (`require_sliced`).
         InputError: as `force_factor`.
     """
-    name = result.mesh_names[index]
-    modelled = unsliced_mesh(result, name)
-    if modelled is not None:
-        raise FactorNotInRun(
-            f'mesh "{name}": the tooth stresses at the run\'s peak line load (face_load = '
-            f'"run") read its series mesh_face_load_factor, but the run modelled the mesh '
-            f"{modelled}, whose K_Hβ is not computed; run it as a compliant mesh cut into "
-            'slices (slices="8" on its <mesh>, or MeshCompliance(slices=8)), or spread the '
-            'force evenly across the face (face_load = "uniform")'
-        )
+    require_sliced(result, result.mesh_names[index])
     return force_factor(pair, result.mesh_face_load_factor[:, index], stress=stress)

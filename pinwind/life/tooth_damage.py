@@ -72,7 +72,7 @@ from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import Material
 from pinwind.life.contact_stress import contact_stress, helical_contact_stress
 from pinwind.life.cycles import Cycles, Reversals, rainflow_cycles
-from pinwind.life.peak_line_load import FACE_LOADS, run_force_factor
+from pinwind.life.peak_line_load import FACE_LOADS, require_sliced, run_force_factor
 from pinwind.life.root_stress import RootStress
 from pinwind.life.sn_curve import FatigueCurve, miner_damage
 from pinwind.model.phasing import zero_direction
@@ -826,6 +826,17 @@ class GearTeeth:
             reversals[tooth].add(values)
 
         return add
+
+    def check_run(self, result: Result) -> None:
+        """Refuse a run whose meshes of the gear lack what ``face_load`` needs (its metadata).
+
+        Raises:
+            FactorNotInRun: ``face_load="run"`` and a mesh of the gear not cut into slices.
+        """
+        if self.face_load != "run":
+            return
+        for i, _, _ in self._meshes:
+            require_sliced(result, self.gearbox.meshes[i].name)
 
     def add(self, result: Result) -> None:
         """The next samples of the run (a Result of the series the teeth need, `CASE_SERIES`).

@@ -279,6 +279,14 @@ class _SetReader:
                 f'is {face_load!r}; give "uniform" (each pair\'s force spread evenly across the '
                 'face) or "run" (at the run\'s peak line load, meshes cut into slices)',
             )
+        if face_load == "run" and (stiffness is not None or damping is not None):
+            raise self.fail(
+                ("fatigue", "face_load"),
+                'is "run", which reads the peak line load of meshes cut into slices, but '
+                "mesh_stiffness or mesh_damping of [fatigue] replace every mesh's compliance by "
+                "one with one contact line; give the stiffness, damping and slices on each "
+                '<mesh> of the model instead, or face_load = "uniform"',
+            )
         materials = self.materials(settings.get("materials", DEFAULT_MATERIAL), gears)
         curves = self.curves(settings.get("sn_curve", {}), gears, materials)
         fatigue = FatigueSet(

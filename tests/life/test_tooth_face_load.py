@@ -25,6 +25,8 @@ from pinwind.life.case_cycles import case_cycles
 from pinwind.life.root_stress import ISO_ROOT_STRESS
 from pinwind.life.sn_curve import SNCurve
 from pinwind.life.tooth_damage import gear_tooth_damage
+from tests.cli.test_fatigue import fatigue_exit
+from tests.conftest import fatigue_toml
 from tests.dynamics.test_sliced_mesh import B, F, K, held, pair
 
 F_HB, SLICES = 2e-6, 8
@@ -102,3 +104,35 @@ def test_a_mesh_with_one_contact_line_is_refused_when_asked_for_the_runs_face_lo
 def test_an_unknown_face_load_is_refused(sliced):
     with pytest.raises(InputError, match='face_load = "peak".*"uniform".*"run"'):
         damage(*sliced, "g1", face_load="peak")
+
+
+def test_the_fatigue_command_refuses_a_set_asked_for_the_peak_line_load_of_unsliced_meshes(
+    tmp_path, monkeypatch, capsys
+):
+    """The DTU 500 kW stage's meshes have one contact line: refused before any step, exit 2."""
+    monkeypatch.chdir(tmp_path)
+    path = fatigue_toml(tmp_path, fatigue='face_load = "run"')
+    code, err = fatigue_exit([str(path), "--workers", "1"], monkeypatch, capsys)
+    assert code == 2, err
+    assert err.strip().count("\n") == 0, err
+    assert "one contact line" in err and 'face_load = "uniform"' in err and "slices" in err
+    assert not list((tmp_path / "cases").glob("*.npz"))
+
+
+@pytest.mark.parametrize(
+    ("given", "message"),
+    [
+        ('face_load = "peak"', "is 'peak'; give \"uniform\""),
+        # [fatigue]'s mesh stiffness replaces each mesh's compliance by one of one line.
+        ('face_load = "run"\nmesh_stiffness = 3.5e9', "mesh_stiffness or mesh_damping"),
+    ],
+)
+def test_the_fatigue_file_refuses_a_face_load_it_cannot_give(
+    tmp_path, monkeypatch, capsys, given, message
+):
+    path = fatigue_toml(tmp_path, fatigue=given)
+    code, err = fatigue_exit([str(path)], monkeypatch, capsys)
+    assert code == 2
+    assert "fatigue.face_load" in err and message in err, err
+    assert str(path) in err
+    assert err.strip().count("\n") == 0, err
