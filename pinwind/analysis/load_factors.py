@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pinwind.dynamics.compliant import unsliced_mesh
 from pinwind.errors import FactorNotInRun, InputError
 from pinwind.gears.flank_modification import UNMODIFIED, FlankModification
 from pinwind.gears.transmission_error import static_transmission_error
@@ -74,12 +75,8 @@ def run_face_load_factor(
     """
     if source not in ("run-max", "run-at"):
         raise InputError(f'face load factor source "{source}"; choose run-max or run-at')
-    how = ((result.metadata or {}).get("meshes") or {}).get(mesh, {})
-    slices = int(how.get("slices", 1)) if how.get("type") == "compliant" else 0
-    if slices < 2:
-        modelled = "rigid" if how.get("type") == "rigid" else "with one contact line"
-        if not how:
-            modelled = "with no record of its slices (a run of an older pinwind)"
+    modelled = unsliced_mesh(result, mesh)
+    if modelled is not None:
         raise FactorNotInRun(
             f'mesh "{mesh}": K_Hβ from the run ({source}) reads its series '
             f"mesh_face_load_factor, but the run modelled the mesh {modelled}, whose K_Hβ is "

@@ -42,6 +42,7 @@ import math
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -69,6 +70,9 @@ from pinwind.gears.mesh_stiffness import (
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gear, Gearbox, Mesh
 from pinwind.model.phasing import direction_at
+
+if TYPE_CHECKING:
+    from pinwind.dynamics.result import Result
 
 
 @dataclass(frozen=True)
@@ -494,6 +498,22 @@ def _contact_line_mean(mesh: Mesh) -> float:
     path = mesh.path
     single = single_pair(mesh) if mesh.compliance is not None else 1.0
     return single * (0.75 * path.contact_ratio + 0.25) if path is not None else single
+
+
+def unsliced_mesh(result: Result, mesh: str) -> str | None:
+    """How the run modelled ``mesh`` if it did not cut it into slices (else None).
+
+    Read from ``result.metadata["meshes"]``: "rigid", "with one contact line", or "with no
+    record of its slices (a run of an older pinwind)"; such a mesh's ``mesh_face_load_factor``
+    is not computed.
+    """
+    how = ((result.metadata or {}).get("meshes") or {}).get(mesh, {})
+    slices = int(how.get("slices", 1)) if how.get("type") == "compliant" else 0
+    if slices >= 2:
+        return None
+    if not how:
+        return "with no record of its slices (a run of an older pinwind)"
+    return "rigid" if how.get("type") == "rigid" else "with one contact line"
 
 
 def overlap_span(mesh: Mesh) -> float:

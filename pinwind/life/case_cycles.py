@@ -183,6 +183,7 @@ def case_cycles(
     *,
     materials: Mapping[str, str] | None = None,
     root_stress: Mapping[str, RootStress] | None = None,
+    face_load: str = "uniform",
 ) -> list[FlankCycles]:
     """The rainflow cycles of every flank of every tooth of ``gears`` in a run.
 
@@ -194,6 +195,7 @@ def case_cycles(
     Args:
         materials: gear → material key (default `materials.DEFAULT_MATERIAL`).
         root_stress: count the root stress of each gear with its model instead.
+        face_load: ``"uniform"`` or ``"run"`` (`pinwind.life.tooth_damage.GearTeeth`).
     """
     from pinwind.life.tooth_damage import GearTeeth
 
@@ -203,6 +205,7 @@ def case_cycles(
             gear,
             materials=materials,
             root_stress=None if root_stress is None else root_stress[gear],
+            face_load=face_load,
         )
         for gear in gears
     ]
@@ -256,6 +259,8 @@ class CaseReduction:
         materials: gear → material key (default `materials.DEFAULT_MATERIAL`).
         root_stress: gear → its root-stress model.
         bearing_life: each bearing's and row's life data by its rated name (None: the model's).
+        face_load: ``"uniform"`` or ``"run"`` (`pinwind.life.tooth_damage.GearTeeth`): the
+            run's peak line load needs ``mesh_face_load_factor`` in the blocks.
     """
 
     def __init__(
@@ -266,16 +271,32 @@ class CaseReduction:
         materials: Mapping[str, str] | None,
         root_stress: Mapping[str, RootStress],
         bearing_life: Mapping[str, BearingLifeData] | None = None,
+        face_load: str = "uniform",
     ) -> None:
         from pinwind.life.life_sums import RunLoadSums
         from pinwind.life.tooth_damage import GearTeeth
 
         gears = list(gears)
-        self.contact = [GearTeeth(gearbox, g, materials=materials) for g in gears]
+        self.contact = [
+            GearTeeth(gearbox, g, materials=materials, face_load=face_load) for g in gears
+        ]
         self.root = [
-            GearTeeth(gearbox, g, materials=materials, root_stress=root_stress[g]) for g in gears
+            GearTeeth(
+                gearbox, g, materials=materials, root_stress=root_stress[g], face_load=face_load
+            )
+            for g in gears
         ]
         self.bearings = RunLoadSums(gearbox, life=bearing_life)
+
+    def begin(self, result: Result) -> None:
+        """Refuse a run the tooth counters cannot read, before it steps (its metadata).
+
+        Raises:
+            FactorNotInRun: ``face_load="run"`` and a mesh of a counted gear not cut into
+                slices (`GearTeeth.check_run`).
+        """
+        for counter in self.contact:
+            counter.check_run(result)
 
     def add(self, block: Result) -> None:
         """The next kept samples of the case (`CASE_SERIES`)."""

@@ -132,6 +132,9 @@ class FatigueSet:
         bearing_life: the lubricant, cleanliness, C_u and inside (and a row's size) of each
             bearing and row whose modified and reference sums the cases keep, by the names of
             ``bearings`` (``life/life_sums.py``).
+        face_load: ``"uniform"`` (each pair's force spread evenly across the face) or
+            ``"run"`` (at the run's peak line load, ``mesh_face_load_factor``:
+            `pinwind.life.peak_line_load`), for the contact and root stresses.
     """
 
     values: dict[str, Any]
@@ -161,6 +164,7 @@ class FatigueSet:
     bearings: Mapping[str, BearingRating] = field(default_factory=dict)
     roles: dict[str, str] = field(default_factory=dict)
     bearing_life: Mapping[str, BearingLifeData] = field(default_factory=dict)
+    face_load: str = "uniform"
 
     @property
     def dt(self) -> float:
@@ -237,6 +241,8 @@ class FatigueSet:
             # Their modified and reference sums on the lubricant and inside (not on C).
             "bearing_life": {name: repr(d) for name, d in sorted(self.bearing_life.items())},
         }
+        if self.face_load != "uniform":  # the keys of sets made before it stay the same
+            record["face_load"] = self.face_load
         record["values"].pop("out")
         text = json.dumps(record, sort_keys=True, default=str)
         return hashlib.sha256(text.encode()).hexdigest()[:16]

@@ -14,17 +14,29 @@ sample: ``mesh_face_load_factor`` K_Hβ(t) = w_max / w_m, the peak line load ove
 
 `force_factor` gives that factor per sample; the stress functions take the force times it.
 The series is 0 at a sample where the mesh carries nothing (then the force is 0 too): such a
-sample's factor is 1.
+sample's factor is 1. `run_force_factor` reads it from a run, refusing a mesh the run did not
+cut into slices (its series is 1 by construction, not by computation); the tooth histories
+take it with ``face_load="run"`` (`FACE_LOADS`, `pinwind.life.tooth_damage.GearTeeth`).
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import numpy.typing as npt
 
-from pinwind.errors import InputError
+from pinwind.dynamics.compliant import unsliced_mesh
+from pinwind.errors import FactorNotInRun, InputError
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.rating_iso import root_face_load_exponent
+
+if TYPE_CHECKING:
+    from pinwind.dynamics.result import Result
+
+#: How the tooth histories spread a pair's force across the face: evenly (ISO's K_Hβ = 1), or
+#: at the run's peak line load (``mesh_face_load_factor``, module docstring).
+FACE_LOADS = ("uniform", "run")
 
 #: The stresses a face load factor applies to, and how (module docstring).
 STRESSES = ("contact", "root")
@@ -55,3 +67,38 @@ def force_factor(pair: GearPair, face_load_factor: npt.ArrayLike, *, stress: str
         )
     k = np.where(loaded, k, 1.0)
     return k if stress == "contact" else k ** root_face_load_exponent(pair)
+
+
+def require_sliced(result: Result, mesh: str) -> None:
+    """Refuse to read the peak line load of ``mesh`` from a run that did not slice it.
+
+    Raises:
+        FactorNotInRun: the run modelled the mesh rigid or with one contact line
+            (`unsliced_mesh`), naming it and the fix.
+    """
+    modelled = unsliced_mesh(result, mesh)
+    if modelled is not None:
+        raise FactorNotInRun(
+            f'mesh "{mesh}": the tooth stresses at the run\'s peak line load (face_load = '
+            f'"run") read its series mesh_face_load_factor, but the run modelled the mesh '
+            f"{modelled}, whose K_Hβ is not computed; run it as a compliant mesh cut into "
+            'slices (slices="8" on its <mesh>, or MeshCompliance(slices=8)), or spread the '
+            'force evenly across the face (face_load = "uniform")'
+        )
+
+
+def run_force_factor(result: Result, index: int, pair: GearPair, *, stress: str) -> np.ndarray:
+    """`force_factor` of mesh ``index`` of a run from its ``mesh_face_load_factor``, (n,).
+
+    Args:
+        result: the run (its ``metadata["meshes"]`` says how each mesh was modelled).
+        index: the mesh's index in the run.
+        pair: the mesh's gears.
+        stress: ``"contact"`` or ``"root"``.
+
+    Raises:
+        FactorNotInRun: the run did not cut the mesh into slices (`require_sliced`).
+        InputError: as `force_factor`.
+    """
+    require_sliced(result, result.mesh_names[index])
+    return force_factor(pair, result.mesh_face_load_factor[:, index], stress=stress)

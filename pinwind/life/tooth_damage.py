@@ -43,6 +43,13 @@ teeth are numbered on from the block before (the roll position and tooth at its 
 a pass that runs past a block's end goes on in the next (a helical pass's largest value is
 held until the pass ends), and each tooth flank's history is kept as its reversals only
 (`pinwind.life.cycles.Reversals`), counted at the end; the whole run is one block.
+
+The force of a pair is spread evenly across the face width (ISO's K_Hβ = K_Fβ = 1), or with
+``face_load="run"`` rated at the run's peak line load (`pinwind.life.peak_line_load`): each
+sample's force times K_Hβ(t) of the mesh (``mesh_face_load_factor``) for the contact stress,
+times K_Hβ(t)^N_F for the root (ISO 6336-1 K_Fβ), on both pairs of a spur mesh (the entering
+pair's force and F_n minus it) and on the mesh force of a helical one (ISO 6336-2 applies
+K_Hβ to a helical mesh's force the same way). The run must have cut the mesh into slices.
 """
 
 from __future__ import annotations
@@ -65,6 +72,7 @@ from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import Material
 from pinwind.life.contact_stress import contact_stress, helical_contact_stress
 from pinwind.life.cycles import Cycles, Reversals, rainflow_cycles
+from pinwind.life.peak_line_load import FACE_LOADS, require_sliced, run_force_factor
 from pinwind.life.root_stress import RootStress
 from pinwind.life.sn_curve import FatigueCurve, miner_damage
 from pinwind.model.phasing import zero_direction
@@ -711,6 +719,7 @@ def gear_tooth_damage(
     materials: Mapping[str, Material | str] | None = None,
     use_endurance_limit: bool = True,
     root_stress: RootStress | None = None,
+    face_load: str = "uniform",
 ) -> tuple[ToothDamage, ...]:
     """Contact- or root-stress damage of every tooth of a gear over all its meshes in a run.
 
@@ -732,6 +741,8 @@ def gear_tooth_damage(
         materials: gear name → material (default `materials.DEFAULT_MATERIAL`).
         use_endurance_limit: False to count cycles below the endurance limit too.
         root_stress: rate the tooth root with this model instead of the flank's contact.
+        face_load: ``"uniform"`` (the force spread evenly across the face) or ``"run"`` (at
+            the run's peak line load, module docstring).
 
     Returns:
         The damage of each flank (or its root fillet) in contact during the run, the most
@@ -740,9 +751,12 @@ def gear_tooth_damage(
     Raises:
         InputError: no mesh has the gear, or as `mesh_teeth`; a spur mesh with a contact ratio
             of 2 or more; a helical mesh with ε_β < 1 (`contact_stress.require_full_overlap`)
-            or a root-stress table on one.
+            or a root-stress table on one; an unknown ``face_load``.
+        FactorNotInRun: ``face_load="run"`` and a mesh of the gear not cut into slices.
     """
-    counter = GearTeeth(gearbox, gear, materials=materials, root_stress=root_stress)
+    counter = GearTeeth(
+        gearbox, gear, materials=materials, root_stress=root_stress, face_load=face_load
+    )
     counter.add(result)
     return counter.damage(
         curve=curve, time_factor=time_factor, use_endurance_limit=use_endurance_limit
@@ -765,9 +779,11 @@ class GearTeeth:
         gear: the gear's name.
         materials: gear name → material (default `materials.DEFAULT_MATERIAL`).
         root_stress: rate the tooth root with this model instead of the flank's contact.
+        face_load: ``"uniform"`` or ``"run"`` (`gear_tooth_damage`).
 
     Raises:
-        InputError: no mesh has the gear, or a mesh of it has no path of contact.
+        InputError: no mesh has the gear, or a mesh of it has no path of contact; an unknown
+            ``face_load``.
     """
 
     def __init__(
@@ -777,9 +793,16 @@ class GearTeeth:
         *,
         materials: Mapping[str, Material | str] | None = None,
         root_stress: RootStress | None = None,
+        face_load: str = "uniform",
     ) -> None:
+        if face_load not in FACE_LOADS:
+            raise InputError(
+                f'face_load = "{face_load}"; choose "uniform" (the force spread evenly across '
+                'the face) or "run" (at the run\'s peak line load)'
+            )
         chosen = dict(materials or {})
         self.gearbox, self.gear, self.root_stress = gearbox, gear, root_stress
+        self.face_load = face_load
         self._meshes: list[tuple[int, Gear, GearPair]] = []
         for i, mesh in enumerate(gearbox.meshes):
             if gear in (mesh.gear_a.name, mesh.gear_b.name):
@@ -804,6 +827,17 @@ class GearTeeth:
 
         return add
 
+    def check_run(self, result: Result) -> None:
+        """Refuse a run whose meshes of the gear lack what ``face_load`` needs (its metadata).
+
+        Raises:
+            FactorNotInRun: ``face_load="run"`` and a mesh of the gear not cut into slices.
+        """
+        if self.face_load != "run":
+            return
+        for i, _, _ in self._meshes:
+            require_sliced(result, self.gearbox.meshes[i].name)
+
     def add(self, result: Result) -> None:
         """The next samples of the run (a Result of the series the teeth need, `CASE_SERIES`).
 
@@ -816,7 +850,13 @@ class GearTeeth:
         for i, wheel, pair in self._meshes:
             teeth, self._rolls[i] = _mesh_teeth(result, self.gearbox, i, wheel, self._rolls[i])
             gear_a = self.gearbox.meshes[i].gear_a.name
-            stressed = _contacts(result, i, pair, self.gear, teeth, self.root_stress, gear_a)
+            factor = None
+            if self.face_load == "run":
+                stress = "contact" if self.root_stress is None else "root"
+                factor = run_force_factor(result, i, pair, stress=stress)
+            stressed = _contacts(
+                result, i, pair, self.gear, teeth, self.root_stress, gear_a, factor
+            )
             contacts.append((stressed, teeth.flank))
         for side in (1, -1):
             self._loaded[side] |= any(bool(np.any(flank == side)) for _, flank in contacts)
@@ -867,17 +907,22 @@ def _contacts(
     teeth: EnteringTeeth,
     root_stress: RootStress | None,
     gear_a: str,
+    factor: np.ndarray | None = None,
 ) -> ToothContacts | HelicalContacts:
     """The teeth of ``gear`` at mesh ``index`` and their stresses, contact or root.
 
-    ``gear_a``: the mesh's gear A (the root stress of its side or of gear B's).
+    ``gear_a``: the mesh's gear A (the root stress of its side or of gear B's); ``factor``:
+    the force factor of the peak line load per sample (`peak_line_load.force_factor`), or
+    None for the force spread evenly.
     """
     if pair.helix_angle != 0.0:
-        return _helical_contacts(result, index, pair, gear, teeth, root_stress)
+        return _helical_contacts(result, index, pair, gear, teeth, root_stress, factor)
     position = result.mesh_contact_position[:, index]
     single = np.abs(result.mesh_single_tooth_force[:, index])
     normal = np.abs(result.mesh_normal[:, index])
     ahead = position + pair.path.base_pitch
+    if factor is not None:
+        single, normal = single * factor, normal * factor  # so normal − single is scaled too
     if root_stress is None:
         entering = contact_stress(pair, force=single, position=position).von_mises
         leading = contact_stress(pair, force=normal - single, position=ahead).von_mises
@@ -901,9 +946,16 @@ def _helical_contacts(
     gear: str,
     teeth: EnteringTeeth,
     root_stress: RootStress | None,
+    factor: np.ndarray | None = None,
 ) -> HelicalContacts:
-    """The teeth of ``gear`` at helical mesh ``index`` with the stress of the mesh force."""
-    normal = pair.flank_normal_force(np.abs(result.mesh_normal[:, index]))
+    """The teeth of ``gear`` at helical mesh ``index`` with the stress of the mesh force.
+
+    ``factor``: as `_contacts`, on the mesh force.
+    """
+    force = np.abs(result.mesh_normal[:, index])
+    if factor is not None:
+        force = force * factor
+    normal = pair.flank_normal_force(force)
     if root_stress is None:
         stress = VON_MISES_RATIO * helical_contact_stress(pair, force=normal)
     else:

@@ -34,8 +34,8 @@ from pinwind.runs.scenario import build
 #: (`case_reducer`); the log keeps every series.
 CASE_SERIES = (
     "angle", "speed", "mesh_normal", "mesh_flank", "mesh_contact_position", "mesh_pairs",
-    "mesh_single_tooth_force", "bearing_force_local", "bearing_moment_local", "row_force",
-    "row_moment",
+    "mesh_single_tooth_force", "mesh_face_load_factor", "bearing_force_local",
+    "bearing_moment_local", "row_force", "row_moment",
 )  # fmt: skip
 
 if TYPE_CHECKING:
@@ -133,6 +133,7 @@ def case_reduction(fatigue: FatigueSet, gearbox: Gearbox) -> CaseReduction:
         materials=fatigue.materials,
         root_stress={g: fatigue.root_stress.get(g, ISO_ROOT_STRESS) for g in fatigue.gears},
         bearing_life=fatigue.bearing_life,
+        face_load=fatigue.face_load,
     )
 
 

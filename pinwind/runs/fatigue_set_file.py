@@ -48,6 +48,9 @@ The run keys of any scenario (``pinwind.runs.scenario``: model, dt, rotor, gener
 
     gears = ["sun", "planet1"]          # the gears whose teeth are rated (default: all
                                         # meshed gears; helical ones need ε_β ≥ 1)
+    face_load = "run"                   # the tooth stresses at the run's peak line load across
+                                        # the face (meshes cut into slices), or "uniform"
+                                        # (default: the force spread evenly)
 
     [fatigue.quick]                     # what --quick changes (any [fatigue] key, and dt)
     duration = 1.5
@@ -78,6 +81,7 @@ from pinwind.life.fatigue_set import (
     TurbulenceLevel,
 )
 from pinwind.life.life_sums import bearing_life_data
+from pinwind.life.peak_line_load import FACE_LOADS
 from pinwind.life.root_stress import ISO_ROOT_STRESS, RootStress, table_root_stress
 from pinwind.life.site import (
     TURBULENCE_CLASSES,
@@ -119,6 +123,7 @@ FATIGUE_KEYS: dict[str, str] = {
     "openfast": "one OpenFAST output per case instead of rotor and wind",
     "gears": "the gears whose teeth are rated (default: every meshed gear)",
     "bearings": "bearing and row data of the modified and reference lives, over the model's",
+    "face_load": '"uniform" (force spread evenly across the face) or "run" (peak line load)',
     "quick": "what --quick changes",
 }
 #: The keys of ``[fatigue.quick]``: the scenario's ``dt`` and any ``[fatigue]`` key.
@@ -267,6 +272,21 @@ class _SetReader:
         rotor_joint = rotor_radius = None
         if openfast is None:
             rotor_joint, rotor_radius = self.rotor()
+        face_load = settings.get("face_load", "uniform")
+        if face_load not in FACE_LOADS:
+            raise self.fail(
+                ("fatigue", "face_load"),
+                f'is {face_load!r}; give "uniform" (each pair\'s force spread evenly across the '
+                'face) or "run" (at the run\'s peak line load, meshes cut into slices)',
+            )
+        if face_load == "run" and (stiffness is not None or damping is not None):
+            raise self.fail(
+                ("fatigue", "face_load"),
+                'is "run", which reads the peak line load of meshes cut into slices, but '
+                "mesh_stiffness or mesh_damping of [fatigue] replace every mesh's compliance by "
+                "one with one contact line; give the stiffness, damping and slices on each "
+                '<mesh> of the model instead, or face_load = "uniform"',
+            )
         materials = self.materials(settings.get("materials", DEFAULT_MATERIAL), gears)
         curves = self.curves(settings.get("sn_curve", {}), gears, materials)
         fatigue = FatigueSet(
@@ -297,6 +317,7 @@ class _SetReader:
             bearings={**gearbox.source.bearings, **row_ratings(gearbox)},
             roles=self.roles,
             bearing_life=self.bearing_life(settings.get("bearings", {}), gearbox),
+            face_load=face_load,
         )
         for case in fatigue.cases():  # every case's run values build (and files exist)
             if openfast is not None and not openfast.file(case, fatigue.base).is_file():

@@ -35,6 +35,14 @@ class BlockConsumer(Protocol):
         """The next kept samples (a Result of the series asked for)."""
 
 
+def _begin_consumers(consumers: Sequence[BlockConsumer], result: Result) -> None:
+    """Each consumer with a ``begin(result)`` sees the run's Result (its metadata) first."""
+    for consumer in consumers:
+        begin = getattr(consumer, "begin", None)
+        if begin is not None:
+            begin(result)
+
+
 class KeptBlocks:
     """Hands the kept samples of a run on, block by block, to consumers (module docstring).
 
@@ -81,6 +89,7 @@ class KeptBlocks:
         """The run's kept samples follow from its samples (``metadata["samples_simulated"]``)."""
         self._kept = _kept_samples(int(result.metadata["samples_simulated"]), self.stride)
         result.schema.only(self.series)  # unknown names fail before the run
+        _begin_consumers(self.consumers, result)
 
     def samples(self, block: Result, start: int) -> None:
         """Copies the block's kept samples from ``skip_start`` on; hands on a full block."""
