@@ -327,8 +327,10 @@ class ColumnSink:
                 row, width, _ = self.rows[key]
                 series = self.base[row : row + width, : self.n].reshape(*shape, self.n)
                 out[key] = np.moveaxis(series, -1, 0)
-            elif key not in SPARSE:  # no series: an array of zero elements per sample, or not read
-                out[key] = np.empty((self.n if key in self.keys else 0, *shape))
+            elif key not in SPARSE:
+                # not in the log (a series added after it was written): NaN, never left-over
+                # memory; not read: no samples
+                out[key] = np.full((self.n if key in self.keys else 0, *shape), np.nan)
         pieces = sorted((p for p in self.poses if p[0][0] < self.n), key=lambda p: p[0][0])
         rows = np.concatenate([s for s, _ in pieces]) if pieces else np.zeros(0, np.int64)
         kept = rows < self.n

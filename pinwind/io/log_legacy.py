@@ -493,6 +493,9 @@ class RowSink:
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
         """The samples so far as a Result (views of the arrays; the poses copied)."""
         arrays = {k: v[: self.n] for k, v in self.arrays.items()}
+        for key in set(self.keys) - self.written - set(_SPARSE) - {"time"}:
+            # a series this format does not store (added after it): NaN, not left-over memory
+            arrays[key][...] = np.nan
         _flank_forces(arrays, self.written)
         position = arrays["body_position"]
         if position.shape[1]:  # the samples that have a pose: NaN at the others

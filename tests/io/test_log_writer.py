@@ -622,6 +622,15 @@ def _back_flanks_a_tooth_thickness_behind(gearbox: pinwind.Gearbox, result) -> N
         )
 
 
+#: Series declared after format 2 (sliced meshes' face load, flank and bearing friction): a
+#: format-2 log has no values for them.
+NOT_IN_FORMAT_2 = {
+    "mesh_face_load_factor", "mesh_load_centre", "mesh_peak_line_load", "mesh_mean_line_load",
+    "mesh_sliding_velocity", "mesh_friction_force", "mesh_friction_power",
+    "bearing_friction_moment", "bearing_friction_power",
+}  # fmt: skip
+
+
 def test_log_of_format_2_is_still_read(planetary):
     """A log written by the format-2 writer (ROS 2 topics at the log rate, no columns): 0.05 s
     of the shared planetary run at 1 ms in chunks of 20, poses at 100 Hz."""
@@ -642,7 +651,10 @@ def test_log_of_format_2_is_still_read(planetary):
         if name in POSE_ARRAYS:
             b = b[posed]
         assert a.shape == b.shape, name
-        assert np.isfinite(a).all(), name
+        if name in NOT_IN_FORMAT_2:  # not stored: NaN, never left-over memory
+            assert np.isnan(a).all(), name
+        else:
+            assert np.isfinite(a).all(), name
     np.testing.assert_allclose(back.time, np.arange(51) * DT, rtol=1e-12, atol=1e-15)
     # Format 2 stores no flank forces: the loaded flank carries the normal force, the other none.
     loaded = np.where(back.mesh_flank > 0, back.mesh_normal_front, back.mesh_normal_back)
