@@ -114,6 +114,17 @@ class Stage:
     bearings: tuple[str, ...]
 
 
+def efficiency_of(loss: np.ndarray, input_power: np.ndarray) -> np.ndarray:
+    """η(t) = 1 − L(t) / P(t) [-] of a loss and the power it is taken from (NaN where P ≤ 0)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(input_power > 0.0, 1.0 - loss / input_power, np.nan)
+
+
+def mean_efficiency_of(loss: np.ndarray, input_power: np.ndarray) -> float:
+    """1 − mean(L) / mean(P) [-]: the efficiency of the energies over the run."""
+    return 1.0 - float(np.mean(loss)) / float(np.mean(input_power))
+
+
 @dataclass(frozen=True)
 class StageLoss:
     """A stage's losses over a run.
@@ -138,13 +149,12 @@ class StageLoss:
     @property
     def efficiency(self) -> np.ndarray:
         """η_i(t) = 1 − L_i / P_i [-], (n,) (NaN without input power)."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(self.input_power > 0.0, 1.0 - self.loss / self.input_power, np.nan)
+        return efficiency_of(self.loss, self.input_power)
 
     @property
     def mean_efficiency(self) -> float:
         """1 − mean(L_i) / mean(P_i) [-]."""
-        return 1.0 - float(np.mean(self.loss)) / float(np.mean(self.input_power))
+        return mean_efficiency_of(self.loss, self.input_power)
 
 
 @dataclass(frozen=True)
@@ -176,13 +186,12 @@ class Efficiency:
     @property
     def efficiency(self) -> np.ndarray:
         """η(t) = 1 − Σ losses / P_in [-], (n,) (NaN without input power)."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(self.input_power > 0.0, 1.0 - self.loss / self.input_power, np.nan)
+        return efficiency_of(self.loss, self.input_power)
 
     @property
     def mean_efficiency(self) -> float:
         """1 − mean(Σ losses) / mean(P_in) [-]."""
-        return 1.0 - float(np.mean(self.loss)) / float(np.mean(self.input_power))
+        return mean_efficiency_of(self.loss, self.input_power)
 
 
 def _speed(result: Any, joint: str) -> np.ndarray:
