@@ -162,6 +162,34 @@ def reduced_case(
     )
 
 
+def save_reduced_case(
+    case: LoadCase,
+    fatigue: FatigueSet,
+    reduction: CaseReduction,
+    *,
+    wall_time: float = math.nan,
+    cpu_time: float = math.nan,
+    thread_time: float = math.nan,
+) -> Path:
+    """Write `reduced_case` to the case's ``.npz`` without holding its cycles: the path.
+
+    `CaseReduction.save` writes it from the files the cycles went to as they closed, so the
+    memory does not grow with the case's length; `CaseCycles.load` reads it.
+    """
+    path = fatigue.cycles_path(case)
+    record = CaseCycles(
+        case,
+        fatigue.case_key(case),
+        fatigue.counted_seconds,
+        wall_time,
+        cpu_time=cpu_time,
+        thread_time=thread_time,
+        log_sha256=file_sha256(fatigue.log_path(case)),
+    )
+    reduction.save(path, record)
+    return path
+
+
 def reduce_case(
     case: LoadCase,
     fatigue: FatigueSet,
