@@ -194,6 +194,35 @@ class CaseCycles:
         )
 
 
+def saved_flanks(path: Path, group: str = "flanks") -> Iterator[FlankCycles]:
+    """The flanks (``"flanks"``) or roots (``"roots"``) of a case `CaseCycles.save` wrote.
+
+    Read one at a time as they are asked for, so that a case's cycles are not in memory at
+    once (`CaseCycles.load` reads them all).
+
+    Raises:
+        InputError: not readable as one.
+    """
+    try:
+        with np.load(path) as data:
+            prefix = "" if group == "flanks" else "root_"
+            for i, (gear, flank, teeth) in enumerate(json.loads(str(data["meta"])).get(group, [])):
+                yield FlankCycles(
+                    gear,
+                    flank,
+                    teeth,
+                    data[f"{prefix}{i}_tooth"],
+                    data[f"{prefix}{i}_ranges"],
+                    data[f"{prefix}{i}_counts"],
+                    data[f"{prefix}{i}_peaks"],
+                )
+    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile, zlib.error) as err:
+        raise InputError(
+            f"{path}: not a fatigue case reduction, or a damaged one ({err}); delete it and "
+            "run the set again, which computes that case again"
+        ) from err
+
+
 def case_cycles(
     result: Result,
     gearbox: Gearbox,

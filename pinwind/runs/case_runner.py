@@ -76,28 +76,31 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     gearbox = load(scenario.model_path())
     fatigue.out.mkdir(parents=True, exist_ok=True)
     reduction, observer = case_reducer(case, fatigue, gearbox)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        # No run statistics: folding every step into min, max and RMS (for a summary; not
-        # logged) would take a thread beside the loop.
-        run(
-            scenario,
-            gearbox=gearbox,
-            progress=False,
-            command=f"pinwind fatigue {fatigue.source} (case {case.name})",
-            statistics=False,
-            keep="last",
-            keep_series=(),
-            observer=observer,
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            # No run statistics: folding every step into min, max and RMS (for a summary; not
+            # logged) would take a thread beside the loop.
+            run(
+                scenario,
+                gearbox=gearbox,
+                progress=False,
+                command=f"pinwind fatigue {fatigue.source} (case {case.name})",
+                statistics=False,
+                keep="last",
+                keep_series=(),
+                observer=observer,
+            )
+        return reduced_case(
+            case,
+            fatigue,
+            reduction,
+            wall_time=time.perf_counter() - start,
+            cpu_time=time.process_time() - cpu,
+            thread_time=time.thread_time() - own,
         )
-    return reduced_case(
-        case,
-        fatigue,
-        reduction,
-        wall_time=time.perf_counter() - start,
-        cpu_time=time.process_time() - cpu,
-        thread_time=time.thread_time() - own,
-    )
+    finally:  # its cycles' files go now, also in a worker, which ends without clean-up
+        reduction.close()
 
 
 def case_reducer(
