@@ -70,7 +70,7 @@ from pinwind.life.life_figures import plot_damage_ranking
 from pinwind.life.set_bearing_life import set_bearing_lives
 from pinwind.life.set_damage import set_damage
 from pinwind.model.gearbox import load
-from pinwind.runs.case_runner import CASE_SERIES, case_reducer, case_scenario, reduced_case
+from pinwind.runs.case_runner import CASE_SERIES, case_reducer, case_scenario, save_reduced_case
 from pinwind.runs.fatigue_set_file import load_fatigue_set
 from pinwind.runs.scenario import run
 
@@ -221,7 +221,7 @@ def simulate(
         result = run(scenario, gearbox=gearbox, progress=progress, statistics=False,
                      keep=keep, keep_series=KEPT_SERIES, observer=observer)  # fmt: skip
     wall = time.perf_counter() - started
-    reduced_case(case, fset, reduction, wall_time=wall).save(fset.cycles_path(case))
+    save_reduced_case(case, fset, reduction, wall_time=wall)
     return result, gearbox, wall, printout
 
 

@@ -14,12 +14,15 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import shutil
+import tempfile
+import weakref
 import zipfile
 import zlib
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import IO, TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -31,9 +34,21 @@ from pinwind.life.sn_curve import FatigueCurve
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
+    from pinwind.life.cycles import Cycles
     from pinwind.life.tooth_damage import GearTeeth
     from pinwind.model.bearing_life_data import BearingLifeData
     from pinwind.model.gearbox import Gearbox
+
+
+class _Flank(Protocol):
+    """What the saved record names of a flank (`CaseCycles.save`)."""
+
+    @property
+    def gear(self) -> str: ...
+    @property
+    def flank(self) -> int: ...
+    @property
+    def teeth(self) -> int: ...
 
 
 @dataclass(frozen=True)
@@ -108,7 +123,14 @@ class CaseCycles:
                     f"{prefix}{i}_counts": f.counts,
                     f"{prefix}{i}_peaks": f.peaks,
                 }
-        meta = {
+        partial = path.with_name(path.name + ".partial.npz")
+        arrays["meta"] = np.array(json.dumps(self._meta(self.flanks, self.roots)))
+        np.savez_compressed(partial, **arrays)
+        partial.replace(path)
+
+    def _meta(self, flanks: Iterable[_Flank], roots: Iterable[_Flank]) -> dict[str, Any]:
+        """The record saved beside the arrays (``meta``), of these flanks and roots."""
+        return {
             "case": dataclasses.asdict(self.case),
             "key": self.key,
             "counted_seconds": self.counted_seconds,
@@ -116,14 +138,10 @@ class CaseCycles:
             "cpu_time": self.cpu_time,
             "thread_time": self.thread_time,
             "log_sha256": self.log_sha256,
-            "flanks": [[f.gear, f.flank, f.teeth] for f in self.flanks],
-            "roots": [[f.gear, f.flank, f.teeth] for f in self.roots],
+            "flanks": [[f.gear, f.flank, f.teeth] for f in flanks],
+            "roots": [[f.gear, f.flank, f.teeth] for f in roots],
             "bearings": [dataclasses.asdict(b) for b in self.bearings],
         }
-        partial = path.with_name(path.name + ".partial.npz")
-        arrays["meta"] = np.array(json.dumps(meta))
-        np.savez_compressed(partial, **arrays)
-        partial.replace(path)
 
     @classmethod
     def load(cls, path: Path, *, with_flanks: bool = True) -> CaseCycles:
@@ -174,6 +192,35 @@ class CaseCycles:
             meta.get("thread_time", math.nan),
             meta.get("log_sha256", ""),
         )
+
+
+def saved_flanks(path: Path, group: str = "flanks") -> Iterator[FlankCycles]:
+    """The flanks (``"flanks"``) or roots (``"roots"``) of a case `CaseCycles.save` wrote.
+
+    Read one at a time as they are asked for, so that a case's cycles are not in memory at
+    once (`CaseCycles.load` reads them all).
+
+    Raises:
+        InputError: not readable as one.
+    """
+    try:
+        with np.load(path) as data:
+            prefix = "" if group == "flanks" else "root_"
+            for i, (gear, flank, teeth) in enumerate(json.loads(str(data["meta"])).get(group, [])):
+                yield FlankCycles(
+                    gear,
+                    flank,
+                    teeth,
+                    data[f"{prefix}{i}_tooth"],
+                    data[f"{prefix}{i}_ranges"],
+                    data[f"{prefix}{i}_counts"],
+                    data[f"{prefix}{i}_peaks"],
+                )
+    except (OSError, ValueError, KeyError, TypeError, zipfile.BadZipFile, zlib.error) as err:
+        raise InputError(
+            f"{path}: not a fatigue case reduction, or a damaged one ({err}); delete it and "
+            "run the set again, which computes that case again"
+        ) from err
 
 
 def case_cycles(
@@ -249,9 +296,13 @@ class CaseReduction:
     Each block (`add`, a Result of `CASE_SERIES` of consecutive kept samples, the first from
     the case's ``skip_start`` on) goes to a `GearTeeth` counter per gear, of the contact and of
     the root stress, and to the bearings' and rows' `life_sums.RunLoadSums`; `reduced` gives
-    what `case_cycles` and `life_sums.run_load_sums` give of the blocks joined. Only each tooth
-    flank's reversals and the sums are held, so a case's memory does not grow with its length
-    but by its reversals (``pinwind.runs.kept_blocks`` feeds it during the run).
+    what `case_cycles` and `life_sums.run_load_sums` give of the blocks joined. Each tooth
+    flank's history is rainflow-counted as it comes (`pinwind.life.cycles.CycleStream`) and
+    its cycles appended to a file of its own, in a folder of its own under the system's
+    temporary folder, as they close; `save` writes the case's ``.npz`` from those files a
+    tooth at a time. So the memory held is the counters' residues and the sums, whatever the
+    case's length (``pinwind.runs.kept_blocks`` feeds it during the run). The folder goes
+    with `save`, `reduced`, `close` or the reduction itself.
 
     Args:
         gearbox: the model the case runs.
@@ -277,14 +328,32 @@ class CaseReduction:
         from pinwind.life.tooth_damage import GearTeeth
 
         gears = list(gears)
+        self.folder = Path(tempfile.mkdtemp(prefix="pinwind-case-cycles-"))
+        self._remove = weakref.finalize(self, shutil.rmtree, self.folder, ignore_errors=True)
+        self._files = {
+            kind: [_ToothFiles(self.folder / f"{kind}{i}") for i in range(len(gears))]
+            for kind in ("contact", "root")
+        }
         self.contact = [
-            GearTeeth(gearbox, g, materials=materials, face_load=face_load) for g in gears
+            GearTeeth(
+                gearbox,
+                g,
+                materials=materials,
+                face_load=face_load,
+                cycles_to=self._files["contact"][i].append,
+            )
+            for i, g in enumerate(gears)
         ]
         self.root = [
             GearTeeth(
-                gearbox, g, materials=materials, root_stress=root_stress[g], face_load=face_load
+                gearbox,
+                g,
+                materials=materials,
+                root_stress=root_stress[g],
+                face_load=face_load,
+                cycles_to=self._files["root"][i].append,
             )
-            for g in gears
+            for i, g in enumerate(gears)
         ]
         self.bearings = RunLoadSums(gearbox, life=bearing_life)
 
@@ -304,23 +373,156 @@ class CaseReduction:
             counter.add(block)
         self.bearings.add(block)
 
+    def _flanks(self, kind: str) -> list[_FlankFiles]:
+        """The flanks of each gear counted, the most damaged (at unit curve) first.
+
+        As `flank_cycles` orders them; the histories end here.
+        """
+        counters = self.contact if kind == "contact" else self.root
+        out: list[_FlankFiles] = []
+        for counter, files in zip(counters, self._files[kind], strict=True):
+            flanks = [
+                _FlankFiles(counter.gear, side, counter.teeth, files, peaks)
+                for side, peaks in counter.end().items()
+            ]
+            out += sorted(flanks, key=lambda f: -f.worst_at_unit_curve())
+        return out
+
     def reduced(
         self,
     ) -> tuple[tuple[FlankCycles, ...], tuple[FlankCycles, ...], tuple[BearingLoadSum, ...]]:
-        """(flanks, roots, bearings) of `CaseCycles` over the blocks given.
+        """(flanks, roots, bearings) of `CaseCycles` over the blocks given, in memory.
 
-        No block may follow, nor another call: each gear's counter is let go once its cycles
-        are out, so that the memory holds the cycles and the reversals not yet counted, not
-        both.
+        No block may follow, nor another call: the cycles' files are read and removed. A
+        case's `save` writes the same without holding them.
         """
-        return (
-            tuple(flank_cycles(_let_go(self.contact))),
-            tuple(flank_cycles(_let_go(self.root))),
-            tuple(self.bearings.sums()),
-        )
+        try:
+            return (
+                tuple(f.cycles() for f in self._flanks("contact")),
+                tuple(f.cycles() for f in self._flanks("root")),
+                tuple(self.bearings.sums()),
+            )
+        finally:
+            self.close()
+
+    def save(self, path: Path, record: CaseCycles) -> None:
+        """Write the case's ``.npz`` as `CaseCycles.save` writes it, from the cycles' files.
+
+        ``record`` gives the case, key, times and log digest (its flanks, roots and bearings
+        are not read: the reduction's are written). Each array is written into the file a
+        tooth's cycles at a time (no more in memory), with `CaseCycles.save`'s names, format
+        and compression, so that `CaseCycles.load` reads it as the same case. No block may
+        follow, nor another call: the cycles' files are removed.
+        """
+        try:
+            flanks, roots = self._flanks("contact"), self._flanks("root")
+            whole = dataclasses.replace(
+                record, flanks=(), roots=(), bearings=tuple(self.bearings.sums())
+            )
+            partial = path.with_name(path.name + ".partial.npz")
+            with zipfile.ZipFile(partial, mode="w", compression=zipfile.ZIP_DEFLATED) as npz:
+                for prefix, group in (("", flanks), ("root_", roots)):
+                    for i, f in enumerate(group):
+                        for name, dtype, size, parts in f.arrays():
+                            with npz.open(f"{prefix}{i}_{name}.npy", "w", force_zip64=True) as out:
+                                _write_npy(out, dtype, size, parts)
+                with npz.open("meta.npy", "w", force_zip64=True) as out:
+                    meta = np.array(json.dumps(whole._meta(flanks, roots)))
+                    np.lib.format.write_array(out, meta, allow_pickle=False)
+            partial.replace(path)
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Remove the cycles' files (done by `save`, `reduced`, or when it is let go)."""
+        self._remove()
 
 
-def _let_go(counters: list[GearTeeth]) -> Iterator[GearTeeth]:
-    """The counters in order, each taken out of the list as it is given."""
-    while counters:
-        yield counters.pop(0)
+class _ToothFiles:
+    """The cycles of each tooth flank of a gear, one file each.
+
+    (range [Pa], count) pairs as native float64, appended as they close, in the order counted.
+    """
+
+    def __init__(self, stem: Path) -> None:
+        self.stem = stem
+
+    def path(self, side: int, tooth: int) -> Path:
+        """The file of a tooth of flank ``side``."""
+        return self.stem.with_name(f"{self.stem.name}_{side:+d}_{tooth}.f8")
+
+    def append(self, side: int, tooth: int, cycles: Cycles) -> None:
+        """Appends cycles just closed (`GearTeeth` ``cycles_to``)."""
+        with self.path(side, tooth).open("ab") as f:
+            np.column_stack((cycles.ranges, cycles.counts)).tofile(f)
+
+    def read(self, side: int, tooth: int) -> tuple[np.ndarray, np.ndarray]:
+        """(ranges, counts) of a tooth of flank ``side``, in the order counted."""
+        path = self.path(side, tooth)
+        pairs = np.fromfile(path, dtype=float) if path.exists() else np.zeros(0)
+        return pairs[0::2].copy(), pairs[1::2].copy()
+
+    def size(self, side: int, tooth: int) -> int:
+        """Cycles of a tooth of flank ``side``."""
+        path = self.path(side, tooth)
+        return path.stat().st_size // 16 if path.exists() else 0
+
+
+@dataclass(frozen=True)
+class _FlankFiles:
+    """One flank of a gear whose cycles are in files (`_ToothFiles`), with its tooth peaks."""
+
+    gear: str
+    flank: int
+    teeth: int
+    files: _ToothFiles
+    peaks: np.ndarray
+
+    def worst_at_unit_curve(self) -> float:
+        """The largest tooth damage at the unit curve, as `flank_cycles` orders flanks."""
+        from pinwind.life.cycles import Cycles
+        from pinwind.life.sn_curve import SNCurve, miner_damage
+
+        unit = SNCurve(reference_stress=1.0, slope_exponent=1.0)
+        damage = []
+        for j in range(self.teeth):  # as `tooth_damage.cycles_damage` at time factor 1
+            ranges, counts = self.files.read(self.flank, j)
+            damage.append(miner_damage(Cycles(ranges, ranges, counts).scaled(1.0), unit))
+        return float(np.max(np.array(damage)))
+
+    def arrays(self) -> Iterator[tuple[str, np.dtype, int, Iterator[np.ndarray]]]:
+        """Each array `CaseCycles.save` writes of a flank, in its order.
+
+        (name, dtype, length, its parts in order).
+        """
+        sizes = [self.files.size(self.flank, j) for j in range(self.teeth)]
+        n = sum(sizes)
+        teeth = range(self.teeth)
+        yield "tooth", np.dtype(np.int32), n, (np.full(k, j, np.int32) for j, k in enumerate(sizes))
+        yield "ranges", np.dtype(float), n, (self.files.read(self.flank, j)[0] for j in teeth)
+        yield "counts", np.dtype(float), n, (self.files.read(self.flank, j)[1] for j in teeth)
+        yield "peaks", self.peaks.dtype, self.peaks.size, iter([self.peaks])
+
+    def cycles(self) -> FlankCycles:
+        """The flank's cycles in memory."""
+        parts = {name: list(chunks) for name, _, _, chunks in self.arrays()}
+        tooth, ranges, counts = (
+            np.concatenate(parts[k]) for k in ("tooth", "ranges", "counts")
+        )  # fmt: skip
+        return FlankCycles(self.gear, self.flank, self.teeth, tooth, ranges, counts, self.peaks)
+
+
+def _write_npy(out: IO[bytes], dtype: np.dtype, size: int, parts: Iterable[np.ndarray]) -> None:
+    """A one-dimensional ``.npy`` of ``size`` values written part by part.
+
+    NumPy's format 1.0, as ``np.save`` writes an array of that size.
+    """
+    header = {"descr": np.lib.format.dtype_to_descr(dtype), "fortran_order": False,
+              "shape": (size,)}  # fmt: skip
+    np.lib.format.write_array_header_1_0(out, header)
+    written = 0
+    for part in parts:
+        out.write(np.ascontiguousarray(part, dtype=dtype).tobytes())
+        written += part.size
+    if written != size:  # the files changed under it
+        raise InputError(f"wrote {written} values of an array of {size}; run the case again")

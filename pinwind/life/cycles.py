@@ -22,7 +22,7 @@ import numpy.typing as npt
 import rainflow
 
 from pinwind.errors import InputError, NonFiniteInput
-from pinwind.life._rainflow import extract_cycles
+from pinwind.life._rainflow import closed_cycles, extract_cycles
 
 
 @dataclass(frozen=True)
@@ -209,6 +209,81 @@ class Reversals:
             return rainflow_cycles(found)
         ranges, means, counts = extract_cycles(turning_points(found))
         return Cycles(ranges=ranges, means=means, counts=counts)
+
+
+class CycleStream:
+    """The rainflow cycles of a history given in parts, counted as they close.
+
+    Each part is reduced to the reversals it confirms (as `Reversals`), which continue the
+    count of the reversals before: the three-point rule (ASTM E1049-85 §5.4.4) keeps only a
+    stack of points not yet closed (the residue, its ranges decreasing, the history's start
+    first), so counting the residue followed by the next reversals is counting the history
+    joined (``pinwind.life._rainflow.closed_cycles``). `add` gives the cycles each part closes
+    and `end` the rest, the residue's half cycles: all of them, in order, are
+    `rainflow_cycles` of the whole history, while only the residue and two points are held.
+    """
+
+    def __init__(self) -> None:
+        self._tail = np.zeros(0)
+        self._residue = np.zeros(0)
+        self._samples = 0
+        self._largest = -math.inf
+
+    @property
+    def samples(self) -> int:
+        """Samples given so far."""
+        return self._samples
+
+    @property
+    def largest(self) -> float:
+        """The largest sample given so far (−inf before any)."""
+        return self._largest
+
+    @property
+    def held(self) -> int:
+        """Points held: the residue and the last two reversals (bounded, not the history)."""
+        return self._residue.size + self._tail.size
+
+    def add(self, values: npt.ArrayLike) -> Cycles:
+        """The next samples of the history, in time order, (n,): the cycles they close.
+
+        Raises:
+            NonFiniteInput: a sample is NaN or infinite.
+        """
+        part = np.asarray(values, dtype=float).reshape(-1)
+        if not part.size:
+            return _NO_CYCLES
+        bad = np.flatnonzero(~np.isfinite(part))
+        if bad.size:
+            raise NonFiniteInput(
+                f"the history to count has {bad.size} NaN or infinite samples (first at index "
+                f"{self._samples + bad[0]}); count a finite series, e.g. the part of the run "
+                "before it diverged"
+            )
+        self._samples += part.size
+        self._largest = max(self._largest, float(np.max(part)))
+        found = turning_points(np.concatenate((self._tail, part)))
+        self._tail = found[-2:]
+        if found.size <= 2:
+            return _NO_CYCLES
+        ranges, means, counts, self._residue = closed_cycles(
+            np.concatenate((self._residue, found[:-2]))
+        )
+        return Cycles(ranges=ranges, means=means, counts=counts)
+
+    def end(self) -> Cycles:
+        """The history ends: the cycles not given yet (the residue's half cycles, mostly).
+
+        No part may follow.
+        """
+        if self._samples < 3:  # then the reversals are the samples (`rainflow_cycles`)
+            return rainflow_cycles(self._tail)
+        ranges, means, counts = extract_cycles(np.concatenate((self._residue, self._tail)))
+        self._residue, self._tail = np.zeros(0), np.zeros(0)
+        return Cycles(ranges=ranges, means=means, counts=counts)
+
+
+_NO_CYCLES = Cycles(ranges=np.zeros(0), means=np.zeros(0), counts=np.zeros(0))
 
 
 def turning_points(history: np.ndarray) -> np.ndarray:

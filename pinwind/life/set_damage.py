@@ -22,11 +22,12 @@ read at a time.
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinwind.life.case_cycles import CaseCycles, FlankCycles
+from pinwind.life.case_cycles import CaseCycles, FlankCycles, saved_flanks
 from pinwind.life.fatigue_set import FatigueSet
 from pinwind.life.sn_curve import REVERSED_BENDING_FACTOR, FatigueCurve, IsoLifeCurve
 
@@ -173,11 +174,13 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
         path = fatigue.cycles_path(case)
         if not path.is_file():
             raise InputError(f"{path}: case {case.name} has not run; run the fatigue set first")
-        reduced = CaseCycles.load(path)
+        # The record first, then one flank's cycles at a time: a case's cycles grow with its
+        # length, and are never all in memory.
+        reduced = CaseCycles.load(path, with_flanks=False)
         factor = site.bins[case.bin].hours * 3600.0 / reduced.counted_seconds / len(fatigue.seeds)
-        for location, group in (("contact", reduced.flanks), ("root", reduced.roots)):
-            loaded = _loaded_flanks(group)
-            for flank in group:
+        for location, group in (("contact", "flanks"), ("root", "roots")):
+            loaded = _loaded_flanks(saved_flanks(path, group))
+            for flank in saved_flanks(path, group):
                 teeth[flank.gear] = flank.teeth
                 for variant in VARIANTS:
                     curve, limited = _curve(
@@ -213,7 +216,7 @@ def set_damage(fatigue: FatigueSet) -> SetDamage:
     )
 
 
-def _loaded_flanks(group: tuple[FlankCycles, ...]) -> dict[str, set[int]]:
+def _loaded_flanks(group: Iterable[FlankCycles]) -> dict[str, set[int]]:
     """Gear → the flanks a case loads (with any cycle)."""
     loaded: dict[str, set[int]] = defaultdict(set)
     for flank in group:

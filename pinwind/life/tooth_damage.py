@@ -41,8 +41,9 @@ forward. Each flank of a tooth is its own surface and is rated apart (`gear_toot
 A run may be counted block by block as it runs (`GearTeeth`, a fatigue case's reduction): the
 teeth are numbered on from the block before (the roll position and tooth at its last sample),
 a pass that runs past a block's end goes on in the next (a helical pass's largest value is
-held until the pass ends), and each tooth flank's history is kept as its reversals only
-(`pinwind.life.cycles.Reversals`), counted at the end; the whole run is one block.
+held until the pass ends), and each tooth flank's history is rainflow-counted as it comes
+(`pinwind.life.cycles.CycleStream`, holding only the points not yet closed); the whole run is
+one block.
 
 The force of a pair is spread evenly across the face width (ISO's K_Hβ = K_Fβ = 1), or with
 ``face_load="run"`` rated at the run's peak line load (`pinwind.life.peak_line_load`): each
@@ -71,7 +72,7 @@ from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.hertz import VON_MISES_RATIO
 from pinwind.gears.materials import Material
 from pinwind.life.contact_stress import contact_stress, helical_contact_stress
-from pinwind.life.cycles import Cycles, Reversals, rainflow_cycles
+from pinwind.life.cycles import Cycles, CycleStream, rainflow_cycles
 from pinwind.life.peak_line_load import FACE_LOADS, require_sliced, run_force_factor
 from pinwind.life.root_stress import RootStress
 from pinwind.life.sn_curve import FatigueCurve, miner_damage
@@ -768,11 +769,12 @@ class GearTeeth:
 
     Each block is a Result of consecutive samples of a run, continuing the block before
     (`add`); the teeth are numbered on across blocks (`mesh_teeth`), the passes joined
-    (`ToothPasses`), and each tooth flank's history is kept as its reversals only
-    (`pinwind.life.cycles.Reversals`), so that memory does not grow with the samples but by the
-    reversals. `damage` counts them: `gear_tooth_damage` of the blocks joined (the whole run is
-    one block). Each flank is built from the first block, whichever flanks the blocks load, so
-    that its passes are those of the whole history.
+    (`ToothPasses`), and each tooth flank's history is counted as it comes
+    (`pinwind.life.cycles.CycleStream`, which holds only the points not yet closed): its cycles
+    are held here for `damage` (`gear_tooth_damage` of the blocks joined; the whole run is one
+    block), or handed to ``cycles_to(flank, tooth, cycles)`` as they close, so that nothing
+    held grows with the run. Each flank is built from the first block, whichever flanks the
+    blocks load, so that its passes are those of the whole history.
 
     Args:
         gearbox: the model of the run.
@@ -780,6 +782,8 @@ class GearTeeth:
         materials: gear name → material (default `materials.DEFAULT_MATERIAL`).
         root_stress: rate the tooth root with this model instead of the flank's contact.
         face_load: ``"uniform"`` or ``"run"`` (`gear_tooth_damage`).
+        cycles_to: receives (flank, tooth, the cycles just closed) instead of holding them;
+            `end` gives the last.
 
     Raises:
         InputError: no mesh has the gear, or a mesh of it has no path of contact; an unknown
@@ -794,6 +798,7 @@ class GearTeeth:
         materials: Mapping[str, Material | str] | None = None,
         root_stress: RootStress | None = None,
         face_load: str = "uniform",
+        cycles_to: Callable[[int, int, Cycles], None] | None = None,
     ) -> None:
         if face_load not in FACE_LOADS:
             raise InputError(
@@ -813,17 +818,27 @@ class GearTeeth:
             raise InputError(f'no mesh has a gear "{gear}"; meshed gears are: {", ".join(names)}')
         self.teeth = self._meshes[-1][1].spec.teeth
         self._rolls: dict[int, _Roll | None] = {i: None for i, _, _ in self._meshes}
-        self._reversals = {side: [Reversals() for _ in range(self.teeth)] for side in (1, -1)}
+        self._streams = {side: [CycleStream() for _ in range(self.teeth)] for side in (1, -1)}
+        self._parts: dict[int, list[list[Cycles]]] = {
+            side: [[] for _ in range(self.teeth)] for side in (1, -1)
+        }
+        self._cycles_to = cycles_to if cycles_to is not None else self._keep
         self._passes = {side: ToothPasses(self.teeth, self._sink(side)) for side in (1, -1)}
         self._loaded = {1: False, -1: False}
-        self._counted: dict[int, tuple[list[Cycles], list[float]]] = {}
+        self._peaks: dict[int, np.ndarray] = {}
+
+    def _keep(self, side: int, tooth: int, cycles: Cycles) -> None:
+        """Holds the cycles in memory (no ``cycles_to``), for `damage`."""
+        self._parts[side][tooth].append(cycles)
 
     def _sink(self, side: int) -> Callable[[int, np.ndarray], None]:
         """Where `ToothPasses` puts the next values of a tooth's history of flank ``side``."""
-        reversals = self._reversals[side]
+        streams = self._streams[side]
 
         def add(tooth: int, values: np.ndarray) -> None:
-            reversals[tooth].add(values)
+            closed = streams[tooth].add(values)
+            if closed.ranges.size:
+                self._cycles_to(side, tooth, closed)
 
         return add
 
@@ -863,32 +878,56 @@ class GearTeeth:
             # Samples on the other flank leave this one unloaded.
             self._passes[side].add([c.unloaded_where(flank != side) for c, flank in contacts])
 
+    def end(self) -> dict[int, np.ndarray]:
+        """The histories end (`ToothPasses.close`): each loaded flank's tooth peaks.
+
+        Peaks [Pa], (teeth,), by flank. No block may follow. The last cycles of each tooth
+        flank go where the others went (``cycles_to``), and its counter is let go; a second
+        call gives the same peaks.
+        """
+        for side in (1, -1):
+            self._passes[side].close()
+            if not self._loaded[side] or side in self._peaks:
+                continue
+            streams = self._streams[side]
+            peaks = []
+            for j in range(self.teeth):
+                last = streams[j].end()
+                if last.ranges.size:
+                    self._cycles_to(side, j, last)
+                peaks.append(streams[j].largest)
+                streams[j] = CycleStream()  # its residue let go
+            self._peaks[side] = np.array(peaks, dtype=float)
+        return dict(self._peaks)
+
     def damage(
         self, *, curve: FatigueCurve, time_factor: float, use_endurance_limit: bool = True
     ) -> tuple[ToothDamage, ...]:
         """The damage of each flank loaded in the blocks so far, the most damaged first.
 
-        The histories end here (`ToothPasses.close`): no block may follow. Each tooth flank's
-        reversals are counted once and let go (its cycles are kept instead).
+        The histories end here (`end`): no block may follow. Each tooth flank's cycles are
+        counted as its history comes (`pinwind.life.cycles.CycleStream`) and held here (not
+        with ``cycles_to``, which holds them instead).
+
+        Raises:
+            InputError: the cycles went to ``cycles_to``.
         """
+        if self._cycles_to != self._keep:
+            raise InputError(
+                f"gear {self.gear}: its cycles went to cycles_to, not held for damage; rate them "
+                "where they went (CaseReduction.save), or count without cycles_to"
+            )
         rated = []
-        for side in (1, -1):
-            self._passes[side].close()
-            if not self._loaded[side]:
-                continue
-            if side not in self._counted:
-                reversals = self._reversals[side]
-                counted, peaks = [], []
-                for j in range(self.teeth):
-                    counted.append(reversals[j].cycles())
-                    peaks.append(reversals[j].largest)
-                    reversals[j] = Reversals()  # its reversals let go
-                self._counted[side] = (counted, peaks)
-            cycles, peaks = self._counted[side]
+        for side, peaks in self.end().items():
+            cycles = []
+            for parts in self._parts[side]:
+                if len(parts) != 1:  # joined once, then held as one
+                    parts[:] = [_joined(parts)]
+                cycles.append(parts[0])
             rated.append(
                 cycles_damage(
                     cycles,
-                    peaks,
+                    list(peaks),
                     gear=self.gear,
                     curve=curve,
                     time_factor=time_factor,
@@ -897,6 +936,15 @@ class GearTeeth:
                 )
             )
         return tuple(sorted(rated, key=lambda d: -d.worst))
+
+
+def _joined(parts: Sequence[Cycles]) -> Cycles:
+    """Cycles given in parts, in order, as one."""
+    return Cycles(
+        ranges=np.concatenate([np.zeros(0), *(c.ranges for c in parts)]),
+        means=np.concatenate([np.zeros(0), *(c.means for c in parts)]),
+        counts=np.concatenate([np.zeros(0), *(c.counts for c in parts)]),
+    )
 
 
 def _contacts(

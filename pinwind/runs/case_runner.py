@@ -76,28 +76,31 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
     gearbox = load(scenario.model_path())
     fatigue.out.mkdir(parents=True, exist_ok=True)
     reduction, observer = case_reducer(case, fatigue, gearbox)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        # No run statistics: folding every step into min, max and RMS (for a summary; not
-        # logged) would take a thread beside the loop.
-        run(
-            scenario,
-            gearbox=gearbox,
-            progress=False,
-            command=f"pinwind fatigue {fatigue.source} (case {case.name})",
-            statistics=False,
-            keep="last",
-            keep_series=(),
-            observer=observer,
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            # No run statistics: folding every step into min, max and RMS (for a summary; not
+            # logged) would take a thread beside the loop.
+            run(
+                scenario,
+                gearbox=gearbox,
+                progress=False,
+                command=f"pinwind fatigue {fatigue.source} (case {case.name})",
+                statistics=False,
+                keep="last",
+                keep_series=(),
+                observer=observer,
+            )
+        return reduced_case(
+            case,
+            fatigue,
+            reduction,
+            wall_time=time.perf_counter() - start,
+            cpu_time=time.process_time() - cpu,
+            thread_time=time.thread_time() - own,
         )
-    return reduced_case(
-        case,
-        fatigue,
-        reduction,
-        wall_time=time.perf_counter() - start,
-        cpu_time=time.process_time() - cpu,
-        thread_time=time.thread_time() - own,
-    )
+    finally:  # its cycles' files go now, also in a worker, which ends without clean-up
+        reduction.close()
 
 
 def case_reducer(
@@ -160,6 +163,34 @@ def reduced_case(
         thread_time,
         file_sha256(fatigue.log_path(case)),
     )
+
+
+def save_reduced_case(
+    case: LoadCase,
+    fatigue: FatigueSet,
+    reduction: CaseReduction,
+    *,
+    wall_time: float = math.nan,
+    cpu_time: float = math.nan,
+    thread_time: float = math.nan,
+) -> Path:
+    """Write `reduced_case` to the case's ``.npz`` without holding its cycles: the path.
+
+    `CaseReduction.save` writes it from the files the cycles went to as they closed, so the
+    memory does not grow with the case's length; `CaseCycles.load` reads it.
+    """
+    path = fatigue.cycles_path(case)
+    record = CaseCycles(
+        case,
+        fatigue.case_key(case),
+        fatigue.counted_seconds,
+        wall_time,
+        cpu_time=cpu_time,
+        thread_time=thread_time,
+        log_sha256=file_sha256(fatigue.log_path(case)),
+    )
+    reduction.save(path, record)
+    return path
 
 
 def reduce_case(

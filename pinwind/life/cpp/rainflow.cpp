@@ -34,7 +34,11 @@ struct Cycles {
 };
 
 // The cycles of reversals (a strictly alternating series, first and last points included).
-Cycles extract_cycles(const double* reversals, std::size_t n) {
+// With `flush` false the points not closed (the residue: the stack, its start first) are left
+// in `residue` instead of being counted as half cycles: counting them with the next reversals
+// after them is counting the series joined (the stack is all the state the rule keeps).
+Cycles extract_cycles(const double* reversals, std::size_t n, bool flush = true,
+                      std::vector<double>* residue = nullptr) {
   Cycles out;
   std::vector<double> points;  // the stack: points[head..] (head moves as the start is counted)
   points.reserve(64);
@@ -58,6 +62,10 @@ Cycles extract_cycles(const double* reversals, std::size_t n) {
       points.erase(points.begin(), points.begin() + static_cast<std::ptrdiff_t>(head));
       head = 0;
     }
+  }
+  if (!flush) {
+    residue->assign(points.begin() + static_cast<std::ptrdiff_t>(head), points.end());
+    return out;
   }
   for (; points.size() - head > 1; ++head) out.add(points[head], points[head + 1], 0.5);
   return out;
@@ -87,4 +95,21 @@ NB_MODULE(_rainflow, m) {
       nb::arg("reversals"),
       "(ranges, means, counts) of the rainflow cycles of a series of reversals, in the order "
       "rainflow.extract_cycles yields them.");
+  m.def(
+      "closed_cycles",
+      [](const Input& reversals) {
+        Cycles c;
+        std::vector<double> residue;
+        {
+          nb::gil_scoped_release release;
+          c = extract_cycles(reversals.data(), reversals.shape(0), false, &residue);
+        }
+        return nb::make_tuple(to_numpy(std::move(c.range)), to_numpy(std::move(c.mean)),
+                              to_numpy(std::move(c.count)), to_numpy(std::move(residue)));
+      },
+      nb::arg("reversals"),
+      "(ranges, means, counts, residue): the cycles extract_cycles yields before its last "
+      "half cycles, and the points it would count them from (the stack, its start first). "
+      "closed_cycles of the residue followed by more reversals continues the count; "
+      "extract_cycles of the last residue gives the last half cycles.");
 }
