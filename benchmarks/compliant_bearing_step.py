@@ -46,12 +46,11 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import time
-import warnings
 from pathlib import Path
 
+from step_timing import seconds_per_step
+
 import pinwind
-from pinwind.errors import PinwindWarning
 from pinwind.model.gearbox import loads
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -77,21 +76,7 @@ def with_compliant_bearings(gb, joints: list[str] | None = None) -> pinwind.Gear
 
 
 def time_per_step(gb, steps: int, dt: float, case) -> float:
-    joint_in, torque, joint_out, speed = case
-    started = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PinwindWarning)
-        pinwind.simulate(
-            gb,
-            duration=steps * dt,
-            dt=dt,
-            torques={joint_in: torque},
-            speeds={joint_out: speed},
-            meshes={"all": "compliant"},
-            keep="last",
-            progress=False,
-        )
-    return (time.perf_counter() - started) / steps
+    return seconds_per_step(gb, case, steps=steps, dt=dt, meshes={"all": "compliant"})
 
 
 def main() -> None:

@@ -27,11 +27,11 @@ import statistics
 import subprocess
 import sys
 import time
-import warnings
 from pathlib import Path
 
+from step_timing import seconds_per_step
+
 import pinwind
-from pinwind.errors import PinwindWarning
 
 ROOT = Path(__file__).resolve().parents[1]
 #: model → (input joint, input torque [N·m], output joint held at speed, its speed [rad/s])
@@ -44,22 +44,7 @@ CASES = {
 
 
 def time_per_step(gb, kind: str, steps: int, dt: float, case) -> float:
-    joint_in, torque, joint_out, speed = case
-    started = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PinwindWarning)
-        pinwind.simulate(
-            gb,
-            duration=steps * dt,
-            dt=dt,
-            torques={joint_in: torque},
-            speeds={joint_out: speed},
-            meshes={"all": kind},
-            keep="last",
-            statistics=False,
-            progress=False,
-        )
-    return (time.perf_counter() - started) / steps
+    return seconds_per_step(gb, case, steps=steps, dt=dt, meshes={"all": kind})
 
 
 def main() -> None:

@@ -16,12 +16,12 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
-import warnings
 from dataclasses import replace
 from pathlib import Path
 
+from step_timing import seconds_per_step
+
 import pinwind
-from pinwind.errors import PinwindWarning
 from pinwind.model.compliance import MeshCompliance
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,22 +34,7 @@ MU = 0.05
 
 
 def time_per_step(gb, meshes, steps: int, dt: float, case) -> float:
-    joint_in, torque, joint_out, speed = case
-    started = time.process_time()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PinwindWarning)
-        pinwind.simulate(
-            gb,
-            duration=steps * dt,
-            dt=dt,
-            torques={joint_in: torque},
-            speeds={joint_out: speed},
-            meshes=meshes,
-            keep="last",
-            statistics=False,
-            progress=False,
-        )
-    return (time.process_time() - started) / steps
+    return seconds_per_step(gb, case, steps=steps, dt=dt, meshes=meshes, clock=time.process_time)
 
 
 def main() -> None:

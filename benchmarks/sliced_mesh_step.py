@@ -18,12 +18,11 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import time
-import warnings
 from pathlib import Path
 
+from step_timing import seconds_per_step
+
 import pinwind
-from pinwind.errors import PinwindWarning
 from pinwind.model.compliance import MeshCompliance
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -32,21 +31,8 @@ CASE = ("carrier", 1.76e5, "sun", 15.75)  # input joint, torque [N·m], output j
 
 
 def time_per_step(gb, steps: int, dt: float, slices: int) -> float:
-    joint_in, torque, joint_out, speed = CASE
-    started = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", PinwindWarning)
-        pinwind.simulate(
-            gb,
-            duration=steps * dt,
-            dt=dt,
-            torques={joint_in: torque},
-            speeds={joint_out: speed},
-            meshes={"all": MeshCompliance(slices=slices)},
-            keep="last",
-            progress=False,
-        )
-    return (time.perf_counter() - started) / steps
+    meshes = {"all": MeshCompliance(slices=slices)}
+    return seconds_per_step(gb, CASE, steps=steps, dt=dt, meshes=meshes)
 
 
 def main() -> None:
