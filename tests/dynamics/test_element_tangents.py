@@ -156,3 +156,15 @@ def test_bearing_rows_off_their_stiffness_centre_have_the_tangents_of_their_spri
     gb = _quiet(shaft_on_rows(rows))
     element_tangents(gb, states=6, seed=11, rtol=RTOL)
     conservative_forces(gb, states=6, seed=11, rtol=RTOL)
+
+
+def test_a_bearings_friction_moment_has_the_tangent_of_its_moment_on_every_branch():
+    """Palmgren's M0 ∝ (ν n)^(2/3) above its floor, the floor, and the regularised sign through
+    ω = 0 (|ω| < ω_s): the speeds chosen so each branch holds a state and none sits on a kink."""
+    from tests.dynamics.test_bearing_friction_step import shaft
+
+    gb = _quiet(shaft())
+    speeds = (-30.0, -2.0, -0.004, 0.003, 0.5, 12.0, 100.0)  # [rad/s]
+    states = [(np.zeros(1), np.array([w])) for w in speeds]
+    figure = element_tangents(gb, states=states, rtol=RTOL)
+    assert "7 states" in figure.detail
