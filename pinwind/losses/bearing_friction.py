@@ -16,27 +16,38 @@ The power loss is P = M ω.
 
 The two branches of M0 meet at ν n = 2000 only to within 0.8 % (2000^(2/3) = 158.7, not 160):
 pinwind takes the larger of the two, ``10⁻⁷ f0 d_m³ max((ν n)^(2/3), 160)``, continuous, which
-differs from the standard's only for 2000 < ν n < 2024 (by ≤ 0.8 %).
+differs from the standard's only for 2000 < ν n < 2024 (by ≤ 0.8 %). The viscous branch's
+form and its 10⁻⁷ are as read in Fernandes's script (below); the low-speed branch (160) was not
+found in a text that could be read and cited.
 
-**Factors** (``PALMGREN_FACTORS``): the middle of the ranges Palmgren (1959) and Harris &
-Kotzalas (2007, *Rolling Bearing Analysis*, 5th ed., vol. 1 §"Friction torque", Palmgren's
-tables) give for bearings in an oil bath, as ISO/TR 14179-2 takes them:
+**Factors** (``PALMGREN_FACTORS``), by bearing type, and where each was checked. The formula
+(M0 = 10⁻⁷ f0 (ν n)^(2/3) d_m³ [N·mm], ν n ≥ 2000) and the deep-groove ball bearing's range
+f0 = 1.5-2 were read in C. Fernandes (University of Porto), figure script
+``figures/RB_L3_Palmgren.py`` of the public repository cfernandesFEUP/Machine-Elements-Animations-
+Figures (commit 40f90ec, function ``Harris``: "f0 = 1.75 ## 1.5-2", 6206 bearing), which takes the
+middle, 1.75. No other row could be checked against a readable text: ISO/TR 14179-2, Palmgren
+(1959), Harris & Kotzalas (2007) and the bearing makers' friction tables were not found in a form
+that could be read; those rows are the values first written here, unverified (``source``):
 
-| type | f0 (range) | f1 (range) | P1 |
-|---|---|---|---|
-| deep_groove_ball | 2.0 (1.5-2) | 0.0007 | max(3 F_a − 0.1 F_r, F_r) |
-| angular_contact_ball | 2.0 (single row) | 0.001 | max(0.9 F_a cot α − 0.1 F_r, F_r) |
-| cylindrical_roller | 2.5 (2-3, with cage) | 0.000275 (0.00025-0.0003) | F_r |
-| tapered_roller | 4.0 (3-4.5) | 0.0004 | max(0.8 F_a cot α, F_r) |
-| spherical_roller | 5.0 (4-6) | 0.0004 | max(0.8 F_a cot α, F_r) |
-| toroidal_roller | 5.0 (as spherical) | 0.0004 (as spherical) | F_r |
+| type | f0 | f1 | P1 | checked |
+|---|---|---|---|---|
+| deep_groove_ball | 1.75 (1.5-2) | 0.0007 | max(3 F_a − 0.1 F_r, F_r) | f0: Fernandes (above) |
+| angular_contact_ball | 2.0 | 0.001 | max(0.9 F_a cot α − 0.1 F_r, F_r) | unverified |
+| cylindrical_roller | 2.5 | 0.000275 | F_r | unverified |
+| tapered_roller | 4.0 | 0.0004 | max(0.8 F_a cot α, F_r) | unverified |
+| spherical_roller | 5.0 | 0.0004 | max(0.8 F_a cot α, F_r) | unverified |
+| toroidal_roller | 5.0 (as spherical) | 0.0004 (as spherical) | F_r | pinwind's assumption |
 
+(the deep-groove ball bearing's f1 and P1 rule: unverified.)
+
+Fernandes's script takes the ball bearing's load term in another form, M1 = μ f1 F d_m/2 with
+μ = 0.002 (F/C0)^(1/2) and f1 = 1.45 (a coefficient that grows with the load), not the constant
+f1 here: the form of M1 for ball bearings is not settled by a text read here.
 (tapered: pinwind uses the radial roller bearing's rule, 0.8 F_a cot α with the type's ISO 281
 contact angle, ``model/bearing.py``.) The toroidal (CARB) roller bearing is not in Palmgren's
 tables: pinwind takes the spherical roller bearing's factors (the same barrel-shaped rollers in
 a curved raceway), an assumption. A model file may give a bearing's own ``friction_f0`` and
-``friction_f1`` (its catalogue's; docs/losses.md) — the values here are the starting point
-ISO/TR 14179-2 and the bearing makers' older catalogues give, for bearings of any size;
+``friction_f1`` (its catalogue's; docs/losses.md), the better values for a real bearing.
 SKF's 2018 model (rolling, sliding, seal and drag moments) is not implemented.
 """
 
@@ -101,17 +112,24 @@ class PalmgrenFactors:
     source: str
 
 
-_PALMGREN = "Palmgren 1959; Harris & Kotzalas 2007 (Palmgren's tables); ISO/TR 14179-2:2001"
+#: Where a row's factors were read (module docstring).
+_FERNANDES = (
+    "f0 1.75, the middle of 1.5-2: C. Fernandes (U. Porto), cfernandesFEUP/Machine-Elements-"
+    "Animations-Figures, figures/RB_L3_Palmgren.py (commit 40f90ec), after Harris; f1: unverified"
+)
+_UNVERIFIED = (
+    "unverified: no readable text of Palmgren 1959, Harris & Kotzalas 2007 or ISO/TR 14179-2"
+)
 
 #: Palmgren's factors by bearing type (``model/bearing.py`` ``BEARING_TYPES``).
 PALMGREN_FACTORS: dict[str, PalmgrenFactors] = {
-    "deep_groove_ball": PalmgrenFactors(2.0, 0.0007, "ball", 0.0, _PALMGREN),
+    "deep_groove_ball": PalmgrenFactors(1.75, 0.0007, "ball", 0.0, _FERNANDES),
     "angular_contact_ball": PalmgrenFactors(
-        2.0, 0.001, "angular_ball", math.radians(40.0), _PALMGREN
+        2.0, 0.001, "angular_ball", math.radians(40.0), _UNVERIFIED
     ),
-    "cylindrical_roller": PalmgrenFactors(2.5, 0.000275, "none", 0.0, _PALMGREN),
-    "tapered_roller": PalmgrenFactors(4.0, 0.0004, "roller", math.radians(15.0), _PALMGREN),
-    "spherical_roller": PalmgrenFactors(5.0, 0.0004, "roller", math.radians(10.0), _PALMGREN),
+    "cylindrical_roller": PalmgrenFactors(2.5, 0.000275, "none", 0.0, _UNVERIFIED),
+    "tapered_roller": PalmgrenFactors(4.0, 0.0004, "roller", math.radians(15.0), _UNVERIFIED),
+    "spherical_roller": PalmgrenFactors(5.0, 0.0004, "roller", math.radians(10.0), _UNVERIFIED),
     "toroidal_roller": PalmgrenFactors(
         5.0, 0.0004, "none", 0.0, "spherical roller's factors (pinwind's assumption)"
     ),

@@ -6,10 +6,14 @@ bearing row with Palmgren's M0 + M1 (VG 320 at 70 °C) and its load in the step.
 
 Compared with: the 97-98 % per planetary stage the issue quotes. No published per-stage figure
 that names its author and year was found for this comparison (docs/losses.md says so); the band
-is used as a bound only. pinwind counts the load-dependent losses alone (flank friction,
-Palmgren's bearing moments): no churning, windage, squeezing, seals or oil pumps, which in a
-dip- or jet-lubricated gearbox are of the same order. So each stage must lose less than the
-band's 2-3 %, and more than its meshes' μ P H_V floor (μ ≥ 0.02, H_V ≥ 0.1: 0.2 %).
+is used as a bound only. The whole-gearbox figures that could be cited (WISDEM's assumed 97.5 %
+for this turbine's gearbox, a loss of about 3 % of rated power in a CRC monograph, 98-99 % for the
+best high-power gearboxes in Eastwick & Johnson 2008: docs/losses.md) are single numbers for a
+whole gearbox, not per stage, and are not asserted here. pinwind counts the load-dependent
+losses alone (flank friction, Palmgren's bearing moments): no churning, windage, squeezing,
+seals or oil pumps, which in a dip- or jet-lubricated gearbox are of the same order. So each
+stage must lose less than the band's 2-3 %, and more than its meshes' μ P H_V floor (μ ≥ 0.02,
+H_V ≥ 0.1: 0.2 %).
 
 Independently of the step's friction, the after-the-run estimate (``source="estimate"``) on the
 same run's loads gives each stage's bearing loss (Palmgren at the rows' loads: the step's P1
