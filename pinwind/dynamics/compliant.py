@@ -561,15 +561,20 @@ def profile_gap_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
     """The gap the gears' profile reliefs leave a tooth pair along the path (positions [m], [m]).
 
     Positions from A over g_α, as ``pair_table``'s; piecewise linear, exact for linear reliefs
-    (their ends are breakpoints), within C/(8 n²) of a parabolic one (n = 256 intervals). The
+    (their ends are breakpoints), within C (h/L)²/8 of a parabolic one over its length L
+    (chords h = g_α/256). The
     gap is `pinwind.gears.flank_modification.profile_gap` with gear A first, or gear B first
     where gear A is internal: along the path from A the external gear's tip comes last. None:
     neither gear has a profile relief.
 
+    A helical mesh's slices (``helical_slices``) each roll along the transverse path g_α, so
+    the table is theirs: slice s's pairs, its face section lagging the front one by ζ_s tan β_b,
+    take the gap at their own roll position.
+
     Raises:
-        InputError: a helical mesh with profile relief (its pairs touch along inclined lines:
-            one gap per pair does not hold it; `pinwind te` computes its static TE in slices),
-            or a mesh whose stiffness has no pair table (``variation = "constant"``).
+        InputError: a helical mesh with profile relief and one contact line (its pairs touch
+            along inclined lines: one gap per pair does not hold it; slices do), or a mesh
+            whose stiffness has no pair table (``variation = "constant"``).
     """
     mod_a, mod_b = mesh.gear_a.spec.modification, mesh.gear_b.spec.modification
     if not any(m.tip_relief or m.root_relief for m in (mod_a, mod_b)):
@@ -577,12 +582,14 @@ def profile_gap_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
     path = mesh.path
     if path is None:
         return None
-    if path.overlap_ratio > 0.0:
+    slices = mesh.compliance.slices if mesh.compliance is not None else 1
+    if path.overlap_ratio > 0.0 and slices < 2:
         raise InputError(
             f'mesh "{mesh.name}": profile relief on a helical mesh (ε_β = '
-            f"{path.overlap_ratio:.3g}) is not in the run's mesh yet: its pairs touch along "
-            "inclined lines, which one spring per pair does not hold; `pinwind te` gives its "
-            "static transmission error in slices"
+            f"{path.overlap_ratio:.3g}) with one contact line: its pairs touch along inclined "
+            "lines, which one spring per pair does not hold; cut it into slices across the "
+            'face (slices="8" on its <mesh>, or MeshCompliance(slices=8)), whose pairs each '
+            "take the relief at their own roll position"
         )
     if pair_table(mesh) is None:
         raise InputError(
