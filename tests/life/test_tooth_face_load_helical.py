@@ -1,4 +1,4 @@
-"""The helical tooth histories of `pinwind fatigue` at the run's peak line load (``face_load="run"``).
+"""Helical tooth histories of `pinwind fatigue` at the run's peak line load (face_load="run").
 
 The run is ``tests/conftest.two_gear_urdf``'s pair made helical (20/40 teeth, normal module
 2 mm, β = ±20° (ε_β = b sin β/(π m_n) = 1.09, the helical stresses' range), face b = 20 mm)
