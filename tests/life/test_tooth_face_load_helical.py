@@ -93,9 +93,7 @@ def test_the_held_helical_run_carries_the_hand_force_at_the_hand_face_load_facto
     [(None, math.sqrt(K_HB)), (ISO_ROOT_STRESS, K_HB**N_F)],
     ids=["contact", "root"],
 )
-def test_helical_stresses_and_damage_scale_by_the_peak_line_loads_factor(
-    sliced, gear, root, ratio
-):
+def test_helical_stresses_and_damage_scale_by_the_peak_line_loads_factor(sliced, gear, root, ratio):
     gearbox, res = sliced
 
     def damage(**options):
