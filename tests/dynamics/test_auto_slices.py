@@ -22,6 +22,7 @@ import pinwind
 from pinwind.errors import InputError
 from pinwind.gears.face_load import expected_misalignment
 from pinwind.gears.flank_modification import FlankModification
+from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
 
@@ -116,3 +117,25 @@ def test_a_bad_slice_count_exits_2_with_one_line(tmp_path, slices):
     assert "Traceback" not in out.stderr
     assert "whole number ≥ 1" in out.stderr and '"auto"' in out.stderr
     assert len(out.stderr.strip().splitlines()) == 1
+
+
+def test_the_python_api_takes_auto_slices_per_run():
+    """MeshCompliance(slices="auto") in ``meshes=`` resolves as the model file's attribute."""
+    text = two_gear_urdf().replace(
+        '<gear name="g1" ', f'<gear name="g1" helix_slope_deviation_um="{F_HB * 1e6!r}" '
+    )
+    res = pinwind.simulate(
+        loads(text, "pair.urdf"),
+        duration=2e-4,
+        dt=1e-5,
+        speeds={"a": 0.0},
+        torques={"b": TORQUE_B},
+        gravity=np.zeros(3),
+        initial_deflection="static",
+        meshes={
+            "m": MeshCompliance(
+                mean_stiffness=K, variation="constant", damping_ratio=0.5, slices="auto"
+            )
+        },
+    )
+    assert res.metadata["meshes"]["m"]["slices"] == 6  # b = 20 mm: ⌈10 · 12/20⌉
