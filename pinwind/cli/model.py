@@ -43,8 +43,26 @@ def info(model: Annotated[Path, typer.Argument(help="Gearbox model file.")]) -> 
         say(
             f"mesh {m.name}: {a.name} ({a.teeth}) – {b.name} ({b.teeth}"
             f"{', internal' if b.internal else ''}), a_w = {m.centre_distance * 1e3:.4f} mm, "
-            f"α_w = {math.degrees(m.working_pressure_angle):.4f}°"
+            f"α_w = {math.degrees(m.working_pressure_angle):.4f}°{_compliance_note(m)}"
         )
+
+
+def _compliance_note(mesh) -> str:
+    """The text ", compliant, N slices" of a compliant mesh (the rule's inputs if "auto")."""
+    from pinwind.dynamics.compliant import auto_slices
+    from pinwind.gears.face_load import AUTO_LINE_LOAD
+
+    c = auto_slices(mesh).compliance
+    if c is None:
+        return ""
+    note = f", compliant, {c.slices} slice{'s' if c.slices != 1 else ''}"
+    if c.slice_rule is not None:
+        misalignment, deflection = c.slice_rule
+        note += (
+            f' (slices="auto": ⌈10 F_β/δ_m⌉, F_β = {misalignment * 1e6:.4g} µm, δ_m = '
+            f"{deflection * 1e6:.4g} µm at {AUTO_LINE_LOAD * 1e-3:g} N/mm)"
+        )
+    return note
 
 
 @build_app.command("planetary")

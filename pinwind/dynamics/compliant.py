@@ -58,7 +58,12 @@ from pinwind.dynamics.normal_modes import (
     natural_modes,
 )
 from pinwind.errors import InputError, PinwindWarning, StepTooCoarse, UnknownElement
-from pinwind.gears.face_load import slice_centres
+from pinwind.gears.face_load import (
+    AUTO_LINE_LOAD,
+    expected_misalignment,
+    slice_centres,
+    slice_count,
+)
 from pinwind.gears.flank_modification import lead_gap, profile_gap
 from pinwind.gears.gear_pair import GearPair
 from pinwind.gears.mesh_stiffness import (
@@ -67,7 +72,7 @@ from pinwind.gears.mesh_stiffness import (
     pair_stiffness_along_path,
     single_pair_stiffness,
 )
-from pinwind.model.compliance import MeshCompliance
+from pinwind.model.compliance import AUTO_SLICES, MeshCompliance
 from pinwind.model.gearbox import Gear, Gearbox, Mesh
 from pinwind.model.phasing import direction_at
 
@@ -143,7 +148,30 @@ def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | 
                     "cannot be compliant"
                 )
             chosen[i] = replace(m, compliance=compliance)
-    return chosen
+    return [auto_slices(m) for m in chosen]
+
+
+def auto_slices(mesh: Mesh) -> Mesh:
+    """The mesh with ``slices="auto"`` replaced by the rule's N (else the mesh as it is).
+
+    N = `pinwind.gears.face_load.slice_count`(F_β, δ_m) = ⌈10 F_β/δ_m⌉ in [1, 50], with F_β the
+    misalignment expected across the face, `pinwind.gears.face_load.expected_misalignment` of
+    the two gears' lead modifications (f_Hβ, crowning, end relief) plus the rating's default
+    F_βy for what the model does not give, and δ_m = w b/c̄ the mean deflection at the light
+    line load w = `pinwind.gears.face_load.AUTO_LINE_LOAD` (100 N/mm) on the face width b
+    (``Mesh.face_width``) with the mesh's mean stiffness c̄ (``mean_mesh_stiffness``). The
+    compliance keeps (F_β, δ_m) in ``slice_rule``; the run's metadata records both.
+    """
+    c = mesh.compliance
+    if c is None or c.slices != AUTO_SLICES:
+        return mesh
+    b = mesh.face_width
+    misalignment = expected_misalignment(
+        mesh.gear_a.spec.modification, mesh.gear_b.spec.modification, b
+    )
+    deflection = AUTO_LINE_LOAD * b / mean_mesh_stiffness(mesh)
+    n = slice_count(misalignment, deflection)
+    return replace(mesh, compliance=replace(c, slices=n, slice_rule=(misalignment, deflection)))
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -234,6 +262,7 @@ def mesh_setup(
         flank: ±1 per mesh, the flanks the static load presses (``loaded_flanks``): the rows
             of the mesh modes and of m_eq; default every front flank.
     """
+    meshes = [auto_slices(m) for m in meshes]
     errors = {name: g.spec.position_error for name, g in gearbox.gears.items()}
     for name, value in (position_errors or {}).items():
         if name not in gearbox.gears:
@@ -291,8 +320,8 @@ def mesh_setup(
         spec.friction = c.friction_coefficient
         spec.stiffness = mean_mesh_stiffness(mesh)
         spec.face_width = mesh.face_width
-        if c.slices > 1:
-            spec.slices = c.slices
+        if c.slice_number > 1:
+            spec.slices = c.slice_number
             spec.axis_b = b.axis_in_joint
             spec.slice_offset, spec.slice_gap, spec.slice_gap_back = slice_tables(mesh)
             helical = helical_slices(mesh, spec.slice_offset)
@@ -353,7 +382,7 @@ def slice_tables(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         z_s [m], e_s of the front flank [m], e_s of the back flank [m], each (N,).
     """
     c = mesh.compliance
-    slices = 1 if c is None else c.slices
+    slices = 1 if c is None else c.slice_number
     mod_a, mod_b = mesh.gear_a.spec.modification, mesh.gear_b.spec.modification
     b = mesh.face_width
     z = slice_centres(b, slices)
@@ -561,15 +590,20 @@ def profile_gap_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
     """The gap the gears' profile reliefs leave a tooth pair along the path (positions [m], [m]).
 
     Positions from A over g_α, as ``pair_table``'s; piecewise linear, exact for linear reliefs
-    (their ends are breakpoints), within C/(8 n²) of a parabolic one (n = 256 intervals). The
+    (their ends are breakpoints), within C (h/L)²/8 of a parabolic one over its length L
+    (chords h = g_α/256). The
     gap is `pinwind.gears.flank_modification.profile_gap` with gear A first, or gear B first
     where gear A is internal: along the path from A the external gear's tip comes last. None:
     neither gear has a profile relief.
 
+    A helical mesh's slices (``helical_slices``) each roll along the transverse path g_α, so
+    the table is theirs: slice s's pairs, its face section lagging the front one by ζ_s tan β_b,
+    take the gap at their own roll position.
+
     Raises:
-        InputError: a helical mesh with profile relief (its pairs touch along inclined lines:
-            one gap per pair does not hold it; `pinwind te` computes its static TE in slices),
-            or a mesh whose stiffness has no pair table (``variation = "constant"``).
+        InputError: a helical mesh with profile relief and one contact line (its pairs touch
+            along inclined lines: one gap per pair does not hold it; slices do), or a mesh
+            whose stiffness has no pair table (``variation = "constant"``).
     """
     mod_a, mod_b = mesh.gear_a.spec.modification, mesh.gear_b.spec.modification
     if not any(m.tip_relief or m.root_relief for m in (mod_a, mod_b)):
@@ -577,12 +611,14 @@ def profile_gap_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
     path = mesh.path
     if path is None:
         return None
-    if path.overlap_ratio > 0.0:
+    slices = mesh.compliance.slice_number if mesh.compliance is not None else 1
+    if path.overlap_ratio > 0.0 and slices < 2:
         raise InputError(
             f'mesh "{mesh.name}": profile relief on a helical mesh (ε_β = '
-            f"{path.overlap_ratio:.3g}) is not in the run's mesh yet: its pairs touch along "
-            "inclined lines, which one spring per pair does not hold; `pinwind te` gives its "
-            "static transmission error in slices"
+            f"{path.overlap_ratio:.3g}) with one contact line: its pairs touch along inclined "
+            "lines, which one spring per pair does not hold; cut it into slices across the "
+            'face (slices="8" on its <mesh>, or MeshCompliance(slices=8)), whose pairs each '
+            "take the relief at their own roll position"
         )
     if pair_table(mesh) is None:
         raise InputError(

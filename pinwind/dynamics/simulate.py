@@ -75,6 +75,7 @@ from pinwind.errors import (
     StepTooCoarse,
     TorquesUnbalanced,
 )
+from pinwind.gears.face_load import AUTO_LINE_LOAD
 from pinwind.interrupts import interrupts_deferred
 from pinwind.loads.generator import GeneratorLaw
 from pinwind.loads.hub_loads import HubLoad
@@ -1072,8 +1073,15 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "backlash": spec.backlash,
             "friction_coefficient": spec.friction,
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
-            "slices": int(c.slices),
+            "slices": c.slice_number,
         }
+        if c.slice_rule is not None:
+            # slices="auto": the rule's inputs (pinwind.gears.face_load.slice_count).
+            out[mesh.name]["slice_rule"] = {
+                "misalignment": c.slice_rule[0],
+                "deflection": c.slice_rule[1],
+                "line_load": AUTO_LINE_LOAD,
+            }
     return out
 
 

@@ -117,6 +117,42 @@ def face_load(
 #: The most slices `slice_count` gives.
 MOST_SLICES = 50
 
+#: The line load [N/m] at which ``slices="auto"`` takes the rule's mean deflection δ_m: 100
+#: N/mm, a light load for a wind-turbine gear (rated loads are several times it). δ_m grows with
+#: the load, so N from it resolves the misalignment at the heavier loads too.
+AUTO_LINE_LOAD = 100e3
+
+#: The misalignment [m] ``slices="auto"`` adds for what the model file does not give (the shafts'
+#: and bearings' deflections, the gears' tilt in the run): the rating's default effective
+#: misalignment F_βy (`pinwind.gears.rating_iso.IsoFactors.misalignment`).
+UNMODELLED_MISALIGNMENT = 10e-6
+
+
+def expected_misalignment(
+    gear_1: FlankModification, gear_2: FlankModification, face_width: float
+) -> float:
+    """F_β for `slice_count` [m]: b times the lead gap's steepest slope, plus the unmodelled part.
+
+    `UNMODELLED_MISALIGNMENT` is added for what the model does not give. The lead gap of both
+    gears (`pinwind.gears.flank_modification.lead_gap`: f_Hβ z/b, crowning
+    C_β (2z/b − 1)², end relief) changes fastest where its slope is steepest: b max|de/dz| is
+    |f_Hβ,1 + f_Hβ,2| for the slope deviations alone, 4 C_β + |f_Hβ| with crowning (its slope at
+    the ends is 4 C_β/b), C_I b/L_I with an end relief. Taken as the steepest chord over 2000
+    intervals across the face: exact for f_Hβ and end relief (linear pieces whose corners are
+    kinks), 1/2000 short of crowning's 4 C_β at the ends.
+
+    Raises:
+        InputError: a face width ≤ 0.
+    """
+    if not (face_width > 0.0 and np.isfinite(face_width)):
+        raise InputError(
+            f"expected_misalignment: face width {face_width!r} m; it must be positive (the rule "
+            "cuts the face width into slices)"
+        )
+    z = np.linspace(0.0, face_width, 2001)
+    slope = np.diff(lead_gap(gear_1, gear_2, face_width, z)) / np.diff(z)
+    return float(face_width * np.max(np.abs(slope)) + UNMODELLED_MISALIGNMENT)
+
 
 def slice_count(misalignment: float, deflection: float, *, most: int = MOST_SLICES) -> int:
     """The number of slices that resolves a misalignment's change of the overlap across the face.

@@ -47,6 +47,7 @@ import numpy as np
 import numpy.typing as npt
 
 from pinwind.errors import InputError
+from pinwind.gears.face_load import UNMODELLED_MISALIGNMENT
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.involute import involute
 from pinwind.gears.materials import elastic_coefficient
@@ -131,7 +132,7 @@ class IsoFactors:
     S_H_min: float = 1.0
     S_F_min: float = 1.0
     accuracy_grade: int = 6
-    misalignment: float = 10e-6
+    misalignment: float = UNMODELLED_MISALIGNMENT
     base_pitch_deviation: float | None = None
 
 

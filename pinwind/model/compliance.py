@@ -20,6 +20,9 @@ DEFAULT_DAMPING_RATIO = 0.05
 #: How the mesh stiffness varies as the teeth roll.
 STIFFNESS_VARIATIONS = ("path", "constant")
 
+#: ``slices`` that asks for the rule's N (`pinwind.gears.face_load.slice_count`).
+AUTO_SLICES = "auto"
+
 
 @dataclass(frozen=True)
 class MeshCompliance:
@@ -49,8 +52,11 @@ class MeshCompliance:
             k(x)/N, c/N and its own contact, loaded by the gears' relative tilt, the lead
             modifications and profile relief; a helical mesh's slices follow its inclined
             contact lines (``dynamics/compliant.py`` ``slice_tables``, ``helical_slices``); 1:
-            one contact line. `pinwind.gears.face_load.slice_count` gives the N a
-            misalignment needs.
+            one contact line. ``"auto"``: the run takes `pinwind.gears.face_load.slice_count`'s
+            N for the mesh's expected misalignment (``dynamics/compliant.py`` ``auto_slices``)
+            and records it here, with ``slice_rule``.
+        slice_rule: (F_β [m], δ_m [m]) the rule took where N came from ``slices="auto"``;
+            None otherwise.
         friction_coefficient: μ of the tooth flanks [-], in [0, 1): each pair in contact takes
             μ F_j across the line of action against its sliding (``cpp/flank_friction.hpp``);
             0: frictionless flanks. A constant here; ISO/TR 14179-2's μ for an operating point
@@ -64,8 +70,18 @@ class MeshCompliance:
     damping_ratio: float = DEFAULT_DAMPING_RATIO
     backlash: float = 0.0
     mean_stiffness: float | None = None
-    slices: int = 1
+    slices: int | str = 1
     friction_coefficient: float = 0.0
+    slice_rule: tuple[float, float] | None = None
+
+    @property
+    def slice_number(self) -> int:
+        """N as a whole number, once a run has resolved ``slices="auto"`` (``auto_slices``)."""
+        if isinstance(self.slices, str):
+            raise AssertionError(
+                'slices="auto" is not resolved yet; dynamics.compliant.auto_slices resolves it'
+            )
+        return int(self.slices)
 
     def problems(self) -> list[str]:
         """What is physically wrong with these values, each with the fix (empty when fine)."""
@@ -98,8 +114,13 @@ class MeshCompliance:
             out.append(f"damping is {self.damping:g} N·s/m; it must be ≥ 0")
         if not (math.isfinite(self.damping_ratio) and 0.0 <= self.damping_ratio < 1.0):
             out.append(f"damping ratio is {self.damping_ratio:g}; it must lie in [0, 1)")
-        if not (isinstance(self.slices, int | np.integer) and self.slices >= 1):
-            out.append(f"slices is {self.slices!r}; give a whole number ≥ 1 (1: one contact line)")
+        if self.slices != AUTO_SLICES and not (
+            isinstance(self.slices, int | np.integer) and self.slices >= 1
+        ):
+            out.append(
+                f"slices is {self.slices!r}; give a whole number ≥ 1 (1: one contact line) or "
+                f'"{AUTO_SLICES}" (the rule\'s N for the expected misalignment)'
+            )
         mu = self.friction_coefficient
         if not (isinstance(mu, int | float | np.floating) and math.isfinite(mu) and 0 <= mu < 1):
             out.append(

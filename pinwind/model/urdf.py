@@ -39,7 +39,7 @@ from pinwind.model.bearing_friction_data import (
 )
 from pinwind.model.bearing_life_data import LIFE_ATTRIBUTES, BearingLifeData, life_data
 from pinwind.model.bearing_rows import BearingRow, row_springs
-from pinwind.model.compliance import DEFAULT_DAMPING_RATIO, MeshCompliance
+from pinwind.model.compliance import AUTO_SLICES, DEFAULT_DAMPING_RATIO, MeshCompliance
 from pinwind.model.roller_sum import CONTACT_EXPONENTS
 from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
 
@@ -1123,16 +1123,21 @@ def _compliance(path: str, el: ET.Element) -> MeshCompliance | None:
     return compliance
 
 
-def _slices(path: str, el: ET.Element, where: str) -> int:
-    """The ``slices`` attribute of a compliance: a whole number, 1 when absent."""
+def _slices(path: str, el: ET.Element, where: str) -> int | str:
+    """The ``slices`` attribute of a compliance: a whole number or "auto", 1 when absent."""
     raw = el.get("slices")
     if raw is None:
         return 1
+    if raw.strip().lower() == AUTO_SLICES:
+        return AUTO_SLICES
     try:
         return int(raw.strip())
     except ValueError as err:
         raise MalformedModel(
-            path, where, f'slices="{raw}" must be a whole number ≥ 1 (slices across the face)'
+            path,
+            where,
+            f'slices="{raw}" must be a whole number ≥ 1 (slices across the face) or '
+            f'"{AUTO_SLICES}" (the rule\'s N for the expected misalignment)',
         ) from err
 
 

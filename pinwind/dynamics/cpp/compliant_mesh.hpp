@@ -519,7 +519,9 @@ class CompliantMeshes : public Element {
 // slice path (c̄ the mean mesh stiffness) the slices' sum is the midpoint rule over the face of
 // the single-line helical law (pinwind/gears/mesh_stiffness.py contact_line_pair_stiffness).
 // The mesh's path series (pairs, contact position, single-tooth force) and flank friction stay the
-// single contact line's. Each slice then has its own w_s: W_p = Σ w_s z_sᵖ as above.
+// single contact line's. Each slice then has its own w_s: W_p = Σ w_s z_sᵖ as above. Profile
+// relief on helical slices: the gap table runs along g_α, the slices' path, so slice s's pairs,
+// at their own shifted roll, engage behind the single spur line's gaps there (as above).
 class SlicedMeshes : public Element {
  public:
   SlicedMeshes(std::vector<CompliantMeshSpec> specs, const std::vector<MeshPathSpec>& paths,
@@ -533,6 +535,12 @@ class SlicedMeshes : public Element {
         slice_path.path_length = s.slice_path_length;
         slice_path.pair_position = s.slice_pair_position;
         slice_path.pair_stiffness = s.slice_pair_stiffness;
+        // The profile relief's gap table runs along the transverse path g_α, which is the
+        // slices' path: each slice's pairs take it at their own shifted roll. The single line's
+        // path (its series and friction) runs over g_α + Δ in front-section positions, where
+        // one gap per pair does not hold: it stays unmodified.
+        paths_.back().gap_position.resize(0);
+        paths_.back().gap_value.resize(0);
       }
       slice_paths_.push_back(std::move(slice_path));
       helical_.push_back(helical);
