@@ -1070,7 +1070,9 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "damping": spec.damping,
             "damping_ratio": c.damping_ratio if c.damping is None else None,
             "backlash": spec.backlash,
-            "friction_coefficient": spec.friction,
+            "friction_coefficient": (
+                spec.friction if c.friction_law == "constant" else c.friction_law
+            ),
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
             "slices": int(c.slices),
         }
