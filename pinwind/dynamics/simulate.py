@@ -1076,6 +1076,14 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
             "slices": int(c.slices),
         }
+        if c.friction_law != "constant" and c.oil is not None:
+            out[mesh.name]["friction_data"] = {
+                "oil_grade": c.oil.grade,
+                "oil_temperature": c.oil.temperature,
+                "dynamic_viscosity": c.oil.dynamic_viscosity(),
+                "roughness": c.roughness,
+                "base_oil": c.base_oil,
+            }
     return out
 
 

@@ -122,6 +122,9 @@ def test_the_step_takes_mu_mz_at_its_force_and_speed():
         * (RA * 1e6) ** 0.25
     )
     assert 0.03 < mu[single].min() and mu[single].max() < 0.08
+    recorded = res.metadata["meshes"]["m"]
+    assert recorded["friction_coefficient"] == "iso14179"
+    assert recorded["friction_data"]["oil_grade"] == 320
     # one pair in contact: the friction on A along e is −μ F sgn(d) (F predicted at the step's
     # start: within 1e-3 of the step's F, as for a constant μ)
     np.testing.assert_allclose(
