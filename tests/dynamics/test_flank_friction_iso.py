@@ -203,6 +203,25 @@ def test_the_model_file_sets_the_law_and_its_oil():
             {"friction_coefficient": "iso14179", "lubricant_vg": "320", "temperature_C": "70"},
             "needs the flanks' roughness",
         ),
+        (
+            {
+                "friction_coefficient": "iso14179",
+                "lubricant_vg": "300",
+                "temperature_C": "70",
+                "roughness_um": "0.5",
+            },
+            "VG 300 is not an ISO 3448 grade",
+        ),
+        (
+            {
+                "friction_coefficient": "iso14179",
+                "lubricant_vg": "320",
+                "temperature_C": "70",
+                "roughness_um": "0.5",
+                "base_oil": "olive",
+            },
+            'base_oil "olive" is unknown',
+        ),
     ],
 )
 def test_bad_friction_input_is_one_message_naming_the_mesh_and_exit_2(
