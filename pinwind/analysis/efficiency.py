@@ -292,9 +292,7 @@ def friction_in_step(gearbox: Any) -> bool:
     A compliant mesh with μ > 0 or a bearing (or row) with a friction model
     (``losses.bearing_friction.bearing_frictions``).
     """
-    meshes = any(
-        m.compliance is not None and m.compliance.friction_coefficient > 0.0 for m in gearbox.meshes
-    )
+    meshes = any(m.compliance is not None and m.compliance.has_friction for m in gearbox.meshes)
     return meshes or bool(bearing_frictions(gearbox))
 
 

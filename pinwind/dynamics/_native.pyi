@@ -140,6 +140,14 @@ class CompliantMeshSpec:
     tangential_offset: float  # [m]
     radial_offset: float  # [m]
     friction: float  # μ of the flanks [-] (cpp/flank_friction.hpp); 0: none
+    friction_law: FrictionLaw  # constant (friction) or iso14179 (μ_mz in the step)
+    iso_face_width: float  # b [m]
+    iso_reduced_radius: float  # ρ_redC at the pitch point, normal section [m]
+    iso_sum_velocity_per_spin: float  # c_v: v_Σc = c_v |ω_B − ω_A| [m]
+    iso_viscosity: float  # η [Pa·s]
+    iso_roughness: float  # Ra [m]
+    iso_lubricant_factor: float  # X_L [-]
+    contact_line_span: float  # Δ = b tan β_b of a single helical contact line [m]; 0: points
     slices: int  # N across the face width; 1: one contact line
     axis_b: Vector  # (3,), gear B's axis in its joint frame
     slice_offset: Vector  # (N,) [m] from the face centre along gear A's axis
@@ -152,6 +160,23 @@ class CompliantMeshSpec:
     slice_pair_stiffness: Vector  # and one pair's stiffness over the whole face [N/m]
     face_width: float  # b [m], for the line loads
     def __init__(self) -> None: ...
+
+class FrictionLaw(enum.Enum):
+    """How a compliant mesh's μ is found (``cpp/flank_friction.hpp``)."""
+
+    constant = 0
+    iso14179 = 1
+
+def iso14179_friction_coefficient(
+    force: float,
+    face_width: float,
+    sum_velocity: float,
+    reduced_radius: float,
+    viscosity: float,
+    roughness: float,
+    lubricant_factor: float,
+) -> float:
+    """ISO/TR 14179-2's μ_mz in SI (the step's restatement of ``mean_friction_coefficient``)."""
 
 class TorsionalSpringSpec:
     """A torsional spring-damper between two joints (``cpp/torsional_spring.hpp``)."""

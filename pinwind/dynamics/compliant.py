@@ -72,6 +72,11 @@ from pinwind.gears.mesh_stiffness import (
     pair_stiffness_along_path,
     single_pair_stiffness,
 )
+from pinwind.losses.mesh_friction import (
+    LUBRICANT_FACTORS,
+    pitch_point_conditions,
+    sum_velocity_per_relative_spin,
+)
 from pinwind.model.compliance import AUTO_SLICES, MeshCompliance
 from pinwind.model.gearbox import Gear, Gearbox, Mesh
 from pinwind.model.phasing import direction_at
@@ -317,7 +322,7 @@ def mesh_setup(
         )
         c = mesh.compliance
         spec.backlash = c.backlash
-        spec.friction = c.friction_coefficient
+        _set_friction(spec, mesh, c)
         spec.stiffness = mean_mesh_stiffness(mesh)
         spec.face_width = mesh.face_width
         if c.slice_number > 1:
@@ -448,6 +453,31 @@ def helical_slices(mesh: Mesh, slice_offset: np.ndarray) -> HelicalSlices | None
         user = pair_table(mesh)
         table = user if user is not None else (np.zeros(0), np.zeros(0))
     return HelicalSlices(-zeta * tan_beta_b, -(b - zeta) * tan_beta_b, g, table)
+
+
+def _set_friction(spec: _native.CompliantMeshSpec, mesh: Mesh, c: MeshCompliance) -> None:
+    """The flanks' friction of a compliant spec (``cpp/flank_friction.hpp``).
+
+    μ a number, or ISO/TR 14179-2's μ_mz at the operating point (``"iso14179"``): the step
+    takes v_Σc = c_v |ω_B − ω_A| (``sum_velocity_per_relative_spin``), ρ_redC and b from the
+    pair (``pitch_point_conditions``), η from the oil, Ra and X_L. A helical pair's friction is
+    integrated along its contact line over Δ = ``overlap_span`` (0: the pairs as points).
+    """
+    spec.contact_line_span = overlap_span(mesh)
+    if c.friction_law == "constant":
+        spec.friction = float(c.friction_coefficient)
+        return
+    if c.oil is None or c.roughness is None:
+        raise AssertionError(f"mesh {mesh.name}: friction law without its data passed problems()")
+    pair = GearPair.from_mesh(mesh)
+    _, reduced = pitch_point_conditions(pair, 1.0)
+    spec.friction_law = _native.FrictionLaw.iso14179
+    spec.iso_face_width = pair.face_width
+    spec.iso_reduced_radius = abs(reduced)
+    spec.iso_sum_velocity_per_spin = sum_velocity_per_relative_spin(pair)
+    spec.iso_viscosity = c.oil.dynamic_viscosity()
+    spec.iso_roughness = c.roughness
+    spec.iso_lubricant_factor = LUBRICANT_FACTORS[c.base_oil]
 
 
 def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.MeshPathSpec:

@@ -386,7 +386,9 @@ _MEANINGS: dict[str, About] = {
            short="v slide", headline=False),
     "mesh_friction_force": About("friction_force", "N",
            "flank friction on gear A along k x n of the loaded flank, sum of mu F_j sgn(v_s,j) "
-           "over its pairs (compliant mesh with friction_coefficient; 0 otherwise)",
+           "over its pairs, F_j a pair's share of the normal force F_bt/cos(beta_b), a helical "
+           "pair's averaged along its contact line (compliant mesh with friction_coefficient; "
+           "0 otherwise)",
            short="F friction", headline=False),
     "mesh_friction_power": About("friction_power", "W",
            "power the flank friction takes, sum of mu F_j |v_s,j| over the pairs of both "

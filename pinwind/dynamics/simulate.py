@@ -1071,7 +1071,9 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "damping": spec.damping,
             "damping_ratio": c.damping_ratio if c.damping is None else None,
             "backlash": spec.backlash,
-            "friction_coefficient": spec.friction,
+            "friction_coefficient": (
+                spec.friction if c.friction_law == "constant" else c.friction_law
+            ),
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
             "slices": c.slice_number,
         }
@@ -1081,6 +1083,14 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
                 "misalignment": c.slice_rule[0],
                 "deflection": c.slice_rule[1],
                 "line_load": AUTO_LINE_LOAD,
+            }
+        if c.friction_law != "constant" and c.oil is not None:
+            out[mesh.name]["friction_data"] = {
+                "oil_grade": c.oil.grade,
+                "oil_temperature": c.oil.temperature,
+                "dynamic_viscosity": c.oil.dynamic_viscosity(),
+                "roughness": c.roughness,
+                "base_oil": c.base_oil,
             }
     return out
 

@@ -43,6 +43,7 @@ __all__ = [
     "mesh_power_loss",
     "pair_friction_coefficient",
     "pitch_point_conditions",
+    "sum_velocity_per_relative_spin",
     "tooth_loss_factor",
 ]
 
@@ -162,6 +163,26 @@ def pitch_point_conditions(pair: GearPair, speed_1: float) -> tuple[float, float
     rho_2 = (-1.0 if pair.internal_2 else 1.0) * g.working_radius_2 * sin_w
     reduced = rho_1 * rho_2 / (rho_1 + rho_2) / math.cos(pair.base_helix_angle)
     return 2.0 * abs(speed_1) * g.working_radius_1 * sin_w, reduced
+
+
+def sum_velocity_per_relative_spin(pair: GearPair) -> float:
+    """c_v [m]: the sum velocity at the pitch point per relative spin, v_Σc = c_v |ω2 − ω1|.
+
+    Rolling at the pitch point, |ω1| r_w1 = |ω2| r_w2, so an external pair's relative spin is
+    |ω1| + |ω2| = |ω1| (r_w1 + r_w2)/r_w2 and an internal one's |ω1| (r_w2 − r_w1)/r_w2; with
+    v_Σc = 2 |ω1| r_w1 sin α_wt (``pitch_point_conditions``)
+
+        c_v = 2 sin α_wt r_w1 r_w2 / (r_w2 ± r_w1),
+
+    + external, − internal (gear 2 the ring). The relative spin does not depend on the frame
+    (a carrier's turn cancels), so the step reads v_Σc from the gears' spins alone.
+    """
+    if pair.internal_1:
+        pair = pair.reversed()
+    g = pair.geometry
+    r_1, r_2 = g.working_radius_1, g.working_radius_2
+    per_speed_1, _ = pitch_point_conditions(pair, 1.0)
+    return per_speed_1 * r_2 / (r_2 - r_1 if pair.internal_2 else r_2 + r_1)
 
 
 def pair_friction_coefficient(

@@ -14,8 +14,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pinwind.losses.mesh_friction import LUBRICANT_FACTORS
+from pinwind.losses.oil import Lubricant
+from pinwind.model.bearing_life_data import VG_GRADES
+
 #: Damping ratio of the mesh mode used when a compliant mesh gives neither damping nor a ratio.
 DEFAULT_DAMPING_RATIO = 0.05
+
+#: Laws of the flanks' μ besides a constant: ``"iso14179"``, ISO/TR 14179-2's μ_mz at the
+#: operating point (``losses/mesh_friction.py`` ``mean_friction_coefficient``).
+FRICTION_LAWS = ("iso14179",)
 
 #: How the mesh stiffness varies as the teeth roll.
 STIFFNESS_VARIATIONS = ("path", "constant")
@@ -58,9 +66,17 @@ class MeshCompliance:
         slice_rule: (F_β [m], δ_m [m]) the rule took where N came from ``slices="auto"``;
             None otherwise.
         friction_coefficient: μ of the tooth flanks [-], in [0, 1): each pair in contact takes
-            μ F_j across the line of action against its sliding (``cpp/flank_friction.hpp``);
-            0: frictionless flanks. A constant here; ISO/TR 14179-2's μ for an operating point
-            is computed elsewhere and given as this number.
+            μ F_n along its line against its sliding (``cpp/flank_friction.hpp``; F_n = F_bt /
+            cos β_b, a helical pair's friction integrated along its inclined contact line);
+            0: frictionless flanks. Or ``"iso14179"`` (``FRICTION_LAWS``): the step takes
+            ISO/TR 14179-2's μ_mz at each step from the flank's force, the sum velocity at the
+            pitch point (from the gears' spins), the reduced radius of curvature, the oil's
+            dynamic viscosity (``oil``), the flanks' roughness (``roughness``) and X_L
+            (``base_oil``), at most 0.2 (``losses/mesh_friction.py``).
+        oil: the gear oil at its temperature, for ``"iso14179"`` (``losses.oil.Lubricant``).
+        roughness: Ra = (Ra1 + Ra2)/2 of the flanks [m], for ``"iso14179"``.
+        base_oil: the oil's base, for X_L of ``"iso14179"`` (a key of
+            ``losses.mesh_friction.LUBRICANT_FACTORS``; mineral: X_L = 1).
     """
 
     stiffness: float | None = None
@@ -71,7 +87,10 @@ class MeshCompliance:
     backlash: float = 0.0
     mean_stiffness: float | None = None
     slices: int | str = 1
-    friction_coefficient: float = 0.0
+    friction_coefficient: float | str = 0.0
+    oil: Lubricant | None = None
+    roughness: float | None = None
+    base_oil: str = "mineral"
     slice_rule: tuple[float, float] | None = None
 
     @property
@@ -82,6 +101,18 @@ class MeshCompliance:
                 'slices="auto" is not resolved yet; dynamics.compliant.auto_slices resolves it'
             )
         return int(self.slices)
+
+    @property
+    def friction_law(self) -> str:
+        """``"constant"`` (μ a number) or the name of the law of μ (``FRICTION_LAWS``)."""
+        mu = self.friction_coefficient
+        return mu if isinstance(mu, str) else "constant"
+
+    @property
+    def has_friction(self) -> bool:
+        """The flanks rub: a μ > 0 or a law of μ."""
+        mu = self.friction_coefficient
+        return isinstance(mu, str) or mu > 0.0
 
     def problems(self) -> list[str]:
         """What is physically wrong with these values, each with the fix (empty when fine)."""
@@ -121,12 +152,7 @@ class MeshCompliance:
                 f"slices is {self.slices!r}; give a whole number ≥ 1 (1: one contact line) or "
                 f'"{AUTO_SLICES}" (the rule\'s N for the expected misalignment)'
             )
-        mu = self.friction_coefficient
-        if not (isinstance(mu, int | float | np.floating) and math.isfinite(mu) and 0 <= mu < 1):
-            out.append(
-                f"friction_coefficient is {mu!r}; give μ in [0, 1) (steel on steel, lubricated: "
-                "0.03 to 0.1; 0 for frictionless flanks)"
-            )
+        out += self._friction_problems()
         if not (math.isfinite(self.backlash) and self.backlash >= 0.0):
             out.append(f"backlash is {self.backlash * 1e3:g} mm; it must be ≥ 0")
         if self.pair_stiffness is not None:
@@ -140,3 +166,43 @@ class MeshCompliance:
             elif np.any(k <= 0.0):
                 out.append(f"pair stiffness values must be positive; smallest {k.min():g} N/m")
         return out
+
+    def _friction_problems(self) -> list[str]:
+        """What is wrong with the flanks' friction: μ, or its law and that law's data."""
+        mu = self.friction_coefficient
+        if isinstance(mu, str):
+            if mu not in FRICTION_LAWS:
+                return [
+                    f'friction_coefficient "{mu}" is not a law pinwind knows; give a number μ in '
+                    f"[0, 1) or one of: {', '.join(FRICTION_LAWS)}"
+                ]
+            out = []
+            if self.oil is None:
+                out.append(
+                    f'friction_coefficient "{mu}" needs the oil: give lubricant_vg and '
+                    "temperature_C (model file) or oil=Lubricant(grade, temperature_K)"
+                )
+            elif self.oil.grade not in VG_GRADES:
+                out.append(
+                    f"oil grade VG {self.oil.grade} is not an ISO 3448 grade; give one of "
+                    + ", ".join(str(g) for g in VG_GRADES)
+                )
+            ra = self.roughness
+            if ra is None or not (math.isfinite(ra) and ra > 0.0):
+                got = "missing" if ra is None else f"{ra * 1e6:g} µm"
+                out.append(
+                    f'friction_coefficient "{mu}" needs the flanks\' roughness Ra = (Ra1 + Ra2)/2 '
+                    f"> 0 ({got}): give roughness_um (model file) or roughness [m]"
+                )
+            if self.base_oil not in LUBRICANT_FACTORS:
+                out.append(
+                    f'base_oil "{self.base_oil}" is unknown; give one of '
+                    + ", ".join(LUBRICANT_FACTORS)
+                )
+            return out
+        if not (isinstance(mu, int | float | np.floating) and math.isfinite(mu) and 0 <= mu < 1):
+            return [
+                f"friction_coefficient is {mu!r}; give μ in [0, 1) (steel on steel, lubricated: "
+                '0.03 to 0.1; 0 for frictionless flanks) or "iso14179"'
+            ]
+        return []

@@ -30,6 +30,7 @@ from pinwind.errors import (
 from pinwind.gears.flank_modification import UNMODIFIED, FlankModification
 from pinwind.gears.involute import half_tooth_angle
 from pinwind.known_names import unknown_name
+from pinwind.losses.oil import Lubricant
 from pinwind.model.bearing import BEARING_TYPES, BearingRating, bearing_rating
 from pinwind.model.bearing_compliance import RADIAL_LAWS, BearingCompliance
 from pinwind.model.bearing_friction_data import (
@@ -1115,12 +1116,55 @@ def _compliance(path: str, el: ET.Element) -> MeshCompliance | None:
         damping_ratio=_number(path, el, "damping_ratio", DEFAULT_DAMPING_RATIO),
         backlash=_number(path, el, "backlash_mm", 0.0) * 1e-3,
         slices=_slices(path, el, where),
-        friction_coefficient=_number(path, el, "friction_coefficient", 0.0),
+        friction_coefficient=_friction_coefficient(path, el),
+        oil=_mesh_oil(path, el, where),
+        roughness=None
+        if el.get("roughness_um") is None
+        else _number(path, el, "roughness_um") * 1e-6,
+        base_oil=el.get("base_oil", "mineral").strip().lower(),
     )
     problems = compliance.problems()
     if problems:
         raise MalformedModel(path, where, "; ".join(problems))
     return compliance
+
+
+def _friction_coefficient(path: str, el: ET.Element) -> float | str:
+    """The ``friction_coefficient`` of a compliance: a number μ, or a law's name (lower case)."""
+    raw = el.get("friction_coefficient")
+    if raw is None:
+        return 0.0
+    try:
+        float(raw)
+    except ValueError:
+        return raw.strip().lower()
+    return _number(path, el, "friction_coefficient")
+
+
+def _mesh_oil(path: str, el: ET.Element, where: str) -> Lubricant | None:
+    """The oil of a mesh's ``iso14179`` friction, or None when no grade is given.
+
+    From ``lubricant_vg``, ``temperature_C`` and (optional) ``viscosity_100C_cSt``.
+    """
+    raw = el.get("lubricant_vg")
+    if raw is None:
+        return None
+    try:
+        grade = int(raw.strip())
+    except ValueError as err:
+        raise MalformedModel(
+            path, where, f'lubricant_vg="{raw}" must be an ISO 3448 grade (a whole number)'
+        ) from err
+    if el.get("temperature_C") is None:
+        raise MalformedModel(
+            path, where, "lubricant_vg needs the oil's temperature: give temperature_C"
+        )
+    nu_100 = el.get("viscosity_100C_cSt")
+    return Lubricant(
+        grade,
+        _number(path, el, "temperature_C") + 273.15,
+        None if nu_100 is None else _number(path, el, "viscosity_100C_cSt") * 1e-6,
+    )
 
 
 def _slices(path: str, el: ET.Element, where: str) -> int | str:
@@ -1151,6 +1195,11 @@ _COMPLIANCE_ATTRIBUTES = (
     "backlash_mm",
     "slices",
     "friction_coefficient",
+    "lubricant_vg",
+    "temperature_C",
+    "viscosity_100C_cSt",
+    "roughness_um",
+    "base_oil",
 )
 
 

@@ -7,7 +7,10 @@ Expectations, each derived apart from the code under test:
 - P_in − P_out − Σ losses is what the dampers take and the stored energy gains (the ledger);
 - the overall efficiency is the product of the stages' (each stage receives what the one before
   passes on);
-- the NREL 5 MW gearbox (Nejad et al. 2016) has three stages: two planetary, one parallel.
+- the NREL 5 MW gearbox (Nejad et al. 2016) has three stages: two planetary, one parallel;
+- its helical stage loses μ P times the integral of the sliding along its inclined contact lines
+  with the load uniform along them (a quadrature over a mesh cycle, docs/losses.md "Helical
+  pairs").
 """
 
 from __future__ import annotations
@@ -27,6 +30,8 @@ from pinwind.analysis.efficiency import (
     train_stages,
 )
 from pinwind.errors import InvalidLossInput
+from pinwind.gears.gear_pair import GearPair
+from pinwind.losses.mesh_friction import addendum_contact_ratios, tooth_loss_factor
 from pinwind.losses.oil import Lubricant
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
@@ -112,3 +117,43 @@ def test_an_unknown_source_is_refused():
     gb = pinwind.load(MODELS / "nrel5mw_gearbox.urdf")
     with pytest.raises(InvalidLossInput, match="source"):
         efficiency(None, gb, oil=OIL, source="nonsense")
+
+
+def contact_line_loss_factor(pair: GearPair) -> float:
+    """P_loss/(μ P) of a helical pair with the load uniform along its contact lines [-].
+
+    By quadrature over a mesh cycle (docs/losses.md "Helical pairs"): the front section at
+    φ + j p_bt, each line over [x − Δ, x] ∩ [0, g_α], Δ = ε_β p_bt; at each instant the loss is
+    μ F_bt/cos β_b ω_rel Σ_j ∫ |y − y_P| dy / Σ_j L_j, and P = F_bt r_b1 ω1.
+    """
+    approach, _ = addendum_contact_ratios(pair)
+    p = pair.path.base_pitch
+    g, pitch, span = pair.path.contact_ratio * p, approach * p, pair.path.overlap_ratio * p
+    phi = (np.arange(100_000) + 0.5) / 100_000 * p
+    moment, length = np.zeros_like(phi), np.zeros_like(phi)
+    for j in range(-2, int((g + span) / p) + 3):
+        a, b = np.clip(phi + j * p - span, 0, g), np.clip(phi + j * p, 0, g)
+        length += b - a
+        moment += ((b - pitch) * np.abs(b - pitch) - (a - pitch) * np.abs(a - pitch)) / 2
+    base_radius_1 = pair.teeth_1 * p / (2 * math.pi)
+    u = pair.gear_ratio
+    return (
+        (1 + 1 / u) * np.mean(moment / length) / (base_radius_1 * math.cos(pair.base_helix_angle))
+    )
+
+
+def test_the_helical_stage_loses_the_contact_line_integral_not_ohlendorfs_h_v():
+    # Stage 3 (24/95, ε_α = 1.46, ε_β = 1.42): the step integrates the friction along the
+    # inclined lines, 1.174 × H_V here; the friction at one point of each line gave 1.52 × H_V.
+    gb, res, mu = rated_with_friction()
+    mesh = next(m for m in gb.meshes if m.name == "stage3")
+    pair = GearPair.from_mesh(mesh)
+    assert pair.teeth_1 == 24  # the pinion, on the high-speed shaft
+    keep = np.asarray(res.time) >= 5e-3
+    power = res.mesh("stage3").normal * (pair.teeth_1 * pair.path.base_pitch / (2 * math.pi))
+    power = power * np.abs(res.joint("hss").speed)
+    loss = res.mesh("stage3").friction_power
+    got = np.mean(loss[keep]) / (mu["stage3"] * np.mean(power[keep]))
+    expected = contact_line_loss_factor(pair)
+    assert_allclose(got, expected, rtol=1e-2)
+    assert expected / tooth_loss_factor(pair) > 1.15

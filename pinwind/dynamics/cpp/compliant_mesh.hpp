@@ -69,6 +69,19 @@ struct CompliantMeshSpec {
   double tangential_offset = 0.0; // e_T [m]
   double radial_offset = 0.0;     // e_R [m]
   double friction = 0.0;          // μ, the flanks' coefficient of friction [-] (FlankFriction)
+  // μ at the operating point (flank_friction.hpp flank_mu): FrictionLaw::iso14179 takes
+  // ISO/TR 14179-2's μ_mz from the flank's force and these; friction is then unused.
+  FrictionLaw friction_law = FrictionLaw::constant;
+  double iso_face_width = 0.0;             // b [m]
+  double iso_reduced_radius = 0.0;         // ρ_redC, normal section, at the pitch point [m]
+  double iso_sum_velocity_per_spin = 0.0;  // c_v: v_Σc = c_v |ω_B − ω_A| [m]
+  double iso_viscosity = 0.0;              // η of the oil at its temperature [Pa·s]
+  double iso_roughness = 0.0;              // Ra = (Ra1 + Ra2)/2 [m]
+  double iso_lubricant_factor = 1.0;       // X_L [-]
+  // Δ = b tan β_b: the span of a single helical contact line along the path, over which each
+  // pair's friction is integrated (flank_friction.hpp ContactLine); 0: a point pair [m].
+  double contact_line_span = 0.0;
+  bool rubs() const { return friction != 0.0 || friction_law != FrictionLaw::constant; }
   // Slices across the face width (sliced_mesh.hpp); 1: the single contact line above.
   long slices = 1;
   Vec3 axis_b = Vec3::UnitZ();    // gear B's axis in its joint frame
@@ -161,7 +174,7 @@ class CompliantMeshes : public Element {
     sin_w_.setZero(n);
     friction_.resize(2 * specs_.size());
     last_ja_.setZero(n, 2);
-    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.friction != 0.0;
+    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.rubs();
   }
 
   void prepare(const StepView& s) override {
@@ -229,15 +242,23 @@ class CompliantMeshes : public Element {
   void add_force(const StepView& s, Eigen::VectorXd& force) override {
     if (!rubbing_) return;
     for (size_t i = 0; i < specs_.size(); ++i) {
-      const double mu = specs_[i].friction;
-      if (mu == 0.0) continue;
+      const auto& sp = specs_[i];
+      if (!sp.rubs()) continue;
       const auto [lo, hi] = span_[i];
+      const ContactLine line = single_line(paths_[i], sp.contact_line_span);
       for (int f = 0; f < 2; ++f) {
         FlankFriction& fr = friction_[2 * i + f];
+        fr.force = 0.0;
         const double normal =
             contact_(i, f) && !s.weights.statics ? b_(i, f) - w_(i, f) * last_ja_(i, f) : 0.0;
-        flank_friction(s.meshes, s.rows, paths_[i], path_[2 * i + f], s.data.J, s.v, specs_[i].mesh,
-                       flank_sign(f), cos_w_[i], sin_w_[i], mu, normal, delta_(i, f), lo, hi, fr);
+        if (normal <= 0.0) continue;
+        if (!friction_begin(s.meshes, s.rows, paths_[i], s.data.J, s.v, sp.mesh, flank_sign(f),
+                            cos_w_[i], sin_w_[i], lo, hi, fr)) {
+          continue;
+        }
+        add_contact_pairs(paths_[i], path_[2 * i + f], delta_(i, f), line, 1.0, 0.0, fr);
+        friction_end(s.meshes, s.rows, s.data.J, sp.mesh, flank_sign(f), cos_w_[i], sin_w_[i],
+                     flank_mu(sp, normal, fr.spin), normal, lo, hi, fr);
         for (Eigen::Index c = lo; fr.force > 0.0 && c < hi; ++c) force[c] -= fr.force * fr.row[c];
       }
     }
@@ -560,6 +581,7 @@ class SlicedMeshes : public Element {
         fl.normal.setZero(s.slices);
         fl.elastic.setZero(s.slices);
         fl.viscous.setZero(s.slices);
+        fl.friction_load.setZero(s.slices);
         flanks_.push_back(std::move(fl));
       }
     }
@@ -567,7 +589,7 @@ class SlicedMeshes : public Element {
     span_.assign(specs_.size(), {0, 0});
     radial_.assign(specs_.size(), Radial{});
     friction_.resize(2 * specs_.size());
-    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.friction != 0.0;
+    for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.rubs();
   }
 
   void prepare(const StepView& s) override {
@@ -670,40 +692,56 @@ class SlicedMeshes : public Element {
   // Flank friction (flank_friction.hpp) on the slices: slice s's pair p touches at
   // X_p + z_s k, where e's row is J_e,p − z_s a_n (X × e gains z_s k × e = −z_s n), a_n =
   // nᵀ(J_ω,B − J_ω,A). Summed over the slices in contact, with their forces F_s predicted as
-  // CompliantMeshes' are (b_s − w (J ā + z_s a ā)_{n−1}), the flank's friction is that of one
-  // contact line carrying F = Σ F_s, its row less (Σ F_s z_s / F) S₀ a_n, acting at the load
-  // centre z_c = Σ F_s z_s / F across the face.
+  // CompliantMeshes' are (b_s − w (J ā + z_s a ā)_{n−1}), the flank's friction carries
+  // F = Σ F_s, each slice the fraction F_s / F at z_s: a spur mesh's slices share the single
+  // line's pairs (so the friction is the single line's acting at the load centre z_c =
+  // Σ F_s z_s / F), a helical or relieved mesh's slices each their own pairs, helical ones at
+  // their section's place on the transverse path (points: the midpoint rule across the face of
+  // the contact line's integral).
   void add_force(const StepView& s, Eigen::VectorXd& force) override {
     if (!rubbing_) return;
     for (size_t i = 0; i < specs_.size(); ++i) {
       const auto& sp = specs_[i];
-      if (sp.friction == 0.0) continue;
+      if (!sp.rubs()) continue;
       const Eigen::Index m = sp.mesh;
       const auto [lo, hi] = span_[i];
       const Radial& rad = radial_[i];
+      const MeshPathSpec& sl = slice_paths_[i];
+      const bool own_pairs = helical_[i] || sl.gap_position.size() != 0;
+      // A helical slice's pairs are points at its section's place q on the transverse path, the
+      // pitch point at the single line's less half its span (single_line).
+      const ContactLine line{0.0, sl.path_length,
+                             paths_[i].pitch_position - 0.5 * sp.contact_line_span};
       for (int f = 0; f < 2; ++f) {
-        const Flank& fl = flanks_[2 * i + f];
+        Flank& fl = flanks_[2 * i + f];
         FlankFriction& fr = friction_[2 * i + f];
+        fr.force = 0.0;
         double total = 0.0, moment = 0.0;
         for (Eigen::Index j = 0; j < sp.slices && !s.weights.statics; ++j) {
-          if (!fl.contact[j]) continue;
           const double z = sp.slice_offset[j];
-          const double load = std::max(0.0, fl.b[j] - fl.w[j] * (fl.last_ja + z * fl.last_ta));
-          total += load;
-          moment += load * z;
+          fl.friction_load[j] =
+              fl.contact[j] ? std::max(0.0, fl.b[j] - fl.w[j] * (fl.last_ja + z * fl.last_ta))
+                            : 0.0;
+          total += fl.friction_load[j];
+          moment += fl.friction_load[j] * z;
         }
-        flank_friction(s.meshes, s.rows, paths_[i], fl.path, s.data.J, s.v, m, flank_sign(f),
-                       rad.cos_w, rad.sin_w, sp.friction, total, fl.centre, lo, hi, fr);
-        if (fr.force == 0.0) continue;
-        fr.centre_offset = moment / total;
-        const Vec3 n = line_of_action(s.meshes, s.rows, m, flank_sign(f), rad.cos_w, rad.sin_w);
-        const double weight = fr.centre_offset * fr.sum0;
-        for (Eigen::Index c = lo; c < hi; ++c) {
-          const double w = s.meshes.support(s.meshes.slot_b[m], c) -
-                           s.meshes.support(s.meshes.slot_a[m], c);
-          if (w != 0.0) fr.row[c] -= weight * w * n.dot(s.data.J.col(c).template tail<3>());
+        if (total <= 0.0) continue;
+        if (!friction_begin(s.meshes, s.rows, paths_[i], s.data.J, s.v, m, flank_sign(f),
+                            rad.cos_w, rad.sin_w, lo, hi, fr)) {
+          continue;
         }
-        for (Eigen::Index c = lo; c < hi; ++c) force[c] -= fr.force * fr.row[c];
+        if (!own_pairs) {
+          add_contact_pairs(paths_[i], fl.path, fl.centre, line, 1.0, moment / total, fr);
+        } else {
+          for (Eigen::Index j = 0; j < sp.slices; ++j) {
+            if (fl.friction_load[j] <= 0.0) continue;
+            add_contact_pairs(sl, fl.paths[static_cast<size_t>(j)], fl.delta[j], line,
+                              fl.friction_load[j] / total, sp.slice_offset[j], fr);
+          }
+        }
+        friction_end(s.meshes, s.rows, s.data.J, m, flank_sign(f), rad.cos_w, rad.sin_w,
+                     flank_mu(sp, total, fr.spin), total, lo, hi, fr);
+        for (Eigen::Index c = lo; fr.force > 0.0 && c < hi; ++c) force[c] -= fr.force * fr.row[c];
       }
     }
   }
@@ -924,6 +962,7 @@ class SlicedMeshes : public Element {
     Eigen::VectorXd normal, elastic, viscous;  // the slices' final forces and parts [N]
     double centre = 0.0;               // δ of the flank at the face centre, unmodified [m]
     double last_ja = 0.0, last_ta = 0.0;  // J ā, a ā at the last step (friction's prediction)
+    Eigen::VectorXd friction_load;     // each slice's predicted force for the friction [N]
     PathState path;
   };
   struct Radial {
@@ -1014,6 +1053,15 @@ struct CompliantMeshesKind : KindBase {
       if (!(spec.friction >= 0.0 && spec.friction < 1.0)) {
         throw std::invalid_argument("compliant mesh friction: μ in [0, 1)");
       }
+      if (spec.friction_law == FrictionLaw::iso14179 &&
+          !(spec.iso_face_width > 0.0 && spec.iso_reduced_radius > 0.0 &&
+            spec.iso_sum_velocity_per_spin > 0.0 && spec.iso_viscosity > 0.0 &&
+            spec.iso_roughness > 0.0 && spec.iso_lubricant_factor > 0.0)) {
+        throw std::invalid_argument("compliant mesh friction iso14179: b, ρ, c_v, η, Ra, X_L > 0");
+      }
+      if (!(spec.contact_line_span >= 0.0)) {
+        throw std::invalid_argument("compliant mesh friction: contact_line_span >= 0");
+      }
     }
   }
 
@@ -1027,6 +1075,15 @@ struct CompliantMeshesKind : KindBase {
   }
 
   static void bind(nanobind::module_& m) {
+    nanobind::enum_<FrictionLaw>(m, "FrictionLaw")
+        .value("constant", FrictionLaw::constant)
+        .value("iso14179", FrictionLaw::iso14179);
+    m.def("iso14179_friction_coefficient", &iso14179_friction_coefficient, nanobind::arg("force"),
+          nanobind::arg("face_width"), nanobind::arg("sum_velocity"),
+          nanobind::arg("reduced_radius"), nanobind::arg("viscosity"), nanobind::arg("roughness"),
+          nanobind::arg("lubricant_factor"),
+          "ISO/TR 14179-2's μ_mz in SI (the step's restatement of "
+          "pinwind.losses.mesh_friction.mean_friction_coefficient).");
     nanobind::class_<CompliantMeshSpec>(m, "CompliantMeshSpec")
         .def(nanobind::init<>())
         .def_rw("mesh", &CompliantMeshSpec::mesh)
@@ -1043,6 +1100,14 @@ struct CompliantMeshesKind : KindBase {
         .def_rw("tangential_offset", &CompliantMeshSpec::tangential_offset)
         .def_rw("radial_offset", &CompliantMeshSpec::radial_offset)
         .def_rw("friction", &CompliantMeshSpec::friction)
+        .def_rw("friction_law", &CompliantMeshSpec::friction_law)
+        .def_rw("iso_face_width", &CompliantMeshSpec::iso_face_width)
+        .def_rw("iso_reduced_radius", &CompliantMeshSpec::iso_reduced_radius)
+        .def_rw("iso_sum_velocity_per_spin", &CompliantMeshSpec::iso_sum_velocity_per_spin)
+        .def_rw("iso_viscosity", &CompliantMeshSpec::iso_viscosity)
+        .def_rw("iso_roughness", &CompliantMeshSpec::iso_roughness)
+        .def_rw("iso_lubricant_factor", &CompliantMeshSpec::iso_lubricant_factor)
+        .def_rw("contact_line_span", &CompliantMeshSpec::contact_line_span)
         .def_rw("slices", &CompliantMeshSpec::slices)
         .def_rw("axis_b", &CompliantMeshSpec::axis_b)
         .def_rw("slice_offset", &CompliantMeshSpec::slice_offset)
