@@ -13,6 +13,7 @@ sampled at the slice centres.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -177,3 +178,12 @@ def test_the_slice_series_survives_the_log_round_trip_bit_for_bit(tmp_path):
     positions, w = back.slice_line_loads("m")
     assert_array_equal(positions, res.slice_line_loads("m")[0])
     assert_array_equal(w, res.slice_line_load)
+
+
+def test_a_log_written_before_the_slice_family_reads_with_no_slice_columns():
+    """A format-2 log (no slice names in its model record): the family has no element, so the
+    series is (samples, 0), as a run without sliced meshes; its absent mesh series read NaN."""
+    old = Path(__file__).parents[1] / "io" / "data" / "planetary_format2.mcap"
+    back = pinwind.read_log(old)
+    assert back.slice_names == [] and back.slice_line_load.shape == (len(back), 0)
+    assert np.isnan(back.mesh_peak_line_load).all()
