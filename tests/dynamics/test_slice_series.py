@@ -16,11 +16,13 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pyarrow.parquet as pq
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 import pinwind
 from pinwind.errors import InputError
+from pinwind.io.export import export_log
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import two_gear_urdf
@@ -178,6 +180,13 @@ def test_the_slice_series_survives_the_log_round_trip_bit_for_bit(tmp_path):
     positions, w = back.slice_line_loads("m")
     assert_array_equal(positions, res.slice_line_loads("m")[0])
     assert_array_equal(w, res.slice_line_load)
+    # exported: a column per slice, named by mesh and index, to the bit
+    rows, _ = export_log(path, tmp_path / "sliced.parquet")
+    table = pq.read_table(tmp_path / "sliced.parquet")
+    assert rows == len(res)
+    for j in range(5):
+        column = table.column(f"slice/m.{j}/line_load_N_m").to_numpy()
+        assert_array_equal(column.view(np.uint64), res.slice_line_load[:, j].view(np.uint64))
 
 
 def test_a_log_written_before_the_slice_family_reads_with_no_slice_columns():
