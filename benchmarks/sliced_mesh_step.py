@@ -9,7 +9,9 @@ keeps only the last sample.
 
 Measured 2026-12-07 12:21 UTC on the shared 2-core machine: ratio 1.21 (11 repeats, pairwise
 0.89-1.79) and 1.11 (21 repeats, pairwise 0.66-2.65); 14:36 UTC with per-slice stiffness and
-gaps (relief, helical slices): 1.26 (11 repeats) and 1.25 (21); benchmarks/README.md.
+gaps (relief, helical slices): 1.26 (11 repeats) and 1.25 (21); benchmarks/README.md. With the
+slices' line loads recorded (``slice_line_load``), 16:53 UTC, one run each: 5 slices 7.30 µs/step
+(ratio 1.326) before, 7.24 µs/step (1.328) after.
 
 Run:  python benchmarks/sliced_mesh_step.py [--steps N] [--dt S] [--repeats R] [--slices N]
 """

@@ -480,6 +480,7 @@ class Family(enum.Enum):
     generator = 5
     rotor = 6
     row = 7  # one per bearing row (StepperSpec.bearing_rows)
+    slice = 8  # one per slice of every sliced compliant mesh (CompliantMeshSpec.slices > 1)
 
 class Series(enum.Enum):
     """Every series the compiled run writes, named as the Result's array or ledger term.
@@ -543,6 +544,7 @@ class Series(enum.Enum):
     friction_loss = 53
     mesh_peak_line_load = 54
     mesh_mean_line_load = 55
+    slice_line_load = 56
 
 def series_layout(series: Series) -> tuple[Family, int]:
     """The family of a series and its components (1 scalar, 3 vector, 4 quaternion)."""

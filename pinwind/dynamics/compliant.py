@@ -112,6 +112,25 @@ class MeshSetup:
             raise AssertionError(f"mesh {mesh.name} has a compliant spec but no compliance")
         return mesh, mesh.compliance
 
+    def slice_names(self) -> list[str]:
+        """The columns of the slice series (``slice_line_load``): every sliced mesh's slices.
+
+        Mesh after mesh in the order of ``compliant`` (the compiled slice family's,
+        ``cpp/series.hpp``), each mesh's N slices from face side I (``slice_tables``' z_s
+        increasing), named ``slice_name``; a mesh of one slice (a single contact line) has none.
+        """
+        return [
+            slice_name(self.meshes[spec.mesh].name, j)
+            for spec in self.compliant
+            if spec.slices > 1
+            for j in range(spec.slices)
+        ]
+
+
+def slice_name(mesh: str, index: int) -> str:
+    """The column of slice ``index`` (0 at face side I) of a sliced mesh: ``<mesh>.<index>``."""
+    return f"{mesh}.{index}"
+
 
 def mesh_choices(gearbox: Gearbox, meshes: Mapping[str, str | MeshCompliance] | None) -> list[Mesh]:
     """The gearbox's meshes with per-run choices applied.

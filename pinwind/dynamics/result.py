@@ -24,7 +24,7 @@ import numpy as np
 
 from pinwind.dynamics import series
 from pinwind.dynamics.series import Schema, Series
-from pinwind.errors import UnknownElement
+from pinwind.errors import InputError, UnknownElement
 
 
 class FoldedStatistics(Protocol):
@@ -101,6 +101,10 @@ class Result:
         generator_names, rotor_names: joints carrying a generator law or a rotor (empty without).
         row_names: the compliant bearings' rows that are their springs, ``<joint>.<row>``
             (``Gearbox.row_names``; empty without).
+        slice_names: the slices of the sliced compliant meshes, ``<mesh>.<index>`` (index 0 at
+            face side I; ``MeshSetup.slice_names``; empty without): the columns of
+            ``slice_line_load``. Their face positions are in the metadata
+            (``slice_line_loads``).
         joint_kinds: each joint's kind, in ``joint_names`` order (``series.JointKind``):
             ``revolute``, or ``prismatic`` for a slide (a compliant bearing's or the support's),
             whose joint series are a length [m], speed [m/s], acceleration [m/s²] and force
@@ -141,6 +145,7 @@ class Result:
         generator_names: list[str] | None = None,
         rotor_names: list[str] | None = None,
         row_names: list[str] | None = None,
+        slice_names: list[str] | None = None,
         joint_kinds: list[str] | None = None,
         energy: dict[str, np.ndarray] | None = None,
         metadata: dict[str, Any] | None = None,
@@ -157,6 +162,7 @@ class Result:
         self.generator_names = list(generator_names or [])
         self.rotor_names = list(rotor_names or [])
         self.row_names = list(row_names or [])
+        self.slice_names = list(slice_names or [])
         self.joint_kinds = (
             ["revolute"] * len(joint_names) if joint_kinds is None else list(joint_kinds)
         )
@@ -304,6 +310,34 @@ class Result:
         """
         return self.element("row", name)
 
+    def slice_line_loads(self, mesh: str) -> tuple[np.ndarray, np.ndarray]:
+        """The line load across the face of a sliced mesh: (z (N,) [m], w (n, N) [N/m]).
+
+        z: each slice's centre from the face centre along gear A's axis, side I first (the
+        run's metadata, ``meshes.<mesh>.slice_positions``); w: its line load on the loaded
+        flank, ``slice_line_load``'s columns of the mesh (views).
+
+        Raises:
+            UnknownElement: no mesh of that name.
+            InputError: the mesh was not cut into slices in this run.
+        """
+        self._index("mesh", self.mesh_names, mesh)
+        prefix = f"{mesh}."
+        columns = [
+            i
+            for i, name in enumerate(self.slice_names)
+            if name.startswith(prefix) and name[len(prefix) :].isdigit()
+        ]
+        positions = self.metadata.get("meshes", {}).get(mesh, {}).get("slice_positions")
+        if not columns or positions is None or len(positions) != len(columns):
+            raise InputError(
+                f'mesh "{mesh}" has no slices in this run (sliced meshes: '
+                f"{sorted({n.rsplit('.', 1)[0] for n in self.slice_names})}); cut it into "
+                'slices across the face: MeshCompliance(slices=8) or slices="auto"'
+            )
+        lo, hi = columns[0], columns[-1] + 1
+        return np.asarray(positions, dtype=float), self.slice_line_load[:, lo:hi]
+
     def truncated(self, n: int) -> Result:
         """The first ``n`` samples (used when a run stops early)."""
         return self.rows(0, n)
@@ -375,6 +409,7 @@ class Result:
             generator_names=self.generator_names,
             rotor_names=self.rotor_names,
             row_names=self.row_names,
+            slice_names=self.slice_names,
             joint_kinds=self.joint_kinds,
             energy=energy,
             metadata=dict(self.metadata),

@@ -1,13 +1,13 @@
 """The schema of a run's outputs: every time series declared once, read by every consumer.
 
 A ``Series`` says what one Result array holds: its name, the family of elements it has a value
-for (each joint, mesh, bearing, body, generator, rotor or bearing row, or one per run), its
-components and frame, its SI unit and a one-line meaning, the MCAP topic it is logged on, how
-the statistics, the report and the plots show it, and, for a series computed in Python rather
-than by the compiled step, the function that derives it from a block of samples. The Result's
-arrays and accessors, the log's topics and columns, the run statistics, ``pinwind report``,
-``pinwind export``, the plot panels and the replay all iterate the schema (the typed-record idea
-of rerun's archetypes): a new series is one declaration.
+for (each joint, mesh, bearing, body, generator, rotor, bearing row or slice of a sliced
+mesh, or one per run), its components and frame, its SI unit and a one-line meaning, the MCAP
+topic it is logged on, how the statistics, the report and the plots show it, and, for a series
+computed in Python rather than by the compiled step, the function that derives it from a block
+of samples. The Result's arrays and accessors, the log's topics and columns, the run
+statistics, ``pinwind report``, ``pinwind export``, the plot panels and the replay all iterate
+the schema (the typed-record idea of rerun's archetypes): a new series is one declaration.
 
 The series the compiled step writes (``derive`` is None) are the compiled module's own list
 (``_native.Series``, from the one table of ``cpp/series.hpp``): their names, order, families and
@@ -35,7 +35,7 @@ import numpy as np
 from pinwind.dynamics import _native, bearing_load, bearing_springs
 
 #: Kinds of element a series has values for; ``run``: one value per sample.
-Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor", "row"]
+Family = Literal["run", "joint", "mesh", "bearing", "body", "generator", "rotor", "row", "slice"]
 
 #: Result attribute that names the elements of each family, in the order of their columns.
 NAMES_OF: dict[str, str] = {
@@ -46,6 +46,7 @@ NAMES_OF: dict[str, str] = {
     "generator": "generator_names",
     "rotor": "rotor_names",
     "row": "row_names",
+    "slice": "slice_names",
 }
 
 #: Folder of each family's MCAP topics (``/meshes/normal``).
@@ -57,10 +58,20 @@ TOPIC_FOLDERS: dict[str, str] = {
     "generator": "/generators",
     "rotor": "/rotors",
     "row": "/rows",
+    "slice": "/slices",
 }
 
 #: Order of the families on the log's viewer topics (as logs have always had them).
-TOPIC_ORDER: tuple[str, ...] = ("joint", "mesh", "bearing", "run", "generator", "rotor", "row")
+TOPIC_ORDER: tuple[str, ...] = (
+    "joint",
+    "mesh",
+    "bearing",
+    "run",
+    "generator",
+    "rotor",
+    "row",
+    "slice",
+)
 
 #: Kinds of joint (``Result.joint_kinds``): a revolute joint turns about its axis (its
 #: coordinate an angle), a prismatic one (a slide of a compliant bearing or of the support)
@@ -404,6 +415,12 @@ _MEANINGS: dict[str, About] = {
            "mean line load across the face, loaded flank: F_n / b (compliant mesh; 0 without "
            "load or rigid); peak_line_load / mean_line_load = face_load_factor", short="w mean",
            headline=False),
+    "slice_line_load": About("line_load", "N/m",
+           "line load of one slice of a sliced compliant mesh, loaded flank: its normal force "
+           "over its width, N F_s / b (0 out of contact or without load); mesh_peak_line_load "
+           "is the largest of its mesh's, mesh_mean_line_load their mean; the slice's face "
+           "position is in the run's metadata (meshes.<mesh>.slice_positions)",
+           label="slice line load", short="w slice", headline=False, statistics=False),
 }  # fmt: skip
 
 

@@ -195,6 +195,7 @@ def _allocate(
     body_names: list[str],
     elements: LoadElements,
     schema: series.Schema,
+    slices: list[str],
     *,
     empty: bool = False,
 ) -> Result:
@@ -203,9 +204,9 @@ def _allocate(
     One large buffer rather than thirty: numpy asks the kernel for huge pages for buffers of
     4 MB and more, so that filling a long run's arrays takes a page fault per 2 MB instead of
     one per 4 kB (page faults were a sixth of a drivetrain run's time). ``elements`` gives the
-    generator and rotor columns.
+    generator and rotor columns, ``slices`` the slice columns (``MeshSetup.slice_names``).
     """
-    names = _names(gearbox, body_names, elements)
+    names = _names(gearbox, body_names, elements, slices)
     shapes = _sample_shapes(names, schema)
     sizes = {k: n * math.prod(shape) for k, shape in shapes.items()}
     buffer = (np.empty if empty else np.zeros)(sum(sizes.values()))
@@ -222,8 +223,13 @@ def _allocate(
     )
 
 
-def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> dict[str, Any]:
-    """The element names of every family of a run (``series.NAMES_OF``)."""
+def _names(
+    gearbox: Gearbox, body_names: list[str], elements: LoadElements, slices: list[str]
+) -> dict[str, Any]:
+    """The element names of every family of a run (``series.NAMES_OF``).
+
+    ``slices``: the sliced meshes' slices (``MeshSetup.slice_names``).
+    """
     return {
         "joint_names": list(gearbox.joint_names),
         "joint_kinds": gearbox.joint_kinds,
@@ -233,6 +239,7 @@ def _names(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> d
         "generator_names": list(elements.generator_names),
         "rotor_names": list(elements.rotor_names),
         "row_names": list(gearbox.row_names),
+        "slice_names": list(slices),
     }
 
 
@@ -504,13 +511,15 @@ def prepare(
     stride = _keep_stride(
         settings.keep,
         samples,
-        _bytes_per_sample(gearbox, body_names, elements),
+        _bytes_per_sample(gearbox, body_names, elements, meshes.slice_names()),
     )
     kept = _kept_samples(samples, stride)
     chunk = settings.chunk if settings.chunk is not None else block_samples(samples)
     try:
         # The run's schema: the one of its start, kept whatever is declared while it runs.
-        res = _allocate(gearbox, len(kept), body_names, elements, series.current())
+        res = _allocate(
+            gearbox, len(kept), body_names, elements, series.current(), meshes.slice_names()
+        )
     except MemoryError as err:
         raise OutOfMemory(len(kept), duration, dt) from err
     if settings.keep_series is not None:
@@ -855,7 +864,13 @@ class PreparedRun:
     def _block(self, samples: int) -> Result:
         """New arrays for a block of that many samples."""
         return _allocate(
-            self.gearbox, samples, self.body_names, self.elements, self.result.schema, empty=True
+            self.gearbox,
+            samples,
+            self.body_names,
+            self.elements,
+            self.result.schema,
+            self.result.slice_names,
+            empty=True,
         )
 
 
@@ -1001,9 +1016,11 @@ def _derive(block: Result, gearbox: Gearbox) -> None:
 KEEP_BUDGET = 512 * 2**20
 
 
-def _bytes_per_sample(gearbox: Gearbox, body_names: list[str], elements: LoadElements) -> int:
+def _bytes_per_sample(
+    gearbox: Gearbox, body_names: list[str], elements: LoadElements, slices: list[str]
+) -> int:
     """Bytes a Result holds per sample (float64 arrays of every series and energy term)."""
-    shapes = _sample_shapes(_names(gearbox, body_names, elements), series.current())
+    shapes = _sample_shapes(_names(gearbox, body_names, elements, slices), series.current())
     return 8 * sum(math.prod(shape) for shape in shapes.values())
 
 
@@ -1077,6 +1094,10 @@ def _mesh_metadata(setup: MeshSetup) -> dict[str, dict]:
             "position_error_offsets": [spec.tangential_offset, spec.radial_offset],
             "slices": c.slice_number,
         }
+        if spec.slices > 1:
+            # the face position of each slice column (MeshSetup.slice_names): its centre from
+            # the face centre along gear A's axis [m]
+            out[mesh.name]["slice_positions"] = [float(z) for z in spec.slice_offset]
         if c.slice_rule is not None:
             # slices="auto": the rule's inputs (pinwind.gears.face_load.slice_count).
             out[mesh.name]["slice_rule"] = {

@@ -3,7 +3,9 @@
 One figure per group of ``io/panels.py`` (speeds, torques and power, rotor, mesh forces, force
 components, mesh deflection, bearings, load sharing, energy; a group without panels in the run,
 such as the rotor of a run without one, gets no figure), one subplot per panel, the time in
-seconds on a shared axis. Files are numbered by the group's place in ``GROUPS``. Every figure
+seconds on a shared axis. Files are numbered by the group's place in ``GROUPS``; after them, one
+figure per mesh the run cut into slices (``FACE_LOAD``: the line load across the face over
+time and K_Hβ(t), ``io/face_load_figures.py``). Every figure
 says in its caption which model and log it comes from and how the run was made (dt, loads,
 status, pinwind version, model hash), so that a figure pasted in a report keeps its provenance.
 The y ranges follow ``panels.y_range`` (no magnified rounding); colours are distinct within a
@@ -29,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.errors import FigureFailed, InputError
+from pinwind.io.face_load_figures import FaceLoadMap, plot_face_load, sliced_meshes
 from pinwind.io.figure_layout import caption_below
 from pinwind.io.log_reader import LogReader
 from pinwind.io.overview import DecimatedPanel, PanelOverview, coincident_groups
@@ -51,6 +54,8 @@ COINCIDENT_FRACTION = 0.01
 SPEED_BAND = 10.0
 #: A speed below this fraction of the fastest is a standstill (a locked joint's rounding noise).
 STANDSTILL = 1e-9
+#: The group name of the face load figures (one per sliced mesh, after ``GROUPS``' figures).
+FACE_LOAD = "face load"
 #: Speed panels, split in bands of ``SPEED_BAND``.
 SPEED_PANELS = ("speed", "body_speed")
 #: A number in a caption: digits with a decimal point, not part of a word or a version.
@@ -387,7 +392,8 @@ def plot_log(
         start, stop: time window [s] (inclusive; open ends when None).
         format: ``png``, ``svg`` or ``pdf`` (the file extension).
         dpi: resolution of PNG figures.
-        groups: the figures to write (``panels.GROUPS`` names); default all.
+        groups: the figures to write (``panels.GROUPS`` names, and ``FACE_LOAD`` for the
+            sliced meshes' face load figures); default all.
         block: samples read at a time.
         progress: gets (simulated time read, of the window) [s] before each block.
 
@@ -416,10 +422,18 @@ def plot_log(
         meta: dict[str, Any] = {}
         status = ""
         shown: tuple[float, float] | None = None
+        faces: list[FaceLoadMap] | None = None
         for res in reader.blocks(block, start=start, stop=stop, progress=progress):
             meta, status = res.metadata, res.status
+            if faces is None and (groups is None or FACE_LOAD in groups):
+                faces = [
+                    FaceLoadMap(m, res.slice_line_loads(m)[0], first, max(last, first))
+                    for m in sliced_meshes(res)
+                ]
             if len(res):
                 overview.add(res)
+                for face in faces or []:
+                    face.add(res)
                 shown = (shown[0] if shown else float(res.time[0]), float(res.time[-1]))
         if shown is None:
             duration = reader.metadata.get("pinwind.run", {}).get("duration", "?")
@@ -462,6 +476,9 @@ def plot_log(
         _save(fig, file, dpi)
         plt.close(fig)
         written.append(file)
+    for face in faces or []:
+        file = out / f"{len(GROUPS) + 1:02d}_face_load_{face.mesh}.{format}"
+        written.append(plot_face_load(face, file, note=note, dpi=dpi))
     return written
 
 

@@ -364,6 +364,7 @@ def result_of(arrays: dict[str, Any], names: dict[str, list[str]], terms: list[s
         generator_names=names.get("generator_names", []),
         rotor_names=names.get("rotor_names", []),
         row_names=names.get("row_names", []),
+        slice_names=names.get("slice_names", []),
         energy={t: arrays[f"energy/{t}"] for t in terms},
         pose_rows=arrays["pose_rows"],
         **{name: arrays[name] for name in Result.ARRAYS},

@@ -26,6 +26,7 @@ def model_names(result: Result) -> dict[str, list[str]]:
         "generator_names": list(result.generator_names),
         "rotor_names": list(result.rotor_names),
         "row_names": list(result.row_names),
+        "slice_names": list(result.slice_names),
     }
 
 

@@ -197,6 +197,7 @@ def test_every_compiled_series_has_a_result_array_of_its_layout():
         _native.Family.generator: len(res.generator_names),
         _native.Family.rotor: len(res.rotor_names),
         _native.Family.row: len(res.row_names),
+        _native.Family.slice: len(res.slice_names),
     }
     names = [series.name for series in _native.Series]
     derived = {s.name for s in schema() if s.derive is not None}  # computed in Python

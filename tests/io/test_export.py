@@ -75,6 +75,8 @@ def expected_columns(res: pinwind.Result) -> dict[str, np.ndarray]:
         for k, axis in enumerate("xyzw"):
             out[f"body/{name}/quaternion_{axis}"] = np.full(len(res), np.nan)
             out[f"body/{name}/quaternion_{axis}"][rows] = body.quaternion[:, k]
+    for name in res.slice_names:  # a sliced mesh's slices (none in an unsliced run)
+        out[f"slice/{name}/line_load_N_m"] = res.element("slice", name).line_load
     out["run/constraint_residual_m_s_or_rad_s"] = res.constraint_residual
     for term, values in res.energy.items():
         out[f"energy/{term}_J"] = values

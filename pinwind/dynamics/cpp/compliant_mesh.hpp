@@ -585,6 +585,13 @@ class SlicedMeshes : public Element {
         flanks_.push_back(std::move(fl));
       }
     }
+    // Each mesh's first column in the slice family: the meshes' slices one after the other
+    // (CompliantMeshesKind::count).
+    long column = 0;
+    for (const auto& sp : specs_) {
+      first_slice_.push_back(column);
+      column += static_cast<long>(sp.slices);
+    }
     last_flank_.assign(specs_.size(), 1.0);
     span_.assign(specs_.size(), {0, 0});
     radial_.assign(specs_.size(), Radial{});
@@ -934,12 +941,21 @@ class SlicedMeshes : public Element {
           loaded ? double(sp.slices) * fl.normal.maxCoeff() / total[f] : 0.0;
       out.at(Series::mesh_load_centre, e) =
           loaded ? fl.normal.dot(sp.slice_offset) / total[f] : 0.0;
-      // The line loads [N/m]: the loaded flank's peak slice force over the slice width b/N, and
-      // its force over b (their ratio K_Hβ).
+      // The line loads [N/m]: each slice's force on the loaded flank over its width b/N,
+      // w_s = N F_s / b (0 for a slice out of contact, and at every slice when the mesh carries
+      // nothing), in the slice columns; the peak line load is their largest and the mean line
+      // load their width-weighted mean, Σ w_s (b/N) / b = Σ w_s / N = F_n / b (ratio K_Hβ).
       const bool width = loaded && sp.face_width > 0.0;
-      out.at(Series::mesh_peak_line_load, e) =
-          width ? double(sp.slices) * fl.normal.maxCoeff() / sp.face_width : 0.0;
-      out.at(Series::mesh_mean_line_load, e) = width ? total[f] / sp.face_width : 0.0;
+      const double per_width = width ? double(sp.slices) / sp.face_width : 0.0;
+      double peak = 0.0, sum = 0.0;
+      for (Eigen::Index j = 0; j < sp.slices; ++j) {
+        const double w = per_width * fl.normal[j];
+        out.at(Series::slice_line_load, out.entry(Family::slice, k, first_slice_[i] + j)) = w;
+        peak = std::max(peak, w);
+        sum += w;
+      }
+      out.at(Series::mesh_peak_line_load, e) = peak;
+      out.at(Series::mesh_mean_line_load, e) = sum / double(sp.slices);
       record_friction(s, out, k, m, paths_[i], fl.path, last_flank_[i], cos_w, sin_w,
                       span_[i].first, span_[i].second, friction_[2 * i], friction_[2 * i + 1]);
     }
@@ -1011,6 +1027,7 @@ class SlicedMeshes : public Element {
   std::vector<MeshPathSpec> paths_;
   std::vector<MeshPathSpec> slice_paths_;  // each mesh's slices' path (helical: the transverse one)
   std::vector<bool> helical_;  // the mesh's slices lag along the path (slice_shift)
+  std::vector<long> first_slice_;  // each mesh's first column of the slice family
   std::vector<Flank> flanks_;  // mesh i: 2i front, 2i + 1 back
   std::vector<double> last_flank_;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;
@@ -1063,6 +1080,13 @@ struct CompliantMeshesKind : KindBase {
         throw std::invalid_argument("compliant mesh friction: contact_line_span >= 0");
       }
     }
+  }
+
+  // The slice family's columns (series.hpp): the slices of each sliced mesh, in spec order.
+  static void count(const Specs& specs, FamilyCounts& counts) {
+    long slices = 0;
+    for (const auto& spec : specs) slices += spec.slices > 1 ? static_cast<long>(spec.slices) : 0;
+    counts[static_cast<size_t>(Family::slice)] = slices;
   }
 
   // Meshes of one slice make one CompliantMeshes element, sliced ones a SlicedMeshes element

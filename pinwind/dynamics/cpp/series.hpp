@@ -7,7 +7,9 @@
 // leaving the last axis out: count(run) = 1, count(joint) = nv, count(bearing) = the bearings
 // (StepperSpec.bearing_joints),
 // count(mesh), count(body) = the recorded links, count(generator), count(rotor) = the elements',
-// count(row) = the compliant bearings' rows (StepperSpec.bearing_rows, bearing_rows.hpp).
+// count(row) = the compliant bearings' rows (StepperSpec.bearing_rows, bearing_rows.hpp),
+// count(slice) = the slices of the sliced compliant meshes (slices > 1), mesh after mesh in the
+// order of StepperSpec.compliant_meshes, each mesh's slices from face side I (compliant_mesh.hpp).
 // Its name is the Result's; its unit, frame, meaning and how every consumer shows it are declared
 // in the Python schema (pinwind/dynamics/series.py; the ledger's terms are keys of
 // Result.energy), and tests/dynamics/test_series.py checks that this table and that schema
@@ -20,8 +22,8 @@
 namespace pinwind {
 
 // The families of elements a series has one column per.
-enum class Family { run, joint, mesh, bearing, body, generator, rotor, row };
-inline constexpr std::size_t kFamilies = 8;
+enum class Family { run, joint, mesh, bearing, body, generator, rotor, row, slice };
+inline constexpr std::size_t kFamilies = 9;
 
 // X(name, family, components).
 #define PINWIND_SERIES(X)                       \
@@ -80,7 +82,8 @@ inline constexpr std::size_t kFamilies = 8;
   X(mesh_friction_power, mesh, 1)               \
   X(friction_loss, run, 1)                      \
   X(mesh_peak_line_load, mesh, 1)               \
-  X(mesh_mean_line_load, mesh, 1)
+  X(mesh_mean_line_load, mesh, 1)               \
+  X(slice_line_load, slice, 1)
 
 enum class Series {
 #define PINWIND_SERIES_NAME(name, family, components) name,

@@ -354,7 +354,8 @@ void bind_stepper(nb::module_& m) {
       .value("body", Family::body)
       .value("generator", Family::generator)
       .value("rotor", Family::rotor)
-      .value("row", Family::row);
+      .value("row", Family::row)
+      .value("slice", Family::slice);
 
   auto series = nb::enum_<Series>(m, "Series");
   for (size_t i = 0; i < kSeriesCount; ++i) {
