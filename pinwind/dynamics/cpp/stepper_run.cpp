@@ -9,6 +9,23 @@
 #include "stepper.hpp"
 
 namespace pinwind {
+namespace {
+
+// y = M x for a matrix M that is symmetric to the last bit (the step's M: mass_from_jacobian
+// mirrors each entry), row i read as column i, which is contiguous: the products and their
+// order are small_product's, y_i = ((m_i0 x_0 + m_i1 x_1) + …), without its strided loads.
+void symmetric_product(const Eigen::MatrixXd& m, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+  const Eigen::Index n = m.rows();
+  y.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double* column = m.col(i).data();
+    double s = 0.0;
+    for (Eigen::Index j = 0; j < n; ++j) s += column[j] * x[j];
+    y[i] = s;
+  }
+}
+
+}  // namespace
 
 RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& target,
                        const Outputs& out, const RowMat& inputs, long stride) {
@@ -129,7 +146,11 @@ void Stepper::bias_forces() {
       subtree_[i] = body_force_[i] = pinocchio::Force::Zero();
       continue;
     }
-    weight_[i] = body_[i] * up;
+    // I (g, 0) for the pure linear acceleration g: (m g, c × m g), Pinocchio's product without
+    // its terms in the zero angular part, which add zeros.
+    const pinocchio::Inertia& body = body_[i];
+    weight_[i].linear() = body.mass() * up.linear();
+    weight_[i].angular() = body.lever().cross(weight_[i].linear());
     body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
     subtree_[i] = body_force_[i];
   }
@@ -185,6 +206,11 @@ void Stepper::mass_from_jacobian() {
   composite_.assign(body_.begin(), body_.end());
   mass_.setZero(nv_, nv_);
   momenta_.resize(6, nv_);
+  // A one-column joint's row of M is written into its column too as it is computed (a
+  // contiguous store beside the row's): the lower triangle without a strided pass of its own
+  // afterwards. A joint of several columns (a free flyer) fills its block row alone, and the
+  // lower triangle is then mirrored from the upper at the end.
+  bool mirror = false;
   for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
     const int idx = model.idx_vs[i], n = model.nvs[i], sub = data_.nvSubtree[i];
     if (slide_axes_[i] >= 0) {
@@ -195,18 +221,21 @@ void Stepper::mass_from_jacobian() {
       auto momentum = momenta_.col(idx);
       momentum.head<3>() = composite_[i].mass() * u;
       momentum.tail<3>() = composite_[i].lever().cross(Eigen::Vector3d(momentum.head<3>()));
-      for (int c = idx; c < idx + sub; ++c) mass_(idx, c) = u.dot(momenta_.col(c).head<3>());
+      for (int c = idx; c < idx + sub; ++c) {
+        mass_(idx, c) = mass_(c, idx) = u.dot(momenta_.col(c).head<3>());
+      }
     } else {
       for (int c = idx; c < idx + n; ++c) {
         momenta_.col(c) = (composite_[i] * pinocchio::Motion(data_.J.col(c))).toVector();
       }
       if (n == 1) {
         for (int c = idx; c < idx + sub; ++c) {
-          mass_(idx, c) = data_.J.col(idx).dot(momenta_.col(c));
+          mass_(idx, c) = mass_(c, idx) = data_.J.col(idx).dot(momenta_.col(c));
         }
       } else {
         mass_.block(idx, idx, n, sub).noalias() =
             data_.J.middleCols(idx, n).transpose() * momenta_.middleCols(idx, sub);
+        mirror = true;
       }
     }
     const auto parent = model.parents[i];
@@ -222,7 +251,10 @@ void Stepper::mass_from_jacobian() {
     }
   }
   mass_.diagonal() += model.armature;
-  mass_.triangularView<Eigen::StrictlyLower>() = mass_.transpose().triangularView<Eigen::StrictlyLower>();
+  if (mirror) {
+    mass_.triangularView<Eigen::StrictlyLower>() =
+        mass_.transpose().triangularView<Eigen::StrictlyLower>();
+  }
 }
 
 void Stepper::constraint_matrix() {
@@ -455,7 +487,7 @@ void Stepper::record(long k, double t) {
     Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, e)) = quat.coeffs();
   }
   out_.at(Series::constraint_residual, k) = residual_;
-  small_product(mass_, v_, mv_);
+  symmetric_product(mass_, v_, mv_);
   out_.at(Series::kinetic, k) = 0.5 * v_.dot(mv_);
   double potential = 0.0;
   for (const auto& e : elements_) potential += e->potential(sv);
