@@ -55,7 +55,6 @@ from pinwind.errors import InvalidLossInput
 from pinwind.gears.gear_pair import GearPair
 from pinwind.losses.bearing_friction import (
     PALMGREN_FACTORS,
-    bearing_frictions,
     friction_load,
     load_moment,
     lubricant_viscosity,
@@ -64,6 +63,7 @@ from pinwind.losses.bearing_friction import (
 from pinwind.losses.mesh_friction import pair_friction_coefficient, tooth_loss_factor
 from pinwind.losses.oil import Lubricant
 from pinwind.model.bearing_friction_data import BearingFrictionData
+from pinwind.model.bearing_frictions import bearing_frictions
 from pinwind.model.gear_roles import gearbox_planetary_gears
 
 #: Mean arithmetic roughness Ra of ground wind-turbine gear flanks [m] when not given.
@@ -290,7 +290,7 @@ def friction_in_step(gearbox: Any) -> bool:
     """True if a run of ``gearbox`` has friction in the step.
 
     A compliant mesh with μ > 0 or a bearing (or row) with a friction model
-    (``losses.bearing_friction.bearing_frictions``).
+    (``model.bearing_frictions.bearing_frictions``).
     """
     meshes = any(m.compliance is not None and m.compliance.has_friction for m in gearbox.meshes)
     return meshes or bool(bearing_frictions(gearbox))

@@ -50,10 +50,10 @@ from pinwind.losses.bearing_friction import (
     LOAD_RULES,
     PALMGREN_FACTORS,
     STICK_SPEED,
-    bearing_frictions,
     load_moment,
     no_load_moment_coefficients,
 )
+from pinwind.model.bearing_frictions import bearing_frictions
 from pinwind.model.gearbox import Gearbox
 
 

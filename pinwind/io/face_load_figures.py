@@ -172,8 +172,7 @@ def plot_face_load(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from pinwind.io.figure_layout import caption_below
-    from pinwind.io.figures import _save
+    from pinwind.io.figure_layout import caption_below, save_figure
 
     fig = plt.figure(figsize=(10, 6.0), layout="constrained")
     try:
@@ -184,7 +183,7 @@ def plot_face_load(
             "(N F_s / b on the loaded flank; 0: the slice out of contact).\nStrip: K_Hβ, "
             "the smallest and largest in each span.",
         )
-        _save(fig, file, dpi)
+        save_figure(fig, file, dpi)
     finally:
         plt.close(fig)
     return file

@@ -5,13 +5,18 @@ figures) is laid out by matplotlib's constrained layout, which shrinks the axes 
 titles, tick and axis labels and legends (also those placed beside the axes) fit the figure.
 It does not know a caption written with ``Figure.text``: ``caption_below`` measures the caption
 and keeps the axes above it, widening the figure when a caption line is wider than the page.
-``outside_figure`` is the check of the figures' tests: every artist drawn wholly inside the
-figure's bounding box, which is what the saved file holds (matplotlib cuts the rest).
+``save_figure`` writes a figure whole or not at all. ``outside_figure`` is the check of the
+figures' tests: every artist drawn wholly inside the figure's bounding box, which is what the
+saved file holds (matplotlib cuts the rest).
 """
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
 from typing import Any
+
+from pinwind.errors import FigureFailed
 
 #: Gap between the caption and the lowest axis labels, and the caption's margin [inch].
 CAPTION_PAD = 0.08
@@ -125,3 +130,18 @@ def save_with_caption(fig: Any, path: Any, *, caption: str, mark: str = "") -> A
     fig.savefig(path, dpi=120, metadata=metadata)
     plt.close(fig)
     return path
+
+
+def save_figure(fig: Any, file: Path, dpi: int) -> None:
+    """Writes a figure under a hidden name, renamed at the end.
+
+    A full disk or a failed write then leaves no partial figure; raises ``FigureFailed`` naming
+    the file.
+    """
+    part = file.with_name(f".{file.name}.{os.getpid()}.part")
+    try:
+        fig.savefig(part, dpi=dpi, format=file.suffix.lstrip("."))
+        os.replace(part, file)
+    except OSError as err:
+        part.unlink(missing_ok=True)
+        raise FigureFailed(str(file), err.strerror or str(err)) from err

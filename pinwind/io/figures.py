@@ -32,7 +32,7 @@ import numpy as np
 
 from pinwind.errors import FigureFailed, InputError
 from pinwind.io.face_load_figures import FaceLoadMap, plot_face_load, sliced_meshes
-from pinwind.io.figure_layout import caption_below
+from pinwind.io.figure_layout import caption_below, save_figure
 from pinwind.io.log_reader import LogReader
 from pinwind.io.overview import DecimatedPanel, PanelOverview, coincident_groups
 from pinwind.io.panels import GROUPS, model_of_log
@@ -473,25 +473,10 @@ def plot_log(
         fig.suptitle(f"{meta.get('model_name', '')}: {group}", fontsize=11, x=0.02, ha="left")
         caption_below(fig, note)
         file = out / f"{number:02d}_{group.replace(' ', '_')}.{format}"
-        _save(fig, file, dpi)
+        save_figure(fig, file, dpi)
         plt.close(fig)
         written.append(file)
     for face in faces or []:
         file = out / f"{len(GROUPS) + 1:02d}_face_load_{face.mesh}.{format}"
         written.append(plot_face_load(face, file, note=note, dpi=dpi))
     return written
-
-
-def _save(fig: Any, file: Path, dpi: int) -> None:
-    """Writes a figure under a hidden name, renamed at the end.
-
-    A full disk or a failed write then leaves no partial figure; raises ``FigureFailed`` naming
-    the file.
-    """
-    part = file.with_name(f".{file.name}.{os.getpid()}.part")
-    try:
-        fig.savefig(part, dpi=dpi, format=file.suffix.lstrip("."))
-        os.replace(part, file)
-    except OSError as err:
-        part.unlink(missing_ok=True)
-        raise FigureFailed(str(file), err.strerror or str(err)) from err

@@ -11,15 +11,13 @@ and mean diameter d_m (below or from 100 mm) as ranges; pinwind takes each range
 
 from __future__ import annotations
 
-from pinwind.losses.oil import Lubricant
+from pinwind.losses.oil import DEFAULT_WALTHER_SLOPE, VG_GRADES, Lubricant
 from pinwind.model.bearing_life_data import (
     CONTAMINATION_CLASSES,
     CONTAMINATION_RANGES,
     DEFAULT_CONTAMINATION,
     DEFAULT_TEMPERATURE,
     DEFAULT_VG,
-    DEFAULT_WALTHER_SLOPE,
-    VG_GRADES,
 )
 
 __all__ = [

@@ -55,16 +55,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from pinwind.errors import InvalidBearingFriction, InvalidLossInput
+from pinwind.errors import InvalidLossInput
 from pinwind.losses.oil import Lubricant
-from pinwind.model.bearing_rows import row_name
-
-if TYPE_CHECKING:
-    from pinwind.model.gearbox import Gearbox
 
 #: A value or an array of values (speeds, loads), SI units.
 Values = float | np.ndarray
@@ -76,7 +71,6 @@ __all__ = [
     "STICK_SPEED",
     "BearingFriction",
     "PalmgrenFactors",
-    "bearing_frictions",
     "friction_load",
     "load_moment",
     "lubricant_viscosity",
@@ -251,60 +245,3 @@ LOAD_RULES: dict[str, int] = {"none": 0, "ball": 1, "angular_ball": 2, "roller":
 #: held by a moment it cannot reverse within a step; 0.01 rad/s ≈ 0.1 rpm, far below any
 #: drivetrain's working speed.
 STICK_SPEED = 0.01
-
-
-def bearing_frictions(gearbox: Gearbox) -> list[BearingFriction]:
-    """Every rolling bearing with a friction model in ``gearbox``'s model, in file order.
-
-    A ``<bearing>`` with ``<row>`` elements gives one per row with friction (the row's type,
-    size and oil), one without gives one for itself (its ``type``, ``size_mm`` and oil).
-
-    Raises:
-        InvalidBearingFriction: a bearing with friction but no ``type`` or no ``size_mm``.
-    """
-    source = gearbox.source
-    out = []
-    row_columns = {name: i for i, name in enumerate(gearbox.row_names)}
-    for joint, friction in source.bearing_friction.items():
-        rows = source.bearing_rows.get(joint, [])
-        where = f'<bearing joint="{joint}">'
-        parts: list[tuple[str, str | None, tuple[float, float, float] | None, Any, Any]] = []
-        if rows:
-            for row, data in zip(rows, source.row_friction[joint], strict=True):
-                life = row.life or source.bearing_life[joint]
-                parts.append((row.name, row.kind, row.size or life.size, life, data))
-        else:
-            rating = source.bearings.get(joint)
-            life = source.bearing_life[joint]
-            parts.append((joint, rating.kind if rating else None, life.size, life, friction))
-        for name, kind, size, life, data in parts:
-            if not data.active:
-                continue
-            at = where if name == joint else f'{where} <row name="{name}">'
-            if kind is None or kind not in PALMGREN_FACTORS:
-                raise InvalidBearingFriction(
-                    at, "type", kind, f"friction_model needs the bearing's type; give one of "
-                    f"{', '.join(PALMGREN_FACTORS)}", path=source.path,
-                )  # fmt: skip
-            if size is None:
-                raise InvalidBearingFriction(
-                    at, "size_mm", None, "friction_model needs the bearing's size (its mean "
-                    'diameter d_m = (D + d)/2): give size_mm="D d B"', path=source.path,
-                )  # fmt: skip
-            factors = PALMGREN_FACTORS[kind]
-            out.append(
-                BearingFriction(
-                    joint=joint,
-                    name=name,
-                    kind=kind,
-                    f0=factors.f0 if data.f0 is None else data.f0,
-                    f1=factors.f1 if data.f1 is None else data.f1,
-                    mean_diameter=0.5 * (size[0] + size[1]),
-                    viscosity=lubricant_viscosity(
-                        life.grade, life.temperature, life.viscosity_100, life.viscosity
-                    ),
-                    load=data.load,
-                    row=row_columns.get(row_name(joint, name)) if name != joint else None,
-                )
-            )
-    return out

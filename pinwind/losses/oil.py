@@ -3,7 +3,7 @@
 **Viscosity grades.** ISO 3448:1992 names industrial oils by their kinematic viscosity at 40 °C
 (the grade's mid-point, ±10 %): VG 2, 3, 5, 7, 10, 15, 22, 32, 46, 68, 100, 150, 220, 320, 460,
 680, 1000, 1500, 2200, 3200 with mid-points 2.2, 3.2, 4.6, 6.8 mm²/s for the four lowest and the
-grade's number for the others (``model/bearing_life_data.py`` ``VG_GRADES``).
+grade's number for the others (``VG_GRADES``).
 
 **Viscosity at the operating temperature.** Ubbelohde-Walther's equation (ASTM D341-09 eq. 1)
 
@@ -30,7 +30,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from pinwind.model.bearing_life_data import DEFAULT_WALTHER_SLOPE, VG_GRADES
+#: ISO 3448 viscosity grades → mid-point kinematic viscosity at 40 °C [mm²/s].
+VG_GRADES: dict[int, float] = {
+    2: 2.2, 3: 3.2, 5: 4.6, 7: 6.8, 10: 10.0, 15: 15.0, 22: 22.0, 32: 32.0, 46: 46.0,
+    68: 68.0, 100: 100.0, 150: 150.0, 220: 220.0, 320: 320.0, 460: 460.0, 680: 680.0,
+    1000: 1000.0, 1500: 1500.0, 2200: 2200.0, 3200: 3200.0,
+}  # fmt: skip
+
+#: Walther slope B [-] assumed when the oil's ν100 is not given (``Lubricant``,
+#: ``life/lubrication.py``).
+DEFAULT_WALTHER_SLOPE = 3.5
 
 __all__ = [
     "DEFAULT_DENSITY_15",

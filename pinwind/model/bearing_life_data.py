@@ -30,16 +30,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from pinwind.errors import InvalidBearingLifeData
+from pinwind.losses.oil import VG_GRADES
 
-#: ISO 3448 viscosity grades → mid-point kinematic viscosity at 40 °C [mm²/s].
-VG_GRADES: dict[int, float] = {
-    2: 2.2, 3: 3.2, 5: 4.6, 7: 6.8, 10: 10.0, 15: 15.0, 22: 22.0, 32: 32.0, 46: 46.0,
-    68: 68.0, 100: 100.0, 150: 150.0, 220: 220.0, 320: 320.0, 460: 460.0, 680: 680.0,
-    1000: 1000.0, 1500: 1500.0, 2200: 2200.0, 3200: 3200.0,
-}  # fmt: skip
-
-#: Walther slope B [-] assumed when the oil's ν100 is not given (``life/lubrication.py``).
-DEFAULT_WALTHER_SLOPE = 3.5
 #: Default lubrication of a bearing whose model gives none: a wind-turbine gear oil ISO VG 320
 #: at 70 °C, normally clean (filtered circulating oil); said wherever it is used.
 DEFAULT_VG = 320

@@ -15,8 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pinwind.losses.mesh_friction import LUBRICANT_FACTORS
-from pinwind.losses.oil import Lubricant
-from pinwind.model.bearing_life_data import VG_GRADES
+from pinwind.losses.oil import VG_GRADES, Lubricant
 
 #: Damping ratio of the mesh mode used when a compliant mesh gives neither damping nor a ratio.
 DEFAULT_DAMPING_RATIO = 0.05

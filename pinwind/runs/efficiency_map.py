@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from pinwind.errors import InvalidLossInput, PinwindWarning
-from pinwind.model.bearing_life_data import VG_GRADES
+from pinwind.losses.oil import VG_GRADES
 
 #: The columns of the map's CSV, in order.
 COLUMNS = (
