@@ -300,9 +300,11 @@ class CaseReduction:
     flank's history is rainflow-counted as it comes (`pinwind.life.cycles.CycleStream`) and
     its cycles appended to a file of its own, in a folder of its own under the system's
     temporary folder, as they close; `save` writes the case's ``.npz`` from those files a
-    tooth at a time. So the memory held is the counters' residues and the sums, whatever the
-    case's length (``pinwind.runs.kept_blocks`` feeds it during the run). The folder goes
-    with `save`, `reduced`, `close` or the reduction itself.
+    tooth at a time. A bearing row with a clearance or a preload keeps its samples in a file
+    of that folder until the end (``life_sums.HistoryStream``). So the memory held is the
+    counters' residues and the sums, whatever the case's length (``pinwind.runs.kept_blocks``
+    feeds it during the run). The folder goes with `save`, `reduced`, `close` or the
+    reduction itself.
 
     Args:
         gearbox: the model the case runs.
@@ -355,7 +357,7 @@ class CaseReduction:
             )
             for i, g in enumerate(gears)
         ]
-        self.bearings = RunLoadSums(gearbox, life=bearing_life)
+        self.bearings = RunLoadSums(gearbox, life=bearing_life, folder=self.folder)
 
     def begin(self, result: Result) -> None:
         """Refuse a run the tooth counters cannot read, before it steps (its metadata).

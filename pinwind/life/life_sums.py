@@ -30,8 +30,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+import os
+import tempfile
+import weakref
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -43,6 +47,7 @@ from pinwind.dynamics.load_distribution import (
     reference_load,
 )
 from pinwind.dynamics.row_contact import (
+    LOAD_CELLS,
     cell_distribution,
     cell_keys,
     geometry_of,
@@ -53,7 +58,6 @@ from pinwind.errors import InputError
 from pinwind.life.bearing_life import (
     BearingLoadSum,
     dynamic_equivalent_load,
-    load_power_sum,
     load_sum_of_history,
     radial_and_axial,
     row_rating,
@@ -186,13 +190,16 @@ class HistoryStream:
     without clearance the cells are of the load's direction alone, whatever the other samples
     (``row_contact.cell_keys``), so each part adds to its cells' sums and the memory does not
     grow with the history; with a clearance or a preload the cells are a share of the largest
-    load of the whole history, so the loads of every sample are kept until the end.
+    load of the whole history, so the loads of every sample are kept until the end, in a file
+    (`_ReferenceCells`; removed by `sums` or `close`).
 
     Args:
         name: the bearing or row (``BEARING.ROW``), the sums' name.
         rating: its ISO 281 data (None: not rated; its revolutions and seconds only).
         data: its lubricant, cleanliness, C_u and inside (None: pinwind's defaults).
         size: (D, d, B) [m] when the element has one besides ``data`` (a ``<row>``), or None.
+        folder: where a row with a clearance keeps its samples' file (None: the system's
+            temporary folder; `_ReferenceCells`).
     """
 
     def __init__(
@@ -202,6 +209,7 @@ class HistoryStream:
         *,
         data: BearingLifeData | None,
         size: tuple[float, float, float] | None,
+        folder: Path | None = None,
     ) -> None:
         data = data or BearingLifeData()
         self.name, self.rating, self.data = name, rating, data
@@ -257,7 +265,9 @@ class HistoryStream:
         self._held: tuple[np.ndarray, ...] | None = None  # the last sample, not summed yet
         self._time_before: float | None = None  # the time of the last sample summed
         self._cells = (
-            None if self.geometry is None else _ReferenceCells(self.geometry, self.exponent)
+            None
+            if self.geometry is None
+            else _ReferenceCells(self.geometry, self.exponent, name=name, folder=folder)
         )
         self._samples = 0
 
@@ -297,8 +307,19 @@ class HistoryStream:
         self._sum_samples(parts, len(parts[0]) - 1)
         self._held = tuple(p[-1:] for p in parts)
 
+    def close(self) -> None:
+        """Removes the file of a row with a clearance (`sums` does; or when it is let go)."""
+        if self._cells is not None:
+            self._cells.close()
+
     def sums(self) -> HistorySums:
         """The sums of the history given so far (its end: no part may follow)."""
+        try:
+            return self._history_sums()
+        finally:
+            self.close()
+
+    def _history_sums(self) -> HistorySums:
         if self._held is not None:
             self._sum_samples(self._held, len(self._held[0]))
             self._held = None
@@ -389,6 +410,15 @@ class HistoryStream:
             self._cells.add(load, turns, weights)
 
 
+#: Cells whose distributions are solved at once at a history's end (`_ReferenceCells.sums`):
+#: the solve's arrays, (cells, elements, slices), stay a few MB whatever the history's length.
+CELL_CHUNK = 512
+#: Samples of a row with a clearance read back at once from its file at the end.
+SAMPLE_CHUNK = 65_536
+#: Floats a kept sample takes in its file: W (5), revolutions, seconds.
+_KEPT_COLUMNS = 7
+
+
 @dataclass(frozen=True)
 class _CellSums:
     """The reference sums of a history (`_ReferenceCells.sums`).
@@ -413,15 +443,34 @@ class _ReferenceCells:
     of their directions (its mean, where it is solved) and Σ s_i^p n_i, Σ s_i^p Δt_i. A single
     angular row faces the way the whole history's mean axial load pushes it
     (``row_contact.oriented``): the cells are kept as given and turned at the end, a cell's
-    key and mean changing sign along the axis exactly as its samples' do. With a clearance the
-    samples are kept (the cells are a share of the largest load).
+    key and mean changing sign along the axis exactly as its samples' do.
+
+    With a clearance or a preload the cells are 1/``LOAD_CELLS`` of the whole history's
+    largest load wide (``row_contact.load_cells``), known at its end only: each sample's W,
+    revolutions and seconds are appended to a file of its own (``folder``, or the system's
+    temporary folder) as they come, with the largest load so far, and read back at the end in
+    chunks of `SAMPLE_CHUNK` samples, twice: the cells met, then each cell's count, sum of
+    loads (added in the samples' order, as ``np.bincount`` adds them: the cells' means are
+    those of ``load_cells`` of the whole history, bit for bit), revolutions and seconds. The
+    memory holds the cells, not the samples. The file goes with `sums`, `close` or the object.
+
+    Either way the cells are solved `CELL_CHUNK` at a time (``load_distribution.distribute``
+    iterates each load on its own: the same solves, to an ulp of its matrix products).
     """
 
-    def __init__(self, geometry: InternalGeometry, exponent: float) -> None:
+    def __init__(
+        self,
+        geometry: InternalGeometry,
+        exponent: float,
+        *,
+        name: str = "row",
+        folder: Path | None = None,
+    ) -> None:
         self.geometry, self.exponent = geometry, exponent
         self.homogeneous = geometry.clearance == 0.0
         self.faces = geometry.contact_angle > 0.0 and geometry.rows == 1
         self.arm = 0.5 * geometry.pitch_diameter
+        self.unit = np.array([1.0, 1.0, 1.0, self.arm, self.arm])
         _, self.carried = oriented(geometry, np.zeros((1, 5)))  # the mask only
         self._axial = 0.0  # Σ F_a, for the mean's sign
         # Each cell's key (k, 5) and [count, Σ direction (5), Σ s^p n, Σ s^p Δt, below thrust,
@@ -429,14 +478,20 @@ class _ReferenceCells:
         # turbulent run's main bearing meets a hundred new cells a second.
         self._keys = np.zeros((0, 5), dtype=np.int16)
         self._rows = np.zeros((0, 10))
-        self._kept: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        # With a clearance: the samples' file (made at the first sample), their count and
+        # the largest |W| measured as ``cell_keys`` measures it.
+        self._name, self._folder = name, folder
+        self._file: Path | None = None
+        self._remove: weakref.finalize | None = None
+        self._kept = 0
+        self._largest = 0.0
 
     def add(self, load: np.ndarray, turns: np.ndarray, weights: np.ndarray) -> None:
         """Samples W (n, 5) [N, N·m] with their revolutions (n,) and seconds (n,)."""
-        if not self.homogeneous:
-            self._kept.append((load, turns, weights))
-            return
         self._axial += float(np.sum(load[:, 2]))
+        if not self.homogeneous:
+            self._keep(load, turns, weights)
+            return
         key, measured, size = cell_keys(load * self.carried, homogeneous=True, arm=self.arm)
         powered = size**self.exponent
         columns = [np.ones(len(load)), *measured.T, powered * turns, powered * weights]
@@ -453,20 +508,47 @@ class _ReferenceCells:
             [np.bincount(inverse, weights=c, minlength=len(self._keys)) for c in rows.T], axis=1
         )
 
+    def _keep(self, load: np.ndarray, turns: np.ndarray, weights: np.ndarray) -> None:
+        """Appends samples to the file (class docstring), and notes the largest load."""
+        if not len(load):
+            return
+        if self._file is None:
+            handle, path = tempfile.mkstemp(
+                prefix=f"{self._name}-", suffix=".kept.f8", dir=self._folder
+            )
+            os.close(handle)
+            self._file = Path(path)
+            self._remove = weakref.finalize(self, self._file.unlink, missing_ok=True)
+        # |W| as `cell_keys` measures it; the axial sign (the row's facing) does not change it.
+        norm = np.linalg.norm(load * self.carried / self.unit, axis=1)
+        self._largest = max(self._largest, float(np.max(norm)))
+        with self._file.open("ab") as f:
+            np.column_stack((load, turns, weights)).astype(float).tofile(f)
+        self._kept += len(load)
+
+    def _chunks(self) -> Iterator[np.ndarray]:
+        """The kept samples (n, 7) in order, `SAMPLE_CHUNK` at a time."""
+        if self._file is None:
+            return
+        with self._file.open("rb") as f:
+            while True:
+                part = np.fromfile(f, dtype=float, count=SAMPLE_CHUNK * _KEPT_COLUMNS)
+                if not part.size:
+                    return
+                yield part.reshape(-1, _KEPT_COLUMNS)
+
+    def close(self) -> None:
+        """Removes the kept samples' file (done by `sums`, or when it is let go)."""
+        if self._remove is not None:
+            self._remove()
+
     def sums(self, exponent: float) -> _CellSums:
         """The reference sums over the samples given (each cell solved once)."""
-        geometry = self.geometry
         if not self.homogeneous:
-            load = np.concatenate([k[0] for k in self._kept]) if self._kept else np.zeros((0, 5))
-            turns = np.concatenate([k[1] for k in self._kept]) if self._kept else np.zeros(0)
-            weights = np.concatenate([k[2] for k in self._kept]) if self._kept else np.zeros(0)
-            each = sample_distribution(geometry, load)
-            return _CellSums(
-                load_power_sum(each.reference_load, turns, exponent),
-                load_power_sum(each.reference_load, weights, exponent),
-                each.failed,
-                each.below_thrust,
-            )
+            try:
+                return self._kept_sums(exponent)
+            finally:
+                self.close()
         if not len(self._keys):
             return _CellSums(0.0, 0.0, 0, 0)
         keys, rows = self._keys.astype(np.int64), self._rows.copy()
@@ -478,18 +560,88 @@ class _ReferenceCells:
         order = np.lexsort(keys.T[::-1])  # np.unique's order, as `load_cells`
         keys, rows, below = keys[order], rows[order], below[order]
         count = rows[:, 0]
-        unit = np.array([1.0, 1.0, 1.0, self.arm, self.arm])
-        dist = distribute(geometry, rows[:, 1:6] / count[:, None] * unit)
-        failed = ~dist.converged
-        p_ref = reference_load(geometry, dist.slice_loads)
-        with np.errstate(invalid="ignore"):
-            scale = np.where(failed, 0.0, p_ref**exponent)
+        scale, failed = _solved(self.geometry, rows[:, 1:6] / count[:, None] * self.unit, exponent)
         return _CellSums(
             float(np.sum(scale * rows[:, 6])),
             float(np.sum(scale * rows[:, 7])),
             int(np.sum(count[failed])),
             int(np.sum(below[failed])),
         )
+
+    def _kept_sums(self, exponent: float) -> _CellSums:
+        """The sums of a row with a clearance from its file (class docstring).
+
+        The cells of ``row_contact.load_cells`` of the whole history, oriented as
+        ``row_contact.oriented`` orients it (by the sign of Σ F_a); each sample's P_ref is
+        its cell's (`sample_distribution`), so Σ P_ref,i^p n_i = Σ_cells P_ref^p Σ n_i.
+        """
+        if not self._kept:
+            return _CellSums(0.0, 0.0, 0, 0)
+        turned = self.faces and self._axial < 0.0
+        scale = max(self._largest, 1e-300)  # `cell_keys`'s
+        tan_alpha = math.tan(self.geometry.contact_angle)
+
+        def measured_and_codes(chunk: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            w = chunk[:, :5].copy()
+            if turned:
+                w[:, 2] *= -1.0
+            measured = w * self.carried / self.unit
+            key = np.round(measured / scale * LOAD_CELLS).astype(np.int64)
+            # One integer per key, ordered as the keys' rows (np.unique's order): |key| ≤ 200.
+            codes = np.zeros(len(key), dtype=np.int64)
+            for j in range(5):
+                codes = codes * (2 * LOAD_CELLS + 1) + (key[:, j] + LOAD_CELLS)
+            return measured, codes
+
+        met = np.zeros(0, dtype=np.int64)
+        for chunk in self._chunks():
+            met = np.union1d(met, measured_and_codes(chunk)[1])
+        count = np.zeros(len(met), dtype=np.int64)
+        totals = np.zeros((5, len(met)))
+        turns = np.zeros(len(met))
+        seconds = np.zeros(len(met))
+        below = np.zeros(len(met), dtype=np.int64)
+        for chunk in self._chunks():
+            measured, codes = measured_and_codes(chunk)
+            cell = np.searchsorted(met, codes)
+            np.add.at(count, cell, 1)
+            for j in range(5):  # in the samples' order, as np.bincount adds
+                np.add.at(totals[j], cell, measured[:, j])
+            np.add.at(turns, cell, chunk[:, 5])
+            np.add.at(seconds, cell, chunk[:, 6])
+            if self.faces:
+                axial = -chunk[:, 2] if turned else chunk[:, 2]
+                thrust = np.hypot(chunk[:, 0], chunk[:, 1]) * tan_alpha
+                np.add.at(below, cell, axial < thrust)
+        cells = np.stack([totals[j] / count for j in range(5)], axis=1) * self.unit
+        powered, failed = _solved(self.geometry, cells, exponent)
+        return _CellSums(
+            float(np.sum(powered * turns)),
+            float(np.sum(powered * seconds)),
+            int(np.sum(count[failed])),
+            int(np.sum(below[failed])),
+        )
+
+
+def _solved(
+    geometry: InternalGeometry, cells: np.ndarray, exponent: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """(P_ref^p (k,) [N^p], 0 where no equilibrium; no equilibrium (k,)) of cells' loads (k, 5).
+
+    Solved `CELL_CHUNK` cells at a time (each load is iterated on its own by
+    ``load_distribution.distribute``), so the solve's arrays stay bounded whatever the number
+    of cells.
+    """
+    powered = np.zeros(len(cells))
+    failed = np.zeros(len(cells), dtype=bool)
+    for start in range(0, len(cells), CELL_CHUNK):
+        part = slice(start, start + CELL_CHUNK)
+        dist = distribute(geometry, cells[part])
+        failed[part] = ~dist.converged
+        p_ref = reference_load(geometry, dist.slice_loads)
+        with np.errstate(invalid="ignore"):
+            powered[part] = np.where(failed[part], 0.0, p_ref**exponent)
+    return powered, failed
 
 
 def run_load_sums(
@@ -521,16 +673,25 @@ class RunLoadSums:
     """`run_load_sums` of a run given in blocks of consecutive samples (`add`).
 
     Each bearing and row is a `HistoryStream`, so the sums of the blocks are those of the
-    whole run and the memory does not grow with it (but for rows with a clearance or preload,
-    `HistoryStream`).
+    whole run and the memory does not grow with it (rows with a clearance or preload keep
+    their samples in a file until the end, `HistoryStream`).
 
     Args:
         gearbox: the model of the run (its ``<bearing>`` and ``<row>`` elements).
         life: each bearing's and row's life data by its rated name (None: the model's).
+        folder: where rows with a clearance keep their samples' files (None: the system's
+            temporary folder).
     """
 
-    def __init__(self, gearbox: Any, *, life: Mapping[str, BearingLifeData] | None = None):
+    def __init__(
+        self,
+        gearbox: Any,
+        *,
+        life: Mapping[str, BearingLifeData] | None = None,
+        folder: Path | None = None,
+    ):
         self.gearbox = gearbox
+        self.folder = folder
         self.life = bearing_life_data(gearbox) if life is None else life
         self._bearings: list[HistoryStream] | None = None
         self._rows: list[HistoryStream] = []
@@ -545,7 +706,9 @@ class RunLoadSums:
         loads = row_loads(result, gearbox)
         if self._bearings is None:
             self._bearings = [
-                HistoryStream(name, ratings.get(name), data=life.get(name), size=None)
+                HistoryStream(
+                    name, ratings.get(name), data=life.get(name), size=None, folder=self.folder
+                )
                 for name in result.bearing_names
             ]
             self._rows = [
@@ -554,6 +717,7 @@ class RunLoadSums:
                     row_rating(load.bearing, rows[(load.bearing, load.name)]),
                     data=life.get(row_name(load.bearing, load.name)),
                     size=rows[(load.bearing, load.name)].size,
+                    folder=self.folder,
                 )
                 for load in loads
             ]
@@ -578,7 +742,15 @@ class RunLoadSums:
 
     def sums(self) -> list[BearingLoadSum]:
         """The sums of every bearing, then of every row (the run's end: no block may follow)."""
-        return [s.sums().sums for s in [*(self._bearings or []), *self._rows]]
+        try:
+            return [s.sums().sums for s in [*(self._bearings or []), *self._rows]]
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Removes the files of rows with a clearance (`sums` does; or when let go)."""
+        for stream in [*(self._bearings or []), *self._rows]:
+            stream.close()
 
 
 def preloaded_rolling_load(

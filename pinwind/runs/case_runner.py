@@ -18,7 +18,7 @@ import zlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
@@ -37,6 +37,9 @@ CASE_SERIES = (
     "mesh_single_tooth_force", "mesh_face_load_factor", "bearing_force_local",
     "bearing_moment_local", "row_force", "row_moment",
 )  # fmt: skip
+
+#: What a case's run is finished into (`_run_reduced`).
+_Done = TypeVar("_Done")
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
@@ -57,14 +60,32 @@ def case_scenario(case: LoadCase, fatigue: FatigueSet) -> Scenario:
 
 
 def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
-    """Simulate one case with its log and reduce it as it runs (a worker's task).
+    """Simulate one case with its log and reduce it as it runs: its `CaseCycles` in memory.
 
     The reduction is its tooth cycles and its bearings' (and their rows') load sums, both from
     ``skip_start`` on, of the samples at the set's sample rate (`case_reducer`); the Result
-    keeps the last sample only, so the memory does not grow with the case's length.
+    keeps the last sample only. The cycles returned grow with the case's length: a worker
+    writes them with `run_saved_case` instead, without holding them.
+    """
+    return _run_reduced(case, fatigue, reduced_case)
 
+
+def run_saved_case(case: LoadCase, fatigue: FatigueSet) -> Path:
+    """Simulate one case with its log, reduce it as it runs and write its ``.npz``: the path.
+
+    As `run_case`, but the case's ``.npz`` is written from the files its cycles went to as
+    they closed (`save_reduced_case`), so the memory does not grow with the case's length.
     Runs in this process, a local worker or a Dask worker (whose output folder must be the
     one the caller reads: a shared file system).
+    """
+    return _run_reduced(case, fatigue, save_reduced_case)
+
+
+def _run_reduced(case: LoadCase, fatigue: FatigueSet, finish: Callable[..., _Done]) -> _Done:
+    """Run a case with its reduction fed as it runs, then ``finish`` it.
+
+    ``finish`` is `reduced_case` or `save_reduced_case`, given the case's wall, CPU and thread
+    times; the reduction's files go after it.
     """
     import warnings
 
@@ -91,7 +112,7 @@ def run_case(case: LoadCase, fatigue: FatigueSet) -> CaseCycles:
                 keep_series=(),
                 observer=observer,
             )
-        return reduced_case(
+        return finish(
             case,
             fatigue,
             reduction,
@@ -234,9 +255,11 @@ def save_case(case: LoadCase, fatigue: FatigueSet) -> str:
     """Run one case and write its reduction beside its log (a worker's task): the case's name.
 
     The worker writes the ``.npz`` itself, as it writes the log, so that only the name travels
-    back and the command, which shares the cores with the workers, does not compress cycles.
+    back and the command, which shares the cores with the workers, does not compress cycles;
+    it writes it from the cycles' files (`run_saved_case`), so its memory does not grow with
+    the case's length.
     """
-    run_case(case, fatigue).save(fatigue.cycles_path(case))
+    run_saved_case(case, fatigue)
     return case.name
 
 

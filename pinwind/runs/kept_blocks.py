@@ -24,8 +24,10 @@ if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
     from pinwind.model.gearbox import Gearbox
 
-#: Kept samples per block handed on (at 1250 Hz, 3.3 s of the 5 MW case: 13 MB of its series).
-BLOCK_SAMPLES = 4096
+#: Kept samples per block handed on (at 1250 Hz, 1.6 s of the 5 MW case: 6.5 MB of its series;
+#: 4096 let the example's peak RSS reach 1.14 times its 30 s peak at 240 s, 2048 1.08 for 3 %
+#: more CPU, 1024 1.06 for 20 % more: benchmarks/README.md).
+BLOCK_SAMPLES = 2048
 
 
 class BlockConsumer(Protocol):

@@ -20,13 +20,13 @@ def test_rerun_computes_only_the_case_whose_log_was_deleted(tmp_path, monkeypatc
     import pinwind.runs.case_runner as case_runner
 
     calls = []
-    original = case_runner.run_case
+    original = case_runner.run_saved_case
 
     def counted(case, fatigue):
         calls.append(case.name)
         return original(case, fatigue)
 
-    monkeypatch.setattr(case_runner, "run_case", counted)
+    monkeypatch.setattr(case_runner, "run_saved_case", counted)
     fset = load_fatigue_set(fatigue_toml(tmp_path))
     first = run_cases(fset, workers=1)
     assert sorted(first.computed) == sorted(c.name for c in fset.cases())
