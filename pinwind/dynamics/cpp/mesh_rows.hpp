@@ -95,19 +95,33 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
     out.centre_a.row(m) = ca.transpose();
     out.centre_b.row(m) = cb.transpose();
 
-    // Row: n·(v_B(P) − v_A(P)) over the joint velocities, split along t and r̂.
+    // Row: n·(v_B(P) − v_A(P)) over the joint velocities, split along t and r̂. A column that
+    // moves one gear alone has w = ±1 (support is 0 or 1): its sign is applied to the sums
+    // instead of to the six entries of J (each product and sum then only changes sign: the
+    // same value), skipped where w = 0.
     const Vec3 mt = x.cross(t), mr = x.cross(r);
+    double* row_t = &out.jac_t(m, 0);
+    double* row_r = &out.jac_r(m, 0);
+    const double* support_a = &mc.support(a, 0);
+    const double* support_b = &mc.support(b, 0);
     for (Index c = 0; c < nv; ++c) {
-      const double w = mc.support(b, c) - mc.support(a, c);
+      const double w = support_b[c] - support_a[c];
       if (w == 0.0) {
-        out.jac_t(m, c) = 0.0;
-        out.jac_r(m, c) = 0.0;
+        row_t[c] = 0.0;
+        row_r[c] = 0.0;
+        continue;
+      }
+      if (w == 1.0 || w == -1.0) {
+        const Vec3 lin = jac.col(c).template head<3>();
+        const Vec3 ang = jac.col(c).template tail<3>();
+        row_t[c] = w * (t.dot(lin) + mt.dot(ang));
+        row_r[c] = w * (r.dot(lin) + mr.dot(ang));
         continue;
       }
       const Vec3 lin = jac.col(c).template head<3>() * w;
       const Vec3 ang = jac.col(c).template tail<3>() * w;
-      out.jac_t(m, c) = t.dot(lin) + mt.dot(ang);
-      out.jac_r(m, c) = r.dot(lin) + mr.dot(ang);
+      row_t[c] = t.dot(lin) + mt.dot(ang);
+      row_r[c] = r.dot(lin) + mr.dot(ang);
     }
   }
 }
