@@ -151,6 +151,25 @@ def test_a_large_helix_slope_deviation_lifts_part_of_the_face_as_iso():
     assert_allclose(mesh.load_centre, loaded / 3 - B / 2, atol=B / n)
 
 
+def test_the_slices_load_the_bearings_with_their_moment_across_the_face():
+    """The slices' forces, all along one direction, tilt gear B's bearing by F times the lever of
+    their resultant from the gear's centre plane: by hand from the spring bed, the lifted part of
+    the face included (the tilting moment is the reaction's part normal to the axis)."""
+    f_hb, n = 20e-6, 40
+    res = held(pair(helix_slope_deviation=f_hb * 1e6), n)
+    z = (np.arange(n) + 0.5) * B / n
+    _, slice_force = spring_bed(f_hb * z / B, F)
+    lever = slice_force @ (z - B / 2) / F  # [m] from the face centre, towards side II positive
+    assert abs(lever) > B / 4  # far off the centre: a moment the single line would not have
+    bearing = res.bearing("b")
+    axis = np.array([0.0, 0.0, 1.0])  # the joints turn about z (tests/conftest.two_gear_urdf)
+    tilting = bearing.moment_local - np.outer(bearing.moment_local @ axis, axis)
+    assert_allclose(np.linalg.norm(tilting, axis=1), F * abs(lever), rtol=1e-6)
+    # and the same on gear A's bearing, whose mesh force is the opposite one at the same point
+    tilting_a = res.bearing("a").moment_local - np.outer(res.bearing("a").moment_local @ axis, axis)
+    assert_allclose(np.linalg.norm(tilting_a, axis=1), F * abs(lever), rtol=1e-6)
+
+
 def test_lead_crowning_loads_the_face_as_the_parabola_it_leaves():
     """Crowning C_β (2z/b − 1)² on g1, the whole face carrying: w = c (δ − e), δ = F/(cb) +
     mean e over the slice centres; symmetric, so the centre stays at the face centre."""
