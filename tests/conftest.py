@@ -42,6 +42,27 @@ def dtu_pairs() -> tuple[GearPair, GearPair]:
     )  # fmt: skip
 
 
+def held_still(gearbox, torque_b: float, meshes=None, **kwargs):
+    """A run of a gear pair with gear A held at rest by a speed driver and B braked by
+    ``torque_b`` [N·m], from the static deflection, without gravity: 20 steps of 10 µs, so every
+    sample is the static equilibrium the tests derive by hand."""
+    import numpy as np
+
+    import pinwind
+
+    return pinwind.simulate(
+        gearbox,
+        duration=2e-4,
+        dt=1e-5,
+        speeds={"a": 0.0},
+        torques={"b": torque_b},
+        gravity=np.zeros(3),
+        initial_deflection="static",
+        meshes=meshes,
+        **kwargs,
+    )
+
+
 def two_gear_urdf(
     *,
     teeth: tuple[str, str] = ("20", "40"),

@@ -14,7 +14,6 @@ import math
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
@@ -24,7 +23,7 @@ from pinwind.gears.face_load import expected_misalignment
 from pinwind.gears.flank_modification import FlankModification
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
-from tests.conftest import two_gear_urdf
+from tests.conftest import held_still, two_gear_urdf
 
 K = 1e8  # mean mesh stiffness [N/m]
 TORQUE_B = 8.0  # brake on B [N·m]
@@ -48,15 +47,7 @@ def auto_text(face_width_mm: float, slices: str = "auto") -> str:
 
 def held(gearbox: pinwind.Gearbox):
     """A held by a speed driver at rest, B braked, from the static deflection: 20 steps."""
-    return pinwind.simulate(
-        gearbox,
-        duration=2e-4,
-        dt=1e-5,
-        speeds={"a": 0.0},
-        torques={"b": TORQUE_B},
-        gravity=np.zeros(3),
-        initial_deflection="static",
-    )
+    return held_still(gearbox, TORQUE_B)
 
 
 @pytest.mark.parametrize("face_width_mm, slices", [(20.0, 6), (50.0, 3)])
@@ -124,14 +115,9 @@ def test_the_python_api_takes_auto_slices_per_run():
     text = two_gear_urdf().replace(
         '<gear name="g1" ', f'<gear name="g1" helix_slope_deviation_um="{F_HB * 1e6!r}" '
     )
-    res = pinwind.simulate(
+    res = held_still(
         loads(text, "pair.urdf"),
-        duration=2e-4,
-        dt=1e-5,
-        speeds={"a": 0.0},
-        torques={"b": TORQUE_B},
-        gravity=np.zeros(3),
-        initial_deflection="static",
+        TORQUE_B,
         meshes={
             "m": MeshCompliance(
                 mean_stiffness=K, variation="constant", damping_ratio=0.5, slices="auto"

@@ -22,7 +22,7 @@ from pinwind.dynamics.integrator import Integrator
 from pinwind.errors import MalformedModel
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
-from tests.conftest import two_gear_urdf
+from tests.conftest import held_still, two_gear_urdf
 
 K = 1e8  # mesh stiffness [N/m]
 B = 0.020  # face width [m]
@@ -40,14 +40,9 @@ def pair(**modification_um: float) -> pinwind.Gearbox:
 
 def held(gearbox: pinwind.Gearbox, slices: int, **kwargs):
     """A held by a speed driver at rest, B braked, from the static deflection: 20 steps."""
-    return pinwind.simulate(
+    return held_still(
         gearbox,
-        duration=2e-4,
-        dt=1e-5,
-        speeds={"a": 0.0},
-        torques={"b": TORQUE_B},
-        gravity=np.zeros(3),
-        initial_deflection="static",
+        TORQUE_B,
         meshes={
             "m": MeshCompliance(
                 mean_stiffness=K, variation="constant", damping_ratio=0.5, slices=slices

@@ -28,7 +28,7 @@ from pinwind.dynamics.integrator import Integrator
 from pinwind.gears.gear_pair import GearPair
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
-from tests.conftest import two_gear_urdf
+from tests.conftest import held_still, two_gear_urdf
 
 K = 1e8  # mean mesh stiffness c̄ [N/m]
 B = 0.020  # face width [m]
@@ -193,14 +193,9 @@ def test_helical_slices_sum_to_the_inclined_contact_lines_and_converge_to_the_si
 
 def held_helical(f_hb: float, n: int, **compliance):
     """The helical pair held still by a speed driver on A, B braked, from the static deflection."""
-    return pinwind.simulate(
+    return held_still(
         helical_pair(f_hb * 1e6),
-        duration=2e-4,
-        dt=1e-5,
-        speeds={"a": 0.0},
-        torques={"b": TORQUE_B},
-        gravity=np.zeros(3),
-        initial_deflection="static",
+        TORQUE_B,
         meshes={"m": MeshCompliance(damping_ratio=0.5, slices=n, **compliance)},
     )
 

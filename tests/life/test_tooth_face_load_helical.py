@@ -27,7 +27,7 @@ from pinwind.life.sn_curve import SNCurve
 from pinwind.life.tooth_damage import gear_tooth_damage
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
-from tests.conftest import two_gear_urdf
+from tests.conftest import held_still, two_gear_urdf
 
 K = 1e8  # mean mesh stiffness [N/m]
 B = 0.020  # face width [m]
@@ -61,14 +61,9 @@ def helical_pair() -> pinwind.Gearbox:
 @pytest.fixture(scope="module")
 def sliced():
     gearbox = helical_pair()
-    res = pinwind.simulate(
+    res = held_still(
         gearbox,
-        duration=2e-4,
-        dt=1e-5,
-        speeds={"a": 0.0},
-        torques={"b": TORQUE_B},
-        gravity=np.zeros(3),
-        initial_deflection="static",
+        TORQUE_B,
         meshes={
             "m": MeshCompliance(
                 mean_stiffness=K, variation="constant", damping_ratio=0.5, slices=SLICES
