@@ -271,7 +271,7 @@ class ColumnSink:
         # Zeros, and a series that is +0.0 over a block is not written (``place``): a large
         # array is new pages from the kernel, zeroed on first touch, so np.zeros costs what
         # np.empty does, and the pages of series that are zero throughout (half of a shipped
-        # model's: bearing rows, slices, forces of an element at rest) are never written.
+        # model's: rigid bearings' displacements, friction of a run without it) are never written.
         self.base = np.zeros((self.height, capacity))
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:

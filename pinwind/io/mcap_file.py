@@ -4,7 +4,8 @@
 prebuilt, a block of samples at a time (``message_records`` or a caller's own numpy layout), and
 whose other records are written with the ``mcap`` package's record classes. ``read_contents``
 finds a file's channels, metadata, attachments and chunks from the summary section (or, when that
-is missing or damaged, by walking the data section up to a cut), without reading any message;
+is missing or damaged, by walking the data section up to a cut), without reading any message
+(the summary's records are decoded here, only those a read needs);
 ``read_chunk`` then reads, decompresses and CRC-checks one chunk. That is what lets ``read_log``
 read only the chunks it needs and recover the intact chunks of a killed run or damaged file.
 """
