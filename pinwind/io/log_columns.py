@@ -268,8 +268,11 @@ class ColumnSink:
         self.poses: list[tuple[np.ndarray, np.ndarray]] = []
         self.n = 0
         self.capacity = capacity
-        # not filled: each sample is written once, by the thread that places it
-        self.base = np.empty((self.height, capacity))
+        # Zeros, and a series that is +0.0 over a block is not written (``place``): a large
+        # array is new pages from the kernel, zeroed on first touch, so np.zeros costs what
+        # np.empty does, and the pages of series that are zero throughout (half of a shipped
+        # model's: rigid bearings' displacements, friction of a run without it) are never written.
+        self.base = np.zeros((self.height, capacity))
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) after those already there."""
@@ -291,7 +294,9 @@ class ColumnSink:
                 vary = ~block.same[self.source]
                 slot = block.slot[self.source]
                 self.base[:, at : at + count][vary] = block.varying()[slot[vary]][:, rows]
-            fill_rows(block.constants, self.row_of[block.same], self.base, at, count, True)
+            # a constant +0.0 (all bits zero, not -0.0) is already there
+            filled = np.where(block.constants.view(np.uint64) == 0, -1, self.row_of[block.same])
+            fill_rows(block.constants, filled, self.base, at, count, True)
         if self.posed and len(block.pose_time):
             time = block.time[rows]
             where = np.minimum(np.searchsorted(time, block.pose_time), count - 1)
@@ -312,7 +317,7 @@ class ColumnSink:
     def _grow(self, needed: int) -> None:
         """More room (a count from the index was missing or wrong: damaged or foreign file)."""
         self.capacity = max(needed, 2 * self.capacity)
-        base = np.empty((self.height, self.capacity))
+        base = np.zeros((self.height, self.capacity))  # zeros: see __init__
         base[:, : self.n] = self.base[:, : self.n]
         self.base = base
 

@@ -25,6 +25,7 @@ import os
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Any, cast
 
@@ -209,8 +210,6 @@ class LogReader:
         self.channels = {c.topic: dict(c.metadata) for c in contents.channels.values()}
         run = self.metadata["pinwind.run"]
         self._layout = ArrayLayout(self.names, run.get("pose_stride", run.get("log_stride", 1)))
-        #: formats 1 and 2: the codecs of the ROS 2 topics, whose rows of records hold the arrays
-        self._rows = RowLayout(contents.channels, self._layout)
         #: format 3: the arrays are read from the columns (None: from the ROS 2 topics)
         self._columns: ColumnLayout | None = None
         for channel in contents.channels.values():
@@ -245,6 +244,14 @@ class LogReader:
         self._buffers = ChunkBuffers()
         #: what the end record says the run simulated but did not log, else ""
         self.not_logged = _not_logged(end, run.get("log_stride", 1))
+
+    @cached_property
+    def _rows(self) -> RowLayout:
+        """Formats 1 and 2: the codecs of the ROS 2 topics, whose rows of records hold the arrays.
+
+        Built on first use: a format 3 log (columns) never needs them.
+        """
+        return RowLayout(self._contents.channels, self._layout)
 
     def _check_records(self, records: dict[str, dict[str, str]]) -> str:
         """Check the pinwind records' CRC-32 (and remove it); say how they fared.

@@ -4,7 +4,8 @@
 prebuilt, a block of samples at a time (``message_records`` or a caller's own numpy layout), and
 whose other records are written with the ``mcap`` package's record classes. ``read_contents``
 finds a file's channels, metadata, attachments and chunks from the summary section (or, when that
-is missing or damaged, by walking the data section up to a cut), without reading any message;
+is missing or damaged, by walking the data section up to a cut), without reading any message
+(the summary's records are decoded here, only those a read needs);
 ``read_chunk`` then reads, decompresses and CRC-checks one chunk. That is what lets ``read_log``
 read only the chunks it needs and recover the intact chunks of a killed run or damaged file.
 """
@@ -537,60 +538,107 @@ def _read_summary(fd: int, size: int, contents: Contents) -> bool:
         contents.damage.append(f"the summary section at byte {summary_start} fails its CRC check")
         return False
     try:
-        records = _summary_records(summary, summary_start)
+        _summary_records(summary, summary_start, contents)
     except Exception as err:  # struct, UTF-8, lengths: damaged although the CRC was not set
+        contents.channels.clear()
+        contents.metadata.clear()
+        contents.attachments.clear()
+        contents.chunks.clear()
         contents.damage.append(f"the summary section at byte {summary_start} is damaged ({err})")
         return False
-    for record in records:
-        if isinstance(record, Channel):
-            contents.channels[record.id] = record
-        elif isinstance(record, ChunkIndex):
-            contents.chunks.append(
-                ChunkRef(
-                    offset=record.chunk_start_offset,
-                    length=record.chunk_length,
-                    start_ns=record.message_start_time,
-                    end_ns=record.message_end_time,
-                    index=dict(record.message_index_offsets),
-                    size=record.uncompressed_size,
-                )
-            )
-        elif isinstance(record, MetadataIndex):
-            contents.metadata[record.name] = (record.offset, record.length)
-        elif isinstance(record, AttachmentIndex):
-            contents.attachments[record.name] = (record.offset, record.length)
     contents.chunks.sort(key=lambda c: c.offset)
     contents.indexed = True
     contents.data_end = True
     return True
 
 
-_SUMMARY_TYPES = {
-    Opcode.SCHEMA: Schema,
-    Opcode.CHANNEL: Channel,
-    Opcode.STATISTICS: Statistics,
-    Opcode.CHUNK_INDEX: ChunkIndex,
-    Opcode.ATTACHMENT_INDEX: AttachmentIndex,
-    Opcode.METADATA_INDEX: MetadataIndex,
-    Opcode.SUMMARY_OFFSET: SummaryOffset,
-}
+#: Summary records that a read does not need (skipped whole; their opcode is still checked).
+_SUMMARY_SKIPPED = {Opcode.SCHEMA, Opcode.STATISTICS, Opcode.SUMMARY_OFFSET}
+_U32 = struct.Struct("<I")
+_U64_PAIR = struct.Struct("<QQ")
+_CHANNEL_IDS = struct.Struct("<HH")  # channel id, schema id
+_CHUNK_INDEX = struct.Struct("<QQQQI")  # start, end time, chunk offset, length, map bytes
+_INDEX_OFFSET = struct.Struct("<HQ")  # channel id, offset of its message index
 
 
-def _summary_records(summary: bytes, at: int) -> list:
-    """The records of a summary section (with the ``mcap`` package's record classes)."""
+def _string(body: memoryview, pos: int) -> tuple[str, int]:
+    """The length-prefixed UTF-8 string at ``pos`` of a record's body, and the position after."""
+    (length,) = _U32.unpack_from(body, pos)
+    pos += 4
+    if pos + length > len(body):
+        raise ValueError(f"a string of {length} bytes runs past its record")
+    return str(body[pos : pos + length], "utf-8"), pos + length
+
+
+def _channel(body: memoryview) -> Channel:
+    """A Channel record's fields (MCAP specification, "Channel")."""
+    channel_id, schema_id = _CHANNEL_IDS.unpack_from(body, 0)
+    topic, pos = _string(body, 4)
+    encoding, pos = _string(body, pos)
+    (length,) = _U32.unpack_from(body, pos)
+    pos += 4
+    end = pos + length
+    if end > len(body):
+        raise ValueError(f"a channel's metadata of {length} bytes runs past its record")
+    metadata: dict[str, str] = {}
+    while pos < end:
+        key, pos = _string(body, pos)
+        metadata[key], pos = _string(body, pos)
+    return Channel(
+        id=channel_id,
+        schema_id=schema_id,
+        topic=topic,
+        message_encoding=encoding,
+        metadata=metadata,
+    )
+
+
+def _chunk_ref(body: memoryview) -> ChunkRef:
+    """A Chunk Index record as a ChunkRef (MCAP specification, "Chunk Index")."""
+    start_ns, end_ns, offset, length, map_bytes = _CHUNK_INDEX.unpack_from(body, 0)
+    pos = _CHUNK_INDEX.size
+    if pos + map_bytes > len(body):
+        raise ValueError(f"a chunk index's offsets of {map_bytes} bytes run past its record")
+    index = dict(_INDEX_OFFSET.iter_unpack(body[pos : pos + map_bytes]))
+    _, pos = _string(body, pos + map_bytes + 8)  # after the message index length: compression
+    _, size = _U64_PAIR.unpack_from(body, pos)  # compressed and uncompressed size
+    return ChunkRef(offset, length, start_ns, end_ns, index, size)
+
+
+def _summary_records(summary: bytes, at: int, contents: Contents) -> None:
+    """Fill ``contents`` with the channels, chunks, metadata and attachments of a summary section.
+
+    Only the records a read needs are decoded, by their layout in the MCAP specification
+    (schemas, statistics and summary offsets are skipped); the ``mcap`` package's record
+    classes parse every field through a stream, several times slower.
+
+    Raises:
+        ValueError, struct.error, UnicodeDecodeError: a record that does not fit its lengths.
+    """
     view = memoryview(summary)
-    records, pos = [], 0
+    pos = 0
     while pos < len(view):
         opcode, length = _RECORD_HEAD.unpack_from(view, pos)
         end = pos + 9 + length
         if end > len(view):
             raise ValueError(f"a record at byte {at + pos} runs past the footer")
-        record_type = _SUMMARY_TYPES.get(opcode)
-        if record_type is None:
+        body = view[pos + 9 : end]
+        if opcode == Opcode.CHUNK_INDEX:
+            contents.chunks.append(_chunk_ref(body))
+        elif opcode == Opcode.CHANNEL:
+            channel = _channel(body)
+            contents.channels[channel.id] = channel
+        elif opcode == Opcode.METADATA_INDEX:
+            offset, size = _U64_PAIR.unpack_from(body, 0)
+            name, _ = _string(body, 16)
+            contents.metadata[name] = (offset, size)
+        elif opcode == Opcode.ATTACHMENT_INDEX:
+            offset, size = _U64_PAIR.unpack_from(body, 0)
+            name, _ = _string(body, 40)  # after log time, create time and data size
+            contents.attachments[name] = (offset, size)
+        elif opcode not in _SUMMARY_SKIPPED:
             raise ValueError(f"unexpected record type 0x{opcode:02x} at byte {at + pos}")
-        records.append(_parse(record_type, view[pos + 9 : end]))
         pos = end
-    return records
 
 
 def _walk_data_section(fd: int, size: int, contents: Contents) -> None:

@@ -4,6 +4,8 @@ The compiled kernels (``dynamics/cpp/byte_planes.hpp``) against the definition w
 numpy: byte b (little-endian) of value i of a run of n values is at b · n + i.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from numpy.testing import assert_array_equal
@@ -125,3 +127,31 @@ def test_samples_placed_one_by_one_equal_the_same_samples_of_a_whole_read(planet
     assert_array_equal(part.pose_rows, [0, 3])
     assert_array_equal(part.body_position, whole.body_position[[10, 15]])
     assert_array_equal(whole.pose_rows[[10, 15]], [100, 150])
+
+
+def test_constant_series_read_bit_for_bit_including_signed_zeros(planetary, tmp_path):
+    """Series constant over a block are filled (+0.0 by the zeroed array, not written); -0.0,
+    NaN and other constants keep their bits. The constants are set by hand: +0.0, -0.0, NaN and
+    1.5 in turn over the block's constant series."""
+    path = tmp_path / "run.mcap"
+    pinwind.simulate(planetary, duration=0.1, dt=DT, torques=TORQUES, log=path, chunk=100)
+    pattern = np.array([0.0, -0.0, np.nan, 1.5])
+    with LogReader(path) as log:
+        keys = log._layout.keys(tuple(CHANNELS))
+        block = decode_chunk(
+            mcap_file.read_chunk(log._fd, log._sample_chunks(None)[0]), log._columns
+        )[0]
+        constant = np.flatnonzero(block.same)
+        assert len(constant) > 8  # the run has many series constant over a block
+        # the time (series 0) varies: every constant series is a sample's value of some array
+        assert not block.same[0]
+        values = np.resize(pattern, len(constant))
+        block = dataclasses.replace(block, constants=values)
+        sink = ColumnSink(log._columns, log._layout.shapes, keys, block.samples)
+        sink.place(block, slice(0, block.samples), block.samples, 0)
+    for series, value in zip(constant, values, strict=True):
+        row = sink.row_of[series]
+        if row < 0:  # not a series a read copies
+            continue
+        expected = np.full(block.samples, value)
+        assert_array_equal(sink.base[row].view(np.uint64), expected.view(np.uint64))
