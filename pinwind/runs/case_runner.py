@@ -172,17 +172,22 @@ def reduced_case(
 ) -> CaseCycles:
     """A case's `CaseCycles` from its reduction fed with its run; its log must be written."""
     flanks, roots, bearings = reduction.reduced()
+    record = _case_record(case, fatigue, wall_time, cpu_time, thread_time)
+    return dataclasses.replace(record, flanks=flanks, roots=roots, bearings=bearings)
+
+
+def _case_record(
+    case: LoadCase, fatigue: FatigueSet, wall_time: float, cpu_time: float, thread_time: float
+) -> CaseCycles:
+    """A case's `CaseCycles` without its cycles: what it is, its times and its log's hash."""
     return CaseCycles(
         case,
         fatigue.case_key(case),
         fatigue.counted_seconds,
         wall_time,
-        flanks,
-        roots,
-        bearings,
-        cpu_time,
-        thread_time,
-        file_sha256(fatigue.log_path(case)),
+        cpu_time=cpu_time,
+        thread_time=thread_time,
+        log_sha256=file_sha256(fatigue.log_path(case)),
     )
 
 
@@ -201,16 +206,7 @@ def save_reduced_case(
     memory does not grow with the case's length; `CaseCycles.load` reads it.
     """
     path = fatigue.cycles_path(case)
-    record = CaseCycles(
-        case,
-        fatigue.case_key(case),
-        fatigue.counted_seconds,
-        wall_time,
-        cpu_time=cpu_time,
-        thread_time=thread_time,
-        log_sha256=file_sha256(fatigue.log_path(case)),
-    )
-    reduction.save(path, record)
+    reduction.save(path, _case_record(case, fatigue, wall_time, cpu_time, thread_time))
     return path
 
 
