@@ -92,7 +92,10 @@ void Stepper::kinematics() {
     origin_[i] = data_.oMi[s_.meshes.joint_ids[i]].translation();
     rot_[i] = data_.oMi[s_.meshes.joint_ids[i]].rotation();
   }
-  if (nm_) evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
+  if (nm_) {
+    evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
+    evaluate_fixed_mesh_geometry(data_.oMi, rows_data_);
+  }
 }
 
 void Stepper::velocity_kinematics() {
