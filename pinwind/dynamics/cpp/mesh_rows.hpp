@@ -142,18 +142,30 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
 // are kept, and so is the whole geometry of a mesh fixed in the world's frame (0).
 template <class Placements>
 void evaluate_fixed_mesh_geometry(const Placements& oMi, MeshRows& out) {
+  // Row i of a Rows3 (contiguous) turned by R (column-major), plus o for a point: each entry
+  // (R_r0 x_0 + R_r1 x_1) + R_r2 x_2 as Eigen's fixed 3 × 3 product sums it, without the
+  // expressions' set-up for the rows of a dynamic matrix.
+  const auto turn = [](const double* r, const Rows3& local, Rows3& world, Index i,
+                       const double* o) {
+    const double* x = &local(i, 0);
+    double* y = &world(i, 0);
+    for (int c = 0; c < 3; ++c) {
+      const double s = r[c] * x[0] + r[3 + c] * x[1] + r[6 + c] * x[2];
+      y[c] = o ? o[c] + s : s;
+    }
+  };
   for (size_t m = 0; m < out.frame.size(); ++m) {
     if (out.frame[m] <= 0) continue;
     const auto& placement = oMi[static_cast<size_t>(out.frame[m])];
-    const Eigen::Matrix3d& rot = placement.rotation();
-    const Vec3& origin = placement.translation();
+    const double* rot = placement.rotation().data();
+    const double* origin = placement.translation().data();
     const auto i = static_cast<Index>(m);
-    out.tangent.row(i) = (rot * out.local_tangent.row(i).transpose()).transpose();
-    out.radial.row(i) = (rot * out.local_radial.row(i).transpose()).transpose();
-    out.axis.row(i) = (rot * out.local_axis.row(i).transpose()).transpose();
-    out.pitch_point.row(i) = (origin + rot * out.local_pitch_point.row(i).transpose()).transpose();
-    out.centre_a.row(i) = (origin + rot * out.local_centre_a.row(i).transpose()).transpose();
-    out.centre_b.row(i) = (origin + rot * out.local_centre_b.row(i).transpose()).transpose();
+    turn(rot, out.local_tangent, out.tangent, i, nullptr);
+    turn(rot, out.local_radial, out.radial, i, nullptr);
+    turn(rot, out.local_axis, out.axis, i, nullptr);
+    turn(rot, out.local_pitch_point, out.pitch_point, i, origin);
+    turn(rot, out.local_centre_a, out.centre_a, i, origin);
+    turn(rot, out.local_centre_b, out.centre_b, i, origin);
   }
 }
 
