@@ -379,6 +379,9 @@ class Stepper {
   std::vector<pinocchio::Inertia> composite_, body_;  // world inertias
   std::vector<int> slide_axes_;  // per joint: a slide's axis, or -1 (joint_algorithms.hpp)
   std::vector<bool> massless_;  // joints whose body has no inertia (a compliant bearing's slides)
+  // Bodies whose world inertia is the same at every q, taken once (stepper_assembly.cpp
+  // fixed_inertias): world_inertias leaves their body_ as it is.
+  std::vector<bool> fixed_inertia_;
   std::vector<pinocchio::Motion> accel_, drift_;
   std::vector<pinocchio::Force> body_force_, subtree_, weight_;
   std::vector<Eigen::Vector3d> bearing_loads_, row_loads_;  // hand_bearing_loads's [N]

@@ -146,6 +146,40 @@ std::vector<long> fixed_mesh_frames(const pinocchio::Model& model, const pinocch
   return out;
 }
 
+// Per joint, whether its body's inertia in world axes (world_inertias) is the same at every q:
+// the joint is revolute with the world as its parent (its axis and origin fixed in the world),
+// the body's centre of mass lies on the axis a and its inertia about it is μ 1 + (λ − μ) a aᵀ
+// in the joint's frame (turning about a leaves it unchanged: a gear, a carrier with its pins at
+// equal angles). data holds the placements and J at any q. Offsets below 64 ε times the
+// model's largest length, and inertia entries below 64 ε times the largest, count as zero.
+std::vector<bool> fixed_inertias(const pinocchio::Model& model, const pinocchio::Data& data,
+                                 const std::vector<int>& slide_axes) {
+  const auto nj = static_cast<long>(model.njoints);
+  double length = 1.0;
+  for (long i = 1; i < nj; ++i) length = std::max(length, data.oMi[i].translation().norm());
+  const double eps = 64.0 * std::numeric_limits<double>::epsilon();
+  std::vector<bool> out(static_cast<size_t>(nj), false);
+  for (long i = 1; i < nj; ++i) {
+    const auto j = static_cast<size_t>(i);
+    const std::string kind = model.joints[j].shortname();
+    const bool revolute = kind == "JointModelRX" || kind == "JointModelRY" ||
+                          kind == "JointModelRZ" || kind == "JointModelRevoluteUnaligned";
+    if (!revolute || slide_axes[j] >= 0 || model.parents[j] != 0) continue;
+    // The axis in the joint's frame (a turn about it leaves it in place).
+    const Vec3 a = (data.oMi[j].rotation().transpose() *
+                    Vec3(data.J.col(model.idx_vs[j]).tail<3>())).normalized();
+    const pinocchio::Inertia& body = model.inertias[j];
+    const Vec3 c = body.lever();
+    if ((c - c.dot(a) * a).norm() > eps * length) continue;
+    const Eigen::Matrix3d inertia = body.inertia().matrix();
+    const double along = a.dot(inertia * a), across = 0.5 * (inertia.trace() - along);
+    const Eigen::Matrix3d symmetric =
+        across * Eigen::Matrix3d::Identity() + (along - across) * a * a.transpose();
+    out[j] = (inertia - symmetric).cwiseAbs().maxCoeff() <= eps * inertia.cwiseAbs().maxCoeff();
+  }
+  return out;
+}
+
 // A number for each stepper of the process, never reused (StepperState::run).
 unsigned long long next_stepper_id() {
   static std::atomic<unsigned long long> next{1};
@@ -293,6 +327,16 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
   }
   for (const auto& inertia : s_.model.inertias) {
     massless_.push_back(inertia.mass() == 0.0 && inertia.inertia().data().isZero(0.0));
+  }
+  {
+    // The bodies whose world inertia is fixed, taken at q0 (world_inertias keeps them).
+    joint_jacobians(s_.model, data_, q_, slide_axes_);
+    fixed_inertia_ = fixed_inertias(s_.model, data_, slide_axes_);
+    const auto nj = static_cast<size_t>(s_.model.njoints);
+    body_.assign(nj, pinocchio::Inertia::Zero());
+    for (size_t i = 1; i < nj; ++i) {
+      if (fixed_inertia_[i] && !massless_[i]) body_[i] = data_.oMi[i].act(s_.model.inertias[i]);
+    }
   }
   Eigen::Index offset = 0;
   for (const auto& c : constraints_) {

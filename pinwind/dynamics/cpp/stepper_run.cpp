@@ -228,6 +228,7 @@ void Stepper::world_inertias() {
   const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
   body_.resize(nj);
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    if (fixed_inertia_[i]) continue;  // taken once (stepper_assembly.cpp fixed_inertias)
     body_[i] = massless_[i] ? pinocchio::Inertia::Zero() : data_.oMi[i].act(model.inertias[i]);
   }
 }
