@@ -618,6 +618,9 @@ class Stepper:
     @property
     def constant_mass(self) -> bool:
         """Whether M(q) is the same at every q: the step then takes it once, not by CRBA."""
+    @property
+    def mesh_frames(self) -> list[int]:
+        """Per mesh, the joint carrying its geometry if its row is constant (0: world), else -1."""
     def assemble(self, q: Vector, v: Vector) -> Assembly:
         """M, b, J and γ of the step at (q, v), with the rows' current flanks; no step taken."""
     def element_forces(self, q: Vector, v: Vector) -> ElementForces:

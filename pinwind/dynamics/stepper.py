@@ -338,6 +338,18 @@ class CompiledStepper:
         """
         return bool(self._stepper.constant_mass)
 
+    @property
+    def mesh_frames(self) -> list[int]:
+        """Per mesh, the joint whose frame carries its geometry if its row is constant, else -1.
+
+        In the model's mesh order; 0 is the world. A mesh whose gears turn about parallel axes
+        that the one frame holds (sun and planet on a carrier, two gears on fixed axes: the
+        centre distance and the line of action fixed in it) has a row J in joint coordinates
+        that does not depend on q, so γ = J̇ v = 0: the step takes it once
+        (``cpp/stepper_assembly.cpp`` fixed_mesh_frames); -1: evaluated at every step.
+        """
+        return [int(f) for f in self._stepper.mesh_frames]
+
     def assemble(self, q: np.ndarray, v: np.ndarray) -> _native.Assembly:
         """The step's M, b, J and γ at angles q [rad] and speeds v [rad/s], without a step.
 

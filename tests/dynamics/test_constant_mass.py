@@ -96,3 +96,25 @@ def test_two_levers_on_a_path_vary_and_the_step_follows_them():
     rise = _crba(model, q1)[arm, arm] - _crba(model, q0)[arm, arm]
     assert rise == pytest.approx(2e-3, rel=1e-9)
     _assert_step_mass_is_crba(gb, stepper, seed=9)
+
+
+def test_constant_m_has_no_velocity_terms_and_follows_an_off_axis_centre_of_mass():
+    """With M constant, b = C(q, v) v + g(q) is g(q) alone (C v = Ṁ v − ½ ∂(vᵀ M v)/∂q = 0):
+    the step's b at random (q, v) must equal Pinocchio's RNEA at zero acceleration, which
+    computes the velocity terms, on the swing arm whose centre of mass, 30 mm off its world
+    axis, moves with the arm's angle under gravity in the plane (a body whose world inertia were
+    taken once would keep the first pose's weight lever)."""
+    gb = loads(SWING_ARM, path="swing_arm.urdf")
+    model = gb.model.copy()
+    model.gravity = pin.Motion(np.asarray(gb.gravity, dtype=float), np.zeros(3))
+    stepper = _stepper(gb)
+    assert stepper.constant_mass
+    stepper.assemble(gb.neutral(), np.zeros(model.nv))
+    rng = np.random.default_rng(21)
+    for _ in range(5):
+        q = rng.uniform(-np.pi, np.pi, model.nq)
+        v = rng.uniform(-30.0, 30.0, model.nv)
+        expected = pin.rnea(model, model.createData(), q, v, np.zeros(model.nv))
+        assert abs(expected).max() > 0.1  # weights about the arm axis: arm 30 mm, gear b 50 mm off
+        bias = stepper.assemble(q, v).bias
+        np.testing.assert_allclose(bias, expected, rtol=0, atol=1e-12 * abs(expected).max())

@@ -112,7 +112,15 @@ const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
   } else {
     mass_factor_.solve(force, free_);
   }
-  projected_rhs_.noalias() = row_basis_.transpose() * rhs;
+  // Uᵀ r, each entry the dot of a column of U with r summed in order: a loop, where Eigen's
+  // general kernel cost more in its call and blocking than the few products (small_products.hpp).
+  projected_rhs_.resize(row_basis_.cols());
+  for (Eigen::Index j = 0; j < row_basis_.cols(); ++j) {
+    const double* column = row_basis_.col(j).data();
+    double s = 0.0;
+    for (Eigen::Index i = 0; i < row_basis_.rows(); ++i) s += column[i] * rhs[i];
+    projected_rhs_[j] = s;
+  }
   reduced_rhs_ = projected_rhs_;
   small_product<Accumulate::subtract>(reduced_jac_, free_, reduced_rhs_);
   schur_factor_.solve(reduced_rhs_, mu_);
@@ -236,9 +244,14 @@ void ConstrainedQp::start(const Eigen::MatrixXd& jac) {
 }
 
 bool ConstrainedQp::refresh_rows(const Eigen::MatrixXd& jac) {
-  if (jac_cache_.rows() == jac.rows() && jac_cache_.cols() == jac.cols() &&
-      (jac - jac_cache_).cwiseAbs().maxCoeff() <= 1e-12 * jac.cwiseAbs().maxCoeff()) {
-    return false;
+  if (jac_cache_.rows() == jac.rows() && jac_cache_.cols() == jac.cols()) {
+    // The same J bit for bit (rows taken once, mesh_rows.hpp MeshRows::frame): one compare.
+    if (std::memcmp(jac.data(), jac_cache_.data(), sizeof(double) * jac.size()) == 0) {
+      return false;
+    }
+    if ((jac - jac_cache_).cwiseAbs().maxCoeff() <= 1e-12 * jac.cwiseAbs().maxCoeff()) {
+      return false;
+    }
   }
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(jac, Eigen::ComputeThinU);
   const auto& sv = svd.singularValues();

@@ -51,6 +51,16 @@ struct MeshRows {
   Rows3 centre_a, centre_b;  // gear centres in world [m]
   // Work space: spatial velocity and acceleration at q̈ = 0 of each slot's body.
   std::vector<Eigen::Matrix<double, 6, 1>> twist, accel;
+  // Meshes whose geometry is fixed in one joint's frame (the Stepper's, fixed_mesh_frames in
+  // stepper_assembly.cpp): frame[m] is that joint (0: the world), or -1 for a mesh evaluated in
+  // full at every state; empty: every mesh in full. A fixed mesh's rows J_t, J_r are the same at
+  // every q and kept from the first evaluation, its bias is 0 (γ = J̇ v with J̇ = 0), and its
+  // geometry is the frame's placement applied to the constants below (that frame's axes).
+  std::vector<long> frame;
+  Rows3 local_tangent, local_radial, local_pitch_point, local_axis, local_centre_a,
+      local_centre_b;
+
+  bool fixed(Index m) const { return !frame.empty() && frame[static_cast<size_t>(m)] >= 0; }
 
   void resize(Index meshes, Index nv) {
     jac_t.setZero(meshes, nv);
@@ -77,6 +87,7 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
                             const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
   const Index nv = jac.cols();
   for (Index m = 0; m < mc.count(); ++m) {
+    if (out.fixed(m)) continue;  // evaluate_fixed_mesh_geometry
     const long a = mc.slot_a[m], b = mc.slot_b[m];
     const Vec3 ca = origin[a] + rot[a] * mc.centre_a.row(m).transpose();
     const Vec3 cb = origin[b] + rot[b] * mc.centre_b.row(m).transpose();
@@ -126,6 +137,38 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
   }
 }
 
+// The geometry of the fixed meshes (MeshRows::frame) from the placements oMi of their frames'
+// joints (Pinocchio's data.oMi): R x + o for the points, R x for the directions; their rows
+// are kept, and so is the whole geometry of a mesh fixed in the world's frame (0).
+template <class Placements>
+void evaluate_fixed_mesh_geometry(const Placements& oMi, MeshRows& out) {
+  // Row i of a Rows3 (contiguous) turned by R (column-major), plus o for a point: each entry
+  // (R_r0 x_0 + R_r1 x_1) + R_r2 x_2 as Eigen's fixed 3 × 3 product sums it, without the
+  // expressions' set-up for the rows of a dynamic matrix.
+  const auto turn = [](const double* r, const Rows3& local, Rows3& world, Index i,
+                       const double* o) {
+    const double* x = &local(i, 0);
+    double* y = &world(i, 0);
+    for (int c = 0; c < 3; ++c) {
+      const double s = r[c] * x[0] + r[3 + c] * x[1] + r[6 + c] * x[2];
+      y[c] = o ? o[c] + s : s;
+    }
+  };
+  for (size_t m = 0; m < out.frame.size(); ++m) {
+    if (out.frame[m] <= 0) continue;
+    const auto& placement = oMi[static_cast<size_t>(out.frame[m])];
+    const double* rot = placement.rotation().data();
+    const double* origin = placement.translation().data();
+    const auto i = static_cast<Index>(m);
+    turn(rot, out.local_tangent, out.tangent, i, nullptr);
+    turn(rot, out.local_radial, out.radial, i, nullptr);
+    turn(rot, out.local_axis, out.axis, i, nullptr);
+    turn(rot, out.local_pitch_point, out.pitch_point, i, origin);
+    turn(rot, out.local_centre_a, out.centre_a, i, origin);
+    turn(rot, out.local_centre_b, out.centre_b, i, origin);
+  }
+}
+
 // The bias ċ − J q̈ of every mesh from the spatial velocity (twist) and the acceleration at
 // q̈ = 0 of each slot's body (world axes, at the world origin), with the geometry that
 // evaluate_mesh_geometry left in ``out`` at the same angles.
@@ -133,6 +176,7 @@ inline void evaluate_mesh_bias_from(const MeshConstants& mc, MeshRows& out) {
   const auto& twist = out.twist;
   const auto& accel = out.accel;
   for (Index m = 0; m < mc.count(); ++m) {
+    if (out.fixed(m)) continue;  // γ = 0, kept
     const long a = mc.slot_a[m], b = mc.slot_b[m];
     const Vec3 ca = out.centre_a.row(m).transpose(), cb = out.centre_b.row(m).transpose();
     const Vec3 k = out.axis.row(m).transpose();

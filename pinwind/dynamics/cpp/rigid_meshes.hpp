@@ -34,15 +34,23 @@ class RigidMeshes final : public Constraint {
     flank_.setOnes(n);
     te_.setZero(n);
     jv_.setZero(n);
+    written_.setZero(n);
   }
 
   Eigen::Index size() const override { return flank_.size(); }
 
   bool reads_gear_motion() const override { return true; }
 
+  // A fixed mesh's row (MeshRows::frame: J the same at every q, γ = 0) is written again only
+  // when its flank has changed since it was last written into the step's J (the one J this is
+  // called with; a saved state keeps that J and these flags together).
   void rows(const StepView& s, RowsBlock jac, ValuesBlock bias) const override {
     for (Eigen::Index r = 0; r < size(); ++r) {
-      flank_row(s.meshes, s.rows, meshes_[r], flank_[r], jac.row(r), bias[r]);
+      const Eigen::Index m = meshes_[r];
+      const bool fixed = s.rows.fixed(m);
+      if (fixed && written_[r] == flank_[r]) continue;
+      flank_row(s.meshes, s.rows, m, flank_[r], jac.row(r), bias[r]);
+      written_[r] = fixed ? flank_[r] : 0.0;
     }
   }
 
@@ -139,6 +147,9 @@ class RigidMeshes final : public Constraint {
   const std::vector<MeshPathSpec>* paths_;  // the setup's (a pointer: copies assign)
   Eigen::VectorXd flank_, te_;  // loaded flank s (±1) and transmission error [m] of each row
   mutable Eigen::VectorXd jv_;
+  // The flank of each fixed mesh's row as rows() last wrote it into J (0: not written, or not
+  // fixed): a state of the step's J, saved and taken back with it.
+  mutable Eigen::VectorXd written_;
 };
 
 // The kind (element_kind.hpp): StepperSpec.rigid_meshes, the indices of the meshes that are

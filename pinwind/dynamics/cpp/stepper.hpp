@@ -155,6 +155,11 @@ class Stepper {
   // at its first assembly, instead of by CRBA at every step.
   bool constant_mass() const { return constant_mass_; }
 
+  // Per mesh, the joint whose frame carries its geometry when its rows are the same at every q
+  // (0: the world; stepper_assembly.cpp fixed_mesh_frames), taken once with γ = 0; -1: evaluated
+  // at every step.
+  const std::vector<long>& mesh_frames() const { return rows_data_.frame; }
+
   // Moves the run's start q₀ to static equilibrium under the first sample's loads (torque:
   // (1, nv) applied torques at t = 0, target: (2, drivers) driver speeds at t₀ and t₁, inputs:
   // (1, input_columns)), the speeds held: the compliant meshes and springs deflected so that
@@ -374,6 +379,9 @@ class Stepper {
   std::vector<pinocchio::Inertia> composite_, body_;  // world inertias
   std::vector<int> slide_axes_;  // per joint: a slide's axis, or -1 (joint_algorithms.hpp)
   std::vector<bool> massless_;  // joints whose body has no inertia (a compliant bearing's slides)
+  // Bodies whose world inertia is the same at every q, taken once (stepper_assembly.cpp
+  // fixed_inertias): world_inertias leaves their body_ as it is.
+  std::vector<bool> fixed_inertia_;
   std::vector<pinocchio::Motion> accel_, drift_;
   std::vector<pinocchio::Force> body_force_, subtree_, weight_;
   std::vector<Eigen::Vector3d> bearing_loads_, row_loads_;  // hand_bearing_loads's [N]

@@ -247,6 +247,7 @@ class PyStepper {
   Eigen::MatrixXd mass_matrix(const Eigen::VectorXd& q) { return stepper_->mass_matrix(q); }
 
   bool constant_mass() const { return stepper_->constant_mass(); }
+  std::vector<long> mesh_frames() const { return stepper_->mesh_frames(); }
 
   EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
                                 long max_iterations, double tolerance) {
@@ -430,6 +431,10 @@ void bind_stepper(nb::module_& m) {
       .def_prop_ro("constant_mass", &PyStepper::constant_mass,
                    "Whether M(q) is the same at every q (joint_algorithms.hpp mass_is_constant): "
                    "the step then takes it once instead of by CRBA at every step.")
+      .def_prop_ro("mesh_frames", &PyStepper::mesh_frames,
+                   "Per mesh, the joint whose frame carries its geometry when its rows are the "
+                   "same at every q (0: the world), taken once with γ = 0; -1: evaluated at "
+                   "every step.")
       .def("assemble", &PyStepper::assemble, "q"_a, "v"_a,
            "M, b, J and γ of the step at (q, v), with the rows' current flanks.")
       .def("element_forces", &PyStepper::element_forces, "q"_a, "v"_a,

@@ -92,7 +92,10 @@ void Stepper::kinematics() {
     origin_[i] = data_.oMi[s_.meshes.joint_ids[i]].translation();
     rot_[i] = data_.oMi[s_.meshes.joint_ids[i]].rotation();
   }
-  if (nm_) evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
+  if (nm_) {
+    evaluate_mesh_geometry(s_.meshes, data_.J, origin_, rot_, rows_data_);
+    evaluate_fixed_mesh_geometry(data_.oMi, rows_data_);
+  }
 }
 
 void Stepper::velocity_kinematics() {
@@ -151,11 +154,31 @@ void Stepper::bias_forces() {
     const pinocchio::Inertia& body = body_[i];
     weight_[i].linear() = body.mass() * up.linear();
     weight_[i].angular() = body.lever().cross(weight_[i].linear());
+    if (constant_mass_) {
+      subtree_[i] = weight_[i];  // the body forces at q̈ = 0 are joint_forces' (below)
+      continue;
+    }
     body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
     subtree_[i] = body_force_[i];
   }
   nle_.resize(nv_);
   gravity_.resize(nv_);
+  if (constant_mass_) {
+    // M constant: C(q, v) v = Ṁ v − ½ ∂(vᵀ M v)/∂q = 0, so b = g(q), from the weights alone
+    // (each body's own kept in weight_ for joint_forces; subtree_ sums them up the tree).
+    for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
+      const int idx = model.idx_vs[i], n = model.nvs[i];
+      if (n == 1) {
+        gravity_[idx] = data_.J.col(idx).dot(subtree_[i].toVector());
+      } else {
+        gravity_.segment(idx, n).noalias() =
+            data_.J.middleCols(idx, n).transpose() * subtree_[i].toVector();
+      }
+      if (model.parents[i] > 0) subtree_[model.parents[i]] += subtree_[i];
+    }
+    nle_ = gravity_;
+    return;
+  }
   for (pinocchio::JointIndex i = nj - 1; i > 0; --i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
     if (n == 1) {
@@ -182,6 +205,16 @@ void Stepper::joint_forces() {
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
     accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
+    if (constant_mass_) {
+      // The body's whole acceleration, J̇ v + J a, through its inertia at once (bias_forces
+      // left the force at q̈ = 0 to here).
+      subtree_[i] = -fext_.of_joint[i];
+      if (!massless_[i]) {
+        const pinocchio::Inertia& body = body_[i];
+        subtree_[i] += body * (drift_[i] + accel_[i]) + weight_[i] + body.vxiv(data_.ov[i]);
+      }
+      continue;
+    }
     subtree_[i] = body_force_[i] - fext_.of_joint[i];
     if (!massless_[i]) subtree_[i] += body_[i] * accel_[i];
   }
@@ -195,6 +228,7 @@ void Stepper::world_inertias() {
   const auto nj = static_cast<pinocchio::JointIndex>(model.njoints);
   body_.resize(nj);
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
+    if (fixed_inertia_[i]) continue;  // taken once (stepper_assembly.cpp fixed_inertias)
     body_[i] = massless_[i] ? pinocchio::Inertia::Zero() : data_.oMi[i].act(model.inertias[i]);
   }
 }
@@ -466,15 +500,16 @@ void Stepper::record(long k, double t) {
   for (const auto& e : elements_) e->record(sv, k, out_);
   const auto& bearings = s_.bearing_joints;
   for (size_t b = 0; b < bearings.size(); ++b) {
-    // The joint's reaction in its own frame (joint_forces leaves it in world axes).
-    const pinocchio::Force f = data_.oMi[bearings[b]].actInv(subtree_[bearings[b]]);
-    const auto& rot = data_.oMi[bearings[b]].rotation();
+    // The joint's reaction (joint_forces leaves it in world axes, about the world origin):
+    // in world axes about the bearing centre p, (f, m − p × f), and in the joint's own frame.
+    const pinocchio::SE3& joint = data_.oMi[bearings[b]];
+    const pinocchio::Force& world = subtree_[bearings[b]];
+    const Vec3 moment = world.angular() - joint.translation().cross(world.linear());
     const long e = out_.entry(Family::bearing, k, static_cast<long>(b));
-    vec3(Series::bearing_force_local, e) = f.linear();
-    vec3(Series::bearing_moment_local, e) = f.angular();
-    // World axes; the moment stays about the bearing centre.
-    vec3(Series::bearing_force, e) = rot * f.linear();
-    vec3(Series::bearing_moment, e) = rot * f.angular();
+    vec3(Series::bearing_force, e) = world.linear();
+    vec3(Series::bearing_moment, e) = moment;
+    vec3(Series::bearing_force_local, e).noalias() = joint.rotation().transpose() * world.linear();
+    vec3(Series::bearing_moment_local, e).noalias() = joint.rotation().transpose() * moment;
   }
   const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
   for (Eigen::Index b = 0; b < nb; ++b) {
