@@ -146,53 +146,61 @@ const QpSolution& ConstrainedQp::solve_fixed(const Eigen::MatrixXd& mass,
   QpSolution& out = solution_;
   const auto nf = static_cast<Eigen::Index>(free_columns_.size());
   const auto rows = static_cast<Eigen::Index>(fixed_column_.size());
-  // M's lower triangle holds the step's Hessian (elements.hpp): entry (i, j) read at (max, min).
-  const auto entry = [&mass](Eigen::Index i, Eigen::Index j) {
-    return i >= j ? mass(i, j) : mass(j, i);
-  };
-  // M_FF's lower triangle, refactorised only if an entry changed.
+  const Eigen::Index* free = free_columns_.data();
+  // M_FF's lower triangle (the step assembles its Hessian there, elements.hpp), refactorised
+  // only if an entry changed: compared up to the first that did, copied from there on.
   bool changed = !fixed_ready_ || free_mass_.rows() != nf;
   free_mass_.resize(nf, nf);
-  for (Eigen::Index j = 0; j < nf; ++j) {
-    const double* column = mass.col(free_columns_[static_cast<size_t>(j)]).data();
-    double* kept = free_mass_.col(j).data();
-    for (Eigen::Index i = j; i < nf; ++i) {
-      const double value = column[free_columns_[static_cast<size_t>(i)]];
-      if (value != kept[i] || changed) {
-        changed = true;
-        kept[i] = value;
-      }
+  Eigen::Index j = 0, i = 0;
+  for (; !changed && j < nf; ++j) {
+    const double* column = mass.col(free[j]).data();
+    const double* kept = free_mass_.col(j).data();
+    for (i = j; i < nf && column[free[i]] == kept[i]; ++i) {
     }
+    changed = i < nf;
+    if (changed) break;
   }
-  if (changed) free_factor_.compute(free_mass_);
+  if (changed) {
+    for (; j < nf; ++j, i = j) {
+      const double* column = mass.col(free[j]).data();
+      double* kept = free_mass_.col(j).data();
+      for (; i < nf; ++i) kept[i] = column[free[i]];
+    }
+    free_factor_.compute(free_mass_);
+  }
   fixed_ready_ = true;
   Eigen::VectorXd& a = out.acceleration;
   a.resize(nv_);
   for (Eigen::Index r = 0; r < rows; ++r) {
     a[fixed_column_[static_cast<size_t>(r)]] = rhs[r] / fixed_coefficient_[static_cast<size_t>(r)];
   }
-  // f_F − M_FK a_K, then a_F = M_FF⁻¹ (f_F − M_FK a_K).
+  // f_F − M_FK a_K (a row's a_k = 0, a speed held or a lock, subtracts nothing), then
+  // a_F = M_FF⁻¹ (f_F − M_FK a_K); M's entry (c, k) read from its lower triangle.
   free_force_.resize(nf);
-  for (Eigen::Index i = 0; i < nf; ++i) {
-    const Eigen::Index c = free_columns_[static_cast<size_t>(i)];
-    double s = force[c];
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      const Eigen::Index k = fixed_column_[static_cast<size_t>(r)];
-      s -= entry(c, k) * a[k];
+  for (Eigen::Index f = 0; f < nf; ++f) free_force_[f] = force[free[f]];
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const Eigen::Index k = fixed_column_[static_cast<size_t>(r)];
+    const double ak = a[k];
+    if (ak == 0.0) continue;
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      const Eigen::Index c = free[f];
+      free_force_[f] -= (c >= k ? mass(c, k) : mass(k, c)) * ak;
     }
-    free_force_[i] = s;
   }
   double* y = free_force_.data();
   free_factor_.solve_in_place(&y, 1);
-  for (Eigen::Index i = 0; i < nf; ++i) a[free_columns_[static_cast<size_t>(i)]] = y[i];
-  // λ_r = (M_k· a − f_k) / c_r, and the rows' residual c_r a_k − r_r.
+  for (Eigen::Index f = 0; f < nf; ++f) a[free[f]] = y[f];
+  // λ_r = (M_k· a − f_k) / c_r, M's row k read from its lower triangle (row k left of the
+  // diagonal, column k below it), and the rows' residual c_r a_k − r_r.
   out.multipliers.resize(rows);
   out.primal_residual = 0.0;
   for (Eigen::Index r = 0; r < rows; ++r) {
     const Eigen::Index k = fixed_column_[static_cast<size_t>(r)];
     const double c = fixed_coefficient_[static_cast<size_t>(r)];
     double s = 0.0;
-    for (Eigen::Index j = 0; j < nv_; ++j) s += entry(k, j) * a[j];
+    for (Eigen::Index m = 0; m < k; ++m) s += mass(k, m) * a[m];
+    const double* below = mass.col(k).data();
+    for (Eigen::Index m = k; m < nv_; ++m) s += below[m] * a[m];
     out.multipliers[r] = (s - force[k]) / c;
     out.primal_residual = std::max(out.primal_residual, std::abs(c * a[k] - rhs[r]));
   }
@@ -325,7 +333,7 @@ bool ConstrainedQp::refresh_rows(const Eigen::MatrixXd& jac) {
   fixed_rows_ = jac.rows() > 0;
   for (Eigen::Index r = 0; fixed_rows_ && r < jac.rows(); ++r) {
     Eigen::Index column = -1, nonzero = 0;
-    for (Eigen::Index c = 0; c < jac.cols(); ++c) {
+    for (Eigen::Index c = 0; c < jac.cols() && nonzero < 2; ++c) {
       if (jac(r, c) != 0.0) {
         column = c;
         ++nonzero;

@@ -174,7 +174,7 @@ class ConstrainedQp {
   // as solve_direct's (J has full rank, so λ is unique) up to rounding, for one Cholesky
   // factorisation of M_FF and one solve, where solve_direct factorises the whole M and solves
   // it for f and each row: a 16 × 16 Hessian with two such rows (a planetary stage with five
-  // compliant bearings, its ring locked and its sun driven): 10.6k → 7.5k instructions a step
+  // compliant bearings, its ring locked and its sun driven): 10.8k → 6.5k instructions a step
   // for the solve with its factorisations and copies. M_FF's factorisation is kept while its
   // entries stay the same to the bit.
   const QpSolution& solve_fixed(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
