@@ -152,14 +152,28 @@ template <class Jac>
 double relative_spin(const MeshConstants& mc, const MeshRows& rows, const Jac& jac,
                      Index m, const Eigen::VectorXd& v, Index lo, Index hi) {
   const Vec3 k = rows.axis.row(m).transpose();
-  const double* on_b = mc.support.row(mc.slot_b[m]).data();
-  const double* on_a = mc.support.row(mc.slot_a[m]).data();
   double spin = 0.0;
-  for (Index c = lo; c < hi; ++c) {
-    const double w = on_b[c] - on_a[c];
-    if (w == 0.0) continue;
+  const auto add = [&](Index c, double w) {
     const double* ang = jac.data() + 6 * c + 3;  // the column's angular part (column-major 6 × nv)
     spin += w * v[c] * (k[0] * ang[0] + k[1] * ang[1] + k[2] * ang[2]);
+  };
+  if (static_cast<Index>(rows.moving.size()) == mc.count()) {
+    // The mesh's columns with w ≠ 0 (evaluate_mesh_geometry's list), in the same order, less
+    // the pure translations (a compliant bearing's slides), whose ω = 0 would add zeros.
+    const bool slides_known = static_cast<Index>(rows.translation.size()) == v.size();
+    for (const auto& [c, w] : rows.moving[static_cast<size_t>(m)]) {
+      if (c < lo || c >= hi || (slides_known && rows.translation[static_cast<size_t>(c)])) {
+        continue;
+      }
+      add(c, w);
+    }
+    return spin;
+  }
+  const double* on_b = mc.support.row(mc.slot_b[m]).data();
+  const double* on_a = mc.support.row(mc.slot_a[m]).data();
+  for (Index c = lo; c < hi; ++c) {
+    const double w = on_b[c] - on_a[c];
+    if (w != 0.0) add(c, w);
   }
   return spin;
 }
