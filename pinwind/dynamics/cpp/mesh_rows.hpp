@@ -55,12 +55,16 @@ struct MeshRows {
   // less support of A), taken from MeshConstants::support by evaluate_mesh_geometry's first
   // call; the rows' other entries stay the zeros resize wrote.
   std::vector<std::vector<std::pair<Index, double>>> moving;
+  // The same less the pure translations (every column where translation is not known): those
+  // whose angular part can turn a gear.
+  std::vector<std::vector<std::pair<Index, double>>> turning;
   // Per column of J: whether it is a pure translation at every q (a compliant bearing's slide,
   // joint_algorithms.hpp slide_axes), its angular part 0; empty where the caller does not say.
   std::vector<char> translation;
 
   void resize(Index meshes, Index nv) {
     moving.clear();
+    turning.clear();
     jac_t.setZero(meshes, nv);
     jac_r.setZero(meshes, nv);
     bias_t.setZero(meshes);
@@ -85,11 +89,17 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
                             const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
   const Index nv = jac.cols();
   if (static_cast<Index>(out.moving.size()) != mc.count()) {
+    const bool known = static_cast<Index>(out.translation.size()) == nv;
     out.moving.assign(static_cast<size_t>(mc.count()), {});
+    out.turning.assign(static_cast<size_t>(mc.count()), {});
     for (Index m = 0; m < mc.count(); ++m) {
       for (Index c = 0; c < nv; ++c) {
         const double w = mc.support(mc.slot_b[m], c) - mc.support(mc.slot_a[m], c);
-        if (w != 0.0) out.moving[static_cast<size_t>(m)].push_back({c, w});
+        if (w == 0.0) continue;
+        out.moving[static_cast<size_t>(m)].push_back({c, w});
+        if (!known || !out.translation[static_cast<size_t>(c)]) {
+          out.turning[static_cast<size_t>(m)].push_back({c, w});
+        }
       }
     }
   }
