@@ -187,12 +187,7 @@ void Stepper::joint_forces() {
   accel_[0].setZero();
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
-    if (slide_axes_[i] >= 0) {  // a pure translation: the angular part would add zeros
-      accel_[i].linear() = accel_[model.parents[i]].linear() + data_.J.col(idx).head<3>() * a_[idx];
-      accel_[i].angular() = accel_[model.parents[i]].angular();
-    } else {
-      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
-    }
+    accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
     subtree_[i] = body_force_[i] - fext_.of_joint[i];
     if (!massless_[i]) subtree_[i] += body_[i] * accel_[i];
   }
