@@ -188,16 +188,10 @@ class CompliantMeshes : public Element {
       const double radial = radial_overlap(i, pose.centre_distance);
       delta_(i, 0) = rolling + radial;
       delta_(i, 1) = -rolling + radial - sp.backlash;
-      double unused;
-      for (int f = 0; f < 2; ++f) {
-        flank_row(mc, s.rows, m, flank_sign(f), cos_w_[i], sin_w_[i], row_[2 * i + f], unused);
-        path_[2 * i + f] = path_state(paths_[i], psi_a, flank_sign(f));
-        if (modified(i)) engage(paths_[i], path_[2 * i + f], delta_(i, f));
-      }
       if (!started_) {
         // The span of the rows' entries that can be non-zero: the joints that move one gear
         // and not the other (MeshConstants::support), the same for both flanks and every
-        // state; add_implicit adds w JᵀJ over it.
+        // state; the rows are written, and add_implicit adds w JᵀJ, over those columns alone.
         const auto moves = [&](Eigen::Index c) {
           return mc.support(mc.slot_b[m], c) != mc.support(mc.slot_a[m], c);
         };
@@ -209,6 +203,15 @@ class CompliantMeshes : public Element {
         for (Eigen::Index c = lo; c < hi; ++c) {
           if (moves(c)) moving_[i].push_back(c);
         }
+      }
+      double unused;
+      for (int f = 0; f < 2; ++f) {
+        flank_row(mc, s.rows, m, flank_sign(f), cos_w_[i], sin_w_[i], row_[2 * i + f], unused,
+                  &moving_[i]);
+        path_[2 * i + f] = path_state(paths_[i], psi_a, flank_sign(f));
+        if (modified(i)) engage(paths_[i], path_[2 * i + f], delta_(i, f));
+      }
+      if (!started_) {
         // Start in contact on every flank that overlaps (both at once where the centres are
         // closer than the teeth allow: zero backlash, floating members); a mesh at rest with
         // zero deflection starts on both flanks carrying no force, and the first step releases
@@ -289,7 +292,8 @@ class CompliantMeshes : public Element {
           double* column = hessian.col(c).data();
           for (size_t q = p; q < count; ++q) column[cols[q]] += row[cols[q]] * wc;
         }
-        force.noalias() += b_(i, f) * row.transpose();
+        const double b = b_(i, f);
+        for (const Eigen::Index c : cols) force[c] += b * row[c];
       }
     }
   }

@@ -54,6 +54,7 @@ const QpSolution& ConstrainedQp::solve(const Eigen::MatrixXd& mass, const Eigen:
     return out;
   }
   const bool rows_changed = refresh_rows(jac);
+  if (fixed_rows_) return solve_fixed(mass, force, rhs);
   if (full_rank_ || !settings_.iterative) {
     return solve_direct(mass, force, jac, rhs, rows_changed);
   }
@@ -144,6 +145,79 @@ const QpSolution& ConstrainedQp::solve_direct(const Eigen::MatrixXd& mass,
   if (out.status != "direct") out.status = "direct";
   // A later iterative step starts proxsuite afresh.
   qp_.reset();
+  return out;
+}
+
+const QpSolution& ConstrainedQp::solve_fixed(const Eigen::MatrixXd& mass,
+                                             const Eigen::VectorXd& force,
+                                             const Eigen::VectorXd& rhs) {
+  QpSolution& out = solution_;
+  const auto nf = static_cast<Eigen::Index>(free_columns_.size());
+  const auto rows = static_cast<Eigen::Index>(fixed_column_.size());
+  const Eigen::Index* free = free_columns_.data();
+  // M_FF's lower triangle (the step assembles its Hessian there, elements.hpp), refactorised
+  // only if an entry changed: compared up to the first that did, copied from there on.
+  bool changed = !fixed_ready_ || free_mass_.rows() != nf;
+  free_mass_.resize(nf, nf);
+  Eigen::Index j = 0, i = 0;
+  for (; !changed && j < nf; ++j) {
+    const double* column = mass.col(free[j]).data();
+    const double* kept = free_mass_.col(j).data();
+    for (i = j; i < nf && column[free[i]] == kept[i]; ++i) {
+    }
+    changed = i < nf;
+    if (changed) break;
+  }
+  if (changed) {
+    for (; j < nf; ++j, i = j) {
+      const double* column = mass.col(free[j]).data();
+      double* kept = free_mass_.col(j).data();
+      for (; i < nf; ++i) kept[i] = column[free[i]];
+    }
+    free_factor_.compute(free_mass_);
+  }
+  fixed_ready_ = true;
+  Eigen::VectorXd& a = out.acceleration;
+  a.resize(nv_);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    a[fixed_column_[static_cast<size_t>(r)]] = rhs[r] / fixed_coefficient_[static_cast<size_t>(r)];
+  }
+  // f_F − M_FK a_K (a row's a_k = 0, a speed held or a lock, subtracts nothing), then
+  // a_F = M_FF⁻¹ (f_F − M_FK a_K); M's entry (c, k) read from its lower triangle.
+  free_force_.resize(nf);
+  for (Eigen::Index f = 0; f < nf; ++f) free_force_[f] = force[free[f]];
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const Eigen::Index k = fixed_column_[static_cast<size_t>(r)];
+    const double ak = a[k];
+    if (ak == 0.0) continue;
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      const Eigen::Index c = free[f];
+      free_force_[f] -= (c >= k ? mass(c, k) : mass(k, c)) * ak;
+    }
+  }
+  double* y = free_force_.data();
+  free_factor_.solve_in_place(&y, 1);
+  for (Eigen::Index f = 0; f < nf; ++f) a[free[f]] = y[f];
+  // λ_r = (M_k· a − f_k) / c_r, M's row k read from its lower triangle (row k left of the
+  // diagonal, column k below it), and the rows' residual c_r a_k − r_r.
+  out.multipliers.resize(rows);
+  out.primal_residual = 0.0;
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const Eigen::Index k = fixed_column_[static_cast<size_t>(r)];
+    const double c = fixed_coefficient_[static_cast<size_t>(r)];
+    double s = 0.0;
+    for (Eigen::Index m = 0; m < k; ++m) s += mass(k, m) * a[m];
+    const double* below = mass.col(k).data();
+    for (Eigen::Index m = k; m < nv_; ++m) s += below[m] * a[m];
+    out.multipliers[r] = (s - force[k]) / c;
+    out.primal_residual = std::max(out.primal_residual, std::abs(c * a[k] - rhs[r]));
+  }
+  out.dual_residual = a.allFinite() ? 0.0 : NAN;
+  out.iterations = 0;
+  out.solved = std::isfinite(out.primal_residual) && std::isfinite(out.dual_residual);
+  if (out.status != "direct") out.status = "direct";
+  qp_.reset();  // a later iterative step starts proxsuite afresh
+  direct_ready_ = false;  // solve_direct's factorisations are of other rows
   return out;
 }
 
@@ -264,6 +338,32 @@ bool ConstrainedQp::refresh_rows(const Eigen::MatrixXd& jac) {
   reduced_jac_ = row_basis_.transpose() * jac;
   full_rank_ = rank == jac.rows();
   jac_cache_ = jac;
+  // Rows that each fix one coordinate of their own (solve_fixed): one non-zero entry per row,
+  // in distinct columns.
+  fixed_column_.clear();
+  fixed_coefficient_.clear();
+  std::vector<bool> fixed(static_cast<size_t>(jac.cols()), false);
+  fixed_rows_ = jac.rows() > 0;
+  for (Eigen::Index r = 0; fixed_rows_ && r < jac.rows(); ++r) {
+    Eigen::Index column = -1, nonzero = 0;
+    for (Eigen::Index c = 0; c < jac.cols() && nonzero < 2; ++c) {
+      if (jac(r, c) != 0.0) {
+        column = c;
+        ++nonzero;
+      }
+    }
+    fixed_rows_ = nonzero == 1 && std::isfinite(jac(r, column)) &&
+                  !fixed[static_cast<size_t>(column)];
+    if (!fixed_rows_) break;
+    fixed[static_cast<size_t>(column)] = true;
+    fixed_column_.push_back(column);
+    fixed_coefficient_.push_back(jac(r, column));
+  }
+  free_columns_.clear();
+  for (Eigen::Index c = 0; fixed_rows_ && c < jac.cols(); ++c) {
+    if (!fixed[static_cast<size_t>(c)]) free_columns_.push_back(c);
+  }
+  fixed_ready_ = false;
   return true;
 }
 

@@ -163,10 +163,28 @@ class ConstrainedQp {
   // Applies the Woodbury correction of changed_ to (a, mu_); false if it would amplify rounding.
   bool correct(Eigen::VectorXd& a);
 
+  // Rows that each fix one coordinate, c_r a_k = r_r on distinct joints k (speed drivers and
+  // locks, speed_drivers.hpp: every row of a model whose meshes are compliant), solved by
+  // eliminating those coordinates instead of through the Schur complement: with F the free
+  // coordinates and K the fixed ones, a_K = r / c is known, and
+  //
+  //     M_FF a_F = f_F − M_FK a_K,   λ_r = (M_k· a − f_k) / c_r,
+  //
+  // the rows of M a = f + Jᵀ λ, the first the free ones, the second row k's. The same solution
+  // as solve_direct's (J has full rank, so λ is unique) up to rounding, for one Cholesky
+  // factorisation of M_FF and one solve, where solve_direct factorises the whole M and solves
+  // it for f and each row: a 16 × 16 Hessian with two such rows (a planetary stage with five
+  // compliant bearings, its ring locked and its sun driven): 10.8k → 6.5k instructions a step
+  // for the solve with its factorisations and copies. M_FF's factorisation is kept while its
+  // entries stay the same to the bit.
+  const QpSolution& solve_fixed(const Eigen::MatrixXd& mass, const Eigen::VectorXd& force,
+                                const Eigen::VectorXd& rhs);
+
   void start(const Eigen::MatrixXd& jac);
 
   // Whether J differs from the previous step's (to 1e-12); refreshes the range projector,
-  // which is kept while J stays the same, as it does for gears on fixed or carrier-borne axes.
+  // which is kept while J stays the same, as it does for gears on fixed or carrier-borne axes,
+  // and whether each row fixes one coordinate of its own (solve_fixed).
   bool refresh_rows(const Eigen::MatrixXd& jac);
 
   // Whether M differs from the previous step's (to 1e-12); refreshes its scaled copy.
@@ -193,6 +211,15 @@ class ConstrainedQp {
   static constexpr size_t kMaxCorrections = 2;
   std::vector<std::pair<Eigen::Index, double>> changed_;
   std::vector<std::pair<Eigen::Index, std::pair<Eigen::VectorXd, Eigen::VectorXd>>> responses_;
+  // solve_fixed's: each row's coordinate and coefficient (refresh_rows), the free coordinates
+  // in order, M_FF's lower triangle as last factorised, and the free part of the solve.
+  bool fixed_rows_ = false;
+  std::vector<Eigen::Index> fixed_column_, free_columns_;
+  std::vector<double> fixed_coefficient_;
+  bool fixed_ready_ = false;
+  Eigen::MatrixXd free_mass_;
+  SmallCholesky free_factor_;
+  Eigen::VectorXd free_force_;
 };
 
 }  // namespace pinwind

@@ -147,14 +147,24 @@ struct FlankFriction {
   std::vector<double> pair_share;  // scratch: pair_shares' output
 };
 
-// J_k v = (ω_B − ω_A)·k over the velocities that move one gear and not the other [rad/s].
+// J_k v = (ω_B − ω_A)·k over the velocities that move one gear and not the other [rad/s]. lo, hi:
+// the span of those columns (the mesh's rows'), which holds every column of rows.turning.
 template <class Jac>
 double relative_spin(const MeshConstants& mc, const MeshRows& rows, const Jac& jac,
                      Index m, const Eigen::VectorXd& v, Index lo, Index hi) {
   const Vec3 k = rows.axis.row(m).transpose();
+  double spin = 0.0;
+  if (static_cast<Index>(rows.turning.size()) == mc.count()) {
+    // The mesh's columns with w ≠ 0 in the same order less the pure translations (a compliant
+    // bearing's slides), whose ω = 0 would add zeros (evaluate_mesh_geometry's list).
+    for (const auto& [c, w] : rows.turning[static_cast<size_t>(m)]) {
+      const double* ang = jac.data() + 6 * c + 3;  // the column's angular part (6 × nv)
+      spin += w * v[c] * (k[0] * ang[0] + k[1] * ang[1] + k[2] * ang[2]);
+    }
+    return spin;
+  }
   const double* on_b = mc.support.row(mc.slot_b[m]).data();
   const double* on_a = mc.support.row(mc.slot_a[m]).data();
-  double spin = 0.0;
   for (Index c = lo; c < hi; ++c) {
     const double w = on_b[c] - on_a[c];
     if (w == 0.0) continue;

@@ -61,8 +61,20 @@ struct MeshRows {
       local_centre_b;
 
   bool fixed(Index m) const { return !frame.empty() && frame[static_cast<size_t>(m)] >= 0; }
+  // Per mesh, the columns that move one gear and not the other, each with its w (support of B
+  // less support of A), taken from MeshConstants::support by evaluate_mesh_geometry's first
+  // call; the rows' other entries stay the zeros resize wrote.
+  std::vector<std::vector<std::pair<Index, double>>> moving;
+  // The same less the pure translations (every column where translation is not known): those
+  // whose angular part can turn a gear.
+  std::vector<std::vector<std::pair<Index, double>>> turning;
+  // Per column of J: whether it is a pure translation at every q (a compliant bearing's slide,
+  // joint_algorithms.hpp slide_axes), its angular part 0; empty where the caller does not say.
+  std::vector<char> translation;
 
   void resize(Index meshes, Index nv) {
+    moving.clear();
+    turning.clear();
     jac_t.setZero(meshes, nv);
     jac_r.setZero(meshes, nv);
     bias_t.setZero(meshes);
@@ -86,6 +98,21 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
                             const std::vector<Vec3>& origin,
                             const std::vector<Eigen::Matrix3d>& rot, MeshRows& out) {
   const Index nv = jac.cols();
+  if (static_cast<Index>(out.moving.size()) != mc.count()) {
+    const bool known = static_cast<Index>(out.translation.size()) == nv;
+    out.moving.assign(static_cast<size_t>(mc.count()), {});
+    out.turning.assign(static_cast<size_t>(mc.count()), {});
+    for (Index m = 0; m < mc.count(); ++m) {
+      for (Index c = 0; c < nv; ++c) {
+        const double w = mc.support(mc.slot_b[m], c) - mc.support(mc.slot_a[m], c);
+        if (w == 0.0) continue;
+        out.moving[static_cast<size_t>(m)].push_back({c, w});
+        if (!known || !out.translation[static_cast<size_t>(c)]) {
+          out.turning[static_cast<size_t>(m)].push_back({c, w});
+        }
+      }
+    }
+  }
   for (Index m = 0; m < mc.count(); ++m) {
     if (out.fixed(m)) continue;  // evaluate_fixed_mesh_geometry
     const long a = mc.slot_a[m], b = mc.slot_b[m];
@@ -109,17 +136,17 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
     // Row: n·(v_B(P) − v_A(P)) over the joint velocities, split along t and r̂. A column that
     // moves one gear alone has w = ±1 (support is 0 or 1): its sign is applied to the sums
     // instead of to the six entries of J (each product and sum then only changes sign: the
-    // same value), skipped where w = 0.
+    // same value); only the columns with w ≠ 0 are written (out.moving). A pure translation's
+    // angular part is 0: its terms mt·ω, mr·ω, which would add zeros, are left out.
     const Vec3 mt = x.cross(t), mr = x.cross(r);
     double* row_t = &out.jac_t(m, 0);
     double* row_r = &out.jac_r(m, 0);
-    const double* support_a = &mc.support(a, 0);
-    const double* support_b = &mc.support(b, 0);
-    for (Index c = 0; c < nv; ++c) {
-      const double w = support_b[c] - support_a[c];
-      if (w == 0.0) {
-        row_t[c] = 0.0;
-        row_r[c] = 0.0;
+    const bool slides_known = static_cast<Index>(out.translation.size()) == nv;
+    for (const auto& [c, w] : out.moving[static_cast<size_t>(m)]) {
+      if (slides_known && out.translation[static_cast<size_t>(c)]) {
+        const Vec3 lin = jac.col(c).template head<3>() * w;
+        row_t[c] = t.dot(lin);
+        row_r[c] = r.dot(lin);
         continue;
       }
       if (w == 1.0 || w == -1.0) {
@@ -272,15 +299,24 @@ inline double flank_bias(const MeshConstants& mc, const MeshRows& rows, Index m,
   return flank_bias(mc, rows, m, flank, mc.cos_a[m], mc.sin_a[m]);
 }
 
+//
+// columns: if given, only those entries of row are written (a compliant mesh's columns that move
+// one gear and not the other; its row keeps the zeros of the others).
 template <class Row>
 void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double flank, double cos_w,
-               double sin_w, Row&& row, double& bias) {
+               double sin_w, Row&& row, double& bias,
+               const std::vector<Index>* columns = nullptr) {
   const double ct = cos_w * flank, cr = sin_w * mc.eps[m];
   // Column by column: Eigen's assignment of the expression to a row of a strided block cost
   // ~45 instructions an entry.
   const double* t = rows.jac_t.row(m).data();
   const double* r = rows.jac_r.row(m).data();
-  for (Index c = 0; c < rows.jac_t.cols(); ++c) row(c) = ct * t[c] + cr * r[c];
+  const auto entry = [&](Index c) { row(c) = ct * t[c] + cr * r[c]; };
+  if (columns != nullptr) {
+    for (const Index c : *columns) entry(c);
+  } else {
+    for (Index c = 0; c < rows.jac_t.cols(); ++c) entry(c);
+  }
   bias = flank_bias(mc, rows, m, flank, cos_w, sin_w);
 }
 

@@ -281,6 +281,10 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
   rot_.resize(s_.meshes.joint_ids.size());
   fext_.of_joint.assign(s_.model.njoints, pinocchio::Force::Zero());
   slide_axes_ = slide_axes(s_.model);
+  rows_data_.translation.assign(static_cast<size_t>(nv_), 0);
+  for (size_t i = 1; i < slide_axes_.size(); ++i) {
+    if (slide_axes_[i] >= 0) rows_data_.translation[s_.model.idx_vs[i]] = 1;
+  }
   constant_mass_ = mass_is_constant(s_.model, slide_axes_);
   if (nm_) {
     // Every mesh in full at q0 (frame empty), then the fixed ones' rows kept and their geometry

@@ -107,17 +107,23 @@ void Stepper::velocity_kinematics() {
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
     const auto parent = model.parents[i];
-    data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
     if (slide_axes_[i] >= 0) {
-      // A slide's column is a pure translation u: v × (u, 0) = (ω × u, 0), Pinocchio's cross
-      // product with its zero terms left out.
+      // A slide's column is a pure translation u: its twist adds u q̇ and its drift J̇ q̇ to
+      // the linear parts alone (the angular parts would add zeros), and v × (u, 0) = (ω × u,
+      // 0), Pinocchio's cross product with its zero terms left out.
+      const double speed = v_[idx];
+      data_.ov[i].linear() = data_.ov[parent].linear() + data_.J.col(idx).head<3>() * speed;
+      data_.ov[i].angular() = data_.ov[parent].angular();
       auto column = data_.dJ.col(idx);
       column.head<3>() = data_.ov[i].angular().cross(data_.J.col(idx).head<3>());
       column.tail<3>().setZero();
-    } else {
-      for (int c = idx; c < idx + n; ++c) {
-        data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
-      }
+      drift_[i].linear() = drift_[parent].linear() + column.head<3>() * speed;
+      drift_[i].angular() = drift_[parent].angular();
+      continue;
+    }
+    data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
+    for (int c = idx; c < idx + n; ++c) {
+      data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
     }
     drift_[i] = drift_[parent] + pinocchio::Motion(joint_product(data_.dJ, v_, idx, n));
   }
