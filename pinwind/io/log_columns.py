@@ -386,8 +386,10 @@ class ColumnSink:
 
 
 def _samples_first(series: np.ndarray) -> np.ndarray:
-    """``np.moveaxis(series, -1, 0)``: a view with the samples' axis first (numpy's own checks
-    its arguments in Python, 5 µs an array)."""
+    """``np.moveaxis(series, -1, 0)``: a view with the samples' axis (the last) first.
+
+    numpy's own checks its arguments in Python, 5 µs an array.
+    """
     last = series.ndim - 1
     return series.transpose(last, *range(last))
 

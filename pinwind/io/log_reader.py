@@ -54,7 +54,7 @@ from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_O
 from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
 from pinwind.io.log_lock import held_by_writer
 from pinwind.io.log_metadata import checksum_problem, json_values
-from pinwind.io.log_threads import ChunkBuffers, read_ahead
+from pinwind.io.log_threads import ChunkBuffers, read_ahead, run_all
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
 from pinwind.io.messages import PayloadError
 
@@ -618,7 +618,7 @@ class LogReader:
 
         n = 0
         damaged = []
-        for chunk, _, filled, damage in read_ahead(chunks, load, []):
+        for chunk, _, filled, damage in run_all(chunks, load, []):
             if damage:
                 damaged.append(
                     f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
