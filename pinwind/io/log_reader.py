@@ -25,6 +25,7 @@ import os
 import threading
 import warnings
 from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -41,7 +42,7 @@ from pinwind.errors import (
     LogRecovered,
     SamplesNotLogged,
 )
-from pinwind.io import mcap_file
+from pinwind.io import log_threads, mcap_file
 from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
 from pinwind.io.log_columns import (
     ColumnBlock,
@@ -124,6 +125,9 @@ class LogReader:
 
     Args:
         path: the MCAP file.
+        prefetch: a whole read follows (``read_log``, ``open_log``): the reading threads start
+            decompressing the first chunks as soon as the chunk index is read, while the rest
+            of the summary and the metadata are decoded.
 
     Attributes:
         path: the file.
@@ -138,8 +142,11 @@ class LogReader:
             or damaged before its first chunk; the message names the file and what is wrong.
     """
 
-    def __init__(self, path: str | os.PathLike):
+    def __init__(self, path: str | os.PathLike, *, prefetch: bool = False):
         self.path = Path(path)
+        #: chunk offset → the reading threads' decompression of it, started by ``_prefetch``
+        self._early: dict[int, Future] = {}
+        self._pool: ThreadPoolExecutor | None = None
         where = str(self.path)
         if not self.path.exists():
             raise LogError(where, "no such file")
@@ -150,12 +157,12 @@ class LogReader:
         except OSError as err:
             raise LogError(where, f"cannot read the file: {err.strerror}") from err
         try:
-            self._open()
+            self._open(prefetch)
         except BaseException:
             self.close()
             raise
 
-    def _open(self) -> None:
+    def _open(self, prefetch: bool = False) -> None:
         where = str(self.path)
         fd = self._descriptor()
         #: a run is still writing the file (it holds the log's lock, ``io/log_lock.py``)
@@ -173,6 +180,9 @@ class LogReader:
         except DamagedFile as err:
             raise LogError(where, str(err)) from err
         self._contents = contents
+        self._buffers = ChunkBuffers()
+        if prefetch:
+            self._prefetch(contents)
         self.problem = contents.problem
         self._damage = list(contents.damage)
         records: dict[str, dict[str, str]] = {}
@@ -248,9 +258,30 @@ class LogReader:
         self._attachments: dict[str, bytes] | None = None
         #: attachment name → why it could not be read (its CRC fails, ...)
         self.damaged_attachments: dict[str, str] = {}
-        self._buffers = ChunkBuffers()
         #: what the end record says the run simulated but did not log, else ""
         self.not_logged = _not_logged(end, run.get("log_stride", 1))
+
+    def _prefetch(self, contents: mcap_file.Contents) -> None:
+        """Start decompressing the first chunks of a columns log (one per reading thread).
+
+        ``_load_columns`` takes them; a read that does not want them leaves them to ``close``.
+        """
+        channel = next((c.id for c in contents.channels.values() if c.topic == COLUMNS_TOPIC), None)
+        if channel is None or not contents.indexed:
+            return
+        first = sorted((c for c in contents.chunks if channel in c.index), key=lambda c: c.offset)
+        threads = log_threads.READ_THREADS
+        self._pool = ThreadPoolExecutor(threads, thread_name_prefix="pinwind-read")
+        for chunk in first[:threads]:
+            self._early[chunk.offset] = self._pool.submit(self._records, chunk)
+
+    def _records(self, chunk: ChunkRef) -> tuple[Any, str]:
+        """A chunk's decompressed records, or why it is damaged (thread-safe)."""
+        try:
+            buffer = self._buffers.take(chunk.size)
+            return mcap_file.read_chunk(self._descriptor(), chunk, buffer), ""
+        except DamagedChunk as err:
+            return b"", str(err)
 
     @cached_property
     def _rows(self) -> RowLayout:
@@ -301,6 +332,10 @@ class LogReader:
 
     def close(self) -> None:
         """Close the file."""
+        pool, self._pool = getattr(self, "_pool", None), None
+        if pool is not None:  # chunks decompressed ahead that no read took
+            pool.shutdown(cancel_futures=True)
+            self._early.clear()
         fd, self._fd = getattr(self, "_fd", None), None
         if fd is not None:
             os.close(fd)
@@ -618,7 +653,7 @@ class LogReader:
 
         n = 0
         damaged = []
-        for chunk, _, filled, damage in run_all(chunks, load, []):
+        for chunk, _, filled, damage in run_all(chunks, load, [], self._pool):
             if damage:
                 damaged.append(
                     f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -677,8 +712,11 @@ class LogReader:
         layout = self._columns
         if layout is None:
             raise RuntimeError("internal error: columns read from a log without them")
+        early = self._early.pop(chunk.offset, None)
+        data, damage = early.result() if early is not None else self._records(chunk)
+        if damage:
+            return b"", [], damage
         try:
-            data = mcap_file.read_chunk(self._descriptor(), chunk, self._buffers.take(chunk.size))
             return b"", decode_chunk(data, layout), ""
         except DamagedChunk as err:
             return b"", [], str(err)
@@ -932,7 +970,7 @@ def read_log(
         LogTooLarge: not enough memory: read a window, fewer channels, or use ``iter_log``.
         UnknownChannel: a channel name that pinwind logs do not have.
     """
-    with LogReader(path) as log:
+    with LogReader(path, prefetch=start is None) as log:
         return log.read(start=start, stop=stop, channels=channels)
 
 
@@ -1021,7 +1059,7 @@ def open_log(
         LogError: the file is missing, not an MCAP file, not a pinwind log, of a newer format,
             or corrupted; the message names the file and what is wrong.
     """
-    with LogReader(path) as log:
+    with LogReader(path, prefetch=start is None) as log:
         attachments = log.attachments
         result = log.read(start=start, stop=stop, channels=channels)
         return LogFile(

@@ -15,7 +15,7 @@ import sys
 import threading
 from collections import deque
 from collections.abc import Callable, Iterator
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 from typing import Any
 
 import numpy as np
@@ -94,15 +94,23 @@ def read_ahead(
                 future.cancel()
 
 
-def run_all(chunks: list[ChunkRef], load: Callable[[ChunkRef, Any], tuple], wanted: Any) -> list:
+def run_all(
+    chunks: list[ChunkRef],
+    load: Callable[[ChunkRef, Any], tuple],
+    wanted: Any,
+    pool: ThreadPoolExecutor | None = None,
+) -> list:
     """[(chunk, *load(chunk, wanted)) for every chunk], in order, loaded by the reading threads.
 
     For a ``load`` that keeps nothing of a chunk once it returns (a format 3 chunk copied into
     its place): every chunk is handed to the threads at once, and the caller waits once for
     all of them, instead of once a chunk as with ``read_ahead`` (each wait wakes it, and it
     takes a core from the reading threads). An exception of ``load`` is raised when all have
-    ended.
+    ended. ``pool``: the reading threads to use (left running), else ``READ_THREADS`` new ones.
     """
-    with ThreadPoolExecutor(READ_THREADS, thread_name_prefix="pinwind-read") as pool:
-        futures = [pool.submit(load, chunk, wanted) for chunk in chunks]
+    if pool is None:
+        with ThreadPoolExecutor(READ_THREADS, thread_name_prefix="pinwind-read") as own:
+            return run_all(chunks, load, wanted, own)
+    futures = [pool.submit(load, chunk, wanted) for chunk in chunks]
+    wait(futures)
     return [(chunk, *future.result()) for chunk, future in zip(chunks, futures, strict=True)]

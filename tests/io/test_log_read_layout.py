@@ -11,6 +11,7 @@ arrays (writing, pickling).
 from __future__ import annotations
 
 import pickle
+import threading
 
 import numpy as np
 import pytest
@@ -104,3 +105,24 @@ def test_large_arrays_start_at_a_huge_page_and_small_ones_are_plain():
     assert _zero(big[:, ::997])  # pages touched only here
     small = _zeros(3, 10)
     assert small.shape == (3, 10) and _zero(small) and small.base is None
+
+
+def _reading_threads() -> list[str]:
+    return [t.name for t in threading.enumerate() if t.name.startswith("pinwind-read")]
+
+
+def test_chunks_decompressed_while_opening_read_as_without_and_end_with_the_reader(stepped):
+    result, path = stepped
+    assert not _reading_threads()
+    with LogReader(path, prefetch=True) as log:
+        assert _reading_threads()  # the first chunks are being decompressed
+        early = log.read()
+    assert not _reading_threads()
+    assert_same_arrays(early, result)
+    with LogReader(path) as log:
+        plain = log.read()
+    assert_same_arrays(early, plain)
+    # opened, never read: closing waits for the chunks started and ends the threads
+    with LogReader(path, prefetch=True) as log:
+        names = log.names
+    assert names["mesh_names"] and not _reading_threads()
