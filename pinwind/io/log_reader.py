@@ -55,7 +55,7 @@ from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_O
 from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
 from pinwind.io.log_lock import held_by_writer
 from pinwind.io.log_metadata import checksum_problem, json_values
-from pinwind.io.log_threads import ChunkBuffers, read_ahead, run_all
+from pinwind.io.log_threads import read_ahead, run_all
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
 from pinwind.io.messages import PayloadError
 
@@ -180,7 +180,7 @@ class LogReader:
         except DamagedFile as err:
             raise LogError(where, str(err)) from err
         self._contents = contents
-        self._buffers = ChunkBuffers()
+        self._buffers = log_threads.SHARED
         if prefetch:
             self._prefetch(contents)
         self.problem = contents.problem
@@ -338,6 +338,8 @@ class LogReader:
         if pool is not None:  # chunks decompressed ahead that no read took
             pool.shutdown(cancel_futures=True)
             self._early.clear()
+        if hasattr(self, "_buffers"):
+            self._buffers.trim(log_threads.SHARED_KEPT)
         fd, self._fd = getattr(self, "_fd", None), None
         if fd is not None:
             os.close(fd)

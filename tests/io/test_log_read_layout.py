@@ -19,6 +19,7 @@ import pytest
 import pinwind
 from pinwind.io.log_columns import _HUGE_PAGE, _zeros, zero_destinations
 from pinwind.io.log_reader import LogReader, read_log
+from pinwind.io.log_threads import ChunkBuffers
 from pinwind.loads.signals import Step
 from tests.io.conftest import DT
 from tests.io.test_log_writer import assert_same_arrays
@@ -126,3 +127,27 @@ def test_chunks_decompressed_while_opening_read_as_without_and_end_with_the_read
     with LogReader(path, prefetch=True) as log:
         names = log.names
     assert names["mesh_names"] and not _reading_threads()
+
+
+def test_decompression_buffers_are_used_again_and_trimmed_to_what_is_kept():
+    buffers = ChunkBuffers()
+    held = buffers.take(1000)  # in use while held
+    assert held is not None and held.size > 1000
+    first = buffers.take(1000)
+    assert first is not None and first is not held  # the first is not free
+    address = _first_address(first)
+    del first
+    again = buffers.take(900)  # free again, large enough: the same memory
+    assert again is not None and _first_address(again) == address
+    del again
+    big = buffers.take(100_000)
+    assert big is not None
+    size = big.nbytes
+    del big
+    # free: the 1 kB one and the 100 kB one; keep room for the small one only
+    buffers.trim(2000)
+    assert buffers.take(1000) is not None and len(buffers._all) == 2  # held + the small one
+    assert held.nbytes < size and buffers.take(100_000).nbytes == size  # a new big one
+    del held
+    buffers.trim(0)  # every buffer is free: none kept
+    assert buffers._all == []
