@@ -64,6 +64,11 @@ class ChunkBuffers:
             self._all.append(buffer)
             return buffer
 
+    def forget(self) -> None:
+        """Start again with no buffers and a free lock (a process forked while one was held)."""
+        self._all = []
+        self._lock = threading.Lock()
+
     def trim(self, keep: int) -> None:
         """Let go of the free buffers beyond the first ``keep`` bytes of them."""
         with self._lock:
@@ -82,6 +87,8 @@ class ChunkBuffers:
 #: while the file is opened). ``SHARED_KEPT`` bytes of them stay between reads.
 SHARED = ChunkBuffers()
 SHARED_KEPT = 32 << 20
+if hasattr(os, "register_at_fork"):  # a child forked during a read starts with a free lock
+    os.register_at_fork(after_in_child=lambda: SHARED.forget())
 
 
 def read_ahead(

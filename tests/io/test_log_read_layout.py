@@ -151,3 +151,13 @@ def test_decompression_buffers_are_used_again_and_trimmed_to_what_is_kept():
     del held
     buffers.trim(0)  # every buffer is free: none kept
     assert buffers._all == []
+
+
+def test_buffers_forgotten_in_a_forked_child_come_with_a_free_lock():
+    buffers = ChunkBuffers()
+    held = buffers.take(1000)
+    buffers._lock.acquire()  # as when the process forked while another thread took a buffer
+    buffers.forget()  # what os.register_at_fork runs in the child for the shared buffers
+    assert buffers._lock.acquire(timeout=1)
+    buffers._lock.release()
+    assert buffers._all == [] and held is not None
