@@ -265,13 +265,10 @@ class ColumnSink:
         #: destination → its first row in ``base``, series count, shape of one sample
         self.rows: dict[str, tuple[int, int, tuple[int, ...]]] = {}
         row = 0
-        #: the rows before those of ``last``: the ones the read is expected to write
-        self.written = 0
         for key in copied:
             _, width, shape = layout.at[key]
             self.rows[key] = (row, width, shape)
             row += width
-            self.written = self.written if key in last else row
         self.height = row
         #: the columns' series copied, and the rows they go to (in column order, both)
         source = [np.arange(layout.at[k][0], layout.at[k][0] + self.rows[k][1]) for k in copied]
@@ -298,24 +295,6 @@ class ColumnSink:
         # np.empty does, and the pages of series that are zero throughout (half of a shipped
         # model's: rigid bearings' displacements, friction of a run without it) are never written.
         self.base = _zeros(self.height, capacity)
-
-    def fault_in(self, part: int, parts: int) -> None:
-        """Have the kernel back part ``part`` of ``parts`` of the rows the read writes.
-
-        One store of +0.0 every 2 MiB (a value the array already has): the kernel zeroes each
-        huge page there on its first touch. Reading threads that each take other parts before
-        they place their first chunk zero different pages at once; placing first, every thread
-        would fault the same pages (each chunk writes a little of every row), and the kernel
-        zeroes a page once for each thread that faults it at the same time, keeping one. Without
-        the GIL.
-        """
-        flat = self.base.reshape(-1)[: self.written * self.capacity]
-        step = _HUGE_PAGE // 8
-        pages = len(flat) // step
-        first, last = pages * part // parts, pages * (part + 1) // parts
-        if last > first and self.base.ctypes.data % _HUGE_PAGE == 0:
-            starts = flat[: pages * step].reshape(pages, step)[first:last]
-            fill_rows(np.zeros(last - first), np.arange(last - first), starts, 0, 1)
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) after those already there."""

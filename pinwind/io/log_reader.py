@@ -633,14 +633,6 @@ class LogReader:
             finally:
                 laid_out.set()  # on failure too: the threads waiting see no sink and stop
 
-        # Each reading thread first has the kernel back its share of the arrays' pages
-        # (``ColumnSink.fault_in``): parts taken in turn until none is left, and no thread
-        # places samples before every part is done (its stores of +0.0 would overwrite them).
-        shares = 8 * log_threads.READ_THREADS
-        taken = iter(range(shares))
-        faulted = [0]
-        taking = threading.Condition()
-
         def load(chunk: ChunkRef, _) -> tuple[bytes, int | None, str]:
             at, room = place[chunk.offset]
             _, blocks, damage = self._load_columns(chunk, None)
@@ -651,19 +643,6 @@ class LogReader:
             if not sinks:
                 return b"", 0, "not read: laying out the arrays failed"
             sink = sinks[0]
-            while True:
-                with taking:
-                    part = next(taken, None)
-                if part is None:
-                    break
-                try:
-                    sink.fault_in(part, shares)
-                finally:
-                    with taking:
-                        faulted[0] += 1
-                        taking.notify_all()
-            with taking:
-                taking.wait_for(lambda: faulted[0] == shares)
             if damage:
                 return b"", 0, damage
             parts = [(block, *_window(block.time, start, stop)) for block in blocks]
