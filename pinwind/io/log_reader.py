@@ -25,7 +25,6 @@ import os
 import threading
 import warnings
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -42,7 +41,7 @@ from pinwind.errors import (
     LogRecovered,
     SamplesNotLogged,
 )
-from pinwind.io import log_threads, mcap_file
+from pinwind.io import mcap_file
 from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
 from pinwind.io.log_columns import (
     ColumnBlock,
@@ -55,7 +54,7 @@ from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_O
 from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
 from pinwind.io.log_lock import held_by_writer
 from pinwind.io.log_metadata import checksum_problem, json_values
-from pinwind.io.log_threads import read_ahead, run_all
+from pinwind.io.log_threads import ChunkBuffers, read_ahead, run_all
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
 from pinwind.io.messages import PayloadError
 
@@ -125,9 +124,6 @@ class LogReader:
 
     Args:
         path: the MCAP file.
-        prefetch: a whole read follows (``read_log``, ``open_log``): the reading threads start
-            decompressing the first chunks as soon as the chunk index is read, while the rest
-            of the summary and the metadata are decoded.
 
     Attributes:
         path: the file.
@@ -142,11 +138,8 @@ class LogReader:
             or damaged before its first chunk; the message names the file and what is wrong.
     """
 
-    def __init__(self, path: str | os.PathLike, *, prefetch: bool = False):
+    def __init__(self, path: str | os.PathLike):
         self.path = Path(path)
-        #: chunk offset → the reading threads' decompression of it, started by ``_prefetch``
-        self._early: dict[int, Future] = {}
-        self._pool: ThreadPoolExecutor | None = None
         where = str(self.path)
         if not self.path.exists():
             raise LogError(where, "no such file")
@@ -157,12 +150,12 @@ class LogReader:
         except OSError as err:
             raise LogError(where, f"cannot read the file: {err.strerror}") from err
         try:
-            self._open(prefetch)
+            self._open()
         except BaseException:
             self.close()
             raise
 
-    def _open(self, prefetch: bool = False) -> None:
+    def _open(self) -> None:
         where = str(self.path)
         fd = self._descriptor()
         #: a run is still writing the file (it holds the log's lock, ``io/log_lock.py``)
@@ -180,9 +173,6 @@ class LogReader:
         except DamagedFile as err:
             raise LogError(where, str(err)) from err
         self._contents = contents
-        self._buffers = log_threads.SHARED
-        if prefetch:
-            self._prefetch(contents)
         self.problem = contents.problem
         self._damage = list(contents.damage)
         records: dict[str, dict[str, str]] = {}
@@ -258,32 +248,9 @@ class LogReader:
         self._attachments: dict[str, bytes] | None = None
         #: attachment name → why it could not be read (its CRC fails, ...)
         self.damaged_attachments: dict[str, str] = {}
+        self._buffers = ChunkBuffers()
         #: what the end record says the run simulated but did not log, else ""
         self.not_logged = _not_logged(end, run.get("log_stride", 1))
-
-    def _prefetch(self, contents: mcap_file.Contents) -> None:
-        """Start decompressing the first chunks of a columns log, two per reading thread.
-
-        That keeps them busy while the metadata is decoded and the read planned (~1 ms of the
-        drivetrain's 20 001-sample log). ``_load_columns`` takes them; a read that does not
-        want them leaves them to ``close``.
-        """
-        channel = next((c.id for c in contents.channels.values() if c.topic == COLUMNS_TOPIC), None)
-        if channel is None or not contents.indexed:
-            return
-        first = sorted((c for c in contents.chunks if channel in c.index), key=lambda c: c.offset)
-        threads = log_threads.READ_THREADS
-        self._pool = ThreadPoolExecutor(threads, thread_name_prefix="pinwind-read")
-        for chunk in first[: 2 * threads]:
-            self._early[chunk.offset] = self._pool.submit(self._records, chunk)
-
-    def _records(self, chunk: ChunkRef) -> tuple[Any, str]:
-        """A chunk's decompressed records, or why it is damaged (thread-safe)."""
-        try:
-            buffer = self._buffers.take(chunk.size)
-            return mcap_file.read_chunk(self._descriptor(), chunk, buffer), ""
-        except DamagedChunk as err:
-            return b"", str(err)
 
     @cached_property
     def _rows(self) -> RowLayout:
@@ -334,12 +301,6 @@ class LogReader:
 
     def close(self) -> None:
         """Close the file."""
-        pool, self._pool = getattr(self, "_pool", None), None
-        if pool is not None:  # chunks decompressed ahead that no read took
-            pool.shutdown(cancel_futures=True)
-            self._early.clear()
-        if hasattr(self, "_buffers"):
-            self._buffers.trim(log_threads.SHARED_KEPT)
         fd, self._fd = getattr(self, "_fd", None), None
         if fd is not None:
             os.close(fd)
@@ -657,7 +618,7 @@ class LogReader:
 
         n = 0
         damaged = []
-        for chunk, _, filled, damage in run_all(chunks, load, [], self._pool):
+        for chunk, _, filled, damage in run_all(chunks, load, []):
             if damage:
                 damaged.append(
                     f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -716,11 +677,8 @@ class LogReader:
         layout = self._columns
         if layout is None:
             raise RuntimeError("internal error: columns read from a log without them")
-        early = self._early.pop(chunk.offset, None)
-        data, damage = early.result() if early is not None else self._records(chunk)
-        if damage:
-            return b"", [], damage
         try:
+            data = mcap_file.read_chunk(self._descriptor(), chunk, self._buffers.take(chunk.size))
             return b"", decode_chunk(data, layout), ""
         except DamagedChunk as err:
             return b"", [], str(err)
@@ -974,7 +932,7 @@ def read_log(
         LogTooLarge: not enough memory: read a window, fewer channels, or use ``iter_log``.
         UnknownChannel: a channel name that pinwind logs do not have.
     """
-    with LogReader(path, prefetch=start is None) as log:
+    with LogReader(path) as log:
         return log.read(start=start, stop=stop, channels=channels)
 
 
@@ -1063,7 +1021,7 @@ def open_log(
         LogError: the file is missing, not an MCAP file, not a pinwind log, of a newer format,
             or corrupted; the message names the file and what is wrong.
     """
-    with LogReader(path, prefetch=start is None) as log:
+    with LogReader(path) as log:
         attachments = log.attachments
         result = log.read(start=start, stop=stop, channels=channels)
         return LogFile(

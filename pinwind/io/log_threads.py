@@ -15,7 +15,7 @@ import sys
 import threading
 from collections import deque
 from collections.abc import Callable, Iterator
-from concurrent.futures import ThreadPoolExecutor, wait
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -64,32 +64,6 @@ class ChunkBuffers:
             self._all.append(buffer)
             return buffer
 
-    def forget(self) -> None:
-        """Start again with no buffers and a free lock (a process forked while one was held)."""
-        self._all = []
-        self._lock = threading.Lock()
-
-    def trim(self, keep: int) -> None:
-        """Let go of the free buffers beyond the first ``keep`` bytes of them."""
-        with self._lock:
-            kept: list[np.ndarray] = []
-            for buffer in self._all:
-                free = sys.getrefcount(buffer) == self._FREE
-                if not free or buffer.nbytes <= keep:
-                    kept.append(buffer)
-                    keep -= buffer.nbytes if free else 0
-            self._all = kept
-
-
-#: The decompression buffers of every log read of this process: a read decompresses into
-#: memory that an earlier one used, where new memory costs a page fault every 4 kB (350 for a
-#: 1.3 MB chunk of the drivetrain's 1000 samples, 700 a read with its first chunks decompressed
-#: while the file is opened). ``SHARED_KEPT`` bytes of them stay between reads.
-SHARED = ChunkBuffers()
-SHARED_KEPT = 32 << 20
-if hasattr(os, "register_at_fork"):  # a child forked during a read starts with a free lock
-    os.register_at_fork(after_in_child=lambda: SHARED.forget())
-
 
 def read_ahead(
     chunks: list[ChunkRef], load: Callable[[ChunkRef, Any], tuple], wanted: Any
@@ -120,23 +94,15 @@ def read_ahead(
                 future.cancel()
 
 
-def run_all(
-    chunks: list[ChunkRef],
-    load: Callable[[ChunkRef, Any], tuple],
-    wanted: Any,
-    pool: ThreadPoolExecutor | None = None,
-) -> list:
+def run_all(chunks: list[ChunkRef], load: Callable[[ChunkRef, Any], tuple], wanted: Any) -> list:
     """[(chunk, *load(chunk, wanted)) for every chunk], in order, loaded by the reading threads.
 
     For a ``load`` that keeps nothing of a chunk once it returns (a format 3 chunk copied into
     its place): every chunk is handed to the threads at once, and the caller waits once for
     all of them, instead of once a chunk as with ``read_ahead`` (each wait wakes it, and it
     takes a core from the reading threads). An exception of ``load`` is raised when all have
-    ended. ``pool``: the reading threads to use (left running), else ``READ_THREADS`` new ones.
+    ended.
     """
-    if pool is None:
-        with ThreadPoolExecutor(READ_THREADS, thread_name_prefix="pinwind-read") as own:
-            return run_all(chunks, load, wanted, own)
-    futures = [pool.submit(load, chunk, wanted) for chunk in chunks]
-    wait(futures)
+    with ThreadPoolExecutor(READ_THREADS, thread_name_prefix="pinwind-read") as pool:
+        futures = [pool.submit(load, chunk, wanted) for chunk in chunks]
     return [(chunk, *future.result()) for chunk, future in zip(chunks, futures, strict=True)]

@@ -11,7 +11,6 @@ arrays (writing, pickling).
 from __future__ import annotations
 
 import pickle
-import threading
 
 import numpy as np
 import pytest
@@ -19,7 +18,6 @@ import pytest
 import pinwind
 from pinwind.io.log_columns import _HUGE_PAGE, _zeros, zero_destinations
 from pinwind.io.log_reader import LogReader, read_log
-from pinwind.io.log_threads import ChunkBuffers
 from pinwind.loads.signals import Step
 from tests.io.conftest import DT
 from tests.io.test_log_writer import assert_same_arrays
@@ -106,61 +104,6 @@ def test_large_arrays_start_at_a_huge_page_and_small_ones_are_plain():
     assert _zero(big[:, ::997])  # pages touched only here
     small = _zeros(3, 10)
     assert small.shape == (3, 10) and _zero(small) and small.base is None
-
-
-def _reading_threads() -> list[str]:
-    return [t.name for t in threading.enumerate() if t.name.startswith("pinwind-read")]
-
-
-def test_chunks_decompressed_while_opening_read_as_without_and_end_with_the_reader(stepped):
-    result, path = stepped
-    assert not _reading_threads()
-    with LogReader(path, prefetch=True) as log:
-        assert _reading_threads()  # the first chunks are being decompressed
-        early = log.read()
-    assert not _reading_threads()
-    assert_same_arrays(early, result)
-    with LogReader(path) as log:
-        plain = log.read()
-    assert_same_arrays(early, plain)
-    # opened, never read: closing waits for the chunks started and ends the threads
-    with LogReader(path, prefetch=True) as log:
-        names = log.names
-    assert names["mesh_names"] and not _reading_threads()
-
-
-def test_decompression_buffers_are_used_again_and_trimmed_to_what_is_kept():
-    buffers = ChunkBuffers()
-    held = buffers.take(1000)  # in use while held
-    assert held is not None and held.size > 1000
-    first = buffers.take(1000)
-    assert first is not None and first is not held  # the first is not free
-    address = _first_address(first)
-    del first
-    again = buffers.take(900)  # free again, large enough: the same memory
-    assert again is not None and _first_address(again) == address
-    del again
-    big = buffers.take(100_000)
-    assert big is not None
-    size = big.nbytes
-    del big
-    # free: the 1 kB one and the 100 kB one; keep room for the small one only
-    buffers.trim(2000)
-    assert buffers.take(1000) is not None and len(buffers._all) == 2  # held + the small one
-    assert held.nbytes < size and buffers.take(100_000).nbytes == size  # a new big one
-    del held
-    buffers.trim(0)  # every buffer is free: none kept
-    assert buffers._all == []
-
-
-def test_buffers_forgotten_in_a_forked_child_come_with_a_free_lock():
-    buffers = ChunkBuffers()
-    held = buffers.take(1000)
-    buffers._lock.acquire()  # as when the process forked while another thread took a buffer
-    buffers.forget()  # what os.register_at_fork runs in the child for the shared buffers
-    assert buffers._lock.acquire(timeout=1)
-    buffers._lock.release()
-    assert buffers._all == [] and held is not None
 
 
 def test_a_long_read_on_huge_pages_equals_the_run(planetary, tmp_path):
