@@ -219,7 +219,7 @@ def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) ->
 def zero_destinations(blocks: list[ColumnBlock], layout: ColumnLayout) -> set[str]:
     """The destinations whose every series is +0.0 (all bits zero) over all of ``blocks``.
 
-    Those of the first chunk say which arrays are likely zero for the whole run (half of a
+    Those of the first chunk say which arrays are likely zero for the whole run (a third of a
     shipped model's bytes: rigid bearings' displacements, friction of a run without it):
     ``ColumnSink`` puts them after the others, where the pages nobody writes are never touched.
     """
@@ -239,9 +239,10 @@ class ColumnSink:
     """The arrays a read fills: the columns' series, and the poses of the samples with one.
 
     The series read are the rows of one (series, capacity) array, each contiguous, in column
-    order. A destination's array is a view of its rows, (samples, *shape), so one allocation
-    holds the samples of the whole read (and its memory is returned when the last of its arrays
-    is dropped); unread destinations are empty. The poses (at the log's pose rate, a few in a
+    order but for the destinations of ``last``, which come after the others. A destination's
+    array is a view of its rows, (samples, *shape), so one allocation holds the samples of the
+    whole read (and its memory is returned when the last of its arrays is dropped); unread
+    destinations are empty. The poses (at the log's pose rate, a few in a
     hundred samples) are kept as the pieces each block gives, and joined by ``arrays``.
     """
 
