@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Collection
 from dataclasses import dataclass
 from typing import Any
 
@@ -215,13 +216,33 @@ def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) ->
     return ColumnBlock(time, planes, constants, same, slot, poses[0], poses)
 
 
+def zero_destinations(blocks: list[ColumnBlock], layout: ColumnLayout) -> set[str]:
+    """The destinations whose every series is +0.0 (all bits zero) over all of ``blocks``.
+
+    Those of the first chunk say which arrays are likely zero for the whole run (a third of a
+    shipped model's bytes: rigid bearings' displacements, friction of a run without it):
+    ``ColumnSink`` puts them after the others, where the pages nobody writes are never touched.
+    """
+    zero = np.ones(layout.width, dtype=bool)
+    for block in blocks:
+        constant = np.zeros(layout.width, dtype=bool)
+        constant[block.same] = block.constants.view(np.uint64) == 0
+        zero &= constant
+    return {
+        key
+        for key, (first, count, _) in layout.at.items()
+        if key not in SPARSE and count and zero[first : first + count].all()
+    }
+
+
 class ColumnSink:
     """The arrays a read fills: the columns' series, and the poses of the samples with one.
 
     The series read are the rows of one (series, capacity) array, each contiguous, in column
-    order. A destination's array is a view of its rows, (samples, *shape), so one allocation
-    holds the samples of the whole read (and its memory is returned when the last of its arrays
-    is dropped); unread destinations are empty. The poses (at the log's pose rate, a few in a
+    order but for the destinations of ``last``, which come after the others. A destination's
+    array is a view of its rows, (samples, *shape), so one allocation holds the samples of the
+    whole read (and its memory is returned when the last of its arrays is dropped); unread
+    destinations are empty. The poses (at the log's pose rate, a few in a
     hundred samples) are kept as the pieces each block gives, and joined by ``arrays``.
     """
 
@@ -231,14 +252,16 @@ class ColumnSink:
         shapes: dict[str, tuple[int, ...]],
         keys: list[str],
         capacity: int,
+        last: Collection[str] = (),
     ):
         self.layout = layout
         self.shapes = shapes
         self.keys = chosen = set(keys)
-        #: the destinations that have series in the columns (an array of zero elements has none)
+        #: the destinations that have series in the columns (an array of zero elements has
+        #: none), in column order but those of ``last`` after the others (``zero_destinations``)
         copied = sorted(
             (k for k in chosen if k in layout.at and k not in SPARSE),
-            key=lambda k: layout.at[k][0],
+            key=lambda k: (k in last, layout.at[k][0]),
         )
         #: destination → its first row in ``base``, series count, shape of one sample
         self.rows: dict[str, tuple[int, int, tuple[int, ...]]] = {}
@@ -272,7 +295,7 @@ class ColumnSink:
         # array is new pages from the kernel, zeroed on first touch, so np.zeros costs what
         # np.empty does, and the pages of series that are zero throughout (half of a shipped
         # model's: rigid bearings' displacements, friction of a run without it) are never written.
-        self.base = np.zeros((self.height, capacity))
+        self.base = _zeros(self.height, capacity)
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) after those already there."""
@@ -302,7 +325,9 @@ class ColumnSink:
             where = np.minimum(np.searchsorted(time, block.pose_time), count - 1)
             inside = time[where] == block.pose_time
             if inside.any():
-                poses = block.poses[self.pose_series][:, inside]
+                poses = block.poses[self.pose_series]  # a copy: the chunk's buffer is reused
+                if not inside.all():
+                    poses = poses[:, inside]
                 self.poses.append((at + where[inside], poses))
 
     def move(self, at: int, count: int, to: int) -> None:
@@ -317,7 +342,7 @@ class ColumnSink:
     def _grow(self, needed: int) -> None:
         """More room (a count from the index was missing or wrong: damaged or foreign file)."""
         self.capacity = max(needed, 2 * self.capacity)
-        base = np.zeros((self.height, self.capacity))  # zeros: see __init__
+        base = _zeros(self.height, self.capacity)  # zeros: see __init__
         base[:, : self.n] = self.base[:, : self.n]
         self.base = base
 
@@ -331,7 +356,7 @@ class ColumnSink:
             if key in self.rows:
                 row, width, _ = self.rows[key]
                 series = self.base[row : row + width, : self.n].reshape(*shape, self.n)
-                out[key] = np.moveaxis(series, -1, 0)
+                out[key] = _samples_first(series)
             elif key not in SPARSE:
                 # not in the log (a series added after it was written): NaN, never left-over
                 # memory; not read: no samples
@@ -339,24 +364,57 @@ class ColumnSink:
         pieces = sorted((p for p in self.poses if p[0][0] < self.n), key=lambda p: p[0][0])
         rows = np.concatenate([s for s, _ in pieces]) if pieces else np.zeros(0, np.int64)
         kept = rows < self.n
-        out["pose_rows"] = rows[kept]
         values = (
-            np.concatenate([v for _, v in pieces], axis=1)[:, kept]
+            np.concatenate([v for _, v in pieces], axis=1)
             if pieces
             else np.empty((len(self.pose_series), 0))
         )
+        if not kept.all():  # samples moved past the end (a gap closed)
+            rows, values = rows[kept], values[:, kept]
+        out["pose_rows"] = rows
         at = 0
         for key in SPARSE:
             shape = self.shapes[key]
             width = math.prod(shape)
             series = values[at : at + width].reshape(*shape, values.shape[1])
-            out[key] = np.moveaxis(series, -1, 0)
+            out[key] = _samples_first(series)
             at += width
         return out
 
     def result(self, names: dict[str, list[str]], terms: list[str]) -> Result:
         """The samples so far as a Result (views of ``base``, sample index first)."""
         return result_of(self.arrays(), names, terms)
+
+
+def _samples_first(series: np.ndarray) -> np.ndarray:
+    """``np.moveaxis(series, -1, 0)``: a view with the samples' axis (the last) first.
+
+    numpy's own checks its arguments in Python, 5 µs an array.
+    """
+    last = series.ndim - 1
+    return series.transpose(last, *range(last))
+
+
+#: The kernel's huge pages: 2 MiB, at addresses that are multiples of it.
+_HUGE_PAGE = 2 << 20
+
+
+def _zeros(rows: int, columns: int) -> np.ndarray:
+    """A new (rows, columns) float64 array of zeros that starts at a huge page's address.
+
+    numpy asks the kernel for huge pages for an array of 4 MiB or more, but the kernel backs
+    only the whole 2 MiB pages inside it by them: an array that starts anywhere else has its
+    first and last partial 2 MiB in 4 kB pages, about 500 page faults of a 70 MB read (each
+    costs more than the kernel's zeroing of its 4 kB). Starting at a multiple of 2 MiB leaves
+    only the end in 4 kB pages; the up to 2 MiB skipped before it is never touched, so it takes
+    no memory.
+    """
+    size = rows * columns
+    if 8 * size < 2 * _HUGE_PAGE:  # small: no huge pages
+        return np.zeros((rows, columns))
+    arena = np.zeros(size + _HUGE_PAGE // 8)
+    skip = (-arena.ctypes.data % _HUGE_PAGE) // 8
+    return arena[skip : skip + size].reshape(rows, columns)
 
 
 def result_of(arrays: dict[str, Any], names: dict[str, list[str]], terms: list[str]) -> Result:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 import warnings
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
@@ -42,12 +43,18 @@ from pinwind.errors import (
 )
 from pinwind.io import mcap_file
 from pinwind.io.log_channels import TIME_TOPIC, ArrayLayout, select_channels
-from pinwind.io.log_columns import ColumnBlock, ColumnLayout, ColumnSink, decode_chunk
+from pinwind.io.log_columns import (
+    ColumnBlock,
+    ColumnLayout,
+    ColumnSink,
+    decode_chunk,
+    zero_destinations,
+)
 from pinwind.io.log_format import COLUMNS_TOPIC, FORMAT, FORMAT_VERSION, NAMES_OF
 from pinwind.io.log_legacy import RowChannel, RowLayout, RowSink
 from pinwind.io.log_lock import held_by_writer
 from pinwind.io.log_metadata import checksum_problem, json_values
-from pinwind.io.log_threads import ChunkBuffers, read_ahead
+from pinwind.io.log_threads import ChunkBuffers, read_ahead, run_all
 from pinwind.io.mcap_file import MAGIC, ChunkRef, DamagedChunk, DamagedFile
 from pinwind.io.messages import PayloadError
 
@@ -574,11 +581,29 @@ class LogReader:
             return None
         places = np.concatenate([[0], np.cumsum(counts)]).tolist()
         place = {chunk.offset: (places[i], counts[i]) for i, chunk in enumerate(chunks)}
-        sink = ColumnSink(layout, self._layout.shapes, keys, places[-1])
+        # The arrays are laid out once the first chunk is decompressed: the destinations that
+        # are zero throughout it go last (``zero_destinations``). The other threads decompress
+        # their chunks meanwhile, and wait for the layout to place them.
+        sinks: list[ColumnSink] = []
+        laid_out = threading.Event()
+
+        def lay_out(blocks: list[ColumnBlock]) -> None:
+            try:
+                last = zero_destinations(blocks, layout) if blocks else ()
+                sinks.append(ColumnSink(layout, self._layout.shapes, keys, places[-1], last))
+            finally:
+                laid_out.set()  # on failure too: the threads waiting see no sink and stop
 
         def load(chunk: ChunkRef, _) -> tuple[bytes, int | None, str]:
             at, room = place[chunk.offset]
             _, blocks, damage = self._load_columns(chunk, None)
+            if chunk is chunks[0]:
+                lay_out(blocks)
+            else:
+                laid_out.wait()
+            if not sinks:
+                return b"", 0, "not read: laying out the arrays failed"
+            sink = sinks[0]
             if damage:
                 return b"", 0, damage
             parts = [(block, *_window(block.time, start, stop)) for block in blocks]
@@ -593,7 +618,7 @@ class LogReader:
 
         n = 0
         damaged = []
-        for chunk, _, filled, damage in read_ahead(chunks, load, []):
+        for chunk, _, filled, damage in run_all(chunks, load, []):
             if damage:
                 damaged.append(
                     f"{damage}: t = {chunk.start_ns * 1e-9:.9g} to {chunk.end_ns * 1e-9:.9g} s lost"
@@ -601,8 +626,9 @@ class LogReader:
                 continue
             if filled is None:
                 return None
-            sink.move(place[chunk.offset][0], filled, n)
+            sinks[0].move(place[chunk.offset][0], filled, n)
             n += filled
+        sink = sinks[0]
         sink.n = n
         lost += damaged
         return sink

@@ -3,8 +3,9 @@
 ``READ_THREADS`` threads, one per core, each take a chunk, read it, decompress it and check its
 CRC (zstd and zlib release the GIL), and run a function on it while it is in their cache (copy
 a format 3 chunk's columns into their place, find a format 1 or 2 chunk's rows), while the main
-thread hands out the chunks before them in file order. Decompressed chunks go into buffers used
-again once nothing refers to them (``ChunkBuffers``).
+thread hands out the chunks before them in file order (``read_ahead``), or waits for them all
+(``run_all``, when nothing of a chunk is kept). Decompressed chunks go into buffers used again
+once nothing refers to them (``ChunkBuffers``).
 """
 
 from __future__ import annotations
@@ -91,3 +92,17 @@ def read_ahead(
         finally:
             for _, future in pending:
                 future.cancel()
+
+
+def run_all(chunks: list[ChunkRef], load: Callable[[ChunkRef, Any], tuple], wanted: Any) -> list:
+    """[(chunk, *load(chunk, wanted)) for every chunk], in order, loaded by the reading threads.
+
+    For a ``load`` that keeps nothing of a chunk once it returns (a format 3 chunk copied into
+    its place): every chunk is handed to the threads at once, and the caller waits once for
+    all of them, instead of once a chunk as with ``read_ahead`` (each wait wakes it, and it
+    takes a core from the reading threads). An exception of ``load`` is raised when all have
+    ended.
+    """
+    with ThreadPoolExecutor(READ_THREADS, thread_name_prefix="pinwind-read") as pool:
+        futures = [pool.submit(load, chunk, wanted) for chunk in chunks]
+    return [(chunk, *future.result()) for chunk, future in zip(chunks, futures, strict=True)]

@@ -815,10 +815,17 @@ def _zstd_into(data: memoryview, into: np.ndarray) -> np.ndarray:
     ``into`` is larger than the frame's contents, so that the whole frame is read and its
     checksum checked.
     """
-    import zstandard
+    decompressor = getattr(_thread_zstd, "decompressor", None)
+    if decompressor is None:  # one per thread: a context is not thread-safe, and costs 3 %
+        import zstandard
 
-    filled = zstandard.ZstdDecompressor().stream_reader(data).readinto(into)
+        decompressor = _thread_zstd.decompressor = zstandard.ZstdDecompressor()
+    filled = decompressor.stream_reader(data).readinto(into)
     return into[:filled]
+
+
+#: Each reading thread's zstd decompressor (``_zstd_into``).
+_thread_zstd = threading.local()
 
 
 def _decompress_bytes(compression: str, data: memoryview, size: int) -> bytes:
