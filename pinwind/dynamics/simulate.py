@@ -775,8 +775,10 @@ class PreparedRun:
             sparse = not direct and not read and stride < samples
             if self.settings.chunk is None and (sparse or (direct and not observers)):
                 # Nobody sees the blocks: the fewest, of the most samples a log's block has
-                # (memory for the loads and the derived series' parts, flat in run length):
-                # each block costs ~0.4 ms in Python around the compiled loop.
+                # (the loads' tables and the derived series' temporaries stay flat in run
+                # length). Each block costs Python around the compiled loop, and the bearing
+                # loads of 5000 samples take 0.24 ms per 1000 to derive on the drivetrain, of
+                # 1000 samples 0.40 (benchmarks/README.md, the rigid step's wall time).
                 chunk = max(chunk, CHUNK)
             for start in range(0, samples, chunk):
                 # A block is stepped and handed to the observers whole: Ctrl-C or SIGTERM waits
@@ -1010,24 +1012,11 @@ def _numerical_loss(energy: dict[str, np.ndarray], spring0: float) -> None:
     )
 
 
-#: Samples derived at a time (``_derive``): the bearing loads' passes over a part of 2500
-#: samples of the drivetrain's eight bearings stay in the cache, those over 5000 do not and
-#: took 2.5 times as long per sample (benchmarks/README.md, the rigid step's wall time).
-DERIVE_SAMPLES = 2500
-
-
 def _derive(block: Result, gearbox: Gearbox) -> None:
-    """Fills the series computed in Python (``Series.derive``) of a block, in place.
-
-    In parts of at most ``DERIVE_SAMPLES`` samples: a derived series is computed sample by
-    sample, so the parts give the same values as the whole block.
-    """
-    derived = [(s.name, s.derive) for s in block.schema.series if s.derive is not None]
-    n = len(block)
-    for lo in range(0, n, DERIVE_SAMPLES):
-        part = block if n <= DERIVE_SAMPLES else block.rows(lo, min(lo + DERIVE_SAMPLES, n))
-        for name, derive in derived:
-            getattr(part, name)[...] = derive(part, gearbox)
+    """Fills the series computed in Python (``Series.derive``) of a block, in place."""
+    for s in block.schema.series:
+        if s.derive is not None:
+            getattr(block, s.name)[...] = s.derive(block, gearbox)
 
 
 #: Bytes of kept samples above which ``keep="auto"`` keeps every N-th sample only.

@@ -1,4 +1,4 @@
-"""A run nobody watches steps in the fewest blocks and derives in parts: the same bits."""
+"""A run nobody watches steps in the fewest blocks: the same bits as in a log's blocks."""
 
 from __future__ import annotations
 
@@ -9,20 +9,18 @@ import numpy as np
 import pytest
 
 import pinwind
-from pinwind.dynamics.simulate import CHUNK, DERIVE_SAMPLES, simulate
+from pinwind.dynamics.simulate import CHUNK, simulate
 from tests.conftest import MODELS
 
 #: The Saleh stage at rated load: the sun brakes the carrier's torque at the ratio 6.
 TORQUES = {"carrier": 1e6, "sun": -1e6 / 6}
 SPEEDS = {"carrier": 14.2 * 2 * math.pi / 60}
-#: Samples of the runs: more than two of the blocks nobody watches, so that a block is derived
-#: in parts of DERIVE_SAMPLES and the last block is shorter.
+#: Samples of the runs: more than two of the blocks nobody watches, the last one shorter.
 SAMPLES = 2 * CHUNK + 1001
 
 
 def test_blocks_nobody_watches_are_the_longest_and_give_the_bits_of_short_ones(monkeypatch):
     stage = pinwind.load(MODELS / "saleh2017_planetary.urdf")
-    assert CHUNK > DERIVE_SAMPLES  # a block is derived in more than one part
     module = importlib.import_module("pinwind.dynamics.simulate")
     spans: list[int] = []
     step_block = module.PreparedRun.step_block
