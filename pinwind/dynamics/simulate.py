@@ -773,13 +773,6 @@ class PreparedRun:
             # into the Result's own rows (keep="last" keeps the last sample but not the first:
             # blocks).
             sparse = not direct and not read and stride < samples
-            if self.settings.chunk is None and (sparse or (direct and not observers)):
-                # Nobody sees the blocks: the fewest, of the most samples a log's block has
-                # (the loads' tables and the derived series' temporaries stay flat in run
-                # length). Each block costs Python around the compiled loop, and the bearing
-                # loads of 5000 samples take 0.24 ms per 1000 to derive on the drivetrain, of
-                # 1000 samples 0.40 (benchmarks/README.md, the rigid step's wall time).
-                chunk = max(chunk, CHUNK)
             for start in range(0, samples, chunk):
                 # A block is stepped and handed to the observers whole: Ctrl-C or SIGTERM waits
                 # for the hand-over (it used to drop the block between the step and the log:
