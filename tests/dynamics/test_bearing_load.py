@@ -159,3 +159,33 @@ def test_a_log_written_before_the_bearing_loads_were_declared_derives_them_on_re
     )
     alone = pinwind.read_log(log, channels="/bearings/torque")
     assert np.isnan(alone.bearing_torque).all()
+
+
+def test_axes_along_the_frame_split_as_the_general_formula_bit_for_bit():
+    # Every axis ±e_j takes sqrt(v_a² + v_b²) over the other two components; a tilted axis
+    # added to the same call takes the general v − (v·k) k. The columns of the first must be
+    # the second's to the last bit (zeros of either sign, 1e-300 and 1e6 scales included), and
+    # equal |v × k| (a cross product, computed apart) to rounding.
+    rng = np.random.default_rng(37)
+    vectors = rng.normal(size=(400, 4, 3)) * 10.0 ** rng.uniform(-3.0, 6.0, size=(400, 4, 3))
+    vectors[::7, :, 2] = 0.0
+    vectors[::5, :, 0] = -0.0
+    vectors[::11] *= 1e-300
+    for j in range(3):
+        axes = np.zeros((4, 3))
+        axes[:, j] = [1.0, -1.0, 1.0, -1.0]
+        fast = bearing_load.across_axis(vectors, axes)
+        tilted = np.vstack([axes, [0.6, 0.0, 0.8]])
+        general = bearing_load.across_axis(np.concatenate([vectors, vectors[:, :1]], 1), tilted)
+        assert np.array_equal(fast.view(np.uint64), general[:, :4].view(np.uint64))
+        cross = np.linalg.norm(np.cross(vectors, axes), axis=-1)
+        np.testing.assert_allclose(fast, cross, rtol=1e-15, atol=0.0)
+
+
+def test_a_non_finite_component_gives_nan_with_axes_along_the_frame_as_in_general():
+    # The general formula multiplies every component by the axis: ∞ anywhere gives NaN.
+    vectors = np.array([[[3.0, 4.0, np.inf], [np.inf, 4.0, 0.0], [3.0, 4.0, 12.0]]])
+    axes = np.array([[0.0, 0.0, 1.0]] * 3)
+    with np.errstate(invalid="ignore"):  # ∞ · 0 in the general formula
+        across = bearing_load.across_axis(vectors, axes)
+    np.testing.assert_array_equal(np.isnan(across), [[True, True, False]])
