@@ -229,24 +229,54 @@ def _limit_file_size(size: int):
 
 
 @pytest.mark.skipif(not hasattr(signal, "SIGXFSZ"), reason="needs RLIMIT_FSIZE (POSIX)")
+def _limit_inside_a_chunk(tmp_path, near: int) -> int:
+    """A file-size limit [bytes] near ``near`` that falls inside a chunk of the run's log and
+    leaves room, after the complete chunk before it, for the log's closing records.
+
+    Taken from the same run logged without a limit: its chunks' ends (the summary's chunk
+    index, read by the ``mcap`` package) and the bytes after its last chunk (data end, summary,
+    footer). The writer reserves no room for them, so a limit a few kB after a chunk's end would
+    leave a cut file (recovered with a warning) instead: the limit must not depend on how well
+    one run's chunks happen to compress.
+    """
+    from mcap.reader import make_reader
+
+    full = tmp_path / "unlimited.mcap"
+    done = subprocess.run(
+        [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "10", "--out", str(full)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=ENV,
+    )
+    assert done.returncode == 0, done.stderr
+    with open(full, "rb") as f:
+        chunks = make_reader(f).get_summary().chunk_indexes
+    ends = sorted(c.chunk_start_offset + c.chunk_length for c in chunks)
+    closing = full.stat().st_size - ends[-1]
+    limits = [
+        (a + closing + b) // 2 for a, b in zip(ends, ends[1:], strict=False) if b - a > closing
+    ]
+    assert limits, (ends, closing)
+    return min(limits, key=lambda limit: abs(limit - near))
+
+
 def test_cli_run_hitting_a_file_size_limit_stops_in_one_line_and_keeps_its_chunks(tmp_path):
     log = tmp_path / "limited.mcap"
+    limit = _limit_inside_a_chunk(tmp_path, near=1_550_000)
     out = subprocess.run(
         [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "10", "--out", str(log)],
         capture_output=True,
         text=True,
         timeout=120,
         env=ENV,
-        # The limit falls mid-chunk with room for the closing records after the last complete
-        # chunk; the writer reserves none (a chunk ending within ~3 kB of the limit leaves the
-        # file cut, which read_log recovers with a warning).
-        preexec_fn=_limit_file_size(1_550_000),
+        preexec_fn=_limit_file_size(limit),
     )
     assert out.returncode == 2, out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
     assert out.stderr.startswith(f"error: {log}: writing the log failed at t = ")
     assert "(File too large), so the run was stopped; the file holds the " in out.stderr
-    assert log.stat().st_size <= 1_550_000
+    assert log.stat().st_size <= limit
     # cut back to its last complete chunk, the file had room for the end record and summary
     with warnings.catch_warnings():
         warnings.simplefilter("error")
