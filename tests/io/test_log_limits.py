@@ -229,6 +229,18 @@ def _limit_file_size(size: int):
 
 
 @pytest.mark.skipif(not hasattr(signal, "SIGXFSZ"), reason="needs RLIMIT_FSIZE (POSIX)")
+def _simulate_ten_seconds(log, preexec_fn=None) -> subprocess.CompletedProcess[str]:
+    """``pinwind simulate`` of the planetary case for 10 s into ``log``, in a child process."""
+    return subprocess.run(
+        [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "10", "--out", str(log)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=ENV,
+        preexec_fn=preexec_fn,
+    )
+
+
 def _limit_inside_a_chunk(tmp_path, near: int) -> int:
     """A file-size limit [bytes] near ``near`` that falls inside a chunk of the run's log and
     leaves room, after the complete chunk before it, for the log's closing records.
@@ -242,13 +254,7 @@ def _limit_inside_a_chunk(tmp_path, near: int) -> int:
     from mcap.reader import make_reader
 
     full = tmp_path / "unlimited.mcap"
-    done = subprocess.run(
-        [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "10", "--out", str(full)],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env=ENV,
-    )
+    done = _simulate_ten_seconds(full)
     assert done.returncode == 0, done.stderr
     with open(full, "rb") as f:
         chunks = make_reader(f).get_summary().chunk_indexes
@@ -264,14 +270,7 @@ def _limit_inside_a_chunk(tmp_path, near: int) -> int:
 def test_cli_run_hitting_a_file_size_limit_stops_in_one_line_and_keeps_its_chunks(tmp_path):
     log = tmp_path / "limited.mcap"
     limit = _limit_inside_a_chunk(tmp_path, near=1_550_000)
-    out = subprocess.run(
-        [sys.executable, "-m", "pinwind", *SIMULATE, "--duration", "10", "--out", str(log)],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env=ENV,
-        preexec_fn=_limit_file_size(limit),
-    )
+    out = _simulate_ten_seconds(log, preexec_fn=_limit_file_size(limit))
     assert out.returncode == 2, out.stderr
     assert out.stderr.count("\n") == 1, out.stderr
     assert out.stderr.startswith(f"error: {log}: writing the log failed at t = ")
