@@ -243,11 +243,11 @@ def _simulate_ten_seconds(log, preexec_fn=None) -> subprocess.CompletedProcess[s
 
 def _limit_inside_a_chunk(tmp_path, near: int) -> int:
     """A file-size limit [bytes] near ``near`` that falls inside a chunk of the run's log and
-    leaves room, after the complete chunk before it, for the log's closing records.
+    leaves room, after where that chunk starts, for the log's closing records.
 
-    Taken from the same run logged without a limit: its chunks' ends (the summary's chunk
+    Taken from the same run logged without a limit: its chunks' spans (the summary's chunk
     index, read by the ``mcap`` package) and the bytes after its last chunk (data end, summary,
-    footer). The writer reserves no room for them, so a limit a few kB after a chunk's end would
+    footer). The writer reserves no room for them, so a limit a few kB after a chunk's start would
     leave a cut file (recovered with a warning) instead: the limit must not depend on how well
     one run's chunks happen to compress.
     """
@@ -258,12 +258,12 @@ def _limit_inside_a_chunk(tmp_path, near: int) -> int:
     assert done.returncode == 0, done.stderr
     with open(full, "rb") as f:
         chunks = make_reader(f).get_summary().chunk_indexes
-    ends = sorted(c.chunk_start_offset + c.chunk_length for c in chunks)
-    closing = full.stat().st_size - ends[-1]
-    limits = [
-        (a + closing + b) // 2 for a, b in zip(ends, ends[1:], strict=False) if b - a > closing
-    ]
-    assert limits, (ends, closing)
+    spans = sorted((c.chunk_start_offset, c.chunk_start_offset + c.chunk_length) for c in chunks)
+    closing = full.stat().st_size - spans[-1][1]
+    # A write failing inside a chunk cuts the file back to where that chunk starts: the limit
+    # lies inside the chunk, at least `closing` bytes after its start.
+    limits = [(start + closing + end) // 2 for start, end in spans if end - start > closing]
+    assert limits, (spans, closing)
     return min(limits, key=lambda limit: abs(limit - near))
 
 
