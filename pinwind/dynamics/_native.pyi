@@ -398,6 +398,33 @@ def fill_rows(
 ) -> None:
     """``out[rows[j], at:at + count] = values[j]`` where ``rows[j]`` ≥ 0 (as unshuffle_series)."""
 
+def place_columns_chunk(
+    chunk: Bytes,
+    channel: int,
+    width: int,
+    pose_width: int,
+    row_of: Indices,
+    out: Matrix,
+    at: int,
+    room: int,
+    start: float | None,
+    stop: float | None,
+    pose_series: Indices,
+    posed: bool,
+) -> tuple[int, np.ndarray, np.ndarray, str]:
+    """A decompressed chunk's columns records placed into ``out`` from sample ``at``.
+
+    Every record of ``channel`` (docs/log_format.md, "Columns", layout 3), its samples with
+    start ≤ t ≤ stop [s] (None: no bound) one record after the other: varying series j
+    unshuffled and constant ones filled (but +0.0) into ``out[row_of[j]]`` (skipped where < 0),
+    around the caches (``cpp/column_chunks.hpp``). Returns (samples, pose rows, poses, damage):
+    the posed samples in the window (their samples in ``out``) and their ``pose_series``,
+    (len(pose_series), posed samples), when ``posed``; damage is "" or why the chunk's records
+    do not fit their lengths. Nothing is placed when damage is not "", when samples is -1 (a
+    record's samples in the window are not consecutive) or more than ``room``. Raises
+    ValueError for sizes or indices that do not fit ``out``.
+    """
+
 def kind_fields() -> list[str]:
     """The fields of ``StepperSpec`` that hold a kind of element or constraint.
 

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from mcap.opcode import Opcode
 
-from pinwind.dynamics._native import fill_rows, unshuffle_series
+from pinwind.dynamics._native import fill_rows, place_columns_chunk, unshuffle_series
 from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.dynamics.series import get as declared_series
 from pinwind.io.log_format import COLUMNS_LAYOUT, mask_bytes
@@ -208,7 +208,7 @@ def _block(data: bytes | np.ndarray, at: int, end: int, layout: ColumnLayout) ->
     poses = np.frombuffer(data, "<f8", layout.pose_width * p, start + 8 * constant)
     poses = poses.reshape(layout.pose_width, p)
     slot = np.where(same, np.cumsum(same), np.cumsum(~same)) - 1
-    time = np.full(m, constants[0])
+    time = np.full(m, constants[0]) if same[0] else np.empty(m)
     if not same[0]:  # the time varies: it is the first of the varying series
         first_only = np.full(vary, -1)
         first_only[0] = 0
@@ -329,6 +329,45 @@ class ColumnSink:
                 if not inside.all():
                     poses = poses[:, inside]
                 self.poses.append((at + where[inside], poses))
+
+    def place_chunk(
+        self,
+        data: bytes | np.ndarray,
+        at: int,
+        room: int,
+        start: float | None = None,
+        stop: float | None = None,
+    ) -> tuple[int, str]:
+        """A decompressed chunk's samples with start ≤ t ≤ stop [s] placed from sample ``at``.
+
+        What ``decode_chunk`` and ``place`` do for each block, in one compiled call without
+        the GIL (``cpp/column_chunks.hpp``), which parses the chunk's records and places every
+        block. Returns (samples, damage): damage is "" or why the chunk is damaged, in the
+        words of ``decode_chunk``; samples is -1 when a block's samples in the window are not
+        consecutive (a foreign file: ``decode_chunk`` and ``place`` then). Nothing is placed
+        when the chunk is damaged, when samples is -1, or when it is more than ``room``.
+        """
+        chunk = data if isinstance(data, np.ndarray) else np.frombuffer(data, np.uint8)
+        layout = self.layout
+        filled, rows, poses, damage = place_columns_chunk(
+            chunk,
+            layout.channel,
+            layout.width,
+            layout.pose_width,
+            self.row_of,
+            self.base,
+            at,
+            room,
+            start,
+            stop,
+            self.pose_series,
+            self.posed,
+        )
+        if damage:
+            return 0, damage
+        if 0 <= filled <= room and len(rows):
+            self.poses.append((rows, poses))
+        return filled, ""
 
     def move(self, at: int, count: int, to: int) -> None:
         """Samples ``at`` to ``at + count`` moved back to ``to`` (≤ ``at``): closes a gap."""

@@ -596,8 +596,14 @@ class LogReader:
 
         def load(chunk: ChunkRef, _) -> tuple[bytes, int | None, str]:
             at, room = place[chunk.offset]
-            _, blocks, damage = self._load_columns(chunk, None)
+            data, damage = self._decompress(chunk)
             if chunk is chunks[0]:
+                blocks: list[ColumnBlock] = []
+                if not damage:
+                    try:
+                        blocks = decode_chunk(data, layout)
+                    except DamagedChunk as err:
+                        damage = str(err)
                 lay_out(blocks)
             else:
                 laid_out.wait()
@@ -606,14 +612,23 @@ class LogReader:
             sink = sinks[0]
             if damage:
                 return b"", 0, damage
-            parts = [(block, *_window(block.time, start, stop)) for block in blocks]
-            filled = sum(count for _, _, count in parts)
+            # every block of the chunk parsed and placed in one compiled call
+            filled, damage = sink.place_chunk(data, at, room, start, stop)
+            if damage:
+                return b"", 0, damage
+            if filled < 0:  # a block's samples in the window are not consecutive
+                parts = [
+                    (block, *_window(block.time, start, stop))
+                    for block in decode_chunk(data, layout)
+                ]
+                filled = sum(count for _, _, count in parts)
+                if filled <= room:
+                    for block, rows, count in parts:
+                        if count:
+                            sink.place(block, rows, count, at)
+                            at += count
             if filled > room:
                 return b"", None, ""
-            for block, rows, count in parts:
-                if count:
-                    sink.place(block, rows, count, at)
-                    at += count
             return b"", filled, ""
 
         n = 0
@@ -671,6 +686,15 @@ class LogReader:
                 rows, count = _window(part.time, start, stop)
                 if count:
                     yield part, rows, count
+
+    def _decompress(self, chunk: ChunkRef) -> tuple[bytes | np.ndarray, str]:
+        """A chunk's records, decompressed and checked, or why it is damaged (thread-safe)."""
+        try:
+            return mcap_file.read_chunk(
+                self._descriptor(), chunk, self._buffers.take(chunk.size)
+            ), ""
+        except DamagedChunk as err:
+            return b"", str(err)
 
     def _load_columns(self, chunk: ChunkRef, _) -> tuple[bytes, list[ColumnBlock], str]:
         """A columns chunk's blocks, or why it is damaged (thread-safe)."""

@@ -2,13 +2,20 @@
 // columns and the byte planes of a log's series (module.cpp gathers the bindings).
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <initializer_list>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "bindings.hpp"
 #include "byte_planes.hpp"
+#include "column_chunks.hpp"
 #include "column_statistics.hpp"
 
 namespace nb = nanobind;
@@ -149,6 +156,97 @@ void fill_rows(const nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::de
   }
 }
 
+using OwnedArray = nb::ndarray<nb::numpy, double, nb::ndim<2>>;
+using OwnedIndices = nb::ndarray<nb::numpy, std::int64_t, nb::ndim<1>>;
+
+// A new numpy array that owns a copy of `values`, (rows, cols).
+template <class Array, class T>
+Array owned(const std::vector<T>& values, std::initializer_list<std::size_t> shape) {
+  T* copy = new T[values.empty() ? 1 : values.size()];
+  std::copy(values.begin(), values.end(), copy);
+  nb::capsule owner(copy, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+  return Array(copy, shape, owner);
+}
+
+// A decompressed chunk of a log's columns placed into out (column_chunks.hpp): every columns
+// record of `channel`, its samples with start ≤ t ≤ stop placed one record after the other from
+// sample `at`. Returns (samples, pose rows, poses (pose series, posed samples), damage):
+// damage is "" or why the chunk is damaged (nothing placed); samples is -1 when a record's
+// samples in the window are not consecutive (nothing placed), and when it is more than `room`
+// nothing is placed either. Without the GIL but to parse the arguments and make the results.
+nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, long pose_width,
+                              const Indices& row_of, OutMatrix out, long at, long room,
+                              std::optional<double> start, std::optional<double> stop,
+                              const Indices& pose_series, bool posed) {
+  const long height = static_cast<long>(out.shape(0)), samples = static_cast<long>(out.shape(1));
+  if (static_cast<long>(row_of.shape(0)) != width) {
+    throw std::invalid_argument("place_columns_chunk: " + std::to_string(row_of.shape(0)) +
+                                " rows for " + std::to_string(width) + " series");
+  }
+  if (samples > 1 && out.stride(1) != 1) {
+    throw std::invalid_argument("place_columns_chunk: the rows of out must be contiguous");
+  }
+  if (at < 0 || room < 0 || at + room > samples) {
+    throw std::invalid_argument("place_columns_chunk: samples " + std::to_string(at) + " + " +
+                                std::to_string(room) + " of out " + shape_text(height, samples));
+  }
+  const std::int64_t* rows = row_of.data();
+  for (long j = 0; j < width; ++j) {
+    if (rows[j] >= height) {
+      throw std::invalid_argument("place_columns_chunk: row " + std::to_string(rows[j]) +
+                                  " of out " + shape_text(height, samples));
+    }
+  }
+  const long pose_count = static_cast<long>(pose_series.shape(0));
+  const std::int64_t* pose_at = pose_series.data();
+  for (long s = 0; s < pose_count; ++s) {
+    if (pose_at[s] < 0 || pose_at[s] >= pose_width) {
+      throw std::invalid_argument("place_columns_chunk: pose series " + std::to_string(pose_at[s]) +
+                                  " of " + std::to_string(pose_width));
+    }
+  }
+  const ColumnTarget to{out.data(), height, samples, static_cast<long>(out.stride(0)), rows};
+  std::vector<ColumnRecord> records;
+  std::vector<std::int64_t> pose_rows;
+  std::vector<double> pose_values;  // one posed sample after the other
+  std::string damage;
+  long filled = 0;
+  {
+    nb::gil_scoped_release release;
+    bool consecutive = true;
+    damage = parse_columns_chunk(chunk.data(), chunk.shape(0), channel, width, pose_width,
+                                 start.has_value(), start.value_or(0.0), stop.has_value(),
+                                 stop.value_or(0.0), records, consecutive);
+    if (!damage.empty()) {
+      filled = 0;
+    } else if (!consecutive) {
+      filled = -1;
+    } else {
+      for (const auto& r : records) filled += r.count;
+      if (filled <= room) {
+        long place = at;
+        for (const auto& r : records) {
+          if (!r.count) continue;
+          place_columns_record(r, to, width, place, posed, pose_at, pose_count, pose_rows,
+                               pose_values);
+          place += r.count;
+        }
+      }
+    }
+  }
+  const std::size_t posed_samples = pose_rows.size();
+  std::vector<double> by_series(pose_values.size());  // (pose series, posed samples)
+  for (std::size_t k = 0; k < posed_samples; ++k) {
+    for (long s = 0; s < pose_count; ++s) {
+      by_series[s * posed_samples + k] = pose_values[k * pose_count + s];
+    }
+  }
+  return nb::make_tuple(
+      filled, owned<OwnedIndices>(pose_rows, {posed_samples}),
+      owned<OwnedArray>(by_series, {static_cast<std::size_t>(pose_count), posed_samples}),
+      damage);
+}
+
 }  // namespace
 
 void bind_columns(nb::module_& m) {
@@ -173,6 +271,11 @@ void bind_columns(nb::module_& m) {
   m.def("fill_rows", &fill_rows, "values"_a, "rows"_a, "out"_a, "at"_a, "count"_a,
         "stream"_a = false,
         "out[rows[j], at .. at + count] = values[j] where rows[j] >= 0.");
+  m.def("place_columns_chunk", &place_columns_chunk, "chunk"_a, "channel"_a, "width"_a,
+        "pose_width"_a, "row_of"_a, "out"_a, "at"_a, "room"_a, "start"_a.none(), "stop"_a.none(),
+        "pose_series"_a, "posed"_a,
+        "A decompressed chunk's columns records placed into out from sample at: (samples, pose "
+        "rows, poses, damage).");
 }
 
 }  // namespace pinwind
