@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bindings.hpp"
@@ -156,16 +157,11 @@ void fill_rows(const nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::de
   }
 }
 
-using OwnedArray = nb::ndarray<nb::numpy, double, nb::ndim<2>>;
-using OwnedIndices = nb::ndarray<nb::numpy, std::int64_t, nb::ndim<1>>;
-
-// A new numpy array that owns a copy of `values`, (rows, cols).
-template <class Array, class T>
-Array owned(const std::vector<T>& values, std::initializer_list<std::size_t> shape) {
-  T* copy = new T[values.empty() ? 1 : values.size()];
-  std::copy(values.begin(), values.end(), copy);
-  nb::capsule owner(copy, [](void* p) noexcept { delete[] static_cast<T*>(p); });
-  return Array(copy, shape, owner);
+// New memory of n values of T that a numpy array owns (freed with it).
+template <class T>
+std::pair<T*, nb::capsule> owned(std::size_t n) {
+  T* data = new T[n ? n : 1];
+  return {data, nb::capsule(data, [](void* p) noexcept { delete[] static_cast<T*>(p); })};
 }
 
 // A decompressed chunk of a log's columns placed into out (column_chunks.hpp): every columns
@@ -207,8 +203,7 @@ nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, 
   }
   const ColumnTarget to{out.data(), height, samples, static_cast<long>(out.stride(0)), rows};
   std::vector<ColumnRecord> records;
-  std::vector<std::int64_t> pose_rows;
-  std::vector<double> pose_values;  // one posed sample after the other
+  std::vector<PosedSample> found;
   std::string damage;
   long filled = 0;
   {
@@ -222,29 +217,36 @@ nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, 
     } else if (!consecutive) {
       filled = -1;
     } else {
-      for (const auto& r : records) filled += r.count;
+      long posed_at_most = 0;
+      for (const auto& r : records) {
+        filled += r.count;
+        posed_at_most += r.p;
+      }
       if (filled <= room) {
+        found.reserve(posed ? posed_at_most : 0);
         long place = at;
         for (const auto& r : records) {
           if (!r.count) continue;
-          place_columns_record(r, to, width, place, posed, pose_at, pose_count, pose_rows,
-                               pose_values);
+          place_columns_record(r, to, width, place, posed, found);
           place += r.count;
         }
       }
     }
   }
-  const std::size_t posed_samples = pose_rows.size();
-  std::vector<double> by_series(pose_values.size());  // (pose series, posed samples)
-  for (std::size_t k = 0; k < posed_samples; ++k) {
-    for (long s = 0; s < pose_count; ++s) {
-      by_series[s * posed_samples + k] = pose_values[k * pose_count + s];
+  // the posed samples' rows, and their pose series (pose series, posed samples)
+  const std::size_t n = found.size(), k = static_cast<std::size_t>(pose_count);
+  auto [rows_out, rows_owner] = owned<std::int64_t>(n);
+  auto [poses_out, poses_owner] = owned<double>(k * n);
+  for (std::size_t q = 0; q < n; ++q) {
+    const PosedSample& f = found[q];
+    rows_out[q] = f.row;
+    for (std::size_t s = 0; s < k; ++s) {
+      poses_out[s * n + q] = load_double(f.poses + 8 * (pose_at[s] * f.p + f.k));
     }
   }
-  return nb::make_tuple(
-      filled, owned<OwnedIndices>(pose_rows, {posed_samples}),
-      owned<OwnedArray>(by_series, {static_cast<std::size_t>(pose_count), posed_samples}),
-      damage);
+  return nb::make_tuple(filled, nb::ndarray<nb::numpy, std::int64_t, nb::ndim<1>>(rows_out, {n}, rows_owner),
+                        nb::ndarray<nb::numpy, double, nb::ndim<2>>(poses_out, {k, n}, poses_owner),
+                        damage);
 }
 
 }  // namespace

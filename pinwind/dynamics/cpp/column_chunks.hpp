@@ -131,15 +131,19 @@ inline std::string parse_columns_chunk(const std::uint8_t* data, std::uint64_t s
   return "";
 }
 
+// A posed sample found in the window: its sample of the arrays, and its pose values.
+struct PosedSample {
+  std::int64_t row;
+  const std::uint8_t* poses;  // the record's (pose_width, p) float64 values
+  long p, k;                  // posed samples of the record, and which one
+};
+
 // Places a parsed record's samples in the window at samples at .. at + count of `to`: the
 // varying series unshuffled, the constant ones filled but for +0.0 (all bits zero: the arrays
 // start as zeros, and pages nobody writes are never touched), both around the caches. Appends
-// the posed samples in the window (at + their sample) to pose_rows and their `pose_series` to
-// pose_values, one posed sample after the other, as ColumnSink.place.
+// the posed samples in the window (at + their sample) to `found`, as ColumnSink.place.
 inline void place_columns_record(const ColumnRecord& r, const ColumnTarget& to, long width,
-                                 long at, bool posed, const std::int64_t* pose_series,
-                                 long pose_count, std::vector<std::int64_t>& pose_rows,
-                                 std::vector<double>& pose_values) {
+                                 long at, bool posed, std::vector<PosedSample>& found) {
   long slot_vary = 0, slot_constant = 0;
   for (long j = 0; j < width; ++j) {
     const std::int64_t row = to.row_of[j];
@@ -170,11 +174,7 @@ inline void place_columns_record(const ColumnRecord& r, const ColumnTarget& to, 
       }
     }
     const long where = lo < r.count - 1 ? lo : r.count - 1;
-    if (!(time[where] == t)) continue;
-    pose_rows.push_back(at + where);
-    for (long s = 0; s < pose_count; ++s) {
-      pose_values.push_back(load_double(r.poses + 8 * (pose_series[s] * r.p + k)));
-    }
+    if (time[where] == t) found.push_back({at + where, r.poses, r.p, k});
   }
 }
 
