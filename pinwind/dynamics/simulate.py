@@ -717,9 +717,11 @@ class PreparedRun:
         else:
             drivers, torque_loads = self.train.rows, self.train.torques
             columns = [ld.v_index for ld in torque_loads]
-            torque = _held_torques(torque_loads, columns, nv)
-            if torque is None:
+            held_row = _held_torques(torque_loads, columns, nv)
+            if held_row is None:
                 torque, bad_torque = _signal_table(torque_loads, start, stop, dt, columns, nv)
+            else:
+                torque = held_row
             torque = from_ground(gearbox, roll_share(gearbox), torque)
             # Step k asks for the driver speeds at t_k and t_{k+1}.
             target, bad_target = _signal_table(
