@@ -356,6 +356,16 @@ def bearing_slide_series(
     either None: not computed.
     """
 
+def split_about_axes(
+    vectors: Matrix, axes: Matrix, along: Matrix | None, across: Matrix | None = None
+) -> None:
+    """v·k and |v − (v·k) k| of vectors (samples, bearings, 3) about unit axes (bearings, 3).
+
+    Into (samples, bearings) C-contiguous float64 arrays, either None (not computed); the
+    operations of numpy's element-wise formula in its order (``dynamics/bearing_load.py``).
+    Raises ValueError for shapes that do not fit.
+    """
+
 def fold_columns(values: Matrix, out: Matrix) -> None:
     """min, max, sum, sum of squares and last value of each column of an (m, k) block.
 

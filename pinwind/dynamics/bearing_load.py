@@ -22,73 +22,37 @@ from typing import Any
 
 import numpy as np
 
+from pinwind.dynamics import _native
+
 
 def axes_in_joint(block: Any, gearbox: Any) -> np.ndarray:
     """Unit axis k of every bearing of ``block`` in its joint frame, (bearings, 3) [-]."""
     return np.array([gearbox.joint_axis(name) for name in block.bearing_names]).reshape(-1, 3)
 
 
-def _flat(vectors: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Vectors (samples, bearings, 3) and their bearings' axes, both as (samples·bearings, 3).
+def _split(vectors: np.ndarray, axes: np.ndarray, along: bool) -> np.ndarray:
+    """v·k (``along``) or |v − (v·k) k| of vectors (samples, bearings, 3) about unit axes.
 
-    Numpy's loops then run over every sample and bearing at once: broadcasting the axes over
-    the samples would run them 16 bearings at a time, and einsum's general path, 2-5x slower
-    on a block (derived on every run).
+    ``axes`` (bearings, 3); returns (samples, bearings). Compiled (``_native.split_about_axes``,
+    one pass over the block): numpy's dozen passes with their temporaries cost as much as a
+    twentieth of the rigid step. Its operations are the element-wise formula's in numpy's order:
+    zeros' signs, NaN for a non-finite component, every bit the same.
     """
-    return vectors.reshape(-1, 3), np.tile(axes, (vectors.shape[0], 1))
-
-
-def _along(flat: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """v·k of (n, 3) vectors and axes, component by component (exact for an axis ±e_i)."""
-    out = flat[:, 0] * k[:, 0]
-    term = np.empty_like(out)
-    for i in (1, 2):
-        np.multiply(flat[:, i], k[:, i], out=term)
-        out += term
+    v = np.asarray(vectors, dtype=float)
+    out = np.empty(v.shape[:2])
+    k = np.ascontiguousarray(axes, dtype=float)
+    _native.split_about_axes(v, k, out if along else None, None if along else out)
     return out
 
 
 def along_axis(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
     """v·k of vectors (samples, bearings, 3) and unit axes (bearings, 3)."""
-    return _along(*_flat(vectors, axes)).reshape(vectors.shape[:-1])
-
-
-def _common_plane(axes: np.ndarray) -> tuple[int, int] | None:
-    """The components (a, b), a < b, other than j when every axis is exactly ±e_j; else None."""
-    zero = axes == 0.0
-    for j in range(3):
-        if np.all(np.abs(axes[:, j]) == 1.0) and zero[:, [i for i in range(3) if i != j]].all():
-            a, b = (i for i in range(3) if i != j)
-            return a, b
-    return None
+    return _split(vectors, axes, along=True)
 
 
 def across_axis(vectors: np.ndarray, axes: np.ndarray) -> np.ndarray:
-    """|v − (v·k) k| of vectors (samples, bearings, 3) and unit axes (bearings, 3).
-
-    When every axis is ±e_j (the shipped models' bearings turn about their joint frame's z)
-    and every component is finite, sqrt(v_a² + v_b²) over the two other components: the same
-    bits as the general sum, since there v·k = ±v_j exactly, the components a, b are left
-    unchanged (v_a − (±0)) and j's is exactly 0, added last. Four passes over the block
-    instead of seventeen.
-    """
-    plane = _common_plane(np.asarray(axes)) if len(axes) else None
-    if plane is not None and np.isfinite(np.sum(vectors)):  # a non-finite sum: one is not
-        a, b = plane
-        square = np.multiply(vectors[..., a], vectors[..., a])
-        term = np.multiply(vectors[..., b], vectors[..., b])
-        square += term
-        return np.sqrt(square, out=square)
-    flat, k = _flat(vectors, axes)
-    along = _along(flat, k)
-    square = np.zeros_like(along)
-    normal = np.empty_like(along)
-    for i in range(3):
-        np.multiply(along, k[:, i], out=normal)
-        np.subtract(flat[:, i], normal, out=normal)
-        normal *= normal
-        square += normal
-    return np.sqrt(square, out=square).reshape(vectors.shape[:-1])
+    """|v − (v·k) k| ≥ 0 of vectors (samples, bearings, 3) and unit axes (bearings, 3)."""
+    return _split(vectors, axes, along=False)
 
 
 def radial_force(block: Any, gearbox: Any) -> np.ndarray:

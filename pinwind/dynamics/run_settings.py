@@ -42,7 +42,9 @@ class RunSettings:
             this says; a run that reduces a few series (a fatigue case) need not copy the
             others. The link poses are kept only when named (``body_position``).
         chunk: samples per observer call (a log holds a chunk of columns per call); None:
-            ``simulate.block_samples`` (1000 to 5000, a twentieth of the run).
+            ``simulate.block_samples`` (1000 to 5000, a twentieth of the run), and blocks of
+            about ``simulate.UNWATCHED_BLOCK_S`` after the first when no observer reads them
+            and the Result keeps their rows (the Python around each block then costs less).
         progress: show a progress bar; None: for runs over 20 000 steps on a terminal.
         initial_deflection: ``"static"``: the compliant meshes and springs start deflected
             under the loads of t = 0; ``"none"``: undeflected, at the model's pose

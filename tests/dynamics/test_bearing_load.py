@@ -161,25 +161,42 @@ def test_a_log_written_before_the_bearing_loads_were_declared_derives_them_on_re
     assert np.isnan(alone.bearing_torque).all()
 
 
-def test_axes_along_the_frame_split_as_the_general_formula_bit_for_bit():
-    # Every axis ±e_j takes sqrt(v_a² + v_b²) over the other two components; a tilted axis
-    # added to the same call takes the general v − (v·k) k. The columns of the first must be
-    # the second's to the last bit (zeros of either sign, 1e-300 and 1e6 scales included), and
-    # equal |v × k| (a cross product, computed apart) to rounding.
+def _elementwise(vectors: np.ndarray, axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """v·k and |v − (v·k) k| by numpy, one operation at a time in the formula's order."""
+    k = np.broadcast_to(axes, vectors.shape)
+    along = vectors[..., 0] * k[..., 0] + vectors[..., 1] * k[..., 1]
+    along = along + vectors[..., 2] * k[..., 2]
+    normal = vectors - along[..., None] * k
+    square = normal[..., 0] * normal[..., 0] + normal[..., 1] * normal[..., 1]
+    square = square + normal[..., 2] * normal[..., 2]
+    return along, np.sqrt(square)
+
+
+def test_the_split_about_the_axis_is_the_elementwise_formula_bit_for_bit():
+    # The compiled split of a block's reaction equals numpy's element-wise v·k and
+    # |v − (v·k) k| to the last bit (zeros of either sign, 1e-300 and 1e6 scales, axes along
+    # the frame of either sign and tilted ones, a strided view of a block), and |v × k|
+    # (a cross product, computed apart) to rounding.
     rng = np.random.default_rng(37)
-    vectors = rng.normal(size=(400, 4, 3)) * 10.0 ** rng.uniform(-3.0, 6.0, size=(400, 4, 3))
-    vectors[::7, :, 2] = 0.0
-    vectors[::5, :, 0] = -0.0
-    vectors[::11] *= 1e-300
+    block = rng.normal(size=(400, 6, 3)) * 10.0 ** rng.uniform(-3.0, 6.0, size=(400, 6, 3))
+    block[::7, :, 2] = 0.0
+    block[::5, :, 0] = -0.0
+    block[::11] *= 1e-300
+    vectors = block[:, 1:, :]  # not contiguous
+    tilt = np.array([0.6, 0.0, 0.8])
     for j in range(3):
-        axes = np.zeros((4, 3))
-        axes[:, j] = [1.0, -1.0, 1.0, -1.0]
-        fast = bearing_load.across_axis(vectors, axes)
-        tilted = np.vstack([axes, [0.6, 0.0, 0.8]])
-        general = bearing_load.across_axis(np.concatenate([vectors, vectors[:, :1]], 1), tilted)
-        assert np.array_equal(fast.view(np.uint64), general[:, :4].view(np.uint64))
+        axes = np.zeros((5, 3))
+        axes[:4, j] = [1.0, -1.0, 1.0, -1.0]
+        axes[4] = tilt
+        along, across = _elementwise(vectors, axes)
+        bits = np.uint64
+        assert np.array_equal(bearing_load.along_axis(vectors, axes).view(bits), along.view(bits))
+        assert np.array_equal(bearing_load.across_axis(vectors, axes).view(bits), across.view(bits))
         cross = np.linalg.norm(np.cross(vectors, axes), axis=-1)
-        np.testing.assert_allclose(fast, cross, rtol=1e-15, atol=0.0)
+        np.testing.assert_allclose(bearing_load.across_axis(vectors, axes), cross, rtol=1e-15)
+        dot = np.einsum("sbi,bi->sb", vectors, axes)  # a product of its own
+        off = np.abs(bearing_load.along_axis(vectors, axes) - dot)
+        assert np.all(off <= 1e-15 * np.linalg.norm(vectors, axis=-1))
 
 
 def test_a_non_finite_component_gives_nan_with_axes_along_the_frame_as_in_general():

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import tracemalloc
 
 import numpy as np
@@ -11,6 +12,9 @@ import pinwind
 from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.errors import InputError, TorquesUnbalanced
 from tests.conftest import MODELS
+
+# the module, not the function pinwind.dynamics exports under its name
+simulate = importlib.import_module("pinwind.dynamics.simulate")
 
 RUN = dict(dt=1e-3, torques={"carrier": 1e5, "sun": lambda t: -1e4 * (1 + np.sin(t))})
 
@@ -136,3 +140,30 @@ def test_peak_memory_does_not_grow_with_the_run_length(planetary):
     # 1000 samples and the kept last sample, a few MB either way.
     assert long < 1.2 * short + 1e6, (short, long)
     assert long < 20e6
+
+
+class _UnreadBlockSizes(_BlockSizes):
+    reads = False  # told of each block, reads none: the run may take them longer
+
+
+def test_blocks_no_observer_reads_grow_after_the_first_and_equal_the_whole_run(
+    planetary, everything
+):
+    # 2501 samples kept whole: the first block is the run's chunk (1000), the later ones last
+    # about UNWATCHED_BLOCK_S at the step's measured cost, within [chunk, UNWATCHED_BLOCK_MAX];
+    # blocks of any length step the same samples as 300-sample blocks.
+    blocks = _UnreadBlockSizes()
+    res = accelerating(planetary, duration=2.5, keep="all", observer=blocks)
+    assert blocks.sizes[0] == 1000
+    assert sum(blocks.sizes) == len(everything)
+    assert all(1000 <= n <= simulate.UNWATCHED_BLOCK_MAX for n in blocks.sizes[1:-1])
+    short = accelerating(planetary, duration=2.5, keep="all", chunk=300)
+    _same_rows(res, short, np.arange(len(short)))
+
+
+@pytest.mark.parametrize(
+    ("per_sample", "samples"),
+    [(1e-6, simulate.UNWATCHED_BLOCK_MAX), (4e-6, 25_000), (1e-3, 1000), (0.0, 50_000)],
+)
+def test_an_unread_block_lasts_a_tenth_of_a_second_within_its_bounds(per_sample, samples):
+    assert simulate._unwatched_block(per_sample, 1000) == samples

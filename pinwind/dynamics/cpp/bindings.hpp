@@ -20,6 +20,10 @@ void bind_mesh_rows(nanobind::module_& m);
 // Statistics of a Result's columns and the byte planes of a log's series (column_bindings.cpp).
 void bind_columns(nanobind::module_& m);
 
+// A bearing's reaction split about its axis, for the derived bearing loads
+// (bearing_load_bindings.cpp).
+void bind_bearing_loads(nanobind::module_& m);
+
 // The time step's constants for a spectral radius (time_step_bindings.cpp).
 void bind_time_step(nanobind::module_& m);
 

@@ -19,4 +19,5 @@ NB_MODULE(_native, m) {
   bind_mesh_rows(m);
   bind_columns(m);
   bind_time_step(m);
+  bind_bearing_loads(m);
 }
