@@ -174,12 +174,14 @@ def test_full_disk_stops_the_run_and_leaves_its_complete_chunks_readable(
     assert_same_arrays(back, logged_run.result.truncated(2 * CHUNK))
 
 
-def test_write_failure_then_room_again_gives_a_complete_log_saying_why(
-    planetary, logged_run, tmp_path
-):
+def test_write_failure_then_room_again_gives_a_complete_log_saying_why(planetary, tmp_path):
+    # The room from the same log written without a limit: its header records the same
+    # command (this process's), so its chunks start where the failing log's do.
+    roomy = tmp_path / "roomy.mcap"
+    run_it = dict(duration=DURATION, dt=DT, torques=TORQUES, chunk=CHUNK)
+    simulate(planetary, **run_it, observer=LoggerOnFullDisk(roomy, 1 << 40))
+    room = column_chunks(roomy)[0][0] + 100  # inside the first block's columns
     path = tmp_path / "freed.mcap"
-    with LogReader(logged_run.path) as log:
-        room = log._contents.chunks[1].offset + 100
 
     class Freed(FullDisk):
         def write(self, data) -> int:
@@ -192,7 +194,7 @@ def test_write_failure_then_room_again_gives_a_complete_log_saying_why(
     logger = LoggerOnFullDisk(path, room)
     logger._open_file = lambda: Freed(path, room)
     with pytest.raises(LogWriteFailed, match="failed at t = 0 s"):
-        simulate(planetary, duration=DURATION, dt=DT, torques=TORQUES, chunk=CHUNK, observer=logger)
+        simulate(planetary, **run_it, observer=logger)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         log = pinwind.io.open_log(path)
