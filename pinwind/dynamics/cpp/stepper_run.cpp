@@ -25,6 +25,28 @@ void symmetric_product(const Eigen::MatrixXd& m, const Eigen::VectorXd& x, Eigen
   }
 }
 
+// The spatial products of a one-column joint below, entry by entry with the operations of
+// Pinocchio's and Eigen's expressions (a × b as Eigen's cross, sums entry by entry), so that the
+// values are the same to the bit. Pinocchio's expressions build each 6-vector as two 3-vectors
+// in a temporary that is then read as three pairs: the pair across the linear part's last entry
+// and the angular part's first is read from two stores, which the processor cannot forward (a
+// stall of ~10 cycles each time, a third of these passes' time on the drivetrain).
+inline void cross3(const double* a, const double* b, double* out) {
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+// out = v × m for motions (linear part first): Pinocchio's MotionDense::cross, m.motionAction(v):
+// (v_lin × m_ang + v_ang × m_lin, v_ang × m_ang).
+inline void motion_cross(const double* v, const double* m, double* out) {
+  double a[3], b[3];
+  cross3(v, m + 3, a);
+  cross3(v + 3, m, b);
+  for (int r = 0; r < 3; ++r) out[r] = a[r] + b[r];
+  cross3(v + 3, m + 3, out + 3);
+}
+
 }  // namespace
 
 RunStatus Stepper::run(long k0, long k1, const RowMat& torque, const RowMat& target,
@@ -121,6 +143,26 @@ void Stepper::velocity_kinematics() {
       drift_[i].angular() = drift_[parent].angular();
       continue;
     }
+    if (n == 1) {
+      // ov_i = ov_parent + J_c q̇_c, J̇_c = ov_i × J_c, drift_i = drift_parent + J̇_c q̇_c, entry by
+      // entry (motion_cross above): the same operations as the general branch below.
+      const double speed = v_[idx];
+      const double* column = data_.J.col(idx).data();
+      const double* above = data_.ov[parent].toVector().data();
+      const double* drift_above = drift_[parent].toVector().data();
+      double twist[6], dcolumn[6];
+      for (int r = 0; r < 6; ++r) twist[r] = above[r] + column[r] * speed;
+      motion_cross(twist, column, dcolumn);
+      double* ov = data_.ov[i].toVector().data();
+      double* dj = data_.dJ.col(idx).data();
+      double* drift = drift_[i].toVector().data();
+      for (int r = 0; r < 6; ++r) {
+        ov[r] = twist[r];
+        dj[r] = dcolumn[r];
+        drift[r] = drift_above[r] + dcolumn[r] * speed;
+      }
+      continue;
+    }
     data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
     for (int c = idx; c < idx + n; ++c) {
       data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
@@ -157,11 +199,17 @@ void Stepper::bias_forces() {
     }
     // I (g, 0) for the pure linear acceleration g: (m g, c × m g), Pinocchio's product without
     // its terms in the zero angular part, which add zeros.
+    // Entry by entry (motion_cross above): m g, then c × m g as Eigen's cross.
     const pinocchio::Inertia& body = body_[i];
-    weight_[i].linear() = body.mass() * up.linear();
-    weight_[i].angular() = body.lever().cross(weight_[i].linear());
+    double weight[6];
+    for (int r = 0; r < 3; ++r) weight[r] = body.mass() * up.linear()[r];
+    cross3(body.lever().data(), weight, weight + 3);
+    double* own = weight_[i].toVector().data();
+    for (int r = 0; r < 6; ++r) own[r] = weight[r];
     if (constant_mass_) {
-      subtree_[i] = weight_[i];  // the body forces at q̈ = 0 are joint_forces' (below)
+      // the body forces at q̈ = 0 are joint_forces' (below)
+      double* sub = subtree_[i].toVector().data();
+      for (int r = 0; r < 6; ++r) sub[r] = weight[r];
       continue;
     }
     body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
@@ -210,14 +258,25 @@ void Stepper::joint_forces() {
   accel_[0].setZero();
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
-    accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
+    if (n == 1) {
+      // accel_parent + J_c a_c entry by entry (velocity_kinematics' comment)
+      const double* column = data_.J.col(idx).data();
+      const double* above = accel_[model.parents[i]].toVector().data();
+      double* accel = accel_[i].toVector().data();
+      for (int r = 0; r < 6; ++r) accel[r] = above[r] + column[r] * a_[idx];
+    } else {
+      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
+    }
     if (constant_mass_) {
       // The body's whole acceleration, J̇ v + J a, through its inertia at once (bias_forces
-      // left the force at q̈ = 0 to here).
-      subtree_[i] = -fext_.of_joint[i];
-      if (!massless_[i]) {
+      // left the force at q̈ = 0 to here), less the external force: X − f is −f + X to the bit,
+      // and assigned once (not −f first, then read back in pairs and added to).
+      if (massless_[i]) {
+        subtree_[i] = -fext_.of_joint[i];
+      } else {
         const pinocchio::Inertia& body = body_[i];
-        subtree_[i] += body * (drift_[i] + accel_[i]) + weight_[i] + body.vxiv(data_.ov[i]);
+        subtree_[i] = body * (drift_[i] + accel_[i]) + weight_[i] + body.vxiv(data_.ov[i]) -
+                      fext_.of_joint[i];
       }
       continue;
     }
@@ -508,24 +567,43 @@ void Stepper::record(long k, double t) {
   for (size_t b = 0; b < bearings.size(); ++b) {
     // The joint's reaction (joint_forces leaves it in world axes, about the world origin):
     // in world axes about the bearing centre p, (f, m − p × f), and in the joint's own frame.
+    // Component by component, in the operations and order of Eigen's expressions (p × f as
+    // Eigen's cross; Rᵀ x as its vectorised dot of R's column with x, (R₀ᵢx₀ + R₁ᵢx₁) + R₂ᵢx₂),
+    // so that no 3-vector is stored in parts and read back as pairs (a stalled store
+    // forwarding: a fifth of record's time on the drivetrain).
     const pinocchio::SE3& joint = data_.oMi[bearings[b]];
     const pinocchio::Force& world = subtree_[bearings[b]];
-    const Vec3 moment = world.angular() - joint.translation().cross(world.linear());
+    const double* f = world.linear().data();
+    const double* a = world.angular().data();
+    const double* p = joint.translation().data();
+    const double moment[3] = {a[0] - (p[1] * f[2] - p[2] * f[1]),
+                              a[1] - (p[2] * f[0] - p[0] * f[2]),
+                              a[2] - (p[0] * f[1] - p[1] * f[0])};
     const long e = out_.entry(Family::bearing, k, static_cast<long>(b));
-    vec3(Series::bearing_force, e) = world.linear();
-    vec3(Series::bearing_moment, e) = moment;
-    vec3(Series::bearing_force_local, e).noalias() = joint.rotation().transpose() * world.linear();
-    vec3(Series::bearing_moment_local, e).noalias() = joint.rotation().transpose() * moment;
+    double* force_out = &out_.at(Series::bearing_force, e);
+    double* moment_out = &out_.at(Series::bearing_moment, e);
+    double* force_local = &out_.at(Series::bearing_force_local, e);
+    double* moment_local = &out_.at(Series::bearing_moment_local, e);
+    const auto& r = joint.rotation();
+    for (int i = 0; i < 3; ++i) {
+      force_out[i] = f[i];
+      moment_out[i] = moment[i];
+      force_local[i] = (r(0, i) * f[0] + r(1, i) * f[1]) + r(2, i) * f[2];
+      moment_local[i] = (r(0, i) * moment[0] + r(1, i) * moment[1]) + r(2, i) * moment[2];
+    }
   }
   const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
+  pinocchio::SE3 moved;
   for (Eigen::Index b = 0; b < nb; ++b) {
     // Each link is rigid on a joint: its pose is the joint's placement times a constant one.
+    // The quaternion is converted into the output itself (Eigen's conversion, through a
+    // Map), not into a local one copied after its parts were stored (store forwarding).
     const pinocchio::SE3& joint = data_.oMi[s_.frame_parent[b]];
-    const pinocchio::SE3 pose = frame_at_joint_[b] ? joint : joint * s_.frame_placement[b];
+    if (!frame_at_joint_[b]) moved = joint * s_.frame_placement[b];
+    const pinocchio::SE3& pose = frame_at_joint_[b] ? joint : moved;
     const long e = out_.entry(Family::body, k, b);
     vec3(Series::body_position, e) = pose.translation();
-    const Eigen::Quaterniond quat(pose.rotation());
-    Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, e)) = quat.coeffs();
+    Eigen::Map<Eigen::Quaterniond>(&out_.at(Series::body_quaternion, e)) = pose.rotation();
   }
   out_.at(Series::constraint_residual, k) = residual_;
   symmetric_product(mass_, v_, mv_);
