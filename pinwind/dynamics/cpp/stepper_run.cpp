@@ -25,26 +25,110 @@ void symmetric_product(const Eigen::MatrixXd& m, const Eigen::VectorXd& x, Eigen
   }
 }
 
-// The spatial products of a one-column joint below, entry by entry with the operations of
-// Pinocchio's and Eigen's expressions (a × b as Eigen's cross, sums entry by entry), so that the
-// values are the same to the bit. Pinocchio's expressions build each 6-vector as two 3-vectors
-// in a temporary that is then read as three pairs: the pair across the linear part's last entry
-// and the angular part's first is read from two stores, which the processor cannot forward (a
-// stall of ~10 cycles each time, a third of these passes' time on the drivetrain).
-inline void cross3(const double* a, const double* b, double* out) {
+// The spatial products of the step's passes for one-column joints, entry by entry with the
+// operations of Pinocchio's and Eigen's expressions (a × b as Eigen's cross, sums entry by
+// entry, Pinocchio's products term by term), so that the values are the same to the bit.
+// Pinocchio's expressions build each 6-vector as two 3-vectors in a temporary that is then read
+// as three pairs: the pair across the linear part's last entry and the angular part's first is
+// read from two stores, which the processor cannot forward (a stall of ~10 cycles each time, a
+// third of these passes' time on the drivetrain). These functions are compiled without
+// vectorisation (GCC), so that none of their own stores is read back as a pair either.
+#if defined(__GNUC__) && !defined(__clang__)
+#define PINWIND_SCALAR __attribute__((optimize("no-tree-vectorize")))
+#else
+#define PINWIND_SCALAR
+#endif
+
+PINWIND_SCALAR inline void cross3(const double* a, const double* b, double* out) {
   out[0] = a[1] * b[2] - a[2] * b[1];
   out[1] = a[2] * b[0] - a[0] * b[2];
   out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-// out = v × m for motions (linear part first): Pinocchio's MotionDense::cross, m.motionAction(v):
-// (v_lin × m_ang + v_ang × m_lin, v_ang × m_ang).
-inline void motion_cross(const double* v, const double* m, double* out) {
-  double a[3], b[3];
-  cross3(v, m + 3, a);
-  cross3(v + 3, m, b);
-  for (int r = 0; r < 3; ++r) out[r] = a[r] + b[r];
-  cross3(v + 3, m + 3, out + 3);
+// S x for a symmetric 3 × 3 matrix stored as Pinocchio's Symmetric3 (xx, xy, yy, xz, yz, zz):
+// Symmetric3::rhsMult.
+PINWIND_SCALAR inline void symmetric_times(const double* s, const double* x, double* out) {
+  out[0] = s[0] * x[0] + s[1] * x[1] + s[3] * x[2];
+  out[1] = s[1] * x[0] + s[2] * x[1] + s[4] * x[2];
+  out[2] = s[3] * x[0] + s[4] * x[1] + s[5] * x[2];
+}
+
+// The twist, J̇ column and drift of a one-column joint c below its parent: ov = ov_parent +
+// J_c q̇_c, J̇_c = ov × J_c (Pinocchio's MotionDense::cross, J_c.motionAction(ov): (ov_lin ×
+// J_ang + ov_ang × J_lin, ov_ang × J_ang)), drift = drift_parent + J̇_c q̇_c.
+PINWIND_SCALAR void one_column_motion(const double* above, const double* drift_above,
+                                      const double* column, double speed, double* ov,
+                                      double* dj, double* drift) {
+  double twist[6], a[3], b[3];
+  for (int r = 0; r < 6; ++r) twist[r] = above[r] + column[r] * speed;
+  cross3(twist, column + 3, a);
+  cross3(twist + 3, column, b);
+  double dcolumn[6];
+  for (int r = 0; r < 3; ++r) dcolumn[r] = a[r] + b[r];
+  cross3(twist + 3, column + 3, dcolumn + 3);
+  for (int r = 0; r < 6; ++r) {
+    ov[r] = twist[r];
+    dj[r] = dcolumn[r];
+    drift[r] = drift_above[r] + dcolumn[r] * speed;
+  }
+}
+
+// out = above + column x: a one-column joint's motion below its parent's.
+PINWIND_SCALAR void one_column_add(const double* above, const double* column, double x,
+                                   double* out) {
+  for (int r = 0; r < 6; ++r) out[r] = above[r] + column[r] * x;
+}
+
+// A body's weight as a force at the world origin, I (g, 0) for the base's upward acceleration
+// g: (m g, c × m g), into weight and, if given, also into copy.
+PINWIND_SCALAR void weight_force(const pinocchio::Inertia& body, const double* up, double* weight,
+                                 double* copy) {
+  double w[6];
+  for (int r = 0; r < 3; ++r) w[r] = body.mass() * up[r];
+  cross3(body.lever().data(), w, w + 3);
+  for (int r = 0; r < 6; ++r) weight[r] = w[r];
+  if (copy) {
+    for (int r = 0; r < 6; ++r) copy[r] = w[r];
+  }
+}
+
+// out = (I a + weight) + v ×* (I v) − external, as `body * a + weight + body.vxiv(v) -
+// external` computes it, with a = a1 + a2 (a2 optional) and external optional; into out and,
+// if given, also into copy. I a is Pinocchio's InertiaTpl::__mult__, (m (a_lin − c × a_ang),
+// I_c a_ang + c × f_lin); v ×* (I v) its vxiv, (w × (m v_lin − m c × w), w × (c × (m v_lin −
+// m c × w) + I_c w) − v_lin × (m c × w)), w = v_ang.
+PINWIND_SCALAR void body_force(const pinocchio::Inertia& body, const double* a1,
+                               const double* a2, const double* weight, const double* v,
+                               const double* external, double* out, double* copy) {
+  const double m = body.mass();
+  const double* c = body.lever().data();
+  const double* inertia = body.inertia().data().data();
+  double a[6];
+  for (int r = 0; r < 6; ++r) a[r] = a2 ? a1[r] + a2[r] : a1[r];
+  double f[6], cw[3], iw[3], cf[3];
+  cross3(c, a + 3, cw);
+  for (int r = 0; r < 3; ++r) f[r] = m * (a[r] - cw[r]);
+  symmetric_times(inertia, a + 3, iw);
+  cross3(c, f, cf);
+  for (int r = 0; r < 3; ++r) f[3 + r] = iw[r] + cf[r];
+  const double* w = v + 3;
+  double vf[6], mcxw[3], mv[3], cmv[3], sum[3], t2[3], t3[3];
+  cross3(c, w, cw);
+  for (int r = 0; r < 3; ++r) mcxw[r] = m * cw[r];
+  for (int r = 0; r < 3; ++r) mv[r] = m * v[r] - mcxw[r];
+  cross3(w, mv, vf);
+  cross3(c, mv, cmv);
+  symmetric_times(inertia, w, iw);
+  for (int r = 0; r < 3; ++r) sum[r] = cmv[r] + iw[r];
+  cross3(w, sum, t2);
+  cross3(v, mcxw, t3);
+  for (int r = 0; r < 3; ++r) vf[3 + r] = t2[r] - t3[r];
+  for (int r = 0; r < 6; ++r) {
+    double x = (f[r] + weight[r]) + vf[r];
+    if (external) x = x - external[r];
+    out[r] = x;
+    if (copy) copy[r] = x;
+  }
 }
 
 }  // namespace
@@ -144,23 +228,10 @@ void Stepper::velocity_kinematics() {
       continue;
     }
     if (n == 1) {
-      // ov_i = ov_parent + J_c q̇_c, J̇_c = ov_i × J_c, drift_i = drift_parent + J̇_c q̇_c, entry by
-      // entry (motion_cross above): the same operations as the general branch below.
-      const double speed = v_[idx];
-      const double* column = data_.J.col(idx).data();
-      const double* above = data_.ov[parent].toVector().data();
-      const double* drift_above = drift_[parent].toVector().data();
-      double twist[6], dcolumn[6];
-      for (int r = 0; r < 6; ++r) twist[r] = above[r] + column[r] * speed;
-      motion_cross(twist, column, dcolumn);
-      double* ov = data_.ov[i].toVector().data();
-      double* dj = data_.dJ.col(idx).data();
-      double* drift = drift_[i].toVector().data();
-      for (int r = 0; r < 6; ++r) {
-        ov[r] = twist[r];
-        dj[r] = dcolumn[r];
-        drift[r] = drift_above[r] + dcolumn[r] * speed;
-      }
+      // (one_column_motion: the same operations as the general branch below)
+      one_column_motion(data_.ov[parent].toVector().data(), drift_[parent].toVector().data(),
+                        data_.J.col(idx).data(), v_[idx], data_.ov[i].toVector().data(),
+                        data_.dJ.col(idx).data(), drift_[i].toVector().data());
       continue;
     }
     data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
@@ -198,22 +269,15 @@ void Stepper::bias_forces() {
       continue;
     }
     // I (g, 0) for the pure linear acceleration g: (m g, c × m g), Pinocchio's product without
-    // its terms in the zero angular part, which add zeros.
-    // Entry by entry (motion_cross above): m g, then c × m g as Eigen's cross.
+    // its terms in the zero angular part, which add zeros (weight_force above).
     const pinocchio::Inertia& body = body_[i];
-    double weight[6];
-    for (int r = 0; r < 3; ++r) weight[r] = body.mass() * up.linear()[r];
-    cross3(body.lever().data(), weight, weight + 3);
-    double* own = weight_[i].toVector().data();
-    for (int r = 0; r < 6; ++r) own[r] = weight[r];
-    if (constant_mass_) {
-      // the body forces at q̈ = 0 are joint_forces' (below)
-      double* sub = subtree_[i].toVector().data();
-      for (int r = 0; r < 6; ++r) sub[r] = weight[r];
-      continue;
-    }
-    body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
-    subtree_[i] = body_force_[i];
+    weight_force(body, up.linear().data(), weight_[i].toVector().data(),
+                 constant_mass_ ? subtree_[i].toVector().data() : nullptr);
+    if (constant_mass_) continue;  // the body forces at q̈ = 0 are joint_forces' (below)
+    // body * drift + weight + body.vxiv(ov) (body_force above)
+    body_force(body, drift_[i].toVector().data(), nullptr, weight_[i].toVector().data(),
+               data_.ov[i].toVector().data(), nullptr, body_force_[i].toVector().data(),
+               subtree_[i].toVector().data());
   }
   nle_.resize(nv_);
   gravity_.resize(nv_);
@@ -259,11 +323,8 @@ void Stepper::joint_forces() {
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
     if (n == 1) {
-      // accel_parent + J_c a_c entry by entry (velocity_kinematics' comment)
-      const double* column = data_.J.col(idx).data();
-      const double* above = accel_[model.parents[i]].toVector().data();
-      double* accel = accel_[i].toVector().data();
-      for (int r = 0; r < 6; ++r) accel[r] = above[r] + column[r] * a_[idx];
+      one_column_add(accel_[model.parents[i]].toVector().data(), data_.J.col(idx).data(), a_[idx],
+                     accel_[i].toVector().data());
     } else {
       accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
     }
@@ -274,9 +335,10 @@ void Stepper::joint_forces() {
       if (massless_[i]) {
         subtree_[i] = -fext_.of_joint[i];
       } else {
-        const pinocchio::Inertia& body = body_[i];
-        subtree_[i] = body * (drift_[i] + accel_[i]) + weight_[i] + body.vxiv(data_.ov[i]) -
-                      fext_.of_joint[i];
+        // body * (drift + accel) + weight + body.vxiv(ov) − f_ext (body_force above)
+        body_force(body_[i], drift_[i].toVector().data(), accel_[i].toVector().data(),
+                   weight_[i].toVector().data(), data_.ov[i].toVector().data(),
+                   fext_.of_joint[i].toVector().data(), subtree_[i].toVector().data(), nullptr);
       }
       continue;
     }
@@ -629,16 +691,23 @@ void Stepper::advance() {
   mid_ = (0.5 * h) * (v_ + v_next_);
   dq_ = h * v_ + weights_.step_gain * a_;
   if (weights_.memory_gain != 0.0) dq_ += weights_.memory_gain * accel_memory_;
+  // Summed in four scalars rather than a StepWork: the compiler paired a StepWork's sums,
+  // reading each returned StepWork's fields in pairs from two stores (a stalled forwarding).
   StepWork elements;
+  double elastic = 0.0, dissipated = 0.0, applied = 0.0, friction = 0.0;
   const StepView sv = view();
   v_mid_ = mid_ / h;
   for (const auto& e : elements_) {
     const StepWork w = e->work(sv, v_next_, v_mid_);
-    elements.elastic += w.elastic;
-    elements.dissipated += w.dissipated;
-    elements.applied += w.applied;
-    elements.friction += w.friction;
+    elastic += w.elastic;
+    dissipated += w.dissipated;
+    applied += w.applied;
+    friction += w.friction;
   }
+  elements.elastic = elastic;
+  elements.dissipated = dissipated;
+  elements.applied = applied;
+  elements.friction = friction;
   EnergyLedger step;
   step.applied = tau_applied_.dot(mid_) + elements.applied;
   step.springs = elements.elastic;
