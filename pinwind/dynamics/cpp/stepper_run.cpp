@@ -612,6 +612,9 @@ bool Stepper::hand_bearing_loads() {
 }
 
 void Stepper::record(long k, double t) {
+  // M v first, its dot with v last: the stores of M v are in the cache by then rather than
+  // still in flight (read back in pairs by the dot, they would not forward).
+  symmetric_product(mass_, v_, mv_);
   out_.at(Series::time, k) = t;
   joint_row(Series::angle, k) = q_;
   joint_row(Series::speed, k) = v_;
@@ -661,14 +664,20 @@ void Stepper::record(long k, double t) {
     // The quaternion is converted into the output itself (Eigen's conversion, through a
     // Map), not into a local one copied after its parts were stored (store forwarding).
     const pinocchio::SE3& joint = data_.oMi[s_.frame_parent[b]];
-    if (!frame_at_joint_[b]) moved = joint * s_.frame_placement[b];
+    if (!frame_at_joint_[b]) {
+      // joint * placement (Pinocchio's SE3 product: R R_p, t + R t_p) written into moved in
+      // place, not built in a temporary and copied (its parts read back in pairs)
+      const pinocchio::SE3& placement = s_.frame_placement[b];
+      moved.rotation().noalias() = joint.rotation() * placement.rotation();
+      moved.translation().noalias() = joint.rotation() * placement.translation();
+      moved.translation() += joint.translation();
+    }
     const pinocchio::SE3& pose = frame_at_joint_[b] ? joint : moved;
     const long e = out_.entry(Family::body, k, b);
     vec3(Series::body_position, e) = pose.translation();
     Eigen::Map<Eigen::Quaterniond>(&out_.at(Series::body_quaternion, e)) = pose.rotation();
   }
   out_.at(Series::constraint_residual, k) = residual_;
-  symmetric_product(mass_, v_, mv_);
   out_.at(Series::kinetic, k) = 0.5 * v_.dot(mv_);
   double potential = 0.0;
   for (const auto& e : elements_) potential += e->potential(sv);
