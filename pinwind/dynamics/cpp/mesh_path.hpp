@@ -163,6 +163,20 @@ inline PathState path_state(const MeshPathSpec& p, double angle_a, double flank,
   return st;
 }
 
+// ψ_A of a mesh with MeshRows::angle_affine, from q without atan2: the affine form, less whole
+// turns, in [−π, π] (gear_a_angle's range, so that path_state's roll and its wrap stay as
+// small): equal to gear_a_angle's up to the rounding of q's own size (|q| ε) and whole turns,
+// which path_state's wrap by the base pitch removes (a turn rolls z_A base pitches).
+inline double affine_angle(const MeshRows& rows, Eigen::Index m, const Eigen::VectorXd& q) {
+  constexpr double kTwoPi = 6.283185307179586;
+  const auto i = static_cast<size_t>(m);
+  double psi = rows.angle_offset[i];
+  for (const auto& [j, w] : rows.angle_terms[i]) psi += w * q[j];
+  const double turns = psi * (1.0 / kTwoPi);
+  const auto whole = static_cast<long long>(turns + (turns >= 0.0 ? 0.5 : -0.5));
+  return psi - kTwoPi * static_cast<double>(whole);
+}
+
 // ψ_A: the angle of gear A about the mesh axis relative to the centre line towards B.
 inline double gear_a_angle(const MeshConstants& mc, const MeshRows& rows, const MeshPathSpec& p,
                            const Eigen::Matrix3d& rot_a, Eigen::Index m) {

@@ -99,8 +99,11 @@ class RigidMeshes final : public Constraint {
     for (Eigen::Index r = 0; r < size(); ++r) {
       const Eigen::Index m = meshes_[r];
       const auto& path = (*paths_)[static_cast<size_t>(m)];
+      // ψ_A from q where it is affine in q (no atan2), else from gear A's rotation
       const double angle =
-          gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
+          s.rows.angle_affine(m)
+              ? affine_angle(s.rows, m, s.q)
+              : gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
       const PathState p = path_state(path, angle, flank_[r]);
       record_mesh_force(out, mc, s.rows, k, m, lambda[r], flank_[r]);
       const long e = out.entry(Family::mesh, k, m);
