@@ -35,6 +35,7 @@ class RigidMeshes final : public Constraint {
     te_.setZero(n);
     jv_.setZero(n);
     written_.setZero(n);
+    hints_.resize(meshes_.size());
   }
 
   Eigen::Index size() const override { return flank_.size(); }
@@ -104,7 +105,10 @@ class RigidMeshes final : public Constraint {
           s.rows.angle_affine(m)
               ? affine_angle(s.rows, m, s.q)
               : gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
-      const PathState p = path_state(path, angle, flank_[r]);
+      // the affine angle differs from gear_a_angle's by rounding already: its roll is wrapped
+      // by wrap_positive_near, the other's by fmod as before
+      const PathState p = path_state(path, angle, flank_[r], 0.0, &hints_[static_cast<size_t>(r)],
+                                     s.rows.angle_affine(m));
       record_mesh_force(out, mc, s.rows, k, m, lambda[r], flank_[r]);
       const long e = out.entry(Family::mesh, k, m);
       out.at(Series::transmission_error, e) = te_[r];
@@ -153,6 +157,7 @@ class RigidMeshes final : public Constraint {
   // The flank of each fixed mesh's row as rows() last wrote it into J (0: not written, or not
   // fixed): a state of the step's J, saved and taken back with it.
   mutable Eigen::VectorXd written_;
+  mutable std::vector<PathHint> hints_;  // each row's table look-ups (path_state; speed only)
 };
 
 // The kind (element_kind.hpp): StepperSpec.rigid_meshes, the indices of the meshes that are
