@@ -2,6 +2,7 @@
 // the mass matrix the tests check (stepper.hpp documents the scheme).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "joint_algorithms.hpp"
@@ -129,6 +130,16 @@ PINWIND_SCALAR void body_force(const pinocchio::Inertia& body, const double* a1,
     out[r] = x;
     if (copy) copy[r] = x;
   }
+}
+
+// sums += (elastic, dissipated, applied, friction) of w, read one field at a time: the caller,
+// vectorised, read a returned StepWork's fields in pairs, each pair from two stores of the
+// callee (a stalled forwarding after every element's work()).
+PINWIND_SCALAR void add_work(const StepWork& w, double* sums) {
+  sums[0] += w.elastic;
+  sums[1] += w.dissipated;
+  sums[2] += w.applied;
+  sums[3] += w.friction;
 }
 
 }  // namespace
@@ -616,13 +627,19 @@ void Stepper::record(long k, double t) {
   // still in flight (read back in pairs by the dot, they would not forward).
   symmetric_product(mass_, v_, mv_);
   out_.at(Series::time, k) = t;
-  joint_row(Series::angle, k) = q_;
-  joint_row(Series::speed, k) = v_;
+  // The joint rows copied as bytes (Eigen's copy of a dynamic vector into a Map peels for
+  // alignment: a hundred instructions for eight values).
+  const auto copy_row = [&](Series series, const Eigen::VectorXd& x) {
+    const auto bytes = sizeof(double) * static_cast<size_t>(x.size());
+    std::memcpy(joint_row(series, k).data(), x.data(), bytes);
+  };
+  copy_row(Series::angle, q_);
+  copy_row(Series::speed, v_);
   // ā, the step's mean acceleration: the one the multipliers and bearing reactions of the
   // sample come from. a_k itself carries, at ρ∞ = 1, an error of alternating sign after a
   // jump in the forces (a torque step, a flank switch) that never decays; ā does not.
-  joint_row(Series::acceleration, k) = a_;
-  joint_row(Series::torque, k) = tau_applied_;
+  copy_row(Series::acceleration, a_);
+  copy_row(Series::torque, tau_applied_);
   const StepView sv = view();
   for (size_t c = 0; c < constraints_.size(); ++c) {
     constraints_[c]->record(sv, k, rows_of(lam_, c), out_);
@@ -700,23 +717,16 @@ void Stepper::advance() {
   mid_ = (0.5 * h) * (v_ + v_next_);
   dq_ = h * v_ + weights_.step_gain * a_;
   if (weights_.memory_gain != 0.0) dq_ += weights_.memory_gain * accel_memory_;
-  // Summed in four scalars rather than a StepWork: the compiler paired a StepWork's sums,
-  // reading each returned StepWork's fields in pairs from two stores (a stalled forwarding).
-  StepWork elements;
-  double elastic = 0.0, dissipated = 0.0, applied = 0.0, friction = 0.0;
+  // Summed by add_work (above), in the elements' order from 0 as before.
+  double sums[4] = {0.0, 0.0, 0.0, 0.0};
   const StepView sv = view();
   v_mid_ = mid_ / h;
-  for (const auto& e : elements_) {
-    const StepWork w = e->work(sv, v_next_, v_mid_);
-    elastic += w.elastic;
-    dissipated += w.dissipated;
-    applied += w.applied;
-    friction += w.friction;
-  }
-  elements.elastic = elastic;
-  elements.dissipated = dissipated;
-  elements.applied = applied;
-  elements.friction = friction;
+  for (const auto& e : elements_) add_work(e->work(sv, v_next_, v_mid_), sums);
+  StepWork elements;
+  elements.elastic = sums[0];
+  elements.dissipated = sums[1];
+  elements.applied = sums[2];
+  elements.friction = sums[3];
   EnergyLedger step;
   step.applied = tau_applied_.dot(mid_) + elements.applied;
   step.springs = elements.elastic;
