@@ -127,12 +127,11 @@ class RigidMeshes final : public Constraint {
   }
 
   void advance(const StepView&, ConstRows jac, const Eigen::VectorXd& dq) override {
-    // Σ_c J_rc dq_c in column order, as Eigen's dot of the strided row sums it.
-    for (Eigen::Index r = 0; r < size(); ++r) {
-      double s = jac(r, 0) * dq[0];
-      for (Eigen::Index c = 1; c < jac.cols(); ++c) s += jac(r, c) * dq[c];
-      te_[r] += s;
-    }
+    // Σ_c J_rc dq_c in column order, as Eigen's dot of the strided row sums it, for all rows at
+    // once by columns (small_product: each row's sum from 0.0, the same value; te_ is never
+    // −0.0, which alone could tell a +0.0 sum from a −0.0 one).
+    if (!size()) return;
+    small_product<Accumulate::add>(jac, dq, te_);
   }
 
   // A copy for a saved state of the run, and its states taken back (Constraint::copy).
