@@ -25,6 +25,63 @@ std::vector<int> slide_axes(const pinocchio::Model& model) {
   return axes;
 }
 
+namespace {
+
+// Pinocchio's JointJacobiansForwardStep for a revolute joint about axis x, y or z of its frame
+// (JointModelRevoluteTpl), with each result written where it is kept: Pinocchio builds liMi, oMi
+// and the column in temporaries and copies them, and the copies read the temporaries' 3-vector
+// stores in pairs that straddle two stores, which the processor cannot forward (a stall each;
+// three fifths of this step's time on the drivetrain). The same expressions, so the same
+// values: calc's sincos; liMi = placement * M as TransformRevoluteTpl::se3Action computes it
+// (two columns turned by (cos, sin), the third their cross product, the placement's
+// translation); oMi = oMi_parent * liMi as SE3Tpl::act_impl, (R R_l, t + R t_l), with t + R t_l
+// as R t_l + t (a sum, the same either way); the column (t × R_axis, R_axis) as
+// JointMotionSubspaceRevoluteTpl::se3Action.
+template <int axis, class JointModel>
+void revolute_step(const JointModel& joint, pinocchio::Data& data, const pinocchio::Model& model,
+                   const Eigen::VectorXd& q) {
+  const auto i = joint.id();
+  auto& joint_data = boost::get<typename JointModel::JointDataDerived>(data.joints[i].toVariant());
+  joint.calc(joint_data, q);
+  const double sin = joint_data.M.sin(), cos = joint_data.M.cos();
+  const pinocchio::SE3& placement = model.jointPlacements[i];
+  const auto& p = placement.rotation();
+  const auto place = [&](pinocchio::SE3& local) {
+    auto& r = local.rotation();
+    if (axis == 0) {
+      r.col(0) = p.col(0);
+      r.col(1).noalias() = cos * p.col(1) + sin * p.col(2);
+      r.col(2).noalias() = r.col(0).cross(r.col(1));
+    } else if (axis == 1) {
+      r.col(2).noalias() = cos * p.col(2) + sin * p.col(0);
+      r.col(1) = p.col(1);
+      r.col(0).noalias() = r.col(1).cross(r.col(2));
+    } else {
+      r.col(0).noalias() = cos * p.col(0) + sin * p.col(1);
+      r.col(2) = p.col(2);
+      r.col(1).noalias() = r.col(2).cross(r.col(0));
+    }
+    local.translation() = placement.translation();
+  };
+  place(data.liMi[i]);
+  const auto parent = model.parents[i];
+  pinocchio::SE3& world = data.oMi[i];
+  if (parent > 0) {
+    const pinocchio::SE3& above = data.oMi[parent];
+    const pinocchio::SE3& local = data.liMi[i];
+    world.rotation().noalias() = above.rotation() * local.rotation();
+    world.translation().noalias() = above.rotation() * local.translation();
+    world.translation() += above.translation();
+  } else {
+    place(world);
+  }
+  auto column = data.J.col(model.idx_vs[i]);
+  column.template head<3>() = world.translation().cross(world.rotation().col(axis));
+  column.template tail<3>() = world.rotation().col(axis);
+}
+
+}  // namespace
+
 void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
                      const Eigen::VectorXd& q, const std::vector<int>& slide_axes) {
   // Pinocchio's own step of computeJointJacobians for every other joint (its impl namespace, as
@@ -32,24 +89,18 @@ void joint_jacobians(const pinocchio::Model& model, pinocchio::Data& data,
   using Pass = pinocchio::impl::JointJacobiansForwardStep<
       double, 0, pinocchio::JointCollectionDefaultTpl, Eigen::VectorXd, pinocchio::Data::Matrix6x>;
   // A revolute joint about x, y or z (every joint of a gearbox but a compliant bearing's slides)
-  // runs the same step by its own type, without the joint variant's dispatch (a quarter of the
-  // step's cost per joint).
-  const auto typed = [&](const auto* joint, pinocchio::JointIndex i) {
-    using JointModel = std::decay_t<decltype(*joint)>;
-    auto& joint_data =
-        boost::get<typename JointModel::JointDataDerived>(data.joints[i].toVariant());
-    Pass::algo(*joint, joint_data, model, data, q, data.J);
-  };
+  // runs the same step by its own type (revolute_step above), without the joint variant's
+  // dispatch (a quarter of the step's cost per joint).
   for (pinocchio::JointIndex i = 1; i < static_cast<pinocchio::JointIndex>(model.njoints); ++i) {
     const int axis = slide_axes[i];
     if (axis < 0) {
       const auto& joint = model.joints[i].toVariant();
       if (const auto* rz = boost::get<pinocchio::JointModelRZ>(&joint)) {
-        typed(rz, i);
+        revolute_step<2>(*rz, data, model, q);
       } else if (const auto* rx = boost::get<pinocchio::JointModelRX>(&joint)) {
-        typed(rx, i);
+        revolute_step<0>(*rx, data, model, q);
       } else if (const auto* ry = boost::get<pinocchio::JointModelRY>(&joint)) {
-        typed(ry, i);
+        revolute_step<1>(*ry, data, model, q);
       } else {
         Pass::run(model.joints[i], data.joints[i], Pass::ArgsType(model, data, q, data.J));
       }

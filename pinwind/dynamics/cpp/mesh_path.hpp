@@ -48,6 +48,26 @@ inline double wrap_positive(double x, double p) {
   return r < 0.0 ? r + p : r;
 }
 
+// x mod p in [0, p) for |x| below 2⁶² p, as x − n p with n = x/p truncated and one correction:
+// without fmod's exact, bit-by-bit remainder (a loop of one step per bit of x/p), and equal to
+// it but for the rounding of n p (ulp(x)).
+inline double wrap_positive_near(double x, double p) {
+  const double n = static_cast<double>(static_cast<long long>(x / p));
+  double r = x - n * p;
+  if (r < 0.0) r += p;
+  if (r >= p) r -= p;
+  return r;
+}
+
+// Where path_state's last table look-ups of one mesh ended (the interval of each pair in the
+// stiffness table), to start the next from: the pairs move by a fraction of an interval per
+// step, so the look-up is mostly one comparison instead of a binary search whose branches the
+// processor cannot predict. The values found are the same.
+struct PathHint {
+  static constexpr int kPairs = 8;
+  Eigen::Index interval[kPairs] = {};
+};
+
 struct PathState {
   double entering = 0.0;     // x of the entering pair [m]
   int pairs = 1;             // pairs in contact
@@ -56,19 +76,25 @@ struct PathState {
   double gap = 0.0;          // E: the engaged pairs' stiffness-weighted gap (engage) [m]
 };
 
-// A piecewise-linear table at x, held at its ends.
-inline double table_at(const Eigen::VectorXd& s, const Eigen::VectorXd& k, double x) {
+// A piecewise-linear table at x, held at its ends. hint: an interval i to try first (s[i − 1]
+// ≤ x < s[i], the one the search finds), and where the interval found is written.
+inline double table_at(const Eigen::VectorXd& s, const Eigen::VectorXd& k, double x,
+                       Eigen::Index* hint = nullptr) {
   const Eigen::Index n = s.size();
   if (x <= s[0]) return k[0];
   if (x >= s[n - 1]) return k[n - 1];
-  const auto* it = std::upper_bound(s.data(), s.data() + n, x);
-  const Eigen::Index i = static_cast<Eigen::Index>(it - s.data());
+  Eigen::Index i = hint ? *hint : 0;
+  if (!(i > 0 && i < n && s[i - 1] <= x && x < s[i])) {
+    const auto* it = std::upper_bound(s.data(), s.data() + n, x);
+    i = static_cast<Eigen::Index>(it - s.data());
+    if (hint) *hint = i;
+  }
   const double w = (x - s[i - 1]) / (s[i] - s[i - 1]);
   return (1.0 - w) * k[i - 1] + w * k[i];
 }
 
-inline double pair_stiffness_at(const MeshPathSpec& p, double x) {
-  return table_at(p.pair_position, p.pair_stiffness, x);
+inline double pair_stiffness_at(const MeshPathSpec& p, double x, Eigen::Index* hint = nullptr) {
+  return table_at(p.pair_position, p.pair_stiffness, x, hint);
 }
 
 inline double pair_gap_at(const MeshPathSpec& p, double x) {
@@ -138,14 +164,16 @@ inline void pair_shares(const MeshPathSpec& p, const PathState& st, double delta
 
 // Path state for gear A's angle ψ_A relative to the centre line, on flank s (±1); shift [m]
 // moves the entering pair along the path (a helical mesh's slice: its face section's lag,
-// compliant_mesh.hpp SlicedMeshes).
+// compliant_mesh.hpp SlicedMeshes). hint: the mesh's PathHint (the same state, found sooner);
+// near_wrap: the roll wrapped by wrap_positive_near instead of fmod's exact remainder.
 inline PathState path_state(const MeshPathSpec& p, double angle_a, double flank,
-                            double shift = 0.0) {
+                            double shift = 0.0, PathHint* hint = nullptr,
+                            bool near_wrap = false) {
   PathState st;
   if (p.base_pitch <= 0.0) return st;
   const double roll = p.roll_radius_a * (angle_a - p.angle_ref_a);
-  st.entering = flank > 0 ? wrap_positive(p.entering_front + roll + shift, p.base_pitch)
-                          : wrap_positive(p.entering_back - roll + shift, p.base_pitch);
+  const double x = flank > 0 ? p.entering_front + roll + shift : p.entering_back - roll + shift;
+  st.entering = near_wrap ? wrap_positive_near(x, p.base_pitch) : wrap_positive(x, p.base_pitch);
   const double tol = 1e-12 * p.base_pitch;
   st.pairs = 0;
   for (double x = st.entering; x <= p.path_length + tol; x += p.base_pitch) ++st.pairs;
@@ -154,13 +182,29 @@ inline PathState path_state(const MeshPathSpec& p, double angle_a, double flank,
     st.share = 1.0 / st.pairs;
     return st;
   }
-  const double entering = pair_stiffness_at(p, st.entering);
+  const bool hinted = hint && st.pairs <= PathHint::kPairs;
+  const double entering = pair_stiffness_at(p, st.entering, hinted ? &hint->interval[0] : nullptr);
   st.stiffness = entering;
   for (int j = 1; j < st.pairs; ++j) {
-    st.stiffness += pair_stiffness_at(p, st.entering + j * p.base_pitch);
+    st.stiffness += pair_stiffness_at(p, st.entering + j * p.base_pitch,
+                                      hinted ? &hint->interval[j] : nullptr);
   }
   st.share = entering / st.stiffness;
   return st;
+}
+
+// ψ_A of a mesh with MeshRows::angle_affine, from q without atan2: the affine form, less whole
+// turns, in [−π, π] (gear_a_angle's range, so that path_state's roll and its wrap stay as
+// small): equal to gear_a_angle's up to the rounding of q's own size (|q| ε) and whole turns,
+// which path_state's wrap by the base pitch removes (a turn rolls z_A base pitches).
+inline double affine_angle(const MeshRows& rows, Eigen::Index m, const Eigen::VectorXd& q) {
+  constexpr double kTwoPi = 6.283185307179586;
+  const auto i = static_cast<size_t>(m);
+  double psi = rows.angle_offset[i];
+  for (const auto& [j, w] : rows.angle_terms[i]) psi += w * q[j];
+  const double turns = psi * (1.0 / kTwoPi);
+  const auto whole = static_cast<long long>(turns + (turns >= 0.0 ? 0.5 : -0.5));
+  return psi - kTwoPi * static_cast<double>(whole);
 }
 
 // ψ_A: the angle of gear A about the mesh axis relative to the centre line towards B.

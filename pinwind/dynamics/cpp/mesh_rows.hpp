@@ -61,6 +61,17 @@ struct MeshRows {
       local_centre_b;
 
   bool fixed(Index m) const { return !frame.empty() && frame[static_cast<size_t>(m)] >= 0; }
+  // Per fixed mesh whose gear A and frame hang from the world through joints that each turn
+  // about the mesh's axis or do not turn (revolute about ±k, or prismatic), gear A's angle ψ_A
+  // about k from the centre line (mesh_path.hpp gear_a_angle) as an affine function of q, up
+  // to whole turns: ψ_A = angle_offset[m] + Σ w q_j over angle_terms[m] (j, w = ±1): gear A's
+  // turn about k less the frame's. Empty terms and a NaN offset: not affine (atan2 instead);
+  // empty vectors: no mesh is.
+  std::vector<std::vector<std::pair<Index, double>>> angle_terms;
+  std::vector<double> angle_offset;
+  bool angle_affine(Index m) const {
+    return !angle_offset.empty() && !std::isnan(angle_offset[static_cast<size_t>(m)]);
+  }
   // Per mesh, the columns that move one gear and not the other, each with its w (support of B
   // less support of A), taken from MeshConstants::support by evaluate_mesh_geometry's first
   // call; the rows' other entries stay the zeros resize wrote.

@@ -35,6 +35,7 @@ class RigidMeshes final : public Constraint {
     te_.setZero(n);
     jv_.setZero(n);
     written_.setZero(n);
+    hints_.resize(meshes_.size());
   }
 
   Eigen::Index size() const override { return flank_.size(); }
@@ -99,9 +100,15 @@ class RigidMeshes final : public Constraint {
     for (Eigen::Index r = 0; r < size(); ++r) {
       const Eigen::Index m = meshes_[r];
       const auto& path = (*paths_)[static_cast<size_t>(m)];
+      // ψ_A from q where it is affine in q (no atan2), else from gear A's rotation
       const double angle =
-          gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
-      const PathState p = path_state(path, angle, flank_[r]);
+          s.rows.angle_affine(m)
+              ? affine_angle(s.rows, m, s.q)
+              : gear_a_angle(mc, s.rows, path, s.data.oMi[mc.joint_a[m]].rotation(), m);
+      // the affine angle differs from gear_a_angle's by rounding already: its roll is wrapped
+      // by wrap_positive_near, the other's by fmod as before
+      const PathState p = path_state(path, angle, flank_[r], 0.0, &hints_[static_cast<size_t>(r)],
+                                     s.rows.angle_affine(m));
       record_mesh_force(out, mc, s.rows, k, m, lambda[r], flank_[r]);
       const long e = out.entry(Family::mesh, k, m);
       out.at(Series::transmission_error, e) = te_[r];
@@ -120,12 +127,11 @@ class RigidMeshes final : public Constraint {
   }
 
   void advance(const StepView&, ConstRows jac, const Eigen::VectorXd& dq) override {
-    // Σ_c J_rc dq_c in column order, as Eigen's dot of the strided row sums it.
-    for (Eigen::Index r = 0; r < size(); ++r) {
-      double s = jac(r, 0) * dq[0];
-      for (Eigen::Index c = 1; c < jac.cols(); ++c) s += jac(r, c) * dq[c];
-      te_[r] += s;
-    }
+    // Σ_c J_rc dq_c in column order, as Eigen's dot of the strided row sums it, for all rows at
+    // once by columns (small_product: each row's sum from 0.0, the same value; te_ is never
+    // −0.0, which alone could tell a +0.0 sum from a −0.0 one).
+    if (!size()) return;
+    small_product<Accumulate::add>(jac, dq, te_);
   }
 
   // A copy for a saved state of the run, and its states taken back (Constraint::copy).
@@ -150,6 +156,7 @@ class RigidMeshes final : public Constraint {
   // The flank of each fixed mesh's row as rows() last wrote it into J (0: not written, or not
   // fixed): a state of the step's J, saved and taken back with it.
   mutable Eigen::VectorXd written_;
+  mutable std::vector<PathHint> hints_;  // each row's table look-ups (path_state; speed only)
 };
 
 // The kind (element_kind.hpp): StepperSpec.rigid_meshes, the indices of the meshes that are

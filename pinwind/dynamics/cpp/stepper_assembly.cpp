@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "joint_algorithms.hpp"
+#include "mesh_path.hpp"
 #include "stepper.hpp"
 
 namespace pinwind {
@@ -46,6 +47,62 @@ std::vector<long> joints_above(const pinocchio::Model& model, long j) {
   std::vector<long> out;
   for (; j > 0; j = static_cast<long>(model.parents[static_cast<size_t>(j)])) out.push_back(j);
   return out;
+}
+
+// MeshRows::angle_terms and angle_offset of the fixed meshes (rows.frame set, rows' geometry
+// evaluated at q, data's placements and J at q). All rotations about one direction k commute, so
+// when every joint from the world to gear A turns about ±k (or does not turn), A's rotation is
+// Rot(k, Σ_j s_j q_j) times its rotation at q = 0, s_j = a_j·k = ±1 for the joint's world axis
+// a_j; the frame's likewise. The centre line turns with the frame, so ψ_A = Σ over A's joints
+// of s_j q_j less the same over the frame's, plus a constant taken from gear_a_angle at q. A
+// configuration that is not the joints' angles (nq ≠ nv) or any other joint leaves the mesh
+// to gear_a_angle.
+void fixed_mesh_angles(const pinocchio::Model& model, const pinocchio::Data& data,
+                       const MeshConstants& mc, const std::vector<MeshPathSpec>& paths,
+                       const Eigen::VectorXd& q, MeshRows& rows) {
+  const auto count = static_cast<size_t>(mc.count());
+  rows.angle_terms.assign(count, {});
+  rows.angle_offset.assign(count, std::numeric_limits<double>::quiet_NaN());
+  if (!is_vector_space(model) || paths.size() != count) return;
+  for (size_t m = 0; m < count; ++m) {
+    const auto index = static_cast<Eigen::Index>(m);
+    if (!rows.fixed(index)) continue;
+    const Vec3 k = rows.axis.row(index).transpose();
+    Eigen::VectorXd weight = Eigen::VectorXd::Zero(model.nv);
+    bool affine = true;
+    const auto add = [&](long joint, double sign) {
+      for (const long j : joints_above(model, joint)) {
+        const std::string kind = model.joints[static_cast<size_t>(j)].shortname();
+        const int column = model.idx_vs[static_cast<size_t>(j)];
+        if (kind == "JointModelPX" || kind == "JointModelPY" || kind == "JointModelPZ" ||
+            kind == "JointModelPrismaticUnaligned") {
+          continue;
+        }
+        const Vec3 axis = data.J.col(column).tail<3>();
+        const double along = axis.dot(k);
+        const bool revolute = kind == "JointModelRX" || kind == "JointModelRY" ||
+                              kind == "JointModelRZ" || kind == "JointModelRevoluteUnaligned";
+        if (!revolute || (axis - along * k).norm() > 1e-12 ||
+            std::abs(std::abs(along) - 1.0) > 1e-12) {
+          affine = false;
+          return;
+        }
+        weight[column] += sign * (along > 0.0 ? 1.0 : -1.0);
+      }
+    };
+    add(mc.joint_a[index], 1.0);
+    add(rows.frame[m], -1.0);
+    if (!affine) continue;
+    double sum = 0.0;
+    for (Eigen::Index j = 0; j < model.nv; ++j) {
+      if (weight[j] == 0.0) continue;
+      rows.angle_terms[m].emplace_back(j, weight[j]);
+      sum += weight[j] * q[j];  // nq = nv: q's index is the column's
+    }
+    const auto& rot_a = data.oMi[static_cast<size_t>(mc.joint_a[index])].rotation();
+    const double psi = gear_a_angle(mc, rows, paths[m], rot_a, index);
+    rows.angle_offset[m] = psi - sum;
+  }
 }
 
 // For each mesh, the joint whose frame carries its geometry when the mesh is fixed (its rows J
@@ -319,6 +376,7 @@ Stepper::Stepper(StepperSetup setup, const Eigen::VectorXd& q0, const Eigen::Vec
       point(r.centre_b, r.local_centre_b);
     }
     r.frame = frames;
+    fixed_mesh_angles(s_.model, data_, s_.meshes, s_.paths, q_, r);
     // The fixed meshes' bias is 0: the gears' motion is needed only for the others'.
     if (std::all_of(frames.begin(), frames.end(), [](long f) { return f >= 0; })) {
       gear_motion_ = false;

@@ -2,6 +2,7 @@
 // the mass matrix the tests check (stepper.hpp documents the scheme).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "joint_algorithms.hpp"
@@ -23,6 +24,122 @@ void symmetric_product(const Eigen::MatrixXd& m, const Eigen::VectorXd& x, Eigen
     for (Eigen::Index j = 0; j < n; ++j) s += column[j] * x[j];
     y[i] = s;
   }
+}
+
+// The spatial products of the step's passes for one-column joints, entry by entry with the
+// operations of Pinocchio's and Eigen's expressions (a × b as Eigen's cross, sums entry by
+// entry, Pinocchio's products term by term), so that the values are the same to the bit.
+// Pinocchio's expressions build each 6-vector as two 3-vectors in a temporary that is then read
+// as three pairs: the pair across the linear part's last entry and the angular part's first is
+// read from two stores, which the processor cannot forward (a stall of ~10 cycles each time, a
+// third of these passes' time on the drivetrain). These functions are compiled without
+// vectorisation (GCC), so that none of their own stores is read back as a pair either.
+#if defined(__GNUC__) && !defined(__clang__)
+#define PINWIND_SCALAR __attribute__((optimize("no-tree-vectorize")))
+#else
+#define PINWIND_SCALAR
+#endif
+
+PINWIND_SCALAR inline void cross3(const double* a, const double* b, double* out) {
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+// S x for a symmetric 3 × 3 matrix stored as Pinocchio's Symmetric3 (xx, xy, yy, xz, yz, zz):
+// Symmetric3::rhsMult.
+PINWIND_SCALAR inline void symmetric_times(const double* s, const double* x, double* out) {
+  out[0] = s[0] * x[0] + s[1] * x[1] + s[3] * x[2];
+  out[1] = s[1] * x[0] + s[2] * x[1] + s[4] * x[2];
+  out[2] = s[3] * x[0] + s[4] * x[1] + s[5] * x[2];
+}
+
+// The twist, J̇ column and drift of a one-column joint c below its parent: ov = ov_parent +
+// J_c q̇_c, J̇_c = ov × J_c (Pinocchio's MotionDense::cross, J_c.motionAction(ov): (ov_lin ×
+// J_ang + ov_ang × J_lin, ov_ang × J_ang)), drift = drift_parent + J̇_c q̇_c.
+PINWIND_SCALAR void one_column_motion(const double* above, const double* drift_above,
+                                      const double* column, double speed, double* ov,
+                                      double* dj, double* drift) {
+  double twist[6], a[3], b[3];
+  for (int r = 0; r < 6; ++r) twist[r] = above[r] + column[r] * speed;
+  cross3(twist, column + 3, a);
+  cross3(twist + 3, column, b);
+  double dcolumn[6];
+  for (int r = 0; r < 3; ++r) dcolumn[r] = a[r] + b[r];
+  cross3(twist + 3, column + 3, dcolumn + 3);
+  for (int r = 0; r < 6; ++r) {
+    ov[r] = twist[r];
+    dj[r] = dcolumn[r];
+    drift[r] = drift_above[r] + dcolumn[r] * speed;
+  }
+}
+
+// out = above + column x: a one-column joint's motion below its parent's.
+PINWIND_SCALAR void one_column_add(const double* above, const double* column, double x,
+                                   double* out) {
+  for (int r = 0; r < 6; ++r) out[r] = above[r] + column[r] * x;
+}
+
+// A body's weight as a force at the world origin, I (g, 0) for the base's upward acceleration
+// g: (m g, c × m g), into weight and, if given, also into copy.
+PINWIND_SCALAR void weight_force(const pinocchio::Inertia& body, const double* up, double* weight,
+                                 double* copy) {
+  double w[6];
+  for (int r = 0; r < 3; ++r) w[r] = body.mass() * up[r];
+  cross3(body.lever().data(), w, w + 3);
+  for (int r = 0; r < 6; ++r) weight[r] = w[r];
+  if (copy) {
+    for (int r = 0; r < 6; ++r) copy[r] = w[r];
+  }
+}
+
+// out = (I a + weight) + v ×* (I v) − external, as `body * a + weight + body.vxiv(v) -
+// external` computes it, with a = a1 + a2 (a2 optional) and external optional; into out and,
+// if given, also into copy. I a is Pinocchio's InertiaTpl::__mult__, (m (a_lin − c × a_ang),
+// I_c a_ang + c × f_lin); v ×* (I v) its vxiv, (w × (m v_lin − m c × w), w × (c × (m v_lin −
+// m c × w) + I_c w) − v_lin × (m c × w)), w = v_ang.
+PINWIND_SCALAR void body_force(const pinocchio::Inertia& body, const double* a1,
+                               const double* a2, const double* weight, const double* v,
+                               const double* external, double* out, double* copy) {
+  const double m = body.mass();
+  const double* c = body.lever().data();
+  const double* inertia = body.inertia().data().data();
+  double a[6];
+  for (int r = 0; r < 6; ++r) a[r] = a2 ? a1[r] + a2[r] : a1[r];
+  double f[6], cw[3], iw[3], cf[3];
+  cross3(c, a + 3, cw);
+  for (int r = 0; r < 3; ++r) f[r] = m * (a[r] - cw[r]);
+  symmetric_times(inertia, a + 3, iw);
+  cross3(c, f, cf);
+  for (int r = 0; r < 3; ++r) f[3 + r] = iw[r] + cf[r];
+  const double* w = v + 3;
+  double vf[6], mcxw[3], mv[3], cmv[3], sum[3], t2[3], t3[3];
+  cross3(c, w, cw);
+  for (int r = 0; r < 3; ++r) mcxw[r] = m * cw[r];
+  for (int r = 0; r < 3; ++r) mv[r] = m * v[r] - mcxw[r];
+  cross3(w, mv, vf);
+  cross3(c, mv, cmv);
+  symmetric_times(inertia, w, iw);
+  for (int r = 0; r < 3; ++r) sum[r] = cmv[r] + iw[r];
+  cross3(w, sum, t2);
+  cross3(v, mcxw, t3);
+  for (int r = 0; r < 3; ++r) vf[3 + r] = t2[r] - t3[r];
+  for (int r = 0; r < 6; ++r) {
+    double x = (f[r] + weight[r]) + vf[r];
+    if (external) x = x - external[r];
+    out[r] = x;
+    if (copy) copy[r] = x;
+  }
+}
+
+// sums += (elastic, dissipated, applied, friction) of w, read one field at a time: the caller,
+// vectorised, read a returned StepWork's fields in pairs, each pair from two stores of the
+// callee (a stalled forwarding after every element's work()).
+PINWIND_SCALAR void add_work(const StepWork& w, double* sums) {
+  sums[0] += w.elastic;
+  sums[1] += w.dissipated;
+  sums[2] += w.applied;
+  sums[3] += w.friction;
 }
 
 }  // namespace
@@ -121,6 +238,13 @@ void Stepper::velocity_kinematics() {
       drift_[i].angular() = drift_[parent].angular();
       continue;
     }
+    if (n == 1) {
+      // (one_column_motion: the same operations as the general branch below)
+      one_column_motion(data_.ov[parent].toVector().data(), drift_[parent].toVector().data(),
+                        data_.J.col(idx).data(), v_[idx], data_.ov[i].toVector().data(),
+                        data_.dJ.col(idx).data(), drift_[i].toVector().data());
+      continue;
+    }
     data_.ov[i] = data_.ov[parent] + pinocchio::Motion(joint_product(data_.J, v_, idx, n));
     for (int c = idx; c < idx + n; ++c) {
       data_.dJ.col(c) = data_.ov[i].cross(pinocchio::Motion(data_.J.col(c))).toVector();
@@ -156,16 +280,15 @@ void Stepper::bias_forces() {
       continue;
     }
     // I (g, 0) for the pure linear acceleration g: (m g, c × m g), Pinocchio's product without
-    // its terms in the zero angular part, which add zeros.
+    // its terms in the zero angular part, which add zeros (weight_force above).
     const pinocchio::Inertia& body = body_[i];
-    weight_[i].linear() = body.mass() * up.linear();
-    weight_[i].angular() = body.lever().cross(weight_[i].linear());
-    if (constant_mass_) {
-      subtree_[i] = weight_[i];  // the body forces at q̈ = 0 are joint_forces' (below)
-      continue;
-    }
-    body_force_[i] = body_[i] * drift_[i] + weight_[i] + body_[i].vxiv(data_.ov[i]);
-    subtree_[i] = body_force_[i];
+    weight_force(body, up.linear().data(), weight_[i].toVector().data(),
+                 constant_mass_ ? subtree_[i].toVector().data() : nullptr);
+    if (constant_mass_) continue;  // the body forces at q̈ = 0 are joint_forces' (below)
+    // body * drift + weight + body.vxiv(ov) (body_force above)
+    body_force(body, drift_[i].toVector().data(), nullptr, weight_[i].toVector().data(),
+               data_.ov[i].toVector().data(), nullptr, body_force_[i].toVector().data(),
+               subtree_[i].toVector().data());
   }
   nle_.resize(nv_);
   gravity_.resize(nv_);
@@ -210,14 +333,23 @@ void Stepper::joint_forces() {
   accel_[0].setZero();
   for (pinocchio::JointIndex i = 1; i < nj; ++i) {
     const int idx = model.idx_vs[i], n = model.nvs[i];
-    accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
+    if (n == 1) {
+      one_column_add(accel_[model.parents[i]].toVector().data(), data_.J.col(idx).data(), a_[idx],
+                     accel_[i].toVector().data());
+    } else {
+      accel_[i] = accel_[model.parents[i]] + pinocchio::Motion(joint_product(data_.J, a_, idx, n));
+    }
     if (constant_mass_) {
       // The body's whole acceleration, J̇ v + J a, through its inertia at once (bias_forces
-      // left the force at q̈ = 0 to here).
-      subtree_[i] = -fext_.of_joint[i];
-      if (!massless_[i]) {
-        const pinocchio::Inertia& body = body_[i];
-        subtree_[i] += body * (drift_[i] + accel_[i]) + weight_[i] + body.vxiv(data_.ov[i]);
+      // left the force at q̈ = 0 to here), less the external force: X − f is −f + X to the bit,
+      // and assigned once (not −f first, then read back in pairs and added to).
+      if (massless_[i]) {
+        subtree_[i] = -fext_.of_joint[i];
+      } else {
+        // body * (drift + accel) + weight + body.vxiv(ov) − f_ext (body_force above)
+        body_force(body_[i], drift_[i].toVector().data(), accel_[i].toVector().data(),
+                   weight_[i].toVector().data(), data_.ov[i].toVector().data(),
+                   fext_.of_joint[i].toVector().data(), subtree_[i].toVector().data(), nullptr);
       }
       continue;
     }
@@ -491,14 +623,23 @@ bool Stepper::hand_bearing_loads() {
 }
 
 void Stepper::record(long k, double t) {
+  // M v first, its dot with v last: the stores of M v are in the cache by then rather than
+  // still in flight (read back in pairs by the dot, they would not forward).
+  symmetric_product(mass_, v_, mv_);
   out_.at(Series::time, k) = t;
-  joint_row(Series::angle, k) = q_;
-  joint_row(Series::speed, k) = v_;
+  // The joint rows copied as bytes (Eigen's copy of a dynamic vector into a Map peels for
+  // alignment: a hundred instructions for eight values).
+  const auto copy_row = [&](Series series, const Eigen::VectorXd& x) {
+    const auto bytes = sizeof(double) * static_cast<size_t>(x.size());
+    std::memcpy(joint_row(series, k).data(), x.data(), bytes);
+  };
+  copy_row(Series::angle, q_);
+  copy_row(Series::speed, v_);
   // ā, the step's mean acceleration: the one the multipliers and bearing reactions of the
   // sample come from. a_k itself carries, at ρ∞ = 1, an error of alternating sign after a
   // jump in the forces (a torque step, a flank switch) that never decays; ā does not.
-  joint_row(Series::acceleration, k) = a_;
-  joint_row(Series::torque, k) = tau_applied_;
+  copy_row(Series::acceleration, a_);
+  copy_row(Series::torque, tau_applied_);
   const StepView sv = view();
   for (size_t c = 0; c < constraints_.size(); ++c) {
     constraints_[c]->record(sv, k, rows_of(lam_, c), out_);
@@ -508,27 +649,52 @@ void Stepper::record(long k, double t) {
   for (size_t b = 0; b < bearings.size(); ++b) {
     // The joint's reaction (joint_forces leaves it in world axes, about the world origin):
     // in world axes about the bearing centre p, (f, m − p × f), and in the joint's own frame.
+    // Component by component, in the operations and order of Eigen's expressions (p × f as
+    // Eigen's cross; Rᵀ x as its vectorised dot of R's column with x, (R₀ᵢx₀ + R₁ᵢx₁) + R₂ᵢx₂),
+    // so that no 3-vector is stored in parts and read back as pairs (a stalled store
+    // forwarding: a fifth of record's time on the drivetrain).
     const pinocchio::SE3& joint = data_.oMi[bearings[b]];
     const pinocchio::Force& world = subtree_[bearings[b]];
-    const Vec3 moment = world.angular() - joint.translation().cross(world.linear());
+    const double* f = world.linear().data();
+    const double* a = world.angular().data();
+    const double* p = joint.translation().data();
+    const double moment[3] = {a[0] - (p[1] * f[2] - p[2] * f[1]),
+                              a[1] - (p[2] * f[0] - p[0] * f[2]),
+                              a[2] - (p[0] * f[1] - p[1] * f[0])};
     const long e = out_.entry(Family::bearing, k, static_cast<long>(b));
-    vec3(Series::bearing_force, e) = world.linear();
-    vec3(Series::bearing_moment, e) = moment;
-    vec3(Series::bearing_force_local, e).noalias() = joint.rotation().transpose() * world.linear();
-    vec3(Series::bearing_moment_local, e).noalias() = joint.rotation().transpose() * moment;
+    double* force_out = &out_.at(Series::bearing_force, e);
+    double* moment_out = &out_.at(Series::bearing_moment, e);
+    double* force_local = &out_.at(Series::bearing_force_local, e);
+    double* moment_local = &out_.at(Series::bearing_moment_local, e);
+    const auto& r = joint.rotation();
+    for (int i = 0; i < 3; ++i) {
+      force_out[i] = f[i];
+      moment_out[i] = moment[i];
+      force_local[i] = (r(0, i) * f[0] + r(1, i) * f[1]) + r(2, i) * f[2];
+      moment_local[i] = (r(0, i) * moment[0] + r(1, i) * moment[1]) + r(2, i) * moment[2];
+    }
   }
   const Eigen::Index nb = static_cast<Eigen::Index>(s_.frame_parent.size());
+  pinocchio::SE3 moved;
   for (Eigen::Index b = 0; b < nb; ++b) {
     // Each link is rigid on a joint: its pose is the joint's placement times a constant one.
+    // The quaternion is converted into the output itself (Eigen's conversion, through a
+    // Map), not into a local one copied after its parts were stored (store forwarding).
     const pinocchio::SE3& joint = data_.oMi[s_.frame_parent[b]];
-    const pinocchio::SE3 pose = frame_at_joint_[b] ? joint : joint * s_.frame_placement[b];
+    if (!frame_at_joint_[b]) {
+      // joint * placement (Pinocchio's SE3 product: R R_p, t + R t_p) written into moved in
+      // place, not built in a temporary and copied (its parts read back in pairs)
+      const pinocchio::SE3& placement = s_.frame_placement[b];
+      moved.rotation().noalias() = joint.rotation() * placement.rotation();
+      moved.translation().noalias() = joint.rotation() * placement.translation();
+      moved.translation() += joint.translation();
+    }
+    const pinocchio::SE3& pose = frame_at_joint_[b] ? joint : moved;
     const long e = out_.entry(Family::body, k, b);
     vec3(Series::body_position, e) = pose.translation();
-    const Eigen::Quaterniond quat(pose.rotation());
-    Eigen::Map<Eigen::Vector4d>(&out_.at(Series::body_quaternion, e)) = quat.coeffs();
+    Eigen::Map<Eigen::Quaterniond>(&out_.at(Series::body_quaternion, e)) = pose.rotation();
   }
   out_.at(Series::constraint_residual, k) = residual_;
-  symmetric_product(mass_, v_, mv_);
   out_.at(Series::kinetic, k) = 0.5 * v_.dot(mv_);
   double potential = 0.0;
   for (const auto& e : elements_) potential += e->potential(sv);
@@ -551,16 +717,16 @@ void Stepper::advance() {
   mid_ = (0.5 * h) * (v_ + v_next_);
   dq_ = h * v_ + weights_.step_gain * a_;
   if (weights_.memory_gain != 0.0) dq_ += weights_.memory_gain * accel_memory_;
-  StepWork elements;
+  // Summed by add_work (above), in the elements' order from 0 as before.
+  double sums[4] = {0.0, 0.0, 0.0, 0.0};
   const StepView sv = view();
   v_mid_ = mid_ / h;
-  for (const auto& e : elements_) {
-    const StepWork w = e->work(sv, v_next_, v_mid_);
-    elements.elastic += w.elastic;
-    elements.dissipated += w.dissipated;
-    elements.applied += w.applied;
-    elements.friction += w.friction;
-  }
+  for (const auto& e : elements_) add_work(e->work(sv, v_next_, v_mid_), sums);
+  StepWork elements;
+  elements.elastic = sums[0];
+  elements.dissipated = sums[1];
+  elements.applied = sums[2];
+  elements.friction = sums[3];
   EnergyLedger step;
   step.applied = tau_applied_.dot(mid_) + elements.applied;
   step.springs = elements.elastic;
