@@ -1,4 +1,4 @@
-"""The step loop's wall time split into its compiled calls and the Python around them, beside ``mj_step``.
+"""The step loop's wall time: its compiled calls and the Python around them, against ``mj_step``.
 
 ``pinwind.simulate``'s ``metadata["wall_time_s"]`` times the step loop: the compiled
 ``Stepper.run`` calls (timed here by a wrapper around each) and the Python around each block
@@ -13,7 +13,8 @@ each; printed are the medians over the pairs of
 
 The load case is ``step_rate.py``'s closed-form torques, from rest, every sample kept, no log.
 
-    python benchmarks/step_loop_parts.py [--models saleh2017_planetary ...] [--steps 10000] [--pairs 9]
+    python benchmarks/step_loop_parts.py [--models saleh2017_planetary ...] [--steps 10000] \\
+        [--pairs 9]
 """
 
 from __future__ import annotations
