@@ -41,12 +41,9 @@ std::string status_name(proxsuite::proxqp::QPSolverOutput status) {
   }
 }
 
-// Two doubles in one vector register (GCC's and Clang's vector extension): element-wise
-// products and sums, each rounded as the scalar operation is.
-typedef double Pair __attribute__((vector_size(16)));
-
 // y = A x for a column-major A whose row count is a multiple of 8 (zero rows padding it), y
-// of that length: eight rows at a time, their sums kept in four registers of pairs through
+// of that length: eight rows at a time, their sums kept in four registers of pairs (Pair,
+// small_products.hpp: element-wise products and sums, each rounded as the scalar one) through
 // the columns, each y_i summed over the columns in order from 0. small_product's loop for any
 // row count keeps the sums in memory, and GCC's own vectorisation of this loop took two
 // columns at a time and shuffled them (callgrind, the drivetrain's 15 × 15 map and two 8-row
