@@ -145,7 +145,7 @@ class ConstrainedQp {
   // The solution as a linear map of the data, kept while M and the rows stay: with M and J
   // constant, [a; λ] = [G_f G_r] [f; r], G's columns the solutions above for unit f and unit r
   // (the same substitutions, taken once), so a step costs one small product instead of the
-  // substitutions' chains of divisions (drivetrain: 7 joints, 8 rows of rank 6). Built once a
+  // substitutions' chains of divisions (drivetrain: 8 joints, 9 rows of rank 7). Built once a
   // factorisation has served kMapAfter solves (a run that switches flanks every few steps keeps
   // the substitutions); not with a Woodbury correction, nor if an entry is not finite (the
   // return value: whether the map is used). The sums differ from the substitutions' by
