@@ -225,3 +225,27 @@ def test_a_generator_weight_changing_every_step_gives_the_same_forces_as_proxsui
     assert_allclose(iterative.mesh_normal, direct.mesh_normal, rtol=0, atol=1e-8 * scale)
     assert_allclose(iterative.generator_torque, direct.generator_torque, rtol=1e-8)
     assert_allclose(iterative.speed, direct.speed, rtol=1e-9, atol=1e-12)
+
+
+def test_a_torque_changing_every_step_gives_the_hand_dynamics_at_every_sample(saleh):
+    # M and the mesh rows stay constant here, so after a few steps the solve is a kept linear
+    # map of the forces (constrained_qp.hpp build_map) instead of the substitutions: every
+    # sample's acceleration and tooth forces must still be the hand dynamics of the torque
+    # applied at that sample, which changes every step (300 steps, 2.1 periods of 7 Hz).
+    t_sun = -1e5
+
+    def t_carrier(t: float) -> float:
+        return 1.2e6 * (1.0 + 0.3 * math.sin(2 * math.pi * 7.0 * t))
+
+    with pytest.warns(TorquesUnbalanced):
+        res = pinwind.simulate(
+            saleh, duration=0.3, dt=1e-3, torques={"carrier": t_carrier, "sun": t_sun}
+        )
+    applied = res.joint("carrier").torque
+    assert_allclose(applied, [t_carrier(t) for t in res.time], rtol=1e-12)
+    alpha_c, s, r = hand_forces(applied, t_sun)
+    assert_allclose(res.joint("carrier").acceleration, alpha_c, rtol=1e-9)
+    assert_allclose(res.joint("sun").acceleration, 6 * alpha_c, rtol=1e-9)
+    for i in (1, 2, 3):
+        assert_allclose(res.mesh(f"sun_planet{i}").normal, abs(s) / math.cos(ALPHA), rtol=1e-9)
+        assert_allclose(res.mesh(f"planet{i}_ring").normal, abs(r) / math.cos(ALPHA), rtol=1e-9)

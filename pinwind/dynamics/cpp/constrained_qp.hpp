@@ -142,6 +142,21 @@ class ConstrainedQp {
                                  const Eigen::MatrixXd&, const Eigen::VectorXd& rhs,
                                  bool rows_changed);
 
+  // The solution as a linear map of the data, kept while M and the rows stay: with M and J
+  // constant, [a; λ] = [G_f G_r] [f; r], G's columns the solutions above for unit f and unit r
+  // (the same substitutions, taken once), so a step costs one small product instead of the
+  // substitutions' chains of divisions (drivetrain: 8 joints, 9 rows of rank 7). Built once a
+  // factorisation has served kMapAfter solves (a run that switches flanks every few steps keeps
+  // the substitutions); not with a Woodbury correction, nor if an entry is not finite (the
+  // return value: whether the map is used). The sums differ from the substitutions' by
+  // rounding: the closed-form mesh forces of benchmarks/step_rate.py are as accurate (Saleh
+  // 2017 planetary 5.1e-16, drivetrain 1.1e-15 relative), the carriers' accelerations within
+  // what one ulp of the input torques moves them by.
+  bool build_map();
+
+  // Uᵀ r into projected_rhs_.
+  void project_rhs(const Eigen::VectorXd& rhs);
+
   // Factorises M (and the Schur complement over the current rows); forgets the responses. With
   // `force`, also solves M free_ = force.
   //
@@ -207,6 +222,16 @@ class ConstrainedQp {
   Eigen::VectorXd free_, projected_rhs_, reduced_rhs_, mu_;
   Eigen::VectorXd primal_;  // solve_direct's residual J_b a
   std::vector<double*> solve_columns_;  // factorise's right-hand sides, solved in place
+  // build_map's [G_f G_r] (nv + rows columns), and J_b and Uᵀ for the rows' residual, each
+  // with zero rows padding its row count to a multiple of kBlock (product_by_blocks); the map's
+  // input [f; r] and output [a; λ], J_b a and Uᵀ r; the solves that the current factorisation
+  // has served.
+  static constexpr long kMapAfter = 16;
+  static constexpr Eigen::Index kBlock = 8;
+  Eigen::MatrixXd map_, map_jac_, map_basis_t_;
+  Eigen::VectorXd map_in_, map_out_, map_jac_a_, map_basis_r_;
+  long factor_uses_ = 0;
+  bool map_ready_ = false;
   // Diagonal entries where M differs from the factorised M₀, and the responses to them.
   static constexpr size_t kMaxCorrections = 2;
   std::vector<std::pair<Eigen::Index, double>> changed_;

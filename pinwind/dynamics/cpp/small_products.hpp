@@ -7,6 +7,7 @@
 // product taken here equals Eigen's to the last bit.
 #pragma once
 
+#include <cstring>
 #include <type_traits>
 
 #include <Eigen/Core>
@@ -14,6 +15,9 @@
 namespace pinwind {
 
 enum class Accumulate { assign, add, subtract };
+
+// Two doubles in one vector register (GCC's and Clang's vector extension).
+typedef double Pair __attribute__((vector_size(16)));
 
 // A column-major A of kColumnWiseMin to kColumnWiseRows rows is read column by column (with
 // fewer rows, two for a compliant-mesh run's rows, the loop per column costs more than the
@@ -35,11 +39,39 @@ inline void small_product(const Mat& a, const Vec& x, Out&& y) {
   if constexpr (!Plain::IsRowMajor && (Plain::Flags & Eigen::DirectAccessBit) != 0) {
     if (rows >= kColumnWiseMin && rows <= kColumnWiseRows) {
       double s[kColumnWiseRows];
-      for (Eigen::Index i = 0; i < rows; ++i) s[i] = 0.0;
-      for (Eigen::Index j = 0; j < cols; ++j) {
-        const double* column = a.data() + j * a.outerStride();
-        const double xj = x[j];
-        for (Eigen::Index i = 0; i < rows; ++i) s[i] += column[i] * xj;
+      // Eight rows at a time, their sums in four registers of pairs through the columns (the
+      // same chains, element by element: GCC's and Clang's vector extension rounds each
+      // product and sum as the scalar operation does); the sums in memory, as for the rows
+      // left over, cost a load and a store per entry (callgrind, the drivetrain's 9 × 8 rows
+      // times a vector: 0.41k -> 0.2k instructions).
+      Eigen::Index b = 0;
+      for (; b + 8 <= rows; b += 8) {
+        Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
+        for (Eigen::Index j = 0; j < cols; ++j) {
+          const double* column = a.data() + j * a.outerStride() + b;
+          const Pair xj = {x[j], x[j]};
+          Pair c0, c1, c2, c3;
+          std::memcpy(&c0, column, sizeof(Pair));
+          std::memcpy(&c1, column + 2, sizeof(Pair));
+          std::memcpy(&c2, column + 4, sizeof(Pair));
+          std::memcpy(&c3, column + 6, sizeof(Pair));
+          s0 += c0 * xj;
+          s1 += c1 * xj;
+          s2 += c2 * xj;
+          s3 += c3 * xj;
+        }
+        std::memcpy(s + b, &s0, sizeof(Pair));
+        std::memcpy(s + b + 2, &s1, sizeof(Pair));
+        std::memcpy(s + b + 4, &s2, sizeof(Pair));
+        std::memcpy(s + b + 6, &s3, sizeof(Pair));
+      }
+      if (b < rows) {
+        for (Eigen::Index i = b; i < rows; ++i) s[i] = 0.0;
+        for (Eigen::Index j = 0; j < cols; ++j) {
+          const double* column = a.data() + j * a.outerStride();
+          const double xj = x[j];
+          for (Eigen::Index i = b; i < rows; ++i) s[i] += column[i] * xj;
+        }
       }
       for (Eigen::Index i = 0; i < rows; ++i) {
         if constexpr (mode == Accumulate::assign) {
