@@ -27,15 +27,13 @@ import warnings
 from pathlib import Path
 
 import mujoco
-import numpy as np
 
 import pinwind
 from pinwind.dynamics import stepper as stepper_module
 from pinwind.errors import TorquesUnbalanced
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from step_rate import closed_form, mjcf_from_gearbox, mujoco_dof, resolve  # noqa: E402
-from vs_mujoco import mujoco_run  # noqa: E402
+from vs_mujoco import closed_form_case, mujoco_run  # noqa: E402
 
 #: Seconds spent in the compiled ``run`` calls since the last reset.
 _COMPILED = [0.0]
@@ -83,21 +81,15 @@ def main() -> None:
     warnings.simplefilter("ignore", TorquesUnbalanced)  # the load case accelerates the train
     print(f"pinwind {pinwind.__version__}, mujoco {mujoco.__version__}")
     for name in args.models:
-        path = resolve(name)
-        gb = pinwind.load(path)
-        cf = closed_form(path)
-        mj = mujoco.MjModel.from_xml_string(mjcf_from_gearbox(gb, dt=args.dt))
-        tau = np.zeros(mj.nv)
-        for joint, value in cf.torques.items():
-            tau[mujoco_dof(mj, gb)[joint]] = value
-        pinwind.simulate(gb, duration=100 * args.dt, dt=args.dt, torques=cf.torques)
+        gb, torques, mj, tau = closed_form_case(name, args.dt)
+        pinwind.simulate(gb, duration=100 * args.dt, dt=args.dt, torques=torques)
         mujoco_run(mj, tau, 1000)
         whole, loop, compiled, python, mj_us = [], [], [], [], []
         for _ in range(args.pairs):
             _COMPILED[0] = 0.0
             started = time.perf_counter()
             res = pinwind.simulate(
-                gb, duration=args.steps * args.dt, dt=args.dt, torques=cf.torques, progress=False
+                gb, duration=args.steps * args.dt, dt=args.dt, torques=torques, progress=False
             )
             call = (time.perf_counter() - started) / args.steps
             step_loop = res.metadata["wall_time_s"] / args.steps

@@ -53,6 +53,21 @@ def mujoco_run(mj: mujoco.MjModel, tau: np.ndarray, steps: int) -> float:
     return (time.perf_counter() - started) / steps
 
 
+def closed_form_case(
+    name: str, dt: float
+) -> tuple[pinwind.Gearbox, dict, mujoco.MjModel, np.ndarray]:
+    """A Saleh model's closed-form load case: the gearbox and its torques, MuJoCo's model of it
+    (``step_rate.mjcf_from_gearbox``) and the same torques as MuJoCo's ``qfrc_applied``."""
+    path = resolve(name)
+    gb = pinwind.load(path)
+    cf = closed_form(path)
+    mj = mujoco.MjModel.from_xml_string(mjcf_from_gearbox(gb, dt=dt))
+    tau = np.zeros(mj.nv)
+    for joint, value in cf.torques.items():
+        tau[mujoco_dof(mj, gb)[joint]] = value
+    return gb, cf.torques, mj, tau
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--models", nargs="+", default=["saleh2017_planetary"])
@@ -62,18 +77,12 @@ def main() -> None:
     args = parser.parse_args()
     print(f"pinwind {pinwind.__version__}, mujoco {mujoco.__version__}, numpy {np.__version__}")
     for name in args.models:
-        path = resolve(name)
-        gb = pinwind.load(path)
-        cf = closed_form(path)
-        mj = mujoco.MjModel.from_xml_string(mjcf_from_gearbox(gb, dt=args.dt))
-        tau = np.zeros(mj.nv)
-        for joint, value in cf.torques.items():
-            tau[mujoco_dof(mj, gb)[joint]] = value
-        pinwind_run(gb, cf.torques, 100, args.dt)
+        gb, torques, mj, tau = closed_form_case(name, args.dt)
+        pinwind_run(gb, torques, 100, args.dt)
         mujoco_run(mj, tau, 1000)
         pairs, loops = [], []
         for _ in range(args.repeats):
-            a, loop = pinwind_run(gb, cf.torques, args.steps, args.dt)
+            a, loop = pinwind_run(gb, torques, args.steps, args.dt)
             b = mujoco_run(mj, tau, args.steps)
             pairs.append((a, b))
             loops.append((loop, b))

@@ -55,6 +55,16 @@ def hand_forces(t_carrier: float, t_sun: float) -> tuple[float, float, float]:
     return alpha_c, s, r
 
 
+def assert_hand_dynamics(res, alpha_c, s, r) -> None:
+    """The run's carrier and sun accelerations and six normal forces are the hand dynamics'
+    (``hand_forces``: α_c, the planets' sun and ring tangential forces s and r), to 1e-9."""
+    assert_allclose(res.joint("carrier").acceleration, alpha_c, rtol=1e-9)
+    assert_allclose(res.joint("sun").acceleration, 6 * alpha_c, rtol=1e-9)
+    for i in (1, 2, 3):
+        assert_allclose(res.mesh(f"sun_planet{i}").normal, abs(s) / math.cos(ALPHA), rtol=1e-9)
+        assert_allclose(res.mesh(f"planet{i}_ring").normal, abs(r) / math.cos(ALPHA), rtol=1e-9)
+
+
 def test_rated_torque_splits_equally_and_gives_sun_mesh_force_of_hand_balance(saleh):
     t_carrier = 1e6  # rated rotor torque, Saleh 2017 §4.1
     t_sun = -t_carrier / 6
@@ -93,11 +103,7 @@ def test_unbalanced_torque_accelerates_with_equivalent_inertia(saleh, t_carrier,
             saleh, duration=0.3, dt=1e-3, torques={"carrier": t_carrier, "sun": t_sun}
         )
     alpha_c, s, r = hand_forces(t_carrier, t_sun)
-    assert_allclose(res.joint("carrier").acceleration, alpha_c, rtol=1e-9)
-    assert_allclose(res.joint("sun").acceleration, 6 * alpha_c, rtol=1e-9)
-    for i in (1, 2, 3):
-        assert_allclose(res.mesh(f"sun_planet{i}").normal, abs(s) / math.cos(ALPHA), rtol=1e-9)
-        assert_allclose(res.mesh(f"planet{i}_ring").normal, abs(r) / math.cos(ALPHA), rtol=1e-9)
+    assert_hand_dynamics(res, alpha_c, s, r)
     # The ring takes the planets' ring-mesh forces: 3 r_r R about the shaft.
     assert_allclose(res.joint("ring").torque, 3 * R_RING * r, rtol=1e-9)
     # Speeds follow α t exactly under constant torque (semi-implicit Euler).
@@ -244,8 +250,4 @@ def test_a_torque_changing_every_step_gives_the_hand_dynamics_at_every_sample(sa
     applied = res.joint("carrier").torque
     assert_allclose(applied, [t_carrier(t) for t in res.time], rtol=1e-12)
     alpha_c, s, r = hand_forces(applied, t_sun)
-    assert_allclose(res.joint("carrier").acceleration, alpha_c, rtol=1e-9)
-    assert_allclose(res.joint("sun").acceleration, 6 * alpha_c, rtol=1e-9)
-    for i in (1, 2, 3):
-        assert_allclose(res.mesh(f"sun_planet{i}").normal, abs(s) / math.cos(ALPHA), rtol=1e-9)
-        assert_allclose(res.mesh(f"planet{i}_ring").normal, abs(r) / math.cos(ALPHA), rtol=1e-9)
+    assert_hand_dynamics(res, alpha_c, s, r)

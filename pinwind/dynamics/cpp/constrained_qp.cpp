@@ -42,36 +42,15 @@ std::string status_name(proxsuite::proxqp::QPSolverOutput status) {
 }
 
 // y = A x for a column-major A whose row count is a multiple of 8 (zero rows padding it), y
-// of that length: eight rows at a time, their sums kept in four registers of pairs (Pair,
-// small_products.hpp: element-wise products and sums, each rounded as the scalar one) through
-// the columns, each y_i summed over the columns in order from 0. small_product's loop for any
+// of that length: eight rows at a time by eight_rows_product (small_products.hpp), each y_i
+// summed over the columns in order from 0, zero inputs skipped. small_product's loop for any
 // row count keeps the sums in memory, and GCC's own vectorisation of this loop took two
 // columns at a time and shuffled them (callgrind, the drivetrain's 15 × 15 map and two 8-row
 // products: 1.76k and 1.96k instructions a step, against 0.8k here). A must be finite.
 void product_by_blocks(const Eigen::MatrixXd& a, const double* x, double* y) {
-  const Eigen::Index rows = a.rows(), cols = a.cols();
-  for (Eigen::Index b = 0; b < rows; b += 8) {
-    Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
-    const double* column = a.data() + b;
-    for (Eigen::Index j = 0; j < cols; ++j, column += rows) {
-      // A zero x_j adds ±0 to each sum, which leaves it as it is (a sum from +0.0 is never −0.0,
-      // and A is finite: build_map): skipped (the rigid rows' r is 0 at constant speed targets).
-      if (x[j] == 0.0) continue;
-      const Pair xj = {x[j], x[j]};
-      Pair c0, c1, c2, c3;
-      std::memcpy(&c0, column, sizeof(Pair));
-      std::memcpy(&c1, column + 2, sizeof(Pair));
-      std::memcpy(&c2, column + 4, sizeof(Pair));
-      std::memcpy(&c3, column + 6, sizeof(Pair));
-      s0 += c0 * xj;
-      s1 += c1 * xj;
-      s2 += c2 * xj;
-      s3 += c3 * xj;
-    }
-    std::memcpy(y + b, &s0, sizeof(Pair));
-    std::memcpy(y + b + 2, &s1, sizeof(Pair));
-    std::memcpy(y + b + 4, &s2, sizeof(Pair));
-    std::memcpy(y + b + 6, &s3, sizeof(Pair));
+  // zero inputs skipped: the rigid rows' r is 0 at constant speed targets
+  for (Eigen::Index b = 0; b < a.rows(); b += 8) {
+    eight_rows_product<true>(a.data() + b, a.rows(), a.cols(), x, y + b);
   }
 }
 

@@ -19,6 +19,37 @@ enum class Accumulate { assign, add, subtract };
 // Two doubles in one vector register (GCC's and Clang's vector extension).
 typedef double Pair __attribute__((vector_size(16)));
 
+// y_b … y_b+7 = rows b … b + 7 of A x, A column-major (its columns `stride` apart from `column`,
+// row b's entry of column 0): the eight sums kept in four registers of pairs through the
+// columns, each summed over the columns in order from 0 (the vector extension rounds each
+// product and sum as the scalar operation does). With `skip_zeros`, a zero x_j is skipped: it
+// would add ±0 to each sum, which leaves a sum as it is (a sum from +0.0 is never −0.0) as long
+// as A is finite.
+template <bool skip_zeros = false, class X>
+inline void eight_rows_product(const double* column, Eigen::Index stride, Eigen::Index cols,
+                               const X& x, double* y) {
+  Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
+  for (Eigen::Index j = 0; j < cols; ++j, column += stride) {
+    if constexpr (skip_zeros) {
+      if (x[j] == 0.0) continue;
+    }
+    const Pair xj = {x[j], x[j]};
+    Pair c0, c1, c2, c3;
+    std::memcpy(&c0, column, sizeof(Pair));
+    std::memcpy(&c1, column + 2, sizeof(Pair));
+    std::memcpy(&c2, column + 4, sizeof(Pair));
+    std::memcpy(&c3, column + 6, sizeof(Pair));
+    s0 += c0 * xj;
+    s1 += c1 * xj;
+    s2 += c2 * xj;
+    s3 += c3 * xj;
+  }
+  std::memcpy(y, &s0, sizeof(Pair));
+  std::memcpy(y + 2, &s1, sizeof(Pair));
+  std::memcpy(y + 4, &s2, sizeof(Pair));
+  std::memcpy(y + 6, &s3, sizeof(Pair));
+}
+
 // A column-major A of kColumnWiseMin to kColumnWiseRows rows is read column by column (with
 // fewer rows, two for a compliant-mesh run's rows, the loop per column costs more than the
 // strided loads it saves: callgrind, 2 x 16 rows, 0.26k -> 0.44k instructions).
@@ -46,24 +77,7 @@ inline void small_product(const Mat& a, const Vec& x, Out&& y) {
       // times a vector: 0.41k -> 0.2k instructions).
       Eigen::Index b = 0;
       for (; b + 8 <= rows; b += 8) {
-        Pair s0 = {0.0, 0.0}, s1 = s0, s2 = s0, s3 = s0;
-        for (Eigen::Index j = 0; j < cols; ++j) {
-          const double* column = a.data() + j * a.outerStride() + b;
-          const Pair xj = {x[j], x[j]};
-          Pair c0, c1, c2, c3;
-          std::memcpy(&c0, column, sizeof(Pair));
-          std::memcpy(&c1, column + 2, sizeof(Pair));
-          std::memcpy(&c2, column + 4, sizeof(Pair));
-          std::memcpy(&c3, column + 6, sizeof(Pair));
-          s0 += c0 * xj;
-          s1 += c1 * xj;
-          s2 += c2 * xj;
-          s3 += c3 * xj;
-        }
-        std::memcpy(s + b, &s0, sizeof(Pair));
-        std::memcpy(s + b + 2, &s1, sizeof(Pair));
-        std::memcpy(s + b + 4, &s2, sizeof(Pair));
-        std::memcpy(s + b + 6, &s3, sizeof(Pair));
+        eight_rows_product(a.data() + b, a.outerStride(), cols, x, s + b);
       }
       if (b < rows) {
         for (Eigen::Index i = b; i < rows; ++i) s[i] = 0.0;
