@@ -119,6 +119,14 @@ def _available_memory() -> int | None:
 # --- the reader ---------------------------------------------------------------------------------
 
 
+def _decoded(data: bytes | np.ndarray, layout: ColumnLayout) -> tuple[list[ColumnBlock], str]:
+    """A decompressed columns chunk's blocks, or why it is damaged ([], the reason)."""
+    try:
+        return decode_chunk(data, layout), ""
+    except DamagedChunk as err:
+        return [], str(err)
+
+
 class LogReader:
     """An open pinwind log: metadata at once, samples on demand (``read``, ``blocks``).
 
@@ -600,10 +608,7 @@ class LogReader:
             if chunk is chunks[0]:
                 blocks: list[ColumnBlock] = []
                 if not damage:
-                    try:
-                        blocks = decode_chunk(data, layout)
-                    except DamagedChunk as err:
-                        damage = str(err)
+                    blocks, damage = _decoded(data, layout)
                 lay_out(blocks)
             else:
                 laid_out.wait()
@@ -701,11 +706,11 @@ class LogReader:
         layout = self._columns
         if layout is None:
             raise RuntimeError("internal error: columns read from a log without them")
-        try:
-            data = mcap_file.read_chunk(self._descriptor(), chunk, self._buffers.take(chunk.size))
-            return b"", decode_chunk(data, layout), ""
-        except DamagedChunk as err:
-            return b"", [], str(err)
+        data, damage = self._decompress(chunk)
+        if damage:
+            return b"", [], damage
+        blocks, damage = _decoded(data, layout)
+        return b"", blocks, damage
 
     def _load_rows(self, chunk: ChunkRef, wanted: list[RowChannel]) -> tuple[bytes, Any, str]:
         """A chunk's records and their rows (None: not rows), or why it is damaged (thread-safe)."""

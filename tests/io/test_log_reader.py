@@ -296,6 +296,20 @@ def test_a_window_across_a_damaged_chunk_is_the_window_of_the_intact_samples(
     assert_same_arrays(back, rows_of(whole, np.flatnonzero(keep)))
 
 
+def test_first_chunk_whose_records_do_not_decode_is_lost_with_a_warning_not_read_as_empty(
+    logged_run, whole, monkeypatch
+):
+    # Records that decompress and pass their checksum but do not decode (a writer's bug): the
+    # first chunk, which the reader decodes in Python to lay out the arrays, is reported lost.
+    def undecodable(data, layout):
+        raise mcap_file.DamagedChunk("a columns record is cut short")
+
+    monkeypatch.setattr(log_reader, "decode_chunk", undecodable)
+    with pytest.warns(LogDamaged, match=r"a columns record is cut short: t = 0 to 0\.099 s lost"):
+        back = read_log(logged_run.path)
+    assert_same_arrays(back, rows_of(whole, np.r_[100:251]))
+
+
 def test_a_damaged_chunk_header_loses_that_chunk_only_with_a_warning(logged_run, whole, tmp_path):
     offset, _, _ = column_chunks(logged_run.path)[0]  # samples 0-99
     path = _damaged(logged_run, tmp_path, offset, bit=0x78)  # opcode 0x06 → 0x7e
