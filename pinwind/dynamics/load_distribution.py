@@ -30,8 +30,10 @@ row; for them θ is free and the moment is reported as not carried. A bearing at
 the axial load is reported as not carried.
 
 Outputs: each element's load, the largest Q_max = max_j Σ_k q_jk [N], and the load-zone angle
-2ψ_l, ψ_l = arccos(c/ρ) of the radial approach ρ = |(u_x, u_y)| (180° at zero clearance, less
-with clearance; Harris and Kotzalas 2007 §7.3).
+2ψ_l of the widest row, cos ψ_l = (c − s_r u_z tan α)/ρ with the radial approach
+ρ = |(u_x, u_y)| (``load_zone``; Harris and Kotzalas 2007 §7.3): 180° at zero clearance under
+a radial load, less with clearance, more with a preload, and more in the row an axial load
+presses (360° under a pure axial load).
 
 **Reference rating life** (ISO/TS 16281:2008 §6, Lundberg-Palmgren's lamina summation): each
 slice k of each raceway has an equivalent load over the rollers, the rotating ring's
@@ -359,16 +361,35 @@ def distribute(
     _, q = _loads(u, g, c, cs, n)
     z = geometry.rollers * geometry.rows
     q = q.reshape(samples, z, geometry.slice_count)
-    rho = np.hypot(u[:, 0], u[:, 1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        zone = 2.0 * np.arccos(np.clip(geometry.clearance / rho, -1.0, 1.0))
-    zone = np.where(rho > 0.0, zone, 0.0)
+    zone = load_zone(geometry, u)
     u = np.where(converged[:, None], u, np.nan)
     q = np.where(converged[:, None, None], q, np.nan)
     return Distribution(
         u, q, np.max(q.sum(axis=2), axis=1), np.where(converged, zone, np.nan), converged,
         not_carried,
     )  # fmt: skip
+
+
+def load_zone(geometry: InternalGeometry, u: np.ndarray) -> np.ndarray:
+    """The load-zone angle 2ψ_l [rad] of the ring displacements u (n, 5): the widest row's.
+
+    Roller j of row r (sign s_r) is in contact where δ > 0, ρ cos(ψ_j − φ) > c − s_r a tan α
+    (module docstring; a = u_z: an angular row carries no tilt), so its row's zone is
+    2ψ_l, cos ψ_l = (c − s_r u_z tan α)/ρ, ρ = |(u_x, u_y)| (Harris and Kotzalas 2007 §7.3;
+    with α = 0, cos ψ_l = c/ρ). An axial approach widens one row's zone past 180° (360°: every
+    roller in contact, as under a pure axial load) and narrows the other's; the widest is
+    reported, the arc of the most loaded row. At ρ = 0 a row is all in contact (360°) when its
+    axial approach exceeds the clearance, else out of contact (0).
+    """
+    rho = np.hypot(u[:, 0], u[:, 1])
+    axial = u[:, 2] * math.tan(geometry.contact_angle)
+    zone = np.zeros(len(u))
+    for sign in (1.0, -1.0)[: geometry.rows]:
+        edge = geometry.clearance - sign * axial  # ρ cos ψ_l
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cos_l = np.where(rho > 0.0, edge / rho, np.where(edge < 0.0, -1.0, 1.0))
+        zone = np.maximum(zone, 2.0 * np.arccos(np.clip(cos_l, -1.0, 1.0)))
+    return zone
 
 
 def _damage_degree(geometry: InternalGeometry) -> float:

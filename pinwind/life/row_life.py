@@ -176,7 +176,7 @@ def rate_row(
         )
         if not dist.failed:
             q_max = float(np.max(element_load, initial=0.0))
-            zone_min = float(np.min(load_zone, initial=math.pi))
+            zone_min = float(np.min(load_zone, initial=2.0 * math.pi))
     if not rating.rated:
         notes.append("not rated: no rating_c_kN")
     revolutions, seconds = sums.revolutions, sums.seconds

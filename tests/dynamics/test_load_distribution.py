@@ -124,3 +124,39 @@ def test_self_aligning_bearing_reports_the_moment_it_does_not_carry():
     dist = distribute(geometry, np.array([[1e5, 0, 1e4, 500.0, -300.0]]))
     assert dist.converged.all()
     assert_allclose(dist.not_carried[0], [0, 0, 0, 500.0, -300.0])
+
+
+def test_pure_axial_load_puts_every_roller_of_an_angular_row_in_contact():
+    # A single tapered row under a pure axial load F_a: by symmetry every roller carries
+    # Q = F_a/(Z sin α) (Harris and Kotzalas 2007 §7.3, ε = ∞) and the load zone is the whole
+    # circle, 360°.
+    alpha, f_a = math.radians(15.0), 5.0e4
+    geometry = InternalGeometry("tapered_roller", Z, 1, alpha, 0.03, 0.05, 0.3)
+    dist = distribute(geometry, np.array([[0.0, 0.0, f_a, 0.0, 0.0]]))
+    assert dist.converged.all()
+    assert_allclose(dist.max_element_load, f_a / (Z * math.sin(alpha)), rtol=1e-7)
+    assert_allclose(np.degrees(dist.load_zone), 360.0, atol=1e-6)
+
+
+def test_an_axial_approach_widens_the_pressed_rows_load_zone():
+    # A spherical roller bearing (rows at ±α) displaced by u = (ρ, 0, a) with a tan α = ρ/2:
+    # row +α compresses by ρ cos ψ cos α + a sin α > 0 for cos ψ > −1/2 (zone 2 · 120° = 240°),
+    # row −α for cos ψ > +1/2 (120°). Sum the rollers' loads into W by hand, solve back from W:
+    # the zone is the pressed row's 240°, not the 180° of the radial approach alone.
+    alpha = math.radians(10.0)
+    geometry = InternalGeometry("spherical_roller", Z, 2, alpha, 0.03, 0.04, 0.3)
+    rho = 40e-6
+    a = 0.5 * rho / math.tan(alpha)
+    psi = 2 * np.pi * np.arange(Z) / Z
+    k = geometry.slice_stiffness * geometry.slice_count
+    w = np.zeros(5)
+    for sign in (1.0, -1.0):
+        comp = np.maximum(rho * np.cos(psi) * math.cos(alpha) + sign * a * math.sin(alpha), 0.0)
+        q = k * comp ** (10 / 9)
+        w[0] += np.sum(q * np.cos(psi)) * math.cos(alpha)
+        w[1] += np.sum(q * np.sin(psi)) * math.cos(alpha)
+        w[2] += np.sum(q) * sign * math.sin(alpha)
+    dist = distribute(geometry, w[None, :])
+    assert dist.converged.all()
+    assert_allclose(dist.displacement[0, :3], [rho, 0.0, a], rtol=1e-6, atol=1e-12)
+    assert_allclose(np.degrees(dist.load_zone), 240.0, rtol=1e-6)

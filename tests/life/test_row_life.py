@@ -195,3 +195,41 @@ def test_grouping_the_loads_in_cells_keeps_the_reference_life(clearance_mm):
     w[[0, -1]] = 0.5
     p_eq = (np.sum(w * each ** (10 / 3)) / np.sum(w)) ** 0.3
     assert_allclose(life.reference_load, p_eq, rtol=2e-3)
+
+
+def test_a_preloaded_rows_smallest_load_zone_is_its_own_not_capped_at_180():
+    # A cylindrical row preloaded by c = −20 µm under a constant radial load F along u: every
+    # sample's zone is 2 arccos(c/δ_r) > 180° (Harris and Kotzalas 2007 §7.3), δ_r solving
+    # F = Σ K (δ_r cos ψ_j − c)₊^(10/9) cos ψ_j (bisection, independent of the Newton solve).
+    from scipy.optimize import brentq
+
+    from pinwind.life.life_sums import geometry_of
+    from pinwind.life.row_life import rate_row
+    from pinwind.model.bearing import bearing_rating
+    from pinwind.model.bearing_life_data import life_data
+
+    n, f, c = 20, 2.0e5, -20e-6
+    load = np.zeros((n, 5))
+    load[:, 0] = f
+    attrs = {"size_mm": "300 200 60", "radial_clearance_mm": "-0.02", "preload": "true"}
+    data = life_data(attrs, where="<row>", path="<test>")
+    life = rate_row(
+        name="r", bearing="b", position=0.0,
+        rating=bearing_rating("b.r", "cylindrical_roller", dynamic_load_rating=1e6),
+        size=None, data=data, time=np.linspace(0.0, 1.0, n), speed=np.full(n, 100 * RPM),
+        load=load,
+    )  # fmt: skip
+    geometry = geometry_of("cylindrical_roller", data, None)
+    assert geometry is not None
+    k = geometry.slice_stiffness * geometry.slice_count
+    psi = 2 * np.pi * np.arange(geometry.rollers) / geometry.rollers
+
+    def excess(delta: float) -> float:
+        d = np.maximum(delta * np.cos(psi) - c, 0.0)
+        return float(np.sum(k * d ** (10 / 9) * np.cos(psi))) - f
+
+    delta_r = brentq(excess, 0.0, 1e-2, xtol=1e-16)
+    zone = 2 * math.acos(c / delta_r)
+    assert zone > math.pi
+    assert_allclose(life.load_zone, zone, rtol=1e-6)
+    assert_allclose(life.load_zone_min, zone, rtol=1e-6)
