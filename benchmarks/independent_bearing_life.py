@@ -37,7 +37,7 @@ rows' forces and moments and the joints' speeds) and the rows' data from the mod
   L10r = (C/P_ref,eq)^p.
 
 ``pinwind life LOG --json`` (and ``--model`` the copy) gives pinwind's numbers; the table gives
-each row's and their relative differences. The last line's "Q exact" and "P_ref exact" set the
+each row's and their relative differences. The summary's "Q exact" and "P_ref exact" set the
 recoding's Q_max and P_ref of every sample against pinwind's load distribution solved for that
 exact sample (``load_distribution.distribute``, ``reference_load``): a run's lives group the
 samples in cells of load direction 1/200 wide (docs/bearing_life.md), which is the whole of the
@@ -295,6 +295,30 @@ def reference_load(g: dict, q: np.ndarray, inner_rotates: bool) -> np.ndarray:
     return (damage / (g["rows"] * SLICES * slice_cal)) ** (1 / 4.5)
 
 
+def self_checks() -> str:
+    """The recoded distribution against Harris's continuum at two public points (NSK catalogue,
+    "Bearing internal load distribution and displacement", line contact, zero clearance): a pure
+    radial load gives Q_max = 4.08 F_r/Z (Stribeck), and a single angular row with
+    F_a = 1.260 F_r tan α has ε = 0.5 (180°) and Q_max = 4.08 F_r/(Z cos α)."""
+    half = math.pi / 2
+    j_r = quad(lambda x: math.cos(x) ** (LINE + 1), -half, half)[0] / (2 * math.pi)
+    out = [f"1/J_r(0.5) = {1 / j_r:.4f}"]
+    g = geometry("cylindrical_roller", "1750 1250 375")
+    q, _, _ = distribution(g, np.array([[-1.0e5, 0.0, 0.0]]), np.zeros((1, 3)))
+    out.append(f"radial, Z = {g['z']}: Q_max Z/F_r = {q.sum(axis=3).max() * g['z'] / 1e5:.4f}")
+    g = geometry("tapered_roller", "1750 1250 375")
+    f_r = 1.0e5
+    f_a = 1.260 * f_r * math.tan(g["alpha"])
+    q, u, _ = distribution(g, np.array([[-f_r, 0.0, -f_a]]), np.zeros((1, 3)))
+    cos_l = float(widest_zone(g, u)[0])
+    ratio = q.sum(axis=3).max() * g["z"] * math.cos(g["alpha"]) / f_r
+    out.append(
+        f"tapered, F_a = 1.26 F_r tan α, Z = {g['z']}: ε = {0.5 * (1 - cos_l):.4f}, "
+        f"Q_max Z cos α/F_r = {ratio:.4f}"
+    )
+    return "; ".join(out)
+
+
 def rel(a: float | None, b: float | None) -> float:
     if a is None or b is None or not (math.isfinite(a) and math.isfinite(b)):
         return math.nan
@@ -385,6 +409,7 @@ def main() -> None:
         "(Q exact, P_ref exact: the recoding's Q_max and P_ref per sample against pinwind's"
         " distribution solved for each exact sample rather than per cell of load direction)"
     )
+    print("self-checks of the recoding (4.08 by Harris): " + self_checks())
     print(f"wall time {time.perf_counter() - started:.1f} s")
 
 
