@@ -42,6 +42,16 @@ def test_readme_quick_start_run_shows_rated_speed_and_tooth_force(tmp_path):
     assert rows["carrier"][1] == "14.2000" and rows["sun"][1] == "85.2000"
     # Tangential force per sun mesh (1e6/6) / (3 × 0.18 m) = 308.6420 kN.
     assert rows["sun_planet1"][2] == f"{1e6 / 6 / (3 * 0.18) / 1e3:.4f}" == "308.6420"
+    # Every table row the README shows is the row the command prints (the first of its name).
+    block = text.split("```text\n", 1)[1].split("```", 1)[0]
+    model = (ROOT / args[1]).read_text()
+    names = set(re.findall(r'<(?:joint|mesh) name="(\w+)"', model))
+    shown = [
+        cells for cells in (x.split() for x in block.splitlines()) if cells and cells[0] in names
+    ]
+    assert len(shown) == 6 + 4, shown  # six bearings, four meshes (abridged)
+    for cells in shown:
+        assert cells == rows[cells[0]], cells
 
 
 def test_the_documented_series_are_the_declared_ones():
