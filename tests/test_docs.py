@@ -120,3 +120,46 @@ def test_code_layout_names_every_module_of_the_package_and_no_other():
     named = set(re.findall(r"`([\w/]+\.pyi?)`", text))
     gone = sorted(m for m in named if not (package / m).is_file() and not (ROOT / m).is_file())
     assert not gone, f"docs/code_layout.md names modules that do not exist: {', '.join(gone)}"
+
+
+def _documented_options() -> dict[str, set[str]]:
+    """The flags docs/command_line.md names under each verb (its lines and their comments)."""
+    text = (ROOT / "docs" / "command_line.md").read_text()
+    block = text.split("```bash\n", 1)[1].split("```", 1)[0]
+    found: dict[str, set[str]] = {}
+    verb = ""
+    for line in block.splitlines():
+        start = re.match(r"pinwind (build|sweep) (\w+)|pinwind (\w+)|pinwind --", line)
+        if start:  # "pinwind --version": the program's own options, under ""
+            verb = " ".join(w for w in start.groups() if w)
+            found.setdefault(verb, set())
+        if start or verb:
+            found[verb] |= set(re.findall(r"(?<![\w-])(--?[a-zA-Z][\w-]*)", line))
+    return found
+
+
+def test_every_flag_on_the_command_line_page_exists_and_every_flag_is_on_it():
+    import typer
+
+    from pinwind.cli.verbs import app
+
+    command = typer.main.get_command(app)
+    documented = _documented_options()
+    assert {"--torque", "--dt", "--out"} <= documented["simulate"]
+    unknown, undocumented = [], []
+    for verb in ["", *_verbs(command, "")]:
+        sub = command
+        for word in verb.split():
+            sub = sub.commands[word]
+        flags = {
+            name: set(p.opts + p.secondary_opts)
+            for p in sub.params
+            if p.param_type_name == "option"
+            for name in p.opts[:1]
+            if name != "--help"
+        }
+        named = {f for opts in flags.values() for f in opts}
+        unknown += [f"{verb} {f}" for f in sorted(documented[verb] - named)]
+        undocumented += [f"{verb} {n}" for n, opts in flags.items() if not opts & documented[verb]]
+    assert not unknown, f"docs/command_line.md names flags the parser lacks: {unknown}"
+    assert not undocumented, f"docs/command_line.md lacks: {undocumented}"
