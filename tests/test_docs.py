@@ -163,3 +163,13 @@ def test_every_flag_on_the_command_line_page_exists_and_every_flag_is_on_it():
         undocumented += [f"{verb} {n}" for n, opts in flags.items() if not opts & documented[verb]]
     assert not unknown, f"docs/command_line.md names flags the parser lacks: {unknown}"
     assert not undocumented, f"docs/command_line.md lacks: {undocumented}"
+
+
+def test_api_page_lists_the_top_level_exports():
+    import pinwind
+
+    text = (ROOT / "docs" / "api.md").read_text()
+    sentence = text.split("exports the core:", 1)[1].split(";", 1)[0]
+    named = set(re.findall(r"`(\w+)`", sentence))
+    assert named == set(pinwind.__all__) - {"__version__"}
+    assert all(f"::: pinwind.{name}\n" in text for name in named - {"PinwindError"})
