@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 from numpy.testing import assert_allclose
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -173,3 +174,31 @@ def test_api_page_lists_the_top_level_exports():
     named = set(re.findall(r"`(\w+)`", sentence))
     assert named == set(pinwind.__all__) - {"__version__"}
     assert all(f"::: pinwind.{name}\n" in text for name in named - {"PinwindError"})
+
+
+def test_losses_page_prose_quotes_its_own_nrel5mw_efficiency_table():
+    # The table "with the friction in the step" (its η to 0.001 %, the after-the-run table's
+    # to 0.1 %). The prose after it once kept the figures of an earlier step (96.34 %, 183 kW):
+    # its numbers must be the table's, and the table's overall row the stages' sum and product.
+    text = (ROOT / "docs" / "losses.md").read_text()
+    rows = re.findall(
+        r"^\| (?:\d, \w+|overall)[^|]*\| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \| (\d+\.\d{3}) %",
+        text,
+        re.M,
+    )
+    stages = [[float(x) for x in row] for row in rows[:3]]
+    overall = [float(x) for x in rows[3]]
+    assert len(rows) == 4
+    for column in range(3):  # meshes, bearings, loss [kW]
+        assert_allclose(sum(s[column] for s in stages), overall[column], atol=0.15)
+    assert_allclose(np.prod([s[3] / 100 for s in stages]) * 100, overall[3], atol=2e-3)
+    (eta, loss, share) = re.search(
+        r"pinwind's ([\d.]+) % at rated \(([\d.]+) kW, ([\d.]+) % of 5 MW\)", text
+    ).groups()
+    assert_allclose([float(eta), float(loss)], [overall[3], overall[2]], atol=0.006)
+    assert_allclose(float(share), 100 * overall[2] / 5e3, atol=0.006)
+    quoted = re.search(r"pinwind's stages\s+are ([\d.]+), ([\d.]+) and ([\d.]+) %", text).groups()
+    assert_allclose([float(q) for q in quoted], [s[3] for s in stages], atol=0.006)
+    (meshes, meshes_share) = re.search(r"μ_mz P H_V\s+\(([\d.]+) kW, ([\d.]+) %\)", text).groups()
+    assert_allclose(float(meshes), overall[0], atol=0.05)
+    assert_allclose(float(meshes_share), 100 * overall[0] / 5e3, atol=0.05)
