@@ -202,3 +202,51 @@ def test_losses_page_prose_quotes_its_own_nrel5mw_efficiency_table():
     (meshes, meshes_share) = re.search(r"μ_mz P H_V\s+\(([\d.]+) kW, ([\d.]+) %\)", text).groups()
     assert_allclose(float(meshes), overall[0], atol=0.05)
     assert_allclose(float(meshes_share), 100 * overall[0] / 5e3, atol=0.05)
+
+
+def _documented_commands() -> list[tuple[str, str]]:
+    """(page, command line after ``pinwind``) of every shell block of the user docs.
+
+    The command-line page's block is a synopsis (``[--flag]``, ``A|B``) and is left out.
+    """
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    found = []
+    for page in pages:
+        if page.name in ("command_line.md", "code_layout.md"):
+            continue
+        text = page.read_text(encoding="utf-8")
+        for language, block in re.findall(r"^```(\w*)\n(.*?)^```", text, re.M | re.S):
+            if language not in ("", "bash", "console", "sh"):
+                continue
+            for line in re.sub(r"\\\n\s*", " ", block).splitlines():
+                code = re.split(r"\s#", " " + line.strip().removeprefix("$ "), maxsplit=1)[0]
+                start = re.search(r"(?:^ |&& |\.venv/bin/)pinwind (.*)", code)
+                if start:
+                    found.append((page.name, start.group(1)))
+    return found
+
+
+def test_every_pinwind_command_of_the_docs_parses_as_written():
+    # A block a user copies must parse: "[--plots plots/]" in a command is two stray arguments.
+    # Parsing runs no verb (placeholders such as LOG stand for any path).
+    import typer
+
+    from pinwind.cli.verbs import app
+
+    command = typer.main.get_command(app)
+    commands = _documented_commands()
+    assert len(commands) > 30 and ("sweeps.md", "sweep plot parallel.csv -o plots/") in commands
+    failed = []
+    for page, line in commands:
+        try:
+            context = command.make_context("pinwind", shlex.split(line))
+            while hasattr(context.command, "commands"):  # a group: its verb parses the rest
+                rest = [*context._protected_args, *context.args]
+                if not rest:
+                    break
+                name, verb, rest = context.command.resolve_command(context, rest)
+                context = verb.make_context(name, rest, parent=context)
+        except Exception as err:  # typer's own click: its UsageError, BadParameter, ...
+            if type(err).__name__ != "Exit":
+                failed.append(f"{page}: pinwind {line}: {err}")
+    assert not failed, "\n".join(failed)
