@@ -250,3 +250,41 @@ def test_every_pinwind_command_of_the_docs_parses_as_written():
             if type(err).__name__ != "Exit":
                 failed.append(f"{page}: pinwind {line}: {err}")
     assert not failed, "\n".join(failed)
+
+
+#: Names of the log's MCAP records and encodings, written like modules (docs/log_format.md).
+LOG_RECORDS = {"pinwind.run", "pinwind.end", "pinwind.columns"}
+
+
+def _resolves(name: str) -> bool:
+    """``pinwind.a.b.C``: the longest importable module, then attributes."""
+    import importlib
+
+    parts = name.split(".")
+    for split in range(len(parts), 0, -1):
+        try:
+            found = importlib.import_module(".".join(parts[:split]))
+        except ImportError:
+            continue
+        for attribute in parts[split:]:
+            if not hasattr(found, attribute):
+                return False
+            found = getattr(found, attribute)
+        return True
+    return False
+
+
+def test_every_module_or_object_the_user_docs_name_exists():
+    # fatigue.md sent users to `analysis.dask_workers.WORKER_CONFIG`, which is in pinwind.runs.
+    subpackages = "analysis|runs|life|dynamics|io|model|gears|loads|losses|modes|testing|cli"
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    named = {
+        (page.name, name if name.startswith("pinwind.") else f"pinwind.{name}")
+        for page in pages
+        for name in re.findall(rf"`((?:pinwind|{subpackages})(?:\.\w+)+)", page.read_text())
+    }
+    assert len(named) > 100 and ("fatigue.md", "pinwind.life.case_cycles.CaseReduction") in named
+    missing = sorted(
+        f"{page}: {name}" for page, name in named if name not in LOG_RECORDS and not _resolves(name)
+    )
+    assert not missing, missing
