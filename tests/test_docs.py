@@ -252,6 +252,22 @@ def test_every_pinwind_command_of_the_docs_parses_as_written():
     assert not failed, "\n".join(failed)
 
 
+def test_no_shell_block_of_the_docs_has_a_line_of_bracketed_options():
+    # fatigue.md's "In short" had lines "[--json] [--workers N]" under a command: pasted, the
+    # shell runs each as a command of its own.
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    found = [
+        f"{page.name}: {line.strip()}"
+        for page in pages
+        if page.name != "command_line.md"
+        for language, block in re.findall(r"^```(\w*)\n(.*?)^```", page.read_text(), re.M | re.S)
+        if language in ("", "bash", "sh", "console")
+        for line in block.splitlines()
+        if line.strip().startswith("[")
+    ]
+    assert not found, found
+
+
 #: Names of the log's MCAP records and encodings, written like modules (docs/log_format.md).
 LOG_RECORDS = {"pinwind.run", "pinwind.end", "pinwind.columns"}
 
