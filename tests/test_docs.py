@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 from numpy.testing import assert_allclose
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -42,6 +43,16 @@ def test_readme_quick_start_run_shows_rated_speed_and_tooth_force(tmp_path):
     assert rows["carrier"][1] == "14.2000" and rows["sun"][1] == "85.2000"
     # Tangential force per sun mesh (1e6/6) / (3 × 0.18 m) = 308.6420 kN.
     assert rows["sun_planet1"][2] == f"{1e6 / 6 / (3 * 0.18) / 1e3:.4f}" == "308.6420"
+    # Every table row the README shows is the row the command prints (the first of its name).
+    block = text.split("```text\n", 1)[1].split("```", 1)[0]
+    model = (ROOT / args[1]).read_text()
+    names = set(re.findall(r'<(?:joint|mesh) name="(\w+)"', model))
+    shown = [
+        cells for cells in (x.split() for x in block.splitlines()) if cells and cells[0] in names
+    ]
+    assert len(shown) == 6 + 4, shown  # six bearings, four meshes (abridged)
+    for cells in shown:
+        assert cells == rows[cells[0]], cells
 
 
 def test_the_documented_series_are_the_declared_ones():
@@ -110,3 +121,186 @@ def test_code_layout_names_every_module_of_the_package_and_no_other():
     named = set(re.findall(r"`([\w/]+\.pyi?)`", text))
     gone = sorted(m for m in named if not (package / m).is_file() and not (ROOT / m).is_file())
     assert not gone, f"docs/code_layout.md names modules that do not exist: {', '.join(gone)}"
+
+
+def _documented_options() -> dict[str, set[str]]:
+    """The flags docs/command_line.md names under each verb (its lines and their comments)."""
+    text = (ROOT / "docs" / "command_line.md").read_text()
+    block = text.split("```bash\n", 1)[1].split("```", 1)[0]
+    found: dict[str, set[str]] = {}
+    verb = ""
+    for line in block.splitlines():
+        start = re.match(r"pinwind (build|sweep) (\w+)|pinwind (\w+)|pinwind --", line)
+        if start:  # "pinwind --version": the program's own options, under ""
+            verb = " ".join(w for w in start.groups() if w)
+            found.setdefault(verb, set())
+        if start or verb:
+            found[verb] |= set(re.findall(r"(?<![\w-])(--?[a-zA-Z][\w-]*)", line))
+    return found
+
+
+def test_every_flag_on_the_command_line_page_exists_and_every_flag_is_on_it():
+    import typer
+
+    from pinwind.cli.verbs import app
+
+    command = typer.main.get_command(app)
+    documented = _documented_options()
+    assert {"--torque", "--dt", "--out"} <= documented["simulate"]
+    unknown, undocumented = [], []
+    for verb in ["", *_verbs(command, "")]:
+        sub = command
+        for word in verb.split():
+            sub = sub.commands[word]
+        flags = {
+            name: set(p.opts + p.secondary_opts)
+            for p in sub.params
+            if p.param_type_name == "option"
+            for name in p.opts[:1]
+            if name != "--help"
+        }
+        named = {f for opts in flags.values() for f in opts}
+        unknown += [f"{verb} {f}" for f in sorted(documented[verb] - named)]
+        undocumented += [f"{verb} {n}" for n, opts in flags.items() if not opts & documented[verb]]
+    assert not unknown, f"docs/command_line.md names flags the parser lacks: {unknown}"
+    assert not undocumented, f"docs/command_line.md lacks: {undocumented}"
+
+
+def test_api_page_lists_the_top_level_exports():
+    import pinwind
+
+    text = (ROOT / "docs" / "api.md").read_text()
+    sentence = text.split("exports the core:", 1)[1].split(";", 1)[0]
+    named = set(re.findall(r"`(\w+)`", sentence))
+    assert named == set(pinwind.__all__) - {"__version__"}
+    assert all(f"::: pinwind.{name}\n" in text for name in named - {"PinwindError"})
+
+
+def test_losses_page_prose_quotes_its_own_nrel5mw_efficiency_table():
+    # The table "with the friction in the step" (its η to 0.001 %, the after-the-run table's
+    # to 0.1 %). The prose after it once kept the figures of an earlier step (96.34 %, 183 kW):
+    # its numbers must be the table's, and the table's overall row the stages' sum and product.
+    text = (ROOT / "docs" / "losses.md").read_text()
+    rows = re.findall(
+        r"^\| (?:\d, \w+|overall)[^|]*\| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \| (\d+\.\d{3}) %",
+        text,
+        re.M,
+    )
+    stages = [[float(x) for x in row] for row in rows[:3]]
+    overall = [float(x) for x in rows[3]]
+    assert len(rows) == 4
+    for column in range(3):  # meshes, bearings, loss [kW]
+        assert_allclose(sum(s[column] for s in stages), overall[column], atol=0.15)
+    assert_allclose(np.prod([s[3] / 100 for s in stages]) * 100, overall[3], atol=2e-3)
+    (eta, loss, share) = re.search(
+        r"pinwind's ([\d.]+) % at rated \(([\d.]+) kW, ([\d.]+) % of 5 MW\)", text
+    ).groups()
+    assert_allclose([float(eta), float(loss)], [overall[3], overall[2]], atol=0.006)
+    assert_allclose(float(share), 100 * overall[2] / 5e3, atol=0.006)
+    quoted = re.search(r"pinwind's stages\s+are ([\d.]+), ([\d.]+) and ([\d.]+) %", text).groups()
+    assert_allclose([float(q) for q in quoted], [s[3] for s in stages], atol=0.006)
+    (meshes, meshes_share) = re.search(r"μ_mz P H_V\s+\(([\d.]+) kW, ([\d.]+) %\)", text).groups()
+    assert_allclose(float(meshes), overall[0], atol=0.05)
+    assert_allclose(float(meshes_share), 100 * overall[0] / 5e3, atol=0.05)
+
+
+def _documented_commands() -> list[tuple[str, str]]:
+    """(page, command line after ``pinwind``) of every shell block of the user docs.
+
+    The command-line page's block is a synopsis (``[--flag]``, ``A|B``) and is left out.
+    """
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    found = []
+    for page in pages:
+        if page.name in ("command_line.md", "code_layout.md"):
+            continue
+        text = page.read_text(encoding="utf-8")
+        for language, block in re.findall(r"^```(\w*)\n(.*?)^```", text, re.M | re.S):
+            if language not in ("", "bash", "console", "sh"):
+                continue
+            for line in re.sub(r"\\\n\s*", " ", block).splitlines():
+                code = re.split(r"\s#", " " + line.strip().removeprefix("$ "), maxsplit=1)[0]
+                start = re.search(r"(?:^ |&& |\.venv/bin/)pinwind (.*)", code)
+                if start:
+                    found.append((page.name, start.group(1)))
+    return found
+
+
+def test_every_pinwind_command_of_the_docs_parses_as_written():
+    # A block a user copies must parse: "[--plots plots/]" in a command is two stray arguments.
+    # Parsing runs no verb (placeholders such as LOG stand for any path).
+    import typer
+
+    from pinwind.cli.verbs import app
+
+    command = typer.main.get_command(app)
+    commands = _documented_commands()
+    assert len(commands) > 30 and ("sweeps.md", "sweep plot parallel.csv -o plots/") in commands
+    failed = []
+    for page, line in commands:
+        try:
+            context = command.make_context("pinwind", shlex.split(line))
+            while hasattr(context.command, "commands"):  # a group: its verb parses the rest
+                rest = [*context._protected_args, *context.args]
+                if not rest:
+                    break
+                name, verb, rest = context.command.resolve_command(context, rest)
+                context = verb.make_context(name, rest, parent=context)
+        except Exception as err:  # typer's own click: its UsageError, BadParameter, ...
+            if type(err).__name__ != "Exit":
+                failed.append(f"{page}: pinwind {line}: {err}")
+    assert not failed, "\n".join(failed)
+
+
+def test_no_shell_block_of_the_docs_has_a_line_of_bracketed_options():
+    # fatigue.md's "In short" had lines "[--json] [--workers N]" under a command: pasted, the
+    # shell runs each as a command of its own.
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    found = [
+        f"{page.name}: {line.strip()}"
+        for page in pages
+        if page.name != "command_line.md"
+        for language, block in re.findall(r"^```(\w*)\n(.*?)^```", page.read_text(), re.M | re.S)
+        if language in ("", "bash", "sh", "console")
+        for line in block.splitlines()
+        if line.strip().startswith("[")
+    ]
+    assert not found, found
+
+
+#: Names of the log's MCAP records and encodings, written like modules (docs/log_format.md).
+LOG_RECORDS = {"pinwind.run", "pinwind.end", "pinwind.columns"}
+
+
+def _resolves(name: str) -> bool:
+    """``pinwind.a.b.C``: the longest importable module, then attributes."""
+    import importlib
+
+    parts = name.split(".")
+    for split in range(len(parts), 0, -1):
+        try:
+            found = importlib.import_module(".".join(parts[:split]))
+        except ImportError:
+            continue
+        for attribute in parts[split:]:
+            if not hasattr(found, attribute):
+                return False
+            found = getattr(found, attribute)
+        return True
+    return False
+
+
+def test_every_module_or_object_the_user_docs_name_exists():
+    # fatigue.md sent users to `analysis.dask_workers.WORKER_CONFIG`, which is in pinwind.runs.
+    subpackages = "analysis|runs|life|dynamics|io|model|gears|loads|losses|modes|testing|cli"
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    named = {
+        (page.name, name if name.startswith("pinwind.") else f"pinwind.{name}")
+        for page in pages
+        for name in re.findall(rf"`((?:pinwind|{subpackages})(?:\.\w+)+)", page.read_text())
+    }
+    assert len(named) > 100 and ("fatigue.md", "pinwind.life.case_cycles.CaseReduction") in named
+    missing = sorted(
+        f"{page}: {name}" for page, name in named if name not in LOG_RECORDS and not _resolves(name)
+    )
+    assert not missing, missing

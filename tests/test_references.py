@@ -14,6 +14,10 @@ SEEDS = {
     "003_83d3049daebcd276.txt": "10.4173/mic.2014.2.4",
 }
 SEED_NAME = re.compile(r"\b00[0-3]_[0-9a-f]{16}\.txt")
+#: A seed by its bare number, as a source ("beside 000 Table 5", "000's rotor", "(000 eq. 32)").
+SEED_NUMBER = re.compile(
+    r"(?<![\w.,])(?<!\d )00[0-3](?:'s|:| Table| eqs?\.| §| Figs?\.| uses| writes| does)"
+)
 
 
 def test_readme_and_docs_cite_sources_by_author_and_year_not_by_file_name():
@@ -37,6 +41,18 @@ def test_code_models_scenarios_and_examples_cite_sources_by_author_and_year():
         and path.name != Path(__file__).name
         and "__pycache__" not in path.parts
         and SEED_NAME.search(path.read_text(encoding="utf-8", errors="replace"))
+    ]
+    assert found == []
+
+
+def test_package_cites_no_source_by_its_bare_seed_number():
+    # "AGMA safety factors beside 000 Table 5" was printed by `pinwind sweep planetary`, and
+    # "000 uses 24.5°" by a refused pressure angle: a user cannot know that 000 is Saleh 2017.
+    found = [
+        f"{path.relative_to(ROOT)}: {match.group(0)}"
+        for path in sorted((ROOT / "pinwind").rglob("*"))
+        if path.suffix in {".py", ".pyi", ".hpp", ".cpp"} and "__pycache__" not in path.parts
+        for match in SEED_NUMBER.finditer(path.read_text(encoding="utf-8", errors="replace"))
     ]
     assert found == []
 

@@ -161,3 +161,46 @@ def test_python_block_prints_ratio_force_ratio_and_equal_sharing(tutorial):
     _, out = output_of(tutorial, "import math")
     values = [float(line.rsplit(" ", 1)[1]) for line in out.splitlines()]
     assert_allclose(values, [5.0, 1.0, 1.0], rtol=1e-9)
+
+
+def report_rows(output: str) -> dict[tuple[str, str], list[float]]:
+    """``pinwind report``'s rows: (element, quantity) -> [min, max, mean, final]."""
+    rows: dict[tuple[str, str], list[float]] = {}
+    element = ""
+    for line in output.splitlines():
+        cells = line.split()
+        if len(cells) == 1 and not line.startswith(" "):
+            element = cells[0]
+        elif line.startswith("  ") and element and len(cells) >= 5:
+            try:
+                numbers = [float(cell) for cell in cells[-4:]]
+            except ValueError:
+                continue
+            rows[(element, " ".join(cells[:-4]))] = numbers
+    return rows
+
+
+def test_report_is_steady_but_for_single_tooth_force_and_planet_weight(tutorial):
+    build, _ = output_of(tutorial, "pinwind build planetary")
+    sun, planet, module = (flag(build, name) for name in ("sun", "planet", "module"))
+    width = flag(build, "face-width")
+    command, _ = output_of(tutorial, "pinwind simulate stage.urdf")
+    _, out = output_of(tutorial, "pinwind report logs/run.mcap")
+    rows = report_rows(out)
+    steady = [key for key in rows if key[1].split()[0] in ("speed", "torque", "T", "normal")]
+    # six speeds, three applied torques (carrier, sun, ring lock), six shaft torques, six meshes
+    assert len(steady) == 6 + 3 + 6 + 6, steady
+    for key in steady:
+        low, high, _, _ = rows[key]
+        assert low == high, key
+    # Single-tooth force: F_n while one pair carries the mesh, F_n / 2 while two do.
+    normal = rows[("sun_planet1", "normal [kN]")][0]
+    low, high, _, _ = rows[("sun_planet1", "F 1 tooth [kN]")]
+    assert_allclose([low, high], [normal / 2, normal], atol=1e-4)
+    # A planet bearing: 2 F_t ± the weight of a steel disc of the pitch diameter (7850 kg/m³).
+    tangential = -flag(command, "torque sun") / (3 * module * 1e-3 * sun / 2)
+    weight = 7850 * math.pi * (module * 1e-3 * planet / 2) ** 2 * width * 1e-3 * 9.81
+    lows, highs = zip(*(rows[(f"planet{i}", "F radial [kN]")][:2] for i in (1, 2, 3)), strict=True)
+    assert (2 * tangential - weight) / 1e3 - 1e-3 <= min(lows) < max(highs)
+    assert max(highs) <= (2 * tangential + weight) / 1e3 + 1e-3
+    assert max(highs) - min(lows) > weight / 1e3  # the carrier turns a third of a turn

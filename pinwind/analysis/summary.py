@@ -8,12 +8,14 @@ engineering units (rpm, kN, kN·m) named in the column headers, in tables that f
 from __future__ import annotations
 
 import math
+import textwrap
 from typing import Any
 
 import numpy as np
 from rich import box
 from rich.markup import escape
 from rich.table import Table
+from rich.text import Text
 
 from pinwind.analysis.run_statistics import RunningStatistics
 from pinwind.dynamics import series
@@ -82,6 +84,31 @@ def _table(title: str, columns: tuple[str, ...], plain: bool) -> Table:
     return table
 
 
+#: The console width every table is fitted to (a pipe's, and a terminal's by default).
+WIDTH = 80
+
+
+def _fitted(table: Table, width: int = WIDTH) -> Table:
+    """The table with no cell folded: names and numbers whole, headers wrapped at spaces.
+
+    Rich narrows the widest columns of a table wider than the console, header or not, and folds
+    their cells: a bearing "stage1_planet1" printed as "stage1_planet" over "1". When the
+    widest cells and headers do not fit ``width``, each header wider than its column's cells
+    wraps at its spaces instead, and no column folds its cells.
+    """
+    cells = [[str(cell) for cell in column._cells] for column in table.columns]
+    data = [max((len(c) for c in column), default=0) for column in cells]
+    headers = [Text.from_markup(str(column.header)).plain for column in table.columns]
+    natural = sum(max(d, len(h)) + 2 for d, h in zip(data, headers, strict=True))
+    if natural + len(headers) - 1 <= width:  # padding 1 each side, a space between columns
+        return table
+    for column, d, header in zip(table.columns, data, headers, strict=True):
+        words = max((len(w) for w in header.split()), default=0)
+        column.header = escape("\n".join(textwrap.wrap(header, max(d, words))))
+        column.no_wrap = True
+    return table
+
+
 def _span(res: Result, stats: FoldedStatistics) -> str:
     """What the statistics cover.
 
@@ -121,7 +148,7 @@ def row_table(res: Result, gearbox: Any, *, plain: bool = False) -> Table | None
             f"{row.axial[-1] / 1e3:.4f}",
             f"{float(np.max(row.radial_magnitude)) / 1e3:.4f}",
         )
-    return table
+    return _fitted(table)
 
 
 def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
@@ -130,10 +157,12 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
     The bearing loads are those a bearing engineer reads (``dynamics/bearing_load.py``): radial
     and axial force and tilting moment about the bearing's own axis, with the torque the shaft
     transmits apart (a shaft's torque, not a load on the bearing); then the largest of each
-    over the run and of the resultant force |F|.
+    over the run and of the resultant force |F|; then the generators' torques and the rotors'
+    torque, power, λ, C_p, thrust and C_t, each family in a table of its own.
 
-    Each table fits 80 columns with the shipped models' names (a wider cell folds; numbers are
-    never cut). Units are in the column headers.
+    Each table fits 80 columns with the shipped models' names: a table that would not wraps its
+    headers at their spaces (``_fitted``); names and numbers are never cut. Units are in the
+    column headers.
 
     Args:
         plain: ASCII rules and no styles, for pipes and files.
@@ -248,24 +277,30 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
         )
     tables += [at_end, peaks]
 
-    if res.generator_names or res.rotor_names:
-        loads = _table(
-            f"Generators and rotors at {final}, and their means over {_span(res, stats)}",
-            ("element", "torque [kN·m]", "mean [kN·m]", "power [kW]", "λ [-]", "Cp [-]",
-             "thrust [kN]", "Ct [-]"),
+    # Generators and rotors apart: one table of both, with the generators' rows of dashes,
+    # is too wide for 80 columns, and its cells folded (a thrust printed as "170.106" over "0").
+    if res.generator_names:
+        generators = _table(
+            f"Generators at {final}, and their means over {_span(res, stats)}",
+            ("generator", "torque [kN·m]", "mean [kN·m]"),
             plain,
-        )  # fmt: skip
+        )
         for name in res.generator_names:
             torque = res.generator(name).torque
             mean = stats.row("load", f"generator {name}", "torque").mean
-            loads.add_row(
-                f"generator {name}", _fixed(torque[-1] / 1e3), _fixed(mean / 1e3),
-                "-", "-", "-", "-", "-",
-            )  # fmt: skip
+            generators.add_row(name, _fixed(torque[-1] / 1e3), _fixed(mean / 1e3))
+        tables.append(generators)
+    if res.rotor_names:
+        rotors = _table(
+            f"Rotors at {final}, and their means over {_span(res, stats)}",
+            ("rotor", "torque [kN·m]", "mean [kN·m]", "power [kW]", "λ [-]", "Cp [-]",
+             "thrust [kN]", "Ct [-]"),
+            plain,
+        )  # fmt: skip
         for name in res.rotor_names:
             r = res.rotor(name)
-            loads.add_row(
-                f"rotor {name}",
+            rotors.add_row(
+                name,
                 _fixed(r.torque[-1] / 1e3),
                 f"{stats.row('load', f'rotor {name}', 'torque').mean / 1e3:.4f}",
                 f"{r.power[-1] / 1e3:.2f}",
@@ -274,5 +309,5 @@ def summary_tables(res: Result, *, plain: bool = False) -> list[Table]:
                 _fixed(r.thrust[-1] / 1e3),
                 _fixed(r.thrust_coefficient[-1]),
             )
-        tables.append(loads)
-    return tables
+        tables.append(rotors)
+    return [_fitted(table) for table in tables]

@@ -41,8 +41,8 @@ class SweepSettings:
         input_torque: torque on the stage's input [N·m]: the carrier of a planetary stage, the
             wheel's shaft of a parallel stage (wind-turbine gearboxes step the speed up).
         input_speed: speed of the input [rad/s] at the start of the run (dynamic factors).
-        pressure_angle: normal pressure angle [rad] (000: 24.5°).
-        face_width: face width [m] when ``face_width_factor`` is None (000: 380 mm).
+        pressure_angle: normal pressure angle [rad] (Saleh 2017: 24.5°).
+        face_width: face width [m] when ``face_width_factor`` is None (Saleh 2017: 380 mm).
         face_width_factor: k in b = k π m_n (AGMA's 3…5 circular pitches), else None.
         material: gear material key (`gears.materials.MATERIALS`).
         duration: simulated time [s] of each rigid run.
@@ -64,7 +64,7 @@ class SweepSettings:
         if not (math.isfinite(alpha) and 0.0 < alpha < 45.0):
             raise InputError(
                 f"--pressure-angle is {alpha:g}°; every design would fail: give a pressure "
-                "angle in (0, 45)° (20° is the ISO 53 standard; 000 uses 24.5°)"
+                "angle in (0, 45)° (20° is the ISO 53 standard; Saleh 2017 uses 24.5°)"
             )
         width = self.face_width if self.face_width_factor is None else self.face_width_factor
         if not (math.isfinite(width) and width > 0.0):

@@ -1,7 +1,7 @@
 """Parallel (spur or helical) stages for the design sweep, as Saleh 2017 §5 says.
 
 "The previous systematic procedure can be applied for designing the other parallel axis stages"
-(000 §5): the same loop as `sweep_planetary`, for one wheel–pinion pair.
+(Saleh 2017 §5): the same loop as `sweep_planetary`, for one wheel–pinion pair.
 
 `enumerate_parallel`: for each module m_n and centre distance a, the tooth sum is
 Σ = 2 a cos β / m_n. For spur gears (β = 0) Σ must be whole, as the planetary sweep asks of

@@ -2,10 +2,10 @@
 
 `enumerate_planetary`: every buildable stage for the given centre distances and modules: whole
 tooth numbers with z_sun + z_planet = 2 a/m, z_ring = z_sun + 2 z_planet (no profile shift,
-000 §4.1), equally spaced planets ((z_sun + z_ring)/N whole) and a speed ratio i = 1 + z_ring/z_sun
-strictly inside the window (lo, hi). Designs given in ``include`` (the paper's preliminary
-24/48/120 at 15 mm, i = 6 exactly, on the window's edge) are added and numbered first in their
-(module, centre distance) group, as Table 5 numbers #38 before #39.
+Saleh 2017 §4.1), equally spaced planets ((z_sun + z_ring)/N whole) and a speed ratio
+i = 1 + z_ring/z_sun strictly inside the window (lo, hi). Designs given in ``include`` (the
+paper's preliminary 24/48/120 at 15 mm, i = 6 exactly, on the window's edge) are added and
+numbered first in their (module, centre distance) group, as Table 5 numbers #38 before #39.
 
 Each `PlanetaryDesign` is built with `model.builders.planetary_urdf` and run with the carrier
 torque in and the sun loaded with −T/i, so the stage is in torque balance (`StageDesign`).
@@ -29,7 +29,7 @@ from pinwind.model.gear_roles import gear_roles, planetary_gears
 if TYPE_CHECKING:
     from pinwind.analysis.rating import GearboxRating
 
-#: The preliminary design of 000 (Table 2): (sun, planet, ring, module [m]).
+#: The preliminary design of Saleh 2017 (Table 2): (sun, planet, ring, module [m]).
 TABLE_5_INCLUDE = ((24, 48, 120, 0.015),)
 
 

@@ -7,7 +7,7 @@ that computes them is `pinwind.runs.sweep`; this module only reads and writes th
 - `design_key`: what identifies a design across runs (a re-run skips the rows it already has).
 - `write_table` / `read_table`: CSV or Parquet, one column set per kind; `read_checkpoint`: the
   JSON lines a sweep appends as it goes.
-- `query`: 000 eq. 41 on the columns every kind has (centre distance, ratio, module, SF), and
+- `query`: Saleh 2017 eq. 41 on the columns every kind has (centre distance, ratio, module, SF), and
   `best_found`: what each criterion finds on its own when no design meets them all.
 """
 
@@ -154,7 +154,7 @@ def query(
     sf_column: str = "agma_SF_min",
     minimise: str | None = None,
 ) -> list[dict]:
-    """Designs that satisfy every given criterion (000 eq. 41: a ∪ i ∪ m ∪ SF).
+    """Designs that satisfy every given criterion (Saleh 2017 eq. 41: a ∪ i ∪ m ∪ SF).
 
     Args:
         rows: sweep rows.

@@ -299,6 +299,8 @@ def table(title: str, *columns: str, left: int = 1) -> Table:
     """A table of ``columns``: the first ``left`` ones text, the others numbers.
 
     Ten 6-character cells fit 80 columns (no vertical rules); a longer cell wraps, never cut.
+    The table is at least as wide as its title up to 80 columns, so that a narrow table's title
+    reads on one or two lines, not in a column of 26 ("Largest stress [MPa]: von / Mises ...").
     """
     grid = Table(  # escaped: rich reads "[m/s]" as a closing tag and drops it
         title=escape(title),
@@ -306,6 +308,7 @@ def table(title: str, *columns: str, left: int = 1) -> Table:
         show_edge=False,
         pad_edge=False,
         collapse_padding=True,
+        min_width=min(len(title), 80),
     )
     for i, name in enumerate(columns):  # escaped: rich reads "[kN]" as a style
         grid.add_column(escape(name), justify="left" if i < left else "right", overflow="fold")

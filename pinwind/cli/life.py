@@ -73,27 +73,36 @@ def life(
     say(f"[bold]{escape(gearbox.name)}[/bold] — {escape(str(log))}: {res.time[-1]:g} s run")
     plain = not console.is_terminal
     if rows:
+        # 80 columns (a pipe's): each bearing on a line of its own above its rows, the padding
+        # between columns collapsed, headers escaped (rich reads a bare "[kN]" as a style and
+        # drops it) and no cell cut short.
         table = Table(
             title="Rolling bearings (rows): lives in hours at the run's speed, "
             f"R = {reliability:g} %",
             box=None if plain else Table().box,
+            collapse_padding=True,
+            pad_edge=False,
         )
         for head in (
-            "bearing/row",
+            "bearing\n  row",
             "type",
-            "P [kN]",
+            "P\n[kN]",
             "L10h",
             "Lnmh",
             "L10rh",
-            "Qmax [kN]",
-            "zone°",
-            "P<Pmin %",
+            "Qmax\n[kN]",
+            "zone\n[°]",
+            "P<Pmin\n[%]",
         ):
-            left = head in ("bearing/row", "type")
-            table.add_column(head, justify="left" if left else "right", no_wrap=left)
+            left = head in ("bearing\n  row", "type")
+            table.add_column(escape(head), justify="left" if left else "right", no_wrap=not left)
+        bearing = None
         for r in rows:
+            if r.bearing != bearing:
+                bearing = r.bearing
+                table.add_row(escape(bearing))
             table.add_row(
-                f"{r.bearing}/{r.name}", r.kind.replace("_roller", "").replace("_ball", " ball"),
+                f"  {escape(r.name)}", r.kind.replace("_roller", "").replace("_", " "),
                 f"{r.equivalent_load / 1e3:.4g}", _hours(r.l10h), _hours(r.lnmh), _hours(r.l10rh),
                 "-" if math.isnan(r.max_element_load) else f"{r.max_element_load / 1e3:.4g}",
                 "-" if math.isnan(r.load_zone_min) else f"{math.degrees(r.load_zone_min):.0f}",
@@ -101,7 +110,7 @@ def life(
             )  # fmt: skip
         console.print(table)
         say(
-            "P<Pmin %: the share of the time the row turned under less than the load it needs "
+            "P<Pmin: the share of the time the row turned under less than the load it needs "
             "to roll, 0.02 C (roller) or 0.01 C (ball) by the catalogues (SKF 2018): skidding risk"
         )
         notes: dict[str, list[str]] = {}
@@ -110,11 +119,15 @@ def life(
                 notes.setdefault(note, []).append(f"{r.bearing}/{r.name}")
             axial, tilt = r.not_carried
             # Worth a line: 1 % of P axially, a moment of 1 % of P at 0.1 m.
-            if axial > 0.01 * r.equivalent_load or tilt > 1e-3 * r.equivalent_load:
+            parts = []
+            if axial > 0.01 * r.equivalent_load:
+                parts.append(f"axial up to {axial / 1e3:.4g} kN (ISO 281's P counts it by X, Y)")
+            if tilt > 1e-3 * r.equivalent_load:
+                parts.append(f"tilting up to {tilt / 1e3:.4g} kN·m")
+            if parts:
                 say(
                     f"{escape(r.bearing)}/{escape(r.name)}: not carried by its type in the "
-                    f"reference life: axial up to {axial / 1e3:.4g} kN, tilting up to "
-                    f"{tilt / 1e3:.4g} kN·m (ISO 281's P counts the axial by X, Y)"
+                    f"reference life: {', '.join(parts)}"
                 )
         for note, who in notes.items():
             where = "all rows" if len(who) == len(rows) else ", ".join(who)

@@ -257,9 +257,12 @@ def _print_table_5_comparison(rows: list[dict]) -> None:
     entries = [e for e in comparison(rows) if not e["missing"]]
     if not entries:
         return
-    table = Table(title="AGMA safety factors beside 000 Table 5 (ours / paper, relative diff.)")
+    table = Table(
+        title="AGMA safety factors beside Saleh 2017 Table 5 (ours / paper, relative diff.)"
+    )
     for column in ("#", "a/m/sun/planet/ring", "S_H sun–planet", "S_H planet–ring", "S_F min"):
-        table.add_column(column, justify="right")
+        # the design whole ("540/10/34/74/182", not "540/10/34/74/1…"); the factors wrap
+        table.add_column(column, justify="right", no_wrap=column.startswith(("#", "a/")))
     for e in entries:
         table.add_row(
             str(e["number"]),

@@ -207,17 +207,21 @@ class DtAdvice:
         )
 
     def _damping_text(self) -> str:
-        line = (
+        start = (
             f"highest mesh mode {self.frequency:.4g} Hz: at dt = {self.dt:.3g} s "
-            f"({self.steps_per_period:.3g} steps per period) the step damps it with "
-            f"ζ_num = {self.numerical_ratio:.3g} beside its physical ζ = {self.physical_ratio:.3g}"
+            f"({self.steps_per_period:.3g} steps per period) the step "
         )
-        if math.isinf(self.accurate_dt):
-            return line + (
-                f" (ρ∞ = {self.scheme.rho_infinity:g} keeps the amplitude at any dt; "
-                f"dt ≤ {1.0 / (RESOLVING_STEPS * self.frequency):.2g} s, {RESOLVING_STEPS} "
-                "steps per period, resolves its period)"
+        if math.isinf(self.accurate_dt):  # a scheme without numerical damping (ρ∞ = 1)
+            return start + (
+                f"adds no damping to it (ζ_num = {self.numerical_ratio:.3g}; its physical "
+                f"ζ = {self.physical_ratio:.3g}; ρ∞ = {self.scheme.rho_infinity:g} keeps the "
+                f"amplitude at any dt; dt ≤ {1.0 / (RESOLVING_STEPS * self.frequency):.2g} s, "
+                f"{RESOLVING_STEPS} steps per period, resolves its period)"
             )
+        line = start + (
+            f"damps it with ζ_num = {self.numerical_ratio:.3g} beside its physical "
+            f"ζ = {self.physical_ratio:.3g}"
+        )
         if self.physical_ratio > 0.0:
             return line + (
                 f"; dt ≤ {self.accurate_dt:.2g} s keeps ζ_num below a tenth of the physical one"

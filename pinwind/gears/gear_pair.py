@@ -110,7 +110,7 @@ class GearPair:
         if not 0.0 < self.pressure_angle < math.radians(45.0):
             raise InvalidGearTrain(
                 f"{label}: the pressure angle is {math.degrees(self.pressure_angle):g}°; it must "
-                "lie in (0, 45)° (20° is the ISO 53 standard; 000 uses 24.5°)"
+                "lie in (0, 45)° (20° is the ISO 53 standard; Saleh 2017 uses 24.5°)"
             )
         object.__setattr__(self, "material_1", material(self.material_1))
         object.__setattr__(self, "material_2", material(self.material_2))

@@ -2,14 +2,15 @@
 
 SI form of AGMA 2001-D04 (Shigley's Mechanical Engineering Design, 10th ed., eqs. 14-15 to 14-42):
 
-    σ   = W_t K_o K_v K_s / (F m_t) · K_m K_B / J                  bending   (000 eq. 32)
-    σ_c = C_p √(W_t K_o K_v K_s K_m C_f / (d_P F I))                contact   (000 eq. 34)
-    σ_all   = s_at Y_N / (K_T K_R)                                             (000 eq. 33)
-    σ_c,all = s_ac Z_N C_H / (K_T K_R)                                         (000 eq. 35)
-    S_F = σ_all / σ,   S_H = σ_c,all / σ_c                                     (000 eqs. 36-37)
+    σ   = W_t K_o K_v K_s / (F m_t) · K_m K_B / J                  bending   (Saleh 2017 eq. 32)
+    σ_c = C_p √(W_t K_o K_v K_s K_m C_f / (d_P F I))                contact   (Saleh 2017 eq. 34)
+    σ_all   = s_at Y_N / (K_T K_R)                                             (Saleh 2017 eq. 33)
+    σ_c,all = s_ac Z_N C_H / (K_T K_R)                                         (Saleh 2017 eq. 35)
+    S_F = σ_all / σ,   S_H = σ_c,all / σ_c                               (Saleh 2017 eqs. 36-37)
 
-000 writes eqs. 36-37 as stress over allowable; here they are allowable over stress, as in AGMA
-2001 and Shigley, so that S ≥ 1 passes. (S_H compares stresses; AGMA compares S_F with S_H².)
+Saleh 2017 writes eqs. 36-37 as stress over allowable; here they are allowable over stress, as
+in AGMA 2001 and Shigley, so that S ≥ 1 passes. (S_H compares stresses; AGMA compares S_F with
+S_H².)
 
 Every factor is a field of `AgmaFactors`; None means "compute the default":
 
@@ -141,7 +142,7 @@ class AgmaRating:
     Attributes:
         factors: every factor used, defaults resolved.
         transmitted_load: W_t [N].
-        bending_stress: σ of pinion and wheel [Pa] (000 eq. 32).
+        bending_stress: σ of pinion and wheel [Pa] (Saleh 2017 eq. 32).
         bending_allowable: σ_all of pinion and wheel [Pa] (eq. 33).
         contact_stress: σ_c of pinion and wheel [Pa] (eq. 34; they differ only through K_s).
         contact_allowable: σ_c,all of pinion and wheel [Pa] (eq. 35).

@@ -464,7 +464,14 @@ def panels(
         terms = [Series(k, v / 1e3, color(i)) for i, (k, v) in enumerate(res.energy.items())]
         largest = max(float(np.max(np.abs(s.values), initial=0.0)) for s in terms)
         out += [
-            Panel("energy", "energy", "energy ledger, from t = 0 [kJ]", "kJ", terms),
+            Panel(
+                "energy",
+                "energy",
+                # kinetic and potential_spring are the energies held; the others add up from 0
+                "energy ledger: kinetic and spring energy, works and losses since t = 0 [kJ]",
+                "kJ",
+                terms,
+            ),
             Panel(
                 "energy_balance",
                 "energy",

@@ -15,7 +15,7 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
   voltage V and frequency f, p pole pairs: ω_sync = 2π f / p, s = (ω_sync − ω) / ω_sync; with
   ``dynamic=True`` Krause's dq model with its fluxes as states (IFToMM 2018,
   ``cpp/generator.hpp``), whose steady state is the same curve. ``InductionMachine.cart600()``
-  is 001's machine (Table 1: 3-phase, 60 Hz, 575 V, 4 poles, R_s 0.00053 Ω, R_r' 0.00048 Ω,
+  is IFToMM 2018's machine (Table 1: 3-phase, 60 Hz, 575 V, 4 poles, R_s 0.00053 Ω, R_r' 0.00048 Ω,
   L_ls 0.0365 mH, L_lr' 0.052 mH, L_M 1.97 mH).
 
 ``LAWS`` names them (``constant``, ``linear-slip``, ``variable-speed``, ``induction``,
@@ -23,9 +23,9 @@ shaft) from the shaft speed ω [rad/s]; the shaft gets −T_gen. The joint's rec
 files and the log read.
 
 The laws of the shaft speed are taken linearly implicit in the step (``cpp/joint_torque.hpp``),
-so a steep curve (001's machine: ≈ 2e4 N·m per rad/s near synchronous speed) is stable at the
-step the mechanics use; the dq machine's fluxes are integrated exactly over that step with the
-rotor speed held at mid-step (the flux equations are linear: closed-form e^{Ah}), so its 60 Hz
+so a steep curve (IFToMM 2018's machine: ≈ 2e4 N·m per rad/s near synchronous speed) is stable
+at the step the mechanics use; the dq machine's fluxes are integrated exactly over that step with
+the rotor speed held at mid-step (the flux equations are linear: closed-form e^{Ah}), so its 60 Hz
 transient keeps its phase at 1 ms.
 """
 

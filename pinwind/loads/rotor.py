@@ -13,11 +13,11 @@ the shaft, after the rotor's own inertia.
 
 Calibration for Saleh 2017's 1.4 MW turbine (``Rotor.saleh2017``): 3 blades of 41 m
 on a 3.7 m hub give R = 41 + 3.7/2 = 42.85 m; at 14.2 rpm in 10 m/s, λ = 6.37. Heier's fit at
-β = 0 gives C_p(6.37) = 0.409 there, 0.972 MN·m with ρ = 1.225 kg/m³; 000 (§4, Figs. 5-6) gives
-1 MN·m, C_p = 0.421. We keep Heier's shape and scale it by ``SALEH2017_CP_SCALE`` = 1.0292
-(``calibrated_scale``), the one number fitted. 000 does not give the rotor's inertia: we take
-the NREL 5 MW rotor's 3.8e7 kg·m² (61.5 m blades) scaled by (41 / 61.5)⁵ (mass ∝ L³, inertia
-∝ m L²): 5.0e6 kg·m².
+β = 0 gives C_p(6.37) = 0.409 there, 0.972 MN·m with ρ = 1.225 kg/m³; Saleh 2017 (§4,
+Figs. 5-6) gives 1 MN·m, C_p = 0.421. We keep Heier's shape and scale it by
+``SALEH2017_CP_SCALE`` = 1.0292 (``calibrated_scale``), the one number fitted. Saleh 2017 does
+not give the rotor's inertia: we take the NREL 5 MW rotor's 3.8e7 kg·m² (61.5 m blades) scaled
+by (41 / 61.5)⁵ (mass ∝ L³, inertia ∝ m L²): 5.0e6 kg·m².
 
 Jørgensen 2014's 500 kW turbine (``Rotor.jorgensen2014``): the paper names it (500 kW, 41 m
 rotor, stall-regulated, FLEX5 for its aerodynamics) but gives neither its C_p nor its power
@@ -27,7 +27,7 @@ an ASSUMED power curve typical of such machines (``JORGENSEN2014_POWER_CURVE``: 
 into a C_p(λ) table at 27.1 rpm (C_p = P / (½ ρ π R² v³), λ = ω R / v): a rotor held at that
 speed by its generator gives that power curve in steady wind. It is not a fitted or measured
 curve; the damage it gives is the trend, not Jørgensen 2014's numbers (docs/fatigue.md).
-Inertia: the NREL 5 MW rotor's 3.8e7 kg·m² scaled by (20.5 / 63)⁵ (as for 000's rotor):
+Inertia: the NREL 5 MW rotor's 3.8e7 kg·m² scaled by (20.5 / 63)⁵ (as for Saleh 2017's rotor):
 1.4e5 kg·m².
 
 The rotor's non-torque loads (Keller et al. 2018 found them to change planet-bearing loads by up
@@ -65,9 +65,9 @@ from pinwind.loads.pitch_control import PitchControl
 from pinwind.loads.rotor_performance import NREL5MW_PERFORMANCE, read_performance
 from pinwind.units import rpm_to_rad_s
 
-#: 000's rotor: 41 m blades on a 3.7 m hub [m].
+#: Saleh 2017's rotor: 41 m blades on a 3.7 m hub [m].
 SALEH2017_RADIUS = 41.0 + 3.7 / 2
-#: 000's rated point: 1 MN·m at 14.2 rpm in a steady 10 m/s wind.
+#: Saleh 2017's rated point: 1 MN·m at 14.2 rpm in a steady 10 m/s wind.
 SALEH2017_RATED = {"torque": 1e6, "speed": rpm_to_rad_s(14.2), "wind": 10.0}
 #: Rotor inertia [kg·m²]: NREL 5 MW rotor (3.8e7 kg·m², R 63 m, blades 61.5 m) × (41/61.5)⁵.
 SALEH2017_INERTIA = round(3.8e7 * (41.0 / 61.5) ** 5, -5)
@@ -104,7 +104,7 @@ def calibrated_scale(
     return torque / float(unscaled)
 
 
-#: Heier's C_p scaled to 000's rated point (module docstring).
+#: Heier's C_p scaled to Saleh 2017's rated point (module docstring).
 SALEH2017_CP_SCALE = round(
     calibrated_scale(radius=SALEH2017_RADIUS, air_density=1.225, **SALEH2017_RATED), 6
 )

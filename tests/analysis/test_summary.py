@@ -170,3 +170,38 @@ def test_a_planetary_at_rest_under_balanced_torques_prints_no_signed_zero():
         for cell in column._cells
     ]
     assert "0.0000" in cells and not any(str(cell).startswith("-0.0000") for cell in cells)
+
+
+def _printed(table, width: int = 80) -> list[str]:
+    """The lines of a table printed to a pipe of ``width`` columns (no colours)."""
+    from rich.console import Console
+
+    out = io.StringIO()
+    Console(width=width, file=out, color_system=None).print(table)
+    return out.getvalue().splitlines()
+
+
+def test_no_name_or_number_of_the_shipped_drivetrains_tables_is_cut_at_80_columns():
+    # The tables fit a pipe's 80 columns: a cell folded across two lines reads as two values
+    # ("stage1_planet" over "1", a thrust "170.106" over "0"). The Saleh 2017 drivetrain has a
+    # rotor and a generator on the long-named stage2_pinion; the NREL 5 MW gearbox has bearing
+    # rows on stage1_planet1, ...
+    from pinwind.analysis.summary import row_table
+    from pinwind.runs.scenario import load_scenario, run
+
+    scenario = load_scenario(
+        MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml",
+        changes={"duration": 0.02, "no_log": True},
+    )
+    tables = summary_tables(run(scenario, progress=False), plain=True)
+    assert [t for t in tables if str(t.title).startswith("Rotors")]
+    nrel = pinwind.load(MODELS / "nrel5mw_gearbox.urdf")
+    rows = row_table(pinwind.simulate(nrel, duration=2e-3, dt=1e-4, progress=False), nrel)
+    assert rows is not None
+    for table in [*tables, rows]:
+        lines = _printed(table)
+        assert max(len(line) for line in lines) <= 80, table.title
+        words = {word for line in lines for word in line.split()}
+        cells = [str(cell) for column in table.columns for cell in column._cells]
+        cut = [cell for cell in cells if cell not in words and cell != "0 (fixed)"]
+        assert not cut, f"{table.title}: {cut[:5]}"

@@ -628,3 +628,25 @@ def test_fatigue_bearings_gives_a_bearing_its_modified_and_reference_lives(tmp_p
     assert_allclose(planet1["l10r_h"], planet1["l10_h"], rtol=1e-2)
     assert 0.1 <= planet1["lnm_h"] / planet1["l10_h"] <= 50.0
     assert by_name["planet2"]["lnm_h"] is None and by_name["planet2"]["l10r_h"] is None
+
+
+def test_a_narrow_tables_long_title_reads_on_two_lines_not_in_a_column():
+    # The largest-stress table of a two-level set is 26 columns wide: its 101-character title
+    # came out in five lines of 26. At 80 columns it takes ⌈101 / 80⌉ = 2.
+    import io
+
+    from rich.console import Console
+
+    from pinwind.cli.fatigue import table
+
+    title = (
+        "Largest stress [MPa]: von Mises contact (Jørgensen 2014: 600-700 at 20 m/s, 10 %) and "
+        "root (Jørgensen 2014: about 60)"
+    )
+    grid = table(title, "gear", "stress", "10%", "20%", left=2)
+    grid.add_row("sun", "contact", "583", "582")
+    out = io.StringIO()
+    Console(width=80, file=out, color_system=None).print(grid)
+    lines = out.getvalue().splitlines()
+    heading = lines[: next(i for i, line in enumerate(lines) if line.startswith("gear"))]
+    assert len(heading) == 2 and "[MPa]" in heading[0], heading

@@ -208,3 +208,15 @@ def test_energy_conserving_step_is_not_said_to_damp_an_undamped_mode():
     assert math.isinf(advice.accurate_dt)
     assert "keeps the amplitude at any dt" in advice.text()
     assert "all its damping is numerical" not in advice.text()
+
+
+def test_advice_of_the_trapezoidal_rule_says_it_adds_no_damping_not_that_it_damps():
+    # ρ∞ = 1: the amplification of a step has modulus 1 at any ωh, so ζ_num = 0 and the text
+    # must not read "damps it with ζ_num = 0".
+    text = dt_advice(OMEGA / (2 * math.pi), 2 * math.pi / OMEGA / 5, 0.05).text()
+    assert "adds no damping to it (ζ_num = 0; its physical ζ = 0.05;" in text
+    assert "damps it" not in text
+    damped = dt_advice(
+        OMEGA / (2 * math.pi), 2 * math.pi / OMEGA / 5, 0.05, Integrator(rho_infinity=0.0)
+    )
+    assert "damps it with ζ_num = " in damped.text() and "adds no damping" not in damped.text()

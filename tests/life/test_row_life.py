@@ -131,7 +131,33 @@ def test_life_command_gives_every_row_from_a_log(shaft_log):
     assert_allclose(got["B"]["l10_million_rev"], (1e6 / abs(r_b)) ** (10 / 3), rtol=2e-5)
     table = run_cli("life", str(log))
     assert table.returncode == 0, table.stderr
-    assert "shaft/A" in table.stdout and "L10rh" in table.stdout
+    lines = [line.strip() for line in table.stdout.splitlines()]
+    shaft = lines.index("shaft")  # the bearing on a line of its own, then its rows
+    assert lines[shaft + 1].split()[0] == "A" and "L10rh" in table.stdout
+
+
+def test_life_table_of_the_5mw_gearbox_fits_80_columns_with_units_and_whole_cells(tmp_path):
+    # 24 rows named stage1_planet1/PL-A, ... in ten columns: at a pipe's 80 columns no cell
+    # may be cut short ("779…") and the load columns keep their unit (rich took "[kN]" for a
+    # style and dropped it).
+    from tests.conftest import MODELS
+
+    log = tmp_path / "nrel.mcap"
+    gearbox = pinwind.load(MODELS / "nrel5mw_gearbox.urdf")
+    res = pinwind.simulate(gearbox, duration=2e-3, dt=1e-4, log=log, progress=False)
+    out = run_cli("life", str(log))
+    assert out.returncode == 0, out.stderr
+    title = out.stdout.index("Rolling bearings (rows)")
+    table = out.stdout[title : out.stdout.index("P<Pmin: ")].splitlines()
+    assert max(len(line) for line in table) <= 80 and "…" not in "".join(table)
+    assert table[1].split().count("P") == 1 and table[2].split().count("[kN]") == 2
+    rows = row_lives(res, gearbox)
+    assert len(rows) == 24
+    cells = [line.split() for line in table]
+    for r in rows:  # each row's P [kN] and L10h as the command rounds them, whole
+        assert [r.name, f"{r.equivalent_load / 1e3:.4g}", f"{r.l10h:.3g}"] in (
+            [c[0], c[2], c[3]] for c in cells if len(c) > 3
+        ), r.name
 
 
 @pytest.mark.parametrize(

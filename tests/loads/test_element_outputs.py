@@ -61,7 +61,7 @@ def test_rotor_held_at_speed_gives_power_over_speed_from_cp(pair):
     # The driver holds the unloaded pair against it: the joint's torque (rotor + driver) is 0.
     assert np.abs(res.joint("a").torque).max() < 1e-9 * r.torque.max()
     table = summary_tables(res, plain=True)[-1]
-    assert "rotor a" in table.columns[0]._cells
+    assert str(table.title).startswith("Rotors") and "a" in table.columns[0]._cells
 
 
 def test_element_outputs_go_to_the_log_and_the_export_columns(pair, tmp_path):

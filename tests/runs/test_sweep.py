@@ -162,6 +162,24 @@ def test_sweep_command_writes_a_table_that_query_reads(tmp_path):
     assert none.returncode == 1 and "no design" in none.stdout
 
 
+def test_comparison_names_its_source_and_prints_each_design_whole(swept, monkeypatch):
+    # The title said "beside 000 Table 5" (a file name, not a source) and a pipe's 80 columns cut
+    # each design to "600/10/38/82/2…".
+    import io
+
+    from rich.console import Console
+
+    import pinwind.cli.sweep as sweep_cli
+
+    printed = io.StringIO()
+    monkeypatch.setattr(sweep_cli, "console", Console(width=80, file=printed, color_system=None))
+    sweep_cli._print_table_5_comparison(swept)
+    text = printed.getvalue()
+    assert "beside Saleh 2017 Table 5" in text and "…" not in text
+    for _, a, m, sun, planet, ring in TABLE_5:  # the paper's designs, each on one line
+        assert f" {a}/{m}/{sun}/{planet}/{ring} " in text
+
+
 def test_query_with_an_unknown_safety_factor_column_is_one_line_naming_the_columns(tmp_path):
     (tmp_path / "t.csv").write_text(
         "number,status,centre_distance_mm,module_mm,ratio,agma_SF_min,iso_S_min\n"

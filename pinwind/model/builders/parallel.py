@@ -144,7 +144,8 @@ def parallel_urdf(
     cylinders of pitch diameter × face width.
 
     Args:
-        stages: (wheel teeth, pinion teeth) per stage, input side first (000's 83/23, 103/26).
+        stages: (wheel teeth, pinion teeth) per stage, input side first (Saleh 2017's 83/23,
+            103/26).
         module: normal module m_n [m], one value or one per stage.
         pressure_angle: normal pressure angle [rad].
         face_width: face width [m], one value or one per stage.
