@@ -69,7 +69,7 @@ def efficiency(
     """
     from pinwind.runs.efficiency_map import check_grade, draw, efficiency_map, write_csv
 
-    check_grade(lubricant_vg)
+    check_grade(lubricant_vg, "--lubricant-vg")
     if model.suffix.lower() == ".toml":
         from pinwind.runs.scenario import load_scenario
 

@@ -35,15 +35,18 @@ COLUMNS = (
 _RPM = 2.0 * math.pi / 60.0
 
 
-def check_grade(grade: int) -> None:
+def check_grade(grade: int, name: str = "lubricant_vg") -> None:
     """Refuse an ISO 3448 viscosity grade that does not exist, listing those that do.
+
+    ``name``: how the user gave the grade (a model attribute or a command-line option), named
+    in the message.
 
     Raises:
         InvalidLossInput: ``grade`` is not a key of ``VG_GRADES``.
     """
     if grade not in VG_GRADES:
         raise InvalidLossInput(
-            "lubricant_vg",
+            name,
             grade,
             f"not an ISO 3448 viscosity grade; give one of {', '.join(map(str, VG_GRADES))}",
         )

@@ -42,6 +42,7 @@ def test_a_viscosity_grade_that_does_not_exist_is_one_message_and_exit_2(tmp_pat
     )  # fmt: skip
     assert out.returncode == 2
     assert "ISO 3448" in out.stderr and "220, 320" in out.stderr
+    assert "--lubricant-vg" in out.stderr  # the option the user typed, not the model attribute
     assert "Traceback" not in out.stderr
 
 
