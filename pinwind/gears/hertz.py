@@ -98,14 +98,19 @@ def hertz_along_path(pair: GearPair, normal_force: float, *, points: int = 201) 
         pair: the pair, external gear 1: its path of contact (`GearPair.path`), face width
             (the contact length L) and materials.
         normal_force: mesh normal force F_n [N].
-        points: samples from A to E.
+        points: evenly spaced samples from A to E; the zone ends B and D are added to them.
 
     Raises:
         InvalidGearTrain: gear 1 is internal, or the pair has no valid path of contact.
     """
     pair.require_external_gear_1("hertz_along_path")
     path = pair.path
-    roll = np.linspace(0.0, path.length, points)
+    # The samples include the zone ends B and D: over each zone the pair's force is constant and
+    # the curvature 1/ρ1 + 1/ρ2 = T1T2/(ρ1 |ρ2|) is largest at an end of it (ρ1 |ρ2| has no
+    # interior minimum: concave in ρ1 for an external pair, increasing for an internal one), so
+    # the largest pressure sits at A, B, D or E and `largest` is exact, not a sample's near B.
+    ends = [s for s in (path.single_start, path.single_end) if 0.0 < s < path.length]
+    roll = np.unique(np.concatenate([np.linspace(0.0, path.length, points), ends]))
     rho_1, rho_2 = pair.flank_radii(path.start_roll_1 + roll)
     # Pairs in contact at each position of this pair: round half a nanometre towards the zone
     # with fewer pairs so that the zone ends B and D belong to the single-pair zone.

@@ -24,7 +24,8 @@ Defaults that are choices, not standard results (override them with real data):
 - K_Hβ: ISO 6336-1 closed form from an effective mesh misalignment F_βy (`misalignment`,
   default 10 µm after running-in) and c_γβ = 0.85 c_γα (`pinwind.gears.mesh_stiffness`):
   K_Hβ = 1 + c_γβ F_βy /(2 F_m/b) up to 2, else √(2 c_γβ F_βy/(F_m/b)); F_m = F_t K_A K_v.
-  K_Fβ = K_Hβ^N_F, N_F = (b/h)²/(1 + b/h + (b/h)²), h = (h_aP* + h_fP*) m_n, b/h ≥ 3.
+  K_Fβ = K_Hβ^N_F, N_F = (b/h)²/(1 + b/h + (b/h)²), h = (h_aP* + h_fP*) m_n + k m_n the
+  deeper tooth's depth with its tip alteration, b/h ≥ 3.
 - K_Hα = K_Fα = 1 unless a base pitch deviation f_pb is given (`base_pitch_deviation`), then
   ISO 6336-1 method B: (ε_γ/2)(0.9 + 0.4 c_γα (f_pb − y_α)/(F_tH/b)) for ε_γ ≤ 2, limited to
   [1, ε_γ/(ε_α Z_ε²)] (K_Hα) and [1, ε_γ/(ε_α Y_ε)] (K_Fα).
@@ -472,9 +473,12 @@ def face_load_factor(c_gamma_alpha: float, misalignment: float, line_load: float
 def root_face_load_exponent(pair: GearPair) -> float:
     """N_F of K_Fβ = K_Hβ^N_F [-] (ISO 6336-1).
 
-    N_F = (b/h)²/(1 + b/h + (b/h)²), h = (h_aP* + h_fP*) m_n, b/h taken as at least 3.
+    N_F = (b/h)²/(1 + b/h + (b/h)²), b/h taken as at least 3, h the tooth depth
+    (h_aP* + h_fP*) m_n + k m_n with the gear's tip alteration k m_n (DIN 3990's
+    h = h_aP + k m_n + h_fP), the deeper tooth's of the two (the smaller b/h).
     """
-    h = (pair.addendum_coefficient + pair.dedendum_coefficient) * pair.module
+    tip = max(pair.tip_alteration_1, pair.tip_alteration_2)
+    h = (pair.addendum_coefficient + pair.dedendum_coefficient) * pair.module + tip
     b_h = max(pair.face_width / h, 3.0)
     return b_h**2 / (1.0 + b_h + b_h**2)
 

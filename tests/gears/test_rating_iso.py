@@ -112,3 +112,23 @@ def test_rating_again_with_the_resolved_factors_gives_the_same_stresses():
     pair, load = _pair(25, 97, True), MeshLoad(5e4, 4.0)
     first = iso_rating(pair, load, IsoFactors(K_A=1.25, base_pitch_deviation=12e-6))
     assert iso_rating(pair, load, first.factors) == first
+
+
+def test_root_face_load_exponent_takes_the_tooth_depth_with_its_tip_alteration():
+    """K_Fβ = K_Hβ^N_F with h the tooth depth h_aP + k m_n + h_fP (DIN 3990), the deeper tooth's.
+
+    The NREL 5 MW helical stage's teeth: m_n = 14 mm, b = 360 mm, tips shortened by 0.938 mm on
+    the pinion and 0.5 mm on the wheel here: h = 2.25 · 14 − 0.5 = 31.0 mm (the wheel's, the
+    deeper tooth), b/h = 11.613, N_F = (b/h)²/(1 + b/h + (b/h)²) = 0.91447. The basic rack's
+    2.25 m_n alone (31.5 mm) gives 0.91311: K_Fβ 3.6e-4 lower at K_Hβ = 1.3.
+    """
+    pair = GearPair(
+        24, 95, module=0.014, pressure_angle=math.radians(20.0), face_width=0.36,
+        profile_shift_1=0.48, profile_shift_2=0.669, helix_angle=math.radians(10.0),
+        tip_alteration_1=-0.938e-3, tip_alteration_2=-0.5e-3,
+    )  # fmt: skip
+    b_h = 360.0 / 31.0
+    n_f = b_h**2 / (1 + b_h + b_h**2)
+    assert n_f == pytest.approx(0.91447, abs=1e-5)
+    r = iso_rating(pair, MeshLoad(2e5, 1.0), IsoFactors(K_Hbeta=1.3))
+    assert r.factors.K_Fbeta == pytest.approx(1.3**n_f, rel=1e-12)
