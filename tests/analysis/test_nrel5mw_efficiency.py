@@ -17,9 +17,12 @@ H_V ≥ 0.1: 0.2 %).
 
 Independently of the step's friction, the after-the-run estimate (``source="estimate"``) on the
 same run's loads gives each stage's bearing loss (Palmgren at the rows' loads: the step's P1
-lags one step, the same at steady load) and the spur planetary meshes' μ P H_V (Ohlendorf),
-which the flank model in the step (constant μ, the normal force shared by the pairs in
-contact) must match.
+lags one step, the same at steady load) and the spur planetary meshes' μ P H_V (Ohlendorf's
+sliding integral), which the flank model in the step (constant μ, the normal force shared by
+the pairs in contact) must match in stage 1. Stage 2's planets, on softer bearings and without
+backlash, are squeezed into contact on both flanks for much of the run (docs/validation.md,
+"Independent recoding of the losses"): the step counts the back flanks' friction too, which
+μ P H_V does not, so its loss lies above the estimate there, by less than 15 %.
 """
 
 from __future__ import annotations
@@ -41,8 +44,10 @@ def test_nrel_5mw_stage_efficiencies_at_rated_beside_the_quoted_97_to_98_percent
     for run, est in zip(e.stages, estimate.stages, strict=True):
         assert run.stage == est.stage
         assert_allclose(np.mean(run.bearing_loss), np.mean(est.bearing_loss), rtol=1e-2)
-        if run.stage.kind == "planetary":  # spur; the helical stage: docs/losses.md
+        if run.stage.name == "stage 1":  # spur; the helical stage: docs/losses.md
             assert_allclose(np.mean(run.mesh_loss), np.mean(est.mesh_loss), rtol=0.05)
+        elif run.stage.kind == "planetary":  # stage 2's planets also rub on their back flanks
+            assert np.mean(est.mesh_loss) < np.mean(run.mesh_loss) < 1.15 * np.mean(est.mesh_loss)
     # load-dependent losses only: every stage loses less than the quoted 2-3 %, and something
     for stage in e.stages:
         assert 0.97 < stage.mean_efficiency < 0.998

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
@@ -68,18 +69,49 @@ def test_tooth_loss_factor_of_a_textbook_spur_pair_by_hand():
     assert_allclose(h_v, 0.1661, atol=1e-4)
 
 
-def test_tooth_loss_factor_of_an_internal_pair_uses_a_negative_ratio():
-    # planet 30 in ring 90, m 5 mm, 20°: u = −3, (u + 1)/u = 2/3 (less sliding than external)
+def _sliding_integral(e1: float, e2: float, n: int = 400_000) -> float:
+    """2 ∫ s(y) |y| dy over the path y ∈ [−e1, e2] [base pitches], by the midpoint rule.
+
+    s = ½ where two pairs share the load (the first and last ε_α − 1 of the path), else 1.
+    """
+    length = e1 + e2
+    x = (np.arange(n) + 0.5) * length / n  # from the path's start
+    share = np.where((x < length - 1.0) | (x > 1.0), 0.5, 1.0)
+    return float(2.0 * np.sum(share * np.abs(x - e1)) * length / n)
+
+
+def test_tooth_loss_factor_is_the_sliding_integral_where_the_pitch_point_is_in_a_double_zone():
+    # planet 30 in ring 90, m 5 mm, 20°: u = −3, (u + 1)/u = 2/3 (less sliding than external).
+    # ε_α = 1.91 > 1 + min(ε_1, ε_2): the pitch point lies in a double-contact zone, where
+    # Ohlendorf's closed form 1 − ε_α + ε_1² + ε_2² is not the integral it stands for.
     alpha = math.radians(20.0)
     p_b = math.pi * 5.0 * math.cos(alpha)
     r1, r2 = 75.0, 225.0
     rb1, rb2 = r1 * math.cos(alpha), r2 * math.cos(alpha)
     e1 = (math.sqrt((r1 + 5.0) ** 2 - rb1**2) - rb1 * math.tan(alpha)) / p_b
     e2 = (rb2 * math.tan(alpha) - math.sqrt((r2 - 5.0) ** 2 - rb2**2)) / p_b  # ring tip inside
+    assert min(e1, e2) < e1 + e2 - 1.0
     u = -3.0
-    h_v = math.pi * (u + 1) / (30 * u) * (1 - (e1 + e2) + e1**2 + e2**2)
+    h_v = math.pi * (u + 1) / (30 * u) * _sliding_integral(e1, e2)
     pair = GearPair(30, 90, 0.005, alpha, 0.05, internal_2=True)
-    assert_allclose(tooth_loss_factor(pair), h_v, rtol=1e-9)
+    assert_allclose(tooth_loss_factor(pair), h_v, rtol=1e-5)
+    ohlendorf = math.pi * (u + 1) / (30 * u) * (1 - (e1 + e2) + e1**2 + e2**2)
+    assert tooth_loss_factor(pair) < 0.995 * ohlendorf  # 1 % below: the zone just covers P
+
+
+def test_tooth_loss_factor_is_ohlendorfs_closed_form_in_the_single_contact_zone():
+    # the textbook pair (ε_1 = 0.80, ε_2 = 0.83 ≥ ε_α − 1 = 0.64): the integral by quadrature
+    # equals Ohlendorf's bracket, and so does tooth_loss_factor
+    alpha = math.radians(20.0)
+    p_b = math.pi * 5.0 * math.cos(alpha)
+    eps = []
+    for r in (50.0, 100.0):
+        r_b = r * math.cos(alpha)
+        eps.append((math.sqrt((r + 5.0) ** 2 - r_b**2) - r_b * math.tan(alpha)) / p_b)
+    e1, e2 = eps
+    bracket = 1 - (e1 + e2) + e1**2 + e2**2
+    assert_allclose(_sliding_integral(e1, e2), bracket, rtol=1e-5)
+    assert_allclose(tooth_loss_factor(_textbook_pair()), math.pi * 3 / 40 * bracket, rtol=1e-12)
 
 
 def test_pitch_point_sum_velocity_and_radius_by_hand():
