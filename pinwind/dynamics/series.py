@@ -397,13 +397,16 @@ _MEANINGS: dict[str, About] = {
            short="v slide", headline=False),
     "mesh_friction_force": About("friction_force", "N",
            "flank friction on gear A along k x n of the loaded flank, sum of mu F_j sgn(v_s,j) "
-           "over its pairs, F_j a pair's share of the normal force F_bt/cos(beta_b), a helical "
+           "over its pairs (the sign of the pair's sliding in rigid rolling, from its side of "
+           "the pitch point), F_j a pair's share of the normal force F_bt/cos(beta_b), a helical "
            "pair's averaged along its contact line (compliant mesh with friction_coefficient; "
            "0 otherwise)",
            short="F friction", headline=False),
     "mesh_friction_power": About("friction_power", "W",
-           "power the flank friction takes, sum of mu F_j |v_s,j| over the pairs of both "
-           "flanks (compliant mesh with friction_coefficient; 0 otherwise)",
+           "power the flank friction takes, sum of mu F_j sgn(v_s,j) v_s,j over the pairs of "
+           "both flanks at their actual sliding velocities; below 0 for a moment where the "
+           "gears' vibration reverses a pair's sliding near the pitch point (compliant mesh "
+           "with friction_coefficient; 0 otherwise)",
            short="P friction",
            plot=Plot("mesh_friction_power", "mesh forces", "mesh friction loss [kW]", "kW",
                      drop_zero=True)),
