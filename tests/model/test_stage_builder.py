@@ -176,7 +176,7 @@ def test_the_5mw_model_keeps_its_sixteen_bearings_with_their_own_data():
     main = {r.name: r for r in rows["lss"]}
     assert set(main) == {"INP-A", "INP-B", "PLC-A", "PLC-B"}
     assert main["INP-A"].kind == "toroidal_roller"
-    assert main["INP-A"].rating == 2200e3
+    assert main["INP-A"].rating == 22000e3  # Nejad et al. 2016 Table VI as transcribed (C assumed)
     np.testing.assert_allclose(main["INP-B"].position - main["INP-A"].position, 1.166 - 0.333)
     assert main["INP-B"].load_factors == (0.28, 2.4, 0.67, 3.6)
     # the main shaft's compliant bearing: Σ mean(K_y, K_z) of its four rows (Tables VI, IX)
