@@ -304,7 +304,8 @@ _MEANINGS: dict[str, About] = {
            plot=Plot("mesh_deflection", "mesh deflection", "compliant mesh deflections δ [µm]",
                      "µm", drop_zero=True)),
     "mesh_contact_position": About("contact_position", "m",
-           "roll position of the entering tooth pair from gear A's base tangency point",
+           "roll position of the entering tooth pair from gear A's base tangency point (a "
+           "helical mesh's: in the transverse section at the face centre)",
            short="contact", headline=False),
     "mesh_pairs": About("pairs", "1", "tooth pairs in contact", headline=False),
     "mesh_single_tooth_force": About("single_tooth_force", "N",
