@@ -308,6 +308,14 @@ def helical_run(log: Path, *, tilting: bool = False) -> tuple[pinwind.Result, st
     return pinwind.read_log(log), text
 
 
+def g2_link(text: str, gear: str) -> str:
+    """The link (and joint) name of a gear."""
+    for g in ET.fromstring(text).iter("gear"):
+        if g.attrib["name"] == gear:
+            return g.attrib["link"]
+    raise KeyError(gear)
+
+
 def quaternion_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Rotate vectors v (n, 3) by unit quaternions q (n, 4), scalar last [x, y, z, w]."""
     u, w = q[:, :3], q[:, 3:4]
@@ -343,8 +351,8 @@ def tilt_of(res: pinwind.Result, text: str, gear_a: str, gear_b: str, flank, geo
     n = np.asarray(flank)[:, None] * cos_w[:, None] * np.cross(k, u)
     n += np.sqrt(1 - cos_w**2)[:, None] * u
     theta = np.sum(np.cross(k, k_b) * np.cross(k, n), axis=1)
-    spin = res.joint(links[1]).speed * np.sum(np.cross(k, n) * k_b, axis=1)
-    return theta, spin
+    lean = np.sum(np.cross(k, n) * k_b, axis=1)
+    return theta, res.joint(links[1]).speed * lean, lean
 
 
 def rate_face_load(log: Path, which: str) -> dict[str, float]:
@@ -419,7 +427,10 @@ def main() -> None:
             raise RuntimeError("the helical recoding takes the front flank's roll only")
         y = e.contact_position - geo["rho1_a"] + b / 2 * math.tan(geo["beta_b"])
         stiff = helical_stiffness(geo, HELICAL_STIFFNESS, b, n, y)
-        theta, spin = tilt_of(res, text, g1, g2, e.flank, geo)
+        theta, spin, lean = tilt_of(res, text, g1, g2, e.flank, geo)
+        # the moment the slices' forces put on B's spin through that row: F z_c (k × n)·k_B
+        moment = e.normal * e.load_centre * lean
+        power = moment * res.joint(g2_link(text, g2)).speed
         # a sample's force is the step's mean of its forces at both ends (ρ∞ = 1): θ midway
         mid = np.append(0.5 * (theta[:-1] + theta[1:]), theta[-1])
         keep = slice(0, len(theta) - 1)
@@ -433,10 +444,13 @@ def main() -> None:
             compare(rows, label, res, "stage3", r, z, b, rated_max, rated_at, keep)
         tilts.append(float(np.max(np.abs(theta))))
         tilts.append(float(np.max(np.abs(0.5 * DT * spin))))
+        tilts.append(float(np.mean(moment)))
+        tilts.append(float(np.mean(power)))
     print_table(rows, closed)
     print(
         f"tilting run: |θ| up to {tilts[0]:.2e} rad; gear B's spin counted as tilt over half a"
-        f" step, ½ dt ω_B (k × n)·k_B, up to {tilts[1]:.2e} rad"
+        f" step, ½ dt ω_B (k × n)·k_B, up to {tilts[1]:.2e} rad;\nthe moment F z_c (k × n)·k_B"
+        f" that row puts on B's spin: mean {tilts[2]:.3g} N·m, its power {tilts[3]:.3g} W"
     )
     print(f"({time.perf_counter() - t0:.0f} s)")
 
