@@ -16,8 +16,9 @@ Runs (logged, read back with ``pinwind.read_log``):
   β = 10°, b = 360 mm) with N = 10 slices whose stiffness follows the inclined contact lines
   (``stiffness_variation="path"``, ``mean_stiffness`` c̄ = 7.2·10⁹ N/m given so that it is model
   data), no mesh damping on it, the pinion with f_Hβ = 20 µm and C_β = 10 µm, the wheel with
-  f_Hβ = 5 µm. 0.2 s at dt = 5·10⁻⁵ s. Stage 3's shafts on ideal bearings (θ = 0), and again
-  on their shipped compliant bearings (the gears tilt; every sample's link poses logged).
+  f_Hβ = 5 µm and an end relief of 15 µm over 40 mm at each face end. 0.2 s at dt = 5·10⁻⁵ s.
+  Stage 3's shafts on ideal bearings (θ = 0), and again on their shipped compliant bearings
+  (the gears tilt; every sample's link poses logged).
 
 The recoding takes only the model's data (the gears' lead modifications read from the model
 text with ``xml.etree``, the mesh's c̄ and N) and the logged normal force F of the loaded flank
@@ -26,7 +27,8 @@ and the spring-bed (Winkler) model of a face: N independent springs of stiffness
 behind its gap e_s, pressed by one approach δ, carrying k_s max(0, δ − e_s):
 
 - each slice's gap e_s at ζ_s = (s + ½) b/N from side I: crowning C_β (2ζ/b − 1)², a helix slope
-  deviation f_Hβ ζ/b on the front flank and f_Hβ (1 − ζ/b) on the back flank, summed over both
+  deviation f_Hβ ζ/b on the front flank and f_Hβ (1 − ζ/b) on the back flank, an end relief C
+  (1 − d/L)₊ at the distance d from the nearer face end (docs/model_format.md), summed over both
   gears (the gears turn on rigid bearings, so their relative tilt θ is 0);
 - the spring-bed solution for δ from Σ_s k_s (δ − e_s)₊ = F (exactly: the slices sorted by gap,
   the loaded set grown until δ falls below the next gap), each slice's line load
@@ -113,7 +115,11 @@ SPUR_LEAD = {
 }
 HELICAL_LEAD = {
     "stage3_pinion": {"helix_slope_deviation_um": 20.0, "crowning_um": 10.0},
-    "stage3_wheel": {"helix_slope_deviation_um": 5.0},
+    "stage3_wheel": {
+        "helix_slope_deviation_um": 5.0,
+        "end_relief_um": 15.0,
+        "end_relief_length_mm": 40.0,
+    },
 }
 
 
@@ -133,17 +139,19 @@ class Lead:
 
     crowning: float = 0.0
     slope: float = 0.0
+    end_relief: float = 0.0
+    end_length: float = 0.0
 
 
 def read_leads(text: str) -> dict[str, Lead]:
     out = {}
     for g in ET.fromstring(text).iter("gear"):
         a = g.attrib
-        if float(a.get("end_relief_um", "0")):
-            raise NotImplementedError("end relief is not recoded here")
         out[a["name"]] = Lead(
             crowning=float(a.get("crowning_um", "0")) * UM,
             slope=float(a.get("helix_slope_deviation_um", "0")) * UM,
+            end_relief=float(a.get("end_relief_um", "0")) * UM,
+            end_length=float(a.get("end_relief_length_mm", "0")) * 1e-3,
         )
     return out
 
@@ -153,7 +161,14 @@ def slice_gaps(leads: list[Lead], b: float, n: int, flank: float) -> np.ndarray:
     zeta = (np.arange(n) + 0.5) * b / n
     u = 2 * zeta / b - 1
     slope = zeta / b if flank > 0 else 1 - zeta / b
-    return sum(g.crowning * u**2 + g.slope * slope for g in leads)
+    total = np.zeros(n)
+    for g in leads:
+        total += g.crowning * u**2 + g.slope * slope
+        if g.end_relief:
+            # C at each face end, falling linearly to 0 over its length L
+            end = np.minimum(zeta, b - zeta)
+            total += g.end_relief * np.maximum(0.0, 1 - end / g.end_length)
+    return total
 
 
 def spring_bed(force: float, k: np.ndarray, e: np.ndarray) -> tuple[float, np.ndarray]:
