@@ -17,8 +17,9 @@ Runs (logged, read back with ``pinwind.read_log``):
   (``stiffness_variation="path"``, ``mean_stiffness`` c̄ = 7.2·10⁹ N/m given so that it is model
   data), no mesh damping on it, the pinion with f_Hβ = 20 µm and C_β = 10 µm, the wheel with
   f_Hβ = 5 µm and an end relief of 15 µm over 40 mm at each face end. 0.2 s at dt = 5·10⁻⁵ s.
-  Stage 3's shafts on ideal bearings (θ = 0), and again on their shipped compliant bearings
-  (the gears tilt; every sample's link poses logged).
+  Stage 3's shafts on ideal bearings (θ = 0), once more with both torques reversed (the
+  generator driving: the back flanks carry), and again forwards on their shipped compliant
+  bearings (the gears tilt; every sample's link poses logged).
 
 The recoding takes only the model's data (the gears' lead modifications read from the model
 text with ``xml.etree``, the mesh's c̄ and N) and the logged normal force F of the loaded flank
@@ -279,9 +280,12 @@ def spur_run(log: Path) -> tuple[pinwind.Result, str]:
     return pinwind.read_log(log), text
 
 
-def helical_run(log: Path, *, tilting: bool = False) -> tuple[pinwind.Result, str]:
+def helical_run(
+    log: Path, *, tilting: bool = False, reverse: bool = False
+) -> tuple[pinwind.Result, str]:
     """The 5 MW run (docstring); ``tilting``: stage 3's shafts on their shipped compliant
-    bearings, every sample's link poses logged (for θ)."""
+    bearings, every sample's link poses logged (for θ); ``reverse``: both torques reversed
+    (the generator driving the rotor), which loads the back flanks."""
     text = HELICAL_MODEL.read_text()
     # stage 3's shafts on ideal bearings (their rows' stiffness and the bearings' compliance
     # dropped): the gears do not tilt, θ = 0
@@ -308,13 +312,14 @@ def helical_run(log: Path, *, tilting: bool = False) -> tuple[pinwind.Result, st
         text = with_attributes(text, "gear", gear, attrs)
     gb = loads(text, path=str(HELICAL_MODEL))
     rotor_speed, rotor_torque = 12.1 * math.pi / 30, 3945990.0
+    sign = -1.0 if reverse else 1.0
     speeds = train_speeds(gb, {"rotor": rotor_speed}, through_springs=True)
     ratio = speeds[gb.v_index("generator")] / rotor_speed
     pinwind.simulate(
         gb,
         duration=0.2,
         dt=DT,
-        torques={"rotor": rotor_torque, "generator": -rotor_torque / ratio},
+        torques={"rotor": sign * rotor_torque, "generator": -sign * rotor_torque / ratio},
         initial_speeds={"rotor": rotor_speed, "lss": rotor_speed},
         log=log,
         overwrite=True,
@@ -416,30 +421,29 @@ def main() -> None:
             compare(rows, f"S/{mesh}", res, mesh, r, z, b, rated_max, rated_at)
             closed_forms(closed, f"S/{mesh}", r, e, leads[g1], leads[g2], b, n, SPUR_STIFFNESS)
 
-        res, text = helical_run(helical_log)
-        leads = read_leads(text)
-        gears = read_gears(HELICAL_MODEL)
         g1, g2 = "stage3_wheel", "stage3_pinion"
+        gears = read_gears(HELICAL_MODEL)
         geo = pair(gears[g1], gears[g2])
         b, n = geo["b"], HELICAL_SLICES
         z = (np.arange(n) + 0.5) * b / n - b / 2
-        e = res.mesh("stage3")
-        if np.any(e.flank < 0):
-            raise RuntimeError("the helical recoding takes the front flank's roll only")
-        # the front section's roll from the start of the path A: the logged contact position is
-        # the face centre's, measured from gear A's (the wheel's) base tangency point
-        y = e.contact_position - geo["rho1_a"] + b / 2 * math.tan(geo["beta_b"])
-        stiff = helical_stiffness(geo, HELICAL_STIFFNESS, b, n, y)
-        r = recode(e.normal, e.flank, b, n, stiff, [leads[g1], leads[g2]], z)
-        rated_max = rate_face_load(helical_log, "run-max")
-        rated_at = rate_face_load(helical_log, "run-at")
-        compare(rows, "N/stage3", res, "stage3", r, z, b, rated_max, rated_at)
+        for label, reverse in (("N/stage3", False), ("N/stage3 back", True)):
+            res, text = helical_run(helical_log, reverse=reverse)
+            leads = read_leads(text)
+            e = res.mesh("stage3")
+            # the front section's roll from the start of the path A: the logged contact position
+            # is the face centre section's, from gear A's (the wheel's) base tangency point; on
+            # either flank (its slices lag by ζ_s tan β_b on the front, (b − ζ_s) tan β_b on the
+            # back)
+            y = e.contact_position - geo["rho1_a"] + b / 2 * math.tan(geo["beta_b"])
+            stiff = helical_stiffness(geo, HELICAL_STIFFNESS, b, n, y)
+            r = recode(e.normal, e.flank, b, n, stiff, [leads[g1], leads[g2]], z)
+            rated_max = rate_face_load(helical_log, "run-max")
+            rated_at = rate_face_load(helical_log, "run-at")
+            compare(rows, label, res, "stage3", r, z, b, rated_max, rated_at)
 
         # the same with stage 3's shafts on their compliant bearings: the gears tilt
         res, text = helical_run(helical_log, tilting=True)
         e = res.mesh("stage3")
-        if np.any(e.flank < 0):
-            raise RuntimeError("the helical recoding takes the front flank's roll only")
         y = e.contact_position - geo["rho1_a"] + b / 2 * math.tan(geo["beta_b"])
         stiff = helical_stiffness(geo, HELICAL_STIFFNESS, b, n, y)
         theta, spin, lean = tilt_of(res, text, g1, g2, e.flank, geo)
