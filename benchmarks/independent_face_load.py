@@ -447,7 +447,8 @@ def main() -> None:
         y = e.contact_position - geo["rho1_a"] + b / 2 * math.tan(geo["beta_b"])
         stiff = helical_stiffness(geo, HELICAL_STIFFNESS, b, n, y)
         theta, spin, lean = tilt_of(res, text, g1, g2, e.flank, geo)
-        # the moment the slices' forces put on B's spin through that row: F z_c (k × n)·k_B
+        # the moment the slices' forces would put on B's spin through a row that counted B's
+        # spin as tilt: F z_c (k × n)·k_B
         moment = e.normal * e.load_centre * lean
         power = moment * res.joint(g2_link(text, g2)).speed
         # a sample's force is the step's mean of its forces at both ends (ρ∞ = 1): θ midway
@@ -468,8 +469,9 @@ def main() -> None:
     print_table(rows, closed)
     print(
         f"tilting run: |θ| up to {tilts[0]:.2e} rad; gear B's spin counted as tilt over half a"
-        f" step, ½ dt ω_B (k × n)·k_B, up to {tilts[1]:.2e} rad;\nthe moment F z_c (k × n)·k_B"
-        f" that row puts on B's spin: mean {tilts[2]:.3g} N·m, its power {tilts[3]:.3g} W"
+        f" step, ½ dt ω_B (k × n)·k_B, up to {tilts[1]:.2e} rad (the step did until"
+        f" 2026-12-08);\nthe moment F z_c (k × n)·k_B that counting would put on B's spin:"
+        f" mean {tilts[2]:.3g} N·m, its power {tilts[3]:.3g} W"
     )
     print(f"({time.perf_counter() - t0:.0f} s)")
 

@@ -609,6 +609,7 @@ class SlicedMeshes : public Element {
     }
     last_flank_.assign(specs_.size(), 1.0);
     span_.assign(specs_.size(), {0, 0});
+    spin_b_.assign(specs_.size(), {});
     radial_.assign(specs_.size(), Radial{});
     friction_.resize(2 * specs_.size());
     for (const auto& sp : specs_) rubbing_ = rubbing_ || sp.rubs();
@@ -625,6 +626,9 @@ class SlicedMeshes : public Element {
         rad.distance = pose.centre_distance;
         rad.value = radial_part(sp, pose.centre_distance, rad.cos_w, rad.sin_w);
       }
+      const Vec3 k = s.rows.axis.row(m).transpose();
+      const Vec3 k_b = s.data.oMi[mc.joint_b[m]].rotation() * sp.axis_b;
+      const Vec3 tilt = k.cross(k_b);
       if (!started_) {
         const auto moves = [&](Eigen::Index c) {
           return mc.support(mc.slot_b[m], c) != mc.support(mc.slot_a[m], c);
@@ -633,10 +637,9 @@ class SlicedMeshes : public Element {
         while (lo < hi && !moves(lo)) ++lo;
         while (hi > lo && !moves(hi - 1)) --hi;
         span_[i] = {lo, hi};
+        spin_b_[i] = spin_columns(s, mc.slot_a[m], mc.slot_b[m], k_b,
+                                  s.rows.centre_b.row(m).transpose(), lo, hi);
       }
-      const Vec3 k = s.rows.axis.row(m).transpose();
-      const Vec3 k_b = s.data.oMi[mc.joint_b[m]].rotation() * sp.axis_b;
-      const Vec3 tilt = k.cross(k_b);
       const auto [lo, hi] = span_[i];
       for (int f = 0; f < 2; ++f) {
         Flank& fl = flanks_[2 * i + f];
@@ -650,6 +653,10 @@ class SlicedMeshes : public Element {
           const double w = mc.support(mc.slot_b[m], c) - mc.support(mc.slot_a[m], c);
           fl.tilt_row[c] = w * e.dot(s.data.J.col(c).template tail<3>());
         }
+        // B turning about its own axis leaves that axis, and so θ, where it is: its spin's
+        // column has no part in θ's rate (e·k_B of it would count the spin as tilt wherever
+        // k_B leans against k).
+        for (const Eigen::Index c : spin_b_[i]) fl.tilt_row[c] = 0.0;
         const double theta = tilt.dot(e);
         const auto& gap = f == 0 ? sp.slice_gap : sp.slice_gap_back;
         fl.delta = centre - theta * sp.slice_offset.array() - gap.array();
@@ -1063,6 +1070,29 @@ class SlicedMeshes : public Element {
   std::vector<Flank> flanks_;  // mesh i: 2i front, 2i + 1 back
   std::vector<double> last_flank_;
   std::vector<std::pair<Eigen::Index, Eigen::Index>> span_;
+  // Per mesh, the columns that turn gear B about its own axis through its centre (B's own
+  // joint), found at the first state: prepare leaves them out of θ's rate.
+  std::vector<std::vector<Eigen::Index>> spin_b_;
+
+  // The columns in [lo, hi) that move gear B and not gear A as a turn about B's axis k_b through
+  // its centre c_b (world): angular part parallel to k_b, no velocity at c_b (Pinocchio's world
+  // Jacobian: v(p) = J_v + J_ω × p).
+  static std::vector<Eigen::Index> spin_columns(const StepView& s, long slot_a, long slot_b,
+                                                const Vec3& k_b, const Vec3& c_b, Eigen::Index lo,
+                                                Eigen::Index hi) {
+    std::vector<Eigen::Index> columns;
+    for (Eigen::Index c = lo; c < hi; ++c) {
+      if (s.meshes.support(slot_b, c) == 0.0 || s.meshes.support(slot_a, c) != 0.0) continue;
+      const Vec3 jw = s.data.J.col(c).template tail<3>();
+      const Vec3 at_centre = s.data.J.col(c).template head<3>() + jw.cross(c_b);
+      const double turn = jw.norm();
+      if (turn > 0.0 && jw.cross(k_b).norm() <= 1e-12 * turn &&
+          at_centre.norm() <= 1e-12 * turn * (1.0 + c_b.norm())) {
+        columns.push_back(c);
+      }
+    }
+    return columns;
+  }
   std::vector<Radial> radial_;
   Eigen::VectorXd end_state_, end_speed_;  // settle's dq₀ + κ_q a and v + κ_v a
   std::vector<FlankFriction> friction_;  // each flank's friction over the step (as CompliantMeshes)
