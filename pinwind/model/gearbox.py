@@ -422,6 +422,60 @@ class Gearbox:
         axis = np.sign(axis @ joint_axis) * joint_axis
         return Gear(spec=spec, joint_id=joint_id, centre_in_joint=centre, axis_in_joint=axis)
 
+    def _check_carried_axes(
+        self,
+        where: str,
+        first: tuple[str, Gear],
+        second: tuple[str, Gear],
+        axis: np.ndarray,
+        data: Any,
+    ) -> None:
+        """Refuse a bearing that carries one gear of a mesh, not the other, about another axis.
+
+        A carrier turning about an axis that is not the gears' (a joint left without
+        ``<axis>``: URDF's default is x) swings its planet's axis out of parallel with the sun's
+        as it turns, so the mesh geometry breaks. The bearings the two gears share move both
+        alike; the slides of compliant bearings and supports tilt by their own small angles.
+
+        Args:
+            where: the ``<mesh>`` as messages name it.
+            first, second: (name, Gear) of the two gears.
+            axis: the gears' axis in world at the reference pose.
+            data: Pinocchio data after forward kinematics at the reference pose.
+        """
+
+        def bearings(joint_id: int) -> list[int]:
+            chain = []
+            while joint_id:
+                chain.append(joint_id)
+                joint_id = self.model.parents[joint_id]
+            return chain
+
+        slides = set(self.slide_joints)
+        chains = [bearings(first[1].joint_id), bearings(second[1].joint_id)]
+        for (name, _), (other, _), chain, rest in (
+            (first, second, chains[0], chains[1]),
+            (second, first, chains[1], chains[0]),
+        ):
+            for jid in chain:
+                joint = self.model.names[jid]
+                if jid in rest or joint in slides:
+                    continue
+                if not self.model.joints[jid].shortname().startswith("JointModelR"):
+                    continue
+                k = data.oMi[jid].rotation @ self._joint_axis(jid)
+                angle = math.asin(min(1.0, float(np.linalg.norm(np.cross(k, axis)))))
+                if angle > AXIS_PARALLEL_TOL:
+                    raise NonParallelAxes(
+                        self.path,
+                        where,
+                        f'bearing "{joint}" carries gear "{name}" (not "{other}") about the axis '
+                        f"{np.round(k, 6)}, {math.degrees(angle):.4g}° from the gears' axis "
+                        f"{np.round(axis, 6)}: as it turns, the gears' axes would tilt apart. "
+                        f'Give <joint name="{joint}"> an <axis xyz="..."/> parallel to the '
+                        'gears\' (without <axis> a URDF joint turns about x, "1 0 0")',
+                    )
+
     def _links_on(self, joint_id: int) -> list[str]:
         return [
             f.name
@@ -562,6 +616,7 @@ class Gearbox:
                 f'axes of "{gear_a}" {np.round(axis_a, 6)} and "{gear_b}" {np.round(axis_b, 6)} '
                 f"are {math.degrees(angle):.4g}° apart; pinwind meshes parallel-axis gears only",
             )
+        self._check_carried_axes(where, (gear_a, a), (gear_b, b), axis_a, data)
         d = centre_b - centre_a
         d_perp = d - (d @ axis_a) * axis_a
         actual = float(np.linalg.norm(d_perp))
