@@ -99,6 +99,11 @@ def test_duration_and_dt_are_seconds_and_log_rate_is_hertz():
         (["--check-window", "0:0.01"], "--check-window goes with --check-dt"),
         (["--json"], "--json goes with --check-dt"),
         (["--check-dt", "--out", "x.mcap"], "--check-dt writes no log"),
+        # 0.02 s / 1e-30 s = 2e28 steps: a TypeError from the compiled stepper's binding.
+        (["--duration", "0.02", "--dt", "1e-30"], "dt = 1e-30 s makes 2e+28 steps"),
+        # 1e30 rpm on the carrier, 6e30 rpm on the sun (ring 120 / sun 24 teeth, fixed ring:
+        # 1 + 120/24 = 6): the compiled step did not return.
+        (["--initial-speed", "carrier=1e30"], 'joint "sun" turns at 6.283e+29 rad/s (6e+30 rpm)'),
     ],
 )
 def test_contradictory_options_exit_2_with_one_line(args, message):

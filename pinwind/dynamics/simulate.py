@@ -71,6 +71,7 @@ from pinwind.errors import (
     NonFiniteInput,
     OutOfMemory,
     PinwindError,
+    SpeedOutOfRange,
     SpringsWoundAtStart,
     StepTooCoarse,
     TorquesUnbalanced,
@@ -123,10 +124,23 @@ def _check_positive(name: str, value: float, unit: str) -> float:
     return value
 
 
+#: The most steps a run takes: weeks of computing at the fastest step (≈ 1 µs), and far
+#: below the compiled stepper's 64-bit sample count (a dt of 1e-30 s made 2e28 steps, which it
+#: could not take: a TypeError from the binding).
+MAX_STEPS = 10**12
+
+
 def _step_count(duration: float, dt: float) -> int:
     """Number of steps of dt in duration; refuses a duration that dt does not divide."""
     if dt > duration:
         raise InputError(f"dt = {dt:g} s is longer than duration = {duration:g} s")
+    if duration / dt > MAX_STEPS:
+        raise InputError(
+            f"dt = {dt:g} s makes {duration / dt:.3g} steps of the {duration:g} s run, more than "
+            f"the {MAX_STEPS:.0e} a run can take (weeks even at 1 µs per step); give dt in "
+            "seconds, at least "
+            f"{duration / MAX_STEPS:.3g} s"
+        )
     steps = round(duration / dt)
     if abs(steps * dt - duration) > 1e-9 * duration:
         below = math.floor(duration / dt) * dt
@@ -169,6 +183,34 @@ def block_samples(samples: int) -> int:
 #: Speed [rad/s; m/s for a slide] above which a run is stopped as diverged (≈ 955 000 rpm: no
 #: gear survives it; a 10 mm pinion would have a pitch-line speed of 1000 m/s).
 MAX_PLAUSIBLE_SPEED = 1e5
+
+
+def _check_start_speeds(train: Drivetrain) -> None:
+    """Refuse start speeds (given, or through the gear ratios) beyond ``MAX_PLAUSIBLE_SPEED``.
+
+    A run beyond it is stopped as diverged; started there (``initial_speeds`` of 1e30 rpm) the
+    compiled step did not return at all.
+
+    Raises:
+        SpeedOutOfRange: naming the fastest joint, its speed and the inputs that set it.
+    """
+    v = train.operating_speed()
+    if not v.size or float(np.max(np.abs(v))) <= MAX_PLAUSIBLE_SPEED:
+        return
+    gearbox = train.gearbox
+    j = int(np.argmax(np.abs(v)))
+    name = next(n for n in gearbox.joint_names if gearbox.v_index(n) == j)
+    given = ", ".join(
+        f'{where}["{ld.joint}"] = {ld(0.0):.4g} rad/s ({ld(0.0) * 30 / math.pi:.4g} rpm)'
+        for where, lds in (("initial_speeds", train.initial_speeds), ("speeds", train.drivers))
+        for ld in lds
+    )
+    raise SpeedOutOfRange(
+        f'at the start joint "{name}" turns at {v[j]:.4g} rad/s ({v[j] * 30 / math.pi:.4g} rpm) '
+        f"from {given}: beyond the {MAX_PLAUSIBLE_SPEED:.0e} rad/s a gear can turn at (a run "
+        "beyond it is stopped as diverged); give a lower speed (in rpm at the command line "
+        "and in scenario files, in rad/s in Python)"
+    )
 
 
 def _implausible(block: Result, samples: np.ndarray) -> tuple[int, str] | None:
@@ -524,6 +566,7 @@ def prepare(
     # The machine the run steps, linearised: its mass (the rotors' inertias in), the flanks the
     # static load presses (the mesh modes' rows), and a floating member nothing holds refused,
     # naming its free motion.
+    _check_start_speeds(train)
     linear = linear_model(train, at=train.operating_speed())
     check_held(gearbox, linear)
     meshes = mesh_setup(
