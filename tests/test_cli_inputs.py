@@ -99,6 +99,9 @@ def test_duration_and_dt_are_seconds_and_log_rate_is_hertz():
         (["--check-window", "0:0.01"], "--check-window goes with --check-dt"),
         (["--json"], "--json goes with --check-dt"),
         (["--check-dt", "--out", "x.mcap"], "--check-dt writes no log"),
+        # A log's options with --no-log were ignored, even a log rate of -1 Hz.
+        (["--no-log", "--log-rate", "-1"], "--log-rate -1.0 sets the log, and --no-log writes"),
+        (["--no-log", "--out", "x.mcap"], "--out x.mcap sets the log, and --no-log writes none"),
         # 0.02 s / 1e-30 s = 2e28 steps: a TypeError from the compiled stepper's binding.
         (["--duration", "0.02", "--dt", "1e-30"], "dt = 1e-30 s makes 2e+28 steps"),
         # 1e30 rpm on the carrier, 6e30 rpm on the sun (ring 120 / sun 24 teeth, fixed ring:

@@ -239,3 +239,18 @@ def test_two_rows_of_one_name_in_a_bearing_are_refused():
     message = load_error(text.replace(row, row + row), MalformedModel)
     assert message.startswith(f'{PATH}: <bearing joint="hss"> <row name="HS-A">: the bearing')
     assert 'two rows named "HS-A"' in message
+
+
+def test_a_planet_moved_onto_its_neighbour_is_refused_naming_both():
+    # planet2 at (-0.27, -0.4677) m, planet3's place (a sign slip): the two planets, 48 teeth of
+    # module 15 mm unshifted, have tip radii 48 · 15 / 2 + 15 = 375 mm each and are 0 mm apart.
+    text = (MODELS / "saleh2017_planetary.urdf").read_text()
+    start = text.index('<joint name="planet2"')
+    end = text.index("</joint>", start)
+    joint = text[start:end]
+    new = joint.replace('xyz="-0.27 0.467653718044 0"', 'xyz="-0.27 -0.467653718044 0"')
+    assert new != joint
+    message = load_error(text[:start] + new + text[end:], InvalidGearGeometry)
+    assert message.startswith(f'{PATH}: <gear name="planet2">: its tip circle (radius 375.00 mm)')
+    assert 'gear "planet3" (375.00 mm) overlap: their centres are 0.00 mm apart' in message
+    assert "less than the 750.00 mm of their tip radii" in message
