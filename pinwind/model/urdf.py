@@ -684,8 +684,8 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         data = life_data(el.attrib, where=where, path=path, rating=rating_c)
         out.bearing_life[joint] = data
         rows = [_bearing_row(path, row, joint, data) for row in el.findall("row")]
-        names = [row.name for row in rows]
-        twice = sorted({n for n in names if names.count(n) > 1})
+        row_names = [row.name for row in rows]
+        twice = sorted({n for n in row_names if row_names.count(n) > 1})
         if twice:
             raise MalformedModel(
                 path,
