@@ -209,7 +209,7 @@ def simulate(
     from pinwind.runs.run import log_path
 
     _check_dt_options(check_dt, check_window, as_json, out)
-    _check_log_options(no_log, out, log_rate)
+    _check_log_options(no_log, out, log_rate, pose_rate, view_rate)
     values: dict[str, Any] = {"model": str(model), "duration": duration, "dt": dt}
     values |= load_values(torque, speed, speed_sine, initial_speed)
     optional = {
@@ -355,12 +355,18 @@ def _check_dt_options(
         )
 
 
-def _check_log_options(no_log: bool, out: Path | None, log_rate: float | None) -> None:
-    """Refuse ``--out`` and ``--log-rate`` with ``--no-log``, which writes no log.
+def _check_log_options(
+    no_log: bool, out: Path | None, log_rate: float | None, pose_rate: float, view_rate: float
+) -> None:
+    """Refuse a rate that is not a positive number, and ``--out`` or ``--log-rate`` with no log.
 
-    They were ignored: ``--log-rate -1 --no-log`` ran without a word (a rate checked only when a
-    log is written).
+    ``--no-log`` writes no log. They were ignored: ``--log-rate -1 --no-log`` or ``--pose-rate
+    nan --no-log`` ran without a word (the rates were checked only when a log is written).
     """
+    for flag, rate in (("--log-rate", log_rate), ("--pose-rate", pose_rate),
+                       ("--view-rate", view_rate)):  # fmt: skip
+        if rate is not None and not 0.0 < rate < math.inf:
+            raise InputError(f"{flag} {rate} Hz; give a positive number of samples per second")
     if not no_log:
         return
     for given, flag in ((out, "--out"), (log_rate, "--log-rate")):

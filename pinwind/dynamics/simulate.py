@@ -781,6 +781,9 @@ class PreparedRun:
             stop = max(k - 1, 0)
             error = _signal_error("speeds", load, k, dt, cause, "rad/s")
             error.__cause__ = cause if isinstance(cause, Exception) else None
+        fast = _driven_too_fast(self.train.rows, target, start, stop, dt)
+        if fast is not None:
+            stop, error = fast
         inputs = self.elements.inputs(np.arange(start, stop) * dt)
         if inputs is not None:
             bad = np.argwhere(~np.isfinite(inputs))
@@ -1228,6 +1231,31 @@ DIVERGENCE_CAUSES = (
 def _diverged(absurd: tuple[int, str], dt: float) -> Diverged:
     k, what = absurd
     return Diverged(k, k * dt, what, cause=DIVERGENCE_CAUSES)
+
+
+def _driven_too_fast(
+    drivers: Sequence[Any], target: np.ndarray, start: int, stop: int, dt: float
+) -> tuple[int, SpeedOutOfRange] | None:
+    """(new stop, error) when a speed driver asks for more than ``MAX_PLAUSIBLE_SPEED``.
+
+    ``target`` holds the driver speeds at t_start … t_stop (rows) [rad/s]; step k asks for
+    t_(k+1). A driver at 1e30 rpm (``--speed-sine sun=10,1e30,1``) never returned from the
+    compiled step: it is stopped before the step that asks for it, as a non-finite speed is.
+    """
+    if not len(drivers) or not target.size:
+        return None
+    over = np.flatnonzero((np.abs(target) > MAX_PLAUSIBLE_SPEED).any(axis=1))
+    if not over.size or max(start + int(over[0]) - 1, 0) >= stop:
+        return None
+    row = int(over[0])
+    k = start + row
+    column = int(np.argmax(np.abs(target[row])))
+    value = float(target[row, column])
+    return max(k - 1, 0), SpeedOutOfRange(
+        f'speeds["{drivers[column].joint}"] is {value:.4g} rad/s ({value * 30 / math.pi:.4g} '
+        f"rpm) at t = {k * dt:.6g} s, beyond the {MAX_PLAUSIBLE_SPEED:.0e} rad/s a gear can "
+        f"turn at (the run stopped before step {max(k - 1, 0)}); give a lower speed"
+    )
 
 
 def _signal_error(where: str, load: JointLoad, k: int, dt: float, value, unit: str) -> InputError:

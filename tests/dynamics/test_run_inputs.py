@@ -257,3 +257,23 @@ def test_a_start_speed_beyond_a_gear_s_is_refused_naming_the_fastest_joint(pair)
     assert message.startswith('at the start joint "a" turns at -1.2e+05 rad/s')
     assert f"({-1.2e5 * 30 / math.pi:.4g} rpm)" in message
     assert 'from initial_speeds["b"] = 6e+04 rad/s' in message
+
+
+def test_a_speed_driver_beyond_a_gear_s_speed_stops_before_the_step_that_asks_for_it(pair):
+    # Step k asks for the driver speed at t_(k+1): 2e5 rad/s (> 1e5) from t = 6 ms stops the
+    # run before step 5, as a NaN does. At 1e30 rpm the compiled step never returned.
+    from pinwind.errors import SpeedOutOfRange
+
+    with pytest.raises(SpeedOutOfRange) as info:
+        pinwind.simulate(
+            pair, duration=0.02, dt=1e-3, speeds={"b": lambda t: 2e5 if t > 0.0055 else 0.0}
+        )
+    message = str(info.value)
+    assert message.startswith(f'speeds["b"] is 2e+05 rad/s ({2e5 * 30 / math.pi:.4g} rpm) at ')
+    assert "t = 0.006 s" in message and "(the run stopped before step 5)" in message
+
+
+def test_a_wind_without_a_rotor_is_refused_not_dropped(pair):
+    # Only a rotor takes the wind; without one it was dropped, even a NaN.
+    with pytest.raises(InputError, match=r"wind nan m/s is given but the run has no rotor"):
+        pinwind.simulate(pair, duration=0.01, dt=1e-3, wind=math.nan)
