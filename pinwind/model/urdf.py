@@ -1319,6 +1319,14 @@ _URDF_ATTRIBUTES: dict[str, tuple[str, ...]] = {
     "parent": ("link",),
     "child": ("link",),
 }
+#: The child elements the URDF specification gives a link, a joint and an inertial: any other
+#: (``<originx>``, a misspelt ``<origin>``) was ignored, leaving the joint at its parent's origin.
+_URDF_CHILDREN = {
+    "link": ("inertial", "visual", "collision"),
+    "joint": ("origin", "parent", "child", "axis", "calibration", "dynamics", "limit", "mimic",
+              "safety_controller"),
+    "inertial": ("origin", "mass", "inertia"),
+}  # fmt: skip
 #: Where those elements are: a link's inertial and its parts, a joint's parts (one of each).
 _URDF_PARTS = {
     "link": ("inertial",),
@@ -1351,6 +1359,10 @@ def _check_names(path: str, root: ET.Element) -> None:
     def urdf(el: ET.Element, within: str) -> None:
         where = _label(el, within)
         _check_attributes(path, el, _URDF_ATTRIBUTES[el.tag], where)
+        children = _URDF_CHILDREN.get(el.tag, ())
+        for child in el if children else ():
+            if isinstance(child.tag, str) and child.tag not in children:
+                raise UnknownAttribute(path, where, child.tag, children, kind="element", tag=el.tag)
         for tag in _URDF_PARTS.get(el.tag, ()):
             parts = el.findall(tag)
             if len(parts) > 1:

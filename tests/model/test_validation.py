@@ -14,6 +14,7 @@ from pinwind.errors import (
     MalformedModel,
     ModelError,
     NonParallelAxes,
+    UnknownAttribute,
     UnknownName,
 )
 from pinwind.model.gearbox import load, loads
@@ -254,3 +255,12 @@ def test_a_planet_moved_onto_its_neighbour_is_refused_naming_both():
     assert message.startswith(f'{PATH}: <gear name="planet2">: its tip circle (radius 375.00 mm)')
     assert 'gear "planet3" (375.00 mm) overlap: their centres are 0.00 mm apart' in message
     assert "less than the 750.00 mm of their tip radii" in message
+
+
+def test_a_misspelt_child_of_a_urdf_joint_is_refused_naming_the_nearest(pair_urdf):
+    # <originx> was ignored: joint b sat at the housing's origin, 60 mm from where it was put.
+    text = pair_urdf().replace('<origin xyz="0.06 0 0"/>', '<originx xyz="0.06 0 0"/>')
+    assert "<originx" in text
+    message = load_error(text, UnknownAttribute)
+    assert message.startswith(f'{PATH}: <joint name="b">: unknown element "originx"')
+    assert 'did you mean "origin"?' in message
