@@ -283,3 +283,18 @@ def test_campbell_refuses_a_speed_range_without_a_colon_in_one_line():
     assert out.returncode == 2
     assert '--speed-range "400": give A:B in rpm' in out.stderr
     assert "Traceback" not in out.stderr
+
+
+def test_build_of_a_model_pinwind_refuses_to_load_exits_2_and_keeps_no_file(tmp_path):
+    # A module of 1e30 mm made a carrier of 1.7e61 kg that load then refused; build said
+    # "wrote" and exited 0.
+    target = tmp_path / "huge.urdf"
+    out = run("build", "planetary", "--sun", "24", "--planet", "48", "--ring", "120",
+              "--module", "1e30", "-o", str(target))  # fmt: skip
+    assert out.returncode == 2, out.stdout
+    assert out.stderr.startswith("error: the model built from --module 1e+30 mm, --face-width")
+    assert (
+        f"does not load, so {target} was not kept" in out.stderr and "beyond ±1e+20" in out.stderr
+    )
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+    assert not target.exists()

@@ -99,6 +99,23 @@ def test_duration_and_dt_are_seconds_and_log_rate_is_hertz():
         (["--check-window", "0:0.01"], "--check-window goes with --check-dt"),
         (["--json"], "--json goes with --check-dt"),
         (["--check-dt", "--out", "x.mcap"], "--check-dt writes no log"),
+        # A log's options with --no-log were ignored, even a log rate of -1 Hz.
+        (["--no-log", "--log-rate", "100"], "--log-rate 100.0 sets the log, and --no-log writes"),
+        (["--no-log", "--log-rate", "-1"], "--log-rate -1.0 Hz; give a positive number"),
+        (["--no-log", "--pose-rate", "nan"], "--pose-rate nan Hz; give a positive number"),
+        # --wind without a rotor was dropped, even NaN.
+        (["--wind", "nan"], "wind: is given but there is no rotor"),
+        (["--no-log", "--out", "x.mcap"], "--out x.mcap sets the log, and --no-log writes none"),
+        # 1e30 rpm of amplitude: 10 rpm at t = 0, past 1e5 rad/s by step 1 (never returned).
+        (
+            ["--speed-sine", "carrier=10,1e30,1", "--duration", "0.01", "--dt", "1e-3", "--no-log"],
+            'speeds["carrier"] is ',
+        ),
+        # 0.02 s / 1e-30 s = 2e28 steps: a TypeError from the compiled stepper's binding.
+        (["--duration", "0.02", "--dt", "1e-30"], "dt = 1e-30 s makes 2e+28 steps"),
+        # 1e30 rpm on the carrier, 6e30 rpm on the sun (ring 120 / sun 24 teeth, fixed ring:
+        # 1 + 120/24 = 6): the compiled step did not return.
+        (["--initial-speed", "carrier=1e30"], 'joint "sun" turns at 6.283e+29 rad/s (6e+30 rpm)'),
     ],
 )
 def test_contradictory_options_exit_2_with_one_line(args, message):

@@ -66,6 +66,17 @@ class SweepSettings:
                 f"--pressure-angle is {alpha:g}°; every design would fail: give a pressure "
                 "angle in (0, 45)° (20° is the ISO 53 standard; Saleh 2017 uses 24.5°)"
             )
+        if not (math.isfinite(self.input_torque) and self.input_torque > 0.0):
+            # NaN or inf ran every design to a table of NaN safety factors
+            raise InputError(
+                f"--torque is {self.input_torque:g} N·m; give the input torque, a finite "
+                "positive number"
+            )
+        if not (math.isfinite(self.input_speed) and self.input_speed >= 0.0):
+            raise InputError(
+                f"the input speed (--carrier-speed, --input-speed) is "
+                f"{self.input_speed * 30 / math.pi:g} rpm; give a finite speed ≥ 0"
+            )
         width = self.face_width if self.face_width_factor is None else self.face_width_factor
         if not (math.isfinite(width) and width > 0.0):
             option = "--face-width" if self.face_width_factor is None else "--face-width-factor"

@@ -171,6 +171,11 @@ class ParallelDesign(StageDesign):
         )
 
 
+#: The most teeth 2a/m of a centre distance and module the sweep enumerates (a wind-turbine
+#: stage has a few hundred): 1e30 mm over 15 mm never returned, building every tooth count.
+MAX_TEETH = 10_000
+
+
 def enumerate_parallel(
     centre_distances: Iterable[float],
     modules: Iterable[float],
@@ -205,6 +210,13 @@ def enumerate_parallel(
         for a in sorted(set(centre_distances)):
             if module <= 0 or a <= 0:
                 raise InputError(f"module {module} m and centre distance {a} m must be positive")
+            if 2.0 * a / module > MAX_TEETH:
+                raise InputError(
+                    f"centre distance {a * 1e3:g} mm over module {module * 1e3:g} mm is "
+                    f"2a/m = {2.0 * a / module:.3g} teeth of pinion and wheel, each count of "
+                    "which the sweep would build; give a centre distance and modules in mm "
+                    f"of at most {MAX_TEETH} teeth (2a/m)"
+                )
             total, beta = _tooth_sum(a, module, helix_angle)
             if total is None:
                 continue

@@ -159,6 +159,11 @@ class PlanetaryDesign(StageDesign):
         )
 
 
+#: The most teeth 2a/m of a centre distance and module the sweep enumerates (a wind-turbine
+#: stage has a few hundred): 1e30 mm over 15 mm never returned, building every tooth count.
+MAX_TEETH = 10_000
+
+
 def enumerate_planetary(
     centre_distances: Iterable[float],
     modules: Iterable[float],
@@ -201,6 +206,13 @@ def enumerate_planetary(
         for a in sorted(set(centre_distances)):
             if module <= 0 or a <= 0:
                 raise InputError(f"module {module} m and centre distance {a} m must be positive")
+            if 2.0 * a / module > MAX_TEETH:
+                raise InputError(
+                    f"centre distance {a * 1e3:g} mm over module {module * 1e3:g} mm is "
+                    f"2a/m = {2.0 * a / module:.3g} teeth of sun and planet, each count of "
+                    "which the sweep would build; give a centre distance and modules in mm "
+                    f"of at most {MAX_TEETH} teeth (2a/m)"
+                )
             group = []
             for sun, planet, ring in extra.get((length_key(module), length_key(a)), []):
                 group.append((sun, planet, ring, True))

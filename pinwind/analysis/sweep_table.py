@@ -111,14 +111,22 @@ def read_table(path: Path) -> list[dict]:
         raise InputError(
             f"{path}: no such sweep table; run pinwind sweep planetary (or parallel) first"
         )
-    if path.suffix == ".parquet":
-        import pyarrow.parquet as pq
+    import pyarrow as pa
 
-        table = pq.read_table(path)
-    else:
-        import pyarrow.csv as pc
+    try:
+        if path.suffix == ".parquet":
+            import pyarrow.parquet as pq
 
-        table = pc.read_csv(path)
+            table = pq.read_table(path)
+        else:
+            import pyarrow.csv as pc
+
+            table = pc.read_csv(path)
+    except pa.ArrowInvalid as err:
+        # An empty file (a sweep of no design wrote one) was pyarrow's "Empty CSV file" traceback.
+        raise InputError(
+            f"{path}: not a sweep table ({err}); remove it, or give another --output"
+        ) from err
     rows = table.to_pylist()
     for row in rows:
         for k in ("reason", "findings"):

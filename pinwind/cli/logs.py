@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -13,13 +14,32 @@ from rich.markup import escape
 
 from pinwind.cli.app import app, console, err_console, say, warnings_as_lines
 from pinwind.cli.flags import GrpcPortOption, SaveOption, ServeOption, WebPortOption
+from pinwind.errors import InputError
+
+
+def _finite_time(option: str) -> Callable[[float | None], float | None]:
+    """A check of a window's end: a finite time (``--to -inf`` was an OverflowError)."""
+
+    def check(value: float | None) -> float | None:
+        if value is not None and math.isinf(value):
+            raise InputError(
+                f"{option} {value} s is not a time; give a finite time [s], or leave out "
+                f"{option} for the log's {'start' if option == '--from' else 'end'}"
+            )
+        return value
+
+    return check
+
 
 #: The time window of commands that read a log: --from T0 --to T1 [s], both inclusive.
 WindowStart = Annotated[
-    float | None, typer.Option("--from", help="Start of the window [s] (inclusive).")
-]
+    float | None,
+    typer.Option("--from", help="Start of the window [s] (inclusive).",
+                 callback=_finite_time("--from")),
+]  # fmt: skip
 WindowStop = Annotated[
-    float | None, typer.Option("--to", help="End of the window [s] (inclusive).")
+    float | None,
+    typer.Option("--to", help="End of the window [s] (inclusive).", callback=_finite_time("--to")),
 ]
 
 

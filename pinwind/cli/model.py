@@ -147,6 +147,7 @@ def build_planetary(
             or 0.0,
             name=name,
         )
+    _check_loads(path, f"--module {module:g} mm, --face-width {face_width:g} mm")
     say(f"wrote {escape(str(path))}")
 
 
@@ -184,7 +185,33 @@ def build_stages(
             f"cannot write the model to {path}: {err.strerror or err}; choose another --output "
             "or fix the folder's permissions"
         ) from err
+    _check_loads(path, f"the values of {stage_file.name}")
     say(f"wrote {escape(str(path))}")
+
+
+def _check_loads(path: Path, given: str) -> None:
+    """Load the model just written; remove it and say so if pinwind refuses it.
+
+    ``build planetary --module 1e30`` wrote a model of a 1.7e61 kg carrier that ``load`` then
+    refused (``--module 1e-30``: no inertia about its axis), exit 0.
+
+    Raises:
+        InputError: the loader's message, naming the options that made the model.
+    """
+    import warnings
+
+    import pinwind
+    from pinwind.errors import PinwindError, PinwindWarning
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PinwindWarning)  # the builder has said its own
+            pinwind.load(path)
+    except PinwindError as err:
+        path.unlink(missing_ok=True)
+        raise InputError(
+            f"the model built from {given} does not load, so {path} was not kept: {err}"
+        ) from err
 
 
 def _per_stage(

@@ -209,6 +209,7 @@ def simulate(
     from pinwind.runs.run import log_path
 
     _check_dt_options(check_dt, check_window, as_json, out)
+    _check_log_options(no_log, out, log_rate, pose_rate, view_rate)
     values: dict[str, Any] = {"model": str(model), "duration": duration, "dt": dt}
     values |= load_values(torque, speed, speed_sine, initial_speed)
     optional = {
@@ -352,6 +353,28 @@ def _check_dt_options(
             f"them), so --out {out} would stay unwritten; leave out --out, or run without "
             "--check-dt to log the run"
         )
+
+
+def _check_log_options(
+    no_log: bool, out: Path | None, log_rate: float | None, pose_rate: float, view_rate: float
+) -> None:
+    """Refuse a rate that is not a positive number, and ``--out`` or ``--log-rate`` with no log.
+
+    ``--no-log`` writes no log. They were ignored: ``--log-rate -1 --no-log`` or ``--pose-rate
+    nan --no-log`` ran without a word (the rates were checked only when a log is written).
+    """
+    for flag, rate in (("--log-rate", log_rate), ("--pose-rate", pose_rate),
+                       ("--view-rate", view_rate)):  # fmt: skip
+        if rate is not None and not 0.0 < rate < math.inf:
+            raise InputError(f"{flag} {rate} Hz; give a positive number of samples per second")
+    if not no_log:
+        return
+    for given, flag in ((out, "--out"), (log_rate, "--log-rate")):
+        if given is not None:
+            raise InputError(
+                f"{flag} {given} sets the log, and --no-log writes none; leave out {flag}, or "
+                "--no-log to log the run"
+            )
 
 
 #: Short names of the quantities in the --check-dt tables.

@@ -154,6 +154,13 @@ def _run_sweep(designs, settings, *, note: str, output: Path, workers, scheduler
     from pinwind.analysis.sweep_table import read_checkpoint, read_table, write_table
     from pinwind.runs.sweep import run_sweep
 
+    if not designs:
+        # It wrote an empty table (exit 0), which the same command then could not read.
+        raise InputError(
+            f"no design ({note}): no tooth counts of these centre distances and modules have a "
+            "ratio in the window; give a centre distance that holds whole teeth of the modules "
+            "(2a/m) and a wider --ratio"
+        )
     checkpoint = output.with_name(output.name + ".partial.jsonl")
     done = read_table(output) if output.exists() else []
     done += read_checkpoint(checkpoint)

@@ -295,6 +295,16 @@ def mesh_setup(
         if not (math.isfinite(t) and math.isfinite(r)):
             raise InputError(f'position_errors["{name}"] = {value!r} must be finite [m]')
         errors[name] = (t, r)
+    for name, (t, r) in errors.items():
+        module = gearbox.gears[name].spec.module
+        if max(abs(t), abs(r)) > module:
+            # 1e30 µm (--position-error sun=1e30,0) ran without a word
+            raise InputError(
+                f'gear "{name}": position error (tangential, radial) = ({t * 1e6:g}, '
+                f"{r * 1e6:g}) µm is more than its module {module * 1e3:g} mm, which would "
+                "move its teeth out of mesh; give the error of the pin or bearing seat in µm "
+                "(typically tens of µm)"
+            )
     model = gearbox.model
     data = model.createData()
     q = gearbox.neutral()

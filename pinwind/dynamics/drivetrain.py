@@ -324,6 +324,13 @@ def drivetrain(
             raise NonFiniteInput(f"gravity must be three finite numbers [m/s²]; got {gravity!r}")
     else:
         g = np.asarray(gearbox.gravity, dtype=float)
+    if wind is not None and not rotors:
+        # It was ignored, even a NaN wind (--wind nan ran without a word).
+        raise InputError(
+            f"wind {wind!r} m/s is given but the run has no rotor, the one element that takes "
+            "it; give a rotor (--rotor JOINT=PRESET, [rotor.JOINT], rotors=...) or leave out "
+            "the wind"
+        )
     laws = _laws(generators, rotors, wind, free)
     if laws is not None and any(rotor.hub is not None for rotor in (rotors or {}).values()):
         laws.add_rotor_hubs(gearbox, g)

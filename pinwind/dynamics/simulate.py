@@ -71,6 +71,7 @@ from pinwind.errors import (
     NonFiniteInput,
     OutOfMemory,
     PinwindError,
+    SpeedOutOfRange,
     SpringsWoundAtStart,
     StepTooCoarse,
     TorquesUnbalanced,
@@ -123,10 +124,23 @@ def _check_positive(name: str, value: float, unit: str) -> float:
     return value
 
 
+#: The most steps a run takes: weeks of computing at the fastest step (≈ 1 µs), and far
+#: below the compiled stepper's 64-bit sample count (a dt of 1e-30 s made 2e28 steps, which it
+#: could not take: a TypeError from the binding).
+MAX_STEPS = 10**12
+
+
 def _step_count(duration: float, dt: float) -> int:
     """Number of steps of dt in duration; refuses a duration that dt does not divide."""
     if dt > duration:
         raise InputError(f"dt = {dt:g} s is longer than duration = {duration:g} s")
+    if duration / dt > MAX_STEPS:
+        raise InputError(
+            f"dt = {dt:g} s makes {duration / dt:.3g} steps of the {duration:g} s run, more than "
+            f"the {MAX_STEPS:.0e} a run can take (weeks even at 1 µs per step); give dt in "
+            "seconds, at least "
+            f"{duration / MAX_STEPS:.3g} s"
+        )
     steps = round(duration / dt)
     if abs(steps * dt - duration) > 1e-9 * duration:
         below = math.floor(duration / dt) * dt
@@ -169,6 +183,34 @@ def block_samples(samples: int) -> int:
 #: Speed [rad/s; m/s for a slide] above which a run is stopped as diverged (≈ 955 000 rpm: no
 #: gear survives it; a 10 mm pinion would have a pitch-line speed of 1000 m/s).
 MAX_PLAUSIBLE_SPEED = 1e5
+
+
+def _check_start_speeds(train: Drivetrain) -> None:
+    """Refuse start speeds (given, or through the gear ratios) beyond ``MAX_PLAUSIBLE_SPEED``.
+
+    A run beyond it is stopped as diverged; started there (``initial_speeds`` of 1e30 rpm) the
+    compiled step did not return at all.
+
+    Raises:
+        SpeedOutOfRange: naming the fastest joint, its speed and the inputs that set it.
+    """
+    v = train.operating_speed()
+    if not v.size or float(np.max(np.abs(v))) <= MAX_PLAUSIBLE_SPEED:
+        return
+    gearbox = train.gearbox
+    j = int(np.argmax(np.abs(v)))
+    name = next(n for n in gearbox.joint_names if gearbox.v_index(n) == j)
+    given = ", ".join(
+        f'{where}["{ld.joint}"] = {ld(0.0):.4g} rad/s ({ld(0.0) * 30 / math.pi:.4g} rpm)'
+        for where, lds in (("initial_speeds", train.initial_speeds), ("speeds", train.drivers))
+        for ld in lds
+    )
+    raise SpeedOutOfRange(
+        f'at the start joint "{name}" turns at {v[j]:.4g} rad/s ({v[j] * 30 / math.pi:.4g} rpm) '
+        f"from {given}: beyond the {MAX_PLAUSIBLE_SPEED:.0e} rad/s a gear can turn at (a run "
+        "beyond it is stopped as diverged); give a lower speed (in rpm at the command line "
+        "and in scenario files, in rad/s in Python)"
+    )
 
 
 def _implausible(block: Result, samples: np.ndarray) -> tuple[int, str] | None:
@@ -524,6 +566,7 @@ def prepare(
     # The machine the run steps, linearised: its mass (the rotors' inertias in), the flanks the
     # static load presses (the mesh modes' rows), and a floating member nothing holds refused,
     # naming its free motion.
+    _check_start_speeds(train)
     linear = linear_model(train, at=train.operating_speed())
     check_held(gearbox, linear)
     meshes = mesh_setup(
@@ -738,6 +781,9 @@ class PreparedRun:
             stop = max(k - 1, 0)
             error = _signal_error("speeds", load, k, dt, cause, "rad/s")
             error.__cause__ = cause if isinstance(cause, Exception) else None
+        fast = _driven_too_fast(self.train.rows, target, start, stop, dt)
+        if fast is not None:
+            stop, error = fast
         inputs = self.elements.inputs(np.arange(start, stop) * dt)
         if inputs is not None:
             bad = np.argwhere(~np.isfinite(inputs))
@@ -1185,6 +1231,31 @@ DIVERGENCE_CAUSES = (
 def _diverged(absurd: tuple[int, str], dt: float) -> Diverged:
     k, what = absurd
     return Diverged(k, k * dt, what, cause=DIVERGENCE_CAUSES)
+
+
+def _driven_too_fast(
+    drivers: Sequence[Any], target: np.ndarray, start: int, stop: int, dt: float
+) -> tuple[int, SpeedOutOfRange] | None:
+    """(new stop, error) when a speed driver asks for more than ``MAX_PLAUSIBLE_SPEED``.
+
+    ``target`` holds the driver speeds at t_start … t_stop (rows) [rad/s]; step k asks for
+    t_(k+1). A driver at 1e30 rpm (``--speed-sine sun=10,1e30,1``) never returned from the
+    compiled step: it is stopped before the step that asks for it, as a non-finite speed is.
+    """
+    if not len(drivers) or not target.size:
+        return None
+    over = np.flatnonzero((np.abs(target) > MAX_PLAUSIBLE_SPEED).any(axis=1))
+    if not over.size or max(start + int(over[0]) - 1, 0) >= stop:
+        return None
+    row = int(over[0])
+    k = start + row
+    column = int(np.argmax(np.abs(target[row])))
+    value = float(target[row, column])
+    return max(k - 1, 0), SpeedOutOfRange(
+        f'speeds["{drivers[column].joint}"] is {value:.4g} rad/s ({value * 30 / math.pi:.4g} '
+        f"rpm) at t = {k * dt:.6g} s, beyond the {MAX_PLAUSIBLE_SPEED:.0e} rad/s a gear can "
+        f"turn at (the run stopped before step {max(k - 1, 0)}); give a lower speed"
+    )
 
 
 def _signal_error(where: str, load: JointLoad, k: int, dt: float, value, unit: str) -> InputError:

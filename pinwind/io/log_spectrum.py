@@ -8,6 +8,7 @@ and shaft frequencies); the figure draws the PSDs with those frequencies marked.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -86,7 +87,8 @@ def spectrum_of_log(
             window or shorter than ``MIN_SEGMENT_SAMPLES`` samples, uneven samples.
         UnknownElement: an element the series' family does not have.
     """
-    if segment is not None and not segment > 0.0:
+    if segment is not None and not 0.0 < segment < math.inf:
+        # inf passed the check and overflowed the sample count (OverflowError)
         raise InputError(f"--segment {segment} s; give a positive segment length [s]")
     if peaks < 1:
         raise InputError(f"--peaks {peaks}; give at least one")

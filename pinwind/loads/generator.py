@@ -53,6 +53,15 @@ class LinearSlip:
     slope: float
     sync_speed: float
 
+    def __post_init__(self):
+        if not self.slope >= 0.0:
+            raise InputError(
+                f"linear-slip generator: slope {self.slope!r} N·m·s/rad is not ≥ 0 (a negative "
+                "slope's torque falls as the shaft speeds up past the synchronous speed and runs "
+                "it away); give the slope of the torque-speed curve at synchronous speed, "
+                "rated torque / (slip · synchronous speed)"
+            )
+
 
 @dataclass(frozen=True)
 class VariableSpeed:

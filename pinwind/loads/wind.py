@@ -103,6 +103,11 @@ def rotor_admittance(
     return out
 
 
+#: The most samples of a synthesised wind series: its frequencies, amplitudes and phases are
+#: arrays of this length (8 GB each at 1e9).
+MAX_SAMPLES = 1e9
+
+
 def kaimal_series(
     *,
     mean: float,
@@ -136,6 +141,12 @@ def kaimal_series(
         raise InputError(
             f"kaimal: duration = {duration:g} s and sample_time = {sample_time:g} s must be "
             "positive, with at least four samples"
+        )
+    if duration / sample_time > MAX_SAMPLES:
+        raise InputError(
+            f"kaimal: duration = {duration:g} s at sample_time = {sample_time:g} s is "
+            f"{duration / sample_time:.3g} samples, more than the {MAX_SAMPLES:.0e} a series "
+            "holds in memory; give a shorter duration or a longer sample_time"
         )
     n = 2 * math.ceil(duration / sample_time / 2)  # even
     big_t = n * sample_time

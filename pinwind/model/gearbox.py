@@ -31,7 +31,7 @@ from pinwind.errors import (
 )
 from pinwind.gears.contact import PathOfContact
 from pinwind.gears.gear_pair import GearPair
-from pinwind.gears.involute import base_helix_angle, pitch_radius
+from pinwind.gears.involute import base_helix_angle, pitch_radius, tip_radius
 from pinwind.model.bearing_compliance import SLIDES, BearingCompliance
 from pinwind.model.bearing_rows import BearingRow, row_name, row_springs
 from pinwind.model.compliance import MeshCompliance
@@ -277,6 +277,7 @@ class Gearbox:
         )
         self.model.gravity = pin.Motion(self.gravity, np.zeros(3))
         self.meshes = [self._mesh(m.name, m.gear_a, m.gear_b, m.compliance) for m in source.meshes]
+        self._check_gears_apart()
         self.springs = [self._spring(s) for s in source.springs]
         #: Gear name → angle of tooth 0's centre line about the gear axis in its joint frame at
         #: the reference pose [rad], meshing teeth interlocked (``model/phasing.py``).
@@ -422,6 +423,106 @@ class Gearbox:
         axis = np.sign(axis @ joint_axis) * joint_axis
         return Gear(spec=spec, joint_id=joint_id, centre_in_joint=centre, axis_in_joint=axis)
 
+    def _check_gears_apart(self) -> None:
+        """Refuse two external gears that do not mesh but whose tip circles overlap.
+
+        At the reference pose, two gears on parallel axes whose faces share a plane (axial
+        distance below half the sum of their face widths) and whose centres are closer than the
+        sum of their tip radii (``gears.involute.tip_radius``) would cut through each other: a
+        planet moved onto its neighbour's place (a sign slip in a coordinate) ran without a
+        word. Meshing pairs are closer by design; gears on one body, and internal gears (which
+        hold the others inside), are left out.
+        """
+        data = self.model.createData()
+        pin.forwardKinematics(self.model, data, pin.neutral(self.model))
+        meshing = {frozenset((m.gear_a, m.gear_b)) for m in self.source.meshes}
+        placed = []
+        for name, gear in self.gears.items():
+            if gear.spec.internal:
+                continue
+            s = gear.spec
+            tip = tip_radius(s.teeth, s.module, s.profile_shift, s.helix_angle, False, ADDENDUM,
+                             s.tip_alteration)  # fmt: skip
+            pose = data.oMi[gear.joint_id]
+            placed.append((name, gear, pose.act(gear.centre_in_joint),
+                           pose.rotation @ gear.axis_in_joint, tip))  # fmt: skip
+        for i, (name_a, a, centre_a, axis, tip_a) in enumerate(placed):
+            for name_b, b, centre_b, axis_b, tip_b in placed[i + 1 :]:
+                if a.joint_id == b.joint_id or frozenset((name_a, name_b)) in meshing:
+                    continue
+                if np.linalg.norm(np.cross(axis, axis_b)) > AXIS_PARALLEL_TOL:
+                    continue
+                d = centre_b - centre_a
+                along = float(d @ axis)
+                apart = float(np.linalg.norm(d - along * axis))
+                if abs(along) < 0.5 * (a.spec.face_width + b.spec.face_width) and apart < (
+                    tip_a + tip_b
+                ):
+                    raise InvalidGearGeometry(
+                        self.path,
+                        f'<gear name="{name_a}">',
+                        f"its tip circle (radius {tip_a * 1e3:.2f} mm) and that of gear "
+                        f'"{name_b}" ({tip_b * 1e3:.2f} mm) overlap: their centres are '
+                        f"{apart * 1e3:.2f} mm apart in one plane ({abs(along) * 1e3:.2f} mm "
+                        f"along the axis), less than the {(tip_a + tip_b) * 1e3:.2f} mm of "
+                        "their tip radii, and they do not mesh, so they would cut through each "
+                        "other; check the positions of their joints (<origin xyz>)",
+                    )
+
+    def _check_carried_axes(
+        self,
+        where: str,
+        first: tuple[str, Gear],
+        second: tuple[str, Gear],
+        axis: np.ndarray,
+        data: Any,
+    ) -> None:
+        """Refuse a bearing that carries one gear of a mesh, not the other, about another axis.
+
+        A carrier turning about an axis that is not the gears' (a joint left without
+        ``<axis>``: URDF's default is x) swings its planet's axis out of parallel with the sun's
+        as it turns, so the mesh geometry breaks. The bearings the two gears share move both
+        alike; the slides of compliant bearings and supports tilt by their own small angles.
+
+        Args:
+            where: the ``<mesh>`` as messages name it.
+            first, second: (name, Gear) of the two gears.
+            axis: the gears' axis in world at the reference pose.
+            data: Pinocchio data after forward kinematics at the reference pose.
+        """
+
+        def bearings(joint_id: int) -> list[int]:
+            chain = []
+            while joint_id:
+                chain.append(joint_id)
+                joint_id = self.model.parents[joint_id]
+            return chain
+
+        slides = set(self.slide_joints)
+        chains = [bearings(first[1].joint_id), bearings(second[1].joint_id)]
+        for (name, _), (other, _), chain, rest in (
+            (first, second, chains[0], chains[1]),
+            (second, first, chains[1], chains[0]),
+        ):
+            for jid in chain:
+                joint = self.model.names[jid]
+                if jid in rest or joint in slides:
+                    continue
+                if not self.model.joints[jid].shortname().startswith("JointModelR"):
+                    continue
+                k = data.oMi[jid].rotation @ self._joint_axis(jid)
+                angle = math.asin(min(1.0, float(np.linalg.norm(np.cross(k, axis)))))
+                if angle > AXIS_PARALLEL_TOL:
+                    raise NonParallelAxes(
+                        self.path,
+                        where,
+                        f'bearing "{joint}" carries gear "{name}" (not "{other}") about the axis '
+                        f"{np.round(k, 6)}, {math.degrees(angle):.4g}° from the gears' axis "
+                        f"{np.round(axis, 6)}: as it turns, the gears' axes would tilt apart. "
+                        f'Give <joint name="{joint}"> an <axis xyz="..."/> parallel to the '
+                        'gears\' (without <axis> a URDF joint turns about x, "1 0 0")',
+                    )
+
     def _links_on(self, joint_id: int) -> list[str]:
         return [
             f.name
@@ -562,6 +663,7 @@ class Gearbox:
                 f'axes of "{gear_a}" {np.round(axis_a, 6)} and "{gear_b}" {np.round(axis_b, 6)} '
                 f"are {math.degrees(angle):.4g}° apart; pinwind meshes parallel-axis gears only",
             )
+        self._check_carried_axes(where, (gear_a, a), (gear_b, b), axis_a, data)
         d = centre_b - centre_a
         d_perp = d - (d @ axis_a) * axis_a
         actual = float(np.linalg.norm(d_perp))

@@ -44,6 +44,15 @@ from pinwind.model.compliance import AUTO_SLICES, DEFAULT_DAMPING_RATIO, MeshCom
 from pinwind.model.roller_sum import CONTACT_EXPONENTS
 from pinwind.model.support import DIRECTIONS, MOUNT_AXES, Support, TowerMode
 
+#: Largest magnitude of any number in a model file. No quantity of a gearbox model in SI units
+#: comes near it (bearing stiffnesses reach 1e11 N/m, masses 1e6 kg, inertias 1e9 kg·m²); a
+#: value beyond it is a typing slip, and its products in a run's step overflow (1e300 kg gave
+#: "diverged at step 0" naming nothing, 1e300 m a numpy LinAlgError).
+LARGEST_NUMBER = 1e20
+#: Largest distance of a joint or centre of mass from its parent link's frame [m]: a
+#: drivetrain is metres across (a rotor hub 150 m up the tower is inside it).
+LARGEST_OFFSET = 1000.0
+
 
 @dataclass(frozen=True)
 class GearSpec:
@@ -226,6 +235,50 @@ def _required(path: str, el: ET.Element, attr: str) -> str:
     return value.strip()
 
 
+def _check_offset(path: str, xyz: np.ndarray, where: str, what: str) -> None:
+    """Refuse a position farther than ``LARGEST_OFFSET`` from its parent frame [m]."""
+    distance = float(np.linalg.norm(xyz))
+    if distance > LARGEST_OFFSET:
+        raise MalformedModel(
+            path,
+            where,
+            f'{what} xyz="{" ".join(f"{v:g}" for v in xyz)}" is {distance:.4g} m from its parent '
+            f"link's frame, more than the {LARGEST_OFFSET:g} m any part of a drivetrain is; "
+            "positions are in metres (not mm)",
+        )
+
+
+def _check_magnitudes(path: str, root: ET.Element) -> None:
+    """Refuse a number beyond ``LARGEST_NUMBER`` in any attribute of the model file.
+
+    Each finite number of an attribute's text (``"0 0 1e300"``, ``"0.2:1e9"``) is checked; the
+    text that is not numbers (names, types) and the non-finite values (refused, with their
+    own messages, where they are read) are left alone. ``<limit>`` is urdfdom's, not read.
+    """
+
+    def check(el: ET.Element, within: str) -> None:
+        where = _label(el, within)
+        for attr, raw in el.attrib.items():
+            for token in raw.replace(":", " ").replace(",", " ").split():
+                try:
+                    value = float(token)
+                except ValueError:
+                    continue
+                if math.isfinite(value) and abs(value) > LARGEST_NUMBER:
+                    raise MalformedModel(
+                        path,
+                        where,
+                        f'attribute {attr}="{raw}": {token} is beyond ±{LARGEST_NUMBER:g}, larger '
+                        "than any quantity of a gearbox model in SI units (stiffnesses reach "
+                        "1e11 N/m, masses 1e6 kg); check the value and its unit",
+                    )
+        for child in el:
+            if isinstance(child.tag, str) and child.tag != "limit":
+                check(child, where if el.tag not in ("robot", "gearbox") else "")
+
+    check(root, "")
+
+
 def _check_inertia(path: str, link: ET.Element) -> dict:
     inertial = link.find("inertial")
     if inertial is None:
@@ -236,6 +289,7 @@ def _check_inertia(path: str, link: ET.Element) -> dict:
         raise MalformedModel(path, where, "<inertial> has no <mass>")
     origin = inertial.find("origin")
     com = _vector(path, origin, "xyz", "0 0 0", where=where)
+    _check_offset(path, com, where, "<inertial> <origin>")
     rpy = _vector(path, origin, "rpy", "0 0 0", where=where)
     mass = _number(path, mass_el, "value", where=where)
     if mass <= 0.0:
@@ -347,7 +401,15 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
         ) from err
     if root.tag != "robot":
         raise MalformedModel(path, f"<{root.tag}>", "the root element must be <robot> (a URDF)")
+    if root.get("name") is None:
+        raise MalformedModel(
+            path,
+            "<robot>",
+            'missing attribute "name" (urdfdom refuses a URDF without it); give the model\'s '
+            'name, e.g. <robot name="my_gearbox">',
+        )
     _check_names(path, root)
+    _check_magnitudes(path, root)
 
     out = ModelFile(path=path, text=text, robot_name=root.get("name", "gearbox"))
     for link in root.findall("link"):
@@ -384,9 +446,16 @@ def read_model_file(path: str, text: str | None = None) -> ModelFile:
             )
         where = _describe(joint)
         origin = joint.find("origin")
-        _vector(path, origin, "xyz", "0 0 0", where=where)
+        _check_offset(path, _vector(path, origin, "xyz", "0 0 0", where=where), where, "<origin>")
         _vector(path, origin, "rpy", "0 0 0", where=where)
-        axis = _vector(path, joint.find("axis"), "xyz", "1 0 0", where=where)
+        axis_el = joint.find("axis")
+        if axis_el is not None and axis_el.get("xyz") is None:
+            # urdfdom reads <axis/> as a zero axis (Pinocchio's joint turns about nothing),
+            # not as the x axis of a joint without <axis>.
+            raise MalformedModel(
+                path, where, '<axis> has no xyz; give the shaft axis, e.g. <axis xyz="0 0 1"/>'
+            )
+        axis = _vector(path, axis_el, "xyz", "1 0 0", where=where)
         if jtype != "fixed" and np.linalg.norm(axis) < 1e-12:
             raise MalformedModel(
                 path,
@@ -615,6 +684,16 @@ def _read_gearbox(path: str, box: ET.Element, out: ModelFile) -> None:
         data = life_data(el.attrib, where=where, path=path, rating=rating_c)
         out.bearing_life[joint] = data
         rows = [_bearing_row(path, row, joint, data) for row in el.findall("row")]
+        row_names = [row.name for row in rows]
+        twice = sorted({n for n in row_names if row_names.count(n) > 1})
+        if twice:
+            raise MalformedModel(
+                path,
+                f'{where} <row name="{twice[0]}">',
+                f'the bearing has two rows named "{twice[0]}": each row is a rolling bearing of '
+                "its own (its stiffness adds to the others', its loads are the series "
+                f"{joint}.{twice[0]}); give each row its own name, or remove the copy",
+            )
         if rows:
             out.bearing_rows[joint] = rows
         friction = friction_data(el.attrib, where=where, path=path)
@@ -1240,7 +1319,15 @@ _URDF_ATTRIBUTES: dict[str, tuple[str, ...]] = {
     "parent": ("link",),
     "child": ("link",),
 }
-#: Where those elements are: a link's inertial and its parts, a joint's parts.
+#: The child elements the URDF specification gives a link, a joint and an inertial: any other
+#: (``<originx>``, a misspelt ``<origin>``) was ignored, leaving the joint at its parent's origin.
+_URDF_CHILDREN = {
+    "link": ("inertial", "visual", "collision"),
+    "joint": ("origin", "parent", "child", "axis", "calibration", "dynamics", "limit", "mimic",
+              "safety_controller"),
+    "inertial": ("origin", "mass", "inertia"),
+}  # fmt: skip
+#: Where those elements are: a link's inertial and its parts, a joint's parts (one of each).
 _URDF_PARTS = {
     "link": ("inertial",),
     "inertial": ("origin", "mass", "inertia"),
@@ -1272,8 +1359,20 @@ def _check_names(path: str, root: ET.Element) -> None:
     def urdf(el: ET.Element, within: str) -> None:
         where = _label(el, within)
         _check_attributes(path, el, _URDF_ATTRIBUTES[el.tag], where)
+        children = _URDF_CHILDREN.get(el.tag, ())
+        for child in el if children else ():
+            if isinstance(child.tag, str) and child.tag not in children:
+                raise UnknownAttribute(path, where, child.tag, children, kind="element", tag=el.tag)
         for tag in _URDF_PARTS.get(el.tag, ()):
-            for part in el.findall(tag):
+            parts = el.findall(tag)
+            if len(parts) > 1:
+                raise MalformedModel(
+                    path,
+                    where,
+                    f"has {len(parts)} <{tag}> elements; it takes one (a URDF reader reads the "
+                    "first and ignores the others): keep the one you mean",
+                )
+            for part in parts:
                 urdf(part, where)
 
     def gearbox(el: ET.Element, within: str) -> None:

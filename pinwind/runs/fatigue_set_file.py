@@ -238,7 +238,9 @@ class _SetReader:
                 f"is {skip:g} s; give 0 ≤ skip_start < duration ({duration:g} s)",
             )
         rate = self.number(("fatigue", "sample_rate"), settings.get("sample_rate", 1e4), 0.0)
-        self.check_sample_rate(rate, self.number(("dt",), self.values.get("dt", 1e-3), 0.0))
+        dt = self.number(("dt",), self.values.get("dt", 1e-3), 0.0)
+        self.check_sample_rate(rate, dt)
+        self.check_steps(duration, dt)
         wind = settings.get("wind", "disc")
         if wind not in ("disc", "point"):
             raise self.fail(("fatigue", "wind"), f'is {wind!r}; give "disc" or "point"')
@@ -333,6 +335,22 @@ class _SetReader:
                 text=self.text,
             )
         return fatigue
+
+    def check_steps(self, duration: float, dt: float) -> None:
+        """Refuse a case of more steps than a run takes (``simulate.MAX_STEPS``).
+
+        Refused here, before the set's first case: a duration of 1e30 s failed inside the
+        turbulent wind's synthesis with numpy's "Maximum allowed size exceeded".
+        """
+        from pinwind.dynamics.simulate import MAX_STEPS
+
+        if duration / dt > MAX_STEPS:
+            raise self.fail(
+                ("fatigue", "duration"),
+                f"is {duration:g} s: {duration / dt:.3g} steps of dt = {dt:g} s per case, more "
+                f"than the {MAX_STEPS:.0e} a run can take; give the simulated seconds per case "
+                "(Jørgensen 2014: 30 s)",
+            )
 
     def require_duration(self, settings: Mapping[str, Any]) -> None:
         """Refuse a ``[fatigue]`` table without ``duration`` [s]: there is no default.

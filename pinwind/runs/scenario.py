@@ -423,6 +423,11 @@ class _Builder:
         torques = self.signals("torque")
         speeds = {k: Scaled(s, RAD_S_PER_RPM) for k, s in self.signals("speed").items()}
         wind = self.wind()
+        if wind is not None and not rotors:
+            # It was dropped without a word, even a NaN (--wind nan).
+            raise self.fail(("wind",), "is given but there is no rotor, the one element that "
+                            "takes it; add a rotor ([rotor.JOINT], --rotor JOINT=PRESET) or "
+                            "leave out the wind")  # fmt: skip
         hub_loads = self.hub_loads()
         return Scenario(
             duration=float(v.get("duration", 1.0)),

@@ -1,6 +1,7 @@
 """Parallel-stage design sweep (Saleh 2017 §5 applied to a spur or helical pair)."""
 
 import math
+import re
 import subprocess
 import sys
 
@@ -9,6 +10,7 @@ import pytest
 from pinwind.analysis.sweep_design import SweepSettings
 from pinwind.analysis.sweep_parallel import ParallelDesign, enumerate_parallel
 from pinwind.analysis.sweep_table import query, read_table
+from pinwind.errors import InputError
 from pinwind.runs.sweep import evaluate, run_sweep
 
 CENTRES_MM = (500, 530, 560, 600)
@@ -138,3 +140,26 @@ def test_parallel_command_writes_a_table_that_query_and_plot_read(tmp_path):
         "bending_sf_min.png", "centre_distance.png", "contact_sf.png", "iso_sf_min.png",
         "speed_ratio.png",
     ]  # fmt: skip
+
+
+def test_a_centre_distance_of_more_teeth_than_a_sweep_builds_is_refused():
+    # 2a/m = 2 · 1e27 m / 0.015 m = 1.33e29 teeth: the enumeration over pinion counts never
+    # returned (a centre distance of 1e30 mm).
+    with pytest.raises(InputError, match=r"2a/m = 1\.33e\+29 teeth of pinion and wheel"):
+        enumerate_parallel([1e27], [0.015], ratio_window=(3.0, 4.0),
+                           pressure_angle=math.radians(20.0))  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        ({"input_torque": math.nan}, "--torque is nan N·m"),
+        ({"input_torque": 0.0}, "--torque is 0 N·m"),
+        ({"input_speed": math.inf}, "(--carrier-speed, --input-speed) is inf rpm"),
+        ({"input_speed": -2 * math.pi / 60}, "(--carrier-speed, --input-speed) is -1 rpm"),
+    ],
+)
+def test_sweep_settings_without_a_finite_load_are_refused_before_any_row(change, message):
+    # A NaN or infinite torque or speed ran every design to a table of NaN safety factors.
+    with pytest.raises(InputError, match=re.escape(message)):
+        SweepSettings(**change)

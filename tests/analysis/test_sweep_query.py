@@ -39,3 +39,27 @@ def test_the_best_of_a_criterion_that_some_designs_meet_counts_them(tmp_path):
     text = " ".join(out.stdout.split())
     assert "--center-distance 600: the nearest is 600 mm (#2); 1 design(s) at it" in text
     assert "--module 10: the nearest is 10 mm (#1); 1 design(s) at it" in text
+
+
+def test_an_empty_table_is_one_line_exit_2_naming_it(tmp_path):
+    # A sweep of no design wrote an empty designs.csv; reading it was pyarrow's traceback.
+    (tmp_path / "designs.csv").write_text("")
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "sweep", "query", "designs.csv"],
+        capture_output=True, text=True, timeout=300, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 2, out.stderr
+    assert "designs.csv: not a sweep table (Empty CSV file)" in out.stderr
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+
+
+def test_a_sweep_of_no_design_exits_2_and_writes_no_table(tmp_path):
+    # 2a/m = 2 · 810 mm / 1e30 mm: no whole tooth; it wrote an empty table, exit 0.
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "sweep", "planetary", "--center-distance", "810",
+         "--module", "1e30", "--ratio", "5:7", "--no-compare", "--workers", "1"],
+        capture_output=True, text=True, timeout=300, cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 2, out.stderr
+    assert "error: no design (ratio window (5, 7) open): no tooth counts" in out.stderr
+    assert out.stderr.count("\n") == 1 and not (tmp_path / "designs.csv").exists()

@@ -84,6 +84,8 @@ def test_bad_input_is_one_line_and_exit_2(planetary_log, args, message):
         ({"series": ["mesh_normal:sun_planet9"]}, UnknownElement, 'no mesh named "sun_planet9"'),
         ({"segment": 0.005}, InputError, "a segment of 0.005 s is 5 samples"),
         ({"segment": -1.0}, InputError, "give a positive segment length"),
+        # inf overflowed int(round(inf · rate)): an OverflowError traceback.
+        ({"segment": math.inf}, InputError, "--segment inf s; give a positive segment length"),
         ({"start": 0.49}, InputError, "a segment needs 16 to 11"),
         ({"series": ["constraint_residual:sun"]}, InputError, "one value per run"),
     ],

@@ -485,3 +485,16 @@ def test_a_compliant_stage_settles_to_the_torque_balance_whichever_gear_is_writt
     r_b_sun = 24 * 0.015 / 2 * math.cos(math.radians(24.5))
     np.testing.assert_allclose(res.mesh_normal[-1], torque_sun / (3 * r_b_sun), rtol=1e-7)
     assert np.all(res.mesh_deflection[-1] > 0.0)
+
+
+def test_a_position_error_larger_than_the_module_is_refused_naming_the_gear():
+    # 3 mm on g1, whose module is 2 mm (two_gear_urdf): its teeth would leave the mesh; 1e30 µm
+    # (--position-error sun=1e30,0) ran without a word.
+    from pinwind.errors import InputError
+
+    pair = loads(two_gear_urdf(), path="pair.urdf")
+    with pytest.raises(InputError) as info:
+        pinwind.simulate(pair, duration=0.01, dt=1e-3, position_errors={"g1": (3e-3, 0.0)})
+    assert str(info.value).startswith(
+        'gear "g1": position error (tangential, radial) = (3000, 0) µm is more than its module 2 mm'
+    )

@@ -234,3 +234,46 @@ def test_constant_torques_held_as_one_row_step_as_the_same_torques_given_as_func
     # the carrier's applied torque is the one given, at every sample
     carrier = planetary.v_index("carrier")
     np.testing.assert_allclose(a.torque[:, carrier], 1.2e5, rtol=1e-12)
+
+
+def test_a_dt_that_makes_more_steps_than_a_run_can_take_is_refused(pair):
+    # 0.02 s / 1e-30 s = 2e28 steps: the binding's 64-bit sample count could not take them (a
+    # TypeError from the compiled stepper); at least 0.02 / 1e12 = 2e-14 s.
+    with pytest.raises(InputError) as info:
+        pinwind.simulate(pair, duration=0.02, dt=1e-30)
+    message = str(info.value)
+    assert message.startswith("dt = 1e-30 s makes 2e+28 steps of the 0.02 s run")
+    assert "at least 2e-14 s" in message
+
+
+def test_a_start_speed_beyond_a_gear_s_is_refused_naming_the_fastest_joint(pair):
+    # b at 6e4 rad/s turns a (20 teeth against b's 40) at 6e4 · 40/20 = 1.2e5 rad/s, beyond the
+    # 1e5 rad/s a run stops at: started there, the compiled step did not return (1e30 rpm).
+    from pinwind.errors import SpeedOutOfRange
+
+    with pytest.raises(SpeedOutOfRange) as info:
+        pinwind.simulate(pair, duration=0.01, dt=1e-3, initial_speeds={"b": 6e4})
+    message = str(info.value)
+    assert message.startswith('at the start joint "a" turns at -1.2e+05 rad/s')
+    assert f"({-1.2e5 * 30 / math.pi:.4g} rpm)" in message
+    assert 'from initial_speeds["b"] = 6e+04 rad/s' in message
+
+
+def test_a_speed_driver_beyond_a_gear_s_speed_stops_before_the_step_that_asks_for_it(pair):
+    # Step k asks for the driver speed at t_(k+1): 2e5 rad/s (> 1e5) from t = 6 ms stops the
+    # run before step 5, as a NaN does. At 1e30 rpm the compiled step never returned.
+    from pinwind.errors import SpeedOutOfRange
+
+    with pytest.raises(SpeedOutOfRange) as info:
+        pinwind.simulate(
+            pair, duration=0.02, dt=1e-3, speeds={"b": lambda t: 2e5 if t > 0.0055 else 0.0}
+        )
+    message = str(info.value)
+    assert message.startswith(f'speeds["b"] is 2e+05 rad/s ({2e5 * 30 / math.pi:.4g} rpm) at ')
+    assert "t = 0.006 s" in message and "(the run stopped before step 5)" in message
+
+
+def test_a_wind_without_a_rotor_is_refused_not_dropped(pair):
+    # Only a rotor takes the wind; without one it was dropped, even a NaN.
+    with pytest.raises(InputError, match=r"wind nan m/s is given but the run has no rotor"):
+        pinwind.simulate(pair, duration=0.01, dt=1e-3, wind=math.nan)

@@ -278,3 +278,13 @@ def test_log_being_written_reads_as_in_progress_and_once_killed_as_cut_with_the_
     message = " ".join(str(w.message) for w in caught)
     assert f"t = {last:.6g} to 1000 s, {1000 - last:.6g} s of the 1000 s run" in message
     assert data.result.status.startswith("log cut short")
+
+
+@pytest.mark.parametrize(("verb", "option"), [("report", "--to"), ("export", "--from")])
+def test_an_infinite_window_end_is_one_line_exit_2(logged_run, tmp_path, verb, option):
+    # report --to -inf was math.ceil(-inf · 1e9): an OverflowError traceback.
+    extra = ["--format", "csv", "-o", str(tmp_path / "t.csv")] if verb == "export" else []
+    out = run(verb, str(logged_run.path), option, "-inf", *extra)
+    assert out.returncode == 2, out.stderr
+    assert f"{option} -inf s is not a time; give a finite time [s]" in out.stderr
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr

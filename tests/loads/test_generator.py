@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 from numpy.testing import assert_allclose
@@ -229,3 +230,26 @@ def test_bad_constant_torque_region_3_is_refused_with_the_values_and_the_fix(cha
     values = dict(gain=K_5MW, rated_torque=T_RATED, rated_speed=W_RATED, slip=SLIP)
     with pytest.raises(InputError, match=message):
         VariableSpeed(**{**values, **changes})
+
+
+@pytest.mark.parametrize("slope", [-1e30, -1.0, math.nan])
+def test_a_slip_law_whose_torque_falls_with_speed_is_refused(slope):
+    # T_gen = k (ω − ω_sync) with k < 0 runs the shaft away (it diverged at step 1 in a run).
+    said = f"linear-slip generator: slope {slope!r} N·m·s/rad is not ≥ 0"
+    with pytest.raises(InputError, match=re.escape(said)):
+        LinearSlip(slope=slope, sync_speed=10.0)
+
+
+def test_a_scenario_slip_law_with_a_negative_slope_exits_2_naming_its_key(tmp_path):
+    from tests.conftest import MODELS
+    from tests.test_cli import run
+
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(
+        f'model = "{(MODELS / "saleh2017_planetary.urdf").as_posix()}"\nduration = 0.01\n'
+        'dt = 1e-3\n[generator.sun]\nlaw = "linear-slip"\nslope = -1e30\nsync_rpm = 83.9\n'
+    )
+    out = run("run", str(scenario), "--no-log", "--no-progress")
+    assert out.returncode == 2, out.stdout
+    assert f"{scenario}:4: generator.sun: linear-slip generator: slope -1e+30" in out.stderr
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr

@@ -221,3 +221,11 @@ def test_rotor_radius_is_a_kaimal_signal_parameter():
     assert a.spec()["rotor_radius"] == 40.0
     with pytest.raises(InputError, match="rotor_radius"):
         KaimalWind(mean=10.0, turbulence_intensity=0.1, rotor_radius=-1.0)
+
+
+def test_a_kaimal_series_too_long_to_hold_is_refused_naming_its_samples():
+    from pinwind.loads.wind import kaimal_series
+
+    # 1e12 s at 0.05 s is 2e13 samples (numpy: "Maximum allowed size exceeded").
+    with pytest.raises(InputError, match=r"duration = 1e\+12 s at sample_time = 0.05 s is 2e\+13"):
+        kaimal_series(mean=10.0, turbulence_intensity=0.1, duration=1e12, sample_time=0.05)

@@ -14,9 +14,11 @@ from pinwind.errors import (
     MalformedModel,
     ModelError,
     NonParallelAxes,
+    UnknownAttribute,
     UnknownName,
 )
 from pinwind.model.gearbox import load, loads
+from tests.conftest import MODELS
 
 PATH = "bad.urdf"
 
@@ -134,3 +136,131 @@ def test_inertia_must_satisfy_triangle_inequality(pair_urdf):
     assert '<link name="a">' in message
     assert "triangle inequality" in message
     assert "(3 > 1 + 1)" in message
+
+
+# --- found by mutating the shipped models one value or element at a time ------------------------
+
+
+@pytest.mark.parametrize(
+    "old, new, element, said",
+    [
+        # A mass of 1e300 kg stopped the run "diverged at step 0", naming nothing.
+        ('<mass value="1.0"/>', '<mass value="1e300"/>', '<link name="a"> <inertial> <mass>',
+         'attribute value="1e300": 1e300 is beyond ±1e+20'),
+        # An axis of 1e300 overflowed its norm: "axes ... [nan nan nan] are 90° apart".
+        ('<axis xyz="0 0 1"/>', '<axis xyz="0 0 1e300"/>', '<joint name="a"> <axis>',
+         'attribute xyz="0 0 1e300": 1e300 is beyond'),
+        # A joint 1e300 m away gave numpy's "LinAlgError: Eigenvalues did not converge".
+        ('<origin xyz="0 0 0"/>', '<origin xyz="0 1e300 0"/>', '<joint name="a"> <origin>',
+         'attribute xyz="0 1e300 0": 1e300 is beyond'),
+    ],
+)  # fmt: skip
+def test_a_number_beyond_any_physical_value_is_refused_naming_it(
+    pair_urdf, old, new, element, said
+):
+    text = pair_urdf()
+    assert old in text  # the first is joint a's, or link a's
+    message = load_error(text.replace(old, new, 1), MalformedModel)
+    assert message.startswith(f"{PATH}: {element}: "), message
+    assert said in message
+
+
+def test_a_joint_a_kilometre_away_is_refused_naming_the_distance(pair_urdf):
+    # 3-4-5: the origin (0, 3000, 4000) m is 5000 m from the housing's frame.
+    text = pair_urdf().replace('<origin xyz="0 0 0"/>', '<origin xyz="0 3000 4000"/>', 1)
+    message = load_error(text, MalformedModel)
+    assert message.startswith(f'{PATH}: <joint name="a">: <origin> xyz="0 3000 4000" is 5000 m')
+
+
+def test_a_centre_of_mass_a_kilometre_off_is_refused(pair_urdf):
+    text = pair_urdf().replace(
+        '<inertial><mass value="2.0"/>', '<inertial><origin xyz="0 0 -1200"/><mass value="2.0"/>'
+    )
+    message = load_error(text, MalformedModel)
+    assert message.startswith(f'{PATH}: <link name="b">: <inertial> <origin> xyz="0 0 -1200" is')
+    assert "1200 m from its parent link's frame" in message
+
+
+@pytest.mark.parametrize(
+    "old, element",
+    [
+        ('<mass value="2.0"/>', '<link name="b"> <inertial>'),
+        ('<axis xyz="0 0 1"/>', '<joint name="a">'),
+        ('<parent link="housing"/><child link="a"/>', '<joint name="a">'),
+    ],
+)
+def test_a_second_copy_of_a_one_of_a_kind_element_is_refused(pair_urdf, old, element):
+    # The copy was read by no one (both readers take the first): a second <mass> was ignored.
+    text = pair_urdf()
+    tag = old[1 : old.index(" ")]
+    message = load_error(text.replace(old, old + old, 1), MalformedModel)
+    assert message.startswith(f"{PATH}: {element}: has 2 <{tag}> elements; it takes one")
+
+
+def test_an_axis_without_xyz_is_refused_not_read_as_x(pair_urdf):
+    # urdfdom reads <axis/> as the zero axis; pinwind read it as x, the default of no <axis>.
+    text = pair_urdf().replace('<axis xyz="0 0 1"/>', "<axis/>", 1)
+    message = load_error(text, MalformedModel)
+    assert message.startswith(f'{PATH}: <joint name="a">: <axis> has no xyz')
+
+
+def test_a_robot_without_name_is_refused_naming_the_attribute(pair_urdf):
+    # Pinocchio said "The XML stream does not contain a valid URDF model".
+    message = load_error(pair_urdf().replace('<robot name="pair">', "<robot>"), MalformedModel)
+    assert message.startswith(f'{PATH}: <robot>: missing attribute "name"')
+
+
+@pytest.mark.parametrize(
+    "axis, angle",
+    [
+        (None, "90°"),  # no <axis>: URDF's x axis
+        ('<axis xyz="1 0 1"/>', "45°"),
+    ],
+)
+def test_a_carrier_turning_about_another_axis_than_its_planets_is_refused(axis, angle):
+    # The carrier carries planet1, not the sun: turning about x it would tilt planet1's axis
+    # (z) out of parallel with the sun's. Angle between x and z: 90°; (1, 0, 1) and z: 45°.
+    text = (MODELS / "saleh2017_planetary.urdf").read_text()
+    start = text.index('<joint name="carrier"')
+    end = text.index("</joint>", start)
+    joint = text[start:end]
+    new = joint.replace('<axis xyz="0 0 1" />', axis or "")
+    assert new != joint
+    message = load_error(text[:start] + new + text[end:], NonParallelAxes)
+    assert message.startswith(f'{PATH}: <mesh name="sun_planet1">: bearing "carrier" carries gear')
+    assert '"planet1" (not "sun") about the axis' in message
+    assert f"{angle} from the gears' axis [0. 0. 1.]" in message
+
+
+def test_two_rows_of_one_name_in_a_bearing_are_refused():
+    # A copied row doubled the bearing's stiffness and gave two series of one name.
+    text = (MODELS / "nrel5mw_gearbox.urdf").read_text()
+    start = text.index('<row name="HS-A"')
+    row = text[start : text.index("/>", start) + 2]
+    message = load_error(text.replace(row, row + row), MalformedModel)
+    assert message.startswith(f'{PATH}: <bearing joint="hss"> <row name="HS-A">: the bearing')
+    assert 'two rows named "HS-A"' in message
+
+
+def test_a_planet_moved_onto_its_neighbour_is_refused_naming_both():
+    # planet2 at (-0.27, -0.4677) m, planet3's place (a sign slip): the two planets, 48 teeth of
+    # module 15 mm unshifted, have tip radii 48 · 15 / 2 + 15 = 375 mm each and are 0 mm apart.
+    text = (MODELS / "saleh2017_planetary.urdf").read_text()
+    start = text.index('<joint name="planet2"')
+    end = text.index("</joint>", start)
+    joint = text[start:end]
+    new = joint.replace('xyz="-0.27 0.467653718044 0"', 'xyz="-0.27 -0.467653718044 0"')
+    assert new != joint
+    message = load_error(text[:start] + new + text[end:], InvalidGearGeometry)
+    assert message.startswith(f'{PATH}: <gear name="planet2">: its tip circle (radius 375.00 mm)')
+    assert 'gear "planet3" (375.00 mm) overlap: their centres are 0.00 mm apart' in message
+    assert "less than the 750.00 mm of their tip radii" in message
+
+
+def test_a_misspelt_child_of_a_urdf_joint_is_refused_naming_the_nearest(pair_urdf):
+    # <originx> was ignored: joint b sat at the housing's origin, 60 mm from where it was put.
+    text = pair_urdf().replace('<origin xyz="0.06 0 0"/>', '<originx xyz="0.06 0 0"/>')
+    assert "<originx" in text
+    message = load_error(text, UnknownAttribute)
+    assert message.startswith(f'{PATH}: <joint name="b">: unknown element "originx"')
+    assert 'did you mean "origin"?' in message

@@ -214,3 +214,17 @@ def _fatigue_table(path, **changes):
     import tomllib
 
     return {**tomllib.loads(path.read_text())["fatigue"], **changes}
+
+
+def test_a_case_duration_of_more_steps_than_a_run_takes_is_refused_before_any_case(tmp_path):
+    # 1e30 s at dt = 2e-5 s is 5e34 steps per case; it failed inside the wind's synthesis with
+    # numpy's "ValueError: Maximum allowed size exceeded".
+    path = fatigue_toml(tmp_path)
+    text = path.read_text()
+    assert "duration = 0.04\n" in text
+    path.write_text(text.replace("duration = 0.04\n", "duration = 1e30\n"))
+    with pytest.raises(ScenarioError) as info:
+        load_fatigue_set(path)
+    message = str(info.value)
+    assert "fatigue.duration: is 1e+30 s: 5e+34 steps of dt = 2e-05 s per case" in message
+    assert message.startswith(f"{path}:")

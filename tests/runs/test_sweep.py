@@ -202,3 +202,10 @@ def test_unreachable_dask_scheduler_fails_at_once_in_one_line():
     with pytest.raises(SchedulerUnreachable, match=f'"tcp://127.0.0.1:{port}": cannot reach'):
         run_sweep(_designs()[:1], SweepSettings(), scheduler=f"tcp://127.0.0.1:{port}")
     assert time.perf_counter() - started < 5.0  # Dask's own retries took 30 s
+
+
+def test_a_planetary_centre_distance_of_more_teeth_than_a_sweep_builds_is_refused():
+    # 2a/m = 2 · 810 mm / 1e-30 mm = 1.62e33 teeth: the enumeration over sun counts never
+    # returned (--module 1e-30).
+    with pytest.raises(InputError, match=r"2a/m = 1\.62e\+33 teeth of sun and planet"):
+        enumerate_planetary([0.81], [1e-33], ratio_window=(5.0, 7.0))
