@@ -511,7 +511,7 @@ class Gearbox:
                 if not self.model.joints[jid].shortname().startswith("JointModelR"):
                     continue
                 k = data.oMi[jid].rotation @ self._joint_axis(jid)
-                angle = math.asin(min(1.0, float(np.linalg.norm(np.cross(k, axis)))))
+                angle = _angle_between(k, axis)
                 if angle > AXIS_PARALLEL_TOL:
                     raise NonParallelAxes(
                         self.path,
@@ -655,7 +655,7 @@ class Gearbox:
         centre_b = data.oMi[b.joint_id].act(b.centre_in_joint)
         axis_a = data.oMi[a.joint_id].rotation @ a.axis_in_joint
         axis_b = data.oMi[b.joint_id].rotation @ b.axis_in_joint
-        angle = math.asin(min(1.0, float(np.linalg.norm(np.cross(axis_a, axis_b)))))
+        angle = _angle_between(axis_a, axis_b)
         if angle > AXIS_PARALLEL_TOL:
             raise NonParallelAxes(
                 self.path,
@@ -794,6 +794,11 @@ class Gearbox:
             damping=spec.damping,
             preload_angle=spec.preload_angle,
         )
+
+
+def _angle_between(axis: np.ndarray, other: np.ndarray) -> float:
+    """The angle [rad] between two unit axes' lines, 0 to π/2: asin |axis × other|."""
+    return math.asin(min(1.0, float(np.linalg.norm(np.cross(axis, other)))))
 
 
 def _default_down(shaft: np.ndarray) -> np.ndarray:

@@ -10,19 +10,13 @@ axis, so the slices' forces follow θ alone; the step once counted B's spin as a
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 
-_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "independent_face_load.py"
-_SPEC = importlib.util.spec_from_file_location("independent_face_load", _PATH)
-assert _SPEC is not None and _SPEC.loader is not None
-recoding = importlib.util.module_from_spec(_SPEC)
-sys.modules[_SPEC.name] = recoding  # dataclasses look their module up there
-_SPEC.loader.exec_module(recoding)
+from tests.benchmarks import benchmark_module
+
+recoding = benchmark_module("independent_face_load.py", "independent_face_load")
 
 
 def test_a_tilting_helical_mesh_s_slices_carry_the_spring_bed_at_the_tilt_of_the_axes(tmp_path):

@@ -2,22 +2,17 @@
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
 from numpy.testing import assert_allclose
 
-_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "machine.py"
-_SPEC = importlib.util.spec_from_file_location("benchmark_machine", _PATH)
-assert _SPEC is not None and _SPEC.loader is not None
-machine = importlib.util.module_from_spec(_SPEC)
-sys.modules[_SPEC.name] = machine  # dataclasses look their module up there
-_SPEC.loader.exec_module(machine)
+from tests.benchmarks import benchmark_module
+
+machine = benchmark_module("machine.py", "benchmark_machine")
 
 
 def test_others_cores_is_the_machine_busy_time_less_the_own_processes_over_the_wall():

@@ -53,15 +53,21 @@ def _textbook_pair() -> GearPair:
     return GearPair(20, 40, 0.005, math.radians(20.0), 0.05)
 
 
-def test_tooth_loss_factor_of_a_textbook_spur_pair_by_hand():
-    # r_b = r cos α, r_a = r + m; ε_i = (√(r_ai² − r_bi²) − r_bi tan α) / p_b, p_b = π m cos α
+def _textbook_approach_ratios() -> tuple[float, float]:
+    """ε_1, ε_2 of the textbook pair by hand: r_b = r cos α, r_a = r + m,
+    ε_i = (√(r_ai² − r_bi²) − r_bi tan α) / p_b, p_b = π m cos α (lengths in mm)."""
     alpha = math.radians(20.0)
     p_b = math.pi * 5.0 * math.cos(alpha)
-    eps = []
-    for r in (50.0, 100.0):
-        r_b = r * math.cos(alpha)
-        eps.append((math.sqrt((r + 5.0) ** 2 - r_b**2) - r_b * math.tan(alpha)) / p_b)
-    e1, e2 = eps  # ε_α = 1.6352
+    r_b = [r * math.cos(alpha) for r in (50.0, 100.0)]
+    e1, e2 = (
+        (math.sqrt((r + 5.0) ** 2 - rb**2) - rb * math.tan(alpha)) / p_b
+        for r, rb in zip((50.0, 100.0), r_b, strict=True)
+    )
+    return e1, e2
+
+
+def test_tooth_loss_factor_of_a_textbook_spur_pair_by_hand():
+    e1, e2 = _textbook_approach_ratios()  # ε_α = 1.6352
     assert_allclose(e1 + e2, 1.6352, atol=1e-4)
     u = 2.0
     h_v = math.pi * (u + 1) / (20 * u) * (1 - (e1 + e2) + e1**2 + e2**2)  # 0.1661
@@ -102,13 +108,7 @@ def test_tooth_loss_factor_is_the_sliding_integral_where_the_pitch_point_is_in_a
 def test_tooth_loss_factor_is_ohlendorfs_closed_form_in_the_single_contact_zone():
     # the textbook pair (ε_1 = 0.80, ε_2 = 0.83 ≥ ε_α − 1 = 0.64): the integral by quadrature
     # equals Ohlendorf's bracket, and so does tooth_loss_factor
-    alpha = math.radians(20.0)
-    p_b = math.pi * 5.0 * math.cos(alpha)
-    eps = []
-    for r in (50.0, 100.0):
-        r_b = r * math.cos(alpha)
-        eps.append((math.sqrt((r + 5.0) ** 2 - r_b**2) - r_b * math.tan(alpha)) / p_b)
-    e1, e2 = eps
+    e1, e2 = _textbook_approach_ratios()
     bracket = 1 - (e1 + e2) + e1**2 + e2**2
     assert_allclose(_sliding_integral(e1, e2), bracket, rtol=1e-5)
     assert_allclose(tooth_loss_factor(_textbook_pair()), math.pi * 3 / 40 * bracket, rtol=1e-12)
