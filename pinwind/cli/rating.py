@@ -107,10 +107,11 @@ def rate(
     from pinwind.gears.rating_iso import IsoFactors
     from pinwind.runs import scenario as sc
 
-    if not (math.isfinite(application_factor) and application_factor > 0):
+    if not (math.isfinite(application_factor) and application_factor >= 1.0):
         raise InputError(
-            f"--application-factor {application_factor:g}: give a finite factor > 0 "
-            "(1: the run's forces are the actual loads)"
+            f"--application-factor {application_factor:g}: give a finite factor >= 1 "
+            "(1: the run's forces are the actual loads; below 1 would rate the gears for less "
+            "than the loads the run computed)"
         )
     if (model is None) == (from_log is None):
         raise InputError("give a MODEL to run or --from-log LOG to rate a logged run (one of them)")

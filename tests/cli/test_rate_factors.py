@@ -92,8 +92,10 @@ def test_table_caption_names_the_factors_given():
     assert "AGMA 908-B89" not in text
 
 
-@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf"])
-def test_an_application_factor_that_is_not_positive_and_finite_is_refused(value):
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "inf", "0.99", "1e-30"])
+def test_an_application_factor_below_1_or_not_finite_is_refused(value):
+    # K_A scales the run's forces up by the overloads they do not hold: below 1 it would rate
+    # the gears for less than the loads the run computed
     out = CliRunner().invoke(app, [*RATED, "--application-factor", value])
     assert isinstance(out.exception, InputError)  # ``pinwind`` prints it on one line, exit 2
-    assert "--application-factor" in str(out.exception) and "> 0" in str(out.exception)
+    assert "--application-factor" in str(out.exception) and ">= 1" in str(out.exception)
