@@ -550,8 +550,10 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.M
 
 
 def _stiffness_pair(mesh: Mesh) -> GearPair:
-    """The mesh's gears as a `GearPair` for the ISO 6336-1 functions: the pinion (the external
-    gear with fewer teeth) first, an internal gear second (`GearPair.from_mesh`)."""
+    """The mesh's gears as a `GearPair` for ISO 6336-1, pinion first (`GearPair.from_mesh`).
+
+    The pinion is the external gear with fewer teeth; an internal gear goes second.
+    """
     return GearPair.from_mesh(mesh)
 
 

@@ -343,9 +343,7 @@ def test_single_stiffness_numbers_the_pinion_first_whichever_external_gear_comes
     )
     expected = 0.78 * math.cos(beta) / q * 360e6
     np.testing.assert_allclose(single_pair_stiffness(wheel_first), expected, rtol=1e-12)
-    np.testing.assert_allclose(
-        single_pair_stiffness(wheel_first.reversed()), expected, rtol=1e-12
-    )
+    np.testing.assert_allclose(single_pair_stiffness(wheel_first.reversed()), expected, rtol=1e-12)
 
 
 def test_compliant_nrel_stage1_sun_mesh_takes_the_17_tooth_planet_as_iso_gear_1():
