@@ -550,11 +550,11 @@ def _path_spec(mesh: Mesh, reference_a: np.ndarray, tooth_a: float) -> _native.M
 
 
 def _stiffness_pair(mesh: Mesh) -> GearPair:
-    """The mesh's gears as a `GearPair` for the ISO 6336-1 functions, the internal gear second."""
-    a, b = mesh.gear_a.spec, mesh.gear_b.spec
-    if a.internal:
-        a, b = b, a
-    return GearPair.from_gears(a, b)
+    """The mesh's gears as a `GearPair` for ISO 6336-1, pinion first (`GearPair.from_mesh`).
+
+    The pinion is the external gear with fewer teeth; an internal gear goes second.
+    """
+    return GearPair.from_mesh(mesh)
 
 
 def single_pair(mesh: Mesh) -> float:
@@ -698,14 +698,18 @@ def profile_gap_table(mesh: Mesh) -> tuple[np.ndarray, np.ndarray] | None:
 def mean_mesh_stiffness(mesh: Mesh) -> float:
     """Mean mesh stiffness of a compliant mesh over one base pitch [N/m].
 
-    With the ISO shape: c′b (0.75 ε_α + 0.25) (ISO 6336-1 c_γα); with a table, its mean; the
-    value given when the mesh gives its mean (``MeshCompliance.mean_stiffness``).
+    With the ISO shape: c′b (0.75 ε_α + 0.25) (ISO 6336-1 c_γα), in closed form (the shape's
+    mean by construction, ``pair_table``; a mean sampled at 2000 points of the spur shape's
+    steps was up to 2e-4 off it); with a table of one pair's stiffness, its mean; the value
+    given when the mesh gives its mean (``MeshCompliance.mean_stiffness``).
     """
     c = mesh.compliance
     if c is not None and c.mean_stiffness is not None:
         return c.mean_stiffness
-    table = pair_table(mesh)
     path = mesh.path
+    if c is not None and c.pair_stiffness is None and path is not None:
+        return single_pair(mesh) * (0.75 * path.contact_ratio + 0.25)
+    table = pair_table(mesh)
     if table is not None and path is not None:
         s, k = table
         length = path.length + overlap_span(mesh)

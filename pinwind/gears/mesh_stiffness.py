@@ -57,12 +57,16 @@ def single_pair_stiffness(pair: GearPair, *, rim_factor: float = 1.0, C_M: float
         z_n   = z / (cos² β_b cos β)
 
     C1…C9 are `FLEXIBILITY_CONSTANTS`. The virtual tooth numbers are z_n
-    (`GearPair.virtual_teeth`). An internal gear 2 counts as a rack, z_n2 = ∞. This is the
+    (`GearPair.virtual_teeth`). Gear 1 of the formula is the pinion, the external gear with
+    fewer teeth (`GearPair.pinion_first`), whichever of two external gears the pair names
+    first: q′ is not symmetric in the two gears (C2 ≠ C3, C5 ≠ C7), so the NREL 5 MW stage-1
+    sun (19 teeth) meshing its 17-tooth planets, or a wheel named before its pinion, would
+    otherwise change c′ by 2-3 %. An internal gear 2 counts as a rack, z_n2 = ∞. This is the
     reading of ISO 6336-1 that other implementations use; the ISO text itself was not available
     to check it. The profile shifts keep the ISO 21771 signs.
 
     Args:
-        pair: the pair, external pinion as gear 1 (an internal gear, if any, is gear 2); its
+        pair: the pair, gear 1 external (an internal gear, if any, is gear 2); its
             face width b, normal module, pressure angle α_n of the basic rack, profile shifts,
             helix angle and dedendum coefficient h_fP/m_n (1.25 for ISO 53 profile A) enter.
         rim_factor: gear blank factor C_R [-]. It is 1 for solid gears; ISO gives
@@ -73,6 +77,7 @@ def single_pair_stiffness(pair: GearPair, *, rim_factor: float = 1.0, C_M: float
         InvalidGearTrain: gear 1 is internal (put the internal gear second).
     """
     pair.require_external_gear_1("ISO 6336-1 method B")
+    pair = pair.pinion_first()
     z_n1 = pair.virtual_teeth(1)
     inverse_z_n2 = 0.0 if pair.internal_2 else 1.0 / pair.virtual_teeth(2)  # 0 for a ring
     x1, x2 = pair.profile_shift_1, pair.profile_shift_2

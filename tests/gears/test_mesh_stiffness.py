@@ -317,3 +317,54 @@ def test_helical_stiffness_extremes_match_the_minimum_contact_length(epsilon_alp
 def test_contact_line_stiffness_refuses_a_spur_pair():
     with pytest.raises(InputError, match="ε_β > 0"):
         contact_line_pair_stiffness(helical_path(1.6, 0.0), 1e9)
+
+
+def test_single_stiffness_numbers_the_pinion_first_whichever_external_gear_comes_first():
+    # NREL 5 MW stage 3 as its model names it: wheel 95 (x 0.669) before pinion 24 (x 0.48),
+    # β 10°, b 360 mm. ISO's gear 1 is the pinion: q′ = q′(z_n 24, z_n 95, x 0.48, x 0.669) by
+    # the coefficients typed above, c′ b = 0.78 cos β / q′ · 360e6 N/m. Numbering the wheel 1
+    # (C2/z_n1 + C3/z_n2 with z_n1 the wheel's) gives a q′ 2.8 % larger.
+    beta = math.radians(10.0)
+    alpha_t = math.atan(math.tan(ALPHA_20) / math.cos(beta))
+    beta_b = math.atan(math.tan(beta) * math.cos(alpha_t))
+    factor = math.cos(beta_b) ** 2 * math.cos(beta)
+    q = iso_flexibility(24 / factor, 95 / factor, 0.48, 0.669)
+    wrong = iso_flexibility(95 / factor, 24 / factor, 0.669, 0.48)
+    assert wrong / q - 1 > 0.02
+    wheel_first = GearPair(
+        95,
+        24,
+        module=14e-3,
+        pressure_angle=ALPHA_20,
+        profile_shift_1=0.669,
+        profile_shift_2=0.48,
+        helix_angle=beta,
+        face_width=0.36,
+    )
+    expected = 0.78 * math.cos(beta) / q * 360e6
+    np.testing.assert_allclose(single_pair_stiffness(wheel_first), expected, rtol=1e-12)
+    np.testing.assert_allclose(single_pair_stiffness(wheel_first.reversed()), expected, rtol=1e-12)
+
+
+def test_compliant_nrel_stage1_sun_mesh_takes_the_17_tooth_planet_as_iso_gear_1():
+    # The model names the sun (19 teeth, x 0.617) first, but the planet (17, x 0.802) is ISO's
+    # pinion. Spur, b 491 mm: c′ b = 0.78/q′(17, 19, 0.802, 0.617) · 491e6 N/m and c_γα b =
+    # c′ b (0.75 ε_α + 0.25); the sun first gives a q′ 2.4 % smaller.
+    import dataclasses
+
+    import pinwind
+    from pinwind.dynamics.compliant import mean_mesh_stiffness, single_pair
+    from pinwind.model.compliance import MeshCompliance
+    from tests.conftest import MODELS
+
+    loaded = pinwind.load(MODELS / "nrel5mw_gearbox.urdf").mesh("stage1_sun_planet1")
+    mesh = dataclasses.replace(loaded, compliance=MeshCompliance())
+    q = iso_flexibility(17, 19, 0.802, 0.617)
+    assert 1 - iso_flexibility(19, 17, 0.617, 0.802) / q > 0.02
+    expected = 0.78 / q * 491e6
+    np.testing.assert_allclose(single_pair(mesh), expected, rtol=1e-12)
+    np.testing.assert_allclose(
+        mean_mesh_stiffness(mesh),
+        expected * (0.75 * mesh.path.contact_ratio + 0.25),
+        rtol=1e-12,
+    )
