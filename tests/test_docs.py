@@ -304,3 +304,20 @@ def test_every_module_or_object_the_user_docs_name_exists():
         f"{page}: {name}" for page, name in named if name not in LOG_RECORDS and not _resolves(name)
     )
     assert not missing, missing
+
+
+def test_simulation_page_three_step_snippet_runs_and_gives_its_statistics(monkeypatch):
+    # The snippet used `run.run()` with keep="last": a Result of one sample and no statistics.
+    import pinwind
+
+    text = (ROOT / "docs" / "simulation.md").read_text()
+    snippet = next(b.split("```", 1)[0] for b in text.split("```python\n")[1:] if "prepare(" in b)
+    monkeypatch.chdir(ROOT)
+    scope = {"gb": pinwind.load("models/saleh2017_planetary.urdf")}
+    exec(snippet, scope)
+    res = scope["res"]
+    assert len(res.time) == 1 and res.time[-1] == 2.0
+    # Tangential force per sun mesh (1e6/6) / (3 × 0.18 m) (Saleh 2017: three planets, r_sun).
+    row = res.statistics.row("mesh", "sun_planet1", "tangential")
+    assert_allclose(row.max, 1e6 / 6 / (3 * 0.18), rtol=1e-9)
+    assert "308.6 kN" in snippet
