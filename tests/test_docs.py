@@ -321,3 +321,12 @@ def test_simulation_page_three_step_snippet_runs_and_gives_its_statistics(monkey
     row = res.statistics.row("mesh", "sun_planet1", "tangential")
     assert_allclose(row.max, 1e6 / 6 / (3 * 0.18), rtol=1e-9)
     assert "308.6 kN" in snippet
+
+
+def test_loads_page_lists_every_scenario_key_and_no_other():
+    # The page listed 15 of the parser's 23 keys (no hub_load, keep, skip_start, rho_inf, ...).
+    from pinwind.runs.scenario import KEYS
+
+    text = (ROOT / "docs" / "loads.md").read_text()
+    listed = text.split("\nKeys: ", 1)[1].split(". A bad file", 1)[0]
+    assert re.findall(r"`(\w+)`", listed) == list(KEYS)
