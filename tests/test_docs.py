@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def test_documented_balanced_drivetrain_output_torque_is_the_rated_torque_over_the_ratio():
     text = (ROOT / "docs" / "log_format.md").read_text()
-    (typed,) = re.findall(r"stage2_pinion=(-?[0-9.]+)", text)
+    (typed,) = set(re.findall(r"stage2_pinion=(-?[0-9.]+)", text))  # the same in every command
     ratio = 6 * 83 / 23 * 103 / 26  # Saleh 2017: 1 + 120/24, then 83/23, 103/26
     assert_allclose(float(typed), -1e6 / ratio, rtol=1e-6)
 
@@ -330,3 +330,30 @@ def test_loads_page_lists_every_scenario_key_and_no_other():
     text = (ROOT / "docs" / "loads.md").read_text()
     listed = text.split("\nKeys: ", 1)[1].split(". A bad file", 1)[0]
     assert re.findall(r"`(\w+)`", listed) == list(KEYS)
+
+
+def test_log_format_page_first_run_is_balanced_at_rated_speed(tmp_path):
+    # It ran the drivetrain with 1e6 N·m on the carrier and nothing braking it: an
+    # unbalanced-torque warning and a carrier at 5775 rpm after its 60 s.
+    text = (ROOT / "docs" / "log_format.md").read_text()
+    block = text.split("```bash\n", 1)[1].split("```", 1)[0]
+    line = re.sub(r"\\\n\s*", " ", block).splitlines()[0].split("#", 1)[0]
+    args = shlex.split(line.removeprefix("pinwind "))
+    args[1] = str(ROOT / args[1])
+    args[args.index("--duration") + 1] = "0.1"  # 100 steps: the start is what is checked
+    args[args.index("--out") : args.index("--out") + 2] = ["--no-log"]
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
+    )
+    assert out.returncode == 0 and out.stderr == "", out.stderr
+    rows: dict[str, list[str]] = {}  # first row of each name: the speeds
+    for cells in (x.split() for x in out.stdout.splitlines()):
+        if cells:
+            rows.setdefault(cells[0], cells)
+    # Saleh 2017 §4.1: 14.2 rpm rotor; output 14.2 × 6 × 83/23 × 103/26 = 1218.02 rpm.
+    assert abs(float(rows["carrier"][1]) - 14.2) < 1e-3
+    assert abs(float(rows["stage2_pinion"][1]) - 14.2 * 6 * 83 / 23 * 103 / 26) < 0.05
