@@ -357,3 +357,14 @@ def test_log_format_page_first_run_is_balanced_at_rated_speed(tmp_path):
     # Saleh 2017 §4.1: 14.2 rpm rotor; output 14.2 × 6 × 83/23 × 103/26 = 1218.02 rpm.
     assert abs(float(rows["carrier"][1]) - 14.2) < 1e-3
     assert abs(float(rows["stage2_pinion"][1]) - 14.2 * 6 * 83 / 23 * 103 / 26) < 0.05
+
+
+def test_performance_page_counts_the_compiled_files_of_the_step_loop():
+    # It said thirteen files; the module had fourteen.
+    text = (ROOT / "docs" / "performance.md").read_text()
+    (word,) = re.findall(r"C\+\+17, (\w+) files of `pinwind/dynamics/cpp/`", text)
+    cmake = (ROOT / "pinwind" / "dynamics" / "cpp" / "CMakeLists.txt").read_text()
+    sources = re.findall(r"\b\w+\.cpp\b", cmake.split("nanobind_add_module(", 1)[1].split(")")[0])
+    words = "one two three four five six seven eight nine ten eleven twelve thirteen fourteen"
+    words += " fifteen sixteen seventeen eighteen nineteen twenty"
+    assert words.split().index(word) + 1 == len(set(sources)), sources
