@@ -368,3 +368,17 @@ def test_performance_page_counts_the_compiled_files_of_the_step_loop():
     words = "one two three four five six seven eight nine ten eleven twelve thirteen fourteen"
     words += " fifteen sixteen seventeen eighteen nineteen twenty"
     assert words.split().index(word) + 1 == len(set(sources)), sources
+
+
+def test_limitations_page_quotes_the_trapezoidal_rules_frequency_error():
+    # It gave −0.49 % at 26 steps per period, the small-ωh form (ωh)²/12; the rule's own
+    # (2/h) atan(ωh/2) is −0.482 % there (and −0.81 % at 20, −0.20 % at 40, as quoted).
+    text = " ".join((ROOT / "docs" / "limitations.md").read_text().split())
+    quoted = re.search(
+        r"−([0-9.]+) % at 20 steps per period, −([0-9.]+) % at 26, −([0-9.]+) % at 40", text
+    )
+    assert quoted is not None
+    for steps, typed in zip((20, 26, 40), quoted.groups(), strict=True):
+        omega_h = 2 * np.pi / steps
+        error = 2 * np.arctan(omega_h / 2) / omega_h - 1  # Hairer & Wanner II §V.1, trapezoidal
+        assert f"{-100 * error:.2f}" == typed, (steps, typed)
