@@ -382,3 +382,23 @@ def test_limitations_page_quotes_the_trapezoidal_rules_frequency_error():
         omega_h = 2 * np.pi / steps
         error = 2 * np.arctan(omega_h / 2) / omega_h - 1  # Hairer & Wanner II §V.1, trapezoidal
         assert f"{-100 * error:.2f}" == typed, (steps, typed)
+
+
+def test_log_format_page_names_every_entry_of_the_metadata_records(tmp_path):
+    # pinwind.model's row_names, slice_names and model_name, and seven entries of pinwind.run
+    # (initial_speeds, meshes, keep_stride, ...) were in every log and on no page.
+    from mcap.reader import make_reader
+
+    import pinwind
+
+    gb = pinwind.load(ROOT / "models" / "saleh2017_planetary.urdf")
+    path = tmp_path / "run.mcap"
+    pinwind.simulate(gb, duration=0.02, dt=1e-3, torques={"carrier": 1e6, "sun": -1e6 / 6},
+                     initial_speeds={"carrier": 1.0}, log=str(path))  # fmt: skip
+    with open(path, "rb") as f:
+        records = {m.name: set(m.metadata) - {"crc32"} for m in make_reader(f).iter_metadata()}
+    text = (ROOT / "docs" / "log_format.md").read_text()
+    for name in ("pinwind", "pinwind.run", "pinwind.model", "pinwind.end"):
+        bullet = text.split(f"\n- `{name}`", 1)[1].split("\n- `", 1)[0]
+        missing = sorted(k for k in records[name] if f"`{k}`" not in bullet)
+        assert not missing, f"docs/log_format.md's {name} record lacks {missing}"
