@@ -402,3 +402,13 @@ def test_log_format_page_names_every_entry_of_the_metadata_records(tmp_path):
         bullet = text.split(f"\n- `{name}`", 1)[1].split("\n- `", 1)[0]
         missing = sorted(k for k in records[name] if f"`{k}`" not in bullet)
         assert not missing, f"docs/log_format.md's {name} record lacks {missing}"
+
+
+def test_log_format_page_names_only_channels_that_read_log_takes():
+    from pinwind.io.log_channels import CHANNELS
+
+    text = (ROOT / "docs" / "log_format.md").read_text()
+    bullet = text.split("- **Channels** are", 1)[1].split("\n- **", 1)[0]
+    named = set(re.findall(r"`(/[a-z_/]+)`", bullet))
+    folders = {"/meshes", "/bearings", "/run"}
+    assert len(named) > 20 and not named - set(CHANNELS) - folders, named - set(CHANNELS)
