@@ -412,3 +412,15 @@ def test_log_format_page_names_only_channels_that_read_log_takes():
     named = set(re.findall(r"`(/[a-z_/]+)`", bullet))
     folders = {"/meshes", "/bearings", "/run"}
     assert len(named) > 20 and not named - set(CHANNELS) - folders, named - set(CHANNELS)
+
+
+def test_simulation_page_names_every_field_of_run_settings():
+    # keep_series was left out of the page's list of RunSettings' fields.
+    from dataclasses import fields
+
+    from pinwind.dynamics import RunSettings
+
+    text = " ".join((ROOT / "docs" / "simulation.md").read_text().split())
+    listed = text.split("`RunSettings` holds how the run is stepped and what it keeps (", 1)[1]
+    named = re.findall(r"`(\w+)`", listed.split(")", 1)[0])
+    assert named == [f.name for f in fields(RunSettings)]
