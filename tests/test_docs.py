@@ -424,3 +424,14 @@ def test_simulation_page_names_every_field_of_run_settings():
     listed = text.split("`RunSettings` holds how the run is stepped and what it keeps (", 1)[1]
     named = re.findall(r"`(\w+)`", listed.split(")", 1)[0])
     assert named == [f.name for f in fields(RunSettings)]
+
+
+def test_model_format_page_lists_every_bearing_type_in_both_tables():
+    # The attribute table's `type` row left out toroidal_roller, which its life table rates.
+    from pinwind.model.bearing import BEARING_TYPES
+
+    text = (ROOT / "docs" / "model_format.md").read_text()
+    row = next(x for x in text.splitlines() if x.startswith("| bearing | type |"))
+    assert re.findall(r"`(\w+)`", row) == list(BEARING_TYPES)
+    life = text.split("| type | p | e |", 1)[1].split("\n\n", 1)[0]
+    assert re.findall(r"^\| `(\w+)` \|", life, re.M) == list(BEARING_TYPES)
