@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def test_documented_balanced_drivetrain_output_torque_is_the_rated_torque_over_the_ratio():
     text = (ROOT / "docs" / "log_format.md").read_text()
-    (typed,) = re.findall(r"stage2_pinion=(-?[0-9.]+)", text)
+    (typed,) = set(re.findall(r"stage2_pinion=(-?[0-9.]+)", text))  # the same in every command
     ratio = 6 * 83 / 23 * 103 / 26  # Saleh 2017: 1 + 120/24, then 83/23, 103/26
     assert_allclose(float(typed), -1e6 / ratio, rtol=1e-6)
 
@@ -304,3 +304,134 @@ def test_every_module_or_object_the_user_docs_name_exists():
         f"{page}: {name}" for page, name in named if name not in LOG_RECORDS and not _resolves(name)
     )
     assert not missing, missing
+
+
+def test_simulation_page_three_step_snippet_runs_and_gives_its_statistics(monkeypatch):
+    # The snippet used `run.run()` with keep="last": a Result of one sample and no statistics.
+    import pinwind
+
+    text = (ROOT / "docs" / "simulation.md").read_text()
+    snippet = next(b.split("```", 1)[0] for b in text.split("```python\n")[1:] if "prepare(" in b)
+    monkeypatch.chdir(ROOT)
+    scope = {"gb": pinwind.load("models/saleh2017_planetary.urdf")}
+    exec(snippet, scope)
+    res = scope["res"]
+    assert len(res.time) == 1 and res.time[-1] == 2.0
+    # Tangential force per sun mesh (1e6/6) / (3 × 0.18 m) (Saleh 2017: three planets, r_sun).
+    row = res.statistics.row("mesh", "sun_planet1", "tangential")
+    assert_allclose(row.max, 1e6 / 6 / (3 * 0.18), rtol=1e-9)
+    assert "308.6 kN" in snippet
+
+
+def test_loads_page_lists_every_scenario_key_and_no_other():
+    # The page listed 15 of the parser's 23 keys (no hub_load, keep, skip_start, rho_inf, ...).
+    from pinwind.runs.scenario import KEYS
+
+    text = (ROOT / "docs" / "loads.md").read_text()
+    listed = text.split("\nKeys: ", 1)[1].split(". A bad file", 1)[0]
+    assert re.findall(r"`(\w+)`", listed) == list(KEYS)
+
+
+def test_log_format_page_first_run_is_balanced_at_rated_speed(tmp_path):
+    # It ran the drivetrain with 1e6 N·m on the carrier and nothing braking it: an
+    # unbalanced-torque warning and a carrier at 5775 rpm after its 60 s.
+    text = (ROOT / "docs" / "log_format.md").read_text()
+    block = text.split("```bash\n", 1)[1].split("```", 1)[0]
+    line = re.sub(r"\\\n\s*", " ", block).splitlines()[0].split("#", 1)[0]
+    args = shlex.split(line.removeprefix("pinwind "))
+    args[1] = str(ROOT / args[1])
+    args[args.index("--duration") + 1] = "0.1"  # 100 steps: the start is what is checked
+    args[args.index("--out") : args.index("--out") + 2] = ["--no-log"]
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=tmp_path,
+    )
+    assert out.returncode == 0 and out.stderr == "", out.stderr
+    rows: dict[str, list[str]] = {}  # first row of each name: the speeds
+    for cells in (x.split() for x in out.stdout.splitlines()):
+        if cells:
+            rows.setdefault(cells[0], cells)
+    # Saleh 2017 §4.1: 14.2 rpm rotor; output 14.2 × 6 × 83/23 × 103/26 = 1218.02 rpm.
+    assert abs(float(rows["carrier"][1]) - 14.2) < 1e-3
+    assert abs(float(rows["stage2_pinion"][1]) - 14.2 * 6 * 83 / 23 * 103 / 26) < 0.05
+
+
+def test_performance_page_counts_the_compiled_files_of_the_step_loop():
+    # It said thirteen files; the module had fourteen.
+    text = (ROOT / "docs" / "performance.md").read_text()
+    (word,) = re.findall(r"C\+\+17, (\w+) files of `pinwind/dynamics/cpp/`", text)
+    cmake = (ROOT / "pinwind" / "dynamics" / "cpp" / "CMakeLists.txt").read_text()
+    sources = re.findall(r"\b\w+\.cpp\b", cmake.split("nanobind_add_module(", 1)[1].split(")")[0])
+    words = "one two three four five six seven eight nine ten eleven twelve thirteen fourteen"
+    words += " fifteen sixteen seventeen eighteen nineteen twenty"
+    assert words.split().index(word) + 1 == len(set(sources)), sources
+
+
+def test_limitations_page_quotes_the_trapezoidal_rules_frequency_error():
+    # It gave −0.49 % at 26 steps per period, the small-ωh form (ωh)²/12; the rule's own
+    # (2/h) atan(ωh/2) is −0.482 % there (and −0.81 % at 20, −0.20 % at 40, as quoted).
+    text = " ".join((ROOT / "docs" / "limitations.md").read_text().split())
+    quoted = re.search(
+        r"−([0-9.]+) % at 20 steps per period, −([0-9.]+) % at 26, −([0-9.]+) % at 40", text
+    )
+    assert quoted is not None
+    for steps, typed in zip((20, 26, 40), quoted.groups(), strict=True):
+        omega_h = 2 * np.pi / steps
+        error = 2 * np.arctan(omega_h / 2) / omega_h - 1  # Hairer & Wanner II §V.1, trapezoidal
+        assert f"{-100 * error:.2f}" == typed, (steps, typed)
+
+
+def test_log_format_page_names_every_entry_of_the_metadata_records(tmp_path):
+    # pinwind.model's row_names, slice_names and model_name, and seven entries of pinwind.run
+    # (initial_speeds, meshes, keep_stride, ...) were in every log and on no page.
+    from mcap.reader import make_reader
+
+    import pinwind
+
+    gb = pinwind.load(ROOT / "models" / "saleh2017_planetary.urdf")
+    path = tmp_path / "run.mcap"
+    pinwind.simulate(gb, duration=0.02, dt=1e-3, torques={"carrier": 1e6, "sun": -1e6 / 6},
+                     initial_speeds={"carrier": 1.0}, log=str(path))  # fmt: skip
+    with open(path, "rb") as f:
+        records = {m.name: set(m.metadata) - {"crc32"} for m in make_reader(f).iter_metadata()}
+    text = (ROOT / "docs" / "log_format.md").read_text()
+    for name in ("pinwind", "pinwind.run", "pinwind.model", "pinwind.end"):
+        bullet = text.split(f"\n- `{name}`", 1)[1].split("\n- `", 1)[0]
+        missing = sorted(k for k in records[name] if f"`{k}`" not in bullet)
+        assert not missing, f"docs/log_format.md's {name} record lacks {missing}"
+
+
+def test_log_format_page_names_only_channels_that_read_log_takes():
+    from pinwind.io.log_channels import CHANNELS
+
+    text = (ROOT / "docs" / "log_format.md").read_text()
+    bullet = text.split("- **Channels** are", 1)[1].split("\n- **", 1)[0]
+    named = set(re.findall(r"`(/[a-z_/]+)`", bullet))
+    folders = {"/meshes", "/bearings", "/run"}
+    assert len(named) > 20 and not named - set(CHANNELS) - folders, named - set(CHANNELS)
+
+
+def test_simulation_page_names_every_field_of_run_settings():
+    # keep_series was left out of the page's list of RunSettings' fields.
+    from dataclasses import fields
+
+    from pinwind.dynamics import RunSettings
+
+    text = " ".join((ROOT / "docs" / "simulation.md").read_text().split())
+    listed = text.split("`RunSettings` holds how the run is stepped and what it keeps (", 1)[1]
+    named = re.findall(r"`(\w+)`", listed.split(")", 1)[0])
+    assert named == [f.name for f in fields(RunSettings)]
+
+
+def test_model_format_page_lists_every_bearing_type_in_both_tables():
+    # The attribute table's `type` row left out toroidal_roller, which its life table rates.
+    from pinwind.model.bearing import BEARING_TYPES
+
+    text = (ROOT / "docs" / "model_format.md").read_text()
+    row = next(x for x in text.splitlines() if x.startswith("| bearing | type |"))
+    assert re.findall(r"`(\w+)`", row) == list(BEARING_TYPES)
+    life = text.split("| type | p | e |", 1)[1].split("\n\n", 1)[0]
+    assert re.findall(r"^\| `(\w+)` \|", life, re.M) == list(BEARING_TYPES)

@@ -111,8 +111,8 @@ class Marker:
 
     @property
     def short_label(self) -> str:
-        """``mesh sun_planet1 +5`` : the first name and how many more (figure labels)."""
-        more = f" +{len(self.names) - 1}" if len(self.names) > 1 else ""
+        """``mesh sun_planet1 and 5 more``: the first name and how many more (figure labels)."""
+        more = f" and {len(self.names) - 1} more" if len(self.names) > 1 else ""
         return f"{self.kind} {self.names[0]}{more}"
 
 

@@ -257,6 +257,7 @@ def campbell(
     a shaft's order 1) meets a natural frequency, with the mode's whirl there when a spinning
     body's gyroscopic terms move the modes with speed.
     """
+    from pinwind.dynamics.normal_modes import repeated_groups
     from pinwind.modes.campbell import campbell as diagram_of
     from pinwind.modes.campbell import write_figure
 
@@ -278,18 +279,26 @@ def campbell(
     )
     whirls = any(c.whirl for c in diagram.crossings)
     for column in ("speed [rpm]", "mode [Hz]", *(["whirl"] if whirls else []), "excitation"):
+        # escaped: rich took "[rpm]" for markup and printed the header "speed"
         table.add_column(
-            column, justify="right" if column in ("speed [rpm]", "mode [Hz]") else "left"
+            escape(column), justify="right" if column in ("speed [rpm]", "mode [Hz]") else "left"
         )
     for c in diagram.crossings:
         whirl = [c.whirl or "-"] if whirls else []
+        repeated = f" ×{c.multiplicity}" if c.multiplicity > 1 else ""
         table.add_row(
-            f"{c.speed * rpm:.4g}", f"{c.frequency:.5g}", *whirl, escape(c.excitation.label)
+            f"{c.speed * rpm:.4g}",
+            f"{c.frequency:.5g}{repeated}",
+            *whirl,
+            escape(c.excitation.label),
         )
     top = f" at {float(high):g} rpm" if len(diagram.speed_grid) > 1 else ""
     say(
         f"natural frequencies [Hz]{top}: "
-        + ", ".join(f"{m.frequency:.5g}" for m in diagram.modes)
+        + ", ".join(
+            f"{group[0].frequency:.5g}" + (f" ×{len(group)}" if len(group) > 1 else "")
+            for group in repeated_groups(diagram.modes)
+        )
         + f"; {len(diagram.crossings)} crossings in the range"
     )
     if diagram.crossings:
@@ -297,10 +306,19 @@ def campbell(
     if csv_out is not None:
         with open(csv_out, "w", newline="", encoding="utf-8") as f:
             writer = csv.writer(f)
-            writer.writerow(["speed_rpm", "mode_hz", "excitation", "harmonic", "whirl"])
+            writer.writerow(
+                ["speed_rpm", "mode_hz", "excitation", "harmonic", "whirl", "multiplicity"]
+            )
             for c in diagram.crossings:
                 writer.writerow(
-                    [c.speed * rpm, c.frequency, c.excitation.label, c.excitation.harmonic, c.whirl]
+                    [
+                        c.speed * rpm,
+                        c.frequency,
+                        c.excitation.label,
+                        c.excitation.harmonic,
+                        c.whirl,
+                        c.multiplicity,
+                    ]
                 )
         say(f"wrote {escape(str(csv_out))}")
     if png is not None:

@@ -424,7 +424,7 @@ def _check_dt_and_report(
         if not rows:
             continue
         table = Table(
-            title=f"{title} over the window [kN]",
+            title=escape(f"{title} over the window [kN]"),  # rich read "[kN]" as markup
             box=PLAIN_BOX if plain else TERMINAL_BOX,
             title_style=None if plain else "bold",
             header_style=None if plain else "bold",

@@ -82,8 +82,8 @@ from pinwind.loads.generator import GeneratorLaw
 from pinwind.loads.hub_loads import HubLoad
 from pinwind.loads.inputs import JointLoad, Signal
 from pinwind.loads.rotor import Rotor
+from pinwind.loads.signals import Constant, check_covers
 from pinwind.loads.signals import Signal as TimeSignal
-from pinwind.loads.signals import check_covers
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import Gearbox
 from pinwind.units import rad_s_to_rpm
@@ -1048,6 +1048,10 @@ def _warn_if_unbalanced(
     held = [ld.joint for ld in speed_loads] + elements.rotor_names
     held += [n for n in gearbox.joint_names if gearbox.model.damping[gearbox.v_index(n)] > 0.0]
     torques: dict[str, float] = {}
+    averaged = any(
+        isinstance(ld.signal, TimeSignal) and not isinstance(ld.signal, Constant)
+        for ld in torque_loads
+    )
     for ld in torque_loads:
         value = representative_torque(ld.signal, duration)
         if not math.isfinite(value):
@@ -1058,7 +1062,7 @@ def _warn_if_unbalanced(
             torques[name] = torques.get(name, 0.0) - spec.torque
         else:  # a law whose torque grows with the speed holds the train at some speed
             held.append(name)
-    for imbalance in imbalances(gearbox, torques, held=held):
+    for imbalance in imbalances(gearbox, torques, held=held, averaged=averaged):
         warnings.warn(TorquesUnbalanced(imbalance.text()), stacklevel=user_stacklevel())
 
 

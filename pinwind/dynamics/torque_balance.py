@@ -36,7 +36,8 @@ class Imbalance:
         net_torque: N_r, the applied torques referred to r through the gear ratios [N·m].
         balancing_joint: the joint o whose torque would balance the train.
         ratio: ω_o / ω_r in the mode [-].
-        torque: the torque now applied on o [N·m].
+        torque: the torque now applied on o [N·m] (a signal's mean over the run).
+        averaged: whether the torques are signals' means over the run (the text says so).
     """
 
     joint: str
@@ -44,6 +45,7 @@ class Imbalance:
     balancing_joint: str
     ratio: float
     torque: float
+    averaged: bool = False
 
     @property
     def balancing_torque(self) -> float:
@@ -52,13 +54,15 @@ class Imbalance:
 
     def text(self) -> str:
         """One line: the imbalance, where, and the torque that balances it."""
+        mean = " (torque signals taken at their mean over the run)" if self.averaged else ""
         return (
-            f"the applied torques do not balance through the gear train: referred to joint "
-            f'"{self.joint}" they leave {self.net_torque:.4g} N·m that nothing holds (no speed '
-            "driver, generator, rotor or bearing damping on that train), so the train "
+            f"the applied torques do not balance through the gear train{mean}: referred to "
+            f'joint "{self.joint}" they leave {self.net_torque:.4g} N·m that nothing holds (no '
+            "speed driver, generator, rotor or bearing damping on that train), so the train "
             f"accelerates for the whole run. A torque of {self.balancing_torque:.10g} N·m on "
-            f'"{self.balancing_joint}" (now {self.torque:.4g} N·m; ω_{self.balancing_joint} / '
-            f"ω_{self.joint} = {self.ratio:.6g}) balances it, or drive a joint at its speed"
+            f'"{self.balancing_joint}" (now {self.torque:.4g} N·m; '
+            f"ω_{self.balancing_joint} / ω_{self.joint} = {self.ratio:.6g}) balances it, or "
+            "drive a joint at its speed"
         )
 
 
@@ -68,6 +72,7 @@ def imbalances(
     *,
     held: Iterable[str] = (),
     tolerance: float = BALANCE_TOLERANCE,
+    averaged: bool = False,
 ) -> list[Imbalance]:
     """The modes of the train along which ``torques`` leave a net torque, one `Imbalance` each.
 
@@ -77,6 +82,7 @@ def imbalances(
         held: joints whose speed something holds or resists (speed drivers, generators,
             rotors, damped bearings): their modes are not checked.
         tolerance: a mode counts as balanced when |N_r| ≤ tolerance × max_j |φ_j τ_j / φ_r|.
+        averaged: the torques are signals' means over the run (``representative_torque``).
 
     Torsional springs keep their joints turning together (a spring cannot hold a whole train);
     a spring to the ground holds its joint (a ring on its torsional support).
@@ -104,7 +110,8 @@ def imbalances(
             others = [r]
         loaded = [j for j in others if tau[j] != 0.0]
         o = max(loaded or others, key=lambda j: abs(mode[j]))
-        out.append(Imbalance(names[r], net, names[o], float(mode[o] / mode[r]), float(tau[o])))
+        ratio = float(mode[o] / mode[r])
+        out.append(Imbalance(names[r], net, names[o], ratio, float(tau[o]), averaged))
     return out
 
 

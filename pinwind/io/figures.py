@@ -95,7 +95,17 @@ _SETTING_UNITS = {
     "rotor_leakage": "H",
     "magnetizing": "H",
     "height": "m",
+    "hub_height": "m",
+    "mass": "kg",
+    "shaft_tilt": "rad",
+    "speed_set": "rad/s",
+    "kp": "s",
+    "gain_angle": "rad",
+    "pitch_min": "rad",
+    "pitch_max": "rad",
 }
+#: Settings in rad/s that are not shaft speeds (a filter's corner, the pitch rate): kept in SI.
+_SETTINGS_IN_SI = {"corner": "rad/s", "rate": "rad/s"}
 
 
 def _number(value: float, unit: str) -> str:
@@ -158,6 +168,13 @@ def signal_in_units(text: str, unit: str) -> str:
     return f"{' + '.join(ast.unparse(part) for part in parts if part is not None)} {shown}"
 
 
+def _is_table(value: dict[str, Any] | list[Any]) -> bool:
+    """Whether a setting holds more than a few numbers (a C_p table, a list of breakpoints)."""
+    if isinstance(value, list):
+        return len(value) > 3
+    return any(isinstance(item, dict | list) and len(item) > 3 for item in value.values())
+
+
 def _settings(values: dict[str, Any]) -> str:
     """A load's settings as ``key value unit`` (a rotor's radius, a generator's law, ...).
 
@@ -165,7 +182,20 @@ def _settings(values: dict[str, Any]) -> str:
     """
     out = []
     for key, value in values.items():
+        if value is None:
+            continue  # a setting left unset (a rotor without a hub height): nothing to show
+        if isinstance(value, dict | list) and _is_table(value):
+            # a C_p or C_t table: its numbers would fill the figure, its name says it was given
+            name = key.replace("_", " ")
+            out.append(name if name.endswith("table") else f"{name} table")
+            continue
+        if isinstance(value, dict):
+            out.append(f"{key.replace('_', ' ')} ({_settings(value)})")
+            continue
         unit = _SETTING_UNITS.get(key)
+        if key in _SETTINGS_IN_SI and isinstance(value, int | float):
+            out.append(f"{key.replace('_', ' ')} {value:.4g} {_SETTINGS_IN_SI[key]}")
+            continue
         if unit is None or isinstance(value, bool) or not isinstance(value, int | float):
             out.append(f"{key.replace('_', ' ')} {value}")
             continue

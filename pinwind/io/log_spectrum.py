@@ -167,8 +167,12 @@ def write_figure(report: SpectrumReport, out: str | os.PathLike, *, dpi: int = 1
     nyquist = report.sample_rate / 2.0
     for ax, name in zip(axes[:, 0], names, strict=True):
         shown = [s for s in report.spectra if s.series == name]
+        ax.set_yscale("log")
         for s in shown:
-            ax.semilogy(s.frequency[1:], s.density[1:], linewidth=1.0, label=s.label)
+            if np.any(s.density[1:] > 0.0):
+                ax.plot(s.frequency[1:], s.density[1:], linewidth=1.0, label=s.label)
+            else:  # zero at every frequency (a spur mesh's axial force): no line on a log axis
+                ax.plot([], [], linewidth=1.0, label=f"{s.label} (0: no line on the log axis)")
         labelled: list[float] = []  # a label closer than 1.5 % of the axis to another is left out
         for m in sorted(report.markers, key=lambda m: m.kind):  # mesh labels first
             for h in HARMONICS if m.kind == "mesh" else (1,):

@@ -113,7 +113,12 @@ def load_spectrum(
     if isinstance(bins, int):
         if bins < 1:
             raise InputError(f"{what}: {bins} torque bins; give at least one")
-        edges = np.histogram_bin_edges(torque, bins=bins)
+        if high - low <= 1e-9 * max(abs(low), abs(high), 1.0):
+            # constant to rounding (a steady sun, 1e6/6 N·m ± 2 ulps): numpy cannot cut so
+            # narrow a span into finite bins; its bins for a constant, the value ± 0.5 N·m
+            edges = np.histogram_bin_edges([0.5 * (low + high)], bins=bins)
+        else:
+            edges = np.histogram_bin_edges(torque, bins=bins)
     else:
         edges = np.asarray(bins, dtype=float)
         if edges.ndim != 1 or len(edges) < 2 or np.any(np.diff(edges) <= 0.0):

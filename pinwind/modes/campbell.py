@@ -28,7 +28,7 @@ import numpy as np
 
 from pinwind.analysis.spectrum import gearbox_frequencies
 from pinwind.dynamics.drivetrain import Drivetrain
-from pinwind.dynamics.normal_modes import Mode
+from pinwind.dynamics.normal_modes import REPEATED_TOLERANCE, Mode
 from pinwind.dynamics.ratios import train_speeds
 from pinwind.errors import InputError, UnknownJoint
 from pinwind.model.compliance import MeshCompliance
@@ -61,6 +61,8 @@ class Crossing:
         frequency: the mode's frequency there [Hz].
         speed: the input speed where they meet [rad/s].
         whirl: the mode's whirl there (``forward``, ``backward`` or ``""``).
+        multiplicity: how many modes of one repeated frequency meet the line there (the N − 1
+            planet modes of N planets: one crossing, as ``pinwind modes`` lists them as one row).
     """
 
     excitation: Excitation
@@ -68,6 +70,7 @@ class Crossing:
     frequency: float
     speed: float
     whirl: str = ""
+    multiplicity: int = 1
 
 
 @dataclass(frozen=True)
@@ -157,7 +160,7 @@ def campbell(
             for i, mode in enumerate(modes)
             if low <= mode.frequency / line.per_speed <= high
         ]
-        crossings.sort(key=lambda c: c.speed)
+        crossings = _merge_repeated(crossings)
         grid = np.array([high])
         frequencies = np.array([[m.frequency for m in modes]])
         return CampbellDiagram(joint, (low, high), modes, lines, crossings, grid, frequencies)
@@ -181,8 +184,35 @@ def campbell(
                     continue
                 mode = modes_at(speed)[n]
                 crossings.append(Crossing(line, n - rigid, mode.frequency, speed, mode.whirl))
-    crossings.sort(key=lambda c: c.speed)
+    crossings = _merge_repeated(crossings)
     return CampbellDiagram(joint, (low, high), modes, lines, crossings, grid, table[:, rigid:])
+
+
+def _merge_repeated(crossings: list[Crossing]) -> list[Crossing]:
+    """The crossings by speed, those of one line with modes of a repeated frequency as one.
+
+    Modes whose frequencies agree to ``REPEATED_TOLERANCE`` (``normal_modes.repeated_groups``)
+    meet a line at the same speed; the first of them stays, with their count as multiplicity.
+    """
+    out: list[Crossing] = []
+    for c in sorted(crossings, key=lambda c: (c.speed, c.frequency)):
+        same = [
+            i
+            for i, kept in enumerate(out)
+            if kept.excitation == c.excitation
+            and math.isclose(kept.frequency, c.frequency, rel_tol=REPEATED_TOLERANCE)
+            and math.isclose(kept.speed, c.speed, rel_tol=REPEATED_TOLERANCE)
+        ]
+        if same:
+            kept = out[same[0]]
+            whirl = kept.whirl if kept.whirl == c.whirl else ""
+            out[same[0]] = Crossing(
+                kept.excitation, kept.mode, kept.frequency, kept.speed, whirl,
+                kept.multiplicity + c.multiplicity,
+            )  # fmt: skip
+        else:
+            out.append(c)
+    return out
 
 
 def _root(

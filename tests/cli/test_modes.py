@@ -204,11 +204,38 @@ def test_modes_of_a_scenario_do_not_depend_on_how_its_model_writes_the_meshes(tm
 
 def test_campbell_of_a_scenario_draws_the_modes_with_its_rotor(tmp_path):
     # On torsional coordinates the modes do not move with speed: the diagram's frequencies are
-    # those of ``pinwind modes SCENARIO`` (the rotor in), each once.
+    # those of ``pinwind modes SCENARIO`` (the rotor in), each once, a repeated one as "f ×2".
     scenario = str(MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml")
     listed = [m["frequency_hz"] for m in json.loads(run("modes", scenario, "--json").stdout)]
     out = run("campbell", scenario, "--joint", "carrier", "--speed-range", "0:20")
     assert out.returncode == 0, out.stderr
     drawn = out.stdout.replace("\n", "").split("natural frequencies [Hz]: ")[1].split(";")[0]
-    expected = [f"{f:.5g}" for f in listed if f > 0]
-    assert drawn.split(", ") == expected
+    groups: list[list[float]] = []  # a repeated frequency (the planet modes) once, "×2"
+    for f in (f for f in listed if f > 0):
+        if groups and math.isclose(groups[-1][0], f, rel_tol=1e-6):
+            groups[-1].append(f)
+        else:
+            groups.append([f])
+    expected = [f"{g[0]:.5g}" + (f" ×{len(g)}" if len(g) > 1 else "") for g in groups]
+    assert drawn.split(", ") == expected and any(len(g) > 1 for g in groups)
+
+
+def test_campbell_lists_a_repeated_planet_mode_once_with_the_speed_unit_in_its_header(tmp_path):
+    # The double planet mode of three planets met each line twice (two identical rows), and
+    # rich took the header's "[rpm]" for markup: the column read "speed".
+    model = str(MODELS / "saleh2017_planetary.urdf")
+    planet = [m for m in json.loads(run("modes", model, "--json").stdout) if m["kind"] == "planet"]
+    f_planet = planet[0]["frequency_hz"]
+    # Mesh frequency z_ring Ω / 2π on the carrier with the ring fixed (120 teeth): the line
+    # meets the planet mode at Ω* = 60 f / z_ring rpm; a range reaching past it.
+    crossing_rpm = 60 * f_planet / 120
+    csv_path = tmp_path / "crossings.csv"
+    top = f"0:{1.2 * crossing_rpm:.6g}"
+    out = run("campbell", model, "--joint", "carrier", "--speed-range", top,
+              "--harmonics", "1", "--csv", str(csv_path))  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert "speed [rpm]" in out.stdout and f"{f_planet:.5g} ×2" in out.stdout
+    rows = list(csv.DictReader(csv_path.read_text(encoding="utf-8").splitlines()))
+    at_planet = [r for r in rows if math.isclose(float(r["mode_hz"]), f_planet, rel_tol=1e-6)]
+    assert len(at_planet) == 1 and at_planet[0]["multiplicity"] == "2", rows
+    np.testing.assert_allclose(float(at_planet[0]["speed_rpm"]), crossing_rpm, rtol=1e-9)

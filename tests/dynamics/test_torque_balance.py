@@ -88,3 +88,20 @@ def test_dt_beyond_half_the_torsional_spring_period_warns():
     with pytest.warns(StepTooCoarse, match="highest torsional-spring mode"):
         pinwind.simulate(gb, duration=0.1, dt=0.01, speeds={"input_shaft": 20.0})
     assert coarse_step_notes(0.1, 1e-4, 110.0) == []
+
+
+def test_a_torque_signal_counts_by_its_mean_and_the_warning_says_so(planetary):
+    # A ramp and a step were checked at their means over the run, and the warning called the
+    # step's mean (−1e5 N·m at the last of 10 001 times: −9.999 N·m) the torque "now" on the sun.
+    from pinwind.loads.signals import Ramp
+
+    ramp = Ramp(start_value=0.0, end_value=1e6, start_time=0.0, end_time=5.0)
+    with pytest.warns(TorquesUnbalanced) as caught:
+        pinwind.simulate(planetary, duration=0.01, dt=1e-3, torques={"carrier": ramp})
+    (message,) = [str(w.message) for w in caught if w.category is TorquesUnbalanced]
+    assert "(torque signals taken at their mean over the run)" in message
+    mean = 1e6 / 5.0 * 0.01 / 2  # the ramp's mean over [0, 0.01 s]: half its value at the end
+    assert f'A torque of {-mean / SUN_RATIO:.10g} N·m on "sun"' in message
+    with pytest.warns(TorquesUnbalanced) as caught:  # constant torques: no such note
+        pinwind.simulate(planetary, duration=0.01, dt=1e-3, torques={"carrier": 1e6})
+    assert all("mean over the run" not in str(w.message) for w in caught)

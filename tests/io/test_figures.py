@@ -131,3 +131,22 @@ def test_a_run_with_a_rotor_gets_the_rotor_figure(rotor_run, tmp_path):
     assert [p.name for p in written] == ["02_torques_and_power.png", "03_rotor.png"]
     for path in written:
         assert path.stat().st_size > 10_000, path.name
+
+
+def test_caption_gives_a_rotors_settings_in_units_and_leaves_unset_ones_out():
+    # The caption of `pinwind spectrum`'s PNG read "mass 0, shaft tilt 0, ..., hub height None",
+    # and for the NREL 5 MW rotor it printed its whole C_p and C_t tables, number by number.
+    from pinwind.io.figures import loads_text
+    from pinwind.loads.pitch_control import PitchControl
+    from pinwind.loads.rotor import Rotor
+
+    saleh = loads_text({"rotors": {"carrier": Rotor.saleh2017().describe()}})[0]
+    assert "None" not in saleh and "hub height" not in saleh and "mass 0 kg" in saleh
+    rotor = Rotor.nrel5mw(pitch_control=PitchControl.nrel5mw())
+    nrel = loads_text({"rotors": {"rotor": rotor.describe()}})[0]
+    # Jonkman et al. 2009 Table 1-1: hub height 90 m, shaft tilt 5° = 0.08727 rad, rotor 110 t;
+    # §7.4: pitch rate 8°/s = 0.1396 rad/s; the set point 12.1 rpm.
+    assert "hub height 90 m" in nrel and "shaft tilt 0.08727 rad" in nrel
+    assert "mass 1.1e+05 kg" in nrel and "cp table, ct table," in nrel
+    assert "speed set 12.1 rpm" in nrel and "rate 0.1396 rad/s" in nrel
+    assert len(nrel) < 500, nrel

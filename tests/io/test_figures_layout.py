@@ -225,3 +225,32 @@ def test_bearing_figure_draws_no_world_moment_holding_the_shaft_torque(logged_ru
         figures.plot_log(logged_run.path, tmp_path, groups=["bearings"])
     assert titles and not any("|M|" in title for title in titles), titles
     np.testing.assert_equal(sum("not a bearing load" in title for title in titles), 1)
+
+
+def test_spectrum_legend_draws_each_series_or_says_it_is_zero(logged_run, tmp_path, monkeypatch):
+    # A bearing's z force (0 on a spur stage) stood in the legend with no line on the log axis;
+    # the mesh marker read "mesh sun_planet1 +5".
+    from pinwind.io.log_spectrum import spectrum_of_log, write_figure
+
+    seen = []
+    real = matplotlib.figure.Figure.savefig
+
+    def keep(fig, fname, *args, **kwargs):
+        for ax in fig.axes:
+            drawn = {line.get_label(): len(line.get_xdata()) for line in ax.get_lines()}
+            legend = ax.get_legend()
+            labels = [t.get_text() for t in legend.get_texts()] if legend else []
+            seen.append((labels, drawn, [t.get_text() for t in ax.texts]))
+        return real(fig, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
+    report = spectrum_of_log(logged_run.path, series=["bearing_force"], segment=0.1)
+    zero = [s.label for s in report.spectra if not np.any(s.density[1:] > 0.0)]
+    assert zero, "the run should have a bearing force component that stays 0"
+    write_figure(report, tmp_path / "spectrum.png")
+    ((labels, drawn, markers),) = seen
+    for label in labels:
+        name = label.split(" (0:", 1)[0]
+        assert (name in zero) == (label != name), label
+        assert drawn[label] == (0 if name in zero else len(report.spectra[0].frequency) - 1)
+    assert not any(" +" in text for text in markers), markers

@@ -98,3 +98,27 @@ def test_non_finite_torque_is_refused():
     torque = np.full(11, np.nan)
     with pytest.raises(NonFiniteInput, match='shaft "sun"'):
         load_spectrum(torque, np.ones(11), time, joint="sun")
+
+
+def test_a_torque_constant_to_rounding_makes_a_spectrum_not_a_numpy_error():
+    # A steady run's sun torque spans two ulps of 1e6/6 N·m: numpy's bin edges raised
+    # "Too many bins for data range" (docs/spectra_and_modes.md's shaft_spectra).
+    time = np.linspace(0.0, 2.0, 2001)
+    torque = 1e6 / 6 + np.spacing(1e6 / 6) * (np.arange(len(time)) % 3)  # 0, 1, 2 ulps
+    speed = np.full_like(time, 2 * math.pi)  # one turn a second
+    spectrum = load_spectrum(torque, speed, time, bins=10)
+    assert len(spectrum.edges) == 11
+    assert spectrum.edges[0] <= torque.min() and torque.max() <= spectrum.edges[-1]
+    # every sample counted: the whole 2 s and its 2 turns, whatever the bins
+    np.testing.assert_allclose(spectrum.time.sum(), 2.0, rtol=1e-12)
+    np.testing.assert_allclose(spectrum.revolutions.sum(), 2.0, rtol=1e-12)
+
+
+def test_shaft_spectra_of_a_steady_run_cover_every_turning_shaft(planetary):
+    res = pinwind.simulate(planetary, duration=0.05, dt=1e-3,
+                           torques={"carrier": 1e6, "sun": -1e6 / 6},
+                           initial_speeds={"carrier": 14.2 * 2 * math.pi / 60})  # fmt: skip
+    spectra = shaft_spectra(res, planetary, bins=10)
+    assert [s.joint for s in spectra] == ["carrier", "planet1", "planet2", "planet3", "sun"]
+    for s in spectra:
+        np.testing.assert_allclose(s.time.sum(), 0.05, rtol=1e-12)

@@ -87,6 +87,8 @@ def test_check_dt_prints_the_table_of_every_mesh_and_exits_0():
     for mesh in ("sun_planet1", "planet3_ring"):
         assert mesh in out.stdout
     assert "F_1 max" in out.stdout and "|F| max" in out.stdout
+    # the unit of the tables' numbers (rich once read "[kN]" as markup and dropped it)
+    assert "mesh forces over the window [kN]" in out.stdout
 
 
 def test_check_window_outside_the_run_exits_2_naming_the_option_and_the_span():
