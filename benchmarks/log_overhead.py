@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 
 from machine import parallel_capacity
-from saleh_loads import LOADS, MODELS
+from saleh_loads import INITIAL_SPEEDS, LOADS, MODELS
 
 import pinwind
 from pinwind.dynamics.simulate import simulate
@@ -71,6 +71,7 @@ def measure(name: str, duration: float, dt: float, repeats: int, folder: Path) -
             duration=duration,
             dt=dt,
             torques=torques,
+            initial_speeds=INITIAL_SPEEDS[name],
             progress=False,
             observer=observer,
         )

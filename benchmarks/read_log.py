@@ -36,7 +36,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from saleh_loads import LOADS, MODELS
+from saleh_loads import INITIAL_SPEEDS, LOADS, MODELS
 
 import pinwind
 from pinwind.dynamics.simulate import simulate
@@ -191,7 +191,15 @@ def main() -> None:
     for name in args.models:
         gearbox = pinwind.load(MODELS / f"{name}.urdf")
         torques = LOADS[name]
-        simulate(gearbox, duration=0.1, dt=args.dt, torques=torques, progress=False)  # warm-up
+        speeds = INITIAL_SPEEDS[name]
+        simulate(  # warm-up
+            gearbox,
+            duration=0.1,
+            dt=args.dt,
+            torques=torques,
+            initial_speeds=speeds,
+            progress=False,
+        )
         # keep="last": the step itself, without first writes to the Result's fresh memory (which
         # cost more than the step on a fresh virtual machine, and which the loop now does itself)
         plain = simulate(
@@ -199,6 +207,7 @@ def main() -> None:
             duration=args.duration,
             dt=args.dt,
             torques=torques,
+            initial_speeds=speeds,
             keep="last",  # dynamics.simulate folds no statistics (pinwind.simulate would)
         )
         step = plain.metadata["wall_time_s"] / plain.metadata["samples_simulated"]
@@ -208,6 +217,7 @@ def main() -> None:
             duration=args.duration,
             dt=args.dt,
             torques=torques,
+            initial_speeds=speeds,
             progress=False,
             log=path,
             overwrite=True,

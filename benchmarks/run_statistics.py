@@ -19,7 +19,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from saleh_loads import LOADS, MODELS
+from saleh_loads import INITIAL_SPEEDS, LOADS, MODELS
 
 import pinwind
 from pinwind.analysis.run_statistics import RunningStatistics
@@ -56,6 +56,7 @@ def main() -> None:
                 duration=duration,
                 dt=args.dt,
                 torques=LOADS[name],
+                initial_speeds=INITIAL_SPEEDS[name],
                 keep="last",
                 statistics=folded,
                 observer=log,
@@ -74,7 +75,13 @@ def main() -> None:
         plain = statistics.median(a[0] for a, _ in pairs) / samples
 
         everything = pinwind.simulate(
-            gearbox, duration=2.0, dt=args.dt, torques=LOADS[name], keep="all", progress=False
+            gearbox,
+            duration=2.0,
+            dt=args.dt,
+            torques=LOADS[name],
+            initial_speeds=INITIAL_SPEEDS[name],
+            keep="all",
+            progress=False,
         )
         best = float("inf")
         for _ in range(args.repeats):
