@@ -481,7 +481,7 @@ def test_a_writer_slower_than_the_steps_holds_the_run_back_instead_of_queueing_b
 ):
     """Memory must not grow with the run when zstd is slower than the step: the queue of blocks
     waiting for the writer thread stays bounded, and every sample still reaches the file."""
-    assemble = McapLogger._assemble
+    assemble = McapLogger._assemble_columns
     waiting: list[int] = []
 
     def slow(self, block, rows, samples):
@@ -489,7 +489,7 @@ def test_a_writer_slower_than_the_steps_holds_the_run_back_instead_of_queueing_b
         time.sleep(0.005)  # a chunk takes longer to write than the run takes to step it
         return assemble(self, block, rows, samples)
 
-    monkeypatch.setattr(McapLogger, "_assemble", slow)
+    monkeypatch.setattr(McapLogger, "_assemble_columns", slow)
     path = tmp_path / "slow.mcap"
     blocks = 60
     res = pinwind.simulate(
@@ -665,3 +665,53 @@ def test_log_of_format_2_is_still_read(planetary):
             getattr(back, name)[0], getattr(full, name)[0], rtol=1e-12, atol=1e-9, err_msg=name
         )
     np.testing.assert_allclose(back.torque, full.torque, rtol=1e-12, atol=1e-9)
+
+
+def _viewed_normal_forces(path, meshes: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """(sequence numbers, mesh normal forces) of every /meshes/normal message, in file order,
+    and the number of chunks that hold them."""
+    sequence, normal = [], []
+    with open(path, "rb") as f:
+        reader = make_reader(f)
+        for _, _, m in reader.iter_messages(topics=["/meshes/normal"]):
+            sequence.append(m.sequence)
+            normal.append(np.frombuffer(m.data[-8 * meshes :], "<f8"))
+        summary = reader.get_summary()
+    channel = next(c.id for c in summary.channels.values() if c.topic == "/meshes/normal")
+    chunks = sum(channel in c.message_index_offsets for c in summary.chunk_indexes)
+    return np.array(sequence), np.array(normal), chunks
+
+
+def test_viewers_topics_gathered_over_blocks_hold_every_viewed_sample_once(
+    planetary, tmp_path, monkeypatch
+):
+    """The viewed samples of several blocks go out in one chunk once VIEW_BATCH are held, and
+    the rest at the run's end: every sample is then on the viewers' topics exactly once, in
+    order, with its values."""
+    monkeypatch.setattr(log_writer, "VIEW_BATCH", 150)
+    path = tmp_path / "views.mcap"
+    res = pinwind.simulate(
+        planetary, duration=DURATION, dt=DT, torques=TORQUES, log=path, chunk=CHUNK,
+        view_rate=None, pose_rate=None,
+    )  # fmt: skip
+    sequence, normal, chunks = _viewed_normal_forces(path, len(res.mesh_names))
+    # 251 samples in blocks of 100, 100, 51: a chunk of views after the second, one at the end
+    assert chunks == 2
+    np.testing.assert_array_equal(sequence, np.arange(len(res)))
+    np.testing.assert_array_equal(normal, res.mesh_normal)
+
+
+def test_an_interrupted_run_writes_the_views_it_held(planetary, tmp_path):
+    """Ctrl-C at step 100: the held viewed samples of the first block reach the file."""
+    path = tmp_path / "interrupted_views.mcap"
+    with pytest.raises(KeyboardInterrupt):
+        with pytest.warns(TorquesUnbalanced):
+            pinwind.simulate(
+                planetary, duration=DURATION, dt=DT, log=path, chunk=CHUNK,
+                torques={"carrier": FailsBetween(KeyboardInterrupt())}, view_rate=None,
+            )  # fmt: skip
+    back = pinwind.read_log(path)
+    sequence, normal, chunks = _viewed_normal_forces(path, len(back.mesh_names))
+    assert chunks == 1
+    np.testing.assert_array_equal(sequence, np.arange(100))
+    np.testing.assert_array_equal(normal, back.mesh_normal)
