@@ -1,0 +1,390 @@
+"""The torsional natural modes of the NREL 5 MW gearbox and the Saleh 2017 drivetrain, recoded
+from the model files alone, and compared with ``pinwind modes``.
+
+Copies (``ideal_copy``): each model with every ``<bearing>`` element removed, so every bearing is
+ideal (docs/model_format.md: a bearing without ``radial_stiffness`` is "ideal (rigid)"; its rows
+and ratings only carry ISO 281 data, which the modes do not use). Kept: the joints, the torsional
+springs (``rotor_coupling``, ``generator_coupling``) and every mesh, compliant (``pinwind modes
+MODEL`` takes every mesh compliant by default). The machine is then torsional: one rotation per
+continuous joint, the rings on fixed joints (locked).
+
+Recoding (the URDF read with ``xml.etree``, nothing of pinwind's but the compared command):
+
+- Coordinates q: the continuous joints' angles, each about its parent's frame (a planet's
+  relative to its carrier, as the model's joints are). Every axis is the world z (checked), so
+  a body's small motion is u(X) = Σ_j q_j ẑ × (X − o_j) over the joints j from the ground to it
+  (o_j the joint's world origin at the reference pose) and its rotation Σ_j q_j.
+- M: Σ over links of m J_vᵀ J_v + I_zz J_ωᵀ J_ω, J_v the rows ẑ × (c − o_j) of its centre of
+  mass c and J_ω the ones of its chain; I_zz about the centre of mass (the inertial frames are
+  unrotated, checked). For a shaft on its own axis this is its I_zz on its joint; for a planet on
+  a carrier at radius r_c it is m r_c² on the carrier's angle and its own I_zz on the carrier's
+  angle plus its joint's, the coupling M_cp = I_zz written out (the planet turns at
+  θ̇_c + θ̇_p absolutely).
+- K: each torsional spring k (e₁ − e₂)(e₁ − e₂)ᵀ (docs/model_format.md: torque −k (θ₁ − θ₂) on
+  joint 1); each mesh k_mean g gᵀ, g the gradient of its overlap along the transverse line of
+  action, δ = n · (u_A(P) − u_B(P)) at the pitch point P (any point of the line gives the same),
+  n the line of action (unit, tangent to both base circles: n = cos α_w t + sin α_w r̂ with
+  r̂ the unit vector from A's centre to P, t = ẑ × r̂, cos α_w = (r_b,A ± r_b,B)/a at the
+  bearings' centre distance a); so g_j = ±((P − o_j) × n)_z, + for the joints of A's chain, − for
+  B's. A gear's own joint contributes ±r_b (its transverse base radius r_b = z m_n cos α_t /
+  (2 cos β)); a planet's carrier joint contributes the moment arm of the line about the carrier
+  axis: r_b,sun on a sun mesh (the line is tangent to the sun's base circle, centred on that
+  axis), r_b,ring on a ring mesh. This is Lin & Parker's (1999) torsional mesh deflection:
+  δ_sn = u_s + u_n − η_n cos α_s and δ_rn = u_r − u_n + η_n cos α_r (u = r_b θ with θ absolute,
+  η_n = r_c θ_c the planet centre's tangential motion with rigid planet bearings; the signs as
+  gfsReboucas/Drivetrain ``Lin_Parker_99.m`` codes their D_s2 and D_r2 blocks), which with
+  θ_n = θ_c + θ_p and r_c cos α_s = r_b,s + r_b,p, r_c cos α_r = r_b,r − r_b,p becomes
+  δ_sn = r_b,s (θ_s − θ_c) + r_b,p θ_p and δ_rn = −(r_b,r θ_c + r_b,p θ_p) with the ring fixed:
+  ``lin_parker_check`` asserts that the geometric gradient is this on every planet mesh. The
+  line of action's direction (the flank) only flips g's sign, so K does not depend on it.
+- k_mean: ISO 6336-1 method B's c_γα b recoded in benchmarks/independent_mesh_stiffness.py (an
+  independent recoding of it: the pinion as ISO's gear 1, a ring as a rack, z_n2 = ∞, which
+  docs/validation.md says pinwind takes; the same file prints the other reading).
+- The generalized eigenproblem K φ = ω² M φ (``scipy.linalg.eigh``), f = √ω²/2π.
+
+Compared (every mode, sorted): ``python -m pinwind modes COPY --json``; the NREL 5 MW copy also
+with ``--hold generator`` (its row and column struck out of M and K); the Saleh drivetrain also
+from its scenario (scenarios/saleh2017_drivetrain.toml, the model without bearings as shipped)
+with the rotor's inertia the command prints added on the carrier joint (the rotor preset on the
+carrier; the generator law's slope is a damper, which leaves the undamped frequencies alone).
+
+Run:  python benchmarks/independent_modes.py       (a few seconds)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import scipy.linalg
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "benchmarks"))
+
+from independent_mesh_stiffness import gears_of, recode  # noqa: E402  (ISO 6336-1 c_γα b)
+
+NREL = REPO / "models" / "nrel5mw_gearbox.urdf"
+SALEH = REPO / "models" / "saleh2017_drivetrain.urdf"
+SALEH_SCENARIO = REPO / "scenarios" / "saleh2017_drivetrain.toml"
+
+
+def ideal_copy(model: Path, out: Path) -> Path:
+    """``model`` without its ``<bearing>`` elements (every bearing ideal), written to ``out``."""
+    tree = ET.parse(model)
+    box = tree.getroot().find("gearbox")
+    assert box is not None
+    for b in box.findall("bearing"):
+        box.remove(b)
+    tree.write(out, encoding="unicode")
+    return out
+
+
+def _xyz(el: ET.Element | None, name: str = "xyz") -> np.ndarray:
+    if el is None:
+        return np.zeros(3)
+    return np.array([float(v) for v in el.attrib.get(name, "0 0 0").split()])
+
+
+def _check_unrotated(el: ET.Element | None, what: str) -> None:
+    if el is not None and any(float(v) != 0.0 for v in el.attrib.get("rpy", "0 0 0").split()):
+        raise ValueError(f"{what}: a rotated frame; this recoding takes unrotated frames only")
+
+
+@dataclass
+class Torsional:
+    """A torsional model: joint names (the coordinates), M [kg·m²], K [N·m/rad], the meshes'
+    k_mean [N/m] and gradients g [m/rad]."""
+
+    joints: list[str]
+    M: np.ndarray
+    K: np.ndarray
+    k_mean: dict[str, float]
+    gradient: dict[str, np.ndarray]
+
+    def frequencies_hz(
+        self, hold: tuple[str, ...] = (), extra_inertia: dict[str, float] | None = None
+    ) -> np.ndarray:
+        """Sorted natural frequencies [Hz] with the ``hold`` joints held (struck out) and
+        ``extra_inertia`` [kg·m²] added on joints."""
+        M = self.M.copy()
+        for j, inertia in (extra_inertia or {}).items():
+            i = self.joints.index(j)
+            M[i, i] += inertia
+        keep = [i for i, j in enumerate(self.joints) if j not in hold]
+        lam = scipy.linalg.eigh(
+            self.K[np.ix_(keep, keep)], M[np.ix_(keep, keep)], eigvals_only=True
+        )
+        return np.sqrt(np.clip(lam, 0.0, None)) / (2 * math.pi)
+
+
+def torsional_model(model: Path, pinion_first: bool = True) -> Torsional:
+    """M and K of ``model`` (read as XML, bearings ideal) in its continuous joints' angles;
+    ``pinion_first=False`` takes each mesh's ``gear1`` as ISO 6336-1's gear 1 instead of the
+    pinion."""
+    root = ET.parse(model).getroot()
+    joints = {j.attrib["name"]: j for j in root.findall("joint")}
+    parent_joint = {j.find("child").attrib["link"]: j for j in joints.values()}  # type: ignore[union-attr]
+    dofs = [n for n, j in joints.items() if j.attrib["type"] in ("continuous", "revolute")]
+    index = {n: i for i, n in enumerate(dofs)}
+
+    def chain(link: str) -> tuple[np.ndarray, list[tuple[int, np.ndarray, float]]]:
+        """The link frame's world origin and its chain: (dof index, joint origin, axis sign)."""
+        up = []  # (joint, its origin in the parent frame), from the link to the ground
+        while link in parent_joint:
+            j = parent_joint[link]
+            origin = j.find("origin")
+            _check_unrotated(origin, f"joint {j.attrib['name']}")
+            up.append((j, _xyz(origin)))
+            link = j.find("parent").attrib["link"]  # type: ignore[union-attr]
+        # every frame unrotated: a joint's world origin is the sum of its and its ancestors' origins
+        world, acc = [], np.zeros(3)
+        for j, o in reversed(up):
+            acc = acc + o
+            if j.attrib["type"] in ("continuous", "revolute"):
+                axis = _xyz(j.find("axis"))
+                axis = axis / np.linalg.norm(axis)
+                if abs(abs(axis[2]) - 1.0) > 1e-12:
+                    raise ValueError(f"joint {j.attrib['name']}: axis {axis} is not along z")
+                world.append((index[j.attrib["name"]], acc.copy(), float(np.sign(axis[2]))))
+        return acc, world
+
+    n = len(dofs)
+    z = np.array([0.0, 0.0, 1.0])
+    M = np.zeros((n, n))
+    for link in root.findall("link"):
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        origin = inertial.find("origin")
+        _check_unrotated(origin, f"link {link.attrib['name']} inertial")
+        m = float(inertial.find("mass").attrib["value"])  # type: ignore[union-attr]
+        izz = float(inertial.find("inertia").attrib["izz"])  # type: ignore[union-attr]
+        pos, ch = chain(link.attrib["name"])
+        c = pos + _xyz(origin)
+        Jv, Jw = np.zeros((3, n)), np.zeros(n)
+        for i, o, s in ch:
+            Jv[:, i] += s * np.cross(z, c - o)
+            Jw[i] += s
+        M += m * Jv.T @ Jv + izz * np.outer(Jw, Jw)
+
+    K = np.zeros((n, n))
+    box = root.find("gearbox")
+    assert box is not None
+    for sp in box.findall("torsional_spring"):
+        e = np.zeros(n)
+        e[index[sp.attrib["joint1"]]] += 1.0
+        if "joint2" in sp.attrib:
+            e[index[sp.attrib["joint2"]]] -= 1.0
+        K += float(sp.attrib["stiffness"]) * np.outer(e, e)
+
+    gears, meshes = gears_of(model)
+    gear_el = {g.attrib["name"]: g for g in box.findall("gear")}
+    k_mean, gradient = {}, {}
+    for name, a, b in meshes:
+        ga, gb = gears[a], gears[b]
+        k = recode(ga, gb, ring_as_rack=True, pinion_first=pinion_first)["kmean"]
+        (ca, cha), (cb, chb) = (
+            (
+                chain(gear_el[g].attrib["link"])[0] + _xyz(gear_el[g]),
+                chain(gear_el[g].attrib["link"])[1],
+            )
+            for g in (a, b)
+        )
+        rb = [
+            g["z"]
+            * g["m"]
+            * math.cos(math.atan(math.tan(g["alpha"]) / math.cos(g["beta"])))
+            / (2 * math.cos(g["beta"]))
+            for g in (ga, gb)
+        ]
+        d = (cb - ca)[:2]
+        dist = float(np.linalg.norm(d))
+        if gb["internal"]:  # B the ring around A: P beyond A's centre, away from B's
+            r_hat, cos_aw = -d / dist, (rb[1] - rb[0]) / dist
+        elif ga["internal"]:  # A the ring around B: P beyond B's centre, from A's
+            r_hat, cos_aw = d / dist, (rb[0] - rb[1]) / dist
+        else:
+            r_hat, cos_aw = d / dist, (rb[0] + rb[1]) / dist
+        sin_aw = math.sqrt(1.0 - cos_aw**2)
+        t_hat = np.array([-r_hat[1], r_hat[0]])
+        nvec = cos_aw * t_hat + sin_aw * r_hat
+        P = ca[:2] + rb[0] / cos_aw * r_hat
+        g = np.zeros(n)
+        for sign, ch in ((1.0, cha), (-1.0, chb)):
+            for i, o, s in ch:
+                arm = (P - o[:2])[0] * nvec[1] - (P - o[:2])[1] * nvec[0]
+                g[i] += sign * s * arm
+        K += k * np.outer(g, g)
+        k_mean[name], gradient[name] = k, g
+    return Torsional(dofs, M, K, k_mean, gradient)
+
+
+def lin_parker_check(
+    model: Path, t: Torsional, carrier: str, sun: str, planets: dict[str, str], rings: set[str]
+) -> float:
+    """Largest |g − g_LP| / r_b over the planet meshes of the stage whose carrier joint, sun joint
+    and planet joints are given (``planets``: planet gear name → its joint), g_LP Lin & Parker's
+    torsional deflection in joint coordinates (module docstring), up to the flank's sign."""
+    gears, meshes = gears_of(model)
+    worst = 0.0
+
+    def rbase(g: dict[str, float]) -> float:
+        at = math.atan(math.tan(g["alpha"]) / math.cos(g["beta"]))
+        return g["z"] * g["m"] * math.cos(at) / (2 * math.cos(g["beta"]))
+
+    ic = t.joints.index(carrier)
+    for name, a, b in meshes:
+        if b not in planets or a in planets:
+            if not (a in planets and b in rings):
+                continue
+        lp = np.zeros(len(t.joints))
+        if a in planets and b in rings:  # δ_rn = −(r_b,r θ_c + r_b,p θ_p)
+            lp[ic] = rbase(gears[b])
+            lp[t.joints.index(planets[a])] = rbase(gears[a])
+            scale = rbase(gears[b])
+        else:  # sun–planet: δ_sn = r_b,s (θ_s − θ_c) + r_b,p θ_p
+            lp[t.joints.index(sun)] = rbase(gears[a])
+            lp[ic] = -rbase(gears[a])
+            lp[t.joints.index(planets[b])] = rbase(gears[b])
+            scale = rbase(gears[a])
+        g = t.gradient[name]
+        worst = max(worst, min(np.max(np.abs(g - lp)), np.max(np.abs(g + lp))) / scale)
+    return worst
+
+
+def pinwind_modes(path: Path, *args: str) -> tuple[np.ndarray, str]:
+    """Frequencies [Hz] of ``pinwind modes PATH --json ARGS`` (sorted) and its stderr."""
+    out = subprocess.run(
+        [sys.executable, "-m", "pinwind", "modes", str(path), "--json", *args],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=REPO,
+        env={"PYTHONPATH": str(REPO), "PATH": "/usr/bin:/bin"},
+    )
+    modes = json.loads(out.stdout)
+    if isinstance(modes, dict):
+        modes = modes["modes"]
+    return np.sort(np.array([m["frequency_hz"] for m in modes])), out.stderr
+
+
+def compare(label: str, pinwind_hz: np.ndarray, recoded_hz: np.ndarray) -> float:
+    """Print one row per mode; return the largest relative difference of the flexible modes."""
+    if len(pinwind_hz) != len(recoded_hz):
+        raise AssertionError(
+            f"{label}: pinwind has {len(pinwind_hz)} modes, the recoding {len(recoded_hz)}"
+        )
+    worst = 0.0
+    print(f"\n{label}")
+    print(f"{'#':>3s} {'pinwind [Hz]':>14s} {'recoded [Hz]':>14s} {'rel. diff':>10s}")
+    for i, (p, r) in enumerate(zip(pinwind_hz, recoded_hz, strict=True), 1):
+        if r < 1e-6 * recoded_hz[-1]:
+            print(f"{i:3d} {p:14.6g} {r:14.6g} {'rigid':>10s}")
+            continue
+        rel = p / r - 1
+        worst = max(worst, abs(rel))
+        print(f"{i:3d} {p:14.8g} {r:14.8g} {rel:+10.1e}")
+    return worst
+
+
+def pinwind_mesh_stiffness(model: Path) -> dict[str, float]:
+    """The stiffness [N/m] of each mesh element ``pinwind.modes.linearisation.linearise`` takes
+    with every mesh compliant (compared with the recoded k_mean, not used by the recoding)."""
+    import pinwind
+    from pinwind.modes.linearisation import linearise
+
+    lin = linearise(pinwind.load(model), meshes={"all": "compliant"})
+    return {e.name: float(e.stiffness) for e in lin.elements if e.kind == "mesh"}
+
+
+def scenario_rotor(stderr: str) -> tuple[str, float]:
+    """The joint and inertia [kg·m²] of the rotor ``pinwind modes SCENARIO`` says it took."""
+    found = re.search(r"rotor inertia on (\w+): ([0-9.e+-]+) kg", stderr)
+    if found is None:
+        raise AssertionError(f"no rotor inertia line in: {stderr}")
+    return found.group(1), float(found.group(2))
+
+
+def main() -> None:
+    start = time.perf_counter()
+    worst: dict[str, float] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        nrel = ideal_copy(NREL, Path(tmp) / "nrel5mw_ideal_bearings.urdf")
+        saleh = ideal_copy(SALEH, Path(tmp) / "saleh2017_ideal_bearings.urdf")
+        tn, ts = torsional_model(nrel), torsional_model(saleh)
+        lp = max(
+            lin_parker_check(nrel, tn, "lss", "iss", planets(1), {"stage1_ring"}),
+            lin_parker_check(nrel, tn, "iss", "ims", planets(2), {"stage2_ring"}),
+            lin_parker_check(saleh, ts, "carrier", "sun", planets(0), {"ring"}),
+        )
+        print(f"planet meshes' gradients against Lin & Parker's deflections: {lp:.1e} of r_b")
+        print("\nk_mean = c_γα b [N/m], recoded, and pinwind's mesh element over it − 1:")
+        for model, t in ((nrel, tn), (saleh, ts)):
+            theirs = pinwind_mesh_stiffness(model)
+            for name, k in t.k_mean.items():
+                if name[-1] in "23" or name.endswith(("2_ring", "3_ring")):
+                    continue  # the other planets' meshes are the same pairs
+                print(f"  {name:20s} {k:.6e}  {theirs[name] / k - 1:+.1e}")
+            worst["k_mean"] = max(
+                worst.get("k_mean", 0.0), *(abs(theirs[n] / k - 1) for n, k in t.k_mean.items())
+            )
+
+        p, _ = pinwind_modes(nrel)
+        worst["nrel"] = compare("NREL 5 MW gearbox, ideal bearings, free", p, tn.frequencies_hz())
+        p, _ = pinwind_modes(nrel, "--hold", "generator")
+        worst["nrel_held"] = compare(
+            "NREL 5 MW gearbox, ideal bearings, generator held (--hold generator)",
+            p,
+            tn.frequencies_hz(hold=("generator",)),
+        )
+        keep = [i for i, j in enumerate(tn.joints) if j != "generator"]
+        mu = scipy.linalg.eigh(
+            tn.M[np.ix_(keep, keep)], tn.K[np.ix_(keep, keep)], eigvals_only=True
+        )
+        flex = 1 / math.sqrt(mu[-1]) / (2 * math.pi)
+        mine = tn.frequencies_hz(hold=("generator",))[0]
+        eps_rel = np.finfo(float).eps * (p[-1] / p[0]) ** 2
+        print(
+            f"mode 1 from the flexibility form, eigh(M, K): {flex:.12g} Hz; pinwind "
+            f"{p[0] / flex - 1:+.1e}, the recoding {mine / flex - 1:+.1e} (eigh(K, M) resolves "
+            f"ω² to about ε λ_max, {eps_rel:.0e} of this mode's)"
+        )
+        p, _ = pinwind_modes(saleh)
+        worst["saleh"] = compare(
+            "Saleh 2017 drivetrain (no bearings), free", p, ts.frequencies_hz()
+        )
+        p, err = pinwind_modes(SALEH_SCENARIO)
+        joint, inertia = scenario_rotor(err)
+        rec = ts.frequencies_hz(extra_inertia={joint: inertia})
+        worst["saleh_rotor"] = compare(
+            f"Saleh 2017 drivetrain scenario: its rotor, {inertia:.3g} kg·m² on {joint}", p, rec
+        )
+        old = torsional_model(saleh, pinion_first=False)
+        print(
+            "\nwith each mesh's gear1 as ISO 6336-1's gear 1 (the numbering before the pinion was "
+            f"taken first): {old.frequencies_hz()[1]:.2f} Hz free, "
+            f"{old.frequencies_hz(extra_inertia={joint: inertia})[1]:.2f} Hz with the rotor"
+        )
+    print(
+        f"\nlargest |rel. diff|: k_mean {worst.pop('k_mean'):.1e}, flexible modes "
+        f"{max(worst.values()):.1e}; {time.perf_counter() - start:.1f} s wall"
+    )
+
+
+def planets(stage: int) -> dict[str, str]:
+    """Planet gear → planet joint of a stage (0: the Saleh stage's ``planet{i}``)."""
+    prefix = f"stage{stage}_" if stage else ""
+    return {f"{prefix}planet{i}": f"{prefix}planet{i}" for i in (1, 2, 3)}
+
+
+if __name__ == "__main__":
+    main()
