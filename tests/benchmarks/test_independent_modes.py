@@ -1,0 +1,60 @@
+"""The torsional modes of a multi-stage gearbox are those of its joint-angle M and K by hand.
+
+``benchmarks/independent_modes.py`` recodes the natural modes of the NREL 5 MW gearbox and the
+Saleh 2017 drivetrain with ideal bearings from the model files alone (docs/validation.md,
+"Independent recoding of the natural modes"): M from the links' masses and inertias in the
+joints' angles (a planet's m r_c² and its own inertia on its carrier's angle), K from the
+torsional springs and each mesh's ISO 6336-1 c_γα b along its line of action, the planet meshes'
+rows Lin & Parker's (1999) torsional deflections. Here the Saleh drivetrain (two parallel stages
+behind a planetary stage, one eigenproblem of seven joints) and the NREL 5 MW gearbox with its
+generator held.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tests.benchmarks import benchmark_module
+
+recoding = benchmark_module("independent_modes.py", "independent_modes")
+
+
+def test_a_planet_mesh_s_row_turns_the_carrier_by_the_line_s_arm_about_the_carrier_axis(tmp_path):
+    r = recoding
+    model = r.ideal_copy(r.NREL, tmp_path / "nrel.urdf")
+    t = r.torsional_model(model)
+    planets = {1: ("lss", "iss", "stage1_ring"), 2: ("iss", "ims", "stage2_ring")}
+    for stage, (carrier, sun, ring) in planets.items():
+        assert r.lin_parker_check(model, t, carrier, sun, r.planets(stage), {ring}) < 1e-12
+
+
+def test_the_saleh_drivetrain_s_torsional_modes_are_those_of_its_joint_angle_m_and_k(tmp_path):
+    r = recoding
+    model = r.ideal_copy(r.SALEH, tmp_path / "saleh.urdf")
+    t = r.torsional_model(model)
+    recoded = t.frequencies_hz()
+    pinwind_hz, _ = r.pinwind_modes(model)
+    assert len(pinwind_hz) == len(recoded) == 7
+    assert pinwind_hz[0] == 0.0 and recoded[0] < 1e-6 * recoded[-1]  # the train turning
+    np.testing.assert_allclose(pinwind_hz[1:], recoded[1:], rtol=1e-12)
+    # The planet modes (sun, carrier and the other stages still): a planet on its two meshes,
+    # I_p ω² = (k_sp + k_rp) r_b,p², twice (N − 1 = 2 for three planets).
+    k = t.k_mean
+    rbp = 0.015 * 48 * math.cos(math.radians(24.5)) / 2
+    planet = math.sqrt((k["sun_planet1"] + k["planet1_ring"]) * rbp**2 / 77.78) / (2 * math.pi)
+    assert np.sum(np.isclose(pinwind_hz, planet, rtol=1e-12)) == 2
+
+
+def test_the_nrel_5mw_gearbox_s_torsional_modes_with_the_generator_held(tmp_path):
+    r = recoding
+    model = r.ideal_copy(r.NREL, tmp_path / "nrel.urdf")
+    recoded = r.torsional_model(model).frequencies_hz(hold=("generator",))
+    pinwind_hz, _ = r.pinwind_modes(model, "--hold", "generator")
+    assert len(pinwind_hz) == len(recoded) == 11
+    # The rotor on the train (0.63 Hz) sits 2200 times below the highest mode: eigh resolves its
+    # ω² to about ε (f_max/f_1)² = 1e-9 of it (the benchmark's flexibility form puts pinwind
+    # and the recoding within 6e-10 of the exact value); the others to rounding.
+    np.testing.assert_allclose(pinwind_hz[0], recoded[0], rtol=3e-9)
+    np.testing.assert_allclose(pinwind_hz[1:], recoded[1:], rtol=1e-12)
