@@ -306,6 +306,14 @@ def pinwind_mesh_stiffness(model: Path) -> dict[str, float]:
     return {e.name: float(e.stiffness) for e in lin.elements if e.kind == "mesh"}
 
 
+def izz_of(model: Path, link: str) -> float:
+    """I_zz [kg·m²] of ``link`` in ``model``'s XML."""
+    for el in ET.parse(model).getroot().findall("link"):
+        if el.attrib["name"] == link:
+            return float(el.find("inertial/inertia").attrib["izz"])  # type: ignore[union-attr]
+    raise KeyError(link)
+
+
 def scenario_rotor(stderr: str) -> tuple[str, float]:
     """The joint and inertia [kg·m²] of the rotor ``pinwind modes SCENARIO`` says it took."""
     found = re.search(r"rotor inertia on (\w+): ([0-9.e+-]+) kg", stderr)
@@ -368,6 +376,21 @@ def main() -> None:
         worst["saleh_rotor"] = compare(
             f"Saleh 2017 drivetrain scenario: its rotor, {inertia:.3g} kg·m² on {joint}", p, rec
         )
+        print("\nplanet modes in closed form, f = √((k_sp + k_rp) r_b,p² / I_p)/2π (the central")
+        print("members still, N − 1 = 2 of them), against pinwind's nearest two:")
+        for model, t, stage in ((nrel, tn, 1), (nrel, tn, 2), (saleh, ts, 0)):
+            gear = next(iter(planets(stage)))
+            g = gears_of(model)[0][gear]
+            at = math.atan(math.tan(g["alpha"]) / math.cos(g["beta"]))
+            rbp = g["z"] * g["m"] * math.cos(at) / (2 * math.cos(g["beta"]))
+            izz = izz_of(model, gear)
+            prefix = gear[: -len("planet1")]
+            k = t.k_mean[f"{prefix}sun_planet1"] + t.k_mean[f"{gear}_ring"]
+            f = math.sqrt(k * rbp**2 / izz) / (2 * math.pi)
+            theirs, _ = pinwind_modes(model)
+            near = theirs[np.argsort(np.abs(theirs - f))[:2]]
+            worst["planet"] = max(worst.get("planet", 0.0), *np.abs(near / f - 1))
+            print(f"  {gear:16s} {f:.8g} Hz: {near[0] / f - 1:+.1e}, {near[1] / f - 1:+.1e}")
         old = torsional_model(saleh, pinion_first=False)
         print(
             "\nwith each mesh's gear1 as ISO 6336-1's gear 1 (the numbering before the pinion was "
