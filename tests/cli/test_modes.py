@@ -139,7 +139,7 @@ def test_modes_of_the_saleh_drivetrain_scenario_ring_the_rotor_against_the_train
     # stage 1 at the sun (× 6²) and stage 2 at stage 1's pinion (× (6 · 83/23)²). The two-
     # inertia formula f = √(k (1/J_r + 1/J_t)) / 2π puts J_t at the far end of k, where it
     # moves most: the train's inertia nearer the carrier moves less, so the true frequency is
-    # above it (Rayleigh), by a few per cent here. Without the rotor the mode is at 317 Hz.
+    # above it (Rayleigh), by a few per cent here. Without the rotor the mode is at 325 Hz.
     out = run("modes", str(MODELS.parent / "scenarios" / "saleh2017_drivetrain.toml"), "--json")
     assert out.returncode == 0, out.stderr
     modes = json.loads(out.stdout)
