@@ -72,6 +72,17 @@ sys.path.insert(0, str(REPO / "benchmarks"))
 
 from independent_mesh_stiffness import gears_of, recode  # noqa: E402  (ISO 6336-1 c_γα b)
 
+#: Radial stiffness [N/m] of the Saleh drivetrain's bearings in the planar case (assumed: the
+#: model file has none; values of the order of the NREL 5 MW gearbox's planet rows).
+SALEH_RADIAL = {
+    "carrier": 2e9,
+    "sun": 1e9,
+    "planet1": 1.5e9,
+    "planet2": 1.5e9,
+    "planet3": 1.5e9,
+    "stage1_pinion": 3e9,
+    "stage2_pinion": 2.5e9,
+}
 NREL = REPO / "models" / "nrel5mw_gearbox.urdf"
 SALEH = REPO / "models" / "saleh2017_drivetrain.urdf"
 SALEH_SCENARIO = REPO / "scenarios" / "saleh2017_drivetrain.toml"
@@ -86,6 +97,51 @@ def ideal_copy(model: Path, out: Path) -> Path:
         box.remove(b)
     tree.write(out, encoding="unicode")
     return out
+
+
+def planar_copy(model: Path, out: Path, radial: dict[str, float]) -> Path:
+    """``model`` with its ``<bearing>`` elements replaced by ``<bearing joint=J
+    radial_stiffness=k/>`` for each of ``radial`` [N/m]: every other bearing ideal, these
+    compliant radially only (axially and in tilt rigid: docs/model_format.md), written to
+    ``out``."""
+    tree = ET.parse(model)
+    box = tree.getroot().find("gearbox")
+    assert box is not None
+    for b in box.findall("bearing"):
+        box.remove(b)
+    for joint, k in radial.items():
+        ET.SubElement(box, "bearing", {"joint": joint, "radial_stiffness": repr(k)})
+    tree.write(out, encoding="unicode")
+    return out
+
+
+def file_radial_stiffness(model: Path) -> dict[str, float]:
+    """Each ``<bearing>``'s own ``radial_stiffness`` [N/m] in ``model`` (for a bearing with rows,
+    the rows' equivalent isotropic bearing, docs/model_format.md "Bearing rows")."""
+    box = ET.parse(model).getroot().find("gearbox")
+    assert box is not None
+    return {
+        b.attrib["joint"]: float(b.attrib["radial_stiffness"])
+        for b in box.findall("bearing")
+        if "radial_stiffness" in b.attrib
+    }
+
+
+def unloaded_flanks(stderr: str, model: Path) -> dict[str, float]:
+    """Each mesh's flank s that ``pinwind modes`` says it linearised an unloaded mesh on ("X
+    turning forward drives Y"). s = +1 is the flank on which gear1 (A) turning forward drives
+    gear2 (B) (docs/model_format.md, "Mesh sign convention"): at the pitch point A's tooth moves
+    along t, an external B's along −t and an internal B's along +t when each turns forward, so
+    B turning forward presses the same flank as A does when external, the other when internal."""
+    gears, meshes = gears_of(model)
+    pair = {name: (a, b) for name, a, b in meshes}
+    found = re.findall(r"(\w+) \((\w+) turning forward drives (\w+)\)", stderr)
+    flank = {}
+    for mesh, driver, _ in found:
+        a, b = pair[mesh]
+        internal = gears[a]["internal"] or gears[b]["internal"]
+        flank[mesh] = 1.0 if driver == a or not internal else -1.0
+    return flank
 
 
 def _xyz(el: ET.Element | None, name: str = "xyz") -> np.ndarray:
@@ -126,18 +182,40 @@ class Torsional:
         return np.sqrt(np.clip(lam, 0.0, None)) / (2 * math.pi)
 
 
-def torsional_model(model: Path, pinion_first: bool = True) -> Torsional:
-    """M and K of ``model`` (read as XML, bearings ideal) in its continuous joints' angles;
-    ``pinion_first=False`` takes each mesh's ``gear1`` as ISO 6336-1's gear 1 instead of the
-    pinion."""
+def torsional_model(
+    model: Path, pinion_first: bool = True, flank: dict[str, float] | None = None
+) -> Torsional:
+    """M and K of ``model`` (read as XML) in its joints' coordinates: each continuous joint's
+    angle, and before it, for a joint whose ``<bearing>`` has ``radial_stiffness`` k, two slides
+    along the world x and y (the bearing's translations relative to the joint's parent, each on
+    a spring k; isotropic, so the slides' axes do not change the modes) — Lin & Parker's (1999)
+    planar model. ``pinion_first=False`` takes each mesh's ``gear1`` as ISO 6336-1's gear 1
+    instead of the pinion; ``flank`` gives each mesh's loaded flank s = ±1 (docs/model_format.md,
+    "Mesh sign convention": +1 when gear1 turning positively drives gear2), which only a model
+    with translations needs (default +1)."""
     root = ET.parse(model).getroot()
+    box = root.find("gearbox")
+    assert box is not None
     joints = {j.attrib["name"]: j for j in root.findall("joint")}
     parent_joint = {j.find("child").attrib["link"]: j for j in joints.values()}  # type: ignore[union-attr]
-    dofs = [n for n, j in joints.items() if j.attrib["type"] in ("continuous", "revolute")]
+    radial = {
+        b.attrib["joint"]: float(b.attrib["radial_stiffness"])
+        for b in box.findall("bearing")
+        if "radial_stiffness" in b.attrib
+    }
+    dofs: list[str] = []
+    for name, j in joints.items():
+        if j.attrib["type"] in ("continuous", "revolute"):
+            if name in radial:
+                dofs += [f"{name}_x", f"{name}_y"]
+            dofs.append(name)
     index = {n: i for i, n in enumerate(dofs)}
 
-    def chain(link: str) -> tuple[np.ndarray, list[tuple[int, np.ndarray, float]]]:
-        """The link frame's world origin and its chain: (dof index, joint origin, axis sign)."""
+    Link = tuple[int, np.ndarray, float, np.ndarray | None]
+
+    def chain(link: str) -> tuple[np.ndarray, list[Link]]:
+        """The link frame's world origin and its chain: (dof index, joint origin, axis sign,
+        None) for a rotation, (dof index, _, _, direction) for a slide."""
         up = []  # (joint, its origin in the parent frame), from the link to the ground
         while link in parent_joint:
             j = parent_joint[link]
@@ -146,16 +224,32 @@ def torsional_model(model: Path, pinion_first: bool = True) -> Torsional:
             up.append((j, _xyz(origin)))
             link = j.find("parent").attrib["link"]  # type: ignore[union-attr]
         # every frame unrotated: a joint's world origin is the sum of its and its ancestors' origins
-        world, acc = [], np.zeros(3)
+        world: list[Link] = []
+        acc = np.zeros(3)
         for j, o in reversed(up):
             acc = acc + o
+            name = j.attrib["name"]
             if j.attrib["type"] in ("continuous", "revolute"):
                 axis = _xyz(j.find("axis"))
                 axis = axis / np.linalg.norm(axis)
                 if abs(abs(axis[2]) - 1.0) > 1e-12:
-                    raise ValueError(f"joint {j.attrib['name']}: axis {axis} is not along z")
-                world.append((index[j.attrib["name"]], acc.copy(), float(np.sign(axis[2]))))
+                    raise ValueError(f"joint {name}: axis {axis} is not along z")
+                if name in radial:
+                    world.append((index[f"{name}_x"], acc.copy(), 0.0, np.array([1.0, 0.0, 0.0])))
+                    world.append((index[f"{name}_y"], acc.copy(), 0.0, np.array([0.0, 1.0, 0.0])))
+                world.append((index[name], acc.copy(), float(np.sign(axis[2])), None))
         return acc, world
+
+    def displacement_rows(x: np.ndarray, ch: list[Link]) -> tuple[np.ndarray, np.ndarray]:
+        """∂u(x)/∂q (3, n) and ∂ω/∂q (n) of a point x on a body with chain ``ch``."""
+        jv, jw = np.zeros((3, n)), np.zeros(n)
+        for i, o, s, direction in ch:
+            if direction is None:
+                jv[:, i] += s * np.cross(z, x - o)
+                jw[i] += s
+            else:
+                jv[:, i] += direction
+        return jv, jw
 
     n = len(dofs)
     z = np.array([0.0, 0.0, 1.0])
@@ -169,16 +263,13 @@ def torsional_model(model: Path, pinion_first: bool = True) -> Torsional:
         m = float(inertial.find("mass").attrib["value"])  # type: ignore[union-attr]
         izz = float(inertial.find("inertia").attrib["izz"])  # type: ignore[union-attr]
         pos, ch = chain(link.attrib["name"])
-        c = pos + _xyz(origin)
-        Jv, Jw = np.zeros((3, n)), np.zeros(n)
-        for i, o, s in ch:
-            Jv[:, i] += s * np.cross(z, c - o)
-            Jw[i] += s
+        Jv, Jw = displacement_rows(pos + _xyz(origin), ch)
         M += m * Jv.T @ Jv + izz * np.outer(Jw, Jw)
 
     K = np.zeros((n, n))
-    box = root.find("gearbox")
-    assert box is not None
+    for joint, k in radial.items():
+        for axis in "xy":
+            K[index[f"{joint}_{axis}"], index[f"{joint}_{axis}"]] += k
     for sp in box.findall("torsional_spring"):
         e = np.zeros(n)
         e[index[sp.attrib["joint1"]]] += 1.0
@@ -208,21 +299,23 @@ def torsional_model(model: Path, pinion_first: bool = True) -> Torsional:
         ]
         d = (cb - ca)[:2]
         dist = float(np.linalg.norm(d))
+        # r̂ from A's centre to the pitch point P; ε = −1 when A is the internal gear
         if gb["internal"]:  # B the ring around A: P beyond A's centre, away from B's
-            r_hat, cos_aw = -d / dist, (rb[1] - rb[0]) / dist
+            r_hat, cos_aw, eps = -d / dist, (rb[1] - rb[0]) / dist, 1.0
         elif ga["internal"]:  # A the ring around B: P beyond B's centre, from A's
-            r_hat, cos_aw = d / dist, (rb[0] - rb[1]) / dist
+            r_hat, cos_aw, eps = d / dist, (rb[0] - rb[1]) / dist, -1.0
         else:
-            r_hat, cos_aw = d / dist, (rb[0] + rb[1]) / dist
+            r_hat, cos_aw, eps = d / dist, (rb[0] + rb[1]) / dist, 1.0
         sin_aw = math.sqrt(1.0 - cos_aw**2)
         t_hat = np.array([-r_hat[1], r_hat[0]])
-        nvec = cos_aw * t_hat + sin_aw * r_hat
-        P = ca[:2] + rb[0] / cos_aw * r_hat
-        g = np.zeros(n)
-        for sign, ch in ((1.0, cha), (-1.0, chb)):
-            for i, o, s in ch:
-                arm = (P - o[:2])[0] * nvec[1] - (P - o[:2])[1] * nvec[0]
-                g[i] += sign * s * arm
+        s = (flank or {}).get(name, 1.0)
+        nvec = np.append(s * cos_aw * t_hat + eps * sin_aw * r_hat, 0.0)
+        P = ca + rb[0] / cos_aw * np.append(r_hat, 0.0)
+        P[2] = 0.0
+        # δ = n · (u_A(P) − u_B(P)): the force on B is along n (docs/model_format.md)
+        ja, _ = displacement_rows(P, [(i, o * [1, 1, 0], sg, dr) for i, o, sg, dr in cha])
+        jb, _ = displacement_rows(P, [(i, o * [1, 1, 0], sg, dr) for i, o, sg, dr in chb])
+        g = nvec @ (ja - jb)
         K += k * np.outer(g, g)
         k_mean[name], gradient[name] = k, g
     return Torsional(dofs, M, K, k_mean, gradient)
@@ -391,6 +484,26 @@ def main() -> None:
             near = theirs[np.argsort(np.abs(theirs - f))[:2]]
             worst["planet"] = max(worst.get("planet", 0.0), *np.abs(near / f - 1))
             print(f"  {gear:16s} {f:.8g} Hz: {near[0] / f - 1:+.1e}, {near[1] / f - 1:+.1e}")
+        # Lin & Parker's planar model: the bearings compliant radially (two slides each)
+        cases = (
+            ("NREL 5 MW gearbox, each bearing its rows' isotropic radial stiffness", NREL,
+             file_radial_stiffness(NREL)),
+            ("Saleh 2017 drivetrain, radial bearings (assumed stiffnesses)", SALEH, SALEH_RADIAL),
+        )  # fmt: skip
+        for label, source, radial in cases:
+            copy = planar_copy(source, Path(tmp) / f"planar_{source.name}", radial)
+            p, err = pinwind_modes(copy)
+            flank = unloaded_flanks(err, copy)
+            key = f"planar {source.stem}"
+            worst[key] = compare(
+                f"{label}, planar", p, torsional_model(copy, flank=flank).frequencies_hz()
+            )
+            # the flanks matter once members translate: each mesh's flipped alone
+            moved = 0.0
+            for mesh in flank:
+                flipped = torsional_model(copy, flank={**flank, mesh: -flank[mesh]})
+                moved = max(moved, float(np.max(np.abs(flipped.frequencies_hz()[1:] / p[1:] - 1))))
+            print(f"one mesh on its other flank moves a mode by up to {moved:.1e}")
         old = torsional_model(saleh, pinion_first=False)
         print(
             "\nwith each mesh's gear1 as ISO 6336-1's gear 1 (the numbering before the pinion was "
