@@ -42,6 +42,15 @@ Recoding (the URDF read with ``xml.etree``, nothing of pinwind's but the compare
   docs/validation.md says pinwind takes; the same file prints the other reading).
 - The generalized eigenproblem K φ = ω² M φ (``scipy.linalg.eigh``), f = √ω²/2π.
 
+Planar (Lin & Parker 1999's planar model): a copy whose bearings are radial only
+(``planar_copy``: ``<bearing joint radial_stiffness>``, axially and in tilt rigid), each such
+joint two slides x, y on springs k before its rotation; u(X) gains the slides' directions, so a
+mesh's row gains n on its gears' slides, and n's direction now depends on the flank:
+n = s cos α_w t + ε sin α_w r̂ (docs/model_format.md, "Mesh sign convention"; ε = −1 when A is
+internal), s the flank ``pinwind modes`` names for each unloaded mesh ("X turning forward drives
+Y", ``unloaded_flanks``). The NREL 5 MW gearbox with each bearing's own ``radial_stiffness`` (its
+rows' isotropic equivalent), the Saleh drivetrain with assumed stiffnesses (``SALEH_RADIAL``).
+
 Compared (every mode, sorted): ``python -m pinwind modes COPY --json``; the NREL 5 MW copy also
 with ``--hold generator`` (its row and column struck out of M and K); the Saleh drivetrain also
 from its scenario (scenarios/saleh2017_drivetrain.toml, the model without bearings as shipped)

@@ -5,9 +5,9 @@ Saleh 2017 drivetrain with ideal bearings from the model files alone (docs/valid
 "Independent recoding of the natural modes"): M from the links' masses and inertias in the
 joints' angles (a planet's m r_c² and its own inertia on its carrier's angle), K from the
 torsional springs and each mesh's ISO 6336-1 c_γα b along its line of action, the planet meshes'
-rows Lin & Parker's (1999) torsional deflections. Here the Saleh drivetrain (two parallel stages
-behind a planetary stage, one eigenproblem of seven joints) and the NREL 5 MW gearbox with its
-generator held.
+rows Lin & Parker's (1999) torsional deflections; and with radial bearings, their planar model.
+Here the Saleh drivetrain (two parallel stages behind a planetary stage, seven joints, and on
+radial bearings 21 coordinates) and the NREL 5 MW gearbox with its generator held.
 """
 
 from __future__ import annotations
@@ -58,3 +58,19 @@ def test_the_nrel_5mw_gearbox_s_torsional_modes_with_the_generator_held(tmp_path
     # and the recoding within 6e-10 of the exact value); the others to rounding.
     np.testing.assert_allclose(pinwind_hz[0], recoded[0], rtol=3e-9)
     np.testing.assert_allclose(pinwind_hz[1:], recoded[1:], rtol=1e-12)
+
+
+def test_the_saleh_drivetrain_s_planar_modes_on_radial_bearings_are_those_of_its_m_and_k(tmp_path):
+    # Every shaft and planet translating in a radial bearing (two slides each): each mesh's row
+    # gains the line of action's direction on its gears' slides, which depends on the flank
+    # (Lin & Parker 1999's planar model). Flipping one mesh's flank moves a mode by up to 12 %.
+    r = recoding
+    model = r.planar_copy(r.SALEH, tmp_path / "saleh_planar.urdf", r.SALEH_RADIAL)
+    pinwind_hz, err = r.pinwind_modes(model)
+    flank = r.unloaded_flanks(err, model)
+    assert len(flank) == 8
+    recoded = r.torsional_model(model, flank=flank).frequencies_hz()
+    assert len(pinwind_hz) == len(recoded) == 7 + 2 * 7
+    np.testing.assert_allclose(pinwind_hz[1:], recoded[1:], rtol=1e-12)
+    other = r.torsional_model(model, flank={**flank, "stage1": -flank["stage1"]})
+    assert np.max(np.abs(other.frequencies_hz()[1:] / pinwind_hz[1:] - 1)) > 1e-3
