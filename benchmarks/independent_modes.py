@@ -330,6 +330,192 @@ def torsional_model(
     return Torsional(dofs, M, K, k_mean, gradient)
 
 
+def spatial_model(model: Path, flank: dict[str, float], thrust: float = 1.0) -> Torsional:
+    """M and K of ``model`` as shipped, its compliant bearings with their rows
+    (docs/model_format.md, "Compliant bearings" and "Bearing rows"): before each continuous
+    joint whose ``<bearing>`` has ``radial_stiffness``, slides along u and w (u the
+    ``radial_axis``, default the joint's x, w = k × u), along k with ``axial_stiffness``, and
+    hinges about u and w through the joint's origin with ``tilt_stiffness``. Each row at a along
+    k holds them with its five springs along δ = (z, x + a θ_w, y − a θ_u, θ_u, θ_w) (K_x, K_y,
+    K_z, K_β, K_γ); a bearing without rows its own isotropic springs. A body moves by u(X) = Σ
+    θ_j a_j × (X − o_j) + Σ q_j d_j and turns by Σ θ_j a_j, so M = Σ m J_vᵀ J_v + J_ωᵀ I J_ω
+    with the full inertia tensor. A mesh's overlap δ = f · (u_A(P) − u_B(P)) at the pitch point
+    P in the gears' plane, f = n − s tan β_b,A k_A: the transverse line of action n
+    (``torsional_model``) and, for a helical pair, the axial part of the tooth force
+    (docs/model_format.md, "Mesh sign convention": the force on B gains −s F_n tan β_b,A k_A; an
+    axial shift dz of A moves its flank as a turn of −dz tan β_w / r_w, the overlap by −s dz tan
+    β_b); ``thrust=0`` leaves that axial part out, as pinwind's mesh row does. All axes along z,
+    frames unrotated (checked)."""
+    root = ET.parse(model).getroot()
+    box = root.find("gearbox")
+    assert box is not None
+    joints = {j.attrib["name"]: j for j in root.findall("joint")}
+    parent_joint = {j.find("child").attrib["link"]: j for j in joints.values()}  # type: ignore[union-attr]
+    bearings = {
+        b.attrib["joint"]: b for b in box.findall("bearing") if "radial_stiffness" in b.attrib
+    }
+    k_hat = np.array([0.0, 0.0, 1.0])
+    dofs: list[str] = []
+    frames: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for name, j in joints.items():
+        if j.attrib["type"] not in ("continuous", "revolute"):
+            continue
+        if name in bearings:
+            b = bearings[name]
+            u = _xyz(b, "radial_axis") if "radial_axis" in b.attrib else np.array([1.0, 0, 0])
+            u = u - (u @ k_hat) * k_hat
+            u = u / np.linalg.norm(u)
+            frames[name] = (u, np.cross(k_hat, u))
+            dofs += [f"{name}_radial_x", f"{name}_radial_y"]
+            if "axial_stiffness" in b.attrib:
+                dofs.append(f"{name}_axial")
+            if "tilt_stiffness" in b.attrib:
+                dofs += [f"{name}_tilt_x", f"{name}_tilt_y"]
+        dofs.append(name)
+    index = {n: i for i, n in enumerate(dofs)}
+    n = len(dofs)
+
+    Entry = tuple[int, np.ndarray, np.ndarray, bool]  # (dof, point, axis or direction, rotation?)
+
+    def chain(link: str) -> tuple[np.ndarray, list[Entry]]:
+        up = []
+        while link in parent_joint:
+            j = parent_joint[link]
+            origin = j.find("origin")
+            _check_unrotated(origin, f"joint {j.attrib['name']}")
+            up.append((j, _xyz(origin)))
+            link = j.find("parent").attrib["link"]  # type: ignore[union-attr]
+        out: list[Entry] = []
+        acc = np.zeros(3)
+        for j, o in reversed(up):
+            acc = acc + o
+            name = j.attrib["name"]
+            if j.attrib["type"] not in ("continuous", "revolute"):
+                continue
+            axis = _xyz(j.find("axis"))
+            axis = axis / np.linalg.norm(axis)
+            if abs(abs(axis[2]) - 1.0) > 1e-12:
+                raise ValueError(f"joint {name}: axis {axis} is not along z")
+            if name in frames:
+                u, w = frames[name]
+                out.append((index[f"{name}_radial_x"], acc.copy(), u, False))
+                out.append((index[f"{name}_radial_y"], acc.copy(), w, False))
+                if f"{name}_axial" in index:
+                    out.append((index[f"{name}_axial"], acc.copy(), k_hat, False))
+                if f"{name}_tilt_x" in index:
+                    out.append((index[f"{name}_tilt_x"], acc.copy(), u, True))
+                    out.append((index[f"{name}_tilt_y"], acc.copy(), w, True))
+            out.append((index[name], acc.copy(), axis, True))
+        return acc, out
+
+    def rows(x: np.ndarray, ch: list[Entry]) -> tuple[np.ndarray, np.ndarray]:
+        jv, jw = np.zeros((3, n)), np.zeros((3, n))
+        for i, o, a, rotation in ch:
+            if rotation:
+                jv[:, i] += np.cross(a, x - o)
+                jw[:, i] += a
+            else:
+                jv[:, i] += a
+        return jv, jw
+
+    M = np.zeros((n, n))
+    for link in root.findall("link"):
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        origin = inertial.find("origin")
+        _check_unrotated(origin, f"link {link.attrib['name']} inertial")
+        m = float(inertial.find("mass").attrib["value"])  # type: ignore[union-attr]
+        ia = inertial.find("inertia").attrib  # type: ignore[union-attr]
+        inertia = np.array(
+            [
+                [float(ia["ixx"]), float(ia["ixy"]), float(ia["ixz"])],
+                [float(ia["ixy"]), float(ia["iyy"]), float(ia["iyz"])],
+                [float(ia["ixz"]), float(ia["iyz"]), float(ia["izz"])],
+            ]
+        )
+        pos, ch = chain(link.attrib["name"])
+        jv, jw = rows(pos + _xyz(origin), ch)
+        M += m * jv.T @ jv + jw.T @ inertia @ jw
+
+    K = np.zeros((n, n))
+    for joint, b in bearings.items():
+        row_els = b.findall("row")
+        stiff = [
+            (
+                float(r.attrib.get("position_mm", "0")) * 1e-3,
+                [float(v) for v in r.attrib["stiffness"].split()],
+            )
+            for r in row_els
+            if "stiffness" in r.attrib
+        ]
+        if not stiff:  # the bearing's own isotropic springs
+            kr = float(b.attrib["radial_stiffness"])
+            ka = float(b.attrib.get("axial_stiffness", "0"))
+            kt = float(b.attrib.get("tilt_stiffness", "0"))
+            stiff = [(0.0, [ka, kr, kr, kt, kt])]
+        e = {
+            key: np.eye(n)[index[f"{joint}_{key}"]] if f"{joint}_{key}" in index else np.zeros(n)
+            for key in ("radial_x", "radial_y", "axial", "tilt_x", "tilt_y")
+        }
+        for a, kk in stiff:
+            deltas = (
+                e["axial"],
+                e["radial_x"] + a * e["tilt_y"],
+                e["radial_y"] - a * e["tilt_x"],
+                e["tilt_x"],
+                e["tilt_y"],
+            )
+            for kj, dj in zip(kk, deltas, strict=True):
+                K += kj * np.outer(dj, dj)
+    for sp in box.findall("torsional_spring"):
+        ev = np.zeros(n)
+        ev[index[sp.attrib["joint1"]]] += 1.0
+        if "joint2" in sp.attrib:
+            ev[index[sp.attrib["joint2"]]] -= 1.0
+        K += float(sp.attrib["stiffness"]) * np.outer(ev, ev)
+
+    gears, meshes = gears_of(model)
+    gear_el = {g.attrib["name"]: g for g in box.findall("gear")}
+    k_mean, gradient = {}, {}
+    for name, a_name, b_name in meshes:
+        ga, gb = gears[a_name], gears[b_name]
+        k = recode(ga, gb, ring_as_rack=True)["kmean"]
+        (ca, cha), (cb, chb) = (
+            (
+                chain(gear_el[g].attrib["link"])[0] + _xyz(gear_el[g]),
+                chain(gear_el[g].attrib["link"])[1],
+            )
+            for g in (a_name, b_name)
+        )
+        at = [math.atan(math.tan(g["alpha"]) / math.cos(g["beta"])) for g in (ga, gb)]
+        rb = [
+            g["z"] * g["m"] * math.cos(t) / (2 * math.cos(g["beta"]))
+            for g, t in zip((ga, gb), at, strict=True)
+        ]
+        d = (cb - ca)[:2]
+        dist = float(np.linalg.norm(d))
+        if gb["internal"]:
+            r_hat, cos_aw, eps = -d / dist, (rb[1] - rb[0]) / dist, 1.0
+        elif ga["internal"]:
+            r_hat, cos_aw, eps = d / dist, (rb[0] - rb[1]) / dist, -1.0
+        else:
+            r_hat, cos_aw, eps = d / dist, (rb[0] + rb[1]) / dist, 1.0
+        sin_aw = math.sqrt(1.0 - cos_aw**2)
+        t_hat = np.array([-r_hat[1], r_hat[0]])
+        s = flank.get(name, 1.0)
+        nvec = np.append(s * cos_aw * t_hat + eps * sin_aw * r_hat, 0.0)
+        tan_bb = math.tan(ga["beta"]) * math.cos(at[0])  # signed by A's hand
+        f = nvec - thrust * s * tan_bb * k_hat
+        P = ca + rb[0] / cos_aw * np.append(r_hat, 0.0)
+        ja, _ = rows(P, cha)
+        jb, _ = rows(P, chb)
+        g = f @ (ja - jb)
+        K += k * np.outer(g, g)
+        k_mean[name], gradient[name] = k, g
+    return Torsional(dofs, M, K, k_mean, gradient)
+
+
 def lin_parker_check(
     model: Path, t: Torsional, carrier: str, sun: str, planets: dict[str, str], rings: set[str]
 ) -> float:
@@ -513,6 +699,33 @@ def main() -> None:
                 flipped = torsional_model(copy, flank={**flank, mesh: -flank[mesh]})
                 moved = max(moved, float(np.max(np.abs(flipped.frequencies_hz()[1:] / p[1:] - 1))))
             print(f"one mesh on its other flank moves a mode by up to {moved:.1e}")
+        # the shipped NREL 5 MW gearbox: its rows at their positions, K_y ≠ K_z, axial and tilt
+        p, err = pinwind_modes(NREL)
+        flank = unloaded_flanks(err, NREL)
+        without = spatial_model(NREL, flank, thrust=0.0)
+        worst["shipped"] = compare(
+            "NREL 5 MW gearbox as shipped (each row's five springs at its position), the helical "
+            "thrust left out of the mesh row",
+            p,
+            without.frequencies_hz(),
+        )
+        p, _ = pinwind_modes(NREL, "--hold", "generator")
+        mine = without.frequencies_hz(hold=("generator",))
+        worst["shipped_held"] = float(np.max(np.abs(p / mine - 1)))
+        print(
+            f"with the generator held: {len(p)} modes, the first {p[0]:.6g} Hz (recoded "
+            f"{mine[0]:.6g} Hz), largest |rel. diff| {worst['shipped_held']:.1e}"
+        )
+        free = without.frequencies_hz()
+        thrust = spatial_model(NREL, flank).frequencies_hz()
+        flexible = free > 1e-3 * free[-1]
+        moved = np.abs(thrust[flexible] / free[flexible] - 1)
+        worst_at = int(np.argmax(moved))
+        print(
+            "with stage 3's axial thrust in its row (f = n − s tan β_b k_A): modes move by up to "
+            f"{moved[worst_at]:.1e} ({free[flexible][worst_at]:.2f} → "
+            f"{thrust[flexible][worst_at]:.2f} Hz); pinwind's row has no axial part"
+        )
         old = torsional_model(saleh, pinion_first=False)
         print(
             "\nwith each mesh's gear1 as ISO 6336-1's gear 1 (the numbering before the pinion was "
