@@ -533,6 +533,17 @@ def row_generalized(q: np.ndarray, rows: list[Row]) -> np.ndarray:
     return out
 
 
+def hinge_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """R_x(a) R_y(b), (n, 3, 3): the tilt hinges about u, then about the turned w."""
+    ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
+    zero, one = np.zeros_like(a), np.ones_like(a)
+    rx = np.stack([np.stack([one, zero, zero], -1), np.stack([zero, ca, -sa], -1),
+                   np.stack([zero, sa, ca], -1)], -2)  # fmt: skip
+    ry = np.stack([np.stack([cb, zero, sb], -1), np.stack([zero, one, zero], -1),
+                   np.stack([-sb, zero, cb], -1)], -2)  # fmt: skip
+    return rx @ ry
+
+
 def row_cases(t: Table) -> None:
     kb = np.array([5e7, 4e7, 6e7, 1e5, 2e5])
     kc = np.array([6e7, 5e7, 3e7, 2e5, 1e5])
@@ -583,6 +594,13 @@ def row_cases(t: Table) -> None:
             springs += row_springs(q, row)
         ef = res.bearing("shaft").elastic_force
         t.series(case + " (dynamic)", "elastic_force = Σ rows' springs at the sample", ef, springs)
+        # Σ F_i against the reaction (joint frame, which tilts with the shaft: R_x(θ_u) R_y(θ_w)
+        # at the sample's pose); the rows' axes u, w, k do not tilt
+        total = sum(res.row(f"shaft.{nm}").force[:-1] for nm in ("A", "B"))
+        reaction = res.bearing("shaft").force_local[:-1]
+        t.series(case + " (dynamic)", "Σ rows' force vs the reaction", reaction, total)
+        turned = np.einsum("iba,ib->ia", hinge_rotation(q[:-1, 3], q[:-1, 4]), total)
+        t.series(case + " (dynamic)", "… in the tilted joint frame", reaction, turned)
 
 
 def nrel_rows(text: str) -> dict[str, tuple[np.ndarray, dict[str, Row]]]:
