@@ -26,8 +26,9 @@ def test_the_rotor_thrust_is_half_rho_pi_r_squared_v_squared_ct_of_rosco_s_table
     np.testing.assert_allclose(rotor.tip_speed_ratio, lam, rtol=1e-13)
     np.testing.assert_allclose(rotor.thrust_coefficient, ct, rtol=1e-13)
     np.testing.assert_allclose(rotor.thrust, thrust, rtol=1e-13)
-    # 10 m/s at 12.1 rpm: λ = 7.98 between the table's 7.5 and 8.0 at β = 0
-    assert 7.5 < lam[0] < 8.0 and 6.0e5 < thrust[0] < 6.2e5
+    # 10 m/s at 12.1 rpm: λ = 7.98 between the table's rows 7.5 and 8.0, β = 1.3° between its
+    # columns 1.0° and 1.5° (both interpolations at work)
+    assert 7.5 < lam[0] < 8.0 and r.PITCH_DEG == 1.3 and 5.4e5 < thrust[0] < 5.7e5
 
 
 def test_the_rotor_loads_its_hub_with_thrust_plus_tilted_weight_and_the_shear_moment():
