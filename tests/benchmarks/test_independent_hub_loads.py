@@ -73,3 +73,13 @@ def test_a_rotating_hub_load_turns_with_the_shaft_angle_and_tilts_with_the_shaft
     psi = float(res.joint("lss").angle[-1])
     assert abs(psi) > 1e-4  # the coupling's wind-up under the rated torque
     assert r.statics_summary(res, shaft, r.hub_wrench(r.HUB_LOAD, up, psi), "B")[3] < 1e-9
+
+
+def test_each_main_shaft_row_carries_its_springs_and_dampers_at_the_step_s_mean_state():
+    """Turning, the rows' loads are −K δ − C δ̇ of docs/model_format.md's δ = (z, x + a θ_w,
+    y − a θ_u, θ_u, θ_w), at the mean of the slides' states at the step's two ends (ρ∞ = 1)."""
+    r = recoding
+    shaft = r.read_shaft(r.MODEL, "lss")
+    res = r.run_case("A", DURATION)
+    assert np.max(np.abs(r.slides_of(res, "lss", "speed"))) > 0  # the dampers are at work
+    assert r.law_check(res, shaft) < 1e-12
