@@ -529,6 +529,25 @@ def statics_table(res, shaft: Shaft, hub: Wrench, label: str) -> list[tuple[str,
     out.append(
         (f"{label} bearing moment on u, w′, k′ [N·m]", fmt(ran_m), fmt(rec_m), rel(ran_m, rec_m))
     )
+    # radial, axial and tilting: across and along the tilted axis k′; the tilting moment with
+    # the torque's part across k′ taken out, from the recoded force and hinge moments
+    moment = np.linalg.solve(np.array([axes[3], axes[4], axis]), rec_m)
+    ran_s = np.array([bearing.radial[i], bearing.axial[i], bearing.tilting[i]])
+    rec_s = np.array(
+        [
+            np.linalg.norm(force - (force @ axis) * axis),
+            force @ axis,
+            np.linalg.norm(moment - (moment @ axis) * axis),
+        ]
+    )
+    out.append(
+        (
+            f"{label} bearing radial, axial [N], tilting [N·m]",
+            fmt(ran_s),
+            fmt(rec_s),
+            rel(ran_s, rec_s),
+        )
+    )
     return out
 
 

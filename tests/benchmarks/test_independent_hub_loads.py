@@ -60,7 +60,7 @@ def test_the_main_shaft_s_rows_carry_a_hub_load_as_a_rigid_shaft_on_linear_sprin
     up = -shaft.gravity / np.linalg.norm(shaft.gravity)
     res = r.run_case("B", DURATION, hub=("fixed", r.HUB_LOAD))
     table = r.statics_table(res, shaft, r.hub_wrench(r.HUB_LOAD, up), "B")
-    assert len(table) == 12  # 4 rows' forces, 3 rows' moments (INP-B has no tilt springs), 5 more
+    assert len(table) == 13  # 4 rows' forces, 3 rows' moments (INP-B has no tilt springs), 6 more
     for name, _, _, difference in table:
         assert difference < 1e-9, name
 
