@@ -19,6 +19,10 @@ meshes, every bearing on its rows, the static start), dt = 1e-4 s:
   The static start puts it in equilibrium: its statics close to rounding.
 - **B rotating**: B with its hub load in the ``rotating`` frame, standing (the shaft angle ψ is
   the coupling's wind-up, 4.3e-4 rad).
+- **S** (a rotor known by its C_p alone): Saleh 2017's rotor (the ``saleh2017`` preset, Heier's
+  C_p fit) on ``models/saleh2017_planetary.urdf`` at 14.2 rpm in 10 m/s, 0.05 s at dt = 1 ms;
+  its thrust from momentum theory, C_t = 4a(1 − a) for the a ≤ 1/3 of C_p = 4a(1 − a)² (Burton
+  et al. 2011 §3.2), with the run's own C_p as the input and ρ = 1.225 kg/m³, R = 42.85 m.
 - **C**, **C′** and **C″** (a rotating-frame hub load, turning): B's torque, the generator held
   at 12.1 rpm · 96.354, B's five hub components as a ``rotating`` load, 0.3 s; C′ the same load
   given in the fixed frame as ``csv`` signals, turned by hand with the shaft angle ψ of C's
@@ -103,6 +107,7 @@ ROTOR_MASS = 110_000.0  # kg
 AIR_DENSITY = 1.225  # kg/m³
 SHEAR_EXPONENT = 0.2  # IEC 61400-1 normal wind profile
 WIND = 10.0  # m/s
+SALEH_RADIUS = 42.85  # m: 41 m + 3.7 m / 2 (docs/loads.md, Saleh 2017's calibration)
 #: run A's blade pitch [deg]: between the table's columns 1.0° and 1.5°
 PITCH_DEG = 1.3
 ROTOR_RPM = 12.1
@@ -166,6 +171,31 @@ def thrust_of(omega: np.ndarray, wind: np.ndarray) -> tuple[np.ndarray, ...]:
         [bilinear(table["tsr"], table["pitch_deg"], table["ct"], x, PITCH_DEG) for x in lam]
     )
     return lam, ct, 0.5 * AIR_DENSITY * math.pi * RADIUS**2 * wind**2 * ct
+
+
+def momentum_ct(cp: float) -> float:
+    """C_t = 4a(1 − a) of the axial induction a ≤ 1/3 with C_p = 4a(1 − a)² (actuator-disc
+    momentum theory, Burton et al. 2011 §3.2), a by bisection (C_p increases on [0, 1/3])."""
+    lo, hi = 0.0, 1.0 / 3.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if 4 * mid * (1 - mid) ** 2 < cp else (lo, mid)
+    a = 0.5 * (lo + hi)
+    return 4 * a * (1 - a)
+
+
+def momentum_run():
+    """A rotor known by its C_p alone (Saleh 2017's, Heier's fit): the saleh2017 planetary at
+    14.2 rpm in 10 m/s, 50 steps of 1 ms. Returns the Result."""
+    text = (
+        f'model = "{(REPO / "models" / "saleh2017_planetary.urdf").as_posix()}"\n'
+        "dt = 1e-3\nduration = 0.05\nno_log = true\ninitial_speed = { carrier = 14.2 }\n"
+        'wind = 10.0\n[speed]\nsun = 85.2\n[rotor.carrier]\npreset = "saleh2017"\n'
+    )
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "case.toml"
+        path.write_text(text)
+        return run(load_scenario(path), progress=False)
 
 
 def shear_arm(radius: float, hub_height: float, alpha: float, nodes: int = 64) -> float:
@@ -676,6 +706,19 @@ def main() -> None:
     table.append(("A statics of the shaft (no inertia), from 0.01 s", "", "", statics))
     table.append(("A equation of motion with M q̈", "", "", inertia))
     table.append(("A equation of motion with M q̈ and I_zz Ω θ̇", "", "", gyro))
+
+    s = momentum_run().rotor("carrier")
+    ct_s = np.array([momentum_ct(x) for x in s.power_coefficient])
+    thrust_s = 0.5 * AIR_DENSITY * math.pi * SALEH_RADIUS**2 * s.wind_speed**2 * ct_s
+    table.append(
+        (
+            "S C_t = 4a(1 − a) from the run's C_p = 4a(1 − a)²",
+            fmt(s.thrust_coefficient[-1]),
+            fmt(ct_s[-1]),
+            rel(s.thrust_coefficient, ct_s),
+        )
+    )
+    table.append(("S thrust T [N]", fmt(s.thrust[-1]), fmt(thrust_s[-1]), rel(s.thrust, thrust_s)))
 
     b = run_case("B", 0.2, hub=("fixed", HUB_LOAD))
     table += statics_table(b, shaft, hub_wrench(HUB_LOAD, up), "B")

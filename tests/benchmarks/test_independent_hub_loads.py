@@ -83,3 +83,13 @@ def test_each_main_shaft_row_carries_its_springs_and_dampers_at_the_step_s_mean_
     res = r.run_case("A", DURATION)
     assert np.max(np.abs(r.slides_of(res, "lss", "speed"))) > 0  # the dampers are at work
     assert r.law_check(res, shaft) < 1e-12
+
+
+def test_a_rotor_known_by_its_power_coefficient_alone_thrusts_by_momentum_theory():
+    r = recoding
+    rotor = r.momentum_run().rotor("carrier")
+    ct = np.array([r.momentum_ct(x) for x in rotor.power_coefficient])
+    np.testing.assert_allclose(rotor.thrust_coefficient, ct, rtol=1e-12)
+    thrust = 0.5 * r.AIR_DENSITY * np.pi * r.SALEH_RADIUS**2 * rotor.wind_speed**2 * ct
+    np.testing.assert_allclose(rotor.thrust, thrust, rtol=1e-12)
+    assert 0.4 < rotor.power_coefficient[0] < 16 / 27  # a below 1/3
