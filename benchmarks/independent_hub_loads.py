@@ -19,6 +19,7 @@ meshes, every bearing on its rows, the static start), dt = 1e-4 s:
   The static start puts it in equilibrium: its statics close to rounding.
 - **B rotating**: B with its hub load in the ``rotating`` frame, standing (the shaft angle ψ is
   the coupling's wind-up, 4.3e-4 rad).
+- **E**: A in 3 m/s for 30 steps: λ = 26.6, beyond the table (held at its edge, docs/loads.md).
 - **S** (a rotor known by its C_p alone): Saleh 2017's rotor (the ``saleh2017`` preset, Heier's
   C_p fit) on ``models/saleh2017_planetary.urdf`` at 14.2 rpm in 10 m/s, 0.05 s at dt = 1 ms;
   its thrust from momentum theory, C_t = 4a(1 − a) for the a ≤ 1/3 of C_p = 4a(1 − a)² (Burton
@@ -107,6 +108,8 @@ ROTOR_MASS = 110_000.0  # kg
 AIR_DENSITY = 1.225  # kg/m³
 SHEAR_EXPONENT = 0.2  # IEC 61400-1 normal wind profile
 WIND = 10.0  # m/s
+#: run E's wind [m/s]: λ = 26.6 at 12.1 rpm, beyond the table's 14.5
+LOW_WIND = 3.0
 SALEH_RADIUS = 42.85  # m: 41 m + 3.7 m / 2 (docs/loads.md, Saleh 2017's calibration)
 #: run A's blade pitch [deg]: between the table's columns 1.0° and 1.5°
 PITCH_DEG = 1.3
@@ -149,7 +152,9 @@ def read_performance(path: Path) -> dict[str, np.ndarray]:
 
 
 def bilinear(xs: np.ndarray, ys: np.ndarray, m: np.ndarray, x: float, y: float) -> float:
-    """m[i, j] at (xs[i], ys[j]), interpolated bilinearly at (x, y) inside the grid."""
+    """m[i, j] at (xs[i], ys[j]), interpolated bilinearly at (x, y), held at the grid's edges
+    outside it (docs/loads.md)."""
+    x, y = min(max(x, xs[0]), xs[-1]), min(max(y, ys[0]), ys[-1])
     i = int(np.clip(np.searchsorted(xs, x) - 1, 0, len(xs) - 2))
     j = int(np.clip(np.searchsorted(ys, y) - 1, 0, len(ys) - 2))
     s = (x - xs[i]) / (xs[i + 1] - xs[i])
@@ -429,12 +434,12 @@ def scenario_text(case: str, duration: float, hub=None) -> str:
     turning = case != "B"
     if turning:
         text += f"initial_speed = {{ rotor = {ROTOR_RPM!r} }}\npose_rate = {1.0 / DT!r}\n"
-    if case in ("A", "A'"):
-        text += f"wind = {WIND!r}\n"
+    if case in ("A", "A'", "E"):
+        text += f"wind = {WIND if case != 'E' else LOW_WIND!r}\n"
     else:
         text += f"[torque]\nrotor = {RATED_TORQUE!r}\n"
     text += f"[speed]\ngenerator = {-ROTOR_RPM * RATIO if turning else 0.0!r}\n"
-    if case in ("A", "A'"):
+    if case in ("A", "A'", "E"):
         text += f'[rotor.rotor]\npreset = "nrel5mw"\npitch_deg = {PITCH_DEG!r}\n'
         if case == "A":
             text += f'hub_body = "lss"\nhub_point = {list(HUB_POINT)!r}\n'
@@ -683,6 +688,16 @@ def main() -> None:
         ),
         ("A thrust T [N]", fmt(r.thrust[-1]), fmt(thrust[-1]), rel(r.thrust, thrust)),
     ]
+    e = run_case("E", 0.003)
+    lam_e, _, thrust_e = thrust_of(e.joint("rotor").speed, e.rotor("rotor").wind_speed)
+    table.append(
+        (
+            f"E thrust T [N] at λ = {lam_e[-1]:.1f}, held at the table's edge",
+            fmt(e.rotor("rotor").thrust[-1]),
+            fmt(thrust_e[-1]),
+            rel(e.rotor("rotor").thrust, thrust_e),
+        )
+    )
     fx, fz, my = rotor_hub_load(thrust, arm, g)
     a2 = run_case(
         "A'",

@@ -93,3 +93,14 @@ def test_a_rotor_known_by_its_power_coefficient_alone_thrusts_by_momentum_theory
     thrust = 0.5 * r.AIR_DENSITY * np.pi * r.SALEH_RADIUS**2 * rotor.wind_speed**2 * ct
     np.testing.assert_allclose(rotor.thrust, thrust, rtol=1e-12)
     assert 0.4 < rotor.power_coefficient[0] < 16 / 27  # a below 1/3
+
+
+def test_beyond_rosco_s_table_the_thrust_coefficient_is_held_at_its_edge():
+    r = recoding
+    res = r.run_case("E", DURATION)
+    lam, ct, thrust = r.thrust_of(res.joint("rotor").speed, res.rotor("rotor").wind_speed)
+    assert lam[0] > 20.0  # beyond the table's last λ, 14.5
+    table = r.read_performance(r.TABLE)
+    edge = r.bilinear(table["tsr"], table["pitch_deg"], table["ct"], 14.5, r.PITCH_DEG)
+    np.testing.assert_allclose(ct, edge, rtol=1e-15)
+    np.testing.assert_allclose(res.rotor("rotor").thrust, thrust, rtol=1e-13)
