@@ -314,6 +314,19 @@ def drivetrain(
         if not initial_speeds
         else joint_loads(initial_speeds, where="initial_speeds", joint_index=free, unit="rad/s")
     )
+    slides = set(gearbox.slide_joints)
+    for load in init:
+        start = float(load(0.0))
+        if load.joint in slides and start != 0.0:
+            # The start speeds hold every slide at rest (train_speeds); a speed given one was
+            # reported as speed drivers conflicting with the gear meshes.
+            turning = [name for name in free if name not in slides]
+            raise InputError(
+                f'initial_speeds["{load.joint}"] = {start:g}: "{load.joint}" is a slide of a '
+                "compliant bearing or of the support, which starts at rest (at its static "
+                'deflection, or undeflected with initial_deflection="none"); its speed is not '
+                "an input. Give initial speeds to the turning joints: " + ", ".join(turning)
+            )
     held = tuple(held)
     for name in held:
         if name not in index:

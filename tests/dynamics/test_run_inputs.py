@@ -277,3 +277,23 @@ def test_a_wind_without_a_rotor_is_refused_not_dropped(pair):
     # Only a rotor takes the wind; without one it was dropped, even a NaN.
     with pytest.raises(InputError, match=r"wind nan m/s is given but the run has no rotor"):
         pinwind.simulate(pair, duration=0.01, dt=1e-3, wind=math.nan)
+
+
+def test_an_initial_speed_on_a_compliant_bearings_slide_is_refused_naming_the_slide():
+    # The slides start at rest; a speed given one was reported as "speed drivers on
+    # shaft_radial_x conflict with the gear meshes" on a model with neither.
+    text = """<?xml version="1.0"?>
+<robot name="shaft"><link name="ground"/>
+  <link name="shaft"><inertial><mass value="100"/>
+    <inertia ixx="2" iyy="2" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="shaft" type="continuous"><parent link="ground"/><child link="shaft"/>
+    <axis xyz="0 0 1"/></joint>
+  <gearbox><bearing joint="shaft" radial_stiffness="1e8"/></gearbox></robot>"""
+    gb = loads(text, path="shaft.urdf")
+    with pytest.raises(InputError, match=r'initial_speeds\["shaft_radial_x"\] = 0.005: .* slide'):
+        pinwind.simulate(gb, duration=0.01, dt=1e-3, initial_speeds={"shaft_radial_x": 0.005})
+    # at rest, as it starts anyway, it runs; the shaft's own speed is an input
+    res = pinwind.simulate(
+        gb, duration=0.01, dt=1e-3, initial_speeds={"shaft_radial_x": 0.0, "shaft": 2.0}
+    )
+    np.testing.assert_allclose(res.joint("shaft").speed, 2.0, rtol=1e-12)
