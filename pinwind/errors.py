@@ -242,13 +242,17 @@ class ImplausibleGear(PinwindWarning):
 class EquilibriumNotReached(PinwindWarning):
     """The static start did not converge: the run starts from the last iterate."""
 
-    def __init__(self, iterations: int, correction: float, displacement: float):
+    def __init__(
+        self, iterations: int, correction: float, displacement: float, load_steps: int = 1
+    ):
         self.iterations, self.correction, self.displacement = iterations, correction, displacement
+        self.load_steps = load_steps
+        steps = f", the last try in {load_steps} load steps" if load_steps > 1 else ""
         super().__init__(
-            f"the static start did not converge in {iterations} iterations (last correction "
-            f"{correction:.3g} of a displacement {displacement:.3g} rad or m); the run starts "
-            "there and its first samples carry some of the start-up vibration. Check the initial "
-            'loads, or pass initial_deflection="none" (--initial-deflection none)'
+            f"the static start did not converge in {iterations} iterations{steps} (last "
+            f"correction {correction:.3g} of a displacement {displacement:.3g} rad or m); the "
+            "run starts there and its first samples carry some of the start-up vibration. Check "
+            'the initial loads, or pass initial_deflection="none" (--initial-deflection none)'
         )
 
 
@@ -611,6 +615,27 @@ class Diverged(PinwindError):
             + (f"{cause}. " if cause else "")
             + "Reduce dt, check the torques and spring stiffnesses for values that are far too "
             "large, or add damping."
+        )
+
+
+class StaticStartDiverged(PinwindError):
+    """The static start's Newton iteration diverged (nothing was stepped).
+
+    No start near static equilibrium lies within the model's reach under the loads of t = 0.
+    """
+
+    def __init__(self, correction: float, displacement: float, joint: str, load_steps: int):
+        self.correction, self.displacement = correction, displacement
+        self.joint, self.load_steps = joint, load_steps
+        share = correction / displacement if displacement else math.inf
+        super().__init__(
+            f"the static start diverged under the loads of t = 0, even with the torques taken in "
+            f"{load_steps} steps: its last correction, {correction:.3g} rad or m, is {share:.2g} "
+            f'of the displacement, {displacement:.3g} rad or m (largest at joint "{joint}"), so '
+            "it is not settling. The model cannot carry these loads near its pose (a torque far "
+            "beyond its rating, a unit slip, a bearing or spring far too soft). Check the loads, "
+            'or start undeflected with initial_deflection="none" (--initial-deflection none) to '
+            "see how the run moves"
         )
 
 

@@ -648,8 +648,12 @@ class Stepper:
         inputs: Matrix,
         max_iterations: int,
         tolerance: float,
+        load_steps: int = 1,
     ) -> EquilibriumStatus:
-        """Moves the start to static equilibrium under the first sample's loads."""
+        """Moves the start to static equilibrium under the first sample's loads.
+
+        With load_steps > 1 the torques in that many equal steps, each solved from the last.
+        """
     def mass_matrix(self, q: Vector) -> Matrix:
         """Joint-space inertia at q from the compiled copy of the model [kg·m²]."""
     @property
@@ -688,6 +692,7 @@ class EquilibriumStatus:
     converged: bool  # the last correction fell below the tolerance
     correction: float  # max |Δq| of the last iteration [rad or m]
     displacement: float  # max |q − q₀| [rad or m]
+    largest: int  # the velocity coordinate where |q − q₀| is largest
     residual: float  # relative residual of the last linear solve
     flank_switches: int  # compliant meshes that handed their load to the other flank
 

@@ -59,7 +59,12 @@ from pinwind.dynamics.linear_model import check_held, linear_model
 from pinwind.dynamics.result import Result
 from pinwind.dynamics.run_settings import RunSettings
 from pinwind.dynamics.solver import SolverSettings
-from pinwind.dynamics.stepper import CompiledStepper
+from pinwind.dynamics.stepper import (
+    EQUILIBRIUM_DIVERGED,
+    EQUILIBRIUM_LOAD_STEPS,
+    EQUILIBRIUM_ROUNDING,
+    CompiledStepper,
+)
 from pinwind.dynamics.support_springs import from_ground, roll_share
 from pinwind.dynamics.torque_balance import imbalances, representative_torque
 from pinwind.dynamics.torsional_modes import highest_spring_mode
@@ -73,6 +78,7 @@ from pinwind.errors import (
     PinwindError,
     SpeedOutOfRange,
     SpringsWoundAtStart,
+    StaticStartDiverged,
     StepTooCoarse,
     TorquesUnbalanced,
 )
@@ -1009,24 +1015,53 @@ def _static_start(
 ) -> dict[str, object]:
     """Moves the stepper's start to static equilibrium under the loads of t = 0.
 
-    Returns what ``metadata["initial_deflection"]`` records: iterations, whether it converged,
-    the largest joint displacement [rad or m], the flank switches and the last linear solve's
-    relative residual. Warns (``EquilibriumNotReached``) when it did not converge.
+    When the whole load at once does not converge, the start is taken again from the
+    undeflected pose with the torques in ``EQUILIBRIUM_LOAD_STEPS`` equal steps (a continuation).
+
+    Returns what ``metadata["initial_deflection"]`` records: iterations (over every attempt),
+    whether it converged, the load steps of the last attempt, the largest joint displacement
+    [rad or m], the flank switches and the last linear solve's relative residual. Warns
+    (``EquilibriumNotReached``) when it did not converge; raises ``StaticStartDiverged`` when it
+    is not even settling (``EQUILIBRIUM_DIVERGED``).
     """
     nv = gearbox.model.nv
     torque, _ = _signal_table(torque_loads, 0, 1, dt, [ld.v_index for ld in torque_loads], nv)
     torque = from_ground(gearbox, roll_share(gearbox), torque)
     target, _ = _signal_table(drivers, 0, 2, dt, list(range(len(drivers))), len(drivers))
     inputs = elements.inputs(np.zeros(1))
+    undeflected = stepper.save() if stepper.saves_state else None
     status = stepper.equilibrium(torque, target, inputs)
+    iterations, steps = status.iterations, 1
+    for n in EQUILIBRIUM_LOAD_STEPS if undeflected is not None else ():
+        if status.converged or status.correction <= EQUILIBRIUM_ROUNDING:  # steps cannot help
+            break
+        stepper.restore(undeflected)
+        status = stepper.equilibrium(torque, target, inputs, load_steps=n)
+        iterations, steps = iterations + status.iterations, n
+    settling = status.correction <= max(
+        EQUILIBRIUM_DIVERGED * status.displacement, EQUILIBRIUM_ROUNDING
+    )
+    if not status.converged and not settling:  # NaN too
+        raise StaticStartDiverged(
+            status.correction,
+            status.displacement,
+            next(
+                (n for n in gearbox.joint_names if gearbox.v_index(n) == status.largest),
+                f"coordinate {status.largest}",
+            ),
+            steps,
+        )
     if not status.converged:
         warnings.warn(
-            EquilibriumNotReached(status.iterations, status.correction, status.displacement),
+            EquilibriumNotReached(
+                iterations, status.correction, status.displacement, load_steps=steps
+            ),
             stacklevel=user_stacklevel(),
         )
     return {
-        "iterations": int(status.iterations),
+        "iterations": int(iterations),
         "converged": bool(status.converged),
+        "load_steps": int(steps),
         "displacement": float(status.displacement),
         "flank_switches": int(status.flank_switches),
         "residual": float(status.residual),

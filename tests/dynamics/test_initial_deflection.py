@@ -17,12 +17,20 @@ J_B = 0.006 kg·m², no gravity):
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 import pytest
 
 import pinwind
-from pinwind.errors import InputError, StepTooCoarse, TorquesUnbalanced
+from pinwind.dynamics.stepper import EQUILIBRIUM_DIVERGED, EQUILIBRIUM_LOAD_STEPS
+from pinwind.errors import (
+    EquilibriumNotReached,
+    InputError,
+    StaticStartDiverged,
+    StepTooCoarse,
+    TorquesUnbalanced,
+)
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from tests.conftest import MODELS, load_model, two_gear_urdf
@@ -192,3 +200,51 @@ def _ratio(gb) -> float:
 def test_an_unknown_start_is_refused_naming_the_choices():
     with pytest.raises(InputError, match="'static', 'none'"):
         _pair(duration=1e-3, dt=1e-5, meshes={"m": _constant()}, initial_deflection="relaxed")
+
+
+#: The NREL 5 MW gearbox's rated rotor torque [N·m] (5 MW at 12.1 rpm, Jonkman et al. 2009).
+RATED_5MW = 3.946e6
+
+
+def _standing_5mw(torque: float) -> pinwind.Result:
+    """The NREL 5 MW gearbox standing: ``torque`` on the rotor, the generator held at rest."""
+    gearbox = pinwind.load(MODELS / "nrel5mw_gearbox.urdf")
+    return pinwind.simulate(
+        gearbox, duration=0.002, dt=1e-4, torques={"rotor": torque}, speeds={"generator": 0.0}
+    )
+
+
+def test_a_load_beyond_newtons_reach_is_taken_in_steps_to_static_equilibrium(monkeypatch):
+    """2.6 times rated torque on the NREL 5 MW gearbox: Newton from the undeflected pose does
+    not converge (its planets' tilts and contacts change too much), the same load taken in steps
+    does, and the run then starts at rest in static equilibrium: no acceleration at its first
+    sample, where the undeflected start accelerates at once."""
+    torque = 2.6 * RATED_5MW
+    simulate_module = sys.modules["pinwind.dynamics.simulate"]  # the package's name is a function
+    monkeypatch.setattr(simulate_module, "EQUILIBRIUM_LOAD_STEPS", ())
+    with pytest.warns(EquilibriumNotReached):
+        whole = _standing_5mw(torque)
+    assert not whole.metadata["initial_deflection"]["converged"]
+    monkeypatch.undo()
+    stepped = _standing_5mw(torque)
+    start = stepped.metadata["initial_deflection"]
+    assert start["converged"] and start["load_steps"] > 1
+    undeflected = pinwind.simulate(
+        pinwind.load(MODELS / "nrel5mw_gearbox.urdf"), duration=0.002, dt=1e-4,
+        torques={"rotor": torque}, speeds={"generator": 0.0}, initial_deflection="none",
+    )  # fmt: skip
+    jolt = np.abs(undeflected.acceleration[0]).max()
+    assert np.abs(stepped.acceleration[0]).max() < 1e-6 * jolt
+    # The held generator takes the rotor torque back at the train's ratio (its teeth: Nejad et
+    # al. 2016), to the order of the deflections over the radii (the centres move).
+    ratio = (1 + 56 / 19) * (1 + 93 / 18) * (95 / 24)
+    np.testing.assert_allclose(stepped.joint("generator").torque[0], torque / ratio, rtol=1e-4)
+
+
+def test_a_static_start_that_diverges_is_refused_naming_the_joint():
+    """Six times rated torque: the planets' soft rows (Nejad et al. 2016 Table VI) let no static
+    start near the model's pose be found even in 64 steps: refused before any step."""
+    with pytest.raises(StaticStartDiverged, match=r'largest at joint "stage\d_planet\d"') as info:
+        _standing_5mw(6.0 * RATED_5MW)
+    assert info.value.correction > EQUILIBRIUM_DIVERGED * info.value.displacement
+    assert info.value.load_steps == max(EQUILIBRIUM_LOAD_STEPS)

@@ -90,6 +90,7 @@ struct EquilibriumStatus {
   bool converged = false;    // the last correction fell below the tolerance
   double correction = 0.0;   // max |Δq| of the last iteration [rad or m]
   double displacement = 0.0; // max |q − q₀| over the joints [rad or m]
+  long largest = 0;          // the velocity coordinate where |q − q₀| is largest
   double residual = 0.0;     // relative residual of the last linear solve
   long flank_switches = 0;   // compliant meshes that handed their load to the other flank
 };
@@ -178,8 +179,15 @@ class Stepper {
   // row whose multiplier pulls switches to its other flank as the step does (on a body that
   // moves, a planet in a compliant bearing, the other flank is another line). The stiffness
   // follows the pairs in contact at each q, so the iteration ends when Δq stops changing.
+  // With load_steps n > 1 the applied torques are taken in n equal steps (k/n of them, k = 1 … n),
+  // each solved from the last one's end with up to max_iterations iterations (a continuation: a
+  // load far beyond the one the model was made for can take the contacts and the large tilts
+  // out of Newton's reach from the undeflected pose); the displacement and the convergence are
+  // measured from the call's start, the iterations counted over all steps, converged says
+  // whether the last step (the whole load) converged, and a step whose correction exceeds the
+  // displacement (diverged) ends the call.
   EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
-                                long max_iterations, double tolerance);
+                                long max_iterations, double tolerance, long load_steps = 1);
 
   // The step's assembly alone at (q, v), with the rows' current flanks (for checks against
   // Pinocchio's own and finite differences); the run's state is kept.

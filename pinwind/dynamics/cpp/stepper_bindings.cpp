@@ -250,14 +250,15 @@ class PyStepper {
   std::vector<long> mesh_frames() const { return stepper_->mesh_frames(); }
 
   EquilibriumStatus equilibrium(const RowMat& torque, const RowMat& target, const RowMat& inputs,
-                                long max_iterations, double tolerance) {
+                                long max_iterations, double tolerance, long load_steps) {
     const long nv = counts_[static_cast<size_t>(Family::joint)];
     if (torque.rows() != 1 || torque.cols() != nv || target.rows() != 2 ||
         (inputs_ && (inputs.rows() != 1 || inputs.cols() != inputs_))) {
       throw std::invalid_argument(
           "equilibrium: torque (1, nv), target (2, drivers), inputs (1, input_columns)");
     }
-    return stepper_->equilibrium(torque, target, inputs, max_iterations, tolerance);
+    if (load_steps < 1) throw std::invalid_argument("equilibrium: load_steps must be at least 1");
+    return stepper_->equilibrium(torque, target, inputs, max_iterations, tolerance, load_steps);
   }
 
   Assembly assemble(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
@@ -397,6 +398,7 @@ void bind_stepper(nb::module_& m) {
       .def_ro("converged", &EquilibriumStatus::converged)
       .def_ro("correction", &EquilibriumStatus::correction)
       .def_ro("displacement", &EquilibriumStatus::displacement)
+      .def_ro("largest", &EquilibriumStatus::largest)
       .def_ro("residual", &EquilibriumStatus::residual)
       .def_ro("flank_switches", &EquilibriumStatus::flank_switches);
 
@@ -424,8 +426,9 @@ void bind_stepper(nb::module_& m) {
            "Steps samples [k0, k1) into rows 0 … k1 − k0 − 1 of out (stride > 1: only every "
            "stride-th sample from 0 and the run's last, in consecutive rows); returns the status.")
       .def("equilibrium", &PyStepper::equilibrium, "torque"_a, "target"_a, "inputs"_a,
-           "max_iterations"_a, "tolerance"_a,
-           "Moves the start to static equilibrium under the first sample's loads.")
+           "max_iterations"_a, "tolerance"_a, "load_steps"_a = 1,
+           "Moves the start to static equilibrium under the first sample's loads (the torques "
+           "in load_steps equal steps).")
       .def("mass_matrix", &PyStepper::mass_matrix, "q"_a,
            "Joint-space inertia at q, from this module's copy of the model [kg·m²].")
       .def_prop_ro("constant_mass", &PyStepper::constant_mass,
