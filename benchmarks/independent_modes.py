@@ -160,6 +160,35 @@ def _xyz(el: ET.Element | None, name: str = "xyz") -> np.ndarray:
     return np.array([float(v) for v in el.attrib.get(name, "0 0 0").split()])
 
 
+def _joints_from_ground(link: str, parent_joint: dict) -> list[tuple[ET.Element, np.ndarray]]:
+    """The joints from the ground to ``link``, each with its origin in the world [m].
+
+    Every frame is unrotated (``_check_unrotated``), so a joint's world origin is the sum of its
+    and its ancestors' origins.
+    """
+    up = []  # (joint, its origin in the parent frame), from the link to the ground
+    while link in parent_joint:
+        j = parent_joint[link]
+        origin = j.find("origin")
+        _check_unrotated(origin, f"joint {j.attrib['name']}")
+        up.append((j, _xyz(origin)))
+        link = j.find("parent").attrib["link"]  # type: ignore[union-attr]
+    chain, at = [], np.zeros(3)
+    for j, origin in reversed(up):
+        at = at + origin
+        chain.append((j, at))
+    return chain
+
+
+def _z_axis(joint: ET.Element) -> np.ndarray:
+    """A revolute joint's unit axis, which the recoding takes along ±z."""
+    axis = _xyz(joint.find("axis"))
+    axis = axis / np.linalg.norm(axis)
+    if abs(abs(axis[2]) - 1.0) > 1e-12:
+        raise ValueError(f"joint {joint.attrib['name']}: axis {axis} is not along z")
+    return axis
+
+
 def _check_unrotated(el: ET.Element | None, what: str) -> None:
     if el is not None and any(float(v) != 0.0 for v in el.attrib.get("rpy", "0 0 0").split()):
         raise ValueError(f"{what}: a rotated frame; this recoding takes unrotated frames only")
@@ -226,24 +255,11 @@ def torsional_model(
     def chain(link: str) -> tuple[np.ndarray, list[Link]]:
         """The link frame's world origin and its chain: (dof index, joint origin, axis sign,
         None) for a rotation, (dof index, _, _, direction) for a slide."""
-        up = []  # (joint, its origin in the parent frame), from the link to the ground
-        while link in parent_joint:
-            j = parent_joint[link]
-            origin = j.find("origin")
-            _check_unrotated(origin, f"joint {j.attrib['name']}")
-            up.append((j, _xyz(origin)))
-            link = j.find("parent").attrib["link"]  # type: ignore[union-attr]
-        # every frame unrotated: a joint's world origin is the sum of its and its ancestors' origins
-        world: list[Link] = []
-        acc = np.zeros(3)
-        for j, o in reversed(up):
-            acc = acc + o
+        acc, world = np.zeros(3), []
+        for j, acc in _joints_from_ground(link, parent_joint):
             name = j.attrib["name"]
             if j.attrib["type"] in ("continuous", "revolute"):
-                axis = _xyz(j.find("axis"))
-                axis = axis / np.linalg.norm(axis)
-                if abs(abs(axis[2]) - 1.0) > 1e-12:
-                    raise ValueError(f"joint {name}: axis {axis} is not along z")
+                axis = _z_axis(j)
                 if name in radial:
                     world.append((index[f"{name}_x"], acc.copy(), 0.0, np.array([1.0, 0.0, 0.0])))
                     world.append((index[f"{name}_y"], acc.copy(), 0.0, np.array([0.0, 1.0, 0.0])))
@@ -379,24 +395,12 @@ def spatial_model(model: Path, flank: dict[str, float], thrust: float = 1.0) -> 
     Entry = tuple[int, np.ndarray, np.ndarray, bool]  # (dof, point, axis or direction, rotation?)
 
     def chain(link: str) -> tuple[np.ndarray, list[Entry]]:
-        up = []
-        while link in parent_joint:
-            j = parent_joint[link]
-            origin = j.find("origin")
-            _check_unrotated(origin, f"joint {j.attrib['name']}")
-            up.append((j, _xyz(origin)))
-            link = j.find("parent").attrib["link"]  # type: ignore[union-attr]
-        out: list[Entry] = []
-        acc = np.zeros(3)
-        for j, o in reversed(up):
-            acc = acc + o
+        acc, out = np.zeros(3), []
+        for j, acc in _joints_from_ground(link, parent_joint):
             name = j.attrib["name"]
             if j.attrib["type"] not in ("continuous", "revolute"):
                 continue
-            axis = _xyz(j.find("axis"))
-            axis = axis / np.linalg.norm(axis)
-            if abs(abs(axis[2]) - 1.0) > 1e-12:
-                raise ValueError(f"joint {name}: axis {axis} is not along z")
+            axis = _z_axis(j)
             if name in frames:
                 u, w = frames[name]
                 out.append((index[f"{name}_radial_x"], acc.copy(), u, False))
