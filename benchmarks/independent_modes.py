@@ -180,6 +180,19 @@ def _joints_from_ground(link: str, parent_joint: dict) -> list[tuple[ET.Element,
     return chain
 
 
+def _torsional_springs(box: ET.Element, index: dict[str, int]) -> np.ndarray:
+    """K of the model's torsional springs over the coordinates ``index``: k (e₁ − e₂)(e₁ − e₂)ᵀ
+    (a spring to the ground when it has no joint2)."""
+    K = np.zeros((len(index), len(index)))
+    for spring in box.findall("torsional_spring"):
+        e = np.zeros(len(index))
+        e[index[spring.attrib["joint1"]]] += 1.0
+        if "joint2" in spring.attrib:
+            e[index[spring.attrib["joint2"]]] -= 1.0
+        K += float(spring.attrib["stiffness"]) * np.outer(e, e)
+    return K
+
+
 def _z_axis(joint: ET.Element) -> np.ndarray:
     """A revolute joint's unit axis, which the recoding takes along ±z."""
     axis = _xyz(joint.find("axis"))
@@ -296,12 +309,7 @@ def torsional_model(
     for joint, k in radial.items():
         for axis in "xy":
             K[index[f"{joint}_{axis}"], index[f"{joint}_{axis}"]] += k
-    for sp in box.findall("torsional_spring"):
-        e = np.zeros(n)
-        e[index[sp.attrib["joint1"]]] += 1.0
-        if "joint2" in sp.attrib:
-            e[index[sp.attrib["joint2"]]] -= 1.0
-        K += float(sp.attrib["stiffness"]) * np.outer(e, e)
+    K += _torsional_springs(box, index)
 
     gears, meshes = gears_of(model)
     gear_el = {g.attrib["name"]: g for g in box.findall("gear")}
@@ -473,12 +481,7 @@ def spatial_model(model: Path, flank: dict[str, float], thrust: float = 1.0) -> 
             )
             for kj, dj in zip(kk, deltas, strict=True):
                 K += kj * np.outer(dj, dj)
-    for sp in box.findall("torsional_spring"):
-        ev = np.zeros(n)
-        ev[index[sp.attrib["joint1"]]] += 1.0
-        if "joint2" in sp.attrib:
-            ev[index[sp.attrib["joint2"]]] -= 1.0
-        K += float(sp.attrib["stiffness"]) * np.outer(ev, ev)
+    K += _torsional_springs(box, index)
 
     gears, meshes = gears_of(model)
     gear_el = {g.attrib["name"]: g for g in box.findall("gear")}
