@@ -1032,9 +1032,9 @@ def _static_start(
     undeflected = stepper.save() if stepper.saves_state else None
     status = stepper.equilibrium(torque, target, inputs)
     iterations, steps = status.iterations, 1
-    for n in EQUILIBRIUM_LOAD_STEPS if undeflected is not None else ():
-        if status.converged or status.correction <= EQUILIBRIUM_ROUNDING:  # steps cannot help
-            break
+    for n in EQUILIBRIUM_LOAD_STEPS:
+        if undeflected is None or status.converged or status.correction <= EQUILIBRIUM_ROUNDING:
+            break  # no start to go back to, or steps cannot help (rounding)
         stepper.restore(undeflected)
         status = stepper.equilibrium(torque, target, inputs, load_steps=n)
         iterations, steps = iterations + status.iterations, n
