@@ -58,12 +58,13 @@ step's end, held over the next)". The replay takes sample k + 1's speed (the end
 make the pitch of step k + 1; the other reading (sample k's speed) is printed beside it.
 
 Found: DISCON holds the integral within [β_min, β_max] / (GK K_I); pinwind holds it within
-[β_min, β_max] / K_I, which binds once β/GK(β) > β_max, i.e. above β = 20.87° (GK < 1 widens
-DISCON's bounds as the pitch grows). Above that the integral cannot reach the operating point
-and the rotor overspeeds: at 24 m/s (β* = 21.80°) the pitch stays near 21.1° and the rotor turns
-12.3 rpm. The replay with pinwind's bounds (printed) reproduces the run exactly.
+[β_min, β_max] / K_I, which binds once β/GK(β) > β_max (GK < 1 widens DISCON's bounds as the
+pitch grows), i.e. above β = 20.87°, 23.07 m/s in steady wind. Above that the integral cannot
+reach the operating point and the rotor overspeeds: at 24 m/s (β* = 21.80°) the pitch stays
+near 21.3° and the rotor turns 12.4 rpm. The replay with pinwind's bounds (printed) reproduces
+the run exactly.
 
-Run: ``PYTHONPATH=. python benchmarks/independent_pitch_control.py`` (about 1.5 min on a busy
+Run: ``PYTHONPATH=. python benchmarks/independent_pitch_control.py`` (about 1 min on a busy
 2-core machine).
 """
 
