@@ -22,7 +22,13 @@ at the start:
   the 5.2613 MW this model's generator holds at 12.1 rpm (its ratio is 96.354): the run settles
   at β*(13) = 6.536°;
 - **step**: 14 → 16 m/s at t = 5 s (a ``step`` wind signal), from β*(14 m/s): the controller's
-  transient, replayed sample by sample.
+  transient, replayed sample by sample;
+- **small step**: 18 → 18.2 m/s at t = 0.2 s, against the loop linearised at β*(18 m/s) (the
+  rotor's J δω̇ = ∂τ/∂ω δω + ∂τ/∂β δβ with the table's slopes, DISCON's filter and PI, dβ/du =
+  1/(1 + 2β/θ_K) as GK follows the pitch), J the drivetrain's inertia on the rotor shaft from
+  the run's kinetic energy at the start, 2T/ω² (rigid meshes: every body turns in ratio): its
+  pair, and the same with Jonkman et al. 2009's inertia (rotor 38 759 236 kg·m² and generator
+  534.116 kg·m² times 97²), which docs/loads.md's "as run" pair (0.47 rad/s, ζ 0.66) is.
 
 Recoding, from public sources and the shipped data file only:
 
@@ -81,6 +87,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy.linalg import expm
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
@@ -120,6 +127,9 @@ PC_MAX_PIT_DEG = 90.0  # docs/loads.md: 0 to 90° (DISCON's PC_MaxPit 1.570796 r
 KEPT = ("speed", "rotor_torque", "rotor_power", "rotor_wind_speed", "rotor_pitch")
 HOLD_WINDS = (13.0, 16.0, 20.0, 24.0)  # m/s
 STEP_WIND = (14.0, 16.0, 5.0)  # m/s before, after, time of the step [s]
+LINEAR_STEP = (18.0, 0.2, 0.2)  # m/s, its step [m/s], time of the step [s]
+#: Jonkman et al. 2009 Table 1-1: the rotor's inertia and the generator's (HSS) times 97²
+JONKMAN_INERTIA = 38_759_236.0 + 97.0**2 * 534.116  # kg·m²
 
 
 # --- the table ------------------------------------------------------------------------------
@@ -288,6 +298,46 @@ def replay(
     return out
 
 
+def loop_matrix(table: Table, wind: float, inertia: float, c: Discon | None = None) -> np.ndarray:
+    """The controller's loop linearised at (Ω_ref, β*(wind)) on the states (δω, δω_f, I):
+    J δω̇ = ∂τ/∂ω δω + ∂τ/∂β δβ (the generator's torque is constant in region 3), the filter
+    δω̇_f = ω_c (δω − δω_f), İ = δω_f, and δβ = (K_P δω_f + K_I I) / (1 + 2β*/θ_K) (β = GK(β) u
+    with GK at the pitch itself: dβ/du = 1/(1 + 2β/θ_K)); the table's slopes by central
+    differences. ``inertia`` [kg·m²] on the rotor shaft."""
+    c = c or Discon()
+    b, w = settled_pitch(table, wind), OMEGA_REF
+    dw, db = 1e-6, 1e-7
+    t_w = (aero_torque(table, w + dw, wind, b) - aero_torque(table, w - dw, wind, b)) / (2 * dw)
+    t_b = (aero_torque(table, w, wind, b + db) - aero_torque(table, w, wind, b - db)) / (2 * db)
+    g = 1 / (1 + 2 * b / c.gain_angle)
+    return np.array(
+        [
+            [t_w / inertia, t_b * g * c.kp / inertia, t_b * g * c.ki / inertia],
+            [c.corner, -c.corner, 0.0],
+            [0.0, 1.0, 0.0],
+        ]
+    )
+
+
+def loop_pair(a: np.ndarray) -> tuple[float, float]:
+    """ω_n [rad/s] and ζ of the complex pair of ``a``'s eigenvalues."""
+    e = next(e for e in np.linalg.eigvals(a) if e.imag > 0)
+    return float(abs(e)), float(-e.real / abs(e))
+
+
+def loop_response(a: np.ndarray, forcing: float, time: np.ndarray, at: float) -> np.ndarray:
+    """δω(t) [rad/s] of the linear loop under a step of torque ``forcing`` / J [rad/s²] at
+    ``at`` [s], sampled at ``time`` (exact per step: the matrix exponential)."""
+    dt = float(time[1] - time[0])
+    ad = expm(a * dt)
+    bd = np.linalg.solve(a, (ad - np.eye(3)) @ np.array([forcing, 0.0, 0.0]))
+    x, out = np.zeros(3), np.zeros(len(time))
+    for i in range(1, len(time)):
+        x = ad @ x + (bd if time[i - 1] >= at - 1e-12 else 0.0)
+        out[i] = x[0]
+    return out
+
+
 # --- runs -----------------------------------------------------------------------------------
 
 
@@ -391,19 +441,20 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--hold", type=float, default=10.0, help="each hold run [s]")
     p.add_argument("--settle", type=float, default=30.0, help="the scenario-start run [s]")
     p.add_argument("--step", type=float, default=30.0, help="the step run [s]")
+    p.add_argument("--linear", type=float, default=20.0, help="the small step run [s]")
     a = p.parse_args(argv)
     table = read_table()
     t0 = time.time()
     rows: list[tuple[str, str, str, str]] = []
 
-    def row(q: str, pw: float | str, rc: float | str, d: float) -> None:
+    def row(q: str, pw: float | str, rc: float | str, d: float | None) -> None:
         def text(x: float | str) -> str:
             return x if isinstance(x, str) else f"{x:.10g}"
 
-        rows.append((q, text(pw), text(rc), f"{d:.1e}"))
+        rows.append((q, text(pw), text(rc), "-" if d is None else f"{d:.1e}"))
 
     power = settled_torque() * OMEGA_REF
-    row("settled torque on the rotor N T_r [N·m]", "", settled_torque(), 0.0)
+    row("settled torque on the rotor N T_r [N·m]", "", settled_torque(), None)
     runs = []
     for v in HOLD_WINDS:
         b = settled_pitch(table, v)
@@ -435,6 +486,35 @@ def main(argv: list[str] | None = None) -> None:
     runs.append(rr)
     pw, rc = math.degrees(rr.pitch[-1]), math.degrees(settled_pitch(table, STEP_WIND[1]))
     row(f"step: pitch [deg] at {a.step:g} s", pw, rc, abs(pw / rc - 1))
+    # the loop's pair: a small step; the drivetrain's inertia on the rotor shaft from its kinetic
+    # energy at the start, J = 2 T / ω² (rigid meshes: every body turns in ratio with the rotor)
+    v1, dv, at = LINEAR_STEP
+    res = run_case(
+        f'"step(time={at!r}, before={v1!r}, after={v1 + dv!r})"', settled_pitch(table, v1), a.linear
+    )
+    rr = recode(f"step {v1:g} to {v1 + dv:g} m/s", res, table)
+    runs.append(rr)
+    inertia = 2 * float(np.asarray(res.energy["kinetic"])[0]) / rr.speed[0] ** 2
+    row("drivetrain inertia on the rotor shaft [kg·m²], 2T/ω²", inertia, "", None)
+    loop = loop_matrix(table, v1, inertia)
+    wn, zeta = loop_pair(loop)
+    row(f"{v1:g} m/s: loop's pair, ω_n [rad/s]", "", wn, None)
+    row(f"{v1:g} m/s: loop's pair, ζ", "", zeta, None)
+    b1 = settled_pitch(table, v1)
+    t_v = (
+        aero_torque(table, OMEGA_REF, v1 + 1e-4, b1) - aero_torque(table, OMEGA_REF, v1 - 1e-4, b1)
+    ) / 2e-4
+    lin = loop_response(loop, t_v * dv / inertia, rr.time, at)
+    dw = rr.speed - OMEGA_REF
+    row(
+        f"{v1:g} m/s: δω, run against the linear loop (of its peak)",
+        float(np.max(np.abs(dw))),
+        float(np.max(np.abs(lin))),
+        rel(dw, lin),
+    )
+    jonkman = loop_matrix(table, v1, JONKMAN_INERTIA)
+    wn, zeta = loop_pair(jonkman)
+    row(f"{v1:g} m/s: the same with Jonkman's inertia, ω_n, ζ", "", f"{wn:.4f}, {zeta:.4f}", None)
     for rr in runs:
         n = len(rr.torque_recoded)
         row(f"{rr.name}: pitch per sample, DISCON replayed", "", "", rel(rr.pitch, rr.replay_end))
