@@ -14,9 +14,9 @@ at the start:
   ∂τ/∂β δβ unbalanced and the controller would move the pitch by about δβ within a few of its
   time constants (ω_n ≈ 0.5 rad/s: seconds), so the pitch over the run's second half against β*
   measures the recoding's error, down to the drivetrain's own motion: the static start of this
-  turning gearbox under gravity leaves the rotor joint at −9.7e-6 rad/s² (about 370 N·m, 9e-5
-  of the rotor torque, off balance), and its lightly damped torsion then moves the rotor speed
-  by about 2e-6 rad/s, which the controller follows (≈ 1e-6 of the pitch);
+  turning gearbox under gravity leaves the rotor joint at −9.7e-6 rad/s² (about 560 N·m on its
+  5.72e7 kg·m², 1.3e-4 of the rotor torque, off balance), and its lightly damped torsion then
+  moves the rotor speed by about 2e-6 rad/s, which the controller follows (≈ 1e-6 of the pitch);
 - **scenario start**: 13 m/s from the pitch of ``scenarios/nrel5mw_turbulent.toml``, 6.474160°,
   which is the pitch of 5.2966 MW (ROSCO's rated power, at Jonkman's ratio 97) rather than of
   the 5.2613 MW this model's generator holds at 12.1 rpm (its ratio is 96.354): the run settles
