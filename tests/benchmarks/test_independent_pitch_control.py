@@ -51,12 +51,6 @@ def test_a_run_started_at_the_settled_pitch_holds_rated_torque_and_speed():
     np.testing.assert_allclose(rr.speed, omega, rtol=1e-5)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the compiled controller holds the integral to [β_min, β_max]/K_I, DISCON to "
-    "[β_min, β_max]/(GK K_I): above 20.87° of pitch the run's integral is cut and the rotor "
-    "overspeeds",
-)
 def test_the_integral_is_held_to_the_pitch_limits_over_gk_ki_as_discon_holds_it():
     r = recoding
     table = r.read_table()

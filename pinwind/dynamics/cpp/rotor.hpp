@@ -32,7 +32,7 @@
 // DISCON (OpenFAST reg_tests/5MW_Baseline/ServoData/Source/DISCON.f90) computes it at each call:
 //
 //     ω_f ← (1 − α) ω + α ω_f,   α = e^{−ω_c h}
-//     e = ω_f − Ω_ref,   I ← clamp(I + e h, β_min/K_I, β_max/K_I)       (anti-windup)
+//     e = ω_f − Ω_ref,   I ← clamp(I + e h, β_min/(GK K_I), β_max/(GK K_I))   (anti-windup)
 //     β_c = clamp(GK(β) (K_P e + K_I I), β_min, β_max),   GK(β) = 1/(1 + β/θ_K)
 //     β ← clamp(β + clamp(β_c − β, −β̇_max h, β̇_max h), β_min, β_max)
 //
@@ -99,9 +99,14 @@ class PitchController {
     const double alpha = std::exp(-c_.corner * h);
     filtered_ = (1.0 - alpha) * omega + alpha * filtered_;
     const double error = filtered_ - c_.speed_set;
-    integral_ = std::clamp(integral_ + error * h, c_.pitch_min / c_.ki, c_.pitch_max / c_.ki);
-    const double command = std::clamp(gain_factor(pitch_) * (c_.kp * error + c_.ki * integral_),
-                                      c_.pitch_min, c_.pitch_max);
+    // DISCON bounds the integral by the pitch limits over the scheduled gain GK K_I (GK of the
+    // pitch before this call), so that GK K_I I alone reaches exactly β_max: over K_I alone it
+    // stopped at GK β_max, and above 20.87° (23 m/s) the rotor overspeeded.
+    const double gain = gain_factor(pitch_);
+    integral_ = std::clamp(integral_ + error * h, c_.pitch_min / (gain * c_.ki),
+                           c_.pitch_max / (gain * c_.ki));
+    const double command =
+        std::clamp(gain * (c_.kp * error + c_.ki * integral_), c_.pitch_min, c_.pitch_max);
     const double most = c_.rate * h;
     pitch_ = std::clamp(pitch_ + std::clamp(command - pitch_, -most, most), c_.pitch_min,
                         c_.pitch_max);
