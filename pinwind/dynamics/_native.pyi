@@ -721,8 +721,10 @@ class MeshRows:
 def axial_offset(
     k: Vector, k_b: Vector, centre_a: Vector, centre_b: Vector, pitch_point: Vector
 ) -> float:
-    """Axial position [m] of gear B's flank relative to gear A's at the pitch point, along A's
-    axis k: (c_B − P)·k_B / (k·k_B) + (P − c_A)·k (``cpp/mesh_rows.hpp`` axial_offset)."""
+    """Axial position [m] of gear B's flank relative to gear A's at the pitch point.
+
+    Along A's axis k: (c_B − P)·k_B / (k·k_B) + (P − c_A)·k (``cpp/mesh_rows.hpp`` axial_offset).
+    """
 
 def mesh_rows(
     meshes: MeshConstants, jac: Matrix, djac: Matrix, v: Vector, origin: Matrix, rot: Matrix
