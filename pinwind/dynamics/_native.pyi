@@ -94,6 +94,7 @@ class MeshConstants:
     centre_a: Matrix  # (meshes, 3) [m], gear A's joint frame
     centre_b: Matrix
     axis_a: Matrix
+    axis_b: Matrix  # (m, 3) axis of gear B in its joint frame
     mu: Vector
     sigma: Vector
     support: Matrix  # (slots, nv)

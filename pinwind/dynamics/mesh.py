@@ -74,6 +74,7 @@ class MeshSet:
         self.centre_a = np.array([m.gear_a.centre_in_joint for m in meshes]).reshape(-1, 3)
         self.centre_b = np.array([m.gear_b.centre_in_joint for m in meshes]).reshape(-1, 3)
         self.axis_a = np.array([m.gear_a.axis_in_joint for m in meshes]).reshape(-1, 3)
+        self.axis_b = np.array([m.gear_b.axis_in_joint for m in meshes]).reshape(-1, 3)
         alpha = np.array([m.working_pressure_angle for m in meshes])
         self.cos_a = np.cos(alpha)
         self.sin_a = np.sin(alpha)
@@ -97,6 +98,7 @@ class MeshSet:
         constants.centre_a = self.centre_a
         constants.centre_b = self.centre_b
         constants.axis_a = self.axis_a
+        constants.axis_b = self.axis_b
         constants.mu = self.mu
         constants.sigma = self.sigma
         constants.support = self.support

@@ -135,24 +135,29 @@ def test_with_the_slide_s_axial_motion_the_overlap_s_rate_is_minus_the_row_times
 
 
 @pytest.mark.parametrize("flank", [1.0, -1.0])
-def test_the_row_s_axial_part_is_the_material_points_relative_axial_velocity(flank):
-    # The row of flank s is f·(v_B(P) − v_A(P)) with f = n − s tan β_b k: by central
-    # differences of the material points of both gears at P, over random states with the axial
+def test_the_row_is_the_transverse_line_of_action_plus_the_rate_of_the_flanks_axial_offset(flank):
+    # The row of flank s is n·(v_B(P) − v_A(P)) − s tan β_b Ż, Ż the rate at fixed P of the
+    # axial offset Z of gear B's mid-plane from gear A's at P, (C_B − P)·k_B / (k·k_B) +
+    # (P − C_A)·k: k_B·v_B(P) / (k·k_B) − k·v_A(P) (a body's mid-plane through C turns and
+    # moves with it, and P − C_B lies in it when Z = 0). Both by central differences of the
+    # material points of both gears at P and of the axes, over random states with the axial
     # slide and the tilts moving.
     gb = thrust_pair()
     model = gb.model
     rng = np.random.default_rng(3)
     ms = MeshSet(gb)
     tan_bb = math.tan(BETA) * math.cos(ALPHA_T)
+    a_id, b_id = model.getJointId("a"), model.getJointId("b")
     for _ in range(4):
-        q = pin.integrate(model, pin.neutral(model), rng.uniform(-1e-3, 1e-3, model.nv))
+        q = pin.integrate(model, pin.neutral(model), rng.uniform(-1e-2, 1e-2, model.nv))
         v = rng.uniform(-1.0, 1.0, model.nv)
         data = model.createData()
         pin.computeJointJacobiansTimeVariation(model, data, q, v)
         rows = ms.evaluate(model, data)
         jac, _ = ms.combine(rows, np.array([flank]))
         p, k = rows.pitch_point[0], rows.axis[0]
-        f = ms.line_of_action(rows, np.array([flank]))[0] - flank * tan_bb * k
+        k_b = data.oMi[b_id].rotation[:, 2]  # gear 2's axis: its joint's z
+        n = ms.line_of_action(rows, np.array([flank]))[0]
         h = 1e-6
 
         def point(joint_id, qq, data=data, p=p):
@@ -160,14 +165,34 @@ def test_the_row_s_axial_part_is_the_material_points_relative_axial_velocity(fla
             pin.forwardKinematics(model, d, qq)
             return d.oMi[joint_id].act(data.oMi[joint_id].actInv(p))
 
-        velocity = {}
-        for name in ("a", "b"):
-            j = model.getJointId(name)
-            plus, minus = pin.integrate(model, q, v * h), pin.integrate(model, q, -v * h)
-            velocity[name] = (point(j, plus) - point(j, minus)) / (2 * h)
-        assert_allclose(jac[0] @ v, f @ (velocity["b"] - velocity["a"]), rtol=1e-7)
-        # the thrust's part: the relative axial speed at P, here comparable to the rest
-        assert abs(k @ (velocity["b"] - velocity["a"])) > 1e-2 * abs(jac[0] @ v)
+        plus, minus = pin.integrate(model, q, v * h), pin.integrate(model, q, -v * h)
+        v_a = (point(a_id, plus) - point(a_id, minus)) / (2 * h)
+        v_b = (point(b_id, plus) - point(b_id, minus)) / (2 * h)
+        z_rate = k_b @ v_b / (k @ k_b) - k @ v_a
+        assert_allclose(jac[0] @ v, n @ (v_b - v_a) - flank * tan_bb * z_rate, rtol=1e-7)
+        assert abs(z_rate) > 1e-2 * abs(jac[0] @ v)  # the axial part is a real term here
+
+
+def test_a_tilted_gear_s_spin_is_no_axial_motion_of_its_flank():
+    # Gear 2 tilted on its hinges turns about its own (tilted) axis: its mid-plane stays where
+    # it is, so the row's axial part has no entry in gear 2's spin column; the material point
+    # at P does move along k, by ω (P − C_B)·(k × k_B) (here ω r_2 θ_x with the tilt θ_x about
+    # the centre line x), which a row along k·v_B(P) would count.
+    gb = thrust_pair()
+    model = gb.model
+    q = pin.neutral(model)
+    theta = 1e-3
+    q[model.idx_qs[model.getJointId("b_tilt_x")]] = theta
+    data = model.createData()
+    pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(model.nv))
+    rows = MeshSet(gb).evaluate(model, data)
+    spin = model.idx_vs[model.getJointId("b")]
+    assert abs(rows.jac_k[0, spin]) <= 1e-15
+    b_id = model.getJointId("b")
+    k_b = data.oMi[b_id].rotation[:, 2]
+    lever = rows.pitch_point[0] - data.oMi[b_id].translation
+    material = float(rows.axis[0] @ np.cross(k_b, lever))
+    assert_allclose(abs(material), R2 * math.sin(theta), rtol=1e-3)
 
 
 def test_the_ledger_closes_with_the_driven_gear_ringing_on_its_axial_slide_and_tilt():

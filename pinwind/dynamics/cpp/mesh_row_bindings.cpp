@@ -67,6 +67,7 @@ void bind_mesh_rows(nb::module_& m) {
       .def_rw("centre_a", &MeshConstants::centre_a)
       .def_rw("centre_b", &MeshConstants::centre_b)
       .def_rw("axis_a", &MeshConstants::axis_a)
+      .def_rw("axis_b", &MeshConstants::axis_b)
       .def_rw("mu", &MeshConstants::mu)
       .def_rw("sigma", &MeshConstants::sigma)
       .def_rw("support", &MeshConstants::support)

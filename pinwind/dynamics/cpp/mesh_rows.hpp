@@ -33,6 +33,7 @@ struct MeshConstants {
   std::vector<long> slot_a, slot_b;
   Rows3 centre_a, centre_b;  // gear centres in their joint frames [m]
   Rows3 axis_a;              // axis of gear A in its joint frame
+  Rows3 axis_b;              // axis of gear B in its joint frame (a helical row's axial part)
   Eigen::VectorXd mu;        // pitch point P = C_A + mu (C_B − C_A)⊥
   Eigen::VectorXd sigma;     // r̂ = sigma (C_B − C_A)⊥ / |·|
   RowMat support;            // support(i, k) = 1 when velocity k moves the body of slot i
@@ -51,6 +52,7 @@ struct MeshRows {
   RowMat jac_t, jac_r, jac_k;
   Eigen::VectorXd bias_t, bias_r, bias_k;
   Rows3 tangent, radial, pitch_point, axis;
+  Rows3 axis_b;              // gear B's axis k_B in world (helical meshes only)
   Rows3 centre_a, centre_b;  // gear centres in world [m]
   // Work space: spatial velocity and acceleration at q̈ = 0 of each slot's body.
   std::vector<Eigen::Matrix<double, 6, 1>> twist, accel;
@@ -99,6 +101,7 @@ struct MeshRows {
     radial.setZero(meshes, 3);
     pitch_point.setZero(meshes, 3);
     axis.setZero(meshes, 3);
+    axis_b.setZero(meshes, 3);
     centre_a.setZero(meshes, 3);
     centre_b.setZero(meshes, 3);
   }
@@ -179,12 +182,20 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
       row_r[c] = r.dot(lin) + mr.dot(ang);
     }
     if (mc.tan_beta_b[m] == 0.0) continue;  // spur: no axial part
-    const Vec3 mk = x.cross(k);
+    // The axial part: the rate of Z (axial_offset) with P held, k̃_B·v_B(P) − k·v_A(P),
+    // k̃_B = k_B / (k·k_B): a gear's spin about its own axis leaves its mid-plane, and so Z,
+    // where it is (k_B·(ω k_B × (P − C_B)) = 0), where the material points' k·v_B(P) would
+    // count a tilted gear's spin as axial motion. With parallel axes it is k·(v_B(P) − v_A(P)).
+    const Vec3 kb = rot[b] * mc.axis_b.row(m).transpose();
+    out.axis_b.row(m) = kb.transpose();
+    const Vec3 kt = kb / k.dot(kb);
+    const Vec3 mk = x.cross(k), mkt = x.cross(kt);
     double* row_k = &out.jac_k(m, 0);
     for (const auto& [c, w] : out.moving[static_cast<size_t>(m)]) {
-      const Vec3 lin = jac.col(c).template head<3>() * w;
-      const Vec3 ang = jac.col(c).template tail<3>() * w;
-      row_k[c] = k.dot(lin) + mk.dot(ang);
+      const Vec3 lin = jac.col(c).template head<3>();
+      const Vec3 ang = jac.col(c).template tail<3>();
+      // w = +1: a column of B alone, −1: of A alone (support is 0 or 1)
+      row_k[c] = w > 0.0 ? w * (kt.dot(lin) + mkt.dot(ang)) : w * (k.dot(lin) + mk.dot(ang));
     }
   }
 }
@@ -257,7 +268,17 @@ inline void evaluate_mesh_bias_from(const MeshConstants& mc, MeshRows& out) {
     const Vec3 h = da + (wb - wa).cross(xd);
     out.bias_t[m] = td.dot(dv) + t.dot(h);
     out.bias_r[m] = rd.dot(dv) + r.dot(h);
-    if (mc.tan_beta_b[m] != 0.0) out.bias_k[m] = kd.dot(dv) + k.dot(h);
+    if (mc.tan_beta_b[m] != 0.0) {
+      // The axial part's: d/dt of k̃_B·v_B(P) − k·v_A(P) at q̈ = 0 (evaluate_mesh_geometry).
+      const Vec3 kb = out.axis_b.row(m).transpose();
+      const double kk = k.dot(kb);
+      const Vec3 kbd = wb.cross(kb);
+      const Vec3 ktd = kbd / kk - kb * ((kd.dot(kb) + k.dot(kbd)) / (kk * kk));
+      const Vec3 vbx = vb + wb.cross(x), vax = va + wa.cross(x);
+      const Vec3 abx = accel[b].head<3>() + Vec3(accel[b].tail<3>()).cross(x) + wb.cross(xd);
+      const Vec3 aax = accel[a].head<3>() + Vec3(accel[a].tail<3>()).cross(x) + wa.cross(xd);
+      out.bias_k[m] = ktd.dot(vbx) + (kb / kk).dot(abx) - kd.dot(vax) - k.dot(aax);
+    }
   }
 }
 
@@ -331,8 +352,11 @@ inline double flank_bias(const MeshConstants& mc, const MeshRows& rows, Index m,
 // the contact's generalized force J_Bᵀ F − J_Aᵀ F at the pitch point P with F = F_bt f is
 // F_bt Jᵀ, so a helical mesh's thrust pushes the gears along their axial slides and tilts them
 // by its moment about each centre (P's lever), and the overlap rate δ̇ = −J v has the part
-// s tan β_b k·(v_B(P) − v_A(P)) of the gears' relative axial motion (compliant_mesh.hpp
-// mesh_pose). A spur mesh (tan β_b = 0) has the transverse row alone.
+// s tan β_b Ż of the gears' relative axial motion at P (compliant_mesh.hpp mesh_pose): Ż =
+// k·(v_B(P) − v_A(P)) while the axes are parallel, and with a tilted gear B the rate of its
+// mid-plane's offset, k̃_B·v_B(P) − k·v_A(P) (evaluate_mesh_geometry), so that B's spin about its
+// own axis does no work against the thrust. A spur mesh (tan β_b = 0) has the transverse row
+// alone.
 //
 // columns: if given, only those entries of row are written (a compliant mesh's columns that move
 // one gear and not the other; its row keeps the zeros of the others).
