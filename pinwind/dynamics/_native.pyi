@@ -94,6 +94,7 @@ class MeshConstants:
     centre_a: Matrix  # (meshes, 3) [m], gear A's joint frame
     centre_b: Matrix
     axis_a: Matrix
+    axis_b: Matrix  # (m, 3) axis of gear B in its joint frame
     mu: Vector
     sigma: Vector
     support: Matrix  # (slots, nv)
@@ -134,6 +135,7 @@ class CompliantMeshSpec:
     base_radius_b: float  # [m], signed
     reference_b: Vector  # (3,)
     tangential_ref: float  # [m]
+    axial_ref: float  # Z at the reference pose (``axial_offset``) [m]
     base_radius_sum: float  # [m]
     radial_sign: float
     involute_ref: float
@@ -697,17 +699,20 @@ class EquilibriumStatus:
     flank_switches: int  # compliant meshes that handed their load to the other flank
 
 class MeshRows:
-    """Rows of all meshes at one state, split in their tangential and radial parts.
+    """Rows of all meshes at one state, split in their tangential, radial and axial parts.
 
-    For flank s the row is ``cos_a * s * jac_t + sin_a * eps * jac_r`` (same for the bias);
+    For flank s the row is ``cos_a * s * jac_t + sin_a * eps * jac_r - s * tan_beta_b * jac_k``
+    (same for the bias; ``jac_k`` is zero for spur meshes, whose rows have no axial part);
     ``row_*``, ``bias_*`` and ``normal_*`` are formed by ``cpp/mesh_rows.hpp`` flank_row and
     line_of_action, the functions the step loop uses. Read-only views.
     """
 
     jac_t: Matrix  # (m, nv) row part along t
     jac_r: Matrix  # (m, nv) row part along r̂
+    jac_k: Matrix  # (m, nv) row part along k (helical meshes; 0 for spur ones)
     bias_t: Vector  # (m,) parts of ċ − J q̈
     bias_r: Vector
+    bias_k: Vector
     tangent: Matrix  # (m, 3) unit t in world
     radial: Matrix  # (m, 3) unit r̂ in world
     pitch_point: Matrix  # (m, 3) P in world [m]
@@ -718,6 +723,14 @@ class MeshRows:
     bias_back: Vector
     normal_front: Matrix  # (m, 3) their lines of action n in world
     normal_back: Matrix
+
+def axial_offset(
+    k: Vector, k_b: Vector, centre_a: Vector, centre_b: Vector, pitch_point: Vector
+) -> float:
+    """Axial position [m] of gear B's flank relative to gear A's at the pitch point.
+
+    Along A's axis k: (c_B − P)·k_B / (k·k_B) + (P − c_A)·k (``cpp/mesh_rows.hpp`` axial_offset).
+    """
 
 def mesh_rows(
     meshes: MeshConstants, jac: Matrix, djac: Matrix, v: Vector, origin: Matrix, rot: Matrix

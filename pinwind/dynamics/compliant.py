@@ -338,6 +338,12 @@ def mesh_setup(
         spec.base_radius_b = cos_w * rho_b
         spec.reference_b = ref_b
         spec.tangential_ref = spec.base_radius_a * psi_a - spec.base_radius_b * psi_b
+        # The flanks' relative axial position at the reference pose: a helical overlap's axial
+        # part tan β_b (Z − Z_ref) is zero there (cpp/compliant_mesh.hpp mesh_pose).
+        spec.axis_b = b.axis_in_joint
+        spec.axial_ref = _native.axial_offset(
+            k, data.oMi[b.joint_id].rotation @ b.axis_in_joint, centre_a, centre_b, point
+        )
         spec.base_radius_sum = mesh.centre_distance * cos_w
         internal = a.spec.internal or b.spec.internal
         spec.radial_sign = 1.0 if internal else -1.0
@@ -356,7 +362,6 @@ def mesh_setup(
         spec.face_width = mesh.face_width
         if c.slice_number > 1:
             spec.slices = c.slice_number
-            spec.axis_b = b.axis_in_joint
             spec.slice_offset, spec.slice_gap, spec.slice_gap_back = slice_tables(mesh)
             helical = helical_slices(mesh, spec.slice_offset)
             if helical is not None:

@@ -10,6 +10,11 @@ is the familiar r_b,A ω_A ± r_b,B ω_B = 0 of Saleh 2017 eqs. 38-40, but the r
 built from Pinocchio Jacobians and stays right when a gear centre moves. The multiplier λ of the row
 is the tooth normal force (transverse, along n) on B; −λ n acts on A.
 
+A helical mesh's row is along the direction of its whole tooth force on B, f = n − s tan β_b k
+(k gear A's axis, β_b A's base helix angle, signed by its hand): c = f · (v_B(P) − v_A(P)), so its
+multiplier's generalized force Jᵀλ carries the axial thrust −s λ tan β_b k at P to the gears'
+axial slides and, by P's lever from each centre, its tilting moment.
+
 The acceleration-level bias is the exact time derivative of c at zero joint acceleration. P and n
 are spatial (geometric) quantities, not material points, so
 
@@ -18,8 +23,8 @@ are spatial (geometric) quantities, not material points, so
 where a_s is the spatial acceleration field of a body (Pinocchio's ``data.a`` at q̈ = 0) and
 Δ = B − A. For fixed axes the three terms cancel and γ = 0, as the constant row demands.
 
-n = s cos α_w t + ε sin α_w r̂ (docs/model_format.md): the row and bias are kept as their t and r̂
-parts so that switching the loaded flank s costs nothing.
+n = s cos α_w t + ε sin α_w r̂ (docs/model_format.md): the row and bias are kept as their t, r̂
+and k parts so that switching the loaded flank s costs nothing (f's bias has ḟ for ṅ).
 """
 
 from __future__ import annotations
@@ -39,9 +44,10 @@ def joint_placements(model: pin.Model, data: pin.Data) -> np.ndarray:
     return out
 
 
-#: Rows of all meshes at one state (``MeshSet.evaluate``), split in their tangential and radial
-#: parts and formed for both flanks by the compiled code (``cpp/mesh_rows.hpp``): for flank s the
-#: row is ``cos_a * s * jac_t + sin_a * eps * jac_r`` (same for the bias). Fields: ``_native.pyi``.
+#: Rows of all meshes at one state (``MeshSet.evaluate``), split in their tangential, radial and
+#: axial parts and formed for both flanks by the compiled code (``cpp/mesh_rows.hpp``): for flank
+#: s the row is ``cos_a * s * jac_t + sin_a * eps * jac_r - s * tan_beta_b * jac_k`` (same for the
+#: bias), the direction f = n − s tan β_b k of the tooth force on B. Fields: ``_native.pyi``.
 MeshRows = _native.MeshRows
 
 
@@ -68,6 +74,7 @@ class MeshSet:
         self.centre_a = np.array([m.gear_a.centre_in_joint for m in meshes]).reshape(-1, 3)
         self.centre_b = np.array([m.gear_b.centre_in_joint for m in meshes]).reshape(-1, 3)
         self.axis_a = np.array([m.gear_a.axis_in_joint for m in meshes]).reshape(-1, 3)
+        self.axis_b = np.array([m.gear_b.axis_in_joint for m in meshes]).reshape(-1, 3)
         alpha = np.array([m.working_pressure_angle for m in meshes])
         self.cos_a = np.cos(alpha)
         self.sin_a = np.sin(alpha)
@@ -91,6 +98,7 @@ class MeshSet:
         constants.centre_a = self.centre_a
         constants.centre_b = self.centre_b
         constants.axis_a = self.axis_a
+        constants.axis_b = self.axis_b
         constants.mu = self.mu
         constants.sigma = self.sigma
         constants.support = self.support

@@ -14,11 +14,13 @@
 // centre line (mesh_path.hpp), the front flank's overlap along its line of action is
 //
 //     δ_f = wrap(T − T_ref + e_T) + R + e_R,      δ_b = −wrap(T − T_ref + e_T) + R + e_R − j
-//     T   = r_A ψ_A − r_B ψ_B                       (signed base radii, rolling part)
+//     T   = r_A ψ_A − r_B ψ_B + tan β_b Z           (signed base radii, rolling part)
 //     R   = κ (r_b,B ± r_b,A) (inv α'(a) − inv α'(a_ref)),  cos α'(a) = (r_b,B ± r_b,A)/a
 //
 // (κ = −1 external, +1 internal: moving an internal pair's centres apart pushes the teeth
-// together), e_T, e_R the position errors of the gears along the line of action, j the
+// together), Z the axial position of B's flank relative to A's at the pitch point
+// (mesh_rows.hpp axial_offset; a helical mesh's: an axial shift dz of B moves its flank along
+// the line of action as a turn would, by tan β_b dz, on the two flanks opposite ways), e_T, e_R the position errors of the gears along the line of action, j the
 // backlash; wrap() keeps the tooth pair in mesh, modulo one base pitch. δ̇ = −J v with J the
 // flank's rigid row (mesh_rows.hpp), so the rigid and compliant meshes share one line of action.
 //
@@ -62,7 +64,8 @@ struct CompliantMeshSpec {
   double base_radius_a = 0.0;     // signed base radii: T = r_A ψ_A − r_B ψ_B [m]
   double base_radius_b = 0.0;
   Vec3 reference_b = Vec3::UnitX();  // unit vector ⟂ axis fixed in gear B's joint frame
-  double tangential_ref = 0.0;    // T at the reference pose [m]
+  double tangential_ref = 0.0;    // T at the reference pose, less its axial part [m]
+  double axial_ref = 0.0;         // Z at the reference pose (mesh_rows.hpp axial_offset) [m]
   double base_radius_sum = 0.0;   // r_b,B ± r_b,A = a cos α' [m]
   double radial_sign = -1.0;      // κ
   double involute_ref = 0.0;      // inv α' at the reference centre distance
@@ -127,6 +130,14 @@ inline MeshPose mesh_pose(const StepView& s, const CompliantMeshSpec& sp, const 
   // Rolling part, wrapped into one base pitch centred on the middle of the backlash gap.
   double rolling = sp.base_radius_a * pose.psi_a - sp.base_radius_b * psi_b - sp.tangential_ref +
                    sp.tangential_offset;
+  if (mc.tan_beta_b[m] != 0.0) {
+    // The helical part tan β_b (Z − Z_ref), whose rate is the mesh row's axial part.
+    const Vec3 k_b = rot_b * sp.axis_b;
+    const double z = axial_offset(k, k_b, s.rows.centre_a.row(m).transpose(),
+                                  s.rows.centre_b.row(m).transpose(),
+                                  s.rows.pitch_point.row(m).transpose());
+    rolling += mc.tan_beta_b[m] * (z - sp.axial_ref);
+  }
   rolling -= pitch * std::round((rolling + 0.5 * sp.backlash) / pitch);
   pose.rolling = rolling;
   const double distance = (s.rows.centre_b.row(m) - s.rows.centre_a.row(m)).norm();
@@ -1180,6 +1191,7 @@ struct CompliantMeshesKind : KindBase {
         .def_rw("base_radius_b", &CompliantMeshSpec::base_radius_b)
         .def_rw("reference_b", &CompliantMeshSpec::reference_b)
         .def_rw("tangential_ref", &CompliantMeshSpec::tangential_ref)
+        .def_rw("axial_ref", &CompliantMeshSpec::axial_ref)
         .def_rw("base_radius_sum", &CompliantMeshSpec::base_radius_sum)
         .def_rw("radial_sign", &CompliantMeshSpec::radial_sign)
         .def_rw("involute_ref", &CompliantMeshSpec::involute_ref)

@@ -20,8 +20,8 @@ namespace {
 // the geometry, and both flanks' rows, biases and lines of action, from the step loop's own
 // functions.
 struct MeshRowSet {
-  RowMat jac_t, jac_r;              // (meshes, nv)
-  Eigen::VectorXd bias_t, bias_r;   // (meshes,)
+  RowMat jac_t, jac_r, jac_k;             // (meshes, nv)
+  Eigen::VectorXd bias_t, bias_r, bias_k;  // (meshes,)
   RowMat tangent, radial, pitch_point, axis;  // (meshes, 3) in world
   RowMat row_front, row_back;       // J of the front (+1) and back (−1) flanks
   Eigen::VectorXd bias_front, bias_back;
@@ -43,7 +43,7 @@ MeshRowSet mesh_rows(const MeshConstants& mc, const Eigen::MatrixXd& jac,
   MeshRows rows;
   rows.resize(nm, nv);
   evaluate_mesh_rows(mc, jac, djac, v, o, r, rows);
-  MeshRowSet out{rows.jac_t, rows.jac_r, rows.bias_t, rows.bias_r,
+  MeshRowSet out{rows.jac_t, rows.jac_r, rows.jac_k, rows.bias_t, rows.bias_r, rows.bias_k,
                  rows.tangent, rows.radial, rows.pitch_point, rows.axis,
                  RowMat(nm, nv), RowMat(nm, nv), Eigen::VectorXd(nm), Eigen::VectorXd(nm),
                  RowMat(nm, 3), RowMat(nm, 3)};
@@ -67,6 +67,7 @@ void bind_mesh_rows(nb::module_& m) {
       .def_rw("centre_a", &MeshConstants::centre_a)
       .def_rw("centre_b", &MeshConstants::centre_b)
       .def_rw("axis_a", &MeshConstants::axis_a)
+      .def_rw("axis_b", &MeshConstants::axis_b)
       .def_rw("mu", &MeshConstants::mu)
       .def_rw("sigma", &MeshConstants::sigma)
       .def_rw("support", &MeshConstants::support)
@@ -80,8 +81,10 @@ void bind_mesh_rows(nb::module_& m) {
   nb::class_<MeshRowSet>(m, "MeshRows")
       .def_ro("jac_t", &MeshRowSet::jac_t)
       .def_ro("jac_r", &MeshRowSet::jac_r)
+      .def_ro("jac_k", &MeshRowSet::jac_k)
       .def_ro("bias_t", &MeshRowSet::bias_t)
       .def_ro("bias_r", &MeshRowSet::bias_r)
+      .def_ro("bias_k", &MeshRowSet::bias_k)
       .def_ro("tangent", &MeshRowSet::tangent)
       .def_ro("radial", &MeshRowSet::radial)
       .def_ro("pitch_point", &MeshRowSet::pitch_point)
@@ -93,6 +96,10 @@ void bind_mesh_rows(nb::module_& m) {
       .def_ro("normal_front", &MeshRowSet::normal_front)
       .def_ro("normal_back", &MeshRowSet::normal_back);
 
+  m.def("axial_offset", &axial_offset, "k"_a, "k_b"_a, "centre_a"_a, "centre_b"_a,
+        "pitch_point"_a,
+        "Axial position [m] of gear B's flank relative to gear A's at the pitch point, along "
+        "A's axis k (cpp/mesh_rows.hpp axial_offset).");
   m.def("mesh_rows", &mesh_rows, "meshes"_a, "jac"_a, "djac"_a, "v"_a, "origin"_a, "rot"_a,
         "Rows of every mesh at one state, split and per flank (pinwind/dynamics/mesh.py).");
 }

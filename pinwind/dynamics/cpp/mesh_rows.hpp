@@ -1,11 +1,12 @@
 // Rigid gear-mesh constraint rows of all meshes at one state, and the tooth wrenches they apply.
 //
-// The formulation is documented in pinwind/dynamics/mesh.py: one row per mesh along the line of
-// action n = s cos α_w t + ε sin α_w r̂, kept as its t and r̂ parts so that switching the loaded
-// flank s costs nothing; the bias is the exact time derivative of the row at zero joint
-// acceleration,
+// The formulation is documented in pinwind/dynamics/mesh.py: one row per mesh along the
+// direction of the tooth force on B, f = n − s tan β_b k, the transverse line of action
+// n = s cos α_w t + ε sin α_w r̂ and, for helical teeth, the axial part −s tan β_b k
+// (tooth_force_on_b), kept as its t, r̂ and k parts so that switching the loaded flank s costs
+// nothing; the bias is the exact time derivative of the row at zero joint acceleration,
 //
-//     ċ − J q̈ = ṅ·Δv + n·Δa_s(P) + n·((ω_B − ω_A) × Ṗ),
+//     ċ − J q̈ = ḟ·Δv + f·Δa_s(P) + f·((ω_B − ω_A) × Ṗ),
 //
 // with spatial velocities taken at the world origin in world axes (Pinocchio's world Jacobian
 // J and its time variation J̇ from computeJointJacobiansTimeVariation).
@@ -32,6 +33,7 @@ struct MeshConstants {
   std::vector<long> slot_a, slot_b;
   Rows3 centre_a, centre_b;  // gear centres in their joint frames [m]
   Rows3 axis_a;              // axis of gear A in its joint frame
+  Rows3 axis_b;              // axis of gear B in its joint frame (a helical row's axial part)
   Eigen::VectorXd mu;        // pitch point P = C_A + mu (C_B − C_A)⊥
   Eigen::VectorXd sigma;     // r̂ = sigma (C_B − C_A)⊥ / |·|
   RowMat support;            // support(i, k) = 1 when velocity k moves the body of slot i
@@ -45,9 +47,12 @@ struct MeshConstants {
 
 // Rows of all meshes at one state, split along t and r̂ (pinwind/dynamics/mesh.py MeshRows).
 struct MeshRows {
-  RowMat jac_t, jac_r;
-  Eigen::VectorXd bias_t, bias_r;
+  // The rows' parts along t, r̂ and k (jac_k, bias_k: helical meshes only, tan β_b ≠ 0; zero
+  // for the others, whose row has no axial part).
+  RowMat jac_t, jac_r, jac_k;
+  Eigen::VectorXd bias_t, bias_r, bias_k;
   Rows3 tangent, radial, pitch_point, axis;
+  Rows3 axis_b;              // gear B's axis k_B in world (helical meshes only)
   Rows3 centre_a, centre_b;  // gear centres in world [m]
   // Work space: spatial velocity and acceleration at q̈ = 0 of each slot's body.
   std::vector<Eigen::Matrix<double, 6, 1>> twist, accel;
@@ -88,12 +93,15 @@ struct MeshRows {
     turning.clear();
     jac_t.setZero(meshes, nv);
     jac_r.setZero(meshes, nv);
+    jac_k.setZero(meshes, nv);
     bias_t.setZero(meshes);
     bias_r.setZero(meshes);
+    bias_k.setZero(meshes);
     tangent.setZero(meshes, 3);
     radial.setZero(meshes, 3);
     pitch_point.setZero(meshes, 3);
     axis.setZero(meshes, 3);
+    axis_b.setZero(meshes, 3);
     centre_a.setZero(meshes, 3);
     centre_b.setZero(meshes, 3);
   }
@@ -144,7 +152,8 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
     out.centre_a.row(m) = ca.transpose();
     out.centre_b.row(m) = cb.transpose();
 
-    // Row: n·(v_B(P) − v_A(P)) over the joint velocities, split along t and r̂. A column that
+    // Row: n·(v_B(P) − v_A(P)) over the joint velocities, split along t and r̂ (and k for a
+    // helical mesh: the axial part of its row, the same sums with k). A column that
     // moves one gear alone has w = ±1 (support is 0 or 1): its sign is applied to the sums
     // instead of to the six entries of J (each product and sum then only changes sign: the
     // same value); only the columns with w ≠ 0 are written (out.moving). A pure translation's
@@ -171,6 +180,22 @@ void evaluate_mesh_geometry(const MeshConstants& mc, const Jac& jac,
       const Vec3 ang = jac.col(c).template tail<3>() * w;
       row_t[c] = t.dot(lin) + mt.dot(ang);
       row_r[c] = r.dot(lin) + mr.dot(ang);
+    }
+    if (mc.tan_beta_b[m] == 0.0) continue;  // spur: no axial part
+    // The axial part: the rate of Z (axial_offset) with P held, k̃_B·v_B(P) − k·v_A(P),
+    // k̃_B = k_B / (k·k_B): a gear's spin about its own axis leaves its mid-plane, and so Z,
+    // where it is (k_B·(ω k_B × (P − C_B)) = 0), where the material points' k·v_B(P) would
+    // count a tilted gear's spin as axial motion. With parallel axes it is k·(v_B(P) − v_A(P)).
+    const Vec3 kb = rot[b] * mc.axis_b.row(m).transpose();
+    out.axis_b.row(m) = kb.transpose();
+    const Vec3 kt = kb / k.dot(kb);
+    const Vec3 mk = x.cross(k), mkt = x.cross(kt);
+    double* row_k = &out.jac_k(m, 0);
+    for (const auto& [c, w] : out.moving[static_cast<size_t>(m)]) {
+      const Vec3 lin = jac.col(c).template head<3>();
+      const Vec3 ang = jac.col(c).template tail<3>();
+      // w = +1: a column of B alone, −1: of A alone (support is 0 or 1)
+      row_k[c] = w > 0.0 ? w * (kt.dot(lin) + mkt.dot(ang)) : w * (k.dot(lin) + mk.dot(ang));
     }
   }
 }
@@ -243,6 +268,17 @@ inline void evaluate_mesh_bias_from(const MeshConstants& mc, MeshRows& out) {
     const Vec3 h = da + (wb - wa).cross(xd);
     out.bias_t[m] = td.dot(dv) + t.dot(h);
     out.bias_r[m] = rd.dot(dv) + r.dot(h);
+    if (mc.tan_beta_b[m] != 0.0) {
+      // The axial part's: d/dt of k̃_B·v_B(P) − k·v_A(P) at q̈ = 0 (evaluate_mesh_geometry).
+      const Vec3 kb = out.axis_b.row(m).transpose();
+      const double kk = k.dot(kb);
+      const Vec3 kbd = wb.cross(kb);
+      const Vec3 ktd = kbd / kk - kb * ((kd.dot(kb) + k.dot(kbd)) / (kk * kk));
+      const Vec3 vbx = vb + wb.cross(x), vax = va + wa.cross(x);
+      const Vec3 abx = accel[b].head<3>() + Vec3(accel[b].tail<3>()).cross(x) + wb.cross(xd);
+      const Vec3 aax = accel[a].head<3>() + Vec3(accel[a].tail<3>()).cross(x) + wa.cross(xd);
+      out.bias_k[m] = ktd.dot(vbx) + (kb / kk).dot(abx) - kd.dot(vax) - k.dot(aax);
+    }
   }
 }
 
@@ -303,13 +339,24 @@ inline Vec3 line_of_action(const MeshConstants& mc, const MeshRows& rows, Index 
 inline double flank_bias(const MeshConstants& mc, const MeshRows& rows, Index m, double flank,
                          double cos_w, double sin_w) {
   const double ct = cos_w * flank, cr = sin_w * mc.eps[m];
-  return ct * rows.bias_t[m] + cr * rows.bias_r[m];
+  const double bias = ct * rows.bias_t[m] + cr * rows.bias_r[m];
+  if (mc.tan_beta_b[m] == 0.0) return bias;
+  return bias - flank * mc.tan_beta_b[m] * rows.bias_k[m];
 }
 
 inline double flank_bias(const MeshConstants& mc, const MeshRows& rows, Index m, double flank) {
   return flank_bias(mc, rows, m, flank, mc.cos_a[m], mc.sin_a[m]);
 }
 
+// The row is that of the tooth force's direction on B, f = n − s tan β_b k (tooth_force_on_b):
+// the contact's generalized force J_Bᵀ F − J_Aᵀ F at the pitch point P with F = F_bt f is
+// F_bt Jᵀ, so a helical mesh's thrust pushes the gears along their axial slides and tilts them
+// by its moment about each centre (P's lever), and the overlap rate δ̇ = −J v has the part
+// s tan β_b Ż of the gears' relative axial motion at P (compliant_mesh.hpp mesh_pose): Ż =
+// k·(v_B(P) − v_A(P)) while the axes are parallel, and with a tilted gear B the rate of its
+// mid-plane's offset, k̃_B·v_B(P) − k·v_A(P) (evaluate_mesh_geometry), so that B's spin about its
+// own axis does no work against the thrust. A spur mesh (tan β_b = 0) has the transverse row
+// alone.
 //
 // columns: if given, only those entries of row are written (a compliant mesh's columns that move
 // one gear and not the other; its row keeps the zeros of the others).
@@ -322,11 +369,22 @@ void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double fl
   // ~45 instructions an entry.
   const double* t = rows.jac_t.row(m).data();
   const double* r = rows.jac_r.row(m).data();
-  const auto entry = [&](Index c) { row(c) = ct * t[c] + cr * r[c]; };
-  if (columns != nullptr) {
-    for (const Index c : *columns) entry(c);
+  if (mc.tan_beta_b[m] == 0.0) {
+    const auto entry = [&](Index c) { row(c) = ct * t[c] + cr * r[c]; };
+    if (columns != nullptr) {
+      for (const Index c : *columns) entry(c);
+    } else {
+      for (Index c = 0; c < rows.jac_t.cols(); ++c) entry(c);
+    }
   } else {
-    for (Index c = 0; c < rows.jac_t.cols(); ++c) entry(c);
+    const double ck = -flank * mc.tan_beta_b[m];
+    const double* k = rows.jac_k.row(m).data();
+    const auto entry = [&](Index c) { row(c) = ct * t[c] + cr * r[c] + ck * k[c]; };
+    if (columns != nullptr) {
+      for (const Index c : *columns) entry(c);
+    } else {
+      for (Index c = 0; c < rows.jac_t.cols(); ++c) entry(c);
+    }
   }
   bias = flank_bias(mc, rows, m, flank, cos_w, sin_w);
 }
@@ -335,6 +393,21 @@ template <class Row>
 void flank_row(const MeshConstants& mc, const MeshRows& rows, Index m, double flank, Row&& row,
                double& bias) {
   flank_row(mc, rows, m, flank, mc.cos_a[m], mc.sin_a[m], std::forward<Row>(row), bias);
+}
+
+// The axial position Z [m] of gear B's flank relative to gear A's at the pitch point p, along
+// gear A's axis k: the distance along k from p to B's mid-plane (through its centre c_b,
+// normal to its axis k_b) less that to A's,
+//
+//     Z = (c_b − p)·k_b / (k·k_b) + (p − c_a)·k.
+//
+// While the axes are parallel its rate is k·(v_B(p) − v_A(p)), the material points' relative
+// axial velocity at p (the axial part of the mesh row, flank_row); a tilt of either gear moves
+// its flank at p axially by its lever from the centre. A compliant helical mesh's overlap has
+// the part s tan β_b (Z − Z_ref) (compliant_mesh.hpp mesh_pose).
+inline double axial_offset(const Vec3& k, const Vec3& k_b, const Vec3& c_a, const Vec3& c_b,
+                           const Vec3& p) {
+  return (c_b - p).dot(k_b) / k.dot(k_b) + (p - c_a).dot(k);
 }
 
 // Tooth force on gear B [N] in world for the transverse force F_bt (``normal``, along n) on

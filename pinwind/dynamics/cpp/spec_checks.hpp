@@ -31,8 +31,10 @@ inline void check_meshes(const MeshConstants& mc, size_t nv) {
   check_size("meshes.joint_b", mc.joint_b, nm);
   if (static_cast<size_t>(mc.centre_a.rows()) != nm ||
       static_cast<size_t>(mc.centre_b.rows()) != nm ||
-      static_cast<size_t>(mc.axis_a.rows()) != nm) {
-    throw std::invalid_argument("meshes.centre_a, centre_b and axis_a need one row per mesh");
+      static_cast<size_t>(mc.axis_a.rows()) != nm ||
+      static_cast<size_t>(mc.axis_b.rows()) != nm) {
+    throw std::invalid_argument(
+        "meshes.centre_a, centre_b, axis_a and axis_b need one row per mesh");
   }
   if (static_cast<size_t>(mc.support.rows()) != slots ||
       static_cast<size_t>(mc.support.cols()) != nv) {
