@@ -114,9 +114,9 @@ EQUILIBRIUM_LOAD_STEPS = (4, 16, 64)
 #: A static start that has not converged is refused (``StaticStartDiverged``) when its last
 #: correction exceeds this share of its displacement and ``EQUILIBRIUM_ROUNDING`` [rad or m]: it
 #: is not settling, and the run would start far from rest (on the NREL 5 MW gearbox standing
-#: under 4.5 times rated torque the last correction is 4e-3 of the displacement and the first
-#: sample accelerates at 5 m/s², under 4 times 2.5e-4 and 0.06). Below that floor a correction is
-#: rounding (a mesh that rigid ones hold at zero deflection).
+#: under 4.5 times rated torque the last correction is 4.7e-4 of the displacement and the first
+#: sample accelerates at 0.26 m/s², under 5 times 0.15 and the start is 2.8 rad or m off). Below
+#: that floor a correction is rounding (a mesh that rigid ones hold at zero deflection).
 EQUILIBRIUM_DIVERGED = 1e-3
 EQUILIBRIUM_ROUNDING = 1e-9
 
