@@ -423,12 +423,14 @@ def place_columns_chunk(
     stop: float | None,
     pose_series: Indices,
     posed: bool,
+    zeroed: bool = True,
 ) -> tuple[int, np.ndarray, np.ndarray, str]:
     """A decompressed chunk's columns records placed into ``out`` from sample ``at``.
 
     Every record of ``channel`` (docs/log_format.md, "Columns", layout 3), its samples with
     start ≤ t ≤ stop [s] (None: no bound) one record after the other: varying series j
-    unshuffled and constant ones filled (but +0.0) into ``out[row_of[j]]`` (skipped where < 0),
+    unshuffled and constant ones filled into ``out[row_of[j]]`` (skipped where < 0), but a
+    constant +0.0 when ``zeroed`` (``out`` is +0.0 wherever nothing is placed: new memory),
     around the caches (``cpp/column_chunks.hpp``). Returns (samples, pose rows, poses, damage):
     the posed samples in the window (their samples in ``out``) and their ``pose_series``,
     (len(pose_series), posed samples), when ``posed``; damage is "" or why the chunk's records

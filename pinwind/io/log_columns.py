@@ -27,6 +27,7 @@ from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.dynamics.series import get as declared_series
 from pinwind.io.log_format import COLUMNS_LAYOUT, mask_bytes
 from pinwind.io.mcap_file import DamagedChunk
+from pinwind.io.read_memory import read_arrays
 
 #: A columns payload's header: layout byte, samples m, posed samples p.
 _HEAD = 9
@@ -291,11 +292,13 @@ class ColumnSink:
         self.poses: list[tuple[np.ndarray, np.ndarray]] = []
         self.n = 0
         self.capacity = capacity
-        # Zeros, and a series that is +0.0 over a block is not written (``place``): a large
-        # array is new pages from the kernel, zeroed on first touch, so np.zeros costs what
-        # np.empty does, and the pages of series that are zero throughout (half of a shipped
-        # model's: rigid bearings' displacements, friction of a run without it) are never written.
-        self.base = _zeros(self.height, capacity)
+        # New memory is zeros, and a series that is +0.0 over a block is not written
+        # (``place``): a large array is new pages from the kernel, zeroed on first touch, so
+        # np.zeros costs what np.empty does, and the pages of series that are zero throughout
+        # (half of a shipped model's: rigid bearings' displacements, friction of a run without
+        # it) are never written. Memory an earlier read used (``read_arrays``) has every value
+        # written.
+        self.base, self.zeroed = read_arrays(self.height, capacity)
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) after those already there."""
@@ -317,8 +320,10 @@ class ColumnSink:
                 vary = ~block.same[self.source]
                 slot = block.slot[self.source]
                 self.base[:, at : at + count][vary] = block.varying()[slot[vary]][:, rows]
-            # a constant +0.0 (all bits zero, not -0.0) is already there
-            filled = np.where(block.constants.view(np.uint64) == 0, -1, self.row_of[block.same])
+            # in new memory a constant +0.0 (all bits zero, not -0.0) is already there
+            filled = self.row_of[block.same]
+            if self.zeroed:
+                filled = np.where(block.constants.view(np.uint64) == 0, -1, filled)
             fill_rows(block.constants, filled, self.base, at, count, True)
         if self.posed and len(block.pose_time):
             time = block.time[rows]
@@ -362,6 +367,7 @@ class ColumnSink:
             stop,
             self.pose_series,
             self.posed,
+            self.zeroed,
         )
         if damage:
             return 0, damage
@@ -381,9 +387,9 @@ class ColumnSink:
     def _grow(self, needed: int) -> None:
         """More room (a count from the index was missing or wrong: damaged or foreign file)."""
         self.capacity = max(needed, 2 * self.capacity)
-        base = _zeros(self.height, self.capacity)  # zeros: see __init__
+        base, zeroed = read_arrays(self.height, self.capacity)  # see __init__
         base[:, : self.n] = self.base[:, : self.n]
-        self.base = base
+        self.base, self.zeroed = base, zeroed
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Every destination's samples so far, (samples, *shape): views of ``base``.
@@ -432,28 +438,6 @@ def _samples_first(series: np.ndarray) -> np.ndarray:
     """
     last = series.ndim - 1
     return series.transpose(last, *range(last))
-
-
-#: The kernel's huge pages: 2 MiB, at addresses that are multiples of it.
-_HUGE_PAGE = 2 << 20
-
-
-def _zeros(rows: int, columns: int) -> np.ndarray:
-    """A new (rows, columns) float64 array of zeros that starts at a huge page's address.
-
-    numpy asks the kernel for huge pages for an array of 4 MiB or more, but the kernel backs
-    only the whole 2 MiB pages inside it by them: an array that starts anywhere else has its
-    first and last partial 2 MiB in 4 kB pages, about 500 page faults of a 70 MB read (each
-    costs more than the kernel's zeroing of its 4 kB). Starting at a multiple of 2 MiB leaves
-    only the end in 4 kB pages; the up to 2 MiB skipped before it is never touched, so it takes
-    no memory.
-    """
-    size = rows * columns
-    if 8 * size < 2 * _HUGE_PAGE:  # small: no huge pages
-        return np.zeros((rows, columns))
-    arena = np.zeros(size + _HUGE_PAGE // 8)
-    skip = (-arena.ctypes.data % _HUGE_PAGE) // 8
-    return arena[skip : skip + size].reshape(rows, columns)
 
 
 def result_of(arrays: dict[str, Any], names: dict[str, list[str]], terms: list[str]) -> Result:

@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 
 import pinwind
-from pinwind.io.log_columns import _HUGE_PAGE, _zeros, zero_destinations
+from pinwind.io.log_columns import zero_destinations
 from pinwind.io.log_reader import LogReader, read_log
+from pinwind.io.read_memory import HUGE_PAGE, read_arrays, release
 from pinwind.loads.signals import Step
 from tests.io.conftest import DT
 from tests.io.test_log_writer import assert_same_arrays
@@ -98,12 +99,14 @@ def test_arrays_of_one_read_are_independent_writable_and_pickle_their_own_bytes(
 
 def test_large_arrays_start_at_a_huge_page_and_small_ones_are_plain():
     rows, columns = 64, 20_001  # 10 MB: the kernel backs it with huge pages
-    big = _zeros(rows, columns)
-    assert big.shape == (rows, columns) and big.flags.c_contiguous and big.flags.writeable
-    assert _first_address(big) % (2 << 20) == 0 == _HUGE_PAGE % (2 << 20)
+    release()  # new memory, not an earlier read's
+    big, zeroed = read_arrays(rows, columns)
+    assert zeroed and big.shape == (rows, columns)
+    assert big.flags.c_contiguous and big.flags.writeable
+    assert _first_address(big) % (2 << 20) == 0 == HUGE_PAGE % (2 << 20)
     assert _zero(big[:, ::997])  # pages touched only here
-    small = _zeros(3, 10)
-    assert small.shape == (3, 10) and _zero(small) and small.base is None
+    small, zeroed = read_arrays(3, 10)
+    assert zeroed and small.shape == (3, 10) and _zero(small) and small.base is None
 
 
 def test_a_long_read_on_huge_pages_equals_the_run(planetary, tmp_path):

@@ -169,11 +169,13 @@ std::pair<T*, nb::capsule> owned(std::size_t n) {
 // sample `at`. Returns (samples, pose rows, poses (pose series, posed samples), damage):
 // damage is "" or why the chunk is damaged (nothing placed); samples is -1 when a record's
 // samples in the window are not consecutive (nothing placed), and when it is more than `room`
-// nothing is placed either. Without the GIL but to parse the arguments and make the results.
+// nothing is placed either. `zeroed`: out holds +0.0 wherever nothing is placed (new pages), so
+// a series constant at +0.0 is not written; false for memory used before, where every value is.
+// Without the GIL but to parse the arguments and make the results.
 nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, long pose_width,
                               const Indices& row_of, OutMatrix out, long at, long room,
                               std::optional<double> start, std::optional<double> stop,
-                              const Indices& pose_series, bool posed) {
+                              const Indices& pose_series, bool posed, bool zeroed) {
   const long height = static_cast<long>(out.shape(0)), samples = static_cast<long>(out.shape(1));
   if (static_cast<long>(row_of.shape(0)) != width) {
     throw std::invalid_argument("place_columns_chunk: " + std::to_string(row_of.shape(0)) +
@@ -201,7 +203,8 @@ nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, 
                                   " of " + std::to_string(pose_width));
     }
   }
-  const ColumnTarget to{out.data(), height, samples, static_cast<long>(out.stride(0)), rows};
+  const ColumnTarget to{out.data(), height, samples, static_cast<long>(out.stride(0)), rows,
+                        zeroed};
   std::vector<ColumnRecord> records;
   std::vector<PosedSample> found;
   std::string damage;
@@ -275,9 +278,10 @@ void bind_columns(nb::module_& m) {
         "out[rows[j], at .. at + count] = values[j] where rows[j] >= 0.");
   m.def("place_columns_chunk", &place_columns_chunk, "chunk"_a, "channel"_a, "width"_a,
         "pose_width"_a, "row_of"_a, "out"_a, "at"_a, "room"_a, "start"_a.none(), "stop"_a.none(),
-        "pose_series"_a, "posed"_a,
+        "pose_series"_a, "posed"_a, "zeroed"_a = true,
         "A decompressed chunk's columns records placed into out from sample at: (samples, pose "
-        "rows, poses, damage).");
+        "rows, poses, damage). zeroed: out is +0.0 where nothing is placed (a constant +0.0 is "
+        "not written).");
 }
 
 }  // namespace pinwind

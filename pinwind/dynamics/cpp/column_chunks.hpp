@@ -28,6 +28,9 @@ struct ColumnTarget {
   double* data;
   long height, width, stride;
   const std::int64_t* row_of;  // (columns width,)
+  // data holds +0.0 wherever nothing is placed (new pages): a series constant at +0.0 is left
+  // as it is; false for memory an earlier read used, where every value is written
+  bool zeroed = true;
 };
 
 // One columns record of a chunk, checked (pointers into the chunk).
@@ -139,8 +142,9 @@ struct PosedSample {
 };
 
 // Places a parsed record's samples in the window at samples at .. at + count of `to`: the
-// varying series unshuffled, the constant ones filled but for +0.0 (all bits zero: the arrays
-// start as zeros, and pages nobody writes are never touched), both around the caches. Appends
+// varying series unshuffled, the constant ones filled but for +0.0 where `to` is zeroed (all
+// bits zero: new arrays start as zeros, and pages nobody writes are never touched), both around
+// the caches. Appends
 // the posed samples in the window (at + their sample) to `found`, as ColumnSink.place.
 inline void place_columns_record(const ColumnRecord& r, const ColumnTarget& to, long width,
                                  long at, bool posed, std::vector<PosedSample>& found) {
@@ -149,7 +153,7 @@ inline void place_columns_record(const ColumnRecord& r, const ColumnTarget& to, 
     const std::int64_t row = to.row_of[j];
     if (is_constant(r.bits, j)) {
       const std::uint8_t* value = r.constants + 8 * slot_constant++;
-      if (row >= 0 && load_le(value, 8) != 0) {
+      if (row >= 0 && (!to.zeroed || load_le(value, 8) != 0)) {
         fill_values(to.data + row * to.stride + at, r.count, load_double(value), true);
       }
     } else {

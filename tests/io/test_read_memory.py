@@ -1,0 +1,97 @@
+"""A read into the memory of an earlier read: the same arrays, bit for bit, and nothing held reused.
+
+``read_memory`` keeps the allocation of a read whose arrays have all been dropped and gives it
+to the next read, which then writes every value (the memory holds the old ones). These tests
+fill the first read's arrays with a value no run gives before dropping them, so that any value
+the second read did not write shows; the run steps its torques on halfway, so that whole arrays
+are +0.0 over the first blocks (those a read into new memory never writes).
+"""
+
+from __future__ import annotations
+
+import gc
+
+import numpy as np
+import pytest
+
+import pinwind
+from pinwind.io.log_reader import read_log
+from pinwind.io.read_memory import read_arrays, release
+from pinwind.loads.signals import Step
+from tests.io.conftest import DT
+from tests.io.test_log_writer import assert_same_arrays
+
+#: The torques step on at half the run: 20 001 samples of 1 ms, arrays of 50 MB (huge pages).
+DURATION = 20.0
+TORQUES = {
+    "carrier": Step(time=DURATION / 2, before=0.0, after=1.0e6),
+    "sun": Step(time=DURATION / 2, before=0.0, after=-1.0e6 / 6.0),
+}
+#: A value no array of the run holds.
+SCRIBBLE = 7.25
+
+
+@pytest.fixture(scope="module")
+def long_run(planetary, tmp_path_factory):
+    path = tmp_path_factory.mktemp("memory") / "long.mcap"
+    result = pinwind.simulate(planetary, duration=DURATION, dt=DT, torques=TORQUES, log=path)
+    return result, path
+
+
+def _address(array: np.ndarray) -> int:
+    return array.__array_interface__["data"][0]
+
+
+def _scribbled_read(path) -> int:
+    """Reads the log, overwrites every array with SCRIBBLE, drops them: the time's address."""
+    read = read_log(path)
+    for name in read.ARRAYS:
+        getattr(read, name)[...] = SCRIBBLE
+    return _address(read.time)
+
+
+def test_a_read_into_an_earlier_reads_memory_equals_the_run_bit_for_bit(long_run):
+    result, path = long_run
+    release()
+    first = _scribbled_read(path)
+    gc.collect()
+    again = read_log(path)
+    assert _address(again.time) == first  # the same memory, used again
+    assert not np.any(again.mesh_normal[: len(again) // 4])  # unloaded: written as +0.0
+    assert_same_arrays(again, result)
+
+
+def test_memory_a_caller_still_holds_is_not_used_again(long_run):
+    result, path = long_run
+    release()
+    read = read_log(path)
+    held = read.mesh_normal[::3]  # a view
+    buffer = memoryview(read.bearing_force)
+    del read
+    gc.collect()
+    again = read_log(path)
+    for name in again.ARRAYS:
+        assert not np.shares_memory(held, getattr(again, name)), name
+        assert not np.shares_memory(np.asarray(buffer), getattr(again, name)), name
+    np.testing.assert_array_equal(held, result.mesh_normal[::3])
+    np.testing.assert_array_equal(np.asarray(buffer), result.bearing_force)
+    assert_same_arrays(again, result)
+
+
+def test_only_an_allocation_nobody_refers_to_is_given_again():
+    release()
+    rows, columns = 64, 20_001  # 10 MB
+    first, zeroed = read_arrays(rows, columns)
+    assert zeroed
+    first[...] = SCRIBBLE
+    second, zeroed = read_arrays(rows, columns)  # the first is still held
+    assert zeroed and not np.shares_memory(first, second) and not second[:, ::997].any()
+    del first, second
+    third, zeroed = read_arrays(rows, columns)  # the second's, kept when it was made
+    assert not zeroed
+    smaller, zeroed = read_arrays(rows // 2, columns)  # the kept one is in use
+    assert zeroed
+    del third, smaller
+    release()
+    fourth, zeroed = read_arrays(rows, columns)
+    assert zeroed and not fourth[:, ::997].any()
