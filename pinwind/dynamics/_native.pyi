@@ -423,15 +423,17 @@ def place_columns_chunk(
     stop: float | None,
     pose_series: Indices,
     posed: bool,
-    zeroed: bool = True,
-) -> tuple[int, np.ndarray, np.ndarray, str]:
+    zeroed_from: int = 0,
+) -> tuple[int, np.ndarray, np.ndarray, str, int]:
     """A decompressed chunk's columns records placed into ``out`` from sample ``at``.
 
     Every record of ``channel`` (docs/log_format.md, "Columns", layout 3), its samples with
     start ≤ t ≤ stop [s] (None: no bound) one record after the other: varying series j
     unshuffled and constant ones filled into ``out[row_of[j]]`` (skipped where < 0), but a
-    constant +0.0 when ``zeroed`` (``out`` is +0.0 wherever nothing is placed: new memory),
-    around the caches (``cpp/column_chunks.hpp``). Returns (samples, pose rows, poses, damage):
+    constant +0.0 in the rows from ``zeroed_from`` on (they are +0.0 wherever nothing is placed:
+    new memory; in the rows before it, memory an earlier read used, every value is written),
+    around the caches (``cpp/column_chunks.hpp``). Returns (samples, pose rows, poses, damage,
+    highest), highest the last row given a value other than +0.0 (-1: none):
     the posed samples in the window (their samples in ``out``) and their ``pose_series``,
     (len(pose_series), posed samples), when ``posed``; damage is "" or why the chunk's records
     do not fit their lengths. Nothing is placed when damage is not "", when samples is -1 (a

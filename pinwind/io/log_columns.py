@@ -27,7 +27,7 @@ from pinwind.dynamics.result import POSE_ARRAYS, Result
 from pinwind.dynamics.series import get as declared_series
 from pinwind.io.log_format import COLUMNS_LAYOUT, mask_bytes
 from pinwind.io.mcap_file import DamagedChunk
-from pinwind.io.read_memory import read_arrays
+from pinwind.io.read_memory import read_arrays, written
 
 #: A columns payload's header: layout byte, samples m, posed samples p.
 _HEAD = 9
@@ -296,9 +296,11 @@ class ColumnSink:
         # (``place``): a large array is new pages from the kernel, zeroed on first touch, so
         # np.zeros costs what np.empty does, and the pages of series that are zero throughout
         # (half of a shipped model's: rigid bearings' displacements, friction of a run without
-        # it) are never written. Memory an earlier read used (``read_arrays``) has every value
-        # written.
-        self.base, self.zeroed = read_arrays(self.height, capacity)
+        # it) are never written. In memory an earlier read used (``read_arrays``), the rows
+        # before ``zeroed_from`` hold its values and have every value written.
+        self.base, self.zeroed_from = read_arrays(self.height, capacity)
+        #: the last row given a value other than +0.0 by each chunk or block placed
+        self.last_rows: list[int] = []
 
     def put(self, block: ColumnBlock, rows: slice | np.ndarray, count: int) -> None:
         """Copy ``count`` samples (``rows`` of the block) after those already there."""
@@ -320,10 +322,11 @@ class ColumnSink:
                 vary = ~block.same[self.source]
                 slot = block.slot[self.source]
                 self.base[:, at : at + count][vary] = block.varying()[slot[vary]][:, rows]
-            # in new memory a constant +0.0 (all bits zero, not -0.0) is already there
+            # in zeroed rows a constant +0.0 (all bits zero, not -0.0) is already there
             filled = self.row_of[block.same]
-            if self.zeroed:
-                filled = np.where(block.constants.view(np.uint64) == 0, -1, filled)
+            zero = block.constants.view(np.uint64) == 0
+            filled = np.where(zero & (filled >= self.zeroed_from), -1, filled)
+            self.last_rows.append(self.height - 1)  # not worked out here
             fill_rows(block.constants, filled, self.base, at, count, True)
         if self.posed and len(block.pose_time):
             time = block.time[rows]
@@ -354,7 +357,7 @@ class ColumnSink:
         """
         chunk = data if isinstance(data, np.ndarray) else np.frombuffer(data, np.uint8)
         layout = self.layout
-        filled, rows, poses, damage = place_columns_chunk(
+        filled, rows, poses, damage, last_row = place_columns_chunk(
             chunk,
             layout.channel,
             layout.width,
@@ -367,10 +370,11 @@ class ColumnSink:
             stop,
             self.pose_series,
             self.posed,
-            self.zeroed,
+            self.zeroed_from,
         )
         if damage:
             return 0, damage
+        self.last_rows.append(last_row)
         if 0 <= filled <= room and len(rows):
             self.poses.append((rows, poses))
         return filled, ""
@@ -387,9 +391,13 @@ class ColumnSink:
     def _grow(self, needed: int) -> None:
         """More room (a count from the index was missing or wrong: damaged or foreign file)."""
         self.capacity = max(needed, 2 * self.capacity)
-        base, zeroed = read_arrays(self.height, self.capacity)  # see __init__
+        base, zeroed_from = read_arrays(self.height, self.capacity)  # see __init__
         base[:, : self.n] = self.base[:, : self.n]
-        self.base, self.zeroed = base, zeroed
+        self.base, self.zeroed_from = base, zeroed_from
+
+    def finish(self) -> None:
+        """Tell the memory kept for the next read which rows this one left at +0.0."""
+        written(self.base, max(self.last_rows, default=-1), self.n == self.capacity)
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Every destination's samples so far, (samples, *shape): views of ``base``.

@@ -650,6 +650,7 @@ class LogReader:
             n += filled
         sink = sinks[0]
         sink.n = n
+        sink.finish()
         lost += damaged
         return sink
 

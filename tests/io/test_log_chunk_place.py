@@ -45,7 +45,9 @@ def _payload(values: np.ndarray, poses: np.ndarray) -> bytes:
     return head + mask.tobytes() + planes.tobytes() + constants.tobytes() + poses.tobytes()
 
 
-def _place(chunk: bytes, rows, out, at=0, room=None, start=None, stop=None, posed=True):
+def _place(
+    chunk: bytes, rows, out, at=0, room=None, start=None, stop=None, posed=True, zeroed_from=0
+):
     return place_columns_chunk(
         np.frombuffer(chunk, np.uint8),
         CHANNEL,
@@ -59,6 +61,7 @@ def _place(chunk: bytes, rows, out, at=0, room=None, start=None, stop=None, pose
         stop,
         np.array([1, 2], np.int64),
         posed,
+        zeroed_from,
     )
 
 
@@ -90,7 +93,7 @@ def _chunk() -> bytes:
 def test_a_chunk_built_by_hand_lands_at_its_place_bit_for_bit():
     first, second, _, _ = _blocks()
     out = np.zeros((5, 14))
-    filled, pose_rows, poses, damage = _place(_chunk(), [0, 1, 2, 3, 4], out, at=2, room=12)
+    filled, pose_rows, poses, damage, _ = _place(_chunk(), [0, 1, 2, 3, 4], out, at=2, room=12)
     assert (filled, damage) == (10, "")
     expected = np.zeros((5, 14))
     expected[:, 2:12] = np.concatenate([first, second], axis=1)
@@ -114,7 +117,7 @@ def test_rows_not_read_are_left_alone_and_a_window_keeps_its_samples():
     first, second, _, _ = _blocks()
     out = np.full((2, 10), 9.0)
     # series 1 → row 1, series 4 → row 0, the others not read; samples with 0.02 ≤ t ≤ 0.07
-    filled, pose_rows, poses, _ = _place(_chunk(), [-1, 1, -1, -1, 0], out, start=0.02, stop=0.07)
+    filled, pose_rows, poses, *_ = _place(_chunk(), [-1, 1, -1, -1, 0], out, start=0.02, stop=0.07)
     assert filled == 6
     both = np.concatenate([first, second], axis=1)[:, 2:8]
     assert_array_equal(out[1, :6], both[1])
@@ -123,6 +126,26 @@ def test_rows_not_read_are_left_alone_and_a_window_keeps_its_samples():
     # poses at 0.03 (sample 1 of the window) and 0.08 (outside it)
     assert_array_equal(pose_rows, [1])
     assert_array_equal(poses, [[13.0], [23.0]])
+
+
+def test_memory_of_an_earlier_read_gets_its_zeros_written_but_in_the_rows_known_zero():
+    """Rows before ``zeroed_from`` hold an earlier read's values: a constant +0.0 is written
+    there; from it on the memory is +0.0 already and is left alone. The last row given a value
+    other than +0.0 comes back."""
+    first, second, _, _ = _blocks()
+    both = np.concatenate([first, second], axis=1)
+    # series 3 (+0.0 throughout) → row 4, series 4 (a NaN, then 2.5 and 7.0) → row 3
+    rows = [0, 1, 2, 4, 3]
+    out = np.full((5, 10), 9.0)
+    filled, *_, last_row = _place(_chunk(), rows, out, zeroed_from=5)
+    assert (filled, last_row) == (10, 3)  # row 4 was given +0.0 only
+    assert_array_equal(out.view(np.uint64), both[[0, 1, 2, 4, 3]].view(np.uint64))
+    out = np.full((5, 10), 9.0)
+    assert _place(_chunk(), rows, out, zeroed_from=4)[-1] == 3
+    assert_array_equal(out[4], 9.0)  # taken for +0.0: not written
+    assert_array_equal(out[:4].view(np.uint64), both[[0, 1, 2, 4]].view(np.uint64))
+    assert _place(_chunk(), [-1, -1, -1, 0, -1], np.zeros((2, 10)))[-1] == -1  # +0.0 alone
+    assert _place(_chunk(), [-1, -1, 1, 0, -1], np.zeros((2, 10)))[-1] == 1  # -0.0 is not +0.0
 
 
 def test_nothing_is_placed_past_the_room_or_for_samples_not_consecutive():
@@ -159,7 +182,7 @@ def test_a_damaged_chunk_is_reported_in_decode_chunks_words_and_nothing_placed(k
     with pytest.raises(DamagedChunk) as raised:
         decode_chunk(chunk, layout)
     out = np.zeros((5, 6))
-    filled, rows, poses, damage = _place(chunk, range(5), out)
+    filled, rows, poses, damage, _ = _place(chunk, range(5), out)
     assert (filled, damage) == (0, str(raised.value))
     assert not out.any() and len(rows) == 0 and poses.shape == (2, 0)
 

@@ -100,13 +100,13 @@ def test_arrays_of_one_read_are_independent_writable_and_pickle_their_own_bytes(
 def test_large_arrays_start_at_a_huge_page_and_small_ones_are_plain():
     rows, columns = 64, 20_001  # 10 MB: the kernel backs it with huge pages
     release()  # new memory, not an earlier read's
-    big, zeroed = read_arrays(rows, columns)
-    assert zeroed and big.shape == (rows, columns)
+    big, first_zero = read_arrays(rows, columns)
+    assert first_zero == 0 and big.shape == (rows, columns)
     assert big.flags.c_contiguous and big.flags.writeable
     assert _first_address(big) % (2 << 20) == 0 == HUGE_PAGE % (2 << 20)
     assert _zero(big[:, ::997])  # pages touched only here
-    small, zeroed = read_arrays(3, 10)
-    assert zeroed and small.shape == (3, 10) and _zero(small) and small.base is None
+    small, first_zero = read_arrays(3, 10)
+    assert first_zero == 0 and small.shape == (3, 10) and _zero(small) and small.base is None
 
 
 def test_a_long_read_on_huge_pages_equals_the_run(planetary, tmp_path):

@@ -16,7 +16,7 @@ import pytest
 
 import pinwind
 from pinwind.io.log_reader import read_log
-from pinwind.io.read_memory import read_arrays, release
+from pinwind.io.read_memory import read_arrays, release, written
 from pinwind.loads.signals import Step
 from tests.io.conftest import DT
 from tests.io.test_log_writer import assert_same_arrays
@@ -81,17 +81,50 @@ def test_memory_a_caller_still_holds_is_not_used_again(long_run):
 def test_only_an_allocation_nobody_refers_to_is_given_again():
     release()
     rows, columns = 64, 20_001  # 10 MB
-    first, zeroed = read_arrays(rows, columns)
-    assert zeroed
+    first, first_zero = read_arrays(rows, columns)
+    assert first_zero == 0  # new memory: zeros
     first[...] = SCRIBBLE
-    second, zeroed = read_arrays(rows, columns)  # the first is still held
-    assert zeroed and not np.shares_memory(first, second) and not second[:, ::997].any()
+    second, first_zero = read_arrays(rows, columns)  # the first is still held
+    assert first_zero == 0 and not np.shares_memory(first, second)
+    assert not second[:, ::997].any()
+    second[...] = SCRIBBLE
     del first, second
-    third, zeroed = read_arrays(rows, columns)  # the second's, kept when it was made
-    assert not zeroed
-    smaller, zeroed = read_arrays(rows // 2, columns)  # the kept one is in use
-    assert zeroed
+    third, first_zero = read_arrays(rows, columns)  # the second's, kept when it was made
+    assert first_zero == rows and (third == SCRIBBLE).all()  # nothing known: all written
+    smaller, first_zero = read_arrays(rows // 2, columns)  # the kept one is in use
+    assert first_zero == 0
     del third, smaller
     release()
-    fourth, zeroed = read_arrays(rows, columns)
-    assert zeroed and not fourth[:, ::997].any()
+    fourth, first_zero = read_arrays(rows, columns)
+    assert first_zero == 0 and not fourth[:, ::997].any()
+
+
+def test_rows_a_read_left_at_zero_are_left_alone_until_someone_writes_them():
+    release()
+    rows, columns = 64, 20_001
+    array, _ = read_arrays(rows, columns)
+    array[:10] = SCRIBBLE  # a read that gave rows 0-9 values and left 10-63 at +0.0
+    written(array, 9, complete=True)
+    del array
+    again, first_zero = read_arrays(rows, columns)
+    assert first_zero == 10
+    written(again, 63, complete=False)  # stopped: nothing known
+    del again
+    again, first_zero = read_arrays(rows, columns)
+    assert first_zero == rows
+    written(again, 9, complete=True)
+    again[40, 7] = -0.0  # the caller's write after the read: -0.0 is not +0.0
+    del again
+    again, first_zero = read_arrays(rows, columns)
+    assert first_zero == rows
+    again[10:] = 0.0  # the read writes every value: rows 10-63 are given +0.0
+    written(again, 9, complete=True)
+    del again
+    fewer, first_zero = read_arrays(rows // 2, columns)  # the same memory, fewer rows
+    assert first_zero == 10
+    fewer[4:10] = 0.0  # a read that gives rows 0-3 values and rows 4-9 +0.0
+    written(fewer, 3, complete=True)
+    del fewer
+    # rows 32-63 of the 64-row view lie past the last read's and still hold 0: rows 4-63 zero
+    again, first_zero = read_arrays(rows, columns)
+    assert first_zero == 4

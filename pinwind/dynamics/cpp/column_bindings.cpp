@@ -166,16 +166,17 @@ std::pair<T*, nb::capsule> owned(std::size_t n) {
 
 // A decompressed chunk of a log's columns placed into out (column_chunks.hpp): every columns
 // record of `channel`, its samples with start ≤ t ≤ stop placed one record after the other from
-// sample `at`. Returns (samples, pose rows, poses (pose series, posed samples), damage):
+// sample `at`. Returns (samples, pose rows, poses (pose series, posed samples), damage, highest):
 // damage is "" or why the chunk is damaged (nothing placed); samples is -1 when a record's
 // samples in the window are not consecutive (nothing placed), and when it is more than `room`
-// nothing is placed either. `zeroed`: out holds +0.0 wherever nothing is placed (new pages), so
-// a series constant at +0.0 is not written; false for memory used before, where every value is.
-// Without the GIL but to parse the arguments and make the results.
+// nothing is placed either. Rows from `zeroed_from` on hold +0.0 wherever nothing is placed (new
+// pages), so a series constant at +0.0 is not written there; in the rows before it (memory an
+// earlier read used) every value is. `highest`: the last row given a value other than +0.0, -1
+// for none. Without the GIL but to parse the arguments and make the results.
 nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, long pose_width,
                               const Indices& row_of, OutMatrix out, long at, long room,
                               std::optional<double> start, std::optional<double> stop,
-                              const Indices& pose_series, bool posed, bool zeroed) {
+                              const Indices& pose_series, bool posed, long zeroed_from) {
   const long height = static_cast<long>(out.shape(0)), samples = static_cast<long>(out.shape(1));
   if (static_cast<long>(row_of.shape(0)) != width) {
     throw std::invalid_argument("place_columns_chunk: " + std::to_string(row_of.shape(0)) +
@@ -204,11 +205,11 @@ nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, 
     }
   }
   const ColumnTarget to{out.data(), height, samples, static_cast<long>(out.stride(0)), rows,
-                        zeroed};
+                        zeroed_from};
   std::vector<ColumnRecord> records;
   std::vector<PosedSample> found;
   std::string damage;
-  long filled = 0;
+  long filled = 0, highest = -1;
   {
     nb::gil_scoped_release release;
     bool consecutive = true;
@@ -230,7 +231,7 @@ nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, 
         long place = at;
         for (const auto& r : records) {
           if (!r.count) continue;
-          place_columns_record(r, to, width, place, posed, found);
+          place_columns_record(r, to, width, place, posed, found, highest);
           place += r.count;
         }
       }
@@ -249,7 +250,7 @@ nb::tuple place_columns_chunk(const ConstBytes& chunk, int channel, long width, 
   }
   return nb::make_tuple(filled, nb::ndarray<nb::numpy, std::int64_t, nb::ndim<1>>(rows_out, {n}, rows_owner),
                         nb::ndarray<nb::numpy, double, nb::ndim<2>>(poses_out, {k, n}, poses_owner),
-                        damage);
+                        damage, highest);
 }
 
 }  // namespace
@@ -278,10 +279,10 @@ void bind_columns(nb::module_& m) {
         "out[rows[j], at .. at + count] = values[j] where rows[j] >= 0.");
   m.def("place_columns_chunk", &place_columns_chunk, "chunk"_a, "channel"_a, "width"_a,
         "pose_width"_a, "row_of"_a, "out"_a, "at"_a, "room"_a, "start"_a.none(), "stop"_a.none(),
-        "pose_series"_a, "posed"_a, "zeroed"_a = true,
+        "pose_series"_a, "posed"_a, "zeroed_from"_a = 0,
         "A decompressed chunk's columns records placed into out from sample at: (samples, pose "
-        "rows, poses, damage). zeroed: out is +0.0 where nothing is placed (a constant +0.0 is "
-        "not written).");
+        "rows, poses, damage, highest row given a value other than +0.0). Rows from zeroed_from "
+        "on are +0.0 where nothing is placed (a constant +0.0 is not written there).");
 }
 
 }  // namespace pinwind

@@ -28,9 +28,10 @@ struct ColumnTarget {
   double* data;
   long height, width, stride;
   const std::int64_t* row_of;  // (columns width,)
-  // data holds +0.0 wherever nothing is placed (new pages): a series constant at +0.0 is left
-  // as it is; false for memory an earlier read used, where every value is written
-  bool zeroed = true;
+  // rows from zeroed_from on hold +0.0 wherever nothing is placed (new pages, or the part of an
+  // earlier read's memory that it left at +0.0): a series constant at +0.0 is not written there;
+  // in the rows before it every value is written
+  long zeroed_from = 0;
 };
 
 // One columns record of a chunk, checked (pointers into the chunk).
@@ -142,24 +143,29 @@ struct PosedSample {
 };
 
 // Places a parsed record's samples in the window at samples at .. at + count of `to`: the
-// varying series unshuffled, the constant ones filled but for +0.0 where `to` is zeroed (all
-// bits zero: new arrays start as zeros, and pages nobody writes are never touched), both around
-// the caches. Appends
-// the posed samples in the window (at + their sample) to `found`, as ColumnSink.place.
+// varying series unshuffled, the constant ones filled but for +0.0 in the rows from
+// to.zeroed_from on (all bits zero: new arrays start as zeros, and pages nobody writes are never
+// touched), both around the caches. Raises `highest` to the last row given a value other than
+// +0.0 (a varying series counts as such). Appends the posed samples in the window (at + their
+// sample) to `found`, as ColumnSink.place.
 inline void place_columns_record(const ColumnRecord& r, const ColumnTarget& to, long width,
-                                 long at, bool posed, std::vector<PosedSample>& found) {
+                                 long at, bool posed, std::vector<PosedSample>& found,
+                                 long& highest) {
   long slot_vary = 0, slot_constant = 0;
   for (long j = 0; j < width; ++j) {
     const std::int64_t row = to.row_of[j];
     if (is_constant(r.bits, j)) {
       const std::uint8_t* value = r.constants + 8 * slot_constant++;
-      if (row >= 0 && (!to.zeroed || load_le(value, 8) != 0)) {
+      const bool zero = load_le(value, 8) == 0;
+      if (row >= 0 && (!zero || row < to.zeroed_from)) {
         fill_values(to.data + row * to.stride + at, r.count, load_double(value), true);
+        if (!zero && row > highest) highest = static_cast<long>(row);
       }
     } else {
       if (row >= 0) {
         unshuffle_bytes(r.planes + slot_vary * r.m + r.first, r.vary * r.m, r.count,
                         to.data + row * to.stride + at, true);
+        if (row > highest) highest = static_cast<long>(row);
       }
       ++slot_vary;
     }
