@@ -15,9 +15,11 @@ import numpy as np
 import pytest
 
 import pinwind
+from pinwind.io import read_memory
 from pinwind.io.log_reader import read_log
 from pinwind.io.read_memory import read_arrays, release, written
 from pinwind.loads.signals import Step
+from pinwind.units import rpm_to_rad_s
 from tests.io.conftest import DT
 from tests.io.test_log_writer import assert_same_arrays
 
@@ -35,6 +37,20 @@ SCRIBBLE = 7.25
 def long_run(planetary, tmp_path_factory):
     path = tmp_path_factory.mktemp("memory") / "long.mcap"
     result = pinwind.simulate(planetary, duration=DURATION, dt=DT, torques=TORQUES, log=path)
+    return result, path
+
+
+@pytest.fixture(scope="module")
+def steady_run(planetary, tmp_path_factory):
+    """Turning at 14.2 rpm and loaded throughout: the arrays zero over the first block (the
+    spur meshes' axial force, the rigid bearings' displacements, friction) stay zero, so a read
+    leaves their rows, laid out last, at +0.0."""
+    path = tmp_path_factory.mktemp("memory") / "steady.mcap"
+    torques = {"carrier": 1.0e6, "sun": -1.0e6 / 6.0}
+    speeds = {"carrier": rpm_to_rad_s(14.2)}
+    result = pinwind.simulate(
+        planetary, duration=DURATION, dt=DT, torques=torques, initial_speeds=speeds, log=path
+    )
     return result, path
 
 
@@ -59,6 +75,38 @@ def test_a_read_into_an_earlier_reads_memory_equals_the_run_bit_for_bit(long_run
     assert _address(again.time) == first  # the same memory, used again
     assert not np.any(again.mesh_normal[: len(again) // 4])  # unloaded: written as +0.0
     assert_same_arrays(again, result)
+
+
+@pytest.mark.parametrize("scribbled", [False, True])
+def test_rows_left_at_zero_by_a_read_read_back_as_zeros_the_next_time(
+    steady_run, long_run, scribbled
+):
+    """The steady run's zero arrays: the second read leaves their rows alone unless the
+    caller wrote into them; either way they read back as the run's +0.0. Then the other run's
+    log, whose arrays lie otherwise in the same memory, and the steady one again."""
+    result, path = steady_run
+    release()
+    if scribbled:
+        _scribbled_read(path)
+    else:
+        read_log(path)
+    gc.collect()
+    # the first read left a fifth of the memory or more at +0.0 (the case under test)
+    kept = read_memory._kept[0]
+    assert kept.zero_from < kept.arena.ctypes.data + 0.8 * kept.arena.nbytes
+    again = read_log(path)
+    assert not again.mesh_axial.any() and not again.bearing_displacement.any()
+    assert_same_arrays(again, result)
+    memory = _address(again.time)
+    del again
+    gc.collect()
+    other_result, other_path = long_run
+    other = read_log(other_path)
+    assert _address(other.time) == memory
+    assert_same_arrays(other, other_result)
+    del other
+    gc.collect()
+    assert_same_arrays(read_log(path), result)
 
 
 def test_memory_a_caller_still_holds_is_not_used_again(long_run):
