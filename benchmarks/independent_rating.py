@@ -433,7 +433,7 @@ def rate_mesh(g1: Gear, g2: Gear, f_t: float, v: float, pw: dict, rows: list, la
     row("AGMA K_v (V = v/0.00508 ft/min)", fa["K_v"], kv)
     km = agma_km(b, d1)
     row("AGMA K_m", fa["K_m"], km)
-    R = fa["reliability"]
+    R = fa["reliability_percent"] / 100.0
     kr = 0.50 - 0.109 * math.log(1 - R) if R >= 0.99 else 0.658 - 0.0759 * math.log(1 - R)
     row("AGMA K_R", fa["K_R"], kr)
     if True:
