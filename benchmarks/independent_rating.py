@@ -15,8 +15,9 @@ its ``GearPair``):
   radius r ± (m_n (1 + x) + k m_n) as docs/model_format.md states, ε_α = g_α/p_bt with
   g_α = √(r_a1² − r_b1²) ± √(r_a2² − r_b2²) ∓ a sin α_wt, ε_β = b sin β/(π m_n);
 - the nominal tangential force at the reference circle, F_t = T/(N_p r) of the applied torque
-  (row "F_t nominal") and the pitch-line speed (row "v"; the sun's absolute speed, as pinwind
-  documents, 6/5 of its speed relative to the carrier); pinwind rates the force and speed of the
+  (row "F_t nominal") and the pitch-line speed (row "v"; for the planetary meshes the speed in
+  the carrier's frame, m z_r ω_c/2, as KISSsoft's ISO 6336 report of the NREL 5 MW planetary
+  stages takes it, 5/6 of the sun's absolute r_s ω_s); pinwind rates the force and speed of the
   run's last sample, and the rest is recoded from those, to check the formulas, not the run;
 - ISO 6336-2 (G. F. S. Rebouças's open "Drivetrain" ISO_6336.m, which prints ISO 6336-2's
   formulas and checks them against ISO/TR 6336-30's first example; an open ISO 6336/DIN 3990
@@ -432,7 +433,7 @@ def rate_mesh(g1: Gear, g2: Gear, f_t: float, v: float, pw: dict, rows: list, la
     row("AGMA K_v (V = v/0.00508 ft/min)", fa["K_v"], kv)
     km = agma_km(b, d1)
     row("AGMA K_m", fa["K_m"], km)
-    R = fa["reliability"]
+    R = fa["reliability_percent"] / 100.0
     kr = 0.50 - 0.109 * math.log(1 - R) if R >= 0.99 else 0.658 - 0.0759 * math.log(1 - R)
     row("AGMA K_R", fa["K_R"], kr)
     if True:
@@ -489,9 +490,8 @@ def main() -> None:
     w_c = carrier_rpm * math.pi / 30
     w_sun = w_c * (1 + ring.z / sun.z)
     meshes = {m["mesh"]: m for m in pw["meshes"]}
-    # sun–planet: pinwind reports the sun's pitch-line speed; the recoding gives the sun's
-    # absolute one (the carrier-relative one is w_c z_r/z_s r_s, printed in the notes below)
-    rate_mesh(sun, planet, f_t, w_sun * r_sun, meshes["sun_planet1"], rows, "S/sun-planet")
+    # sun–planet: the pitch-line speed in the carrier's frame, r_s (ω_s − ω_c) = r_s ω_c z_r/z_s
+    rate_mesh(sun, planet, f_t, (w_sun - w_c) * r_sun, meshes["sun_planet1"], rows, "S/sun-planet")
     r_ring = ring.z * ring.m / 2
     rate_mesh(planet, ring, f_t, w_c * r_ring, meshes["planet1_ring"], rows, "S/planet-ring")
 

@@ -8,10 +8,18 @@ run that has settled; ``"max"`` for the largest value; ``"mean"``). A run report
 transverse plane (``MeshForces.normal``, docs/model_format.md), so the force normal to the tooth
 flank is F_n = normal / cos β_b (the same for spur gears), and the nominal tangential force at the
 reference circle is F_t = F_n cos β_b cos α_t (`GearPair.tangential_force`). The
-pitch-line speed for the dynamic factors is the larger of r |ω| of the two gears, with ω each
-gear's joint speed relative to its parent body at that sample: exact for fixed axes and for a
-planet's meshes (the planet's joint speed is relative to the carrier), a little high for the sun
-(whose speed relative to the housing includes the carrier's).
+pitch-line speed v for the dynamic factors (ISO K_v, AGMA K_v) is the mesh's speed at the
+reference circle in the carrier's frame, as KISSsoft's ISO 6336:2006 method B takes it for a
+planetary stage: its report of the NREL 5 MW stage 1 (Rebouças 2020, docs/references.md) gives
+v = 1.60 m/s "(Planet)" at sun 47.8 rpm and carrier 12.1 rpm, π d_sun (n_sun − n_carrier)/60 =
+π 0.855 m · 35.7/60 s, not the sun's absolute 2.14 m/s, and resonance ratios N = n/n_E1 of the
+speeds relative to the carrier (0.016 = 35.7/2266 for the sun, 0.028 = 39.9/1435 for the
+planet on the ring); stage 2 likewise (4.88 m/s, not 5.83). ISO 6336-1's own text was not
+available to quote. For a mesh with a planet v = r |ω| of the planet (`gear_roles`), r its
+reference radius and ω its joint speed relative to its parent, the carrier, at that sample;
+the sun's and the ring's speeds relative to the carrier give the same v (r_s |ω_s − ω_c| =
+r_p |ω_p|, the tooth counts' ratio). For any other mesh (fixed axes) it is the larger of r |ω|
+of the two gears, each gear's joint speed.
 
 ISO's face and transverse load factors K_Hβ and K_Hα take ISO 6336-1's empirical forms unless
 the rating is asked to take pinwind's own (``face_load``, ``transverse_load``;
@@ -53,6 +61,7 @@ from pinwind.gears.involute import pitch_radius
 from pinwind.gears.materials import Material
 from pinwind.gears.rating_agma import AgmaFactors, AgmaRating, agma_rating
 from pinwind.gears.rating_iso import IsoFactors, IsoRating, iso_rating
+from pinwind.model.gear_roles import gearbox_planetary_gears
 
 if TYPE_CHECKING:
     from pinwind.dynamics.result import Result
@@ -264,6 +273,7 @@ def rate(
                 f'drop one (the given value, or {option}="iso")'
             )
     _warn_if_not_steady(gearbox, result, at)
+    planets = frozenset(p for stage in gearbox_planetary_gears(gearbox) for p in stage.planets)
     ratings = []
     for mesh in gearbox.meshes:
         normal = result.mesh(mesh.name).normal
@@ -271,7 +281,7 @@ def rate(
         transverse = float(np.mean(normal)) if at == "mean" else float(normal[k])
         pair = GearPair.from_mesh(mesh, dict(materials or {}))
         force = pair.flank_normal_force(transverse)
-        speed = _pitch_line_speed(gearbox, result, mesh, k)
+        speed = _pitch_line_speed(gearbox, result, mesh, k, planets)
         factors, sources = given, iso_factor_sources(given)
         if face_load != "iso":
             k_hb, sources["K_Hbeta"] = run_face_load_factor(
@@ -407,10 +417,17 @@ def summarise(ratings: list[MeshRating]) -> dict[str, GearSummary]:
     }
 
 
-def _pitch_line_speed(gearbox: Gearbox, result: Result, mesh: Mesh, k: int) -> float:
-    """Max over the two gears of r |ω_joint| at sample k [m/s] (module docstring)."""
+def _pitch_line_speed(
+    gearbox: Gearbox, result: Result, mesh: Mesh, k: int, planets: frozenset[str]
+) -> float:
+    """Pitch-line speed v in the carrier's frame at sample k [m/s] (module docstring).
+
+    r |ω_joint| of the mesh's planet (its joint turns relative to the carrier), or the larger
+    over the two gears for a mesh with no planet.
+    """
     speeds = []
-    for gear in (mesh.gear_a, mesh.gear_b):
+    gears = [g for g in (mesh.gear_a, mesh.gear_b) if g.name in planets]
+    for gear in gears or (mesh.gear_a, mesh.gear_b):
         joint = gearbox.model.names[gear.joint_id]
         if joint in result.joint_names:
             omega = float(result.joint(joint).speed[k])

@@ -48,7 +48,7 @@ def _agma_caption(rating: GearboxRating) -> str:
     f = rating.meshes[0].agma.factors
     return (
         f"{AGMA_METHOD}; {AGMA_J[f.geometry_factor]}; {AGMA_DEFAULTS}; K_o = {f.K_o:g}, "
-        f"Q_v = {f.quality}, reliability {f.reliability:g} (K_R = {f.K_R:.3g})"
+        f"Q_v = {f.quality}, reliability {f.reliability_percent:g} % (K_R = {f.K_R:.3g})"
     )
 
 

@@ -324,3 +324,27 @@ WebPortOption = Annotated[
 GrpcPortOption = Annotated[
     int | None, typer.Option(help="Data (gRPC) port (with --serve; default 9876).")
 ]
+
+
+def check_reliability_percent(
+    value: float, low: float, high: float, *, open_low: bool, option: str = "--reliability-percent"
+) -> None:
+    """Refuse a reliability [%] outside [low, high] % ((low, high] with ``open_low``).
+
+    The message names the value and the range; a value in (0, 1] is named as the fraction it
+    probably is, with its percent.
+
+    Raises:
+        InputError: the value is outside the range (or not a number).
+    """
+    inside = (low < value if open_low else low <= value) and value <= high
+    if inside:
+        return
+    bound = f"{low:g} < R ≤ {high:g}" if open_low else f"{low:g} ≤ R ≤ {high:g}"
+    hint = (
+        f" ({value:g} looks like a fraction: {100 * value:g} % is --reliability-percent "
+        f"{100 * value:g})"
+        if 0.0 < value <= 1.0
+        else ""
+    )
+    raise InputError(f"{option} {value:g}: give a reliability R in percent, {bound} %{hint}")

@@ -12,6 +12,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from pinwind.cli.app import app, console, say, warnings_as_lines
+from pinwind.cli.flags import check_reliability_percent
 from pinwind.errors import InputError
 
 
@@ -32,9 +33,19 @@ def life(
             "the one the log holds; same joints and rows.",
         ),
     ] = None,
-    reliability: Annotated[
-        float, typer.Option("--reliability", help="Reliability R [%] of L_nm (90 … 99.95).")
-    ] = 90.0,
+    reliability_percent: Annotated[
+        float | None,
+        typer.Option(
+            "--reliability-percent",
+            help="Reliability R [%] of L_nm (90 ≤ R ≤ 99.95, ISO 281); default 90.",
+        ),
+    ] = None,
+    old_reliability: Annotated[
+        float | None,
+        typer.Option(
+            "--reliability", hidden=True, help="The former name of --reliability-percent [%]."
+        ),
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")] = False,
 ) -> None:
     """Each bearing's lives in a log: ISO 281 L10h, modified L_nmh, ISO/TS 16281 L10rh.
@@ -45,14 +56,24 @@ def life(
     """
     from pinwind.io.log_reader import LogReader
     from pinwind.life.bearing_life import bearing_lives
+    from pinwind.life.modified_life import RELIABILITY_PERCENT_RANGE
     from pinwind.life.row_life import LIFE_CHANNELS, row_lives
     from pinwind.model.gearbox import load as load_model
     from pinwind.model.gearbox import loads
 
-    if not 90.0 <= reliability <= 99.95:
+    if old_reliability is not None and reliability_percent is not None:
         raise InputError(
-            f"--reliability {reliability:g}: ISO 281 gives a₁ from 90 to 99.95 %; give one there"
+            f"--reliability {old_reliability:g} and --reliability-percent "
+            f"{reliability_percent:g}: --reliability is the former name of "
+            "--reliability-percent; give one"
         )
+    # The former name took the same unit, percent: it still works.
+    option, percent = next(
+        ((o, r) for o, r in (("--reliability-percent", reliability_percent),
+                             ("--reliability", old_reliability)) if r is not None),
+        ("--reliability-percent", 90.0),
+    )  # fmt: skip
+    check_reliability_percent(percent, *RELIABILITY_PERCENT_RANGE, open_low=False, option=option)
     with warnings_as_lines():
         with LogReader(log) as reader:
             res = reader.read(channels=LIFE_CHANNELS)
@@ -64,7 +85,7 @@ def life(
             gearbox = loads(text, path=f"{log} (its model)")
         else:
             raise InputError(f"{log}: {problem}; give the model with --model")
-        rows = row_lives(res, gearbox, reliability=reliability)
+        rows = row_lives(res, gearbox, reliability_percent=percent)
         whole = [b for b in bearing_lives(res, gearbox) if b.rating is not None]
     if as_json:
         out = {"rows": [r.as_dict() for r in rows], "bearings": [b.as_dict() for b in whole]}
@@ -77,8 +98,7 @@ def life(
         # between columns collapsed, headers escaped (rich reads a bare "[kN]" as a style and
         # drops it) and no cell cut short.
         table = Table(
-            title="Rolling bearings (rows): lives in hours at the run's speed, "
-            f"R = {reliability:g} %",
+            title=f"Rolling bearings (rows): lives in hours at the run's speed, R = {percent:g} %",
             box=None if plain else Table().box,
             collapse_padding=True,
             pad_edge=False,

@@ -17,6 +17,7 @@ from pinwind.cli.flags import (
     SpeedOption,
     StepOption,
     TorqueOption,
+    check_reliability_percent,
     load_values,
     parse_pairs,
 )
@@ -81,10 +82,17 @@ def rate(
     quality: Annotated[
         int, typer.Option("--quality", help="AGMA transmission accuracy level Q_v for AGMA K_v.")
     ] = 10,
-    reliability: Annotated[
+    reliability_percent: Annotated[
         float,
-        typer.Option("--reliability", help="AGMA reliability for K_R (0.5 … 0.9999)."),
-    ] = 0.99,
+        typer.Option(
+            "--reliability-percent",
+            help="AGMA reliability R [%] for K_R (50 < R ≤ 99.99; 99: K_R = 1).",
+        ),
+    ] = 99.0,
+    old_reliability: Annotated[
+        float | None,
+        typer.Option("--reliability", hidden=True, help="Replaced by --reliability-percent."),
+    ] = None,
     geometry_factor: Annotated[
         str,
         typer.Option(
@@ -107,6 +115,7 @@ def rate(
     from pinwind.gears.rating_iso import IsoFactors
     from pinwind.runs import scenario as sc
 
+    _check_reliability(reliability_percent, old_reliability)
     if not (math.isfinite(application_factor) and application_factor >= 1.0):
         raise InputError(
             f"--application-factor {application_factor:g}: give a finite factor >= 1 "
@@ -144,7 +153,7 @@ def rate(
             agma=AgmaFactors(
                 K_o=application_factor,
                 quality=quality,
-                reliability=reliability,
+                reliability_percent=reliability_percent,
                 geometry_factor=geometry_factor,
             ),
             face_load=face_load_factor,
@@ -172,3 +181,21 @@ def _logged_run(path: Path):
         if not text:
             raise InputError(f"{path}: {problem}; rate the model with a new run (MODEL) instead")
         return loads(text, path=f"{path} (its model)"), res
+
+
+def _check_reliability(percent: float, old: float | None) -> None:
+    """``--reliability-percent`` in AGMA's K_R range; the old fraction ``--reliability`` refused.
+
+    ``rate --reliability`` took a fraction (0.99) where ``pinwind life --reliability`` takes a
+    percent (99): the one spelling in two units is refused here, with the percent to give.
+    """
+    from pinwind.gears.rating_agma import RELIABILITY_PERCENT_RANGE
+
+    if old is not None:
+        hint = f" (--reliability-percent {100 * old:g})" if 0.0 < old <= 1.0 else ""
+        raise InputError(
+            f"--reliability {old:g}: rate takes the AGMA reliability in percent, as "
+            f"pinwind life does: give --reliability-percent R{hint}, "
+            f"{RELIABILITY_PERCENT_RANGE[0]:g} < R ≤ {RELIABILITY_PERCENT_RANGE[1]:g}"
+        )
+    check_reliability_percent(percent, *RELIABILITY_PERCENT_RANGE, open_low=True)

@@ -61,9 +61,13 @@ def single_pair_stiffness(pair: GearPair, *, rim_factor: float = 1.0, C_M: float
     fewer teeth (`GearPair.pinion_first`), whichever of two external gears the pair names
     first: q′ is not symmetric in the two gears (C2 ≠ C3, C5 ≠ C7), so the NREL 5 MW stage-1
     sun (19 teeth) meshing its 17-tooth planets, or a wheel named before its pinion, would
-    otherwise change c′ by 2-3 %. An internal gear 2 counts as a rack, z_n2 = ∞. This is the
-    reading of ISO 6336-1 that other implementations use; the ISO text itself was not available
-    to check it. The profile shifts keep the ISO 21771 signs.
+    otherwise change c′ by 2-3 %. An internal gear 2 counts as a rack, z_n2 = ∞ (the C3 and C7
+    terms vanish), as KISSsoft's ISO 6336:2006 method B reads ISO 6336-1: its reports of the
+    NREL 5 MW planetary stages (Rebouças 2020) print c′ = 13.289 and 14.053 N/(mm·µm) for the
+    planet–ring meshes (C_R = 0.862), which z_n2 = ∞ gives to 4e-4 and the ring's tooth count
+    (−56 or +56; −93 or +93) misses by 5-15 %; their sun meshes (12.362, 12.240) also take the
+    pinion as gear 1. The ISO text itself was not available to quote. The profile shifts keep
+    the ISO 21771 signs (KISSsoft's x_ring = −0.5013 for stage 1 enters C6 x2 and C9 x2²).
 
     Args:
         pair: the pair, gear 1 external (an internal gear, if any, is gear 2); its

@@ -29,8 +29,9 @@ Every factor is a field of `AgmaFactors`; None means "compute the default":
 - I = cos φ_t sin φ_t / (2 m_N) · m_G/(m_G ± 1) (+ external, − internal; m_N = 1 for spur
   gears, p_N/(0.95 Z) for helical), at the working pressure angle (Shigley eqs. 14-23, 14-21);
 - C_p from the two materials (`materials.elastic_coefficient`);
-- Y_N = Z_N = 1 (10⁷ cycles), C_H = 1, K_T = 1, K_R from ``reliability`` (Shigley eq. 14-38;
-  1 at 0.99), C_f = 1, K_B = 1, K_o = 1.
+- Y_N = Z_N = 1 (10⁷ cycles), C_H = 1, K_T = 1, K_R from ``reliability_percent`` R [%]
+  (Shigley eq. 14-38 with the fraction R/100; 1 at 99 %, 1.25 at 99.9 %), C_f = 1, K_B = 1,
+  K_o = 1.
 
 W_t is the tangential load at the operating pitch circle: F_t d_1/d_w1.
 """
@@ -82,7 +83,8 @@ class AgmaFactors:
         quality: transmission accuracy level Q_v for the default K_v.
         gearing: condition for C_ma: ``open``, ``commercial_enclosed``, ``precision_enclosed``,
             ``extra_precision_enclosed``.
-        reliability: for the default K_R (0.5 … 0.9999).
+        reliability_percent: reliability R [%] for the default K_R, 50 < R ≤ 99.99 (AGMA
+            2001 Table 8 and Shigley eq. 14-38 give K_R from 50 % to 99.99 %).
         geometry_factor: default J: ``"agma908"`` (AGMA 908-B89 for external pairs, ISO's
             1/(Y_F Y_S) for internal ones) or ``"iso"`` (1/(Y_F Y_S) always).
     """
@@ -103,7 +105,7 @@ class AgmaFactors:
     K_R: float | None = None
     quality: int = 10
     gearing: str = "precision_enclosed"
-    reliability: float = 0.99
+    reliability_percent: float = 99.0
     geometry_factor: str = "agma908"
 
 
@@ -131,7 +133,7 @@ class ResolvedAgmaFactors:
     K_R: float
     quality: int
     gearing: str
-    reliability: float
+    reliability_percent: float
     geometry_factor: str
 
 
@@ -235,7 +237,7 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: AgmaFactors) -> Resol
     j = _given_or(given.J, lambda: _bending_geometry_factors(pair, given.geometry_factor))
     i_factor = _given_or(given.I, lambda: pitting_geometry_factor(pair))
     c_p = _given_or(given.C_p, lambda: elastic_coefficient(*pair.materials))
-    k_r = _given_or(given.K_R, lambda: reliability_factor(given.reliability))
+    k_r = _given_or(given.K_R, lambda: reliability_factor(given.reliability_percent))
     return ResolvedAgmaFactors(
         K_o=given.K_o,
         K_v=k_v,
@@ -253,7 +255,7 @@ def resolve_factors(pair: GearPair, load: MeshLoad, given: AgmaFactors) -> Resol
         K_R=k_r,
         quality=given.quality,
         gearing=given.gearing,
-        reliability=given.reliability,
+        reliability_percent=given.reliability_percent,
         geometry_factor=given.geometry_factor,
     )
 
@@ -321,13 +323,34 @@ def pitting_geometry_factor(pair: GearPair) -> float:
     return math.cos(phi) * math.sin(phi) / (2.0 * load_sharing) * ratio
 
 
-def reliability_factor(reliability: float) -> float:
-    """K_R = 0.658 − 0.0759 ln(1 − R) (0.5 < R < 0.99), 0.50 − 0.109 ln(1 − R) (to 0.9999)."""
-    if not 0.5 < reliability <= 0.9999:
-        raise InputError(f"reliability {reliability} is outside (0.5, 0.9999]")
-    if reliability < 0.99:
-        return 0.658 - 0.0759 * math.log(1.0 - reliability)
-    return 0.50 - 0.109 * math.log(1.0 - reliability)
+#: The reliabilities R [%] AGMA's K_R holds for: 50 < R ≤ 99.99 (Shigley eq. 14-38).
+RELIABILITY_PERCENT_RANGE = (50.0, 99.99)
+
+
+def reliability_factor(reliability_percent: float) -> float:
+    """K_R [-] for a reliability R [%], 50 < R ≤ 99.99, by Shigley eq. 14-38.
+
+    With r = R/100 the fraction: K_R = 0.658 − 0.0759 ln(1 − r) for 0.5 < r < 0.99,
+    0.50 − 0.109 ln(1 − r) for 0.99 ≤ r ≤ 0.9999.
+
+    Raises:
+        InputError: R outside (50, 99.99] (a fraction such as 0.99 is one: give 99).
+    """
+    low, high = RELIABILITY_PERCENT_RANGE
+    if not low < reliability_percent <= high:
+        hint = (
+            f" (a fraction? {reliability_percent:g} is {100 * reliability_percent:g} %)"
+            if 0.0 < reliability_percent <= 1.0
+            else ""
+        )
+        raise InputError(
+            f"reliability {reliability_percent:g} % is outside AGMA's K_R range, "
+            f"{low:g} < R ≤ {high:g} %{hint}"
+        )
+    r = reliability_percent / 100.0
+    if r < 0.99:
+        return 0.658 - 0.0759 * math.log(1.0 - r)
+    return 0.50 - 0.109 * math.log(1.0 - r)
 
 
 def shigley_size_factor(face_width: float, module: float, lewis_form_factor: float) -> float:

@@ -19,8 +19,9 @@ u = z2/z1 is negative for an internal wheel, so (u + 1)/u = (z2 − z1)/z2.
 Defaults that are choices, not standard results (override them with real data):
 
 - K_v: ISO 6336-1:1996 method C, K_v = 1 + (K1/(K_A F_t/b) + K2) (z1 v/100) √(u²/(1 + u²)),
-  F_t/b in N/mm (at least 100), v in m/s, K1 and K2 for the ISO 1328 accuracy grade
-  (`accuracy_grade`, default 6).
+  F_t/b in N/mm (at least 100), v in m/s (``MeshLoad.pitch_line_speed``: in the carrier's
+  frame for a planetary mesh, `pinwind.analysis.rating`), K1 and K2 for the ISO 1328 accuracy
+  grade (`accuracy_grade`, default 6).
 - K_Hβ: ISO 6336-1 closed form from an effective mesh misalignment F_βy (`misalignment`,
   default 10 µm after running-in) and c_γβ = 0.85 c_γα (`pinwind.gears.mesh_stiffness`):
   K_Hβ = 1 + c_γβ F_βy /(2 F_m/b) up to 2, else √(2 c_γβ F_βy/(F_m/b)); F_m = F_t K_A K_v.

@@ -38,6 +38,8 @@ import math
 
 import numpy as np
 
+from pinwind.errors import InputError
+
 #: a_ISO regimes: (κ from, c₂ roller, c₂ ball, c₃), ISO 281:2007 §9.3.2.
 A_ISO_REGIMES = (
     (0.1, 1.3993, 2.2649, 0.054381),
@@ -90,15 +92,27 @@ def life_modification_factor(
     return np.minimum(a, A_ISO_CAP)
 
 
+#: The reliabilities R [%] ISO 281:2007 §9.2 gives a₁ for: 90 ≤ R ≤ 99.95.
+RELIABILITY_PERCENT_RANGE = (90.0, 99.95)
+
+
 def reliability_factor(reliability_percent: float) -> float:
     """a₁ [-] for a reliability R [%] (90 … 99.95): ISO 281:2007 §9.2 (module docstring).
 
     Raises:
-        ValueError: R outside 90 … 99.95, where ISO 281 gives no a₁.
+        InputError: R outside 90 … 99.95, where ISO 281 gives no a₁ (a fraction such as 0.9
+            is one: give 90).
     """
-    if not 90.0 <= reliability_percent <= 99.95:
-        raise ValueError(
-            f"reliability {reliability_percent:g} %: ISO 281 gives a₁ from 90 to 99.95 %"
+    low, high = RELIABILITY_PERCENT_RANGE
+    if not low <= reliability_percent <= high:
+        hint = (
+            f" (a fraction? {reliability_percent:g} is {100 * reliability_percent:g} %)"
+            if 0.0 < reliability_percent <= 1.0
+            else ""
+        )
+        raise InputError(
+            f"reliability {reliability_percent:g} %: ISO 281 gives a₁ from {low:g} to "
+            f"{high:g} %{hint}"
         )
     ratio = math.log(100.0 / reliability_percent) / math.log(100.0 / 90.0)
     return 0.95 * ratio ** (2.0 / 3.0) + 0.05

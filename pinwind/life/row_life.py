@@ -46,7 +46,7 @@ class RowLife:
         rating: C [N] (None: not rated); exponent: p.
         revolutions: [rev]; duration: [s].
         equivalent_load: ISO 281 P_eq [N]; l10 [10⁶ rev]; l10h [h].
-        reliability: R [%]; a1: a₁ [-].
+        reliability_percent: R [%]; a1: a₁ [-].
         kappa_mean: revolution-weighted mean κ [-]; a_iso: the life's a_ISO, L_nm / (a₁ L10).
         contamination: e_C [-]; fatigue_limit: C_u [N] (NaN: none).
         lnm: modified life [10⁶ rev]; lnmh: [h].
@@ -71,7 +71,7 @@ class RowLife:
     equivalent_load: float
     l10: float
     l10h: float
-    reliability: float
+    reliability_percent: float
     a1: float
     kappa_mean: float
     a_iso: float
@@ -106,7 +106,7 @@ class RowLife:
             "equivalent_load_N": num(self.equivalent_load),
             "l10_million_rev": num(self.l10),
             "l10_h": num(self.l10h),
-            "reliability_percent": self.reliability,
+            "reliability_percent": self.reliability_percent,
             "a1": self.a1,
             "kappa_mean": num(self.kappa_mean),
             "a_iso": num(self.a_iso),
@@ -137,7 +137,7 @@ def rate_row(
     time: np.ndarray,
     speed: np.ndarray,
     load: np.ndarray,
-    reliability: float = 90.0,
+    reliability_percent: float = 90.0,
     rolling: np.ndarray | None = None,
 ) -> RowLife:
     """One row's lives from its load on the bearing and its speed (module docstring).
@@ -151,9 +151,9 @@ def rate_row(
     takes for the radial load.
 
     Raises:
-        ValueError: reliability outside 90 … 99.95 %.
+        InputError: ``reliability_percent`` outside 90 … 99.95 %.
     """
-    a1 = reliability_factor(reliability)
+    a1 = reliability_factor(reliability_percent)
     history = history_sums(
         row_name(bearing, name), rating, data=data, size=size, time=time, speed=speed, load=load,
         rolling=rolling,
@@ -182,7 +182,7 @@ def rate_row(
     revolutions, seconds = sums.revolutions, sums.seconds
     return RowLife(
         name, bearing, rating.kind or "", position, rating.dynamic_load_rating, rating.exponent,
-        revolutions, seconds, life.equivalent_load, life.l10, life.l10h, reliability, a1,
+        revolutions, seconds, life.equivalent_load, life.l10, life.l10h, reliability_percent, a1,
         history.kappa_mean, a_iso, history.contamination, history.fatigue_limit, lnm,
         life_hours(lnm, revolutions, seconds), life.reference_load, life.l10r, life.l10rh,
         q_max, zone_min, element_load, load_zone, not_carried, tuple(notes),
@@ -197,8 +197,10 @@ LIFE_CHANNELS = (
 )  # fmt: skip
 
 
-def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[RowLife]:
+def row_lives(result: Any, gearbox: Any, *, reliability_percent: float = 90.0) -> list[RowLife]:
     """The lives of every row of the run's shafts, bearing by bearing in the model's order.
+
+    ``reliability_percent`` is R [%] of L_nm, 90 … 99.95 (ISO 281's a₁).
 
     A planet's rows turn their outer ring against the load unless the model says otherwise
     (``rotating_ring``). Row loads come from
@@ -219,7 +221,7 @@ def row_lives(result: Any, gearbox: Any, *, reliability: float = 90.0) -> list[R
                 name=load.name, bearing=load.bearing, position=load.position,
                 rating=row_rating(load.bearing, row), size=row.size,
                 data=life_data_of(gearbox, load.bearing, row.life), time=result.time,
-                speed=speed, load=w, reliability=reliability,
+                speed=speed, load=w, reliability_percent=reliability_percent,
                 rolling=preloaded_rolling_load(gearbox, load.bearing, row, load.radial),
             )
         )  # fmt: skip

@@ -226,3 +226,31 @@ def test_rating_a_run_started_at_rest_under_torques_balanced_to_seven_digits_war
         feet_per_minute = m.load.pitch_line_speed * 60 / 0.3048
         assert_allclose(m.agma.factors.K_v, ((a + math.sqrt(feet_per_minute)) / a) ** b, rtol=1e-12)
         assert_allclose([m.iso.factors.K_v, m.agma.factors.K_v], 1.0, rtol=3e-4)
+
+
+def test_dynamic_factors_take_the_pitch_line_speed_relative_to_the_carrier(saleh):
+    # ISO 6336-1's K_v of a planetary stage takes v in the carrier's frame (KISSsoft's ISO 6336
+    # report of the NREL 5 MW stage 1: v = π d_sun (n_sun − n_carrier)/60, "(Planet)"). With the
+    # ring fixed the sun turns ω_s = ω_c (1 + z_r/z_s), so relative to the carrier
+    # ω_s − ω_c = ω_c z_r/z_s and v = r_s ω_c z_r/z_s = m z_r ω_c/2 for every mesh of the stage
+    # (24/48/120 teeth, m = 15 mm): 0.9 m × 1.4870 rad/s = 1.3383 m/s, 5/6 of the sun's
+    # absolute r_s ω_s = 1.6060 m/s.
+    gb, _ = saleh
+    steady = pinwind.simulate(
+        gb, duration=0.01, dt=1e-3, torques=TORQUES, initial_speeds={"carrier": CARRIER_SPEED}
+    )
+    rating = rate(gb, steady)
+    v = 0.015 * 120 / 2 * CARRIER_SPEED
+    f_t = (1e6 / 6) / (3 * 0.18)  # N per mesh, the sun torque over three sun radii
+    specific = f_t / 380.0  # F_t/b [N/mm], K_A = 1
+    k1, k2 = 14.9, 0.0193  # ISO 6336-1 method C, spur, ISO 1328 grade 6
+    b = 0.25 * (12 - 10) ** (2 / 3)  # AGMA 2001 (Shigley eq. 14-27), Q_v = 10
+    a = 50 + 56 * (1 - b)
+    agma_k_v = ((a + math.sqrt(v * 60 / 0.3048)) / a) ** b
+    for m in rating.meshes:
+        assert m.load.pitch_line_speed == pytest.approx(v, rel=1e-9), m.mesh
+        # z1, u of the pair (pinion first): sun 24 / planet 48; planet 48 / ring −120
+        z1, u = (24, 2.0) if m.mesh.startswith("sun") else (48, -2.5)
+        iso_k_v = 1 + (k1 / specific + k2) * z1 * v / 100 * math.sqrt(u * u / (1 + u * u))
+        assert m.iso.factors.K_v == pytest.approx(iso_k_v, rel=1e-9), m.mesh
+        assert m.agma.factors.K_v == pytest.approx(agma_k_v, rel=1e-9), m.mesh

@@ -54,7 +54,7 @@ def test_rating_tables_name_the_standards_editions_and_methods(printed):
         "AGMA 908-B89",
         "K_A = 1",
         "Q_v = 10",
-        "reliability 0.99",
+        "reliability 99 %",
     ):
         assert named in text, named
 

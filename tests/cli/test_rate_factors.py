@@ -12,6 +12,7 @@ from typer.testing import CliRunner
 from pinwind.cli import app
 from pinwind.errors import InputError
 from tests.conftest import MODELS
+from tests.test_cli import run as run_cli
 
 #: Saleh 2017's stage at its rated 1 MN·m on the carrier, the sun braked to balance, 14.2 rpm.
 RATED = [
@@ -58,11 +59,35 @@ def test_application_factor_multiplies_iso_nominal_stresses_with_the_other_load_
         )
 
 
-def test_reliability_of_0999_divides_agma_bending_factors_by_125(default):
-    # AGMA 2001 Table 8 (Shigley Table 14-10): K_R = 1.00 at 0.99, 1.25 at 0.999.
-    surer = rated("--reliability", "0.999")
+def test_reliability_of_999_percent_divides_agma_bending_factors_by_125(default):
+    # AGMA 2001 Table 8 (Shigley Table 14-10): K_R = 1.00 at 99 %, 1.25 at 99.9 %.
+    assert default["meshes"][0]["agma"]["factors"]["reliability_percent"] == 99.0
+    surer = rated("--reliability-percent", "99.9")
     for a, b in zip(default["meshes"], surer["meshes"], strict=True):
+        assert b["agma"]["factors"]["reliability_percent"] == 99.9
         np.testing.assert_allclose(b["agma"]["S_F"], np.divide(a["agma"]["S_F"], 1.25), rtol=3e-3)
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "named"),
+    [
+        # a fraction, the unit `rate --reliability` took before: named with its percent
+        ("--reliability-percent", "0.999", "a fraction: 99.9 % is --reliability-percent 99.9"),
+        ("--reliability-percent", "50", "50 < R ≤ 99.99 %"),  # K_R's range is open at 50 %
+        ("--reliability-percent", "100", "50 < R ≤ 99.99 %"),
+        ("--reliability-percent", "nan", "50 < R ≤ 99.99 %"),
+        # the former spelling, a fraction here and a percent in `pinwind life`: refused
+        ("--reliability", "0.999", "give --reliability-percent R (--reliability-percent 99.9)"),
+        ("--reliability", "99", "in percent, as pinwind life does"),
+    ],
+)
+def test_a_reliability_outside_agma_s_range_or_as_a_fraction_is_refused(option, value, named):
+    # One line on stderr with the value and the accepted range, exit 2, before any run.
+    out = run_cli(*RATED, option, value)
+    assert out.returncode == 2, out.stderr
+    (line,) = out.stderr.strip().splitlines()
+    assert f"{option} {value}" in line and named in line, line
+    assert "50 < R ≤ 99.99" in line, line
 
 
 def test_iso_geometry_factor_gives_j_of_one_over_form_times_stress_correction():

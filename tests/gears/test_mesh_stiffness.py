@@ -368,3 +368,44 @@ def test_compliant_nrel_stage1_sun_mesh_takes_the_17_tooth_planet_as_iso_gear_1(
         expected * (0.75 * mesh.path.contact_ratio + 0.25),
         rtol=1e-12,
     )
+
+
+#: KISSsoft's ISO 6336:2006 method B reports of the NREL 5 MW planetary stages (Rebouças 2020,
+#: docs/references.md): (z_sun, z_planet, z_ring, x_sun, x_planet, x_ring, b [mm]) and the
+#: printed single stiffness c′ [N/(mm·µm)] of the sun–planet and planet–ring meshes, with
+#: C_M = 0.8, C_R = 0.862 (b_s/b = 0.25), C_B = 0.975 and β = 0.
+KISSSOFT_NREL_STAGES = (
+    ((19, 17, 56, 0.6170, 0.8021, -0.5013, 491.0), (12.362, 13.289)),
+    ((18, 36, 93, 0.3890, 0.5039, 0.1171, 550.0), (12.240, 14.053)),
+)
+
+
+@pytest.mark.parametrize(("stage", "printed"), KISSSOFT_NREL_STAGES)
+def test_internal_gear_is_a_rack_in_q_prime_as_kisssoft_prints_it(stage, printed):
+    # ISO 6336-1 method B's q′ for an internal pair: KISSsoft's c′ of both NREL 5 MW ring meshes
+    # is that of z_n2 = ∞ (the C3 and C7 terms vanish), and not of the ring's tooth count with
+    # either sign: for stage 1, 0.8 · 0.862 · 0.975/q′ with q′ = 0.050612 (z_n2 = ∞) is 13.284
+    # against the printed 13.289; with z_n2 = −56 (q′ = 0.043842) it would be 15.336, with
+    # z_n2 = +56 (q′ = 0.057382) 11.717. The sun meshes take the pinion (fewer teeth) as gear 1:
+    # stage 1's 17-tooth planet, 12.357 against 12.362 (the sun as gear 1 would give 12.660).
+    z_s, z_p, z_r, x_s, x_p, x_r, width = stage
+    factor = 0.8 * 0.862 * 0.975
+    pinion, wheel = sorted(((z_s, x_s), (z_p, x_p)))
+    hand = (
+        factor / iso_flexibility(pinion[0], wheel[0], pinion[1], wheel[1]),
+        factor / iso_flexibility(z_p, math.inf, x_p, x_r),
+    )
+    kwargs = dict(module=0.02, pressure_angle=ALPHA_20, face_width=width * 1e-3)
+    pairs = (
+        GearPair(z_s, z_p, profile_shift_1=x_s, profile_shift_2=x_p, **kwargs),
+        GearPair(z_p, z_r, profile_shift_1=x_p, profile_shift_2=x_r, internal_2=True, **kwargs),
+    )
+    for pair, by_hand, kisssoft in zip(pairs, hand, printed, strict=True):
+        c_prime = single_pair_stiffness(pair, rim_factor=0.862) / (width * 1e6)  # N/(mm·µm)
+        np.testing.assert_allclose(c_prime, by_hand, rtol=1e-12)
+        # KISSsoft prints C_R and c′ to three decimals: within 1e-3 of it.
+        np.testing.assert_allclose(c_prime, kisssoft, rtol=1e-3)
+    # The other readings of the ring's z_n2 are 5-15 % off the printed value.
+    for z_n2 in (-z_r, z_r):
+        other = factor / iso_flexibility(z_p, z_n2, x_p, x_r)
+        assert abs(other / printed[1] - 1) > 0.04

@@ -11,6 +11,7 @@ from dataclasses import fields
 
 import pytest
 
+from pinwind.errors import InputError
 from pinwind.gears.gear_pair import GearPair, MeshLoad
 from pinwind.gears.materials import Material
 from pinwind.gears.rating_agma import (
@@ -20,6 +21,7 @@ from pinwind.gears.rating_agma import (
     dynamic_factor,
     load_distribution_factor,
     pitting_geometry_factor,
+    reliability_factor,
     shigley_size_factor,
 )
 
@@ -124,5 +126,21 @@ def test_resolved_factors_have_the_fields_of_the_given_ones_in_order():
 
 def test_rating_again_with_the_resolved_factors_gives_the_same_stresses(example_14_4):
     pair, load = example_14_4
-    first = agma_rating(pair, load, AgmaFactors(quality=6, reliability=0.9))
+    first = agma_rating(pair, load, AgmaFactors(quality=6, reliability_percent=90.0))
     assert agma_rating(pair, load, first.factors) == first
+
+
+@pytest.mark.parametrize(
+    ("percent", "k_r"), [(50.01, 0.70), (90.0, 0.85), (99.0, 1.00), (99.9, 1.25), (99.99, 1.50)]
+)
+def test_reliability_factor_takes_percent_and_matches_agma_table_8(percent, k_r):
+    # AGMA 2001 Table 8 (Shigley Table 14-10): K_R by reliability 0.5, 0.9, 0.99, 0.999, 0.9999.
+    # Shigley eq. 14-38 is a fit of the table: 0.833 at 90 % for its 0.85, 0.711 at 50 %.
+    assert reliability_factor(percent) == pytest.approx(k_r, abs=0.02)
+
+
+@pytest.mark.parametrize("percent", [0.99, 50.0, 100.0, math.nan])
+def test_reliability_factor_refuses_a_fraction_or_a_percent_outside_its_range(percent):
+    with pytest.raises(InputError, match=r"50 < R ≤ 99\.99") as err:
+        reliability_factor(percent)
+    assert (f"{percent:g} is {100 * percent:g} %" in str(err.value)) == (percent == 0.99)

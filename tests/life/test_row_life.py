@@ -259,3 +259,37 @@ def test_a_preloaded_rows_smallest_load_zone_is_its_own_not_capped_at_180():
     assert zone > math.pi
     assert_allclose(life.load_zone, zone, rtol=1e-6)
     assert_allclose(life.load_zone_min, zone, rtol=1e-6)
+
+
+def test_life_takes_the_reliability_in_percent_under_its_new_and_its_former_name(shaft_log):
+    # ISO 281:2007 Table 12: a₁ = 1 at 90 %, 0.25 at 99 %; L_nm scales with a₁. The former name
+    # --reliability took the same unit, percent, and still works.
+    lnm = {}
+    for options in ([], ["--reliability-percent", "99"], ["--reliability", "99"]):
+        out = run_cli("life", str(shaft_log), "--json", *options)
+        assert out.returncode == 0, out.stderr
+        rows = {r["row"]: r for r in json.loads(out.stdout)["rows"]}
+        lnm[" ".join(options)] = {name: r["lnm_million_rev"] for name, r in rows.items()}
+        assert {r["reliability_percent"] for r in rows.values()} == {99.0 if options else 90.0}
+        assert_allclose([r["a1"] for r in rows.values()], 0.25 if options else 1.0, atol=0.006)
+    for name, at_90 in lnm[""].items():
+        assert_allclose(lnm["--reliability-percent 99"][name], 0.25 * at_90, rtol=0.025)
+        assert lnm["--reliability 99"][name] == lnm["--reliability-percent 99"][name]
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        # a fraction, the unit `rate --reliability` took: named with its percent
+        (["--reliability-percent", "0.9"], "a fraction: 90 % is --reliability-percent 90"),
+        (["--reliability-percent", "89.9"], "90 ≤ R ≤ 99.95 %"),
+        (["--reliability-percent", "99.99"], "90 ≤ R ≤ 99.95 %"),
+        (["--reliability", "0.99"], "--reliability 0.99: give a reliability R in percent, 90 ≤ R"),
+        (["--reliability", "99", "--reliability-percent", "95"], "give one"),
+    ],
+)
+def test_life_refuses_a_reliability_outside_iso_281_or_given_twice(shaft_log, options, named):
+    out = run_cli("life", str(shaft_log), *options)
+    assert out.returncode == 2, out.stderr
+    (line,) = out.stderr.strip().splitlines()
+    assert named in line and options[1] in line, line
