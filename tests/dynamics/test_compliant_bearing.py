@@ -404,8 +404,8 @@ def _flank_overlaps(gb, setup, data: pin.Data, q: np.ndarray) -> tuple[np.ndarra
 def test_the_mesh_overlap_changes_at_minus_the_row_times_the_speeds_while_the_centres_move():
     """δ̇ = −J v for each flank of every compliant mesh of a stage whose centres vibrate.
 
-    The stage starts undeflected under 1e6 N·m on the carrier with the sun held at 8.92 rad/s:
-    its members swing in their bearings at up to ~0.6 m/s. At seeded samples of the run, (1) the
+    The stage starts undeflected under 1e6 N·m on the carrier with the sun held at 8.92 rad/s,
+    and its members swing in their bearings. At seeded samples of the run, (1) the
     overlaps recomputed from the poses are the logged transmission error (the front flank's);
     (2) their central difference along the logged speeds, (δ(q + εv) − δ(q − εv)) / 2ε, is −J v
     with J the compiled flank row (``mesh_rows``, ``cpp/mesh_rows.hpp`` flank_row) at the
