@@ -11,11 +11,13 @@ import pytest
 
 import pinwind
 from pinwind.analysis import load_sharing
+from pinwind.dynamics.compliant import mesh_choices, mesh_setup
 from pinwind.dynamics.mesh import MeshSet
 from pinwind.errors import InvalidBearingCompliance, PinwindWarning, UnheldMember
 from pinwind.model.compliance import MeshCompliance
 from pinwind.model.gearbox import loads
 from pinwind.modes.linearisation import linearise
+from pinwind.testing.tangents import element_stepper
 from tests.conftest import MODELS
 from tests.test_cli import run
 
@@ -349,3 +351,115 @@ def test_a_disc_in_a_bearing_with_clearance_starts_sagged_across_its_clearance()
     np.testing.assert_allclose(res.joint("disc_radial_y").angle, -sag, rtol=1e-9)
     np.testing.assert_allclose(res.joint("disc_radial_x").angle, 0.0, atol=1e-15)
     np.testing.assert_allclose(res.joint("disc_radial_y").speed, 0.0, atol=1e-9)
+
+
+def _saleh_in_radial_bearings():
+    """Saleh 2017's stage with sun, carrier and planets each in a radial bearing of 2e9 N/m (two
+    slides), undamped: the elements' damping is then the meshes' alone."""
+    gb = pinwind.load(MODELS / "saleh2017_planetary.urdf")
+    turning = [j for j in gb.joint_names if j not in gb.locked_joints]
+    bearings = "".join(f'<bearing joint="{j}" radial_stiffness="2e9"/>' for j in turning)
+    return loads(gb.source_text.replace("</gearbox>", bearings + "</gearbox>"), "saleh.urdf")
+
+
+def _flank_overlaps(gb, setup, data: pin.Data, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each compliant mesh's flank overlaps (δ_f, δ_b) [m] and cos α' [-] at q, from the poses.
+
+    The overlap of two involute flanks along the line of action (IFToMM 2018 eqs. 2-6,
+    Jørgensen 2014 eqs. 14-19), recomputed here with Pinocchio's placements: ψ_A, ψ_B the gears'
+    angles about A's axis k from the centre line (their tooth-0 directions, ``reference_a`` and
+    ``reference_b``), T = r_A ψ_A − r_B ψ_B with signed base radii, wrapped into one base pitch
+    p_b about the middle of the backlash gap, and the radial part of the centre distance a
+    perpendicular to k, R = κ S (inv α'(a) − inv α'_ref) with cos α'(a) = S / a (ISO 21771's
+    working pressure angle): δ_f = wrap(T − T_ref + e_T) + R + e_R, δ_b = −wrap(…) + R + e_R − j.
+    """
+    pin.forwardKinematics(gb.model, data, q)
+    overlaps, cosines = [], []
+    for spec in setup.compliant:
+        mesh, path = setup.meshes[spec.mesh], setup.paths[spec.mesh]
+        place_a, place_b = data.oMi[mesh.gear_a.joint_id], data.oMi[mesh.gear_b.joint_id]
+        k = place_a.rotation @ mesh.gear_a.axis_in_joint
+        d = place_b.act(mesh.gear_b.centre_in_joint) - place_a.act(mesh.gear_a.centre_in_joint)
+        d -= (d @ k) * k
+        a = np.linalg.norm(d)
+        u = d / a
+
+        def angle(e: np.ndarray, u: np.ndarray = u, k: np.ndarray = k) -> float:
+            return math.atan2(k @ np.cross(u, e), u @ e)
+
+        psi_a = angle(place_a.rotation @ np.asarray(path.reference_a))
+        psi_b = angle(place_b.rotation @ np.asarray(spec.reference_b))
+        rolling = spec.base_radius_a * psi_a - spec.base_radius_b * psi_b
+        rolling += spec.tangential_offset - spec.tangential_ref
+        rolling -= path.base_pitch * round((rolling + spec.backlash / 2) / path.base_pitch)
+        cos_w = min(1.0, spec.base_radius_sum / a)
+        involute = math.tan(math.acos(cos_w)) - math.acos(cos_w)
+        radial = spec.radial_sign * spec.base_radius_sum * (involute - spec.involute_ref)
+        radial += spec.radial_offset
+        overlaps.append((rolling + radial, -rolling + radial - spec.backlash))
+        cosines.append(cos_w)
+    return np.array(overlaps), np.array(cosines)
+
+
+def test_the_mesh_overlap_changes_at_minus_the_row_times_the_speeds_while_the_centres_move():
+    """δ̇ = −J v for each flank of every compliant mesh of a stage whose centres vibrate.
+
+    The stage starts undeflected under 1e6 N·m on the carrier with the sun held at 8.92 rad/s,
+    and its members swing in their bearings. At seeded samples of the run, (1) the
+    overlaps recomputed from the poses are the logged transmission error (the front flank's);
+    (2) their central difference along the logged speeds, (δ(q + εv) − δ(q − εv)) / 2ε, is −J v
+    with J the compiled flank row (``mesh_rows``, ``cpp/mesh_rows.hpp`` flank_row) at the
+    working pressure angle of the current centre distance; (3) that row is the one the compliant
+    mesh steps with: the elements' damping matrix is Σ c Jᵀ J over the flanks that overlap.
+
+    The time series alone cannot settle (2) to better than the step's error: the central
+    difference of the logged δ against J v at the samples differs by O(dt²) (0.29 %, 0.073 %,
+    0.018 % at dt 2e-5, 1e-5, 5e-6 s on the run with damped bearings) and by O(dt) at the
+    samples next to a change of the number of tooth pairs (a jump in the stiffness).
+    """
+    gb = _saleh_in_radial_bearings()
+    damping = 1e4  # [N·s/m], each mesh's
+    compliance = MeshCompliance(damping=damping)
+    res = _run(
+        gb, duration=2e-3, dt=2e-5, torques={"carrier": 1e6}, speeds={"sun": 8.92},
+        meshes={"all": compliance}, initial_deflection="none",
+    )  # fmt: skip
+    stepper = element_stepper(gb, meshes={"all": compliance})
+    setup = mesh_setup(gb, mesh_choices(gb, {"all": compliance}), driver_index=[], dt=None)
+    assert [s.mesh for s in setup.compliant] == list(range(len(gb.meshes)))
+    model = gb.model
+    data = model.createData()
+    mesh_set = MeshSet(gb, setup.meshes)
+    slides = [gb.v_index(j) for j in gb.slide_joints]
+    # [s]: q moved by up to 2e-5 m (slides) and 3e-4 rad; the truncation, ~(2e-5 m / a)², is
+    # 1e-9 of the rate
+    eps = 3e-5
+    samples = np.random.default_rng(5).choice(np.arange(20, len(res.time)), 5, replace=False)
+    for n in samples:
+        q, v = res.angle[n], res.speed[n]
+        assert np.abs(v[slides]).max() > 1e-3  # the centres move [m/s]
+        overlaps, cos_w = _flank_overlaps(gb, setup, data, q)
+        np.testing.assert_allclose(overlaps[:, 0], res.transmission_error[n], rtol=0, atol=1e-15)
+        rate = (
+            _flank_overlaps(gb, setup, data, q + eps * v)[0]
+            - _flank_overlaps(gb, setup, data, q - eps * v)[0]
+        ) / (2 * eps)
+        mesh_set.constants.cos_a = cos_w
+        mesh_set.constants.sin_a = np.sqrt(1.0 - cos_w**2)
+        pin.computeJointJacobiansTimeVariation(model, data, q, np.zeros(model.nv))
+        rows = mesh_set.evaluate(model, data)
+        jv = np.stack([rows.row_front @ v, rows.row_back @ v], axis=1)
+        # the centres' motion matters: the rows' radial part is 1e-3 of J v or more (1e4 times
+        # the tolerance below)
+        radial = np.abs(np.sqrt(1.0 - cos_w**2) * (rows.jac_r @ v))
+        assert np.all(radial > 1e-3 * np.abs(jv[:, 0])), n
+        np.testing.assert_allclose(rate, -jv, rtol=1e-7, err_msg=f"sample {n}")
+        flanks = [*rows.row_front, *rows.row_back]
+        overlapping = [*(overlaps[:, 0] >= 0.0), *(overlaps[:, 1] >= 0.0)]
+        expected = damping * sum(
+            np.outer(row, row) for row, on in zip(flanks, overlapping, strict=True) if on
+        )
+        np.testing.assert_allclose(
+            stepper.element_forces(q, np.zeros(model.nv)).damping, expected, rtol=0,
+            atol=1e-9 * np.abs(expected).max(),
+        )  # fmt: skip
