@@ -64,7 +64,11 @@ def read_arrays(rows: int, columns: int) -> tuple[np.ndarray, int]:
     with _lock:
         kept = _kept[0] if _kept else None
         # references: the _Kept and getrefcount's argument; an array, view or buffer of it adds
-        if kept and sys.getrefcount(kept.arena) == 2 and kept.arena.size >= size + HUGE_PAGE // 8:
+        unused = kept is not None and sys.getrefcount(kept.arena) == 2
+        if kept and unused and kept.arena.size < size + HUGE_PAGE // 8:
+            _kept.clear()  # too small: freed before the new allocation, not after
+            kept = None
+        if kept and unused:
             array = _aligned(kept.arena, rows, columns)
             row_bytes = 8 * columns
             ahead = kept.zero_from - array.ctypes.data
