@@ -51,8 +51,8 @@ Compared (pinwind): ``pinwind.load(model)``'s meshes (``working_pressure_angle``
 ``tip_radius_1/2``), ``Gearbox.tooth_phases``, ``pinwind.gears.base_helix_angle`` (β_b, public),
 ``pinwind.gears.pair_geometry`` (a_w) and the α_w that ``pinwind info`` prints (4 decimals).
 
-Run: ``python benchmarks/independent_gear_geometry.py`` (prints one table, quantity by quantity,
-and the largest relative difference of each kind).
+Run: ``python benchmarks/independent_gear_geometry.py [--full]`` (one table: per quantity the
+largest difference over all models and meshes; ``--full`` every comparison first).
 """
 
 from __future__ import annotations
@@ -580,28 +580,49 @@ def compare(models: list[Path] | None = None, cli: bool = True) -> list[Row]:
 
 
 def main() -> None:
+    full = "--full" in sys.argv[1:]
     rows = compare()
-    head = (
-        f"{'model':21s} {'item':20s} {'quantity':42s} {'pinwind':>19s} {'recoded':>19s}"
-        f" {'diff':>8s}"
-    )
-    print(head + "  (diff relative; absolute where marked *)")
-    for r in rows:
-        mark = "*" if r.absolute or r.recoded == 0.0 else " "
-        print(
-            f"{r.model:21s} {r.item:20s} {r.quantity:42s} {r.pinwind:19.12g} {r.recoded:19.12g}"
-            f" {r.diff:8.1e}{mark}"
+    if full:
+        head = (
+            f"{'model':21s} {'item':20s} {'quantity':42s} {'pinwind':>19s} {'recoded':>19s}"
+            f" {'diff':>8s}"
         )
+        print(head + "  (diff relative; absolute where marked *)")
+        for r in rows:
+            mark = "*" if r.absolute or r.recoded == 0.0 else " "
+            print(
+                f"{r.model:21s} {r.item:20s} {r.quantity:42s} {r.pinwind:19.12g}"
+                f" {r.recoded:19.12g} {r.diff:8.1e}{mark}"
+            )
+        print()
     worst: dict[str, Row] = {}
+    count: dict[str, int] = {}
     for r in rows:
         key = r.quantity if r.item != "layout" else "layout: " + r.quantity.split()[-2]
-        if key not in worst or r.diff > worst[key].diff:
+        count[key] = count.get(key, 0) + 1
+        if (
+            key not in worst
+            or r.diff > worst[key].diff
+            or (r.diff == worst[key].diff and abs(r.recoded) > abs(worst[key].recoded))
+        ):  # ties: the largest value (a helical mesh's ε_β rather than a spur mesh's 0)
             worst[key] = r
+    print(
+        f"{len(rows)} comparisons over {len(MODELS)} models; per quantity the largest difference"
+        " (relative; * absolute) and where (--full: every row)"
+    )
+    print(f"{'quantity':44s} {'n':>4s} {'pinwind':>17s} {'recoded':>17s} {'diff':>8s}  where")
+    for q, r in worst.items():
+        mark = "*" if r.absolute or r.recoded == 0.0 else " "
+        print(
+            f"{q:44s} {count[q]:4d} {r.pinwind:17.11g} {r.recoded:17.11g} {r.diff:8.1e}{mark}"
+            f" {r.model} {r.item}"
+        )
     print("\nnot compared: the path of contact at the bearings' a' instead of ISO 21771's a_w")
     print(
-        f"  {'model':21s} {'mesh':20s} {'a_w [mm]':>11s} {'a_prime [mm]':>12s}"
-        f" {'g_a(a_w)':>10s} {'g_a(a_prime)':>12s} {'rel':>8s}"
+        f"{'model':21s} {'mesh':20s} {'a_w [mm]':>9s} {'a_prime [mm]':>12s}"
+        f" {'g_a(a_w) [mm]':>13s} {'g_a(a_prime)':>12s} {'rel':>8s}"
     )
+    seen = set()
     for path in MODELS:
         model = read_model(path)
         for name, n1, n2 in model.meshes:
@@ -610,15 +631,13 @@ def main() -> None:
             ca, cb = centre(model, g1), centre(model, g2)
             ab = math.hypot(cb[0] - ca[0], cb[1] - ca[1])
             ga, gb_ = path_at_bearings(model, g1, g2)
-            if abs(gb_ - ga) > 1e-9 * ga:
+            key = (model.stem, round(aw, 12), round(ab, 12), round(ga, 12))
+            if abs(gb_ - ga) > 1e-9 * ga and key not in seen:  # one planet per stage
+                seen.add(key)
                 print(
-                    f"  {model.stem:21s} {name:20s} {aw * 1e3:11.4f} {ab * 1e3:12.4f}"
-                    f" {ga * 1e3:10.4f} {gb_ * 1e3:12.4f} {abs(gb_ - ga) / ga:8.1e}"
+                    f"{model.stem:21s} {name:20s} {aw * 1e3:9.4f} {ab * 1e3:12.4f}"
+                    f" {ga * 1e3:13.4f} {gb_ * 1e3:12.4f} {abs(gb_ - ga) / ga:8.1e}"
                 )
-    print("\nlargest difference of each quantity (all models and meshes):")
-    for q, r in worst.items():
-        mark = "*" if r.absolute or r.recoded == 0.0 else " "
-        print(f"  {q:44s} {r.diff:8.1e}{mark} ({r.model} {r.item})")
 
 
 if __name__ == "__main__":
