@@ -51,7 +51,7 @@ Compared: ``kaimal_length_scale``, ``kaimal_spectrum``, ``iec_coherence``,
 ``kaimal_series`` and ``KaimalWind`` (the signal the rotor reads), and
 ``pinwind.life.site.ntm_turbulence``.
 
-Run:  python benchmarks/independent_wind.py [--seeds 200]    (about 20 s)
+Run:  python benchmarks/independent_wind.py [--seeds 200]    (about 40 s; 15 s with --seeds 50)
 """
 
 from __future__ import annotations
