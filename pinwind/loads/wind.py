@@ -145,11 +145,12 @@ def kaimal_series(
     Args:
         mean: V, the mean wind speed [m/s] (> 0).
         turbulence_intensity: I = σ / V (≥ 0).
-        duration: T [s].
+        duration: T [s], rounded up to an even number of samples.
         sample_time: Δt of the series [s] (its Nyquist frequency 1 / (2 Δt)).
         seed: seed of the random phases.
-        length_scale: L_u [m]; default from the hub height.
-        hub_height: z_hub [m], for the default length scale.
+        length_scale: L_u [m] of the spectrum; default from the hub height.
+        hub_height: z_hub [m], for the default length scale and, always, the coherence's
+            scale L_c (8.1 Λ₁ of the hub height).
         rotor_radius: R [m]: the rotor-effective (disc-averaged) series of the same seed;
             None: the point series.
     """
