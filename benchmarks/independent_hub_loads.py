@@ -55,8 +55,8 @@ Recoding (the model file read with ``xml.etree``, the shipped ROSCO table read b
   model's gravity), and what the gearbox side puts on it. ``lss`` carries the three stage-1
   planets on their compliant bearings, whose reactions do not cancel (the planets' weights and
   the meshes' unequal sharing, as the hub load moves and tilts the carrier against rigid meshes:
-  in run B the stage-1 sun meshes carry 731, 936 and 821 kN and the planets push the carrier by
-  0.28 MN), so they enter as an input: minus
+  in run B the stage-1 sun meshes carry 729, 940 and 820 kN and the planets push the carrier by
+  0.29 MN on 2026-12-08), so they enter as an input: minus
   each planet bearing's reaction (``bearing_force``, ``bearing_moment``, world) at the planet's
   link origin (``body_position``). The rotor torque reaches ``lss`` through the coupling spring on
   the joint's own coordinate, not on the slides. The slides' equilibrium Σ_i B_iᵀ K_i B_i q = Q(q)
