@@ -10,9 +10,12 @@ from __future__ import annotations
 
 import asyncio
 import base64
+import contextlib
 import io
 import json
+import os
 import shutil
+import signal
 import socket
 import subprocess
 import tempfile
@@ -107,14 +110,17 @@ def chromium(width: int = 1400, height: int = 900) -> Iterator[Page]:
     if program is None:
         raise FileNotFoundError("no Chromium on PATH (apt-get install chromium)")
     port = free_port()
-    with tempfile.TemporaryDirectory() as profile:
+    # Chromium's helpers (renderer, GPU, crash handler) outlive its main process for a moment
+    # and still write to the profile: the whole process group is stopped, and a file they add
+    # while the profile is removed does not fail the test.
+    with tempfile.TemporaryDirectory(ignore_cleanup_errors=True) as profile:
         process = subprocess.Popen(
             [program, "--headless", "--no-sandbox", "--use-angle=swiftshader",
              "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
              "--disable-background-networking", "--disable-component-update", "--disable-sync",
              f"--user-data-dir={profile}", f"--window-size={width},{height}",
              f"--remote-debugging-port={port}", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
         )  # fmt: skip
         try:
             deadline = time.monotonic() + 30.0
@@ -133,5 +139,6 @@ def chromium(width: int = 1400, height: int = 900) -> Iterator[Page]:
             finally:
                 tab.close()
         finally:
-            process.terminate()
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(process.pid, signal.SIGTERM)
             process.wait(timeout=30)
